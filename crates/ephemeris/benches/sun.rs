@@ -1,0 +1,30 @@
+//! Sun-direction throughput: the planners ask for the Sun at every time step of every
+//! LOS map, so this is the ephemeris' hot path (target ≥ 5 M evaluations/s on one core).
+
+use std::hint::black_box;
+
+use areo_ephemeris::{Mars24, Site, SolarGeometry, SunModel, parse_utc};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+
+fn sun_direction(c: &mut Criterion) {
+    let mut g = c.benchmark_group("sun");
+    g.throughput(Throughput::Elements(1));
+    let t0 = parse_utc("2012-08-06T05:17:57Z").unwrap();
+    let dt0 = areo_ephemeris::MarsTime::from_epoch(t0).days_since_j2000_tt;
+    let site = Site::new(-4.5895, 137.4417).unwrap();
+    let mut k = 0u32;
+    g.bench_function("direction_body_fixed(days_since_j2000)", |b| {
+        b.iter(|| {
+            k = k.wrapping_add(1);
+            black_box(SolarGeometry::at_days_since_j2000(black_box(dt0 + f64::from(k % 1000) * 1e-3)).state())
+        })
+    });
+    g.bench_function("Mars24::sun(Epoch)", |b| b.iter(|| black_box(Mars24.sun(black_box(t0)))));
+    g.bench_function("azimuth_elevation_at_site", |b| {
+        b.iter(|| black_box(SolarGeometry::at_days_since_j2000(black_box(dt0)).state().at_site(&site)))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, sun_direction);
+criterion_main!(benches);

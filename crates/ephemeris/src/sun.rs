@@ -1,0 +1,200 @@
+//! The Mars24 solar geometry and the `SunModel` abstraction the planners consume.
+
+use hifitime::Epoch;
+
+use crate::site::Site;
+use crate::time::{J2000_JD_TT, MarsTime, msd_from_jd_tt};
+
+/// Mars24 PBS perturbation terms: amplitude A (deg), period τ (Julian years), phase φ (deg).
+const PERTURBATIONS: [(f64, f64, f64); 7] = [
+    (0.0071, 2.2353, 49.409),
+    (0.0057, 2.7543, 168.173),
+    (0.0039, 1.1177, 191.837),
+    (0.0037, 15.7866, 21.736),
+    (0.0021, 2.1354, 15.704),
+    (0.0020, 2.4694, 95.528),
+    (0.0018, 32.8493, 49.095),
+];
+
+/// sin of Mars' obliquity used by Mars24 for the solar declination (sin 25.19°).
+const SIN_OBLIQUITY: f64 = 0.42565;
+
+/// Every intermediate and final quantity of the Mars24 algorithm at one instant
+/// (2018 constants). Angles in degrees, wrapped to [0, 360) where they are angles of a
+/// circle. Letters in the field docs are the steps of the GISS page.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolarGeometry {
+    /// Days of TT since J2000.
+    pub days_since_j2000_tt: f64,
+    /// Mars mean anomaly M (B-1).
+    pub mean_anomaly_deg: f64,
+    /// Right ascension of the fictitious mean Sun α_FMS (B-2).
+    pub alpha_fms_deg: f64,
+    /// Sum of the seven planetary perturbations PBS (B-3).
+    pub perturbations_deg: f64,
+    /// Equation of centre ν − M (B-4).
+    pub equation_of_center_deg: f64,
+    /// Areocentric solar longitude Ls (B-5), apparent (aberration included).
+    pub ls_deg: f64,
+    /// Equation of time (C-1): LTST − LMST expressed as an angle.
+    pub eot_deg: f64,
+    /// Coordinated Mars Time (C-2), hours [0, 24).
+    pub mtc_hours: f64,
+    /// Sub-solar longitude, east (360° − C-5's west longitude).
+    pub subsolar_lon_east_deg: f64,
+    /// Sub-solar latitude, planetocentric: asin(0.42565 sin Ls) — the declination of
+    /// the Sun's direction from Mars' centre.
+    pub subsolar_lat_planetocentric_deg: f64,
+    /// Sub-solar latitude, planetographic (D-1): planetocentric + 0.25° sin Ls.
+    pub subsolar_lat_planetographic_deg: f64,
+    /// Heliocentric distance of Mars rH (D-2), astronomical units.
+    pub distance_au: f64,
+    /// Heliocentric longitude of Mars (D-3).
+    pub heliocentric_lon_deg: f64,
+    /// Heliocentric latitude of Mars (D-4).
+    pub heliocentric_lat_deg: f64,
+}
+
+impl SolarGeometry {
+    /// The geometry at `epoch`.
+    pub fn at(epoch: Epoch) -> SolarGeometry {
+        SolarGeometry::at_days_since_j2000(MarsTime::from_epoch(epoch).days_since_j2000_tt)
+    }
+
+    /// The geometry `dt` days of TT after J2000.
+    pub fn at_days_since_j2000(dt: f64) -> SolarGeometry {
+        let m = (19.3871 + 0.524_020_73 * dt).rem_euclid(360.0);
+        let alpha = (270.3871 + 0.524_038_496 * dt).rem_euclid(360.0);
+        let pbs: f64 =
+            PERTURBATIONS.iter().map(|&(a, tau, phi)| a * ((0.985_626 * dt / tau) + phi).to_radians().cos()).sum();
+        let mr = m.to_radians();
+        let eoc = (10.691 + 3.0e-7 * dt) * mr.sin()
+            + 0.623 * (2.0 * mr).sin()
+            + 0.050 * (3.0 * mr).sin()
+            + 0.005 * (4.0 * mr).sin()
+            + 0.0005 * (5.0 * mr).sin()
+            + pbs;
+        let ls = (alpha + eoc).rem_euclid(360.0);
+        let lsr = ls.to_radians();
+        let eot = 2.861 * (2.0 * lsr).sin() - 0.071 * (4.0 * lsr).sin() + 0.002 * (6.0 * lsr).sin() - eoc;
+        let msd = msd_from_jd_tt(dt + J2000_JD_TT);
+        let mtc = (24.0 * msd).rem_euclid(24.0);
+        let subsolar_lon_west = (mtc * 15.0 + eot + 180.0).rem_euclid(360.0);
+        let dec_c = (SIN_OBLIQUITY * lsr.sin()).asin().to_degrees();
+        let r = 1.523_679_34
+            * (1.004_36
+                - 0.093_09 * mr.cos()
+                - 0.004_336 * (2.0 * mr).cos()
+                - 0.000_31 * (3.0 * mr).cos()
+                - 0.000_03 * (4.0 * mr).cos());
+        let helio_lon = (ls + 85.061 - 0.015 * (71.0 + 2.0 * ls).to_radians().sin() - 5.5e-6 * dt).rem_euclid(360.0);
+        let helio_lat = -(1.8497 - 2.23e-5 * dt) * (ls - 144.50 + 2.57e-6 * dt).to_radians().sin();
+        SolarGeometry {
+            days_since_j2000_tt: dt,
+            mean_anomaly_deg: m,
+            alpha_fms_deg: alpha,
+            perturbations_deg: pbs,
+            equation_of_center_deg: eoc,
+            ls_deg: ls,
+            eot_deg: eot,
+            mtc_hours: mtc,
+            subsolar_lon_east_deg: (360.0 - subsolar_lon_west).rem_euclid(360.0),
+            subsolar_lat_planetocentric_deg: dec_c,
+            subsolar_lat_planetographic_deg: dec_c + 0.25 * lsr.sin(),
+            distance_au: r,
+            heliocentric_lon_deg: helio_lon,
+            heliocentric_lat_deg: helio_lat,
+        }
+    }
+
+    /// Equation of time, hours (LTST − LMST).
+    pub fn eot_hours(&self) -> f64 {
+        self.eot_deg / 15.0
+    }
+
+    /// Local mean solar time at east longitude `lon_east_deg`, hours [0, 24).
+    pub fn lmst_hours(&self, lon_east_deg: f64) -> f64 {
+        (self.mtc_hours + lon_east_deg / 15.0).rem_euclid(24.0)
+    }
+
+    /// Local true solar time at east longitude `lon_east_deg`, hours [0, 24).
+    pub fn ltst_hours(&self, lon_east_deg: f64) -> f64 {
+        (self.lmst_hours(lon_east_deg) + self.eot_hours()).rem_euclid(24.0)
+    }
+
+    /// The Sun's state: unit direction from Mars' centre in the body-fixed frame (x to
+    /// 0° E on the equator, z to the north pole) and its distance.
+    pub fn state(&self) -> SunState {
+        let lat = self.subsolar_lat_planetocentric_deg.to_radians();
+        let lon = self.subsolar_lon_east_deg.to_radians();
+        let (sp, cp) = lat.sin_cos();
+        let (sl, cl) = lon.sin_cos();
+        SunState { direction_body_fixed: [cp * cl, cp * sl, sp], distance_au: self.distance_au }
+    }
+
+    /// The GISS page's own local formulas (D-5, D-6): solar zenith angle and azimuth
+    /// (clockwise from north), degrees, for a planetographic latitude and east
+    /// longitude, with the planetographic declination. Kept to reproduce the published
+    /// worked examples; [`SunState::at_site`] is the geometric computation on the
+    /// ellipsoid and differs from this by up to ~0.25°.
+    pub fn mars24_zenith_azimuth_deg(&self, planetographic_lat_deg: f64, lon_east_deg: f64) -> (f64, f64) {
+        let lon_west = (360.0 - lon_east_deg).rem_euclid(360.0);
+        let subsolar_lon_west = 360.0 - self.subsolar_lon_east_deg;
+        let h = (lon_west - subsolar_lon_west).to_radians();
+        let phi = planetographic_lat_deg.to_radians();
+        let dec = self.subsolar_lat_planetographic_deg.to_radians();
+        let cos_z = (dec.sin() * phi.sin() + dec.cos() * phi.cos() * h.cos()).clamp(-1.0, 1.0);
+        let az = h.sin().atan2(phi.cos() * dec.tan() - phi.sin() * h.cos());
+        (cos_z.acos().to_degrees(), az.to_degrees().rem_euclid(360.0))
+    }
+}
+
+/// The Sun seen from Mars' centre at one instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SunState {
+    /// Unit vector from Mars' centre to the Sun, Mars body-fixed frame.
+    pub direction_body_fixed: [f64; 3],
+    /// Sun–Mars distance, astronomical units.
+    pub distance_au: f64,
+}
+
+impl SunState {
+    /// The Sun's azimuth and elevation above the local horizontal at `site`. The Sun is
+    /// taken at infinity: the parallax from a site 3400 km off-centre is below 0.001°.
+    pub fn at_site(&self, site: &Site) -> SunPosition {
+        let (azimuth_deg, elevation_deg) = site.azimuth_elevation_deg(self.direction_body_fixed);
+        let [e, n, u] = site.enu_axes();
+        let d = self.direction_body_fixed;
+        let enu = [crate::site::dot(e, d), crate::site::dot(n, d), crate::site::dot(u, d)];
+        SunPosition { azimuth_deg, elevation_deg, direction_enu: enu }
+    }
+}
+
+/// The Sun in a site's local frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SunPosition {
+    /// Azimuth, clockwise from north, degrees [0, 360).
+    pub azimuth_deg: f64,
+    /// Elevation above the local horizontal (ellipsoid tangent plane), degrees.
+    pub elevation_deg: f64,
+    /// Unit vector to the Sun in local east-north-up coordinates.
+    pub direction_enu: [f64; 3],
+}
+
+/// Where the Sun is, as a function of time. areo-terrain's LOS sequences and
+/// areo-mission's planner take any implementation, so a higher-fidelity ephemeris can
+/// replace [`Mars24`] without touching them.
+pub trait SunModel {
+    /// The Sun's direction (Mars body-fixed) and distance at `epoch`.
+    fn sun(&self, epoch: Epoch) -> SunState;
+}
+
+/// The Mars24 algorithm (Allison & McEwen 2000, 2018 GISS constants) as a [`SunModel`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Mars24;
+
+impl SunModel for Mars24 {
+    fn sun(&self, epoch: Epoch) -> SunState {
+        SolarGeometry::at(epoch).state()
+    }
+}

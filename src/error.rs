@@ -1,0 +1,58 @@
+use std::path::PathBuf;
+
+/// Everything that can go wrong running areo, with the file and position it concerns.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// The file is not valid RON for its format (bad syntax, an unknown or missing
+    /// field, a value of the wrong type).
+    #[error("{path}:{line}:{col}: {message}")]
+    Syntax {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        col: usize,
+        /// What the parser expected.
+        message: String,
+    },
+    /// A value is out of its allowed range.
+    #[error("{path}:{line}:{col}: field `{field}`: {message}")]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line of the field.
+        line: usize,
+        /// 1-based column of the field.
+        col: usize,
+        /// Dotted path of the field, e.g. `job.site.lat_deg`.
+        field: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+    /// An ephemeris computation refused its input.
+    #[error(transparent)]
+    Ephemeris(#[from] areo_ephemeris::Error),
+}
+
+impl Error {
+    /// The process exit code for this error: 2 for bad input files, 1 otherwise.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Error::Syntax { .. } | Error::Invalid { .. } | Error::Ephemeris(_) => 2,
+            Error::Io { .. } => 1,
+        }
+    }
+}
+
+/// `Result` with this crate's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,243 @@
+//! The `areo` command line: parse flags, call the library, map errors to exit codes
+//! (0 success, 1 failure while running, 2 bad input: flags, scenario files, times).
+
+#![allow(clippy::print_stdout, clippy::print_stderr)]
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use areo::ephemeris::events::solar_day;
+use areo::ephemeris::{HorizonMask, Site, format_utc, parse_utc};
+use areo::sun_report::{CSV_HEADER, SunRow};
+use areo::{Error, Progress, RunOptions};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+/// Plans what a planetary rover should do: TEMPEST long-range planning in position,
+/// time and energy, and physics-based action planning for the LSR-1 rover.
+#[derive(Debug, Parser)]
+#[command(name = "areo", version, about, long_about = None)]
+struct Cli {
+    /// More log output (-v info, -vv debug, -vvv trace).
+    #[arg(short, long, action = clap::ArgAction::Count, global = true)]
+    verbose: u8,
+    /// Only errors.
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    quiet: bool,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run a scenario file and write its outputs to OUT/NAME/.
+    Run {
+        /// The scenario (RON), e.g. scenarios/gale-sol-sun.ron.
+        scenario: PathBuf,
+        /// Output directory; files go to OUT/NAME/ where NAME is the scenario's file stem.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
+    /// Where the Sun is: at one instant, at instants listed in a file, or the rise, noon
+    /// and set of a sol at a site.
+    Sun(SunArgs),
+}
+
+#[derive(Debug, Args)]
+#[command(group = clap::ArgGroup::new("when").required(true).args(["time", "times_file", "sol"]))]
+struct SunArgs {
+    /// An instant, ISO 8601 UTC (e.g. 2012-08-06T05:17:57Z).
+    #[arg(long)]
+    time: Option<String>,
+    /// A file of ISO 8601 UTC instants, one per line.
+    #[arg(long)]
+    times_file: Option<PathBuf>,
+    /// A local sol number at the site (Mars Sol Date counted in local mean time):
+    /// prints sunrise, noon and sunset. Needs --lat and --lon.
+    #[arg(long, requires_all = ["lat", "lon"])]
+    sol: Option<i64>,
+    /// Site latitude, planetocentric degrees.
+    #[arg(long, requires = "lon", allow_hyphen_values = true)]
+    lat: Option<f64>,
+    /// Site longitude, degrees east.
+    #[arg(long, requires = "lat", allow_hyphen_values = true)]
+    lon: Option<f64>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Text)]
+    format: Format,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Format {
+    Text,
+    Json,
+    Csv,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    init_logging(&cli);
+    let result = match cli.command {
+        Command::Run { scenario, out } => run(&scenario, &out),
+        Command::Sun(args) => sun(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(e.exit_code() as u8)
+        }
+    }
+}
+
+fn init_logging(cli: &Cli) {
+    let level = match (cli.quiet, cli.verbose) {
+        (true, _) => tracing::Level::ERROR,
+        (false, 0) => tracing::Level::WARN,
+        (false, 1) => tracing::Level::INFO,
+        (false, 2) => tracing::Level::DEBUG,
+        _ => tracing::Level::TRACE,
+    };
+    tracing_subscriber::fmt()
+        .with_max_level(level)
+        .with_writer(std::io::stderr)
+        .with_ansi(std::io::stderr().is_terminal())
+        .init();
+}
+
+/// An indicatif bar on stderr, drawn only when stdout is a terminal (so piped or
+/// redirected runs stay clean).
+struct Bar(ProgressBar);
+
+impl Progress for Bar {
+    fn start(&self, total: u64, message: &str) {
+        self.0.reset();
+        self.0.set_length(total);
+        self.0.set_message(message.to_string());
+    }
+    fn advance(&self, n: u64) {
+        self.0.inc(n);
+    }
+    fn finish(&self) {
+        self.0.finish_and_clear();
+    }
+}
+
+fn progress_bar() -> Bar {
+    let target =
+        if std::io::stdout().is_terminal() { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
+    let bar = ProgressBar::with_draw_target(None, target);
+    if let Ok(style) = ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} ({eta})") {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    Bar(bar)
+}
+
+fn run(scenario: &std::path::Path, out: &std::path::Path) -> Result<(), Error> {
+    let file = areo::scenario::load(scenario)?;
+    tracing::info!(scenario = %file.path.display(), "loaded");
+    let dir = out.join(&file.name);
+    let bar = progress_bar();
+    let outcome = areo::run(&file, RunOptions { out_dir: Some(&dir), progress: &bar })?;
+    println!("{}: {}", file.name, file.scenario.description);
+    for line in &outcome.summary {
+        println!("  {line}");
+    }
+    for f in &outcome.files {
+        println!("  wrote {}", f.display());
+    }
+    Ok(())
+}
+
+fn sun(args: &SunArgs) -> Result<(), Error> {
+    let site = match (args.lat, args.lon) {
+        (Some(lat), Some(lon)) => Some(Site::new(lat, lon)?),
+        _ => None,
+    };
+    if let Some(sol) = args.sol {
+        let site = site.as_ref().expect("clap requires --lat and --lon with --sol");
+        return sol_events(sol, site, args.format);
+    }
+    let times: Vec<String> = match (&args.time, &args.times_file) {
+        (Some(t), _) => vec![t.clone()],
+        (None, Some(path)) => std::fs::read_to_string(path)
+            .map_err(|source| Error::Io { path: path.clone(), source })?
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty() && !l.starts_with('#'))
+            .map(String::from)
+            .collect(),
+        (None, None) => Vec::new(),
+    };
+    let mut rows = Vec::with_capacity(times.len());
+    for (i, t) in times.iter().enumerate() {
+        let epoch = parse_utc(t).map_err(|e| match &args.times_file {
+            Some(path) => Error::Syntax { path: path.clone(), line: i + 1, col: 1, message: e.to_string() },
+            None => e.into(),
+        })?;
+        rows.push(SunRow::at(epoch, site.as_ref()));
+    }
+    match args.format {
+        Format::Csv => {
+            println!("{CSV_HEADER}");
+            for r in &rows {
+                println!("{}", r.csv());
+            }
+        }
+        Format::Json => println!("{}", serde_json::to_string_pretty(&rows).unwrap_or_default()),
+        Format::Text => {
+            for r in &rows {
+                println!("{}", r.utc);
+                println!("  Ls                 {:10.5}°", r.ls_deg);
+                println!("  sub-solar latitude {:10.5}° (planetocentric)", r.subsolar_lat_deg);
+                println!("  sub-solar longitude{:10.5}° E", r.subsolar_lon_east_deg);
+                println!("  Sun distance       {:10.6} AU", r.sun_distance_au);
+                println!("  MTC                {:10.5} h", r.mtc_hours);
+                if let (Some(l), Some(a), Some(e)) = (r.ltst_hours, r.azimuth_deg, r.elevation_deg) {
+                    println!("  LTST               {l:10.5} h");
+                    println!("  Sun azimuth        {a:10.4}° (from north, clockwise)");
+                    println!("  Sun elevation      {e:10.4}°");
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn sol_events(sol: i64, site: &Site, format: Format) -> Result<(), Error> {
+    let day = solar_day(sol, site, &HorizonMask::flat())?;
+    let t = |e: Option<hifitime::Epoch>| e.map_or_else(|| "none".to_string(), format_utc);
+    match format {
+        Format::Csv => {
+            println!("sol,sunrise_utc,noon_utc,sunset_utc,noon_elevation_deg,daylight_hours");
+            println!(
+                "{sol},{},{},{},{:.4},{:.4}",
+                t(day.sunrise),
+                format_utc(day.noon),
+                t(day.sunset),
+                day.noon_elevation_deg,
+                day.daylight_s() / 3600.0
+            );
+        }
+        Format::Json => {
+            let v = serde_json::json!({
+                "sol": sol,
+                "sunrise_utc": day.sunrise.map(format_utc),
+                "noon_utc": format_utc(day.noon),
+                "sunset_utc": day.sunset.map(format_utc),
+                "noon_elevation_deg": day.noon_elevation_deg,
+                "daylight_hours": day.daylight_s() / 3600.0,
+            });
+            println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+        }
+        Format::Text => {
+            println!("sol {sol} at ({:.4}°, {:.4}°E)", site.lat_deg(), site.lon_east_deg());
+            println!("  sunrise  {}", t(day.sunrise));
+            println!("  noon     {}  (Sun {:.2}° high)", format_utc(day.noon), day.noon_elevation_deg);
+            println!("  sunset   {}", t(day.sunset));
+            println!("  daylight {:.3} h", day.daylight_s() / 3600.0);
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,159 @@
+//! What a job produced, as named facts, and the expectations the regression runner
+//! (`cargo xtask scenarios`) checks them against.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+/// One named fact about a job's result.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Fact {
+    /// A number, in the unit the fact's name gives.
+    Number(f64),
+    /// A yes/no fact (goal reached, feasible, …).
+    Flag(bool),
+    /// Text (an instant in ISO 8601 UTC, a status word, …).
+    Text(String),
+}
+
+impl std::fmt::Display for Fact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Fact::Number(x) => write!(f, "{x:.6}"),
+            Fact::Flag(b) => write!(f, "{b}"),
+            Fact::Text(s) => write!(f, "{s}"),
+        }
+    }
+}
+
+/// A job's result: named facts, files written and a human summary.
+#[derive(Debug, Clone, Default)]
+pub struct Outcome {
+    /// Facts by name.
+    pub facts: BTreeMap<String, Fact>,
+    /// Lines for a person to read.
+    pub summary: Vec<String>,
+    /// Files the job wrote.
+    pub files: Vec<PathBuf>,
+}
+
+impl Outcome {
+    /// Records a numeric fact.
+    pub fn number(&mut self, name: &str, value: f64) {
+        self.facts.insert(name.to_string(), Fact::Number(value));
+    }
+
+    /// Records a text fact.
+    pub fn text(&mut self, name: &str, value: impl Into<String>) {
+        self.facts.insert(name.to_string(), Fact::Text(value.into()));
+    }
+
+    /// Records a flag.
+    pub fn flag(&mut self, name: &str, value: bool) {
+        self.facts.insert(name.to_string(), Fact::Flag(value));
+    }
+}
+
+/// The expected outcome of a scenario: `scenarios/expected/NAME.ron`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Expected {
+    /// Expected facts by name; facts not listed are not checked.
+    pub facts: BTreeMap<String, Expect>,
+}
+
+/// One expectation.
+#[derive(Debug, Clone, Deserialize)]
+pub enum Expect {
+    /// |fact − value| ≤ tol.
+    Near {
+        /// Expected value.
+        value: f64,
+        /// Absolute tolerance, ≥ 0.
+        tol: f64,
+    },
+    /// min ≤ fact ≤ max.
+    Between {
+        /// Lower bound.
+        min: f64,
+        /// Upper bound.
+        max: f64,
+    },
+    /// The flag has this value.
+    Is(bool),
+    /// The text is exactly this.
+    Equals(String),
+}
+
+/// A fact that did not meet its expectation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mismatch {
+    /// The fact's name.
+    pub fact: String,
+    /// What was expected, in words.
+    pub expected: String,
+    /// What was found, or "missing".
+    pub found: String,
+}
+
+impl Expected {
+    /// Reads an expectation file.
+    pub fn load(path: &Path) -> Result<Expected, crate::Error> {
+        let text =
+            std::fs::read_to_string(path).map_err(|source| crate::Error::Io { path: path.to_path_buf(), source })?;
+        crate::scenario::ron_options().from_str(&text).map_err(|e| crate::Error::Syntax {
+            path: path.to_path_buf(),
+            line: e.span.start.line,
+            col: e.span.start.col,
+            message: e.code.to_string(),
+        })
+    }
+
+    /// Every expectation the outcome fails.
+    pub fn check(&self, outcome: &Outcome) -> Vec<Mismatch> {
+        let mut out = Vec::new();
+        for (name, expect) in &self.facts {
+            let found = outcome.facts.get(name);
+            let ok = match (expect, found) {
+                (Expect::Near { value, tol }, Some(Fact::Number(x))) => (x - value).abs() <= *tol,
+                (Expect::Between { min, max }, Some(Fact::Number(x))) => x >= min && x <= max,
+                (Expect::Is(b), Some(Fact::Flag(x))) => x == b,
+                (Expect::Equals(s), Some(Fact::Text(x))) => x == s,
+                _ => false,
+            };
+            if !ok {
+                out.push(Mismatch {
+                    fact: name.clone(),
+                    expected: match expect {
+                        Expect::Near { value, tol } => format!("{value} ± {tol}"),
+                        Expect::Between { min, max } => format!("in [{min}, {max}]"),
+                        Expect::Is(b) => format!("{b}"),
+                        Expect::Equals(s) => format!("{s:?}"),
+                    },
+                    found: found.map_or_else(|| "missing".to_string(), |f| f.to_string()),
+                });
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn expectations_catch_wrong_missing_and_mistyped_facts() {
+        let mut o = Outcome::default();
+        o.number("a", 1.0);
+        o.number("b", 5.0);
+        o.flag("c", true);
+        o.text("d", "yes");
+        let text = r#"(facts: {"a": Near(value: 1.05, tol: 0.1), "b": Between(min: 0, max: 4), "c": Is(true), "d": Equals("yes"), "e": Is(false), "a2": Is(true)})"#;
+        let exp: Expected = crate::scenario::ron_options().from_str(text).unwrap();
+        let bad: Vec<String> = exp.check(&o).into_iter().map(|m| m.fact).collect();
+        assert_eq!(bad, vec!["a2", "b", "e"]);
+    }
+}

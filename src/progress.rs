@@ -1,0 +1,22 @@
+//! Progress reporting for long jobs, without tying the library to a terminal.
+
+/// Receives progress from a long job. The CLI shows a bar; tests and the regression
+/// runner pass [`NoProgress`].
+pub trait Progress {
+    /// A new phase of `total` steps begins.
+    fn start(&self, total: u64, message: &str);
+    /// `n` more steps are done.
+    fn advance(&self, n: u64);
+    /// The phase is over.
+    fn finish(&self);
+}
+
+/// Reports nothing.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoProgress;
+
+impl Progress for NoProgress {
+    fn start(&self, _total: u64, _message: &str) {}
+    fn advance(&self, _n: u64) {}
+    fn finish(&self) {}
+}

@@ -1,0 +1,140 @@
+//! End-to-end tests of the `areo` binary: bad scenarios are rejected with the file,
+//! line:column and field named and exit code 2; good ones run and write their outputs.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn areo(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_areo")).args(args).output().expect("run areo")
+}
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn bad(name: &str) -> (i32, String) {
+    let path = root().join("tests/scenarios").join(name);
+    let out = areo(&["run", path.to_str().unwrap(), "--out", tmp("bad").to_str().unwrap()]);
+    assert!(out.stdout.is_empty(), "nothing on stdout for a bad scenario");
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+fn tmp(tag: &str) -> PathBuf {
+    let dir = root().join("target").join("cli-tests").join(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn syntax_error_names_file_and_position() {
+    let (code, err) = bad("bad_syntax.ron");
+    assert_eq!(code, 2);
+    assert!(err.contains("bad_syntax.ron:4:33"), "{err}");
+}
+
+#[test]
+fn unknown_field_names_the_field_and_what_is_allowed() {
+    let (code, err) = bad("unknown_field.ron");
+    assert_eq!(code, 2);
+    assert!(err.contains("unknown_field.ron:7:"), "{err}");
+    assert!(err.contains("step_minutes"), "{err}");
+    assert!(err.contains("step_min"), "the allowed names are listed: {err}");
+}
+
+#[test]
+fn out_of_range_value_names_field_position_and_range() {
+    let (code, err) = bad("out_of_range.ron");
+    assert_eq!(code, 2);
+    assert!(err.contains("out_of_range.ron:5:13: field `job.site.lat_deg`"), "{err}");
+    assert!(err.contains("95 is out of range: allowed -90..=90"), "{err}");
+}
+
+#[test]
+fn out_of_range_list_element_is_located() {
+    let (code, err) = bad("bad_list_element.ron");
+    assert_eq!(code, 2);
+    assert!(err.contains("bad_list_element.ron:9:23: field `job.horizon_deg[2]`"), "{err}");
+}
+
+#[test]
+fn impossible_date_is_a_field_error() {
+    let (code, err) = bad("bad_time.ron");
+    assert_eq!(code, 2);
+    assert!(err.contains("bad_time.ron:5:9: field `job.start_utc`"), "{err}");
+}
+
+#[test]
+fn missing_file_is_an_error_not_a_panic() {
+    let out = areo(&["run", "no/such/scenario.ron"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/scenario.ron"));
+}
+
+#[test]
+fn shipped_scenario_runs_and_writes_outputs() {
+    let out_dir = tmp("good");
+    let scenario = root().join("scenarios/gale-sol-sun.ron");
+    let out = areo(&["-q", "run", scenario.to_str().unwrap(), "--out", out_dir.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let csv = std::fs::read_to_string(out_dir.join("gale-sol-sun/sun.csv")).unwrap();
+    // Header plus 148 rows (24.66 h at 10 min).
+    assert_eq!(csv.lines().count(), 149);
+    assert!(Path::new(&out_dir.join("gale-sol-sun/facts.json")).exists());
+}
+
+#[test]
+fn sun_csv_reproduces_the_spirit_worked_example() {
+    let out =
+        areo(&["sun", "--time", "2004-01-03T13:46:31Z", "--lat", "-14.64", "--lon", "175.298", "--format", "csv"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "utc,jd_tt,ls_deg,subsolar_lat_deg,subsolar_lon_east_deg,sun_distance_au,mtc_hours,ltst_hours,azimuth_deg,elevation_deg"
+    );
+    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(row[0], "2004-01-03T13:46:31.000Z");
+    let num = |i: usize| row[i].parse::<f64>().unwrap();
+    assert!((num(2) - 327.32416).abs() < 1e-5); // Ls, GISS example B
+    assert!((num(4) - (360.0 - 4.705)).abs() < 1e-3); // sub-solar longitude
+    assert!((num(6) - 13.16537).abs() < 1e-5); // MTC
+    assert!(num(7).abs() < 1e-3); // LTST: local true midnight
+}
+
+#[test]
+fn sun_times_file_without_site_leaves_local_columns_empty() {
+    let dir = tmp("times");
+    let file = dir.join("times.txt");
+    std::fs::write(&file, "2000-01-06T00:00:00Z\n\n2012-08-06T05:17:57Z\n").unwrap();
+    let out = areo(&["sun", "--times-file", file.to_str().unwrap(), "--format", "csv"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let rows: Vec<&str> = text.lines().skip(1).collect();
+    assert_eq!(rows.len(), 2);
+    assert!(rows[0].ends_with(",,,"), "{}", rows[0]);
+    assert!(rows[0].contains(",277.1875"), "Ls of GISS example A: {}", rows[0]);
+}
+
+#[test]
+fn sun_bad_time_is_exit_2() {
+    let out = areo(&["sun", "--time", "2001-02-29T00:00:00Z"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("2001-02-29"));
+    let dir = tmp("badtimes");
+    let file = dir.join("times.txt");
+    std::fs::write(&file, "2000-01-06T00:00:00Z\nlater\n").unwrap();
+    let out = areo(&["sun", "--times-file", file.to_str().unwrap(), "--format", "csv"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("times.txt:2:1"));
+}
+
+#[test]
+fn help_and_version_work() {
+    let out = areo(&["--help"]);
+    assert!(out.status.success());
+    let help = String::from_utf8_lossy(&out.stdout);
+    assert!(help.contains("run") && help.contains("sun"));
+    let out = areo(&["--version"]);
+    assert_eq!(String::from_utf8_lossy(&out.stdout).trim(), format!("areo {}", env!("CARGO_PKG_VERSION")));
+}

@@ -1,0 +1,104 @@
+//! `cargo xtask bench`: runs the criterion benches in one process run and prints each
+//! benchmark's time, its throughput, the targets of the issues and the peer ratios.
+//! These machines are noisy: the ratios within one run are what we compare.
+
+use std::path::Path;
+use std::process::Command;
+
+/// Throughput targets, elements per second: (criterion full id, minimum, what it means).
+const TARGETS: &[(&str, f64, &str)] =
+    &[("sun/direction_body_fixed(days_since_j2000)", 5.0e6, "Sun directions per second, one core")];
+
+/// Peer comparisons: (name, bench measured, peer bench, the largest allowed ratio
+/// ours/peer of mean times). Empty until crates with peers land.
+const RATIOS: &[(&str, &str, &str, f64)] = &[];
+
+/// Runs `cargo bench` (optionally only benches matching `filter`) and prints the table.
+pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut cmd = Command::new(cargo);
+    cmd.args(["bench", "--workspace", "--benches", "--"]).current_dir(root);
+    if let Some(filter) = args.first() {
+        cmd.arg(filter);
+    }
+    let status = cmd.status().map_err(|e| format!("cargo bench: {e}"))?;
+    if !status.success() {
+        return Err("cargo bench failed".into());
+    }
+    let results = collect(&root.join("target").join("criterion"));
+    println!("{:<56} {:>14} {:>16}", "benchmark", "mean", "throughput/s");
+    for r in &results {
+        let tp = r.elements.map_or_else(String::new, |n| format!("{:.3e}", n / (r.mean_ns * 1e-9)));
+        println!("{:<56} {:>14} {:>16}", r.id, human_ns(r.mean_ns), tp);
+    }
+    let mut ok = true;
+    for (id, min, what) in TARGETS {
+        if let Some(r) = results.iter().find(|r| r.id == *id) {
+            let rate = r.elements.unwrap_or(1.0) / (r.mean_ns * 1e-9);
+            let pass = rate >= *min;
+            ok &= pass;
+            println!("target {id}: {rate:.3e} {what} (≥ {min:.1e}) {}", if pass { "ok" } else { "MISSED" });
+        }
+    }
+    for (name, ours, peer, max_ratio) in RATIOS {
+        let find = |id: &str| results.iter().find(|r| r.id == id).map(|r| r.mean_ns);
+        if let (Some(a), Some(b)) = (find(ours), find(peer)) {
+            let ratio = a / b;
+            let pass = ratio <= *max_ratio;
+            ok &= pass;
+            println!("ratio {name}: {ratio:.4} (≤ {max_ratio}) {}", if pass { "ok" } else { "MISSED" });
+        }
+    }
+    Ok(ok)
+}
+
+struct BenchResult {
+    id: String,
+    mean_ns: f64,
+    elements: Option<f64>,
+}
+
+fn collect(dir: &Path) -> Vec<BenchResult> {
+    let mut out = Vec::new();
+    visit(dir, &mut out);
+    out.sort_by(|a, b| a.id.cmp(&b.id));
+    out
+}
+
+fn visit(dir: &Path, out: &mut Vec<BenchResult>) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            if path.file_name().is_some_and(|n| n == "new") {
+                if let Some(r) = read_result(&path) {
+                    out.push(r);
+                }
+            } else {
+                visit(&path, out);
+            }
+        }
+    }
+}
+
+fn read_result(new_dir: &Path) -> Option<BenchResult> {
+    let read = |f: &str| -> Option<serde_json::Value> {
+        serde_json::from_str(&std::fs::read_to_string(new_dir.join(f)).ok()?).ok()
+    };
+    let bench = read("benchmark.json")?;
+    let est = read("estimates.json")?;
+    Some(BenchResult {
+        id: bench["full_id"].as_str()?.to_string(),
+        mean_ns: est["mean"]["point_estimate"].as_f64()?,
+        elements: bench["throughput"]["Elements"].as_f64(),
+    })
+}
+
+fn human_ns(ns: f64) -> String {
+    match ns {
+        x if x < 1e3 => format!("{x:.1} ns"),
+        x if x < 1e6 => format!("{:.2} µs", x / 1e3),
+        x if x < 1e9 => format!("{:.2} ms", x / 1e6),
+        x => format!("{:.3} s", x / 1e9),
+    }
+}

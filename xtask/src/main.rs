@@ -1,0 +1,56 @@
+//! `cargo xtask` — development tasks for the areo workspace.
+//!
+//! - `cargo xtask scenarios`: run every `scenarios/*.ron` through the library and check
+//!   it against `scenarios/expected/NAME.ron`;
+//! - `cargo xtask deps`: check that crate dependencies point down the design's crate map;
+//! - `cargo xtask bench`: run the criterion benches and print the figures and ratios
+//!   that `docs/benchmarks.md` records.
+//!
+//! Each check is also a `#[test]` here, so `cargo test --workspace` covers them.
+
+#![allow(clippy::print_stdout, clippy::print_stderr)]
+
+mod bench;
+mod deps;
+mod scenarios;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = match args.first().map(String::as_str) {
+        Some("scenarios") => scenarios::run_all(&project_root()).map(|report| {
+            print!("{}", report.table());
+            report.failures() == 0
+        }),
+        Some("deps") => deps::check(&project_root()).map(|violations| {
+            for v in &violations {
+                println!("{v}");
+            }
+            if violations.is_empty() {
+                println!("dependency directions: ok");
+            }
+            violations.is_empty()
+        }),
+        Some("bench") => bench::run(&project_root(), &args[1..]),
+        _ => {
+            eprintln!("usage: cargo xtask <scenarios|deps|bench [FILTER]>");
+            return ExitCode::from(2);
+        }
+    };
+    match result {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("xtask: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The workspace root (the parent of this crate's directory).
+fn project_root() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    dir.parent().map(PathBuf::from).unwrap_or(dir)
+}
