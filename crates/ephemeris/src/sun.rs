@@ -107,6 +107,38 @@ impl SolarGeometry {
         }
     }
 
+    /// The first instant after `after_days` (days of TT since J2000) at which Ls
+    /// equals `target_deg`, as days of TT since J2000, found by bracketing (Ls advances
+    /// 0.3–0.7° per day) and bisection to ~1 ms.
+    pub fn next_ls_days(target_deg: f64, after_days: f64) -> f64 {
+        // Degrees still to go until Ls reaches the target, in (0, 360].
+        let to_go = |dt: f64| {
+            let d = (target_deg - SolarGeometry::at_days_since_j2000(dt).ls_deg).rem_euclid(360.0);
+            if d == 0.0 { 360.0 } else { d }
+        };
+        let mut a = after_days;
+        let mut fa = to_go(a);
+        loop {
+            let b = a + 1.0;
+            let fb = to_go(b);
+            // Crossing the target makes the distance to go jump from ~0 back to ~360.
+            if fb > fa {
+                let (mut lo, mut hi) = (a, b);
+                while hi - lo > 1e-8 {
+                    let mid = 0.5 * (lo + hi);
+                    if to_go(mid) > 180.0 {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+                return 0.5 * (lo + hi);
+            }
+            a = b;
+            fa = fb;
+        }
+    }
+
     /// Equation of time, hours (LTST − LMST).
     pub fn eot_hours(&self) -> f64 {
         self.eot_deg / 15.0

@@ -2,30 +2,8 @@
 
 use areo_ephemeris::{SolarGeometry, parse_utc};
 
-/// Days of TT after J2000 at which Ls next reaches `target` after `from`.
 fn next_ls(target: f64, from: f64) -> f64 {
-    let ls_after = |dt: f64| (SolarGeometry::at_days_since_j2000(dt).ls_deg - target).rem_euclid(360.0);
-    // Ls grows by 0.3–0.7°/day; step 1 day until the wrapped difference jumps from ~360 to ~0.
-    let mut a = from;
-    let mut fa = ls_after(a);
-    loop {
-        let b = a + 1.0;
-        let fb = ls_after(b);
-        if fb < fa {
-            let (mut lo, mut hi) = (a, b);
-            for _ in 0..60 {
-                let mid = 0.5 * (lo + hi);
-                if ls_after(mid) > 180.0 {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            return 0.5 * (lo + hi);
-        }
-        a = b;
-        fa = fb;
-    }
+    SolarGeometry::next_ls_days(target, from)
 }
 
 #[test]

@@ -1,0 +1,102 @@
+//! What a user supplies to the engine: the [`Domain`] trait.
+
+use std::fmt::Debug;
+use std::hash::Hash;
+
+/// A search problem, seen backwards from the goals.
+///
+/// - `State` is the IPARMS part of a search state: discrete and coarse (a grid cell).
+/// - `Label` carries the DPARMS and path quantities: arbitrarily fine values (time,
+///   required energy) that ride along a path.
+/// - `Key` groups labels at one state into resolution-equivalence classes: of the
+///   labels at a state with equal keys, only the best (lowest cost; ties by
+///   [`Domain::better`]) is kept.
+///
+/// The engine searches backwards: it starts from goal labels and asks, for each
+/// action that could have led *into* a state, which predecessor label it came from
+/// and at what cost. Costs are ≥ 0 and additive along a path.
+pub trait Domain {
+    /// Discrete, coarse coordinates (IPARMS).
+    type State: Copy + Eq + Hash + Debug;
+    /// Fine-grained path quantities (DPARMS), e.g. time and required energy.
+    type Label: Clone + Debug;
+    /// Resolution-equivalence class of a label at a state.
+    type Key: Copy + Eq + Debug;
+    /// An action; applied forwards it leads from the predecessor to the state.
+    type Action: Copy + Debug;
+
+    /// Whether [`Domain::dominates`] can ever return true; when false the engine skips
+    /// the pairwise dominance tests.
+    const DOMINANCE: bool = false;
+
+    /// The actions that may lead into `state` with `label` (appended to `out`).
+    fn actions(&self, state: Self::State, label: &Self::Label, out: &mut Vec<Self::Action>);
+
+    /// The backward transition: the state and label from which `action` leads to
+    /// (`state`, `label`), with the step's cost (≥ 0); `None` when a local constraint
+    /// forbids it.
+    fn predecessor(&self, state: Self::State, label: &Self::Label, action: Self::Action) -> Option<Step<Self>>;
+
+    /// The states reachable from `state` by one action (appended to `out`; include
+    /// `state` itself for stationary actions). Used in re-planning to find the nodes
+    /// whose expansion can regenerate labels at a state.
+    fn successors(&self, state: Self::State, out: &mut Vec<Self::State>);
+
+    /// The resolution-equivalence class of `label` at `state`.
+    fn key(&self, state: Self::State, label: &Self::Label) -> Self::Key;
+
+    /// Whether (`a`, `cost_a`) dominates (`b`, `cost_b`) at `state`: every completion
+    /// of `b` toward the start can be matched by `a` at no greater cost. Only called
+    /// when [`Domain::DOMINANCE`] is true.
+    fn dominates(&self, _state: Self::State, _a: &Self::Label, _cost_a: f64, _b: &Self::Label, _cost_b: f64) -> bool {
+        false
+    }
+
+    /// The global constraint: false when the path quantities in `label` (with path cost
+    /// `cost` from the goal) violate it, so the label is not propagated.
+    fn within_global(&self, _state: Self::State, _label: &Self::Label, _cost: f64) -> bool {
+        true
+    }
+
+    /// The start test: whether a path may begin at (`state`, `label`) (start cell, start
+    /// window, start energy).
+    fn is_start(&self, state: Self::State, label: &Self::Label) -> bool;
+
+    /// The start's state, if there is a single one: lets the engine find start labels
+    /// already in its graph without scanning it (plan extension after the rover moved).
+    fn start_state(&self) -> Option<Self::State> {
+        None
+    }
+
+    /// An admissible (never over-estimating) estimate of the cost from the start to
+    /// (`state`, `label`).
+    fn heuristic(&self, state: Self::State, label: &Self::Label) -> f64;
+
+    /// The BESTDPARMS order: whether `a` is strictly better than `b`.
+    fn better(&self, _a: &Self::Label, _b: &Self::Label) -> bool {
+        false
+    }
+}
+
+/// One backward transition: the predecessor and the cost of the step.
+#[derive(Debug, Clone)]
+pub struct Step<D: Domain + ?Sized> {
+    /// Predecessor state.
+    pub state: D::State,
+    /// Predecessor label.
+    pub label: D::Label,
+    /// Cost of the step, ≥ 0.
+    pub cost: f64,
+}
+
+/// A goal label from which the backward search starts, with its initial cost (the
+/// cost-to-go of whatever follows it, for multi-goal chaining).
+#[derive(Debug, Clone)]
+pub struct Goal<D: Domain + ?Sized> {
+    /// Goal state.
+    pub state: D::State,
+    /// Goal label.
+    pub label: D::Label,
+    /// Initial cost, ≥ 0.
+    pub cost: f64,
+}

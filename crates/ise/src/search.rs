@@ -1,0 +1,514 @@
+//! The engine: backward best-first search with dominance and resolution pruning, and
+//! incremental repair.
+//!
+//! The search graph is a forest rooted at the goal labels: every node points to its
+//! parent (the next step toward a goal) and threads its children through intrusive
+//! sibling lists, so a change can invalidate exactly the subtree that depends on it.
+//!
+//! Re-planning keeps one invariant: every closed node has generated all its
+//! predecessors, and every generated node has a cost that is the true cost of its path
+//! to a goal. `update` removes the nodes whose paths cross a changed state (with their
+//! subtrees, whose costs derived from them) and reopens the surviving closed nodes that
+//! could regenerate what was removed or now reach something cheaper; `plan` then resumes
+//! best-first search (with reopening) from the frontier. In a backward search the start
+//! sits at the leaves, so a change near the rover removes a small subtree and reopens a
+//! handful of nodes — the D* Lite insight, here over labelled states (DD* Lite).
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+use rustc_hash::{FxHashMap, FxHashSet};
+
+use crate::domain::{Domain, Goal};
+
+const NONE: u32 = u32::MAX;
+const OPEN: u8 = 1;
+const CLOSED: u8 = 2;
+/// Replaced by a better label of its class or dominated: no longer a search node, but
+/// its path is still valid for the children that hang from it.
+const DEAD: u8 = 4;
+/// Invalidated by a change: its path crosses a changed state.
+const REMOVED: u8 = 8;
+
+/// What the search optimises.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Mode {
+    /// BESTPCOST: the least-cost feasible path.
+    BestPathCost,
+    /// BESTDPARMS: among feasible paths costing at most `max_cost`, the one whose start
+    /// label is best by [`Domain::better`] (ties: lower cost).
+    BestDparms {
+        /// Paths costing more are discarded.
+        max_cost: f64,
+    },
+}
+
+/// Counters for one call (`plan` or `update`) and the graph's size after it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Nodes expanded.
+    pub expansions: u64,
+    /// Labels created.
+    pub generated: u64,
+    /// Labels discarded because another label dominated them.
+    pub pruned_dominance: u64,
+    /// Labels discarded in favour of a better one of their resolution class.
+    pub pruned_resolution: u64,
+    /// Labels discarded by the global constraint or the cost bound.
+    pub pruned_constraint: u64,
+    /// Nodes removed because their path crossed a changed state.
+    pub invalidated: u64,
+    /// Closed nodes reopened for repair.
+    pub reopened: u64,
+    /// Live labels in the graph.
+    pub labels_alive: u64,
+    /// Approximate bytes held by the graph, the class table and the open list.
+    pub bytes: u64,
+}
+
+/// One step of a plan, from the start toward the goal.
+#[derive(Debug, Clone)]
+pub struct PathStep<D: Domain> {
+    /// IPARMS of this step.
+    pub state: D::State,
+    /// DPARMS and path quantities of this step.
+    pub label: D::Label,
+    /// The action taken from here to the next step (`None` at the goal).
+    pub action: Option<D::Action>,
+    /// Cost accumulated from the start to here.
+    pub cost_so_far: f64,
+}
+
+/// The answer of [`Search::plan`].
+#[derive(Debug, Clone)]
+pub struct Plan<D: Domain> {
+    /// The optimal path from the start to a goal, or `None` if no feasible path exists.
+    pub path: Option<Vec<PathStep<D>>>,
+    /// Total cost of the path (including the goal's initial cost).
+    pub cost: f64,
+    /// What the call did.
+    pub stats: Stats,
+}
+
+struct Node<D: Domain> {
+    state: D::State,
+    label: D::Label,
+    key: D::Key,
+    /// The action leading from this node to its parent; `None` at goals.
+    action: Option<D::Action>,
+    g: f64,
+    parent: u32,
+    first_child: u32,
+    next_sibling: u32,
+    next_in_state: u32,
+    flags: u8,
+}
+
+impl<D: Domain> Node<D> {
+    fn live(&self) -> bool {
+        self.flags & (DEAD | REMOVED) == 0
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Entry {
+    f: f64,
+    g: f32,
+    id: u32,
+}
+
+impl PartialEq for Entry {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+impl Eq for Entry {}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Entry {
+    /// Max-heap order: smallest f first; ties broken toward the deeper node (larger g),
+    /// then the older node, so runs are deterministic.
+    fn cmp(&self, other: &Self) -> Ordering {
+        other.f.total_cmp(&self.f).then(self.g.total_cmp(&other.g)).then(other.id.cmp(&self.id))
+    }
+}
+
+/// An incremental search over a [`Domain`].
+pub struct Search<D: Domain> {
+    mode: Mode,
+    nodes: Vec<Node<D>>,
+    by_state: FxHashMap<D::State, u32>,
+    open: BinaryHeap<Entry>,
+    alive: u64,
+    stats: Stats,
+    actions: Vec<D::Action>,
+    states: Vec<D::State>,
+}
+
+impl<D: Domain> std::fmt::Debug for Search<D> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Search").field("mode", &self.mode).field("nodes", &self.nodes.len()).finish_non_exhaustive()
+    }
+}
+
+impl<D: Domain> Search<D> {
+    /// A search from `goals` (each with its initial cost) in `mode`. Nothing is
+    /// expanded until [`Search::plan`].
+    pub fn new(domain: &D, goals: impl IntoIterator<Item = Goal<D>>, mode: Mode) -> Search<D> {
+        let mut s = Search {
+            mode,
+            nodes: Vec::new(),
+            by_state: FxHashMap::default(),
+            open: BinaryHeap::new(),
+            alive: 0,
+            stats: Stats::default(),
+            actions: Vec::new(),
+            states: Vec::new(),
+        };
+        for goal in goals {
+            s.insert(domain, goal.state, goal.label, goal.cost.max(0.0), NONE, None);
+        }
+        s
+    }
+
+    /// The search mode.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Finds the optimal plan for the domain's current start, reusing the graph.
+    pub fn plan(&mut self, domain: &D) -> Plan<D> {
+        match self.mode {
+            Mode::BestPathCost => self.plan_best_cost(domain),
+            Mode::BestDparms { max_cost } => self.plan_best_dparms(domain, max_cost),
+        }
+    }
+
+    /// Tells the engine that transitions into or out of `changed` states have new costs
+    /// or feasibility (increases and decreases alike). The repair happens in the next
+    /// [`Search::plan`].
+    pub fn update(&mut self, domain: &D, changed: &[D::State]) -> Stats {
+        self.stats = Stats::default();
+        let mut touched: Vec<D::State> = Vec::new();
+        let mut touched_set: FxHashSet<D::State> = FxHashSet::default();
+        for &s in changed {
+            if touched_set.insert(s) {
+                touched.push(s);
+            }
+        }
+        // Remove every node whose own transition crosses a changed state, with the
+        // subtree below it.
+        let mut roots = Vec::new();
+        for &s in changed {
+            let mut id = self.by_state.get(&s).copied().unwrap_or(NONE);
+            while id != NONE {
+                let n = &self.nodes[id as usize];
+                if n.flags & REMOVED == 0 {
+                    if n.parent == NONE {
+                        // A goal has no transition; its children's transitions touch s.
+                        let mut c = n.first_child;
+                        while c != NONE {
+                            roots.push(c);
+                            c = self.nodes[c as usize].next_sibling;
+                        }
+                    } else {
+                        roots.push(id);
+                    }
+                }
+                id = n.next_in_state;
+            }
+        }
+        let mut stack = roots;
+        while let Some(id) = stack.pop() {
+            let n = &mut self.nodes[id as usize];
+            if n.flags & REMOVED != 0 {
+                continue;
+            }
+            if n.live() {
+                self.alive -= 1;
+            }
+            n.flags = REMOVED;
+            self.stats.invalidated += 1;
+            let state = n.state;
+            let mut c = n.first_child;
+            while c != NONE {
+                stack.push(c);
+                c = self.nodes[c as usize].next_sibling;
+            }
+            if touched_set.insert(state) {
+                touched.push(state);
+            }
+        }
+        // Reopen the surviving closed nodes that can regenerate labels at the touched
+        // states, or reach them more cheaply now.
+        let mut near = Vec::new();
+        let mut seen: FxHashSet<D::State> = FxHashSet::default();
+        for &t in &touched {
+            self.states.clear();
+            domain.successors(t, &mut self.states);
+            self.states.push(t);
+            for &s in &self.states {
+                if seen.insert(s) {
+                    near.push(s);
+                }
+            }
+        }
+        for s in near {
+            let mut id = self.by_state.get(&s).copied().unwrap_or(NONE);
+            while id != NONE {
+                let n = &mut self.nodes[id as usize];
+                if n.flags == CLOSED {
+                    n.flags = OPEN;
+                    self.stats.reopened += 1;
+                    let (g, label) = (n.g, n.label.clone());
+                    let f = g + domain.heuristic(s, &label);
+                    self.open.push(Entry { f, g: g as f32, id });
+                }
+                id = self.nodes[id as usize].next_in_state;
+            }
+        }
+        self.finish_stats();
+        self.stats
+    }
+
+    /// Tells the engine that the start (and so the heuristic) changed: plan extension
+    /// after the rover moved, or a new start window. Re-keys the open list.
+    pub fn start_moved(&mut self, domain: &D) {
+        let mut seen = FxHashSet::default();
+        let entries: Vec<Entry> = std::mem::take(&mut self.open)
+            .into_vec()
+            .into_iter()
+            .filter(|e| {
+                let n = &self.nodes[e.id as usize];
+                n.flags == OPEN && n.g as f32 == e.g && seen.insert(e.id)
+            })
+            .map(|e| {
+                let n = &self.nodes[e.id as usize];
+                Entry { f: n.g + domain.heuristic(n.state, &n.label), g: e.g, id: e.id }
+            })
+            .collect();
+        self.open = BinaryHeap::from(entries);
+    }
+
+    fn plan_best_cost(&mut self, domain: &D) -> Plan<D> {
+        self.stats = Stats::default();
+        // A start label may already be in the graph (the rover moved along the plan).
+        let mut best = self.best_known_start(domain, f64::INFINITY, |a, b| a.g < b.g);
+        while let Some(top) = self.peek_valid() {
+            if best.is_some_and(|b| self.nodes[b as usize].g <= top.f) {
+                break;
+            }
+            self.open.pop();
+            let id = top.id;
+            let (state, label) = {
+                let n = &self.nodes[id as usize];
+                (n.state, n.label.clone())
+            };
+            if domain.is_start(state, &label) {
+                // f = g + h ≥ g and this is the least f: nothing cheaper remains.
+                self.open.push(top);
+                if best.is_none_or(|b| self.nodes[id as usize].g < self.nodes[b as usize].g) {
+                    best = Some(id);
+                }
+                break;
+            }
+            self.expand(domain, id);
+        }
+        self.finish_stats();
+        self.extract(best)
+    }
+
+    fn plan_best_dparms(&mut self, domain: &D, max_cost: f64) -> Plan<D> {
+        self.stats = Stats::default();
+        while let Some(top) = self.peek_valid() {
+            if top.f > max_cost {
+                break;
+            }
+            self.open.pop();
+            self.expand(domain, top.id);
+        }
+        let best = self.best_known_start(domain, max_cost, |a, b| {
+            domain.better(&a.label, &b.label) || (!domain.better(&b.label, &a.label) && a.g < b.g)
+        });
+        self.finish_stats();
+        self.extract(best)
+    }
+
+    /// The best live start label already in the graph with cost ≤ `max_cost`.
+    fn best_known_start(&self, domain: &D, max_cost: f64, prefer: impl Fn(&Node<D>, &Node<D>) -> bool) -> Option<u32> {
+        let mut best: Option<u32> = None;
+        let mut consider = |id: u32| {
+            let n = &self.nodes[id as usize];
+            if n.live()
+                && n.g <= max_cost
+                && domain.is_start(n.state, &n.label)
+                && best.is_none_or(|b| prefer(n, &self.nodes[b as usize]))
+            {
+                best = Some(id);
+            }
+        };
+        match domain.start_state() {
+            Some(s) => {
+                let mut id = self.by_state.get(&s).copied().unwrap_or(NONE);
+                while id != NONE {
+                    consider(id);
+                    id = self.nodes[id as usize].next_in_state;
+                }
+            }
+            None => (0..self.nodes.len() as u32).for_each(consider),
+        }
+        best
+    }
+
+    /// The least open entry that is still current, discarding stale ones.
+    fn peek_valid(&mut self) -> Option<Entry> {
+        while let Some(&e) = self.open.peek() {
+            let n = &self.nodes[e.id as usize];
+            if n.flags == OPEN && n.g as f32 == e.g {
+                return Some(e);
+            }
+            self.open.pop();
+        }
+        None
+    }
+
+    fn expand(&mut self, domain: &D, id: u32) {
+        self.nodes[id as usize].flags = CLOSED;
+        self.stats.expansions += 1;
+        let (state, label, g) = {
+            let n = &self.nodes[id as usize];
+            (n.state, n.label.clone(), n.g)
+        };
+        let mut actions = std::mem::take(&mut self.actions);
+        actions.clear();
+        domain.actions(state, &label, &mut actions);
+        for &a in &actions {
+            if let Some(step) = domain.predecessor(state, &label, a) {
+                debug_assert!(step.cost >= 0.0, "step costs must be non-negative");
+                self.insert(domain, step.state, step.label, g + step.cost, id, Some(a));
+            }
+        }
+        self.actions = actions;
+    }
+
+    /// Adds a label unless the global constraint, its resolution class or dominance
+    /// rejects it; replaces what it beats.
+    fn insert(&mut self, domain: &D, state: D::State, label: D::Label, g: f64, parent: u32, action: Option<D::Action>) {
+        if !domain.within_global(state, &label, g) || matches!(self.mode, Mode::BestDparms { max_cost } if g > max_cost)
+        {
+            self.stats.pruned_constraint += 1;
+            return;
+        }
+        let key = domain.key(state, &label);
+        let head = self.by_state.get(&state).copied().unwrap_or(NONE);
+        // Walk the labels at this state, unlinking removed ones on the way.
+        let mut prev = NONE;
+        let mut id = head;
+        let mut new_head = head;
+        while id != NONE {
+            let next = self.nodes[id as usize].next_in_state;
+            let flags = self.nodes[id as usize].flags;
+            if flags & REMOVED != 0 {
+                if prev == NONE {
+                    new_head = next;
+                } else {
+                    self.nodes[prev as usize].next_in_state = next;
+                }
+                id = next;
+                continue;
+            }
+            if flags & DEAD == 0 {
+                let n = &self.nodes[id as usize];
+                if n.key == key {
+                    let keep_old = n.g < g || (n.g == g && !domain.better(&label, &n.label));
+                    if keep_old {
+                        self.stats.pruned_resolution += 1;
+                        self.relink_head(state, head, new_head);
+                        return;
+                    }
+                    self.kill(id);
+                    self.stats.pruned_resolution += 1;
+                } else if D::DOMINANCE {
+                    if domain.dominates(state, &n.label, n.g, &label, g) {
+                        self.stats.pruned_dominance += 1;
+                        self.relink_head(state, head, new_head);
+                        return;
+                    }
+                    if domain.dominates(state, &label, g, &n.label, n.g) {
+                        self.kill(id);
+                        self.stats.pruned_dominance += 1;
+                    }
+                }
+            }
+            prev = id;
+            id = next;
+        }
+        let h = domain.heuristic(state, &label);
+        let new_id = self.nodes.len() as u32;
+        let first_child = NONE;
+        let next_sibling = if parent == NONE { NONE } else { self.nodes[parent as usize].first_child };
+        self.nodes.push(Node {
+            state,
+            label,
+            key,
+            action,
+            g,
+            parent,
+            first_child,
+            next_sibling,
+            next_in_state: new_head,
+            flags: OPEN,
+        });
+        if parent != NONE {
+            self.nodes[parent as usize].first_child = new_id;
+        }
+        self.by_state.insert(state, new_id);
+        self.open.push(Entry { f: g + h, g: g as f32, id: new_id });
+        self.alive += 1;
+        self.stats.generated += 1;
+    }
+
+    fn relink_head(&mut self, state: D::State, old_head: u32, new_head: u32) {
+        if old_head != new_head {
+            if new_head == NONE {
+                self.by_state.remove(&state);
+            } else {
+                self.by_state.insert(state, new_head);
+            }
+        }
+    }
+
+    fn kill(&mut self, id: u32) {
+        let n = &mut self.nodes[id as usize];
+        n.flags = DEAD;
+        self.alive -= 1;
+    }
+
+    fn finish_stats(&mut self) {
+        self.stats.labels_alive = self.alive;
+        let node = std::mem::size_of::<Node<D>>() as u64;
+        let entry = std::mem::size_of::<Entry>() as u64;
+        let slot = (std::mem::size_of::<(D::State, u32)>() + 1) as u64;
+        self.stats.bytes = self.nodes.capacity() as u64 * node
+            + self.by_state.capacity() as u64 * slot
+            + self.open.capacity() as u64 * entry;
+    }
+
+    fn extract(&self, best: Option<u32>) -> Plan<D> {
+        let Some(start) = best else {
+            return Plan { path: None, cost: f64::INFINITY, stats: self.stats };
+        };
+        let total = self.nodes[start as usize].g;
+        let mut path = Vec::new();
+        let mut id = start;
+        while id != NONE {
+            let n = &self.nodes[id as usize];
+            path.push(PathStep { state: n.state, label: n.label.clone(), action: n.action, cost_so_far: total - n.g });
+            id = n.parent;
+        }
+        Plan { path: Some(path), cost: total, stats: self.stats }
+    }
+}

@@ -1,0 +1,289 @@
+//! A time-expanded domain and a battery domain: ISE against brute-force Dijkstra over
+//! the fully enumerated state space, in both modes, including "no feasible path".
+
+use areo_ise::{Domain, Goal, Mode, Search, Step};
+
+use crate::brute::dijkstra;
+
+/// A small deterministic generator so the instances need no RNG crate.
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 >> 33
+    }
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n
+    }
+}
+
+const MOVES: [(i32, i32); 5] = [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1)];
+
+/// x, y, t with wait actions; each cell has a time-varying cost and blocked times.
+struct TimeGrid {
+    w: i32,
+    h: i32,
+    horizon: u32,
+    blocked: Vec<bool>, // [t][cell]
+    cost: Vec<f64>,     // [t][cell], cost of being in the cell at t (paid on arrival)
+    start: u32,
+}
+
+impl TimeGrid {
+    fn random(seed: u64, w: i32, h: i32, horizon: u32, block_pct: u64) -> TimeGrid {
+        let mut r = Lcg(seed);
+        let n = (w * h) as usize * (horizon as usize + 1);
+        let blocked = (0..n).map(|_| r.below(100) < block_pct).collect();
+        let cost = (0..n).map(|_| 1.0 + r.below(4) as f64).collect();
+        TimeGrid { w, h, horizon, blocked, cost, start: 0 }
+    }
+    fn idx(&self, cell: u32, t: u32) -> usize {
+        t as usize * (self.w * self.h) as usize + cell as usize
+    }
+    fn moved(&self, cell: u32, m: usize, sign: i32) -> Option<u32> {
+        let (x, y) = ((cell as i32) % self.w, (cell as i32) / self.w);
+        let (nx, ny) = (x + sign * MOVES[m].0, y + sign * MOVES[m].1);
+        (nx >= 0 && ny >= 0 && nx < self.w && ny < self.h).then(|| (ny * self.w + nx) as u32)
+    }
+    fn free(&self, cell: u32, t: u32) -> bool {
+        cell == self.start && t == 0 || !self.blocked[self.idx(cell, t)]
+    }
+    /// Forward transitions from (cell, t).
+    fn forward(&self, cell: u32, t: u32) -> Vec<((u32, u32), f64)> {
+        if t >= self.horizon || !self.free(cell, t) {
+            return vec![];
+        }
+        (0..5)
+            .filter_map(|m| self.moved(cell, m, 1))
+            .filter(|&c| self.free(c, t + 1))
+            .map(|c| ((c, t + 1), self.cost[self.idx(c, t + 1)]))
+            .collect()
+    }
+    fn manhattan(&self, a: u32, b: u32) -> f64 {
+        let (ax, ay) = ((a as i32) % self.w, (a as i32) / self.w);
+        let (bx, by) = ((b as i32) % self.w, (b as i32) / self.w);
+        f64::from((ax - bx).abs() + (ay - by).abs())
+    }
+}
+
+impl Domain for TimeGrid {
+    type State = u32;
+    type Label = u32;
+    type Key = u32;
+    type Action = u8;
+
+    fn actions(&self, _s: u32, _t: &u32, out: &mut Vec<u8>) {
+        out.extend(0..5u8);
+    }
+    fn predecessor(&self, s: u32, &t: &u32, a: u8) -> Option<Step<Self>> {
+        if t == 0 || !self.free(s, t) {
+            return None;
+        }
+        let p = self.moved(s, a as usize, -1)?;
+        if !self.free(p, t - 1) {
+            return None;
+        }
+        Some(Step { state: p, label: t - 1, cost: self.cost[self.idx(s, t)] })
+    }
+    fn successors(&self, s: u32, out: &mut Vec<u32>) {
+        out.extend((0..5).filter_map(|m| self.moved(s, m, 1)));
+    }
+    fn key(&self, _s: u32, &t: &u32) -> u32 {
+        t
+    }
+    fn is_start(&self, s: u32, &t: &u32) -> bool {
+        s == self.start && t == 0
+    }
+    fn start_state(&self) -> Option<u32> {
+        Some(self.start)
+    }
+    fn heuristic(&self, s: u32, &t: &u32) -> f64 {
+        // One move per step at cost ≥ 1; and at least t steps remain before reaching t.
+        self.manhattan(s, self.start).max(f64::from(t))
+    }
+}
+
+#[test]
+fn time_expanded_domain_matches_brute_force() {
+    let mut infeasible = 0;
+    for seed in 0..60u64 {
+        let mut d = TimeGrid::random(seed, 5, 4, 10, if seed % 3 == 0 { 55 } else { 25 });
+        d.start = (seed % 20) as u32;
+        let goal = ((seed * 7 + 13) % 20) as u32;
+        let goals: Vec<Goal<TimeGrid>> =
+            (0..=d.horizon).filter(|&t| d.free(goal, t)).map(|t| Goal { state: goal, label: t, cost: 0.0 }).collect();
+        let plan = Search::new(&d, goals, Mode::BestPathCost).plan(&d);
+        let brute = dijkstra((d.start, 0u32), |(c, t)| d.forward(c, t), |(c, _)| (c == goal).then_some(0.0));
+        match (brute, &plan.path) {
+            (None, None) => infeasible += 1,
+            (Some(b), Some(path)) => {
+                assert!((b - plan.cost).abs() < 1e-9, "seed {seed}: brute {b}, ise {}", plan.cost);
+                assert_eq!(path[0].state, d.start);
+                assert_eq!(path[0].label, 0);
+                assert_eq!(path.last().unwrap().state, goal);
+            }
+            (b, p) => panic!("seed {seed}: brute {b:?}, ise found {}", p.is_some()),
+        }
+    }
+    assert!(infeasible > 0 && infeasible < 60, "both outcomes exercised: {infeasible}");
+}
+
+/// TEMPEST's battery handling: the label carries t and the minimum energy e needed to
+/// reach the goal; the backward step clamps e at 0 and abandons e > capacity.
+struct Battery {
+    grid: TimeGrid,
+    delta_e: Vec<i32>, // [t][cell]: energy used arriving at the cell at t (< 0: gained)
+    capacity: i32,
+    start_energy: i32,
+    e_max: i32,
+    duration_objective: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Charge {
+    t: u32,
+    e: i32,
+}
+
+impl Battery {
+    fn random(seed: u64) -> Battery {
+        let grid = TimeGrid::random(seed + 1000, 4, 4, 9, 15);
+        let mut r = Lcg(seed * 31 + 7);
+        let n = grid.cost.len();
+        // Sunny cells at some times give energy; driving costs 1–3 units.
+        let delta_e: Vec<i32> =
+            (0..n).map(|_| if r.below(100) < 25 { -(r.below(4) as i32) - 1 } else { 1 + r.below(3) as i32 }).collect();
+        let e_max = -delta_e.iter().copied().min().unwrap().min(0);
+        Battery { grid, delta_e, capacity: 6, start_energy: (seed % 5) as i32, e_max, duration_objective: false }
+    }
+    fn step_cost(&self, de: i32) -> f64 {
+        if self.duration_objective { 1.0 } else { f64::from(de + self.e_max) }
+    }
+    /// Forward transitions over (cell, t, battery).
+    fn forward(&self, (c, t, b): (u32, u32, i32)) -> Vec<((u32, u32, i32), f64)> {
+        self.grid
+            .forward(c, t)
+            .into_iter()
+            .filter_map(|((c2, t2), _)| {
+                let de = self.delta_e[self.grid.idx(c2, t2)];
+                let after = (b - de).min(self.capacity);
+                (b - de >= 0).then_some(((c2, t2, after), self.step_cost(de)))
+            })
+            .collect()
+    }
+}
+
+impl Domain for Battery {
+    type State = u32;
+    type Label = Charge;
+    type Key = (u32, i32);
+    type Action = u8;
+    const DOMINANCE: bool = true;
+
+    fn actions(&self, _s: u32, _l: &Charge, out: &mut Vec<u8>) {
+        out.extend(0..5u8);
+    }
+    fn predecessor(&self, s: u32, l: &Charge, a: u8) -> Option<Step<Self>> {
+        let step = self.grid.predecessor(s, &l.t, a)?;
+        let de = self.delta_e[self.grid.idx(s, l.t)];
+        let e = (l.e + de).max(0);
+        Some(Step { state: step.state, label: Charge { t: l.t - 1, e }, cost: self.step_cost(de) })
+    }
+    fn successors(&self, s: u32, out: &mut Vec<u32>) {
+        self.grid.successors(s, out);
+    }
+    fn key(&self, _s: u32, l: &Charge) -> (u32, i32) {
+        (l.t, l.e)
+    }
+    fn dominates(&self, _s: u32, a: &Charge, ca: f64, b: &Charge, cb: f64) -> bool {
+        a.t == b.t && a.e <= b.e && ca <= cb
+    }
+    fn within_global(&self, _s: u32, l: &Charge, _cost: f64) -> bool {
+        l.e <= self.capacity
+    }
+    fn is_start(&self, s: u32, l: &Charge) -> bool {
+        s == self.grid.start && l.t == 0 && l.e <= self.start_energy
+    }
+    fn start_state(&self) -> Option<u32> {
+        Some(self.grid.start)
+    }
+    fn heuristic(&self, s: u32, l: &Charge) -> f64 {
+        if self.duration_objective { self.grid.manhattan(s, self.grid.start).max(f64::from(l.t)) } else { 0.0 }
+    }
+    fn better(&self, a: &Charge, b: &Charge) -> bool {
+        a.e < b.e
+    }
+}
+
+fn battery_goals(d: &Battery, goal: u32, goal_energy: i32, last_t: u32) -> Vec<Goal<Battery>> {
+    (0..=last_t)
+        .filter(|&t| d.grid.free(goal, t))
+        .map(|t| Goal { state: goal, label: Charge { t, e: goal_energy }, cost: 0.0 })
+        .collect()
+}
+
+#[test]
+fn battery_domain_bestpcost_matches_brute_force() {
+    let (mut found, mut none) = (0, 0);
+    for seed in 0..80u64 {
+        let mut d = Battery::random(seed);
+        d.grid.start = (seed % 16) as u32;
+        let goal = ((seed * 5 + 3) % 16) as u32;
+        let goal_energy = (seed % 3) as i32;
+        let plan = Search::new(&d, battery_goals(&d, goal, goal_energy, d.grid.horizon), Mode::BestPathCost).plan(&d);
+        let start = (d.grid.start, 0u32, d.start_energy);
+        let brute = dijkstra(start, |s| d.forward(s), |(c, _, b)| (c == goal && b >= goal_energy).then_some(0.0));
+        match (brute, &plan.path) {
+            (None, None) => none += 1,
+            (Some(b), Some(path)) => {
+                found += 1;
+                assert!((b - plan.cost).abs() < 1e-9, "seed {seed}: brute {b}, ise {}", plan.cost);
+                // Replaying the plan forward keeps the battery within [0, capacity].
+                let mut battery = d.start_energy;
+                for w in path.windows(2) {
+                    let de = d.delta_e[d.grid.idx(w[1].state, w[1].label.t)];
+                    assert!(battery - de >= 0, "seed {seed}: battery would go negative");
+                    battery = (battery - de).min(d.capacity);
+                }
+                assert!(battery >= goal_energy);
+            }
+            (b, p) => panic!("seed {seed}: brute {b:?}, ise found {}", p.is_some()),
+        }
+    }
+    assert!(found > 10 && none > 0, "found {found}, none {none}");
+}
+
+#[test]
+fn battery_domain_bestdparms_finds_least_required_energy() {
+    let mut checked = 0;
+    for seed in 0..60u64 {
+        let mut d = Battery::random(seed);
+        d.duration_objective = true;
+        d.start_energy = d.capacity;
+        d.grid.start = (seed % 16) as u32;
+        let goal = ((seed * 5 + 3) % 16) as u32;
+        let max_duration = 4 + (seed % 5) as u32;
+        let goals = battery_goals(&d, goal, 0, max_duration.min(d.grid.horizon));
+        let plan = Search::new(&d, goals, Mode::BestDparms { max_cost: f64::from(max_duration) }).plan(&d);
+        // Brute force: the least initial charge from which some path of at most
+        // `max_duration` steps reaches the goal.
+        let least = (0..=d.capacity).find(|&b0| {
+            dijkstra(
+                (d.grid.start, 0u32, b0),
+                |s| if s.1 >= max_duration { vec![] } else { d.forward(s) },
+                |(c, _, _)| (c == goal).then_some(0.0),
+            )
+            .is_some()
+        });
+        match (least, &plan.path) {
+            (None, None) => {}
+            (Some(b0), Some(path)) => {
+                checked += 1;
+                assert_eq!(path[0].label.e, b0, "seed {seed}");
+                assert!(plan.cost <= f64::from(max_duration));
+            }
+            (b, p) => panic!("seed {seed}: brute {b:?}, ise found {}", p.is_some()),
+        }
+    }
+    assert!(checked > 10, "{checked}");
+}

@@ -1,0 +1,94 @@
+//! ISE's path cost equals the published optimal length of every scenario of six Moving
+//! AI maps of five kinds.
+
+use std::path::PathBuf;
+
+use areo_ise::grid::{Grid, parse_scenarios};
+use areo_ise::{Goal, Mode, Search};
+
+fn data(name: &str) -> String {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/movingai").join(name);
+    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Tolerance for a published length: 1e-6 for 8-decimal files, one unit of the 6th
+/// significant digit for the legacy files (they truncate: 235.7645… is printed 235.764).
+fn tolerance(expected: f64, printed: &str) -> f64 {
+    match printed.split_once('.') {
+        Some((_, frac)) if frac.trim().len() >= 8 => 1e-6,
+        _ => 10f64.powi(expected.abs().log10().floor() as i32 - 5) + 1e-9,
+    }
+}
+
+fn check_map(map: &str) {
+    let mut grid = Grid::parse_movingai(&data(map)).unwrap();
+    let scen_text = data(&format!("{map}.scen"));
+    let scenarios = parse_scenarios(&scen_text).unwrap();
+    let printed: Vec<&str> =
+        scen_text.lines().skip(1).filter(|l| !l.trim().is_empty()).map(|l| l.rsplit('\t').next().unwrap()).collect();
+    assert_eq!(printed.len(), scenarios.len());
+    let mut mismatches = Vec::new();
+    for (i, s) in scenarios.iter().enumerate() {
+        grid.set_start(grid.cell(s.start_x, s.start_y));
+        let goal = Goal { state: grid.cell(s.goal_x, s.goal_y), label: (), cost: 0.0 };
+        let plan = Search::new(&grid, [goal], Mode::BestPathCost).plan(&grid);
+        let tol = tolerance(s.optimal, printed[i]);
+        if (plan.cost - s.optimal).abs() > tol {
+            mismatches.push((i, s.optimal, plan.cost));
+        }
+        // The path is a real path of that cost.
+        let path = plan.path.expect("every benchmark scenario is solvable");
+        let mut walked = 0.0;
+        for w in path.windows(2) {
+            let step =
+                grid.neighbours(w[0].state).find(|(b, _)| *b == w[1].state).expect("consecutive cells are neighbours");
+            walked += step.1;
+        }
+        assert!((walked - plan.cost).abs() < 1e-9);
+    }
+    assert!(
+        mismatches.is_empty(),
+        "{map}: {} mismatches, first {:?}",
+        mismatches.len(),
+        &mismatches[..mismatches.len().min(5)]
+    );
+}
+
+#[test]
+fn dao_arena() {
+    check_map("arena.map");
+}
+
+#[test]
+fn dao_den520d() {
+    check_map("den520d.map");
+}
+
+#[test]
+fn street_berlin_256() {
+    check_map("Berlin_0_256.map");
+}
+
+#[test]
+fn random_512_10() {
+    check_map("random512-10-0.map");
+}
+
+#[test]
+fn rooms_8room_512() {
+    check_map("8room_000.map");
+}
+
+#[test]
+fn baldurs_gate_ar0011sr() {
+    check_map("AR0011SR.map");
+}
+
+#[test]
+fn malformed_maps_are_errors() {
+    assert!(Grid::parse_movingai("type octile\nheight 2\nwidth 3\nmap\n...\n..\n").is_err());
+    assert!(Grid::parse_movingai("type octile\nheight 2\nwidth 3\nmap\n...\n").is_err());
+    assert!(Grid::parse_movingai("height x\nwidth 3\nmap\n").is_err());
+    assert!(Grid::parse_movingai("").is_err());
+    assert!(parse_scenarios("version 1\n0\tm\t1\t1\t0\t0\n").is_err());
+}
