@@ -68,6 +68,13 @@ pub trait Domain {
         None
     }
 
+    /// A dense index of `state` in 0..2³², if the states have one (grid cells): the
+    /// engine then keeps its state table in pages allocated as the search touches them,
+    /// instead of hashing.
+    fn dense_index(&self, _state: Self::State) -> Option<u32> {
+        None
+    }
+
     /// An admissible (never over-estimating) estimate of the cost from the start to
     /// (`state`, `label`).
     fn heuristic(&self, state: Self::State, label: &Self::Label) -> f64;

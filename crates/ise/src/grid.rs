@@ -12,13 +12,23 @@ use crate::domain::{Domain, Step};
 const MOVES: [(i32, i32); 8] = [(0, -1), (1, -1), (1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1)];
 
 /// A grid of free and blocked cells with weights.
+///
+/// Cells are stored with a one-cell blocked border, so a move is a constant index
+/// offset with no bounds test; cell indices ([`Grid::cell`]) are indices into that
+/// padded array.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grid {
     width: u32,
     height: u32,
+    /// Padded width: `width + 2`.
+    stride: u32,
     free: Vec<bool>,
     weight: Vec<f32>,
+    offsets: [i64; 8],
+    /// 1 / stride, to split indices into rows and columns without an integer division.
+    inv_stride: f64,
     start: u32,
+    start_xy: (f64, f64),
 }
 
 /// Why a grid could not be built from text.
@@ -44,10 +54,27 @@ pub enum GridError {
 }
 
 impl Grid {
-    /// An all-free grid of unit weight; start at cell 0.
+    /// An all-free grid of unit weight; start at (0, 0).
     pub fn new(width: u32, height: u32) -> Grid {
-        let n = (width as usize) * (height as usize);
-        Grid { width, height, free: vec![true; n], weight: vec![1.0; n], start: 0 }
+        let stride = width + 2;
+        let n = (stride as usize) * (height as usize + 2);
+        let mut free = vec![false; n];
+        for y in 0..height {
+            let row = ((y + 1) * stride + 1) as usize;
+            free[row..row + width as usize].fill(true);
+        }
+        let offsets = MOVES.map(|(dx, dy)| i64::from(dy) * i64::from(stride) + i64::from(dx));
+        Grid {
+            width,
+            height,
+            stride,
+            free,
+            weight: vec![1.0; n],
+            offsets,
+            inv_stride: 1.0 / f64::from(stride),
+            start: stride + 1,
+            start_xy: (1.0, 1.0),
+        }
     }
 
     /// Reads a Moving AI `.map` text (`type octile`, `height`, `width`, `map`, rows).
@@ -89,7 +116,8 @@ impl Grid {
                 });
             }
             for (x, c) in line.bytes().enumerate() {
-                grid.free[(rows * width) as usize + x] = matches!(c, b'.' | b'G' | b'S');
+                let cell = grid.cell(x as u32, rows);
+                grid.free[cell as usize] = matches!(c, b'.' | b'G' | b'S');
             }
             rows += 1;
         }
@@ -109,14 +137,19 @@ impl Grid {
         self.height
     }
 
-    /// The cell index of (x, y).
+    /// The cell index of (x, y), which must lie on the grid.
     pub fn cell(&self, x: u32, y: u32) -> u32 {
-        y * self.width + x
+        (y + 1) * self.stride + x + 1
     }
 
     /// (x, y) of a cell index.
     pub fn xy(&self, cell: u32) -> (u32, u32) {
-        (cell % self.width, cell / self.width)
+        (cell % self.stride - 1, cell / self.stride - 1)
+    }
+
+    /// Every cell index of the grid, row by row.
+    pub fn cells(&self) -> impl Iterator<Item = u32> + '_ {
+        (0..self.height).flat_map(move |y| (0..self.width).map(move |x| self.cell(x, y)))
     }
 
     /// Whether (x, y) lies on the grid.
@@ -131,6 +164,8 @@ impl Grid {
 
     /// Blocks or frees a cell.
     pub fn set_free(&mut self, cell: u32, free: bool) {
+        let (x, y) = self.xy(cell);
+        debug_assert!(x < self.width && y < self.height, "the border stays blocked");
         self.free[cell as usize] = free;
     }
 
@@ -170,24 +205,35 @@ impl Grid {
     /// Moves the start (tell the search with `start_moved`).
     pub fn set_start(&mut self, cell: u32) {
         self.start = cell;
+        self.start_xy = self.padded_xy(cell);
     }
 
-    /// The cost of the move from `a` to the neighbour `b` by move `m`, or `None` if it
-    /// is not allowed.
+    /// Padded (column, row) of a cell as floats, by multiplication: exact because
+    /// (cell + 0.5) / stride is never within 2⁻²⁰ of an integer for grids this size.
+    #[inline]
+    fn padded_xy(&self, cell: u32) -> (f64, f64) {
+        // Truncation is floor for these non-negative values (and avoids a libm call).
+        let row = (((f64::from(cell) + 0.5) * self.inv_stride) as u32) as f64;
+        (f64::from(cell) - row * f64::from(self.stride), row)
+    }
+
+    /// The neighbour reached from `a` by move `m` and the move's cost, or `None` if the
+    /// move is not allowed.
+    #[inline]
     fn step_cost(&self, a: u32, m: usize) -> Option<(u32, f64)> {
-        let (x, y) = self.xy(a);
-        let (dx, dy) = MOVES[m];
-        let (nx, ny) = (x as i64 + dx as i64, y as i64 + dy as i64);
-        if !self.contains(nx, ny) {
+        if !self.free[a as usize] {
             return None;
         }
-        let b = self.cell(nx as u32, ny as u32);
-        if !self.free[a as usize] || !self.free[b as usize] {
+        // `a` is free, so it is an inner cell and every neighbour index is in the array.
+        let b = (i64::from(a) + self.offsets[m]) as u32;
+        if !self.free[b as usize] {
             return None;
         }
-        let len = if dx != 0 && dy != 0 {
+        let len = if m % 2 == 1 {
             // No corner cutting: both orthogonal neighbours must be free.
-            if !self.free[self.cell(nx as u32, y) as usize] || !self.free[self.cell(x, ny as u32) as usize] {
+            let horizontal = (i64::from(a) + i64::from(MOVES[m].0)) as usize;
+            let vertical = (i64::from(a) + i64::from(MOVES[m].1) * i64::from(self.stride)) as usize;
+            if !self.free[horizontal] || !self.free[vertical] {
                 return None;
             }
             std::f64::consts::SQRT_2
@@ -222,23 +268,27 @@ impl Domain for Grid {
         out.extend(0..8u8);
     }
 
+    #[inline]
     fn predecessor(&self, state: u32, _label: &(), action: u8) -> Option<Step<Grid>> {
         // Action m leads from the predecessor to `state`: the predecessor lies one move
-        // in the opposite direction, and the costs are symmetric.
+        // in the opposite direction, and moves are symmetric in legality and cost.
         let back = (action as usize + 4) % 8;
-        let (pred, _) = self.step_cost(state, back)?;
-        let (_, cost) = self.step_cost(pred, action as usize)?;
+        let (pred, cost) = self.step_cost(state, back)?;
         Some(Step { state: pred, label: (), cost })
     }
 
     fn successors(&self, state: u32, out: &mut Vec<u32>) {
         let (x, y) = self.xy(state);
         for (dx, dy) in MOVES {
-            let (nx, ny) = (x as i64 + dx as i64, y as i64 + dy as i64);
+            let (nx, ny) = (i64::from(x) + i64::from(dx), i64::from(y) + i64::from(dy));
             if self.contains(nx, ny) {
                 out.push(self.cell(nx as u32, ny as u32));
             }
         }
+    }
+
+    fn dense_index(&self, state: u32) -> Option<u32> {
+        Some(state)
     }
 
     fn key(&self, _state: u32, _label: &()) {}
@@ -251,8 +301,12 @@ impl Domain for Grid {
         Some(self.start)
     }
 
+    #[inline]
     fn heuristic(&self, state: u32, _label: &()) -> f64 {
-        self.octile(state, self.start)
+        let (x, y) = self.padded_xy(state);
+        let dx = (x - self.start_xy.0).abs();
+        let dy = (y - self.start_xy.1).abs();
+        dx.max(dy) + (std::f64::consts::SQRT_2 - 1.0) * dx.min(dy)
     }
 }
 

@@ -14,7 +14,6 @@
 //! sits at the leaves, so a change near the rover removes a small subtree and reopens a
 //! handful of nodes — the D* Lite insight, here over labelled states (DD* Lite).
 
-use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 use rustc_hash::{FxHashMap, FxHashSet};
@@ -110,37 +109,155 @@ impl<D: Domain> Node<D> {
     }
 }
 
-#[derive(Clone, Copy)]
-struct Entry {
-    f: f64,
-    g: f32,
-    id: u32,
+/// An open-list entry packed into one integer so the heap compares with a single
+/// instruction: f (non-negative, so its IEEE bits order like the value), then larger
+/// g first (deeper nodes, fewer ties to expand), then the older node.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Entry(std::cmp::Reverse<u128>);
+
+impl Entry {
+    fn new(f: f64, g: f64, id: u32) -> Entry {
+        let f_bits = f.max(0.0).to_bits() as u128;
+        let tie = !(g as f32).to_bits() as u128;
+        Entry(std::cmp::Reverse((f_bits << 64) | (tie << 32) | u128::from(id)))
+    }
+    fn f(self) -> f64 {
+        f64::from_bits((self.0.0 >> 64) as u64)
+    }
+    fn g_bits(self) -> u32 {
+        !((self.0.0 >> 32) as u32)
+    }
+    fn id(self) -> u32 {
+        self.0.0 as u32
+    }
+    /// Whether this entry still describes the node's current cost.
+    fn matches(self, g: f64) -> bool {
+        (g as f32).to_bits() == self.g_bits()
+    }
 }
 
-impl PartialEq for Entry {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
+/// The node store: fixed-size chunks, so growing never copies and never holds twice
+/// the memory it needs (a doubling `Vec` does, just after it grows).
+struct Arena<T> {
+    chunks: Vec<Vec<T>>,
+    len: u32,
+}
+
+const CHUNK_BITS: u32 = 12;
+const CHUNK: usize = 1 << CHUNK_BITS;
+
+impl<T> Arena<T> {
+    fn new() -> Arena<T> {
+        Arena { chunks: Vec::new(), len: 0 }
+    }
+    fn len(&self) -> u32 {
+        self.len
+    }
+    fn push(&mut self, value: T) -> u32 {
+        if (self.len as usize).is_multiple_of(CHUNK) {
+            self.chunks.push(Vec::with_capacity(CHUNK));
+        }
+        if let Some(last) = self.chunks.last_mut() {
+            last.push(value);
+        }
+        self.len += 1;
+        self.len - 1
+    }
+    fn bytes(&self) -> u64 {
+        (self.chunks.len() * CHUNK * std::mem::size_of::<T>() + self.chunks.capacity() * std::mem::size_of::<Vec<T>>())
+            as u64
     }
 }
-impl Eq for Entry {}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
+
+impl<T> std::ops::Index<u32> for Arena<T> {
+    type Output = T;
+    #[inline]
+    fn index(&self, id: u32) -> &T {
+        &self.chunks[(id >> CHUNK_BITS) as usize][id as usize & (CHUNK - 1)]
     }
 }
-impl Ord for Entry {
-    /// Max-heap order: smallest f first; ties broken toward the deeper node (larger g),
-    /// then the older node, so runs are deterministic.
-    fn cmp(&self, other: &Self) -> Ordering {
-        other.f.total_cmp(&self.f).then(self.g.total_cmp(&other.g)).then(other.id.cmp(&self.id))
+
+impl<T> std::ops::IndexMut<u32> for Arena<T> {
+    #[inline]
+    fn index_mut(&mut self, id: u32) -> &mut T {
+        &mut self.chunks[(id >> CHUNK_BITS) as usize][id as usize & (CHUNK - 1)]
+    }
+}
+
+/// Cells per page of the dense state table.
+const PAGE: usize = 1 << 10;
+
+/// State → first node at that state. Dense domains get pages allocated on first touch
+/// (memory ∝ the part of the space searched); others a hash table.
+enum StateTable<D: Domain> {
+    Undecided,
+    Paged(Vec<Option<Box<[u32]>>>),
+    Hashed(FxHashMap<D::State, u32>),
+}
+
+impl<D: Domain> StateTable<D> {
+    fn new() -> StateTable<D> {
+        StateTable::Undecided
+    }
+
+    #[inline]
+    fn get(&self, domain: &D, state: D::State) -> u32 {
+        match self {
+            StateTable::Undecided => NONE,
+            StateTable::Paged(pages) => {
+                let i = domain.dense_index(state).map_or(usize::MAX, |i| i as usize);
+                pages.get(i / PAGE).and_then(|p| p.as_ref()).map_or(NONE, |p| p[i % PAGE])
+            }
+            StateTable::Hashed(map) => map.get(&state).copied().unwrap_or(NONE),
+        }
+    }
+
+    #[inline]
+    fn set(&mut self, domain: &D, state: D::State, head: u32) {
+        if let StateTable::Undecided = self {
+            *self = if domain.dense_index(state).is_some() {
+                StateTable::Paged(Vec::new())
+            } else {
+                StateTable::Hashed(FxHashMap::default())
+            };
+        }
+        match self {
+            StateTable::Undecided => {}
+            StateTable::Paged(pages) => {
+                let Some(i) = domain.dense_index(state) else { return };
+                let (page, slot) = (i as usize / PAGE, i as usize % PAGE);
+                if pages.len() <= page {
+                    pages.resize_with(page + 1, || None);
+                }
+                pages[page].get_or_insert_with(|| vec![NONE; PAGE].into_boxed_slice())[slot] = head;
+            }
+            StateTable::Hashed(map) => {
+                if head == NONE {
+                    map.remove(&state);
+                } else {
+                    map.insert(state, head);
+                }
+            }
+        }
+    }
+
+    fn bytes(&self) -> u64 {
+        match self {
+            StateTable::Undecided => 0,
+            StateTable::Paged(pages) => {
+                let used = pages.iter().filter(|p| p.is_some()).count();
+                (pages.capacity() * std::mem::size_of::<Option<Box<[u32]>>>() + used * PAGE * 4) as u64
+            }
+            StateTable::Hashed(map) => (map.capacity() * (std::mem::size_of::<(D::State, u32)>() + 1)) as u64,
+        }
     }
 }
 
 /// An incremental search over a [`Domain`].
 pub struct Search<D: Domain> {
     mode: Mode,
-    nodes: Vec<Node<D>>,
-    by_state: FxHashMap<D::State, u32>,
+    nodes: Arena<Node<D>>,
+    by_state: StateTable<D>,
     open: BinaryHeap<Entry>,
     alive: u64,
     stats: Stats,
@@ -150,7 +267,7 @@ pub struct Search<D: Domain> {
 
 impl<D: Domain> std::fmt::Debug for Search<D> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Search").field("mode", &self.mode).field("nodes", &self.nodes.len()).finish_non_exhaustive()
+        f.debug_struct("Search").field("mode", &self.mode).field("nodes", &self.nodes.len).finish_non_exhaustive()
     }
 }
 
@@ -160,8 +277,8 @@ impl<D: Domain> Search<D> {
     pub fn new(domain: &D, goals: impl IntoIterator<Item = Goal<D>>, mode: Mode) -> Search<D> {
         let mut s = Search {
             mode,
-            nodes: Vec::new(),
-            by_state: FxHashMap::default(),
+            nodes: Arena::new(),
+            by_state: StateTable::new(),
             open: BinaryHeap::new(),
             alive: 0,
             stats: Stats::default(),
@@ -203,16 +320,16 @@ impl<D: Domain> Search<D> {
         // subtree below it.
         let mut roots = Vec::new();
         for &s in changed {
-            let mut id = self.by_state.get(&s).copied().unwrap_or(NONE);
+            let mut id = self.by_state.get(domain, s);
             while id != NONE {
-                let n = &self.nodes[id as usize];
+                let n = &self.nodes[id];
                 if n.flags & REMOVED == 0 {
                     if n.parent == NONE {
                         // A goal has no transition; its children's transitions touch s.
                         let mut c = n.first_child;
                         while c != NONE {
                             roots.push(c);
-                            c = self.nodes[c as usize].next_sibling;
+                            c = self.nodes[c].next_sibling;
                         }
                     } else {
                         roots.push(id);
@@ -223,7 +340,7 @@ impl<D: Domain> Search<D> {
         }
         let mut stack = roots;
         while let Some(id) = stack.pop() {
-            let n = &mut self.nodes[id as usize];
+            let n = &mut self.nodes[id];
             if n.flags & REMOVED != 0 {
                 continue;
             }
@@ -236,7 +353,7 @@ impl<D: Domain> Search<D> {
             let mut c = n.first_child;
             while c != NONE {
                 stack.push(c);
-                c = self.nodes[c as usize].next_sibling;
+                c = self.nodes[c].next_sibling;
             }
             if touched_set.insert(state) {
                 touched.push(state);
@@ -257,17 +374,17 @@ impl<D: Domain> Search<D> {
             }
         }
         for s in near {
-            let mut id = self.by_state.get(&s).copied().unwrap_or(NONE);
+            let mut id = self.by_state.get(domain, s);
             while id != NONE {
-                let n = &mut self.nodes[id as usize];
+                let n = &mut self.nodes[id];
                 if n.flags == CLOSED {
                     n.flags = OPEN;
                     self.stats.reopened += 1;
                     let (g, label) = (n.g, n.label.clone());
                     let f = g + domain.heuristic(s, &label);
-                    self.open.push(Entry { f, g: g as f32, id });
+                    self.open.push(Entry::new(f, g, id));
                 }
-                id = self.nodes[id as usize].next_in_state;
+                id = self.nodes[id].next_in_state;
             }
         }
         self.finish_stats();
@@ -282,12 +399,12 @@ impl<D: Domain> Search<D> {
             .into_vec()
             .into_iter()
             .filter(|e| {
-                let n = &self.nodes[e.id as usize];
-                n.flags == OPEN && n.g as f32 == e.g && seen.insert(e.id)
+                let n = &self.nodes[e.id()];
+                n.flags == OPEN && e.matches(n.g) && seen.insert(e.id())
             })
             .map(|e| {
-                let n = &self.nodes[e.id as usize];
-                Entry { f: n.g + domain.heuristic(n.state, &n.label), g: e.g, id: e.id }
+                let n = &self.nodes[e.id()];
+                Entry::new(n.g + domain.heuristic(n.state, &n.label), n.g, e.id())
             })
             .collect();
         self.open = BinaryHeap::from(entries);
@@ -298,19 +415,19 @@ impl<D: Domain> Search<D> {
         // A start label may already be in the graph (the rover moved along the plan).
         let mut best = self.best_known_start(domain, f64::INFINITY, |a, b| a.g < b.g);
         while let Some(top) = self.peek_valid() {
-            if best.is_some_and(|b| self.nodes[b as usize].g <= top.f) {
+            if best.is_some_and(|b| self.nodes[b].g <= top.f()) {
                 break;
             }
             self.open.pop();
-            let id = top.id;
+            let id = top.id();
             let (state, label) = {
-                let n = &self.nodes[id as usize];
+                let n = &self.nodes[id];
                 (n.state, n.label.clone())
             };
             if domain.is_start(state, &label) {
                 // f = g + h ≥ g and this is the least f: nothing cheaper remains.
                 self.open.push(top);
-                if best.is_none_or(|b| self.nodes[id as usize].g < self.nodes[b as usize].g) {
+                if best.is_none_or(|b| self.nodes[id].g < self.nodes[b].g) {
                     best = Some(id);
                 }
                 break;
@@ -324,11 +441,11 @@ impl<D: Domain> Search<D> {
     fn plan_best_dparms(&mut self, domain: &D, max_cost: f64) -> Plan<D> {
         self.stats = Stats::default();
         while let Some(top) = self.peek_valid() {
-            if top.f > max_cost {
+            if top.f() > max_cost {
                 break;
             }
             self.open.pop();
-            self.expand(domain, top.id);
+            self.expand(domain, top.id());
         }
         let best = self.best_known_start(domain, max_cost, |a, b| {
             domain.better(&a.label, &b.label) || (!domain.better(&b.label, &a.label) && a.g < b.g)
@@ -341,24 +458,24 @@ impl<D: Domain> Search<D> {
     fn best_known_start(&self, domain: &D, max_cost: f64, prefer: impl Fn(&Node<D>, &Node<D>) -> bool) -> Option<u32> {
         let mut best: Option<u32> = None;
         let mut consider = |id: u32| {
-            let n = &self.nodes[id as usize];
+            let n = &self.nodes[id];
             if n.live()
                 && n.g <= max_cost
                 && domain.is_start(n.state, &n.label)
-                && best.is_none_or(|b| prefer(n, &self.nodes[b as usize]))
+                && best.is_none_or(|b| prefer(n, &self.nodes[b]))
             {
                 best = Some(id);
             }
         };
         match domain.start_state() {
             Some(s) => {
-                let mut id = self.by_state.get(&s).copied().unwrap_or(NONE);
+                let mut id = self.by_state.get(domain, s);
                 while id != NONE {
                     consider(id);
-                    id = self.nodes[id as usize].next_in_state;
+                    id = self.nodes[id].next_in_state;
                 }
             }
-            None => (0..self.nodes.len() as u32).for_each(consider),
+            None => (0..self.nodes.len()).for_each(consider),
         }
         best
     }
@@ -366,8 +483,8 @@ impl<D: Domain> Search<D> {
     /// The least open entry that is still current, discarding stale ones.
     fn peek_valid(&mut self) -> Option<Entry> {
         while let Some(&e) = self.open.peek() {
-            let n = &self.nodes[e.id as usize];
-            if n.flags == OPEN && n.g as f32 == e.g {
+            let n = &self.nodes[e.id()];
+            if n.flags == OPEN && e.matches(n.g) {
                 return Some(e);
             }
             self.open.pop();
@@ -376,10 +493,10 @@ impl<D: Domain> Search<D> {
     }
 
     fn expand(&mut self, domain: &D, id: u32) {
-        self.nodes[id as usize].flags = CLOSED;
+        self.nodes[id].flags = CLOSED;
         self.stats.expansions += 1;
         let (state, label, g) = {
-            let n = &self.nodes[id as usize];
+            let n = &self.nodes[id];
             (n.state, n.label.clone(), n.g)
         };
         let mut actions = std::mem::take(&mut self.actions);
@@ -403,30 +520,30 @@ impl<D: Domain> Search<D> {
             return;
         }
         let key = domain.key(state, &label);
-        let head = self.by_state.get(&state).copied().unwrap_or(NONE);
+        let head = self.by_state.get(domain, state);
         // Walk the labels at this state, unlinking removed ones on the way.
         let mut prev = NONE;
         let mut id = head;
         let mut new_head = head;
         while id != NONE {
-            let next = self.nodes[id as usize].next_in_state;
-            let flags = self.nodes[id as usize].flags;
+            let next = self.nodes[id].next_in_state;
+            let flags = self.nodes[id].flags;
             if flags & REMOVED != 0 {
                 if prev == NONE {
                     new_head = next;
                 } else {
-                    self.nodes[prev as usize].next_in_state = next;
+                    self.nodes[prev].next_in_state = next;
                 }
                 id = next;
                 continue;
             }
             if flags & DEAD == 0 {
-                let n = &self.nodes[id as usize];
+                let n = &self.nodes[id];
                 if n.key == key {
                     let keep_old = n.g < g || (n.g == g && !domain.better(&label, &n.label));
                     if keep_old {
                         self.stats.pruned_resolution += 1;
-                        self.relink_head(state, head, new_head);
+                        self.relink_head(domain, state, head, new_head);
                         return;
                     }
                     self.kill(id);
@@ -434,7 +551,7 @@ impl<D: Domain> Search<D> {
                 } else if D::DOMINANCE {
                     if domain.dominates(state, &n.label, n.g, &label, g) {
                         self.stats.pruned_dominance += 1;
-                        self.relink_head(state, head, new_head);
+                        self.relink_head(domain, state, head, new_head);
                         return;
                     }
                     if domain.dominates(state, &label, g, &n.label, n.g) {
@@ -447,9 +564,9 @@ impl<D: Domain> Search<D> {
             id = next;
         }
         let h = domain.heuristic(state, &label);
-        let new_id = self.nodes.len() as u32;
+        let new_id = self.nodes.len();
         let first_child = NONE;
-        let next_sibling = if parent == NONE { NONE } else { self.nodes[parent as usize].first_child };
+        let next_sibling = if parent == NONE { NONE } else { self.nodes[parent].first_child };
         self.nodes.push(Node {
             state,
             label,
@@ -463,49 +580,41 @@ impl<D: Domain> Search<D> {
             flags: OPEN,
         });
         if parent != NONE {
-            self.nodes[parent as usize].first_child = new_id;
+            self.nodes[parent].first_child = new_id;
         }
-        self.by_state.insert(state, new_id);
-        self.open.push(Entry { f: g + h, g: g as f32, id: new_id });
+        self.by_state.set(domain, state, new_id);
+        self.open.push(Entry::new(g + h, g, new_id));
         self.alive += 1;
         self.stats.generated += 1;
     }
 
-    fn relink_head(&mut self, state: D::State, old_head: u32, new_head: u32) {
+    fn relink_head(&mut self, domain: &D, state: D::State, old_head: u32, new_head: u32) {
         if old_head != new_head {
-            if new_head == NONE {
-                self.by_state.remove(&state);
-            } else {
-                self.by_state.insert(state, new_head);
-            }
+            self.by_state.set(domain, state, new_head);
         }
     }
 
     fn kill(&mut self, id: u32) {
-        let n = &mut self.nodes[id as usize];
+        let n = &mut self.nodes[id];
         n.flags = DEAD;
         self.alive -= 1;
     }
 
     fn finish_stats(&mut self) {
         self.stats.labels_alive = self.alive;
-        let node = std::mem::size_of::<Node<D>>() as u64;
         let entry = std::mem::size_of::<Entry>() as u64;
-        let slot = (std::mem::size_of::<(D::State, u32)>() + 1) as u64;
-        self.stats.bytes = self.nodes.capacity() as u64 * node
-            + self.by_state.capacity() as u64 * slot
-            + self.open.capacity() as u64 * entry;
+        self.stats.bytes = self.nodes.bytes() + self.by_state.bytes() + self.open.capacity() as u64 * entry;
     }
 
     fn extract(&self, best: Option<u32>) -> Plan<D> {
         let Some(start) = best else {
             return Plan { path: None, cost: f64::INFINITY, stats: self.stats };
         };
-        let total = self.nodes[start as usize].g;
+        let total = self.nodes[start].g;
         let mut path = Vec::new();
         let mut id = start;
         while id != NONE {
-            let n = &self.nodes[id as usize];
+            let n = &self.nodes[id];
             path.push(PathStep { state: n.state, label: n.label.clone(), action: n.action, cost_so_far: total - n.g });
             id = n.parent;
         }

@@ -15,17 +15,19 @@ fn seeded_goals_equal_super_source_search() {
     for _ in 0..40 {
         let (w, h) = (12, 9);
         let mut grid = Grid::new(w, h);
-        for c in 0..w * h {
+        let nth = |grid: &Grid, i: u64| grid.cell(i as u32 % w, i as u32 / w);
+        for i in 0..w * h {
+            let c = nth(&grid, u64::from(i));
             if next(100) < 25 {
                 grid.set_free(c, false);
             }
             grid.set_weight(c, 1.0 + next(3) as f32);
         }
-        let start = next(u64::from(w * h)) as u32;
+        let start = nth(&grid, next(u64::from(w * h)));
         grid.set_free(start, true);
         grid.set_start(start);
         let goals: Vec<(u32, f64)> = (0..4)
-            .map(|_| (next(u64::from(w * h)) as u32, next(20) as f64 * 0.5))
+            .map(|_| (nth(&grid, next(u64::from(w * h))), next(20) as f64 * 0.5))
             .filter(|(g, _)| grid.is_free(*g))
             .collect();
         let seeded = goals.iter().map(|&(g, c)| Goal { state: g, label: (), cost: c });

@@ -66,13 +66,15 @@ proptest! {
     ) {
         let mut grid = Grid::new(w, h);
         let cells = w * h;
-        for c in 0..cells {
-            let (blocked, weight) = seed_cells[c as usize];
-            grid.set_free(c, !(blocked && c % 3 == 0));
+        let nth = |grid: &Grid, i: u32| grid.cell(i % cells % w, i % cells / w);
+        for i in 0..cells {
+            let c = nth(&grid, i);
+            let (blocked, weight) = seed_cells[i as usize];
+            grid.set_free(c, !(blocked && i % 3 == 0));
             grid.set_weight(c, f32::from(weight));
         }
-        let start = start_goal.0 % cells;
-        let goal = start_goal.1 % cells;
+        let start = nth(&grid, start_goal.0);
+        let goal = nth(&grid, start_goal.1);
         grid.set_free(start, true);
         grid.set_free(goal, true);
         grid.set_start(start);
@@ -83,19 +85,19 @@ proptest! {
             let mut changed = Vec::new();
             match op {
                 Op::Weight { cell, weight } => {
-                    let cell = cell % cells;
+                    let cell = nth(&grid, cell);
                     grid.set_weight(cell, f32::from(weight));
                     changed = grid.changed_states(cell, false);
                 }
                 Op::Block { cell } => {
-                    let cell = cell % cells;
+                    let cell = nth(&grid, cell);
                     if cell != goal && cell != grid.start() {
                         grid.set_free(cell, false);
                         changed = grid.changed_states(cell, true);
                     }
                 }
                 Op::Clear { cell } => {
-                    let cell = cell % cells;
+                    let cell = nth(&grid, cell);
                     grid.set_free(cell, true);
                     changed = grid.changed_states(cell, true);
                 }
