@@ -14,7 +14,10 @@
 //! sits at the leaves, so a change near the rover removes a small subtree and reopens a
 //! handful of nodes — the D* Lite insight, here over labelled states (DD* Lite).
 
+use std::cmp::Reverse;
 use std::collections::BinaryHeap;
+
+use radix_heap::RadixHeapMap;
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
@@ -113,13 +116,16 @@ impl<D: Domain> Node<D> {
 /// instruction: f (non-negative, so its IEEE bits order like the value), then larger
 /// g first (deeper nodes, fewer ties to expand), then the older node.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-struct Entry(std::cmp::Reverse<u128>);
+struct Entry(Reverse<u128>);
 
 impl Entry {
     fn new(f: f64, g: f64, id: u32) -> Entry {
         let f_bits = f.max(0.0).to_bits() as u128;
         let tie = !(g as f32).to_bits() as u128;
-        Entry(std::cmp::Reverse((f_bits << 64) | (tie << 32) | u128::from(id)))
+        Entry(Reverse((f_bits << 64) | (tie << 32) | u128::from(id)))
+    }
+    fn from_parts(f_bits: u64, g_bits: u32, id: u32) -> Entry {
+        Entry(Reverse((u128::from(f_bits) << 64) | (u128::from(!g_bits) << 32) | u128::from(id)))
     }
     fn f(self) -> f64 {
         f64::from_bits((self.0.0 >> 64) as u64)
@@ -133,6 +139,82 @@ impl Entry {
     /// Whether this entry still describes the node's current cost.
     fn matches(self, g: f64) -> bool {
         (g as f32).to_bits() == self.g_bits()
+    }
+}
+
+/// The open list. Best-first search with a consistent heuristic takes f in
+/// non-decreasing order, which a radix heap serves in O(1) amortised per operation, far
+/// faster than a binary heap on large searches; among equal f it returns the newest
+/// entry, which favours the deeper nodes. Entries below the radix heap's last key
+/// (inconsistent heuristics, reopened nodes in re-planning) go to a binary heap beside
+/// it, and each pop takes the smaller of the two.
+struct OpenList {
+    radix: RadixHeapMap<Reverse<u64>, (u32, u32)>,
+    below: BinaryHeap<Entry>,
+}
+
+impl OpenList {
+    fn new() -> OpenList {
+        OpenList { radix: RadixHeapMap::new(), below: BinaryHeap::new() }
+    }
+
+    fn from_vec(entries: Vec<Entry>) -> OpenList {
+        let mut open = OpenList::new();
+        for e in entries {
+            open.push(e);
+        }
+        open
+    }
+
+    fn into_vec(self) -> Vec<Entry> {
+        let mut v = self.below.into_vec();
+        v.extend(self.radix.into_iter().map(|(Reverse(f), (g_bits, id))| Entry::from_parts(f, g_bits, id)));
+        v
+    }
+
+    #[inline]
+    fn push(&mut self, e: Entry) {
+        let f = e.f().to_bits();
+        if self.radix.top().is_none_or(|Reverse(top)| f >= top) {
+            self.radix.push(Reverse(f), (e.g_bits(), e.id()));
+        } else {
+            self.below.push(e);
+        }
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<Entry> {
+        let from_radix = self.radix.pop().map(|(Reverse(f), (g_bits, id))| Entry::from_parts(f, g_bits, id));
+        match (from_radix, self.below.peek()) {
+            (Some(r), Some(b)) if b.f() < r.f() => {
+                // Put it back: its key equals the radix heap's top, which is allowed.
+                self.radix.push(Reverse(r.f().to_bits()), (r.g_bits(), r.id()));
+                self.below.pop()
+            }
+            (Some(r), _) => Some(r),
+            (None, _) => self.below.pop(),
+        }
+    }
+
+    #[inline]
+    fn peek(&mut self) -> Option<Entry> {
+        let e = self.pop()?;
+        self.push_back(e);
+        Some(e)
+    }
+
+    /// Re-inserts the entry just popped (its f is not below the radix heap's top).
+    fn push_back(&mut self, e: Entry) {
+        if self.radix.top().is_some_and(|Reverse(top)| e.f().to_bits() >= top) {
+            self.radix.push(Reverse(e.f().to_bits()), (e.g_bits(), e.id()));
+        } else {
+            self.below.push(e);
+        }
+    }
+
+    fn bytes(&self) -> u64 {
+        // The radix heap does not expose its buckets' capacity: count its entries.
+        (self.radix.len() * 24 + self.below.capacity() * std::mem::size_of::<Entry>()) as u64
     }
 }
 
@@ -258,7 +340,7 @@ pub struct Search<D: Domain> {
     mode: Mode,
     nodes: Arena<Node<D>>,
     by_state: StateTable<D>,
-    open: BinaryHeap<Entry>,
+    open: OpenList,
     alive: u64,
     stats: Stats,
     actions: Vec<D::Action>,
@@ -279,7 +361,7 @@ impl<D: Domain> Search<D> {
             mode,
             nodes: Arena::new(),
             by_state: StateTable::new(),
-            open: BinaryHeap::new(),
+            open: OpenList::new(),
             alive: 0,
             stats: Stats::default(),
             actions: Vec::new(),
@@ -395,7 +477,7 @@ impl<D: Domain> Search<D> {
     /// after the rover moved, or a new start window. Re-keys the open list.
     pub fn start_moved(&mut self, domain: &D) {
         let mut seen = FxHashSet::default();
-        let entries: Vec<Entry> = std::mem::take(&mut self.open)
+        let entries: Vec<Entry> = std::mem::replace(&mut self.open, OpenList::new())
             .into_vec()
             .into_iter()
             .filter(|e| {
@@ -407,7 +489,7 @@ impl<D: Domain> Search<D> {
                 Entry::new(n.g + domain.heuristic(n.state, &n.label), n.g, e.id())
             })
             .collect();
-        self.open = BinaryHeap::from(entries);
+        self.open = OpenList::from_vec(entries);
     }
 
     fn plan_best_cost(&mut self, domain: &D) -> Plan<D> {
@@ -482,7 +564,7 @@ impl<D: Domain> Search<D> {
 
     /// The least open entry that is still current, discarding stale ones.
     fn peek_valid(&mut self) -> Option<Entry> {
-        while let Some(&e) = self.open.peek() {
+        while let Some(e) = self.open.peek() {
             let n = &self.nodes[e.id()];
             if n.flags == OPEN && e.matches(n.g) {
                 return Some(e);
@@ -602,8 +684,7 @@ impl<D: Domain> Search<D> {
 
     fn finish_stats(&mut self) {
         self.stats.labels_alive = self.alive;
-        let entry = std::mem::size_of::<Entry>() as u64;
-        self.stats.bytes = self.nodes.bytes() + self.by_state.bytes() + self.open.capacity() as u64 * entry;
+        self.stats.bytes = self.nodes.bytes() + self.by_state.bytes() + self.open.bytes();
     }
 
     fn extract(&self, best: Option<u32>) -> Plan<D> {
