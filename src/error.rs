@@ -39,6 +39,14 @@ pub enum Error {
         /// What is wrong and what is allowed.
         message: String,
     },
+    /// A grid benchmark file (Moving AI `.map` or `.scen`) is malformed.
+    #[error("{path}: {message}")]
+    Grid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, with the line where known.
+        message: String,
+    },
     /// An ephemeris computation refused its input.
     #[error(transparent)]
     Ephemeris(#[from] areo_ephemeris::Error),
@@ -48,7 +56,7 @@ impl Error {
     /// The process exit code for this error: 2 for bad input files, 1 otherwise.
     pub fn exit_code(&self) -> i32 {
         match self {
-            Error::Syntax { .. } | Error::Invalid { .. } | Error::Ephemeris(_) => 2,
+            Error::Syntax { .. } | Error::Invalid { .. } | Error::Grid { .. } | Error::Ephemeris(_) => 2,
             Error::Io { .. } => 1,
         }
     }

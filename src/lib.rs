@@ -19,6 +19,7 @@ mod error;
 mod progress;
 mod run;
 
+pub mod movingai;
 pub mod outcome;
 pub mod scenario;
 pub mod sun_report;

@@ -138,3 +138,42 @@ fn help_and_version_work() {
     let out = areo(&["--version"]);
     assert_eq!(String::from_utf8_lossy(&out.stdout).trim(), format!("areo {}", env!("CARGO_PKG_VERSION")));
 }
+
+#[test]
+fn grid_solves_a_moving_ai_file_and_replans() {
+    let dir = root().join("crates/ise/tests/data/movingai");
+    let map = dir.join("arena.map");
+    let scen = dir.join("arena.map.scen");
+    let out = areo(&[
+        "grid",
+        "--map",
+        map.to_str().unwrap(),
+        "--scen",
+        scen.to_str().unwrap(),
+        "--format",
+        "csv",
+        "--replan",
+        "3",
+        "--seed",
+        "7",
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(text.lines().next().unwrap(), "index,expected,found,expansions,replanned,fresh,replan_expansions");
+    assert_eq!(text.lines().count(), 1 + 160 + 1);
+    assert_eq!(text.lines().last().unwrap(), "160 solved, 0 mismatched");
+    // Row 0 of arena.map.scen: 1 step, length 1.
+    assert!(text.lines().nth(1).unwrap().starts_with("0,1,1.00000000,"));
+}
+
+#[test]
+fn grid_rejects_a_corrupt_map_with_exit_2() {
+    let dir = tmp("grid");
+    let map = dir.join("bad.map");
+    std::fs::write(&map, "type octile\nheight 3\nwidth 4\nmap\n....\n..\n....\n").unwrap();
+    let scen = root().join("crates/ise/tests/data/movingai/arena.map.scen");
+    let out = areo(&["grid", "--map", map.to_str().unwrap(), "--scen", scen.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.map") && err.contains("line 6"), "{err}");
+}

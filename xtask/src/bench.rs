@@ -9,12 +9,53 @@ use std::process::Command;
 const TARGETS: &[(&str, f64, &str)] =
     &[("sun/direction_body_fixed(days_since_j2000)", 5.0e6, "Sun directions per second, one core")];
 
-/// Peer comparisons: (name, bench measured, peer bench, the largest allowed ratio
-/// ours/peer of mean times). Empty until crates with peers land.
-const RATIOS: &[(&str, &str, &str, f64)] = &[];
+/// Peer comparisons in one run: (name, bench measured, peer bench, the largest
+/// allowed ratio ours/peer of mean times).
+const RATIOS: &[(&str, &str, &str, f64)] = &[
+    (
+        "ISE fresh / pathfinding A*, 512 map (≥ 3x faster)",
+        "grid_fresh/ise/AR0011SR.map",
+        "grid_fresh/pathfinding_astar/AR0011SR.map",
+        1.0 / 3.0,
+    ),
+    (
+        "ISE fresh / pathfinding A*, 1024 map (≥ 3x faster)",
+        "grid_fresh/ise/Berlin_1_1024.map",
+        "grid_fresh/pathfinding_astar/Berlin_1_1024.map",
+        1.0 / 3.0,
+    ),
+    (
+        "ISE re-plan / ISE initial search, 512 map (≤ 1 %)",
+        "grid_replan/ise_update_and_plan_x2/AR0011SR.map",
+        "grid_replan/ise_fresh_x2/AR0011SR.map",
+        0.01,
+    ),
+    (
+        "ISE re-plan / ISE initial search, 1024 map (≤ 1 %)",
+        "grid_replan/ise_update_and_plan_x2/Berlin_1_1024.map",
+        "grid_replan/ise_fresh_x2/Berlin_1_1024.map",
+        0.01,
+    ),
+    (
+        "ISE re-plan / pathfinding A*, 512 map (≥ 100x faster)",
+        "grid_replan/ise_update_and_plan_x2/AR0011SR.map",
+        "grid_replan/pathfinding_astar_x2/AR0011SR.map",
+        0.01,
+    ),
+    (
+        "ISE re-plan / pathfinding A*, 1024 map (≥ 100x faster)",
+        "grid_replan/ise_update_and_plan_x2/Berlin_1_1024.map",
+        "grid_replan/pathfinding_astar_x2/Berlin_1_1024.map",
+        0.01,
+    ),
+];
 
-/// Runs `cargo bench` (optionally only benches matching `filter`) and prints the table.
+/// Runs `cargo bench` (optionally only benches matching `filter`) and prints the table;
+/// `movingai` as the filter runs only the full Moving AI check.
 pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
+    if args.first().is_some_and(|a| a == "movingai") {
+        return movingai(root);
+    }
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut cmd = Command::new(cargo);
     cmd.args(["bench", "--workspace", "--benches", "--"]).current_dir(root);
@@ -100,5 +141,44 @@ fn human_ns(ns: f64) -> String {
         x if x < 1e6 => format!("{:.2} µs", x / 1e3),
         x if x < 1e9 => format!("{:.2} ms", x / 1e6),
         x => format!("{:.3} s", x / 1e9),
+    }
+}
+
+/// Every scenario of every Moving AI map in ../shared/data/movingai, with incremental
+/// re-planning after 3 seeded obstacles near each start checked against a fresh search.
+fn movingai(root: &Path) -> Result<bool, String> {
+    let dir = root.join("../shared/data/movingai");
+    let mut maps = Vec::new();
+    collect_maps(&dir, &mut maps);
+    maps.sort();
+    if maps.is_empty() {
+        println!("no Moving AI data at {} (it lives beside the repository, not in it)", dir.display());
+        return Ok(true);
+    }
+    println!("{:<28} {:>9} {:>7} {:>10} {:>12}", "map", "scenarios", "solved", "mismatched", "seconds");
+    let mut ok = true;
+    for map in maps {
+        let scen = map.with_extension("map.scen");
+        let started = std::time::Instant::now();
+        let opts = areo::movingai::GridOptions { replan: Some(3), seed: 1 };
+        let rows = areo::movingai::solve_file(&map, &scen, opts, &areo::NoProgress).map_err(|e| e.to_string())?;
+        let bad = rows.iter().filter(|r| r.mismatched()).count();
+        let solved = rows.iter().filter(|r| r.found.is_finite()).count();
+        ok &= bad == 0;
+        let name = map.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        println!("{name:<28} {:>9} {solved:>7} {bad:>10} {:>12.2}", rows.len(), started.elapsed().as_secs_f64());
+    }
+    Ok(ok)
+}
+
+fn collect_maps(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for e in entries.flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            collect_maps(&p, out);
+        } else if p.extension().is_some_and(|x| x == "map") {
+            out.push(p);
+        }
     }
 }

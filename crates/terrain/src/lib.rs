@@ -1,16 +1,48 @@
 //! areo-terrain: the ground a rover plans over.
 //!
-//! This crate will hold TEMPEST's world model and the ground the LSR-1 physics stands
-//! on: digital elevation models (`Dem`) read from GeoTIFF, ESRI ASCII and PDS3 files,
-//! synthesised terrain, Horn slope and aspect, the Mars reference body and its map
-//! projections, and line of sight (cast shadows, horizon maps, viewsheds).
+//! TEMPEST's world model and the ground the LSR-1 physics stands on:
 //!
-//! Conventions (shared with every areo crate, see `docs/ARCHITECTURE.md`): metres,
-//! local east-north-up frame, rows stored north to south, azimuth clockwise from north.
-//! Only this crate does index↔metre arithmetic.
+//! - [`Dem`]: elevations (f32) with a nodata mask, cell sizes dx and dy, and a
+//!   [`Georef`] (a [`Projection`] on a reference [`Body`]); bilinear
+//!   [`Dem::height`] and [`Dem::gradient`] that return `None` off the map or on missing
+//!   data. The [`Ground`] trait (height and normal) is implemented by `Dem` and by the
+//!   [`analytic`] test terrains.
+//! - Readers and writers: [`geotiff`] (int16/uint16/float32, strips or tiles,
+//!   georeference tags, GDAL_NODATA) and [`ascii`] (ESRI ASCII grid).
+//! - [`synth`]: terrain synthesised from a description (craters, hills, ridges,
+//!   mountain chains with passes, ditches, rocks, tilts, seeded fractal noise).
+//! - [`slope`]: Horn slope, aspect and normals with separate dx and dy.
+//! - [`shadow`]: cast shadows from the Sun by one sweep per map, with planetary
+//!   curvature; a per-cell ray-cast reference.
+//!
+//! Conventions: metres; x east, y north; rows stored north to south; azimuth clockwise
+//! from north. Only this crate does index↔metre arithmetic.
+//!
+//! ```
+//! use areo_terrain::{Dem, shadow::{Curvature, cast_shadows}};
+//!
+//! // A 10 m wall on flat ground; the Sun 45° up in the east: a 10 m shadow to the west.
+//! let dem = Dem::from_fn(40, 3, 1.0, 1.0, |x, _| if (20.0..21.0).contains(&x) { 10.0 } else { 0.0 }).unwrap();
+//! let shadowed = cast_shadows(&dem, 90.0, 45.0, Curvature::Flat);
+//! let row = 1 * 40;
+//! assert!(shadowed[row + 15] && !shadowed[row + 5] && !shadowed[row + 30]);
+//! ```
 //!
 //! Architecture invariant: areo-terrain depends on no other areo crate, so a DEM loader
 //! or a shadow map can be reused alone.
-//!
-//! Status: the crate is created by the workspace foundation; its contents land with the
-//! terrain issue.
+
+mod body;
+mod dem;
+mod error;
+
+pub mod ascii;
+pub mod geotiff;
+pub mod shadow;
+pub mod slope;
+pub mod synth;
+
+pub use crate::{
+    body::{Body, Projection},
+    dem::{Dem, Georef, Ground, analytic, unit_normal},
+    error::{Error, Result},
+};

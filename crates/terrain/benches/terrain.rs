@@ -1,0 +1,46 @@
+//! Terrain throughput on the TEMPEST-sized Gale DEM (2527 × 2356, from
+//! ../shared/data/dem when present, else a synthesised DEM of the same size): one
+//! shadow map (target ≥ 50 M cells/s on one core) and slope + aspect (≥ 100 M cells/s).
+
+use std::path::PathBuf;
+
+use areo_terrain::shadow::{Curvature, cast_shadows};
+use areo_terrain::slope::slope_aspect;
+use areo_terrain::synth::{Noise, TerrainSpec};
+use areo_terrain::{Dem, geotiff};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+
+fn dem() -> Dem {
+    let p =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/dem/gale_mola_cubic164m_2527x2356.tif");
+    geotiff::read(&p).unwrap_or_else(|_| {
+        TerrainSpec {
+            cols: 2527,
+            rows: 2356,
+            cell_m: 164.0,
+            base_m: 0.0,
+            seed: 1,
+            noise: Some(Noise { amplitude_m: 2000.0, wavelength_m: 50_000.0, octaves: 6, persistence: 0.5 }),
+            features: vec![],
+        }
+        .build()
+        .unwrap()
+    })
+}
+
+fn terrain(c: &mut Criterion) {
+    let dem = dem();
+    let cells = (dem.cols() * dem.rows()) as u64;
+    let mut g = c.benchmark_group("terrain_2527x2356");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(cells));
+    g.bench_function("cast_shadows_az135_el20_curved", |b| {
+        b.iter(|| cast_shadows(&dem, 135.0, 20.0, Curvature::Sphere { radius_m: 3_389_500.0 }))
+    });
+    g.bench_function("cast_shadows_az80_el5_flat", |b| b.iter(|| cast_shadows(&dem, 80.0, 5.0, Curvature::Flat)));
+    g.bench_function("slope_aspect", |b| b.iter(|| slope_aspect(&dem)));
+    g.finish();
+}
+
+criterion_group!(benches, terrain);
+criterion_main!(benches);

@@ -1,0 +1,100 @@
+//! ESRI ASCII grid (`.asc`): a short header (`ncols`, `nrows`, `xllcorner`/`xllcenter`,
+//! `yllcorner`/`yllcenter`, `cellsize` — or GDAL's `dx`/`dy` — and optional
+//! `NODATA_value`) followed by rows of numbers from north to south.
+
+use std::path::Path;
+
+use crate::dem::Dem;
+use crate::error::{Error, Result};
+
+/// Reads an ESRI ASCII grid.
+pub fn read(path: &Path) -> Result<Dem> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    parse(&text, path)
+}
+
+/// Parses ESRI ASCII grid text; `path` labels errors.
+pub fn parse(text: &str, path: &Path) -> Result<Dem> {
+    let bad = |line: usize, m: String| Error::format(path, format!("line {line}: {m}"));
+    let mut lines = text.lines().enumerate().peekable();
+    let (mut ncols, mut nrows, mut dx, mut dy) = (None, None, None, None);
+    let (mut xll, mut yll, mut centre) = (None, None, false);
+    let mut nodata: Option<f64> = None;
+    while let Some((i, line)) = lines.peek().copied() {
+        let mut parts = line.split_whitespace();
+        let Some(key) = parts.next() else {
+            lines.next();
+            continue;
+        };
+        if key.parse::<f64>().is_ok() {
+            break; // the data starts
+        }
+        let value = parts.next().ok_or_else(|| bad(i + 1, format!("`{key}` has no value")))?;
+        let num = value.parse::<f64>().map_err(|_| bad(i + 1, format!("`{key}` = {value:?} is not a number")))?;
+        match key.to_ascii_lowercase().as_str() {
+            "ncols" => ncols = Some(num),
+            "nrows" => nrows = Some(num),
+            "cellsize" => {
+                dx = Some(num);
+                dy = Some(num);
+            }
+            "dx" => dx = Some(num),
+            "dy" => dy = Some(num),
+            "xllcorner" => xll = Some(num),
+            "yllcorner" => yll = Some(num),
+            "xllcenter" => {
+                xll = Some(num);
+                centre = true;
+            }
+            "yllcenter" => yll = Some(num),
+            "nodata_value" => nodata = Some(num),
+            other => return Err(bad(i + 1, format!("unknown header key `{other}`"))),
+        }
+        lines.next();
+    }
+    let need = |v: Option<f64>, name: &str| v.ok_or_else(|| bad(1, format!("header lacks `{name}`")));
+    let (ncols, nrows) = (need(ncols, "ncols")?, need(nrows, "nrows")?);
+    let (dx, dy) = (need(dx, "cellsize")?, need(dy, "cellsize")?);
+    let (xll, yll) = (need(xll, "xllcorner")?, need(yll, "yllcorner")?);
+    if !(ncols >= 1.0 && nrows >= 1.0 && ncols.fract() == 0.0 && nrows.fract() == 0.0 && ncols * nrows < 4e9) {
+        return Err(bad(1, format!("ncols = {ncols}, nrows = {nrows}: need positive whole numbers")));
+    }
+    let (cols, rows) = (ncols as usize, nrows as usize);
+    let mut z = Vec::with_capacity(cols * rows);
+    for (i, line) in lines {
+        for tok in line.split_whitespace() {
+            let v = tok.parse::<f64>().map_err(|_| bad(i + 1, format!("{tok:?} is not a number")))?;
+            z.push(v);
+        }
+    }
+    if z.len() != cols * rows {
+        return Err(bad(0, format!("{} values for {cols} x {rows} cells", z.len())));
+    }
+    let valid: Vec<bool> = z.iter().map(|v| v.is_finite() && nodata.is_none_or(|nd| *v != nd)).collect();
+    let z: Vec<f32> = z.iter().zip(&valid).map(|(v, ok)| if *ok { *v as f32 } else { f32::NAN }).collect();
+    let (x0, y0) = if centre { (xll - dx / 2.0, yll - dy / 2.0) } else { (xll, yll) };
+    Dem::new(cols, rows, dx, dy, x0, y0 + rows as f64 * dy, z)
+        .and_then(|d| d.with_mask(valid))
+        .map_err(|e| Error::format(path, e.to_string()))
+}
+
+/// Writes an ESRI ASCII grid (`cellsize` when dx = dy, else GDAL's `dx`/`dy`);
+/// missing cells as -9999.
+pub fn write(dem: &Dem, path: &Path) -> Result<()> {
+    let mut s = String::with_capacity(dem.cols() * dem.rows() * 10 + 200);
+    s.push_str(&format!("ncols {}\nnrows {}\n", dem.cols(), dem.rows()));
+    s.push_str(&format!("xllcorner {}\nyllcorner {}\n", dem.x0(), dem.y_top() - dem.rows() as f64 * dem.dy()));
+    if dem.dx() == dem.dy() {
+        s.push_str(&format!("cellsize {}\n", dem.dx()));
+    } else {
+        s.push_str(&format!("dx {}\ndy {}\n", dem.dx(), dem.dy()));
+    }
+    s.push_str("NODATA_value -9999\n");
+    for r in 0..dem.rows() {
+        let row: Vec<String> =
+            (0..dem.cols()).map(|c| dem.z(c, r).map_or_else(|| "-9999".to_string(), |v| v.to_string())).collect();
+        s.push_str(&row.join(" "));
+        s.push('\n');
+    }
+    std::fs::write(path, s).map_err(|source| Error::Io { path: path.to_path_buf(), source })
+}

@@ -1,0 +1,384 @@
+//! The digital elevation model and the `Ground` trait.
+
+use crate::body::{Body, Projection};
+use crate::error::{Error, Result};
+
+/// Where a DEM sits: its map projection and reference body.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Georef {
+    /// How map metres relate to latitude and longitude.
+    pub projection: Projection,
+    /// The reference body (radius for curvature and projections).
+    pub body: Body,
+}
+
+impl Default for Georef {
+    fn default() -> Georef {
+        Georef { projection: Projection::Local, body: Body::MARS_IAU2015 }
+    }
+}
+
+/// A grid of elevations (m, f32) with a nodata mask.
+///
+/// Rows run north to south (row 0 is the northernmost), columns west to east. Cell
+/// (col, row) is centred at x = x0 + (col + 0.5)·dx, y = y_top − (row + 0.5)·dy; dx and
+/// dy may differ. Heights between cell centres are bilinear; within half a cell of the
+/// map edge the edge cells' values continue (each cell covers its whole square).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dem {
+    cols: usize,
+    rows: usize,
+    dx: f64,
+    dy: f64,
+    x0: f64,
+    y_top: f64,
+    z: Vec<f32>,
+    valid: Vec<bool>,
+    georef: Georef,
+}
+
+/// Something a rover can stand on: height and unit normal at (x, y), metres.
+pub trait Ground {
+    /// Height at (x, y), or `None` off the terrain or on missing data.
+    fn height(&self, x: f64, y: f64) -> Option<f64>;
+    /// Upward unit normal at (x, y), or `None` off the terrain or on missing data.
+    fn normal(&self, x: f64, y: f64) -> Option<[f64; 3]>;
+}
+
+impl Dem {
+    /// A DEM from row-major elevations (row 0 north); every cell valid. Cell sizes must
+    /// be positive and finite and `z` must hold cols × rows values.
+    pub fn new(cols: usize, rows: usize, dx: f64, dy: f64, x0: f64, y_top: f64, z: Vec<f32>) -> Result<Dem> {
+        if cols == 0 || rows == 0 {
+            return Err(Error::BadGrid(format!("{cols} x {rows} cells: both must be at least 1")));
+        }
+        if !(dx > 0.0 && dy > 0.0 && dx.is_finite() && dy.is_finite()) {
+            return Err(Error::BadGrid(format!("cell size {dx} x {dy} m: both must be positive and finite")));
+        }
+        if !(x0.is_finite() && y_top.is_finite()) {
+            return Err(Error::BadGrid(format!("origin ({x0}, {y_top}) must be finite")));
+        }
+        if z.len() != cols * rows {
+            return Err(Error::BadGrid(format!("{} elevations for {cols} x {rows} cells", z.len())));
+        }
+        let valid = z.iter().map(|v| v.is_finite()).collect();
+        Ok(Dem { cols, rows, dx, dy, x0, y_top, z, valid, georef: Georef::default() })
+    }
+
+    /// A DEM sampled from `f(x, y)` at cell centres, with the north-west corner at (0, rows·dy).
+    pub fn from_fn(cols: usize, rows: usize, dx: f64, dy: f64, f: impl Fn(f64, f64) -> f64) -> Result<Dem> {
+        let y_top = rows as f64 * dy;
+        let mut z = Vec::with_capacity(cols * rows);
+        for r in 0..rows {
+            for c in 0..cols {
+                z.push(f(((c as f64) + 0.5) * dx, y_top - ((r as f64) + 0.5) * dy) as f32);
+            }
+        }
+        Dem::new(cols, rows, dx, dy, 0.0, y_top, z)
+    }
+
+    /// Sets the georeference.
+    pub fn with_georef(mut self, georef: Georef) -> Dem {
+        self.georef = georef;
+        self
+    }
+
+    /// Marks cells as missing where `valid` is false (length cols × rows).
+    pub fn with_mask(mut self, valid: Vec<bool>) -> Result<Dem> {
+        if valid.len() != self.z.len() {
+            return Err(Error::BadGrid(format!("mask of {} for {} cells", valid.len(), self.z.len())));
+        }
+        for (v, z) in valid.iter().zip(&self.z) {
+            if *v && !z.is_finite() {
+                return Err(Error::BadGrid("a cell marked valid holds a non-finite elevation".into()));
+            }
+        }
+        self.valid = valid;
+        Ok(self)
+    }
+
+    /// Number of columns (west to east).
+    pub fn cols(&self) -> usize {
+        self.cols
+    }
+    /// Number of rows (north to south).
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+    /// Cell size west–east, m.
+    pub fn dx(&self) -> f64 {
+        self.dx
+    }
+    /// Cell size north–south, m.
+    pub fn dy(&self) -> f64 {
+        self.dy
+    }
+    /// x of the west edge, m.
+    pub fn x0(&self) -> f64 {
+        self.x0
+    }
+    /// y of the north edge, m.
+    pub fn y_top(&self) -> f64 {
+        self.y_top
+    }
+    /// The georeference.
+    pub fn georef(&self) -> &Georef {
+        &self.georef
+    }
+    /// Elevations, row-major from the north-west corner (missing cells hold any value).
+    pub fn elevations(&self) -> &[f32] {
+        &self.z
+    }
+    /// The nodata mask: true where a cell has data.
+    pub fn valid_mask(&self) -> &[bool] {
+        &self.valid
+    }
+
+    /// Flat index of (col, row).
+    #[inline]
+    pub fn index(&self, col: usize, row: usize) -> usize {
+        row * self.cols + col
+    }
+
+    /// Centre (x, y) of cell (col, row), m.
+    #[inline]
+    pub fn cell_center(&self, col: usize, row: usize) -> (f64, f64) {
+        (self.x0 + (col as f64 + 0.5) * self.dx, self.y_top - (row as f64 + 0.5) * self.dy)
+    }
+
+    /// The cell containing (x, y), if on the map.
+    pub fn cell_at(&self, x: f64, y: f64) -> Option<(usize, usize)> {
+        let c = ((x - self.x0) / self.dx).floor();
+        let r = ((self.y_top - y) / self.dy).floor();
+        (c >= 0.0 && r >= 0.0 && (c as usize) < self.cols && (r as usize) < self.rows)
+            .then_some((c as usize, r as usize))
+    }
+
+    /// Elevation of cell (col, row), or `None` if missing or off the grid.
+    #[inline]
+    pub fn z(&self, col: usize, row: usize) -> Option<f32> {
+        (col < self.cols && row < self.rows && self.valid[self.index(col, row)]).then(|| self.z[self.index(col, row)])
+    }
+
+    /// Bilinear patch at (x, y): the four corner cells, the fractions, and the cell
+    /// sizes; `None` off the map or if any corner is missing.
+    fn patch(&self, x: f64, y: f64) -> Option<([f64; 4], f64, f64)> {
+        let fx = (x - self.x0) / self.dx;
+        let fy = (self.y_top - y) / self.dy;
+        if !(fx >= 0.0 && fy >= 0.0 && fx <= self.cols as f64 && fy <= self.rows as f64) {
+            return None;
+        }
+        // Position relative to cell centres, clamped so the edge half-cells take the
+        // edge values.
+        let u = (fx - 0.5).clamp(0.0, (self.cols - 1) as f64);
+        let v = (fy - 0.5).clamp(0.0, (self.rows - 1) as f64);
+        let c0 = (u.floor() as usize).min(self.cols.saturating_sub(2));
+        let r0 = (v.floor() as usize).min(self.rows.saturating_sub(2));
+        let c1 = (c0 + 1).min(self.cols - 1);
+        let r1 = (r0 + 1).min(self.rows - 1);
+        let corners = [self.z(c0, r0)?, self.z(c1, r0)?, self.z(c0, r1)?, self.z(c1, r1)?].map(f64::from);
+        Some((corners, u - c0 as f64, v - r0 as f64))
+    }
+
+    /// Bilinear height at (x, y), m; `None` off the map or next to missing data.
+    pub fn height(&self, x: f64, y: f64) -> Option<f64> {
+        let ([a, b, c, d], s, t) = self.patch(x, y)?;
+        Some(a * (1.0 - s) * (1.0 - t) + b * s * (1.0 - t) + c * (1.0 - s) * t + d * s * t)
+    }
+
+    /// Gradient (∂z/∂x east, ∂z/∂y north) of the bilinear surface at (x, y).
+    pub fn gradient(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        let ([a, b, c, d], s, t) = self.patch(x, y)?;
+        let dzds = (b - a) * (1.0 - t) + (d - c) * t;
+        let dzdt = (c - a) * (1.0 - s) + (d - b) * s;
+        // s grows east (per dx), t grows south (per dy).
+        let gx = if self.cols > 1 { dzds / self.dx } else { 0.0 };
+        let gy = if self.rows > 1 { -dzdt / self.dy } else { 0.0 };
+        Some((gx, gy))
+    }
+
+    /// Latitude and east longitude (degrees) of map point (x, y), if georeferenced.
+    pub fn geographic(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        self.georef.projection.to_geographic(&self.georef.body, x, y)
+    }
+
+    /// A sub-grid: `cols` × `rows` cells starting at (col0, row0).
+    pub fn crop(&self, col0: usize, row0: usize, cols: usize, rows: usize) -> Result<Dem> {
+        if cols == 0 || rows == 0 || col0 + cols > self.cols || row0 + rows > self.rows {
+            return Err(Error::BadGrid(format!(
+                "crop {cols} x {rows} at ({col0}, {row0}) does not fit in {} x {}",
+                self.cols, self.rows
+            )));
+        }
+        let mut z = Vec::with_capacity(cols * rows);
+        let mut valid = Vec::with_capacity(cols * rows);
+        for r in row0..row0 + rows {
+            let i = self.index(col0, r);
+            z.extend_from_slice(&self.z[i..i + cols]);
+            valid.extend_from_slice(&self.valid[i..i + cols]);
+        }
+        let x0 = self.x0 + col0 as f64 * self.dx;
+        let y_top = self.y_top - row0 as f64 * self.dy;
+        Dem::new(cols, rows, self.dx, self.dy, x0, y_top, z)?.with_mask(valid).map(|d| d.with_georef(self.georef))
+    }
+
+    /// The same area resampled bilinearly to cells of `dx` × `dy` m.
+    pub fn resample(&self, dx: f64, dy: f64) -> Result<Dem> {
+        if !(dx > 0.0 && dy > 0.0) {
+            return Err(Error::BadGrid(format!("cell size {dx} x {dy} m must be positive")));
+        }
+        let cols = ((self.cols as f64 * self.dx) / dx).round().max(1.0) as usize;
+        let rows = ((self.rows as f64 * self.dy) / dy).round().max(1.0) as usize;
+        let mut z = Vec::with_capacity(cols * rows);
+        let mut valid = Vec::with_capacity(cols * rows);
+        for r in 0..rows {
+            for c in 0..cols {
+                let (x, y) = (self.x0 + (c as f64 + 0.5) * dx, self.y_top - (r as f64 + 0.5) * dy);
+                match self.height(x, y) {
+                    Some(h) => {
+                        z.push(h as f32);
+                        valid.push(true);
+                    }
+                    None => {
+                        z.push(f32::NAN);
+                        valid.push(false);
+                    }
+                }
+            }
+        }
+        Dem::new(cols, rows, dx, dy, self.x0, self.y_top, z)?.with_mask(valid).map(|d| d.with_georef(self.georef))
+    }
+}
+
+impl Ground for Dem {
+    fn height(&self, x: f64, y: f64) -> Option<f64> {
+        Dem::height(self, x, y)
+    }
+    fn normal(&self, x: f64, y: f64) -> Option<[f64; 3]> {
+        let (gx, gy) = self.gradient(x, y)?;
+        Some(unit_normal(gx, gy))
+    }
+}
+
+/// The upward unit normal of a surface with gradient (gx, gy).
+pub fn unit_normal(gx: f64, gy: f64) -> [f64; 3] {
+    let n = (gx * gx + gy * gy + 1.0).sqrt();
+    [-gx / n, -gy / n, 1.0 / n]
+}
+
+/// Analytic test terrains implementing [`Ground`].
+pub mod analytic {
+    use super::{Ground, unit_normal};
+
+    /// The plane z = z0 + gx·x + gy·y.
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    pub struct Plane {
+        /// Height at the origin, m.
+        pub z0: f64,
+        /// ∂z/∂x.
+        pub gx: f64,
+        /// ∂z/∂y.
+        pub gy: f64,
+    }
+
+    impl Ground for Plane {
+        fn height(&self, x: f64, y: f64) -> Option<f64> {
+            Some(self.z0 + self.gx * x + self.gy * y)
+        }
+        fn normal(&self, _x: f64, _y: f64) -> Option<[f64; 3]> {
+            Some(unit_normal(self.gx, self.gy))
+        }
+    }
+
+    /// The paraboloid z = a·x² + b·y².
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    pub struct Paraboloid {
+        /// Coefficient of x², 1/m.
+        pub a: f64,
+        /// Coefficient of y², 1/m.
+        pub b: f64,
+    }
+
+    impl Ground for Paraboloid {
+        fn height(&self, x: f64, y: f64) -> Option<f64> {
+            Some(self.a * x * x + self.b * y * y)
+        }
+        fn normal(&self, x: f64, y: f64) -> Option<[f64; 3]> {
+            Some(unit_normal(2.0 * self.a * x, 2.0 * self.b * y))
+        }
+    }
+
+    /// A vertical step: `low_m` for x < `x_step`, `high_m` beyond (a wall, for contact
+    /// tests).
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    pub struct Step {
+        /// Where the wall stands, m.
+        pub x_step: f64,
+        /// Height west of the wall, m.
+        pub low_m: f64,
+        /// Height east of the wall, m.
+        pub high_m: f64,
+    }
+
+    impl Ground for Step {
+        fn height(&self, x: f64, _y: f64) -> Option<f64> {
+            Some(if x < self.x_step { self.low_m } else { self.high_m })
+        }
+        fn normal(&self, _x: f64, _y: f64) -> Option<[f64; 3]> {
+            Some([0.0, 0.0, 1.0])
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bilinear_reproduces_a_plane_and_refuses_off_map_and_nodata() {
+        let dem = Dem::from_fn(6, 4, 10.0, 20.0, |x, y| 3.0 + 0.5 * x - 0.25 * y).unwrap();
+        for (x, y) in [(5.0, 70.0), (33.3, 41.7), (12.0, 18.0), (55.0, 75.0)] {
+            let h = dem.height(x, y).unwrap();
+            // Inside the centre hull the plane is exact; in edge half-cells it is held.
+            if (5.0..=55.0).contains(&x) && (10.0..=70.0).contains(&y) {
+                assert!((h - (3.0 + 0.5 * x - 0.25 * y)).abs() < 1e-4, "{x},{y}: {h}");
+                let (gx, gy) = dem.gradient(x, y).unwrap();
+                assert!((gx - 0.5).abs() < 1e-6 && (gy + 0.25).abs() < 1e-6);
+            }
+        }
+        assert!(dem.height(-0.1, 10.0).is_none());
+        assert!(dem.height(10.0, 80.1).is_none());
+        let mut mask = vec![true; 24];
+        mask[dem.index(2, 1)] = false;
+        let holed = dem.clone().with_mask(mask).unwrap();
+        let (x, y) = holed.cell_center(2, 1);
+        assert!(holed.height(x, y).is_none());
+        assert!(holed.height(x + 5.0, y).is_none(), "a patch touching the hole has no height");
+        assert!(holed.height(5.0, 75.0).is_some());
+    }
+
+    #[test]
+    fn index_and_metre_conversions_agree() {
+        let dem = Dem::new(3, 2, 2.0, 5.0, 100.0, 50.0, vec![0.0; 6]).unwrap();
+        assert_eq!(dem.cell_center(0, 0), (101.0, 47.5));
+        assert_eq!(dem.cell_center(2, 1), (105.0, 42.5));
+        assert_eq!(dem.cell_at(105.9, 40.1), Some((2, 1)));
+        assert_eq!(dem.cell_at(106.1, 40.1), None);
+        assert!(Dem::new(3, 2, 0.0, 1.0, 0.0, 0.0, vec![0.0; 6]).is_err());
+        assert!(Dem::new(3, 2, 1.0, 1.0, 0.0, 0.0, vec![0.0; 5]).is_err());
+    }
+
+    #[test]
+    fn crop_and_resample_keep_positions() {
+        let dem = Dem::from_fn(10, 8, 4.0, 4.0, |x, y| x + 2.0 * y).unwrap();
+        let c = dem.crop(2, 3, 4, 2).unwrap();
+        let (x, y) = c.cell_center(0, 0);
+        assert_eq!((x, y), dem.cell_center(2, 3));
+        assert_eq!(c.z(0, 0), dem.z(2, 3));
+        assert!(dem.crop(8, 0, 4, 2).is_err());
+        let r = dem.resample(2.0, 2.0).unwrap();
+        assert_eq!((r.cols(), r.rows()), (20, 16));
+        let (x, y) = r.cell_center(7, 7);
+        assert!((r.height(x, y).unwrap() - dem.height(x, y).unwrap()).abs() < 1e-4);
+    }
+}

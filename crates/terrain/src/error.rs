@@ -1,0 +1,45 @@
+use std::path::PathBuf;
+
+/// Everything that can go wrong in areo-terrain.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// A file is not a valid DEM of its format.
+    #[error("{path}: {message}")]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// Grid dimensions or cell sizes that cannot describe a DEM.
+    #[error("invalid grid: {0}")]
+    BadGrid(String),
+    /// A terrain description with a value out of range.
+    #[error("terrain description: `{field}` = {value} is out of range: allowed {allowed}")]
+    BadSynth {
+        /// The field, e.g. `craters[1].radius_m`.
+        field: String,
+        /// The value given.
+        value: f64,
+        /// The allowed range in words.
+        allowed: &'static str,
+    },
+}
+
+/// `Result` with this crate's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    pub(crate) fn format(path: &std::path::Path, message: impl Into<String>) -> Error {
+        Error::Format { path: path.to_path_buf(), message: message.into() }
+    }
+}

@@ -1,0 +1,247 @@
+//! GeoTIFF DEMs through the `tiff` crate: int16, uint16, int32, float32 and float64
+//! samples, strips or tiles; georeference from ModelPixelScale, ModelTiepoint and the
+//! GeoKey directory; nodata from the GDAL_NODATA tag. Writes float32 elevation and
+//! uint8 mask/shadow GeoTIFFs with the same georeference tags.
+
+use std::fs::File;
+use std::io::{BufReader, BufWriter, Read, Seek, Write};
+use std::path::Path;
+
+use tiff::decoder::{Decoder, DecodingResult, ifd::Value};
+use tiff::encoder::{TiffEncoder, colortype};
+use tiff::tags::Tag;
+
+use crate::body::{Body, Projection};
+use crate::dem::{Dem, Georef};
+use crate::error::{Error, Result};
+
+/// GeoKey ids used here (GeoTIFF 1.1, OGC 19-008r4).
+mod key {
+    pub(super) const MODEL_TYPE: u16 = 1024;
+    pub(super) const RASTER_TYPE: u16 = 1025;
+    pub(super) const SEMI_MAJOR: u16 = 2057;
+    pub(super) const SEMI_MINOR: u16 = 2058;
+    pub(super) const INV_FLATTENING: u16 = 2059;
+    pub(super) const PROJECTED_CS: u16 = 3072;
+    pub(super) const COORD_TRANS: u16 = 3075;
+    pub(super) const STD_PARALLEL_1: u16 = 3078;
+    pub(super) const NAT_ORIGIN_LONG: u16 = 3080;
+    pub(super) const NAT_ORIGIN_LAT: u16 = 3081;
+    pub(super) const CENTER_LONG: u16 = 3088;
+    pub(super) const STRAIGHT_VERT_POLE_LONG: u16 = 3095;
+    pub(super) const CT_EQUIRECTANGULAR: u16 = 17;
+    pub(super) const CT_POLAR_STEREOGRAPHIC: u16 = 15;
+    pub(super) const USER_DEFINED: u16 = 32767;
+}
+
+/// Reads a GeoTIFF DEM.
+pub fn read(path: &Path) -> Result<Dem> {
+    let file = File::open(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    read_from(BufReader::new(file), path)
+}
+
+/// Reads a GeoTIFF DEM from any reader; `path` labels errors.
+pub fn read_from<R: Read + Seek>(reader: R, path: &Path) -> Result<Dem> {
+    let bad = |m: String| Error::format(path, m);
+    let tiff_err = |e: tiff::TiffError| Error::format(path, format!("not a readable TIFF: {e}"));
+    let mut dec = Decoder::new(reader).map_err(tiff_err)?;
+    let (w, h) = dec.dimensions().map_err(tiff_err)?;
+    let samples = dec.find_tag_unsigned::<u16>(Tag::SamplesPerPixel).map_err(tiff_err)?.unwrap_or(1);
+    if samples != 1 {
+        return Err(bad(format!("{samples} samples per pixel; a DEM has one band")));
+    }
+    let image = dec.read_image().map_err(tiff_err)?;
+    let z: Vec<f32> = match image {
+        DecodingResult::I16(v) => v.into_iter().map(f32::from).collect(),
+        DecodingResult::U16(v) => v.into_iter().map(f32::from).collect(),
+        DecodingResult::I32(v) => v.into_iter().map(|x| x as f32).collect(),
+        DecodingResult::U8(v) => v.into_iter().map(f32::from).collect(),
+        DecodingResult::F32(v) => v,
+        DecodingResult::F64(v) => v.into_iter().map(|x| x as f32).collect(),
+        other => return Err(bad(format!("unsupported sample type {:?}", std::mem::discriminant(&other)))),
+    };
+    let (cols, rows) = (w as usize, h as usize);
+    if z.len() != cols * rows {
+        return Err(bad(format!("{} samples for {cols} x {rows} pixels", z.len())));
+    }
+    let scale = f64_vec(&mut dec, Tag::ModelPixelScaleTag).map_err(tiff_err)?;
+    let tie = f64_vec(&mut dec, Tag::ModelTiepointTag).map_err(tiff_err)?;
+    let keys = dec.find_tag_unsigned_vec::<u16>(Tag::GeoKeyDirectoryTag).map_err(tiff_err)?.unwrap_or_default();
+    let doubles = f64_vec(&mut dec, Tag::GeoDoubleParamsTag).map_err(tiff_err)?.unwrap_or_default();
+    let geokeys = GeoKeys::parse(&keys, &doubles);
+    let (dx, dy, x0, y_top) = match (scale, tie) {
+        (Some(s), Some(t)) if s.len() >= 2 && t.len() >= 6 => {
+            let (dx, dy) = (s[0], s[1]);
+            // Tiepoint (i, j) ↔ (x, y): the raster's origin follows. PixelIsPoint rasters
+            // tie pixel centres, so shift by half a pixel to reach the corner.
+            let half = if geokeys.short(key::RASTER_TYPE) == Some(2) { 0.5 } else { 0.0 };
+            (dx, dy, t[3] - (t[0] + half) * dx, t[4] + (t[1] + half) * dy)
+        }
+        _ => (1.0, 1.0, 0.0, h as f64),
+    };
+    if !(dx > 0.0 && dy > 0.0 && dx.is_finite() && dy.is_finite()) {
+        return Err(bad(format!("ModelPixelScale {dx} x {dy}: cell sizes must be positive")));
+    }
+    let nodata: Option<f64> = match dec.find_tag(Tag::GdalNodata).map_err(tiff_err)? {
+        Some(Value::Ascii(s)) => {
+            let t = s.trim_matches(char::from(0)).trim();
+            Some(t.parse::<f64>().map_err(|_| bad(format!("GDAL_NODATA {t:?} is not a number")))?)
+        }
+        _ => None,
+    };
+    let valid: Vec<bool> = z
+        .iter()
+        .map(|&v| v.is_finite() && nodata.is_none_or(|nd| !(f64::from(v) == nd || (nd.is_nan() && v.is_nan()))))
+        .collect();
+    let z = z.into_iter().zip(&valid).map(|(v, ok)| if *ok { v } else { f32::NAN }).collect();
+    let georef = geokeys.georef();
+    Dem::new(cols, rows, dx, dy, x0, y_top, z)
+        .and_then(|d| d.with_mask(valid))
+        .map(|d| d.with_georef(georef))
+        .map_err(|e| bad(e.to_string()))
+}
+
+fn f64_vec<R: Read + Seek>(dec: &mut Decoder<R>, tag: Tag) -> tiff::TiffResult<Option<Vec<f64>>> {
+    match dec.find_tag(tag)? {
+        Some(v) => Ok(Some(v.into_f64_vec()?)),
+        None => Ok(None),
+    }
+}
+
+/// The GeoKey directory: (key, short value or index into the double params).
+struct GeoKeys {
+    entries: Vec<(u16, u16, u16)>,
+    doubles: Vec<f64>,
+}
+
+impl GeoKeys {
+    fn parse(dir: &[u16], doubles: &[f64]) -> GeoKeys {
+        let mut entries = Vec::new();
+        if dir.len() >= 4 {
+            let n = dir[3] as usize;
+            for k in 0..n {
+                let at = 4 + 4 * k;
+                if at + 3 < dir.len() {
+                    // (key, location tag, count, value-or-offset)
+                    entries.push((dir[at], dir[at + 1], dir[at + 3]));
+                }
+            }
+        }
+        GeoKeys { entries, doubles: doubles.to_vec() }
+    }
+
+    fn short(&self, key: u16) -> Option<u16> {
+        self.entries.iter().find(|e| e.0 == key && e.1 == 0).map(|e| e.2)
+    }
+
+    fn double(&self, key: u16) -> Option<f64> {
+        let e = self.entries.iter().find(|e| e.0 == key && e.1 == 34736)?;
+        self.doubles.get(e.2 as usize).copied()
+    }
+
+    fn georef(&self) -> Georef {
+        let a = self.double(key::SEMI_MAJOR);
+        let b = self.double(key::SEMI_MINOR).or_else(|| {
+            let inv_f = self.double(key::INV_FLATTENING)?;
+            Some(a? * (1.0 - if inv_f == 0.0 { 0.0 } else { 1.0 / inv_f }))
+        });
+        let body = match (a, b) {
+            (Some(a), Some(b)) if a > 0.0 && b > 0.0 => Body { equatorial_radius_m: a, polar_radius_m: b },
+            (Some(a), None) if a > 0.0 => Body { equatorial_radius_m: a, polar_radius_m: a },
+            _ => Body::MARS_IAU2015,
+        };
+        let lon0 = self
+            .double(key::CENTER_LONG)
+            .or_else(|| self.double(key::NAT_ORIGIN_LONG))
+            .or_else(|| self.double(key::STRAIGHT_VERT_POLE_LONG))
+            .unwrap_or(0.0);
+        let projection = match self.short(key::COORD_TRANS) {
+            Some(key::CT_EQUIRECTANGULAR) => Projection::Equirectangular {
+                lat_ts_deg: self.double(key::STD_PARALLEL_1).unwrap_or(0.0),
+                lon0_deg: lon0,
+            },
+            Some(key::CT_POLAR_STEREOGRAPHIC) => {
+                let lat = self.double(key::NAT_ORIGIN_LAT).unwrap_or(90.0);
+                Projection::PolarStereographic { north: lat >= 0.0, lon0_deg: lon0 }
+            }
+            _ => Projection::Local,
+        };
+        Georef { projection, body }
+    }
+}
+
+/// The GeoKey directory and double parameters describing `georef`.
+fn geokeys_for(georef: &Georef) -> (Vec<u16>, Vec<f64>) {
+    let mut doubles = vec![georef.body.equatorial_radius_m, georef.body.polar_radius_m];
+    let mut keys: Vec<[u16; 4]> = vec![
+        [key::MODEL_TYPE, 0, 1, 1],  // projected
+        [key::RASTER_TYPE, 0, 1, 1], // PixelIsArea
+        [key::SEMI_MAJOR, 34736, 1, 0],
+        [key::SEMI_MINOR, 34736, 1, 1],
+        [key::PROJECTED_CS, 0, 1, key::USER_DEFINED],
+    ];
+    match georef.projection {
+        Projection::Local => {}
+        Projection::Equirectangular { lat_ts_deg, lon0_deg } => {
+            keys.push([key::COORD_TRANS, 0, 1, key::CT_EQUIRECTANGULAR]);
+            doubles.push(lat_ts_deg);
+            keys.push([key::STD_PARALLEL_1, 34736, 1, (doubles.len() - 1) as u16]);
+            doubles.push(lon0_deg);
+            keys.push([key::CENTER_LONG, 34736, 1, (doubles.len() - 1) as u16]);
+        }
+        Projection::PolarStereographic { north, lon0_deg } => {
+            keys.push([key::COORD_TRANS, 0, 1, key::CT_POLAR_STEREOGRAPHIC]);
+            doubles.push(if north { 90.0 } else { -90.0 });
+            keys.push([key::NAT_ORIGIN_LAT, 34736, 1, (doubles.len() - 1) as u16]);
+            doubles.push(lon0_deg);
+            keys.push([key::STRAIGHT_VERT_POLE_LONG, 34736, 1, (doubles.len() - 1) as u16]);
+        }
+    }
+    keys.sort_by_key(|k| k[0]);
+    let mut dir = vec![1, 1, 0, keys.len() as u16];
+    for k in keys {
+        dir.extend_from_slice(&k);
+    }
+    (dir, doubles)
+}
+
+/// Writes a DEM as a float32 GeoTIFF (missing cells as NaN, GDAL_NODATA "nan").
+pub fn write(dem: &Dem, path: &Path) -> Result<()> {
+    let z: Vec<f32> =
+        dem.elevations().iter().zip(dem.valid_mask()).map(|(z, ok)| if *ok { *z } else { f32::NAN }).collect();
+    write_raster::<colortype::Gray32Float>(dem, &z, Some("nan"), path)
+}
+
+/// Writes a one-byte-per-cell raster on the DEM's grid (masks, shadow maps), with an
+/// optional nodata value.
+pub fn write_u8(dem: &Dem, values: &[u8], nodata: Option<u8>, path: &Path) -> Result<()> {
+    let nd = nodata.map(|v| v.to_string());
+    write_raster::<colortype::Gray8>(dem, values, nd.as_deref(), path)
+}
+
+fn write_raster<C: colortype::ColorType>(dem: &Dem, data: &[C::Inner], nodata: Option<&str>, path: &Path) -> Result<()>
+where
+    [C::Inner]: tiff::encoder::TiffValue,
+{
+    let io = |e: std::io::Error| Error::Io { path: path.to_path_buf(), source: e };
+    let tiff_err = |e: tiff::TiffError| Error::format(path, format!("cannot write TIFF: {e}"));
+    if data.len() != dem.cols() * dem.rows() {
+        return Err(Error::BadGrid(format!("{} values for {} cells", data.len(), dem.cols() * dem.rows())));
+    }
+    let mut out = BufWriter::new(File::create(path).map_err(io)?);
+    {
+        let mut enc = TiffEncoder::new(&mut out).map_err(tiff_err)?;
+        let mut img = enc.new_image::<C>(dem.cols() as u32, dem.rows() as u32).map_err(tiff_err)?;
+        let (dir, doubles) = geokeys_for(dem.georef());
+        let e = img.encoder();
+        e.write_tag(Tag::ModelPixelScaleTag, &[dem.dx(), dem.dy(), 0.0][..]).map_err(tiff_err)?;
+        e.write_tag(Tag::ModelTiepointTag, &[0.0, 0.0, 0.0, dem.x0(), dem.y_top(), 0.0][..]).map_err(tiff_err)?;
+        e.write_tag(Tag::GeoKeyDirectoryTag, &dir[..]).map_err(tiff_err)?;
+        e.write_tag(Tag::GeoDoubleParamsTag, &doubles[..]).map_err(tiff_err)?;
+        if let Some(nd) = nodata {
+            e.write_tag(Tag::GdalNodata, nd).map_err(tiff_err)?;
+        }
+        img.write_data(data).map_err(tiff_err)?;
+    }
+    out.flush().map_err(io)
+}

@@ -1,0 +1,482 @@
+//! Synthesised terrain from a description (the RON `terrain` block of every shipped
+//! scenario): craters, hills, ridges, N–S mountain chains with passes, ditches, rocks,
+//! tilts and seeded fractal noise, summed on a base height.
+//!
+//! Coordinates are metres in the DEM's local frame, whose south-west corner is (0, 0):
+//! x east, y north.
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+use crate::dem::Dem;
+use crate::error::{Error, Result};
+
+/// A terrain to synthesise.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainSpec {
+    /// Columns (west to east), 1..=20000.
+    pub cols: usize,
+    /// Rows (north to south), 1..=20000.
+    pub rows: usize,
+    /// Cell size, m (> 0).
+    pub cell_m: f64,
+    /// Height everywhere before features, m.
+    #[serde(default)]
+    pub base_m: f64,
+    /// Seed for the noise.
+    #[serde(default)]
+    pub seed: u64,
+    /// Fractal noise added on top.
+    #[serde(default)]
+    pub noise: Option<Noise>,
+    /// Landforms, summed.
+    #[serde(default)]
+    pub features: Vec<Feature>,
+}
+
+/// Seeded fractal value noise: octaves of smooth random lattices, each with half the
+/// wavelength and `persistence` times the amplitude of the one before.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Noise {
+    /// Amplitude of the first octave, m (≥ 0).
+    pub amplitude_m: f64,
+    /// Wavelength of the first octave, m (> 0).
+    pub wavelength_m: f64,
+    /// Number of octaves, 1..=12.
+    #[serde(default = "default_octaves")]
+    pub octaves: u32,
+    /// Amplitude ratio between octaves, 0..=1.
+    #[serde(default = "default_persistence")]
+    pub persistence: f64,
+}
+
+fn default_octaves() -> u32 {
+    4
+}
+fn default_persistence() -> f64 {
+    0.5
+}
+
+/// A landform.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Feature {
+    /// A simple crater: a parabolic bowl `depth_m` below the surroundings, a raised rim
+    /// at `radius_m`, and ejecta decaying as (R/r)³ out to `ejecta_radii` radii.
+    Crater {
+        /// Centre x, m.
+        x_m: f64,
+        /// Centre y, m.
+        y_m: f64,
+        /// Rim radius, m (> 0).
+        radius_m: f64,
+        /// Floor depth below the surroundings, m (≥ 0).
+        depth_m: f64,
+        /// Rim height above the surroundings, m (≥ 0).
+        rim_height_m: f64,
+        /// Extent of the ejecta blanket in radii (≥ 1).
+        #[serde(default = "default_ejecta")]
+        ejecta_radii: f64,
+    },
+    /// A cone whose flanks have the given slope.
+    Hill {
+        /// Centre x, m.
+        x_m: f64,
+        /// Centre y, m.
+        y_m: f64,
+        /// Base radius, m (> 0).
+        radius_m: f64,
+        /// Flank slope, degrees (0..90).
+        slope_deg: f64,
+    },
+    /// A straight ridge with a cosine cross-section.
+    Ridge {
+        /// One end (x, y), m.
+        from_m: (f64, f64),
+        /// Other end (x, y), m.
+        to_m: (f64, f64),
+        /// Crest height, m.
+        height_m: f64,
+        /// Full width at the base, m (> 0).
+        width_m: f64,
+    },
+    /// A north–south mountain chain at `x_m` from `y_from_m` to `y_to_m`, with passes
+    /// where the crest dips to a saddle.
+    MountainChain {
+        /// Crest line x, m.
+        x_m: f64,
+        /// South end y, m.
+        y_from_m: f64,
+        /// North end y, m.
+        y_to_m: f64,
+        /// Crest height, m.
+        height_m: f64,
+        /// Full width at the base, m (> 0).
+        width_m: f64,
+        /// Passes through the chain.
+        #[serde(default)]
+        passes: Vec<Pass>,
+    },
+    /// A straight ditch with a trapezoidal cross-section.
+    Ditch {
+        /// One end (x, y), m.
+        from_m: (f64, f64),
+        /// Other end (x, y), m.
+        to_m: (f64, f64),
+        /// Width at the top, m (> 0).
+        width_m: f64,
+        /// Depth, m (> 0).
+        depth_m: f64,
+        /// Wall angle from horizontal, degrees (0..=90); the walls must fit in the width.
+        wall_deg: f64,
+    },
+    /// A rock: a half-ellipsoid of the given height and width.
+    Rock {
+        /// Centre x, m.
+        x_m: f64,
+        /// Centre y, m.
+        y_m: f64,
+        /// Height, m (> 0).
+        height_m: f64,
+        /// Width, m (> 0).
+        width_m: f64,
+    },
+    /// A uniform tilt: the plane faces `aspect_deg` (its downslope azimuth).
+    Tilt {
+        /// Slope, degrees (0..90).
+        slope_deg: f64,
+        /// Downslope azimuth, degrees clockwise from north.
+        aspect_deg: f64,
+    },
+}
+
+fn default_ejecta() -> f64 {
+    2.5
+}
+
+/// A pass in a mountain chain.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Pass {
+    /// Where along the chain, m (y).
+    pub y_m: f64,
+    /// Saddle height, m (below the crest).
+    pub height_m: f64,
+    /// Width of the dip along the chain, m (> 0).
+    pub width_m: f64,
+}
+
+impl TerrainSpec {
+    /// Checks every value, naming the first bad field.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field: String, value: f64, allowed: &'static str| Err(Error::BadSynth { field, value, allowed });
+        if !(1..=20_000).contains(&self.cols) {
+            return bad("cols".into(), self.cols as f64, "1..=20000");
+        }
+        if !(1..=20_000).contains(&self.rows) {
+            return bad("rows".into(), self.rows as f64, "1..=20000");
+        }
+        if !(self.cell_m > 0.0 && self.cell_m.is_finite()) {
+            return bad("cell_m".into(), self.cell_m, "> 0");
+        }
+        if let Some(n) = &self.noise {
+            if !(n.amplitude_m >= 0.0 && n.amplitude_m.is_finite()) {
+                return bad("noise.amplitude_m".into(), n.amplitude_m, ">= 0");
+            }
+            if !(n.wavelength_m > 0.0 && n.wavelength_m.is_finite()) {
+                return bad("noise.wavelength_m".into(), n.wavelength_m, "> 0");
+            }
+            if !(1..=12).contains(&n.octaves) {
+                return bad("noise.octaves".into(), f64::from(n.octaves), "1..=12");
+            }
+            if !(0.0..=1.0).contains(&n.persistence) {
+                return bad("noise.persistence".into(), n.persistence, "0..=1");
+            }
+        }
+        for (i, f) in self.features.iter().enumerate() {
+            let p = |name: &str| format!("features[{i}].{name}");
+            let positive = |name: &str, v: f64| if v > 0.0 && v.is_finite() { Ok(()) } else { bad(p(name), v, "> 0") };
+            let slope = |name: &str, v: f64| if (0.0..90.0).contains(&v) { Ok(()) } else { bad(p(name), v, "0..90") };
+            match *f {
+                Feature::Crater { radius_m, depth_m, rim_height_m, ejecta_radii, .. } => {
+                    positive("radius_m", radius_m)?;
+                    if !(depth_m >= 0.0) {
+                        return bad(p("depth_m"), depth_m, ">= 0");
+                    }
+                    if !(rim_height_m >= 0.0) {
+                        return bad(p("rim_height_m"), rim_height_m, ">= 0");
+                    }
+                    if !(ejecta_radii >= 1.0) {
+                        return bad(p("ejecta_radii"), ejecta_radii, ">= 1");
+                    }
+                }
+                Feature::Hill { radius_m, slope_deg, .. } => {
+                    positive("radius_m", radius_m)?;
+                    slope("slope_deg", slope_deg)?;
+                }
+                Feature::Ridge { width_m, .. } | Feature::MountainChain { width_m, .. } => {
+                    positive("width_m", width_m)?
+                }
+                Feature::Ditch { width_m, depth_m, wall_deg, .. } => {
+                    positive("width_m", width_m)?;
+                    positive("depth_m", depth_m)?;
+                    if !(wall_deg > 0.0 && wall_deg <= 90.0) {
+                        return bad(p("wall_deg"), wall_deg, "0 (exclusive)..=90");
+                    }
+                    let run = if wall_deg >= 90.0 { 0.0 } else { depth_m / wall_deg.to_radians().tan() };
+                    if 2.0 * run > width_m {
+                        return bad(p("wall_deg"), wall_deg, "steep enough that both walls fit in width_m");
+                    }
+                }
+                Feature::Rock { height_m, width_m, .. } => {
+                    positive("height_m", height_m)?;
+                    positive("width_m", width_m)?;
+                }
+                Feature::Tilt { slope_deg, .. } => slope("slope_deg", slope_deg)?,
+            }
+            if let Feature::MountainChain { passes, .. } = f {
+                for (k, pass) in passes.iter().enumerate() {
+                    if !(pass.width_m > 0.0) {
+                        return bad(format!("features[{i}].passes[{k}].width_m"), pass.width_m, "> 0");
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Builds the DEM (validating first).
+    pub fn build(&self) -> Result<Dem> {
+        self.validate()?;
+        let noise = self
+            .noise
+            .map(|n| FractalNoise::new(n, self.seed, self.cols as f64 * self.cell_m, self.rows as f64 * self.cell_m));
+        let dem = Dem::from_fn(self.cols, self.rows, self.cell_m, self.cell_m, |x, y| {
+            let mut z = self.base_m;
+            for f in &self.features {
+                z += f.height(x, y);
+            }
+            if let Some(n) = &noise {
+                z += n.at(x, y);
+            }
+            z
+        })?;
+        Ok(dem)
+    }
+}
+
+/// Distance from (x, y) to the segment a–b, m.
+fn segment_distance(x: f64, y: f64, a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (vx, vy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = vx * vx + vy * vy;
+    let t = if len2 == 0.0 { 0.0 } else { (((x - a.0) * vx + (y - a.1) * vy) / len2).clamp(0.0, 1.0) };
+    let (px, py) = (a.0 + t * vx, a.1 + t * vy);
+    (x - px).hypot(y - py)
+}
+
+/// 1 at d = 0 falling to 0 at d = half with a cosine shoulder.
+fn bell(d: f64, half: f64) -> f64 {
+    if d >= half { 0.0 } else { 0.5 + 0.5 * (std::f64::consts::PI * d / half).cos() }
+}
+
+impl Feature {
+    /// This landform's contribution to the height at (x, y), m.
+    pub fn height(&self, x: f64, y: f64) -> f64 {
+        match *self {
+            Feature::Crater { x_m, y_m, radius_m, depth_m, rim_height_m, ejecta_radii } => {
+                let r = (x - x_m).hypot(y - y_m) / radius_m;
+                if r <= 1.0 {
+                    -depth_m + (depth_m + rim_height_m) * r * r
+                } else if r <= ejecta_radii {
+                    // (1/r)³ decay, shifted so it reaches 0 at the blanket's edge.
+                    let edge = ejecta_radii.powi(-3);
+                    rim_height_m * (r.powi(-3) - edge) / (1.0 - edge).max(f64::MIN_POSITIVE)
+                } else {
+                    0.0
+                }
+            }
+            Feature::Hill { x_m, y_m, radius_m, slope_deg } => {
+                let r = (x - x_m).hypot(y - y_m);
+                (radius_m - r).max(0.0) * slope_deg.to_radians().tan()
+            }
+            Feature::Ridge { from_m, to_m, height_m, width_m } => {
+                height_m * bell(segment_distance(x, y, from_m, to_m), width_m / 2.0)
+            }
+            Feature::MountainChain { x_m, y_from_m, y_to_m, height_m, width_m, ref passes } => {
+                let d = segment_distance(x, y, (x_m, y_from_m), (x_m, y_to_m));
+                let mut crest = height_m;
+                for p in passes {
+                    let dip = bell((y - p.y_m).abs(), p.width_m / 2.0);
+                    crest = crest.min(height_m - (height_m - p.height_m) * dip);
+                }
+                crest * bell(d, width_m / 2.0)
+            }
+            Feature::Ditch { from_m, to_m, width_m, depth_m, wall_deg } => {
+                let d = segment_distance(x, y, from_m, to_m);
+                let half = width_m / 2.0;
+                let run = if wall_deg >= 90.0 { 0.0 } else { depth_m / wall_deg.to_radians().tan() };
+                let floor_half = half - run;
+                if d <= floor_half {
+                    -depth_m
+                } else if d < half {
+                    -depth_m + (d - floor_half) * wall_deg.to_radians().tan()
+                } else {
+                    0.0
+                }
+            }
+            Feature::Rock { x_m, y_m, height_m, width_m } => {
+                let r = (x - x_m).hypot(y - y_m) / (width_m / 2.0);
+                if r < 1.0 { height_m * (1.0 - r * r).sqrt() } else { 0.0 }
+            }
+            Feature::Tilt { slope_deg, aspect_deg } => {
+                let (s, c) = aspect_deg.to_radians().sin_cos();
+                -slope_deg.to_radians().tan() * (x * s + y * c)
+            }
+        }
+    }
+}
+
+/// Octaves of smoothly interpolated random lattices.
+struct FractalNoise {
+    octaves: Vec<(f64, f64, usize, Vec<f64>)>, // (amplitude, wavelength, lattice width, values)
+}
+
+impl FractalNoise {
+    fn new(spec: Noise, seed: u64, width_m: f64, height_m: f64) -> FractalNoise {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut octaves = Vec::new();
+        let (mut amp, mut wl) = (spec.amplitude_m, spec.wavelength_m);
+        for _ in 0..spec.octaves {
+            let nx = (width_m / wl).ceil() as usize + 2;
+            let ny = (height_m / wl).ceil() as usize + 2;
+            let values = (0..nx * ny).map(|_| rng.random_range(-1.0..1.0)).collect();
+            octaves.push((amp, wl, nx, values));
+            amp *= spec.persistence;
+            wl /= 2.0;
+        }
+        FractalNoise { octaves }
+    }
+
+    fn at(&self, x: f64, y: f64) -> f64 {
+        let smooth = |t: f64| t * t * (3.0 - 2.0 * t);
+        let mut z = 0.0;
+        for (amp, wl, nx, values) in &self.octaves {
+            let (u, v) = ((x / wl).max(0.0), (y / wl).max(0.0));
+            let (i, j) = (u.floor() as usize, v.floor() as usize);
+            let ny = values.len() / nx;
+            let (i, j) = (i.min(nx - 2), j.min(ny - 2));
+            let (s, t) = (smooth(u - i as f64), smooth(v - j as f64));
+            let at = |a: usize, b: usize| values[b * nx + a];
+            let top = at(i, j) * (1.0 - s) + at(i + 1, j) * s;
+            let bottom = at(i, j + 1) * (1.0 - s) + at(i + 1, j + 1) * s;
+            z += amp * (top * (1.0 - t) + bottom * t);
+        }
+        z
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::slope::slope_aspect;
+
+    fn spec(features: Vec<Feature>) -> TerrainSpec {
+        TerrainSpec { cols: 101, rows: 101, cell_m: 1.0, base_m: 10.0, seed: 0, noise: None, features }
+    }
+
+    #[test]
+    fn hill_flanks_have_the_requested_slope() {
+        let dem = spec(vec![Feature::Hill { x_m: 50.5, y_m: 50.5, radius_m: 40.0, slope_deg: 20.0 }]).build().unwrap();
+        let sa = slope_aspect(&dem);
+        // Halfway down the east flank: slope 20°, facing east.
+        let i = dem.index(70, 50);
+        assert!((sa.slope_deg[i] - 20.0).abs() < 0.2, "{}", sa.slope_deg[i]);
+        assert!((sa.aspect_deg[i] - 90.0).abs() < 1.0);
+        assert!((dem.z(50, 50).unwrap() - (10.0 + 40.0 * 20f32.to_radians().tan())).abs() < 0.5);
+    }
+
+    #[test]
+    fn ditch_has_the_requested_depth_width_and_walls() {
+        let dem = spec(vec![Feature::Ditch {
+            from_m: (50.5, 0.0),
+            to_m: (50.5, 101.0),
+            width_m: 20.0,
+            depth_m: 3.0,
+            wall_deg: 45.0,
+        }])
+        .build()
+        .unwrap();
+        assert!((dem.z(50, 50).unwrap() - 7.0).abs() < 1e-4, "floor 3 m down");
+        assert!((dem.z(30, 50).unwrap() - 10.0).abs() < 1e-4, "outside untouched");
+        let sa = slope_aspect(&dem);
+        // The walls run 3 m horizontally at 45°: cells 9 m from the centreline are on them.
+        assert!((sa.slope_deg[dem.index(59, 50)] - 45.0).abs() < 0.5, "{}", sa.slope_deg[dem.index(59, 50)]);
+        assert!(
+            TerrainSpec {
+                features: vec![Feature::Ditch {
+                    from_m: (0.0, 0.0),
+                    to_m: (1.0, 1.0),
+                    width_m: 2.0,
+                    depth_m: 3.0,
+                    wall_deg: 30.0
+                }],
+                ..spec(vec![])
+            }
+            .validate()
+            .is_err()
+        );
+    }
+
+    #[test]
+    fn crater_rim_floor_and_rock() {
+        let dem = spec(vec![
+            Feature::Crater {
+                x_m: 50.5,
+                y_m: 50.5,
+                radius_m: 20.0,
+                depth_m: 8.0,
+                rim_height_m: 2.0,
+                ejecta_radii: 2.5,
+            },
+            Feature::Rock { x_m: 5.5, y_m: 95.5, height_m: 0.5, width_m: 1.0 },
+        ])
+        .build()
+        .unwrap();
+        assert!((dem.z(50, 50).unwrap() - 2.0).abs() < 1e-3, "floor at -8");
+        assert!((dem.z(70, 50).unwrap() - 12.0).abs() < 1e-3, "rim at +2");
+        // Ejecta: (1/r)³ decay, zero at 2.5 radii.
+        assert!(dem.z(80, 50).unwrap() > 10.0 && dem.z(80, 50).unwrap() < 12.0);
+        assert!((dem.z(100, 50).unwrap() - 10.0).abs() < 1e-6);
+        assert!((dem.z(5, 5).unwrap() - 10.5).abs() < 1e-3, "rock top");
+    }
+
+    #[test]
+    fn chain_dips_at_its_pass_and_noise_is_seeded() {
+        let chain = Feature::MountainChain {
+            x_m: 50.5,
+            y_from_m: 0.0,
+            y_to_m: 101.0,
+            height_m: 300.0,
+            width_m: 40.0,
+            passes: vec![Pass { y_m: 80.5, height_m: 50.0, width_m: 20.0 }],
+        };
+        let dem = spec(vec![chain]).build().unwrap();
+        assert!((dem.z(50, 20).unwrap() - 60.0).abs() < 1e-3, "pass saddle: 50 m above base");
+        assert!((dem.z(50, 70).unwrap() - 310.0).abs() < 1e-3, "crest");
+        let noisy = |seed| {
+            TerrainSpec {
+                seed,
+                noise: Some(Noise { amplitude_m: 5.0, wavelength_m: 30.0, octaves: 3, persistence: 0.5 }),
+                ..spec(vec![])
+            }
+            .build()
+            .unwrap()
+        };
+        assert_eq!(noisy(3), noisy(3));
+        assert_ne!(noisy(3), noisy(4));
+        let z = noisy(3);
+        assert!(z.elevations().iter().all(|v| (v - 10.0).abs() <= 5.0 * 1.75 + 1e-3));
+    }
+}

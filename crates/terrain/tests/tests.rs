@@ -1,0 +1,6 @@
+//! areo-terrain integration tests: the real MOLA files, reader/writer round trips, and
+//! corrupt input.
+
+#![allow(clippy::print_stderr)] // tests report what they measured
+
+mod readers;
