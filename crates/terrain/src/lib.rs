@@ -8,7 +8,8 @@
 //!   data. The [`Ground`] trait (height and normal) is implemented by `Dem` and by the
 //!   [`analytic`] test terrains.
 //! - Readers and writers: [`geotiff`] (int16/uint16/float32, strips or tiles,
-//!   georeference tags, GDAL_NODATA) and [`ascii`] (ESRI ASCII grid).
+//!   georeference tags, GDAL_NODATA), [`ascii`] (ESRI ASCII grid) and [`pds3`] (PDS3
+//!   `.IMG` with attached or detached label: MOLA, HiRISE, CTX).
 //! - [`synth`]: terrain synthesised from a description (craters, hills, ridges,
 //!   mountain chains with passes, ditches, rocks, tilts, seeded fractal noise).
 //! - [`slope`]: Horn slope, aspect and normals with separate dx and dy.
@@ -37,6 +38,7 @@ mod error;
 
 pub mod ascii;
 pub mod geotiff;
+pub mod pds3;
 pub mod shadow;
 pub mod slope;
 pub mod synth;

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use areo_terrain::{Dem, Georef, Projection, ascii, geotiff};
+use areo_terrain::{Dem, Georef, Projection, ascii, geotiff, pds3};
 use proptest::prelude::*;
 
 fn shared(name: &str) -> Option<PathBuf> {
@@ -142,6 +142,69 @@ fn bad_files_are_errors_naming_the_file() {
     assert!(err.to_string().contains("junk.tif"));
 }
 
+/// A PDS3 label for a 3 × 2 image.
+fn pds_label(pointer: &str, sample_type: &str, bits: u32, extra: &str) -> String {
+    format!(
+        "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 1024\r\nLABEL_RECORDS = 1\r\n\
+         ^IMAGE = {pointer}\r\nOBJECT = IMAGE\r\n  LINES = 2\r\n  LINE_SAMPLES = 3\r\n  SAMPLE_TYPE = {sample_type}\r\n\
+         SAMPLE_BITS = {bits}\r\n{extra}END_OBJECT = IMAGE\r\nOBJECT = IMAGE_MAP_PROJECTION\r\n\
+         MAP_PROJECTION_TYPE = \"SIMPLE CYLINDRICAL\"\r\n  A_AXIS_RADIUS = 3396.0 <KM>\r\n  B_AXIS_RADIUS = 3396.0 <KM>\r\n\
+         MAP_SCALE = 0.4630 <KM/PIXEL>\r\n  CENTER_LATITUDE = 0.0 <DEGREE>\r\n  CENTER_LONGITUDE = 90.0 <DEGREE>\r\n\
+         LINE_PROJECTION_OFFSET = -10.5 <PIXEL>\r\n  SAMPLE_PROJECTION_OFFSET = 20.5 <PIXEL>\r\n\
+         END_OBJECT = IMAGE_MAP_PROJECTION\r\nEND\r\n"
+    )
+}
+
+#[test]
+fn pds3_attached_msb_int16_with_scaling_and_missing_constant() {
+    let mut bytes = pds_label(
+        "2",
+        "MSB_INTEGER",
+        16,
+        "  SCALING_FACTOR = 0.5\r\n  OFFSET = -100\r\n  MISSING_CONSTANT = -32768\r\n",
+    )
+    .into_bytes();
+    bytes.resize(1024, b' ');
+    for v in [10i16, 20, 30, -32768, 50, 60] {
+        bytes.extend_from_slice(&v.to_be_bytes());
+    }
+    let path = tmp("attached.IMG");
+    std::fs::write(&path, &bytes).unwrap();
+    let dem = pds3::read(&path).unwrap();
+    assert_eq!((dem.cols(), dem.rows()), (3, 2));
+    assert_eq!(dem.z(0, 0), Some(-95.0));
+    assert_eq!(dem.z(2, 0), Some(-85.0));
+    assert_eq!(dem.z(0, 1), None, "MISSING_CONSTANT");
+    assert_eq!(dem.z(2, 1), Some(-70.0));
+    assert!((dem.dx() - 463.0).abs() < 1e-9);
+    // Origin pixel centre at (line −10.5, sample 20.5), 1-based.
+    assert!((dem.x0() - (0.5 - 20.5) * 463.0).abs() < 1e-6 && (dem.y_top() - (-10.5 - 0.5) * 463.0).abs() < 1e-6);
+    assert_eq!(dem.georef().projection, Projection::Equirectangular { lat_ts_deg: 0.0, lon0_deg: 90.0 });
+    assert_eq!(dem.georef().body.equatorial_radius_m, 3_396_000.0);
+}
+
+#[test]
+fn pds3_detached_label_with_pc_real_and_hex_missing_constant() {
+    let label = pds_label("\"DETACHED.IMG\"", "PC_REAL", 32, "  MISSING_CONSTANT = 16#FF7FFFFB#\r\n");
+    let missing = f32::from_bits(0xFF7F_FFFB);
+    let mut img = Vec::new();
+    for v in [1.5f32, missing, 3.25, 4.0, 5.0, -6.5] {
+        img.extend_from_slice(&v.to_le_bytes());
+    }
+    std::fs::write(tmp("DETACHED.IMG"), &img).unwrap();
+    std::fs::write(tmp("DETACHED.LBL"), label.as_bytes()).unwrap();
+    for p in ["DETACHED.LBL", "DETACHED.IMG"] {
+        let dem = pds3::read(&tmp(p)).unwrap();
+        assert_eq!(dem.z(0, 0), Some(1.5));
+        assert_eq!(dem.z(1, 0), None);
+        assert_eq!(dem.z(2, 1), Some(-6.5));
+    }
+    // A truncated image is an error naming the label.
+    std::fs::write(tmp("DETACHED.IMG"), &img[..10]).unwrap();
+    let err = pds3::read(&tmp("DETACHED.LBL")).unwrap_err().to_string();
+    assert!(err.contains("DETACHED.LBL") && err.contains("truncated"), "{err}");
+}
+
 fn tiff_bytes() -> Vec<u8> {
     let path = tmp("prop.tif");
     geotiff::write(&sample_dem(), &path).unwrap();
@@ -155,6 +218,10 @@ proptest! {
     fn readers_never_panic_on_random_bytes(bytes in prop::collection::vec(any::<u8>(), 0..600)) {
         let _ = geotiff::read_from(std::io::Cursor::new(bytes.clone()), Path::new("random.tif"));
         let _ = ascii::parse(&String::from_utf8_lossy(&bytes), Path::new("random.asc"));
+        let _ = pds3::parse(&bytes, None, Path::new("random.img"), None);
+        let mut labelled = pds_label("2", "MSB_INTEGER", 16, "").into_bytes();
+        labelled.extend_from_slice(&bytes);
+        let _ = pds3::parse(&labelled, None, Path::new("random.img"), None);
     }
 
     #[test]

@@ -1,0 +1,312 @@
+//! PDS3 images (`.IMG`) with an attached label or a detached `.LBL`: the format of
+//! MOLA MEGDR, HiRISE and CTX DTMs.
+//!
+//! Read from the label: `RECORD_BYTES`, the `^IMAGE` pointer (a record number, a
+//! `<BYTES>` offset, or a file name with either), and in `OBJECT = IMAGE`: `LINES`,
+//! `LINE_SAMPLES`, `SAMPLE_TYPE` (MSB/LSB/PC/IEEE integers and reals), `SAMPLE_BITS`
+//! (8, 16, 32, 64), `BANDS` (must be 1), `LINE_PREFIX_BYTES`/`LINE_SUFFIX_BYTES`,
+//! `SCALING_FACTOR`, `OFFSET`, `MISSING_CONSTANT` (decimal or `16#…#` hex); in
+//! `OBJECT = IMAGE_MAP_PROJECTION`: `MAP_PROJECTION_TYPE` (equirectangular / simple
+//! cylindrical, polar stereographic), `A_AXIS_RADIUS`, `B_AXIS_RADIUS`, `MAP_SCALE`
+//! (`<KM/PIXEL>` or `<METERS/PIXEL>`), `MAP_RESOLUTION` (pixels/degree, when there is
+//! no `MAP_SCALE`), `LINE_PROJECTION_OFFSET`, `SAMPLE_PROJECTION_OFFSET`,
+//! `CENTER_LATITUDE`, `CENTER_LONGITUDE`. The projection offsets are read as the
+//! 1-based (line, sample) pixel-centre coordinates of the projection origin, so the
+//! upper-left corner is x = (0.5 − sample offset)·scale, y = (line offset − 0.5)·scale.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use crate::body::{Body, Projection};
+use crate::dem::{Dem, Georef};
+use crate::error::{Error, Result};
+
+/// Reads a PDS3 image, its label attached or in a sibling `.LBL` (pass either file).
+pub fn read(path: &Path) -> Result<Dem> {
+    let io = |p: &Path, source| Error::Io { path: p.to_path_buf(), source };
+    let bytes = std::fs::read(path).map_err(|e| io(path, e))?;
+    let is_label = |b: &[u8]| {
+        let head = String::from_utf8_lossy(&b[..b.len().min(4096)]).to_ascii_uppercase();
+        head.trim_start().starts_with("PDS_VERSION_ID") || head.contains("^IMAGE")
+    };
+    if !is_label(&bytes) {
+        // A bare image: look for its detached label.
+        for ext in ["LBL", "lbl"] {
+            let lbl = path.with_extension(ext);
+            if lbl.exists() {
+                let text = std::fs::read(&lbl).map_err(|e| io(&lbl, e))?;
+                return parse(&text, Some(&bytes), &lbl, path.parent());
+            }
+        }
+        return Err(Error::format(path, "no PDS3 label: neither attached nor a sibling .LBL"));
+    }
+    parse(&bytes, None, path, path.parent())
+}
+
+/// Parses a label (and its attached data, or the `image` bytes if detached); `path`
+/// labels errors and `dir` resolves a `^IMAGE` file name.
+pub fn parse(label_bytes: &[u8], image: Option<&[u8]>, path: &Path, dir: Option<&Path>) -> Result<Dem> {
+    let bad = |m: String| Error::format(path, m);
+    let label = Label::parse(label_bytes);
+    let num = |obj: &str, key: &str| -> Result<Option<f64>> {
+        match label.get(obj, key) {
+            None => Ok(None),
+            Some(v) => parse_number(v).map(Some).ok_or_else(|| bad(format!("{key} = {v:?} is not a number"))),
+        }
+    };
+    let need =
+        |obj: &str, key: &str| -> Result<f64> { num(obj, key)?.ok_or_else(|| bad(format!("label lacks {key}"))) };
+    let lines = need("IMAGE", "LINES")?;
+    let samples = need("IMAGE", "LINE_SAMPLES")?;
+    let bits = need("IMAGE", "SAMPLE_BITS")?;
+    let bands = num("IMAGE", "BANDS")?.unwrap_or(1.0);
+    if bands != 1.0 {
+        return Err(bad(format!("BANDS = {bands}; a DEM has one band")));
+    }
+    if !(lines >= 1.0 && samples >= 1.0 && lines * samples <= 4e9 && lines.fract() == 0.0 && samples.fract() == 0.0) {
+        return Err(bad(format!("LINES = {lines}, LINE_SAMPLES = {samples}: need positive whole numbers")));
+    }
+    let (rows, cols) = (lines as usize, samples as usize);
+    let sample_type = label.get("IMAGE", "SAMPLE_TYPE").unwrap_or("").trim_matches('"').to_ascii_uppercase();
+    let kind = SampleKind::from_label(&sample_type, bits as u32)
+        .ok_or_else(|| bad(format!("unsupported SAMPLE_TYPE {sample_type} with SAMPLE_BITS {bits}")))?;
+    let prefix = num("IMAGE", "LINE_PREFIX_BYTES")?.unwrap_or(0.0) as usize;
+    let suffix = num("IMAGE", "LINE_SUFFIX_BYTES")?.unwrap_or(0.0) as usize;
+    let record_bytes = num("", "RECORD_BYTES")?.unwrap_or(1.0);
+
+    // Where the pixels are.
+    let pointer = label.get("", "^IMAGE").ok_or_else(|| bad("label lacks ^IMAGE".into()))?.to_string();
+    let (file, offset) =
+        parse_pointer(&pointer, record_bytes).ok_or_else(|| bad(format!("cannot read ^IMAGE = {pointer}")))?;
+    let owned;
+    let data: &[u8] = match (file, image) {
+        (Some(name), _) => {
+            let p = dir.map_or_else(|| PathBuf::from(&name), |d| d.join(&name));
+            let p = if p.exists() {
+                p
+            } else {
+                dir.map_or_else(|| PathBuf::from(name.to_lowercase()), |d| d.join(name.to_lowercase()))
+            };
+            owned = std::fs::read(&p).map_err(|source| Error::Io { path: p.clone(), source })?;
+            &owned
+        }
+        (None, Some(img)) => img,
+        (None, None) => label_bytes,
+    };
+    let width = kind.bytes();
+    let line_bytes = prefix + cols * width + suffix;
+    let needed = offset + rows * line_bytes;
+    if data.len() < needed {
+        return Err(bad(format!("image truncated: {} bytes, {needed} needed for {cols} x {rows} samples", data.len())));
+    }
+    let scale = num("IMAGE", "SCALING_FACTOR")?.unwrap_or(1.0);
+    let add = num("IMAGE", "OFFSET")?.unwrap_or(0.0);
+    let missing = num("IMAGE", "MISSING_CONSTANT")?;
+    let mut z = Vec::with_capacity(rows * cols);
+    let mut valid = Vec::with_capacity(rows * cols);
+    for r in 0..rows {
+        let start = offset + r * line_bytes + prefix;
+        for c in 0..cols {
+            let raw = kind.decode(&data[start + c * width..start + (c + 1) * width]);
+            let is_missing = missing.is_some_and(|m| raw == m || (kind.is_float() && (raw as f32) == (m as f32)))
+                || !raw.is_finite();
+            valid.push(!is_missing);
+            z.push(if is_missing { f32::NAN } else { (raw * scale + add) as f32 });
+        }
+    }
+
+    // Georeference.
+    let proj_obj = "IMAGE_MAP_PROJECTION";
+    let km_or_m = |key: &str| -> Result<Option<f64>> {
+        let Some(raw) = label.get(proj_obj, key) else { return Ok(None) };
+        let v = parse_number(raw).ok_or_else(|| bad(format!("{key} = {raw:?} is not a number")))?;
+        let unit = raw.to_ascii_uppercase();
+        Ok(Some(if unit.contains("<M") || unit.contains("METER") { v } else { v * 1000.0 }))
+    };
+    let a = km_or_m("A_AXIS_RADIUS")?;
+    let b = km_or_m("B_AXIS_RADIUS")?.or(a);
+    let body = match (a, b) {
+        (Some(a), Some(b)) if a > 0.0 && b > 0.0 => Body { equatorial_radius_m: a, polar_radius_m: b },
+        _ => Body::MARS_IAU2015,
+    };
+    let center_lat = num(proj_obj, "CENTER_LATITUDE")?.unwrap_or(0.0);
+    let center_lon = num(proj_obj, "CENTER_LONGITUDE")?.unwrap_or(0.0);
+    let map_scale_m = match km_or_m("MAP_SCALE")? {
+        Some(s) => Some(s),
+        None => num(proj_obj, "MAP_RESOLUTION")?
+            .filter(|r| *r > 0.0)
+            .map(|px_per_deg| body.equatorial_radius_m * std::f64::consts::PI / 180.0 / px_per_deg),
+    };
+    let ptype = label.get(proj_obj, "MAP_PROJECTION_TYPE").unwrap_or("").trim_matches('"').to_ascii_uppercase();
+    let projection = if ptype.contains("EQUIRECTANGULAR") || ptype.contains("SIMPLE CYLINDRICAL") {
+        Projection::Equirectangular { lat_ts_deg: center_lat, lon0_deg: center_lon }
+    } else if ptype.contains("POLAR STEREOGRAPHIC") {
+        Projection::PolarStereographic { north: center_lat >= 0.0, lon0_deg: center_lon }
+    } else {
+        Projection::Local
+    };
+    let (dx, x0, y_top) = match map_scale_m {
+        Some(s) if s > 0.0 => {
+            let line_off = num(proj_obj, "LINE_PROJECTION_OFFSET")?.unwrap_or(0.0);
+            let sample_off = num(proj_obj, "SAMPLE_PROJECTION_OFFSET")?.unwrap_or(0.0);
+            (s, (0.5 - sample_off) * s, (line_off - 0.5) * s)
+        }
+        _ => (1.0, 0.0, rows as f64),
+    };
+    Dem::new(cols, rows, dx, dx, x0, y_top, z)
+        .and_then(|d| d.with_mask(valid))
+        .map(|d| d.with_georef(Georef { projection, body }))
+        .map_err(|e| bad(e.to_string()))
+}
+
+fn parse_number(v: &str) -> Option<f64> {
+    let v = v.trim().trim_matches('"');
+    // Radix form 16#FF7FFFFB# (an IEEE float's bits, or an integer).
+    if let Some(rest) = v.strip_prefix("16#") {
+        let hex = rest.trim_end_matches('#');
+        let bits = u64::from_str_radix(hex, 16).ok()?;
+        return Some(if hex.len() == 8 { f64::from(f32::from_bits(bits as u32)) } else { bits as f64 });
+    }
+    let head = v.split(|c: char| c.is_whitespace() || c == '<').next()?;
+    head.parse::<f64>().ok()
+}
+
+/// `^IMAGE` forms: `12`, `12 <BYTES>`, `"F.IMG"`, `("F.IMG", 12)`, `("F.IMG", 12 <BYTES>)`.
+fn parse_pointer(v: &str, record_bytes: f64) -> Option<(Option<String>, usize)> {
+    let v = v.trim().trim_start_matches('(').trim_end_matches(')');
+    let mut parts = v.split(',').map(str::trim);
+    let first = parts.next()?;
+    let (file, loc) = if first.starts_with('"') {
+        (Some(first.trim_matches('"').to_string()), parts.next())
+    } else {
+        (None, Some(first))
+    };
+    let offset = match loc {
+        None => 0,
+        Some(l) => {
+            let n = parse_number(l)?;
+            if n < 1.0 {
+                return None;
+            }
+            if l.to_ascii_uppercase().contains("<BYTES>") {
+                n as usize - 1
+            } else {
+                ((n - 1.0) * record_bytes) as usize
+            }
+        }
+    };
+    Some((file, offset))
+}
+
+#[derive(Debug, Clone, Copy)]
+enum SampleKind {
+    U8,
+    I16 { big: bool },
+    U16 { big: bool },
+    I32 { big: bool },
+    F32 { big: bool },
+    F64 { big: bool },
+}
+
+impl SampleKind {
+    fn from_label(t: &str, bits: u32) -> Option<SampleKind> {
+        let big = t.starts_with("MSB")
+            || t.starts_with("IEEE")
+            || t == "INTEGER"
+            || t == "UNSIGNED_INTEGER"
+            || t == "SUN_INTEGER";
+        let real = t.contains("REAL");
+        let unsigned = t.contains("UNSIGNED");
+        Some(match (bits, real, unsigned) {
+            (8, false, _) => SampleKind::U8,
+            (16, false, false) => SampleKind::I16 { big },
+            (16, false, true) => SampleKind::U16 { big },
+            (32, false, false) => SampleKind::I32 { big },
+            (32, true, _) => SampleKind::F32 { big },
+            (64, true, _) => SampleKind::F64 { big },
+            _ => return None,
+        })
+    }
+
+    fn bytes(self) -> usize {
+        match self {
+            SampleKind::U8 => 1,
+            SampleKind::I16 { .. } | SampleKind::U16 { .. } => 2,
+            SampleKind::I32 { .. } | SampleKind::F32 { .. } => 4,
+            SampleKind::F64 { .. } => 8,
+        }
+    }
+
+    fn is_float(self) -> bool {
+        matches!(self, SampleKind::F32 { .. } | SampleKind::F64 { .. })
+    }
+
+    fn decode(self, b: &[u8]) -> f64 {
+        macro_rules! get {
+            ($t:ty, $big:expr) => {{
+                let a = b.try_into().unwrap_or_default();
+                if $big { <$t>::from_be_bytes(a) } else { <$t>::from_le_bytes(a) }
+            }};
+        }
+        match self {
+            SampleKind::U8 => f64::from(b[0]),
+            SampleKind::I16 { big } => f64::from(get!(i16, big)),
+            SampleKind::U16 { big } => f64::from(get!(u16, big)),
+            SampleKind::I32 { big } => f64::from(get!(i32, big)),
+            SampleKind::F32 { big } => f64::from(get!(f32, big)),
+            SampleKind::F64 { big } => get!(f64, big),
+        }
+    }
+}
+
+/// `KEY = VALUE` pairs by enclosing `OBJECT` ("" at the top level).
+struct Label {
+    values: HashMap<(String, String), String>,
+}
+
+impl Label {
+    fn parse(bytes: &[u8]) -> Label {
+        // The label ends at END on its own line; the rest is pixels.
+        let head = &bytes[..bytes.len().min(1 << 20)];
+        let text = String::from_utf8_lossy(head);
+        let mut values = HashMap::new();
+        let mut objects: Vec<String> = Vec::new();
+        let mut lines = text.lines().peekable();
+        while let Some(line) = lines.next() {
+            let line = line.split("/*").next().unwrap_or("").trim();
+            if line == "END" {
+                break;
+            }
+            let Some((key, value)) = line.split_once('=') else { continue };
+            let key = key.trim().to_ascii_uppercase();
+            let mut value = value.trim().to_string();
+            // Values in parentheses or quotes may run over several lines.
+            while (value.starts_with('(') && !value.ends_with(')'))
+                || (value.starts_with('"') && value.matches('"').count() % 2 == 1)
+            {
+                match lines.next() {
+                    Some(more) => {
+                        value.push(' ');
+                        value.push_str(more.trim());
+                    }
+                    None => break,
+                }
+            }
+            match key.as_str() {
+                "OBJECT" => objects.push(value.to_ascii_uppercase()),
+                "END_OBJECT" => {
+                    objects.pop();
+                }
+                _ => {
+                    let scope = objects.last().cloned().unwrap_or_default();
+                    values.entry((scope, key)).or_insert(value);
+                }
+            }
+        }
+        Label { values }
+    }
+
+    fn get(&self, object: &str, key: &str) -> Option<&str> {
+        self.values.get(&(object.to_string(), key.to_string())).map(String::as_str)
+    }
+}
