@@ -12,6 +12,8 @@
 //!   `.IMG` with attached or detached label: MOLA, HiRISE, CTX).
 //! - [`synth`]: terrain synthesised from a description (craters, hills, ridges,
 //!   mountain chains with passes, ditches, rocks, tilts, seeded fractal noise).
+//! - [`fill`]: nodata holes filled by a sparse Laplace solve (faer), with a mask of
+//!   the filled cells.
 //! - [`slope`]: Horn slope, aspect and normals with separate dx and dy.
 //! - [`shadow`]: cast shadows from the Sun by one sweep per map, with planetary
 //!   curvature; a per-cell ray-cast reference.
@@ -37,6 +39,7 @@ mod dem;
 mod error;
 
 pub mod ascii;
+pub mod fill;
 pub mod geotiff;
 pub mod pds3;
 pub mod shadow;
