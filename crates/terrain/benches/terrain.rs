@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 
+use areo_terrain::horizon::horizon_sweep;
 use areo_terrain::shadow::{Curvature, cast_shadows};
 use areo_terrain::slope::slope_aspect;
 use areo_terrain::synth::{Noise, TerrainSpec};
@@ -39,6 +40,10 @@ fn terrain(c: &mut Criterion) {
     });
     g.bench_function("cast_shadows_az80_el5_flat", |b| b.iter(|| cast_shadows(&dem, 80.0, 5.0, Curvature::Flat)));
     g.bench_function("slope_aspect", |b| b.iter(|| slope_aspect(&dem)));
+    // One sector of a horizon map (a 64-sector map is 64 of these, split over cores).
+    g.bench_function("horizon_one_sector_az101", |b| {
+        b.iter(|| horizon_sweep(&dem, 101.25, Curvature::Sphere { radius_m: 3_389_500.0 }))
+    });
     g.finish();
 }
 

@@ -17,6 +17,8 @@
 //! - [`slope`]: Horn slope, aspect and normals with separate dx and dy.
 //! - [`shadow`]: cast shadows from the Sun by one sweep per map, with planetary
 //!   curvature; a per-cell ray-cast reference.
+//! - [`horizon`]: horizon maps (K sectors, 2 bytes per cell per sector), the Sun's
+//!   elevation above each cell's ground plane, and line-of-sight map sequences.
 //!
 //! Conventions: metres; x east, y north; rows stored north to south; azimuth clockwise
 //! from north. Only this crate does index↔metre arithmetic.
@@ -41,6 +43,7 @@ mod error;
 pub mod ascii;
 pub mod fill;
 pub mod geotiff;
+pub mod horizon;
 pub mod pds3;
 pub mod shadow;
 pub mod slope;
