@@ -167,7 +167,8 @@ pub fn horizon_sweep(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f
                 let observer = f64::from(z[i]) - s * s * inv_r / 2.0;
                 // A line that has seen nothing yet says nothing about the horizon.
                 if let Some(k) = tangent(&hull, s, observer) {
-                    sum[i] += w * (k - s * inv_r).atan().to_degrees();
+                    // Blend tangents; one arctangent per cell at the end.
+                    sum[i] += w * (k - s * inv_r);
                     weight[i] += w;
                 }
             }
@@ -183,7 +184,7 @@ pub fn horizon_sweep(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f
             if !ok {
                 f64::NAN
             } else if *w > 0.0 {
-                s / w
+                f64::from(crate::slope::fast_atan((s / w) as f32)).to_degrees()
             } else {
                 -90.0
             }
@@ -213,12 +214,14 @@ fn tangent(hull: &[(f64, f64)], ox: f64, oy: f64) -> Option<f64> {
         return None;
     }
     let slope = |p: (f64, f64)| (p.1 - oy) / (ox - p.0);
+    // slope(b) ≥ slope(a), without dividing (both run lengths are positive).
+    let not_worse = |b: (f64, f64), a: (f64, f64)| (b.1 - oy) * (ox - a.0) >= (a.1 - oy) * (ox - b.0);
     // Along an upper hull the slope seen from the right rises, then falls: find the
     // first vertex not beaten by its right neighbour.
     let (mut lo, mut hi) = (0usize, hull.len() - 1);
     while lo < hi {
         let mid = (lo + hi) / 2;
-        if slope(hull[mid + 1]) >= slope(hull[mid]) {
+        if not_worse(hull[mid + 1], hull[mid]) {
             lo = mid + 1;
         } else {
             hi = mid;

@@ -124,7 +124,7 @@ pub fn slope_aspect(dem: &Dem) -> SlopeAspect {
 /// [−tan 15°, tan 15°] (atan t = π/6 + atan((√3t − 1)/(√3 + t))), where six terms of the
 /// Taylor series leave an error below 3e-9. libm's atan is the bottleneck otherwise.
 #[inline]
-fn fast_atan(x: f32) -> f32 {
+pub(crate) fn fast_atan(x: f32) -> f32 {
     use std::f32::consts::{FRAC_PI_2, FRAC_PI_6};
     const SQRT_3: f32 = 1.732_050_8;
     const TAN_15: f32 = 0.267_949_2;
