@@ -47,6 +47,9 @@ pub enum Error {
         /// What is wrong, with the line where known.
         message: String,
     },
+    /// A DEM could not be read, written or built.
+    #[error(transparent)]
+    Terrain(#[from] areo_terrain::Error),
     /// An ephemeris computation refused its input.
     #[error(transparent)]
     Ephemeris(#[from] areo_ephemeris::Error),
@@ -57,6 +60,8 @@ impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Syntax { .. } | Error::Invalid { .. } | Error::Grid { .. } | Error::Ephemeris(_) => 2,
+            Error::Terrain(areo_terrain::Error::Io { .. }) => 1,
+            Error::Terrain(_) => 2,
             Error::Io { .. } => 1,
         }
     }

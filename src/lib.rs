@@ -17,12 +17,15 @@
 
 mod error;
 mod progress;
+
 mod run;
 
 pub mod movingai;
 pub mod outcome;
+pub mod render;
 pub mod scenario;
 pub mod sun_report;
+pub mod terrain_tools;
 
 pub use areo_actions as actions;
 pub use areo_ephemeris as ephemeris;

@@ -43,6 +43,9 @@ enum Command {
     /// cutting); prints `index,expected,found,expansions` per scenario and
     /// `N solved, M mismatched`.
     Grid(GridArgs),
+    /// DEM tools: information, slope, shadows, horizon maps (GeoTIFF, ESRI ASCII, PDS3).
+    #[command(subcommand)]
+    Terrain(TerrainCommand),
     /// Where the Sun is: at one instant, at instants listed in a file, or the rise, noon
     /// and set of a sol at a site.
     Sun(SunArgs),
@@ -70,6 +73,52 @@ struct SunArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Text)]
     format: Format,
+}
+
+#[derive(Debug, Subcommand)]
+enum TerrainCommand {
+    /// Size, cell size, extent, elevation range and georeference of a DEM.
+    Info {
+        /// The DEM (.tif, .asc, .img/.lbl).
+        file: PathBuf,
+    },
+    /// Slope in degrees (float32 GeoTIFF) by Horn's method, and a hillshade PNG beside it.
+    Slope {
+        /// The DEM.
+        file: PathBuf,
+        /// Output GeoTIFF.
+        #[arg(short, long)]
+        out: PathBuf,
+    },
+    /// Direct sun for a Sun direction (uint8 GeoTIFF: 1 lit, 0 shadowed, 255 no data),
+    /// and a PNG preview beside it.
+    Shadow {
+        /// The DEM.
+        file: PathBuf,
+        /// Sun azimuth, degrees clockwise from north.
+        #[arg(long, allow_hyphen_values = true)]
+        sun_azimuth: f64,
+        /// Sun elevation above the local horizontal, degrees.
+        #[arg(long, allow_hyphen_values = true)]
+        sun_elevation: f64,
+        /// Ignore planetary curvature (otherwise the radius of the DEM's body is used).
+        #[arg(long)]
+        flat: bool,
+        /// Output GeoTIFF.
+        #[arg(short, long)]
+        out: PathBuf,
+    },
+    /// Horizon elevation in K azimuth sectors (one float32 GeoTIFF per sector).
+    Horizon {
+        /// The DEM.
+        file: PathBuf,
+        /// Number of sectors, 16..=360.
+        #[arg(long, default_value_t = 64)]
+        sectors: usize,
+        /// Output path stem (files OUT_s000.tif …).
+        #[arg(short, long)]
+        out: PathBuf,
+    },
 }
 
 #[derive(Debug, Args)]
@@ -106,6 +155,7 @@ fn main() -> ExitCode {
         Command::Run { scenario, out } => run(&scenario, &out),
         Command::Sun(args) => sun(&args),
         Command::Grid(args) => grid(&args),
+        Command::Terrain(cmd) => terrain(&cmd),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -171,6 +221,42 @@ fn run(scenario: &std::path::Path, out: &std::path::Path) -> Result<(), Error> {
     }
     for f in &outcome.files {
         println!("  wrote {}", f.display());
+    }
+    Ok(())
+}
+
+fn terrain(cmd: &TerrainCommand) -> Result<(), Error> {
+    use areo::terrain_tools as tt;
+    let wrote = |files: &[PathBuf]| {
+        for f in files {
+            println!("wrote {}", f.display());
+        }
+    };
+    match cmd {
+        TerrainCommand::Info { file } => {
+            let dem = tt::read_dem(file)?;
+            println!("{}", file.display());
+            for line in tt::info(&dem) {
+                println!("  {line}");
+            }
+        }
+        TerrainCommand::Slope { file, out } => wrote(&tt::write_slope(&tt::read_dem(file)?, out)?),
+        TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, flat, out } => {
+            if !(-90.0..=90.0).contains(sun_elevation) || !sun_azimuth.is_finite() {
+                return Err(Error::Grid {
+                    path: file.clone(),
+                    message: format!(
+                        "--sun-elevation {sun_elevation} must be within -90..=90 and --sun-azimuth finite"
+                    ),
+                });
+            }
+            let (files, lit) = tt::write_shadow(&tt::read_dem(file)?, *sun_azimuth, *sun_elevation, *flat, out)?;
+            println!("{:.2} % of the valid cells in direct sun", 100.0 * lit);
+            wrote(&files);
+        }
+        TerrainCommand::Horizon { file, sectors, out } => {
+            wrote(&tt::write_horizon(&tt::read_dem(file)?, *sectors, out, &progress_bar())?)
+        }
     }
     Ok(())
 }

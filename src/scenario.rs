@@ -50,6 +50,33 @@ pub struct Scenario {
 pub enum Job {
     /// The Sun over a site at regular steps: position, local time and flux.
     SunTable(SunTableJob),
+    /// Terrain (synthesised or from a file) lit by the Sun of a given place and time:
+    /// slope, shadows and a preview.
+    TerrainShadow(TerrainShadowJob),
+}
+
+/// Where terrain comes from.
+#[derive(Debug, Clone, Deserialize)]
+pub enum TerrainSource {
+    /// Synthesised from a description (see `docs/scenarios.md`).
+    Synth(areo_terrain::synth::TerrainSpec),
+    /// A DEM file (GeoTIFF, ESRI ASCII or PDS3), relative to the scenario file.
+    File(String),
+}
+
+/// Shadows on terrain at one instant.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainShadowJob {
+    /// The terrain.
+    pub terrain: TerrainSource,
+    /// Where on Mars the map lies (for the Sun's direction).
+    pub site: SiteSpec,
+    /// When, ISO 8601 UTC.
+    pub utc: String,
+    /// Ignore planetary curvature; default false.
+    #[serde(default)]
+    pub flat: bool,
 }
 
 /// A table of the Sun's position over a site (see [`crate::run`]).
@@ -93,6 +120,7 @@ impl Validate for Scenario {
         }
         c.nested("job", |c| match &self.job {
             Job::SunTable(job) => job.validate(c),
+            Job::TerrainShadow(job) => job.validate(c),
         });
     }
 }
@@ -111,6 +139,33 @@ impl Validate for SunTableJob {
                 c.fail("horizon_deg", "is empty: give at least one sector elevation, or leave it out".into());
             }
             c.list("horizon_deg", h, |c, v| c.range_here(*v, -90.0, 90.0, "degrees"));
+        }
+    }
+}
+
+impl Validate for TerrainShadowJob {
+    fn validate(&self, c: &mut Checks) {
+        c.nested("site", |c| self.site.validate(c));
+        if let Err(e) = areo_ephemeris::parse_utc(&self.utc) {
+            c.fail("utc", e.to_string());
+        }
+        if let TerrainSource::Synth(spec) = &self.terrain {
+            if let Err(areo_terrain::Error::BadSynth { field, value, allowed }) = spec.validate() {
+                // `features[1].radius_m` → terrain.features[1].radius_m
+                c.nested("terrain", |c| {
+                    let mut segments: Vec<String> = Vec::new();
+                    for part in field.split('.') {
+                        match part.split_once('[') {
+                            Some((name, idx)) => {
+                                segments.push(name.to_string());
+                                segments.push(format!("[{idx}"));
+                            }
+                            None => segments.push(part.to_string()),
+                        }
+                    }
+                    c.fail_at(&segments, format!("{value} is out of range: allowed {allowed}"));
+                });
+            }
         }
     }
 }

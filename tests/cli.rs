@@ -177,3 +177,53 @@ fn grid_rejects_a_corrupt_map_with_exit_2() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("bad.map") && err.contains("line 6"), "{err}");
 }
+
+#[test]
+fn terrain_info_slope_and_shadow_on_the_real_crop() {
+    let dem = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");
+    let out = areo(&["terrain", "info", dem.to_str().unwrap()]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("64 x 64 cells") && text.contains("Equirectangular"), "{text}");
+    let dir = tmp("terrain");
+    let shadow = dir.join("shadow.tif");
+    let out = areo(&[
+        "terrain",
+        "shadow",
+        dem.to_str().unwrap(),
+        "--sun-azimuth",
+        "100",
+        "--sun-elevation",
+        "90",
+        "-o",
+        shadow.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // A Sun at the zenith lights every cell.
+    assert!(String::from_utf8_lossy(&out.stdout).contains("100.00 % of the valid cells"));
+    let bytes = std::fs::read(&shadow).unwrap();
+    assert!(bytes.starts_with(b"II*\0") || bytes.starts_with(b"MM\0*"));
+    assert!(dir.join("shadow.png").exists());
+    let slope = dir.join("slope.tif");
+    let out = areo(&["terrain", "slope", dem.to_str().unwrap(), "-o", slope.to_str().unwrap()]);
+    assert!(out.status.success());
+    assert!(slope.exists() && dir.join("slope.png").exists());
+}
+
+#[test]
+fn terrain_rejects_a_corrupt_dem_with_exit_2() {
+    let dir = tmp("terrain-bad");
+    let bad = dir.join("bad.tif");
+    std::fs::write(&bad, b"II*\0this is not a tiff").unwrap();
+    let out = areo(&["terrain", "info", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("bad.tif"));
+}
+
+#[test]
+fn out_of_range_terrain_feature_is_located() {
+    let (code, err) = bad("bad_terrain_feature.ron");
+    assert_eq!(code, 2);
+    assert!(err.contains("bad_terrain_feature.ron:10:53: field `job.terrain.features[1].slope_deg`"), "{err}");
+    assert!(err.contains("95 is out of range: allowed 0..90"), "{err}");
+}

@@ -62,6 +62,13 @@ impl Checks {
         self.violations.push(Violation { path, message });
     }
 
+    /// Records a violation at a path of several segments below the current one.
+    pub fn fail_at(&mut self, segments: &[String], message: String) {
+        let mut path = self.prefix.clone();
+        path.extend(segments.iter().cloned());
+        self.violations.push(Violation { path, message });
+    }
+
     /// Requires `lo ≤ value ≤ hi` (and finite) for `field`.
     pub fn range(&mut self, field: &str, value: f64, lo: f64, hi: f64, unit: &str) {
         if !(value.is_finite() && value >= lo && value <= hi) {

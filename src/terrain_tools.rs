@@ -1,0 +1,123 @@
+//! `areo terrain …`: DEM files in, rasters and previews out.
+
+use std::path::Path;
+
+use areo_terrain::horizon::HorizonMap;
+use areo_terrain::shadow::{Curvature, shadow_map};
+use areo_terrain::slope::slope_aspect;
+use areo_terrain::{Dem, ascii, geotiff, pds3};
+
+use crate::error::{Error, Result};
+use crate::render::{hillshade_rgb, write_png};
+
+/// Reads a DEM by its extension: `.tif`/`.tiff` GeoTIFF, `.asc` ESRI ASCII grid,
+/// `.img`/`.lbl` PDS3.
+pub fn read_dem(path: &Path) -> Result<Dem> {
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
+    let r = match ext.as_str() {
+        "tif" | "tiff" => geotiff::read(path),
+        "asc" => ascii::read(path),
+        "img" | "lbl" => pds3::read(path),
+        _ => {
+            return Err(Error::Grid {
+                path: path.to_path_buf(),
+                message: "unknown DEM format: use .tif/.tiff (GeoTIFF), .asc (ESRI ASCII) or .img/.lbl (PDS3)".into(),
+            });
+        }
+    };
+    r.map_err(Error::from)
+}
+
+/// A summary of a DEM, one fact a line.
+pub fn info(dem: &Dem) -> Vec<String> {
+    let valid: Vec<f32> = dem.elevations().iter().zip(dem.valid_mask()).filter(|(_, v)| **v).map(|(z, _)| *z).collect();
+    let (lo, hi) = valid.iter().fold((f32::MAX, f32::MIN), |(a, b), z| (a.min(*z), b.max(*z)));
+    let mean = valid.iter().map(|z| f64::from(*z)).sum::<f64>() / valid.len().max(1) as f64;
+    let mut out = vec![
+        format!(
+            "size        {} x {} cells ({} valid, {} missing)",
+            dem.cols(),
+            dem.rows(),
+            valid.len(),
+            dem.cols() * dem.rows() - valid.len()
+        ),
+        format!("cell size   {} m x {} m", dem.dx(), dem.dy()),
+        format!(
+            "extent      x {} .. {} m, y {} .. {} m",
+            dem.x0(),
+            dem.x0() + dem.cols() as f64 * dem.dx(),
+            dem.y_top() - dem.rows() as f64 * dem.dy(),
+            dem.y_top()
+        ),
+        format!("elevation   {lo} .. {hi} m (mean {mean:.2} m)"),
+        format!("projection  {:?}", dem.georef().projection),
+        format!(
+            "body        a = {} m, b = {} m",
+            dem.georef().body.equatorial_radius_m,
+            dem.georef().body.polar_radius_m
+        ),
+    ];
+    let (cx, cy) = (dem.x0() + dem.cols() as f64 * dem.dx() / 2.0, dem.y_top() - dem.rows() as f64 * dem.dy() / 2.0);
+    if let Some((lat, lon)) = dem.geographic(cx, cy) {
+        out.push(format!("centre      {lat:.6}°, {lon:.6}°E"));
+    }
+    out
+}
+
+/// Writes the slope (degrees, float32 GeoTIFF) of a DEM, and a hillshade preview PNG
+/// beside it.
+pub fn write_slope(dem: &Dem, out: &Path) -> Result<Vec<std::path::PathBuf>> {
+    let sa = slope_aspect(dem);
+    let slope_dem = Dem::new(dem.cols(), dem.rows(), dem.dx(), dem.dy(), dem.x0(), dem.y_top(), sa.slope_deg.clone())?
+        .with_georef(*dem.georef());
+    geotiff::write(&slope_dem, out)?;
+    let png = out.with_extension("png");
+    write_png(&png, dem.cols(), dem.rows(), &hillshade_rgb(dem, &sa, None, 315.0, 45.0))?;
+    Ok(vec![out.to_path_buf(), png])
+}
+
+/// Writes the direct-sun map (uint8 GeoTIFF: 1 lit, 0 shadowed, 255 no data) for a Sun
+/// at (azimuth, elevation), and a hillshade-with-shadows preview PNG beside it.
+/// Returns the files and the lit fraction.
+pub fn write_shadow(
+    dem: &Dem,
+    azimuth_deg: f64,
+    elevation_deg: f64,
+    flat: bool,
+    out: &Path,
+) -> Result<(Vec<std::path::PathBuf>, f64)> {
+    let curvature = if flat { Curvature::Flat } else { Curvature::of(dem) };
+    let map = shadow_map(dem, azimuth_deg, elevation_deg, curvature);
+    geotiff::write_u8(dem, &map.to_u8(), Some(255), out)?;
+    let sa = slope_aspect(dem);
+    let dark: Vec<bool> = (0..map.cast.len()).map(|i| !map.direct_sun(i)).collect();
+    let png = out.with_extension("png");
+    write_png(&png, dem.cols(), dem.rows(), &hillshade_rgb(dem, &sa, Some(&dark), azimuth_deg, elevation_deg))?;
+    Ok((vec![out.to_path_buf(), png], map.lit_fraction()))
+}
+
+/// Writes a horizon map: one float32 GeoTIFF band per sector (`OUT_sNN.tif`,
+/// degrees), since GeoTIFF readers expect single-band DEM-like rasters here.
+pub fn write_horizon(
+    dem: &Dem,
+    sectors: usize,
+    out: &Path,
+    progress: &dyn crate::Progress,
+) -> Result<Vec<std::path::PathBuf>> {
+    progress.start(1, "horizon");
+    let map = HorizonMap::compute(dem, sectors, Curvature::of(dem))?;
+    progress.finish();
+    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "horizon".into());
+    let dir = out.parent().unwrap_or(Path::new("."));
+    let mut files = Vec::new();
+    for s in 0..sectors {
+        let az = s as f64 * 360.0 / sectors as f64;
+        let band: Vec<f32> = (0..dem.cols() * dem.rows()).map(|i| map.horizon_deg(i, az) as f32).collect();
+        let d = Dem::new(dem.cols(), dem.rows(), dem.dx(), dem.dy(), dem.x0(), dem.y_top(), band)?
+            .with_georef(*dem.georef());
+        let path = dir.join(format!("{stem}_s{s:03}.tif"));
+        geotiff::write(&d, &path)?;
+        files.push(path);
+    }
+    Ok(files)
+}
