@@ -149,23 +149,23 @@ impl Validate for TerrainShadowJob {
         if let Err(e) = areo_ephemeris::parse_utc(&self.utc) {
             c.fail("utc", e.to_string());
         }
-        if let TerrainSource::Synth(spec) = &self.terrain {
-            if let Err(areo_terrain::Error::BadSynth { field, value, allowed }) = spec.validate() {
-                // `features[1].radius_m` → terrain.features[1].radius_m
-                c.nested("terrain", |c| {
-                    let mut segments: Vec<String> = Vec::new();
-                    for part in field.split('.') {
-                        match part.split_once('[') {
-                            Some((name, idx)) => {
-                                segments.push(name.to_string());
-                                segments.push(format!("[{idx}"));
-                            }
-                            None => segments.push(part.to_string()),
+        if let TerrainSource::Synth(spec) = &self.terrain
+            && let Err(areo_terrain::Error::BadSynth { field, value, allowed }) = spec.validate()
+        {
+            // `features[1].radius_m` → terrain.features[1].radius_m
+            c.nested("terrain", |c| {
+                let mut segments: Vec<String> = Vec::new();
+                for part in field.split('.') {
+                    match part.split_once('[') {
+                        Some((name, idx)) => {
+                            segments.push(name.to_string());
+                            segments.push(format!("[{idx}"));
                         }
+                        None => segments.push(part.to_string()),
                     }
-                    c.fail_at(&segments, format!("{value} is out of range: allowed {allowed}"));
-                });
-            }
+                }
+                c.fail_at(&segments, format!("{value} is out of range: allowed {allowed}"));
+            });
         }
     }
 }
