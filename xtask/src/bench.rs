@@ -56,6 +56,9 @@ pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
     if args.first().is_some_and(|a| a == "movingai") {
         return movingai(root);
     }
+    if args.first().is_some_and(|a| a == "horizon") {
+        return horizon(root);
+    }
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut cmd = Command::new(cargo);
     cmd.args(["bench", "--workspace", "--benches", "--"]).current_dir(root);
@@ -181,4 +184,27 @@ fn collect_maps(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
             out.push(p);
         }
     }
+}
+
+/// One 64-sector horizon map of the TEMPEST-sized DEM, timed on all cores (target
+/// ≤ 20 s on 2 cores). A single shot: too long for criterion's ten samples.
+fn horizon(root: &Path) -> Result<bool, String> {
+    let path = root.join("../shared/data/dem/gale_mola_cubic164m_2527x2356.tif");
+    let Ok(dem) = areo::terrain::geotiff::read(&path) else {
+        println!("no DEM at {}", path.display());
+        return Ok(true);
+    };
+    let started = std::time::Instant::now();
+    let map = areo::terrain::horizon::HorizonMap::compute(&dem, 64, areo::terrain::shadow::Curvature::of(&dem))
+        .map_err(|e| e.to_string())?;
+    let secs = started.elapsed().as_secs_f64();
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    println!(
+        "horizon map, 64 sectors, {} x {} cells: {secs:.1} s on {threads} threads, {} MB ({} bytes per cell per sector)",
+        dem.cols(),
+        dem.rows(),
+        map.bytes() / 1_000_000,
+        map.bytes() / (dem.cols() * dem.rows() * 64)
+    );
+    Ok(secs <= 20.0)
 }
