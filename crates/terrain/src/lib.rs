@@ -17,6 +17,7 @@
 //! - [`slope`]: Horn slope, aspect and normals with separate dx and dy.
 //! - [`shadow`]: cast shadows from the Sun by one sweep per map, with planetary
 //!   curvature; a per-cell ray-cast reference.
+//! - [`los`]: surface-to-surface line of sight and viewsheds by parry3d ray casts.
 //! - [`horizon`]: horizon maps (K sectors, 2 bytes per cell per sector), the Sun's
 //!   elevation above each cell's ground plane, and line-of-sight map sequences.
 //!
@@ -44,6 +45,7 @@ pub mod ascii;
 pub mod fill;
 pub mod geotiff;
 pub mod horizon;
+pub mod los;
 pub mod pds3;
 pub mod shadow;
 pub mod slope;
