@@ -108,6 +108,19 @@ enum TerrainCommand {
         #[arg(short, long)]
         out: PathBuf,
     },
+    /// What a point above the ground sees (uint8 GeoTIFF: 1 visible, 0 hidden, 255 no
+    /// data), by ray casts with planetary curvature, and a PNG preview beside it.
+    Viewshed {
+        /// The DEM.
+        file: PathBuf,
+        /// Observer: map x and y (m, the DEM's frame) and height above the ground (m),
+        /// as X,Y,HEIGHT.
+        #[arg(long, value_parser = parse_xyz, allow_hyphen_values = true)]
+        from: (f64, f64, f64),
+        /// Output GeoTIFF.
+        #[arg(short, long)]
+        out: PathBuf,
+    },
     /// Horizon elevation in K azimuth sectors (one float32 GeoTIFF per sector).
     Horizon {
         /// The DEM.
@@ -254,11 +267,25 @@ fn terrain(cmd: &TerrainCommand) -> Result<(), Error> {
             println!("{:.2} % of the valid cells in direct sun", 100.0 * lit);
             wrote(&files);
         }
+        TerrainCommand::Viewshed { file, from, out } => {
+            let (files, seen) = tt::write_viewshed(&tt::read_dem(file)?, from.0, from.1, from.2, out)?;
+            println!("{:.2} % of the valid cells visible", 100.0 * seen);
+            wrote(&files);
+        }
         TerrainCommand::Horizon { file, sectors, out } => {
             wrote(&tt::write_horizon(&tt::read_dem(file)?, *sectors, out, &progress_bar())?)
         }
     }
     Ok(())
+}
+
+fn parse_xyz(s: &str) -> Result<(f64, f64, f64), String> {
+    let v: Vec<f64> =
+        s.split(',').map(|p| p.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|e| format!("{s:?}: {e}"))?;
+    match v[..] {
+        [x, y, h] if v.iter().all(|c| c.is_finite()) => Ok((x, y, h)),
+        _ => Err(format!("{s:?}: expected X,Y,HEIGHT in metres")),
+    }
 }
 
 fn grid(args: &GridArgs) -> Result<(), Error> {

@@ -121,3 +121,19 @@ pub fn write_horizon(
     }
     Ok(files)
 }
+
+/// Writes the viewshed from a point `height_m` above the ground at (x, y) (uint8
+/// GeoTIFF: 1 visible, 0 hidden, 255 no data) and a preview PNG beside it; returns the
+/// files and the visible fraction.
+pub fn write_viewshed(dem: &Dem, x: f64, y: f64, height_m: f64, out: &Path) -> Result<(Vec<std::path::PathBuf>, f64)> {
+    let seen = areo_terrain::los::viewshed(dem, x, y, height_m, Curvature::of(dem))?;
+    let bytes: Vec<u8> =
+        seen.iter().zip(dem.valid_mask()).map(|(s, ok)| if !ok { 255 } else { u8::from(*s) }).collect();
+    geotiff::write_u8(dem, &bytes, Some(255), out)?;
+    let sa = slope_aspect(dem);
+    let hidden: Vec<bool> = seen.iter().map(|s| !s).collect();
+    let png = out.with_extension("png");
+    write_png(&png, dem.cols(), dem.rows(), &hillshade_rgb(dem, &sa, Some(&hidden), 315.0, 45.0))?;
+    let valid = dem.valid_mask().iter().filter(|v| **v).count().max(1);
+    Ok((vec![out.to_path_buf(), png], seen.iter().filter(|s| **s).count() as f64 / valid as f64))
+}

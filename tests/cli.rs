@@ -211,6 +211,25 @@ fn terrain_info_slope_and_shadow_on_the_real_crop() {
 }
 
 #[test]
+fn terrain_viewshed_from_a_mast_on_the_real_crop() {
+    let dem = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");
+    let out_path = tmp("viewshed").join("view.tif");
+    // The crop's centre, 10 m up.
+    let from = "8123756.41,-312563.93,10";
+    let out = areo(&["terrain", "viewshed", dem.to_str().unwrap(), "--from", from, "-o", out_path.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let pct: f64 = text.split('%').next().unwrap().trim().parse().unwrap();
+    assert!(pct > 1.0 && pct <= 100.0, "{text}");
+    let out = areo(&["terrain", "viewshed", dem.to_str().unwrap(), "--from", "0,0", "-o", out_path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2), "a malformed --from is a usage error");
+    let out =
+        areo(&["terrain", "viewshed", dem.to_str().unwrap(), "--from", "0,0,10", "-o", out_path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2), "an observer off the map is an input error");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("off the map"));
+}
+
+#[test]
 fn terrain_rejects_a_corrupt_dem_with_exit_2() {
     let dir = tmp("terrain-bad");
     let bad = dir.join("bad.tif");
