@@ -4,3 +4,4 @@
 #![allow(clippy::print_stderr)] // tests report what they measured
 
 mod readers;
+mod threads;
