@@ -184,26 +184,20 @@ fn accumulate(dem: &Dem, azimuth_deg: f64, curvature: Curvature, sum: &mut Vec<f
             }
             let j = dom(m);
             let s = m as f64 * step_m;
-            // Observers: the cells within one line spacing of this line's crossing.
-            let lo = t.floor();
-            for tc in [lo, lo + 1.0] {
-                if tc < 0.0 || tc > (t_len - 1) as f64 {
-                    continue;
-                }
-                let w = 1.0 - (t - tc).abs() / SPACING;
-                if w <= 1e-12 {
-                    continue;
-                }
+            // Observer: the cell within one line spacing of this line's crossing (with
+            // lines a quarter cell apart, at most the nearest one).
+            let tc = t.round();
+            let w = 1.0 - (t - tc).abs() / SPACING;
+            if w > 1e-12 && tc >= 0.0 && tc <= (t_len - 1) as f64 {
                 let i = index(j, tc as usize);
-                if !valid[i] {
-                    continue;
-                }
-                let observer = f64::from(z[i]) - s * s * inv_r / 2.0;
-                // A line that has seen nothing yet says nothing about the horizon.
-                if let Some(k) = tangent(&hull, s, observer) {
-                    // Blend tangents; one arctangent per cell at the end.
-                    sum[i] += (w * (k - s * inv_r)) as f32;
-                    weight[i] += w as f32;
+                if valid[i] {
+                    let observer = f64::from(z[i]) - s * s * inv_r / 2.0;
+                    // A line that has seen nothing yet says nothing about the horizon.
+                    if let Some(k) = tangent(&hull, s, observer) {
+                        // Blend tangents; one arctangent per cell at the end.
+                        sum[i] += (w * (k - s * inv_r)) as f32;
+                        weight[i] += w as f32;
+                    }
                 }
             }
             if let Some(h) = sample(j, t) {
