@@ -96,6 +96,9 @@ pub fn shadow_map(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Cu
     ShadowMap { cast, facing_away, valid }
 }
 
+/// Samples per cell along each line (cells plus interpolated points between them).
+const SUB: usize = 2;
+
 /// Cast shadow only (true = shadowed), by the sweep.
 pub fn cast_shadows(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
     let (cols, rows) = (dem.cols(), dem.rows());
@@ -126,10 +129,17 @@ pub fn cast_shadows(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: 
     let mut shadow = vec![false; cols * rows];
     // Envelope of the previous line: ray height above the reference surface and the
     // distance back to the ray's source.
-    let mut prev_h = vec![f64::NEG_INFINITY; n_cells];
-    let mut prev_d = vec![0f64; n_cells];
-    let mut cur_h = vec![0f64; n_cells];
-    let mut cur_d = vec![0f64; n_cells];
+    // Each line is sampled at its cells and at SUB − 1 points between each pair
+    // (terrain interpolated): interpolating the envelope over short gaps keeps it close
+    // to each cell's own ray. Agreement with per-cell ray casts at a Sun 8° up: 98.8 %
+    // with SUB = 1, 99.7 % with 2 (~95 M cells/s), 99.8 % with 3 (~60 M), 99.85 % with
+    // 4 (~45 M); the disagreements are all within 1° of grazing.
+    let nv = SUB * (n_cells - 1) + 1;
+    let shift = SUB as f64 * shift;
+    let mut prev_h = vec![f64::NEG_INFINITY; nv];
+    let mut prev_d = vec![0f64; nv];
+    let mut cur_h = vec![0f64; nv];
+    let mut cur_d = vec![0f64; nv];
     // Lines nearest the source first.
     let order: Box<dyn Iterator<Item = usize>> =
         if toward_higher_line { Box::new((0..n_lines).rev()) } else { Box::new(0..n_lines) };
@@ -141,16 +151,27 @@ pub fn cast_shadows(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: 
     let base = base as isize;
     let mut first = true;
     for line in order {
-        for k in 0..n_cells {
-            let i = index(line, k);
-            let zc = if valid[i] { f64::from(z[i]) } else { f64::NEG_INFINITY };
+        for k in 0..nv {
+            let (i, zc) = if k % SUB == 0 {
+                let i = index(line, k / SUB);
+                (i, if valid[i] { f64::from(z[i]) } else { f64::NEG_INFINITY })
+            } else {
+                let (a, b) = (index(line, k / SUB), index(line, k / SUB + 1));
+                let t = (k % SUB) as f64 / SUB as f64;
+                let zc = if valid[a] && valid[b] {
+                    f64::from(z[a]) * (1.0 - t) + f64::from(z[b]) * t
+                } else {
+                    f64::NEG_INFINITY
+                };
+                (usize::MAX, zc)
+            };
             // The envelope arriving from the sun-ward line.
             let (mut h_in, mut d_in) = (f64::NEG_INFINITY, 0.0);
             if !first {
                 let k0 = k as isize + base;
                 let k1 = k0 + 1;
                 let get = |kk: isize| -> Option<(f64, f64)> {
-                    (kk >= 0 && (kk as usize) < n_cells).then(|| (prev_h[kk as usize], prev_d[kk as usize]))
+                    (kk >= 0 && (kk as usize) < nv).then(|| (prev_h[kk as usize], prev_d[kk as usize]))
                 };
                 let (h, d) = match (get(k0), get(k1)) {
                     (Some((h0, d0)), Some((h1, d1))) => {
@@ -177,7 +198,9 @@ pub fn cast_shadows(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: 
                 cur_h[k] = zc;
                 cur_d[k] = 0.0;
             } else {
-                shadow[i] = valid[i];
+                if i != usize::MAX {
+                    shadow[i] = valid[i];
+                }
                 cur_h[k] = h_in;
                 cur_d[k] = d_in;
             }
@@ -311,7 +334,7 @@ mod tests {
                 sweep.len(),
                 100.0 * agree
             );
-            assert!(agree >= 0.985, "az {az} el {el}: only {:.2} % agree", 100.0 * agree);
+            assert!(agree >= 0.995, "az {az} el {el}: only {:.2} % agree", 100.0 * agree);
             assert!(
                 not_grazing as f64 <= 0.001 * sweep.len() as f64,
                 "az {az} el {el}: {not_grazing} disagreements away from grazing"
