@@ -196,13 +196,6 @@ impl OpenList {
         }
     }
 
-    #[inline]
-    fn peek(&mut self) -> Option<Entry> {
-        let e = self.pop()?;
-        self.push_back(e);
-        Some(e)
-    }
-
     /// Re-inserts the entry just popped (its f is not below the radix heap's top).
     fn push_back(&mut self, e: Entry) {
         if self.radix.top().is_some_and(|Reverse(top)| e.f().to_bits() >= top) {
@@ -496,11 +489,11 @@ impl<D: Domain> Search<D> {
         self.stats = Stats::default();
         // A start label may already be in the graph (the rover moved along the plan).
         let mut best = self.best_known_start(domain, f64::INFINITY, |a, b| a.g < b.g);
-        while let Some(top) = self.peek_valid() {
+        while let Some(top) = self.pop_valid() {
             if best.is_some_and(|b| self.nodes[b].g <= top.f()) {
+                self.open.push_back(top);
                 break;
             }
-            self.open.pop();
             let id = top.id();
             let (state, label) = {
                 let n = &self.nodes[id];
@@ -508,7 +501,7 @@ impl<D: Domain> Search<D> {
             };
             if domain.is_start(state, &label) {
                 // f = g + h ≥ g and this is the least f: nothing cheaper remains.
-                self.open.push(top);
+                self.open.push_back(top);
                 if best.is_none_or(|b| self.nodes[id].g < self.nodes[b].g) {
                     best = Some(id);
                 }
@@ -522,11 +515,11 @@ impl<D: Domain> Search<D> {
 
     fn plan_best_dparms(&mut self, domain: &D, max_cost: f64) -> Plan<D> {
         self.stats = Stats::default();
-        while let Some(top) = self.peek_valid() {
+        while let Some(top) = self.pop_valid() {
             if top.f() > max_cost {
+                self.open.push_back(top);
                 break;
             }
-            self.open.pop();
             self.expand(domain, top.id());
         }
         let best = self.best_known_start(domain, max_cost, |a, b| {
@@ -562,14 +555,14 @@ impl<D: Domain> Search<D> {
         best
     }
 
-    /// The least open entry that is still current, discarding stale ones.
-    fn peek_valid(&mut self) -> Option<Entry> {
-        while let Some(e) = self.open.peek() {
+    /// Takes the least open entry that is still current, discarding stale ones (put it
+    /// back with `push_back` if it is not expanded).
+    fn pop_valid(&mut self) -> Option<Entry> {
+        while let Some(e) = self.open.pop() {
             let n = &self.nodes[e.id()];
             if n.flags == OPEN && e.matches(n.g) {
                 return Some(e);
             }
-            self.open.pop();
         }
         None
     }
