@@ -6,8 +6,24 @@
 //! by areo-actions; and TEMPEST's coarse resource models (locomotor, solar array,
 //! battery, electronics loads) used by areo-mission.
 //!
+//! What exists so far: [`RoverParams`], the LSR-1 parameter set shipped as
+//! `params/lsr1.ron` (every value with its source or assumption), loaded with range and
+//! geometry validation, and [`Geometry`], the side-view rocker-bogie geometry in the
+//! paper's loop-closure form (l1..l4, nominal α1, α2).
+//!
+//! ```
+//! let lsr1 = areo_rover::RoverParams::lsr1();
+//! let g = lsr1.geometry();
+//! assert!((g.l3 - 0.3430).abs() < 1e-4 && (g.l4 - 0.2058).abs() < 1e-4);
+//! ```
+//!
 //! Architecture invariant: areo-rover stands on areo-terrain's `Ground` and does no
 //! I/O beyond loading its parameter files.
-//!
-//! Status: the crate is created by the workspace foundation; the models land with the
-//! rover issue.
+
+mod error;
+mod params;
+
+pub use crate::{
+    error::{Error, Result},
+    params::{Arm, Axles, Battery, BodyPoint, Drive, Geometry, LSR1_RON, RoverParams, SidePoint, Solar},
+};

@@ -1,0 +1,42 @@
+use std::path::PathBuf;
+
+/// Everything that can go wrong in areo-rover.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A parameter file could not be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// A parameter file is not valid RON for the parameter format.
+    #[error("{path}:{line}:{col}: {message}")]
+    Syntax {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        col: usize,
+        /// What the parser expected.
+        message: String,
+    },
+    /// A parameter out of its range, or geometry that cannot be built.
+    #[error("{origin}: `{field}` = {value}: {why}")]
+    Invalid {
+        /// Where the parameters came from (a file, or "parameters").
+        origin: String,
+        /// The field, e.g. `drive.gear_efficiency`.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// What is allowed, or which constraint fails.
+        why: String,
+    },
+}
+
+/// `Result` with this crate's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;

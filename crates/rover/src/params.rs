@@ -1,0 +1,352 @@
+//! LSR-1 parameters: the RON format, loading and validation.
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+use crate::error::{Error, Result};
+
+/// The shipped LSR-1 parameter file (see its comments for sources and assumptions).
+pub const LSR1_RON: &str = include_str!("../params/lsr1.ron");
+
+/// A point in the rover's side view (x forward, z up), m.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SidePoint {
+    /// Forward, m.
+    pub x: f64,
+    /// Up, m.
+    pub z: f64,
+}
+
+/// A point in the body frame, m.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyPoint {
+    /// Forward, m.
+    pub x: f64,
+    /// Left, m.
+    pub y: f64,
+    /// Up, m.
+    pub z: f64,
+}
+
+/// Axle positions along the body x axis, m.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Axles {
+    /// Front axle, m.
+    pub front: f64,
+    /// Middle axle, m.
+    pub middle: f64,
+    /// Rear axle, m.
+    pub rear: f64,
+}
+
+/// Motor and gearbox of each wheel.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Drive {
+    /// Gear ratio (motor turns per wheel turn).
+    pub gear_ratio: f64,
+    /// Gearbox efficiency, 0..=1.
+    pub gear_efficiency: f64,
+    /// Motor torque constant, N·m/A.
+    pub torque_constant_nm_per_a: f64,
+    /// Winding resistance, Ω.
+    pub winding_resistance_ohm: f64,
+    /// Bus voltage, V.
+    pub bus_voltage_v: f64,
+}
+
+impl Drive {
+    /// Wheel torque at stall, N·m: K_t·(V/R)·N·η.
+    pub fn stall_torque_nm(&self) -> f64 {
+        self.torque_constant_nm_per_a * self.bus_voltage_v / self.winding_resistance_ohm
+            * self.gear_ratio
+            * self.gear_efficiency
+    }
+
+    /// The copper-loss weight k of Σ k τ² (eq. 16): R/(K_t·N·η)², W/(N·m)².
+    pub fn copper_loss_w_per_nm2(&self) -> f64 {
+        self.winding_resistance_ohm / (self.torque_constant_nm_per_a * self.gear_ratio * self.gear_efficiency).powi(2)
+    }
+}
+
+/// The manipulator arm.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Arm {
+    /// Shoulder position, body frame, m.
+    pub shoulder_m: BodyPoint,
+    /// Shoulder-to-elbow length, m.
+    pub upper_link_m: f64,
+    /// Elbow-to-wrist length, m.
+    pub lower_link_m: f64,
+    /// Arm mass, kg.
+    pub mass_kg: f64,
+    /// Largest payload, kg.
+    pub payload_max_kg: f64,
+    /// The arm's centre of mass when stowed, body frame, m.
+    pub cg_stowed_m: BodyPoint,
+    /// The arm's centre of mass extended forward, body frame, m.
+    pub cg_extended_m: BodyPoint,
+}
+
+/// The solar array.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Solar {
+    /// Active area, m².
+    pub area_m2: f64,
+    /// Cell efficiency, 0..=1.
+    pub efficiency: f64,
+}
+
+/// The battery.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Battery {
+    /// Capacity, Wh.
+    pub capacity_wh: f64,
+    /// Usable fraction of the capacity, 0..=1.
+    pub usable_fraction: f64,
+}
+
+/// Every LSR-1 parameter. Units are in the field names; angles are degrees only here,
+/// at the file edge.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoverParams {
+    /// A name for reports.
+    pub name: String,
+    /// Wheel radius, m.
+    pub wheel_radius_m: f64,
+    /// Wheel width, m.
+    pub wheel_width_m: f64,
+    /// Distance between the left and right wheel mid-planes, m.
+    pub track_m: f64,
+    /// Axle positions, m.
+    pub axle_x_m: Axles,
+    /// Bogie pivot, side view, m.
+    pub bogie_pivot_m: SidePoint,
+    /// Rocker (body/differential) pivot, side view, m.
+    pub rocker_pivot_m: SidePoint,
+    /// Bogie joint range, ± degrees.
+    pub bogie_limit_deg: f64,
+    /// Rocker joint range relative to the body, ± degrees.
+    pub rocker_limit_deg: f64,
+    /// Total mass, kg.
+    pub mass_kg: f64,
+    /// Centre of mass (arm stowed), body frame, m.
+    pub cg_m: BodyPoint,
+    /// Wheel torque limit, N·m (at the wheel).
+    pub wheel_torque_max_nm: f64,
+    /// Motor and gearbox.
+    pub drive: Drive,
+    /// Electronics (hotel) power, W.
+    pub hotel_power_w: f64,
+    /// The arm.
+    pub arm: Arm,
+    /// The solar array.
+    pub solar: Solar,
+    /// The battery.
+    pub battery: Battery,
+    /// Gravity, m/s².
+    pub gravity_m_s2: f64,
+    /// Driving speed, m/s.
+    pub speed_m_s: f64,
+}
+
+impl RoverParams {
+    /// The shipped LSR-1 parameters.
+    pub fn lsr1() -> RoverParams {
+        // The shipped file is checked by the tests; failing here is a build defect.
+        RoverParams::parse(LSR1_RON, "params/lsr1.ron").expect("the shipped LSR-1 parameters are valid")
+    }
+
+    /// Reads and validates a parameter file.
+    pub fn load(path: &Path) -> Result<RoverParams> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+        RoverParams::parse(&text, &path.display().to_string())
+    }
+
+    /// Parses and validates parameter text; `origin` labels errors.
+    pub fn parse(text: &str, origin: &str) -> Result<RoverParams> {
+        let params: RoverParams = ron::from_str(text).map_err(|e| Error::Syntax {
+            path: origin.into(),
+            line: e.span.start.line,
+            col: e.span.start.col,
+            message: e.code.to_string(),
+        })?;
+        params.validate(origin)?;
+        Ok(params)
+    }
+
+    /// Checks ranges and that the geometry can be built.
+    pub fn validate(&self, origin: &str) -> Result<()> {
+        let fail = |field: &'static str, value: f64, why: String| {
+            Err(Error::Invalid { origin: origin.into(), field, value, why })
+        };
+        let positive: [(&'static str, f64); 14] = [
+            ("wheel_radius_m", self.wheel_radius_m),
+            ("wheel_width_m", self.wheel_width_m),
+            ("track_m", self.track_m),
+            ("mass_kg", self.mass_kg),
+            ("wheel_torque_max_nm", self.wheel_torque_max_nm),
+            ("drive.gear_ratio", self.drive.gear_ratio),
+            ("drive.torque_constant_nm_per_a", self.drive.torque_constant_nm_per_a),
+            ("drive.winding_resistance_ohm", self.drive.winding_resistance_ohm),
+            ("drive.bus_voltage_v", self.drive.bus_voltage_v),
+            ("arm.upper_link_m", self.arm.upper_link_m),
+            ("arm.lower_link_m", self.arm.lower_link_m),
+            ("battery.capacity_wh", self.battery.capacity_wh),
+            ("gravity_m_s2", self.gravity_m_s2),
+            ("speed_m_s", self.speed_m_s),
+        ];
+        for (field, v) in positive {
+            if !(v > 0.0 && v.is_finite()) {
+                return fail(field, v, "must be positive and finite".into());
+            }
+        }
+        let fractions: [(&'static str, f64); 3] = [
+            ("drive.gear_efficiency", self.drive.gear_efficiency),
+            ("solar.efficiency", self.solar.efficiency),
+            ("battery.usable_fraction", self.battery.usable_fraction),
+        ];
+        for (field, v) in fractions {
+            if !(v > 0.0 && v <= 1.0) {
+                return fail(field, v, "allowed 0 (exclusive)..=1".into());
+            }
+        }
+        for (field, v) in [
+            ("hotel_power_w", self.hotel_power_w),
+            ("arm.mass_kg", self.arm.mass_kg),
+            ("arm.payload_max_kg", self.arm.payload_max_kg),
+            ("solar.area_m2", self.solar.area_m2),
+        ] {
+            if !(v >= 0.0 && v.is_finite()) {
+                return fail(field, v, "must be ≥ 0".into());
+            }
+        }
+        for (field, v) in [("bogie_limit_deg", self.bogie_limit_deg), ("rocker_limit_deg", self.rocker_limit_deg)] {
+            if !(v > 0.0 && v < 90.0) {
+                return fail(field, v, "allowed 0..90 degrees".into());
+            }
+        }
+        // Geometry.
+        let (a, r) = (self.axle_x_m, self.wheel_radius_m);
+        if !(a.front > a.middle && a.middle > a.rear) {
+            return fail("axle_x_m.middle", a.middle, "axles must run front > middle > rear".into());
+        }
+        if a.front - a.middle < 2.0 * r || a.middle - a.rear < 2.0 * r {
+            return fail(
+                "axle_x_m",
+                a.front - a.rear,
+                format!("wheels of radius {r} m overlap: axles must be ≥ 2r apart"),
+            );
+        }
+        let (p, b) = (self.bogie_pivot_m, self.rocker_pivot_m);
+        if !(p.x > a.middle && p.x < a.front) {
+            return fail("bogie_pivot_m.x", p.x, "must lie between the middle and front axles".into());
+        }
+        if !(p.z > r) {
+            return fail("bogie_pivot_m.z", p.z, format!("must be above the axles (z > r = {r})"));
+        }
+        if !(b.x > a.rear && b.x < p.x) {
+            return fail("rocker_pivot_m.x", b.x, "must lie between the rear axle and the bogie pivot".into());
+        }
+        if !(b.z > p.z) {
+            return fail("rocker_pivot_m.z", b.z, "must be above the bogie pivot".into());
+        }
+        if !(self.track_m > self.wheel_width_m) {
+            return fail("track_m", self.track_m, "must exceed the wheel width".into());
+        }
+        if !(self.cg_m.x.abs() < (a.front - a.rear) / 2.0
+            && self.cg_m.y.abs() < self.track_m / 2.0
+            && self.cg_m.z > 0.0)
+        {
+            return fail("cg_m.x", self.cg_m.x, "the centre of mass must lie above the wheels' footprint".into());
+        }
+        if self.arm.payload_max_kg > self.mass_kg {
+            return fail("arm.payload_max_kg", self.arm.payload_max_kg, "exceeds the rover's mass".into());
+        }
+        // The drive must deliver the torque limit it claims.
+        let stall = self.drive.stall_torque_nm();
+        if self.wheel_torque_max_nm > stall * 1.0001 {
+            return fail(
+                "wheel_torque_max_nm",
+                self.wheel_torque_max_nm,
+                format!("exceeds the drive's stall torque K_t·(V/R)·N·η = {stall:.3} N·m"),
+            );
+        }
+        Ok(())
+    }
+
+    /// The rocker-bogie geometry in the paper's loop-closure form.
+    pub fn geometry(&self) -> Geometry {
+        Geometry::of(self)
+    }
+}
+
+/// The side-view rocker-bogie geometry in Farritor et al.'s form (their eqs. 2–7):
+/// l3, l4 place the middle axle relative to the front one in the frame of the bogie
+/// line (front axle → bogie pivot, angle α2 above the rearward horizontal); l1, l2 place
+/// the rear axle relative to the bogie pivot in the frame of the rocker line (bogie
+/// pivot → rocker pivot, angle α1). Lengths in m, angles in radians.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Geometry {
+    /// Rocker loop-closure lengths, m.
+    pub l1: f64,
+    /// Rocker loop-closure lengths, m.
+    pub l2: f64,
+    /// Bogie loop-closure lengths, m.
+    pub l3: f64,
+    /// Bogie loop-closure lengths, m.
+    pub l4: f64,
+    /// Nominal rocker angle on flat ground, rad.
+    pub alpha1_0: f64,
+    /// Nominal bogie angle on flat ground, rad.
+    pub alpha2_0: f64,
+    /// Bogie arms |PF|, |PM|, m.
+    pub bogie_arms_m: (f64, f64),
+    /// Angle between the bogie arms at the pivot, rad.
+    pub bogie_included: f64,
+    /// Rocker arms |BP|, |BR|, m.
+    pub rocker_arms_m: (f64, f64),
+}
+
+impl Geometry {
+    fn of(p: &RoverParams) -> Geometry {
+        let r = p.wheel_radius_m;
+        // Side view with the rearward coordinate s = −x.
+        let f = (-p.axle_x_m.front, r);
+        let m = (-p.axle_x_m.middle, r);
+        let rear = (-p.axle_x_m.rear, r);
+        let piv = (-p.bogie_pivot_m.x, p.bogie_pivot_m.z);
+        let b = (-p.rocker_pivot_m.x, p.rocker_pivot_m.z);
+        let sub = |a: (f64, f64), b: (f64, f64)| (a.0 - b.0, a.1 - b.1);
+        let dot = |a: (f64, f64), b: (f64, f64)| a.0 * b.0 + a.1 * b.1;
+        let norm = |a: (f64, f64)| a.0.hypot(a.1);
+        let fp = sub(piv, f);
+        let alpha2_0 = fp.1.atan2(fp.0);
+        let (u2, v2) = ((alpha2_0.cos(), alpha2_0.sin()), (-alpha2_0.sin(), alpha2_0.cos()));
+        let fm = sub(m, f);
+        let pb = sub(b, piv);
+        let alpha1_0 = pb.1.atan2(pb.0);
+        let (u1, v1) = ((alpha1_0.cos(), alpha1_0.sin()), (-alpha1_0.sin(), alpha1_0.cos()));
+        let pr = sub(rear, piv);
+        let (pf, pm) = (sub(f, piv), sub(m, piv));
+        Geometry {
+            l1: dot(pr, u1),
+            l2: -dot(pr, v1),
+            l3: dot(fm, u2),
+            l4: -dot(fm, v2),
+            alpha1_0,
+            alpha2_0,
+            bogie_arms_m: (norm(pf), norm(pm)),
+            bogie_included: (dot(pf, pm) / (norm(pf) * norm(pm))).clamp(-1.0, 1.0).acos(),
+            rocker_arms_m: (norm(sub(piv, b)), norm(sub(rear, b))),
+        }
+    }
+}

@@ -1,0 +1,3 @@
+//! areo-rover integration tests.
+
+mod params;
