@@ -9,7 +9,9 @@
 //! What exists so far: [`RoverParams`], the LSR-1 parameter set shipped as
 //! `params/lsr1.ron` (every value with its source or assumption), loaded with range and
 //! geometry validation, and [`Geometry`], the side-view rocker-bogie geometry in the
-//! paper's loop-closure form (l1..l4, nominal α1, α2).
+//! paper's loop-closure form (l1..l4, nominal α1, α2); and [`stability`], the
+//! Papadopoulos & Rey force-angle tip-over measure with the paper's flat-ground
+//! normalisation (per axis or global).
 //!
 //! ```
 //! let lsr1 = areo_rover::RoverParams::lsr1();
@@ -22,6 +24,8 @@
 
 mod error;
 mod params;
+
+pub mod stability;
 
 pub use crate::{
     error::{Error, Result},
