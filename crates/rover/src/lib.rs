@@ -11,7 +11,9 @@
 //! geometry validation, and [`Geometry`], the side-view rocker-bogie geometry in the
 //! paper's loop-closure form (l1..l4, nominal α1, α2); and [`stability`], the
 //! Papadopoulos & Rey force-angle tip-over measure with the paper's flat-ground
-//! normalisation (per axis or global).
+//! normalisation (per axis or global); and [`resources`], TEMPEST's coarse models
+//! (locomotor, solar array, nuclear generator, battery, electronics loads, navigation
+//! cameras) with a Hyperion-class parameter file.
 //!
 //! ```
 //! let lsr1 = areo_rover::RoverParams::lsr1();
@@ -25,6 +27,7 @@
 mod error;
 mod params;
 
+pub mod resources;
 pub mod stability;
 
 pub use crate::{
