@@ -13,7 +13,8 @@
 //! Papadopoulos & Rey force-angle tip-over measure with the paper's flat-ground
 //! normalisation (per axis or global); and [`resources`], TEMPEST's coarse models
 //! (locomotor, solar array, nuclear generator, battery, electronics loads, navigation
-//! cameras) with a Hyperion-class parameter file.
+//! cameras) with a Hyperion-class parameter file; and [`kinematics`], the pose on terrain
+//! by the paper's planar decomposition over the dilated terrain.
 //!
 //! ```
 //! let lsr1 = areo_rover::RoverParams::lsr1();
@@ -27,6 +28,7 @@
 mod error;
 mod params;
 
+pub mod kinematics;
 pub mod resources;
 pub mod stability;
 
