@@ -134,10 +134,7 @@ fn accumulate(dem: &Dem, azimuth_deg: f64, curvature: Curvature, sum: &mut Vec<f
     let index = |j: usize, t: usize| if along_cols { t * cols + j } else { j * cols + t };
     // m steps away from the azimuth-side edge → dominant index.
     let dom = |m: usize| if toward_higher { n - 1 - m } else { m };
-    let inv_r = match curvature {
-        Curvature::Flat => 0.0,
-        Curvature::Sphere { radius_m } => 1.0 / radius_m,
-    };
+    let inv_r = 2.0 * curvature.inv_2r();
     let z = dem.elevations();
     let valid = dem.valid_mask();
     let sample = |j: usize, t: f64| -> Option<f64> {

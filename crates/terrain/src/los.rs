@@ -34,10 +34,7 @@ impl Field {
         if cols < 2 || rows < 2 {
             return Err(Error::BadGrid("line of sight needs at least 2 x 2 cells".into()));
         }
-        let inv_2r = match curvature {
-            Curvature::Flat => 0.0,
-            Curvature::Sphere { radius_m } => 0.5 / radius_m,
-        };
+        let inv_2r = curvature.inv_2r();
         let (x_first, y_first) = dem.cell_center(0, 0);
         let (x_last, y_last) = dem.cell_center(cols - 1, rows - 1);
         let (x_mid, y_mid) = ((x_first + x_last) / 2.0, (y_first + y_last) / 2.0);
@@ -90,10 +87,7 @@ pub fn line_of_sight(dem: &Dem, a: (f64, f64, f64), b: (f64, f64, f64), curvatur
     let za = za + a.2;
     let field = Field::new(dem, a.0, a.1, za, curvature)?;
     let d2 = (b.0 - a.0).powi(2) + (b.1 - a.1).powi(2);
-    let inv_2r = match curvature {
-        Curvature::Flat => 0.0,
-        Curvature::Sphere { radius_m } => 0.5 / radius_m,
-    };
+    let inv_2r = curvature.inv_2r();
     let zb = zb + b.2 - d2 * inv_2r;
     Ok(Some(field.clear((a.0, a.1, za), (b.0, b.1, zb), 0.5 * dem.dx().min(dem.dy()))))
 }
@@ -106,10 +100,7 @@ pub fn viewshed(dem: &Dem, x: f64, y: f64, height_m: f64, curvature: Curvature) 
     };
     let eye = z0 + height_m;
     let field = Field::new(dem, x, y, eye, curvature)?;
-    let inv_2r = match curvature {
-        Curvature::Flat => 0.0,
-        Curvature::Sphere { radius_m } => 0.5 / radius_m,
-    };
+    let inv_2r = curvature.inv_2r();
     let tail = 0.5 * dem.dx().min(dem.dy());
     let mut out = vec![false; dem.cols() * dem.rows()];
     for r in 0..dem.rows() {
@@ -193,17 +184,7 @@ mod tests {
     #[test]
     #[allow(clippy::print_stderr)] // the agreement figures are the point of the test
     fn the_shadow_sweep_agrees_with_parry_ray_casts() {
-        let dem = crate::synth::TerrainSpec {
-            cols: 100,
-            rows: 80,
-            cell_m: 10.0,
-            base_m: 0.0,
-            seed: 11,
-            noise: Some(crate::synth::Noise { amplitude_m: 30.0, wavelength_m: 300.0, octaves: 3, persistence: 0.5 }),
-            features: vec![crate::synth::Feature::Hill { x_m: 500.0, y_m: 400.0, radius_m: 200.0, slope_deg: 25.0 }],
-        }
-        .build()
-        .unwrap();
+        let dem = crate::synth::rough_test_terrain(100, 80, 11, 30.0, 3);
         for (az, el) in [(90.0, 15.0), (200.0, 25.0), (315.0, 10.0)] {
             let a = cast_shadows(&dem, az, el, Curvature::Flat);
             let b = cast_shadows_parry(&dem, az, el).unwrap();

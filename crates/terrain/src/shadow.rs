@@ -38,7 +38,8 @@ impl Curvature {
         Curvature::Sphere { radius_m: dem.georef().body.mean_radius_m() }
     }
 
-    fn inv_2r(self) -> f64 {
+    /// 1/2R (0 for a flat world): an occluder at distance d sits d²·(1/2R) lower.
+    pub(crate) fn inv_2r(self) -> f64 {
         match self {
             Curvature::Flat => 0.0,
             Curvature::Sphere { radius_m } => 0.5 / radius_m,
@@ -304,17 +305,7 @@ mod tests {
     #[test]
     #[allow(clippy::print_stderr)] // the agreement figures are the point of the test
     fn sweep_agrees_with_per_cell_rays_on_rough_terrain() {
-        let dem = crate::synth::TerrainSpec {
-            cols: 120,
-            rows: 90,
-            cell_m: 10.0,
-            base_m: 0.0,
-            seed: 7,
-            noise: Some(crate::synth::Noise { amplitude_m: 40.0, wavelength_m: 300.0, octaves: 4, persistence: 0.5 }),
-            features: vec![crate::synth::Feature::Hill { x_m: 600.0, y_m: 450.0, radius_m: 250.0, slope_deg: 25.0 }],
-        }
-        .build()
-        .unwrap();
+        let dem = crate::synth::rough_test_terrain(120, 90, 7, 40.0, 4);
         for (az, el) in [(90.0, 20.0), (135.0, 10.0), (200.0, 35.0), (300.0, 8.0), (10.0, 15.0), (45.0, 3.0)] {
             let sweep = cast_shadows(&dem, az, el, Curvature::Flat);
             let horizon = horizon_by_rays(&dem, az, Curvature::Flat);

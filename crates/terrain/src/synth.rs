@@ -377,6 +377,24 @@ impl FractalNoise {
     }
 }
 
+/// Rough test terrain for the line-of-sight tests: 10 m cells, fractal noise of the
+/// given amplitude and octaves, and a 25° hill in the middle.
+#[cfg(test)]
+pub(crate) fn rough_test_terrain(cols: usize, rows: usize, seed: u64, amplitude_m: f64, octaves: u32) -> Dem {
+    let (w, h) = (cols as f64 * 10.0, rows as f64 * 10.0);
+    TerrainSpec {
+        cols,
+        rows,
+        cell_m: 10.0,
+        base_m: 0.0,
+        seed,
+        noise: Some(Noise { amplitude_m, wavelength_m: 300.0, octaves, persistence: 0.5 }),
+        features: vec![Feature::Hill { x_m: w / 2.0, y_m: h / 2.0, radius_m: w / 4.8, slope_deg: 25.0 }],
+    }
+    .build()
+    .expect("valid test terrain")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
