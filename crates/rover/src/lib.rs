@@ -14,7 +14,9 @@
 //! normalisation (per axis or global); and [`resources`], TEMPEST's coarse models
 //! (locomotor, solar array, nuclear generator, battery, electronics loads, navigation
 //! cameras) with a Hyperion-class parameter file; and [`kinematics`], the pose on terrain
-//! by the paper's planar decomposition over the dilated terrain.
+//! by the paper's planar decomposition over the dilated terrain; and [`forces`], the
+//! per-side quasi-static force balance with power-optimal torques under friction,
+//! contact and saturation limits.
 //!
 //! ```
 //! let lsr1 = areo_rover::RoverParams::lsr1();
@@ -28,6 +30,7 @@
 mod error;
 mod params;
 
+pub mod forces;
 pub mod kinematics;
 pub mod resources;
 pub mod stability;
