@@ -253,8 +253,8 @@ mod tests {
 
     #[test]
     fn holding_on_a_slope_needs_mu_equal_tan_theta() {
-        for theta in [10.0, 20.0, 25.0, 30.0] {
-            let mu_star = (theta as f64).to_radians().tan();
+        for theta in [10.0f64, 20.0, 25.0, 30.0] {
+            let mu_star = f64::to_radians(theta).tan();
             assert!(solve(&on_slope(theta), &free(mu_star + 1e-3)).is_ok(), "{theta}° at μ* + ε");
             assert_eq!(solve(&on_slope(theta), &free(mu_star - 1e-3)), Err(ForceFailure::Slip), "{theta}° at μ* − ε");
         }
