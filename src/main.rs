@@ -43,7 +43,8 @@ enum Command {
     /// cutting); prints `index,expected,found,expansions` per scenario and
     /// `N solved, M mismatched`.
     Grid(GridArgs),
-    /// DEM tools: information, slope, shadows, horizon maps (GeoTIFF, ESRI ASCII, PDS3).
+    /// DEM tools: information, slope, shadows, horizon maps, viewsheds (GeoTIFF, ESRI
+    /// ASCII, PDS3).
     #[command(subcommand)]
     Terrain(TerrainCommand),
     /// Where the Sun is: at one instant, at instants listed in a file, or the rise, noon
