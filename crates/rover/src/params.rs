@@ -4,7 +4,7 @@ use std::path::Path;
 
 use serde::Deserialize;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, parse_ron, read_text};
 
 /// The shipped LSR-1 parameter file (see its comments for sources and assumptions).
 pub const LSR1_RON: &str = include_str!("../params/lsr1.ron");
@@ -167,18 +167,12 @@ impl RoverParams {
 
     /// Reads and validates a parameter file.
     pub fn load(path: &Path) -> Result<RoverParams> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
-        RoverParams::parse(&text, &path.display().to_string())
+        RoverParams::parse(&read_text(path)?, &path.display().to_string())
     }
 
     /// Parses and validates parameter text; `origin` labels errors.
     pub fn parse(text: &str, origin: &str) -> Result<RoverParams> {
-        let params: RoverParams = ron::from_str(text).map_err(|e| Error::Syntax {
-            path: origin.into(),
-            line: e.span.start.line,
-            col: e.span.start.col,
-            message: e.code.to_string(),
-        })?;
+        let params: RoverParams = parse_ron(text, origin)?;
         params.validate(origin)?;
         Ok(params)
     }

@@ -10,7 +10,7 @@ use std::path::Path;
 
 use serde::Deserialize;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, parse_ron, read_text};
 
 /// Standard gravity used for the locomotor unless the file says otherwise, m/s².
 const MARS_GRAVITY: f64 = 3.711;
@@ -242,21 +242,12 @@ impl ResourceModel {
 
     /// Reads and validates a resource-model file.
     pub fn load(path: &Path) -> Result<ResourceModel> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
-        ResourceModel::parse(&text, &path.display().to_string())
+        ResourceModel::parse(&read_text(path)?, &path.display().to_string())
     }
 
     /// Parses and validates; `origin` labels errors.
     pub fn parse(text: &str, origin: &str) -> Result<ResourceModel> {
-        let m: ResourceModel = ron::Options::default()
-            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
-            .from_str(text)
-            .map_err(|e| Error::Syntax {
-                path: origin.into(),
-                line: e.span.start.line,
-                col: e.span.start.col,
-                message: e.code.to_string(),
-            })?;
+        let m: ResourceModel = parse_ron(text, origin)?;
         m.validate(origin)?;
         Ok(m)
     }
