@@ -1,17 +1,24 @@
 //! Quasi-static forces on one side of the rocker-bogie (the paper's eqs. 8–16 in the
 //! planar form of the reference, §4.1): per wheel a normal force N_i and a tractive
-//! force T_i (wheel torque τ_i = r·T_i), in equilibrium with the side's share of the
-//! weight, with the torques chosen to minimise Σ k τ² (copper losses, eq. 16) subject to
+//! force T_i, in equilibrium with the load the body puts on the side's rocker pivot (a
+//! vertical force and a pitching couple, see [`crate::evaluation`] for the 3-D split),
+//! with the wheel torques chosen to minimise Σ k τ² (copper losses, eq. 16) subject to
 //! N_i ≥ N_min, |T_i| ≤ μ N_i and |τ_i| ≤ τ_max.
 //!
-//! Solved exactly: the four equilibrium equations leave a 2-D family x = x_p + Z s of
-//! force vectors; the limits are half-planes in s and the objective a convex quadratic,
-//! so the optimum is the unconstrained minimiser if feasible, else the best of the
-//! minimisers along each constraint line and the polygon's vertices.
+//! Rolling resistance c_rr acts as a resisting moment at each wheel, so the motor torque
+//! is τ_i = r (T_i + σ c_rr N_i) with σ the direction of travel (0 when holding still).
+//!
+//! Solved exactly and without allocation: fixing T_f and T_m, the four equilibrium
+//! equations give the other four forces, so every equilibrium is x = x_p + Z s with
+//! s ∈ ℝ². The 15 limits are half-planes in s and the objective a convex quadratic, so
+//! the optimum is the unconstrained minimiser if feasible, else on the boundary: for
+//! each constraint line, the feasible interval left by the others, and the 1-D
+//! minimiser clamped to it.
 
-use nalgebra::{SMatrix, SVector, Vector2};
+use nalgebra::{Matrix2, Matrix4, SMatrix, SVector, Vector2, Vector4};
 
-/// One side's contact geometry, in the side's (s forward, z up) plane, m and rad.
+/// One side's contact geometry and load, in the side's (s forward, z up) plane, m, rad
+/// and N.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SideContacts {
     /// Axle centres: front, middle, rear.
@@ -20,12 +27,23 @@ pub struct SideContacts {
     pub gamma: [f64; 3],
     /// Bogie pivot.
     pub bogie_pivot: (f64, f64),
-    /// The centre of mass the side carries.
-    pub cg: (f64, f64),
-    /// The side's share of the weight, N.
-    pub weight_n: f64,
+    /// Rocker (body) pivot, where the load acts.
+    pub rocker_pivot: (f64, f64),
+    /// Downward force the body puts on the rocker pivot, N.
+    pub load_n: f64,
+    /// Pitching couple the body puts on the rocker, N·m (nose up positive).
+    pub couple_nm: f64,
     /// Wheel radius, m.
     pub wheel_radius_m: f64,
+}
+
+impl SideContacts {
+    /// The load of a weight `weight_n` (N) hanging at `cg`, carried by this side alone
+    /// (the planar case): force at the pivot plus the couple of its lever.
+    pub fn carry_weight_at(&mut self, weight_n: f64, cg: (f64, f64)) {
+        self.load_n = weight_n;
+        self.couple_nm = -weight_n * (cg.0 - self.rocker_pivot.0);
+    }
 }
 
 /// Limits of the optimisation.
@@ -37,6 +55,17 @@ pub struct Limits {
     pub torque_max_nm: f64,
     /// Smallest normal force that counts as contact, N.
     pub n_min: f64,
+    /// Rolling-resistance coefficient c_rr.
+    pub rolling_resistance: f64,
+    /// Direction of travel σ: +1 forward, −1 backward, 0 holding still.
+    pub direction: f64,
+}
+
+impl Limits {
+    /// Holding still (no rolling resistance) with friction `mu` and no torque limit.
+    pub fn static_friction(mu: f64) -> Limits {
+        Limits { mu, torque_max_nm: f64::INFINITY, n_min: 0.0, rolling_resistance: 0.0, direction: 0.0 }
+    }
 }
 
 /// The solved forces, front, middle, rear.
@@ -46,10 +75,12 @@ pub struct SideForces {
     pub normal_n: [f64; 3],
     /// Tractive forces, N.
     pub traction_n: [f64; 3],
-    /// Wheel torques, N·m.
+    /// Motor torques at the wheels, N·m.
     pub torque_nm: [f64; 3],
     /// Σ τ² (multiply by k for watts of copper loss), N²·m².
     pub sum_torque_sq: f64,
+    /// Largest |T_i|/N_i: the friction the configuration uses.
+    pub friction_used: f64,
 }
 
 /// Why no admissible forces exist.
@@ -63,15 +94,30 @@ pub enum ForceFailure {
     Saturation,
 }
 
+impl std::fmt::Display for ForceFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ForceFailure::Slip => "slip: equilibrium needs more friction than μ",
+            ForceFailure::LossOfContact => "loss of contact: a wheel would need a negative normal force",
+            ForceFailure::Saturation => "saturation: a wheel needs more than the motor's torque",
+        })
+    }
+}
+
 type Mat46 = SMatrix<f64, 4, 6>;
 type Vec6 = SVector<f64, 6>;
+
+/// Constraints: 3 contact, 6 friction, 6 torque.
+const ROWS: usize = 15;
 
 fn cross(a: (f64, f64), b: (f64, f64)) -> f64 {
     a.0 * b.1 - a.1 * b.0
 }
 
-/// The equilibrium equations E1..E4 as A x = b with x = (N_f, N_m, N_r, T_f, T_m, T_r).
-fn equilibrium(c: &SideContacts) -> (Mat46, SVector<f64, 4>) {
+/// The equilibrium equations as A x = b with x = (N_f, N_m, N_r, T_f, T_m, T_r): E1
+/// horizontal, E2 vertical, E3 moments about the rocker pivot, E4 moments about the
+/// bogie pivot (front and middle wheels only).
+fn equilibrium(c: &SideContacts) -> (Mat46, Vector4<f64>) {
     let mut a = Mat46::zeros();
     let r = c.wheel_radius_m;
     for i in 0..3 {
@@ -79,144 +125,237 @@ fn equilibrium(c: &SideContacts) -> (Mat46, SVector<f64, 4>) {
         let n = (-s, co);
         let t = (co, s);
         let contact = (c.axles[i].0 - r * n.0, c.axles[i].1 - r * n.1);
-        // E1 longitudinal, E2 vertical.
         a[(0, i)] = n.0;
         a[(0, 3 + i)] = t.0;
         a[(1, i)] = n.1;
         a[(1, 3 + i)] = t.1;
-        // E3 moments about the CG.
-        let arm = (contact.0 - c.cg.0, contact.1 - c.cg.1);
+        let arm = (contact.0 - c.rocker_pivot.0, contact.1 - c.rocker_pivot.1);
         a[(2, i)] = cross(arm, n);
         a[(2, 3 + i)] = cross(arm, t);
-        // E4 moments about the bogie pivot (front and middle wheels only).
         if i < 2 {
             let arm = (contact.0 - c.bogie_pivot.0, contact.1 - c.bogie_pivot.1);
             a[(3, i)] = cross(arm, n);
             a[(3, 3 + i)] = cross(arm, t);
         }
     }
-    (a, SVector::<f64, 4>::new(0.0, c.weight_n, 0.0, 0.0))
+    (a, Vector4::new(0.0, c.load_n, -c.couple_nm, 0.0))
+}
+
+/// A constraint g·s ≥ h in the reduced coordinates.
+#[derive(Debug, Clone, Copy)]
+struct Half {
+    g: Vector2<f64>,
+    h: f64,
+    kind: ForceFailure,
+}
+
+/// The reduced problem: x = x_p + Z s, objective |P x|², constraints.
+struct Reduced {
+    xp: Vec6,
+    z: SMatrix<f64, 6, 2>,
+    q: Matrix2<f64>,
+    lin: Vector2<f64>,
+    half: [Half; ROWS],
+    tol: f64,
+}
+
+impl Reduced {
+    fn build(c: &SideContacts, limits: &Limits) -> Option<Reduced> {
+        let (a, b) = equilibrium(c);
+        // Free pair: the first pair of tractions whose complement is well conditioned.
+        let pairs = [(3usize, 4usize), (3, 5), (4, 5), (0, 3), (1, 4), (2, 5)];
+        let mut best: Option<(f64, (usize, usize))> = None;
+        for &(i, j) in &pairs {
+            let rest: [usize; 4] = complement(i, j);
+            let m = Matrix4::from_fn(|r, k| a[(r, rest[k])]);
+            let det = m.determinant().abs();
+            if best.is_none_or(|(d, _)| det > d) {
+                best = Some((det, (i, j)));
+            }
+            if det > 1e-6 {
+                break;
+            }
+        }
+        let (det, (i, j)) = best?;
+        if !(det > 1e-14) {
+            return None;
+        }
+        let rest = complement(i, j);
+        let inv = Matrix4::from_fn(|r, k| a[(r, rest[k])]).try_inverse()?;
+        let mut xp = Vec6::zeros();
+        let mut z = SMatrix::<f64, 6, 2>::zeros();
+        let y = inv * b;
+        for k in 0..4 {
+            xp[rest[k]] = y[k];
+        }
+        for (col, free) in [i, j].into_iter().enumerate() {
+            let y = inv * (-a.column(free));
+            z[(free, col)] = 1.0;
+            for k in 0..4 {
+                z[(rest[k], col)] = y[k];
+            }
+        }
+        // Torque per unit r: T_i + σ c_rr N_i.
+        let roll = limits.direction * limits.rolling_resistance;
+        let mut p = SMatrix::<f64, 3, 6>::zeros();
+        for w in 0..3 {
+            p[(w, 3 + w)] = 1.0;
+            p[(w, w)] = roll;
+        }
+        let (pz, pxp) = (p * z, p * xp);
+        let q = pz.transpose() * pz;
+        let lin = pz.transpose() * pxp;
+        let t_max = limits.torque_max_nm / c.wheel_radius_m;
+        let mut half = [Half { g: Vector2::zeros(), h: 0.0, kind: ForceFailure::Slip }; ROWS];
+        let mut put = |k: usize, g: Vec6, h: f64, kind: ForceFailure| {
+            half[k] = Half { g: z.transpose() * g, h: h - g.dot(&xp), kind };
+        };
+        for w in 0..3 {
+            let mut g = Vec6::zeros();
+            g[w] = 1.0;
+            put(5 * w, g, limits.n_min, ForceFailure::LossOfContact);
+            let mut g = Vec6::zeros();
+            g[w] = limits.mu;
+            g[3 + w] = -1.0;
+            put(5 * w + 1, g, 0.0, ForceFailure::Slip);
+            g[3 + w] = 1.0;
+            put(5 * w + 2, g, 0.0, ForceFailure::Slip);
+            // ±(T + σ c_rr N) ≥ −t_max.
+            let mut g = Vec6::zeros();
+            g[3 + w] = 1.0;
+            g[w] = roll;
+            put(5 * w + 3, g, -t_max, ForceFailure::Saturation);
+            put(5 * w + 4, -g, -t_max, ForceFailure::Saturation);
+        }
+        let tol = 1e-9 * c.load_n.abs().max(1.0);
+        Some(Reduced { xp, z, q, lin, half, tol })
+    }
+
+    fn objective(&self, s: Vector2<f64>) -> f64 {
+        s.dot(&(self.q * s)) + 2.0 * self.lin.dot(&s)
+    }
+
+    fn feasible(&self, s: Vector2<f64>, mask: u32) -> bool {
+        self.half.iter().enumerate().all(|(k, c)| mask & (1 << k) == 0 || c.g.dot(&s) >= c.h - self.tol)
+    }
+
+    /// The best point on constraint line k's feasible interval (among rows in `mask`),
+    /// or `None` if the interval is empty.
+    fn on_line(&self, k: usize, mask: u32) -> Option<Vector2<f64>> {
+        let c = self.half[k];
+        let gn = c.g.norm_squared();
+        if gn < 1e-24 {
+            return None;
+        }
+        let s0 = c.g * (c.h / gn);
+        let d = Vector2::new(-c.g.y, c.g.x) / gn.sqrt();
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for (j, o) in self.half.iter().enumerate() {
+            if j == k || mask & (1 << j) == 0 {
+                continue;
+            }
+            // o.g·(s0 + t d) ≥ o.h.
+            let (gd, slack) = (o.g.dot(&d), o.g.dot(&s0) - o.h);
+            if gd.abs() < 1e-15 {
+                if slack < -self.tol {
+                    return None;
+                }
+            } else if gd > 0.0 {
+                lo = lo.max(-slack / gd);
+            } else {
+                hi = hi.min(-slack / gd);
+            }
+        }
+        if lo > hi + 1e-12 {
+            return None;
+        }
+        let dqd = d.dot(&(self.q * d));
+        let t = if dqd > 1e-18 { -(d.dot(&(self.q * s0)) + d.dot(&self.lin)) / dqd } else { 0.0 };
+        let t = t.clamp(lo.min(hi), hi.max(lo));
+        let t = if t.is_finite() { t } else if lo.is_finite() { lo } else { hi.min(0.0).max(lo) };
+        Some(s0 + d * t)
+    }
+
+    /// Whether the rows in `mask` admit any point.
+    fn admits(&self, mask: u32) -> bool {
+        (0..ROWS).any(|k| mask & (1 << k) != 0 && self.on_line(k, mask).is_some())
+            || (self.half.iter().enumerate().all(|(k, c)| mask & (1 << k) == 0 || c.h <= self.tol))
+    }
+}
+
+fn complement(i: usize, j: usize) -> [usize; 4] {
+    let mut out = [0; 4];
+    let mut n = 0;
+    for k in 0..6 {
+        if k != i && k != j {
+            out[n] = k;
+            n += 1;
+        }
+    }
+    out
 }
 
 /// The power-optimal admissible forces, or why none exist.
 pub fn solve(c: &SideContacts, limits: &Limits) -> Result<SideForces, ForceFailure> {
-    let (a, b) = equilibrium(c);
-    // Particular solution and null space from the SVD of Aᵀ (6×4): A has rank 4.
-    let svd = a.transpose().svd(true, true);
-    let (Some(u), Some(vt)) = (svd.u, svd.v_t) else { return Err(ForceFailure::LossOfContact) };
-    // Aᵀ = U Σ Vᵀ, so A = V Σ Uᵀ and the least-norm solution is x_p = U Σ⁻¹ Vᵀ b.
-    let sigma = svd.singular_values;
-    let mut xp = Vec6::zeros();
-    let vtb = vt * b;
-    for k in 0..4 {
-        if sigma[k] > 1e-12 {
-            xp += u.column(k) * (vtb[k] / sigma[k]);
-        }
-    }
-    // The null space of A: the orthogonal complement of span(U's 4 columns) in ℝ⁶.
-    let full = nalgebra::SMatrix::<f64, 6, 6>::identity() - u * u.transpose();
-    let null_svd = full.svd(true, false);
-    let nu = null_svd.u.ok_or(ForceFailure::LossOfContact)?;
-    let mut order: Vec<usize> = (0..6).collect();
-    order.sort_by(|&i, &j| null_svd.singular_values[j].total_cmp(&null_svd.singular_values[i]));
-    let z1 = nu.column(order[0]).into_owned();
-    let z2 = nu.column(order[1]).into_owned();
-    let x_of = |s: Vector2<f64>| xp + z1 * s.x + z2 * s.y;
-    // Objective: Σ T_i² = |P x|² with P selecting the T components.
-    let t_of = |x: &Vec6| SVector::<f64, 3>::new(x[3], x[4], x[5]);
-    let (pz1, pz2, pxp) = (t_of(&z1), t_of(&z2), t_of(&xp));
-    let q = nalgebra::Matrix2::new(pz1.dot(&pz1), pz1.dot(&pz2), pz1.dot(&pz2), pz2.dot(&pz2));
-    let lin = Vector2::new(pz1.dot(&pxp), pz2.dot(&pxp));
-    let objective = |s: Vector2<f64>| (pxp + pz1 * s.x + pz2 * s.y).norm_squared();
-    // Constraints g·x ≥ h, as half-planes in s: (gᵀZ) s ≥ h − gᵀ x_p.
-    let t_max = limits.torque_max_nm / c.wheel_radius_m;
-    let mut rows: Vec<(Vec6, f64, ForceFailure)> = Vec::new();
-    for i in 0..3 {
-        let mut g = Vec6::zeros();
-        g[i] = 1.0;
-        rows.push((g, limits.n_min, ForceFailure::LossOfContact));
-        let mut g = Vec6::zeros();
-        g[i] = limits.mu;
-        g[3 + i] = -1.0;
-        rows.push((g, 0.0, ForceFailure::Slip));
-        let mut g = Vec6::zeros();
-        g[i] = limits.mu;
-        g[3 + i] = 1.0;
-        rows.push((g, 0.0, ForceFailure::Slip));
-        let mut g = Vec6::zeros();
-        g[3 + i] = -1.0;
-        rows.push((g, -t_max, ForceFailure::Saturation));
-        let mut g = Vec6::zeros();
-        g[3 + i] = 1.0;
-        rows.push((g, -t_max, ForceFailure::Saturation));
-    }
-    let half: Vec<(Vector2<f64>, f64, ForceFailure)> =
-        rows.iter().map(|(g, h, kind)| (Vector2::new(g.dot(&z1), g.dot(&z2)), h - g.dot(&xp), *kind)).collect();
-    let scale = c.weight_n.abs().max(1.0);
-    let feasible = |s: Vector2<f64>| half.iter().all(|(g, h, _)| g.dot(&s) >= h - 1e-9 * scale);
+    let red = Reduced::build(c, limits).ok_or(ForceFailure::LossOfContact)?;
+    let all = (1u32 << ROWS) - 1;
     let mut best: Option<(f64, Vector2<f64>)> = None;
     let mut consider = |s: Vector2<f64>| {
-        if s.iter().all(|v| v.is_finite()) && feasible(s) {
-            let f = objective(s);
-            if best.is_none_or(|(bf, _)| f < bf - 1e-15) {
+        if s.iter().all(|v| v.is_finite()) && red.feasible(s, all) {
+            let f = red.objective(s);
+            if best.is_none_or(|(bf, _)| f < bf) {
                 best = Some((f, s));
             }
         }
     };
-    // Unconstrained minimiser (Q may be singular: fall back to least squares).
-    if let Some(inv) = q.try_inverse() {
-        consider(-(inv * lin));
-    }
-    // Along each constraint line g·s = h: s = s0 + t d.
-    for (g, h, _) in &half {
-        let gn = g.norm_squared();
-        if gn < 1e-24 {
-            continue;
-        }
-        let s0 = g * (h / gn);
-        let d = Vector2::new(-g.y, g.x);
-        let dqd = d.dot(&(q * d));
-        let t = if dqd > 1e-18 { -(d.dot(&(q * s0)) + d.dot(&lin)) / dqd } else { 0.0 };
-        consider(s0 + d * t);
-    }
-    // Vertices.
-    for i in 0..half.len() {
-        for j in i + 1..half.len() {
-            let m = nalgebra::Matrix2::new(half[i].0.x, half[i].0.y, half[j].0.x, half[j].0.y);
-            if let Some(inv) = m.try_inverse() {
-                consider(inv * Vector2::new(half[i].1, half[j].1));
+    let interior = red.q.try_inverse().map(|inv| -(inv * red.lin)).filter(|s| red.feasible(*s, all));
+    match interior {
+        Some(s) => consider(s),
+        None => {
+            for k in 0..ROWS {
+                if let Some(s) = red.on_line(k, all) {
+                    consider(s);
+                }
             }
         }
     }
-    match best {
-        Some((_, s)) => {
-            let x = x_of(s);
-            let r = c.wheel_radius_m;
-            let traction = [x[3], x[4], x[5]];
-            let torque = traction.map(|t| t * r);
-            Ok(SideForces {
-                normal_n: [x[0], x[1], x[2]],
-                traction_n: traction,
-                torque_nm: torque,
-                sum_torque_sq: torque.iter().map(|t| t * t).sum(),
-            })
-        }
-        None => Err(classify(&half, &q, &lin)),
-    }
+    let Some((_, s)) = best else { return Err(classify(&red)) };
+    let x = red.xp + red.z * s;
+    let r = c.wheel_radius_m;
+    let roll = limits.direction * limits.rolling_resistance;
+    let normal = [x[0], x[1], x[2]];
+    let traction = [x[3], x[4], x[5]];
+    let torque = [0, 1, 2].map(|w| r * (traction[w] + roll * normal[w]));
+    let friction_used =
+        (0..3).map(|w| if normal[w] > 1e-12 { traction[w].abs() / normal[w] } else { 0.0 }).fold(0.0, f64::max);
+    Ok(SideForces {
+        normal_n: normal,
+        traction_n: traction,
+        torque_nm: torque,
+        sum_torque_sq: torque.iter().map(|t| t * t).sum(),
+        friction_used,
+    })
 }
 
-/// Which kind of limit the least-loss equilibrium violates most.
-fn classify(
-    half: &[(Vector2<f64>, f64, ForceFailure)],
-    q: &nalgebra::Matrix2<f64>,
-    lin: &Vector2<f64>,
-) -> ForceFailure {
-    let s = q.try_inverse().map_or(Vector2::zeros(), |inv| -(inv * lin));
-    half.iter()
-        .map(|(g, h, kind)| (h - g.dot(&s), *kind))
-        .filter(|(violation, _)| *violation > 0.0)
-        .max_by(|a, b| a.0.total_cmp(&b.0))
-        .map_or(ForceFailure::Slip, |(_, kind)| kind)
+/// Which family of limits makes the problem infeasible: contact alone, then contact
+/// with friction, else the torque limits.
+fn classify(red: &Reduced) -> ForceFailure {
+    let mut contact = 0u32;
+    let mut friction = 0u32;
+    for (k, c) in red.half.iter().enumerate() {
+        match c.kind {
+            ForceFailure::LossOfContact => contact |= 1 << k,
+            ForceFailure::Slip => friction |= 1 << k,
+            ForceFailure::Saturation => {}
+        }
+    }
+    if !red.admits(contact) {
+        ForceFailure::LossOfContact
+    } else if !red.admits(contact | friction) {
+        ForceFailure::Slip
+    } else {
+        ForceFailure::Saturation
+    }
 }
 
 #[cfg(test)]
@@ -232,14 +371,23 @@ mod tests {
             axles: [rot((0.40, 0.10)), rot((0.0, 0.10)), rot((-0.40, 0.10))],
             gamma: [th; 3],
             bogie_pivot: rot((0.20, 0.22)),
-            cg: rot((0.0, 0.25)),
-            weight_n: 0.5,
+            rocker_pivot: rot((0.0, 0.32)),
+            load_n: 0.0,
+            couple_nm: 0.0,
             wheel_radius_m: 0.10,
+        }
+        .with_weight(0.5, rot((0.0, 0.25)))
+    }
+
+    impl SideContacts {
+        fn with_weight(mut self, w: f64, cg: (f64, f64)) -> SideContacts {
+            self.carry_weight_at(w, cg);
+            self
         }
     }
 
     fn free(mu: f64) -> Limits {
-        Limits { mu, torque_max_nm: 1e6, n_min: 0.0 }
+        Limits::static_friction(mu)
     }
 
     #[test]
@@ -305,7 +453,7 @@ mod tests {
 
     #[test]
     fn a_weak_motor_saturates() {
-        let lim = Limits { mu: 1.0, torque_max_nm: 1e-3, n_min: 0.0 };
+        let lim = Limits { torque_max_nm: 1e-3, ..Limits::static_friction(1.0) };
         assert_eq!(solve(&on_slope(20.0), &lim), Err(ForceFailure::Saturation));
     }
 }

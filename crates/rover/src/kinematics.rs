@@ -1,64 +1,134 @@
-//! Rocker-bogie kinematics on terrain by the paper's planar decomposition (Farritor et
-//! al. 1998, §3; reference §3): each side is a planar three-wheel problem along the
-//! heading; the body pitch is the mean of the two rocker pitches (the differential) and
-//! the roll follows from the two rocker-pivot heights.
+//! Rocker-bogie kinematics on terrain (Farritor et al. 1998, §3; reference §3).
+//!
+//! Two solvers of the same problem, given the heading and a reference point:
+//!
+//! - [`Kinematics::solve`], the paper's **planar decomposition**: each side is a planar
+//!   three-wheel problem in its own wheel plane; the body pitch is the mean of the two
+//!   rocker pitches (the differential) and the roll follows from the two rocker-pivot
+//!   heights. The **footprint correction** then moves each side's wheel plane to
+//!   ±(w/2)·cos ψ and projects in-plane heights by cos ψ (the paper's cos ψ factor),
+//!   and the sides are solved again until the roll settles (2–3 passes; one when warm
+//!   started from the previous pose of a motion).
+//! - [`newton_pose`], a damped Newton solve of the full 3-D chain (body, differential,
+//!   both rockers and bogies, 8 unknowns, 6 contacts + 2 anchor equations), the
+//!   cross-check.
 //!
 //! Wheels touch the **dilated terrain**: the admissible axle height at s along the
-//! profile is A(s) = max over |u| ≤ r of h(s + u) + √(r² − u²), so a wheel against a
-//! wall rides up its face instead of sinking into it. Along each side: the middle axle
-//! sits on A at the reference point; the front axle is where A meets the circle of
-//! radius |FM| around it; the bogie pivot follows rigidly; the rear axle is where A
-//! meets the circle of radius |PR| around the pivot.
+//! wheel's line of travel is A(s) = max over |u| ≤ r of h(s + u) + √(r² − u²), so a
+//! wheel against a wall rides up its face instead of sinking into it. A(s) has vertical
+//! segments at walls taller than r; the loop closures are solved with a bracketing,
+//! safeguarded Newton iteration that lands on such a segment when the closure circle
+//! crosses it (the axle is then on the wall face, contact normal horizontal).
 //!
-//! Not yet here: the footprint correction step (wheels shift sideways with roll) and a
-//! Newton solve of the full system as a cross-check.
+//! Frames: map x east, y north, z up (m); heading is an azimuth clockwise from north.
+//! In each side plane, s runs forward from the reference point and z up.
 
 use areo_terrain::Ground;
+use nalgebra::{SMatrix, SVector};
 
 use crate::params::RoverParams;
 
-/// Samples across a wheel's diameter for the dilated terrain.
+/// Samples across a wheel's diameter for the dilated terrain: 25 samples, 8 mm apart
+/// for a 20 cm wheel.
 const WHEEL_SAMPLES: usize = 24;
 
-/// One side's planar solution, in (s, z): s forward along the heading from the
-/// reference point, z up (m).
+/// Which point the (x, y) input names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Anchor {
+    /// The midpoint between the two middle axles (what the planners move).
+    #[default]
+    MiddleMidpoint,
+    /// The middle-right axle, as in the paper.
+    MiddleRight,
+}
+
+/// One side's planar solution in its wheel plane (s forward from the reference point,
+/// z up, m; z is the true height).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SidePose {
     /// Front, middle and rear axle centres.
     pub axles: [(f64, f64); 3],
+    /// Contact points under the front, middle and rear wheels.
+    pub contacts: [(f64, f64); 3],
+    /// Contact angles γ (terrain rising ahead positive; π/2 is a wall ahead), rad.
+    pub gamma: [f64; 3],
     /// Bogie pivot.
     pub bogie_pivot: (f64, f64),
     /// Rocker (body) pivot.
     pub rocker_pivot: (f64, f64),
     /// Rocker pitch relative to its flat-ground orientation, rad (nose up positive).
     pub rocker_pitch: f64,
-    /// α1: angle of bogie pivot → rocker pivot above the rearward horizontal, rad.
-    pub alpha1: f64,
-    /// α2: angle of front axle → bogie pivot above the rearward horizontal, rad.
-    pub alpha2: f64,
-    /// Largest |distance from an axle to the terrain − r|, m.
-    pub contact_error_m: f64,
+    /// Bogie pitch relative to the rocker's, rad (front wheel up positive).
+    pub bogie_angle: f64,
+    /// Angle of bogie pivot → rocker pivot above the rearward horizontal, rad (the
+    /// paper's α1 on the right side, α3 on the left).
+    pub rocker_alpha: f64,
+    /// Angle of front axle → bogie pivot above the rearward horizontal, rad (α2 right,
+    /// α4 left).
+    pub bogie_alpha: f64,
+    /// Where this side's wheel plane crosses the s = 0 line, map frame, m.
+    pub origin: (f64, f64),
+}
+
+/// One wheel on the ground, map frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wheel {
+    /// Axle centre, m.
+    pub axle: [f64; 3],
+    /// Contact point, m.
+    pub contact: [f64; 3],
+    /// Contact normal (unit, in the wheel plane), pointing from the ground to the axle.
+    pub normal: [f64; 3],
 }
 
 /// The rover's pose.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pose {
-    /// Left side (y = +track/2).
+    /// Left side (body y = +w/2).
     pub left: SidePose,
-    /// Right side (y = −track/2).
+    /// Right side (body y = −w/2).
     pub right: SidePose,
+    /// Heading (azimuth clockwise from north), rad.
+    pub heading: f64,
     /// Body pitch = mean of the rocker pitches, rad (nose up positive).
     pub pitch: f64,
-    /// Body roll from the rocker-pivot heights, rad (left side up positive).
+    /// Body roll, sin ψ = (z_B,left − z_B,right)/w, rad (left side up positive).
     pub roll: f64,
-    /// Body height: mean of the rocker-pivot heights, m.
-    pub pivot_height_m: f64,
+    /// Body reference: the midpoint of the two rocker pivots, map frame, m.
+    pub body: [f64; 3],
+    /// The paper's α1, α2 (right rocker, right bogie), α3, α4 (left), rad.
+    pub alpha: [f64; 4],
+    /// Wheels in the order left front, middle, rear, right front, middle, rear.
+    pub wheels: [Wheel; 6],
 }
 
 impl Pose {
-    /// The largest wheel contact error of both sides, m.
-    pub fn contact_error_m(&self) -> f64 {
-        self.left.contact_error_m.max(self.right.contact_error_m)
+    /// Horizontal unit vector along the heading (east, north).
+    pub fn forward(&self) -> (f64, f64) {
+        (self.heading.sin(), self.heading.cos())
+    }
+
+    /// The largest wheel contact error, m: for each wheel, |distance from its axle to
+    /// the terrain profile in its wheel plane − r|, the profile sampled every r/100 —
+    /// independent of the solver's own sampling, so it measures the solution.
+    pub fn contact_error_m(&self, ground: &impl Ground, wheel_radius_m: f64) -> f64 {
+        let (fx, fy) = self.forward();
+        let r = wheel_radius_m;
+        let mut worst = 0.0f64;
+        for side in [&self.left, &self.right] {
+            for &(s, z) in &side.axles {
+                let mut d = f64::INFINITY;
+                for k in 0..=300 {
+                    let u = -1.5 * r + 3.0 * r * k as f64 / 300.0;
+                    let (x, y) = (side.origin.0 + fx * (s + u), side.origin.1 + fy * (s + u));
+                    if let Some(h) = ground.height(x, y) {
+                        d = d.min(u.hypot(h - z));
+                    }
+                }
+                worst = worst.max((d - r).abs());
+            }
+        }
+        worst
     }
 }
 
@@ -69,10 +139,380 @@ pub enum KinematicsFailure {
     OffTerrain,
     /// No axle position satisfies a loop closure (terrain too rough for the links).
     NoClosure,
+    /// A rocker or bogie joint would pass its limit.
+    JointLimit,
+}
+
+impl std::fmt::Display for KinematicsFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            KinematicsFailure::OffTerrain => "a wheel is off the terrain or on missing data",
+            KinematicsFailure::NoClosure => "no wheel placement closes the rocker-bogie loop",
+            KinematicsFailure::JointLimit => "a rocker or bogie joint would pass its limit",
+        })
+    }
+}
+
+/// The kinematic model of one rover, precomputed from its parameters.
+#[derive(Debug, Clone)]
+pub struct Kinematics {
+    r: f64,
+    track: f64,
+    /// Nominal side view relative to the middle axle: front axle, bogie pivot, rear
+    /// axle, rocker pivot.
+    front: (f64, f64),
+    pivot: (f64, f64),
+    rear: (f64, f64),
+    rocker: (f64, f64),
+    len_fm: f64,
+    len_pr: f64,
+    bogie_limit: f64,
+    rocker_limit: f64,
+    u: [f64; WHEEL_SAMPLES + 1],
+    rise: [f64; WHEEL_SAMPLES + 1],
+    /// Which point the input names.
+    pub anchor: Anchor,
+}
+
+/// A point on the dilated terrain: axle height, the contact's offset u along the line
+/// and the terrain slope there (= dA/ds where A is smooth).
+#[derive(Debug, Clone, Copy)]
+struct Dilated {
+    z: f64,
+    u: f64,
+    slope: f64,
+}
+
+/// An axle placed by a loop closure.
+#[derive(Debug, Clone, Copy)]
+struct Placed {
+    s: f64,
+    /// Scaled height (true height / cos ψ).
+    z: f64,
+}
+
+impl Kinematics {
+    /// The model for `params` (which [`RoverParams::validate`] has accepted).
+    pub fn new(params: &RoverParams) -> Kinematics {
+        let r = params.wheel_radius_m;
+        let a = params.axle_x_m;
+        let front = (a.front - a.middle, 0.0);
+        let pivot = (params.bogie_pivot_m.x - a.middle, params.bogie_pivot_m.z - r);
+        let rear = (a.rear - a.middle, 0.0);
+        let rocker = (params.rocker_pivot_m.x - a.middle, params.rocker_pivot_m.z - r);
+        let mut u = [0.0; WHEEL_SAMPLES + 1];
+        let mut rise = [0.0; WHEEL_SAMPLES + 1];
+        for k in 0..=WHEEL_SAMPLES {
+            u[k] = -r + 2.0 * r * k as f64 / WHEEL_SAMPLES as f64;
+            rise[k] = (r * r - u[k] * u[k]).max(0.0).sqrt();
+        }
+        Kinematics {
+            r,
+            track: params.track_m,
+            front,
+            pivot,
+            rear,
+            rocker,
+            len_fm: front.0.hypot(front.1),
+            len_pr: (rear.0 - pivot.0).hypot(rear.1 - pivot.1),
+            bogie_limit: params.bogie_limit_deg.to_radians(),
+            rocker_limit: params.rocker_limit_deg.to_radians(),
+            u,
+            rise,
+            anchor: Anchor::default(),
+        }
+    }
+
+    /// The pose with the anchor at (x, y) (m, map frame) and heading `heading` (rad,
+    /// azimuth clockwise from north). `warm`, the pose at a nearby point of the same
+    /// motion, seeds the loop closures and the roll; the result is the same either way
+    /// to the solver's tolerance (1e-9 m).
+    pub fn solve(
+        &self,
+        ground: &impl Ground,
+        x: f64,
+        y: f64,
+        heading: f64,
+        warm: Option<&Pose>,
+    ) -> Result<Pose, KinematicsFailure> {
+        let (fx, fy) = (heading.sin(), heading.cos());
+        let (lx, ly) = (-heading.cos(), heading.sin());
+        let mut roll = warm.map_or(0.0, |p| p.roll);
+        let mut guess = warm.map(|p| (p.left, p.right));
+        let mut sides = None;
+        // The roll is a fixed point ψ = g(ψ); secant steps after the first pass.
+        let mut last: Option<(f64, f64)> = None;
+        for _ in 0..12 {
+            let c = roll.cos();
+            let (ol, or) = match self.anchor {
+                Anchor::MiddleMidpoint => (0.5 * self.track * c, -0.5 * self.track * c),
+                Anchor::MiddleRight => (self.track * c, 0.0),
+            };
+            let origin_l = (x + lx * ol, y + ly * ol);
+            let origin_r = (x + lx * or, y + ly * or);
+            let left = self.solve_side(
+                &|s: f64| ground.height(origin_l.0 + fx * s, origin_l.1 + fy * s),
+                origin_l,
+                c,
+                guess.map(|g| g.0),
+            )?;
+            let right = self.solve_side(
+                &|s: f64| ground.height(origin_r.0 + fx * s, origin_r.1 + fy * s),
+                origin_r,
+                c,
+                guess.map(|g| g.1),
+            )?;
+            let sin_roll = ((left.rocker_pivot.1 - right.rocker_pivot.1) / self.track).clamp(-1.0, 1.0);
+            let g = sin_roll.asin();
+            guess = Some((left, right));
+            sides = Some((left, right));
+            if (g - roll).abs() < 1e-11 {
+                break;
+            }
+            let next = match last {
+                Some((r0, g0)) if ((roll - g) - (r0 - g0)).abs() > 1e-15 => {
+                    roll - (roll - g) * (roll - r0) / ((roll - g) - (r0 - g0))
+                }
+                _ => g,
+            };
+            last = Some((roll, g));
+            roll = next;
+        }
+        let (left, right) = sides.ok_or(KinematicsFailure::NoClosure)?;
+        let pitch = 0.5 * (left.rocker_pitch + right.rocker_pitch);
+        let rho = 0.5 * (left.rocker_pitch - right.rocker_pitch);
+        if rho.abs() > self.rocker_limit
+            || left.bogie_angle.abs() > self.bogie_limit
+            || right.bogie_angle.abs() > self.bogie_limit
+        {
+            return Err(KinematicsFailure::JointLimit);
+        }
+        let world = |side: &SidePose, p: (f64, f64)| [side.origin.0 + fx * p.0, side.origin.1 + fy * p.0, p.1];
+        let mut wheels = [Wheel { axle: [0.0; 3], contact: [0.0; 3], normal: [0.0; 3] }; 6];
+        for (k, side) in [&left, &right].into_iter().enumerate() {
+            for i in 0..3 {
+                let g = side.gamma[i];
+                wheels[3 * k + i] = Wheel {
+                    axle: world(side, side.axles[i]),
+                    contact: world(side, side.contacts[i]),
+                    normal: [-g.sin() * fx, -g.sin() * fy, g.cos()],
+                };
+            }
+        }
+        let (bl, br) = (world(&left, left.rocker_pivot), world(&right, right.rocker_pivot));
+        Ok(Pose {
+            left,
+            right,
+            heading,
+            pitch,
+            roll,
+            body: [0.5 * (bl[0] + br[0]), 0.5 * (bl[1] + br[1]), 0.5 * (bl[2] + br[2])],
+            alpha: [right.rocker_alpha, right.bogie_alpha, left.rocker_alpha, left.bogie_alpha],
+            wheels,
+        })
+    }
+
+    /// The dilated terrain at s, scaled by 1/c.
+    fn dilated(&self, profile: &impl Fn(f64) -> Option<f64>, s: f64, c: f64) -> Option<Dilated> {
+        let mut best = f64::NEG_INFINITY;
+        let mut bu = 0.0;
+        for k in 0..=WHEEL_SAMPLES {
+            let z = profile(s + self.u[k])? + self.rise[k];
+            if z > best {
+                best = z;
+                bu = self.u[k];
+            }
+        }
+        let e = 1e-4 * self.r;
+        let (a, b) = (profile(s + bu - e), profile(s + bu + e));
+        let slope = match (a, b) {
+            (Some(a), Some(b)) => (b - a) / (2.0 * e),
+            (Some(a), None) => (profile(s + bu)? - a) / e,
+            (None, Some(b)) => (b - profile(s + bu)?) / e,
+            (None, None) => 0.0,
+        };
+        Some(Dilated { z: best / c, u: bu, slope: slope / c })
+    }
+
+    /// The axle on the dilated terrain at distance `len` from `centre`, searching in
+    /// direction `dir` (±1) from `centre.0`, starting at `guess` when given.
+    fn closure(
+        &self,
+        profile: &impl Fn(f64) -> Option<f64>,
+        c: f64,
+        centre: (f64, f64),
+        dir: f64,
+        len: f64,
+        guess: Option<f64>,
+    ) -> Result<Placed, KinematicsFailure> {
+        // In t = dir·(s − centre.0) the distance grows with t: φ(t) < 0 inside.
+        let eval = |t: f64| -> Result<(f64, f64, Dilated), KinematicsFailure> {
+            let s = centre.0 + dir * t;
+            let d = self.dilated(profile, s, c).ok_or(KinematicsFailure::OffTerrain)?;
+            let (ds, dz) = (s - centre.0, d.z - centre.1);
+            let dist = ds.hypot(dz);
+            // dφ/dt = (ds·dir + dz·dz/dt)/dist with dz/dt = dir·slope.
+            let deriv = if dist > 0.0 { (ds * dir + dz * dir * d.slope) / dist } else { 1.0 };
+            Ok((dist - len, deriv, d))
+        };
+        let (mut lo, mut hi) = (f64::NAN, f64::NAN);
+        let mut t = match guess {
+            Some(s) => dir * (s - centre.0),
+            None => {
+                // Cold: scan outward for the sign change.
+                let steps = 16;
+                let mut prev = 0.0;
+                if eval(0.0)?.0 >= 0.0 {
+                    return Err(KinematicsFailure::NoClosure);
+                }
+                let mut found = None;
+                for k in 1..=steps {
+                    let t = 1.2 * len * k as f64 / steps as f64;
+                    if eval(t)?.0 >= 0.0 {
+                        found = Some((prev, t));
+                        break;
+                    }
+                    prev = t;
+                }
+                let (a, b) = found.ok_or(KinematicsFailure::NoClosure)?;
+                lo = a;
+                hi = b;
+                0.5 * (a + b)
+            }
+        };
+        for _ in 0..100 {
+            let (phi, deriv, d) = eval(t)?;
+            if phi.abs() < 1e-11 {
+                return Ok(Placed { s: centre.0 + dir * t, z: d.z });
+            }
+            if phi < 0.0 {
+                lo = if lo.is_nan() { t } else { lo.max(t) };
+            } else {
+                hi = if hi.is_nan() { t } else { hi.min(t) };
+            }
+            if !lo.is_nan() && !hi.is_nan() && hi - lo < 1e-10 {
+                break;
+            }
+            let newton = t - phi / deriv;
+            let bracketed = !lo.is_nan() && !hi.is_nan();
+            t = if deriv.is_finite() && deriv > 1e-3 && (newton - t).abs() < 0.05 * len {
+                if bracketed && !(newton > lo && newton < hi) { 0.5 * (lo + hi) } else { newton }
+            } else if bracketed {
+                0.5 * (lo + hi)
+            } else {
+                // No bracket yet and no usable Newton step: walk toward the root.
+                t + if phi < 0.0 { 0.01 * len } else { -0.01 * len }
+            };
+            if !bracketed && !(-0.5 * len..=1.5 * len).contains(&t) {
+                return Err(KinematicsFailure::NoClosure);
+            }
+        }
+        if lo.is_nan() || hi.is_nan() {
+            return Err(KinematicsFailure::NoClosure);
+        }
+        // The bracket collapsed onto a vertical segment of A (a wall): the axle is where
+        // the closure circle crosses it, between the heights on either side.
+        let s = centre.0 + dir * hi;
+        let (za, zb) = (eval(lo)?.2.z, eval(hi)?.2.z);
+        let ds = s - centre.0;
+        let h = (len * len - ds * ds).max(0.0).sqrt();
+        let (zl, zh) = (za.min(zb), za.max(zb));
+        let z = [centre.1 + h, centre.1 - h]
+            .into_iter()
+            .min_by(|a, b| dist_to_range(*a, zl, zh).total_cmp(&dist_to_range(*b, zl, zh)))
+            .unwrap_or(zh);
+        Ok(Placed { s, z })
+    }
+
+    fn solve_side(
+        &self,
+        profile: &impl Fn(f64) -> Option<f64>,
+        origin: (f64, f64),
+        c: f64,
+        warm: Option<SidePose>,
+    ) -> Result<SidePose, KinematicsFailure> {
+        let m0 = self.dilated(profile, 0.0, c).ok_or(KinematicsFailure::OffTerrain)?;
+        let m = (0.0, m0.z);
+        let f = self.closure(profile, c, m, 1.0, self.len_fm, warm.map(|w| w.axles[0].0))?;
+        let f = (f.s, f.z);
+        let pivot = place(m, f, self.front, self.pivot);
+        let rear = self.closure(
+            profile,
+            c,
+            pivot,
+            -1.0,
+            self.len_pr,
+            warm.map(|w| w.axles[2].0).filter(|&s| s < pivot.0),
+        )?;
+        let rear = (rear.s, rear.z);
+        let nominal_pr = sub(self.rear, self.pivot);
+        let rocker = place(pivot, rear, nominal_pr, sub(self.rocker, self.pivot));
+        let chord = sub(rear, pivot);
+        let rocker_pitch = wrap_pi(chord.1.atan2(chord.0) - nominal_pr.1.atan2(nominal_pr.0));
+        let bogie_pitch = wrap_pi((f.1 - m.1).atan2(f.0 - m.0) - self.front.1.atan2(self.front.0));
+        // Back to true heights; contacts and normals from the dilation's maximiser.
+        let axles = [(f.0, f.1 * c), (m.0, m.1 * c), (rear.0, rear.1 * c)];
+        let mut contacts = [(0.0, 0.0); 3];
+        let mut gamma = [0.0; 3];
+        for i in 0..3 {
+            let (s, z) = axles[i];
+            let d = self.dilated(profile, s, c).ok_or(KinematicsFailure::OffTerrain)?;
+            let ground_z = profile(s + d.u).ok_or(KinematicsFailure::OffTerrain)?;
+            if z < d.z * c - 1e-9 && d.u.abs() > 1e-12 {
+                // On a wall face: the contact is on the face, level with the axle.
+                contacts[i] = (s + d.u, z);
+                gamma[i] = d.u.signum() * std::f64::consts::FRAC_PI_2;
+            } else {
+                contacts[i] = (s + d.u, ground_z);
+                let n = (s - contacts[i].0, z - ground_z);
+                gamma[i] = (-n.0).atan2(n.1);
+            }
+        }
+        let unscale = |p: (f64, f64)| (p.0, p.1 * c);
+        Ok(SidePose {
+            axles,
+            contacts,
+            gamma,
+            bogie_pivot: unscale(pivot),
+            rocker_pivot: unscale(rocker),
+            rocker_pitch,
+            bogie_angle: wrap_pi(bogie_pitch - rocker_pitch),
+            rocker_alpha: (rocker.1 - pivot.1).atan2(pivot.0 - rocker.0),
+            bogie_alpha: (pivot.1 - f.1).atan2(f.0 - pivot.0),
+            origin,
+        })
+    }
+}
+
+fn dist_to_range(z: f64, lo: f64, hi: f64) -> f64 {
+    if z < lo {
+        lo - z
+    } else if z > hi {
+        z - hi
+    } else {
+        0.0
+    }
+}
+
+fn sub(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+    (a.0 - b.0, a.1 - b.1)
+}
+
+/// Places `local` (given relative to `o` in the nominal layout, where o → `nominal_to`
+/// is the reference chord) in the frame where o → `to` is that chord.
+fn place(o: (f64, f64), to: (f64, f64), nominal_to: (f64, f64), local: (f64, f64)) -> (f64, f64) {
+    let rot = (to.1 - o.1).atan2(to.0 - o.0) - nominal_to.1.atan2(nominal_to.0);
+    let (s, c) = rot.sin_cos();
+    (o.0 + c * local.0 - s * local.1, o.1 + s * local.0 + c * local.1)
+}
+
+fn wrap_pi(a: f64) -> f64 {
+    (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
 }
 
 /// The pose with the midpoint between the middle wheels at (x, y) (m, map frame) and
-/// the rover heading `heading_deg` (azimuth, clockwise from north).
+/// heading `heading_deg` (azimuth, degrees clockwise from north), by the planar
+/// decomposition, cold.
 pub fn pose(
     ground: &impl Ground,
     params: &RoverParams,
@@ -80,129 +520,157 @@ pub fn pose(
     y: f64,
     heading_deg: f64,
 ) -> Result<Pose, KinematicsFailure> {
-    let h = heading_deg.to_radians();
-    let fwd = (h.sin(), h.cos());
-    let left = (-h.cos(), h.sin());
+    Kinematics::new(params).solve(ground, x, y, heading_deg.to_radians(), None)
+}
+
+/// The full 3-D solution of a damped Newton iteration, for cross-checking.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonPose {
+    /// Rocker-pivot midpoint, map frame, m.
+    pub body: [f64; 3],
+    /// Body pitch, rad (nose up positive).
+    pub pitch: f64,
+    /// Body roll, rad (left up positive).
+    pub roll: f64,
+    /// Rocker angle relative to the body (left +ρ, right −ρ), rad.
+    pub rocker: f64,
+    /// Bogie angles relative to their rockers, left and right, rad.
+    pub bogie: [f64; 2],
+    /// Axle centres, left front, middle, rear, right front, middle, rear, map frame, m.
+    pub axles: [[f64; 3]; 6],
+    /// Largest |residual| at the solution, m.
+    pub residual_m: f64,
+    /// Iterations used.
+    pub iterations: usize,
+}
+
+type Vec8 = SVector<f64, 8>;
+
+/// Solves the full loop-closure system by damped Newton iterations from `start` (a
+/// planar-decomposition pose, or `None` for the nominal pose at the terrain height):
+/// unknowns body position (3), pitch, roll, rocker angle and both bogie angles; each
+/// axle on the dilated terrain along the heading at its own (x, y) (the wheels'
+/// sideways shift with roll included), and the anchor at (x, y). The Jacobian is by
+/// central differences. `None` if it does not converge to 1e-8 m in 60 iterations.
+pub fn newton_pose(
+    ground: &impl Ground,
+    params: &RoverParams,
+    x: f64,
+    y: f64,
+    heading: f64,
+    start: Option<&Pose>,
+) -> Option<NewtonPose> {
+    let k = Kinematics::new(params);
+    let r = params.wheel_radius_m;
+    let (b_x, b_z) = (params.rocker_pivot_m.x, params.rocker_pivot_m.z);
+    let rel = |px: f64, pz: f64| (px - b_x, pz - b_z);
+    let a = params.axle_x_m;
+    let p0 = rel(params.bogie_pivot_m.x, params.bogie_pivot_m.z);
+    let f0 = rel(a.front, r);
+    let m0 = rel(a.middle, r);
+    let r0 = rel(a.rear, r);
+    let (fx, fy) = (heading.sin(), heading.cos());
+    let (lx, ly) = (-heading.cos(), heading.sin());
     let half = params.track_m / 2.0;
-    let side = |offset: f64| {
-        let origin = (x + left.0 * offset, y + left.1 * offset);
-        solve_side(&|s: f64| ground.height(origin.0 + fwd.0 * s, origin.1 + fwd.1 * s), params)
+    let rot = |v: (f64, f64), ang: f64| {
+        let (s, c) = ang.sin_cos();
+        (v.0 * c - v.1 * s, v.0 * s + v.1 * c)
     };
-    let (l, r) = (side(half)?, side(-half)?);
-    Ok(Pose {
-        left: l,
-        right: r,
-        pitch: 0.5 * (l.rocker_pitch + r.rocker_pitch),
-        roll: ((l.rocker_pivot.1 - r.rocker_pivot.1) / params.track_m).atan(),
-        pivot_height_m: 0.5 * (l.rocker_pivot.1 + r.rocker_pivot.1),
-    })
-}
-
-/// Admissible axle height at s over a profile.
-fn dilated(profile: &impl Fn(f64) -> Option<f64>, s: f64, r: f64) -> Option<f64> {
-    let mut best = f64::NEG_INFINITY;
-    for k in 0..=WHEEL_SAMPLES {
-        let u = -r + 2.0 * r * k as f64 / WHEEL_SAMPLES as f64;
-        best = best.max(profile(s + u)? + (r * r - u * u).max(0.0).sqrt());
-    }
-    Some(best)
-}
-
-/// The s in (from, from + dir·span] where the axle on the dilated terrain is at
-/// distance `len` from `centre`, scanning outward then bisecting.
-fn closure(
-    profile: &impl Fn(f64) -> Option<f64>,
-    r: f64,
-    centre: (f64, f64),
-    from: f64,
-    dir: f64,
-    len: f64,
-) -> Result<(f64, f64), KinematicsFailure> {
-    let dist = |s: f64| -> Result<f64, KinematicsFailure> {
-        let z = dilated(profile, s, r).ok_or(KinematicsFailure::OffTerrain)?;
-        Ok((s - centre.0).hypot(z - centre.1) - len)
-    };
-    let steps = 64;
-    let mut a = from;
-    let mut fa = dist(a)?;
-    for k in 1..=steps {
-        let b = from + dir * len * 1.2 * k as f64 / steps as f64;
-        let fb = dist(b)?;
-        if fa < 0.0 && fb >= 0.0 {
-            let (mut lo, mut hi) = (a, b);
-            for _ in 0..50 {
-                let mid = 0.5 * (lo + hi);
-                if dist(mid)? < 0.0 {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            let s = 0.5 * (lo + hi);
-            return Ok((s, dilated(profile, s, r).ok_or(KinematicsFailure::OffTerrain)?));
-        }
-        a = b;
-        fa = fb;
-    }
-    Err(KinematicsFailure::NoClosure)
-}
-
-fn solve_side(profile: &impl Fn(f64) -> Option<f64>, p: &RoverParams) -> Result<SidePose, KinematicsFailure> {
-    let r = p.wheel_radius_m;
-    let a = p.axle_x_m;
-    // Nominal side view (s forward), relative to the middle axle.
-    let nominal_f = (a.front - a.middle, 0.0);
-    let nominal_p = (p.bogie_pivot_m.x - a.middle, p.bogie_pivot_m.z - r);
-    let nominal_r = (a.rear - a.middle, 0.0);
-    let nominal_b = (p.rocker_pivot_m.x - a.middle, p.rocker_pivot_m.z - r);
-    let len_fm = nominal_f.0.hypot(nominal_f.1);
-    let rel = |q: (f64, f64), o: (f64, f64)| (q.0 - o.0, q.1 - o.1);
-    let len_pr = {
-        let d = rel(nominal_r, nominal_p);
-        d.0.hypot(d.1)
-    };
-    // Middle, front, bogie pivot.
-    let m = (0.0, dilated(profile, 0.0, r).ok_or(KinematicsFailure::OffTerrain)?);
-    let f = closure(profile, r, m, 0.0, 1.0, len_fm)?;
-    let frame = |o: (f64, f64), to: (f64, f64), nominal_to: (f64, f64), local: (f64, f64)| {
-        // Place `local` (given relative to o in the nominal layout, where o→nominal_to
-        // is the reference chord) in the actual frame where o→to is that chord.
-        let (cu, cv) = (to.0 - o.0, to.1 - o.1);
-        let (nu, nv) = (nominal_to.0, nominal_to.1);
-        let rot = cv.atan2(cu) - nv.atan2(nu);
-        let (s, c) = rot.sin_cos();
-        (o.0 + c * local.0 - s * local.1, o.1 + s * local.0 + c * local.1)
-    };
-    let pivot = frame(m, f, nominal_f, nominal_p);
-    let rear = closure(profile, r, pivot, pivot.0, -1.0, len_pr)?;
-    let rocker = frame(pivot, rear, rel(nominal_r, nominal_p), rel(nominal_b, nominal_p));
-    let nominal_chord = rel(nominal_r, nominal_p);
-    let chord = rel(rear, pivot);
-    let rocker_pitch = chord.1.atan2(chord.0) - nominal_chord.1.atan2(nominal_chord.0);
-    // Contact error: distance from each axle to the sampled terrain, less r.
-    let error = |c: (f64, f64)| -> f64 {
-        let mut d = f64::INFINITY;
-        for k in 0..=4 * WHEEL_SAMPLES {
-            let u = -1.5 * r + 3.0 * r * k as f64 / (4 * WHEEL_SAMPLES) as f64;
-            if let Some(z) = profile(c.0 + u) {
-                d = d.min(u.hypot(z - c.1));
+    // q = (xB, yB, zB, pitch, roll, ρ, β_L, β_R).
+    let axles_of = |q: &Vec8| -> [[f64; 3]; 6] {
+        let (sp, cp) = q[3].sin_cos();
+        let (sr, cr) = q[4].sin_cos();
+        let mut out = [[0.0; 3]; 6];
+        for (side, (y_s, a_s, beta)) in [(half, q[5], q[6]), (-half, -q[5], q[7])].into_iter().enumerate() {
+            let piv = rot(p0, a_s);
+            let bogie = |v: (f64, f64)| {
+                let d = rot((v.0 - p0.0, v.1 - p0.1), a_s + beta);
+                (piv.0 + d.0, piv.1 + d.1)
+            };
+            for (i, v) in [bogie(f0), bogie(m0), rot(r0, a_s)].into_iter().enumerate() {
+                // Body frame (v.0, y_s, v.1): roll about x, then pitch (nose up), then yaw.
+                let (bx, by, bz) = (v.0, y_s * cr - v.1 * sr, y_s * sr + v.1 * cr);
+                let (px, pz) = (bx * cp - bz * sp, bx * sp + bz * cp);
+                out[3 * side + i] = [q[0] + fx * px + lx * by, q[1] + fy * px + ly * by, q[2] + pz];
             }
         }
-        (d - r).abs()
+        out
     };
-    Ok(SidePose {
-        axles: [f, m, rear],
-        bogie_pivot: pivot,
-        rocker_pivot: rocker,
-        rocker_pitch: wrap_pi(rocker_pitch),
-        alpha1: (rocker.1 - pivot.1).atan2(pivot.0 - rocker.0),
-        alpha2: (pivot.1 - f.1).atan2(f.0 - pivot.0),
-        contact_error_m: error(f).max(error(m)).max(error(rear)),
-    })
-}
-
-fn wrap_pi(a: f64) -> f64 {
-    (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+    let residual = |q: &Vec8| -> Option<Vec8> {
+        let ax = axles_of(q);
+        let mut f = Vec8::zeros();
+        for i in 0..6 {
+            let [x0, y0, z] = ax[i];
+            let d = k.dilated(&|s: f64| ground.height(x0 + fx * s, y0 + fy * s), 0.0, 1.0)?;
+            f[i] = z - d.z;
+        }
+        let (ml, mr) = (ax[1], ax[4]);
+        let (ax_x, ax_y) = match k.anchor {
+            Anchor::MiddleMidpoint => (0.5 * (ml[0] + mr[0]), 0.5 * (ml[1] + mr[1])),
+            Anchor::MiddleRight => (mr[0], mr[1]),
+        };
+        f[6] = ax_x - x;
+        f[7] = ax_y - y;
+        Some(f)
+    };
+    let mut q = match start {
+        Some(p) => Vec8::from_column_slice(&[
+            p.body[0],
+            p.body[1],
+            p.body[2],
+            p.pitch,
+            p.roll,
+            0.5 * (p.left.rocker_pitch - p.right.rocker_pitch),
+            p.left.bogie_angle,
+            p.right.bogie_angle,
+        ]),
+        None => {
+            let z = ground.height(x, y)?;
+            Vec8::from_column_slice(&[x, y, z + b_z, 0.0, 0.0, 0.0, 0.0, 0.0])
+        }
+    };
+    let mut f = residual(&q)?;
+    for it in 0..60 {
+        let norm = f.amax();
+        if norm < 1e-8 {
+            return Some(NewtonPose {
+                body: [q[0], q[1], q[2]],
+                pitch: q[3],
+                roll: q[4],
+                rocker: q[5],
+                bogie: [q[6], q[7]],
+                axles: axles_of(&q),
+                residual_m: norm,
+                iterations: it,
+            });
+        }
+        let mut jac = SMatrix::<f64, 8, 8>::zeros();
+        for j in 0..8 {
+            let h = 1e-7;
+            let (mut qp, mut qm) = (q, q);
+            qp[j] += h;
+            qm[j] -= h;
+            let col = (residual(&qp)? - residual(&qm)?) / (2.0 * h);
+            jac.set_column(j, &col);
+        }
+        let step = jac.lu().solve(&(-f))?;
+        let mut lambda = 1.0;
+        loop {
+            let trial = q + step * lambda;
+            if let Some(ft) = residual(&trial)
+                && ft.norm() < f.norm()
+            {
+                q = trial;
+                f = ft;
+                break;
+            }
+            lambda *= 0.5;
+            if lambda < 1e-6 {
+                return None;
+            }
+        }
+    }
+    None
 }
 
 #[cfg(test)]
@@ -216,14 +684,24 @@ mod tests {
 
     #[test]
     fn flat_ground_gives_the_nominal_pose() {
-        let p = pose(&Plane { z0: 2.0, gx: 0.0, gy: 0.0 }, &lsr1(), 10.0, 5.0, 37.0).unwrap();
+        let g = Plane { z0: 2.0, gx: 0.0, gy: 0.0 };
+        let p = pose(&g, &lsr1(), 10.0, 5.0, 37.0).unwrap();
         assert!(p.pitch.abs() < 1e-9 && p.roll.abs() < 1e-9);
-        assert!((p.left.alpha1.to_degrees() - 26.565).abs() < 0.01, "{}", p.left.alpha1.to_degrees());
-        assert!((p.left.alpha2.to_degrees() - 30.964).abs() < 0.01);
-        assert!((p.pivot_height_m - 2.32).abs() < 1e-6, "rocker pivot 0.32 m above the ground");
-        assert!(p.contact_error_m() < 1e-3);
-        // The front axle 0.40 m ahead, the rear 0.40 m behind.
-        assert!((p.left.axles[0].0 - 0.40).abs() < 1e-6 && (p.left.axles[2].0 + 0.40).abs() < 1e-6);
+        for side in [&p.left, &p.right] {
+            assert!((side.rocker_alpha.to_degrees() - 26.565).abs() < 0.01, "{}", side.rocker_alpha.to_degrees());
+            assert!((side.bogie_alpha.to_degrees() - 30.964).abs() < 0.01);
+            // The front axle 0.40 m ahead, the rear 0.40 m behind, contacts below.
+            assert!((side.axles[0].0 - 0.40).abs() < 1e-6 && (side.axles[2].0 + 0.40).abs() < 1e-6);
+            for (a, c) in side.axles.iter().zip(&side.contacts) {
+                assert!((a.0 - c.0).abs() < 1e-9 && (a.1 - c.1 - 0.10).abs() < 1e-9);
+            }
+        }
+        assert!((p.body[2] - 2.32).abs() < 1e-6, "rocker pivot 0.32 m above the ground");
+        assert!(p.contact_error_m(&g, 0.1) < 1e-3);
+        // Six contacts: the middle wheels at (x, y) ± (w/2) left of the heading.
+        let h = 37f64.to_radians();
+        let ml = p.wheels[1].contact;
+        assert!((ml[0] - (10.0 - 0.3 * h.cos())).abs() < 1e-9 && (ml[1] - (5.0 + 0.3 * h.sin())).abs() < 1e-9);
     }
 
     #[test]
@@ -233,17 +711,23 @@ mod tests {
         let p = pose(&g, &lsr1(), 0.0, 0.0, 0.0).unwrap();
         assert!((p.pitch.to_degrees() - 10.0).abs() < 0.01, "{}", p.pitch.to_degrees());
         assert!(p.roll.abs() < 1e-9);
-        assert!(((p.left.alpha2 + p.pitch).to_degrees() - 30.964).abs() < 0.02, "α2 relative to the body");
-        assert!(p.contact_error_m() < 0.004, "{}", p.contact_error_m());
+        assert!(((p.left.bogie_alpha + p.pitch).to_degrees() - 30.964).abs() < 0.02, "α relative to the body");
+        assert!(p.left.bogie_angle.abs() < 1e-6);
+        assert!(p.contact_error_m(&g, 0.1) < 0.004, "{}", p.contact_error_m(&g, 0.1));
+        for gamma in p.left.gamma {
+            assert!((gamma.to_degrees() - 10.0).abs() < 0.5, "contact angle = slope: {}", gamma.to_degrees());
+        }
     }
 
     #[test]
-    fn a_side_slope_rolls_the_body() {
-        // Heading north on ground rising to the west (left): roll = +φ.
-        let g = Plane { z0: 0.0, gx: -10f64.to_radians().tan(), gy: 0.0 };
+    fn a_side_slope_rolls_the_body_and_narrows_the_footprint() {
+        // Heading north on ground rising to the west (left): roll = +φ, and the wheel
+        // planes sit ±(w/2)·cos φ from the centre line.
+        let g = Plane { z0: 0.0, gx: -15f64.to_radians().tan(), gy: 0.0 };
         let p = pose(&g, &lsr1(), 0.0, 0.0, 0.0).unwrap();
-        assert!((p.roll.to_degrees() - 10.0).abs() < 0.01, "{}", p.roll.to_degrees());
+        assert!((p.roll.to_degrees() - 15.0).abs() < 1e-6, "{}", p.roll.to_degrees());
         assert!(p.pitch.abs() < 1e-9);
+        assert!((p.left.origin.0 + 0.3 * 15f64.to_radians().cos()).abs() < 1e-9);
     }
 
     #[test]
@@ -251,14 +735,13 @@ mod tests {
         // A 0.15 m step 0.25 m ahead of the middle wheels, across both sides: the front
         // axles ride on top, 0.15 m higher; the bogies rotate by asin(0.15/0.40).
         let g = Step { x_step: 0.0, low_m: 0.0, high_m: 0.15 };
-        // Heading east so the step (at x = 0) is ahead: reference at x = −0.25.
         let p = pose(&g, &lsr1(), -0.25, 0.0, 90.0).unwrap();
         let f = p.left.axles[0];
         assert!((f.1 - (0.10 + 0.15)).abs() < 1e-3, "front axle on top: {f:?}");
         let m = p.left.axles[1];
         assert!(((f.1 - m.1) / 0.40 - (0.15f64 / 0.40)).abs() < 1e-3);
         assert!(p.pitch > 0.0, "nose up");
-        assert!(p.contact_error_m() < 0.004, "{}", p.contact_error_m());
+        assert!(p.contact_error_m(&g, 0.1) < 0.004, "{}", p.contact_error_m(&g, 0.1));
         // Only the left side on the step: the body pitches by half the left rocker pitch.
         struct LeftStep;
         impl Ground for LeftStep {
@@ -275,7 +758,48 @@ mod tests {
     }
 
     #[test]
-    fn off_the_terrain_is_reported() {
+    fn a_wheel_against_a_wall_sits_on_its_face() {
+        // A 0.30 m wall (taller than r) just ahead: the front axle rests against the
+        // face, r from it, with a horizontal contact normal (γ = 90°).
+        let g = Step { x_step: 0.0, low_m: 0.0, high_m: 0.30 };
+        let p = pose(&g, &lsr1(), -0.45, 0.0, 90.0).unwrap();
+        let f = p.left.axles[0];
+        assert!((f.0 - 0.35).abs() < 1e-6, "axle r behind the wall: {f:?}");
+        assert!((p.left.gamma[0].to_degrees() - 90.0).abs() < 1e-6);
+        assert!(p.contact_error_m(&g, 0.1) < 0.004);
+    }
+
+    #[test]
+    fn warm_starts_give_the_cold_answer() {
+        let g = areo_terrain::analytic::Paraboloid { a: 0.15, b: -0.08 };
+        let k = Kinematics::new(&lsr1());
+        let mut prev = k.solve(&g, 0.3, -0.2, 0.4, None).unwrap();
+        for i in 1..20 {
+            let x = 0.3 + 0.01 * i as f64;
+            let warm = k.solve(&g, x, -0.2, 0.4, Some(&prev)).unwrap();
+            let cold = k.solve(&g, x, -0.2, 0.4, None).unwrap();
+            for (a, b) in warm.wheels.iter().zip(&cold.wheels) {
+                for j in 0..3 {
+                    assert!((a.axle[j] - b.axle[j]).abs() < 1e-7, "{i}: {a:?} vs {b:?}");
+                }
+            }
+            prev = warm;
+        }
+    }
+
+    #[test]
+    fn the_middle_right_anchor_moves_the_rover_by_half_a_track() {
+        let g = Plane { z0: 0.0, gx: 0.0, gy: 0.0 };
+        let mut k = Kinematics::new(&lsr1());
+        k.anchor = Anchor::MiddleRight;
+        let p = k.solve(&g, 1.0, 2.0, 0.0, None).unwrap();
+        let mr = p.wheels[4].contact;
+        assert!((mr[0] - 1.0).abs() < 1e-9 && (mr[1] - 2.0).abs() < 1e-9);
+        assert!((p.body[0] - 0.7).abs() < 1e-9, "body half a track to the left (west)");
+    }
+
+    #[test]
+    fn joint_limits_and_missing_ground_are_reported() {
         struct Island;
         impl Ground for Island {
             fn height(&self, x: f64, _: f64) -> Option<f64> {
@@ -286,5 +810,8 @@ mod tests {
             }
         }
         assert_eq!(pose(&Island, &lsr1(), 0.0, 0.0, 90.0), Err(KinematicsFailure::OffTerrain));
+        // A 0.40 m step under the front wheels only needs the bogie past 45°.
+        let g = Step { x_step: 0.25, low_m: 0.0, high_m: 0.40 };
+        assert_eq!(pose(&g, &lsr1(), 0.0, 0.0, 90.0), Err(KinematicsFailure::JointLimit));
     }
 }

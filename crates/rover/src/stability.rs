@@ -25,26 +25,48 @@ pub enum Normalisation {
     Global,
 }
 
-/// The force-angle margins of one configuration.
-#[derive(Debug, Clone, PartialEq)]
+/// Most contacts [`force_angle`] takes (six wheels and room for an arm or a belly).
+pub const MAX_CONTACTS: usize = 8;
+
+/// The force-angle margins of one configuration (fixed capacity: no allocation).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ForceAngle {
-    /// The support polygon's vertices (contact points), clockwise seen from above.
-    pub hull: Vec<Vector3<f64>>,
-    /// Signed angle per tip-over axis (edge i runs from hull[i] to hull[i+1]), rad.
-    pub angles: Vec<f64>,
+    hull: [Vector3<f64>; MAX_CONTACTS],
+    angles: [f64; MAX_CONTACTS],
+    len: usize,
 }
 
 impl ForceAngle {
-    /// The smallest angle and its axis; `None` with fewer than 3 contacts.
+    /// The support polygon's vertices (contact points), clockwise seen from above.
+    pub fn hull(&self) -> &[Vector3<f64>] {
+        &self.hull[..self.len]
+    }
+
+    /// Signed angle per tip-over axis (edge i runs from hull[i] to hull[i+1]), rad.
+    pub fn angles(&self) -> &[f64] {
+        &self.angles[..self.len]
+    }
+
+    /// The smallest angle and its axis.
     pub fn critical(&self) -> Option<(usize, f64)> {
-        self.angles.iter().copied().enumerate().min_by(|a, b| a.1.total_cmp(&b.1))
+        self.angles().iter().copied().enumerate().min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// The outward horizontal normal of axis i (unit, perpendicular to the edge and to
+    /// `down`, pointing away from the polygon).
+    pub fn outward(&self, i: usize, down: Vector3<f64>) -> Vector3<f64> {
+        let (p, q) = (self.hull[i], self.hull[(i + 1) % self.len]);
+        // Clockwise seen from above, the inside is on the right of p → q and the
+        // outside on the left: up × (q − p).
+        let up = -down.normalize();
+        up.cross(&(q - p)).try_normalize(1e-15).unwrap_or_else(Vector3::zeros)
     }
 }
 
 /// The force-angle margins for contacts `points` (m), centre of mass `cg` (m), net
 /// force `force` (N, e.g. m·g as a vector) and net moment about the CG `moment` (N·m).
 /// Gravity's direction is taken from `force` for the projection. `None` when the
-/// contacts do not span a polygon.
+/// contacts do not span a polygon or there are more than [`MAX_CONTACTS`].
 pub fn force_angle(
     points: &[Vector3<f64>],
     cg: Vector3<f64>,
@@ -52,9 +74,8 @@ pub fn force_angle(
     moment: Vector3<f64>,
 ) -> Option<ForceAngle> {
     let down = force.try_normalize(1e-12)?;
-    let hull = hull_clockwise(points, down)?;
-    let n = hull.len();
-    let mut angles = Vec::with_capacity(n);
+    let (hull, n) = hull_clockwise(points, down)?;
+    let mut angles = [0.0; MAX_CONTACTS];
     for i in 0..n {
         let (p, q) = (hull[i], hull[(i + 1) % n]);
         let a = (q - p).normalize();
@@ -67,27 +88,28 @@ pub fn force_angle(
         let f_hat = f_star.try_normalize(1e-15)?;
         let theta = f_hat.dot(&l_hat).clamp(-1.0, 1.0).acos();
         let sigma = if l_hat.cross(&f_hat).dot(&a) < 0.0 { 1.0 } else { -1.0 };
-        angles.push(sigma * theta);
+        angles[i] = sigma * theta;
     }
-    Some(ForceAngle { hull, angles })
+    Some(ForceAngle { hull, angles, len: n })
 }
 
 /// The normalised margin S of `now` against the flat-ground configuration `flat` (the
 /// same contacts in the same order, so axis i matches axis i).
 pub fn normalised_margin(now: &ForceAngle, flat: &ForceAngle, how: Normalisation) -> Option<f64> {
-    if now.angles.len() != flat.angles.len() || now.angles.is_empty() {
+    if now.len != flat.len || now.len == 0 {
         return None;
     }
     match how {
-        Normalisation::PerAxis => now.angles.iter().zip(&flat.angles).map(|(a, f)| a / f).min_by(f64::total_cmp),
+        Normalisation::PerAxis => now.angles().iter().zip(flat.angles()).map(|(a, f)| a / f).min_by(f64::total_cmp),
         Normalisation::Global => Some(now.critical()?.1 / flat.critical()?.1),
     }
 }
 
 /// Convex hull of `points` projected on the plane normal to `down`, clockwise seen from
 /// above (looking along `down`), collinear points dropped; the 3-D points are kept.
-fn hull_clockwise(points: &[Vector3<f64>], down: Vector3<f64>) -> Option<Vec<Vector3<f64>>> {
-    if points.len() < 3 {
+fn hull_clockwise(points: &[Vector3<f64>], down: Vector3<f64>) -> Option<([Vector3<f64>; MAX_CONTACTS], usize)> {
+    let n = points.len();
+    if !(3..=MAX_CONTACTS).contains(&n) {
         return None;
     }
     // A right-handed basis (e1, e2, up) with up = −down.
@@ -95,35 +117,44 @@ fn hull_clockwise(points: &[Vector3<f64>], down: Vector3<f64>) -> Option<Vec<Vec
     let seed = if up.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
     let e1 = (seed - up * up.dot(&seed)).normalize();
     let e2 = up.cross(&e1);
-    let mut pts: Vec<(f64, f64, usize)> = points.iter().enumerate().map(|(i, p)| (p.dot(&e1), p.dot(&e2), i)).collect();
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut pts = [(0.0, 0.0, 0usize); MAX_CONTACTS];
+    for (i, p) in points.iter().enumerate() {
+        pts[i] = (p.dot(&e1), p.dot(&e2), i);
+    }
+    let pts = &mut pts[..n];
+    pts.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
     let cross = |o: (f64, f64, usize), a: (f64, f64, usize), b: (f64, f64, usize)| {
         (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
     };
     // Andrew's monotone chain, counter-clockwise in (e1, e2) seen from above.
-    let mut lower: Vec<(f64, f64, usize)> = Vec::new();
-    for &p in &pts {
-        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], p) <= 1e-12 {
-            lower.pop();
+    let mut chain = [(0.0, 0.0, 0usize); 2 * MAX_CONTACTS];
+    let mut k = 0;
+    for &p in pts.iter() {
+        while k >= 2 && cross(chain[k - 2], chain[k - 1], p) <= 1e-12 {
+            k -= 1;
         }
-        lower.push(p);
+        chain[k] = p;
+        k += 1;
     }
-    let mut upper: Vec<(f64, f64, usize)> = Vec::new();
-    for &p in pts.iter().rev() {
-        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], p) <= 1e-12 {
-            upper.pop();
+    let lower = k + 1;
+    for &p in pts.iter().rev().skip(1) {
+        while k >= lower && cross(chain[k - 2], chain[k - 1], p) <= 1e-12 {
+            k -= 1;
         }
-        upper.push(p);
+        chain[k] = p;
+        k += 1;
     }
-    lower.pop();
-    upper.pop();
-    lower.extend(upper);
-    if lower.len() < 3 {
+    // The last point repeats the first.
+    let m = k - 1;
+    if m < 3 {
         return None;
     }
     // Clockwise seen from above.
-    lower.reverse();
-    Some(lower.into_iter().map(|(_, _, i)| points[i]).collect())
+    let mut hull = [Vector3::zeros(); MAX_CONTACTS];
+    for (j, c) in chain[..m].iter().rev().enumerate() {
+        hull[j] = points[c.2];
+    }
+    Some((hull, m))
 }
 
 #[cfg(test)]
@@ -158,8 +189,8 @@ mod tests {
     fn flat_ground_angles_match_the_geometry() {
         let fa =
             force_angle(&contacts(), Vector3::new(0.0, 0.0, 0.25), gravity_tilted(0.0, 0.0), Vector3::zeros()).unwrap();
-        assert_eq!(fa.hull.len(), 4, "middle wheels lie on the side edges");
-        let mut deg: Vec<f64> = fa.angles.iter().map(|a| a.to_degrees()).collect();
+        assert_eq!(fa.hull().len(), 4, "middle wheels lie on the side edges");
+        let mut deg: Vec<f64> = fa.angles().iter().map(|a| a.to_degrees()).collect();
         deg.sort_by(f64::total_cmp);
         // Lateral atan(0.30/0.25) = 50.19°, longitudinal atan(0.40/0.25) = 57.99°.
         for (got, want) in deg.iter().zip([50.19, 50.19, 57.99, 57.99]) {
@@ -204,7 +235,7 @@ mod tests {
         // angle grows from 57.99° to 61.94°, the front one shrinks to 52.94°.
         let fa = force_angle(&contacts(), Vector3::new(0.069, 0.0, 0.25), gravity_tilted(0.0, 0.0), Vector3::zeros())
             .unwrap();
-        let mut deg: Vec<f64> = fa.angles.iter().map(|a| a.to_degrees()).collect();
+        let mut deg: Vec<f64> = fa.angles().iter().map(|a| a.to_degrees()).collect();
         deg.sort_by(f64::total_cmp);
         assert!((deg[2] - 52.94).abs() < 0.02 && (deg[3] - 61.94).abs() < 0.02, "{deg:?}");
     }
