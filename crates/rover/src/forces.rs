@@ -272,7 +272,13 @@ impl Reduced {
         let dqd = d.dot(&(self.q * d));
         let t = if dqd > 1e-18 { -(d.dot(&(self.q * s0)) + d.dot(&self.lin)) / dqd } else { 0.0 };
         let t = t.clamp(lo.min(hi), hi.max(lo));
-        let t = if t.is_finite() { t } else if lo.is_finite() { lo } else { hi.min(0.0).max(lo) };
+        let t = if t.is_finite() {
+            t
+        } else if lo.is_finite() {
+            lo
+        } else {
+            hi.min(0.0).max(lo)
+        };
         Some(s0 + d * t)
     }
 

@@ -66,8 +66,14 @@ pub struct SidePose {
     /// Angle of front axle → bogie pivot above the rearward horizontal, rad (α2 right,
     /// α4 left).
     pub bogie_alpha: f64,
-    /// Where this side's wheel plane crosses the s = 0 line, map frame, m.
+    /// Where s = 0 is on this side's contact line, map frame, m.
     pub origin: (f64, f64),
+    /// How far this side's middle axle sits ahead of the anchor, m (the differential
+    /// keeps both rocker pivots on one lateral axis).
+    pub shift: f64,
+    /// Height where the tilted wheel plane meets the contact line (the middle
+    /// contact), m.
+    pub plane_z: f64,
 }
 
 /// One wheel on the ground, map frame.
@@ -90,12 +96,15 @@ pub struct Pose {
     pub right: SidePose,
     /// Heading (azimuth clockwise from north), rad.
     pub heading: f64,
-    /// Body pitch = mean of the rocker pitches, rad (nose up positive).
+    /// Body pitch: the elevation of the body x axis, rad (nose up positive); the body
+    /// axis is the mean of the rocker pitches (the differential) in the wheel planes.
     pub pitch: f64,
     /// Body roll, sin ψ = (z_B,left − z_B,right)/w, rad (left side up positive).
     pub roll: f64,
     /// Body reference: the midpoint of the two rocker pivots, map frame, m.
     pub body: [f64; 3],
+    /// Left and right rocker pivots, map frame, m.
+    pub pivots: [[f64; 3]; 2],
     /// The paper's α1, α2 (right rocker, right bogie), α3, α4 (left), rad.
     pub alpha: [f64; 4],
     /// Wheels in the order left front, middle, rear, right front, middle, rear.
@@ -108,25 +117,47 @@ impl Pose {
         (self.heading.sin(), self.heading.cos())
     }
 
-    /// The largest wheel contact error, m: for each wheel, |distance from its axle to
-    /// the terrain profile in its wheel plane − r|, the profile sampled every r/100 —
-    /// independent of the solver's own sampling, so it measures the solution.
+    /// The largest wheel contact error, m: for each wheel, |distance from the axle to
+    /// the terrain within the wheel's (roll-tilted) plane − r|, found by marching rays
+    /// from the axle every 1° over the lower half and bisecting the first crossing —
+    /// walls included, independent of the solver's sampling.
     pub fn contact_error_m(&self, ground: &impl Ground, wheel_radius_m: f64) -> f64 {
         let (fx, fy) = self.forward();
+        let (lx, ly) = (-fy, fx);
+        let (sr, cr) = self.roll.sin_cos();
+        let b = [-sr * lx, -sr * ly, cr];
         let r = wheel_radius_m;
         let mut worst = 0.0f64;
-        for side in [&self.left, &self.right] {
-            for &(s, z) in &side.axles {
-                let mut d = f64::INFINITY;
-                for k in 0..=300 {
-                    let u = -1.5 * r + 3.0 * r * k as f64 / 300.0;
-                    let (x, y) = (side.origin.0 + fx * (s + u), side.origin.1 + fy * (s + u));
-                    if let Some(h) = ground.height(x, y) {
-                        d = d.min(u.hypot(h - z));
+        for w in &self.wheels {
+            let mut nearest = f64::INFINITY;
+            for k in 0..=180 {
+                let (sa, ca) = (std::f64::consts::PI * (1.0 + k as f64 / 180.0)).sin_cos();
+                let d = [ca * fx + sa * b[0], ca * fy + sa * b[1], sa * b[2]];
+                let below = |t: f64| {
+                    let p = [0, 1, 2].map(|i| w.axle[i] + t * d[i]);
+                    ground.height(p[0], p[1]).map(|h| p[2] <= h)
+                };
+                let steps = 150;
+                let mut prev = 0.0;
+                for j in 1..=steps {
+                    let t = 1.5 * r * j as f64 / steps as f64;
+                    if below(t) == Some(true) {
+                        let (mut lo, mut hi) = (prev, t);
+                        for _ in 0..40 {
+                            let mid = 0.5 * (lo + hi);
+                            if below(mid) == Some(true) {
+                                hi = mid;
+                            } else {
+                                lo = mid;
+                            }
+                        }
+                        nearest = nearest.min(hi);
+                        break;
                     }
+                    prev = t;
                 }
-                worst = worst.max((d - r).abs());
             }
+            worst = worst.max((nearest - r).abs());
         }
         worst
     }
@@ -237,38 +268,76 @@ impl Kinematics {
     ) -> Result<Pose, KinematicsFailure> {
         let (fx, fy) = (heading.sin(), heading.cos());
         let (lx, ly) = (-heading.cos(), heading.sin());
+        // Three coupled corrections settle together over a few passes: the roll ψ
+        // (secant steps on ψ = g(ψ)); the footprints (each side's wheel plane at
+        // ±(w/2)·cos ψ, tilted by ψ, so the terrain it cuts rises (1 + g_lat·tan ψ)
+        // times less than under the vertical line, g_lat the ground's sideways slope);
+        // and each side's shift along the heading that puts both rocker pivots on the
+        // body's lateral axis (the differential's pivot line) with the anchor fixed.
         let mut roll = warm.map_or(0.0, |p| p.roll);
+        let mut shift = warm.map_or((0.0, 0.0), |p| (p.left.shift, p.right.shift));
+        let mut plane_z = warm.map(|p| (p.left.plane_z, p.right.plane_z));
         let mut guess = warm.map(|p| (p.left, p.right));
         let mut sides = None;
-        // The roll is a fixed point ψ = g(ψ); secant steps after the first pass.
         let mut last: Option<(f64, f64)> = None;
-        for _ in 0..12 {
-            let c = roll.cos();
+        // Over the wheel's width scale, from heights (a Ground's normals may be coarser).
+        let lateral_slope = |o: (f64, f64)| {
+            let e = 0.5 * self.r;
+            match (ground.height(o.0 + lx * e, o.1 + ly * e), ground.height(o.0 - lx * e, o.1 - ly * e)) {
+                (Some(a), Some(b)) => (a - b) / (2.0 * e),
+                _ => 0.0,
+            }
+        };
+        for _ in 0..20 {
+            let (c, t) = (roll.cos(), roll.tan());
             let (ol, or) = match self.anchor {
                 Anchor::MiddleMidpoint => (0.5 * self.track * c, -0.5 * self.track * c),
                 Anchor::MiddleRight => (self.track * c, 0.0),
             };
-            let origin_l = (x + lx * ol, y + ly * ol);
-            let origin_r = (x + lx * or, y + ly * or);
-            let left = self.solve_side(
-                &|s: f64| ground.height(origin_l.0 + fx * s, origin_l.1 + fy * s),
+            let origin_l = (x + lx * ol + fx * shift.0, y + ly * ol + fy * shift.0);
+            let origin_r = (x + lx * or + fx * shift.1, y + ly * or + fy * shift.1);
+            let (zl, zr) = match plane_z {
+                Some(z) => z,
+                None => (
+                    ground.height(origin_l.0, origin_l.1).ok_or(KinematicsFailure::OffTerrain)?,
+                    ground.height(origin_r.0, origin_r.1).ok_or(KinematicsFailure::OffTerrain)?,
+                ),
+            };
+            let squeeze = |g: f64| 1.0 / (1.0 + g * t).max(0.2);
+            let (kl, kr) = (squeeze(lateral_slope(origin_l)), squeeze(lateral_slope(origin_r)));
+            let mut left = self.solve_side(
+                &|s: f64| ground.height(origin_l.0 + fx * s, origin_l.1 + fy * s).map(|h| zl + (h - zl) * kl),
                 origin_l,
                 c,
                 guess.map(|g| g.0),
             )?;
-            let right = self.solve_side(
-                &|s: f64| ground.height(origin_r.0 + fx * s, origin_r.1 + fy * s),
+            let mut right = self.solve_side(
+                &|s: f64| ground.height(origin_r.0 + fx * s, origin_r.1 + fy * s).map(|h| zr + (h - zr) * kr),
                 origin_r,
                 c,
                 guess.map(|g| g.1),
             )?;
+            (left.shift, left.plane_z, right.shift, right.plane_z) = (shift.0, zl, shift.1, zr);
             let sin_roll = ((left.rocker_pivot.1 - right.rocker_pivot.1) / self.track).clamp(-1.0, 1.0);
             let g = sin_roll.asin();
+            let (pl, pr) = (left.rocker_pivot.0, right.rocker_pivot.0);
+            let new_shift = match self.anchor {
+                Anchor::MiddleMidpoint => (0.5 * (pr - pl), 0.5 * (pl - pr)),
+                Anchor::MiddleRight => (pr - pl, 0.0),
+            };
+            let new_z = (left.contacts[1].1, right.contacts[1].1);
             guess = Some((left, right));
             sides = Some((left, right));
-            if (g - roll).abs() < 1e-11 {
+            let settled = (g - roll).abs() < 1e-11
+                && (new_shift.0 - shift.0).abs() < 1e-10
+                && (new_shift.1 - shift.1).abs() < 1e-10
+                && (new_z.0 - zl).abs() < 1e-10
+                && (new_z.1 - zr).abs() < 1e-10;
+            if settled {
                 break;
             }
+            shift = new_shift;
+            plane_z = Some(new_z);
             let next = match last {
                 Some((r0, g0)) if ((roll - g) - (r0 - g0)).abs() > 1e-15 => {
                     roll - (roll - g) * (roll - r0) / ((roll - g) - (r0 - g0))
@@ -279,7 +348,9 @@ impl Kinematics {
             roll = next;
         }
         let (left, right) = sides.ok_or(KinematicsFailure::NoClosure)?;
-        let pitch = 0.5 * (left.rocker_pitch + right.rocker_pitch);
+        // The mean rocker pitch is an angle in the tilted wheel planes; the body x axis'
+        // elevation (the Euler pitch of yaw–pitch–roll) is asin(cos ψ · sin of it).
+        let pitch = (roll.cos() * (0.5 * (left.rocker_pitch + right.rocker_pitch)).sin()).asin();
         let rho = 0.5 * (left.rocker_pitch - right.rocker_pitch);
         if rho.abs() > self.rocker_limit
             || left.bogie_angle.abs() > self.bogie_limit
@@ -287,15 +358,24 @@ impl Kinematics {
         {
             return Err(KinematicsFailure::JointLimit);
         }
-        let world = |side: &SidePose, p: (f64, f64)| [side.origin.0 + fx * p.0, side.origin.1 + fy * p.0, p.1];
+        // Each side's linkage lies in a plane tilted by the roll through its middle
+        // contact: a point dz above that contact sits dz·tan ψ to the right of it.
+        let tan_roll = roll.tan();
+        let world = |side: &SidePose, p: (f64, f64)| {
+            let aside = -(p.1 - side.plane_z) * tan_roll;
+            [side.origin.0 + fx * p.0 + lx * aside, side.origin.1 + fy * p.0 + ly * aside, p.1]
+        };
         let mut wheels = [Wheel { axle: [0.0; 3], contact: [0.0; 3], normal: [0.0; 3] }; 6];
+        let (sr, cr) = roll.sin_cos();
         for (k, side) in [&left, &right].into_iter().enumerate() {
             for i in 0..3 {
-                let g = side.gamma[i];
+                // In the wheel plane: −sin γ along the heading, cos γ along the tilted
+                // vertical (−sin ψ left + cos ψ up).
+                let (sg, cg) = side.gamma[i].sin_cos();
                 wheels[3 * k + i] = Wheel {
                     axle: world(side, side.axles[i]),
                     contact: world(side, side.contacts[i]),
-                    normal: [-g.sin() * fx, -g.sin() * fy, g.cos()],
+                    normal: [-sg * fx - cg * sr * lx, -sg * fy - cg * sr * ly, cg * cr],
                 };
             }
         }
@@ -307,17 +387,20 @@ impl Kinematics {
             pitch,
             roll,
             body: [0.5 * (bl[0] + br[0]), 0.5 * (bl[1] + br[1]), 0.5 * (bl[2] + br[2])],
+            pivots: [bl, br],
             alpha: [right.rocker_alpha, right.bogie_alpha, left.rocker_alpha, left.bogie_alpha],
             wheels,
         })
     }
 
-    /// The dilated terrain at s, scaled by 1/c.
+    /// The dilated terrain at s in the side's tilted plane: in-plane heights are true
+    /// heights over c = cos ψ, and the wheel is a disc of radius r in that plane.
     fn dilated(&self, profile: &impl Fn(f64) -> Option<f64>, s: f64, c: f64) -> Option<Dilated> {
         let mut best = f64::NEG_INFINITY;
         let mut bu = 0.0;
+        let inv = 1.0 / c;
         for k in 0..=WHEEL_SAMPLES {
-            let z = profile(s + self.u[k])? + self.rise[k];
+            let z = profile(s + self.u[k])? * inv + self.rise[k];
             if z > best {
                 best = z;
                 bu = self.u[k];
@@ -331,7 +414,36 @@ impl Kinematics {
             (None, Some(b)) => (b - profile(s + bu)?) / e,
             (None, None) => 0.0,
         };
-        Some(Dilated { z: best / c, u: bu, slope: slope / c })
+        Some(Dilated { z: best, u: bu, slope: slope * inv })
+    }
+
+    /// The maximiser of h(s + u)/c + √(r² − u²) within one sample spacing of `u0`.
+    fn refine_contact(&self, profile: &impl Fn(f64) -> Option<f64>, s: f64, c: f64, u0: f64) -> Option<f64> {
+        let step = 2.0 * self.r / WHEEL_SAMPLES as f64;
+        let r2 = self.r * self.r;
+        let f = |u: f64| -> Option<f64> { Some(profile(s + u)? / c + (r2 - u * u).max(0.0).sqrt()) };
+        let (mut a, mut b) = ((u0 - step).max(-self.r), (u0 + step).min(self.r));
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
+        let (mut f1, mut f2) = (f(x1)?, f(x2)?);
+        for _ in 0..24 {
+            if f1 < f2 {
+                a = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = a + g * (b - a);
+                f2 = f(x2)?;
+            } else {
+                b = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = b - g * (b - a);
+                f1 = f(x1)?;
+            }
+        }
+        let u = 0.5 * (a + b);
+        // Keep the sample if it is higher (a corner exactly on a sample).
+        Some(if f(u)? >= f(u0)? { u } else { u0 })
     }
 
     /// The axle on the dilated terrain at distance `len` from `centre`, searching in
@@ -436,36 +548,35 @@ impl Kinematics {
         let f = self.closure(profile, c, m, 1.0, self.len_fm, warm.map(|w| w.axles[0].0))?;
         let f = (f.s, f.z);
         let pivot = place(m, f, self.front, self.pivot);
-        let rear = self.closure(
-            profile,
-            c,
-            pivot,
-            -1.0,
-            self.len_pr,
-            warm.map(|w| w.axles[2].0).filter(|&s| s < pivot.0),
-        )?;
+        let rear =
+            self.closure(profile, c, pivot, -1.0, self.len_pr, warm.map(|w| w.axles[2].0).filter(|&s| s < pivot.0))?;
         let rear = (rear.s, rear.z);
         let nominal_pr = sub(self.rear, self.pivot);
         let rocker = place(pivot, rear, nominal_pr, sub(self.rocker, self.pivot));
         let chord = sub(rear, pivot);
         let rocker_pitch = wrap_pi(chord.1.atan2(chord.0) - nominal_pr.1.atan2(nominal_pr.0));
         let bogie_pitch = wrap_pi((f.1 - m.1).atan2(f.0 - m.0) - self.front.1.atan2(self.front.0));
-        // Back to true heights; contacts and normals from the dilation's maximiser.
-        let axles = [(f.0, f.1 * c), (m.0, m.1 * c), (rear.0, rear.1 * c)];
+        // Contacts and normals from the dilation's maximiser, in the tilted plane; then
+        // back to true heights.
+        let scaled = [f, m, rear];
+        let mut axles = [(0.0, 0.0); 3];
         let mut contacts = [(0.0, 0.0); 3];
         let mut gamma = [0.0; 3];
         for i in 0..3 {
-            let (s, z) = axles[i];
+            let (s, z) = scaled[i];
+            axles[i] = (s, z * c);
             let d = self.dilated(profile, s, c).ok_or(KinematicsFailure::OffTerrain)?;
-            let ground_z = profile(s + d.u).ok_or(KinematicsFailure::OffTerrain)?;
-            if z < d.z * c - 1e-9 && d.u.abs() > 1e-12 {
+            if z < d.z - 1e-9 && d.u.abs() > 1e-12 {
                 // On a wall face: the contact is on the face, level with the axle.
-                contacts[i] = (s + d.u, z);
+                contacts[i] = (s + d.u, z * c);
                 gamma[i] = d.u.signum() * std::f64::consts::FRAC_PI_2;
             } else {
-                contacts[i] = (s + d.u, ground_z);
-                let n = (s - contacts[i].0, z - ground_z);
-                gamma[i] = (-n.0).atan2(n.1);
+                // Refine the maximiser between the neighbouring samples (golden section):
+                // the tangent point on smooth ground, the corner at an edge.
+                let u = self.refine_contact(profile, s, c, d.u).ok_or(KinematicsFailure::OffTerrain)?;
+                let ground_z = profile(s + u).ok_or(KinematicsFailure::OffTerrain)?;
+                contacts[i] = (s + u, ground_z);
+                gamma[i] = u.atan2((self.r * self.r - u * u).max(0.0).sqrt());
             }
         }
         let unscale = |p: (f64, f64)| (p.0, p.1 * c);
@@ -480,6 +591,8 @@ impl Kinematics {
             rocker_alpha: (rocker.1 - pivot.1).atan2(pivot.0 - rocker.0),
             bogie_alpha: (pivot.1 - f.1).atan2(f.0 - pivot.0),
             origin,
+            shift: 0.0,
+            plane_z: 0.0,
         })
     }
 }
@@ -549,9 +662,10 @@ type Vec8 = SVector<f64, 8>;
 /// Solves the full loop-closure system by damped Newton iterations from `start` (a
 /// planar-decomposition pose, or `None` for the nominal pose at the terrain height):
 /// unknowns body position (3), pitch, roll, rocker angle and both bogie angles; each
-/// axle on the dilated terrain along the heading at its own (x, y) (the wheels'
-/// sideways shift with roll included), and the anchor at (x, y). The Jacobian is by
-/// central differences. `None` if it does not converge to 1e-8 m in 60 iterations.
+/// wheel a disc in the body's x–z plane touching the terrain (its rim sampled as in the
+/// planar solver, so the wheels' sideways shift with roll is exact), and the anchor at
+/// (x, y). The Jacobian is by central differences. `None` if it does not converge to
+/// 1e-8 m in 60 iterations.
 pub fn newton_pose(
     ground: &impl Ground,
     params: &RoverParams,
@@ -596,18 +710,33 @@ pub fn newton_pose(
         }
         out
     };
+    // Each wheel is a disc in the body's x–z plane; its residual is the smallest gap
+    // between the disc's lower rim and the terrain (0 = touching), sampled as in the
+    // planar solver.
     let residual = |q: &Vec8| -> Option<Vec8> {
         let ax = axles_of(q);
+        let (sp, cp) = q[3].sin_cos();
+        let (sr, cr) = q[4].sin_cos();
+        let fwd_b = [cp * fx, cp * fy, sp];
+        let up_b = [-cr * sp * fx - sr * lx, -cr * sp * fy - sr * ly, cr * cp];
         let mut f = Vec8::zeros();
         for i in 0..6 {
-            let [x0, y0, z] = ax[i];
-            let d = k.dilated(&|s: f64| ground.height(x0 + fx * s, y0 + fy * s), 0.0, 1.0)?;
-            f[i] = z - d.z;
+            let a = ax[i];
+            let mut gap = f64::INFINITY;
+            for j in 0..=WHEEL_SAMPLES {
+                let (u, rise) = (k.u[j], k.rise[j]);
+                let p = [0, 1, 2].map(|c| a[c] + u * fwd_b[c] - rise * up_b[c]);
+                gap = gap.min(p[2] - ground.height(p[0], p[1])?);
+            }
+            f[i] = gap;
         }
-        let (ml, mr) = (ax[1], ax[4]);
+        // The anchor: the middle wheels' contact lines under the axles (axle moved
+        // r·sin ψ sideways, as the tilted wheel plane does in the planar solver).
+        let bottom = |a: [f64; 3]| (a[0] + r * sr * lx, a[1] + r * sr * ly);
+        let (ml, mr) = (bottom(ax[1]), bottom(ax[4]));
         let (ax_x, ax_y) = match k.anchor {
-            Anchor::MiddleMidpoint => (0.5 * (ml[0] + mr[0]), 0.5 * (ml[1] + mr[1])),
-            Anchor::MiddleRight => (mr[0], mr[1]),
+            Anchor::MiddleMidpoint => (0.5 * (ml.0 + mr.0), 0.5 * (ml.1 + mr.1)),
+            Anchor::MiddleRight => mr,
         };
         f[6] = ax_x - x;
         f[7] = ax_y - y;
@@ -753,7 +882,9 @@ mod tests {
             }
         }
         let q = pose(&LeftStep, &lsr1(), -0.25, 0.0, 90.0).unwrap();
-        assert!((q.pitch - q.left.rocker_pitch / 2.0).abs() < 1e-9 && q.right.rocker_pitch.abs() < 1e-9);
+        let body_axis = q.left.rocker_pitch / 2.0;
+        assert!((q.pitch - (q.roll.cos() * body_axis.sin()).asin()).abs() < 1e-9, "{} {}", q.pitch, body_axis);
+        assert!(q.right.rocker_pitch.abs() < 1e-9);
         assert!(q.roll > 0.0, "heading east, the left side is north: on the step, up");
     }
 

@@ -30,12 +30,15 @@
 mod error;
 mod params;
 
+pub mod arm;
+pub mod evaluation;
 pub mod forces;
 pub mod kinematics;
+pub mod motion;
 pub mod resources;
 pub mod stability;
 
 pub use crate::{
     error::{Error, Result},
-    params::{Arm, Axles, Battery, BodyPoint, Drive, Geometry, LSR1_RON, RoverParams, SidePoint, Solar},
+    params::{Activities, Arm, Axles, Battery, BodyPoint, Drive, Geometry, LSR1_RON, RoverParams, SidePoint, Solar},
 };

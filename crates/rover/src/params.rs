@@ -87,10 +87,49 @@ pub struct Arm {
     pub mass_kg: f64,
     /// Largest payload, kg.
     pub payload_max_kg: f64,
-    /// The arm's centre of mass when stowed, body frame, m.
-    pub cg_stowed_m: BodyPoint,
-    /// The arm's centre of mass extended forward, body frame, m.
-    pub cg_extended_m: BodyPoint,
+    /// Wrist (tool) position when stowed, body frame, m.
+    pub stowed_tool_m: BodyPoint,
+    /// Tool speed for arm moves, m/s.
+    pub tool_speed_m_s: f64,
+    /// Joint drive efficiency, 0..=1.
+    pub efficiency: f64,
+}
+
+/// Durations (s) and electrical loads beyond hotel power (W) of the non-driving action
+/// modules.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Activities {
+    /// Grasp or release a sample, s.
+    pub grasp_s: f64,
+    /// Gripper load, W.
+    pub grasp_w: f64,
+    /// Deploy or retract the science tray, s.
+    pub tray_s: f64,
+    /// Tray actuator load, W.
+    pub tray_w: f64,
+    /// Start or end video, s.
+    pub video_s: f64,
+    /// Camera load, W.
+    pub video_w: f64,
+    /// Sweep the sensors, s.
+    pub sweep_s: f64,
+    /// Sensor load, W.
+    pub sweep_w: f64,
+    /// Communicate with the ground station, s.
+    pub communicate_s: f64,
+    /// Radio load, W.
+    pub communicate_w: f64,
+    /// Sleep, s.
+    pub sleep_s: f64,
+    /// Total draw while asleep (replaces hotel power), W.
+    pub sleep_w: f64,
+    /// Recharge from the solar array, s.
+    pub recharge_s: f64,
+    /// Turn to (or from) a sample: the heading change, degrees.
+    pub turn_to_sample_deg: f64,
+    /// Solar flux on the array while recharging, W/m².
+    pub recharge_flux_w_m2: f64,
 }
 
 /// The solar array.
@@ -156,6 +195,12 @@ pub struct RoverParams {
     pub gravity_m_s2: f64,
     /// Driving speed, m/s.
     pub speed_m_s: f64,
+    /// Rolling-resistance coefficient c_rr.
+    pub rolling_resistance: f64,
+    /// Point-turn rate, degrees per second.
+    pub turn_rate_deg_s: f64,
+    /// The non-driving modules.
+    pub activities: Activities,
 }
 
 impl RoverParams {
@@ -182,7 +227,11 @@ impl RoverParams {
         let fail = |field: &'static str, value: f64, why: String| {
             Err(Error::Invalid { origin: origin.into(), field, value, why })
         };
-        let positive: [(&'static str, f64); 14] = [
+        let positive: [(&'static str, f64); 18] = [
+            ("arm.tool_speed_m_s", self.arm.tool_speed_m_s),
+            ("turn_rate_deg_s", self.turn_rate_deg_s),
+            ("activities.turn_to_sample_deg", self.activities.turn_to_sample_deg),
+            ("activities.sleep_s", self.activities.sleep_s),
             ("wheel_radius_m", self.wheel_radius_m),
             ("wheel_width_m", self.wheel_width_m),
             ("track_m", self.track_m),
@@ -203,7 +252,8 @@ impl RoverParams {
                 return fail(field, v, "must be positive and finite".into());
             }
         }
-        let fractions: [(&'static str, f64); 3] = [
+        let fractions: [(&'static str, f64); 4] = [
+            ("arm.efficiency", self.arm.efficiency),
             ("drive.gear_efficiency", self.drive.gear_efficiency),
             ("solar.efficiency", self.solar.efficiency),
             ("battery.usable_fraction", self.battery.usable_fraction),
@@ -218,6 +268,20 @@ impl RoverParams {
             ("arm.mass_kg", self.arm.mass_kg),
             ("arm.payload_max_kg", self.arm.payload_max_kg),
             ("solar.area_m2", self.solar.area_m2),
+            ("rolling_resistance", self.rolling_resistance),
+            ("activities.grasp_s", self.activities.grasp_s),
+            ("activities.grasp_w", self.activities.grasp_w),
+            ("activities.tray_s", self.activities.tray_s),
+            ("activities.tray_w", self.activities.tray_w),
+            ("activities.video_s", self.activities.video_s),
+            ("activities.video_w", self.activities.video_w),
+            ("activities.sweep_s", self.activities.sweep_s),
+            ("activities.sweep_w", self.activities.sweep_w),
+            ("activities.communicate_s", self.activities.communicate_s),
+            ("activities.communicate_w", self.activities.communicate_w),
+            ("activities.sleep_w", self.activities.sleep_w),
+            ("activities.recharge_s", self.activities.recharge_s),
+            ("activities.recharge_flux_w_m2", self.activities.recharge_flux_w_m2),
         ] {
             if !(v >= 0.0 && v.is_finite()) {
                 return fail(field, v, "must be ≥ 0".into());
@@ -261,6 +325,12 @@ impl RoverParams {
             && self.cg_m.z > 0.0)
         {
             return fail("cg_m.x", self.cg_m.x, "the centre of mass must lie above the wheels' footprint".into());
+        }
+        if !(self.rolling_resistance < 1.0) {
+            return fail("rolling_resistance", self.rolling_resistance, "allowed 0..1".into());
+        }
+        if let Err(why) = crate::arm::ArmState::stowed(self).check(self) {
+            return fail("arm.stowed_tool_m.x", self.arm.stowed_tool_m.x, why);
         }
         if self.arm.payload_max_kg > self.mass_kg {
             return fail("arm.payload_max_kg", self.arm.payload_max_kg, "exceeds the rover's mass".into());

@@ -1,3 +1,4 @@
 //! areo-rover integration tests.
 
 mod params;
+mod physics;

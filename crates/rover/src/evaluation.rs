@@ -1,0 +1,311 @@
+//! One full quasi-static evaluation of the rover at a place: pose ([`crate::kinematics`]),
+//! forces on both sides coupled through the body and differential
+//! ([`crate::forces`]), and the force-angle stability margin
+//! ([`crate::stability`]). This is what the action planner runs at every sampled pose
+//! of every module; it does not allocate.
+//!
+//! Coupling the sides (reference §4.3): the body — everything but the wheels and links,
+//! with the arm and any sample — hangs on the two rocker pivots. Its weight W splits
+//! into vertical pivot loads by its roll balance (the lever rule of the CG's horizontal
+//! projection on the pivot line), and the differential passes half the body's pitching
+//! moment to each rocker. Each side's planar problem is then solved with its load and
+//! couple at its rocker pivot. Lateral friction enters through the friction cone: a
+//! wheel on ground sloping sideways by φ_i needs a lateral force N_i·tan φ_i, leaving
+//! √(μ² − tan² φ_i)·N_i for traction.
+//!
+//! Stability is normalised per direction: each tip-over axis is classed front, rear,
+//! left or right by its outward normal in the body frame and divided by the same
+//! class's angle on flat ground with the arm stowed ([`Normalisation::PerAxis`]), or
+//! the smallest angle by the smallest flat angle ([`Normalisation::Global`]).
+
+use areo_terrain::Ground;
+use nalgebra::Vector3;
+
+use crate::arm::ArmState;
+use crate::forces::{self, ForceFailure, Limits, SideContacts, SideForces};
+use crate::kinematics::{Kinematics, KinematicsFailure, Pose};
+use crate::params::RoverParams;
+use crate::stability::{ForceAngle, Normalisation, force_angle};
+
+/// Where the rover stands: the anchor (midpoint of the middle wheels) at (x, y), m,
+/// map frame, and the heading, rad clockwise from north.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Place {
+    /// East, m.
+    pub x: f64,
+    /// North, m.
+    pub y: f64,
+    /// Heading, rad clockwise from north.
+    pub heading: f64,
+}
+
+/// Conditions of one evaluation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Conditions {
+    /// Wheel–ground friction coefficient μ.
+    pub mu: f64,
+    /// Direction of travel: +1 forward, −1 backward, 0 holding still (rolling
+    /// resistance acts only when moving).
+    pub direction: f64,
+}
+
+/// What stops the rover at a pose.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Violation {
+    /// No pose: off the map, no loop closure, or a joint limit.
+    Kinematics(KinematicsFailure),
+    /// A side's forces are not admissible (0 = left, 1 = right).
+    Forces {
+        /// 0 left, 1 right.
+        side: usize,
+        /// Which limit.
+        failure: ForceFailure,
+    },
+    /// The centre of mass is outside the support polygon.
+    TipOver,
+}
+
+impl std::fmt::Display for Violation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Violation::Kinematics(k) => write!(f, "kinematics: {k}"),
+            Violation::Forces { side, failure } => {
+                write!(f, "{} side {failure}", if *side == 0 { "left" } else { "right" })
+            }
+            Violation::TipOver => f.write_str("tip-over: the centre of mass is outside the support polygon"),
+        }
+    }
+}
+
+/// The result of one evaluation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Evaluation {
+    /// The pose.
+    pub pose: Pose,
+    /// Left and right side forces.
+    pub sides: [SideForces; 2],
+    /// Vertical loads on the left and right rocker pivots, N.
+    pub pivot_loads_n: [f64; 2],
+    /// Centre of mass, map frame, m.
+    pub cg: [f64; 3],
+    /// Total weight, N.
+    pub weight_n: f64,
+    /// Force-angle margins per tip-over axis.
+    pub force_angle: ForceAngle,
+    /// The normalised stability margin S (1 on flat ground with the arm stowed; 0 at
+    /// tip-over).
+    pub stability: f64,
+    /// Largest friction coefficient any wheel uses (in-plane and lateral).
+    pub friction_used: f64,
+}
+
+impl Evaluation {
+    /// Wheel torques, left front, middle, rear, right front, middle, rear, N·m.
+    pub fn torques_nm(&self) -> [f64; 6] {
+        let [l, r] = &self.sides;
+        [l.torque_nm[0], l.torque_nm[1], l.torque_nm[2], r.torque_nm[0], r.torque_nm[1], r.torque_nm[2]]
+    }
+
+    /// Normal loads in the same order, N.
+    pub fn normals_n(&self) -> [f64; 6] {
+        let [l, r] = &self.sides;
+        [l.normal_n[0], l.normal_n[1], l.normal_n[2], r.normal_n[0], r.normal_n[1], r.normal_n[2]]
+    }
+}
+
+/// Flat-ground force angles per direction class (front, rear, left, right), rad.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct FlatReference {
+    by_class: [f64; 4],
+    smallest: f64,
+}
+
+/// Evaluates poses of one rover.
+#[derive(Debug, Clone)]
+pub struct Evaluator {
+    params: RoverParams,
+    kinematics: Kinematics,
+    flat: FlatReference,
+    /// How margins are normalised.
+    pub normalisation: Normalisation,
+}
+
+/// The class of an axis from its outward normal (forward, left components).
+fn class_of(forward: f64, left: f64) -> usize {
+    if forward.abs() >= left.abs() {
+        if forward > 0.0 { 0 } else { 1 }
+    } else if left > 0.0 {
+        2
+    } else {
+        3
+    }
+}
+
+impl Evaluator {
+    /// The evaluator for `params`.
+    pub fn new(params: &RoverParams) -> Evaluator {
+        let kinematics = Kinematics::new(params);
+        let a = params.axle_x_m;
+        let half = params.track_m / 2.0;
+        let mut pts = [Vector3::zeros(); 6];
+        for (k, y) in [half, -half].into_iter().enumerate() {
+            for (i, x) in [a.front, a.middle, a.rear].into_iter().enumerate() {
+                pts[3 * k + i] = Vector3::new(x, y, 0.0);
+            }
+        }
+        let c = params.cg_m;
+        let down = Vector3::new(0.0, 0.0, -1.0);
+        let fa = force_angle(&pts, Vector3::new(c.x, c.y, c.z), down, Vector3::zeros());
+        let mut by_class = [f64::INFINITY; 4];
+        let mut smallest = f64::INFINITY;
+        if let Some(fa) = fa {
+            for (i, &ang) in fa.angles().iter().enumerate() {
+                let o = fa.outward(i, down);
+                let k = class_of(o.x, o.y);
+                by_class[k] = by_class[k].min(ang);
+                smallest = smallest.min(ang);
+            }
+        }
+        Evaluator {
+            params: params.clone(),
+            kinematics,
+            flat: FlatReference { by_class, smallest },
+            normalisation: Normalisation::PerAxis,
+        }
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &RoverParams {
+        &self.params
+    }
+
+    /// The kinematic model.
+    pub fn kinematics(&self) -> &Kinematics {
+        &self.kinematics
+    }
+
+    /// Flat-ground force angles with the arm stowed: front, rear, left, right, rad.
+    pub fn flat_angles(&self) -> [f64; 4] {
+        self.flat.by_class
+    }
+
+    /// Evaluates the rover at `at`, arm state `arm`, under `cond`; `warm` is the
+    /// previous pose of the same motion, if any.
+    pub fn evaluate(
+        &self,
+        ground: &impl Ground,
+        at: Place,
+        arm: &ArmState,
+        cond: &Conditions,
+        warm: Option<&Pose>,
+    ) -> Result<Evaluation, Violation> {
+        let pose = self.kinematics.solve(ground, at.x, at.y, at.heading, warm).map_err(Violation::Kinematics)?;
+        self.evaluate_pose(ground, &pose, arm, cond)
+    }
+
+    /// Forces and stability at a solved pose.
+    pub fn evaluate_pose(
+        &self,
+        ground: &impl Ground,
+        pose: &Pose,
+        arm: &ArmState,
+        cond: &Conditions,
+    ) -> Result<Evaluation, Violation> {
+        let p = &self.params;
+        let (mass, cg_body) =
+            arm.system_mass_cg(p).map_err(|_| Violation::Kinematics(KinematicsFailure::JointLimit))?;
+        let weight = mass * p.gravity_m_s2;
+        // Body frame → map: yaw, then pitch (nose up), then roll (left up).
+        let (fx, fy) = pose.forward();
+        let (lx, ly) = (-fy, fx);
+        let (sp, cp) = pose.pitch.sin_cos();
+        let (sr, cr) = pose.roll.sin_cos();
+        let rel = cg_body - Vector3::new(p.rocker_pivot_m.x, 0.0, p.rocker_pivot_m.z);
+        let (bx, by, bz) = (rel.x, rel.y * cr - rel.z * sr, rel.y * sr + rel.z * cr);
+        let (px, pz) = (bx * cp - bz * sp, bx * sp + bz * cp);
+        let g = [pose.body[0] + fx * px + lx * by, pose.body[1] + fy * px + ly * by, pose.body[2] + pz];
+        // Pivot loads by the lever rule along the (horizontal) pivot line.
+        let [bl, br] = pose.pivots;
+        let line = (bl[0] - br[0], bl[1] - br[1]);
+        let len2 = line.0 * line.0 + line.1 * line.1;
+        let lambda = ((g[0] - br[0]) * line.0 + (g[1] - br[1]) * line.1) / len2;
+        let loads = [lambda * weight, (1.0 - lambda) * weight];
+        // Pitching moment: W times the CG's horizontal lead over the pivot line.
+        let len = len2.sqrt();
+        let ahead = (line.1 / len, -line.0 / len);
+        let lead = (g[0] - br[0]) * ahead.0 + (g[1] - br[1]) * ahead.1;
+        let couple = -weight * lead / 2.0;
+        // Stability over the six contacts.
+        let mut pts = [Vector3::zeros(); 6];
+        for (i, w) in pose.wheels.iter().enumerate() {
+            pts[i] = Vector3::from(w.contact);
+        }
+        let down = Vector3::new(0.0, 0.0, -weight);
+        let fa = force_angle(&pts, Vector3::from(g), down, Vector3::zeros()).ok_or(Violation::TipOver)?;
+        let stability = match self.normalisation {
+            Normalisation::PerAxis => fa
+                .angles()
+                .iter()
+                .enumerate()
+                .map(|(i, &a)| {
+                    let o = fa.outward(i, down);
+                    let class = class_of(o.x * fx + o.y * fy, o.x * lx + o.y * ly);
+                    a / self.flat.by_class[class]
+                })
+                .fold(f64::INFINITY, f64::min),
+            Normalisation::Global => fa.critical().map_or(f64::NEG_INFINITY, |c| c.1) / self.flat.smallest,
+        };
+        if !(stability > 0.0) {
+            return Err(Violation::TipOver);
+        }
+        let mut sides = [None; 2];
+        let mut friction_used = 0.0f64;
+        for (k, side) in [&pose.left, &pose.right].into_iter().enumerate() {
+            // Lateral ground slope at each contact, for the friction cone.
+            let mut lateral = [0.0; 3];
+            for (i, l) in lateral.iter_mut().enumerate() {
+                let c = pose.wheels[3 * k + i].contact;
+                if let Some(n) = ground.normal(c[0], c[1]) {
+                    let nl = n[0] * lx + n[1] * ly;
+                    *l = (nl / n[2].max(1e-9)).abs();
+                }
+            }
+            let worst_lateral = lateral.iter().copied().fold(0.0, f64::max);
+            if worst_lateral >= cond.mu {
+                return Err(Violation::Forces { side: k, failure: ForceFailure::Slip });
+            }
+            let contacts = SideContacts {
+                axles: side.axles,
+                gamma: side.gamma,
+                bogie_pivot: side.bogie_pivot,
+                rocker_pivot: side.rocker_pivot,
+                load_n: loads[k],
+                couple_nm: couple,
+                wheel_radius_m: p.wheel_radius_m,
+            };
+            let limits = Limits {
+                mu: (cond.mu * cond.mu - worst_lateral * worst_lateral).sqrt(),
+                torque_max_nm: p.wheel_torque_max_nm,
+                n_min: 0.0,
+                rolling_resistance: p.rolling_resistance,
+                direction: cond.direction,
+            };
+            let f = forces::solve(&contacts, &limits).map_err(|failure| Violation::Forces { side: k, failure })?;
+            friction_used = friction_used.max(f.friction_used.hypot(worst_lateral));
+            sides[k] = Some(f);
+        }
+        let (Some(left), Some(right)) = (sides[0], sides[1]) else {
+            return Err(Violation::Kinematics(KinematicsFailure::NoClosure));
+        };
+        Ok(Evaluation {
+            pose: *pose,
+            sides: [left, right],
+            pivot_loads_n: loads,
+            cg: g,
+            weight_n: weight,
+            force_angle: fa,
+            stability,
+            friction_used,
+        })
+    }
+}

@@ -1,0 +1,626 @@
+//! Motion primitives: every action module of Farritor et al.'s Table 1, executed as a
+//! sequence of quasi-static poses, each evaluated in full ([`Evaluator`]), returning the
+//! state after the module with its duration and energy, or the first violated
+//! constraint and where it happened.
+//!
+//! Sampling: driving modules are sampled every [`Motion::spacing_m`] of wheel travel
+//! (1 cm by default, so a 25 cm ditch edge or a rock is never stepped over; the
+//! reference asks for ≥ 3 per 10 cm) and turns every 0.5°. Energy integrates the
+//! electrical power over the samples (trapezoid rule):
+//! P = Σ_i (max(τ_i ω_i, 0)/η_g + k τ_i²) + P₀, with ω_i = v_i/r from each wheel's
+//! speed about the instantaneous centre of rotation (the paper's Table 1 misprints 106
+//! as a right arc; it is the wide left one). Arm modules cost the rise in potential
+//! energy of the arm and sample over the joint efficiency plus hotel power; the others
+//! their listed load for their listed time.
+//!
+//! [A] Assumptions, all in the parameter file: point turns and arcs use steerable
+//! corner wheels (as on Sojourner); "turn to sample" turns toward the nearest sample by
+//! at most `activities.turn_to_sample_deg` and "turn from sample" undoes it; while
+//! recharging the Sun is overhead, so the array's output is flux × area × efficiency ×
+//! cos(tilt).
+
+use areo_terrain::Ground;
+
+use crate::arm::ArmState;
+use crate::evaluation::{Conditions, Evaluation, Evaluator, Place, Violation};
+use crate::kinematics::Pose;
+
+/// The action modules of Table 1 (numbers are the paper's).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Module {
+    /// 101: move forward 10 cm.
+    Forward,
+    /// 102: move back 10 cm.
+    Backward,
+    /// 103: turn left 5°.
+    TurnLeft,
+    /// 104: turn right 5°.
+    TurnRight,
+    /// 105: 10 cm forward on a 50 cm-radius circle to the left.
+    ArcLeftTight,
+    /// 106: 10 cm forward on a 200 cm-radius circle to the left.
+    ArcLeftWide,
+    /// 107: 10 cm forward on a 50 cm-radius circle to the right.
+    ArcRightTight,
+    /// 108: 10 cm forward on a 200 cm-radius circle to the right.
+    ArcRightWide,
+    /// 901: transmit video.
+    VideoStart,
+    /// 902: end video.
+    VideoEnd,
+    /// 910: sweep sensors.
+    SweepSensors,
+    /// 920: sleep.
+    Sleep,
+    /// 921: communicate with the ground station.
+    Communicate,
+    /// 1001: arm +x 2 cm.
+    ArmForward,
+    /// 1002: arm −x 2 cm.
+    ArmBack,
+    /// 1003: arm +y 2 cm.
+    ArmLeft,
+    /// 1004: arm −y 2 cm.
+    ArmRight,
+    /// 1005: arm −z 2 cm.
+    ArmDown,
+    /// 1006: arm +z 2 cm.
+    ArmUp,
+    /// 2010: deploy the science tray.
+    TrayDeploy,
+    /// 2020: retract the science tray.
+    TrayRetract,
+    /// 3000: turn to the sample.
+    TurnToSample,
+    /// 3001: turn from the sample.
+    TurnFromSample,
+    /// 3002: grasp the sample.
+    Grasp,
+    /// 3003: release the sample.
+    Release,
+    /// 4000: recharge the batteries with the solar array.
+    Recharge,
+}
+
+impl Module {
+    /// Every module, in Table 1 order.
+    pub const ALL: [Module; 26] = [
+        Module::Forward,
+        Module::Backward,
+        Module::TurnLeft,
+        Module::TurnRight,
+        Module::ArcLeftTight,
+        Module::ArcLeftWide,
+        Module::ArcRightTight,
+        Module::ArcRightWide,
+        Module::VideoStart,
+        Module::VideoEnd,
+        Module::SweepSensors,
+        Module::Sleep,
+        Module::Communicate,
+        Module::ArmForward,
+        Module::ArmBack,
+        Module::ArmLeft,
+        Module::ArmRight,
+        Module::ArmDown,
+        Module::ArmUp,
+        Module::TrayDeploy,
+        Module::TrayRetract,
+        Module::TurnToSample,
+        Module::TurnFromSample,
+        Module::Grasp,
+        Module::Release,
+        Module::Recharge,
+    ];
+
+    /// The paper's module number.
+    pub fn code(self) -> u16 {
+        match self {
+            Module::Forward => 101,
+            Module::Backward => 102,
+            Module::TurnLeft => 103,
+            Module::TurnRight => 104,
+            Module::ArcLeftTight => 105,
+            Module::ArcLeftWide => 106,
+            Module::ArcRightTight => 107,
+            Module::ArcRightWide => 108,
+            Module::VideoStart => 901,
+            Module::VideoEnd => 902,
+            Module::SweepSensors => 910,
+            Module::Sleep => 920,
+            Module::Communicate => 921,
+            Module::ArmForward => 1001,
+            Module::ArmBack => 1002,
+            Module::ArmLeft => 1003,
+            Module::ArmRight => 1004,
+            Module::ArmDown => 1005,
+            Module::ArmUp => 1006,
+            Module::TrayDeploy => 2010,
+            Module::TrayRetract => 2020,
+            Module::TurnToSample => 3000,
+            Module::TurnFromSample => 3001,
+            Module::Grasp => 3002,
+            Module::Release => 3003,
+            Module::Recharge => 4000,
+        }
+    }
+
+    /// The module with the paper's number `code`.
+    pub fn from_code(code: u16) -> Option<Module> {
+        Module::ALL.into_iter().find(|m| m.code() == code)
+    }
+
+    /// A driving path: (distance of the reference point along the path, m; turn
+    /// radius, m, positive left, infinite straight; in-place rotation, rad, positive
+    /// left).
+    fn path(self) -> Option<(f64, f64, f64)> {
+        Some(match self {
+            Module::Forward => (0.10, f64::INFINITY, 0.0),
+            Module::Backward => (-0.10, f64::INFINITY, 0.0),
+            Module::TurnLeft => (0.0, 0.0, 5f64.to_radians()),
+            Module::TurnRight => (0.0, 0.0, -5f64.to_radians()),
+            Module::ArcLeftTight => (0.10, 0.50, 0.0),
+            Module::ArcLeftWide => (0.10, 2.00, 0.0),
+            Module::ArcRightTight => (0.10, -0.50, 0.0),
+            Module::ArcRightWide => (0.10, -2.00, 0.0),
+            _ => return None,
+        })
+    }
+}
+
+/// The rover's state between modules.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoverState {
+    /// Reference point (midpoint of the middle wheels), map frame, m.
+    pub x: f64,
+    /// Reference point, map frame, m.
+    pub y: f64,
+    /// Heading, rad clockwise from north.
+    pub heading: f64,
+    /// The arm.
+    pub arm: ArmState,
+    /// Battery charge, Wh.
+    pub battery_wh: f64,
+    /// Science tray deployed.
+    pub tray_deployed: bool,
+    /// Video on.
+    pub video_on: bool,
+    /// Heading change of the last "turn to sample", rad (undone by "turn from").
+    pub sample_turn: f64,
+    /// The last pose, to warm-start the next.
+    pub pose: Option<Pose>,
+}
+
+impl RoverState {
+    /// Parked at (x, y) with heading `heading` (rad), arm stowed, battery full.
+    pub fn new(evaluator: &Evaluator, x: f64, y: f64, heading: f64) -> RoverState {
+        let p = evaluator.params();
+        RoverState {
+            x,
+            y,
+            heading,
+            arm: ArmState::stowed(p),
+            battery_wh: p.battery.capacity_wh,
+            tray_deployed: false,
+            video_on: false,
+            sample_turn: 0.0,
+            pose: None,
+        }
+    }
+
+    /// Where it stands.
+    pub fn place(&self) -> Place {
+        Place { x: self.x, y: self.y, heading: self.heading }
+    }
+}
+
+/// Energy of a module by destination, Wh.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Energy {
+    /// Mechanical work through the drives and arm joints over their efficiencies.
+    pub mechanical_wh: f64,
+    /// Motor copper losses Σ k τ².
+    pub copper_wh: f64,
+    /// Hotel (electronics) power, or the sleep draw.
+    pub hotel_wh: f64,
+    /// Instruments, radio, gripper, tray.
+    pub payload_wh: f64,
+    /// Collected by the solar array (recharging).
+    pub solar_wh: f64,
+}
+
+impl Energy {
+    /// Net drain on the battery, Wh (negative when charging).
+    pub fn net_wh(&self) -> f64 {
+        self.mechanical_wh + self.copper_wh + self.hotel_wh + self.payload_wh - self.solar_wh
+    }
+}
+
+/// A module that ran to its end.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Step {
+    /// The state after it.
+    pub state: RoverState,
+    /// Duration, s.
+    pub duration_s: f64,
+    /// Energy.
+    pub energy: Energy,
+    /// Smallest stability margin S over the poses it evaluated (`None` for modules that
+    /// do not move anything).
+    pub min_stability: Option<f64>,
+    /// Largest friction used over its poses.
+    pub max_friction: f64,
+    /// The sample grasped by this module, if any (the id the sample lookup gave).
+    pub grasped: Option<usize>,
+}
+
+/// Why a module could not run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MotionFailure {
+    /// A pose violated a physical limit.
+    Violation(Violation),
+    /// The arm cannot reach the new tool position.
+    ArmReach,
+    /// Nothing to grasp at the tool, or the gripper is already holding a sample.
+    NoSample,
+    /// Release with an empty gripper.
+    NotHolding,
+    /// The battery would drop below its usable window.
+    Battery,
+}
+
+impl std::fmt::Display for MotionFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MotionFailure::Violation(v) => v.fmt(f),
+            MotionFailure::ArmReach => f.write_str("the arm cannot reach there"),
+            MotionFailure::NoSample => f.write_str("no sample at the tool, or already holding one"),
+            MotionFailure::NotHolding => f.write_str("release with an empty gripper"),
+            MotionFailure::Battery => f.write_str("the battery would drop below its usable window"),
+        }
+    }
+}
+
+/// A module that stopped: the failure, the fraction of the module done and the state
+/// at the last admissible pose.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stopped {
+    /// Why.
+    pub failure: MotionFailure,
+    /// Fraction of the module completed, 0..1.
+    pub progress: f64,
+    /// The state at the last admissible pose.
+    pub state: Box<RoverState>,
+}
+
+/// Runs modules for one rover on one terrain.
+#[derive(Debug, Clone)]
+pub struct Motion<'e> {
+    /// The evaluator.
+    pub evaluator: &'e Evaluator,
+    /// Friction coefficient μ.
+    pub mu: f64,
+    /// Sample spacing of driving modules, m of reference-point travel (and 0.5° turns).
+    pub spacing_m: f64,
+}
+
+impl<'e> Motion<'e> {
+    /// Modules on `evaluator`'s rover with friction `mu`, sampled every centimetre.
+    pub fn new(evaluator: &'e Evaluator, mu: f64) -> Motion<'e> {
+        Motion { evaluator, mu, spacing_m: 0.01 }
+    }
+
+    /// Evaluates the state where it stands (holding still).
+    pub fn check(&self, ground: &impl Ground, state: &RoverState) -> Result<Evaluation, Violation> {
+        let cond = Conditions { mu: self.mu, direction: 0.0 };
+        self.evaluator.evaluate(ground, state.place(), &state.arm, &cond, state.pose.as_ref())
+    }
+
+    /// Runs `module` from `state`. `samples` maps a tool position (map frame, m) to the
+    /// id and mass (kg) of a sample there, if any.
+    pub fn run(
+        &self,
+        ground: &impl Ground,
+        state: &RoverState,
+        module: Module,
+        samples: &impl Fn([f64; 3]) -> Option<(usize, f64)>,
+    ) -> Result<Step, Stopped> {
+        let p = self.evaluator.params();
+        let act = &p.activities;
+        let stop = |failure, progress, state: RoverState| Stopped { failure, progress, state: Box::new(state) };
+        let mut step = Step {
+            state: *state,
+            duration_s: 0.0,
+            energy: Energy::default(),
+            min_stability: None,
+            max_friction: 0.0,
+            grasped: None,
+        };
+        let timed = |step: &mut Step, seconds: f64, load_w: f64| {
+            step.duration_s += seconds;
+            step.energy.hotel_wh += p.hotel_power_w * seconds / 3600.0;
+            step.energy.payload_wh += load_w * seconds / 3600.0;
+        };
+        if let Some((dist, radius, turn)) = module.path() {
+            self.drive(ground, state, dist, radius, turn, &mut step)?;
+        } else {
+            match module {
+                Module::ArmForward
+                | Module::ArmBack
+                | Module::ArmLeft
+                | Module::ArmRight
+                | Module::ArmDown
+                | Module::ArmUp => {
+                    let d = 0.02;
+                    let delta = match module {
+                        Module::ArmForward => [d, 0.0, 0.0],
+                        Module::ArmBack => [-d, 0.0, 0.0],
+                        Module::ArmLeft => [0.0, d, 0.0],
+                        Module::ArmRight => [0.0, -d, 0.0],
+                        Module::ArmDown => [0.0, 0.0, -d],
+                        _ => [0.0, 0.0, d],
+                    };
+                    self.move_arm(ground, state, delta, &mut step)?;
+                    timed(&mut step, d / p.arm.tool_speed_m_s, 0.0);
+                }
+                Module::TurnToSample | Module::TurnFromSample => {
+                    let turn = if module == Module::TurnFromSample {
+                        -state.sample_turn
+                    } else {
+                        self.turn_toward_sample(ground, state, samples)
+                    };
+                    self.drive(ground, state, 0.0, 0.0, turn, &mut step)?;
+                    step.state.sample_turn =
+                        if module == Module::TurnFromSample { 0.0 } else { state.sample_turn + turn };
+                }
+                Module::Grasp => {
+                    if state.arm.payload_kg > 0.0 {
+                        return Err(stop(MotionFailure::NoSample, 0.0, *state));
+                    }
+                    let tool = self.tool_world(ground, state);
+                    let Some((id, mass)) = tool.and_then(samples) else {
+                        return Err(stop(MotionFailure::NoSample, 0.0, *state));
+                    };
+                    let arm = ArmState { payload_kg: mass, ..state.arm };
+                    if arm.check(p).is_err() {
+                        return Err(stop(MotionFailure::ArmReach, 0.0, *state));
+                    }
+                    step.state.arm = arm;
+                    self.settle(ground, &mut step, *state)?;
+                    step.grasped = Some(id);
+                    timed(&mut step, act.grasp_s, act.grasp_w);
+                }
+                Module::Release => {
+                    if !(state.arm.payload_kg > 0.0) {
+                        return Err(stop(MotionFailure::NotHolding, 0.0, *state));
+                    }
+                    step.state.arm.payload_kg = 0.0;
+                    self.settle(ground, &mut step, *state)?;
+                    timed(&mut step, act.grasp_s, act.grasp_w);
+                }
+                Module::TrayDeploy | Module::TrayRetract => {
+                    step.state.tray_deployed = module == Module::TrayDeploy;
+                    timed(&mut step, act.tray_s, act.tray_w);
+                }
+                Module::VideoStart | Module::VideoEnd => {
+                    step.state.video_on = module == Module::VideoStart;
+                    timed(&mut step, act.video_s, act.video_w);
+                }
+                Module::SweepSensors => timed(&mut step, act.sweep_s, act.sweep_w),
+                Module::Communicate => timed(&mut step, act.communicate_s, act.communicate_w),
+                Module::Sleep => {
+                    step.duration_s += act.sleep_s;
+                    step.energy.hotel_wh += act.sleep_w * act.sleep_s / 3600.0;
+                }
+                Module::Recharge => {
+                    timed(&mut step, act.recharge_s, 0.0);
+                    let tilt = state.pose.map_or(1.0, |q| q.pitch.cos() * q.roll.cos());
+                    let watts = act.recharge_flux_w_m2 * p.solar.area_m2 * p.solar.efficiency * tilt.max(0.0);
+                    step.energy.solar_wh += watts * act.recharge_s / 3600.0;
+                }
+                _ => {}
+            }
+        }
+        // Video and an open tray draw power for as long as the module lasts.
+        if step.state.video_on && !matches!(module, Module::VideoStart | Module::VideoEnd) {
+            step.energy.payload_wh += act.video_w * step.duration_s / 3600.0;
+        }
+        let battery = &p.battery;
+        let floor = battery.capacity_wh * (1.0 - battery.usable_fraction);
+        let after = (state.battery_wh - step.energy.net_wh()).min(battery.capacity_wh);
+        if after < floor {
+            return Err(stop(MotionFailure::Battery, 1.0, *state));
+        }
+        step.state.battery_wh = after;
+        Ok(step)
+    }
+
+    /// Drives the reference point `dist` (m, negative backward) along a circle of
+    /// `radius` (m, positive left; infinite straight) or turns in place by `turn` (rad,
+    /// positive left), sampling poses.
+    fn drive(
+        &self,
+        ground: &impl Ground,
+        start: &RoverState,
+        dist: f64,
+        radius: f64,
+        turn: f64,
+        step: &mut Step,
+    ) -> Result<(), Stopped> {
+        let p = self.evaluator.params();
+        let k_copper = p.drive.copper_loss_w_per_nm2();
+        let eta = p.drive.gear_efficiency;
+        let half = p.track_m / 2.0;
+        let a = p.axle_x_m;
+        let in_place = dist == 0.0;
+        let n = if in_place {
+            ((turn.abs() / 0.5f64.to_radians()).ceil() as usize).max(1)
+        } else {
+            ((dist.abs() / self.spacing_m).ceil() as usize).max(3)
+        };
+        // Yaw rate and reference speed.
+        let (speed, yaw_rate) = if in_place {
+            (0.0, p.turn_rate_deg_s.to_radians() * turn.signum())
+        } else {
+            let v = p.speed_m_s * dist.signum();
+            (v, if radius.is_finite() { v / radius } else { 0.0 })
+        };
+        let total_time = if in_place { turn.abs() / yaw_rate.abs() } else { dist.abs() / p.speed_m_s };
+        let direction = if in_place { 1.0 } else { dist.signum() };
+        let cond = Conditions { mu: self.mu, direction };
+        // Wheel speeds about the instantaneous centre: body-frame velocity of each
+        // wheel = (speed − ω·y_w, ω·x_w); |v| along its rolling direction.
+        let wheel_speeds: [f64; 6] = {
+            let mut w = [0.0; 6];
+            for (k, y) in [half, -half].into_iter().enumerate() {
+                for (i, x) in [a.front, a.middle, a.rear].into_iter().enumerate() {
+                    w[3 * k + i] = (speed - yaw_rate * y).hypot(yaw_rate * (x - a.middle));
+                }
+            }
+            w
+        };
+        let mut state = *start;
+        let mut prev_power: Option<(f64, f64)> = None;
+        let mut warm = start.pose;
+        for j in 0..=n {
+            let f = j as f64 / n as f64;
+            let (x, y, heading) = if in_place {
+                (start.x, start.y, start.heading - turn * f)
+            } else if radius.is_finite() {
+                // Along a circle: heading changes by s/R (left positive = azimuth down).
+                let s = dist * f;
+                let dpsi = s / radius;
+                let (fx, fy) = (start.heading.sin(), start.heading.cos());
+                let (lx, ly) = (-fy, fx);
+                let (along, side) = (radius * dpsi.sin(), radius * (1.0 - dpsi.cos()));
+                (start.x + fx * along + lx * side, start.y + fy * along + ly * side, start.heading - dpsi)
+            } else {
+                let s = dist * f;
+                (start.x + start.heading.sin() * s, start.y + start.heading.cos() * s, start.heading)
+            };
+            let eval = self
+                .evaluator
+                .evaluate(ground, Place { x, y, heading }, &start.arm, &cond, warm.as_ref())
+                .map_err(|v| Stopped { failure: MotionFailure::Violation(v), progress: f, state: Box::new(state) })?;
+            warm = Some(eval.pose);
+            step.min_stability = Some(step.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
+            step.max_friction = step.max_friction.max(eval.friction_used);
+            let torques = eval.torques_nm();
+            let mut mech = 0.0;
+            let mut copper = 0.0;
+            for i in 0..6 {
+                let omega = wheel_speeds[i] / p.wheel_radius_m;
+                mech += (torques[i] * omega * direction).max(0.0) / eta;
+                copper += k_copper * torques[i] * torques[i];
+            }
+            if let Some((m0, c0)) = prev_power {
+                let dt = total_time / n as f64;
+                step.energy.mechanical_wh += 0.5 * (m0 + mech) * dt / 3600.0;
+                step.energy.copper_wh += 0.5 * (c0 + copper) * dt / 3600.0;
+            }
+            prev_power = Some((mech, copper));
+            state = RoverState { x, y, heading, pose: Some(eval.pose), ..state };
+        }
+        step.duration_s += total_time;
+        step.energy.hotel_wh += p.hotel_power_w * total_time / 3600.0;
+        step.state = RoverState { arm: step.state.arm, ..state };
+        Ok(())
+    }
+
+    /// Moves the tool by `delta`, checking reach and stability at intermediate arm
+    /// positions; the energy is the rise in potential energy over the joints'
+    /// efficiency.
+    fn move_arm(
+        &self,
+        ground: &impl Ground,
+        start: &RoverState,
+        delta: [f64; 3],
+        step: &mut Step,
+    ) -> Result<(), Stopped> {
+        let p = self.evaluator.params();
+        let cond = Conditions { mu: self.mu, direction: 0.0 };
+        let parts = 4;
+        let mut state = *start;
+        for j in 1..=parts {
+            let f = j as f64 / parts as f64;
+            let arm = start.arm.moved([delta[0] * f, delta[1] * f, delta[2] * f], p).map_err(|_| Stopped {
+                failure: MotionFailure::ArmReach,
+                progress: f,
+                state: Box::new(state),
+            })?;
+            let eval = self
+                .evaluator
+                .evaluate(ground, state.place(), &arm, &cond, state.pose.as_ref())
+                .map_err(|v| Stopped { failure: MotionFailure::Violation(v), progress: f, state: Box::new(state) })?;
+            step.min_stability = Some(step.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
+            step.max_friction = step.max_friction.max(eval.friction_used);
+            state = RoverState { arm, pose: Some(eval.pose), ..state };
+        }
+        let lift = |arm: &ArmState| -> f64 {
+            let cg = arm.arm_cg(p).map_or(0.0, |c| c.z);
+            (p.arm.mass_kg * cg + arm.payload_kg * arm.tool_m[2]) * p.gravity_m_s2
+        };
+        let rise = lift(&state.arm) - lift(&start.arm);
+        step.energy.mechanical_wh += rise.max(0.0) / p.arm.efficiency / 3600.0;
+        step.state = state;
+        Ok(())
+    }
+
+    /// Re-evaluates the pose after a change of load (grasp, release).
+    fn settle(&self, ground: &impl Ground, step: &mut Step, before: RoverState) -> Result<(), Stopped> {
+        let s = &step.state;
+        let cond = Conditions { mu: self.mu, direction: 0.0 };
+        let eval = self.evaluator.evaluate(ground, s.place(), &s.arm, &cond, s.pose.as_ref()).map_err(|v| Stopped {
+            failure: MotionFailure::Violation(v),
+            progress: 0.0,
+            state: Box::new(before),
+        })?;
+        step.min_stability = Some(step.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
+        step.max_friction = step.max_friction.max(eval.friction_used);
+        step.state.pose = Some(eval.pose);
+        Ok(())
+    }
+
+    /// The tool's position on the map, from the body pose.
+    pub fn tool_world(&self, ground: &impl Ground, state: &RoverState) -> Option<[f64; 3]> {
+        let p = self.evaluator.params();
+        let pose = match state.pose {
+            Some(q) => q,
+            None => self.evaluator.kinematics().solve(ground, state.x, state.y, state.heading, None).ok()?,
+        };
+        let (fx, fy) = pose.forward();
+        let (lx, ly) = (-fy, fx);
+        let (sp, cp) = pose.pitch.sin_cos();
+        let (sr, cr) = pose.roll.sin_cos();
+        let t = state.arm.tool_m;
+        let rel = [t[0] - p.rocker_pivot_m.x, t[1], t[2] - p.rocker_pivot_m.z];
+        let (bx, by, bz) = (rel[0], rel[1] * cr - rel[2] * sr, rel[1] * sr + rel[2] * cr);
+        let (px, pz) = (bx * cp - bz * sp, bx * sp + bz * cp);
+        Some([pose.body[0] + fx * px + lx * by, pose.body[1] + fy * px + ly * by, pose.body[2] + pz])
+    }
+
+    /// The heading change (rad, positive left) that points the arm's shoulder line at
+    /// the nearest sample within 1 m, limited to the module's angle; 0 if none.
+    fn turn_toward_sample(
+        &self,
+        ground: &impl Ground,
+        state: &RoverState,
+        samples: &impl Fn([f64; 3]) -> Option<(usize, f64)>,
+    ) -> f64 {
+        let limit = self.evaluator.params().activities.turn_to_sample_deg.to_radians();
+        // Probe the ground around the rover for a sample, 2° apart at 0.6 m.
+        let mut best: Option<f64> = None;
+        for k in -45..=45 {
+            let ang = (k as f64 * 2.0).to_radians();
+            let h = state.heading - ang;
+            let (x, y) = (state.x + 0.6 * h.sin(), state.y + 0.6 * h.cos());
+            if let Some(z) = ground.height(x, y)
+                && samples([x, y, z]).is_some()
+                && best.is_none_or(|b: f64| ang.abs() < b.abs())
+            {
+                best = Some(ang);
+            }
+        }
+        best.map_or(0.0, |a| a.clamp(-limit, limit))
+    }
+}

@@ -1,0 +1,382 @@
+//! The LSR-1 physics end to end: pose, coupled forces, stability, arm and energy,
+//! against the reference's analytic values (shared/reference/rover_physics.md §6).
+
+use areo_rover::RoverParams;
+use areo_rover::arm::ArmState;
+use areo_rover::evaluation::{Conditions, Evaluator, Place, Violation};
+use areo_rover::forces::ForceFailure;
+use areo_rover::kinematics::{Kinematics, newton_pose};
+use areo_rover::motion::{Module, Motion, RoverState};
+use areo_terrain::Ground;
+use areo_terrain::analytic::{Plane, Step};
+
+fn lsr1() -> RoverParams {
+    RoverParams::lsr1()
+}
+
+fn hold(mu: f64) -> Conditions {
+    Conditions { mu, direction: 0.0 }
+}
+
+fn slope(deg: f64) -> Plane {
+    // Rising to the north.
+    Plane { z0: 0.0, gx: 0.0, gy: deg.to_radians().tan() }
+}
+
+#[test]
+fn flat_ground_six_equal_loads_no_torque_full_margin() {
+    let p = lsr1();
+    let ev = Evaluator::new(&p);
+    let e = ev
+        .evaluate(
+            &Plane { z0: 1.0, gx: 0.0, gy: 0.0 },
+            Place { x: 3.0, y: 4.0, heading: 0.7 },
+            &ArmState::stowed(&p),
+            &hold(0.5),
+            None,
+        )
+        .unwrap();
+    let w = 7.0 * 9.81;
+    assert!((e.weight_n - w).abs() < 1e-9);
+    assert!(e.pose.pitch.abs() < 1e-9 && e.pose.roll.abs() < 1e-9);
+    for wheel in &e.pose.wheels {
+        assert!((wheel.contact[2] - 1.0).abs() < 1e-9, "six contacts on the ground");
+    }
+    for n in e.normals_n() {
+        assert!((n - w / 6.0).abs() < 1e-9, "{:?}", e.normals_n());
+    }
+    assert!((e.normals_n().iter().sum::<f64>() - w).abs() < 1e-9);
+    assert!(e.torques_nm().iter().all(|t| t.abs() < 1e-9));
+    assert!((e.stability - 1.0).abs() < 1e-9, "{}", e.stability);
+}
+
+#[test]
+fn an_offset_cg_loads_the_wheels_by_the_lever_rule() {
+    // Reference T2: x_G = +0.069 → per side (0.1954, 0.1954, 0.1092)·W; x_G = −0.10 →
+    // (0.125, 0.125, 0.250)·W.
+    for (xg, want) in [(0.069, [0.1954, 0.1954, 0.1092]), (-0.10, [0.125, 0.125, 0.250])] {
+        let mut p = lsr1();
+        p.cg_m.x = xg;
+        let ev = Evaluator::new(&p);
+        let e = ev
+            .evaluate(
+                &Plane { z0: 0.0, gx: 0.0, gy: 0.0 },
+                Place { x: 0.0, y: 0.0, heading: 0.0 },
+                &ArmState::stowed(&p),
+                &hold(0.5),
+                None,
+            )
+            .unwrap();
+        for side in &e.sides {
+            for (n, w) in side.normal_n.iter().zip(want) {
+                assert!((n / e.weight_n - w).abs() < 5e-4, "x_G {xg}: {:?}", side.normal_n);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_lateral_cg_offset_loads_one_side_more() {
+    let mut p = lsr1();
+    p.cg_m.y = 0.06;
+    let ev = Evaluator::new(&p);
+    let e = ev
+        .evaluate(
+            &Plane { z0: 0.0, gx: 0.0, gy: 0.0 },
+            Place { x: 0.0, y: 0.0, heading: 0.0 },
+            &ArmState::stowed(&p),
+            &hold(0.5),
+            None,
+        )
+        .unwrap();
+    // Lever rule across the 0.60 m track: left (0.30 + 0.06)/0.60 = 60 %.
+    assert!((e.pivot_loads_n[0] / e.weight_n - 0.6).abs() < 1e-9);
+    let left: f64 = e.sides[0].normal_n.iter().sum();
+    assert!((left / e.weight_n - 0.6).abs() < 1e-9);
+}
+
+#[test]
+fn holding_on_a_slope_needs_mu_tan_theta_and_pitches_by_theta() {
+    let p = lsr1();
+    let ev = Evaluator::new(&p);
+    let arm = ArmState::stowed(&p);
+    for theta in [10.0f64, 20.0, 25.0, 30.0] {
+        let g = slope(theta);
+        let mu_star = theta.to_radians().tan();
+        let e = ev.evaluate(&g, Place { x: 0.0, y: 0.0, heading: 0.0 }, &arm, &hold(mu_star + 1e-3), None).unwrap();
+        assert!((e.pose.pitch.to_degrees() - theta).abs() < 1e-6, "{theta}: {}", e.pose.pitch.to_degrees());
+        let sum_n: f64 = e.normals_n().iter().sum();
+        assert!(
+            (sum_n - e.weight_n * theta.to_radians().cos()).abs() < 1e-5,
+            "{sum_n} vs {}",
+            e.weight_n * theta.to_radians().cos()
+        );
+        let fail =
+            ev.evaluate(&g, Place { x: 0.0, y: 0.0, heading: 0.0 }, &arm, &hold(mu_star - 1e-3), None).unwrap_err();
+        assert!(matches!(fail, Violation::Forces { failure: ForceFailure::Slip, .. }), "{theta}: {fail:?}");
+    }
+}
+
+/// The normalised margin on a slope of `deg` with the rover heading `heading_deg`
+/// (0: straight up, 90: across, the slope rising on its left).
+fn margin(deg: f64, heading_deg: f64) -> Result<f64, Violation> {
+    let p = lsr1();
+    let ev = Evaluator::new(&p);
+    let e = ev.evaluate(
+        &slope(deg),
+        Place { x: 0.0, y: 0.0, heading: heading_deg.to_radians() },
+        &ArmState::stowed(&p),
+        &hold(5.0),
+        None,
+    )?;
+    Ok(e.stability)
+}
+
+#[test]
+fn tip_over_angles_are_atan_half_track_and_half_wheelbase_over_cg_height() {
+    // Lateral: atan(0.30/0.25) = 50.19°, S = 1 − φ/50.19°; fore-aft: atan(0.40/0.25)
+    // = 57.99° (T5, T6). Heading west puts the slope's rise on the rover's right.
+    let lat = (0.30f64 / 0.25).atan().to_degrees();
+    let lon = (0.40f64 / 0.25).atan().to_degrees();
+    for phi in [10.0, 20.0, 30.0, 40.0] {
+        let s = margin(phi, 270.0).unwrap();
+        assert!((s - (1.0 - phi / lat)).abs() < 2e-3, "side slope {phi}: {s}");
+    }
+    for theta in [20.0, 30.0, 40.0] {
+        let s = margin(theta, 180.0).unwrap();
+        assert!((s - (1.0 - theta / lon)).abs() < 2e-3, "down a slope of {theta}: {s}");
+    }
+    // Past the tip angle the evaluation reports tip-over.
+    assert_eq!(margin(lat + 1.0, 270.0), Err(Violation::TipOver));
+}
+
+#[test]
+fn extending_the_arm_forward_raises_the_rear_tip_angle() {
+    let p = lsr1();
+    let ev = Evaluator::new(&p);
+    let flat = Plane { z0: 0.0, gx: 0.0, gy: 0.0 };
+    let rear = |arm: &ArmState| {
+        let e = ev.evaluate(&flat, Place { x: 0.0, y: 0.0, heading: 0.0 }, arm, &hold(0.5), None).unwrap();
+        // The rear axis: outward normal pointing south (heading north).
+        let down = nalgebra::Vector3::new(0.0, 0.0, -1.0);
+        let fa = e.force_angle;
+        (0..fa.angles().len()).find(|&i| fa.outward(i, down).y < -0.9).map(|i| fa.angles()[i]).unwrap()
+    };
+    let stowed = ArmState::stowed(&p);
+    let forward = ArmState { tool_m: [0.849, 0.0, 0.42], payload_kg: 0.0 };
+    let (a0, a1) = (rear(&stowed), rear(&forward));
+    // The CG moves forward by Δx = m_arm/m · Δx_arm; the rear angle is atan((0.40 + x_G)/h).
+    let (_, cg0) = stowed.system_mass_cg(&p).unwrap();
+    let (_, cg1) = forward.system_mass_cg(&p).unwrap();
+    assert!(cg1.x > cg0.x + 0.03, "{cg0} → {cg1}");
+    assert!((a0 - ((0.40 + cg0.x) / cg0.z).atan()).abs() < 1e-9);
+    assert!((a1 - ((0.40 + cg1.x) / cg1.z).atan()).abs() < 1e-9);
+    assert!(a1 > a0 + 2f64.to_radians(), "{} → {}", a0.to_degrees(), a1.to_degrees());
+    // Facing up a 59° slope (past the stowed 57.99° backward tip), reaching forward
+    // turns a tip into a stand.
+    let hill = slope(59.0);
+    assert_eq!(
+        ev.evaluate(&hill, Place { x: 0.0, y: 0.0, heading: 0.0 }, &stowed, &hold(5.0), None).unwrap_err(),
+        Violation::TipOver
+    );
+    assert!(ev.evaluate(&hill, Place { x: 0.0, y: 0.0, heading: 0.0 }, &forward, &hold(5.0), None).is_ok());
+}
+
+/// Smallest μ that holds `ground` at the pose, by bisection on feasibility.
+fn mu_star(ground: &impl Ground, x: f64, heading_deg: f64, direction: f64) -> f64 {
+    let mut p = lsr1();
+    p.wheel_torque_max_nm = 3.5;
+    let ev = Evaluator::new(&p);
+    let arm = ArmState::stowed(&p);
+    let ok = |mu: f64| {
+        ev.evaluate(
+            ground,
+            Place { x, y: 0.0, heading: heading_deg.to_radians() },
+            &arm,
+            &Conditions { mu, direction },
+            None,
+        )
+        .is_ok()
+    };
+    let (mut lo, mut hi) = (0.0, 3.0);
+    assert!(ok(hi), "not even μ = 3 holds");
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if ok(mid) { hi = mid } else { lo = mid }
+    }
+    hi
+}
+
+#[test]
+fn climbing_a_vertical_step_needs_the_reference_mu() {
+    // T9: the front wheels against a wall taller than r, the others on flat ground:
+    // μ* = 0.580, whatever the CG height.
+    let wall = Step { x_step: 0.0, low_m: 0.0, high_m: 0.30 };
+    // Heading east, middle axles at x = −0.50: front axles 0.10 m short of the wall.
+    let mu = mu_star(&wall, -0.50, 90.0, 0.0);
+    assert!((mu - 0.580).abs() < 0.01, "{mu}");
+}
+
+#[test]
+fn contact_error_stays_under_two_percent_of_the_diameter() {
+    let p = lsr1();
+    let k = Kinematics::new(&p);
+    let terrains: Vec<Box<dyn Fn(f64, f64) -> f64>> = vec![
+        Box::new(|_, _| 0.0),
+        Box::new(|_, y| y * 20f64.to_radians().tan()),
+        Box::new(|x, _| -x * 15f64.to_radians().tan()),
+        Box::new(|x, y| 0.08 * (2.0 * x).sin() * (1.5 * y).cos() + 0.05 * (3.1 * x + 1.0).cos()),
+    ];
+    struct F<'a>(&'a dyn Fn(f64, f64) -> f64);
+    impl Ground for F<'_> {
+        fn height(&self, x: f64, y: f64) -> Option<f64> {
+            Some((self.0)(x, y))
+        }
+        fn normal(&self, _: f64, _: f64) -> Option<[f64; 3]> {
+            Some([0.0, 0.0, 1.0])
+        }
+    }
+    for (t, f) in terrains.iter().enumerate() {
+        let g = F(f.as_ref());
+        for i in 0..12 {
+            let (x, y, h) = (0.3 * i as f64, -0.2 * i as f64, 0.5 * i as f64);
+            let pose = k.solve(&g, x, y, h, None).unwrap();
+            let err = pose.contact_error_m(&g, p.wheel_radius_m);
+            assert!(err < 0.02 * 0.20, "terrain {t}, pose {i}: {err}");
+        }
+    }
+}
+
+#[test]
+fn newton_on_the_full_chain_agrees_with_the_planar_decomposition() {
+    let p = lsr1();
+    let k = Kinematics::new(&p);
+    let rough = |x: f64, y: f64| 0.06 * (1.7 * x).sin() * (1.3 * y).cos() + 0.1 * y;
+    struct F<G: Fn(f64, f64) -> f64>(G);
+    impl<G: Fn(f64, f64) -> f64> Ground for F<G> {
+        fn height(&self, x: f64, y: f64) -> Option<f64> {
+            Some((self.0)(x, y))
+        }
+        fn normal(&self, _: f64, _: f64) -> Option<[f64; 3]> {
+            Some([0.0, 0.0, 1.0])
+        }
+    }
+    let g = F(rough);
+    for (x, y, h) in [(0.0, 0.0, 0.0), (0.7, -0.4, 0.9), (-1.1, 0.5, 2.2), (2.0, 1.0, 4.0)] {
+        let planar = k.solve(&g, x, y, h, None).unwrap();
+        let newton = newton_pose(&g, &p, x, y, h, Some(&planar)).expect("Newton converges");
+        let cold = newton_pose(&g, &p, x, y, h, None).expect("Newton converges cold");
+        assert!((newton.pitch - cold.pitch).abs() < 1e-6 && (newton.roll - cold.roll).abs() < 1e-6);
+        assert!(
+            (newton.pitch - planar.pitch).abs() < 0.5f64.to_radians(),
+            "pitch {} vs {}",
+            newton.pitch,
+            planar.pitch
+        );
+        assert!((newton.roll - planar.roll).abs() < 0.5f64.to_radians(), "roll {} vs {}", newton.roll, planar.roll);
+        for i in 0..6 {
+            let (a, b) = (newton.axles[i], planar.wheels[i].axle);
+            let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+            assert!(d < 0.01, "axle {i}: {a:?} vs {b:?}");
+        }
+    }
+    // On a plane crossed diagonally the two differ only by the planar model's
+    // convention: its wheel planes tilt about the heading line, so its body axis is
+    // yawed by ≈ tan(pitch)·sin(roll) (0.4° here) and its pitch differs by < 0.2°.
+    let side = Plane { z0: 0.0, gx: -0.2, gy: 0.1 };
+    let planar = k.solve(&side, 0.0, 0.0, 0.3, None).unwrap();
+    let newton = newton_pose(&side, &p, 0.0, 0.0, 0.3, None).unwrap();
+    assert!(
+        (newton.roll - planar.roll).abs() < 0.2f64.to_radians()
+            && (newton.pitch - planar.pitch).abs() < 0.2f64.to_radians(),
+        "roll {} vs {}, pitch {} vs {}",
+        newton.roll,
+        planar.roll,
+        newton.pitch,
+        planar.pitch
+    );
+}
+
+#[test]
+fn a_ten_centimetre_move_costs_the_rolling_resistance_work_over_the_efficiency() {
+    let p = lsr1();
+    let ev = Evaluator::new(&p);
+    let flat = Plane { z0: 0.0, gx: 0.0, gy: 0.0 };
+    let motion = Motion::new(&ev, 0.6);
+    let start = RoverState::new(&ev, 0.0, 0.0, 0.0);
+    let step = motion.run(&flat, &start, Module::Forward, &|_| None).unwrap();
+    let w = 7.0 * 9.81;
+    let work_j = p.rolling_resistance * w * 0.10;
+    let mech_j = step.energy.mechanical_wh * 3600.0;
+    assert!((mech_j - work_j / p.drive.gear_efficiency).abs() < 1e-9, "{mech_j} J vs {}", work_j / 0.5);
+    // Copper losses: six wheels at τ = c_rr·r·W/6 for 10 cm at 3 cm/s.
+    let tau = p.rolling_resistance * p.wheel_radius_m * w / 6.0;
+    let copper_j = 6.0 * p.drive.copper_loss_w_per_nm2() * tau * tau * (0.10 / p.speed_m_s);
+    assert!((step.energy.copper_wh * 3600.0 - copper_j).abs() < 1e-9);
+    assert!((step.duration_s - 0.10 / 0.03).abs() < 1e-12);
+    assert!((step.state.y - 0.10).abs() < 1e-12 && step.state.x.abs() < 1e-12);
+}
+
+#[test]
+fn every_module_runs_and_arcs_follow_their_circles() {
+    let p = lsr1();
+    let ev = Evaluator::new(&p);
+    let flat = Plane { z0: 0.0, gx: 0.0, gy: 0.0 };
+    let motion = Motion::new(&ev, 0.6);
+    let start = RoverState::new(&ev, 0.0, 0.0, 0.0);
+    // A sample on the ground 0.57 m away, 38° to the left (found by "turn to sample");
+    // "grasp" finds one at the stowed tool.
+    let sample = |t: [f64; 3]| {
+        let near = if t[2] < 0.05 { (t[0] + 0.35).hypot(t[1] - 0.45) < 0.1 } else { t[0].hypot(t[1] - 0.15) < 0.05 };
+        near.then_some((7usize, 0.1))
+    };
+    for m in Module::ALL {
+        assert_eq!(Module::from_code(m.code()), Some(m));
+        let r = motion.run(&flat, &start, m, &sample);
+        match m {
+            Module::Release => assert!(r.is_err(), "nothing to release"),
+            Module::Grasp => assert_eq!(r.unwrap().grasped, Some(7)),
+            // Nothing to undo from a fresh start.
+            Module::TurnFromSample => assert_eq!(r.unwrap().duration_s, 0.0),
+            _ => {
+                let s = r.unwrap_or_else(|e| panic!("{m:?}: {e:?}"));
+                assert!(s.duration_s > 0.0, "{m:?}");
+            }
+        }
+    }
+    // 105: 10 cm on a 0.5 m circle to the left: heading −0.2 rad (to the west), chord
+    // 2R sin(0.1).
+    let s = motion.run(&flat, &start, Module::ArcLeftTight, &|_| None).unwrap();
+    assert!((s.state.heading + 0.2).abs() < 1e-12);
+    assert!((s.state.x.hypot(s.state.y) - 2.0 * 0.5 * 0.1f64.sin()).abs() < 1e-12 && s.state.x < 0.0);
+    // 103: 5° in place.
+    let s = motion.run(&flat, &start, Module::TurnLeft, &|_| None).unwrap();
+    assert!((s.state.heading + 5f64.to_radians()).abs() < 1e-12 && s.state.x == 0.0);
+    // Recharging on flat ground at noon gains flux·area·efficiency for its duration.
+    let s = motion.run(&flat, &start, Module::Recharge, &|_| None).unwrap();
+    assert!((s.energy.solar_wh - 1000.0 * 0.25 * 0.18).abs() < 1e-9);
+}
+
+#[test]
+fn a_drive_into_a_wall_stops_at_the_first_violation() {
+    let p = lsr1();
+    let ev = Evaluator::new(&p);
+    // A 0.5 m wall across the path: the bogie passes its limit before the front axle
+    // can climb it.
+    let wall = Step { x_step: 0.0, low_m: 0.0, high_m: 0.5 };
+    let motion = Motion::new(&ev, 0.8);
+    let mut state = RoverState::new(&ev, -0.60, 0.0, 90f64.to_radians());
+    let mut stopped = None;
+    for _ in 0..10 {
+        match motion.run(&wall, &state, Module::Forward, &|_| None) {
+            Ok(s) => state = s.state,
+            Err(e) => {
+                stopped = Some(e);
+                break;
+            }
+        }
+    }
+    let e = stopped.expect("the wall stops the rover");
+    assert!(e.state.x < 0.0 - 0.09, "stopped before the wall: {}", e.state.x);
+    assert!(matches!(e.failure, areo_rover::motion::MotionFailure::Violation(_)), "{e:?}");
+}
