@@ -71,9 +71,11 @@ pub struct SidePose {
     /// How far this side's middle axle sits ahead of the anchor, m (the differential
     /// keeps both rocker pivots on one lateral axis).
     pub shift: f64,
-    /// Height where the tilted wheel plane meets the contact line (the middle
-    /// contact), m.
+    /// Height where the tilted wheel plane meets the contact line (the ground under
+    /// s = 0), m.
     pub plane_z: f64,
+    /// The rim sample touching the ground, per axle (seeds warm starts).
+    pins: [usize; 3],
 }
 
 /// One wheel on the ground, map frame.
@@ -201,6 +203,10 @@ pub struct Kinematics {
     rocker_limit: f64,
     u: [f64; WHEEL_SAMPLES + 1],
     rise: [f64; WHEEL_SAMPLES + 1],
+    /// Each sample's contact angle asin(u/r), and how far a tangent may sit from it
+    /// and still be the sample's own contact (0.6 of the wider gap to a neighbour).
+    angle: [f64; WHEEL_SAMPLES + 1],
+    angle_tol: [f64; WHEEL_SAMPLES + 1],
     /// Which point the input names.
     pub anchor: Anchor,
 }
@@ -212,6 +218,8 @@ struct Dilated {
     z: f64,
     u: f64,
     slope: f64,
+    /// The maximising sample.
+    k: usize,
 }
 
 /// An axle placed by a loop closure.
@@ -220,6 +228,8 @@ struct Placed {
     s: f64,
     /// Scaled height (true height / cos ψ).
     z: f64,
+    /// The maximising sample at s.
+    k: usize,
 }
 
 impl Kinematics {
@@ -237,6 +247,13 @@ impl Kinematics {
             u[k] = -r + 2.0 * r * k as f64 / WHEEL_SAMPLES as f64;
             rise[k] = (r * r - u[k] * u[k]).max(0.0).sqrt();
         }
+        let angle = u.map(|v| (v / r).clamp(-1.0, 1.0).asin());
+        let mut angle_tol = [0.0; WHEEL_SAMPLES + 1];
+        for k in 0..=WHEEL_SAMPLES {
+            let below = if k > 0 { angle[k] - angle[k - 1] } else { 0.0 };
+            let above = if k < WHEEL_SAMPLES { angle[k + 1] - angle[k] } else { 0.0 };
+            angle_tol[k] = 0.6 * below.max(above);
+        }
         Kinematics {
             r,
             track: params.track_m,
@@ -250,6 +267,8 @@ impl Kinematics {
             rocker_limit: params.rocker_limit_deg.to_radians(),
             u,
             rise,
+            angle,
+            angle_tol,
             anchor: Anchor::default(),
         }
     }
@@ -276,8 +295,11 @@ impl Kinematics {
         // body's lateral axis (the differential's pivot line) with the anchor fixed.
         let mut roll = warm.map_or(0.0, |p| p.roll);
         let mut shift = warm.map_or((0.0, 0.0), |p| (p.left.shift, p.right.shift));
-        let mut plane_z = warm.map(|p| (p.left.plane_z, p.right.plane_z));
         let mut guess = warm.map(|p| (p.left, p.right));
+        // Until the check at the end, each axle evaluates only the rim sample that
+        // touched last time (1 height instead of 25).
+        let mut pins = warm.map(|p| (p.left.pins, p.right.pins));
+        let mut misses = 0;
         let mut sides = None;
         let mut last: Option<(f64, f64)> = None;
         // Over the wheel's width scale, from heights (a Ground's normals may be coarser).
@@ -288,7 +310,8 @@ impl Kinematics {
                 _ => 0.0,
             }
         };
-        for _ in 0..20 {
+        const PASSES: usize = 24;
+        for pass in 0..PASSES {
             let (c, t) = (roll.cos(), roll.tan());
             let (ol, or) = match self.anchor {
                 Anchor::MiddleMidpoint => (0.5 * self.track * c, -0.5 * self.track * c),
@@ -296,27 +319,24 @@ impl Kinematics {
             };
             let origin_l = (x + lx * ol + fx * shift.0, y + ly * ol + fy * shift.0);
             let origin_r = (x + lx * or + fx * shift.1, y + ly * or + fy * shift.1);
-            let (zl, zr) = match plane_z {
-                Some(z) => z,
-                None => (
-                    ground.height(origin_l.0, origin_l.1).ok_or(KinematicsFailure::OffTerrain)?,
-                    ground.height(origin_r.0, origin_r.1).ok_or(KinematicsFailure::OffTerrain)?,
-                ),
-            };
+            // The tilted wheel plane passes through the ground under s = 0.
+            let (zl, zr) = (
+                ground.height(origin_l.0, origin_l.1).ok_or(KinematicsFailure::OffTerrain)?,
+                ground.height(origin_r.0, origin_r.1).ok_or(KinematicsFailure::OffTerrain)?,
+            );
             let squeeze = |g: f64| 1.0 / (1.0 + g * t).max(0.2);
             let (kl, kr) = (squeeze(lateral_slope(origin_l)), squeeze(lateral_slope(origin_r)));
-            let mut left = self.solve_side(
-                &|s: f64| ground.height(origin_l.0 + fx * s, origin_l.1 + fy * s).map(|h| zl + (h - zl) * kl),
-                origin_l,
-                c,
-                guess.map(|g| g.0),
-            )?;
-            let mut right = self.solve_side(
-                &|s: f64| ground.height(origin_r.0 + fx * s, origin_r.1 + fy * s).map(|h| zr + (h - zr) * kr),
-                origin_r,
-                c,
-                guess.map(|g| g.1),
-            )?;
+            let profile_l =
+                |s: f64| ground.height(origin_l.0 + fx * s, origin_l.1 + fy * s).map(|h| zl + (h - zl) * kl);
+            let profile_r =
+                |s: f64| ground.height(origin_r.0 + fx * s, origin_r.1 + fy * s).map(|h| zr + (h - zr) * kr);
+            let use_pins = if misses >= 2 { None } else { pins };
+            let mut left = self.solve_side(&profile_l, origin_l, c, guess.map(|g| g.0), use_pins.map(|p| p.0))?;
+            let mut right = self.solve_side(&profile_r, origin_r, c, guess.map(|g| g.1), use_pins.map(|p| p.1))?;
+            if use_pins.is_none() {
+                pins = Some((left.pins, right.pins));
+            }
+            pins = Some((left.pins, right.pins));
             (left.shift, left.plane_z, right.shift, right.plane_z) = (shift.0, zl, shift.1, zr);
             let sin_roll = ((left.rocker_pivot.1 - right.rocker_pivot.1) / self.track).clamp(-1.0, 1.0);
             let g = sin_roll.asin();
@@ -325,19 +345,25 @@ impl Kinematics {
                 Anchor::MiddleMidpoint => (0.5 * (pr - pl), 0.5 * (pl - pr)),
                 Anchor::MiddleRight => (pr - pl, 0.0),
             };
-            let new_z = (left.contacts[1].1, right.contacts[1].1);
-            guess = Some((left, right));
-            sides = Some((left, right));
-            let settled = (g - roll).abs() < 1e-11
-                && (new_shift.0 - shift.0).abs() < 1e-10
-                && (new_shift.1 - shift.1).abs() < 1e-10
-                && (new_z.0 - zl).abs() < 1e-10
-                && (new_z.1 - zr).abs() < 1e-10;
-            if settled {
-                break;
+            // Settled to 1e-7 (rad, m): the roll to 6 millionths of a degree and the shift
+            // to a tenth of a micrometre, far below the terrain's accuracy.
+            let settled =
+                (g - roll).abs() < 1e-7 && (new_shift.0 - shift.0).abs() < 1e-7 && (new_shift.1 - shift.1).abs() < 1e-7;
+            if settled || pass + 1 == PASSES {
+                let verify = use_pins.is_some();
+                let ok = self.add_contacts(&profile_l, &mut left, c, verify)?
+                    && self.add_contacts(&profile_r, &mut right, c, verify)?;
+                if ok || pass + 1 == PASSES {
+                    sides = Some((left, right));
+                    break;
+                }
+                // A pinned sample was not the one touching: pin the ones that are (once),
+                // then finish with full rims.
+                misses += 1;
+                pins = Some((left.pins, right.pins));
             }
+            guess = Some((left, right));
             shift = new_shift;
-            plane_z = Some(new_z);
             let next = match last {
                 Some((r0, g0)) if ((roll - g) - (r0 - g0)).abs() > 1e-15 => {
                     roll - (roll - g) * (roll - r0) / ((roll - g) - (r0 - g0))
@@ -395,17 +421,27 @@ impl Kinematics {
 
     /// The dilated terrain at s in the side's tilted plane: in-plane heights are true
     /// heights over c = cos ψ, and the wheel is a disc of radius r in that plane.
-    fn dilated(&self, profile: &impl Fn(f64) -> Option<f64>, s: f64, c: f64) -> Option<Dilated> {
-        let mut best = f64::NEG_INFINITY;
-        let mut bu = 0.0;
+    ///
+    /// With `pin`, only that sample is evaluated: the caller asserts it is the maximiser
+    /// (true near a solution already found) and checks it afterwards.
+    fn dilated(&self, profile: &impl Fn(f64) -> Option<f64>, s: f64, c: f64, pin: Option<usize>) -> Option<Dilated> {
         let inv = 1.0 / c;
-        for k in 0..=WHEEL_SAMPLES {
-            let z = profile(s + self.u[k])? * inv + self.rise[k];
-            if z > best {
-                best = z;
-                bu = self.u[k];
+        let (best, k) = match pin {
+            Some(k) => (profile(s + self.u[k])? * inv + self.rise[k], k),
+            None => {
+                let mut best = f64::NEG_INFINITY;
+                let mut bk = 0;
+                for k in 0..=WHEEL_SAMPLES {
+                    let z = profile(s + self.u[k])? * inv + self.rise[k];
+                    if z > best {
+                        best = z;
+                        bk = k;
+                    }
+                }
+                (best, bk)
             }
-        }
+        };
+        let bu = self.u[k];
         let e = 1e-4 * self.r;
         let (a, b) = (profile(s + bu - e), profile(s + bu + e));
         let slope = match (a, b) {
@@ -414,7 +450,7 @@ impl Kinematics {
             (None, Some(b)) => (b - profile(s + bu)?) / e,
             (None, None) => 0.0,
         };
-        Some(Dilated { z: best, u: bu, slope: slope * inv })
+        Some(Dilated { z: best, u: bu, slope: slope * inv, k })
     }
 
     /// The maximiser of h(s + u)/c + √(r² − u²) within one sample spacing of `u0`.
@@ -456,11 +492,12 @@ impl Kinematics {
         dir: f64,
         len: f64,
         guess: Option<f64>,
+        pin: Option<usize>,
     ) -> Result<Placed, KinematicsFailure> {
         // In t = dir·(s − centre.0) the distance grows with t: φ(t) < 0 inside.
         let eval = |t: f64| -> Result<(f64, f64, Dilated), KinematicsFailure> {
             let s = centre.0 + dir * t;
-            let d = self.dilated(profile, s, c).ok_or(KinematicsFailure::OffTerrain)?;
+            let d = self.dilated(profile, s, c, pin).ok_or(KinematicsFailure::OffTerrain)?;
             let (ds, dz) = (s - centre.0, d.z - centre.1);
             let dist = ds.hypot(dz);
             // dφ/dt = (ds·dir + dz·dz/dt)/dist with dz/dt = dir·slope.
@@ -494,8 +531,8 @@ impl Kinematics {
         };
         for _ in 0..100 {
             let (phi, deriv, d) = eval(t)?;
-            if phi.abs() < 1e-11 {
-                return Ok(Placed { s: centre.0 + dir * t, z: d.z });
+            if phi.abs() < 1e-10 {
+                return Ok(Placed { s: centre.0 + dir * t, z: d.z, k: d.k });
             }
             if phi < 0.0 {
                 lo = if lo.is_nan() { t } else { lo.max(t) };
@@ -525,7 +562,8 @@ impl Kinematics {
         // The bracket collapsed onto a vertical segment of A (a wall): the axle is where
         // the closure circle crosses it, between the heights on either side.
         let s = centre.0 + dir * hi;
-        let (za, zb) = (eval(lo)?.2.z, eval(hi)?.2.z);
+        let (za, end) = (eval(lo)?.2.z, eval(hi)?.2);
+        let zb = end.z;
         let ds = s - centre.0;
         let h = (len * len - ds * ds).max(0.0).sqrt();
         let (zl, zh) = (za.min(zb), za.max(zb));
@@ -533,7 +571,49 @@ impl Kinematics {
             .into_iter()
             .min_by(|a, b| dist_to_range(*a, zl, zh).total_cmp(&dist_to_range(*b, zl, zh)))
             .unwrap_or(zh);
-        Ok(Placed { s, z })
+        Ok(Placed { s, z, k: end.k })
+    }
+
+    /// Contact points and angles of a solved side. On smooth ground the contact is the
+    /// tangent point (γ = atan of the in-plane slope at the touching sample, when that
+    /// agrees with the sample's own angle to within its spacing); at an edge the
+    /// maximiser of the dilation is refined. With `verify`, returns `false` if a full
+    /// dilation finds the ground above an axle (a pinned sample was not the maximiser).
+    fn add_contacts(
+        &self,
+        profile: &impl Fn(f64) -> Option<f64>,
+        side: &mut SidePose,
+        c: f64,
+        verify: bool,
+    ) -> Result<bool, KinematicsFailure> {
+        let mut ok = true;
+        for i in 0..3 {
+            let (s, z_true) = side.axles[i];
+            let z = z_true / c;
+            let d = self.dilated(profile, s, c, None).ok_or(KinematicsFailure::OffTerrain)?;
+            side.pins[i] = d.k;
+            if verify && d.z > z + 1e-9 {
+                ok = false;
+                continue;
+            }
+            if z < d.z - 1e-9 && d.u.abs() > 1e-12 {
+                // On a wall face: the contact is on the face, level with the axle.
+                side.contacts[i] = (s + d.u, z_true);
+                side.gamma[i] = d.u.signum() * std::f64::consts::FRAC_PI_2;
+                continue;
+            }
+            let tangent = d.slope.atan();
+            let u = if (tangent - self.angle[d.k]).abs() <= self.angle_tol[d.k] {
+                side.gamma[i] = tangent;
+                self.r * tangent.sin()
+            } else {
+                let u = self.refine_contact(profile, s, c, d.u).ok_or(KinematicsFailure::OffTerrain)?;
+                side.gamma[i] = u.atan2((self.r * self.r - u * u).max(0.0).sqrt());
+                u
+            };
+            side.contacts[i] = (s + u, profile(s + u).ok_or(KinematicsFailure::OffTerrain)?);
+        }
+        Ok(ok)
     }
 
     fn solve_side(
@@ -542,43 +622,33 @@ impl Kinematics {
         origin: (f64, f64),
         c: f64,
         warm: Option<SidePose>,
+        pins: Option<[usize; 3]>,
     ) -> Result<SidePose, KinematicsFailure> {
-        let m0 = self.dilated(profile, 0.0, c).ok_or(KinematicsFailure::OffTerrain)?;
+        let pin = |i: usize| pins.map(|p| p[i]);
+        let m0 = self.dilated(profile, 0.0, c, pin(1)).ok_or(KinematicsFailure::OffTerrain)?;
         let m = (0.0, m0.z);
-        let f = self.closure(profile, c, m, 1.0, self.len_fm, warm.map(|w| w.axles[0].0))?;
-        let f = (f.s, f.z);
+        let fp = self.closure(profile, c, m, 1.0, self.len_fm, warm.map(|w| w.axles[0].0), pin(0))?;
+        let f = (fp.s, fp.z);
         let pivot = place(m, f, self.front, self.pivot);
-        let rear =
-            self.closure(profile, c, pivot, -1.0, self.len_pr, warm.map(|w| w.axles[2].0).filter(|&s| s < pivot.0))?;
-        let rear = (rear.s, rear.z);
+        let rp = self.closure(
+            profile,
+            c,
+            pivot,
+            -1.0,
+            self.len_pr,
+            warm.map(|w| w.axles[2].0).filter(|&s| s < pivot.0),
+            pin(2),
+        )?;
+        let rear = (rp.s, rp.z);
         let nominal_pr = sub(self.rear, self.pivot);
         let rocker = place(pivot, rear, nominal_pr, sub(self.rocker, self.pivot));
         let chord = sub(rear, pivot);
         let rocker_pitch = wrap_pi(chord.1.atan2(chord.0) - nominal_pr.1.atan2(nominal_pr.0));
         let bogie_pitch = wrap_pi((f.1 - m.1).atan2(f.0 - m.0) - self.front.1.atan2(self.front.0));
-        // Contacts and normals from the dilation's maximiser, in the tilted plane; then
-        // back to true heights.
-        let scaled = [f, m, rear];
-        let mut axles = [(0.0, 0.0); 3];
-        let mut contacts = [(0.0, 0.0); 3];
-        let mut gamma = [0.0; 3];
-        for i in 0..3 {
-            let (s, z) = scaled[i];
-            axles[i] = (s, z * c);
-            let d = self.dilated(profile, s, c).ok_or(KinematicsFailure::OffTerrain)?;
-            if z < d.z - 1e-9 && d.u.abs() > 1e-12 {
-                // On a wall face: the contact is on the face, level with the axle.
-                contacts[i] = (s + d.u, z * c);
-                gamma[i] = d.u.signum() * std::f64::consts::FRAC_PI_2;
-            } else {
-                // Refine the maximiser between the neighbouring samples (golden section):
-                // the tangent point on smooth ground, the corner at an edge.
-                let u = self.refine_contact(profile, s, c, d.u).ok_or(KinematicsFailure::OffTerrain)?;
-                let ground_z = profile(s + u).ok_or(KinematicsFailure::OffTerrain)?;
-                contacts[i] = (s + u, ground_z);
-                gamma[i] = u.atan2((self.r * self.r - u * u).max(0.0).sqrt());
-            }
-        }
+        let axles = [(f.0, f.1 * c), (m.0, m.1 * c), (rear.0, rear.1 * c)];
+        // Contacts are found on the final pass only.
+        let contacts = [(f.0, 0.0), (m0.u, 0.0), (rear.0, 0.0)];
+        let gamma = [0.0; 3];
         let unscale = |p: (f64, f64)| (p.0, p.1 * c);
         Ok(SidePose {
             axles,
@@ -593,6 +663,7 @@ impl Kinematics {
             origin,
             shift: 0.0,
             plane_z: 0.0,
+            pins: [fp.k, m0.k, rp.k],
         })
     }
 }

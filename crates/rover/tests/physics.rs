@@ -212,8 +212,9 @@ fn climbing_a_vertical_step_needs_the_reference_mu() {
     // T9: the front wheels against a wall taller than r, the others on flat ground:
     // μ* = 0.580, whatever the CG height.
     let wall = Step { x_step: 0.0, low_m: 0.0, high_m: 0.30 };
-    // Heading east, middle axles at x = −0.50: front axles 0.10 m short of the wall.
-    let mu = mu_star(&wall, -0.50, 90.0, 0.0);
+    // Heading east, middle axles at x = −0.499999: the front wheels press 1 µm into
+    // the wall's face, so they ride on it 1 mm above the ground.
+    let mu = mu_star(&wall, -0.499999, 90.0, 0.0);
     assert!((mu - 0.580).abs() < 0.01, "{mu}");
 }
 

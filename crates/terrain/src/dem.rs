@@ -162,6 +162,7 @@ impl Dem {
 
     /// Bilinear patch at (x, y): the four corner cells, the fractions, and the cell
     /// sizes; `None` off the map or if any corner is missing.
+    #[inline]
     fn patch(&self, x: f64, y: f64) -> Option<([f64; 4], f64, f64)> {
         let fx = (x - self.x0) / self.dx;
         let fy = (self.y_top - y) / self.dy;
@@ -172,15 +173,22 @@ impl Dem {
         // edge values.
         let u = (fx - 0.5).clamp(0.0, (self.cols - 1) as f64);
         let v = (fy - 0.5).clamp(0.0, (self.rows - 1) as f64);
-        let c0 = (u.floor() as usize).min(self.cols.saturating_sub(2));
-        let r0 = (v.floor() as usize).min(self.rows.saturating_sub(2));
-        let c1 = (c0 + 1).min(self.cols - 1);
-        let r1 = (r0 + 1).min(self.rows - 1);
-        let corners = [self.z(c0, r0)?, self.z(c1, r0)?, self.z(c0, r1)?, self.z(c1, r1)?].map(f64::from);
-        Some((corners, u - c0 as f64, v - r0 as f64))
+        // u, v ≥ 0, so truncation is the floor (and much cheaper than `floor`).
+        let c0 = (u as usize).min(self.cols.saturating_sub(2));
+        let r0 = (v as usize).min(self.rows.saturating_sub(2));
+        let dc = usize::from(self.cols > 1);
+        let dr = if self.rows > 1 { self.cols } else { 0 };
+        let i = r0 * self.cols + c0;
+        let corners = [i, i + dc, i + dr, i + dr + dc];
+        if !corners.iter().all(|&k| self.valid[k]) {
+            return None;
+        }
+        let z = |k: usize| f64::from(self.z[k]);
+        Some(([z(corners[0]), z(corners[1]), z(corners[2]), z(corners[3])], u - c0 as f64, v - r0 as f64))
     }
 
     /// Bilinear height at (x, y), m; `None` off the map or next to missing data.
+    #[inline]
     pub fn height(&self, x: f64, y: f64) -> Option<f64> {
         let ([a, b, c, d], s, t) = self.patch(x, y)?;
         Some(a * (1.0 - s) * (1.0 - t) + b * s * (1.0 - t) + c * (1.0 - s) * t + d * s * t)
@@ -251,6 +259,7 @@ impl Dem {
 }
 
 impl Ground for Dem {
+    #[inline]
     fn height(&self, x: f64, y: f64) -> Option<f64> {
         Dem::height(self, x, y)
     }
