@@ -222,6 +222,14 @@ struct Dilated {
     k: usize,
 }
 
+/// A loop closure: the axle lies `len` from `centre`, in direction `dir` (±1) along s.
+#[derive(Debug, Clone, Copy)]
+struct Link {
+    centre: (f64, f64),
+    dir: f64,
+    len: f64,
+}
+
 /// An axle placed by a loop closure.
 #[derive(Debug, Clone, Copy)]
 struct Placed {
@@ -333,9 +341,6 @@ impl Kinematics {
             let use_pins = if misses >= 2 { None } else { pins };
             let mut left = self.solve_side(&profile_l, origin_l, c, guess.map(|g| g.0), use_pins.map(|p| p.0))?;
             let mut right = self.solve_side(&profile_r, origin_r, c, guess.map(|g| g.1), use_pins.map(|p| p.1))?;
-            if use_pins.is_none() {
-                pins = Some((left.pins, right.pins));
-            }
             pins = Some((left.pins, right.pins));
             (left.shift, left.plane_z, right.shift, right.plane_z) = (shift.0, zl, shift.1, zr);
             let sin_roll = ((left.rocker_pivot.1 - right.rocker_pivot.1) / self.track).clamp(-1.0, 1.0);
@@ -351,8 +356,9 @@ impl Kinematics {
                 (g - roll).abs() < 1e-7 && (new_shift.0 - shift.0).abs() < 1e-7 && (new_shift.1 - shift.1).abs() < 1e-7;
             if settled || pass + 1 == PASSES {
                 let verify = use_pins.is_some();
-                let ok = self.add_contacts(&profile_l, &mut left, c, verify)?
-                    && self.add_contacts(&profile_r, &mut right, c, verify)?;
+                let ok_l = self.add_contacts(&profile_l, &mut left, c, verify)?;
+                let ok_r = self.add_contacts(&profile_r, &mut right, c, verify)?;
+                let ok = ok_l && ok_r;
                 if ok || pass + 1 == PASSES {
                     sides = Some((left, right));
                     break;
@@ -488,12 +494,11 @@ impl Kinematics {
         &self,
         profile: &impl Fn(f64) -> Option<f64>,
         c: f64,
-        centre: (f64, f64),
-        dir: f64,
-        len: f64,
+        link: Link,
         guess: Option<f64>,
         pin: Option<usize>,
     ) -> Result<Placed, KinematicsFailure> {
+        let Link { centre, dir, len } = link;
         // In t = dir·(s − centre.0) the distance grows with t: φ(t) < 0 inside.
         let eval = |t: f64| -> Result<(f64, f64, Dilated), KinematicsFailure> {
             let s = centre.0 + dir * t;
@@ -627,18 +632,12 @@ impl Kinematics {
         let pin = |i: usize| pins.map(|p| p[i]);
         let m0 = self.dilated(profile, 0.0, c, pin(1)).ok_or(KinematicsFailure::OffTerrain)?;
         let m = (0.0, m0.z);
-        let fp = self.closure(profile, c, m, 1.0, self.len_fm, warm.map(|w| w.axles[0].0), pin(0))?;
+        let front = Link { centre: m, dir: 1.0, len: self.len_fm };
+        let fp = self.closure(profile, c, front, warm.map(|w| w.axles[0].0), pin(0))?;
         let f = (fp.s, fp.z);
         let pivot = place(m, f, self.front, self.pivot);
-        let rp = self.closure(
-            profile,
-            c,
-            pivot,
-            -1.0,
-            self.len_pr,
-            warm.map(|w| w.axles[2].0).filter(|&s| s < pivot.0),
-            pin(2),
-        )?;
+        let back = Link { centre: pivot, dir: -1.0, len: self.len_pr };
+        let rp = self.closure(profile, c, back, warm.map(|w| w.axles[2].0).filter(|&s| s < pivot.0), pin(2))?;
         let rear = (rp.s, rp.z);
         let nominal_pr = sub(self.rear, self.pivot);
         let rocker = place(pivot, rear, nominal_pr, sub(self.rocker, self.pivot));
