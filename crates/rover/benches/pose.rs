@@ -54,6 +54,24 @@ fn pose(c: &mut Criterion) {
             s
         })
     });
+    // The parts: the pose alone (warm), and forces + stability at fixed poses.
+    let kin = ev.kinematics();
+    g.bench_function("kinematics_warm_rough_dem", |b| {
+        b.iter(|| {
+            let mut warm = Some(start);
+            for p in &places {
+                warm = Some(kin.solve(&dem, p.x, p.y, p.heading, warm.as_ref()).expect("admissible"));
+            }
+            warm
+        })
+    });
+    let poses: Vec<_> =
+        places.iter().map(|p| kin.solve(&dem, p.x, p.y, p.heading, None).expect("admissible")).collect();
+    g.bench_function("forces_stability_rough_dem", |b| {
+        b.iter(|| {
+            poses.iter().map(|q| ev.evaluate_pose(&dem, q, &arm, &cond).expect("admissible").stability).sum::<f64>()
+        })
+    });
     g.bench_function("evaluate_cold_rough_dem", |b| {
         b.iter(|| {
             places.iter().map(|p| ev.evaluate(&dem, *p, &arm, &cond, None).expect("admissible").stability).sum::<f64>()

@@ -222,6 +222,32 @@ struct Dilated {
     k: usize,
 }
 
+/// The ground along one side's contact line as its tilted wheel plane sees it: true
+/// heights relative to the plane's reference height, squeezed by the sideways slope.
+#[derive(Debug, Clone, Copy)]
+struct Line<'g, G> {
+    ground: &'g G,
+    origin: (f64, f64),
+    dir: (f64, f64),
+    zref: f64,
+    squeeze: f64,
+}
+
+impl<G: Ground> Line<'_, G> {
+    #[inline]
+    fn at(&self, s: f64) -> Option<f64> {
+        let h = self.ground.height(self.origin.0 + self.dir.0 * s, self.origin.1 + self.dir.1 * s)?;
+        Some(self.zref + (h - self.zref) * self.squeeze)
+    }
+
+    #[inline]
+    fn at_slope(&self, s: f64) -> Option<(f64, f64)> {
+        let (x, y) = (self.origin.0 + self.dir.0 * s, self.origin.1 + self.dir.1 * s);
+        let (h, g) = self.ground.height_slope(x, y, self.dir)?;
+        Some((self.zref + (h - self.zref) * self.squeeze, g * self.squeeze))
+    }
+}
+
 /// A loop closure: the axle lies `len` from `centre`, in direction `dir` (±1) along s.
 #[derive(Debug, Clone, Copy)]
 struct Link {
@@ -284,7 +310,7 @@ impl Kinematics {
     /// The pose with the anchor at (x, y) (m, map frame) and heading `heading` (rad,
     /// azimuth clockwise from north). `warm`, the pose at a nearby point of the same
     /// motion, seeds the loop closures and the roll; the result is the same either way
-    /// to the solver's tolerance (1e-9 m).
+    /// to the solver's tolerance (10 µm, 0.0006°).
     pub fn solve(
         &self,
         ground: &impl Ground,
@@ -334,10 +360,8 @@ impl Kinematics {
             );
             let squeeze = |g: f64| 1.0 / (1.0 + g * t).max(0.2);
             let (kl, kr) = (squeeze(lateral_slope(origin_l)), squeeze(lateral_slope(origin_r)));
-            let profile_l =
-                |s: f64| ground.height(origin_l.0 + fx * s, origin_l.1 + fy * s).map(|h| zl + (h - zl) * kl);
-            let profile_r =
-                |s: f64| ground.height(origin_r.0 + fx * s, origin_r.1 + fy * s).map(|h| zr + (h - zr) * kr);
+            let profile_l = Line { ground, origin: origin_l, dir: (fx, fy), zref: zl, squeeze: kl };
+            let profile_r = Line { ground, origin: origin_r, dir: (fx, fy), zref: zr, squeeze: kr };
             let use_pins = if misses >= 2 { None } else { pins };
             let mut left = self.solve_side(&profile_l, origin_l, c, guess.map(|g| g.0), use_pins.map(|p| p.0))?;
             let mut right = self.solve_side(&profile_r, origin_r, c, guess.map(|g| g.1), use_pins.map(|p| p.1))?;
@@ -350,17 +374,21 @@ impl Kinematics {
                 Anchor::MiddleMidpoint => (0.5 * (pr - pl), 0.5 * (pl - pr)),
                 Anchor::MiddleRight => (pr - pl, 0.0),
             };
-            // Settled to 1e-7 (rad, m): the roll to 6 millionths of a degree and the shift
-            // to a tenth of a micrometre, far below the terrain's accuracy.
+            // Settled to 1e-5 (rad, m): the roll to 0.0006° and the shift to 10 µm, far
+            // below the terrain's accuracy (the final roll takes one more secant step).
             let settled =
-                (g - roll).abs() < 1e-7 && (new_shift.0 - shift.0).abs() < 1e-7 && (new_shift.1 - shift.1).abs() < 1e-7;
+                (g - roll).abs() < 1e-5 && (new_shift.0 - shift.0).abs() < 1e-5 && (new_shift.1 - shift.1).abs() < 1e-5;
             if settled || pass + 1 == PASSES {
                 let verify = use_pins.is_some();
                 let ok_l = self.add_contacts(&profile_l, &mut left, c, verify)?;
                 let ok_r = self.add_contacts(&profile_r, &mut right, c, verify)?;
                 let ok = ok_l && ok_r;
                 if ok || pass + 1 == PASSES {
+                    self.add_angles(&mut left, c);
+                    self.add_angles(&mut right, c);
                     sides = Some((left, right));
+                    // The roll the final sides give.
+                    roll = g;
                     break;
                 }
                 // A pinned sample was not the one touching: pin the ones that are (once),
@@ -430,40 +458,32 @@ impl Kinematics {
     ///
     /// With `pin`, only that sample is evaluated: the caller asserts it is the maximiser
     /// (true near a solution already found) and checks it afterwards.
-    fn dilated(&self, profile: &impl Fn(f64) -> Option<f64>, s: f64, c: f64, pin: Option<usize>) -> Option<Dilated> {
+    fn dilated(&self, profile: &Line<'_, impl Ground>, s: f64, c: f64, pin: Option<usize>) -> Option<Dilated> {
         let inv = 1.0 / c;
-        let (best, k) = match pin {
-            Some(k) => (profile(s + self.u[k])? * inv + self.rise[k], k),
+        let k = match pin {
+            Some(k) => k,
             None => {
                 let mut best = f64::NEG_INFINITY;
                 let mut bk = 0;
                 for k in 0..=WHEEL_SAMPLES {
-                    let z = profile(s + self.u[k])? * inv + self.rise[k];
+                    let z = profile.at(s + self.u[k])? * inv + self.rise[k];
                     if z > best {
                         best = z;
                         bk = k;
                     }
                 }
-                (best, bk)
+                bk
             }
         };
-        let bu = self.u[k];
-        let e = 1e-4 * self.r;
-        let (a, b) = (profile(s + bu - e), profile(s + bu + e));
-        let slope = match (a, b) {
-            (Some(a), Some(b)) => (b - a) / (2.0 * e),
-            (Some(a), None) => (profile(s + bu)? - a) / e,
-            (None, Some(b)) => (b - profile(s + bu)?) / e,
-            (None, None) => 0.0,
-        };
-        Some(Dilated { z: best, u: bu, slope: slope * inv, k })
+        let (h, slope) = profile.at_slope(s + self.u[k])?;
+        Some(Dilated { z: h * inv + self.rise[k], u: self.u[k], slope: slope * inv, k })
     }
 
     /// The maximiser of h(s + u)/c + √(r² − u²) within one sample spacing of `u0`.
-    fn refine_contact(&self, profile: &impl Fn(f64) -> Option<f64>, s: f64, c: f64, u0: f64) -> Option<f64> {
+    fn refine_contact(&self, profile: &Line<'_, impl Ground>, s: f64, c: f64, u0: f64) -> Option<f64> {
         let step = 2.0 * self.r / WHEEL_SAMPLES as f64;
         let r2 = self.r * self.r;
-        let f = |u: f64| -> Option<f64> { Some(profile(s + u)? / c + (r2 - u * u).max(0.0).sqrt()) };
+        let f = |u: f64| -> Option<f64> { Some(profile.at(s + u)? / c + (r2 - u * u).max(0.0).sqrt()) };
         let (mut a, mut b) = ((u0 - step).max(-self.r), (u0 + step).min(self.r));
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
@@ -492,7 +512,7 @@ impl Kinematics {
     /// direction `dir` (±1) from `centre.0`, starting at `guess` when given.
     fn closure(
         &self,
-        profile: &impl Fn(f64) -> Option<f64>,
+        profile: &Line<'_, impl Ground>,
         c: f64,
         link: Link,
         guess: Option<f64>,
@@ -504,7 +524,7 @@ impl Kinematics {
             let s = centre.0 + dir * t;
             let d = self.dilated(profile, s, c, pin).ok_or(KinematicsFailure::OffTerrain)?;
             let (ds, dz) = (s - centre.0, d.z - centre.1);
-            let dist = ds.hypot(dz);
+            let dist = (ds * ds + dz * dz).sqrt();
             // dφ/dt = (ds·dir + dz·dz/dt)/dist with dz/dt = dir·slope.
             let deriv = if dist > 0.0 { (ds * dir + dz * dir * d.slope) / dist } else { 1.0 };
             Ok((dist - len, deriv, d))
@@ -586,7 +606,7 @@ impl Kinematics {
     /// dilation finds the ground above an axle (a pinned sample was not the maximiser).
     fn add_contacts(
         &self,
-        profile: &impl Fn(f64) -> Option<f64>,
+        profile: &Line<'_, impl Ground>,
         side: &mut SidePose,
         c: f64,
         verify: bool,
@@ -616,14 +636,28 @@ impl Kinematics {
                 side.gamma[i] = u.atan2((self.r * self.r - u * u).max(0.0).sqrt());
                 u
             };
-            side.contacts[i] = (s + u, profile(s + u).ok_or(KinematicsFailure::OffTerrain)?);
+            side.contacts[i] = (s + u, profile.at(s + u).ok_or(KinematicsFailure::OffTerrain)?);
         }
         Ok(ok)
     }
 
+    /// The link angles of a solved side, in its tilted plane (heights over c).
+    fn add_angles(&self, side: &mut SidePose, c: f64) {
+        let sc = |p: (f64, f64)| (p.0, p.1 / c);
+        let (f, m, rear) = (sc(side.axles[0]), sc(side.axles[1]), sc(side.axles[2]));
+        let (pivot, rocker) = (sc(side.bogie_pivot), sc(side.rocker_pivot));
+        let nominal_pr = sub(self.rear, self.pivot);
+        let chord = sub(rear, pivot);
+        side.rocker_pitch = wrap_pi(chord.1.atan2(chord.0) - nominal_pr.1.atan2(nominal_pr.0));
+        let bogie_pitch = wrap_pi((f.1 - m.1).atan2(f.0 - m.0) - self.front.1.atan2(self.front.0));
+        side.bogie_angle = wrap_pi(bogie_pitch - side.rocker_pitch);
+        side.rocker_alpha = (rocker.1 - pivot.1).atan2(pivot.0 - rocker.0);
+        side.bogie_alpha = (pivot.1 - f.1).atan2(f.0 - pivot.0);
+    }
+
     fn solve_side(
         &self,
-        profile: &impl Fn(f64) -> Option<f64>,
+        profile: &Line<'_, impl Ground>,
         origin: (f64, f64),
         c: f64,
         warm: Option<SidePose>,
@@ -641,9 +675,6 @@ impl Kinematics {
         let rear = (rp.s, rp.z);
         let nominal_pr = sub(self.rear, self.pivot);
         let rocker = place(pivot, rear, nominal_pr, sub(self.rocker, self.pivot));
-        let chord = sub(rear, pivot);
-        let rocker_pitch = wrap_pi(chord.1.atan2(chord.0) - nominal_pr.1.atan2(nominal_pr.0));
-        let bogie_pitch = wrap_pi((f.1 - m.1).atan2(f.0 - m.0) - self.front.1.atan2(self.front.0));
         let axles = [(f.0, f.1 * c), (m.0, m.1 * c), (rear.0, rear.1 * c)];
         // Contacts are found on the final pass only.
         let contacts = [(f.0, 0.0), (m0.u, 0.0), (rear.0, 0.0)];
@@ -655,10 +686,11 @@ impl Kinematics {
             gamma,
             bogie_pivot: unscale(pivot),
             rocker_pivot: unscale(rocker),
-            rocker_pitch,
-            bogie_angle: wrap_pi(bogie_pitch - rocker_pitch),
-            rocker_alpha: (rocker.1 - pivot.1).atan2(pivot.0 - rocker.0),
-            bogie_alpha: (pivot.1 - f.1).atan2(f.0 - pivot.0),
+            // Angles are found on the final pass only.
+            rocker_pitch: 0.0,
+            bogie_angle: 0.0,
+            rocker_alpha: 0.0,
+            bogie_alpha: 0.0,
             origin,
             shift: 0.0,
             plane_z: 0.0,
@@ -684,8 +716,10 @@ fn sub(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
 /// Places `local` (given relative to `o` in the nominal layout, where o → `nominal_to`
 /// is the reference chord) in the frame where o → `to` is that chord.
 fn place(o: (f64, f64), to: (f64, f64), nominal_to: (f64, f64), local: (f64, f64)) -> (f64, f64) {
-    let rot = (to.1 - o.1).atan2(to.0 - o.0) - nominal_to.1.atan2(nominal_to.0);
-    let (s, c) = rot.sin_cos();
+    // The rotation taking the nominal chord onto the actual one, without trigonometry.
+    let (a, n) = ((to.0 - o.0, to.1 - o.1), nominal_to);
+    let norm = ((a.0 * a.0 + a.1 * a.1) * (n.0 * n.0 + n.1 * n.1)).sqrt().max(1e-300);
+    let (c, s) = ((a.0 * n.0 + a.1 * n.1) / norm, (n.0 * a.1 - n.1 * a.0) / norm);
     (o.0 + c * local.0 - s * local.1, o.1 + s * local.0 + c * local.1)
 }
 
@@ -924,9 +958,9 @@ mod tests {
         // planes sit ±(w/2)·cos φ from the centre line.
         let g = Plane { z0: 0.0, gx: -15f64.to_radians().tan(), gy: 0.0 };
         let p = pose(&g, &lsr1(), 0.0, 0.0, 0.0).unwrap();
-        assert!((p.roll.to_degrees() - 15.0).abs() < 1e-6, "{}", p.roll.to_degrees());
+        assert!((p.roll.to_degrees() - 15.0).abs() < 1e-4, "{}", p.roll.to_degrees());
         assert!(p.pitch.abs() < 1e-9);
-        assert!((p.left.origin.0 + 0.3 * 15f64.to_radians().cos()).abs() < 1e-9);
+        assert!((p.left.origin.0 + 0.3 * 15f64.to_radians().cos()).abs() < 1e-6);
     }
 
     #[test]
@@ -981,7 +1015,7 @@ mod tests {
             let cold = k.solve(&g, x, -0.2, 0.4, None).unwrap();
             for (a, b) in warm.wheels.iter().zip(&cold.wheels) {
                 for j in 0..3 {
-                    assert!((a.axle[j] - b.axle[j]).abs() < 1e-7, "{i}: {a:?} vs {b:?}");
+                    assert!((a.axle[j] - b.axle[j]).abs() < 2e-5, "{i}: {a:?} vs {b:?}");
                 }
             }
             prev = warm;

@@ -34,6 +34,12 @@ pub struct Dem {
     y_top: f64,
     z: Vec<f32>,
     valid: Vec<bool>,
+    /// Every cell valid: height queries skip the mask (they are the rover planner's
+    /// inner loop).
+    all_valid: bool,
+    /// 1/dx and 1/dy, so queries multiply instead of divide.
+    inv_dx: f64,
+    inv_dy: f64,
     georef: Georef,
 }
 
@@ -43,6 +49,24 @@ pub trait Ground {
     fn height(&self, x: f64, y: f64) -> Option<f64>;
     /// Upward unit normal at (x, y), or `None` off the terrain or on missing data.
     fn normal(&self, x: f64, y: f64) -> Option<[f64; 3]>;
+
+    /// Height at (x, y) and its slope along the horizontal unit vector `dir` (m per m),
+    /// together because a rover's contact search needs both at every step. The default
+    /// differentiates [`Ground::height`] numerically (±10 µm, one-sided at an edge);
+    /// terrains with a cheap exact gradient override it.
+    fn height_slope(&self, x: f64, y: f64, dir: (f64, f64)) -> Option<(f64, f64)> {
+        let h = self.height(x, y)?;
+        let e = 1e-5;
+        let ahead = self.height(x + dir.0 * e, y + dir.1 * e);
+        let behind = self.height(x - dir.0 * e, y - dir.1 * e);
+        let slope = match (ahead, behind) {
+            (Some(a), Some(b)) => (a - b) / (2.0 * e),
+            (Some(a), None) => (a - h) / e,
+            (None, Some(b)) => (h - b) / e,
+            (None, None) => 0.0,
+        };
+        Some((h, slope))
+    }
 }
 
 impl Dem {
@@ -61,8 +85,22 @@ impl Dem {
         if z.len() != cols * rows {
             return Err(Error::BadGrid(format!("{} elevations for {cols} x {rows} cells", z.len())));
         }
-        let valid = z.iter().map(|v| v.is_finite()).collect();
-        Ok(Dem { cols, rows, dx, dy, x0, y_top, z, valid, georef: Georef::default() })
+        let valid: Vec<bool> = z.iter().map(|v| v.is_finite()).collect();
+        let all_valid = valid.iter().all(|&v| v);
+        Ok(Dem {
+            cols,
+            rows,
+            dx,
+            dy,
+            x0,
+            y_top,
+            z,
+            valid,
+            all_valid,
+            inv_dx: 1.0 / dx,
+            inv_dy: 1.0 / dy,
+            georef: Georef::default(),
+        })
     }
 
     /// A DEM sampled from `f(x, y)` at cell centres, with the north-west corner at (0, rows·dy).
@@ -93,6 +131,7 @@ impl Dem {
                 return Err(Error::BadGrid("a cell marked valid holds a non-finite elevation".into()));
             }
         }
+        self.all_valid = valid.iter().all(|&v| v);
         self.valid = valid;
         Ok(self)
     }
@@ -164,15 +203,16 @@ impl Dem {
     /// sizes; `None` off the map or if any corner is missing.
     #[inline]
     fn patch(&self, x: f64, y: f64) -> Option<([f64; 4], f64, f64)> {
-        let fx = (x - self.x0) / self.dx;
-        let fy = (self.y_top - y) / self.dy;
-        if !(fx >= 0.0 && fy >= 0.0 && fx <= self.cols as f64 && fy <= self.rows as f64) {
+        let fx = (x - self.x0) * self.inv_dx;
+        let fy = (self.y_top - y) * self.inv_dy;
+        let (cols, rows) = (self.cols as f64, self.rows as f64);
+        if !(fx >= 0.0 && fy >= 0.0 && fx <= cols && fy <= rows) {
             return None;
         }
         // Position relative to cell centres, clamped so the edge half-cells take the
         // edge values.
-        let u = (fx - 0.5).clamp(0.0, (self.cols - 1) as f64);
-        let v = (fy - 0.5).clamp(0.0, (self.rows - 1) as f64);
+        let u = (fx - 0.5).max(0.0).min(cols - 1.0);
+        let v = (fy - 0.5).max(0.0).min(rows - 1.0);
         // u, v ≥ 0, so truncation is the floor (and much cheaper than `floor`).
         let c0 = (u as usize).min(self.cols.saturating_sub(2));
         let r0 = (v as usize).min(self.rows.saturating_sub(2));
@@ -180,7 +220,7 @@ impl Dem {
         let dr = if self.rows > 1 { self.cols } else { 0 };
         let i = r0 * self.cols + c0;
         let corners = [i, i + dc, i + dr, i + dr + dc];
-        if !corners.iter().all(|&k| self.valid[k]) {
+        if !self.all_valid && !corners.iter().all(|&k| self.valid[k]) {
             return None;
         }
         let z = |k: usize| f64::from(self.z[k]);
@@ -266,6 +306,15 @@ impl Ground for Dem {
     fn normal(&self, x: f64, y: f64) -> Option<[f64; 3]> {
         let (gx, gy) = self.gradient(x, y)?;
         Some(unit_normal(gx, gy))
+    }
+    /// One bilinear patch for both: the slope is the patch's exact gradient.
+    #[inline]
+    fn height_slope(&self, x: f64, y: f64, dir: (f64, f64)) -> Option<(f64, f64)> {
+        let ([a, b, c, d], s, t) = self.patch(x, y)?;
+        let h = a * (1.0 - s) * (1.0 - t) + b * s * (1.0 - t) + c * (1.0 - s) * t + d * s * t;
+        let gx = if self.cols > 1 { ((b - a) * (1.0 - t) + (d - c) * t) * self.inv_dx } else { 0.0 };
+        let gy = if self.rows > 1 { -((c - a) * (1.0 - s) + (d - b) * s) * self.inv_dy } else { 0.0 };
+        Some((h, gx * dir.0 + gy * dir.1))
     }
 }
 
