@@ -53,6 +53,12 @@ pub enum Error {
     /// An ephemeris computation refused its input.
     #[error(transparent)]
     Ephemeris(#[from] areo_ephemeris::Error),
+    /// A rover parameter file could not be read or is invalid.
+    #[error(transparent)]
+    Rover(#[from] areo_rover::Error),
+    /// A command-line value is out of range.
+    #[error("{0}")]
+    Usage(String),
 }
 
 impl Error {
@@ -63,6 +69,8 @@ impl Error {
             Error::Terrain(areo_terrain::Error::Io { .. }) => 1,
             Error::Terrain(_) => 2,
             Error::Io { .. } => 1,
+            Error::Rover(areo_rover::Error::Io { .. }) => 1,
+            Error::Rover(_) | Error::Usage(_) => 2,
         }
     }
 }

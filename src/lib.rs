@@ -23,6 +23,7 @@ mod run;
 pub mod movingai;
 pub mod outcome;
 pub mod render;
+pub mod rover_check;
 pub mod scenario;
 pub mod sun_report;
 pub mod terrain_tools;

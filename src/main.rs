@@ -50,6 +50,38 @@ enum Command {
     /// Where the Sun is: at one instant, at instants listed in a file, or the rise, noon
     /// and set of a sol at a site.
     Sun(SunArgs),
+    /// Rover models: check a parameter file.
+    #[command(subcommand)]
+    Rover(RoverCommand),
+}
+
+#[derive(Debug, Subcommand)]
+enum RoverCommand {
+    /// Pose, wheel loads and torques, binding limits, stability margin and the smallest
+    /// friction that holds, for a parameter file on a test terrain.
+    Check {
+        /// Rover parameters (RON), e.g. crates/rover/params/lsr1.ron.
+        params: PathBuf,
+        /// flat, slope:DEG (rising ahead), side-slope:DEG (rising to the left), or
+        /// step:HEIGHT_M (front wheels against a vertical step).
+        #[arg(long, default_value = "flat", value_parser = clap::value_parser!(areo::rover_check::TestTerrain))]
+        terrain: areo::rover_check::TestTerrain,
+        /// Wheel–ground friction coefficient.
+        #[arg(long, default_value_t = 0.6)]
+        mu: f64,
+        /// Driving forward (rolling resistance counts) rather than holding still.
+        #[arg(long)]
+        moving: bool,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = ReportFormat::Text)]
+        format: ReportFormat,
+    },
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum ReportFormat {
+    Text,
+    Json,
 }
 
 #[derive(Debug, Args)]
@@ -170,6 +202,17 @@ fn main() -> ExitCode {
         Command::Sun(args) => sun(&args),
         Command::Grid(args) => grid(&args),
         Command::Terrain(cmd) => terrain(&cmd),
+        Command::Rover(RoverCommand::Check { params, terrain, mu, moving, format }) => {
+            areo::rover_check::check(&params, terrain, mu, moving).map(|report| match format {
+                ReportFormat::Text => print!("{}", report.text()),
+                ReportFormat::Json => {
+                    println!(
+                        "{}",
+                        serde_json::to_string_pretty(&report).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+                    )
+                }
+            })
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

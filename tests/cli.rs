@@ -246,3 +246,43 @@ fn out_of_range_terrain_feature_is_located() {
     assert!(err.contains("bad_terrain_feature.ron:10:53: field `job.terrain.features[1].slope_deg`"), "{err}");
     assert!(err.contains("95 is out of range: allowed 0..90"), "{err}");
 }
+
+#[test]
+fn rover_check_reports_loads_margin_and_needed_friction() {
+    let params = root().join("crates/rover/params/lsr1.ron");
+    let out = areo(&["rover", "check", params.to_str().unwrap(), "--terrain", "flat"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("verdict: ok") && text.contains("100.0 % of flat ground"), "{text}");
+    // W/6 = 7 × 9.81 / 6 = 11.445 N on every wheel.
+    assert_eq!(text.matches("11.445").count(), 6, "{text}");
+    // A 20° slope in JSON: pitch 20°, μ needed = tan 20° = 0.3640.
+    let out = areo(&["rover", "check", params.to_str().unwrap(), "--terrain", "slope:20", "--format", "json"]);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(v["verdict"], "ok");
+    assert!((v["pose"]["pitch_deg"].as_f64().unwrap() - 20.0).abs() < 1e-6);
+    assert!((v["mu_needed"].as_f64().unwrap() - 0.3640).abs() < 2e-4, "{v}");
+    assert_eq!(v["wheels"].as_array().unwrap().len(), 6);
+    // Too little friction for a vertical step: the verdict names slip, exit 0.
+    let out = areo(&["rover", "check", params.to_str().unwrap(), "--terrain", "step:0.2", "--mu", "0.4"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("slip") && text.contains("smallest μ that holds here: 0.57"), "{text}");
+}
+
+#[test]
+fn rover_check_rejects_bad_terrain_and_bad_parameters_with_exit_2() {
+    let params = root().join("crates/rover/params/lsr1.ron");
+    let out = areo(&["rover", "check", params.to_str().unwrap(), "--terrain", "slope:95"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("allowed: flat"));
+    let bad = root().join("tests/rover/bad_gear.ron");
+    let out = areo(&["rover", "check", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad_gear.ron") && err.contains("drive.gear_efficiency") && err.contains("1.5"), "{err}");
+    let out = areo(&["rover", "check", "no/such/params.ron"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/params.ron"));
+}

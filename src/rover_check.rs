@@ -1,0 +1,321 @@
+//! `areo rover check`: one quasi-static evaluation of a rover parameter file on a
+//! standard test terrain — the pose, wheel loads and torques, which limits bind, the
+//! stability margin and the smallest friction coefficient that holds — so an engineer
+//! can sanity-check a parameter file against their own numbers.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::str::FromStr;
+
+use areo_rover::RoverParams;
+use areo_rover::arm::ArmState;
+use areo_rover::evaluation::{Conditions, Evaluation, Evaluator, Place, Violation};
+use areo_rover::kinematics::Pose;
+use areo_terrain::Ground;
+use areo_terrain::analytic::{Plane, Step};
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+
+/// A standard test terrain, as given to `--terrain`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TestTerrain {
+    /// Level ground.
+    Flat,
+    /// A uniform slope rising ahead, degrees.
+    Slope(f64),
+    /// A uniform slope rising to the rover's left, degrees.
+    SideSlope(f64),
+    /// A vertical step of this height (m) with the front wheels pressed against it.
+    Step(f64),
+}
+
+impl FromStr for TestTerrain {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<TestTerrain, String> {
+        let allowed = "allowed: flat, slope:DEG or side-slope:DEG (0 ≤ DEG < 90), step:HEIGHT_M (0 < HEIGHT_M ≤ 2)";
+        let number = |v: &str| v.parse::<f64>().map_err(|_| format!("`{s}`: `{v}` is not a number; {allowed}"));
+        let (kind, value) = s.split_once(':').unwrap_or((s, ""));
+        match kind {
+            "flat" if value.is_empty() => Ok(TestTerrain::Flat),
+            "slope" | "side-slope" => {
+                let deg = number(value)?;
+                if !(0.0..90.0).contains(&deg) {
+                    return Err(format!("`{s}`: {deg}° is out of range; {allowed}"));
+                }
+                Ok(if kind == "slope" { TestTerrain::Slope(deg) } else { TestTerrain::SideSlope(deg) })
+            }
+            "step" => {
+                let h = number(value)?;
+                if !(h > 0.0 && h <= 2.0) {
+                    return Err(format!("`{s}`: {h} m is out of range; {allowed}"));
+                }
+                Ok(TestTerrain::Step(h))
+            }
+            _ => Err(format!("`{s}`: unknown terrain; {allowed}")),
+        }
+    }
+}
+
+impl std::fmt::Display for TestTerrain {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            TestTerrain::Flat => f.write_str("flat"),
+            TestTerrain::Slope(d) => write!(f, "slope:{d}"),
+            TestTerrain::SideSlope(d) => write!(f, "side-slope:{d}"),
+            TestTerrain::Step(h) => write!(f, "step:{h}"),
+        }
+    }
+}
+
+/// One wheel's share.
+#[derive(Debug, Clone, Serialize)]
+pub struct WheelReport {
+    /// Which wheel, e.g. "left front".
+    pub wheel: String,
+    /// Normal load, N.
+    pub normal_n: f64,
+    /// Tractive force, N.
+    pub traction_n: f64,
+    /// Motor torque at the wheel, N·m.
+    pub torque_nm: f64,
+    /// Contact angle, degrees (terrain rising ahead positive).
+    pub contact_deg: f64,
+    /// Limits at their bound: "friction", "contact" (N = 0), "torque".
+    pub binding: Vec<&'static str>,
+}
+
+/// The pose.
+#[derive(Debug, Clone, Serialize)]
+pub struct PoseReport {
+    /// Body pitch, degrees (nose up positive).
+    pub pitch_deg: f64,
+    /// Body roll, degrees (left up positive).
+    pub roll_deg: f64,
+    /// Rocker-pivot midpoint height above the ground under the middle wheels, m.
+    pub body_height_m: f64,
+    /// The paper's α1..α4 (right rocker, right bogie, left rocker, left bogie), degrees.
+    pub alpha_deg: [f64; 4],
+}
+
+/// What `areo rover check` reports.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    /// The rover's name.
+    pub rover: String,
+    /// The terrain.
+    pub terrain: String,
+    /// The friction coefficient checked.
+    pub mu: f64,
+    /// Driving (rolling resistance counted) or holding still.
+    pub moving: bool,
+    /// "ok", or the violated limit.
+    pub verdict: String,
+    /// The pose, if one exists.
+    pub pose: Option<PoseReport>,
+    /// The wheels, when the forces are admissible.
+    pub wheels: Vec<WheelReport>,
+    /// Force-angle stability margin, % of flat ground.
+    pub stability_pct: Option<f64>,
+    /// Total weight, N.
+    pub weight_n: f64,
+    /// The smallest μ (to 1e-4) at which the rover holds here, if any μ ≤ 5 does.
+    pub mu_needed: Option<f64>,
+}
+
+/// The wheels in report order.
+const WHEELS: [&str; 6] = ["left front", "left middle", "left rear", "right front", "right middle", "right rear"];
+
+/// Loads `params_path` and evaluates it on `terrain` with friction `mu`.
+pub fn check(params_path: &Path, terrain: TestTerrain, mu: f64, moving: bool) -> Result<Report> {
+    let params = RoverParams::load(params_path)?;
+    if !(mu > 0.0 && mu.is_finite()) {
+        return Err(Error::Usage(format!("--mu {mu}: must be positive and finite")));
+    }
+    let ev = Evaluator::new(&params);
+    let arm = ArmState::stowed(&params);
+    let direction = if moving { 1.0 } else { 0.0 };
+    let (result, ground_z, mu_needed) = match terrain {
+        TestTerrain::Flat => at(&ev, &Plane { z0: 0.0, gx: 0.0, gy: 0.0 }, 0.0, &arm, mu, direction),
+        TestTerrain::Slope(d) => {
+            at(&ev, &Plane { z0: 0.0, gx: 0.0, gy: d.to_radians().tan() }, 0.0, &arm, mu, direction)
+        }
+        TestTerrain::SideSlope(d) => {
+            // Heading north; rising to the west is rising to the left.
+            at(&ev, &Plane { z0: 0.0, gx: -d.to_radians().tan(), gy: 0.0 }, 0.0, &arm, mu, direction)
+        }
+        TestTerrain::Step(h) => {
+            // Heading east; the wall 1 µm inside the front wheels' reach.
+            let a = params.axle_x_m;
+            let x_step = (a.front - a.middle) + params.wheel_radius_m - 1e-6;
+            at(&ev, &Step { x_step, low_m: 0.0, high_m: h }, 90.0, &arm, mu, direction)
+        }
+    };
+    let mut report = Report {
+        rover: params.name.clone(),
+        terrain: terrain.to_string(),
+        mu,
+        moving,
+        verdict: "ok".into(),
+        pose: None,
+        wheels: Vec::new(),
+        stability_pct: None,
+        weight_n: params.mass_kg * params.gravity_m_s2,
+        mu_needed,
+    };
+    match result {
+        Ok(e) => {
+            report.pose = Some(pose_report(&e.pose, ground_z));
+            report.stability_pct = Some(100.0 * e.stability);
+            report.weight_n = e.weight_n;
+            report.wheels = wheels(&e, mu, params.wheel_torque_max_nm);
+        }
+        Err((violation, pose)) => {
+            report.verdict = violation.to_string();
+            report.pose = pose.map(|p| pose_report(&p, ground_z));
+        }
+    }
+    Ok(report)
+}
+
+/// The evaluation (or the violation and the pose, if any), the ground height at the
+/// anchor, and the smallest μ that holds.
+type Outcome = (std::result::Result<Evaluation, (Violation, Option<Pose>)>, f64, Option<f64>);
+
+/// Evaluates at the origin heading `heading_deg`, and finds the smallest μ that holds.
+fn at(ev: &Evaluator, ground: &impl Ground, heading_deg: f64, arm: &ArmState, mu: f64, direction: f64) -> Outcome {
+    let place = Place { x: 0.0, y: 0.0, heading: heading_deg.to_radians() };
+    let eval = |mu: f64| ev.evaluate(ground, place, arm, &Conditions { mu, direction }, None);
+    let result = eval(mu).map_err(|v| {
+        let pose = ev.kinematics().solve(ground, place.x, place.y, place.heading, None).ok();
+        (v, pose)
+    });
+    let mu_needed = if eval(0.0).is_ok() {
+        Some(0.0)
+    } else if eval(5.0).is_ok() {
+        let (mut lo, mut hi) = (0.0, 5.0);
+        while hi - lo > 1e-4 {
+            let mid = 0.5 * (lo + hi);
+            if eval(mid).is_ok() { hi = mid } else { lo = mid }
+        }
+        Some(hi)
+    } else {
+        None
+    };
+    (result, ground.height(0.0, 0.0).unwrap_or(0.0), mu_needed)
+}
+
+fn pose_report(p: &Pose, ground_z: f64) -> PoseReport {
+    PoseReport {
+        pitch_deg: p.pitch.to_degrees(),
+        roll_deg: p.roll.to_degrees(),
+        body_height_m: p.body[2] - ground_z,
+        alpha_deg: p.alpha.map(f64::to_degrees),
+    }
+}
+
+fn wheels(e: &Evaluation, mu: f64, torque_max: f64) -> Vec<WheelReport> {
+    let mut out = Vec::new();
+    for (k, side) in e.sides.iter().enumerate() {
+        let pose_side = if k == 0 { &e.pose.left } else { &e.pose.right };
+        for i in 0..3 {
+            let (n, t, tau) = (side.normal_n[i], side.traction_n[i], side.torque_nm[i]);
+            let scale = e.weight_n * 1e-6;
+            let mut binding = Vec::new();
+            if n <= scale {
+                binding.push("contact");
+            } else if t.abs() >= mu * n - scale {
+                binding.push("friction");
+            }
+            if tau.abs() >= torque_max * (1.0 - 1e-6) {
+                binding.push("torque");
+            }
+            out.push(WheelReport {
+                wheel: WHEELS[3 * k + i].into(),
+                normal_n: n,
+                traction_n: t,
+                torque_nm: tau,
+                contact_deg: pose_side.gamma[i].to_degrees(),
+                binding,
+            });
+        }
+    }
+    out
+}
+
+impl Report {
+    /// The report as aligned text.
+    pub fn text(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "{} on {} with μ = {} ({})",
+            self.rover,
+            self.terrain,
+            self.mu,
+            if self.moving { "driving" } else { "holding still" }
+        );
+        let _ = writeln!(s, "verdict: {}", self.verdict);
+        if let Some(p) = &self.pose {
+            let _ = writeln!(
+                s,
+                "pose: pitch {:.2}°, roll {:.2}°, body {:.3} m up; α1..α4 = {:.2}°, {:.2}°, {:.2}°, {:.2}°",
+                p.pitch_deg,
+                p.roll_deg,
+                p.body_height_m,
+                p.alpha_deg[0],
+                p.alpha_deg[1],
+                p.alpha_deg[2],
+                p.alpha_deg[3]
+            );
+        }
+        if !self.wheels.is_empty() {
+            let _ =
+                writeln!(s, "{:<13} {:>9} {:>10} {:>10} {:>8}  binding", "wheel", "N (N)", "T (N)", "τ (N·m)", "γ (°)");
+            for w in &self.wheels {
+                let _ = writeln!(
+                    s,
+                    "{:<13} {:>9.3} {:>10.3} {:>10.4} {:>8.2}  {}",
+                    w.wheel,
+                    w.normal_n,
+                    w.traction_n,
+                    w.torque_nm,
+                    w.contact_deg,
+                    if w.binding.is_empty() { "-".to_string() } else { w.binding.join(", ") }
+                );
+            }
+            let total: f64 = self.wheels.iter().map(|w| w.normal_n).sum();
+            let _ = writeln!(s, "sum of normal loads {total:.3} N; weight {:.3} N", self.weight_n);
+        }
+        if let Some(pct) = self.stability_pct {
+            let _ = writeln!(s, "stability margin: {pct:.1} % of flat ground");
+        }
+        match self.mu_needed {
+            Some(m) => {
+                let _ = writeln!(s, "smallest μ that holds here: {m:.4}");
+            }
+            None => {
+                let _ = writeln!(s, "no μ ≤ 5 holds here");
+            }
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn terrain_specs_parse_and_bad_ones_say_what_is_allowed() {
+        assert_eq!("flat".parse::<TestTerrain>(), Ok(TestTerrain::Flat));
+        assert_eq!("slope:20".parse::<TestTerrain>(), Ok(TestTerrain::Slope(20.0)));
+        assert_eq!("side-slope:12.5".parse::<TestTerrain>(), Ok(TestTerrain::SideSlope(12.5)));
+        assert_eq!("step:0.15".parse::<TestTerrain>(), Ok(TestTerrain::Step(0.15)));
+        for bad in ["hill", "slope:95", "slope:x", "step:-1", "flat:3"] {
+            let e = bad.parse::<TestTerrain>().unwrap_err();
+            assert!(e.contains("allowed: flat"), "{bad}: {e}");
+        }
+    }
+}
