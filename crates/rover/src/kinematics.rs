@@ -223,28 +223,42 @@ struct Dilated {
 }
 
 /// The ground along one side's contact line as its tilted wheel plane sees it: true
-/// heights relative to the plane's reference height, squeezed by the sideways slope.
+/// heights relative to the plane's reference height, squeezed by the sideways slope
+/// under each wheel (front beyond `split.0`, rear behind `split.1`, middle between).
 #[derive(Debug, Clone, Copy)]
 struct Line<'g, G> {
     ground: &'g G,
     origin: (f64, f64),
     dir: (f64, f64),
     zref: f64,
-    squeeze: f64,
+    squeeze: [f64; 3],
+    split: (f64, f64),
 }
 
 impl<G: Ground> Line<'_, G> {
     #[inline]
+    fn squeeze_at(&self, s: f64) -> f64 {
+        if s > self.split.0 {
+            self.squeeze[0]
+        } else if s < self.split.1 {
+            self.squeeze[2]
+        } else {
+            self.squeeze[1]
+        }
+    }
+
+    #[inline]
     fn at(&self, s: f64) -> Option<f64> {
         let h = self.ground.height(self.origin.0 + self.dir.0 * s, self.origin.1 + self.dir.1 * s)?;
-        Some(self.zref + (h - self.zref) * self.squeeze)
+        Some(self.zref + (h - self.zref) * self.squeeze_at(s))
     }
 
     #[inline]
     fn at_slope(&self, s: f64) -> Option<(f64, f64)> {
         let (x, y) = (self.origin.0 + self.dir.0 * s, self.origin.1 + self.dir.1 * s);
         let (h, g) = self.ground.height_slope(x, y, self.dir)?;
-        Some((self.zref + (h - self.zref) * self.squeeze, g * self.squeeze))
+        let k = self.squeeze_at(s);
+        Some((self.zref + (h - self.zref) * k, g * k))
     }
 }
 
@@ -358,10 +372,21 @@ impl Kinematics {
                 ground.height(origin_l.0, origin_l.1).ok_or(KinematicsFailure::OffTerrain)?,
                 ground.height(origin_r.0, origin_r.1).ok_or(KinematicsFailure::OffTerrain)?,
             );
-            let squeeze = |g: f64| 1.0 / (1.0 + g * t).max(0.2);
-            let (kl, kr) = (squeeze(lateral_slope(origin_l)), squeeze(lateral_slope(origin_r)));
-            let profile_l = Line { ground, origin: origin_l, dir: (fx, fy), zref: zl, squeeze: kl };
-            let profile_r = Line { ground, origin: origin_r, dir: (fx, fy), zref: zr, squeeze: kr };
+            // The sideways slope under each wheel (where the last pass put it).
+            let squeeze = |o: (f64, f64), side: Option<SidePose>| {
+                if t == 0.0 {
+                    return [1.0; 3];
+                }
+                let at = |i: usize, nominal: f64| {
+                    let s = side.map_or(nominal, |p| p.axles[i].0);
+                    1.0 / (1.0 + lateral_slope((o.0 + fx * s, o.1 + fy * s)) * t).max(0.2)
+                };
+                [at(0, self.front.0), at(1, 0.0), at(2, self.rear.0)]
+            };
+            let (kl, kr) = (squeeze(origin_l, guess.map(|g| g.0)), squeeze(origin_r, guess.map(|g| g.1)));
+            let split = (0.5 * self.front.0, 0.5 * self.rear.0);
+            let profile_l = Line { ground, origin: origin_l, dir: (fx, fy), zref: zl, squeeze: kl, split };
+            let profile_r = Line { ground, origin: origin_r, dir: (fx, fy), zref: zr, squeeze: kr, split };
             let use_pins = if misses >= 2 { None } else { pins };
             let mut left = self.solve_side(&profile_l, origin_l, c, guess.map(|g| g.0), use_pins.map(|p| p.0))?;
             let mut right = self.solve_side(&profile_r, origin_r, c, guess.map(|g| g.1), use_pins.map(|p| p.1))?;

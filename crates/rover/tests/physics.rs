@@ -381,3 +381,48 @@ fn a_drive_into_a_wall_stops_at_the_first_violation() {
     assert!(e.state.x < 0.0 - 0.09, "stopped before the wall: {}", e.state.x);
     assert!(matches!(e.failure, areo_rover::motion::MotionFailure::Violation(_)), "{e:?}");
 }
+
+#[test]
+fn contact_error_on_a_rough_dem_with_a_ditch_hill_and_rock() {
+    // The action planner's kind of ground: 2 cm cells, a 25 cm deep ditch with 45°
+    // walls, a 20° hill, a rock and noise. Every pose along three crossings keeps its
+    // wheels within 2 % of the diameter (4 mm) of the terrain; the paper reports 0.5 cm.
+    use areo_terrain::synth::{Feature, Noise, TerrainSpec};
+    let dem = TerrainSpec {
+        cols: 300,
+        rows: 200,
+        cell_m: 0.02,
+        base_m: 0.0,
+        seed: 3,
+        noise: Some(Noise { amplitude_m: 0.02, wavelength_m: 0.5, octaves: 3, persistence: 0.5 }),
+        features: vec![
+            Feature::Hill { x_m: 4.5, y_m: 2.0, radius_m: 1.5, slope_deg: 20.0 },
+            Feature::Ditch { from_m: (2.0, 0.0), to_m: (2.0, 4.0), width_m: 0.6, depth_m: 0.25, wall_deg: 45.0 },
+            Feature::Rock { x_m: 1.2, y_m: 1.7, height_m: 0.08, width_m: 0.2 },
+        ],
+    }
+    .build()
+    .unwrap();
+    let p = lsr1();
+    let k = Kinematics::new(&p);
+    let (mut worst, mut sum, mut n) = (0.0f64, 0.0, 0usize);
+    for (y, heading) in [(1.7, 90.0f64), (2.0, 80.0), (2.4, 100.0)] {
+        let mut warm = None;
+        for i in 0..100 {
+            let x = 0.8 + 0.03 * i as f64;
+            let Ok(pose) = k.solve(&dem, x, y, heading.to_radians(), warm.as_ref()) else {
+                warm = None;
+                continue;
+            };
+            let e = pose.contact_error_m(&dem, p.wheel_radius_m);
+            worst = worst.max(e);
+            sum += e;
+            n += 1;
+            warm = Some(pose);
+        }
+    }
+    assert!(n > 200, "most poses exist: {n}");
+    assert!(worst < 0.004, "worst contact error {worst} m");
+    let mean = sum / n as f64;
+    assert!(mean < 0.001, "mean contact error {mean} m");
+}
