@@ -6,17 +6,18 @@
 //! by areo-actions; and TEMPEST's coarse resource models (locomotor, solar array,
 //! battery, electronics loads) used by areo-mission.
 //!
-//! What exists so far: [`RoverParams`], the LSR-1 parameter set shipped as
-//! `params/lsr1.ron` (every value with its source or assumption), loaded with range and
-//! geometry validation, and [`Geometry`], the side-view rocker-bogie geometry in the
-//! paper's loop-closure form (l1..l4, nominal α1, α2); and [`stability`], the
-//! Papadopoulos & Rey force-angle tip-over measure with the paper's flat-ground
-//! normalisation (per axis or global); and [`resources`], TEMPEST's coarse models
-//! (locomotor, solar array, nuclear generator, battery, electronics loads, navigation
-//! cameras) with a Hyperion-class parameter file; and [`kinematics`], the pose on terrain
-//! by the paper's planar decomposition over the dilated terrain; and [`forces`], the
-//! per-side quasi-static force balance with power-optimal torques under friction,
-//! contact and saturation limits.
+//! Main types: [`RoverParams`] (the LSR-1 parameter set shipped as `params/lsr1.ron`,
+//! every value with its source or assumption, loaded with range and geometry
+//! validation) and [`Geometry`] (the paper's loop-closure form, l1..l4, α1, α2);
+//! [`kinematics::Kinematics`] (pose on any `Ground`: planar decomposition with the
+//! footprint correction, plus [`kinematics::newton_pose`] as a cross-check);
+//! [`forces`] (per-side quasi-static forces, power-optimal torques under friction,
+//! contact and torque limits); [`stability`] (force-angle tip-over margins);
+//! [`arm::ArmState`] (tool position, payload, centre of mass);
+//! [`evaluation::Evaluator`] (one full pose evaluation, allocation-free);
+//! [`motion::Motion`] (the paper's Table 1 modules with duration and energy); and
+//! [`resources`] (TEMPEST's locomotor, solar, battery, electronics and camera models,
+//! with a Hyperion-class parameter file).
 //!
 //! ```
 //! let lsr1 = areo_rover::RoverParams::lsr1();
