@@ -1,12 +1,41 @@
-//! areo-mission: the TEMPEST planner.
+//! areo-mission: the TEMPEST planner (Tompkins, Stentz & Wettergreen 2004).
 //!
-//! Composes areo-terrain (DEM, slope, shadows), areo-ephemeris (the Sun), areo-rover
-//! (coarse resource models) and areo-ise (the search engine) into long-range planning
-//! in position, time and battery energy, with multi-goal chaining, plan extension,
-//! re-planning and execution simulation (Tompkins, Stentz & Wettergreen 2004).
+//! Composes areo-terrain (DEM, slope, horizon maps), areo-ephemeris (the Sun), areo-rover
+//! (the coarse resource models) and areo-ise (the search engine) into long-range
+//! planning in position, time and battery energy.
+//!
+//! Main types: [`World`] (terrain, Sun table, light and shadow), [`ActionModel`]
+//! (TEMPEST's Drive / Charge / Hibernate actions and local constraints for one rover),
+//! [`TempestDomain`] (the ISE domain: labels of time and required energy, the L + B
+//! objective or duration, windows, dominance), [`Mission`] (single- and multi-goal
+//! planning by chained segments, plan extension and re-planning) and [`MissionPlan`]
+//! (the waypoints).
+//!
+//! ```no_run
+//! # use areo_mission::*;
+//! # fn demo(world: &World) -> Result<()> {
+//! let model = ActionModel::new(areo_rover::resources::ResourceModel::hyperion(), ActionConfig::default());
+//! let start = Start { cell: world.cell(2, 2), t_min: 0.0, t_max: 600.0, energy_wh: 800.0 };
+//! let (_mission, plan) = Mission::plan(world, &model, PlannerConfig::default(), start, &[world.cell(40, 30)])?;
+//! println!("{} waypoints over {:.1} h", plan.waypoints.len(), plan.duration_s() / 3600.0);
+//! # Ok(()) }
+//! ```
 //!
 //! Architecture invariant: areo-mission is the only crate that knows all the others;
 //! nothing below it depends on it.
-//!
-//! Status: the crate is created by the workspace foundation; the planner lands with the
-//! TEMPEST planner issue.
+
+mod actions;
+mod domain;
+mod error;
+mod plan;
+mod planner;
+mod world;
+
+pub use crate::{
+    actions::{Action, ActionConfig, ActionModel, Binding, Constraints, Effect, LoadLevel, NEIGHBOURS},
+    domain::{Label, Objective, Resolution, Start, TempestDomain},
+    error::{Error, Result},
+    plan::{MissionPlan, Waypoint},
+    planner::{Mission, PlannerConfig},
+    world::{Sun, World, WorldConfig},
+};

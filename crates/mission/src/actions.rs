@@ -1,0 +1,380 @@
+//! TEMPEST's actions (Table 3) and local constraints (Table 4), evaluated forward in
+//! time: what an action starting at a cell and an instant takes (duration) and costs
+//! the battery, or which constraint forbids it.
+//!
+//! - Drive to one of the 8 neighbours: the 3-D distance over the slope-dependent speed;
+//!   locomotor + high electronics load, against the solar array tilted with the rover
+//!   on the ground and pointed along the drive.
+//! - Charge: a fixed duration at the charge load (medium by default); by default it
+//!   needs direct sun.
+//! - Hibernate: a fixed duration at the low load.
+//!
+//! Stationary actions point the array at the Sun (the rover turns to face it first)
+//! [A]. Energy is integrated with the trapezoid rule over samples no further apart than
+//! the Sun table's step; net power drains the battery through its discharge efficiency
+//! and charges it through its charge efficiency.
+
+use areo_rover::resources::{Load, ResourceModel};
+use serde::{Deserialize, Serialize};
+
+use crate::world::{Sun, World};
+
+/// Stationary actions sample the Sun at least this often, s.
+const STATIONARY_SAMPLE_S: f64 = 600.0;
+
+/// The 8 neighbour offsets (dcol, drow), starting north and going clockwise (rows grow
+/// southward).
+pub const NEIGHBOURS: [(i32, i32); 8] = [(0, -1), (1, -1), (1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1)];
+
+/// A TEMPEST action.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Action {
+    /// Drive to neighbour `k` of [`NEIGHBOURS`].
+    Drive(u8),
+    /// Charge in place.
+    Charge,
+    /// Hibernate in place.
+    Hibernate,
+}
+
+impl Action {
+    /// A short name for plans.
+    pub fn name(self) -> &'static str {
+        match self {
+            Action::Drive(k) => {
+                ["drive N", "drive NE", "drive E", "drive SE", "drive S", "drive SW", "drive W", "drive NW"]
+                    [k as usize % 8]
+            }
+            Action::Charge => "charge",
+            Action::Hibernate => "hibernate",
+        }
+    }
+}
+
+/// Local constraints of one action (Table 4), each on or off.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Constraints {
+    /// No action on slopes above the maximum.
+    pub max_slope: bool,
+    /// No action while the Sun is below the horizontal.
+    pub daylight: bool,
+    /// No action in shadow or at night.
+    pub direct_sun: bool,
+    /// No drive whose heading puts the Sun in a navigation camera's view.
+    pub sun_in_camera: bool,
+}
+
+/// Why an action is not possible.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum Binding {
+    /// The destination is off the map, missing data or blocked.
+    Blocked,
+    /// A slope above the maximum.
+    Slope,
+    /// The Sun is down.
+    Darkness,
+    /// In shadow (direct-sun constraint).
+    Shadow,
+    /// The Sun would be in a camera's view.
+    SunInCamera,
+    /// Outside the tabulated planning horizon.
+    Horizon,
+    /// The battery cannot hold the energy the path needs.
+    Battery,
+}
+
+impl Binding {
+    /// A description for reports.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Binding::Blocked => "no passable cells connect start and goal",
+            Binding::Slope => "slopes above the rover's maximum",
+            Binding::Darkness => "darkness (driving needs daylight)",
+            Binding::Shadow => "shadow (the action needs direct sun)",
+            Binding::SunInCamera => "the Sun in the navigation cameras",
+            Binding::Horizon => "the planning horizon (the goal cannot be reached within it)",
+            Binding::Battery => "battery energy",
+        }
+    }
+}
+
+/// The action parameters of a planner.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ActionConfig {
+    /// Duration of one Charge, s.
+    pub charge_s: f64,
+    /// Duration of one Hibernate, s.
+    pub hibernate_s: f64,
+    /// Electronics level while charging.
+    pub charge_load: LoadLevel,
+    /// Constraints on drives.
+    pub drive: Constraints,
+    /// Constraints on Charge.
+    pub charge: Constraints,
+    /// Constraints on Hibernate.
+    pub hibernate: Constraints,
+    /// Steepest slope allowed where `max_slope` applies, degrees (default: the
+    /// locomotor's maximum).
+    pub max_slope_deg: Option<f64>,
+    /// Round every duration up to a multiple of this, s (0: exact).
+    pub time_quantum_s: f64,
+    /// Round every energy change to a multiple of this, Wh (0: exact).
+    pub energy_quantum_wh: f64,
+}
+
+impl Default for ActionConfig {
+    fn default() -> ActionConfig {
+        ActionConfig {
+            charge_s: 1800.0,
+            hibernate_s: 3600.0,
+            charge_load: LoadLevel::Medium,
+            drive: Constraints { max_slope: true, daylight: true, direct_sun: false, sun_in_camera: true },
+            charge: Constraints { max_slope: false, daylight: false, direct_sun: true, sun_in_camera: false },
+            hibernate: Constraints::default(),
+            max_slope_deg: None,
+            time_quantum_s: 0.0,
+            energy_quantum_wh: 0.0,
+        }
+    }
+}
+
+/// An electronics level, as written in scenarios.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum LoadLevel {
+    /// Low.
+    Low,
+    /// Medium.
+    Medium,
+    /// High.
+    High,
+}
+
+impl LoadLevel {
+    fn load(self) -> Load {
+        match self {
+            LoadLevel::Low => Load::Low,
+            LoadLevel::Medium => Load::Medium,
+            LoadLevel::High => Load::High,
+        }
+    }
+}
+
+/// What an action does: its duration and the battery energy it uses (negative when it
+/// charges), Wh.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Effect {
+    /// Duration, s.
+    pub duration_s: f64,
+    /// Battery energy used, Wh (negative: gained).
+    pub energy_wh: f64,
+}
+
+/// Evaluates actions for one rover in one world.
+#[derive(Debug, Clone)]
+pub struct ActionModel {
+    rover: ResourceModel,
+    config: ActionConfig,
+    max_slope_deg: f64,
+}
+
+impl ActionModel {
+    /// The model for `rover` with `config`.
+    pub fn new(rover: ResourceModel, config: ActionConfig) -> ActionModel {
+        let max_slope_deg = config.max_slope_deg.unwrap_or(rover.locomotor.max_slope_deg);
+        ActionModel { rover, config, max_slope_deg }
+    }
+
+    /// The rover.
+    pub fn rover(&self) -> &ResourceModel {
+        &self.rover
+    }
+
+    /// The action parameters.
+    pub fn config(&self) -> &ActionConfig {
+        &self.config
+    }
+
+    /// Usable battery energy, Wh.
+    pub fn capacity_wh(&self) -> f64 {
+        let b = &self.rover.battery;
+        b.capacity_wh * (b.max_soc - b.min_soc)
+    }
+
+    fn quantise_time(&self, d: f64) -> f64 {
+        let q = self.config.time_quantum_s;
+        if q > 0.0 { (d / q - 1e-9).ceil().max(1.0) * q } else { d }
+    }
+
+    fn quantise_energy(&self, e: f64) -> f64 {
+        let q = self.config.energy_quantum_wh;
+        if q > 0.0 { (e / q).round() * q } else { e }
+    }
+
+    /// The drive from `from` to its neighbour `k`: the destination and the duration, s,
+    /// or why it is not possible (independent of time).
+    pub fn drive_geometry(&self, world: &World, from: u32, k: u8) -> Result<(u32, f64, f64), Binding> {
+        let (c, r) = world.col_row(from);
+        let (dc, dr) = NEIGHBOURS[k as usize % 8];
+        let (nc, nr) = (c as i64 + i64::from(dc), r as i64 + i64::from(dr));
+        if nc < 0 || nr < 0 || nc >= world.cols() as i64 || nr >= world.rows() as i64 {
+            return Err(Binding::Blocked);
+        }
+        let to = world.cell(nc as usize, nr as usize);
+        if !world.passable(to) || !world.passable(from) {
+            return Err(Binding::Blocked);
+        }
+        let (h0, h1) = (world.elevation(from).ok_or(Binding::Blocked)?, world.elevation(to).ok_or(Binding::Blocked)?);
+        let dem = world.dem();
+        let run = (f64::from(dc) * dem.dx()).hypot(f64::from(dr) * dem.dy());
+        let rise = h1 - h0;
+        let slope = rise.atan2(run).to_degrees();
+        if self.config.drive.max_slope
+            && (slope.abs() > self.max_slope_deg
+                || world.slope_deg(from) > self.max_slope_deg
+                || world.slope_deg(to) > self.max_slope_deg)
+        {
+            return Err(Binding::Slope);
+        }
+        let loco = &self.rover.locomotor;
+        let speed = loco.speed_on_slope_m_s(slope);
+        let duration = self.quantise_time(run.hypot(rise) / speed);
+        Ok((to, duration, slope))
+    }
+
+    /// The drive from `from` to neighbour `k` starting at `t0`.
+    pub fn drive(&self, world: &World, from: u32, k: u8, t0: f64) -> Result<(u32, Effect), Binding> {
+        let (to, duration, slope) = self.drive_geometry(world, from, k)?;
+        let t1 = t0 + duration;
+        if t0 < 0.0 || t1 > world.span_s() {
+            return Err(Binding::Horizon);
+        }
+        let (dc, dr) = NEIGHBOURS[k as usize % 8];
+        // Rows grow southward: a drive of (dc, dr) heads atan2(dc, −dr) from north.
+        let heading = f64::from(dc).atan2(-f64::from(dr)).to_degrees().rem_euclid(360.0);
+        let (s0, s1) = (world.sun(t0), world.sun(t1));
+        let rules = &self.config.drive;
+        for (cell, sun) in [(from, &s0), (to, &s1)] {
+            self.check(world, rules, cell, sun, Some(heading))?;
+        }
+        let loco = &self.rover.locomotor;
+        let load = loco.power_w(loco.speed_on_slope_m_s(slope), slope) + self.rover.electronics.power_w(Load::High);
+        let p0 = load - self.source_w(world, from, &s0, Some(heading));
+        let p1 = load - self.source_w(world, to, &s1, Some(heading));
+        let e = self.battery_wh(p0, duration / 2.0) + self.battery_wh(p1, duration / 2.0);
+        Ok((to, Effect { duration_s: duration, energy_wh: self.quantise_energy(e) }))
+    }
+
+    /// A stationary action (Charge or Hibernate) at `cell` starting at `t0`.
+    pub fn stay(&self, world: &World, action: Action, cell: u32, t0: f64) -> Result<Effect, Binding> {
+        let (duration, rules, load) = match action {
+            Action::Charge => (self.config.charge_s, &self.config.charge, self.config.charge_load.load()),
+            _ => (self.config.hibernate_s, &self.config.hibernate, Load::Low),
+        };
+        let duration = self.quantise_time(duration);
+        let t1 = t0 + duration;
+        if t0 < 0.0 || t1 > world.span_s() {
+            return Err(Binding::Horizon);
+        }
+        if !world.passable(cell) {
+            return Err(Binding::Blocked);
+        }
+        let load_w = self.rover.electronics.power_w(load);
+        let n = ((duration / STATIONARY_SAMPLE_S).ceil() as usize).max(2);
+        let mut e = 0.0;
+        let mut prev: Option<f64> = None;
+        for k in 0..=n {
+            let t = t0 + duration * k as f64 / n as f64;
+            let sun = world.sun(t);
+            self.check(world, rules, cell, &sun, None)?;
+            let p = load_w - self.source_w(world, cell, &sun, None);
+            if let Some(q) = prev {
+                e += self.battery_wh(0.5 * (p + q), duration / n as f64);
+            }
+            prev = Some(p);
+        }
+        Ok(Effect { duration_s: duration, energy_wh: self.quantise_energy(e) })
+    }
+
+    fn check(
+        &self,
+        world: &World,
+        rules: &Constraints,
+        cell: u32,
+        sun: &Sun,
+        heading: Option<f64>,
+    ) -> Result<(), Binding> {
+        if rules.max_slope && world.slope_deg(cell) > self.max_slope_deg {
+            return Err(Binding::Slope);
+        }
+        if rules.daylight && sun.elevation_deg <= 0.0 {
+            return Err(Binding::Darkness);
+        }
+        if rules.direct_sun && !world.lit(cell, sun) {
+            return Err(if sun.elevation_deg <= 0.0 { Binding::Darkness } else { Binding::Shadow });
+        }
+        // Only a Sun above the horizon can blind a camera.
+        if rules.sun_in_camera
+            && sun.elevation_deg > 0.0
+            && let Some(h) = heading
+            && self.rover.sun_in_cameras(h, sun.azimuth_deg, sun.elevation_deg)
+        {
+            return Err(Binding::SunInCamera);
+        }
+        Ok(())
+    }
+
+    /// Power from the array (if lit) and any generator, W. With no heading the array
+    /// is turned to face the Sun.
+    pub fn source_w(&self, world: &World, cell: u32, sun: &Sun, heading: Option<f64>) -> f64 {
+        let mut p = self.rover.nuclear_w;
+        if let Some(array) = &self.rover.solar
+            && world.lit(cell, sun)
+        {
+            let heading = heading.unwrap_or(sun.azimuth_deg - array.facing_deg);
+            let n = array.normal_enu(heading, world.normal(cell));
+            p += array.power_w(sun.beam_w_m2, sun.enu, n, false);
+        }
+        p
+    }
+
+    /// Battery energy for a net bus load `net_w` (W, positive drains) over `dt_s`, Wh.
+    fn battery_wh(&self, net_w: f64, dt_s: f64) -> f64 {
+        let b = &self.rover.battery;
+        let wh = net_w * dt_s / 3600.0;
+        if wh >= 0.0 { wh / b.discharge_efficiency } else { wh * b.charge_efficiency }
+    }
+
+    /// An upper bound on the energy any single action can gain, Wh (TEMPEST's E_max,
+    /// eq. 3, bounded from the largest flux on a panel facing the Sun), and the same
+    /// bound for drives alone.
+    pub fn gain_bounds(&self, world: &World) -> (f64, f64) {
+        let source =
+            self.rover.nuclear_w + self.rover.solar.map_or(0.0, |a| world.max_beam_w_m2() * a.area_m2 * a.efficiency);
+        let b = &self.rover.battery;
+        let gain =
+            |load_w: f64, duration_s: f64| ((source - load_w) * duration_s / 3600.0 * b.charge_efficiency).max(0.0);
+        let dem = world.dem();
+        let loco = &self.rover.locomotor;
+        let slowest = loco.speed_m_s / 3.0;
+        // The longest drive: a diagonal up the steepest slope allowed, at the slowest speed.
+        let run = dem.dx().hypot(dem.dy());
+        let longest = self.quantise_time(run / slowest / self.max_slope_deg.to_radians().cos().max(0.05)) + 1.0;
+        let drive = gain(self.rover.electronics.power_w(Load::High), longest);
+        let charge = gain(
+            self.rover.electronics.power_w(self.config.charge_load.load()),
+            self.quantise_time(self.config.charge_s),
+        );
+        let hibernate = gain(self.rover.electronics.power_w(Load::Low), self.quantise_time(self.config.hibernate_s));
+        let q = self.config.energy_quantum_wh;
+        let all = drive.max(charge).max(hibernate);
+        // Quantised energies round to the nearest quantum: allow for half of one.
+        (all + q / 2.0, drive + q / 2.0)
+    }
+
+    /// The fastest possible speed, m/s.
+    pub fn top_speed_m_s(&self) -> f64 {
+        self.rover.locomotor.speed_m_s
+    }
+}

@@ -1,0 +1,247 @@
+//! TEMPEST as an ISE [`Domain`]: IPARMS are grid cells; a label carries the time t at
+//! the cell (s after the epoch) and E, the least battery energy needed from there to
+//! reach the goal (Wh above the battery's floor).
+//!
+//! Searching backward, an action that used Δe forward gives its predecessor
+//! E' = max(E + Δe, 0): gains can bring E to zero, which means "reachable even from an
+//! empty battery", never below; a path needing more than the usable capacity is
+//! abandoned (the global constraint). The objective is the paper's composite L + B
+//! (eqs. 3–5): every step costs Δe + E_max ≥ 0, with E_max a bound on the largest
+//! single-step gain, so cost grows monotonically and BESTPCOST applies; or, for the
+//! Arctic configuration, path duration under a maximum with "less required energy is
+//! better" (BESTDPARMS). Labels at a cell are grouped by time and energy resolution;
+//! within a time class, a label needing no more energy at no greater cost dominates.
+
+use areo_ise::{Domain, Step};
+use serde::{Deserialize, Serialize};
+
+use crate::actions::{Action, ActionModel, NEIGHBOURS};
+use crate::world::World;
+
+/// A search label.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Label {
+    /// Time at the cell, s after the epoch.
+    pub t: f64,
+    /// Least battery energy needed from here to reach the goal, Wh.
+    pub e: f64,
+}
+
+/// What the search minimises.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Objective {
+    /// The composite L + B of Tompkins et al. (BESTPCOST): fewest steps, then least
+    /// energy.
+    Energy,
+    /// Path duration (BESTDPARMS): the least-energy start among paths no longer than
+    /// `max_duration_s`.
+    Duration {
+        /// The longest acceptable plan, s.
+        max_duration_s: f64,
+    },
+}
+
+/// Where and when a plan may start. The planner widens a window narrower than the
+/// spacing of its goal instants to that spacing, so that some goal instant is reachable.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Start {
+    /// Start cell.
+    pub cell: u32,
+    /// Earliest start, s after the epoch.
+    pub t_min: f64,
+    /// Latest start, s after the epoch.
+    pub t_max: f64,
+    /// Battery energy available at the start, Wh above the floor.
+    pub energy_wh: f64,
+}
+
+/// Resolution of the label classes.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Resolution {
+    /// Time class width, s.
+    pub time_s: f64,
+    /// Energy class width, Wh.
+    pub energy_wh: f64,
+}
+
+/// The TEMPEST search domain over a world and a rover.
+#[derive(Debug, Clone)]
+pub struct TempestDomain<'a> {
+    world: &'a World,
+    model: &'a ActionModel,
+    /// The start.
+    pub start: Start,
+    objective: Objective,
+    resolution: Resolution,
+    e_max: f64,
+    /// Per drive step, a lower bound on its cost (for the heuristic).
+    step_floor: f64,
+    capacity: f64,
+}
+
+impl<'a> TempestDomain<'a> {
+    /// The domain.
+    pub fn new(
+        world: &'a World,
+        model: &'a ActionModel,
+        start: Start,
+        objective: Objective,
+        resolution: Resolution,
+    ) -> TempestDomain<'a> {
+        let (e_max, drive_gain) = model.gain_bounds(world);
+        TempestDomain {
+            world,
+            model,
+            start,
+            objective,
+            resolution,
+            e_max,
+            step_floor: (e_max - drive_gain).max(0.0),
+            capacity: model.capacity_wh(),
+        }
+    }
+
+    /// E_max used by the objective, Wh.
+    pub fn e_max_wh(&self) -> f64 {
+        self.e_max
+    }
+
+    /// The objective.
+    pub fn objective(&self) -> Objective {
+        self.objective
+    }
+
+    /// The cost of a step that used `energy_wh` over `duration_s`.
+    pub fn step_cost(&self, energy_wh: f64, duration_s: f64) -> f64 {
+        match self.objective {
+            Objective::Energy => (energy_wh + self.e_max).max(0.0),
+            Objective::Duration { .. } => duration_s,
+        }
+    }
+
+    /// The search mode for this objective.
+    pub fn mode(&self) -> areo_ise::Mode {
+        match self.objective {
+            Objective::Energy => areo_ise::Mode::BestPathCost,
+            Objective::Duration { max_duration_s } => areo_ise::Mode::BestDparms { max_cost: max_duration_s },
+        }
+    }
+
+    /// The cell of neighbour `k` *from which* a drive `k` leads into `cell`.
+    fn source_of(&self, cell: u32, k: u8) -> Option<u32> {
+        let (c, r) = self.world.col_row(cell);
+        let (dc, dr) = NEIGHBOURS[k as usize];
+        let (pc, pr) = (c as i64 - i64::from(dc), r as i64 - i64::from(dr));
+        (pc >= 0 && pr >= 0 && (pc as usize) < self.world.cols() && (pr as usize) < self.world.rows())
+            .then(|| self.world.cell(pc as usize, pr as usize))
+    }
+
+    fn chebyshev(&self, a: u32, b: u32) -> f64 {
+        let (ac, ar) = self.world.col_row(a);
+        let (bc, br) = self.world.col_row(b);
+        (ac.abs_diff(bc)).max(ar.abs_diff(br)) as f64
+    }
+
+    fn octile_m(&self, a: u32, b: u32) -> f64 {
+        let (ac, ar) = self.world.col_row(a);
+        let (bc, br) = self.world.col_row(b);
+        let (dx, dy) = (ac.abs_diff(bc) as f64 * self.world.dem().dx(), ar.abs_diff(br) as f64 * self.world.dem().dy());
+        let (lo, hi) = (dx.min(dy), dx.max(dy));
+        hi - lo + lo * std::f64::consts::SQRT_2
+    }
+}
+
+impl Domain for TempestDomain<'_> {
+    type State = u32;
+    type Label = Label;
+    type Key = (i64, i64);
+    type Action = Action;
+    const DOMINANCE: bool = true;
+
+    fn actions(&self, _state: u32, _label: &Label, out: &mut Vec<Action>) {
+        out.extend((0..8).map(Action::Drive));
+        out.push(Action::Charge);
+        out.push(Action::Hibernate);
+    }
+
+    fn predecessor(&self, state: u32, label: &Label, action: Action) -> Option<Step<Self>> {
+        let (from, effect) = match action {
+            Action::Drive(k) => {
+                let from = self.source_of(state, k)?;
+                let (_, duration, _) = self.model.drive_geometry(self.world, from, k).ok()?;
+                let (to, effect) = self.model.drive(self.world, from, k, label.t - duration).ok()?;
+                debug_assert_eq!(to, state);
+                (from, effect)
+            }
+            stay => (state, self.model.stay(self.world, stay, state, label.t - stay_duration(self.model, stay)).ok()?),
+        };
+        let e = (label.e + effect.energy_wh).max(0.0);
+        Some(Step {
+            state: from,
+            label: Label { t: label.t - effect.duration_s, e },
+            cost: self.step_cost(effect.energy_wh, effect.duration_s),
+        })
+    }
+
+    fn successors(&self, state: u32, out: &mut Vec<u32>) {
+        let (c, r) = self.world.col_row(state);
+        for (dc, dr) in NEIGHBOURS {
+            let (nc, nr) = (c as i64 + i64::from(dc), r as i64 + i64::from(dr));
+            if nc >= 0 && nr >= 0 && (nc as usize) < self.world.cols() && (nr as usize) < self.world.rows() {
+                out.push(self.world.cell(nc as usize, nr as usize));
+            }
+        }
+        out.push(state);
+    }
+
+    fn key(&self, _state: u32, label: &Label) -> (i64, i64) {
+        ((label.t / self.resolution.time_s).floor() as i64, (label.e / self.resolution.energy_wh).floor() as i64)
+    }
+
+    fn dominates(&self, _state: u32, a: &Label, cost_a: f64, b: &Label, cost_b: f64) -> bool {
+        (a.t / self.resolution.time_s).floor() == (b.t / self.resolution.time_s).floor()
+            && a.e <= b.e
+            && cost_a <= cost_b
+    }
+
+    fn within_global(&self, state: u32, label: &Label, _cost: f64) -> bool {
+        // A label earlier than the start window plus the fastest travel from the start
+        // can never be reached from it.
+        let earliest = self.start.t_min + self.octile_m(state, self.start.cell) / self.model.top_speed_m_s();
+        label.e <= self.capacity + 1e-9 && label.t >= earliest - 1e-6
+    }
+
+    fn is_start(&self, state: u32, label: &Label) -> bool {
+        state == self.start.cell
+            && label.t >= self.start.t_min - 1e-9
+            && label.t <= self.start.t_max + 1e-9
+            && label.e <= self.start.energy_wh + 1e-9
+    }
+
+    fn start_state(&self) -> Option<u32> {
+        Some(self.start.cell)
+    }
+
+    fn dense_index(&self, state: u32) -> Option<u32> {
+        Some(state)
+    }
+
+    fn heuristic(&self, state: u32, _label: &Label) -> f64 {
+        match self.objective {
+            Objective::Energy => self.chebyshev(state, self.start.cell) * self.step_floor,
+            Objective::Duration { .. } => self.octile_m(state, self.start.cell) / self.model.top_speed_m_s(),
+        }
+    }
+
+    fn better(&self, a: &Label, b: &Label) -> bool {
+        a.e < b.e
+    }
+}
+
+/// Duration of a stationary action, s (quantised as the model does).
+pub(crate) fn stay_duration(model: &ActionModel, action: Action) -> f64 {
+    let c = model.config();
+    let d = if action == Action::Charge { c.charge_s } else { c.hibernate_s };
+    let q = c.time_quantum_s;
+    if q > 0.0 { (d / q - 1e-9).ceil().max(1.0) * q } else { d }
+}

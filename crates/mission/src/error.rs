@@ -1,0 +1,30 @@
+use crate::actions::Binding;
+
+/// Everything that can go wrong in areo-mission.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A planner or world parameter is out of range.
+    #[error("`{field}`: {message}")]
+    Config {
+        /// The field.
+        field: &'static str,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+    /// No plan exists; `binding` names the constraint that prevents one (found by
+    /// relaxing constraints one at a time).
+    #[error("unreachable: no plan reaches the goal; binding constraint: {message}")]
+    Unreachable {
+        /// The binding constraint.
+        binding: Binding,
+        /// A description.
+        message: String,
+    },
+    /// The terrain could not be processed.
+    #[error(transparent)]
+    Terrain(#[from] areo_terrain::Error),
+}
+
+/// `Result` with this crate's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,130 @@
+//! The plan TEMPEST hands to the rover: waypoints with where, when, what next, and the
+//! energy picture (TEMPEST's required energy E and the predicted battery charge).
+
+use areo_ephemeris::{SolarGeometry, format_utc};
+use hifitime::Duration;
+use serde::{Deserialize, Serialize};
+
+use crate::actions::Action;
+use crate::domain::{Label, Objective};
+use crate::world::{Sun, World};
+
+/// One waypoint of a plan.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Waypoint {
+    /// Grid cell.
+    pub cell: u32,
+    /// Column and row.
+    pub col_row: (usize, usize),
+    /// Cell centre, map frame, m.
+    pub x_m: f64,
+    /// Cell centre, map frame, m.
+    pub y_m: f64,
+    /// Latitude, degrees (planetocentric, from the DEM's georeference).
+    pub lat_deg: f64,
+    /// East longitude, degrees.
+    pub lon_deg: f64,
+    /// Time, s after the plan's epoch.
+    pub t_s: f64,
+    /// Time, ISO 8601 UTC.
+    pub utc: String,
+    /// Local true solar time at the waypoint, hours.
+    pub ltst_h: f64,
+    /// The action taken from here (`None` at the final goal).
+    pub action: Option<Action>,
+    /// Least battery energy needed from here to the last goal, Wh above the floor (E).
+    pub required_wh: f64,
+    /// Predicted battery charge, Wh (absolute, including the floor).
+    pub battery_wh: f64,
+    /// Slope, degrees.
+    pub slope_deg: f64,
+    /// Sun elevation above the horizontal, degrees.
+    pub sun_elevation_deg: f64,
+    /// Sun elevation above the local ground plane, degrees (TEMPEST's LOS value).
+    pub sun_above_ground_deg: f64,
+    /// Lit by the Sun (not in terrain shadow, Sun up).
+    pub lit: bool,
+    /// The goal reached here (0-based), if any.
+    pub goal: Option<usize>,
+}
+
+impl Waypoint {
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        world: &World,
+        cell: u32,
+        (x, y, lat, lon): (f64, f64, f64, f64),
+        label: Label,
+        action: Option<Action>,
+        battery_wh: f64,
+        sun: &Sun,
+        goal: Option<usize>,
+    ) -> Waypoint {
+        let epoch = world.epoch() + Duration::from_seconds(label.t);
+        Waypoint {
+            cell,
+            col_row: world.col_row(cell),
+            x_m: x,
+            y_m: y,
+            lat_deg: lat,
+            lon_deg: lon,
+            t_s: label.t,
+            utc: format_utc(epoch),
+            ltst_h: SolarGeometry::at(epoch).ltst_hours(lon),
+            action,
+            required_wh: label.e,
+            battery_wh,
+            slope_deg: world.slope_deg(cell),
+            sun_elevation_deg: sun.elevation_deg,
+            sun_above_ground_deg: world.sun_above_ground_deg(cell, sun),
+            lit: world.lit(cell, sun),
+            goal,
+        }
+    }
+}
+
+/// A plan from the start through every goal.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MissionPlan {
+    /// Waypoints from the start to the last goal.
+    pub waypoints: Vec<Waypoint>,
+    /// Objective value (L + B in Wh for the energy objective; s for duration).
+    pub cost: f64,
+    /// E_max used by the energy objective, Wh.
+    pub e_max_wh: f64,
+    /// The objective.
+    pub objective: Objective,
+    /// Nodes expanded by the last planning call, all segments.
+    pub expansions: u64,
+    /// Number of segments (goals).
+    pub segments: usize,
+}
+
+impl MissionPlan {
+    /// Plan duration, s.
+    pub fn duration_s(&self) -> f64 {
+        match (self.waypoints.first(), self.waypoints.last()) {
+            (Some(a), Some(b)) => b.t_s - a.t_s,
+            _ => 0.0,
+        }
+    }
+
+    /// How many times each kind of action appears: (drives, charges, hibernations).
+    pub fn action_counts(&self) -> (usize, usize, usize) {
+        let mut c = (0, 0, 0);
+        for w in &self.waypoints {
+            match w.action {
+                Some(Action::Drive(_)) => c.0 += 1,
+                Some(Action::Charge) => c.1 += 1,
+                Some(Action::Hibernate) => c.2 += 1,
+                None => {}
+            }
+        }
+        c
+    }
+
+    /// The lowest predicted battery charge along the plan, Wh.
+    pub fn min_battery_wh(&self) -> f64 {
+        self.waypoints.iter().map(|w| w.battery_wh).fold(f64::INFINITY, f64::min)
+    }
+}

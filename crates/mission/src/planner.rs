@@ -1,0 +1,551 @@
+//! Planning to one or more goals (Tompkins et al., "Specifying Start and Goal States",
+//! "Multiple-Goal Planning", "Plan Extension", "Re-Planning").
+//!
+//! Goal and start windows come from best- and worst-case durations: the fastest
+//! straight-line travel, and the detoured slowest travel plus the longest wait allowed.
+//! Segments are planned backward from the last goal (Figure 3). The last segment's goals
+//! are even instants of its goal window; its start window at the previous goal is split
+//! into even intervals, one search per interval (the same ISE graph, re-pointed at each
+//! interval: identical answers, less work), each giving a candidate (start label, cost,
+//! path). The candidates become the goals, with their costs carried, of the segment
+//! before, and so on down to the first segment and the rover's start. The chain from
+//! the start is the optimum over this discretisation.
+//!
+//! Re-planning keeps every segment's graph. After a world change, every segment is
+//! told which cells changed; segments are re-planned from the last one backward, and a
+//! segment whose goals (the next segment's candidates) changed starts a fresh graph.
+
+use std::collections::BTreeSet;
+
+use areo_ise::{Goal, PathStep, Search, Stats};
+use serde::{Deserialize, Serialize};
+
+use crate::actions::{Action, ActionConfig, ActionModel, Binding};
+use crate::domain::{Label, Objective, Resolution, Start, TempestDomain, stay_duration};
+use crate::error::{Error, Result};
+use crate::plan::{MissionPlan, Waypoint};
+use crate::world::World;
+
+/// Planner parameters (scenario fields).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PlannerConfig {
+    /// Actions and their constraints.
+    pub actions: ActionConfig,
+    /// What to minimise.
+    pub objective: Objective,
+    /// Label class widths for resolution pruning and dominance.
+    pub resolution: Resolution,
+    /// Goal instants spread over the final goal window.
+    pub goal_times: usize,
+    /// Start intervals per intermediate goal (multi-goal chaining).
+    pub segment_starts: usize,
+    /// Worst-case path length as a multiple of the straight-line distance.
+    pub detour_factor: f64,
+    /// Longest total wait (charging, hibernating) the worst case allows, s.
+    pub max_wait_s: f64,
+    /// Least battery energy on arrival at the last goal, Wh above the floor.
+    pub goal_energy_wh: f64,
+}
+
+impl Default for PlannerConfig {
+    fn default() -> PlannerConfig {
+        PlannerConfig {
+            actions: ActionConfig::default(),
+            objective: Objective::Energy,
+            resolution: Resolution { time_s: 60.0, energy_wh: 5.0 },
+            goal_times: 24,
+            segment_starts: 8,
+            detour_factor: 1.5,
+            max_wait_s: 88_775.0,
+            goal_energy_wh: 0.0,
+        }
+    }
+}
+
+impl PlannerConfig {
+    /// Checks ranges, naming the first bad field.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field: &'static str, message: String| Err(Error::Config { field, message });
+        let a = &self.actions;
+        if !(a.charge_s > 0.0 && a.hibernate_s > 0.0) {
+            return bad("actions.charge_s", "charge_s and hibernate_s must be positive".into());
+        }
+        if !(a.time_quantum_s >= 0.0 && a.energy_quantum_wh >= 0.0) {
+            return bad("actions.time_quantum_s", "quanta must be ≥ 0".into());
+        }
+        if !(self.resolution.time_s > 0.0 && self.resolution.energy_wh > 0.0) {
+            return bad("resolution", "time_s and energy_wh must be positive".into());
+        }
+        if !(1..=10_000).contains(&self.goal_times) {
+            return bad("goal_times", format!("{}: allowed 1..=10000", self.goal_times));
+        }
+        if !(1..=10_000).contains(&self.segment_starts) {
+            return bad("segment_starts", format!("{}: allowed 1..=10000", self.segment_starts));
+        }
+        if !(self.detour_factor >= 1.0) {
+            return bad("detour_factor", format!("{}: must be ≥ 1", self.detour_factor));
+        }
+        if !(self.max_wait_s >= 0.0) {
+            return bad("max_wait_s", format!("{}: must be ≥ 0", self.max_wait_s));
+        }
+        if let Objective::Duration { max_duration_s } = self.objective
+            && !(max_duration_s > 0.0)
+        {
+            return bad("objective.max_duration_s", format!("{max_duration_s}: must be positive"));
+        }
+        Ok(())
+    }
+}
+
+/// A candidate path of one segment: from one of its start labels to one of its goals.
+#[derive(Debug, Clone)]
+struct Candidate {
+    start: Label,
+    cost: f64,
+    path: Vec<PathStep<TempestDomain<'static>>>,
+}
+
+/// One segment: its search graph and its candidates.
+struct Segment<'a> {
+    from: u32,
+    to: u32,
+    domain: TempestDomain<'a>,
+    search: Search<TempestDomain<'a>>,
+    goals: Vec<(Label, f64)>,
+    /// Start intervals (for all segments but the first).
+    intervals: Vec<(f64, f64)>,
+    candidates: Vec<Candidate>,
+    stats: Stats,
+}
+
+impl std::fmt::Debug for Segment<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Segment")
+            .field("from", &self.from)
+            .field("to", &self.to)
+            .field("goals", &self.goals.len())
+            .field("candidates", &self.candidates.len())
+            .finish()
+    }
+}
+
+/// A planned mission to an ordered list of goals, kept for plan extension and
+/// re-planning.
+#[derive(Debug)]
+pub struct Mission<'a> {
+    world: &'a World,
+    model: &'a ActionModel,
+    config: PlannerConfig,
+    start: Start,
+    goals: Vec<u32>,
+    segments: Vec<Segment<'a>>,
+}
+
+fn goal_list(goals: &[(Label, f64)], cell: u32) -> Vec<Goal<TempestDomain<'static>>> {
+    goals.iter().map(|&(label, cost)| Goal { state: cell, label, cost }).collect()
+}
+
+// The ISE types only carry labels, states and actions: a path or goal of one domain
+// lifetime is a path or goal of any other.
+fn relabel_goals<'a>(g: Vec<Goal<TempestDomain<'static>>>) -> Vec<Goal<TempestDomain<'a>>> {
+    g.into_iter().map(|g| Goal { state: g.state, label: g.label, cost: g.cost }).collect()
+}
+
+fn own_path(p: Vec<PathStep<TempestDomain<'_>>>) -> Vec<PathStep<TempestDomain<'static>>> {
+    p.into_iter()
+        .map(|s| PathStep { state: s.state, label: s.label, action: s.action, cost_so_far: s.cost_so_far })
+        .collect()
+}
+
+impl<'a> Mission<'a> {
+    /// Plans from `start` through `goals` (cells, in order).
+    pub fn plan(
+        world: &'a World,
+        model: &'a ActionModel,
+        config: PlannerConfig,
+        start: Start,
+        goals: &[u32],
+    ) -> Result<(Mission<'a>, MissionPlan)> {
+        config.validate()?;
+        if goals.is_empty() {
+            return Err(Error::Config { field: "goals", message: "at least one goal is needed".into() });
+        }
+        for (field, cell) in std::iter::once(("start", start.cell)).chain(goals.iter().map(|&g| ("goals", g))) {
+            if cell as usize >= world.cells() || !world.passable(cell) {
+                return Err(Error::Config {
+                    field,
+                    message: format!("cell {cell} is off the map, on missing data or blocked"),
+                });
+            }
+        }
+        if !(start.energy_wh >= 0.0 && start.t_min >= 0.0 && start.t_max >= start.t_min) {
+            return Err(Error::Config {
+                field: "start",
+                message: "start energy must be ≥ 0 and the start window a non-empty interval from t ≥ 0".into(),
+            });
+        }
+        // Time-independent reachability first: a cheap, clear answer when slopes or
+        // obstacles cut the goals off.
+        let mut at = start.cell;
+        for &g in goals {
+            if !connected(world, model, at, g, true) {
+                let binding = if connected(world, model, at, g, false) { Binding::Slope } else { Binding::Blocked };
+                return Err(Error::Unreachable { binding, message: binding.describe().into() });
+            }
+            at = g;
+        }
+        let mut mission = Mission { world, model, config, start, goals: goals.to_vec(), segments: Vec::new() };
+        mission.widen_start();
+        mission.build_segments();
+        mission.solve_from(mission.segments.len() - 1, &[]);
+        match mission.assemble() {
+            Some(plan) => Ok((mission, plan)),
+            None => Err(mission.explain_unreachable()),
+        }
+    }
+
+    /// A path's time is fixed by its goal instant and its actions: a start window
+    /// narrower than the spacing of the goal instants could miss every one of them, so
+    /// it is widened to that spacing (the plan may then start up to one spacing late).
+    fn widen_start(&mut self) {
+        let windows = self.windows();
+        let (lo, hi) = windows[windows.len() - 1];
+        let m = self.config.goal_times.max(2) - 1;
+        let spacing = (hi - lo) / m as f64;
+        if self.start.t_max - self.start.t_min < spacing {
+            self.start.t_max = self.start.t_min + spacing;
+        }
+    }
+
+    /// The best- and worst-case arrival windows at each goal.
+    fn windows(&self) -> Vec<(f64, f64)> {
+        let top = self.model.top_speed_m_s();
+        let slow = top / 3.0;
+        let mut out = Vec::new();
+        let (mut best, mut worst) = (self.start.t_min, self.start.t_max);
+        let mut at = self.start.cell;
+        for (i, &g) in self.goals.iter().enumerate() {
+            let d = octile_m(self.world, at, g);
+            best += d / top;
+            worst += self.config.detour_factor * d / slow;
+            if i + 1 == self.goals.len() {
+                worst += self.config.max_wait_s;
+            }
+            out.push((best, worst.max(best).min(self.world.span_s())));
+            at = g;
+        }
+        // Intermediate goals may wait too: the wait allowance applies to every goal.
+        for w in out.iter_mut().take(self.goals.len() - 1) {
+            w.1 = (w.1 + self.config.max_wait_s).min(self.world.span_s());
+        }
+        out
+    }
+
+    fn build_segments(&mut self) {
+        let windows = self.windows();
+        let n = self.goals.len();
+        let mut segments = Vec::with_capacity(n);
+        for k in 0..n {
+            let from = if k == 0 { self.start.cell } else { self.goals[k - 1] };
+            let to = self.goals[k];
+            let (start, intervals) = if k == 0 {
+                (self.start, vec![(self.start.t_min, self.start.t_max)])
+            } else {
+                let (lo, hi) = windows[k - 1];
+                let m = self.config.segment_starts;
+                let iv: Vec<(f64, f64)> = (0..m)
+                    .map(|j| (lo + (hi - lo) * j as f64 / m as f64, lo + (hi - lo) * (j + 1) as f64 / m as f64))
+                    .collect();
+                let s = Start { cell: from, t_min: iv[0].0, t_max: iv[0].1, energy_wh: self.model.capacity_wh() };
+                (s, iv)
+            };
+            let domain =
+                TempestDomain::new(self.world, self.model, start, self.config.objective, self.config.resolution);
+            let goals = if k + 1 == n {
+                let (lo, hi) = windows[k];
+                let m = self.config.goal_times;
+                (0..m)
+                    .map(|j| {
+                        let t = if m == 1 { hi } else { lo + (hi - lo) * j as f64 / (m - 1) as f64 };
+                        (Label { t, e: self.config.goal_energy_wh }, 0.0)
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            let search = Search::new(&domain, relabel_goals(goal_list(&goals, to)), domain.mode());
+            segments.push(Segment {
+                from,
+                to,
+                domain,
+                search,
+                goals,
+                intervals,
+                candidates: Vec::new(),
+                stats: Stats::default(),
+            });
+        }
+        self.segments = segments;
+    }
+
+    /// Solves segments `last`, `last − 1`, …, 0; `changed` cells are reported to every
+    /// kept graph first.
+    fn solve_from(&mut self, last: usize, changed: &[u32]) {
+        for k in (0..=last).rev() {
+            if k + 1 < self.segments.len() {
+                // This segment's goals are the next segment's candidates.
+                let goals: Vec<(Label, f64)> =
+                    self.segments[k + 1].candidates.iter().map(|c| (c.start, c.cost)).collect();
+                let seg = &mut self.segments[k];
+                if goals != seg.goals || seg.goals.is_empty() {
+                    seg.goals = goals;
+                    seg.search =
+                        Search::new(&seg.domain, relabel_goals(goal_list(&seg.goals, seg.to)), seg.domain.mode());
+                } else if !changed.is_empty() {
+                    seg.search.update(&seg.domain, changed);
+                }
+            } else if !changed.is_empty() {
+                let seg = &mut self.segments[k];
+                seg.search.update(&seg.domain, changed);
+            }
+            let seg = &mut self.segments[k];
+            seg.candidates.clear();
+            seg.stats = Stats::default();
+            for (j, &(t_min, t_max)) in seg.intervals.clone().iter().enumerate() {
+                seg.domain.start.t_min = t_min;
+                seg.domain.start.t_max = t_max;
+                if j > 0 || k > 0 {
+                    seg.search.start_moved(&seg.domain);
+                }
+                let plan = seg.search.plan(&seg.domain);
+                add_stats(&mut seg.stats, &plan.stats);
+                if let Some(path) = plan.path {
+                    seg.candidates.push(Candidate { start: path[0].label, cost: plan.cost, path: own_path(path) });
+                }
+            }
+        }
+    }
+
+    /// The chained plan from the first segment's best candidate.
+    fn assemble(&self) -> Option<MissionPlan> {
+        let first = self.segments[0].candidates.first()?;
+        let mut steps: Vec<(PathStep<TempestDomain<'static>>, usize)> = Vec::new();
+        let mut current = first;
+        for k in 0..self.segments.len() {
+            let end = current.path.last()?.label;
+            for s in &current.path {
+                steps.push((s.clone(), k));
+            }
+            if k + 1 < self.segments.len() {
+                // The candidate of the next segment that starts where this one ended.
+                current = self.segments[k + 1]
+                    .candidates
+                    .iter()
+                    .find(|c| c.start.t.to_bits() == end.t.to_bits() && c.start.e.to_bits() == end.e.to_bits())?;
+                // Its first step repeats the goal we are standing on.
+                steps.pop();
+            }
+        }
+        Some(self.waypoints(&steps, first.cost))
+    }
+
+    fn waypoints(&self, steps: &[(PathStep<TempestDomain<'static>>, usize)], cost: f64) -> MissionPlan {
+        let capacity = self.model.capacity_wh();
+        let floor = {
+            let b = &self.model.rover().battery;
+            b.capacity_wh * b.min_soc
+        };
+        let mut battery = self.start.energy_wh;
+        let mut waypoints = Vec::with_capacity(steps.len());
+        for (i, (step, segment)) in steps.iter().enumerate() {
+            let next_action = if i + 1 < steps.len() { step.action } else { None };
+            let sun = self.world.sun(step.label.t);
+            let (x, y) = self.world.center(step.state);
+            let (lat, lon) = self.world.lat_lon(step.state);
+            let arrived_goal =
+                (i + 1 == steps.len() || steps.get(i + 1).is_some_and(|(_, s)| *s != *segment)).then_some(*segment);
+            waypoints.push(Waypoint::new(
+                self.world,
+                step.state,
+                (x, y, lat, lon),
+                step.label,
+                next_action,
+                floor + battery,
+                &sun,
+                arrived_goal,
+            ));
+            if let Some(a) = next_action {
+                let effect = match a {
+                    Action::Drive(k) => self.model.drive(self.world, step.state, k, step.label.t).map(|(_, e)| e),
+                    stay => self.model.stay(self.world, stay, step.state, step.label.t),
+                };
+                if let Ok(e) = effect {
+                    battery = (battery - e.energy_wh).min(capacity);
+                }
+            }
+        }
+        let (e_max, _) = self.model.gain_bounds(self.world);
+        let expansions = self.segments.iter().map(|s| s.stats.expansions).sum();
+        MissionPlan {
+            waypoints,
+            cost,
+            e_max_wh: e_max,
+            objective: self.config.objective,
+            expansions,
+            segments: self.segments.len(),
+        }
+    }
+
+    /// Why no plan exists: the first relaxation (battery, darkness, shadow, slope, Sun
+    /// in camera) that makes one.
+    fn explain_unreachable(&self) -> Error {
+        let mut relaxations: Vec<(Binding, ActionConfig, bool)> = Vec::new();
+        let base = self.model.config().clone();
+        relaxations.push((Binding::Battery, base.clone(), true));
+        let mut c = base.clone();
+        for r in [&mut c.drive, &mut c.charge, &mut c.hibernate] {
+            r.daylight = false;
+        }
+        relaxations.push((Binding::Darkness, c.clone(), false));
+        for r in [&mut c.drive, &mut c.charge, &mut c.hibernate] {
+            r.direct_sun = false;
+        }
+        relaxations.push((Binding::Shadow, c.clone(), false));
+        let mut cam = base.clone();
+        cam.drive.sun_in_camera = false;
+        relaxations.push((Binding::SunInCamera, cam, false));
+        for (binding, actions, big_battery) in relaxations {
+            let mut rover = self.model.rover().clone();
+            let mut start = self.start;
+            if big_battery {
+                rover.battery.capacity_wh *= 1e6;
+                start.energy_wh = rover.battery.capacity_wh;
+            }
+            let model = ActionModel::new(rover, actions);
+            // A coarser search is enough to tell which constraint binds.
+            let mut config = self.config.clone();
+            config.resolution.time_s = config.resolution.time_s.max(600.0);
+            config.resolution.energy_wh *= 4.0;
+            config.goal_times = config.goal_times.min(6);
+            config.segment_starts = config.segment_starts.min(3);
+            let mut probe = Mission {
+                world: self.world,
+                model: &model,
+                config,
+                start,
+                goals: self.goals.clone(),
+                segments: Vec::new(),
+            };
+            probe.build_segments();
+            probe.solve_from(probe.segments.len() - 1, &[]);
+            if !probe.segments[0].candidates.is_empty() {
+                return Error::Unreachable { binding, message: binding.describe().to_string() };
+            }
+        }
+        let windows = self.windows();
+        if windows.last().is_some_and(|w| w.0 >= self.world.span_s()) {
+            return Error::Unreachable { binding: Binding::Horizon, message: Binding::Horizon.describe().into() };
+        }
+        Error::Unreachable { binding: Binding::Blocked, message: Binding::Blocked.describe().into() }
+    }
+
+    /// Re-plans after the world changed in `changed` cells (from [`World::set_blocked`]
+    /// or [`World::set_slope`]).
+    pub fn replan(&mut self, changed: &[u32]) -> Result<MissionPlan> {
+        let last = self.segments.len() - 1;
+        self.solve_from(last, changed);
+        self.assemble().ok_or_else(|| self.explain_unreachable())
+    }
+
+    /// Plan extension: re-plans from the rover's current state (cell, time window,
+    /// energy), reusing the first segment's graph.
+    pub fn extend(&mut self, start: Start) -> Result<MissionPlan> {
+        self.start = start;
+        self.widen_start();
+        let start = self.start;
+        let seg = &mut self.segments[0];
+        if seg.from != start.cell {
+            seg.from = start.cell;
+        }
+        seg.domain.start = start;
+        seg.intervals = vec![(start.t_min, start.t_max)];
+        seg.search.start_moved(&seg.domain);
+        let plan = seg.search.plan(&seg.domain);
+        seg.stats = plan.stats;
+        seg.candidates.clear();
+        if let Some(path) = plan.path {
+            seg.candidates.push(Candidate { start: path[0].label, cost: plan.cost, path: own_path(path) });
+        }
+        self.assemble().ok_or_else(|| self.explain_unreachable())
+    }
+
+    /// Search statistics of the last call, per segment.
+    pub fn stats(&self) -> Vec<Stats> {
+        self.segments.iter().map(|s| s.stats).collect()
+    }
+
+    /// Labels alive over all segment graphs (for memory reports).
+    pub fn labels_alive(&self) -> u64 {
+        self.segments.iter().map(|s| s.stats.labels_alive).sum()
+    }
+
+    /// The cells a plan visits, for tests and reports.
+    pub fn cells_of(plan: &MissionPlan) -> BTreeSet<u32> {
+        plan.waypoints.iter().map(|w| w.cell).collect()
+    }
+
+    /// Stationary action durations, s (charge, hibernate).
+    pub fn stay_durations(&self) -> (f64, f64) {
+        (stay_duration(self.model, Action::Charge), stay_duration(self.model, Action::Hibernate))
+    }
+}
+
+fn add_stats(total: &mut Stats, s: &Stats) {
+    total.expansions += s.expansions;
+    total.generated += s.generated;
+    total.pruned_dominance += s.pruned_dominance;
+    total.pruned_resolution += s.pruned_resolution;
+    total.pruned_constraint += s.pruned_constraint;
+    total.invalidated += s.invalidated;
+    total.reopened += s.reopened;
+    total.labels_alive = s.labels_alive;
+    total.bytes = s.bytes;
+}
+
+/// Whether `to` can be reached from `from` by drives, ignoring time and energy (with or
+/// without the slope limit).
+fn connected(world: &World, model: &ActionModel, from: u32, to: u32, with_slope: bool) -> bool {
+    let relaxed = (!with_slope).then(|| {
+        let mut c = model.config().clone();
+        c.drive.max_slope = false;
+        ActionModel::new(model.rover().clone(), c)
+    });
+    let model = relaxed.as_ref().unwrap_or(model);
+    let mut seen = vec![false; world.cells()];
+    let mut stack = vec![from];
+    seen[from as usize] = true;
+    while let Some(c) = stack.pop() {
+        if c == to {
+            return true;
+        }
+        for k in 0..8u8 {
+            if let Ok((n, _, _)) = model.drive_geometry(world, c, k)
+                && !seen[n as usize]
+            {
+                seen[n as usize] = true;
+                stack.push(n);
+            }
+        }
+    }
+    false
+}
+
+/// Octile distance between cell centres, m.
+pub(crate) fn octile_m(world: &World, a: u32, b: u32) -> f64 {
+    let (ac, ar) = world.col_row(a);
+    let (bc, br) = world.col_row(b);
+    let (dx, dy) = (ac.abs_diff(bc) as f64 * world.dem().dx(), ar.abs_diff(br) as f64 * world.dem().dy());
+    let (lo, hi) = (dx.min(dy), dx.max(dy));
+    hi - lo + lo * std::f64::consts::SQRT_2
+}

@@ -1,0 +1,288 @@
+//! The world model of TEMPEST (Table 1): terrain (DEM, slope, ground normals), the Sun
+//! from any [`SunModel`] tabulated over the planning horizon, line of sight to the Sun
+//! from a horizon map (lit or shadowed, and the Sun's elevation above the local ground
+//! plane, at any time), and the solar flux.
+//!
+//! Time is seconds after the world's epoch (`t = 0`). The Sun's direction is taken at
+//! the region's reference site: over a few kilometres it changes by well under a tenth
+//! of a degree.
+
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+
+use areo_ephemeris::flux::Atmosphere;
+use areo_ephemeris::{Site, SunModel};
+use areo_terrain::Dem;
+use areo_terrain::horizon::HorizonMap;
+use areo_terrain::shadow::Curvature;
+use areo_terrain::slope::slope_aspect;
+use hifitime::{Duration, Epoch};
+
+use crate::error::{Error, Result};
+
+/// How to build a [`World`].
+#[derive(Debug, Clone)]
+pub struct WorldConfig {
+    /// The instant t = 0.
+    pub epoch: Epoch,
+    /// How long the Sun is tabulated for, s (the planning horizon).
+    pub span_s: f64,
+    /// Sun table step, s (linear interpolation between samples).
+    pub sun_step_s: f64,
+    /// Horizon-map sectors for terrain shadows (16..=360), or `None` for no terrain
+    /// shadowing (lit whenever the Sun is above the horizontal).
+    pub horizon_sectors: Option<usize>,
+    /// Surface flux model.
+    pub atmosphere: Atmosphere,
+    /// Where the Sun is computed (latitude, east longitude); `None` takes the DEM's
+    /// georeferenced centre.
+    pub site: Option<Site>,
+}
+
+/// The Sun at one instant, at the reference site.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sun {
+    /// Azimuth, degrees clockwise from north.
+    pub azimuth_deg: f64,
+    /// Elevation above the horizontal, degrees.
+    pub elevation_deg: f64,
+    /// Unit vector toward the Sun, east-north-up.
+    pub enu: [f64; 3],
+    /// Direct-beam flux at the surface, W/m² normal to the beam (0 below the horizon).
+    pub beam_w_m2: f64,
+}
+
+/// Terrain, Sun and light for planning. What sensing can change (blocked cells, slope)
+/// is held in atomics, so plans and their searches can keep borrowing the world while
+/// it is updated between re-plans.
+#[derive(Debug)]
+pub struct World {
+    dem: Dem,
+    slope_deg: Vec<AtomicU32>,
+    normal: Vec<[f32; 3]>,
+    blocked: Vec<AtomicBool>,
+    horizon: Option<HorizonMap>,
+    sun: Vec<Sun>,
+    sun_step_s: f64,
+    epoch: Epoch,
+    site: Site,
+}
+
+impl World {
+    /// Builds the world: slope and normals, the horizon map (in parallel), and the Sun
+    /// table from `sun_model`.
+    pub fn new(dem: Dem, config: &WorldConfig, sun_model: &impl SunModel) -> Result<World> {
+        if !(config.span_s > 0.0 && config.span_s <= 400.0 * 86_400.0) {
+            return Err(Error::Config {
+                field: "span_s",
+                message: format!("{} s: allowed (0, 400 days]", config.span_s),
+            });
+        }
+        if !(config.sun_step_s >= 1.0 && config.sun_step_s <= 3600.0) {
+            return Err(Error::Config {
+                field: "sun_step_s",
+                message: format!("{} s: allowed 1..=3600", config.sun_step_s),
+            });
+        }
+        let site = match config.site {
+            Some(s) => s,
+            None => {
+                let (x, y) = dem.cell_center(dem.cols() / 2, dem.rows() / 2);
+                let (lat, lon) = dem.geographic(x, y).ok_or(Error::Config {
+                    field: "site",
+                    message: "the DEM has no georeference: give the site's latitude and longitude".into(),
+                })?;
+                Site::new(lat, lon).map_err(|e| Error::Config { field: "site", message: e.to_string() })?
+            }
+        };
+        let sa = slope_aspect(&dem);
+        let cells = dem.cols() * dem.rows();
+        let normal = (0..cells).map(|i| sa.normal(i).map(|v| v as f32)).collect();
+        let horizon = match config.horizon_sectors {
+            Some(k) => Some(HorizonMap::compute(&dem, k, Curvature::Sphere { radius_m: 3_389_500.0 })?),
+            None => None,
+        };
+        let n = (config.span_s / config.sun_step_s).ceil() as usize + 2;
+        let sun = (0..n)
+            .map(|k| {
+                let at = config.epoch + Duration::from_seconds(k as f64 * config.sun_step_s);
+                let state = sun_model.sun(at);
+                let p = state.at_site(&site);
+                Sun {
+                    azimuth_deg: p.azimuth_deg,
+                    elevation_deg: p.elevation_deg,
+                    enu: p.direction_enu,
+                    beam_w_m2: config.atmosphere.beam_w_m2(p.elevation_deg, state.distance_au),
+                }
+            })
+            .collect();
+        Ok(World {
+            dem,
+            slope_deg: sa.slope_deg.iter().map(|s| AtomicU32::new(s.to_bits())).collect(),
+            normal,
+            blocked: (0..cells).map(|_| AtomicBool::new(false)).collect(),
+            horizon,
+            sun,
+            sun_step_s: config.sun_step_s,
+            epoch: config.epoch,
+            site,
+        })
+    }
+
+    /// The DEM.
+    pub fn dem(&self) -> &Dem {
+        &self.dem
+    }
+
+    /// The instant t = 0.
+    pub fn epoch(&self) -> Epoch {
+        self.epoch
+    }
+
+    /// The reference site.
+    pub fn site(&self) -> Site {
+        self.site
+    }
+
+    /// The tabulated span, s.
+    pub fn span_s(&self) -> f64 {
+        (self.sun.len() - 2) as f64 * self.sun_step_s
+    }
+
+    /// Number of cells.
+    pub fn cells(&self) -> usize {
+        self.normal.len()
+    }
+
+    /// Columns.
+    pub fn cols(&self) -> usize {
+        self.dem.cols()
+    }
+
+    /// Rows.
+    pub fn rows(&self) -> usize {
+        self.dem.rows()
+    }
+
+    /// The cell index of (col, row).
+    pub fn cell(&self, col: usize, row: usize) -> u32 {
+        (row * self.dem.cols() + col) as u32
+    }
+
+    /// (col, row) of a cell.
+    pub fn col_row(&self, cell: u32) -> (usize, usize) {
+        let c = cell as usize;
+        (c % self.dem.cols(), c / self.dem.cols())
+    }
+
+    /// The cell containing map point (x, y), m, if on the map.
+    pub fn cell_at(&self, x: f64, y: f64) -> Option<u32> {
+        let d = &self.dem;
+        let col = ((x - d.x0()) / d.dx()).floor();
+        let row = ((d.y_top() - y) / d.dy()).floor();
+        (col >= 0.0 && row >= 0.0 && (col as usize) < d.cols() && (row as usize) < d.rows())
+            .then(|| self.cell(col as usize, row as usize))
+    }
+
+    /// Centre of a cell, map frame, m.
+    pub fn center(&self, cell: u32) -> (f64, f64) {
+        let (c, r) = self.col_row(cell);
+        self.dem.cell_center(c, r)
+    }
+
+    /// Elevation of a cell, m (`None` on missing data).
+    pub fn elevation(&self, cell: u32) -> Option<f64> {
+        let (c, r) = self.col_row(cell);
+        self.dem.z(c, r).map(f64::from)
+    }
+
+    /// Slope of a cell, degrees (NaN on missing data).
+    pub fn slope_deg(&self, cell: u32) -> f64 {
+        f64::from(f32::from_bits(self.slope_deg[cell as usize].load(Ordering::Relaxed)))
+    }
+
+    /// Upward unit ground normal of a cell, east-north-up.
+    pub fn normal(&self, cell: u32) -> [f64; 3] {
+        self.normal[cell as usize].map(f64::from)
+    }
+
+    /// Whether a cell can be entered: valid data and not blocked.
+    pub fn passable(&self, cell: u32) -> bool {
+        !self.blocked[cell as usize].load(Ordering::Relaxed) && self.slope_deg(cell).is_finite()
+    }
+
+    /// Marks cells impassable (or passable again): a sensed obstacle. Returns the cells
+    /// whose state changed, for re-planning.
+    pub fn set_blocked(&self, cells: &[u32], blocked: bool) -> Vec<u32> {
+        let mut changed = Vec::new();
+        for &c in cells {
+            if self.blocked[c as usize].swap(blocked, Ordering::Relaxed) != blocked {
+                changed.push(c);
+            }
+        }
+        changed
+    }
+
+    /// Overrides the slope of cells (a sensed slope map), degrees. Returns the cells
+    /// whose slope changed.
+    pub fn set_slope(&self, cells: &[(u32, f64)]) -> Vec<u32> {
+        let mut changed = Vec::new();
+        for &(c, s) in cells {
+            let bits = (s as f32).to_bits();
+            if self.slope_deg[c as usize].swap(bits, Ordering::Relaxed) != bits {
+                changed.push(c);
+            }
+        }
+        changed
+    }
+
+    /// The Sun at time `t` (s after the epoch), interpolated; clamped to the table.
+    pub fn sun(&self, t: f64) -> Sun {
+        let pos = (t / self.sun_step_s).clamp(0.0, (self.sun.len() - 1) as f64);
+        let k = (pos as usize).min(self.sun.len() - 2);
+        let f = pos - k as f64;
+        let (a, b) = (&self.sun[k], &self.sun[k + 1]);
+        let enu: [f64; 3] = std::array::from_fn(|i| a.enu[i] + (b.enu[i] - a.enu[i]) * f);
+        let n = (enu[0] * enu[0] + enu[1] * enu[1] + enu[2] * enu[2]).sqrt();
+        let enu = enu.map(|v| v / n);
+        Sun {
+            azimuth_deg: enu[0].atan2(enu[1]).to_degrees().rem_euclid(360.0),
+            elevation_deg: enu[2].clamp(-1.0, 1.0).asin().to_degrees(),
+            enu,
+            beam_w_m2: a.beam_w_m2 + (b.beam_w_m2 - a.beam_w_m2) * f,
+        }
+    }
+
+    /// Whether the Sun lights a cell: above the horizontal and above the terrain's
+    /// horizon there.
+    pub fn lit(&self, cell: u32, sun: &Sun) -> bool {
+        let floor = match &self.horizon {
+            Some(h) => h.horizon_deg(cell as usize, sun.azimuth_deg).max(0.0),
+            None => 0.0,
+        };
+        sun.elevation_deg > floor
+    }
+
+    /// The Sun's elevation above a cell's ground plane, degrees (TEMPEST's LOS-map value).
+    pub fn sun_above_ground_deg(&self, cell: u32, sun: &Sun) -> f64 {
+        let n = self.normal(cell);
+        (n[0] * sun.enu[0] + n[1] * sun.enu[1] + n[2] * sun.enu[2]).clamp(-1.0, 1.0).asin().to_degrees()
+    }
+
+    /// Largest beam flux in the table, W/m².
+    pub fn max_beam_w_m2(&self) -> f64 {
+        self.sun.iter().map(|s| s.beam_w_m2).fold(0.0, f64::max)
+    }
+
+    /// Latitude and east longitude of a cell's centre (the site's if the DEM has no
+    /// georeference).
+    pub fn lat_lon(&self, cell: u32) -> (f64, f64) {
+        let (x, y) = self.center(cell);
+        self.dem.geographic(x, y).unwrap_or((self.site.lat_deg(), self.site.lon_east_deg()))
+    }
+
+    /// Bytes held by the world's grids.
+    pub fn bytes(&self) -> usize {
+        let cells = self.cells();
+        cells * (4 + 12 + 1) + self.horizon.as_ref().map_or(0, HorizonMap::bytes) + self.sun.len() * 48
+    }
+}

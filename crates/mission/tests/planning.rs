@@ -1,0 +1,136 @@
+//! Single-goal planning: the octile path on easy ground, charging and hibernating when
+//! the battery or the night binds, and clear "unreachable" answers.
+
+use areo_mission::{Action, ActionConfig, Binding, Error, Mission, PlannerConfig, Start};
+
+use crate::common::*;
+
+fn octile(dc: f64, dr: f64, cell: f64) -> f64 {
+    let (lo, hi) = (dc.abs().min(dr.abs()), dc.abs().max(dr.abs()));
+    (hi - lo + lo * std::f64::consts::SQRT_2) * cell
+}
+
+#[test]
+fn flat_lit_ground_with_a_large_battery_gives_the_octile_shortest_path() {
+    let world = fixed_sun_world(flat(40, 30, 10.0), 120.0, 60.0, 30.0);
+    let model = model(1e5, ActionConfig::default());
+    let start = Start { cell: world.cell(2, 3), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let goal = world.cell(33, 20);
+    let (_m, plan) = Mission::plan(&world, &model, PlannerConfig::default(), start, &[goal]).unwrap();
+    let (drives, charges, hibernations) = plan.action_counts();
+    assert_eq!((charges, hibernations), (0, 0), "no need to stop");
+    assert_eq!(drives, 31, "Chebyshev steps");
+    let mut length = 0.0;
+    for w in plan.waypoints.windows(2) {
+        length += (w[1].x_m - w[0].x_m).hypot(w[1].y_m - w[0].y_m);
+    }
+    assert!((length - octile(31.0, 17.0, 10.0)).abs() < 1e-6, "{length}");
+    assert_eq!(plan.waypoints.last().unwrap().cell, goal);
+    assert_eq!(plan.waypoints.last().unwrap().goal, Some(0));
+    // Times advance by each drive's duration at 0.3 m/s on flat ground.
+    assert!((plan.duration_s() - length / 0.3).abs() < 1e-6);
+    assert!(plan.e_max_wh > 0.0);
+}
+
+#[test]
+fn a_small_battery_before_night_makes_the_plan_wait() {
+    // Late afternoon near the equator, 1.8 km to go at ≤ 0.3 m/s with drives allowed
+    // only in daylight: the rover cannot arrive before sunset, so it must stop for the
+    // night (hibernate) or charge, and its predicted battery never goes below the floor.
+    let world = mars_world(flat(100, 5, 20.0), 48.0, None);
+    let model = model(1000.0, ActionConfig::default());
+    // Find the first instant with the Sun 20° up in the afternoon.
+    let mut t0 = 0.0;
+    let mut prev = world.sun(0.0).elevation_deg;
+    while t0 < 40.0 * 3600.0 {
+        t0 += 60.0;
+        let e = world.sun(t0).elevation_deg;
+        if prev > 20.0 && e <= 20.0 {
+            break;
+        }
+        prev = e;
+    }
+    let start = Start { cell: world.cell(3, 2), t_min: t0, t_max: t0 + 600.0, energy_wh: 450.0 };
+    let config = PlannerConfig {
+        max_wait_s: 20.0 * 3600.0,
+        goal_times: 24,
+        resolution: areo_mission::Resolution { time_s: 300.0, energy_wh: 10.0 },
+        ..PlannerConfig::default()
+    };
+    let (_m, plan) = Mission::plan(&world, &model, config, start, &[world.cell(93, 2)]).unwrap();
+    let (drives, charges, hibernations) = plan.action_counts();
+    assert!(drives >= 90, "{drives}");
+    assert!(charges + hibernations > 0, "the plan stops for the night");
+    let floor = 100.0;
+    assert!(plan.min_battery_wh() >= floor - 1e-6, "battery floor kept: {}", plan.min_battery_wh());
+    // No drive in the dark.
+    for w in &plan.waypoints {
+        if let Some(Action::Drive(_)) = w.action {
+            assert!(w.sun_elevation_deg > 0.0, "drive at night: {w:?}");
+        }
+    }
+}
+
+#[test]
+fn unreachable_goals_name_the_binding_constraint() {
+    // A plateau with 40° walls: the rover (20° maximum) cannot climb it.
+    let dem = areo_terrain::Dem::from_fn(40, 40, 10.0, 10.0, |x, y| {
+        let d = (x - 200.0).hypot(y - 200.0);
+        if d < 60.0 {
+            80.0
+        } else if d < 120.0 {
+            80.0 * (120.0 - d) / 60.0
+        } else {
+            0.0
+        }
+    })
+    .unwrap();
+    let world = fixed_sun_world(dem, 90.0, 50.0, 40.0);
+    let model = model(1e5, ActionConfig::default());
+    let start = Start { cell: world.cell(2, 2), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    match Mission::plan(&world, &model, PlannerConfig::default(), start, &[world.cell(20, 20)]) {
+        Err(Error::Unreachable { binding, message }) => {
+            assert_eq!(binding, Binding::Slope, "{message}");
+            assert!(message.contains("slope"));
+        }
+        other => panic!("{other:?}"),
+    }
+    // Permanent night with drives needing daylight: darkness binds.
+    let night = fixed_sun_world(flat(20, 20, 10.0), 90.0, -30.0, 12.0);
+    let start = Start { cell: night.cell(2, 2), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    match Mission::plan(&night, &model, PlannerConfig::default(), start, &[night.cell(15, 15)]) {
+        Err(Error::Unreachable { binding, .. }) => assert_eq!(binding, Binding::Darkness),
+        other => panic!("{other:?}"),
+    }
+    // Night driving allowed, but a 50 Wh battery cannot pay for 1.5 km of it.
+    let mut actions = ActionConfig::default();
+    actions.drive.daylight = false;
+    let small = crate::common::model(50.0, actions);
+    let long = fixed_sun_world(flat(80, 3, 20.0), 90.0, -30.0, 12.0);
+    let start = Start { cell: long.cell(2, 1), t_min: 0.0, t_max: 0.0, energy_wh: 45.0 };
+    let quick = PlannerConfig { max_wait_s: 3600.0, ..PlannerConfig::default() };
+    match Mission::plan(&long, &small, quick, start, &[long.cell(77, 1)]) {
+        Err(Error::Unreachable { binding, message }) => {
+            assert_eq!(binding, Binding::Battery, "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn bad_inputs_are_errors_naming_the_field() {
+    let world = fixed_sun_world(flat(10, 10, 10.0), 90.0, 50.0, 10.0);
+    let model = model(1000.0, ActionConfig::default());
+    let start = Start { cell: 5000, t_min: 0.0, t_max: 0.0, energy_wh: 500.0 };
+    match Mission::plan(&world, &model, PlannerConfig::default(), start, &[world.cell(5, 5)]) {
+        Err(Error::Config { field, .. }) => assert_eq!(field, "start"),
+        other => panic!("{other:?}"),
+    }
+    let start = Start { cell: world.cell(1, 1), ..start };
+    let bad = PlannerConfig { detour_factor: 0.5, ..PlannerConfig::default() };
+    match Mission::plan(&world, &model, bad, start, &[world.cell(5, 5)]) {
+        Err(Error::Config { field, message }) => assert!(field == "detour_factor" && message.contains("≥ 1")),
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(Mission::plan(&world, &model, PlannerConfig::default(), start, &[]), Err(Error::Config { .. })));
+}

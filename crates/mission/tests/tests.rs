@@ -1,0 +1,4 @@
+//! areo-mission integration tests.
+
+mod common;
+mod planning;
