@@ -205,6 +205,32 @@ impl<'a> Mission<'a> {
         }
     }
 
+    /// The goal instants at the last goal: even instants over its window (on the time
+    /// quantum's grid when actions are quantised, so that quantised paths can meet
+    /// them).
+    pub fn final_goal_times(&self) -> Vec<f64> {
+        let windows = self.windows();
+        let (lo, hi) = windows[windows.len() - 1];
+        let m = self.config.goal_times;
+        let q = self.model.config().time_quantum_s;
+        let mut times: Vec<f64> = (0..m)
+            .map(|j| if m == 1 { hi } else { lo + (hi - lo) * j as f64 / (m - 1) as f64 })
+            .map(|t| if q > 0.0 { (t / q).round() * q } else { t })
+            .collect();
+        times.dedup();
+        times
+    }
+
+    /// The arrival windows at each goal (best case, worst case), s after the epoch.
+    pub fn goal_windows(&self) -> Vec<(f64, f64)> {
+        self.windows()
+    }
+
+    /// The start, with its window as planned (see [`Start`]).
+    pub fn start(&self) -> Start {
+        self.start
+    }
+
     /// A path's time is fixed by its goal instant and its actions: a start window
     /// narrower than the spacing of the goal instants could miss every one of them, so
     /// it is widened to that spacing (the plan may then start up to one spacing late).
@@ -254,8 +280,13 @@ impl<'a> Mission<'a> {
             } else {
                 let (lo, hi) = windows[k - 1];
                 let m = self.config.segment_starts;
+                // Half-open intervals (the last one closed), so no instant is in two.
                 let iv: Vec<(f64, f64)> = (0..m)
-                    .map(|j| (lo + (hi - lo) * j as f64 / m as f64, lo + (hi - lo) * (j + 1) as f64 / m as f64))
+                    .map(|j| {
+                        let a = lo + (hi - lo) * j as f64 / m as f64;
+                        let b = lo + (hi - lo) * (j + 1) as f64 / m as f64;
+                        (a, if j + 1 == m { b } else { b - 1e-6 })
+                    })
                     .collect();
                 let s = Start { cell: from, t_min: iv[0].0, t_max: iv[0].1, energy_wh: self.model.capacity_wh() };
                 (s, iv)
@@ -263,14 +294,7 @@ impl<'a> Mission<'a> {
             let domain =
                 TempestDomain::new(self.world, self.model, start, self.config.objective, self.config.resolution);
             let goals = if k + 1 == n {
-                let (lo, hi) = windows[k];
-                let m = self.config.goal_times;
-                (0..m)
-                    .map(|j| {
-                        let t = if m == 1 { hi } else { lo + (hi - lo) * j as f64 / (m - 1) as f64 };
-                        (Label { t, e: self.config.goal_energy_wh }, 0.0)
-                    })
-                    .collect()
+                self.final_goal_times().into_iter().map(|t| (Label { t, e: self.config.goal_energy_wh }, 0.0)).collect()
             } else {
                 Vec::new()
             };

@@ -1,4 +1,5 @@
 //! areo-mission integration tests.
 
+mod chaining;
 mod common;
 mod planning;

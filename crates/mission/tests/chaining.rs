@@ -1,0 +1,172 @@
+//! Multi-goal chaining (Figure 3) against a brute-force search of the whole
+//! concatenated problem, and re-planning and plan extension against plans from scratch.
+
+use std::cmp::Reverse;
+use std::collections::{BinaryHeap, HashMap};
+
+use areo_mission::{Action, ActionConfig, ActionModel, Mission, PlannerConfig, Resolution, Start, World};
+
+use crate::common::*;
+
+/// A small rolling terrain so that drives cost different energies.
+fn hills(cols: usize, rows: usize) -> areo_terrain::Dem {
+    areo_terrain::Dem::from_fn(cols, rows, 20.0, 20.0, |x, y| {
+        3.0 * (x / 37.0).sin() + 2.0 * (y / 23.0).cos() + 0.02 * x
+    })
+    .unwrap()
+}
+
+fn quantised() -> ActionConfig {
+    let mut a = ActionConfig {
+        time_quantum_s: 60.0,
+        energy_quantum_wh: 1.0,
+        charge_s: 600.0,
+        hibernate_s: 1200.0,
+        ..Default::default()
+    };
+    a.drive.daylight = false;
+    a.charge.direct_sun = false;
+    a
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Ord64(f64);
+impl Eq for Ord64 {}
+impl PartialOrd for Ord64 {
+    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Ord64 {
+    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&o.0)
+    }
+}
+
+/// Dijkstra over (phase, cell, minute) with the planner's own action model: phase k
+/// is "heading for goal k"; reaching goal k within its window may advance the phase.
+fn brute_force(world: &World, model: &ActionModel, mission: &Mission<'_>, goals: &[u32]) -> Option<f64> {
+    let (e_max, _) = model.gain_bounds(world);
+    let start = mission.start();
+    let windows = mission.goal_windows();
+    let finals: Vec<i64> = mission.final_goal_times().iter().map(|t| (t / 60.0).round() as i64).collect();
+    let mut dist: HashMap<(usize, u32, i64), f64> = HashMap::new();
+    let mut heap = BinaryHeap::new();
+    let mut m = (start.t_min / 60.0).ceil() as i64;
+    while m as f64 * 60.0 <= start.t_max + 1e-9 {
+        dist.insert((0, start.cell, m), 0.0);
+        heap.push(Reverse((Ord64(0.0), 0usize, start.cell, m)));
+        m += 1;
+    }
+    while let Some(Reverse((Ord64(d), k, cell, m))) = heap.pop() {
+        if dist.get(&(k, cell, m)).is_some_and(|&b| b < d) {
+            continue;
+        }
+        let t = m as f64 * 60.0;
+        if k + 1 == goals.len() && cell == goals[k] && finals.contains(&m) {
+            return Some(d);
+        }
+        let mut next = Vec::new();
+        if cell == goals[k] && k + 1 < goals.len() && t >= windows[k].0 - 1e-9 && t <= windows[k].1 + 1e-9 {
+            next.push((k + 1, cell, m, 0.0));
+        }
+        for a in (0..8).map(Action::Drive).chain([Action::Charge, Action::Hibernate]) {
+            let r = match a {
+                Action::Drive(dir) => model.drive(world, cell, dir, t),
+                stay => model.stay(world, stay, cell, t).map(|e| (cell, e)),
+            };
+            if let Ok((to, e)) = r {
+                let m2 = m + (e.duration_s / 60.0).round() as i64;
+                next.push((k, to, m2, e.energy_wh + e_max));
+            }
+        }
+        for (k2, c2, m2, w) in next {
+            let nd = d + w;
+            if dist.get(&(k2, c2, m2)).is_none_or(|&b| nd < b - 1e-12) {
+                dist.insert((k2, c2, m2), nd);
+                heap.push(Reverse((Ord64(nd), k2, c2, m2)));
+            }
+        }
+    }
+    None
+}
+
+fn config(segment_starts: usize) -> PlannerConfig {
+    PlannerConfig {
+        resolution: Resolution { time_s: 60.0, energy_wh: 1e9 },
+        goal_times: 12,
+        segment_starts,
+        max_wait_s: 1800.0,
+        ..PlannerConfig::default()
+    }
+}
+
+#[test]
+fn chained_segments_equal_a_brute_force_search_of_the_whole_problem() {
+    for (i, (start, g1, g2)) in
+        [((1, 1), (6, 4), (2, 8)), ((0, 8), (8, 8), (8, 0)), ((4, 4), (1, 7), (7, 2))].into_iter().enumerate()
+    {
+        let world = mars_world(hills(10, 10), 10.0, None);
+        let model = model(1e6, quantised());
+        let start = Start { cell: world.cell(start.0, start.1), t_min: 0.0, t_max: 0.0, energy_wh: 9e5 };
+        let goals = [world.cell(g1.0, g1.1), world.cell(g2.0, g2.1)];
+        // Intervals narrower than the quantum: each holds at most one arrival minute.
+        let probe = Mission::plan(&world, &model, config(1), start, &goals).unwrap().0;
+        let (lo, hi) = probe.goal_windows()[0];
+        let starts = ((hi - lo) / 50.0).ceil() as usize;
+        let (mission, plan) = Mission::plan(&world, &model, config(starts), start, &goals).unwrap();
+        let brute = brute_force(&world, &model, &mission, &goals).expect("brute force finds a path");
+        assert!((plan.cost - brute).abs() < 1e-6, "case {i}: chained {} vs brute force {brute}", plan.cost);
+        assert_eq!(plan.waypoints.iter().filter(|w| w.goal.is_some()).count(), 2);
+        assert_eq!(plan.waypoints.last().unwrap().cell, goals[1]);
+    }
+}
+
+#[test]
+fn replanning_after_blocked_cells_equals_planning_from_scratch() {
+    // Quantised actions and classes as fine as the quantum: the search is exact, so a
+    // repaired graph must give exactly the plan of a fresh one.
+    let world = mars_world(hills(30, 20), 12.0, None);
+    let model = model(1e6, quantised());
+    let start = Start { cell: world.cell(2, 3), t_min: 0.0, t_max: 600.0, energy_wh: 9e5 };
+    let goals = [world.cell(25, 15)];
+    let cfg = PlannerConfig { max_wait_s: 3600.0, goal_times: 8, ..config(4) };
+    let (mut mission, plan) = Mission::plan(&world, &model, cfg.clone(), start, &goals).unwrap();
+    // Sensing finds two obstacles on the planned route.
+    let on_route: Vec<u32> = plan.waypoints.iter().map(|w| w.cell).skip(5).step_by(4).take(2).collect();
+    let changed = world.set_blocked(&on_route, true);
+    assert_eq!(changed.len(), 2);
+    let replanned = mission.replan(&changed).unwrap();
+    let (_, fresh) = Mission::plan(&world, &model, cfg.clone(), start, &goals).unwrap();
+    assert!((replanned.cost - fresh.cost).abs() < 1e-6, "{} vs {}", replanned.cost, fresh.cost);
+    assert!(replanned.waypoints.iter().all(|w| !on_route.contains(&w.cell)));
+    assert!(replanned.cost >= plan.cost - 1e-9, "an obstacle cannot make an exact optimum cheaper");
+    // Clearing them again restores the original optimum.
+    let cleared = world.set_blocked(&on_route, false);
+    let restored = mission.replan(&cleared).unwrap();
+    assert!((restored.cost - plan.cost).abs() < 1e-6);
+}
+
+#[test]
+fn multi_goal_replanning_and_plan_extension_equal_fresh_plans() {
+    let world = mars_world(hills(24, 18), 14.0, None);
+    let model = model(1e6, quantised());
+    let start = Start { cell: world.cell(1, 1), t_min: 0.0, t_max: 600.0, energy_wh: 9e5 };
+    let goals = [world.cell(12, 14), world.cell(22, 3)];
+    let cfg = PlannerConfig { max_wait_s: 3600.0, goal_times: 6, ..config(4) };
+    let (mut mission, plan) = Mission::plan(&world, &model, cfg.clone(), start, &goals).unwrap();
+    assert_eq!(plan.segments, 2);
+    // An obstacle on the second segment.
+    let second: Vec<u32> =
+        plan.waypoints.iter().skip_while(|w| w.goal.is_none()).skip(3).map(|w| w.cell).take(1).collect();
+    let changed = world.set_blocked(&second, true);
+    let replanned = mission.replan(&changed).unwrap();
+    let (_, fresh) = Mission::plan(&world, &model, cfg.clone(), start, &goals).unwrap();
+    assert!((replanned.cost - fresh.cost).abs() < 1e-6, "{} vs {}", replanned.cost, fresh.cost);
+    // The rover drove a little and is now two cells on, later, with less energy.
+    let moved = Start { cell: world.cell(3, 3), t_min: 900.0, t_max: 1500.0, energy_wh: 8e5 };
+    let extended = mission.extend(moved).unwrap();
+    let (_, fresh) = Mission::plan(&world, &model, cfg, moved, &goals).unwrap();
+    assert!((extended.cost - fresh.cost).abs() < 1e-6, "{} vs {}", extended.cost, fresh.cost);
+    assert_eq!(extended.waypoints[0].cell, moved.cell);
+}
