@@ -134,3 +134,79 @@ fn bad_inputs_are_errors_naming_the_field() {
     }
     assert!(matches!(Mission::plan(&world, &model, PlannerConfig::default(), start, &[]), Err(Error::Config { .. })));
 }
+
+#[test]
+fn the_duration_objective_keeps_under_its_maximum_and_prefers_less_energy() {
+    // The Arctic configuration: BESTDPARMS on duration, "less required energy is
+    // better". Its start needs no more energy than the L + B plan whenever that plan
+    // fits under the maximum duration, and it never exceeds the maximum.
+    // Quantised times and energies with classes as fine as the quanta: both searches
+    // are exact, so the inequality must hold exactly.
+    let world = mars_world(flat(30, 12, 20.0), 30.0, None);
+    let mut actions = ActionConfig {
+        time_quantum_s: 60.0,
+        energy_quantum_wh: 1.0,
+        charge_s: 600.0,
+        hibernate_s: 1200.0,
+        ..Default::default()
+    };
+    actions.drive.daylight = false;
+    let model = model(3000.0, actions);
+    let start = Start { cell: world.cell(2, 2), t_min: 0.0, t_max: 600.0, energy_wh: 2500.0 };
+    let goal = [world.cell(26, 9)];
+    let base = PlannerConfig {
+        max_wait_s: 3600.0,
+        goal_times: 12,
+        resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: 1.0 },
+        ..PlannerConfig::default()
+    };
+    let (_m, energy_plan) = Mission::plan(&world, &model, base.clone(), start, &goal).unwrap();
+    let max = energy_plan.duration_s() + 3600.0;
+    let cfg = PlannerConfig { objective: areo_mission::Objective::Duration { max_duration_s: max }, ..base.clone() };
+    let (_m, duration_plan) = Mission::plan(&world, &model, cfg, start, &goal).unwrap();
+    assert!(duration_plan.cost <= max + 1e-6, "{} > {max}", duration_plan.cost);
+    assert!((duration_plan.cost - duration_plan.duration_s()).abs() < 1e-6, "the cost is the duration");
+    let (e_d, e_e) = (duration_plan.waypoints[0].required_wh, energy_plan.waypoints[0].required_wh);
+    assert!(e_d <= e_e + 1e-9, "BESTDPARMS start energy {e_d} Wh vs L+B {e_e} Wh");
+    // Too short a maximum: no plan, and the answer says so.
+    let tight = PlannerConfig { objective: areo_mission::Objective::Duration { max_duration_s: 60.0 }, ..base };
+    assert!(matches!(Mission::plan(&world, &model, tight, start, &goal), Err(Error::Unreachable { .. })));
+}
+
+#[test]
+fn waypoints_carry_place_time_light_and_energy() {
+    let world = mars_world(flat(20, 10, 20.0), 30.0, Some(16));
+    let mut actions = ActionConfig::default();
+    actions.drive.daylight = false;
+    let model = model(3000.0, actions);
+    let start = Start { cell: world.cell(1, 1), t_min: 0.0, t_max: 600.0, energy_wh: 2000.0 };
+    let (_m, plan) = Mission::plan(
+        &world,
+        &model,
+        PlannerConfig { goal_times: 8, ..PlannerConfig::default() },
+        start,
+        &[world.cell(15, 8)],
+    )
+    .unwrap();
+    // 3000 Wh with a 10 % floor.
+    let floor = 300.0;
+    let first = &plan.waypoints[0];
+    assert!((first.battery_wh - (floor + 2000.0)).abs() < 1e-9, "battery is absolute: {}", first.battery_wh);
+    for w in &plan.waypoints {
+        assert!((w.lat_deg - (-4.6)).abs() < 1e-9 && (w.lon_deg - 137.4).abs() < 1e-9, "no georeference: the site");
+        assert!(w.utc.starts_with("2025-03-0") && w.utc.ends_with('Z'), "{}", w.utc);
+        assert!((0.0..24.0).contains(&w.ltst_h));
+        assert!(w.lit == (w.sun_elevation_deg > 0.0), "flat ground: lit iff the Sun is up");
+        assert!(w.required_wh >= 0.0 && w.required_wh <= 2700.0 + 1e-9);
+        assert!(w.battery_wh >= floor - 1e-9 && w.battery_wh <= 3000.0 + 1e-9);
+    }
+    // The waypoints' times increase and the required energy is what the battery had.
+    assert!(plan.waypoints.windows(2).all(|p| p[1].t_s > p[0].t_s));
+    assert!(first.required_wh <= 2000.0 + 1e-9);
+    let json = serde_json::to_string(&plan).unwrap();
+    let back: areo_mission::MissionPlan = serde_json::from_str(&json).unwrap();
+    assert_eq!(back.waypoints.len(), plan.waypoints.len());
+    for (a, b) in back.waypoints.iter().zip(&plan.waypoints) {
+        assert!(a.cell == b.cell && a.action == b.action && a.utc == b.utc && (a.t_s - b.t_s).abs() < 1e-6);
+    }
+}
