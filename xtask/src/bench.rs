@@ -61,6 +61,9 @@ pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
     if args.first().is_some_and(|a| a == "horizon") {
         return horizon(root);
     }
+    if args.first().is_some_and(|a| a == "mission") {
+        return mission();
+    }
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut cmd = Command::new(cargo);
     cmd.args(["bench", "--workspace", "--benches", "--"]).current_dir(root);
@@ -209,4 +212,105 @@ fn horizon(root: &Path) -> Result<bool, String> {
         map.bytes() / (dem.cols() * dem.rows() * 64)
     );
     Ok(secs <= 20.0)
+}
+
+/// TEMPEST at LITA scale: a seeded 2527 × 2356 DEM (100 m cells), the horizon map and
+/// Sun table (pre-calculation), a ~64-waypoint plan for a Hyperion-class rover, and
+/// re-plans after 2-cell sensing updates near the rover. Targets: pre-calculation
+/// ≤ 20 s on 2 cores, initial plan ≤ 2 s, median re-plan ≤ 1 % of the initial plan.
+fn mission() -> Result<bool, String> {
+    use areo::ephemeris::Mars24;
+    use areo::mission::{ActionConfig, ActionModel, Mission, PlannerConfig, Start, World, WorldConfig};
+    use areo::terrain::synth::{Noise, TerrainSpec};
+    use std::time::Instant;
+    let dem = TerrainSpec {
+        cols: 2527,
+        rows: 2356,
+        cell_m: 100.0,
+        base_m: 0.0,
+        seed: 7,
+        noise: Some(Noise { amplitude_m: 150.0, wavelength_m: 30_000.0, octaves: 5, persistence: 0.45 }),
+        features: vec![],
+    }
+    .build()
+    .map_err(|e| e.to_string())?;
+    let epoch = areo::ephemeris::parse_utc("2025-03-01T00:00:00Z").map_err(|e| e.to_string())?;
+    let config = WorldConfig {
+        epoch,
+        span_s: 3.0 * 88_775.0,
+        sun_step_s: 120.0,
+        horizon_sectors: Some(32),
+        atmosphere: areo::ephemeris::flux::Atmosphere::BeerLambert { tau: 0.5 },
+        site: Some(areo::ephemeris::Site::new(-4.6, 137.4).map_err(|e| e.to_string())?),
+    };
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let t = Instant::now();
+    let world = World::new(dem, &config, &Mars24).map_err(|e| e.to_string())?;
+    let precalc = t.elapsed().as_secs_f64();
+    println!(
+        "pre-calculation (slope, 32-sector horizon map, Sun table), 2527 x 2356 cells: {precalc:.1} s on {threads} threads, {} MB",
+        world.bytes() / 1_000_000
+    );
+    // Start an hour after local sunrise.
+    let mut t0 = 0.0;
+    while !(world.sun(t0).elevation_deg > 10.0 && world.sun(t0 - 600.0).elevation_deg <= 10.0) {
+        t0 += 600.0;
+    }
+    let model = ActionModel::new(areo::rover::resources::ResourceModel::hyperion(), ActionConfig::default());
+    let start = Start { cell: world.cell(1200, 1200), t_min: t0, t_max: t0 + 600.0, energy_wh: 800.0 };
+    let goal = world.cell(1263, 1230);
+    // Coarser classes than the defaults and a half-day wait allowance, as a field
+    // planner would run at this scale.
+    let planner = PlannerConfig {
+        resolution: areo::mission::Resolution { time_s: 300.0, energy_wh: 1e12 },
+        goal_times: 8,
+        max_wait_s: 6.0 * 3600.0,
+        ..PlannerConfig::default()
+    };
+    println!(
+        "planner: {} s time classes, one energy class (E collapsed), {} goal instants, {} h wait allowance",
+        planner.resolution.time_s,
+        planner.goal_times,
+        planner.max_wait_s / 3600.0
+    );
+    let t = Instant::now();
+    let (mut mission, plan) = Mission::plan(&world, &model, planner, start, &[goal]).map_err(|e| e.to_string())?;
+    let initial = t.elapsed().as_secs_f64();
+    let (d, c, h) = plan.action_counts();
+    println!(
+        "initial plan: {initial:.3} s, {} waypoints ({d} drives, {c} charges, {h} hibernations), {:.1} h, {} expansions, E_max {:.0} Wh",
+        plan.waypoints.len(),
+        plan.duration_s() / 3600.0,
+        plan.expansions,
+        plan.e_max_wh
+    );
+    // Sensing near the rover: block 2 cells beside the route's first steps, re-plan,
+    // clear them, re-plan.
+    let mut times = Vec::new();
+    for k in 1..=6 {
+        let w = &plan.waypoints[k.min(plan.waypoints.len() - 1)];
+        let (c0, r0) = w.col_row;
+        let cells = [world.cell(c0, r0 + 1), world.cell(c0 + 1, r0 + 1)];
+        let changed = world.set_blocked(&cells, true);
+        let t = Instant::now();
+        mission.replan(&changed).map_err(|e| e.to_string())?;
+        times.push(t.elapsed().as_secs_f64());
+        let changed = world.set_blocked(&cells, false);
+        let t = Instant::now();
+        mission.replan(&changed).map_err(|e| e.to_string())?;
+        times.push(t.elapsed().as_secs_f64());
+    }
+    times.sort_by(f64::total_cmp);
+    let median = times[times.len() / 2];
+    let ratio = median / initial;
+    println!("re-plan after a 2-cell update: median {:.4} s = {:.2} % of the initial plan", median, 100.0 * ratio);
+    println!("peak memory (VmHWM): {}", peak_memory().unwrap_or_else(|| "unknown".into()));
+    let ok = precalc <= 20.0 && initial <= 2.0 && ratio <= 0.01;
+    println!("targets: pre-calculation ≤ 20 s, initial ≤ 2 s, re-plan ≤ 1 %: {}", if ok { "ok" } else { "MISSED" });
+    Ok(ok)
+}
+
+fn peak_memory() -> Option<String> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    status.lines().find(|l| l.starts_with("VmHWM")).map(|l| l.trim_start_matches("VmHWM:").trim().to_string())
 }

@@ -21,13 +21,19 @@ pub trait Domain {
     /// Fine-grained path quantities (DPARMS), e.g. time and required energy.
     type Label: Clone + Debug;
     /// Resolution-equivalence class of a label at a state.
-    type Key: Copy + Eq + Debug;
+    type Key: Copy + Eq + Hash + Debug;
     /// An action; applied forwards it leads from the predecessor to the state.
     type Action: Copy + Debug;
 
     /// Whether [`Domain::dominates`] can ever return true; when false the engine skips
     /// the pairwise dominance tests.
     const DOMINANCE: bool = false;
+
+    /// Whether a state may hold many labels (e.g. one per time class): the engine then
+    /// keeps a table of resolution classes, so admitting a label costs O(1) instead of
+    /// a walk over the state's labels (only without [`Domain::DOMINANCE`], which needs
+    /// the walk). Costs about 16 bytes per label.
+    const MANY_LABELS: bool = false;
 
     /// The actions that may lead into `state` with `label` (appended to `out`).
     fn actions(&self, state: Self::State, label: &Self::Label, out: &mut Vec<Self::Action>);

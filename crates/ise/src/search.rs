@@ -338,6 +338,8 @@ pub struct Search<D: Domain> {
     stats: Stats,
     actions: Vec<D::Action>,
     states: Vec<D::State>,
+    /// With [`Domain::MANY_LABELS`]: the label holding each (state, key) class.
+    classes: FxHashMap<(D::State, D::Key), u32>,
 }
 
 impl<D: Domain> std::fmt::Debug for Search<D> {
@@ -359,6 +361,7 @@ impl<D: Domain> Search<D> {
             stats: Stats::default(),
             actions: Vec::new(),
             states: Vec::new(),
+            classes: FxHashMap::default(),
         };
         for goal in goals {
             s.insert(domain, goal.state, goal.label, goal.cost.max(0.0), NONE, None);
@@ -596,6 +599,23 @@ impl<D: Domain> Search<D> {
         }
         let key = domain.key(state, &label);
         let head = self.by_state.get(domain, state);
+        if D::MANY_LABELS && !D::DOMINANCE {
+            // The class table finds the one label this one competes with.
+            if let Some(&id) = self.classes.get(&(state, key))
+                && self.nodes[id].flags & (REMOVED | DEAD) == 0
+            {
+                let n = &self.nodes[id];
+                let keep_old = n.g < g || (n.g == g && !domain.better(&label, &n.label));
+                self.stats.pruned_resolution += 1;
+                if keep_old {
+                    return;
+                }
+                self.kill(id);
+            }
+            let new_id = self.push_node(domain, state, label, key, g, parent, action, head);
+            self.classes.insert((state, key), new_id);
+            return;
+        }
         // Walk the labels at this state, unlinking removed ones on the way.
         let mut prev = NONE;
         let mut id = head;
@@ -638,6 +658,22 @@ impl<D: Domain> Search<D> {
             prev = id;
             id = next;
         }
+        self.push_node(domain, state, label, key, g, parent, action, new_head);
+    }
+
+    /// Adds a node at the head of its state's list and to the open list.
+    #[allow(clippy::too_many_arguments)]
+    fn push_node(
+        &mut self,
+        domain: &D,
+        state: D::State,
+        label: D::Label,
+        key: D::Key,
+        g: f64,
+        parent: u32,
+        action: Option<D::Action>,
+        new_head: u32,
+    ) -> u32 {
         let h = domain.heuristic(state, &label);
         let new_id = self.nodes.len();
         let first_child = NONE;
@@ -661,6 +697,7 @@ impl<D: Domain> Search<D> {
         self.open.push(Entry::new(g + h, g, new_id));
         self.alive += 1;
         self.stats.generated += 1;
+        new_id
     }
 
     fn relink_head(&mut self, domain: &D, state: D::State, old_head: u32, new_head: u32) {
@@ -677,7 +714,10 @@ impl<D: Domain> Search<D> {
 
     fn finish_stats(&mut self) {
         self.stats.labels_alive = self.alive;
-        self.stats.bytes = self.nodes.bytes() + self.by_state.bytes() + self.open.bytes();
+        self.stats.bytes = self.nodes.bytes()
+            + self.by_state.bytes()
+            + self.open.bytes()
+            + (self.classes.capacity() * (std::mem::size_of::<(D::State, D::Key)>() + 4 + 1)) as u64;
     }
 
     fn extract(&self, best: Option<u32>) -> Plan<D> {

@@ -156,7 +156,10 @@ impl Domain for TempestDomain<'_> {
     type Label = Label;
     type Key = (i64, i64);
     type Action = Action;
-    const DOMINANCE: bool = true;
+    // Labels are classed by time and energy; a cell holds one per class, so the
+    // engine's class table (O(1) per label) beats pairwise dominance walks over the
+    // hundreds of time classes a cell collects.
+    const MANY_LABELS: bool = true;
 
     fn actions(&self, _state: u32, _label: &Label, out: &mut Vec<Action>) {
         out.extend((0..8).map(Action::Drive));

@@ -34,7 +34,10 @@ pub struct PlannerConfig {
     pub actions: ActionConfig,
     /// What to minimise.
     pub objective: Objective,
-    /// Label class widths for resolution pruning and dominance.
+    /// Label class widths for resolution pruning. The default energy class is
+    /// unbounded: E is carried but collapsed out of the search space, as in the paper;
+    /// finite widths keep one label per energy class too (more complete when the battery
+    /// binds, slower).
     pub resolution: Resolution,
     /// Goal instants spread over the final goal window.
     pub goal_times: usize,
@@ -53,7 +56,7 @@ impl Default for PlannerConfig {
         PlannerConfig {
             actions: ActionConfig::default(),
             objective: Objective::Energy,
-            resolution: Resolution { time_s: 60.0, energy_wh: 5.0 },
+            resolution: Resolution { time_s: 60.0, energy_wh: 1e12 },
             goal_times: 24,
             segment_starts: 8,
             detour_factor: 1.5,
