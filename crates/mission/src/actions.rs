@@ -19,8 +19,15 @@ use serde::{Deserialize, Serialize};
 
 use crate::world::{Sun, World};
 
+/// The azimuth of drive direction `k` (rows grow southward: a drive of (dc, dr) heads
+/// atan2(dc, −dr) from north), degrees.
+fn heading_of(k: u8) -> f64 {
+    let (dc, dr) = NEIGHBOURS[k as usize % 8];
+    f64::from(dc).atan2(-f64::from(dr)).to_degrees().rem_euclid(360.0)
+}
+
 /// Stationary actions sample the Sun at least this often, s.
-const STATIONARY_SAMPLE_S: f64 = 600.0;
+const STATIONARY_SAMPLE_S: f64 = 1200.0;
 
 /// The 8 neighbour offsets (dcol, drow), starting north and going clockwise (rows grow
 /// southward).
@@ -177,13 +184,20 @@ pub struct ActionModel {
     rover: ResourceModel,
     config: ActionConfig,
     max_slope_deg: f64,
+    /// The array's normal on level ground for each drive heading.
+    level_normals: [[f64; 3]; 8],
+    /// sin and cos of the array's tilt.
+    tilt_sin_cos: (f64, f64),
 }
 
 impl ActionModel {
     /// The model for `rover` with `config`.
     pub fn new(rover: ResourceModel, config: ActionConfig) -> ActionModel {
         let max_slope_deg = config.max_slope_deg.unwrap_or(rover.locomotor.max_slope_deg);
-        ActionModel { rover, config, max_slope_deg }
+        let level_normals =
+            std::array::from_fn(|k| rover.solar.map_or([0.0, 0.0, 1.0], |a| a.level_normal_enu(heading_of(k as u8))));
+        let tilt_sin_cos = rover.solar.map_or((0.0, 1.0), |a| a.tilt_deg.to_radians().sin_cos());
+        ActionModel { rover, config, max_slope_deg, level_normals, tilt_sin_cos }
     }
 
     /// The rover.
@@ -245,14 +259,24 @@ impl ActionModel {
 
     /// The drive from `from` to neighbour `k` starting at `t0`.
     pub fn drive(&self, world: &World, from: u32, k: u8, t0: f64) -> Result<(u32, Effect), Binding> {
-        let (to, duration, slope) = self.drive_geometry(world, from, k)?;
+        let geometry = self.drive_geometry(world, from, k)?;
+        self.drive_from(world, from, k, geometry, t0)
+    }
+
+    /// The drive with its geometry already known (from [`ActionModel::drive_geometry`]).
+    pub(crate) fn drive_from(
+        &self,
+        world: &World,
+        from: u32,
+        k: u8,
+        (to, duration, slope): (u32, f64, f64),
+        t0: f64,
+    ) -> Result<(u32, Effect), Binding> {
         let t1 = t0 + duration;
         if t0 < 0.0 || t1 > world.span_s() {
             return Err(Binding::Horizon);
         }
-        let (dc, dr) = NEIGHBOURS[k as usize % 8];
-        // Rows grow southward: a drive of (dc, dr) heads atan2(dc, −dr) from north.
-        let heading = f64::from(dc).atan2(-f64::from(dr)).to_degrees().rem_euclid(360.0);
+        let heading = heading_of(k);
         let (s0, s1) = (world.sun(t0), world.sun(t1));
         let rules = &self.config.drive;
         for (cell, sun) in [(from, &s0), (to, &s1)] {
@@ -260,8 +284,8 @@ impl ActionModel {
         }
         let loco = &self.rover.locomotor;
         let load = loco.power_w(loco.speed_on_slope_m_s(slope), slope) + self.rover.electronics.power_w(Load::High);
-        let p0 = load - self.source_w(world, from, &s0, Some(heading));
-        let p1 = load - self.source_w(world, to, &s1, Some(heading));
+        let p0 = load - self.drive_source_w(world, from, &s0, k);
+        let p1 = load - self.drive_source_w(world, to, &s1, k);
         let e = self.battery_wh(p0, duration / 2.0) + self.battery_wh(p1, duration / 2.0);
         Ok((to, Effect { duration_s: duration, energy_wh: self.quantise_energy(e) }))
     }
@@ -325,6 +349,21 @@ impl ActionModel {
         Ok(())
     }
 
+    /// [`ActionModel::source_w`] for drive heading `k`, from the precomputed level normal.
+    fn drive_source_w(&self, world: &World, cell: u32, sun: &Sun, k: u8) -> f64 {
+        let mut p = self.rover.nuclear_w;
+        if let Some(array) = &self.rover.solar
+            && world.lit(cell, sun)
+        {
+            let n = areo_rover::resources::SolarArray::tipped_normal_enu(
+                self.level_normals[k as usize % 8],
+                world.normal(cell),
+            );
+            p += array.power_w(sun.beam_w_m2, sun.enu, n, false);
+        }
+        p
+    }
+
     /// Power from the array (if lit) and any generator, W. With no heading the array
     /// is turned to face the Sun.
     pub fn source_w(&self, world: &World, cell: u32, sun: &Sun, heading: Option<f64>) -> f64 {
@@ -332,8 +371,17 @@ impl ActionModel {
         if let Some(array) = &self.rover.solar
             && world.lit(cell, sun)
         {
-            let heading = heading.unwrap_or(sun.azimuth_deg - array.facing_deg);
-            let n = array.normal_enu(heading, world.normal(cell));
+            let level = match heading {
+                Some(h) => array.level_normal_enu(h),
+                None => {
+                    // Facing the Sun: the panel's azimuth is the Sun's, read off its
+                    // direction without trigonometry.
+                    let (st, ct) = (self.tilt_sin_cos.0, self.tilt_sin_cos.1);
+                    let h = sun.enu[0].hypot(sun.enu[1]).max(1e-12);
+                    [st * sun.enu[0] / h, st * sun.enu[1] / h, ct]
+                }
+            };
+            let n = areo_rover::resources::SolarArray::tipped_normal_enu(level, world.normal(cell));
             p += array.power_w(sun.beam_w_m2, sun.enu, n, false);
         }
         p

@@ -154,7 +154,7 @@ impl<'a> TempestDomain<'a> {
 impl Domain for TempestDomain<'_> {
     type State = u32;
     type Label = Label;
-    type Key = (i64, i64);
+    type Key = i64;
     type Action = Action;
     // Labels are classed by time and energy; a cell holds one per class, so the
     // engine's class table (O(1) per label) beats pairwise dominance walks over the
@@ -171,8 +171,8 @@ impl Domain for TempestDomain<'_> {
         let (from, effect) = match action {
             Action::Drive(k) => {
                 let from = self.source_of(state, k)?;
-                let (_, duration, _) = self.model.drive_geometry(self.world, from, k).ok()?;
-                let (to, effect) = self.model.drive(self.world, from, k, label.t - duration).ok()?;
+                let geometry = self.model.drive_geometry(self.world, from, k).ok()?;
+                let (to, effect) = self.model.drive_from(self.world, from, k, geometry, label.t - geometry.1).ok()?;
                 debug_assert_eq!(to, state);
                 (from, effect)
             }
@@ -197,8 +197,11 @@ impl Domain for TempestDomain<'_> {
         out.push(state);
     }
 
-    fn key(&self, _state: u32, label: &Label) -> (i64, i64) {
-        ((label.t / self.resolution.time_s).floor() as i64, (label.e / self.resolution.energy_wh).floor() as i64)
+    fn key(&self, _state: u32, label: &Label) -> i64 {
+        // Time class in the high bits, energy class (E ≤ capacity) in the low 24.
+        let t = (label.t / self.resolution.time_s).floor() as i64;
+        let e = ((label.e / self.resolution.energy_wh).floor() as i64).clamp(0, (1 << 24) - 1);
+        (t << 24) | e
     }
 
     fn dominates(&self, _state: u32, a: &Label, cost_a: f64, b: &Label, cost_b: f64) -> bool {

@@ -99,10 +99,20 @@ impl SolarArray {
     /// The panel's unit normal in local east-north-up for a rover heading
     /// `heading_deg` (azimuth) standing on ground with unit normal `ground_enu`.
     pub fn normal_enu(&self, heading_deg: f64, ground_enu: [f64; 3]) -> [f64; 3] {
-        // The panel normal in a level rover, then tipped with the ground.
+        tilt_onto(self.level_normal_enu(heading_deg), ground_enu)
+    }
+
+    /// The panel's unit normal for a rover heading `heading_deg` on level ground.
+    pub fn level_normal_enu(&self, heading_deg: f64) -> [f64; 3] {
         let (st, ct) = self.tilt_deg.to_radians().sin_cos();
         let az = (heading_deg + self.facing_deg).to_radians();
-        let level = [st * az.sin(), st * az.cos(), ct];
+        [st * az.sin(), st * az.cos(), ct]
+    }
+
+    /// A level-rover panel normal (from [`SolarArray::level_normal_enu`]) tipped onto
+    /// ground with unit normal `ground_enu`: no trigonometry, for planners that reuse
+    /// the level normals of a few headings.
+    pub fn tipped_normal_enu(level: [f64; 3], ground_enu: [f64; 3]) -> [f64; 3] {
         tilt_onto(level, ground_enu)
     }
 

@@ -1,0 +1,70 @@
+//! TEMPEST planning on a seeded 200 × 150 DEM of 100 m cells with the Mars24 Sun and
+//! terrain shadows: an initial 42-waypoint plan for a Hyperion-class rover, and a
+//! re-plan after a 2-cell sensing update next to the rover. (`cargo xtask bench
+//! mission` runs the LITA-sized case: 2527 × 2356 cells.)
+
+use areo_ephemeris::{Mars24, Site, flux::Atmosphere, parse_utc};
+use areo_mission::{ActionConfig, ActionModel, Mission, PlannerConfig, Resolution, Start, World, WorldConfig};
+use areo_rover::resources::ResourceModel;
+use areo_terrain::synth::{Noise, TerrainSpec};
+use criterion::{Criterion, criterion_group, criterion_main};
+
+fn world() -> World {
+    let dem = TerrainSpec {
+        cols: 200,
+        rows: 150,
+        cell_m: 100.0,
+        base_m: 0.0,
+        seed: 7,
+        noise: Some(Noise { amplitude_m: 150.0, wavelength_m: 30_000.0, octaves: 5, persistence: 0.45 }),
+        features: vec![],
+    }
+    .build()
+    .expect("valid terrain");
+    let config = WorldConfig {
+        epoch: parse_utc("2025-03-01T00:00:00Z").expect("valid time"),
+        span_s: 3.0 * 88_775.0,
+        sun_step_s: 120.0,
+        horizon_sectors: Some(32),
+        atmosphere: Atmosphere::BeerLambert { tau: 0.5 },
+        site: Some(Site::new(-4.6, 137.4).expect("valid site")),
+    };
+    World::new(dem, &config, &Mars24).expect("valid world")
+}
+
+fn plan(c: &mut Criterion) {
+    let world = world();
+    let mut t0 = 0.0;
+    while !(world.sun(t0).elevation_deg > 10.0 && world.sun(t0 - 600.0).elevation_deg <= 10.0) {
+        t0 += 600.0;
+    }
+    let model = ActionModel::new(ResourceModel::hyperion(), ActionConfig::default());
+    let start = Start { cell: world.cell(20, 50), t_min: t0, t_max: t0 + 600.0, energy_wh: 800.0 };
+    let goal = [world.cell(60, 70)];
+    let config = PlannerConfig {
+        resolution: Resolution { time_s: 300.0, energy_wh: 1e12 },
+        goal_times: 8,
+        max_wait_s: 6.0 * 3600.0,
+        ..PlannerConfig::default()
+    };
+    let mut g = c.benchmark_group("tempest_200x150");
+    g.sample_size(10);
+    g.bench_function("initial_plan_40_cells", |b| {
+        b.iter(|| Mission::plan(&world, &model, config.clone(), start, &goal).expect("a plan").1.waypoints.len())
+    });
+    let (mut mission, first) = Mission::plan(&world, &model, config.clone(), start, &goal).expect("a plan");
+    let (c0, r0) = first.waypoints[2].col_row;
+    let cells = [world.cell(c0, r0 + 1), world.cell(c0 + 1, r0 + 1)];
+    g.bench_function("replan_2_cells_blocked_then_cleared", |b| {
+        b.iter(|| {
+            let changed = world.set_blocked(&cells, true);
+            let a = mission.replan(&changed).expect("a plan").cost;
+            let changed = world.set_blocked(&cells, false);
+            a + mission.replan(&changed).expect("a plan").cost
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, plan);
+criterion_main!(benches);
