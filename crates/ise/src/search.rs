@@ -361,7 +361,13 @@ impl<D: Domain> Search<D> {
             stats: Stats::default(),
             actions: Vec::new(),
             states: Vec::new(),
-            classes: FxHashMap::default(),
+            // Time-expanded domains collect hundreds of thousands of classes: start big
+            // enough to skip the first dozen rehashes.
+            classes: if D::MANY_LABELS {
+                FxHashMap::with_capacity_and_hasher(1 << 16, Default::default())
+            } else {
+                FxHashMap::default()
+            },
         };
         for goal in goals {
             s.insert(domain, goal.state, goal.label, goal.cost.max(0.0), NONE, None);
