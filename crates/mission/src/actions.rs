@@ -290,13 +290,20 @@ impl ActionModel {
         Ok((to, Effect { duration_s: duration, energy_wh: self.quantise_energy(e) }))
     }
 
+    /// Duration of a stationary action (Charge, or Hibernate for any other), s,
+    /// quantised.
+    pub fn stay_duration_s(&self, action: Action) -> f64 {
+        let d = if action == Action::Charge { self.config.charge_s } else { self.config.hibernate_s };
+        self.quantise_time(d)
+    }
+
     /// A stationary action (Charge or Hibernate) at `cell` starting at `t0`.
     pub fn stay(&self, world: &World, action: Action, cell: u32, t0: f64) -> Result<Effect, Binding> {
-        let (duration, rules, load) = match action {
-            Action::Charge => (self.config.charge_s, &self.config.charge, self.config.charge_load.load()),
-            _ => (self.config.hibernate_s, &self.config.hibernate, Load::Low),
+        let (rules, load) = match action {
+            Action::Charge => (&self.config.charge, self.config.charge_load.load()),
+            _ => (&self.config.hibernate, Load::Low),
         };
-        let duration = self.quantise_time(duration);
+        let duration = self.stay_duration_s(action);
         let t1 = t0 + duration;
         if t0 < 0.0 || t1 > world.span_s() {
             return Err(Binding::Horizon);

@@ -135,20 +135,6 @@ impl<'a> TempestDomain<'a> {
         (pc >= 0 && pr >= 0 && (pc as usize) < self.world.cols() && (pr as usize) < self.world.rows())
             .then(|| self.world.cell(pc as usize, pr as usize))
     }
-
-    fn chebyshev(&self, a: u32, b: u32) -> f64 {
-        let (ac, ar) = self.world.col_row(a);
-        let (bc, br) = self.world.col_row(b);
-        (ac.abs_diff(bc)).max(ar.abs_diff(br)) as f64
-    }
-
-    fn octile_m(&self, a: u32, b: u32) -> f64 {
-        let (ac, ar) = self.world.col_row(a);
-        let (bc, br) = self.world.col_row(b);
-        let (dx, dy) = (ac.abs_diff(bc) as f64 * self.world.dem().dx(), ar.abs_diff(br) as f64 * self.world.dem().dy());
-        let (lo, hi) = (dx.min(dy), dx.max(dy));
-        hi - lo + lo * std::f64::consts::SQRT_2
-    }
 }
 
 impl Domain for TempestDomain<'_> {
@@ -176,7 +162,7 @@ impl Domain for TempestDomain<'_> {
                 debug_assert_eq!(to, state);
                 (from, effect)
             }
-            stay => (state, self.model.stay(self.world, stay, state, label.t - stay_duration(self.model, stay)).ok()?),
+            stay => (state, self.model.stay(self.world, stay, state, label.t - self.model.stay_duration_s(stay)).ok()?),
         };
         let e = (label.e + effect.energy_wh).max(0.0);
         Some(Step {
@@ -213,7 +199,7 @@ impl Domain for TempestDomain<'_> {
     fn within_global(&self, state: u32, label: &Label, _cost: f64) -> bool {
         // A label earlier than the start window plus the fastest travel from the start
         // can never be reached from it.
-        let earliest = self.start.t_min + self.octile_m(state, self.start.cell) / self.model.top_speed_m_s();
+        let earliest = self.start.t_min + self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s();
         label.e <= self.capacity + 1e-9 && label.t >= earliest - 1e-6
     }
 
@@ -234,20 +220,12 @@ impl Domain for TempestDomain<'_> {
 
     fn heuristic(&self, state: u32, _label: &Label) -> f64 {
         match self.objective {
-            Objective::Energy => self.chebyshev(state, self.start.cell) * self.step_floor,
-            Objective::Duration { .. } => self.octile_m(state, self.start.cell) / self.model.top_speed_m_s(),
+            Objective::Energy => self.world.chebyshev(state, self.start.cell) * self.step_floor,
+            Objective::Duration { .. } => self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s(),
         }
     }
 
     fn better(&self, a: &Label, b: &Label) -> bool {
         a.e < b.e
     }
-}
-
-/// Duration of a stationary action, s (quantised as the model does).
-pub(crate) fn stay_duration(model: &ActionModel, action: Action) -> f64 {
-    let c = model.config();
-    let d = if action == Action::Charge { c.charge_s } else { c.hibernate_s };
-    let q = c.time_quantum_s;
-    if q > 0.0 { (d / q - 1e-9).ceil().max(1.0) * q } else { d }
 }

@@ -15,13 +15,11 @@
 //! told which cells changed; segments are re-planned from the last one backward, and a
 //! segment whose goals (the next segment's candidates) changed starts a fresh graph.
 
-use std::collections::BTreeSet;
-
 use areo_ise::{Goal, PathStep, Search, Stats};
 use serde::{Deserialize, Serialize};
 
 use crate::actions::{Action, ActionConfig, ActionModel, Binding};
-use crate::domain::{Label, Objective, Resolution, Start, TempestDomain, stay_duration};
+use crate::domain::{Label, Objective, Resolution, Start, TempestDomain};
 use crate::error::{Error, Result};
 use crate::plan::{MissionPlan, Waypoint};
 use crate::world::World;
@@ -255,7 +253,7 @@ impl<'a> Mission<'a> {
         let (mut best, mut worst) = (self.start.t_min, self.start.t_max);
         let mut at = self.start.cell;
         for (i, &g) in self.goals.iter().enumerate() {
-            let d = octile_m(self.world, at, g);
+            let d = self.world.octile_m(at, g);
             best += d / top;
             worst += self.config.detour_factor * d / slow;
             if i + 1 == self.goals.len() {
@@ -516,16 +514,6 @@ impl<'a> Mission<'a> {
     pub fn labels_alive(&self) -> u64 {
         self.segments.iter().map(|s| s.stats.labels_alive).sum()
     }
-
-    /// The cells a plan visits, for tests and reports.
-    pub fn cells_of(plan: &MissionPlan) -> BTreeSet<u32> {
-        plan.waypoints.iter().map(|w| w.cell).collect()
-    }
-
-    /// Stationary action durations, s (charge, hibernate).
-    pub fn stay_durations(&self) -> (f64, f64) {
-        (stay_duration(self.model, Action::Charge), stay_duration(self.model, Action::Hibernate))
-    }
 }
 
 fn add_stats(total: &mut Stats, s: &Stats) {
@@ -566,13 +554,4 @@ fn connected(world: &World, model: &ActionModel, from: u32, to: u32, with_slope:
         }
     }
     false
-}
-
-/// Octile distance between cell centres, m.
-pub(crate) fn octile_m(world: &World, a: u32, b: u32) -> f64 {
-    let (ac, ar) = world.col_row(a);
-    let (bc, br) = world.col_row(b);
-    let (dx, dy) = (ac.abs_diff(bc) as f64 * world.dem().dx(), ar.abs_diff(br) as f64 * world.dem().dy());
-    let (lo, hi) = (dx.min(dy), dx.max(dy));
-    hi - lo + lo * std::f64::consts::SQRT_2
 }

@@ -183,6 +183,22 @@ impl World {
             .then(|| self.cell(col as usize, row as usize))
     }
 
+    /// Fewest 8-connected steps between two cells.
+    pub fn chebyshev(&self, a: u32, b: u32) -> f64 {
+        let (ac, ar) = self.col_row(a);
+        let (bc, br) = self.col_row(b);
+        ac.abs_diff(bc).max(ar.abs_diff(br)) as f64
+    }
+
+    /// Octile distance between cell centres, m.
+    pub fn octile_m(&self, a: u32, b: u32) -> f64 {
+        let (ac, ar) = self.col_row(a);
+        let (bc, br) = self.col_row(b);
+        let (dx, dy) = (ac.abs_diff(bc) as f64 * self.dem.dx(), ar.abs_diff(br) as f64 * self.dem.dy());
+        let (lo, hi) = (dx.min(dy), dx.max(dy));
+        hi - lo + lo * std::f64::consts::SQRT_2
+    }
+
     /// Centre of a cell, map frame, m.
     pub fn center(&self, cell: u32) -> (f64, f64) {
         let (c, r) = self.col_row(cell);

@@ -87,7 +87,16 @@ impl ArmState {
     /// The whole rover's mass (kg) and centre of mass (body frame, m): the parameter
     /// file's CG is with the arm stowed and empty.
     pub fn system_mass_cg(&self, params: &RoverParams) -> Result<(f64, Vector3<f64>), String> {
-        let stowed = ArmState::stowed(params).arm_cg(params)?;
+        self.system_mass_cg_from(params, ArmState::stowed(params).arm_cg(params)?)
+    }
+
+    /// [`ArmState::system_mass_cg`] given the stowed arm's CG (body frame, m), which
+    /// callers evaluating many poses compute once.
+    pub fn system_mass_cg_from(
+        &self,
+        params: &RoverParams,
+        stowed: Vector3<f64>,
+    ) -> Result<(f64, Vector3<f64>), String> {
         let now = self.arm_cg(params)?;
         let c = params.cg_m;
         let base = Vector3::new(c.x, c.y, c.z) + (now - stowed) * (params.arm.mass_kg / params.mass_kg);

@@ -126,6 +126,8 @@ pub struct Evaluator {
     params: RoverParams,
     kinematics: Kinematics,
     flat: FlatReference,
+    /// The stowed arm's centre of mass, body frame, m.
+    stowed_arm_cg: Vector3<f64>,
     /// How margins are normalised.
     pub normalisation: Normalisation,
 }
@@ -166,10 +168,13 @@ impl Evaluator {
                 smallest = smallest.min(ang);
             }
         }
+        // Validated parameters have a reachable stowed tool.
+        let stowed_arm_cg = ArmState::stowed(params).arm_cg(params).unwrap_or_else(|_| Vector3::new(c.x, c.y, c.z));
         Evaluator {
             params: params.clone(),
             kinematics,
             flat: FlatReference { by_class, smallest },
+            stowed_arm_cg,
             normalisation: Normalisation::PerAxis,
         }
     }
@@ -212,8 +217,9 @@ impl Evaluator {
         cond: &Conditions,
     ) -> Result<Evaluation, Violation> {
         let p = &self.params;
-        let (mass, cg_body) =
-            arm.system_mass_cg(p).map_err(|_| Violation::Kinematics(KinematicsFailure::JointLimit))?;
+        let (mass, cg_body) = arm
+            .system_mass_cg_from(p, self.stowed_arm_cg)
+            .map_err(|_| Violation::Kinematics(KinematicsFailure::JointLimit))?;
         let weight = mass * p.gravity_m_s2;
         // Body frame → map: yaw, then pitch (nose up), then roll (left up).
         let (fx, fy) = pose.forward();
