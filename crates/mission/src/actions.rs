@@ -58,6 +58,20 @@ impl Action {
     }
 }
 
+/// How an executed action departs from the model: the simulation's execution noise.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Perturbation {
+    /// Drive durations are multiplied by this (≥ 1: slower than planned).
+    pub duration_factor: f64,
+    /// Solar input is multiplied by this (≤ 1: dust, haze, a poorly pointed array).
+    pub solar_factor: f64,
+}
+
+impl Perturbation {
+    /// Execution exactly as modelled.
+    pub const NONE: Perturbation = Perturbation { duration_factor: 1.0, solar_factor: 1.0 };
+}
+
 /// Local constraints of one action (Table 4), each on or off.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -269,9 +283,22 @@ impl ActionModel {
         world: &World,
         from: u32,
         k: u8,
-        (to, duration, slope): (u32, f64, f64),
+        geometry: (u32, f64, f64),
         t0: f64,
     ) -> Result<(u32, Effect), Binding> {
+        self.drive_perturbed(world, from, k, geometry, t0, Perturbation::NONE)
+    }
+
+    fn drive_perturbed(
+        &self,
+        world: &World,
+        from: u32,
+        k: u8,
+        (to, duration, slope): (u32, f64, f64),
+        t0: f64,
+        p: Perturbation,
+    ) -> Result<(u32, Effect), Binding> {
+        let duration = duration * p.duration_factor;
         let t1 = t0 + duration;
         if t0 < 0.0 || t1 > world.span_s() {
             return Err(Binding::Horizon);
@@ -284,10 +311,31 @@ impl ActionModel {
         }
         let loco = &self.rover.locomotor;
         let load = loco.power_w(loco.speed_on_slope_m_s(slope), slope) + self.rover.electronics.power_w(Load::High);
-        let p0 = load - self.drive_source_w(world, from, &s0, k);
-        let p1 = load - self.drive_source_w(world, to, &s1, k);
+        let p0 = load - p.solar_factor * self.drive_source_w(world, from, &s0, k);
+        let p1 = load - p.solar_factor * self.drive_source_w(world, to, &s1, k);
         let e = self.battery_wh(p0, duration / 2.0) + self.battery_wh(p1, duration / 2.0);
         Ok((to, Effect { duration_s: duration, energy_wh: self.quantise_energy(e) }))
+    }
+
+    /// Executes `action` from `cell` at `t0` as the rover would in the field, with
+    /// execution departing from the model by `p` (slower drives, less solar input):
+    /// the destination and the effect, or the constraint that forbids the action.
+    /// Energies are not quantised.
+    pub fn execute(
+        &self,
+        world: &World,
+        action: Action,
+        cell: u32,
+        t0: f64,
+        p: Perturbation,
+    ) -> Result<(u32, Effect), Binding> {
+        match action {
+            Action::Drive(k) => {
+                let geometry = self.drive_geometry(world, cell, k)?;
+                self.drive_perturbed(world, cell, k, geometry, t0, p)
+            }
+            stay => self.stay_perturbed(world, stay, cell, t0, p).map(|e| (cell, e)),
+        }
     }
 
     /// Duration of a stationary action (Charge, or Hibernate for any other), s,
@@ -299,6 +347,17 @@ impl ActionModel {
 
     /// A stationary action (Charge or Hibernate) at `cell` starting at `t0`.
     pub fn stay(&self, world: &World, action: Action, cell: u32, t0: f64) -> Result<Effect, Binding> {
+        self.stay_perturbed(world, action, cell, t0, Perturbation::NONE)
+    }
+
+    fn stay_perturbed(
+        &self,
+        world: &World,
+        action: Action,
+        cell: u32,
+        t0: f64,
+        perturbation: Perturbation,
+    ) -> Result<Effect, Binding> {
         let (rules, load) = match action {
             Action::Charge => (&self.config.charge, self.config.charge_load.load()),
             _ => (&self.config.hibernate, Load::Low),
@@ -319,7 +378,7 @@ impl ActionModel {
             let t = t0 + duration * k as f64 / n as f64;
             let sun = world.sun(t);
             self.check(world, rules, cell, &sun, None)?;
-            let p = load_w - self.source_w(world, cell, &sun, None);
+            let p = load_w - perturbation.solar_factor * self.source_w(world, cell, &sun, None);
             if let Some(q) = prev {
                 e += self.battery_wh(0.5 * (p + q), duration / n as f64);
             }

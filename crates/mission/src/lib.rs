@@ -9,7 +9,8 @@
 //! [`TempestDomain`] (the ISE domain: labels of time and required energy, the L + B
 //! objective or duration, windows, dominance), [`Mission`] (single- and multi-goal
 //! planning by chained segments, plan extension and re-planning) and [`MissionPlan`]
-//! (the waypoints).
+//! (the waypoints). [`simulate`] runs a plan on true terrain the rover only learns by
+//! sensing, re-planning after every action ([`SimReport`]).
 //!
 //! ```no_run
 //! # use areo_mission::*;
@@ -29,13 +30,15 @@ mod domain;
 mod error;
 mod plan;
 mod planner;
+mod simulate;
 mod world;
 
 pub use crate::{
-    actions::{Action, ActionConfig, ActionModel, Binding, Constraints, Effect, LoadLevel, NEIGHBOURS},
+    actions::{Action, ActionConfig, ActionModel, Binding, Constraints, Effect, LoadLevel, NEIGHBOURS, Perturbation},
     domain::{Label, Objective, Resolution, Start, TempestDomain},
     error::{Error, Result},
     plan::{MissionPlan, Waypoint},
     planner::{Mission, PlannerConfig},
+    simulate::{ExecutedStep, Noise, PlanKind, PlanRecord, SimConfig, SimProgress, SimReport, SimStatus, simulate},
     world::{Sun, World, WorldConfig},
 };

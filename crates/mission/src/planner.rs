@@ -199,7 +199,7 @@ impl<'a> Mission<'a> {
         let mut mission = Mission { world, model, config, start, goals: goals.to_vec(), segments: Vec::new() };
         mission.widen_start();
         mission.build_segments();
-        mission.solve_from(mission.segments.len() - 1, &[]);
+        mission.solve_from(mission.segments.len() - 1, &[], false);
         match mission.assemble() {
             Some(plan) => Ok((mission, plan)),
             None => Err(mission.explain_unreachable()),
@@ -316,7 +316,8 @@ impl<'a> Mission<'a> {
 
     /// Solves segments `last`, `last − 1`, …, 0; `changed` cells are reported to every
     /// kept graph first.
-    fn solve_from(&mut self, last: usize, changed: &[u32]) {
+    /// `start_moved`: the first segment's start changed since its last search.
+    fn solve_from(&mut self, last: usize, changed: &[u32], start_moved: bool) {
         for k in (0..=last).rev() {
             if k + 1 < self.segments.len() {
                 // This segment's goals are the next segment's candidates.
@@ -340,7 +341,7 @@ impl<'a> Mission<'a> {
             for (j, &(t_min, t_max)) in seg.intervals.clone().iter().enumerate() {
                 seg.domain.start.t_min = t_min;
                 seg.domain.start.t_max = t_max;
-                if j > 0 || k > 0 {
+                if j > 0 || k > 0 || start_moved {
                     seg.search.start_moved(&seg.domain);
                 }
                 let plan = seg.search.plan(&seg.domain);
@@ -463,7 +464,7 @@ impl<'a> Mission<'a> {
                 segments: Vec::new(),
             };
             probe.build_segments();
-            probe.solve_from(probe.segments.len() - 1, &[]);
+            probe.solve_from(probe.segments.len() - 1, &[], false);
             if !probe.segments[0].candidates.is_empty() {
                 return Error::Unreachable { binding, message: binding.describe().to_string() };
             }
@@ -479,30 +480,48 @@ impl<'a> Mission<'a> {
     /// or [`World::set_slope`]).
     pub fn replan(&mut self, changed: &[u32]) -> Result<MissionPlan> {
         let last = self.segments.len() - 1;
-        self.solve_from(last, changed);
+        self.solve_from(last, changed, false);
         self.assemble().ok_or_else(|| self.explain_unreachable())
+    }
+
+    /// Plan extension and re-planning in one call, as a rover does after each action:
+    /// it is now at `start` (cell, time window, battery) and has sensed the world
+    /// change in `changed` cells. Every segment's graph is kept; with no changes only
+    /// the first segment is searched again.
+    pub fn advance(&mut self, start: Start, changed: &[u32]) -> Result<MissionPlan> {
+        self.start = start;
+        self.widen_start();
+        let start = self.start;
+        let seg = &mut self.segments[0];
+        seg.from = start.cell;
+        seg.domain.start = start;
+        seg.intervals = vec![(start.t_min, start.t_max)];
+        let last = if changed.is_empty() { 0 } else { self.segments.len() - 1 };
+        self.solve_from(last, changed, true);
+        self.assemble().ok_or_else(|| self.explain_unreachable())
+    }
+
+    /// The rover has reached the first remaining goal: its segment is dropped and the
+    /// next goal's segment becomes the first (call [`Mission::advance`] next). Returns
+    /// false, changing nothing, when it was the last goal.
+    pub fn goal_reached(&mut self) -> bool {
+        if self.goals.len() <= 1 {
+            return false;
+        }
+        self.goals.remove(0);
+        self.segments.remove(0);
+        true
+    }
+
+    /// The goals still ahead, in order.
+    pub fn goals(&self) -> &[u32] {
+        &self.goals
     }
 
     /// Plan extension: re-plans from the rover's current state (cell, time window,
     /// energy), reusing the first segment's graph.
     pub fn extend(&mut self, start: Start) -> Result<MissionPlan> {
-        self.start = start;
-        self.widen_start();
-        let start = self.start;
-        let seg = &mut self.segments[0];
-        if seg.from != start.cell {
-            seg.from = start.cell;
-        }
-        seg.domain.start = start;
-        seg.intervals = vec![(start.t_min, start.t_max)];
-        seg.search.start_moved(&seg.domain);
-        let plan = seg.search.plan(&seg.domain);
-        seg.stats = plan.stats;
-        seg.candidates.clear();
-        if let Some(path) = plan.path {
-            seg.candidates.push(Candidate { start: path[0].label, cost: plan.cost, path: own_path(path) });
-        }
-        self.assemble().ok_or_else(|| self.explain_unreachable())
+        self.advance(start, &[])
     }
 
     /// Search statistics of the last call, per segment.

@@ -7,6 +7,8 @@
 //! the region's reference site: over a few kilometres it changes by well under a tenth
 //! of a degree.
 
+use std::collections::HashMap;
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 use areo_ephemeris::flux::Atmosphere;
@@ -51,16 +53,21 @@ pub struct Sun {
     pub beam_w_m2: f64,
 }
 
-/// Terrain, Sun and light for planning. What sensing can change (blocked cells, slope)
-/// is held in atomics, so plans and their searches can keep borrowing the world while
-/// it is updated between re-plans.
+/// Terrain, Sun and light for planning. What sensing can change (elevation, slope,
+/// normal, blocked cells, the horizon) is held in atomics — and sensed horizons in a
+/// small locked table — so plans and their searches can keep borrowing the world while
+/// it is updated between re-plans. [`World::dem`] stays the map as loaded.
 #[derive(Debug)]
 pub struct World {
     dem: Dem,
+    elevation: Vec<AtomicU32>,
     slope_deg: Vec<AtomicU32>,
-    normal: Vec<[f32; 3]>,
+    normal: Vec<[AtomicU32; 3]>,
     blocked: Vec<AtomicBool>,
     horizon: Option<HorizonMap>,
+    /// Cells whose horizon was sensed: their profile is in `sensed_horizon`.
+    horizon_sensed: Vec<AtomicBool>,
+    sensed_horizon: Mutex<HashMap<u32, Box<[f32]>>>,
     sun: Vec<Sun>,
     sun_step_s: f64,
     epoch: Epoch,
@@ -96,7 +103,13 @@ impl World {
         };
         let sa = slope_aspect(&dem);
         let cells = dem.cols() * dem.rows();
-        let normal = (0..cells).map(|i| sa.normal(i).map(|v| v as f32)).collect();
+        let normal = (0..cells).map(|i| sa.normal(i).map(|v| AtomicU32::new((v as f32).to_bits()))).collect();
+        let elevation = (0..cells)
+            .map(|i| {
+                let z = if dem.valid_mask()[i] { dem.elevations()[i] } else { f32::NAN };
+                AtomicU32::new(z.to_bits())
+            })
+            .collect();
         let horizon = match config.horizon_sectors {
             Some(k) => Some(HorizonMap::compute(&dem, k, Curvature::Sphere { radius_m: 3_389_500.0 })?),
             None => None,
@@ -117,6 +130,9 @@ impl World {
             .collect();
         Ok(World {
             dem,
+            elevation,
+            horizon_sensed: (0..cells).map(|_| AtomicBool::new(false)).collect(),
+            sensed_horizon: Mutex::new(HashMap::new()),
             slope_deg: sa.slope_deg.iter().map(|s| AtomicU32::new(s.to_bits())).collect(),
             normal,
             blocked: (0..cells).map(|_| AtomicBool::new(false)).collect(),
@@ -207,8 +223,8 @@ impl World {
 
     /// Elevation of a cell, m (`None` on missing data).
     pub fn elevation(&self, cell: u32) -> Option<f64> {
-        let (c, r) = self.col_row(cell);
-        self.dem.z(c, r).map(f64::from)
+        let z = f32::from_bits(self.elevation[cell as usize].load(Ordering::Relaxed));
+        (!z.is_nan()).then_some(f64::from(z))
     }
 
     /// Slope of a cell, degrees (NaN on missing data).
@@ -218,7 +234,8 @@ impl World {
 
     /// Upward unit ground normal of a cell, east-north-up.
     pub fn normal(&self, cell: u32) -> [f64; 3] {
-        self.normal[cell as usize].map(f64::from)
+        let n = &self.normal[cell as usize];
+        std::array::from_fn(|i| f64::from(f32::from_bits(n[i].load(Ordering::Relaxed))))
     }
 
     /// Whether a cell can be entered: valid data and not blocked.
@@ -251,6 +268,55 @@ impl World {
         changed
     }
 
+    /// Senses `cells` on the true terrain `truth` (a world on the same grid): copies
+    /// its elevation, slope, ground normal and — where both have horizon maps — the
+    /// horizon, so light and shadow there are the true ones. Returns the cells whose
+    /// values changed, for re-planning.
+    pub fn sense(&self, truth: &World, cells: &[u32]) -> Result<Vec<u32>> {
+        if truth.cols() != self.cols() || truth.rows() != self.rows() {
+            return Err(Error::Config {
+                field: "truth",
+                message: format!(
+                    "the true terrain is {}×{} cells and the map {}×{}: they must share one grid",
+                    truth.cols(),
+                    truth.rows(),
+                    self.cols(),
+                    self.rows()
+                ),
+            });
+        }
+        let mut changed = Vec::new();
+        for &c in cells {
+            let i = c as usize;
+            let mut differs = false;
+            let copy = |dst: &AtomicU32, src: &AtomicU32, differs: &mut bool| {
+                let v = src.load(Ordering::Relaxed);
+                if dst.swap(v, Ordering::Relaxed) != v {
+                    *differs = true;
+                }
+            };
+            copy(&self.elevation[i], &truth.elevation[i], &mut differs);
+            copy(&self.slope_deg[i], &truth.slope_deg[i], &mut differs);
+            for k in 0..3 {
+                copy(&self.normal[i][k], &truth.normal[i][k], &mut differs);
+            }
+            if let (Some(mine), Some(theirs)) = (&self.horizon, &truth.horizon) {
+                let truth_profile = theirs.cell_profile(i);
+                let mut table = self.sensed_horizon.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+                let believed = table.get(&c).map_or_else(|| mine.cell_profile(i), |p| p.to_vec());
+                if believed.len() != truth_profile.len() || believed.iter().zip(&truth_profile).any(|(a, b)| a != b) {
+                    differs = true;
+                }
+                table.insert(c, truth_profile.into_boxed_slice());
+                self.horizon_sensed[i].store(true, Ordering::Relaxed);
+            }
+            if differs {
+                changed.push(c);
+            }
+        }
+        Ok(changed)
+    }
+
     /// The Sun at time `t` (s after the epoch), interpolated; clamped to the table.
     pub fn sun(&self, t: f64) -> Sun {
         let pos = (t / self.sun_step_s).clamp(0.0, (self.sun.len() - 1) as f64);
@@ -278,6 +344,10 @@ impl World {
     /// horizon there.
     pub fn lit(&self, cell: u32, sun: &Sun) -> bool {
         let floor = match &self.horizon {
+            Some(_) if self.horizon_sensed[cell as usize].load(Ordering::Relaxed) => {
+                let table = self.sensed_horizon.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+                table.get(&cell).map_or(0.0, |p| HorizonMap::profile_deg(p, sun.azimuth_deg).max(0.0))
+            }
             Some(h) => h.horizon_deg(cell as usize, sun.azimuth_deg).max(0.0),
             None => 0.0,
         };
@@ -305,6 +375,6 @@ impl World {
     /// Bytes held by the world's grids.
     pub fn bytes(&self) -> usize {
         let cells = self.cells();
-        cells * (4 + 12 + 1) + self.horizon.as_ref().map_or(0, HorizonMap::bytes) + self.sun.len() * 48
+        cells * (4 + 4 + 12 + 2) + self.horizon.as_ref().map_or(0, HorizonMap::bytes) + self.sun.len() * 48
     }
 }

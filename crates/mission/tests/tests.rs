@@ -3,3 +3,4 @@
 mod chaining;
 mod common;
 mod planning;
+mod simulation;

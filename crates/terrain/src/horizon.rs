@@ -78,6 +78,26 @@ impl HorizonMap {
         a + (b - a) * t
     }
 
+    /// Cell `i`'s horizon elevation in every sector, degrees (sector `k` centred on
+    /// azimuth k·360°/K): what a rover senses of its own horizon.
+    pub fn cell_profile(&self, i: usize) -> Vec<f32> {
+        let cells = self.cols * self.rows;
+        (0..self.sectors).map(|s| decode(self.angles[s * cells + i]) as f32).collect()
+    }
+
+    /// The horizon elevation (degrees) of a per-sector profile (from
+    /// [`HorizonMap::cell_profile`]) at `azimuth_deg`, interpolated as
+    /// [`HorizonMap::horizon_deg`] does.
+    pub fn profile_deg(profile: &[f32], azimuth_deg: f64) -> f64 {
+        let n = profile.len();
+        let pos = azimuth_deg.rem_euclid(360.0) / 360.0 * n as f64;
+        let s0 = (pos.floor() as usize) % n;
+        let s1 = (s0 + 1) % n;
+        let t = pos - pos.floor();
+        let (a, b) = (f64::from(profile[s0]), f64::from(profile[s1]));
+        a + (b - a) * t
+    }
+
     /// Cast shadow for a source at (`azimuth_deg`, `elevation_deg`): true where the
     /// horizon is above the source.
     pub fn shadowed(&self, azimuth_deg: f64, elevation_deg: f64) -> Vec<bool> {

@@ -1,0 +1,401 @@
+//! Execution simulation (Tompkins et al., section 6): the rover believes one map and
+//! drives on the true terrain. After every action it senses the true terrain within a
+//! radius (elevation, slope, normal, horizon), pushes the changes into the planner and
+//! re-plans from where it now is (plan extension + re-planning, [`Mission::advance`]),
+//! until every goal is reached or none is reachable.
+//!
+//! Each action is executed on the true world from the rover's actual time and battery,
+//! so drives and charges see the true slope and light. Optional execution noise makes
+//! drives slower and solar input lower than modelled (seeded, so a run repeats
+//! exactly). An action the true world forbids (a drive the plan assumed possible that
+//! now ends after dark, say) is refused: the rover hibernates for one hibernate period
+//! and re-plans. Every plan is kept with its statistics.
+
+use std::time::Instant;
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+use crate::actions::{Action, ActionModel, Binding, Perturbation};
+use crate::domain::Start;
+use crate::error::{Error, Result};
+use crate::plan::MissionPlan;
+use crate::planner::{Mission, PlannerConfig};
+use crate::world::World;
+
+/// Simulation parameters (scenario fields).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SimConfig {
+    /// Sensing radius around the rover, cells (≥ 0; the paper's rover sensed 2).
+    pub sense_radius_cells: f64,
+    /// Execution noise.
+    pub noise: Noise,
+    /// Most actions to execute before giving up (≥ 1).
+    pub max_steps: usize,
+}
+
+impl Default for SimConfig {
+    fn default() -> SimConfig {
+        SimConfig { sense_radius_cells: 2.0, noise: Noise::default(), max_steps: 20_000 }
+    }
+}
+
+/// Execution noise: each drive takes up to `drive_slowdown` longer than modelled and
+/// each action gets up to `solar_loss` less solar power, uniformly at random.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Noise {
+    /// Largest fractional drive slowdown (0 ≤ · ≤ 2; 0.2 = up to 20 % slower).
+    pub drive_slowdown: f64,
+    /// Largest fractional loss of solar input (0 ≤ · ≤ 1).
+    pub solar_loss: f64,
+    /// Seed of the ChaCha8 generator.
+    pub seed: u64,
+}
+
+impl Default for Noise {
+    fn default() -> Noise {
+        Noise { drive_slowdown: 0.0, solar_loss: 0.0, seed: 1 }
+    }
+}
+
+impl SimConfig {
+    /// Checks ranges, naming the first bad field.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field: &'static str, message: String| Err(Error::Config { field, message });
+        if !(self.sense_radius_cells >= 0.0 && self.sense_radius_cells <= 100.0) {
+            return bad("sense_radius_cells", format!("{}: allowed 0..=100 cells", self.sense_radius_cells));
+        }
+        if !(0.0..=2.0).contains(&self.noise.drive_slowdown) {
+            return bad("noise.drive_slowdown", format!("{}: allowed 0..=2", self.noise.drive_slowdown));
+        }
+        if !(0.0..=1.0).contains(&self.noise.solar_loss) {
+            return bad("noise.solar_loss", format!("{}: allowed 0..=1", self.noise.solar_loss));
+        }
+        if self.max_steps == 0 {
+            return bad("max_steps", "0: at least 1".into());
+        }
+        Ok(())
+    }
+}
+
+/// Why a plan was made.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum PlanKind {
+    /// The first plan, before the rover moves.
+    Initial,
+    /// After an action: plan extension, with re-planning when sensing changed the map.
+    Replan,
+}
+
+/// One plan the simulation made, with its statistics.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct PlanRecord {
+    /// Actions executed before this plan.
+    pub step: usize,
+    /// Why.
+    pub kind: PlanKind,
+    /// Mission time when planned, s after the epoch.
+    pub t_s: f64,
+    /// Wall-clock time the planner took, s.
+    pub wall_s: f64,
+    /// Nodes expanded.
+    pub expansions: u64,
+    /// Cells whose sensed values differed from the map.
+    pub changed_cells: usize,
+    /// Whether the route ahead differs from the previous plan's remaining route.
+    pub route_changed: bool,
+    /// The plan.
+    pub plan: MissionPlan,
+}
+
+/// One executed action.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ExecutedStep {
+    /// Start time, s after the epoch.
+    pub t_s: f64,
+    /// Where it started.
+    pub cell: u32,
+    /// Where it ended.
+    pub to: u32,
+    /// The action.
+    pub action: Action,
+    /// Duration, s.
+    pub duration_s: f64,
+    /// Battery energy used (negative: gained), Wh.
+    pub energy_wh: f64,
+    /// Battery charge after it, Wh above the floor.
+    pub battery_wh: f64,
+    /// Drive length (3-D), m; 0 for stationary actions.
+    pub distance_m: f64,
+    /// Sun elevation at the start, degrees.
+    pub sun_elevation_deg: f64,
+    /// The action the plan asked for, when the true world refused it (the rover
+    /// hibernated instead), and why.
+    pub refused: Option<(Action, Binding)>,
+}
+
+/// How a simulation ended.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum SimStatus {
+    /// Every goal reached.
+    Completed,
+    /// A re-plan found no plan; the binding constraint.
+    Unreachable {
+        /// The binding constraint.
+        binding: Binding,
+        /// The planner's message.
+        message: String,
+    },
+    /// The battery fell below its floor (the plan was too optimistic for the noise).
+    BatteryDepleted,
+    /// Neither the plan's action nor hibernation is possible.
+    Stuck(Binding),
+    /// `max_steps` actions executed without finishing.
+    StepLimit,
+}
+
+/// What happened.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SimReport {
+    /// How it ended.
+    pub status: SimStatus,
+    /// Every plan, the initial one first.
+    pub plans: Vec<PlanRecord>,
+    /// Every executed action.
+    pub steps: Vec<ExecutedStep>,
+    /// (goal index, arrival time s) for each goal reached.
+    pub goals_reached: Vec<(usize, f64)>,
+    /// The start, as given.
+    pub start: Start,
+    /// The goals, as given.
+    pub goals: Vec<u32>,
+}
+
+impl SimReport {
+    /// Distance driven, m.
+    pub fn distance_m(&self) -> f64 {
+        self.steps.iter().map(|s| s.distance_m).sum()
+    }
+
+    /// Battery energy drawn (sum of draining actions), Wh.
+    pub fn energy_used_wh(&self) -> f64 {
+        self.steps.iter().map(|s| s.energy_wh.max(0.0)).sum()
+    }
+
+    /// Battery energy gained (sum of charging actions), Wh.
+    pub fn energy_gained_wh(&self) -> f64 {
+        self.steps.iter().map(|s| (-s.energy_wh).max(0.0)).sum()
+    }
+
+    /// Nights the rover spent: sunsets crossed, plus one if it started in the dark.
+    pub fn nights(&self) -> usize {
+        let mut n = 0;
+        let mut prev_day: Option<bool> = None;
+        for s in &self.steps {
+            let day = s.sun_elevation_deg > 0.0;
+            match prev_day {
+                None if !day => n += 1,
+                Some(true) if !day => n += 1,
+                _ => {}
+            }
+            prev_day = Some(day);
+        }
+        n
+    }
+
+    /// Median wall-clock time of the re-plans (not the initial plan), s.
+    pub fn median_replan_s(&self) -> Option<f64> {
+        let mut t: Vec<f64> = self.plans.iter().filter(|p| p.kind == PlanKind::Replan).map(|p| p.wall_s).collect();
+        if t.is_empty() {
+            return None;
+        }
+        t.sort_by(f64::total_cmp);
+        Some(t[t.len() / 2])
+    }
+
+    /// Battery charge at the end, Wh above the floor.
+    pub fn final_battery_wh(&self) -> f64 {
+        self.steps.last().map_or(self.start.energy_wh, |s| s.battery_wh)
+    }
+
+    /// Time at the end, s after the epoch.
+    pub fn end_t_s(&self) -> f64 {
+        self.steps.last().map_or(self.start.t_min, |s| s.t_s + s.duration_s)
+    }
+}
+
+/// What a progress observer is told after each action.
+#[derive(Debug, Clone, Copy)]
+pub struct SimProgress {
+    /// Actions executed.
+    pub step: usize,
+    /// Mission time, s after the epoch.
+    pub t_s: f64,
+    /// Goals reached so far.
+    pub goals_reached: usize,
+}
+
+/// Runs the simulation: plans on `believed`, executes on `truth` (same grid), senses,
+/// re-plans, until done. Errors only for bad inputs or a first plan that cannot be
+/// made; an unreachable goal found later ends the run with
+/// [`SimStatus::Unreachable`] and everything so far kept.
+#[allow(clippy::too_many_arguments)]
+pub fn simulate(
+    believed: &World,
+    truth: &World,
+    model: &ActionModel,
+    planner: PlannerConfig,
+    start: Start,
+    goals: &[u32],
+    sim: &SimConfig,
+    on_step: &mut dyn FnMut(SimProgress),
+) -> Result<SimReport> {
+    sim.validate()?;
+    let mut report = SimReport {
+        status: SimStatus::StepLimit,
+        plans: Vec::new(),
+        steps: Vec::new(),
+        goals_reached: Vec::new(),
+        start,
+        goals: goals.to_vec(),
+    };
+    let sensed = believed.sense(truth, &disc(believed, start.cell, sim.sense_radius_cells))?;
+    let clock = Instant::now();
+    let (mut mission, mut plan) = Mission::plan(believed, model, planner, start, goals)?;
+    report.plans.push(PlanRecord {
+        step: 0,
+        kind: PlanKind::Initial,
+        t_s: start.t_min,
+        wall_s: clock.elapsed().as_secs_f64(),
+        expansions: plan.expansions,
+        changed_cells: sensed.len(),
+        route_changed: true,
+        plan: plan.clone(),
+    });
+
+    let mut rng = ChaCha8Rng::seed_from_u64(sim.noise.seed);
+    let (mut cell, mut t, mut battery) = (start.cell, start.t_min, start.energy_wh);
+    let capacity = model.capacity_wh();
+    let mut next_goal = 0usize;
+    for step in 1..=sim.max_steps {
+        let Some(action) = plan.waypoints.first().and_then(|w| w.action) else {
+            // The plan ends here: the rover stands on the last goal.
+            report.status = SimStatus::Completed;
+            break;
+        };
+        let perturbation = Perturbation {
+            duration_factor: 1.0 + sim.noise.drive_slowdown * rng.random::<f64>(),
+            solar_factor: 1.0 - sim.noise.solar_loss * rng.random::<f64>(),
+        };
+        let sun_elevation_deg = truth.sun(t).elevation_deg;
+        let (executed, refused, outcome) = match model.execute(truth, action, cell, t, perturbation) {
+            Ok(o) => (action, None, o),
+            Err(why) => match model.execute(truth, Action::Hibernate, cell, t, perturbation) {
+                Ok(o) => (Action::Hibernate, Some((action, why)), o),
+                Err(b) => {
+                    report.status = SimStatus::Stuck(b);
+                    break;
+                }
+            },
+        };
+        let (to, effect) = outcome;
+        let distance_m = if to == cell {
+            0.0
+        } else {
+            let (a, b) = (truth.center(cell), truth.center(to));
+            let rise = truth.elevation(to).unwrap_or(0.0) - truth.elevation(cell).unwrap_or(0.0);
+            (a.0 - b.0).hypot(a.1 - b.1).hypot(rise)
+        };
+        battery = (battery - effect.energy_wh).min(capacity);
+        report.steps.push(ExecutedStep {
+            t_s: t,
+            cell,
+            to,
+            action: executed,
+            duration_s: effect.duration_s,
+            energy_wh: effect.energy_wh,
+            battery_wh: battery,
+            distance_m,
+            sun_elevation_deg,
+            refused,
+        });
+        cell = to;
+        t += effect.duration_s;
+        on_step(SimProgress { step, t_s: t, goals_reached: report.goals_reached.len() });
+        if battery < 0.0 {
+            report.status = SimStatus::BatteryDepleted;
+            break;
+        }
+        if cell == goals[next_goal] {
+            report.goals_reached.push((next_goal, t));
+            next_goal += 1;
+            if next_goal == goals.len() {
+                report.status = SimStatus::Completed;
+                break;
+            }
+            mission.goal_reached();
+        }
+
+        let changed = believed.sense(truth, &disc(believed, cell, sim.sense_radius_cells))?;
+        let clock = Instant::now();
+        let here = Start { cell, t_min: t, t_max: t, energy_wh: battery };
+        match mission.advance(here, &changed) {
+            Ok(p) => {
+                let route_changed = !same_route(&plan, &p, cell);
+                report.plans.push(PlanRecord {
+                    step,
+                    kind: PlanKind::Replan,
+                    t_s: t,
+                    wall_s: clock.elapsed().as_secs_f64(),
+                    expansions: p.expansions,
+                    changed_cells: changed.len(),
+                    route_changed,
+                    plan: p.clone(),
+                });
+                plan = p;
+            }
+            Err(Error::Unreachable { binding, message }) => {
+                report.status = SimStatus::Unreachable { binding, message };
+                break;
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(report)
+}
+
+/// The cells within `radius` cells (centre to centre) of `cell`.
+fn disc(world: &World, cell: u32, radius: f64) -> Vec<u32> {
+    let (c, r) = world.col_row(cell);
+    let k = radius.floor() as i64;
+    let mut out = Vec::new();
+    for dr in -k..=k {
+        for dc in -k..=k {
+            if ((dc * dc + dr * dr) as f64).sqrt() > radius + 1e-9 {
+                continue;
+            }
+            let (nc, nr) = (c as i64 + dc, r as i64 + dr);
+            if nc >= 0 && nr >= 0 && (nc as usize) < world.cols() && (nr as usize) < world.rows() {
+                out.push(world.cell(nc as usize, nr as usize));
+            }
+        }
+    }
+    out
+}
+
+/// Whether `new` drives the same cells as what remains of `old` from `cell` on.
+fn same_route(old: &MissionPlan, new: &MissionPlan, cell: u32) -> bool {
+    let route = |p: &MissionPlan| {
+        let mut cells: Vec<u32> = p.waypoints.iter().map(|w| w.cell).collect();
+        cells.dedup();
+        cells
+    };
+    let old_route = route(old);
+    let Some(at) = old_route.iter().position(|&c| c == cell) else {
+        return false;
+    };
+    old_route[at..] == route(new)[..]
+}

@@ -1,0 +1,120 @@
+//! Execution simulation: a map that lacks an obstacle, sensing, re-planning, noise.
+
+use areo_mission::{
+    Action, ActionConfig, Error, Mission, Noise, PlanKind, PlannerConfig, SimConfig, SimStatus, Start, simulate,
+};
+use areo_terrain::Dem;
+
+use crate::common::*;
+
+/// Flat 30 × 20 cells of 10 m; the truth has a 30 m block (vertical walls: far above
+/// the 20° limit) across the straight route, columns 14–16, rows `rows`.
+fn block(rows: std::ops::RangeInclusive<usize>) -> Dem {
+    Dem::from_fn(30, 20, 10.0, 10.0, |x, y| {
+        let (c, r) = ((x / 10.0).floor() as usize, (19.0 - (y / 10.0).floor()) as usize);
+        if (14..=16).contains(&c) && rows.contains(&r) { 30.0 } else { 0.0 }
+    })
+    .unwrap()
+}
+
+#[test]
+fn an_obstacle_missing_from_the_map_is_sensed_and_detoured() {
+    let map = fixed_sun_world(flat(30, 20, 10.0), 120.0, 60.0, 10.0);
+    let truth = fixed_sun_world(block(3..=16), 120.0, 60.0, 10.0);
+    let model = model(1e5, ActionConfig::default());
+    let start = Start { cell: map.cell(3, 10), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let goal = map.cell(27, 10);
+    let report =
+        simulate(&map, &truth, &model, PlannerConfig::default(), start, &[goal], &SimConfig::default(), &mut |_| {})
+            .unwrap();
+    assert_eq!(report.status, SimStatus::Completed);
+    assert_eq!(report.goals_reached.len(), 1);
+    // The first plan believed the map: straight east, 24 drives.
+    let first = &report.plans[0];
+    assert_eq!(first.kind, PlanKind::Initial);
+    assert_eq!(first.plan.action_counts().0, 24);
+    assert!(first.plan.waypoints.iter().any(|w| (14..=16).contains(&w.col_row.0) && w.col_row.1 == 10));
+    // Sensing found the block, and some re-plan changed the route.
+    assert!(report.plans.iter().any(|p| p.kind == PlanKind::Replan && p.changed_cells > 0 && p.route_changed));
+    // The rover never entered a cell too steep on the true terrain.
+    for s in &report.steps {
+        assert!(truth.slope_deg(s.to) <= 20.0 + 1e-9, "entered a {}° cell", truth.slope_deg(s.to));
+    }
+    // It went round: longer than the straight line, no shorter than the best route
+    // with full knowledge of the truth.
+    let (_m, best) = Mission::plan(&truth, &model, PlannerConfig::default(), start, &[goal]).unwrap();
+    let best_len: f64 = best.waypoints.windows(2).map(|w| (w[1].x_m - w[0].x_m).hypot(w[1].y_m - w[0].y_m)).sum();
+    assert!(report.distance_m() > 240.0 + 1.0);
+    assert!(report.distance_m() >= best_len - 1e-6, "{} < {best_len}", report.distance_m());
+    assert_eq!(report.steps.last().unwrap().to, goal);
+    // Energy bookkeeping: the battery changed by exactly the executed energies.
+    let spent: f64 = report.steps.iter().map(|s| s.energy_wh).sum();
+    assert!((report.final_battery_wh() - (5e4 - spent)).abs() < 1e-6);
+}
+
+#[test]
+fn execution_noise_is_seeded_and_slows_the_drives() {
+    let map = fixed_sun_world(flat(30, 20, 10.0), 120.0, 60.0, 10.0);
+    let model = model(1e5, ActionConfig::default());
+    let start = Start { cell: map.cell(3, 10), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let goal = map.cell(27, 4);
+    let run = |noise: Noise| {
+        let sim = SimConfig { noise, ..SimConfig::default() };
+        simulate(&map, &map, &model, PlannerConfig::default(), start, &[goal], &sim, &mut |_| {}).unwrap()
+    };
+    let calm = run(Noise::default());
+    let noisy = Noise { drive_slowdown: 0.3, solar_loss: 0.5, seed: 7 };
+    let (a, b) = (run(noisy), run(noisy));
+    let json = |r: &areo_mission::SimReport| serde_json::to_string(&r.steps).unwrap();
+    assert_eq!(json(&a), json(&b), "same seed, same run");
+    assert_ne!(json(&a), json(&run(Noise { seed: 8, ..noisy })), "another seed, another run");
+    assert_eq!(calm.status, SimStatus::Completed);
+    assert_eq!(a.status, SimStatus::Completed);
+    let drive_time = |r: &areo_mission::SimReport| -> f64 {
+        r.steps.iter().filter(|s| matches!(s.action, Action::Drive(_))).map(|s| s.duration_s).sum()
+    };
+    // Same cells driven (the map is true), each drive 0–30 % slower.
+    assert_eq!(a.distance_m(), calm.distance_m());
+    let ratio = drive_time(&a) / drive_time(&calm);
+    assert!(ratio > 1.05 && ratio < 1.3, "{ratio}");
+    // Without noise the map is the truth: the rover drives a route as short as the
+    // first plan's (flat ground has many equal routes; re-plans may pick another).
+    let planned: f64 =
+        calm.plans[0].plan.waypoints.windows(2).map(|w| (w[1].x_m - w[0].x_m).hypot(w[1].y_m - w[0].y_m)).sum();
+    assert!((calm.distance_m() - planned).abs() < 1e-6, "{} vs {planned}", calm.distance_m());
+    assert!(calm.plans.iter().all(|p| p.changed_cells == 0));
+}
+
+#[test]
+fn a_goal_the_truth_walls_off_ends_the_run_as_unreachable() {
+    // The true block spans the whole map height: no way round.
+    let map = fixed_sun_world(flat(30, 20, 10.0), 120.0, 60.0, 10.0);
+    let truth = fixed_sun_world(block(0..=19), 120.0, 60.0, 10.0);
+    let model = model(1e5, ActionConfig::default());
+    let start = Start { cell: map.cell(3, 10), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let report = simulate(
+        &map,
+        &truth,
+        &model,
+        PlannerConfig::default(),
+        start,
+        &[map.cell(27, 10)],
+        &SimConfig::default(),
+        &mut |_| {},
+    )
+    .unwrap();
+    assert!(matches!(report.status, SimStatus::Unreachable { .. }), "{:?}", report.status);
+    assert!(report.goals_reached.is_empty());
+    assert!(!report.steps.is_empty(), "the rover drove until it saw the wall");
+}
+
+#[test]
+fn bad_simulation_settings_name_the_field() {
+    let map = fixed_sun_world(flat(10, 10, 10.0), 120.0, 60.0, 10.0);
+    let model = model(1e5, ActionConfig::default());
+    let start = Start { cell: map.cell(1, 1), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let sim = SimConfig { noise: Noise { solar_loss: 1.5, ..Noise::default() }, ..SimConfig::default() };
+    let err = simulate(&map, &map, &model, PlannerConfig::default(), start, &[map.cell(8, 8)], &sim, &mut |_| {})
+        .unwrap_err();
+    assert!(matches!(err, Error::Config { field: "noise.solar_loss", .. }), "{err}");
+}
