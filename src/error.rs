@@ -59,10 +59,28 @@ pub enum Error {
     /// A command-line value is out of range.
     #[error("{0}")]
     Usage(String),
+    /// A scenario value is inconsistent with the rest (a goal off the map, …).
+    #[error("{path}: field `{field}`: {message}")]
+    Scenario {
+        /// The scenario file.
+        path: PathBuf,
+        /// Dotted path of the field.
+        field: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+    /// A planner input is out of range or the planner failed.
+    #[error(transparent)]
+    Mission(#[from] areo_mission::Error),
+    /// The mission's goals cannot be reached: the binding constraint. Outputs written
+    /// so far are kept.
+    #[error("{0}")]
+    Unreachable(String),
 }
 
 impl Error {
-    /// The process exit code for this error: 2 for bad input files, 1 otherwise.
+    /// The process exit code for this error: 2 for bad input, 3 for an unreachable
+    /// goal, 1 otherwise.
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Syntax { .. } | Error::Invalid { .. } | Error::Grid { .. } | Error::Ephemeris(_) => 2,
@@ -70,7 +88,9 @@ impl Error {
             Error::Terrain(_) => 2,
             Error::Io { .. } => 1,
             Error::Rover(areo_rover::Error::Io { .. }) => 1,
-            Error::Rover(_) | Error::Usage(_) => 2,
+            Error::Rover(_) | Error::Usage(_) | Error::Scenario { .. } => 2,
+            Error::Mission(areo_mission::Error::Unreachable { .. }) | Error::Unreachable(_) => 3,
+            Error::Mission(_) => 2,
         }
     }
 }

@@ -19,9 +19,11 @@ mod error;
 mod progress;
 
 mod run;
+mod tempest;
 
 pub mod movingai;
 pub mod outcome;
+pub mod plots;
 pub mod render;
 pub mod rover_check;
 pub mod scenario;

@@ -279,7 +279,10 @@ fn run(scenario: &std::path::Path, out: &std::path::Path) -> Result<(), Error> {
     for f in &outcome.files {
         println!("  wrote {}", f.display());
     }
-    Ok(())
+    match outcome.failure {
+        Some(message) => Err(Error::Unreachable(message)),
+        None => Ok(()),
+    }
 }
 
 fn terrain(cmd: &TerrainCommand) -> Result<(), Error> {

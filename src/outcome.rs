@@ -37,6 +37,9 @@ pub struct Outcome {
     pub summary: Vec<String>,
     /// Files the job wrote.
     pub files: Vec<PathBuf>,
+    /// Set when the job ran but did not achieve its aim (an unreachable goal): the
+    /// message; `areo run` exits with code 3 after writing everything.
+    pub failure: Option<String>,
 }
 
 impl Outcome {

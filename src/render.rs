@@ -43,14 +43,20 @@ pub fn hillshade_rgb(
     rgb
 }
 
-/// Writes RGB bytes (`width` × `height`) as a PNG.
-pub fn write_png(path: &Path, width: usize, height: usize, rgb: &[u8]) -> Result<()> {
-    let io = |source| Error::Io { path: path.to_path_buf(), source };
-    let file = std::fs::File::create(path).map_err(io)?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width as u32, height as u32);
+/// Encodes RGB bytes (`width` × `height`) as PNG into `out`.
+pub fn encode_png(out: &mut Vec<u8>, width: usize, height: usize, rgb: &[u8]) -> std::result::Result<(), String> {
+    let mut enc = png::Encoder::new(out, width as u32, height as u32);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
-    let mut w = enc.write_header().map_err(|e| io(std::io::Error::other(e)))?;
-    w.write_image_data(rgb).map_err(|e| io(std::io::Error::other(e)))?;
-    w.finish().map_err(|e| io(std::io::Error::other(e)))
+    let mut w = enc.write_header().map_err(|e| e.to_string())?;
+    w.write_image_data(rgb).map_err(|e| e.to_string())?;
+    w.finish().map_err(|e| e.to_string())
+}
+
+/// Writes RGB bytes (`width` × `height`) as a PNG.
+pub fn write_png(path: &Path, width: usize, height: usize, rgb: &[u8]) -> Result<()> {
+    let mut bytes = Vec::new();
+    encode_png(&mut bytes, width, height, rgb)
+        .map_err(|m| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(m) })?;
+    std::fs::write(path, bytes).map_err(|source| Error::Io { path: path.to_path_buf(), source })
 }

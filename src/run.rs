@@ -37,6 +37,7 @@ pub fn run(file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
     let mut outcome = match &file.scenario.job {
         Job::SunTable(job) => sun_table(job, opts)?,
         Job::TerrainShadow(job) => terrain_shadow(job, file, opts)?,
+        Job::Tempest(job) => crate::tempest::run(job, file, opts)?,
     };
     if let Some(dir) = opts.out_dir {
         let path = dir.join("facts.json");
@@ -195,7 +196,7 @@ fn terrain_shadow(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<
     Ok(o)
 }
 
-fn write_file(path: &PathBuf, bytes: &[u8]) -> Result<()> {
+pub(crate) fn write_file(path: &PathBuf, bytes: &[u8]) -> Result<()> {
     let io = |source| Error::Io { path: path.clone(), source };
     let mut f = std::fs::File::create(path).map_err(io)?;
     f.write_all(bytes).map_err(io)

@@ -53,6 +53,121 @@ pub enum Job {
     /// Terrain (synthesised or from a file) lit by the Sun of a given place and time:
     /// slope, shadows and a preview.
     TerrainShadow(TerrainShadowJob),
+    /// TEMPEST: plan a traverse in position, time and energy through ordered goals,
+    /// and optionally simulate it on true terrain with sensing and re-planning.
+    Tempest(Box<TempestJob>),
+}
+
+/// A TEMPEST mission (see `docs/tempest.md`). Positions are metres east and north of
+/// the map's south-west corner.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TempestJob {
+    /// The map the rover believes.
+    pub terrain: TerrainSource,
+    /// The terrain the rover drives on; default: the map is true.
+    #[serde(default)]
+    pub truth: Truth,
+    /// Where on Mars the map lies; synthesised maps are placed with their centre here.
+    pub site: SiteSpec,
+    /// Mission start, ISO 8601 UTC (t = 0).
+    pub start_utc: String,
+    /// Planning horizon, hours (0 < h ≤ 2400).
+    pub horizon_h: f64,
+    /// Sun table step, minutes (1/60 ≤ min ≤ 60); default 2.
+    #[serde(default = "default_sun_step_min")]
+    pub sun_step_min: f64,
+    /// Horizon-map sectors for terrain shadows (16..=360), 0 for none; default 64.
+    #[serde(default = "default_sectors")]
+    pub horizon_sectors: usize,
+    /// Atmospheric optical depth τ (0 ≤ τ ≤ 10); default 0.5.
+    #[serde(default = "default_tau")]
+    pub tau: f64,
+    /// Rover resource-model file (RON), relative to the scenario; default: the shipped
+    /// Hyperion-class rover.
+    #[serde(default)]
+    pub rover: Option<String>,
+    /// Battery capacity override, Wh (> 0).
+    #[serde(default)]
+    pub battery_capacity_wh: Option<f64>,
+    /// Start position.
+    pub start: PointSpec,
+    /// Battery charge at the start, Wh above the battery's floor (≥ 0, at most the
+    /// usable capacity).
+    pub start_battery_wh: f64,
+    /// How long after `start_utc` the rover may set off, minutes (≥ 0); default 0.
+    #[serde(default)]
+    pub start_window_min: f64,
+    /// Goals, in the order they must be reached (at least one).
+    pub goals: Vec<GoalSpec>,
+    /// Planner settings (areo-mission `PlannerConfig`); every field has a default.
+    #[serde(default)]
+    pub planner: areo_mission::PlannerConfig,
+    /// Simulate execution (sensing, noise, re-planning); default: plan only.
+    #[serde(default)]
+    pub simulate: Option<areo_mission::SimConfig>,
+    /// Named circular regions; the run reports whether plans and the route enter them.
+    #[serde(default)]
+    pub regions: Vec<RegionSpec>,
+    /// When the route plot's shadows are drawn, ISO 8601 UTC; default `start_utc`.
+    #[serde(default)]
+    pub shadow_utc: Option<String>,
+}
+
+/// The true terrain of a simulation.
+#[derive(Debug, Clone, Default, Deserialize)]
+pub enum Truth {
+    /// The map is true.
+    #[default]
+    Map,
+    /// The map plus these landforms (what the map lacks: a higher pass, a boulder).
+    AddFeatures(Vec<areo_terrain::synth::Feature>),
+    /// Another terrain on the same grid.
+    Terrain(TerrainSource),
+}
+
+/// A point, m east and north of the map's south-west corner.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointSpec {
+    /// East, m.
+    pub x_m: f64,
+    /// North, m.
+    pub y_m: f64,
+}
+
+/// A goal.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GoalSpec {
+    /// Name for reports and plots.
+    pub name: String,
+    /// East, m.
+    pub x_m: f64,
+    /// North, m.
+    pub y_m: f64,
+}
+
+/// A named circle.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSpec {
+    /// Name (facts are `initial_plan_enters_NAME`, `route_enters_NAME`).
+    pub name: String,
+    /// Centre east, m.
+    pub x_m: f64,
+    /// Centre north, m.
+    pub y_m: f64,
+    /// Radius, m (> 0).
+    pub radius_m: f64,
+}
+
+fn default_sun_step_min() -> f64 {
+    2.0
+}
+
+fn default_sectors() -> usize {
+    64
 }
 
 /// Where terrain comes from.
@@ -121,6 +236,7 @@ impl Validate for Scenario {
         c.nested("job", |c| match &self.job {
             Job::SunTable(job) => job.validate(c),
             Job::TerrainShadow(job) => job.validate(c),
+            Job::Tempest(job) => job.validate(c),
         });
     }
 }
@@ -149,23 +265,94 @@ impl Validate for TerrainShadowJob {
         if let Err(e) = areo_ephemeris::parse_utc(&self.utc) {
             c.fail("utc", e.to_string());
         }
-        if let TerrainSource::Synth(spec) = &self.terrain
-            && let Err(areo_terrain::Error::BadSynth { field, value, allowed }) = spec.validate()
-        {
-            // `features[1].radius_m` → terrain.features[1].radius_m
-            c.nested("terrain", |c| {
-                let mut segments: Vec<String> = Vec::new();
-                for part in field.split('.') {
-                    match part.split_once('[') {
-                        Some((name, idx)) => {
-                            segments.push(name.to_string());
-                            segments.push(format!("[{idx}"));
-                        }
-                        None => segments.push(part.to_string()),
+        validate_terrain(c, "terrain", &self.terrain);
+    }
+}
+
+/// `features[1].radius_m` → segments `features`, `[1]`, `radius_m`.
+fn field_segments(field: &str) -> Vec<String> {
+    let mut segments: Vec<String> = Vec::new();
+    for part in field.split('.') {
+        match part.split_once('[') {
+            Some((name, idx)) => {
+                segments.push(name.to_string());
+                segments.push(format!("[{idx}"));
+            }
+            None => segments.push(part.to_string()),
+        }
+    }
+    segments
+}
+
+fn validate_terrain(c: &mut Checks, name: &str, terrain: &TerrainSource) {
+    if let TerrainSource::Synth(spec) = terrain
+        && let Err(areo_terrain::Error::BadSynth { field, value, allowed }) = spec.validate()
+    {
+        c.nested(name, |c| c.fail_at(&field_segments(&field), format!("{value} is out of range: allowed {allowed}")));
+    }
+}
+
+impl Validate for TempestJob {
+    fn validate(&self, c: &mut Checks) {
+        validate_terrain(c, "terrain", &self.terrain);
+        match &self.truth {
+            Truth::Map => {}
+            Truth::Terrain(t) => c.nested("truth", |c| validate_terrain(c, "Terrain", t)),
+            Truth::AddFeatures(features) => {
+                // Check the landforms as a synthesised map would.
+                let spec = areo_terrain::synth::TerrainSpec {
+                    cols: 2,
+                    rows: 2,
+                    cell_m: 1.0,
+                    base_m: 0.0,
+                    seed: 0,
+                    noise: None,
+                    features: features.clone(),
+                };
+                if let Err(areo_terrain::Error::BadSynth { field, value, allowed }) = spec.validate() {
+                    let mut seg = field_segments(&field);
+                    if seg.first().is_some_and(|s| s == "features") {
+                        seg[0] = "AddFeatures".into();
                     }
+                    c.nested("truth", |c| c.fail_at(&seg, format!("{value} is out of range: allowed {allowed}")));
                 }
-                c.fail_at(&segments, format!("{value} is out of range: allowed {allowed}"));
-            });
+            }
+        }
+        c.nested("site", |c| self.site.validate(c));
+        if let Err(e) = areo_ephemeris::parse_utc(&self.start_utc) {
+            c.fail("start_utc", e.to_string());
+        }
+        if let Some(s) = &self.shadow_utc
+            && let Err(e) = areo_ephemeris::parse_utc(s)
+        {
+            c.fail("shadow_utc", e.to_string());
+        }
+        c.range("horizon_h", self.horizon_h, 1e-3, 2400.0, "hours");
+        c.range("sun_step_min", self.sun_step_min, 1.0 / 60.0, 60.0, "minutes");
+        if self.horizon_sectors != 0 && !(16..=360).contains(&self.horizon_sectors) {
+            c.fail("horizon_sectors", format!("{}: allowed 0 (no shadows) or 16..=360", self.horizon_sectors));
+        }
+        c.range("tau", self.tau, 0.0, 10.0, "optical depth");
+        if let Some(b) = self.battery_capacity_wh {
+            c.range("battery_capacity_wh", b, 1e-3, 1e7, "Wh");
+        }
+        c.range("start_battery_wh", self.start_battery_wh, 0.0, 1e7, "Wh above the battery floor");
+        c.range("start_window_min", self.start_window_min, 0.0, 1e5, "minutes");
+        if self.goals.is_empty() {
+            c.fail("goals", "is empty: give at least one goal".into());
+        }
+        for r in &self.regions {
+            if !(r.radius_m > 0.0) {
+                c.fail("regions", format!("region `{}`: radius_m {} must be > 0", r.name, r.radius_m));
+            }
+        }
+        if let Err(areo_mission::Error::Config { field, message }) = self.planner.validate() {
+            c.nested("planner", |c| c.fail_at(&field_segments(field), message));
+        }
+        if let Some(sim) = &self.simulate
+            && let Err(areo_mission::Error::Config { field, message }) = sim.validate()
+        {
+            c.nested("simulate", |c| c.fail_at(&field_segments(field), message));
         }
     }
 }

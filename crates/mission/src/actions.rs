@@ -7,7 +7,8 @@
 //!   on the ground and pointed along the drive.
 //! - Charge: a fixed duration at the charge load (medium by default); by default it
 //!   needs direct sun.
-//! - Hibernate: a fixed duration at the low load.
+//! - Hibernate: a fixed duration at the low load, asleep: the solar array is off-line
+//!   (Table 3 gives Hibernate no power source), so only a generator, if any, feeds it.
 //!
 //! Stationary actions point the array at the Sun (the rover turns to face it first)
 //! [A]. Energy is integrated with the trapezoid rule over samples no further apart than
@@ -378,7 +379,13 @@ impl ActionModel {
             let t = t0 + duration * k as f64 / n as f64;
             let sun = world.sun(t);
             self.check(world, rules, cell, &sun, None)?;
-            let p = load_w - perturbation.solar_factor * self.source_w(world, cell, &sun, None);
+            // A hibernating rover sleeps with its array off-line (Table 3 lists no power
+            // source for Hibernate): only a generator feeds it.
+            let source = match action {
+                Action::Charge => perturbation.solar_factor * self.source_w(world, cell, &sun, None),
+                _ => self.rover.nuclear_w,
+            };
+            let p = load_w - source;
             if let Some(q) = prev {
                 e += self.battery_wh(0.5 * (p + q), duration / n as f64);
             }
@@ -453,6 +460,12 @@ impl ActionModel {
         p
     }
 
+    /// Battery energy drawn by idling for `duration_s` (asleep at the hibernation load,
+    /// array off-line): how a rover waits for its plan's start, Wh.
+    pub fn idle_wh(&self, duration_s: f64) -> f64 {
+        self.battery_wh(self.rover.electronics.power_w(Load::Low) - self.rover.nuclear_w, duration_s.max(0.0))
+    }
+
     /// Battery energy for a net bus load `net_w` (W, positive drains) over `dt_s`, Wh.
     fn battery_wh(&self, net_w: f64, dt_s: f64) -> f64 {
         let b = &self.rover.battery;
@@ -467,8 +480,10 @@ impl ActionModel {
         let source =
             self.rover.nuclear_w + self.rover.solar.map_or(0.0, |a| world.max_beam_w_m2() * a.area_m2 * a.efficiency);
         let b = &self.rover.battery;
-        let gain =
-            |load_w: f64, duration_s: f64| ((source - load_w) * duration_s / 3600.0 * b.charge_efficiency).max(0.0);
+        let gain_from = |source: f64, load_w: f64, duration_s: f64| {
+            ((source - load_w) * duration_s / 3600.0 * b.charge_efficiency).max(0.0)
+        };
+        let gain = |load_w: f64, duration_s: f64| gain_from(source, load_w, duration_s);
         let dem = world.dem();
         let loco = &self.rover.locomotor;
         let slowest = loco.speed_m_s / 3.0;
@@ -480,7 +495,11 @@ impl ActionModel {
             self.rover.electronics.power_w(self.config.charge_load.load()),
             self.quantise_time(self.config.charge_s),
         );
-        let hibernate = gain(self.rover.electronics.power_w(Load::Low), self.quantise_time(self.config.hibernate_s));
+        let hibernate = gain_from(
+            self.rover.nuclear_w,
+            self.rover.electronics.power_w(Load::Low),
+            self.quantise_time(self.config.hibernate_s),
+        );
         let q = self.config.energy_quantum_wh;
         let all = drive.max(charge).max(hibernate);
         // Quantised energies round to the nearest quantum: allow for half of one.

@@ -57,6 +57,7 @@ pub struct Start {
 
 /// Resolution of the label classes.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Resolution {
     /// Time class width, s.
     pub time_s: f64,
@@ -69,8 +70,14 @@ pub struct Resolution {
 pub struct TempestDomain<'a> {
     world: &'a World,
     model: &'a ActionModel,
-    /// The start.
+    /// The start. It may move (plan extension, start intervals); the search graph is
+    /// kept, so nothing the engine prunes may depend on it: see `reachable_from`.
     pub start: Start,
+    /// The start the domain was made with: a lower bound on reachable times that stays
+    /// valid for every later start (a rover only reaches later starts from it, and the
+    /// start intervals of a segment begin at its first one), so pruning with it never
+    /// loses a label that a later start needs.
+    reachable_from: (u32, f64),
     objective: Objective,
     resolution: Resolution,
     e_max: f64,
@@ -93,6 +100,7 @@ impl<'a> TempestDomain<'a> {
             world,
             model,
             start,
+            reachable_from: (start.cell, start.t_min),
             objective,
             resolution,
             e_max,
@@ -197,9 +205,11 @@ impl Domain for TempestDomain<'_> {
     }
 
     fn within_global(&self, state: u32, label: &Label, _cost: f64) -> bool {
-        // A label earlier than the start window plus the fastest travel from the start
-        // can never be reached from it.
-        let earliest = self.start.t_min + self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s();
+        // A label earlier than the first start plus the fastest travel from it can never
+        // be reached. (Not the current start: a label pruned for a late start interval
+        // would be lost to an earlier one, as the engine keeps its graph.)
+        let (cell0, t0) = self.reachable_from;
+        let earliest = t0 + self.world.octile_m(state, cell0) / self.model.top_speed_m_s();
         label.e <= self.capacity + 1e-9 && label.t >= earliest - 1e-6
     }
 
@@ -207,7 +217,8 @@ impl Domain for TempestDomain<'_> {
         state == self.start.cell
             && label.t >= self.start.t_min - 1e-9
             && label.t <= self.start.t_max + 1e-9
-            && label.e <= self.start.energy_wh + 1e-9
+            // The rover idles from the window's opening to the plan's start.
+            && label.e + self.model.idle_wh(label.t - self.start.t_min) <= self.start.energy_wh + 1e-9
     }
 
     fn start_state(&self) -> Option<u32> {

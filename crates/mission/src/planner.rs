@@ -382,7 +382,9 @@ impl<'a> Mission<'a> {
             let b = &self.model.rover().battery;
             b.capacity_wh * b.min_soc
         };
-        let mut battery = self.start.energy_wh;
+        // The rover idles from the opening of its start window to the plan's start.
+        let t_first = steps.first().map_or(self.start.t_min, |(s, _)| s.label.t);
+        let mut battery = self.start.energy_wh - self.model.idle_wh(t_first - self.start.t_min);
         let mut waypoints = Vec::with_capacity(steps.len());
         for (i, (step, segment)) in steps.iter().enumerate() {
             let next_action = if i + 1 < steps.len() { step.action } else { None };

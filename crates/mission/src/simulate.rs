@@ -283,9 +283,31 @@ pub fn simulate(
     for step in 1..=sim.max_steps {
         let Some(action) = plan.waypoints.first().and_then(|w| w.action) else {
             // The plan ends here: the rover stands on the last goal.
+            if next_goal < goals.len() {
+                report.goals_reached.push((next_goal, t));
+            }
             report.status = SimStatus::Completed;
             break;
         };
+        // The plan may start a little after now (its start window): idle until then.
+        let t_plan = plan.waypoints.first().map_or(t, |w| w.t_s);
+        if t_plan > t + 1e-6 {
+            let energy_wh = model.idle_wh(t_plan - t);
+            battery = (battery - energy_wh).min(capacity);
+            report.steps.push(ExecutedStep {
+                t_s: t,
+                cell,
+                to: cell,
+                action: Action::Hibernate,
+                duration_s: t_plan - t,
+                energy_wh,
+                battery_wh: battery,
+                distance_m: 0.0,
+                sun_elevation_deg: truth.sun(t).elevation_deg,
+                refused: None,
+            });
+            t = t_plan;
+        }
         let perturbation = Perturbation {
             duration_factor: 1.0 + sim.noise.drive_slowdown * rng.random::<f64>(),
             solar_factor: 1.0 - sim.noise.solar_loss * rng.random::<f64>(),
@@ -329,14 +351,14 @@ pub fn simulate(
             report.status = SimStatus::BatteryDepleted;
             break;
         }
-        if cell == goals[next_goal] {
+        if next_goal < goals.len() && cell == goals[next_goal] {
             report.goals_reached.push((next_goal, t));
             next_goal += 1;
-            if next_goal == goals.len() {
-                report.status = SimStatus::Completed;
-                break;
+            // At the last goal the plan may still charge to the goal energy: it ends
+            // when the plan does.
+            if next_goal < goals.len() {
+                mission.goal_reached();
             }
-            mission.goal_reached();
         }
 
         let changed = believed.sense(truth, &disc(believed, cell, sim.sense_radius_cells))?;

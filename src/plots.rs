@@ -1,0 +1,283 @@
+//! Plots of a TEMPEST run, as SVG and PNG (pure Rust; the PNG's text uses the Noto
+//! Sans font compiled into the binary, so no system font or library is needed).
+//!
+//! - [`route`]: the routes over a hillshade with cast shadows (Figures 5 and 8).
+//! - [`distance`]: straight-line distance to the final goal against time, nights
+//!   shaded, with the fastest possible approach (Figure 6).
+//! - [`energy`]: required battery energy and battery charge against time, nights shaded
+//!   (Figure 7).
+
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+use base64::Engine;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::error::{Error, Result};
+
+/// A polyline to draw: local map metres (or hours and values for the time plots).
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// Legend text.
+    pub label: String,
+    /// Points.
+    pub points: Vec<(f64, f64)>,
+    /// Colour (RGB).
+    pub rgb: (u8, u8, u8),
+    /// Line width, px.
+    pub width: u32,
+}
+
+/// A labelled marker.
+#[derive(Debug, Clone)]
+pub struct Marker {
+    /// Label.
+    pub label: String,
+    /// Position.
+    pub at: (f64, f64),
+    /// Colour (RGB).
+    pub rgb: (u8, u8, u8),
+}
+
+/// The route plot's data: a raster background (RGB, `cols` × `rows`, row 0 north)
+/// spanning `extent` = (width, height) m, the routes and the markers.
+#[derive(Debug, Clone)]
+pub struct RoutePlot {
+    /// Title.
+    pub title: String,
+    /// Background pixels, RGB row by row, north row first.
+    pub background: Vec<u8>,
+    /// Background size, cells.
+    pub cols: usize,
+    /// Background size, cells.
+    pub rows: usize,
+    /// Map width and height, m.
+    pub extent: (f64, f64),
+    /// Routes, drawn in order.
+    pub series: Vec<Series>,
+    /// Start and goals.
+    pub markers: Vec<Marker>,
+}
+
+/// A time plot: series against hours, with night intervals shaded.
+#[derive(Debug, Clone)]
+pub struct TimePlot {
+    /// Title.
+    pub title: String,
+    /// Y-axis label.
+    pub y_label: String,
+    /// Series (x in hours).
+    pub series: Vec<Series>,
+    /// Night intervals, hours.
+    pub nights: Vec<(f64, f64)>,
+    /// X range, hours.
+    pub x_range: (f64, f64),
+}
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The font is compiled in and valid; a failure would only lose PNG text.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, ttf_noto_sans::REGULAR);
+    });
+}
+
+fn colour((r, g, b): (u8, u8, u8)) -> RGBColor {
+    RGBColor(r, g, b)
+}
+
+fn draw_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> String {
+    e.to_string()
+}
+
+/// Where the plotting area of a chart lies, px: (x, y, width, height).
+type PixelRect = (i32, i32, i32, i32);
+
+fn draw_route<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    p: &RoutePlot,
+    paint_background: bool,
+) -> std::result::Result<PixelRect, String> {
+    root.fill(&WHITE).map_err(draw_err)?;
+    let (w, h) = p.extent;
+    let mut chart = ChartBuilder::on(root)
+        .caption(&p.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..w, 0.0..h)
+        .map_err(draw_err)?;
+    let (xr, yr) = chart.plotting_area().get_pixel_range();
+    let rect = (xr.start, yr.start, xr.end - xr.start, yr.end - yr.start);
+    if paint_background && p.cols > 0 && p.rows > 0 {
+        for py in yr.clone() {
+            let row = (((py - yr.start) as f64 + 0.5) / rect.3 as f64 * p.rows as f64) as usize;
+            for px in xr.clone() {
+                let col = (((px - xr.start) as f64 + 0.5) / rect.2 as f64 * p.cols as f64) as usize;
+                let i = 3 * (row.min(p.rows - 1) * p.cols + col.min(p.cols - 1));
+                root.draw_pixel((px, py), &RGBColor(p.background[i], p.background[i + 1], p.background[i + 2]))
+                    .map_err(draw_err)?;
+            }
+        }
+    }
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("east, m")
+        .y_desc("north, m")
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(draw_err)?;
+    for s in &p.series {
+        let style = colour(s.rgb).stroke_width(s.width);
+        chart
+            .draw_series(LineSeries::new(s.points.iter().copied(), style))
+            .map_err(draw_err)?
+            .label(&s.label)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+    }
+    for m in &p.markers {
+        let c = colour(m.rgb);
+        chart
+            .draw_series([
+                Circle::new(m.at, 6, c.filled()).into_dyn(),
+                Circle::new(m.at, 6, BLACK.stroke_width(1)).into_dyn(),
+                Text::new(m.label.clone(), (m.at.0, m.at.1), ("sans-serif", 15).into_font().color(&BLACK)).into_dyn(),
+            ])
+            .map_err(draw_err)?;
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .position(SeriesLabelPosition::LowerRight)
+        .draw()
+        .map_err(draw_err)?;
+    root.present().map_err(draw_err)?;
+    Ok(rect)
+}
+
+fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) -> std::result::Result<(), String> {
+    root.fill(&WHITE).map_err(draw_err)?;
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for s in &p.series {
+        for &(_, y) in &s.points {
+            lo = lo.min(y);
+            hi = hi.max(y);
+        }
+    }
+    if !lo.is_finite() {
+        (lo, hi) = (0.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05).max(1e-6);
+    let (y0, y1) = (lo.min(0.0) - pad, hi + pad);
+    let (x0, x1) = (p.x_range.0, p.x_range.1.max(p.x_range.0 + 1e-6));
+    let mut chart = ChartBuilder::on(root)
+        .caption(&p.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(draw_err)?;
+    chart
+        .configure_mesh()
+        .light_line_style(RGBColor(235, 235, 235))
+        .x_desc("hours since the start")
+        .y_desc(&p.y_label)
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(draw_err)?;
+    let night = RGBColor(40, 40, 90).mix(0.15).filled();
+    chart
+        .draw_series(p.nights.iter().map(|&(a, b)| Rectangle::new([(a.max(x0), y0), (b.min(x1), y1)], night)))
+        .map_err(draw_err)?
+        .label("night")
+        .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], night));
+    for s in &p.series {
+        let style = colour(s.rgb).stroke_width(s.width);
+        chart
+            .draw_series(LineSeries::new(s.points.iter().copied(), style))
+            .map_err(draw_err)?
+            .label(&s.label)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(draw_err)?;
+    root.present().map_err(draw_err)?;
+    Ok(())
+}
+
+fn plot_error(path: &Path, message: String) -> Error {
+    Error::Io { path: path.to_path_buf(), source: std::io::Error::other(message) }
+}
+
+fn write_text(path: &Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).map_err(|source| Error::Io { path: path.to_path_buf(), source })
+}
+
+/// Writes the route plot as `dir/NAME.svg` and `dir/NAME.png`.
+pub fn route(dir: &Path, name: &str, p: &RoutePlot) -> Result<Vec<PathBuf>> {
+    register_font();
+    let width = 900u32;
+    // Square metres: the plot area keeps the map's aspect (within the label margins).
+    let height = ((f64::from(width) - 96.0) * p.extent.1 / p.extent.0 + 104.0).clamp(300.0, 1400.0) as u32;
+    let svg_path = dir.join(format!("{name}.svg"));
+    let mut svg = String::new();
+    let rect = {
+        let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
+        draw_route(&root, p, false).map_err(|m| plot_error(&svg_path, m))?
+    };
+    // The background as one embedded PNG under the drawing (after the white fill).
+    let mut png = Vec::new();
+    crate::render::encode_png(&mut png, p.cols, p.rows, &p.background).map_err(|m| plot_error(&svg_path, m))?;
+    let image = format!(
+        r#"<image x="{}" y="{}" width="{}" height="{}" preserveAspectRatio="none" href="data:image/png;base64,{}"/>"#,
+        rect.0,
+        rect.1,
+        rect.2,
+        rect.3,
+        base64::engine::general_purpose::STANDARD.encode(&png)
+    );
+    let svg = match svg.find("<rect").and_then(|i| svg[i..].find("/>").map(|j| i + j + 2)) {
+        Some(at) => format!("{}\n{image}{}", &svg[..at], &svg[at..]),
+        None => svg,
+    };
+    write_text(&svg_path, &svg)?;
+    let png_path = dir.join(format!("{name}.png"));
+    let mut buf = vec![0u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
+        draw_route(&root, p, true).map_err(|m| plot_error(&png_path, m))?;
+    }
+    crate::render::write_png(&png_path, width as usize, height as usize, &buf)?;
+    Ok(vec![svg_path, png_path])
+}
+
+/// Writes a time plot as `dir/NAME.svg` and `dir/NAME.png`.
+pub fn time(dir: &Path, name: &str, p: &TimePlot) -> Result<Vec<PathBuf>> {
+    register_font();
+    let (width, height) = (900u32, 500u32);
+    let svg_path = dir.join(format!("{name}.svg"));
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
+        draw_time(&root, p).map_err(|m| plot_error(&svg_path, m))?;
+    }
+    write_text(&svg_path, &svg)?;
+    let png_path = dir.join(format!("{name}.png"));
+    let mut buf = vec![0u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
+        draw_time(&root, p).map_err(|m| plot_error(&png_path, m))?;
+    }
+    crate::render::write_png(&png_path, width as usize, height as usize, &buf)?;
+    Ok(vec![svg_path, png_path])
+}

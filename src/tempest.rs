@@ -1,0 +1,766 @@
+//! The TEMPEST job: build the believed and true worlds, plan (and simulate), and
+//! write plan.json, plan.csv, route.geojson, replans.csv, executed.csv and the plots.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use areo_ephemeris::flux::Atmosphere;
+use areo_ephemeris::{Mars24, Site, format_utc, parse_utc};
+use areo_mission::{
+    Action, ActionModel, Error as MissionError, Mission, MissionPlan, PlanKind, SimReport, SimStatus, Start, World,
+    WorldConfig, simulate,
+};
+use areo_rover::resources::ResourceModel;
+use areo_terrain::{Body, Dem, Georef, Projection};
+use hifitime::Duration;
+use serde_json::json;
+
+use crate::error::{Error, Result};
+use crate::outcome::Outcome;
+use crate::plots::{Marker, RoutePlot, Series, TimePlot};
+use crate::run::{RunOptions, write_file};
+use crate::scenario::{ScenarioFile, TempestJob, TerrainSource, Truth};
+
+/// The map's south-west corner in map coordinates: scenario positions are relative
+/// to it.
+#[derive(Debug, Clone, Copy)]
+struct Frame {
+    x0: f64,
+    y0: f64,
+}
+
+impl Frame {
+    fn of(dem: &Dem) -> Frame {
+        Frame { x0: dem.x0(), y0: dem.y_top() - dem.rows() as f64 * dem.dy() }
+    }
+    fn to_map(self, x: f64, y: f64) -> (f64, f64) {
+        (self.x0 + x, self.y0 + y)
+    }
+    fn to_local(self, (x, y): (f64, f64)) -> (f64, f64) {
+        (x - self.x0, y - self.y0)
+    }
+}
+
+fn scenario_error(file: &ScenarioFile, field: impl Into<String>, message: impl Into<String>) -> Error {
+    Error::Scenario { path: file.path.clone(), field: field.into(), message: message.into() }
+}
+
+/// A synthesised map has no georeference: centre it on the site, equirectangular on
+/// the MOLA sphere, so every cell has a latitude and longitude.
+fn place(dem: Dem, site: &Site) -> Result<Dem> {
+    if dem.georef().projection != Projection::Local {
+        return Ok(dem);
+    }
+    let body = Body::MARS_MOLA_SPHERE;
+    let (w, h) = (dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy());
+    let y_mid = body.equatorial_radius_m * site.lat_deg().to_radians();
+    let z: Vec<f32> =
+        dem.elevations().iter().zip(dem.valid_mask()).map(|(z, v)| if *v { *z } else { f32::NAN }).collect();
+    let placed =
+        Dem::new(dem.cols(), dem.rows(), dem.dx(), dem.dy(), -w / 2.0, y_mid + h / 2.0, z)?.with_georef(Georef {
+            projection: Projection::Equirectangular { lat_ts_deg: site.lat_deg(), lon0_deg: site.lon_east_deg() },
+            body,
+        });
+    Ok(placed)
+}
+
+fn load_terrain(source: &TerrainSource, file: &ScenarioFile) -> Result<Dem> {
+    Ok(match source {
+        TerrainSource::Synth(spec) => spec.build()?,
+        TerrainSource::File(rel) => {
+            let base = file.path.parent().unwrap_or(Path::new("."));
+            crate::terrain_tools::read_dem(&base.join(rel))?
+        }
+    })
+}
+
+/// Peak resident memory of this process, MB (Linux), if known.
+fn peak_memory_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
+
+/// Runs a TEMPEST job.
+pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
+    let site = Site::new(job.site.lat_deg, job.site.lon_east_deg)?;
+    let epoch = parse_utc(&job.start_utc)?;
+    let clock = Instant::now();
+    opts.progress.start(3, "terrain");
+    let map_dem = place(load_terrain(&job.terrain, file)?, &site)?;
+    let frame = Frame::of(&map_dem);
+    let truth_dem = match &job.truth {
+        Truth::Map => None,
+        Truth::AddFeatures(features) => {
+            let mut z = map_dem.elevations().to_vec();
+            for row in 0..map_dem.rows() {
+                for col in 0..map_dem.cols() {
+                    let (x, y) = frame.to_local(map_dem.cell_center(col, row));
+                    let i = map_dem.index(col, row);
+                    z[i] += features.iter().map(|f| f.height(x, y)).sum::<f64>() as f32;
+                }
+            }
+            let z = z.iter().zip(map_dem.valid_mask()).map(|(z, v)| if *v { *z } else { f32::NAN }).collect();
+            Some(
+                Dem::new(map_dem.cols(), map_dem.rows(), map_dem.dx(), map_dem.dy(), map_dem.x0(), map_dem.y_top(), z)?
+                    .with_georef(*map_dem.georef()),
+            )
+        }
+        Truth::Terrain(source) => {
+            let t = place(load_terrain(source, file)?, &site)?;
+            if (t.cols(), t.rows()) != (map_dem.cols(), map_dem.rows()) {
+                return Err(scenario_error(
+                    file,
+                    "job.truth",
+                    format!(
+                        "the true terrain is {}×{} cells and the map {}×{}: they must share one grid",
+                        t.cols(),
+                        t.rows(),
+                        map_dem.cols(),
+                        map_dem.rows()
+                    ),
+                ));
+            }
+            Some(t)
+        }
+    };
+    opts.progress.advance(1);
+
+    let config = WorldConfig {
+        epoch,
+        span_s: job.horizon_h * 3600.0,
+        sun_step_s: job.sun_step_min * 60.0,
+        horizon_sectors: (job.horizon_sectors > 0).then_some(job.horizon_sectors),
+        atmosphere: Atmosphere::BeerLambert { tau: job.tau },
+        site: Some(site),
+    };
+    let world = World::new(map_dem, &config, &Mars24)?;
+    let truth = match truth_dem {
+        Some(d) => Some(World::new(d, &config, &Mars24)?),
+        None => None,
+    };
+    let precalc_s = clock.elapsed().as_secs_f64();
+    opts.progress.advance(1);
+
+    let mut rover = match &job.rover {
+        None => ResourceModel::hyperion(),
+        Some(rel) => ResourceModel::load(&file.path.parent().unwrap_or(Path::new(".")).join(rel))?,
+    };
+    if let Some(c) = job.battery_capacity_wh {
+        rover.battery.capacity_wh = c;
+    }
+    let model = ActionModel::new(rover, job.planner.actions.clone());
+    if job.start_battery_wh > model.capacity_wh() + 1e-9 {
+        return Err(scenario_error(
+            file,
+            "job.start_battery_wh",
+            format!(
+                "{} Wh: the battery holds at most {:.1} Wh above its floor",
+                job.start_battery_wh,
+                model.capacity_wh()
+            ),
+        ));
+    }
+    let cell_of = |field: String, x: f64, y: f64| -> Result<u32> {
+        let (mx, my) = frame.to_map(x, y);
+        world.cell_at(mx, my).ok_or_else(|| {
+            scenario_error(
+                file,
+                field,
+                format!(
+                    "({x}, {y}) m is off the map: allowed 0..{:.0} m east, 0..{:.0} m north",
+                    world.cols() as f64 * world.dem().dx(),
+                    world.rows() as f64 * world.dem().dy()
+                ),
+            )
+        })
+    };
+    let start_cell = cell_of("job.start".into(), job.start.x_m, job.start.y_m)?;
+    let goals: Vec<u32> = job
+        .goals
+        .iter()
+        .enumerate()
+        .map(|(i, g)| cell_of(format!("job.goals[{i}]"), g.x_m, g.y_m))
+        .collect::<Result<_>>()?;
+    let start =
+        Start { cell: start_cell, t_min: 0.0, t_max: job.start_window_min * 60.0, energy_wh: job.start_battery_wh };
+
+    // Plan, or simulate.
+    let truth_world = truth.as_ref().unwrap_or(&world);
+    let mut o = Outcome::default();
+    let result: std::result::Result<Run, MissionError> = match &job.simulate {
+        None => {
+            let clock = Instant::now();
+            Mission::plan(&world, &model, job.planner.clone(), start, &goals)
+                .map(|(_, plan)| Run::Plan { plan, seconds: clock.elapsed().as_secs_f64() })
+        }
+        Some(sim) => {
+            let total = sim.max_steps.min(10_000) as u64;
+            opts.progress.start(total, "simulating");
+            let report = simulate(&world, truth_world, &model, job.planner.clone(), start, &goals, sim, &mut |_| {
+                opts.progress.advance(1)
+            });
+            report.map(Run::Simulated)
+        }
+    };
+    opts.progress.finish();
+    let run = match result {
+        Ok(run) => run,
+        Err(MissionError::Config { field, message }) => {
+            return Err(scenario_error(file, format!("job.planner.{field}"), message));
+        }
+        Err(MissionError::Unreachable { message, .. }) => {
+            o.failure = Some(format!("no plan reaches the goals: binding constraint: {message}"));
+            o.text("status", "unreachable");
+            o.text("binding", message.clone());
+            o.number("goals_reached", 0.0);
+            o.number("precalc_s", precalc_s);
+            o.summary.push(format!("no plan: the goals are unreachable ({message})"));
+            return Ok(o);
+        }
+        Err(e) => return Err(e.into()),
+    };
+
+    let ctx = Context { job, world: &world, truth: truth_world, frame, start, goals: &goals, model: &model };
+    o.number("precalc_s", precalc_s);
+    if let Some(mb) = peak_memory_mb() {
+        o.number("peak_memory_mb", mb);
+    }
+    o.number("cells", world.cells() as f64);
+    match &run {
+        Run::Plan { plan, seconds } => {
+            o.number("initial_plan_s", *seconds);
+            plan_facts(&mut o, &ctx, plan);
+            o.text("status", "planned");
+            o.number("goals_reached", 0.0);
+            o.summary.push(format!(
+                "{} × {} cells; pre-calculation {precalc_s:.2} s, planning {seconds:.3} s ({} expansions)",
+                world.cols(),
+                world.rows(),
+                plan.expansions
+            ));
+        }
+        Run::Simulated(report) => {
+            let initial = &report.plans[0];
+            o.number("initial_plan_s", initial.wall_s);
+            plan_facts(&mut o, &ctx, &initial.plan);
+            sim_facts(&mut o, &ctx, report);
+            if let SimStatus::Unreachable { message, .. } = &report.status {
+                o.failure = Some(format!(
+                    "goal unreachable after {} actions: binding constraint: {message}",
+                    report.steps.len()
+                ));
+            }
+        }
+    }
+    if let Some(dir) = opts.out_dir {
+        o.files.extend(write_outputs(dir, &ctx, &run)?);
+    }
+    Ok(o)
+}
+
+enum Run {
+    Plan { plan: MissionPlan, seconds: f64 },
+    Simulated(SimReport),
+}
+
+struct Context<'a> {
+    job: &'a TempestJob,
+    world: &'a World,
+    truth: &'a World,
+    frame: Frame,
+    start: Start,
+    goals: &'a [u32],
+    model: &'a ActionModel,
+}
+
+impl Context<'_> {
+    fn local(&self, cell: u32) -> (f64, f64) {
+        self.frame.to_local(self.world.center(cell))
+    }
+    fn goal_name(&self, i: usize) -> &str {
+        &self.job.goals[i].name
+    }
+    fn enters(&self, cells: impl Iterator<Item = u32>, region: &crate::scenario::RegionSpec) -> bool {
+        cells.into_iter().any(|c| {
+            let (x, y) = self.local(c);
+            (x - region.x_m).hypot(y - region.y_m) <= region.radius_m
+        })
+    }
+    fn hours(&self, t_s: f64) -> f64 {
+        t_s / 3600.0
+    }
+}
+
+fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
+    let (drives, charges, hibernations) = plan.action_counts();
+    o.number("initial_plan_waypoints", plan.waypoints.len() as f64);
+    o.number("initial_plan_drives", drives as f64);
+    o.number("initial_plan_charges", charges as f64);
+    o.number("initial_plan_hibernations", hibernations as f64);
+    o.number("initial_plan_duration_h", plan.duration_s() / 3600.0);
+    o.number("initial_plan_min_battery_wh", plan.min_battery_wh());
+    o.number("initial_plan_expansions", plan.expansions as f64);
+    o.number("e_max_wh", plan.e_max_wh);
+    for r in &ctx.job.regions {
+        o.flag(&format!("initial_plan_enters_{}", r.name), ctx.enters(plan.waypoints.iter().map(|w| w.cell), r));
+    }
+    o.summary.push(format!(
+        "initial plan: {} waypoints ({drives} drives, {charges} charges, {hibernations} hibernations) over {:.1} h; \
+         lowest predicted battery {:.0} Wh; E_max {:.2} Wh",
+        plan.waypoints.len(),
+        plan.duration_s() / 3600.0,
+        plan.min_battery_wh(),
+        plan.e_max_wh
+    ));
+}
+
+fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
+    let status = match &r.status {
+        SimStatus::Completed => "completed",
+        SimStatus::Unreachable { .. } => "unreachable",
+        SimStatus::BatteryDepleted => "battery_depleted",
+        SimStatus::Stuck(_) => "stuck",
+        SimStatus::StepLimit => "step_limit",
+    };
+    o.text("status", status);
+    o.number("goals_reached", r.goals_reached.len() as f64);
+    let floor = ctx.model.rover().battery.capacity_wh * ctx.model.rover().battery.min_soc;
+    let epoch = ctx.world.epoch();
+    for &(g, t) in &r.goals_reached {
+        let name = ctx.goal_name(g);
+        o.number(&format!("goal_{name}_arrival_h"), ctx.hours(t));
+        let (_, lon) = ctx.world.lat_lon(ctx.goals[g]);
+        let at = epoch + Duration::from_seconds(t);
+        o.number(&format!("goal_{name}_arrival_ltst_h"), areo_ephemeris::SolarGeometry::at(at).ltst_hours(lon));
+        o.summary.push(format!(
+            "reached {name} at {} (after {:.1} h, LTST {:.2} h)",
+            format_utc(at),
+            ctx.hours(t),
+            areo_ephemeris::SolarGeometry::at(at).ltst_hours(lon)
+        ));
+    }
+    let count = |f: &dyn Fn(Action) -> bool| r.steps.iter().filter(|s| f(s.action)).map(|s| s.duration_s).sum::<f64>();
+    let drive_h = count(&|a| matches!(a, Action::Drive(_))) / 3600.0;
+    let charge_h = count(&|a| a == Action::Charge) / 3600.0;
+    let hibernate_h = count(&|a| a == Action::Hibernate) / 3600.0;
+    let replans: Vec<_> = r.plans.iter().filter(|p| p.kind == PlanKind::Replan).collect();
+    let route_changes = replans.iter().filter(|p| p.route_changed).count();
+    let night_drives =
+        r.steps.iter().filter(|s| matches!(s.action, Action::Drive(_)) && s.sun_elevation_deg <= 0.0).count();
+    let shadowed_drives = r
+        .steps
+        .iter()
+        .filter(|s| matches!(s.action, Action::Drive(_)) && !ctx.truth.lit(s.cell, &ctx.truth.sun(s.t_s)))
+        .count();
+    let drives = r.steps.iter().filter(|s| matches!(s.action, Action::Drive(_))).count();
+    let min_battery = r.steps.iter().map(|s| s.battery_wh).fold(r.start.energy_wh, f64::min);
+    o.number("actions", r.steps.len() as f64);
+    o.number("distance_m", r.distance_m());
+    o.number("energy_used_wh", r.energy_used_wh());
+    o.number("energy_gained_wh", r.energy_gained_wh());
+    o.number("final_battery_wh", r.final_battery_wh());
+    o.number("min_battery_wh", min_battery);
+    o.number("nights", r.nights() as f64);
+    o.number("drive_h", drive_h);
+    o.number("charge_h", charge_h);
+    o.number("hibernate_h", hibernate_h);
+    o.number("replans", replans.len() as f64);
+    o.number("route_changes", route_changes as f64);
+    o.number("refused_actions", r.steps.iter().filter(|s| s.refused.is_some()).count() as f64);
+    o.number("night_drives", night_drives as f64);
+    o.number("sunlit_drive_fraction", if drives > 0 { 1.0 - shadowed_drives as f64 / drives as f64 } else { 1.0 });
+    o.number("mission_h", ctx.hours(r.end_t_s()));
+    if let Some(m) = r.median_replan_s() {
+        o.number("median_replan_s", m);
+        let max = replans.iter().map(|p| p.wall_s).fold(0.0, f64::max);
+        o.number("max_replan_s", max);
+        let initial = r.plans[0].wall_s.max(1e-9);
+        o.number("median_replan_fraction", m / initial);
+    }
+    for reg in &ctx.job.regions {
+        let route = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
+        o.flag(&format!("route_enters_{}", reg.name), ctx.enters(route, reg));
+    }
+    o.summary.push(format!(
+        "{status}: {} of {} goals; {:.0} m driven in {drive_h:.1} h; charged {charge_h:.1} h, hibernated {hibernate_h:.1} h; \
+         {} night(s)",
+        r.goals_reached.len(),
+        ctx.goals.len(),
+        r.distance_m(),
+        r.nights()
+    ));
+    o.summary.push(format!(
+        "battery: used {:.0} Wh, gained {:.0} Wh, ends at {:.0} Wh above the floor ({:.0} Wh absolute), lowest {:.0} Wh",
+        r.energy_used_wh(),
+        r.energy_gained_wh(),
+        r.final_battery_wh(),
+        r.final_battery_wh() + floor,
+        min_battery
+    ));
+    o.summary.push(format!(
+        "{} re-plans ({route_changes} changed the route), median {:.2} ms, initial plan {:.1} ms",
+        replans.len(),
+        1e3 * r.median_replan_s().unwrap_or(0.0),
+        1e3 * r.plans[0].wall_s
+    ));
+    if let SimStatus::Unreachable { message, .. } = &r.status {
+        o.summary.push(format!("stopped: the next goal is unreachable ({message})"));
+    }
+}
+
+fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let (initial, report) = match run {
+        Run::Plan { plan, .. } => (plan, None),
+        Run::Simulated(r) => (&r.plans[0].plan, Some(r)),
+    };
+    let mut put = |name: &str, text: String| -> Result<()> {
+        let path = dir.join(name);
+        write_file(&path, text.as_bytes())?;
+        files.push(path);
+        Ok(())
+    };
+    put("plan.json", serde_json::to_string_pretty(initial).unwrap_or_default())?;
+    put("plan.csv", plan_csv(ctx, initial))?;
+    if let Some(r) = report {
+        put("simulation.json", serde_json::to_string(r).unwrap_or_default())?;
+        put("executed.csv", executed_csv(ctx, r))?;
+        put("replans.csv", replans_csv(ctx, r))?;
+    }
+    put("route.geojson", serde_json::to_string_pretty(&geojson(ctx, initial, report)).unwrap_or_default())?;
+    files.extend(plots(dir, ctx, initial, report)?);
+    Ok(files)
+}
+
+fn action_name(a: Option<Action>) -> &'static str {
+    a.map_or("arrive", Action::name)
+}
+
+fn plan_csv(ctx: &Context<'_>, plan: &MissionPlan) -> String {
+    let mut s = String::from(
+        "index,utc,t_s,ltst_h,col,row,x_m,y_m,lat_deg,lon_deg,action,required_wh,battery_wh,slope_deg,\
+         sun_elevation_deg,sun_above_ground_deg,lit,goal\n",
+    );
+    for (i, w) in plan.waypoints.iter().enumerate() {
+        let (x, y) = ctx.local(w.cell);
+        let goal = w.goal.map(|g| ctx.goal_name(g).to_string()).unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "{i},{},{:.1},{:.4},{},{},{x:.2},{y:.2},{:.7},{:.7},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{goal}",
+            w.utc,
+            w.t_s,
+            w.ltst_h,
+            w.col_row.0,
+            w.col_row.1,
+            w.lat_deg,
+            w.lon_deg,
+            action_name(w.action),
+            w.required_wh,
+            w.battery_wh,
+            w.slope_deg,
+            w.sun_elevation_deg,
+            w.sun_above_ground_deg,
+            u8::from(w.lit)
+        );
+    }
+    s
+}
+
+fn executed_csv(ctx: &Context<'_>, r: &SimReport) -> String {
+    let mut s = String::from(
+        "step,utc,t_s,col,row,x_m,y_m,action,duration_s,energy_wh,battery_wh,distance_m,sun_elevation_deg,refused\n",
+    );
+    for (i, st) in r.steps.iter().enumerate() {
+        let (c, rw) = ctx.world.col_row(st.cell);
+        let (x, y) = ctx.local(st.cell);
+        let refused = st.refused.map(|(a, b)| format!("{} ({})", a.name(), b.describe())).unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "{},{},{:.1},{c},{rw},{x:.2},{y:.2},{},{:.1},{:.3},{:.3},{:.3},{:.3},{refused}",
+            i + 1,
+            format_utc(ctx.world.epoch() + Duration::from_seconds(st.t_s)),
+            st.t_s,
+            st.action.name(),
+            st.duration_s,
+            st.energy_wh,
+            st.battery_wh,
+            st.distance_m,
+            st.sun_elevation_deg
+        );
+    }
+    s
+}
+
+fn replans_csv(ctx: &Context<'_>, r: &SimReport) -> String {
+    let mut s = String::from(
+        "step,kind,utc,t_s,wall_ms,expansions,changed_cells,route_changed,waypoints,cost,duration_h,min_battery_wh\n",
+    );
+    for p in &r.plans {
+        let _ = writeln!(
+            s,
+            "{},{},{},{:.1},{:.3},{},{},{},{},{:.4},{:.3},{:.2}",
+            p.step,
+            if p.kind == PlanKind::Initial { "initial" } else { "replan" },
+            format_utc(ctx.world.epoch() + Duration::from_seconds(p.t_s)),
+            p.t_s,
+            1e3 * p.wall_s,
+            p.expansions,
+            p.changed_cells,
+            u8::from(p.route_changed),
+            p.plan.waypoints.len(),
+            p.plan.cost,
+            p.plan.duration_s() / 3600.0,
+            p.plan.min_battery_wh()
+        );
+    }
+    s
+}
+
+/// Longitude in −180..180 (GeoJSON's range).
+fn lon180(lon: f64) -> f64 {
+    let l = lon.rem_euclid(360.0);
+    if l > 180.0 { l - 360.0 } else { l }
+}
+
+fn geojson(ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> serde_json::Value {
+    let coord = |cell: u32| {
+        let (lat, lon) = ctx.world.lat_lon(cell);
+        json!([lon180(lon), lat])
+    };
+    let mut features = Vec::new();
+    let line = |name: &str, cells: Vec<u32>| {
+        json!({
+            "type": "Feature",
+            "geometry": {"type": "LineString", "coordinates": cells.iter().map(|&c| coord(c)).collect::<Vec<_>>()},
+            "properties": {"name": name},
+        })
+    };
+    features.push(line("initial plan", initial.waypoints.iter().map(|w| w.cell).collect()));
+    match report {
+        None => {
+            for (i, w) in initial.waypoints.iter().enumerate() {
+                features.push(json!({
+                    "type": "Feature",
+                    "geometry": {"type": "Point", "coordinates": coord(w.cell)},
+                    "properties": {
+                        "kind": "waypoint", "index": i, "utc": w.utc, "t_h": w.t_s / 3600.0,
+                        "action": action_name(w.action), "required_wh": w.required_wh, "battery_wh": w.battery_wh,
+                    },
+                }));
+            }
+        }
+        Some(r) => {
+            let mut cells = vec![r.start.cell];
+            cells.extend(r.steps.iter().map(|s| s.to));
+            features.push(line("executed route", cells));
+            for (i, s) in r.steps.iter().enumerate() {
+                features.push(json!({
+                    "type": "Feature",
+                    "geometry": {"type": "Point", "coordinates": coord(s.cell)},
+                    "properties": {
+                        "kind": "executed", "step": i + 1,
+                        "utc": format_utc(ctx.world.epoch() + Duration::from_seconds(s.t_s)),
+                        "t_h": s.t_s / 3600.0, "action": s.action.name(), "energy_wh": s.energy_wh,
+                        "battery_wh": s.battery_wh,
+                    },
+                }));
+            }
+        }
+    }
+    features.push(json!({
+        "type": "Feature",
+        "geometry": {"type": "Point", "coordinates": coord(ctx.start.cell)},
+        "properties": {"kind": "start", "name": "start"},
+    }));
+    for (i, &g) in ctx.goals.iter().enumerate() {
+        features.push(json!({
+            "type": "Feature",
+            "geometry": {"type": "Point", "coordinates": coord(g)},
+            "properties": {"kind": "goal", "name": ctx.goal_name(i), "order": i},
+        }));
+    }
+    json!({"type": "FeatureCollection", "features": features})
+}
+
+/// Night intervals (Sun below the horizontal) over [0, end_s], hours.
+fn nights(world: &World, end_s: f64) -> Vec<(f64, f64)> {
+    let step = 300.0;
+    let mut out = Vec::new();
+    let mut open: Option<f64> = None;
+    let mut t = 0.0;
+    while t <= end_s + step {
+        let dark = world.sun(t).elevation_deg <= 0.0;
+        match (dark, open) {
+            (true, None) => open = Some(t),
+            (false, Some(a)) => {
+                out.push((a / 3600.0, t / 3600.0));
+                open = None;
+            }
+            _ => {}
+        }
+        t += step;
+    }
+    if let Some(a) = open {
+        out.push((a / 3600.0, (end_s + step) / 3600.0));
+    }
+    out
+}
+
+fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let world = ctx.truth;
+    let dem = world.dem();
+    // (a) Routes over the hillshade with shadows at the chosen time.
+    let t_shadow = match &ctx.job.shadow_utc {
+        Some(s) => (parse_utc(s)? - world.epoch()).to_seconds(),
+        None => 0.0,
+    };
+    let sun = world.sun(t_shadow.clamp(0.0, world.span_s()));
+    let shadowed: Vec<bool> = (0..world.cells() as u32).map(|c| !world.lit(c, &sun)).collect();
+    let slope = areo_terrain::slope::slope_aspect(dem);
+    let background =
+        crate::render::hillshade_rgb(dem, &slope, Some(&shadowed), sun.azimuth_deg, sun.elevation_deg.max(5.0));
+    let to_xy = |cells: &mut dyn Iterator<Item = u32>| cells.map(|c| ctx.local(c)).collect::<Vec<_>>();
+    let mut series = vec![Series {
+        label: "initial plan".into(),
+        points: to_xy(&mut initial.waypoints.iter().map(|w| w.cell)),
+        rgb: (30, 90, 220),
+        width: 2,
+    }];
+    if let Some(r) = report {
+        // Significant re-plans: those that changed the route, at most six, spread out.
+        let changed: Vec<_> = r.plans.iter().filter(|p| p.kind == PlanKind::Replan && p.route_changed).collect();
+        let pick = changed.len().div_ceil(6).max(1);
+        for p in changed.iter().step_by(pick) {
+            series.push(Series {
+                label: format!("re-plan after action {}", p.step),
+                points: to_xy(&mut p.plan.waypoints.iter().map(|w| w.cell)),
+                rgb: (240, 150, 30),
+                width: 1,
+            });
+        }
+        let mut cells = vec![r.start.cell];
+        cells.extend(r.steps.iter().map(|s| s.to));
+        series.push(Series {
+            label: "executed route".into(),
+            points: to_xy(&mut cells.into_iter()),
+            rgb: (220, 30, 40),
+            width: 3,
+        });
+    }
+    let mut markers = vec![Marker { label: "start".into(), at: ctx.local(ctx.start.cell), rgb: (40, 200, 60) }];
+    for (i, &g) in ctx.goals.iter().enumerate() {
+        markers.push(Marker { label: ctx.goal_name(i).to_string(), at: ctx.local(g), rgb: (250, 220, 40) });
+    }
+    let route = RoutePlot {
+        title: format!(
+            "{}: routes over the terrain (shadows at {})",
+            ctx.job.goals.last().map_or("", |g| g.name.as_str()),
+            format_utc(world.epoch() + Duration::from_seconds(t_shadow))
+        ),
+        background,
+        cols: dem.cols(),
+        rows: dem.rows(),
+        extent: (dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy()),
+        series,
+        markers,
+    };
+    files.extend(crate::plots::route(dir, "route", &route)?);
+
+    // (b) Distance to the final goal against time.
+    let last = *ctx.goals.last().unwrap_or(&ctx.start.cell);
+    let goal_xy = ctx.local(last);
+    let dist = |cell: u32| {
+        let (x, y) = ctx.local(cell);
+        (x - goal_xy.0).hypot(y - goal_xy.1)
+    };
+    let end_s =
+        report.map_or(initial.waypoints.last().map_or(0.0, |w| w.t_s), |r| r.end_t_s().max(initial.duration_s()));
+    let mut dseries = vec![Series {
+        label: "initial plan".into(),
+        points: initial.waypoints.iter().map(|w| (w.t_s / 3600.0, dist(w.cell))).collect(),
+        rgb: (30, 90, 220),
+        width: 2,
+    }];
+    if let Some(r) = report {
+        let mut pts = vec![(r.start.t_min / 3600.0, dist(r.start.cell))];
+        for s in &r.steps {
+            pts.push(((s.t_s + s.duration_s) / 3600.0, dist(s.to)));
+        }
+        dseries.push(Series { label: "executed".into(), points: pts, rgb: (220, 30, 40), width: 2 });
+    }
+    let d0 = dist(ctx.start.cell);
+    let v = ctx.model.top_speed_m_s();
+    let t_zero = ctx.start.t_min + d0 / v;
+    dseries.push(Series {
+        label: "straight line at top speed".into(),
+        points: vec![(ctx.start.t_min / 3600.0, d0), (t_zero / 3600.0, 0.0)],
+        rgb: (90, 90, 90),
+        width: 1,
+    });
+    let night = nights(world, end_s);
+    files.extend(crate::plots::time(
+        dir,
+        "distance",
+        &TimePlot {
+            title: "Straight-line distance to the final goal".into(),
+            y_label: "distance, m".into(),
+            series: dseries,
+            nights: night.clone(),
+            x_range: (0.0, end_s / 3600.0),
+        },
+    )?);
+
+    // (c) Required energy and battery charge against time.
+    let mut eseries = vec![
+        Series {
+            label: "required energy E (initial plan)".into(),
+            points: initial.waypoints.iter().map(|w| (w.t_s / 3600.0, w.required_wh)).collect(),
+            rgb: (120, 40, 180),
+            width: 2,
+        },
+        Series {
+            label: "predicted charge above floor (initial plan)".into(),
+            points: initial.waypoints.iter().map(|w| (w.t_s / 3600.0, w.battery_wh - floor_wh(ctx))).collect(),
+            rgb: (30, 90, 220),
+            width: 2,
+        },
+    ];
+    if let Some(r) = report
+        && let Some(first) = r.plans.iter().find(|p| p.kind == PlanKind::Replan && p.route_changed)
+    {
+        eseries.push(Series {
+            label: format!("required energy E (first route change, action {})", first.step),
+            points: first.plan.waypoints.iter().map(|w| (w.t_s / 3600.0, w.required_wh)).collect(),
+            rgb: (40, 170, 200),
+            width: 2,
+        });
+    }
+    if let Some(r) = report {
+        let mut pts = vec![(r.start.t_min / 3600.0, r.start.energy_wh)];
+        for s in &r.steps {
+            pts.push(((s.t_s + s.duration_s) / 3600.0, s.battery_wh));
+        }
+        eseries.push(Series { label: "executed charge above floor".into(), points: pts, rgb: (220, 30, 40), width: 2 });
+    }
+    files.extend(crate::plots::time(
+        dir,
+        "energy",
+        &TimePlot {
+            title: "Battery: energy required to finish and charge".into(),
+            y_label: "Wh above the battery floor".into(),
+            series: eseries,
+            nights: night,
+            x_range: (0.0, end_s / 3600.0),
+        },
+    )?);
+    Ok(files)
+}
+
+fn floor_wh(ctx: &Context<'_>) -> f64 {
+    let b = &ctx.model.rover().battery;
+    b.capacity_wh * b.min_soc
+}
