@@ -173,11 +173,19 @@ impl Domain for TempestDomain<'_> {
             stay => (state, self.model.stay(self.world, stay, state, label.t - self.model.stay_duration_s(stay)).ok()?),
         };
         let e = (label.e + effect.energy_wh).max(0.0);
-        Some(Step {
-            state: from,
-            label: Label { t: label.t - effect.duration_s, e },
-            cost: self.step_cost(effect.energy_wh, effect.duration_s),
-        })
+        let t = label.t - effect.duration_s;
+        let mut cost = self.step_cost(effect.energy_wh, effect.duration_s);
+        if !matches!(action, Action::Drive(_)) {
+            // Among plans of equal cost, wait as late as possible: a rover that re-plans
+            // after every action and always finds the wait first would never set off.
+            // The bias is a millionth of a step and shrinks to zero over the horizon.
+            let scale = match self.objective {
+                Objective::Energy => self.e_max,
+                Objective::Duration { .. } => effect.duration_s,
+            };
+            cost += 1e-6 * scale * (1.0 - t / self.world.span_s()).clamp(0.0, 1.0);
+        }
+        Some(Step { state: from, label: Label { t, e }, cost })
     }
 
     fn successors(&self, state: u32, out: &mut Vec<u32>) {

@@ -73,9 +73,11 @@ fn execution_noise_is_seeded_and_slows_the_drives() {
     let drive_time = |r: &areo_mission::SimReport| -> f64 {
         r.steps.iter().filter(|s| matches!(s.action, Action::Drive(_))).map(|s| s.duration_s).sum()
     };
-    // Same cells driven (the map is true), each drive 0–30 % slower.
-    assert_eq!(a.distance_m(), calm.distance_m());
-    let ratio = drive_time(&a) / drive_time(&calm);
+    // About the same route (the map is true; a late rover may trade a wait for a
+    // longer drive to meet its goal instant), each drive 0–30 % slower.
+    assert!((a.distance_m() / calm.distance_m() - 1.0).abs() < 0.05, "{} vs {}", a.distance_m(), calm.distance_m());
+    let per_metre = |r: &areo_mission::SimReport| drive_time(r) / r.distance_m();
+    let ratio = per_metre(&a) / per_metre(&calm);
     assert!(ratio > 1.05 && ratio < 1.3, "{ratio}");
     // Without noise the map is the truth: the rover drives a route as short as the
     // first plan's (flat ground has many equal routes; re-plans may pick another).
