@@ -346,7 +346,7 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
     let drive_h = count(&|a| matches!(a, Action::Drive(_))) / 3600.0;
     let charge_h = count(&|a| a == Action::Charge) / 3600.0;
     let hibernate_h = count(&|a| a == Action::Hibernate) / 3600.0;
-    let replans: Vec<_> = r.plans.iter().filter(|p| p.kind == PlanKind::Replan).collect();
+    let replans: Vec<_> = r.plans.iter().filter(|p| p.kind != PlanKind::Initial).collect();
     let route_changes = replans.iter().filter(|p| p.route_changed).count();
     let night_drives =
         r.steps.iter().filter(|s| matches!(s.action, Action::Drive(_)) && s.sun_elevation_deg <= 0.0).count();
@@ -369,6 +369,7 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
     o.number("hibernate_h", hibernate_h);
     o.number("replans", replans.len() as f64);
     o.number("route_changes", route_changes as f64);
+    o.number("restarts", r.plans.iter().filter(|p| p.kind == PlanKind::Restart).count() as f64);
     o.number("refused_actions", r.steps.iter().filter(|s| s.refused.is_some()).count() as f64);
     o.number("night_drives", night_drives as f64);
     o.number("sunlit_drive_fraction", if drives > 0 { 1.0 - shadowed_drives as f64 / drives as f64 } else { 1.0 });
@@ -503,7 +504,11 @@ fn replans_csv(ctx: &Context<'_>, r: &SimReport) -> String {
             s,
             "{},{},{},{:.1},{:.3},{},{},{},{},{:.4},{:.3},{:.2}",
             p.step,
-            if p.kind == PlanKind::Initial { "initial" } else { "replan" },
+            match p.kind {
+                PlanKind::Initial => "initial",
+                PlanKind::Replan => "replan",
+                PlanKind::Restart => "restart",
+            },
             format_utc(ctx.world.epoch() + Duration::from_seconds(p.t_s)),
             p.t_s,
             1e3 * p.wall_s,
@@ -632,7 +637,7 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
     }];
     if let Some(r) = report {
         // Significant re-plans: those that changed the route, at most six, spread out.
-        let changed: Vec<_> = r.plans.iter().filter(|p| p.kind == PlanKind::Replan && p.route_changed).collect();
+        let changed: Vec<_> = r.plans.iter().filter(|p| p.kind != PlanKind::Initial && p.route_changed).collect();
         let pick = changed.len().div_ceil(6).max(1);
         for p in changed.iter().step_by(pick) {
             series.push(Series {
@@ -730,7 +735,7 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
         },
     ];
     if let Some(r) = report
-        && let Some(first) = r.plans.iter().find(|p| p.kind == PlanKind::Replan && p.route_changed)
+        && let Some(first) = r.plans.iter().find(|p| p.kind != PlanKind::Initial && p.route_changed)
     {
         eseries.push(Series {
             label: format!("required energy E (first route change, action {})", first.step),

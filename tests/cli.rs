@@ -286,3 +286,103 @@ fn rover_check_rejects_bad_terrain_and_bad_parameters_with_exit_2() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/params.ron"));
 }
+
+fn csv_header(path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let rows: Vec<&str> = text.lines().collect();
+    assert!(rows.len() > 1, "{} has rows", path.display());
+    let header: Vec<String> = rows[0].split(',').map(str::to_string).collect();
+    for row in &rows[1..] {
+        assert_eq!(row.split(',').count(), header.len(), "{}: every row has every column", path.display());
+    }
+    header
+}
+
+#[test]
+fn tempest_run_writes_every_output_and_each_parses() {
+    let scenario = root().join("tests/tempest/small.ron");
+    let out_dir = tmp("tempest");
+    let out = areo(&["run", scenario.to_str().unwrap(), "--out", out_dir.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("completed: 1 of 1 goals"), "{stdout}");
+    assert!(stdout.contains("re-plans"), "{stdout}");
+    let dir = out_dir.join("small");
+
+    let plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("plan.json")).unwrap()).unwrap();
+    let waypoints = plan["waypoints"].as_array().unwrap();
+    assert!(waypoints.len() > 30, "a 1.85 km plan on 50 m cells");
+    let header = csv_header(&dir.join("plan.csv"));
+    for col in ["utc", "x_m", "y_m", "lat_deg", "lon_deg", "action", "required_wh", "battery_wh", "lit", "goal"] {
+        assert!(header.iter().any(|h| h == col), "plan.csv has {col}");
+    }
+    let header = csv_header(&dir.join("replans.csv"));
+    for col in ["step", "kind", "wall_ms", "expansions", "changed_cells", "route_changed"] {
+        assert!(header.iter().any(|h| h == col), "replans.csv has {col}");
+    }
+    csv_header(&dir.join("executed.csv"));
+
+    // GeoJSON: a FeatureCollection with the routes as LineStrings of [lon, lat] near
+    // the site, and Points for waypoints, start and goal.
+    let geo: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("route.geojson")).unwrap()).unwrap();
+    assert_eq!(geo["type"], "FeatureCollection");
+    let features = geo["features"].as_array().unwrap();
+    let kinds = |t: &str| features.iter().filter(|f| f["geometry"]["type"] == t).count();
+    assert_eq!(kinds("LineString"), 2, "initial plan and executed route");
+    assert!(kinds("Point") > 30);
+    for f in features {
+        assert_eq!(f["type"], "Feature");
+        let coords = &f["geometry"]["coordinates"];
+        let first = if f["geometry"]["type"] == "Point" { coords.clone() } else { coords[0].clone() };
+        let (lon, lat) = (first[0].as_f64().unwrap(), first[1].as_f64().unwrap());
+        assert!((lat + 4.59).abs() < 0.1 && (lon - 137.44).abs() < 0.1, "({lon}, {lat}) near the site");
+    }
+    assert!(features.iter().any(|f| f["properties"]["kind"] == "goal" && f["properties"]["name"] == "east"));
+
+    // Plots: well-formed SVG, and PNG with the right signature and size.
+    for name in ["route", "distance", "energy"] {
+        let svg = std::fs::read_to_string(dir.join(format!("{name}.svg"))).unwrap();
+        let doc = roxmltree::Document::parse(&svg).unwrap_or_else(|e| panic!("{name}.svg: {e}"));
+        assert_eq!(doc.root_element().tag_name().name(), "svg");
+        assert!(doc.descendants().any(|n| n.has_tag_name("text")), "{name}.svg has labels");
+        let png = std::fs::read(dir.join(format!("{name}.png"))).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n", "{name}.png signature");
+        let width = u32::from_be_bytes([png[16], png[17], png[18], png[19]]);
+        assert_eq!(width, 900, "{name}.png width");
+    }
+    let route_svg = std::fs::read_to_string(dir.join("route.svg")).unwrap();
+    assert!(route_svg.contains("data:image/png;base64,"), "the hillshade is embedded");
+    let facts: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("facts.json")).unwrap()).unwrap();
+    assert_eq!(facts["status"], "completed");
+    assert_eq!(facts["route_enters_hill"], false, "the rover went round the hill it sensed");
+}
+
+#[test]
+fn an_unreachable_goal_exits_3_with_the_binding_constraint_and_keeps_its_outputs() {
+    let scenario = root().join("tests/tempest/unreachable.ron");
+    let out_dir = tmp("tempest-unreachable");
+    let facts = out_dir.join("unreachable/facts.json");
+    let _ = std::fs::remove_file(&facts);
+    let out = areo(&["run", scenario.to_str().unwrap(), "--out", out_dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(3));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("slopes above the rover's maximum"), "{err}");
+    let facts: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&facts).unwrap()).unwrap();
+    assert_eq!(facts["status"], "unreachable");
+}
+
+#[test]
+fn a_goal_off_the_map_names_the_field() {
+    let text = std::fs::read_to_string(root().join("tests/tempest/unreachable.ron"))
+        .unwrap()
+        .replace("x_m: 1225, y_m: 525", "x_m: 9000, y_m: 525");
+    let path = tmp("tempest-bad").join("off_map.ron");
+    std::fs::write(&path, text).unwrap();
+    let out = areo(&["run", path.to_str().unwrap(), "--out", tmp("tempest-bad").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("job.goals[0]") && err.contains("off the map"), "{err}");
+}

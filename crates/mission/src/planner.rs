@@ -47,6 +47,12 @@ pub struct PlannerConfig {
     pub max_wait_s: f64,
     /// Least battery energy on arrival at the last goal, Wh above the floor.
     pub goal_energy_wh: f64,
+    /// Energy class width used when a search with collapsed energy finds no plan, Wh
+    /// (0: never refine). Collapsing E (one label per time class) can discard the only
+    /// labels that keep the battery feasible, typically over a night: the planner then
+    /// searches again keeping one label per energy class of this width, and keeps that
+    /// resolution for the rest of the mission.
+    pub refine_energy_wh: f64,
 }
 
 impl Default for PlannerConfig {
@@ -60,6 +66,7 @@ impl Default for PlannerConfig {
             detour_factor: 1.5,
             max_wait_s: 88_775.0,
             goal_energy_wh: 0.0,
+            refine_energy_wh: 100.0,
         }
     }
 }
@@ -89,6 +96,9 @@ impl PlannerConfig {
         }
         if !(self.max_wait_s >= 0.0) {
             return bad("max_wait_s", format!("{}: must be ≥ 0", self.max_wait_s));
+        }
+        if !(self.refine_energy_wh >= 0.0) {
+            return bad("refine_energy_wh", format!("{}: must be ≥ 0", self.refine_energy_wh));
         }
         if let Objective::Duration { max_duration_s } = self.objective
             && !(max_duration_s > 0.0)
@@ -200,10 +210,23 @@ impl<'a> Mission<'a> {
         mission.widen_start();
         mission.build_segments();
         mission.solve_from(mission.segments.len() - 1, &[], false);
-        match mission.assemble() {
+        match mission.assemble().or_else(|| mission.refine()) {
             Some(plan) => Ok((mission, plan)),
             None => Err(mission.explain_unreachable()),
         }
+    }
+
+    /// With energy collapsed and no plan found: search again with energy classes
+    /// ([`PlannerConfig::refine_energy_wh`]), fresh graphs, and keep that resolution.
+    fn refine(&mut self) -> Option<MissionPlan> {
+        let fine = self.config.refine_energy_wh;
+        if !(fine > 0.0 && self.config.resolution.energy_wh > fine) {
+            return None;
+        }
+        self.config.resolution.energy_wh = fine;
+        self.build_segments();
+        self.solve_from(self.segments.len() - 1, &[], false);
+        self.assemble()
     }
 
     /// The goal instants at the last goal: even instants over its window (on the time
@@ -233,13 +256,20 @@ impl<'a> Mission<'a> {
     }
 
     /// A path's time is fixed by its goal instant and its actions: a start window
-    /// narrower than the spacing of the goal instants could miss every one of them, so
-    /// it is widened to that spacing (the plan may then start up to one spacing late).
+    /// narrower than the gaps a path can bridge could miss every goal instant, so it is
+    /// widened. Waits come in whole Hibernate periods, so a window as long as one
+    /// Hibernate (or as the spacing of the goal instants, if shorter), and no narrower
+    /// than a time class, lets some number of waits meet an instant; the rover idles from the window's opening to the
+    /// plan's start, and that idle's energy is counted (see `TempestDomain::is_start`).
     fn widen_start(&mut self) {
         let windows = self.windows();
         let (lo, hi) = windows[windows.len() - 1];
         let m = self.config.goal_times.max(2) - 1;
-        let spacing = (hi - lo) / m as f64;
+        // Resolution pruning keeps one label per time class, so starts can shift by up
+        // to one class width: the window is at least that wide too.
+        let spacing = ((hi - lo) / m as f64)
+            .min(self.model.stay_duration_s(Action::Hibernate))
+            .max(2.0 * self.config.resolution.time_s);
         if self.start.t_max - self.start.t_min < spacing {
             self.start.t_max = self.start.t_min + spacing;
         }
@@ -483,7 +513,7 @@ impl<'a> Mission<'a> {
     pub fn replan(&mut self, changed: &[u32]) -> Result<MissionPlan> {
         let last = self.segments.len() - 1;
         self.solve_from(last, changed, false);
-        self.assemble().ok_or_else(|| self.explain_unreachable())
+        self.assemble().or_else(|| self.refine()).ok_or_else(|| self.explain_unreachable())
     }
 
     /// Plan extension and re-planning in one call, as a rover does after each action:
@@ -500,7 +530,7 @@ impl<'a> Mission<'a> {
         seg.intervals = vec![(start.t_min, start.t_max)];
         let last = if changed.is_empty() { 0 } else { self.segments.len() - 1 };
         self.solve_from(last, changed, true);
-        self.assemble().ok_or_else(|| self.explain_unreachable())
+        self.assemble().or_else(|| self.refine()).ok_or_else(|| self.explain_unreachable())
     }
 
     /// The rover has reached the first remaining goal: its segment is dropped and the

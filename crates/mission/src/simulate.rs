@@ -88,6 +88,9 @@ pub enum PlanKind {
     Initial,
     /// After an action: plan extension, with re-planning when sensing changed the map.
     Replan,
+    /// After an action, when re-planning on the kept graphs found nothing: a fresh plan
+    /// from the rover's state to the remaining goals.
+    Restart,
 }
 
 /// One plan the simulation made, with its statistics.
@@ -208,7 +211,7 @@ impl SimReport {
 
     /// Median wall-clock time of the re-plans (not the initial plan), s.
     pub fn median_replan_s(&self) -> Option<f64> {
-        let mut t: Vec<f64> = self.plans.iter().filter(|p| p.kind == PlanKind::Replan).map(|p| p.wall_s).collect();
+        let mut t: Vec<f64> = self.plans.iter().filter(|p| p.kind != PlanKind::Initial).map(|p| p.wall_s).collect();
         if t.is_empty() {
             return None;
         }
@@ -264,6 +267,7 @@ pub fn simulate(
     };
     let sensed = believed.sense(truth, &disc(believed, start.cell, sim.sense_radius_cells))?;
     let clock = Instant::now();
+    let config = planner.clone();
     let (mut mission, mut plan) = Mission::plan(believed, model, planner, start, goals)?;
     report.plans.push(PlanRecord {
         step: 0,
@@ -364,12 +368,24 @@ pub fn simulate(
         let changed = believed.sense(truth, &disc(believed, cell, sim.sense_radius_cells))?;
         let clock = Instant::now();
         let here = Start { cell, t_min: t, t_max: t, energy_wh: battery };
-        match mission.advance(here, &changed) {
-            Ok(p) => {
+        // Re-planning keeps the mission's goal instants and graphs; when that finds
+        // nothing (their discretisation can miss a narrow way through), plan afresh from
+        // here, as an executive would, before declaring the goals unreachable.
+        let outcome = match mission.advance(here, &changed) {
+            Ok(p) => Ok((p, PlanKind::Replan)),
+            Err(Error::Unreachable { .. }) => Mission::plan(believed, model, config.clone(), here, &goals[next_goal..])
+                .map(|(m, p)| {
+                    mission = m;
+                    (p, PlanKind::Restart)
+                }),
+            Err(e) => Err(e),
+        };
+        match outcome {
+            Ok((p, kind)) => {
                 let route_changed = !same_route(&plan, &p, cell);
                 report.plans.push(PlanRecord {
                     step,
-                    kind: PlanKind::Replan,
+                    kind,
                     t_s: t,
                     wall_s: clock.elapsed().as_secs_f64(),
                     expansions: p.expansions,

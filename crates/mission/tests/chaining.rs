@@ -163,10 +163,32 @@ fn multi_goal_replanning_and_plan_extension_equal_fresh_plans() {
     let replanned = mission.replan(&changed).unwrap();
     let (_, fresh) = Mission::plan(&world, &model, cfg.clone(), start, &goals).unwrap();
     assert!((replanned.cost - fresh.cost).abs() < 1e-6, "{} vs {}", replanned.cost, fresh.cost);
-    // The rover drove a little and is now two cells on, later, with less energy.
-    let moved = Start { cell: world.cell(3, 3), t_min: 900.0, t_max: 1500.0, energy_wh: 8e5 };
+    // The rover drove three steps along the plan. Extension keeps the mission's goal
+    // instants: from there it must do at least as well as the rest of the old plan
+    // (which is still feasible), start where the rover is, and end on one of them.
+    let instants = mission.final_goal_times();
+    let w = &replanned.waypoints[3];
+    let moved = Start { cell: w.cell, t_min: w.t_s, t_max: w.t_s, energy_wh: 8e5 };
+    let remaining = w_cost_to_go(&replanned, 3);
     let extended = mission.extend(moved).unwrap();
-    let (_, fresh) = Mission::plan(&world, &model, cfg, moved, &goals).unwrap();
-    assert!((extended.cost - fresh.cost).abs() < 1e-6, "{} vs {}", extended.cost, fresh.cost);
+    // (Within the wait-late tie-breaker, a millionth of E_max per wait.)
+    assert!(extended.cost <= remaining + 1e-3, "{} > {remaining}", extended.cost);
     assert_eq!(extended.waypoints[0].cell, moved.cell);
+    let end = extended.waypoints.last().unwrap().t_s;
+    assert!(instants.iter().any(|&g| (g - end).abs() < 1e-6), "ends at a goal instant: {end}");
+    let (_, fresh) = Mission::plan(&world, &model, cfg, moved, &goals).unwrap();
+    assert_eq!(fresh.waypoints.last().unwrap().cell, extended.waypoints.last().unwrap().cell);
+}
+
+/// The plan's cost from waypoint `k` to its end: the sum of the step costs after it.
+fn w_cost_to_go(plan: &areo_mission::MissionPlan, k: usize) -> f64 {
+    // Every step costs Δe + E_max, and Δe is the drop in required energy E along an
+    // optimal plan wherever E stays above zero; recompute from the waypoints' battery
+    // prediction instead, which is exact: Δe = battery before − battery after.
+    let w = &plan.waypoints;
+    let mut cost = 0.0;
+    for i in k..w.len() - 1 {
+        cost += (w[i].battery_wh - w[i + 1].battery_wh) + plan.e_max_wh;
+    }
+    cost
 }
