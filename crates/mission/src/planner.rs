@@ -47,11 +47,11 @@ pub struct PlannerConfig {
     pub max_wait_s: f64,
     /// Least battery energy on arrival at the last goal, Wh above the floor.
     pub goal_energy_wh: f64,
-    /// Energy class width used when a search with collapsed energy finds no plan, Wh
-    /// (0: never refine). Collapsing E (one label per time class) can discard the only
-    /// labels that keep the battery feasible, typically over a night: the planner then
-    /// searches again keeping one label per energy class of this width, and keeps that
-    /// resolution for the rest of the mission.
+    /// Finest energy class width tried when a search finds no plan, Wh (0: never
+    /// refine). Collapsing E (one label per time class) can discard the only labels
+    /// that keep the battery feasible, typically over a night: the planner then searches
+    /// again keeping one label per energy class, 4× this width first, then this width,
+    /// and keeps the resolution that works for the rest of the mission.
     pub refine_energy_wh: f64,
 }
 
@@ -66,7 +66,7 @@ impl Default for PlannerConfig {
             detour_factor: 1.5,
             max_wait_s: 88_775.0,
             goal_energy_wh: 0.0,
-            refine_energy_wh: 100.0,
+            refine_energy_wh: 25.0,
         }
     }
 }
@@ -216,17 +216,26 @@ impl<'a> Mission<'a> {
         }
     }
 
-    /// With energy collapsed and no plan found: search again with energy classes
-    /// ([`PlannerConfig::refine_energy_wh`]), fresh graphs, and keep that resolution.
+    /// With no plan found at the current energy resolution: search again with finer
+    /// energy classes — four times [`PlannerConfig::refine_energy_wh`], then that width —
+    /// on fresh graphs, and keep the resolution that works for the rest of the mission.
     fn refine(&mut self) -> Option<MissionPlan> {
         let fine = self.config.refine_energy_wh;
-        if !(fine > 0.0 && self.config.resolution.energy_wh > fine) {
+        if !(fine > 0.0) {
             return None;
         }
-        self.config.resolution.energy_wh = fine;
-        self.build_segments();
-        self.solve_from(self.segments.len() - 1, &[], false);
-        self.assemble()
+        for width in [4.0 * fine, fine] {
+            if self.config.resolution.energy_wh <= width {
+                continue;
+            }
+            self.config.resolution.energy_wh = width;
+            self.build_segments();
+            self.solve_from(self.segments.len() - 1, &[], false);
+            if let Some(plan) = self.assemble() {
+                return Some(plan);
+            }
+        }
+        None
     }
 
     /// The goal instants at the last goal: even instants over its window (on the time
