@@ -41,7 +41,8 @@ pub struct Marker {
 }
 
 /// The route plot's data: a raster background (RGB, `cols` × `rows`, row 0 north)
-/// spanning `extent` = (width, height) m, the routes and the markers.
+/// spanning `extent` = (width, height) m east and north of `origin`, the routes and
+/// the markers (in the same metres).
 #[derive(Debug, Clone)]
 pub struct RoutePlot {
     /// Title.
@@ -52,7 +53,9 @@ pub struct RoutePlot {
     pub cols: usize,
     /// Background size, cells.
     pub rows: usize,
-    /// Map width and height, m.
+    /// South-west corner of the background, m.
+    pub origin: (f64, f64),
+    /// Background width and height, m.
     pub extent: (f64, f64),
     /// Routes, drawn in order.
     pub series: Vec<Series>,
@@ -101,12 +104,13 @@ fn draw_route<DB: DrawingBackend>(
 ) -> std::result::Result<PixelRect, String> {
     root.fill(&WHITE).map_err(draw_err)?;
     let (w, h) = p.extent;
+    let (x0, y0) = p.origin;
     let mut chart = ChartBuilder::on(root)
         .caption(&p.title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(60)
-        .build_cartesian_2d(0.0..w, 0.0..h)
+        .build_cartesian_2d(x0..x0 + w, y0..y0 + h)
         .map_err(draw_err)?;
     let (xr, yr) = chart.plotting_area().get_pixel_range();
     let rect = (xr.start, yr.start, xr.end - xr.start, yr.end - yr.start);

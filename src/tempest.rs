@@ -660,16 +660,37 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
     for (i, &g) in ctx.goals.iter().enumerate() {
         markers.push(Marker { label: ctx.goal_name(i).to_string(), at: ctx.local(g), rgb: (250, 220, 40) });
     }
+    // Frame the routes: their bounding box with a margin, on whole cells.
+    let (dx, dy) = (dem.dx(), dem.dy());
+    let (mut lo, mut hi) = ((f64::INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::NEG_INFINITY));
+    for p in series.iter().flat_map(|s| s.points.iter()).chain(markers.iter().map(|m| &m.at)) {
+        lo = (lo.0.min(p.0), lo.1.min(p.1));
+        hi = (hi.0.max(p.0), hi.1.max(p.1));
+    }
+    let margin = (0.15 * (hi.0 - lo.0).max(hi.1 - lo.1)).max(5.0 * dx.max(dy));
+    let col0 = (((lo.0 - margin) / dx).floor().max(0.0) as usize).min(dem.cols() - 1);
+    let col1 = (((hi.0 + margin) / dx).ceil() as usize).clamp(col0 + 1, dem.cols());
+    // Rows count from the north edge.
+    let height_m = dem.rows() as f64 * dy;
+    let row0 = (((height_m - hi.1 - margin) / dy).floor().max(0.0) as usize).min(dem.rows() - 1);
+    let row1 = (((height_m - lo.1 + margin) / dy).ceil() as usize).clamp(row0 + 1, dem.rows());
+    let (cols, rows) = (col1 - col0, row1 - row0);
+    let mut crop = Vec::with_capacity(cols * rows * 3);
+    for r in row0..row1 {
+        let i = 3 * (r * dem.cols() + col0);
+        crop.extend_from_slice(&background[i..i + 3 * cols]);
+    }
     let route = RoutePlot {
         title: format!(
             "{}: routes over the terrain (shadows at {})",
             ctx.job.goals.last().map_or("", |g| g.name.as_str()),
             format_utc(world.epoch() + Duration::from_seconds(t_shadow))
         ),
-        background,
-        cols: dem.cols(),
-        rows: dem.rows(),
-        extent: (dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy()),
+        background: crop,
+        cols,
+        rows,
+        origin: (col0 as f64 * dx, height_m - row1 as f64 * dy),
+        extent: (cols as f64 * dx, rows as f64 * dy),
         series,
         markers,
     };

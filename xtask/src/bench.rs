@@ -64,6 +64,9 @@ pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
     if args.first().is_some_and(|a| a == "mission") {
         return mission();
     }
+    if args.first().is_some_and(|a| a == "lita") {
+        return lita(root);
+    }
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut cmd = Command::new(cargo);
     cmd.args(["bench", "--workspace", "--benches", "--"]).current_dir(root);
@@ -313,4 +316,37 @@ fn mission() -> Result<bool, String> {
 fn peak_memory() -> Option<String> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     status.lines().find(|l| l.starts_with("VmHWM")).map(|l| l.trim_start_matches("VmHWM:").trim().to_string())
+}
+
+/// The lita-scale scenario end to end (the paper's Figure 11 experiment): runs it
+/// through the library as `areo run` does and prints the phases' times and peak memory.
+fn lita(root: &Path) -> Result<bool, String> {
+    let path = root.join("scenarios/lita-scale.ron");
+    let file = areo::scenario::load(&path).map_err(|e| e.to_string())?;
+    let outcome =
+        areo::run(&file, areo::RunOptions { out_dir: None, progress: &areo::NoProgress }).map_err(|e| e.to_string())?;
+    let fact = |name: &str| match outcome.facts.get(name) {
+        Some(areo::Fact::Number(x)) => *x,
+        _ => f64::NAN,
+    };
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    println!("lita-scale (2527 x 2356 cells, map and true terrain), {threads} threads:");
+    println!("  pre-calculation (slope, 32-sector horizon maps of both, Sun table): {:.1} s", fact("precalc_s"));
+    println!(
+        "  initial plan: {:.3} s, {} waypoints, {} expansions",
+        fact("initial_plan_s"),
+        fact("initial_plan_waypoints"),
+        fact("initial_plan_expansions")
+    );
+    println!(
+        "  {} re-plans after sensing: median {:.1} ms ({:.2} % of the initial plan), slowest {:.1} ms",
+        fact("replans"),
+        1e3 * fact("median_replan_s"),
+        100.0 * fact("median_replan_fraction"),
+        1e3 * fact("max_replan_s")
+    );
+    println!("  peak memory (VmHWM): {:.0} MB", fact("peak_memory_mb"));
+    let ok = fact("median_replan_fraction") <= 0.01;
+    println!("target: median re-plan ≤ 1 % of the initial plan: {}", if ok { "ok" } else { "MISSED" });
+    Ok(ok)
 }
