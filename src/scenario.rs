@@ -112,6 +112,26 @@ pub struct TempestJob {
     /// When the route plot's shadows are drawn, ISO 8601 UTC; default `start_utc`.
     #[serde(default)]
     pub shadow_utc: Option<String>,
+    /// A Communicate session with Earth each sol; default none.
+    #[serde(default)]
+    pub communicate: Option<CommunicateSpec>,
+}
+
+/// One Communicate session per sol, centred on the Earth's highest point in the site's
+/// sky that sol: the rover stands still with its radio on (high electronics load).
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CommunicateSpec {
+    /// Session length, minutes (1..=720).
+    pub duration_min: f64,
+    /// Lowest Earth elevation for a session, degrees (−90..90); a sol whose Earth stays
+    /// lower has no session. Default 10.
+    #[serde(default = "default_earth_elevation")]
+    pub min_earth_elevation_deg: f64,
+}
+
+fn default_earth_elevation() -> f64 {
+    10.0
 }
 
 /// The true terrain of a simulation.
@@ -348,6 +368,12 @@ impl Validate for TempestJob {
         }
         if let Err(areo_mission::Error::Config { field, message }) = self.planner.validate() {
             c.nested("planner", |c| c.fail_at(&field_segments(field), message));
+        }
+        if let Some(com) = &self.communicate {
+            c.nested("communicate", |c| {
+                c.range("duration_min", com.duration_min, 1.0, 720.0, "minutes");
+                c.range("min_earth_elevation_deg", com.min_earth_elevation_deg, -90.0, 90.0, "degrees");
+            });
         }
         if let Some(sim) = &self.simulate
             && let Err(areo_mission::Error::Config { field, message }) = sim.validate()

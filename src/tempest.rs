@@ -75,6 +75,37 @@ fn load_terrain(source: &TerrainSource, file: &ScenarioFile) -> Result<Dem> {
     })
 }
 
+/// One Communicate session per sol over the world's span, centred on the Earth's
+/// highest elevation that sol (sampled every 5 minutes), if it rises high enough.
+fn sessions(world: &World, com: &crate::scenario::CommunicateSpec) -> Vec<(f64, f64)> {
+    const SOL_S: f64 = 88_775.244;
+    let site = world.site();
+    let half = com.duration_min * 30.0;
+    let mut out = Vec::new();
+    let mut sol_start = 0.0;
+    while sol_start < world.span_s() {
+        let sol_end = (sol_start + SOL_S).min(world.span_s());
+        let mut best = (f64::NEG_INFINITY, sol_start);
+        let mut t = sol_start;
+        while t < sol_end {
+            let (_, el) =
+                areo_ephemeris::earth::earth_azimuth_elevation_deg(world.epoch() + Duration::from_seconds(t), &site);
+            if el > best.0 {
+                best = (el, t);
+            }
+            t += 300.0;
+        }
+        if best.0 >= com.min_earth_elevation_deg {
+            let (a, b) = ((best.1 - half).max(0.0), (best.1 + half).min(world.span_s()));
+            if b > a {
+                out.push((a, b));
+            }
+        }
+        sol_start += SOL_S;
+    }
+    out
+}
+
 /// Peak resident memory of this process, MB (Linux), if known.
 fn peak_memory_mb() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -151,7 +182,10 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     if let Some(c) = job.battery_capacity_wh {
         rover.battery.capacity_wh = c;
     }
-    let model = ActionModel::new(rover, job.planner.actions.clone());
+    let mut model = ActionModel::new(rover, job.planner.actions.clone());
+    if let Some(com) = &job.communicate {
+        model = model.with_sessions(sessions(&world, com));
+    }
     if job.start_battery_wh > model.capacity_wh() + 1e-9 {
         return Err(scenario_error(
             file,
@@ -304,6 +338,33 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
     o.number("initial_plan_min_battery_wh", plan.min_battery_wh());
     o.number("initial_plan_expansions", plan.expansions as f64);
     o.number("e_max_wh", plan.e_max_wh);
+    let drive_wps: Vec<_> = plan.waypoints.iter().filter(|w| matches!(w.action, Some(Action::Drive(_)))).collect();
+    let length: f64 = plan.waypoints.windows(2).map(|w| (w[1].x_m - w[0].x_m).hypot(w[1].y_m - w[0].y_m)).sum();
+    o.number("initial_plan_distance_m", length);
+    o.number("initial_plan_goals", plan.waypoints.iter().filter(|w| w.goal.is_some()).count() as f64);
+    o.number(
+        "initial_plan_sunlit_drive_fraction",
+        if drive_wps.is_empty() {
+            1.0
+        } else {
+            drive_wps.iter().filter(|w| w.lit).count() as f64 / drive_wps.len() as f64
+        },
+    );
+    o.number("initial_plan_night_drives", drive_wps.iter().filter(|w| w.sun_elevation_deg <= 0.0).count() as f64);
+    let sessions = ctx.model.sessions();
+    if !sessions.is_empty() {
+        o.number("communicate_sessions", sessions.len() as f64);
+        // Sessions the plan covers, and drives that would overlap one (none may).
+        let (t0, t1) = (plan.waypoints.first().map_or(0.0, |w| w.t_s), plan.waypoints.last().map_or(0.0, |w| w.t_s));
+        o.number("plan_sessions", sessions.iter().filter(|(a, b)| *a < t1 && *b > t0).count() as f64);
+        let overlapping = plan
+            .waypoints
+            .windows(2)
+            .filter(|w| matches!(w[0].action, Some(Action::Drive(_))))
+            .filter(|w| sessions.iter().any(|&(a, b)| w[0].t_s < b && w[1].t_s > a))
+            .count();
+        o.number("plan_drives_during_sessions", overlapping as f64);
+    }
     for r in &ctx.job.regions {
         o.flag(&format!("initial_plan_enters_{}", r.name), ctx.enters(plan.waypoints.iter().map(|w| w.cell), r));
     }

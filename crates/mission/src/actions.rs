@@ -104,6 +104,8 @@ pub enum Binding {
     Horizon,
     /// The battery cannot hold the energy the path needs.
     Battery,
+    /// A scheduled Communicate session: the rover must stand still.
+    Communicate,
 }
 
 impl Binding {
@@ -117,6 +119,7 @@ impl Binding {
             Binding::SunInCamera => "the Sun in the navigation cameras",
             Binding::Horizon => "the planning horizon (the goal cannot be reached within it)",
             Binding::Battery => "battery energy",
+            Binding::Communicate => "a scheduled Communicate session (the rover stands still)",
         }
     }
 }
@@ -203,6 +206,8 @@ pub struct ActionModel {
     level_normals: [[f64; 3]; 8],
     /// sin and cos of the array's tilt.
     tilt_sin_cos: (f64, f64),
+    /// Scheduled Communicate sessions, s after the epoch, sorted.
+    sessions: Vec<(f64, f64)>,
 }
 
 impl ActionModel {
@@ -212,7 +217,30 @@ impl ActionModel {
         let level_normals =
             std::array::from_fn(|k| rover.solar.map_or([0.0, 0.0, 1.0], |a| a.level_normal_enu(heading_of(k as u8))));
         let tilt_sin_cos = rover.solar.map_or((0.0, 1.0), |a| a.tilt_deg.to_radians().sin_cos());
-        ActionModel { rover, config, max_slope_deg, level_normals, tilt_sin_cos }
+        ActionModel { rover, config, max_slope_deg, level_normals, tilt_sin_cos, sessions: Vec::new() }
+    }
+
+    /// Schedules Communicate sessions (start, end), s after the epoch: during each the
+    /// rover stands still (no drive may overlap it) with its electronics at the high
+    /// load (the radio), whatever stationary action it is in.
+    pub fn with_sessions(mut self, mut sessions: Vec<(f64, f64)>) -> ActionModel {
+        sessions.retain(|(a, b)| b > a);
+        sessions.sort_by(|a, b| a.0.total_cmp(&b.0));
+        self.sessions = sessions;
+        self
+    }
+
+    /// The scheduled Communicate sessions, s after the epoch.
+    pub fn sessions(&self) -> &[(f64, f64)] {
+        &self.sessions
+    }
+
+    fn in_session(&self, t: f64) -> bool {
+        self.sessions.iter().any(|&(a, b)| t >= a && t < b)
+    }
+
+    fn overlaps_session(&self, t0: f64, t1: f64) -> bool {
+        self.sessions.iter().any(|&(a, b)| t0 < b && t1 > a)
     }
 
     /// The rover.
@@ -304,6 +332,9 @@ impl ActionModel {
         if t0 < 0.0 || t1 > world.span_s() {
             return Err(Binding::Horizon);
         }
+        if self.overlaps_session(t0, t1) {
+            return Err(Binding::Communicate);
+        }
         let heading = heading_of(k);
         let (s0, s1) = (world.sun(t0), world.sun(t1));
         let rules = &self.config.drive;
@@ -385,6 +416,8 @@ impl ActionModel {
                 Action::Charge => perturbation.solar_factor * self.source_w(world, cell, &sun, None),
                 _ => self.rover.nuclear_w,
             };
+            let load_w =
+                if self.in_session(t) { load_w.max(self.rover.electronics.power_w(Load::High)) } else { load_w };
             let p = load_w - source;
             if let Some(q) = prev {
                 e += self.battery_wh(0.5 * (p + q), duration / n as f64);

@@ -489,7 +489,7 @@ impl<'a> Mission<'a> {
                 rover.battery.capacity_wh *= 1e6;
                 start.energy_wh = rover.battery.capacity_wh;
             }
-            let model = ActionModel::new(rover, actions);
+            let model = ActionModel::new(rover, actions).with_sessions(self.model.sessions().to_vec());
             // A coarser search is enough to tell which constraint binds.
             let mut config = self.config.clone();
             config.resolution.time_s = config.resolution.time_s.max(600.0);
