@@ -210,3 +210,32 @@ fn waypoints_carry_place_time_light_and_energy() {
         assert!(a.cell == b.cell && a.action == b.action && a.utc == b.utc && (a.t_s - b.t_s).abs() < 1e-6);
     }
 }
+
+#[test]
+fn a_communicate_session_holds_the_rover_still_at_the_radio_load() {
+    // 31 drives east on flat lit ground (about 17 min) with a session from minute 3 to
+    // minute 83: no drive may overlap it, so the plan stops for it and arrives later.
+    let world = fixed_sun_world(flat(40, 30, 10.0), 120.0, 60.0, 30.0);
+    let start = Start { cell: world.cell(2, 3), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let goal = world.cell(33, 3);
+    let free = model(1e5, ActionConfig::default());
+    let (_m, direct) = Mission::plan(&world, &free, PlannerConfig::default(), start, &[goal]).unwrap();
+    let session = (180.0, 5000.0);
+    let talking = model(1e5, ActionConfig::default()).with_sessions(vec![session]);
+    let (_m, plan) = Mission::plan(&world, &talking, PlannerConfig::default(), start, &[goal]).unwrap();
+    for w in plan.waypoints.windows(2) {
+        if let Some(Action::Drive(_)) = w[0].action {
+            assert!(w[1].t_s <= session.0 + 1e-9 || w[0].t_s >= session.1 - 1e-9, "drive across the session: {w:?}");
+        }
+    }
+    // The plan may start as late as its widened start window allows (at most an hour),
+    // but 17 minutes of driving cannot fit before the session: it arrives after it.
+    assert_eq!(direct.action_counts().0, plan.action_counts().0, "the same 31 drives");
+    assert!(plan.waypoints.last().unwrap().t_s >= session.1 + 1.0);
+    // A stationary action inside the session draws at least the high (radio) load.
+    let quiet = free.stay(&world, Action::Hibernate, start.cell, 400.0).unwrap();
+    let radio = talking.stay(&world, Action::Hibernate, start.cell, 400.0).unwrap();
+    assert!(radio.energy_wh > quiet.energy_wh + 1.0, "{} vs {}", radio.energy_wh, quiet.energy_wh);
+    // Drives that would overlap it are refused with the binding named.
+    assert_eq!(talking.drive(&world, start.cell, 2, 1000.0).unwrap_err(), Binding::Communicate);
+}
