@@ -26,7 +26,7 @@ use crate::evaluation::{Conditions, Evaluation, Evaluator, Place, Violation};
 use crate::kinematics::Pose;
 
 /// The action modules of Table 1 (numbers are the paper's).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
 pub enum Module {
     /// 101: move forward 10 cm.
     Forward,

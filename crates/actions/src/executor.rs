@@ -1,0 +1,296 @@
+//! The plan executor: runs a plan's modules one after another on the LSR-1 model over
+//! the terrain until the task is complete or a constraint is violated, and records
+//! what the fitness needs.
+//!
+//! Constraints: every pose of every module is evaluated in full by areo-rover (slip,
+//! loss of contact, motor saturation, tip-over, kinematics — leaving the map is a
+//! kinematics failure); the stability margin must stay above a hard floor; the body
+//! (a box) must not touch a rock (parry3d). [A] The body box is 0.60 × 0.40 × 0.12 m
+//! centred on the rocker pivots (belly 0.26 m up: rocks up to one wheel diameter pass
+//! under it); it turns with the heading, and its pitch and roll are ignored for the
+//! collision test (a few centimetres at the box's ends on the slopes driven). A sample
+//! is grasped when the tool is within `grasp_radius_m` of it horizontally (the gripper
+//! reaches the ground).
+
+use areo_rover::evaluation::Evaluator;
+use areo_rover::motion::{Module, Motion, RoverState, Stopped};
+use areo_terrain::Ground;
+use parry3d::math::{Pose, Rotation, Vector};
+use parry3d::query::intersection_test;
+use parry3d::shape::{Ball, Cuboid};
+use serde::{Deserialize, Serialize};
+
+use crate::task::Task;
+
+/// Execution settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ExecConfig {
+    /// Friction coefficient μ.
+    pub mu: f64,
+    /// Hard floor of the stability margin S (0..1): below it the plan fails.
+    pub stability_floor: f64,
+    /// Horizontal reach of the gripper around the tool, m.
+    pub grasp_radius_m: f64,
+    /// Body box half extents (forward, left, up), m.
+    pub body_half_m: (f64, f64, f64),
+}
+
+impl Default for ExecConfig {
+    fn default() -> ExecConfig {
+        ExecConfig { mu: 0.65, stability_floor: 0.20, grasp_radius_m: 0.10, body_half_m: (0.30, 0.20, 0.06) }
+    }
+}
+
+/// Why a plan stopped early.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Failure {
+    /// A module could not run: the physical or task reason.
+    Module(String),
+    /// The stability margin fell below the floor.
+    Stability(f64),
+    /// The body hit a rock.
+    Collision(usize),
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Failure::Module(m) => f.write_str(m),
+            Failure::Stability(s) => write!(f, "stability margin {:.0} % below the floor", 100.0 * s),
+            Failure::Collision(i) => write!(f, "the body hit rock {i}"),
+        }
+    }
+}
+
+/// One executed module, for reports and plots.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TraceStep {
+    /// Table 1 code.
+    pub code: u16,
+    /// Reference point after the module, m.
+    pub x_m: f64,
+    /// Reference point after the module, m.
+    pub y_m: f64,
+    /// Body reference height after the module, m.
+    pub z_m: f64,
+    /// Heading after, degrees.
+    pub heading_deg: f64,
+    /// Body pitch after, degrees.
+    pub pitch_deg: f64,
+    /// Least stability margin during the module (0..1), if it moved anything.
+    pub stability: Option<f64>,
+    /// Wheel normal loads after the module, N (left front, middle, rear, right …).
+    pub wheel_loads_n: [f64; 6],
+    /// Battery energy used by the module, Wh.
+    pub energy_wh: f64,
+    /// Wheel axle positions after the module (x, y, z), m — for the side profile.
+    pub wheels: [[f64; 3]; 6],
+}
+
+/// What running a plan did.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Execution {
+    /// Modules that ran to their end before the failure or the task's completion.
+    pub prefix_len: usize,
+    /// The first failure and the index of its module, if any.
+    pub failure: Option<(usize, Failure)>,
+    /// Fraction of the failing module done.
+    pub failure_progress: f64,
+    /// The target reached with the samples wanted.
+    pub complete: bool,
+    /// Distance from the reference point to the target at the end, m.
+    pub distance_to_target_m: f64,
+    /// Samples collected.
+    pub samples: usize,
+    /// Least stability margin over the executed modules (1 if none moved).
+    pub min_stability: f64,
+    /// Mean of the modules' least margins.
+    pub mean_stability: f64,
+    /// Every module's least margin (for the fitness's Σ h(S_j)).
+    pub stabilities: Vec<f64>,
+    /// Time, s.
+    pub time_s: f64,
+    /// Battery energy used, Wh.
+    pub energy_wh: f64,
+    /// Largest friction used over μ, over all poses (1 = at the slip limit).
+    pub peak_friction_ratio: f64,
+    /// The executed modules, when asked for.
+    pub trace: Vec<TraceStep>,
+}
+
+/// Runs plans for one task on one terrain.
+pub struct Executor<'a, G: Ground> {
+    ground: &'a G,
+    evaluator: &'a Evaluator,
+    task: &'a Task,
+    config: ExecConfig,
+}
+
+impl<G: Ground> std::fmt::Debug for Executor<'_, G> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Executor").field("config", &self.config).finish_non_exhaustive()
+    }
+}
+
+impl<'a, G: Ground + Sync> Executor<'a, G> {
+    /// An executor.
+    pub fn new(ground: &'a G, evaluator: &'a Evaluator, task: &'a Task, config: ExecConfig) -> Executor<'a, G> {
+        Executor { ground, evaluator, task, config }
+    }
+
+    /// The settings.
+    pub fn config(&self) -> &ExecConfig {
+        &self.config
+    }
+
+    /// The rover at the task's start.
+    pub fn start_state(&self) -> RoverState {
+        let (x, y, h) = self.task.start;
+        RoverState::new(self.evaluator, x, y, h.to_radians())
+    }
+
+    /// Runs `plan`; with `trace`, records every executed module.
+    pub fn run(&self, plan: &[Module], trace: bool) -> Execution {
+        let motion = Motion::new(self.evaluator, self.config.mu);
+        let mut state = self.start_state();
+        let mut collected = vec![false; self.task.samples.len()];
+        let mut out = Execution {
+            prefix_len: 0,
+            failure: None,
+            failure_progress: 0.0,
+            complete: false,
+            distance_to_target_m: self.distance(&state),
+            samples: 0,
+            min_stability: 1.0,
+            mean_stability: 1.0,
+            stabilities: Vec::new(),
+            time_s: 0.0,
+            energy_wh: 0.0,
+            peak_friction_ratio: 0.0,
+            trace: Vec::new(),
+        };
+        if let Err(v) = motion.check(self.ground, &state) {
+            out.failure = Some((0, Failure::Module(format!("the start pose is not admissible: {v}"))));
+            return out;
+        }
+        let r2 = self.config.grasp_radius_m * self.config.grasp_radius_m;
+        for (i, &module) in plan.iter().enumerate() {
+            let samples = |tool: [f64; 3]| {
+                self.task.samples.iter().enumerate().find_map(|(k, s)| {
+                    let (dx, dy) = (tool[0] - s.x_m, tool[1] - s.y_m);
+                    (!collected[k] && dx * dx + dy * dy <= r2).then_some((k, s.mass_kg))
+                })
+            };
+            let step = match motion.run(self.ground, &state, module, &samples) {
+                Ok(step) => step,
+                Err(Stopped { failure, progress, .. }) => {
+                    out.failure = Some((i, Failure::Module(failure.to_string())));
+                    out.failure_progress = progress;
+                    break;
+                }
+            };
+            if let Some(s) = step.min_stability
+                && s < self.config.stability_floor
+            {
+                out.failure = Some((i, Failure::Stability(s)));
+                break;
+            }
+            if let Some(rock) = self.collision(&step.state) {
+                out.failure = Some((i, Failure::Collision(rock)));
+                break;
+            }
+            if let Some(k) = step.grasped {
+                collected[k] = true;
+                out.samples += 1;
+            }
+            let energy = step.energy.net_wh();
+            out.time_s += step.duration_s;
+            out.energy_wh += energy;
+            out.peak_friction_ratio = out.peak_friction_ratio.max(step.max_friction / self.config.mu);
+            if let Some(s) = step.min_stability {
+                out.stabilities.push(s);
+            }
+            if trace {
+                out.trace.push(self.trace_step(module, &step.state, step.min_stability, energy, &motion));
+            }
+            state = step.state;
+            out.prefix_len = i + 1;
+            out.distance_to_target_m = self.distance(&state);
+            if out.distance_to_target_m <= self.task.target_radius_m && out.samples >= self.task.samples_wanted {
+                out.complete = true;
+                break;
+            }
+        }
+        if !out.stabilities.is_empty() {
+            out.min_stability = out.stabilities.iter().copied().fold(f64::INFINITY, f64::min);
+            out.mean_stability = out.stabilities.iter().sum::<f64>() / out.stabilities.len() as f64;
+        }
+        out
+    }
+
+    fn distance(&self, s: &RoverState) -> f64 {
+        (self.task.target.0 - s.x).hypot(self.task.target.1 - s.y)
+    }
+
+    /// The first rock the body box touches, if any.
+    fn collision(&self, state: &RoverState) -> Option<usize> {
+        if self.task.rocks.is_empty() {
+            return None;
+        }
+        let pose = state.pose.as_ref()?;
+        let (hx, hy, hz) = self.config.body_half_m;
+        let body = Cuboid::new(Vector::new(hx as f32, hy as f32, hz as f32));
+        // Body x forward = (sin h, cos h) in (east, north): a rotation by π/2 − h about up.
+        let yaw = std::f64::consts::FRAC_PI_2 - pose.heading;
+        let at = Pose::from_parts(
+            Vector::new(pose.body[0] as f32, pose.body[1] as f32, pose.body[2] as f32),
+            Rotation::from_rotation_z(yaw as f32),
+        );
+        self.task.rocks.iter().position(|r| {
+            // The rock's cap as a ball of its half-width whose top is the rock's top.
+            let radius = (0.5 * r.width_m).max(1e-3);
+            let ground = self.ground.height(r.x_m, r.y_m).unwrap_or(0.0);
+            let top = ground.max(self.ground.height(r.x_m + radius, r.y_m).unwrap_or(ground)) + r.height_m;
+            let ball = Ball::new(radius as f32);
+            let centre = Pose::translation(r.x_m as f32, r.y_m as f32, (top - radius) as f32);
+            intersection_test(&at, &body, &centre, &ball).is_ok_and(|t| t.intersecting)
+        })
+    }
+
+    fn trace_step(
+        &self,
+        module: Module,
+        state: &RoverState,
+        stability: Option<f64>,
+        energy_wh: f64,
+        motion: &Motion<'_>,
+    ) -> TraceStep {
+        let eval = motion.check(self.ground, state).ok();
+        let pose = state.pose.as_ref();
+        let mut loads = [0.0; 6];
+        let mut wheels = [[0.0; 3]; 6];
+        if let Some(e) = &eval {
+            for (i, l) in loads.iter_mut().enumerate() {
+                *l = e.sides[i / 3].normal_n[i % 3];
+            }
+        }
+        if let Some(p) = pose {
+            for (i, w) in wheels.iter_mut().enumerate() {
+                *w = p.wheels[i].axle;
+            }
+        }
+        TraceStep {
+            code: module.code(),
+            x_m: state.x,
+            y_m: state.y,
+            z_m: pose.map_or(0.0, |p| p.body[2]),
+            heading_deg: state.heading.to_degrees(),
+            pitch_deg: pose.map_or(0.0, |p| p.pitch.to_degrees()),
+            stability,
+            wheel_loads_n: loads,
+            energy_wh,
+            wheels,
+        }
+    }
+}

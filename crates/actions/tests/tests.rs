@@ -1,0 +1,174 @@
+//! areo-actions integration tests: inventory filters, the executor's bookkeeping and
+//! constraints, the fitness, and the GA's determinism and progress.
+
+use areo_actions::*;
+use areo_rover::RoverParams;
+use areo_rover::evaluation::Evaluator;
+use areo_rover::motion::Module;
+use areo_terrain::analytic::{Plane, Step};
+
+fn task(target: (f64, f64)) -> Task {
+    Task {
+        start: (0.0, 0.0, 0.0),
+        target,
+        target_radius_m: 0.15,
+        samples: Vec::new(),
+        samples_wanted: 0,
+        rocks: Vec::new(),
+        manipulation: false,
+        communication: false,
+        video: false,
+        recharge: false,
+    }
+}
+
+fn scale(t: &Task) -> Scale {
+    Scale {
+        start_distance_m: t.start_distance_m(),
+        samples_wanted: t.samples_wanted,
+        reference_time_s: t.start_distance_m() / 0.03,
+        battery_wh: 48.0,
+        s_floor: 0.2,
+    }
+}
+
+const FLAT: Plane = Plane { z0: 0.0, gx: 0.0, gy: 0.0 };
+
+#[test]
+fn filters_remove_what_a_mobility_task_cannot_need_and_say_why() {
+    let t = task((0.0, 2.0));
+    let inv = Inventory::for_task(&t, &Overrides::default());
+    // Mobility only: the 8 driving modules stay; arm, grasp, tray, video, comms,
+    // sleep, sweep and recharge go, each with a reason.
+    assert_eq!(inv.codes(), vec![101, 102, 103, 104, 105, 106, 107, 108]);
+    assert_eq!(inv.removed.len(), 18);
+    assert!(inv.removed.iter().all(|r| !r.reason.is_empty()));
+    let reason = |code| inv.removed.iter().find(|r| r.code == code).unwrap().reason.clone();
+    assert!(reason(3002).contains("no samples"));
+    assert!(reason(1001).contains("no manipulation"));
+    assert!(reason(921).contains("communication"));
+    // D = N^m: 26^40 before, 8^40 after.
+    assert!((design_space_log10(26, 40) - 40.0 * 26f64.log10()).abs() < 1e-12);
+    assert!((design_space_log10(26, 40) - design_space_log10(8, 40) - 40.0 * (26.0f64 / 8.0).log10()).abs() < 1e-9);
+    // The scenario can force modules in (task 2's arm) and out.
+    let forced =
+        Inventory::for_task(&t, &Overrides { force_in: vec![1001, 1002, 1003, 1004], force_out: vec![102, 103, 104] });
+    assert_eq!(forced.codes(), vec![101, 105, 106, 107, 108, 1001, 1002, 1003, 1004]);
+    assert!(forced.removed.iter().any(|r| r.code == 102 && r.reason.contains("forced out")));
+    // Sampling tasks keep the sample modules.
+    let mut s = task((0.0, 2.0));
+    s.samples = vec![Sample { x_m: 0.0, y_m: 1.0, mass_kg: 0.1 }];
+    s.samples_wanted = 1;
+    let codes = Inventory::for_task(&s, &Overrides::default()).codes();
+    for c in [3000, 3001, 3002, 3003, 2010, 2020] {
+        assert!(codes.contains(&c), "{c}");
+    }
+    assert_eq!(Inventory::from_codes(&[101, 999]), Err(999));
+}
+
+#[test]
+fn a_straight_plan_on_flat_ground_advances_ten_centimetres_per_module_and_stops_at_the_target() {
+    let p = RoverParams::lsr1();
+    let ev = Evaluator::new(&p);
+    let t = task((0.0, 1.0));
+    let ex = Executor::new(&FLAT, &ev, &t, ExecConfig::default());
+    let plan = vec![Module::Forward; 15];
+    let e = ex.run(&plan, true);
+    // The target (radius 15 cm) is reached after 9 modules (0.9 m); the rest is not run.
+    assert!(e.complete);
+    assert_eq!(e.prefix_len, 9);
+    assert!((e.distance_to_target_m - 0.1).abs() < 1e-9);
+    assert_eq!(e.trace.len(), 9);
+    for (k, s) in e.trace.iter().enumerate() {
+        assert!((s.y_m - 0.1 * (k + 1) as f64).abs() < 1e-9);
+        assert_eq!(s.code, 101);
+        // Six equal loads on flat ground: W/6.
+        for l in s.wheel_loads_n {
+            assert!((l - 7.0 * 9.81 / 6.0).abs() < 1e-6, "{l}");
+        }
+    }
+    assert!((e.min_stability - 1.0).abs() < 1e-9 && e.failure.is_none());
+    assert!((e.time_s - 9.0 * 0.10 / 0.03).abs() < 1e-9);
+    // Fitness: full progress bonus minus time and energy, no stability penalty.
+    let w = Weights::default();
+    let f = fitness(&e, &w, &scale(&t));
+    let expected = w.progress * 0.9 - w.time * e.time_s / (1.0 / 0.03) - w.energy * e.energy_wh / 48.0 + w.complete;
+    assert!((f - expected).abs() < 1e-9, "{f} vs {expected}");
+}
+
+#[test]
+fn constraints_stop_a_plan_with_its_successful_prefix() {
+    let p = RoverParams::lsr1();
+    let ev = Evaluator::new(&p);
+    // A 0.5 m wall 0.6 m ahead: the rover drives up to it and fails on the wall.
+    let wall = Step { x_step: 0.6, low_m: 0.0, high_m: 0.5 };
+    let mut t = task((2.0, 0.0));
+    t.start = (0.0, 0.0, 90.0);
+    let ex = Executor::new(&wall, &ev, &t, ExecConfig { mu: 0.8, ..ExecConfig::default() });
+    let e = ex.run(&[Module::Forward; 20], false);
+    let (at, why) = e.failure.clone().expect("the wall stops the plan");
+    assert_eq!(e.prefix_len, at);
+    assert!((1..=5).contains(&at), "fails within the 0.6 m before the wall: {at}");
+    assert!(matches!(why, Failure::Module(_)), "{why}");
+    // A rock taller than the belly (0.26 m) on the path hits the body.
+    let mut r = task((0.0, 2.0));
+    r.rocks = vec![Rock { x_m: 0.0, y_m: 0.9, height_m: 0.35, width_m: 0.2 }];
+    let ex = Executor::new(&FLAT, &ev, &r, ExecConfig::default());
+    let e = ex.run(&[Module::Forward; 20], false);
+    assert_eq!(e.failure.as_ref().map(|f| f.1.clone()), Some(Failure::Collision(0)));
+    // The body's front (0.30 m ahead of the reference) meets the ball (0.10 m radius)
+    // around 0.5 m of travel.
+    assert!((4..=6).contains(&e.prefix_len), "{}", e.prefix_len);
+    // A low rock passes under the belly.
+    r.rocks[0].height_m = 0.15;
+    let ex = Executor::new(&FLAT, &ev, &r, ExecConfig::default());
+    assert!(ex.run(&[Module::Forward; 20], false).complete);
+}
+
+#[test]
+fn the_stability_penalty_is_zero_above_eighty_percent_and_full_at_the_floor() {
+    assert_eq!(h(0.9, 0.8, 0.2), 0.0);
+    assert_eq!(h(0.8, 0.8, 0.2), 0.0);
+    assert!((h(0.5, 0.8, 0.2) + 0.25).abs() < 1e-12);
+    assert!((h(0.2, 0.8, 0.2) + 1.0).abs() < 1e-12);
+}
+
+fn ga_run(threads: usize, seed: u64) -> GaReport {
+    let p = RoverParams::lsr1();
+    let ev = Evaluator::new(&p);
+    let t = task((0.6, 2.0));
+    let ex = Executor::new(&FLAT, &ev, &t, ExecConfig::default());
+    let inv = Inventory::from_codes(&[101, 105, 106, 107, 108]).unwrap();
+    let config = GaConfig { population: 20, generations: 8, initial_length: (10, 30), seed, ..GaConfig::default() };
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    pool.install(|| evolve(&ex, &inv, &Weights::default(), &scale(&t), &config).unwrap())
+}
+
+#[test]
+fn the_ga_is_seeded_identical_for_any_thread_count_and_never_loses_its_best() {
+    let a = ga_run(1, 3);
+    let b = ga_run(2, 3);
+    assert_eq!(a, b, "same seed, 1 and 2 threads");
+    assert_ne!(a.best.plan, ga_run(2, 4).best.plan, "another seed, another run");
+    // Elitism: the best fitness never decreases.
+    for w in a.generations.windows(2) {
+        assert!(w[1].best >= w[0].best - 1e-12, "{} then {}", w[0].best, w[1].best);
+    }
+    assert_eq!(a.evaluations, 20 * 9);
+    // A 2.1 m trip to the north-north-east over flat ground: the GA completes it.
+    assert!(a.best.execution.complete, "{:?}", a.generations.last());
+    assert!(a.first_solved.is_some());
+    // Improving crossovers extend the successful prefix by a few modules, not dozens.
+    assert!(!a.lookahead.is_empty());
+    let small = a.lookahead.iter().filter(|d| d.abs() <= 10).count();
+    assert!(small * 2 >= a.lookahead.len(), "{:?}", a.lookahead);
+}
+
+#[test]
+fn bad_settings_name_the_field() {
+    let err = GaConfig { population: 1, ..GaConfig::default() }.validate().unwrap_err();
+    assert!(err.to_string().contains("population"), "{err}");
+    let mut t = task((1.0, 1.0));
+    t.samples_wanted = 2;
+    assert!(t.validate().unwrap_err().to_string().contains("samples_wanted"));
+}
