@@ -18,6 +18,7 @@
 mod error;
 mod progress;
 
+mod actions_job;
 mod run;
 mod tempest;
 

@@ -68,6 +68,8 @@ pub struct RoutePlot {
 pub struct TimePlot {
     /// Title.
     pub title: String,
+    /// X-axis label.
+    pub x_label: String,
     /// Y-axis label.
     pub y_label: String,
     /// Series (x in hours).
@@ -188,7 +190,7 @@ fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) ->
     chart
         .configure_mesh()
         .light_line_style(RGBColor(235, 235, 235))
-        .x_desc("hours since the start")
+        .x_desc(&p.x_label)
         .y_desc(&p.y_label)
         .label_style(("sans-serif", 13))
         .draw()
@@ -284,4 +286,163 @@ pub fn time(dir: &Path, name: &str, p: &TimePlot) -> Result<Vec<PathBuf>> {
     }
     crate::render::write_png(&png_path, width as usize, height as usize, &buf)?;
     Ok(vec![svg_path, png_path])
+}
+
+/// The rover drawn in a side profile: six wheel axles (distance, height), the body
+/// reference, and a label.
+#[derive(Debug, Clone)]
+pub struct ProfileRover {
+    /// Wheel axles (left front, middle, rear, right front, middle, rear), m.
+    pub wheels: [(f64, f64); 6],
+    /// Body reference, m.
+    pub body: (f64, f64),
+    /// Label.
+    pub label: String,
+}
+
+/// A side profile: the ground along the path and the rover drawn at some steps.
+#[derive(Debug, Clone)]
+pub struct ProfilePlot {
+    /// Title.
+    pub title: String,
+    /// Ground (distance along the path, height), m.
+    pub ground: Vec<(f64, f64)>,
+    /// Rovers to draw.
+    pub rovers: Vec<ProfileRover>,
+    /// Wheel radius, m.
+    pub wheel_radius_m: f64,
+}
+
+fn draw_profile<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &ProfilePlot) -> std::result::Result<(), String> {
+    root.fill(&WHITE).map_err(draw_err)?;
+    let xs = p.ground.iter().map(|q| q.0).chain(p.rovers.iter().flat_map(|r| r.wheels.iter().map(|w| w.0)));
+    let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+    let (x0, x1) = (x0 - 0.15, x1 + 0.15);
+    let (z0, z1) =
+        p.ground.iter().map(|q| q.1).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
+    let (x0, x1) = if x0.is_finite() { (x0, x1.max(x0 + 1e-3)) } else { (0.0, 1.0) };
+    let (z0, z1) = if z0.is_finite() { (z0 - 0.1, z1 + 0.6) } else { (0.0, 1.0) };
+    let mut chart = ChartBuilder::on(root)
+        .caption(&p.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x0..x1, z0..z1)
+        .map_err(draw_err)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("distance along the path, m")
+        .y_desc("height, m")
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(draw_err)?;
+    let brown = RGBColor(150, 110, 70);
+    chart
+        .draw_series(AreaSeries::new(p.ground.iter().copied(), z0, brown.mix(0.35)).border_style(brown))
+        .map_err(draw_err)?;
+    let px_per_m = 800.0 / (x1 - x0).max(1e-9);
+    let r_px = ((p.wheel_radius_m * px_per_m).round() as i32).max(2);
+    for ProfileRover { wheels, body, label } in &p.rovers {
+        let blue = RGBColor(30, 90, 220);
+        // Rocker: rear axle – body – middle; bogie: middle – front (one side).
+        let links = [vec![wheels[2], *body, wheels[1]], vec![wheels[1], wheels[0]]];
+        for l in links {
+            chart.draw_series(LineSeries::new(l, blue.stroke_width(2))).map_err(draw_err)?;
+        }
+        chart
+            .draw_series(wheels.iter().take(3).map(|&c| Circle::new(c, r_px, blue.stroke_width(2))))
+            .map_err(draw_err)?;
+        chart
+            .draw_series([Text::new(label.clone(), (body.0, body.1 + 0.15), ("sans-serif", 13).into_font())])
+            .map_err(draw_err)?;
+    }
+    root.present().map_err(draw_err)?;
+    Ok(())
+}
+
+/// A histogram of integers (value, count).
+#[derive(Debug, Clone)]
+pub struct HistogramPlot {
+    /// Title.
+    pub title: String,
+    /// X-axis label.
+    pub x_label: String,
+    /// The values.
+    pub values: Vec<i64>,
+}
+
+fn draw_histogram<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    p: &HistogramPlot,
+) -> std::result::Result<(), String> {
+    root.fill(&WHITE).map_err(draw_err)?;
+    let lo = p.values.iter().copied().min().unwrap_or(0).min(0);
+    let hi = p.values.iter().copied().max().unwrap_or(1).max(1);
+    let mut counts = std::collections::BTreeMap::new();
+    for v in &p.values {
+        *counts.entry(*v).or_insert(0u32) += 1;
+    }
+    let top = counts.values().copied().max().unwrap_or(1);
+    let mut chart = ChartBuilder::on(root)
+        .caption(&p.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d((lo as f64 - 0.5)..(hi as f64 + 0.5), 0.0..(f64::from(top) * 1.1))
+        .map_err(draw_err)?;
+    chart
+        .configure_mesh()
+        .disable_x_mesh()
+        .x_desc(&p.x_label)
+        .y_desc("crossovers")
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(draw_err)?;
+    let blue = RGBColor(30, 90, 220);
+    chart
+        .draw_series(
+            counts
+                .iter()
+                .map(|(&v, &c)| Rectangle::new([(v as f64 - 0.4, 0.0), (v as f64 + 0.4, f64::from(c))], blue.filled())),
+        )
+        .map_err(draw_err)?;
+    root.present().map_err(draw_err)?;
+    Ok(())
+}
+
+/// Writes `dir/NAME.svg` and `dir/NAME.png` with `draw` on each backend.
+fn both(
+    dir: &Path,
+    name: &str,
+    (width, height): (u32, u32),
+    draw_svg: impl Fn(&DrawingArea<SVGBackend<'_>, Shift>) -> std::result::Result<(), String>,
+    draw_png: impl Fn(&DrawingArea<BitMapBackend<'_>, Shift>) -> std::result::Result<(), String>,
+) -> Result<Vec<PathBuf>> {
+    register_font();
+    let svg_path = dir.join(format!("{name}.svg"));
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
+        draw_svg(&root).map_err(|m| plot_error(&svg_path, m))?;
+    }
+    write_text(&svg_path, &svg)?;
+    let png_path = dir.join(format!("{name}.png"));
+    let mut buf = vec![0u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
+        draw_png(&root).map_err(|m| plot_error(&png_path, m))?;
+    }
+    crate::render::write_png(&png_path, width as usize, height as usize, &buf)?;
+    Ok(vec![svg_path, png_path])
+}
+
+/// Writes a side profile as SVG and PNG.
+pub fn profile(dir: &Path, name: &str, p: &ProfilePlot) -> Result<Vec<PathBuf>> {
+    both(dir, name, (900, 450), |r| draw_profile(r, p), |r| draw_profile(r, p))
+}
+
+/// Writes a histogram as SVG and PNG.
+pub fn histogram(dir: &Path, name: &str, p: &HistogramPlot) -> Result<Vec<PathBuf>> {
+    both(dir, name, (700, 450), |r| draw_histogram(r, p), |r| draw_histogram(r, p))
 }

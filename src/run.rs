@@ -38,6 +38,7 @@ pub fn run(file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
         Job::SunTable(job) => sun_table(job, opts)?,
         Job::TerrainShadow(job) => terrain_shadow(job, file, opts)?,
         Job::Tempest(job) => crate::tempest::run(job, file, opts)?,
+        Job::Actions(job) => crate::actions_job::run(job, file, opts)?,
     };
     if let Some(dir) = opts.out_dir {
         let path = dir.join("facts.json");

@@ -56,6 +56,61 @@ pub enum Job {
     /// TEMPEST: plan a traverse in position, time and energy through ordered goals,
     /// and optionally simulate it on true terrain with sensing and re-planning.
     Tempest(Box<TempestJob>),
+    /// Physics-based action planning (Farritor et al.): a genetic algorithm over
+    /// action modules for the LSR-1, scored on the quasi-static model.
+    Actions(Box<ActionsJob>),
+}
+
+/// An action-planning job (see `docs/actions.md`). Positions are metres in the
+/// terrain's frame (synthesised terrain: east and north of its south-west corner).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ActionsJob {
+    /// The terrain. Rocks of a synthesised terrain are also collision obstacles.
+    pub terrain: TerrainSource,
+    /// Rover parameter file (RON), relative to the scenario; default LSR-1.
+    #[serde(default)]
+    pub rover: Option<String>,
+    /// The task.
+    pub task: areo_actions::Task,
+    /// Execution settings (μ, stability floor, gripper reach, body box).
+    #[serde(default)]
+    pub execution: areo_actions::ExecConfig,
+    /// Fitness weights.
+    #[serde(default)]
+    pub weights: areo_actions::Weights,
+    /// GA settings.
+    #[serde(default)]
+    pub ga: areo_actions::GaConfig,
+    /// Modules forced in or out of the filtered inventory.
+    #[serde(default)]
+    pub overrides: areo_actions::Overrides,
+    /// Runs of the GA, each with its own inventory (Table 1 codes) and optionally μ;
+    /// default one run, "plan", on the filtered inventory.
+    #[serde(default)]
+    pub runs: Vec<ActionsRun>,
+    /// A friction sweep: (from, to, step) in μ; each μ runs the GA on the first run's
+    /// inventory.
+    #[serde(default)]
+    pub mu_sweep: Option<(f64, f64, f64)>,
+    /// A line across the path (y of the ditch's far edge, m): the sweep reports the
+    /// smallest μ whose best plan gets past it.
+    #[serde(default)]
+    pub ditch_far_edge_y_m: Option<f64>,
+}
+
+/// One GA run of an actions job.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ActionsRun {
+    /// Name (facts are `NAME_…`).
+    pub name: String,
+    /// Table 1 codes; default the filtered inventory.
+    #[serde(default)]
+    pub inventory: Option<Vec<u16>>,
+    /// μ for this run; default the execution's.
+    #[serde(default)]
+    pub mu: Option<f64>,
 }
 
 /// A TEMPEST mission (see `docs/tempest.md`). Positions are metres east and north of
@@ -257,6 +312,7 @@ impl Validate for Scenario {
             Job::SunTable(job) => job.validate(c),
             Job::TerrainShadow(job) => job.validate(c),
             Job::Tempest(job) => job.validate(c),
+            Job::Actions(job) => job.validate(c),
         });
     }
 }
@@ -309,6 +365,38 @@ fn validate_terrain(c: &mut Checks, name: &str, terrain: &TerrainSource) {
         && let Err(areo_terrain::Error::BadSynth { field, value, allowed }) = spec.validate()
     {
         c.nested(name, |c| c.fail_at(&field_segments(&field), format!("{value} is out of range: allowed {allowed}")));
+    }
+}
+
+impl Validate for ActionsJob {
+    fn validate(&self, c: &mut Checks) {
+        validate_terrain(c, "terrain", &self.terrain);
+        if let Err(areo_actions::Error::Config { field, message }) = self.task.validate() {
+            c.nested("task", |c| c.fail_at(&field_segments(&field), message));
+        }
+        if let Err(areo_actions::Error::Config { field, message }) = self.ga.validate() {
+            c.nested("ga", |c| c.fail_at(&field_segments(&field), message));
+        }
+        c.nested("execution", |c| {
+            c.range("mu", self.execution.mu, 0.01, 2.0, "friction coefficient");
+            c.range("stability_floor", self.execution.stability_floor, 0.0, 0.99, "fraction of the flat-ground margin");
+            c.range("grasp_radius_m", self.execution.grasp_radius_m, 0.0, 1.0, "m");
+        });
+        c.list("runs", &self.runs, |c, r| {
+            if let Some(codes) = &r.inventory
+                && let Err(code) = areo_actions::Inventory::from_codes(codes)
+            {
+                c.fail("inventory", format!("{code} is not a Table 1 module code"));
+            }
+            if let Some(mu) = r.mu {
+                c.range("mu", mu, 0.01, 2.0, "friction coefficient");
+            }
+        });
+        if let Some((a, b, step)) = self.mu_sweep
+            && !(a > 0.0 && b >= a && step > 0.0 && (b - a) / step <= 100.0)
+        {
+            c.fail("mu_sweep", format!("({a}, {b}, {step}): need 0 < from ≤ to, step > 0, at most 100 steps"));
+        }
     }
 }
 

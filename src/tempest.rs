@@ -794,6 +794,7 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
         "distance",
         &TimePlot {
             title: "Straight-line distance to the final goal".into(),
+            x_label: "hours since the start".into(),
             y_label: "distance, m".into(),
             series: dseries,
             nights: night.clone(),
@@ -838,6 +839,7 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
         "energy",
         &TimePlot {
             title: "Battery: energy required to finish and charge".into(),
+            x_label: "hours since the start".into(),
             y_label: "Wh above the battery floor".into(),
             series: eseries,
             nights: night,

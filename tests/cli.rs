@@ -386,3 +386,50 @@ fn a_goal_off_the_map_names_the_field() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("job.goals[0]") && err.contains("off the map"), "{err}");
 }
+
+#[test]
+fn actions_run_writes_the_plan_tables_and_five_plots() {
+    let scenario = root().join("tests/actions/small.ron");
+    let out_dir = tmp("actions");
+    let out = areo(&["run", scenario.to_str().unwrap(), "--out", out_dir.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("inventory:") && stdout.contains("small:"), "{stdout}");
+    let dir = out_dir.join("small");
+    let plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("plan.json")).unwrap()).unwrap();
+    let codes = plan["codes"].as_array().unwrap();
+    assert!(!codes.is_empty());
+    for c in codes {
+        assert!([101, 105, 106, 107, 108, 3002, 3003].contains(&c.as_u64().unwrap()), "{c}");
+    }
+    assert_eq!(plan["generations"].as_array().unwrap().len(), 5, "the initial population and 4 generations");
+    let header = csv_header(&dir.join("plan.csv"));
+    for col in ["code", "x_m", "y_m", "pitch_deg", "stability", "load_lf_n", "energy_wh"] {
+        assert!(header.iter().any(|h| h == col), "plan.csv has {col}");
+    }
+    let ga = std::fs::read_to_string(dir.join("ga.csv")).unwrap();
+    assert_eq!(ga.lines().count(), 6);
+    for name in ["top_view", "side_profile", "stability", "fitness", "lookahead"] {
+        let svg = std::fs::read_to_string(dir.join(format!("{name}.svg"))).unwrap();
+        roxmltree::Document::parse(&svg).unwrap_or_else(|e| panic!("{name}.svg: {e}"));
+        let png = std::fs::read(dir.join(format!("{name}.png"))).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n", "{name}.png");
+    }
+    let facts: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("facts.json")).unwrap()).unwrap();
+    assert_eq!(facts["small_evaluations"], 12.0 * 5.0);
+}
+
+#[test]
+fn an_actions_start_the_rover_cannot_stand_on_names_the_field() {
+    let text = std::fs::read_to_string(root().join("tests/actions/small.ron"))
+        .unwrap()
+        .replace("start: (1.0, 0.6, 0.0)", "start: (1.0, 0.1, 0.0)");
+    let path = tmp("actions-bad").join("bad_start.ron");
+    std::fs::write(&path, text).unwrap();
+    let out = areo(&["run", path.to_str().unwrap(), "--out", tmp("actions-bad").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("job.task.start") && err.contains("not admissible"), "{err}");
+}

@@ -10,10 +10,12 @@
 //! under it); it turns with the heading, and its pitch and roll are ignored for the
 //! collision test (a few centimetres at the box's ends on the slopes driven). A sample
 //! is grasped when the tool is within `grasp_radius_m` of it horizontally (the gripper
-//! reaches the ground).
+//! reaches the ground). A sample module with nothing to do (a grasp with nothing in
+//! reach, a release with an empty gripper) or an arm move out of reach violates no
+//! constraint: it does nothing and the plan goes on.
 
 use areo_rover::evaluation::Evaluator;
-use areo_rover::motion::{Module, Motion, RoverState, Stopped};
+use areo_rover::motion::{Module, Motion, MotionFailure, RoverState, Stopped};
 use areo_terrain::Ground;
 use parry3d::math::{Pose, Rotation, Vector};
 use parry3d::query::intersection_test;
@@ -125,6 +127,9 @@ pub struct Executor<'a, G: Ground> {
     evaluator: &'a Evaluator,
     task: &'a Task,
     config: ExecConfig,
+    /// Why the start pose is not admissible, if it is not (checked once: every plan
+    /// starts there).
+    start_problem: Option<String>,
 }
 
 impl<G: Ground> std::fmt::Debug for Executor<'_, G> {
@@ -136,7 +141,17 @@ impl<G: Ground> std::fmt::Debug for Executor<'_, G> {
 impl<'a, G: Ground + Sync> Executor<'a, G> {
     /// An executor.
     pub fn new(ground: &'a G, evaluator: &'a Evaluator, task: &'a Task, config: ExecConfig) -> Executor<'a, G> {
-        Executor { ground, evaluator, task, config }
+        let mut ex = Executor { ground, evaluator, task, config, start_problem: None };
+        let motion = Motion::new(evaluator, config.mu);
+        if let Err(v) = motion.check(ground, &ex.start_state()) {
+            ex.start_problem = Some(format!("the start pose is not admissible: {v}"));
+        }
+        ex
+    }
+
+    /// Why no plan can start, if the start pose is not admissible.
+    pub fn start_problem(&self) -> Option<&str> {
+        self.start_problem.as_deref()
     }
 
     /// The settings.
@@ -170,8 +185,8 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             peak_friction_ratio: 0.0,
             trace: Vec::new(),
         };
-        if let Err(v) = motion.check(self.ground, &state) {
-            out.failure = Some((0, Failure::Module(format!("the start pose is not admissible: {v}"))));
+        if let Some(problem) = &self.start_problem {
+            out.failure = Some((0, Failure::Module(problem.clone())));
             return out;
         }
         let r2 = self.config.grasp_radius_m * self.config.grasp_radius_m;
@@ -184,6 +199,16 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             };
             let step = match motion.run(self.ground, &state, module, &samples) {
                 Ok(step) => step,
+                // A grasp with nothing in reach, a release with an empty gripper or an
+                // arm move out of reach does nothing: no constraint is violated, the
+                // module is wasted (the fitness pays for its time).
+                Err(Stopped {
+                    failure: MotionFailure::NoSample | MotionFailure::NotHolding | MotionFailure::ArmReach,
+                    ..
+                }) => {
+                    out.prefix_len = i + 1;
+                    continue;
+                }
                 Err(Stopped { failure, progress, .. }) => {
                     out.failure = Some((i, Failure::Module(failure.to_string())));
                     out.failure_progress = progress;

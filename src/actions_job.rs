@@ -1,0 +1,430 @@
+//! The action-planning job: build the terrain and the task, filter the inventory, run
+//! the GA (per run, or per μ of a sweep), and write plan.json, plan.csv, ga.csv and the
+//! plots (top view, side profile, stability, fitness, look-ahead).
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use areo_actions::{
+    ExecConfig, Executor, GaReport, Inventory, Rock, Scale, Task, TraceStep, design_space_log10, evolve,
+};
+use areo_rover::RoverParams;
+use areo_rover::evaluation::Evaluator;
+use areo_terrain::Dem;
+use areo_terrain::synth::Feature;
+
+use crate::error::{Error, Result};
+use crate::outcome::Outcome;
+use crate::plots::{HistogramPlot, Marker, ProfilePlot, ProfileRover, RoutePlot, Series, TimePlot};
+use crate::run::{RunOptions, write_file};
+use crate::scenario::{ActionsJob, ScenarioFile, TerrainSource};
+
+fn mission_error(file: &ScenarioFile, e: areo_actions::Error) -> Error {
+    match e {
+        areo_actions::Error::Config { field, message } => {
+            Error::Scenario { path: file.path.clone(), field: format!("job.{field}"), message }
+        }
+        other => Error::Scenario { path: file.path.clone(), field: "job".into(), message: other.to_string() },
+    }
+}
+
+/// Runs an actions job.
+pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
+    let base = file.path.parent().unwrap_or(Path::new("."));
+    let (dem, synth_rocks): (Dem, Vec<Rock>) = match &job.terrain {
+        TerrainSource::Synth(spec) => {
+            let rocks = spec
+                .features
+                .iter()
+                .filter_map(|f| match *f {
+                    Feature::Rock { x_m, y_m, height_m, width_m } => Some(Rock { x_m, y_m, height_m, width_m }),
+                    _ => None,
+                })
+                .collect();
+            (spec.build()?, rocks)
+        }
+        TerrainSource::File(rel) => (crate::terrain_tools::read_dem(&base.join(rel))?, Vec::new()),
+    };
+    let params = match &job.rover {
+        Some(rel) => RoverParams::load(&base.join(rel))?,
+        None => RoverParams::lsr1(),
+    };
+    let evaluator = Evaluator::new(&params);
+    let mut task: Task = job.task.clone();
+    task.rocks.extend(synth_rocks);
+    let scale = Scale {
+        start_distance_m: task.start_distance_m(),
+        samples_wanted: task.samples_wanted,
+        reference_time_s: task.start_distance_m() / params.speed_m_s,
+        battery_wh: params.battery.capacity_wh * params.battery.usable_fraction,
+        s_floor: job.execution.stability_floor,
+    };
+    let filtered = Inventory::for_task(&task, &job.overrides);
+    let mut o = Outcome::default();
+    let m = job.ga.initial_length.1;
+    o.number("design_space_log10_full", design_space_log10(26, m));
+    o.number("design_space_log10_filtered", design_space_log10(filtered.modules.len(), m));
+    o.summary.push(format!(
+        "inventory: {} of 26 modules after the task filters ({}); D = N^m for m = {m}: 10^{:.0} → 10^{:.0}",
+        filtered.modules.len(),
+        filtered.codes().iter().map(u16::to_string).collect::<Vec<_>>().join(" "),
+        design_space_log10(26, m),
+        design_space_log10(filtered.modules.len(), m)
+    ));
+
+    // The runs: the job's list, or one run on the filtered inventory.
+    let runs: Vec<(String, Inventory, f64)> = if job.runs.is_empty() {
+        vec![("plan".to_string(), filtered.clone(), job.execution.mu)]
+    } else {
+        job.runs
+            .iter()
+            .map(|r| {
+                let inv = match &r.inventory {
+                    Some(codes) => Inventory::from_codes(codes).map_err(|c| Error::Scenario {
+                        path: file.path.clone(),
+                        field: "job.runs.inventory".into(),
+                        message: format!("{c} is not a Table 1 code"),
+                    })?,
+                    None => filtered.clone(),
+                };
+                Ok((r.name.clone(), inv, r.mu.unwrap_or(job.execution.mu)))
+            })
+            .collect::<Result<_>>()?
+    };
+    let sweep: Vec<f64> = match job.mu_sweep {
+        Some((a, b, step)) => {
+            let n = ((b - a) / step + 1e-9).floor() as usize;
+            (0..=n).map(|k| ((a + step * k as f64) * 1e6).round() / 1e6).collect()
+        }
+        None => Vec::new(),
+    };
+    opts.progress.start((runs.len() + sweep.len()) as u64, "evolving");
+    let mut reports: Vec<(String, GaReport, ExecConfig, Inventory)> = Vec::new();
+    for (name, inv, mu) in &runs {
+        let exec = ExecConfig { mu: *mu, ..job.execution };
+        let executor = Executor::new(&dem, &evaluator, &task, exec);
+        if let Some(problem) = executor.start_problem() {
+            return Err(Error::Scenario {
+                path: file.path.clone(),
+                field: "job.task.start".into(),
+                message: problem.into(),
+            });
+        }
+        let clock = std::time::Instant::now();
+        let report = evolve(&executor, inv, &job.weights, &scale, &job.ga).map_err(|e| mission_error(file, e))?;
+        let seconds = clock.elapsed().as_secs_f64();
+        run_facts(&mut o, name, &report, seconds);
+        o.number(&format!("{name}_modules"), inv.modules.len() as f64);
+        o.number(&format!("{name}_design_space_log10"), design_space_log10(inv.modules.len(), m));
+        reports.push((name.clone(), report, exec, inv.clone()));
+        opts.progress.advance(1);
+    }
+    if !sweep.is_empty() {
+        let inv = &runs[0].1;
+        let mut crossed: Option<f64> = None;
+        let mut completed: Option<f64> = None;
+        let mut csv = String::from("mu,complete,best_fitness,prefix,max_y_m,failure\n");
+        for &mu in &sweep {
+            let exec = ExecConfig { mu, ..job.execution };
+            let executor = Executor::new(&dem, &evaluator, &task, exec);
+            let report = evolve(&executor, inv, &job.weights, &scale, &job.ga).map_err(|e| mission_error(file, e))?;
+            let best = executor.run(&report.best.plan, true);
+            let max_y = best.trace.iter().map(|t| t.y_m).fold(task.start.1, f64::max);
+            if job.ditch_far_edge_y_m.is_some_and(|y| max_y > y) && crossed.is_none() {
+                crossed = Some(mu);
+            }
+            if best.complete && completed.is_none() {
+                completed = Some(mu);
+            }
+            let why = best.failure.as_ref().map(|(_, f)| f.to_string()).unwrap_or_default();
+            let _ = writeln!(
+                csv,
+                "{mu},{},{:.4},{},{max_y:.3},{}",
+                u8::from(best.complete),
+                report.best.fitness,
+                best.prefix_len,
+                why.replace(',', ";")
+            );
+            opts.progress.advance(1);
+        }
+        if let Some(mu) = crossed {
+            o.number("sweep_min_mu_crossing_ditch", mu);
+        }
+        if let Some(mu) = completed {
+            o.number("sweep_min_mu_completing", mu);
+        }
+        if let (Some(a), Some(b)) = (crossed, completed) {
+            o.flag("sweep_ditch_needs_less_friction_than_hill", a < b);
+        }
+        o.summary.push(format!(
+            "friction sweep μ = {}..{}: ditch crossed from μ = {}, task completed from μ = {}",
+            sweep[0],
+            sweep[sweep.len() - 1],
+            crossed.map_or("never".into(), |m| format!("{m}")),
+            completed.map_or("never".into(), |m| format!("{m}"))
+        ));
+        if let Some(dir) = opts.out_dir {
+            let path = dir.join("sweep.csv");
+            write_file(&path, csv.as_bytes())?;
+            o.files.push(path);
+        }
+    }
+    opts.progress.finish();
+    for (name, report, exec, _) in &reports {
+        let executor = Executor::new(&dem, &evaluator, &task, *exec);
+        let best = executor.run(&report.best.plan, true);
+        let failure =
+            best.failure.as_ref().map(|(i, f)| format!("module {} ({}): {f}", i + 1, report.best.plan[*i].code()));
+        o.summary.push(format!(
+            "{name}: {} in {} modules; fitness {:.2}; {} samples; stability min {:.0} %, mean {:.0} %; {:.0} s, {:.2} Wh{}",
+            if best.complete { "task complete" } else { "not complete" },
+            best.prefix_len,
+            report.best.fitness,
+            best.samples,
+            100.0 * best.min_stability,
+            100.0 * best.mean_stability,
+            best.time_s,
+            best.energy_wh,
+            failure.map_or(String::new(), |f| format!("; stopped at {f}"))
+        ));
+        if let Some((_, f)) = &best.failure {
+            let kind = match f {
+                areo_actions::Failure::Module(m) if m.contains("tip") => "tip_over",
+                areo_actions::Failure::Module(m) if m.contains("slip") || m.contains("friction") => "slip",
+                areo_actions::Failure::Module(_) => "module",
+                areo_actions::Failure::Stability(_) => "stability",
+                areo_actions::Failure::Collision(_) => "collision",
+            };
+            o.text(&format!("{name}_failure"), kind);
+        }
+        if let Some(dir) = opts.out_dir {
+            let sub = if reports.len() == 1 { dir.to_path_buf() } else { dir.join(name) };
+            std::fs::create_dir_all(&sub).map_err(|source| Error::Io { path: sub.clone(), source })?;
+            o.files.extend(write_outputs(&sub, &dem, &task, report, &best.trace, &params)?);
+        }
+    }
+    Ok(o)
+}
+
+fn run_facts(o: &mut Outcome, name: &str, r: &GaReport, seconds: f64) {
+    let e = &r.best.execution;
+    o.flag(&format!("{name}_complete"), e.complete);
+    o.number(&format!("{name}_best_fitness"), r.best.fitness);
+    o.number(&format!("{name}_samples"), e.samples as f64);
+    o.number(&format!("{name}_min_stability"), e.min_stability);
+    o.number(&format!("{name}_prefix"), e.prefix_len as f64);
+    o.number(&format!("{name}_distance_to_target_m"), e.distance_to_target_m);
+    o.number(&format!("{name}_evaluations"), r.evaluations as f64);
+    o.number(&format!("{name}_modules_executed"), r.modules_executed as f64);
+    o.number(&format!("{name}_seconds"), seconds);
+    if let Some(g) = r.first_solved {
+        o.number(&format!("{name}_first_solved_generation"), g as f64);
+    }
+    let small = r.lookahead.iter().filter(|d| (1..=4).contains(*d)).count();
+    o.number(
+        &format!("{name}_lookahead_1_to_4_fraction"),
+        if r.lookahead.is_empty() { 0.0 } else { small as f64 / r.lookahead.len() as f64 },
+    );
+}
+
+fn write_outputs(
+    dir: &Path,
+    dem: &Dem,
+    task: &Task,
+    report: &GaReport,
+    trace: &[TraceStep],
+    params: &RoverParams,
+) -> Result<Vec<std::path::PathBuf>> {
+    let mut files = Vec::new();
+    let mut put = |name: &str, text: String| -> Result<()> {
+        let path = dir.join(name);
+        write_file(&path, text.as_bytes())?;
+        files.push(path);
+        Ok(())
+    };
+    let plan_json = serde_json::json!({
+        "codes": report.best.plan.iter().map(|m| m.code()).collect::<Vec<_>>(),
+        "fitness": report.best.fitness,
+        "execution": report.best.execution,
+        "trace": trace,
+        "generations": report.generations,
+        "first_solved": report.first_solved,
+        "lookahead": report.lookahead,
+    });
+    put("plan.json", serde_json::to_string_pretty(&plan_json).unwrap_or_default())?;
+    let mut csv = String::from(
+        "step,code,x_m,y_m,z_m,heading_deg,pitch_deg,stability,load_lf_n,load_lm_n,load_lr_n,load_rf_n,load_rm_n,load_rr_n,energy_wh\n",
+    );
+    for (i, t) in trace.iter().enumerate() {
+        let l = t.wheel_loads_n;
+        let _ = writeln!(
+            csv,
+            "{},{},{:.4},{:.4},{:.4},{:.2},{:.2},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.6}",
+            i + 1,
+            t.code,
+            t.x_m,
+            t.y_m,
+            t.z_m,
+            t.heading_deg,
+            t.pitch_deg,
+            t.stability.map_or(String::new(), |s| format!("{s:.4}")),
+            l[0],
+            l[1],
+            l[2],
+            l[3],
+            l[4],
+            l[5],
+            t.energy_wh
+        );
+    }
+    put("plan.csv", csv)?;
+    let mut ga = String::from("generation,best,mean,best_prefix,solved\n");
+    for g in &report.generations {
+        let _ = writeln!(ga, "{},{:.5},{:.5},{},{}", g.index, g.best, g.mean, g.best_prefix, u8::from(g.solved));
+    }
+    put("ga.csv", ga)?;
+
+    // Top view over a hillshade, with rocks and samples.
+    let slope = areo_terrain::slope::slope_aspect(dem);
+    let background = crate::render::hillshade_rgb(dem, &slope, None, 315.0, 45.0);
+    let x0 = dem.x0();
+    let y0 = dem.y_top() - dem.rows() as f64 * dem.dy();
+    let mut path = vec![(task.start.0, task.start.1)];
+    path.extend(trace.iter().map(|t| (t.x_m, t.y_m)));
+    let mut markers = vec![
+        Marker { label: "start".into(), at: (task.start.0, task.start.1), rgb: (40, 200, 60) },
+        Marker { label: "target".into(), at: task.target, rgb: (250, 220, 40) },
+    ];
+    for (i, s) in task.samples.iter().enumerate() {
+        markers.push(Marker { label: format!("s{}", i + 1), at: (s.x_m, s.y_m), rgb: (60, 200, 220) });
+    }
+    for (i, r) in task.rocks.iter().enumerate() {
+        markers.push(Marker { label: format!("rock {}", i + 1), at: (r.x_m, r.y_m), rgb: (120, 120, 120) });
+    }
+    let top = RoutePlot {
+        title: "Best plan: top view".into(),
+        background,
+        cols: dem.cols(),
+        rows: dem.rows(),
+        origin: (x0, y0),
+        extent: (dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy()),
+        series: vec![Series { label: "reference point".into(), points: path, rgb: (220, 30, 40), width: 2 }],
+        markers,
+    };
+    files.extend(crate::plots::route(dir, "top_view", &top)?);
+
+    // Side profile along the path, with the rover drawn at a few steps: the first,
+    // the steepest-pitched ones, and the last.
+    let mut along = Vec::with_capacity(trace.len() + 1);
+    let mut s_acc = 0.0;
+    let mut prev = (task.start.0, task.start.1);
+    along.push(0.0);
+    for t in trace {
+        s_acc += (t.x_m - prev.0).hypot(t.y_m - prev.1);
+        prev = (t.x_m, t.y_m);
+        along.push(s_acc);
+    }
+    let mut ground = Vec::new();
+    let mut last = (task.start.0, task.start.1);
+    let mut dist = 0.0;
+    for t in trace.iter() {
+        let steps = 5;
+        for k in 1..=steps {
+            let f = k as f64 / steps as f64;
+            let (x, y) = (last.0 + (t.x_m - last.0) * f, last.1 + (t.y_m - last.1) * f);
+            let d = dist + (t.x_m - last.0).hypot(t.y_m - last.1) * f;
+            if let Some(z) = areo_terrain::Ground::height(dem, x, y) {
+                ground.push((d, z));
+            }
+        }
+        dist += (t.x_m - last.0).hypot(t.y_m - last.1);
+        last = (t.x_m, t.y_m);
+    }
+    let mut picks: Vec<usize> = Vec::new();
+    if !trace.is_empty() {
+        let mut by_pitch: Vec<usize> = (0..trace.len()).collect();
+        by_pitch.sort_by(|&a, &b| trace[b].pitch_deg.abs().total_cmp(&trace[a].pitch_deg.abs()));
+        picks.push(0);
+        // The lowest body (in a ditch), then the steepest pitches.
+        if let Some(low) = (0..trace.len()).min_by(|&a, &b| trace[a].z_m.total_cmp(&trace[b].z_m)) {
+            by_pitch.insert(0, low);
+        }
+        for i in by_pitch {
+            if picks.iter().all(|&p| (p as i64 - i as i64).abs() > (trace.len() as i64 / 12).max(2)) {
+                picks.push(i);
+            }
+            if picks.len() >= 4 {
+                break;
+            }
+        }
+        picks.push(trace.len() - 1);
+        picks.sort_unstable();
+        picks.dedup();
+    }
+    let rovers = picks
+        .iter()
+        .map(|&i| {
+            let t = &trace[i];
+            let d = along[i + 1];
+            // Project each axle on the path direction at that step.
+            let (sx, sy) = (t.heading_deg.to_radians().sin(), t.heading_deg.to_radians().cos());
+            let wheel = |k: usize| {
+                let w = t.wheels[k];
+                (d + (w[0] - t.x_m) * sx + (w[1] - t.y_m) * sy, w[2])
+            };
+            let wheels = [wheel(0), wheel(1), wheel(2), wheel(3), wheel(4), wheel(5)];
+            ProfileRover { wheels, body: (d, t.z_m), label: format!("{} ({:.0}°)", i + 1, t.pitch_deg) }
+        })
+        .collect();
+    files.extend(crate::plots::profile(
+        dir,
+        "side_profile",
+        &ProfilePlot {
+            title: "Side profile: ground under the path, the rover at key steps (left side)".into(),
+            ground,
+            rovers,
+            wheel_radius_m: params.wheel_radius_m,
+        },
+    )?);
+    let stability: Vec<(f64, f64)> =
+        trace.iter().enumerate().filter_map(|(i, t)| t.stability.map(|s| ((i + 1) as f64, 100.0 * s))).collect();
+    files.extend(crate::plots::time(
+        dir,
+        "stability",
+        &TimePlot {
+            title: "Stability margin along the plan".into(),
+            x_label: "module".into(),
+            y_label: "least margin in the module, % of flat ground".into(),
+            series: vec![Series { label: "stability margin".into(), points: stability, rgb: (30, 90, 220), width: 2 }],
+            nights: Vec::new(),
+            x_range: (0.0, trace.len().max(1) as f64),
+        },
+    )?);
+    let best: Vec<(f64, f64)> = report.generations.iter().map(|g| (g.index as f64, g.best)).collect();
+    let mean: Vec<(f64, f64)> = report.generations.iter().map(|g| (g.index as f64, g.mean)).collect();
+    files.extend(crate::plots::time(
+        dir,
+        "fitness",
+        &TimePlot {
+            title: "Fitness per generation".into(),
+            x_label: "generation".into(),
+            y_label: "fitness".into(),
+            series: vec![
+                Series { label: "best".into(), points: best, rgb: (220, 30, 40), width: 2 },
+                Series { label: "mean".into(), points: mean, rgb: (30, 90, 220), width: 2 },
+            ],
+            nights: Vec::new(),
+            x_range: (0.0, report.generations.len().saturating_sub(1).max(1) as f64),
+        },
+    )?);
+    files.extend(crate::plots::histogram(
+        dir,
+        "lookahead",
+        &HistogramPlot {
+            title: "Look-ahead of improving crossovers".into(),
+            x_label: "change in successful-prefix length, modules".into(),
+            values: report.lookahead.clone(),
+        },
+    )?);
+    Ok(files)
+}
