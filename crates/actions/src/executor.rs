@@ -90,6 +90,20 @@ pub struct TraceStep {
     pub wheels: [[f64; 3]; 6],
 }
 
+/// The executor's state after a module: enough to resume a plan that shares this
+/// prefix (a GA child keeps its parent's modules up to the crossover point).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Checkpoint {
+    state: RoverState,
+    collected: Vec<bool>,
+    samples: usize,
+    stabilities: usize,
+    time_s: f64,
+    energy_wh: f64,
+    peak_friction_ratio: f64,
+    distance_to_target_m: f64,
+}
+
 /// What running a plan did.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Execution {
@@ -119,6 +133,10 @@ pub struct Execution {
     pub peak_friction_ratio: f64,
     /// The executed modules, when asked for.
     pub trace: Vec<TraceStep>,
+    /// The state after each executed module (index k: after k + 1 modules), kept so
+    /// plans sharing a prefix can resume (see [`Executor::resume`]); not serialised.
+    #[serde(skip)]
+    pub checkpoints: Vec<Checkpoint>,
 }
 
 /// Runs plans for one task on one terrain.
@@ -167,6 +185,24 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
 
     /// Runs `plan`; with `trace`, records every executed module.
     pub fn run(&self, plan: &[Module], trace: bool) -> Execution {
+        self.execute(plan, None, trace)
+    }
+
+    /// Runs `plan`, whose first `shared` modules are those of the plan `parent` was
+    /// the execution of: their effect is taken from `parent`'s checkpoints and only the
+    /// rest is executed. The result equals [`Executor::run`]'s.
+    pub fn resume(&self, plan: &[Module], parent: &Execution, shared: usize) -> Execution {
+        // Only modules before the parent's failure or completion have checkpoints
+        // that a different continuation can build on.
+        let usable = if parent.complete { parent.prefix_len.saturating_sub(1) } else { parent.prefix_len };
+        let k = shared.min(usable).min(parent.checkpoints.len()).min(plan.len());
+        if k == 0 {
+            return self.execute(plan, None, false);
+        }
+        self.execute(plan, Some((parent, k)), false)
+    }
+
+    fn execute(&self, plan: &[Module], from: Option<(&Execution, usize)>, trace: bool) -> Execution {
         let motion = Motion::new(self.evaluator, self.config.mu);
         let mut state = self.start_state();
         let mut collected = vec![false; self.task.samples.len()];
@@ -184,13 +220,29 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             energy_wh: 0.0,
             peak_friction_ratio: 0.0,
             trace: Vec::new(),
+            checkpoints: Vec::with_capacity(plan.len()),
         };
         if let Some(problem) = &self.start_problem {
             out.failure = Some((0, Failure::Module(problem.clone())));
             return out;
         }
+        let mut first = 0;
+        if let Some((parent, k)) = from {
+            let c = &parent.checkpoints[k - 1];
+            state = c.state;
+            collected.clone_from(&c.collected);
+            out.samples = c.samples;
+            out.stabilities.extend_from_slice(&parent.stabilities[..c.stabilities]);
+            out.time_s = c.time_s;
+            out.energy_wh = c.energy_wh;
+            out.peak_friction_ratio = c.peak_friction_ratio;
+            out.distance_to_target_m = c.distance_to_target_m;
+            out.checkpoints.extend_from_slice(&parent.checkpoints[..k]);
+            out.prefix_len = k;
+            first = k;
+        }
         let r2 = self.config.grasp_radius_m * self.config.grasp_radius_m;
-        for (i, &module) in plan.iter().enumerate() {
+        for (i, &module) in plan.iter().enumerate().skip(first) {
             let samples = |tool: [f64; 3]| {
                 self.task.samples.iter().enumerate().find_map(|(k, s)| {
                     let (dx, dy) = (tool[0] - s.x_m, tool[1] - s.y_m);
@@ -207,6 +259,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
                     ..
                 }) => {
                     out.prefix_len = i + 1;
+                    out.checkpoints.push(checkpoint(&state, &collected, &out));
                     continue;
                 }
                 Err(Stopped { failure, progress, .. }) => {
@@ -242,6 +295,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             state = step.state;
             out.prefix_len = i + 1;
             out.distance_to_target_m = self.distance(&state);
+            out.checkpoints.push(checkpoint(&state, &collected, &out));
             if out.distance_to_target_m <= self.task.target_radius_m && out.samples >= self.task.samples_wanted {
                 out.complete = true;
                 break;
@@ -317,5 +371,18 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             energy_wh,
             wheels,
         }
+    }
+}
+
+fn checkpoint(state: &RoverState, collected: &[bool], out: &Execution) -> Checkpoint {
+    Checkpoint {
+        state: *state,
+        collected: collected.to_vec(),
+        samples: out.samples,
+        stabilities: out.stabilities.len(),
+        time_s: out.time_s,
+        energy_wh: out.energy_wh,
+        peak_friction_ratio: out.peak_friction_ratio,
+        distance_to_target_m: out.distance_to_target_m,
     }
 }

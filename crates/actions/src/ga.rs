@@ -164,7 +164,8 @@ pub struct GaReport {
     pub lookahead: Vec<i64>,
     /// Plans evaluated.
     pub evaluations: usize,
-    /// Modules executed (successful prefixes plus each failing module).
+    /// Modules actually executed (successful prefixes plus each failing module, less
+    /// the prefixes re-used from a parent).
     pub modules_executed: usize,
 }
 
@@ -184,19 +185,33 @@ pub fn evolve<G: Ground + Sync>(
     let pick = |rng: &mut ChaCha8Rng| inventory.modules[rng.random_range(0..inventory.modules.len())];
     let mut evaluations = 0usize;
     let mut modules_executed = 0usize;
-    let evaluate = |plans: Vec<Vec<Module>>, evaluations: &mut usize, modules: &mut usize| -> Vec<Individual> {
-        let out: Vec<Individual> = plans
+    // Each plan comes with the execution of a plan sharing its first modules, if any:
+    // those are not executed again (a child keeps its first parent's prefix).
+    let evaluate = |plans: Vec<(Vec<Module>, Option<(&Execution, usize)>)>,
+                    evaluations: &mut usize,
+                    modules: &mut usize|
+     -> Vec<Individual> {
+        let out: Vec<(Individual, usize)> = plans
             .into_par_iter()
-            .map(|plan| {
-                let execution = executor.run(&plan, false);
+            .map(|(plan, parent)| {
+                let (execution, reused) = match parent {
+                    Some((e, shared)) => {
+                        let ex = executor.resume(&plan, e, shared);
+                        let reused = shared.min(e.checkpoints.len()).min(ex.prefix_len);
+                        (ex, reused)
+                    }
+                    None => (executor.run(&plan, false), 0),
+                };
                 let fitness = fitness(&execution, weights, scale);
-                Individual { plan, execution, fitness }
+                (Individual { plan, execution, fitness }, reused)
             })
             .collect();
         *evaluations += out.len();
-        *modules +=
-            out.iter().map(|i| i.execution.prefix_len + usize::from(i.execution.failure.is_some())).sum::<usize>();
-        out
+        *modules += out
+            .iter()
+            .map(|(i, reused)| i.execution.prefix_len + usize::from(i.execution.failure.is_some()) - reused)
+            .sum::<usize>();
+        out.into_iter().map(|(i, _)| i).collect()
     };
 
     let initial: Vec<Vec<Module>> = (0..config.population)
@@ -205,7 +220,8 @@ pub fn evolve<G: Ground + Sync>(
             (0..n).map(|_| pick(&mut rng)).collect()
         })
         .collect();
-    let mut population = evaluate(initial, &mut evaluations, &mut modules_executed);
+    let mut population =
+        evaluate(initial.into_iter().map(|p| (p, None)).collect(), &mut evaluations, &mut modules_executed);
     let mut generations = vec![summary(0, &population)];
     let mut first_solved = generations[0].solved.then_some(0);
     let mut lookahead = Vec::new();
@@ -249,7 +265,19 @@ pub fn evolve<G: Ground + Sync>(
             next_plans.push(child);
             parents.push(Some(a));
         }
-        let children = evaluate(next_plans, &mut evaluations, &mut modules_executed);
+        let jobs: Vec<(Vec<Module>, Option<(&Execution, usize)>)> = next_plans
+            .into_iter()
+            .zip(&parents)
+            .map(|(plan, parent)| {
+                let a = parent.map_or(usize::MAX, |a| a);
+                let source = if a == usize::MAX { None } else { Some(&population[a]) };
+                // Elites are their own parents: everything is shared.
+                let source = source.or_else(|| population.iter().find(|p| p.plan == plan));
+                let shared = source.map_or(0, |s| s.plan.iter().zip(&plan).take_while(|(x, y)| x == y).count());
+                (plan, source.map(|s| (&s.execution, shared)))
+            })
+            .collect();
+        let children = evaluate(jobs, &mut evaluations, &mut modules_executed);
         for (child, parent) in children.iter().zip(&parents) {
             if let Some(a) = parent {
                 let pa = &population[*a];

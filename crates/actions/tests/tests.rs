@@ -172,3 +172,31 @@ fn bad_settings_name_the_field() {
     t.samples_wanted = 2;
     assert!(t.validate().unwrap_err().to_string().contains("samples_wanted"));
 }
+
+#[test]
+fn resuming_from_a_parents_prefix_gives_the_same_execution_as_running_afresh() {
+    let p = RoverParams::lsr1();
+    let ev = Evaluator::new(&p);
+    // Over a 20 cm step 0.8 m ahead, with a sample on the way.
+    let ground = Step { x_step: 0.8, low_m: 0.0, high_m: 0.05 };
+    let mut t = task((1.6, 0.0));
+    t.start = (0.0, 0.0, 90.0);
+    t.samples = vec![Sample { x_m: 0.45, y_m: 0.0, mass_kg: 0.1 }];
+    t.samples_wanted = 1;
+    let ex = Executor::new(&ground, &ev, &t, ExecConfig::default());
+    let parent_plan: Vec<Module> = [Module::Forward; 3]
+        .into_iter()
+        .chain([Module::Grasp, Module::ArcLeftWide, Module::Forward, Module::ArcRightWide])
+        .chain([Module::Forward; 10])
+        .collect();
+    let parent = ex.run(&parent_plan, false);
+    assert_eq!(parent.samples, 1);
+    for cut in [0, 1, 4, 6, 9, 30] {
+        let mut child: Vec<Module> = parent_plan[..cut.min(parent_plan.len())].to_vec();
+        child.extend([Module::ArcRightTight, Module::Forward, Module::Forward, Module::ArcLeftTight]);
+        child.extend([Module::Forward; 8]);
+        let fresh = ex.run(&child, false);
+        let resumed = ex.resume(&child, &parent, cut);
+        assert_eq!(resumed, fresh, "cut at {cut}");
+    }
+}
