@@ -169,6 +169,10 @@ pub struct GaReport {
     pub modules_executed: usize,
 }
 
+/// A plan to evaluate, with the execution of a plan sharing its first modules and how
+/// many it shares.
+type Job<'p> = (Vec<Module>, Option<(&'p Execution, usize)>);
+
 /// Runs the GA.
 pub fn evolve<G: Ground + Sync>(
     executor: &Executor<'_, G>,
@@ -187,7 +191,7 @@ pub fn evolve<G: Ground + Sync>(
     let mut modules_executed = 0usize;
     // Each plan comes with the execution of a plan sharing its first modules, if any:
     // those are not executed again (a child keeps its first parent's prefix).
-    let evaluate = |plans: Vec<(Vec<Module>, Option<(&Execution, usize)>)>,
+    let evaluate = |plans: Vec<Job<'_>>,
                     evaluations: &mut usize,
                     modules: &mut usize|
      -> Vec<Individual> {
@@ -265,7 +269,7 @@ pub fn evolve<G: Ground + Sync>(
             next_plans.push(child);
             parents.push(Some(a));
         }
-        let jobs: Vec<(Vec<Module>, Option<(&Execution, usize)>)> = next_plans
+        let jobs: Vec<Job<'_>> = next_plans
             .into_iter()
             .zip(&parents)
             .map(|(plan, parent)| {
