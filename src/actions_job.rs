@@ -187,6 +187,13 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
             best.energy_wh,
             failure.map_or(String::new(), |f| format!("; stopped at {f}"))
         ));
+        let executed = &report.best.plan[..best.prefix_len.min(report.best.plan.len())];
+        let count = |m: areo_rover::motion::Module| executed.iter().filter(|&&x| x == m).count() as f64;
+        use areo_rover::motion::Module as M;
+        o.number(&format!("{name}_arm_forward_net"), count(M::ArmForward) - count(M::ArmBack));
+        if let Some(last) = best.trace.last() {
+            o.number(&format!("{name}_last_pitch_deg"), last.pitch_deg);
+        }
         if let Some((_, f)) = &best.failure {
             let kind = match f {
                 areo_actions::Failure::Module(m) if m.contains("tip") => "tip_over",

@@ -191,10 +191,7 @@ pub fn evolve<G: Ground + Sync>(
     let mut modules_executed = 0usize;
     // Each plan comes with the execution of a plan sharing its first modules, if any:
     // those are not executed again (a child keeps its first parent's prefix).
-    let evaluate = |plans: Vec<Job<'_>>,
-                    evaluations: &mut usize,
-                    modules: &mut usize|
-     -> Vec<Individual> {
+    let evaluate = |plans: Vec<Job<'_>>, evaluations: &mut usize, modules: &mut usize| -> Vec<Individual> {
         let out: Vec<(Individual, usize)> = plans
             .into_par_iter()
             .map(|(plan, parent)| {
