@@ -257,7 +257,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         Err(e) => return Err(e.into()),
     };
 
-    let ctx = Context { job, world: &world, truth: truth_world, frame, start, goals: &goals, model: &model };
+    let ctx = Context { job, world: &world, truth: truth_world, frame, start, goals: &goals, model: &model, precalc_s };
     o.number("precalc_s", precalc_s);
     if let Some(mb) = peak_memory_mb() {
         o.number("peak_memory_mb", mb);
@@ -308,6 +308,7 @@ struct Context<'a> {
     start: Start,
     goals: &'a [u32],
     model: &'a ActionModel,
+    precalc_s: f64,
 }
 
 impl Context<'_> {
@@ -467,6 +468,11 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
         replans.len(),
         1e3 * r.median_replan_s().unwrap_or(0.0),
         1e3 * r.plans[0].wall_s
+    ));
+    o.summary.push(format!(
+        "pre-calculation {:.2} s (slope, horizon maps, Sun table); peak memory {}",
+        ctx.precalc_s,
+        peak_memory_mb().map_or("unknown".into(), |mb| format!("{mb:.0} MB"))
     ));
     if let SimStatus::Unreachable { message, .. } = &r.status {
         o.summary.push(format!("stopped: the next goal is unreachable ({message})"));
