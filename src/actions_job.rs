@@ -219,6 +219,8 @@ fn run_facts(o: &mut Outcome, name: &str, r: &GaReport, seconds: f64) {
     o.number(&format!("{name}_best_fitness"), r.best.fitness);
     o.number(&format!("{name}_samples"), e.samples as f64);
     o.number(&format!("{name}_min_stability"), e.min_stability);
+    o.number(&format!("{name}_peak_saturation"), e.peak_saturation);
+    o.number(&format!("{name}_peak_friction_ratio"), e.peak_friction_ratio);
     o.number(&format!("{name}_prefix"), e.prefix_len as f64);
     o.number(&format!("{name}_distance_to_target_m"), e.distance_to_target_m);
     o.number(&format!("{name}_evaluations"), r.evaluations as f64);

@@ -101,6 +101,7 @@ pub struct Checkpoint {
     time_s: f64,
     energy_wh: f64,
     peak_friction_ratio: f64,
+    peak_saturation: f64,
     distance_to_target_m: f64,
 }
 
@@ -131,6 +132,8 @@ pub struct Execution {
     pub energy_wh: f64,
     /// Largest friction used over μ, over all poses (1 = at the slip limit).
     pub peak_friction_ratio: f64,
+    /// Largest motor torque over its limit, over all poses (1 = saturated).
+    pub peak_saturation: f64,
     /// The executed modules, when asked for.
     pub trace: Vec<TraceStep>,
     /// The state after each executed module (index k: after k + 1 modules), kept so
@@ -219,6 +222,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             time_s: 0.0,
             energy_wh: 0.0,
             peak_friction_ratio: 0.0,
+            peak_saturation: 0.0,
             trace: Vec::new(),
             checkpoints: Vec::with_capacity(plan.len()),
         };
@@ -236,6 +240,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             out.time_s = c.time_s;
             out.energy_wh = c.energy_wh;
             out.peak_friction_ratio = c.peak_friction_ratio;
+            out.peak_saturation = c.peak_saturation;
             out.distance_to_target_m = c.distance_to_target_m;
             out.checkpoints.extend_from_slice(&parent.checkpoints[..k]);
             out.prefix_len = k;
@@ -286,6 +291,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             out.time_s += step.duration_s;
             out.energy_wh += energy;
             out.peak_friction_ratio = out.peak_friction_ratio.max(step.max_friction / self.config.mu);
+            out.peak_saturation = out.peak_saturation.max(step.max_saturation);
             if let Some(s) = step.min_stability {
                 out.stabilities.push(s);
             }
@@ -383,6 +389,7 @@ fn checkpoint(state: &RoverState, collected: &[bool], out: &Execution) -> Checkp
         time_s: out.time_s,
         energy_wh: out.energy_wh,
         peak_friction_ratio: out.peak_friction_ratio,
+        peak_saturation: out.peak_saturation,
         distance_to_target_m: out.distance_to_target_m,
     }
 }

@@ -89,6 +89,9 @@ fn a_straight_plan_on_flat_ground_advances_ten_centimetres_per_module_and_stops_
     }
     assert!((e.min_stability - 1.0).abs() < 1e-9 && e.failure.is_none());
     assert!((e.time_s - 9.0 * 0.10 / 0.03).abs() < 1e-9);
+    // Rolling on flat ground: each motor gives c_rr·r·W/6 of its 3.5 N·m.
+    let tau = p.rolling_resistance * p.wheel_radius_m * 7.0 * 9.81 / 6.0;
+    assert!((e.peak_saturation - tau / p.wheel_torque_max_nm).abs() < 1e-9, "{}", e.peak_saturation);
     // Fitness: full progress bonus minus time and energy, no stability penalty.
     let w = Weights::default();
     let f = fitness(&e, &w, &scale(&t));

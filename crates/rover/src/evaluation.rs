@@ -100,6 +100,12 @@ pub struct Evaluation {
 }
 
 impl Evaluation {
+    /// The largest wheel torque over `torque_max_nm` (1 = a motor at its limit).
+    pub fn saturation(&self, torque_max_nm: f64) -> f64 {
+        self.sides.iter().flat_map(|s| s.torque_nm.iter()).map(|t| t.abs()).fold(0.0, f64::max)
+            / torque_max_nm.max(1e-12)
+    }
+
     /// Wheel torques, left front, middle, rear, right front, middle, rear, N·m.
     pub fn torques_nm(&self) -> [f64; 6] {
         let [l, r] = &self.sides;

@@ -250,6 +250,8 @@ pub struct Step {
     pub min_stability: Option<f64>,
     /// Largest friction used over its poses.
     pub max_friction: f64,
+    /// Largest motor torque over the wheel torque limit, over its poses (1 = saturated).
+    pub max_saturation: f64,
     /// The sample grasped by this module, if any (the id the sample lookup gave).
     pub grasped: Option<usize>,
 }
@@ -334,6 +336,7 @@ impl<'e> Motion<'e> {
             energy: Energy::default(),
             min_stability: None,
             max_friction: 0.0,
+            max_saturation: 0.0,
             grasped: None,
         };
         let timed = |step: &mut Step, seconds: f64, load_w: f64| {
@@ -505,6 +508,7 @@ impl<'e> Motion<'e> {
             warm = Some(eval.pose);
             step.min_stability = Some(step.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
             step.max_friction = step.max_friction.max(eval.friction_used);
+            step.max_saturation = step.max_saturation.max(eval.saturation(p.wheel_torque_max_nm));
             let torques = eval.torques_nm();
             let mut mech = 0.0;
             let mut copper = 0.0;
@@ -554,6 +558,7 @@ impl<'e> Motion<'e> {
                 .map_err(|v| Stopped { failure: MotionFailure::Violation(v), progress: f, state: Box::new(state) })?;
             step.min_stability = Some(step.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
             step.max_friction = step.max_friction.max(eval.friction_used);
+            step.max_saturation = step.max_saturation.max(eval.saturation(p.wheel_torque_max_nm));
             state = RoverState { arm, pose: Some(eval.pose), ..state };
         }
         let lift = |arm: &ArmState| -> f64 {
@@ -577,6 +582,7 @@ impl<'e> Motion<'e> {
         })?;
         step.min_stability = Some(step.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
         step.max_friction = step.max_friction.max(eval.friction_used);
+        step.max_saturation = step.max_saturation.max(eval.saturation(self.evaluator.params().wheel_torque_max_nm));
         step.state.pose = Some(eval.pose);
         Ok(())
     }
