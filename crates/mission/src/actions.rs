@@ -523,7 +523,25 @@ impl ActionModel {
         // The longest drive: a diagonal up the steepest slope allowed, at the slowest speed.
         let run = dem.dx().hypot(dem.dy());
         let longest = self.quantise_time(run / slowest / self.max_slope_deg.to_radians().cos().max(0.05)) + 1.0;
-        let drive = gain(self.rover.electronics.power_w(Load::High), longest);
+        // While driving the array points along the heading, tipped by the ground (at
+        // most the slope limit): bound its output by the best incidence any heading,
+        // any Sun of the table and any admissible tilt allow — far below a Sun-facing
+        // panel's for a steep array, which tightens the search's heuristic.
+        let drive_source = self.rover.nuclear_w
+            + self.rover.solar.map_or(0.0, |a| {
+                // Without the slope constraint the ground can tip the array any way.
+                let tilt = if self.config.drive.max_slope { self.max_slope_deg } else { 90.0 }.to_radians();
+                let mut best: f64 = 0.0;
+                for sun in world.sun_table().iter().filter(|s| s.elevation_deg > 0.0) {
+                    for n in &self.level_normals {
+                        let cos = (n[0] * sun.enu[0] + n[1] * sun.enu[1] + n[2] * sun.enu[2]).clamp(-1.0, 1.0);
+                        let incidence = (cos.acos() - tilt).max(0.0);
+                        best = best.max(sun.beam_w_m2 * incidence.cos());
+                    }
+                }
+                best * a.area_m2 * a.efficiency
+            });
+        let drive = gain_from(drive_source, self.rover.electronics.power_w(Load::High), longest);
         let charge = gain(
             self.rover.electronics.power_w(self.config.charge_load.load()),
             self.quantise_time(self.config.charge_s),

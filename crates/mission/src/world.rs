@@ -360,6 +360,11 @@ impl World {
         (n[0] * sun.enu[0] + n[1] * sun.enu[1] + n[2] * sun.enu[2]).clamp(-1.0, 1.0).asin().to_degrees()
     }
 
+    /// The tabulated Sun, one sample per Sun step from t = 0.
+    pub fn sun_table(&self) -> &[Sun] {
+        &self.sun
+    }
+
     /// Largest beam flux in the table, W/m².
     pub fn max_beam_w_m2(&self) -> f64 {
         self.sun.iter().map(|s| s.beam_w_m2).fold(0.0, f64::max)
