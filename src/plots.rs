@@ -12,6 +12,7 @@ use std::sync::Once;
 
 use base64::Engine;
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
@@ -96,6 +97,39 @@ fn draw_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> S
     e.to_string()
 }
 
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Draws each series as a line with its legend entry.
+fn draw_lines<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+    series: &[Series],
+) -> std::result::Result<(), String> {
+    for s in series {
+        let style = colour(s.rgb).stroke_width(s.width);
+        chart
+            .draw_series(LineSeries::new(s.points.iter().copied(), style))
+            .map_err(draw_err)?
+            .label(&s.label)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+    }
+    Ok(())
+}
+
+/// Draws the legend box at `position`.
+fn draw_legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+    position: SeriesLabelPosition,
+) -> std::result::Result<(), String> {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .position(position)
+        .draw()
+        .map_err(draw_err)
+}
+
 /// Where the plotting area of a chart lies, px: (x, y, width, height).
 type PixelRect = (i32, i32, i32, i32);
 
@@ -135,14 +169,7 @@ fn draw_route<DB: DrawingBackend>(
         .label_style(("sans-serif", 13))
         .draw()
         .map_err(draw_err)?;
-    for s in &p.series {
-        let style = colour(s.rgb).stroke_width(s.width);
-        chart
-            .draw_series(LineSeries::new(s.points.iter().copied(), style))
-            .map_err(draw_err)?
-            .label(&s.label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
-    }
+    draw_lines(&mut chart, &p.series)?;
     for m in &p.markers {
         let c = colour(m.rgb);
         chart
@@ -153,14 +180,7 @@ fn draw_route<DB: DrawingBackend>(
             ])
             .map_err(draw_err)?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 13))
-        .position(SeriesLabelPosition::LowerRight)
-        .draw()
-        .map_err(draw_err)?;
+    draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
     root.present().map_err(draw_err)?;
     Ok(rect)
 }
@@ -201,22 +221,8 @@ fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) ->
         .map_err(draw_err)?
         .label("night")
         .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], night));
-    for s in &p.series {
-        let style = colour(s.rgb).stroke_width(s.width);
-        chart
-            .draw_series(LineSeries::new(s.points.iter().copied(), style))
-            .map_err(draw_err)?
-            .label(&s.label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 13))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(draw_err)?;
+    draw_lines(&mut chart, &p.series)?;
+    draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
     root.present().map_err(draw_err)?;
     Ok(())
 }
@@ -269,23 +275,7 @@ pub fn route(dir: &Path, name: &str, p: &RoutePlot) -> Result<Vec<PathBuf>> {
 
 /// Writes a time plot as `dir/NAME.svg` and `dir/NAME.png`.
 pub fn time(dir: &Path, name: &str, p: &TimePlot) -> Result<Vec<PathBuf>> {
-    register_font();
-    let (width, height) = (900u32, 500u32);
-    let svg_path = dir.join(format!("{name}.svg"));
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
-        draw_time(&root, p).map_err(|m| plot_error(&svg_path, m))?;
-    }
-    write_text(&svg_path, &svg)?;
-    let png_path = dir.join(format!("{name}.png"));
-    let mut buf = vec![0u8; width as usize * height as usize * 3];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
-        draw_time(&root, p).map_err(|m| plot_error(&png_path, m))?;
-    }
-    crate::render::write_png(&png_path, width as usize, height as usize, &buf)?;
-    Ok(vec![svg_path, png_path])
+    both(dir, name, (900, 500), |r| draw_time(r, p), |r| draw_time(r, p))
 }
 
 /// The rover drawn in a side profile: six wheel axles (distance, height), the body
