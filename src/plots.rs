@@ -97,6 +97,17 @@ fn draw_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> S
     e.to_string()
 }
 
+/// A chart builder with the plots' common title, margin and label areas.
+fn titled<'a, 'b, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    title: &'b str,
+    y_label_area: u32,
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut b = ChartBuilder::on(root);
+    b.caption(title, ("sans-serif", 20)).margin(12).x_label_area_size(40).y_label_area_size(y_label_area);
+    b
+}
+
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// Draws each series as a line with its legend entry.
@@ -141,13 +152,7 @@ fn draw_route<DB: DrawingBackend>(
     root.fill(&WHITE).map_err(draw_err)?;
     let (w, h) = p.extent;
     let (x0, y0) = p.origin;
-    let mut chart = ChartBuilder::on(root)
-        .caption(&p.title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(x0..x0 + w, y0..y0 + h)
-        .map_err(draw_err)?;
+    let mut chart = titled(root, &p.title, 60).build_cartesian_2d(x0..x0 + w, y0..y0 + h).map_err(draw_err)?;
     let (xr, yr) = chart.plotting_area().get_pixel_range();
     let rect = (xr.start, yr.start, xr.end - xr.start, yr.end - yr.start);
     if paint_background && p.cols > 0 && p.rows > 0 {
@@ -200,13 +205,7 @@ fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) ->
     let pad = ((hi - lo) * 0.05).max(1e-6);
     let (y0, y1) = (lo.min(0.0) - pad, hi + pad);
     let (x0, x1) = (p.x_range.0, p.x_range.1.max(p.x_range.0 + 1e-6));
-    let mut chart = ChartBuilder::on(root)
-        .caption(&p.title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(draw_err)?;
+    let mut chart = titled(root, &p.title, 70).build_cartesian_2d(x0..x1, y0..y1).map_err(draw_err)?;
     chart
         .configure_mesh()
         .light_line_style(RGBColor(235, 235, 235))
@@ -237,40 +236,28 @@ fn write_text(path: &Path, text: &str) -> Result<()> {
 
 /// Writes the route plot as `dir/NAME.svg` and `dir/NAME.png`.
 pub fn route(dir: &Path, name: &str, p: &RoutePlot) -> Result<Vec<PathBuf>> {
-    register_font();
     let width = 900u32;
     // Square metres: the plot area keeps the map's aspect (within the label margins).
     let height = ((f64::from(width) - 96.0) * p.extent.1 / p.extent.0 + 104.0).clamp(300.0, 1400.0) as u32;
-    let svg_path = dir.join(format!("{name}.svg"));
-    let mut svg = String::new();
-    let rect = {
-        let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
-        draw_route(&root, p, false).map_err(|m| plot_error(&svg_path, m))?
+    // The PNG paints the background pixel by pixel; the SVG embeds it as one PNG image
+    // under the drawing (after the white fill).
+    let embed = |svg: String, rect: PixelRect| -> std::result::Result<String, String> {
+        let mut png = Vec::new();
+        crate::render::encode_png(&mut png, p.cols, p.rows, &p.background)?;
+        let image = format!(
+            r#"<image x="{}" y="{}" width="{}" height="{}" preserveAspectRatio="none" href="data:image/png;base64,{}"/>"#,
+            rect.0,
+            rect.1,
+            rect.2,
+            rect.3,
+            base64::engine::general_purpose::STANDARD.encode(&png)
+        );
+        Ok(match svg.find("<rect").and_then(|i| svg[i..].find("/>").map(|j| i + j + 2)) {
+            Some(at) => format!("{}\n{image}{}", &svg[..at], &svg[at..]),
+            None => svg,
+        })
     };
-    // The background as one embedded PNG under the drawing (after the white fill).
-    let mut png = Vec::new();
-    crate::render::encode_png(&mut png, p.cols, p.rows, &p.background).map_err(|m| plot_error(&svg_path, m))?;
-    let image = format!(
-        r#"<image x="{}" y="{}" width="{}" height="{}" preserveAspectRatio="none" href="data:image/png;base64,{}"/>"#,
-        rect.0,
-        rect.1,
-        rect.2,
-        rect.3,
-        base64::engine::general_purpose::STANDARD.encode(&png)
-    );
-    let svg = match svg.find("<rect").and_then(|i| svg[i..].find("/>").map(|j| i + j + 2)) {
-        Some(at) => format!("{}\n{image}{}", &svg[..at], &svg[at..]),
-        None => svg,
-    };
-    write_text(&svg_path, &svg)?;
-    let png_path = dir.join(format!("{name}.png"));
-    let mut buf = vec![0u8; width as usize * height as usize * 3];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
-        draw_route(&root, p, true).map_err(|m| plot_error(&png_path, m))?;
-    }
-    crate::render::write_png(&png_path, width as usize, height as usize, &buf)?;
-    Ok(vec![svg_path, png_path])
+    both_with(dir, name, (width, height), |r| draw_route(r, p, false), embed, |r| draw_route(r, p, true).map(|_| ()))
 }
 
 /// Writes a time plot as `dir/NAME.svg` and `dir/NAME.png`.
@@ -312,13 +299,7 @@ fn draw_profile<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &ProfilePl
         p.ground.iter().map(|q| q.1).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
     let (x0, x1) = if x0.is_finite() { (x0, x1.max(x0 + 1e-3)) } else { (0.0, 1.0) };
     let (z0, z1) = if z0.is_finite() { (z0 - 0.1, z1 + 0.6) } else { (0.0, 1.0) };
-    let mut chart = ChartBuilder::on(root)
-        .caption(&p.title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(x0..x1, z0..z1)
-        .map_err(draw_err)?;
+    let mut chart = titled(root, &p.title, 60).build_cartesian_2d(x0..x1, z0..z1).map_err(draw_err)?;
     chart
         .configure_mesh()
         .disable_mesh()
@@ -374,11 +355,7 @@ fn draw_histogram<DB: DrawingBackend>(
         *counts.entry(*v).or_insert(0u32) += 1;
     }
     let top = counts.values().copied().max().unwrap_or(1);
-    let mut chart = ChartBuilder::on(root)
-        .caption(&p.title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
+    let mut chart = titled(root, &p.title, 60)
         .build_cartesian_2d((lo as f64 - 0.5)..(hi as f64 + 0.5), 0.0..(f64::from(top) * 1.1))
         .map_err(draw_err)?;
     chart
@@ -405,17 +382,31 @@ fn draw_histogram<DB: DrawingBackend>(
 fn both(
     dir: &Path,
     name: &str,
-    (width, height): (u32, u32),
+    size: (u32, u32),
     draw_svg: impl Fn(&DrawingArea<SVGBackend<'_>, Shift>) -> std::result::Result<(), String>,
+    draw_png: impl Fn(&DrawingArea<BitMapBackend<'_>, Shift>) -> std::result::Result<(), String>,
+) -> Result<Vec<PathBuf>> {
+    both_with(dir, name, size, draw_svg, |svg, ()| Ok(svg), draw_png)
+}
+
+/// [`both`], with the SVG text passed through `finish_svg` (given what `draw_svg`
+/// returned) before it is written.
+fn both_with<T>(
+    dir: &Path,
+    name: &str,
+    (width, height): (u32, u32),
+    draw_svg: impl Fn(&DrawingArea<SVGBackend<'_>, Shift>) -> std::result::Result<T, String>,
+    finish_svg: impl FnOnce(String, T) -> std::result::Result<String, String>,
     draw_png: impl Fn(&DrawingArea<BitMapBackend<'_>, Shift>) -> std::result::Result<(), String>,
 ) -> Result<Vec<PathBuf>> {
     register_font();
     let svg_path = dir.join(format!("{name}.svg"));
     let mut svg = String::new();
-    {
+    let drawn = {
         let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
-        draw_svg(&root).map_err(|m| plot_error(&svg_path, m))?;
-    }
+        draw_svg(&root).map_err(|m| plot_error(&svg_path, m))?
+    };
+    let svg = finish_svg(svg, drawn).map_err(|m| plot_error(&svg_path, m))?;
     write_text(&svg_path, &svg)?;
     let png_path = dir.join(format!("{name}.png"));
     let mut buf = vec![0u8; width as usize * height as usize * 3];
