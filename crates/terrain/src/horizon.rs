@@ -44,14 +44,47 @@ impl HorizonMap {
             return Err(Error::BadGrid(format!("{sectors} horizon sectors: allowed 16..=360")));
         }
         let cells = dem.cols() * dem.rows();
-        let per_sector: Vec<Vec<u16>> = (0..sectors)
-            .into_par_iter()
-            .map(|s| horizon_sweep(dem, s as f64 * 360.0 / sectors as f64, curvature).into_iter().map(encode).collect())
-            .collect();
-        let mut angles = Vec::with_capacity(cells * sectors);
-        for v in per_sector {
-            angles.extend(v);
+        let zn = nan_coded(dem);
+        let valid = dem.valid_mask();
+        // Each sector written in place; opposite sectors (when K is even) from one
+        // sweep of their common lines; per-thread accumulators reused across sectors.
+        let mut angles = vec![0u16; cells * sectors];
+        let paired = sectors % 2 == 0;
+        let jobs = if paired { sectors / 2 } else { sectors };
+        let mut outs: Vec<&mut [u16]> = angles.chunks_mut(cells.max(1)).collect();
+        let mut pairs: Vec<(usize, &mut [u16], Option<&mut [u16]>)> = Vec::with_capacity(jobs);
+        if paired {
+            let opposite = outs.split_off(jobs);
+            for (s, (a, b)) in outs.into_iter().zip(opposite).enumerate() {
+                pairs.push((s, a, Some(b)));
+            }
+        } else {
+            for (s, a) in outs.into_iter().enumerate() {
+                pairs.push((s, a, None));
+            }
         }
+        let write = |acc: &Accumulator, out: &mut [u16]| {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = encode(finish(valid[i], acc.sum[i], acc.weight[i]));
+            }
+        };
+        pairs.into_par_iter().for_each_init(
+            || (Accumulator::default(), Accumulator::default()),
+            |(toward, away), (s, out, opposite)| {
+                let az = s as f64 * 360.0 / sectors as f64;
+                match opposite {
+                    Some(opposite) => {
+                        sweep_lines(dem, &zn, az, curvature, Some(&mut *toward), Some(&mut *away));
+                        write(toward, out);
+                        write(away, opposite);
+                    }
+                    None => {
+                        sweep_lines(dem, &zn, az, curvature, Some(&mut *toward), None);
+                        write(toward, out);
+                    }
+                }
+            },
+        );
         Ok(HorizonMap { cols: dem.cols(), rows: dem.rows(), sectors, angles })
     }
 
@@ -117,10 +150,9 @@ impl HorizonMap {
 /// apart miss narrow peaks between them: 1–2 % of cells disagree with a per-cell ray
 /// cast at low Sun, against 0.1–0.2 % at a quarter cell).
 pub fn horizon_sweep(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f64> {
-    let mut sum = Vec::new();
-    let mut weight = Vec::new();
-    accumulate(dem, azimuth_deg, curvature, &mut sum, &mut weight);
-    (0..sum.len()).map(|i| finish(dem.valid_mask()[i], sum[i], weight[i])).collect()
+    let mut acc = Accumulator::default();
+    sweep_lines(dem, &nan_coded(dem), azimuth_deg, curvature, Some(&mut acc), None);
+    (0..acc.sum.len()).map(|i| finish(dem.valid_mask()[i], acc.sum[i], acc.weight[i])).collect()
 }
 
 /// The horizon angle of one cell from its blended tangent.
@@ -134,56 +166,96 @@ fn finish(valid: bool, sum: f32, weight: f32) -> f64 {
     }
 }
 
-/// Per cell, the weighted sum of horizon tangents from the lines straddling it, and the
-/// weights; the buffers are reused across sectors (large DEMs: no fresh pages each time).
-fn accumulate(dem: &Dem, azimuth_deg: f64, curvature: Curvature, sum: &mut Vec<f32>, weight: &mut Vec<f32>) {
+/// Parallel sweep lines per cell width, and their spacing in cells.
+const LINES_PER_CELL: i64 = 4;
+const SPACING: f64 = 1.0 / LINES_PER_CELL as f64;
+
+/// Elevations with missing cells as NaN: one test per sample instead of a mask lookup
+/// per corner, and NaN carries through the interpolation.
+fn nan_coded(dem: &Dem) -> Vec<f32> {
+    dem.elevations().iter().zip(dem.valid_mask()).map(|(&z, &v)| if v { z } else { f32::NAN }).collect()
+}
+
+/// Per-cell accumulators of one azimuth: the weighted sum of horizon tangents from the
+/// lines straddling each cell, and the weights. Reused across sectors (large DEMs: no
+/// fresh pages each time).
+#[derive(Default)]
+struct Accumulator {
+    sum: Vec<f32>,
+    weight: Vec<f32>,
+}
+
+impl Accumulator {
+    fn reset(&mut self, cells: usize) {
+        self.sum.clear();
+        self.sum.resize(cells, 0.0);
+        self.weight.clear();
+        self.weight.resize(cells, 0.0);
+    }
+}
+
+/// One sweep line's samples, in walking order: the sheared terrain height where the
+/// line crosses each grid line (NaN: off the map or missing), and the observer cell
+/// near each crossing with its sheared height and blending weight.
+#[derive(Default)]
+struct Line {
+    x: Vec<f64>,
+    h: Vec<f64>,
+    cell: Vec<usize>,
+    observer: Vec<f64>,
+    w: Vec<f32>,
+}
+
+/// Sweeps the lines parallel to `azimuth_deg` once, accumulating the horizon toward
+/// `azimuth_deg` into `toward` and toward the opposite azimuth into `away` (either may
+/// be absent): both directions see the same samples, so they are computed once. The
+/// family of lines depends only on the axis, not on which end is `azimuth_deg`, so a
+/// sector's horizon is the same whether it is computed alone or with its opposite.
+/// `zn` is [`nan_coded`].
+fn sweep_lines<'a>(
+    dem: &Dem,
+    zn: &[f32],
+    azimuth_deg: f64,
+    curvature: Curvature,
+    mut toward: Option<&'a mut Accumulator>,
+    mut away: Option<&'a mut Accumulator>,
+) {
     let (cols, rows) = (dem.cols(), dem.rows());
     let a = azimuth_deg.to_radians();
     let snap = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
     let (pc, pr) = (snap(a.sin() / dem.dx()), snap(-a.cos() / dem.dy()));
     let along_cols = pc.abs() >= pr.abs();
-    // n: steps along the dominant axis; t_len: cells across; shift: transverse index
+    // n: cells along the dominant axis; t_len: cells across; shift: transverse index
     // change per step toward the azimuth.
     let (n, t_len, step_m, shift, toward_higher) = if along_cols {
         (cols, rows, 1.0 / pc.abs(), pr / pc.abs(), pc > 0.0)
     } else {
         (rows, cols, 1.0 / pr.abs(), pc / pr.abs(), pr > 0.0)
     };
+    // Canonical walk: from dominant index 0 upward, away from the azimuth at that end.
+    // If `azimuth_deg` lies toward the higher indices, it is the "away" direction of
+    // the opposite azimuth (whose shift is negated).
+    let shift = if toward_higher { -shift } else { shift };
+    if toward_higher {
+        std::mem::swap(&mut toward, &mut away);
+    }
     let shift = if (shift - shift.round()).abs() < 1e-9 { shift.round() } else { shift };
-    // Cell at (dominant j, transverse t) → flat index.
-    let index = |j: usize, t: usize| if along_cols { t * cols + j } else { j * cols + t };
-    // m steps away from the azimuth-side edge → dominant index.
-    let dom = |m: usize| if toward_higher { n - 1 - m } else { m };
+    // Cell at (dominant j, transverse t) → flat index j·dj + t·dt.
+    let (dj, dt) = if along_cols { (1, cols) } else { (cols, 1) };
     let inv_r = 2.0 * curvature.inv_2r();
-    let z = dem.elevations();
-    let valid = dem.valid_mask();
-    let sample = |j: usize, t: f64| -> Option<f64> {
-        if t < -1e-9 || t > (t_len - 1) as f64 + 1e-9 {
-            return None;
-        }
-        let t0 = (t.floor().max(0.0) as usize).min(t_len - 1);
-        let w = (t - t0 as f64).max(0.0);
-        let i0 = index(j, t0);
-        if w < 1e-9 {
-            return valid[i0].then(|| f64::from(z[i0]));
-        }
-        let i1 = index(j, (t0 + 1).min(t_len - 1));
-        (valid[i0] && valid[i1]).then(|| f64::from(z[i0]) * (1.0 - w) + f64::from(z[i1]) * w)
-    };
-    sum.clear();
-    sum.resize(cols * rows, 0.0);
-    weight.clear();
-    weight.resize(cols * rows, 0.0);
+    let t_last = t_len as i64 - 1;
+    for acc in [&mut toward, &mut away].into_iter().flatten() {
+        acc.reset(cols * rows);
+    }
     let span = shift * (n - 1) as f64;
     let first = (span.min(0.0)).floor() as i64 - 1;
     let last = ((t_len - 1) as f64 + span.max(0.0)).ceil() as i64 + 1;
     let mut hull: Vec<(f64, f64)> = Vec::with_capacity(n);
-    const SPACING: f64 = 0.25;
-    for q in (first * 4)..=(last * 4) {
+    let mut line = Line::default();
+    for q in (first * LINES_PER_CELL)..=(last * LINES_PER_CELL) {
         let t0 = q as f64 * SPACING;
-        hull.clear();
-        // Only the steps where this line is on the map: −1 ≤ t0 − shift·m ≤ t_len.
-        let (m_lo, m_hi) = if shift == 0.0 {
+        // Only the steps where this line is on the map: −1 ≤ t0 − shift·j ≤ t_len.
+        let (j_lo, j_hi) = if shift == 0.0 {
             if t0 < -1.0 || t0 > t_len as f64 { (1, 0) } else { (0, n - 1) }
         } else {
             let a = (t0 + 1.0) / shift;
@@ -191,53 +263,161 @@ fn accumulate(dem: &Dem, azimuth_deg: f64, curvature: Curvature, sum: &mut Vec<f
             let (lo, hi) = if a < b { (a, b) } else { (b, a) };
             (lo.ceil().max(0.0) as usize, hi.floor().min((n - 1) as f64).max(-1.0) as isize as usize)
         };
-        if m_hi < m_lo || m_hi == usize::MAX {
+        if j_hi < j_lo || j_hi == usize::MAX {
             continue;
         }
-        for m in m_lo..=m_hi {
-            let t = t0 - shift * m as f64;
-            if t < -1.0 || t > t_len as f64 {
+        line.sample(zn, t0, shift, j_lo..=j_hi, (dj, dt), t_last, step_m, inv_r);
+        if line.x.is_empty() {
+            continue;
+        }
+        if let Some(acc) = toward.as_deref_mut() {
+            line.walk(&mut hull, acc, false, inv_r);
+        }
+        if let Some(acc) = away.as_deref_mut() {
+            line.walk(&mut hull, acc, true, inv_r);
+        }
+    }
+}
+
+impl Line {
+    /// Samples the line t = t0 − shift·j over `js`.
+    #[allow(clippy::too_many_arguments)] // the line's geometry, spelled out
+    fn sample(
+        &mut self,
+        zn: &[f32],
+        t0: f64,
+        shift: f64,
+        js: std::ops::RangeInclusive<usize>,
+        (dj, dt): (usize, usize),
+        t_last: i64,
+        step_m: f64,
+        inv_r: f64,
+    ) {
+        self.x.clear();
+        self.h.clear();
+        self.cell.clear();
+        self.observer.clear();
+        self.w.clear();
+        for j in js {
+            let t = t0 - shift * j as f64;
+            if !(-1.0..=(t_last + 1) as f64).contains(&t) {
                 continue;
             }
-            let j = dom(m);
-            let s = m as f64 * step_m;
-            // Observer: the cell within one line spacing of this line's crossing (with
-            // lines a quarter cell apart, at most the nearest one).
-            let tc = t.round();
-            let w = 1.0 - (t - tc).abs() / SPACING;
-            if w > 1e-12 && tc >= 0.0 && tc <= (t_len - 1) as f64 {
-                let i = index(j, tc as usize);
-                if valid[i] {
-                    let observer = f64::from(z[i]) - s * s * inv_r / 2.0;
-                    // A line that has seen nothing yet says nothing about the horizon.
-                    if let Some(k) = tangent(&hull, s, observer) {
-                        // Blend tangents; one arctangent per cell at the end.
-                        sum[i] += (w * (k - s * inv_r)) as f32;
-                        weight[i] += w as f32;
-                    }
+            let row = j * dj;
+            let x = j as f64 * step_m;
+            let drop = x * x * inv_r / 2.0;
+            // The terrain where the line crosses this grid line, interpolated between
+            // the two cells straddling it.
+            let h = if t < -1e-9 || t > t_last as f64 + 1e-9 {
+                f64::NAN
+            } else {
+                // t ≥ 0 here (up to 1e-9): truncation is the floor, without a libm call.
+                let ti = (t.max(0.0) as i64).min(t_last);
+                let w = (t - ti as f64).max(0.0);
+                let z0 = f64::from(zn[row + ti as usize * dt]);
+                if w < 1e-9 { z0 } else { z0 * (1.0 - w) + f64::from(zn[row + (ti + 1).min(t_last) as usize * dt]) * w }
+            };
+            // Observer: the cell within one line spacing of the crossing (with lines a
+            // quarter cell apart, at most the nearest one). t ≥ −1, so the shifted
+            // truncation is a rounding.
+            let tc = (t + 1.5) as i64 - 1;
+            let w = 1.0 - (t - tc as f64).abs() / SPACING;
+            let (cell, observer) = if w > 1e-12 && tc >= 0 && tc <= t_last {
+                let i = row + tc as usize * dt;
+                (i, f64::from(zn[i]) - drop)
+            } else {
+                (usize::MAX, f64::NAN)
+            };
+            self.x.push(x);
+            self.h.push(h - drop);
+            self.cell.push(cell);
+            self.observer.push(observer);
+            self.w.push(w as f32);
+        }
+    }
+
+    /// Walks the line (backward: from its far end, abscissae negated), keeping the upper
+    /// convex hull of the samples passed; each observer's horizon is its tangent to the
+    /// hull. The shear by x²/2R is the same either way; the slope correction is −x/R.
+    fn walk(&self, hull: &mut Vec<(f64, f64)>, acc: &mut Accumulator, backward: bool, inv_r: f64) {
+        hull.clear();
+        let n = self.x.len();
+        for k in 0..n {
+            let k = if backward { n - 1 - k } else { k };
+            let x = if backward { -self.x[k] } else { self.x[k] };
+            let p = (x, self.h[k]);
+            let has_p = !p.1.is_nan();
+            // Where pushing p will cut the hull: its tangent vertex, found from the end
+            // (amortised O(1): every vertex passed over is popped below).
+            let keep = if has_p { hull_keep(hull, p) } else { 0 };
+            let oy = self.observer[k];
+            if !oy.is_nan() {
+                // A line that has seen nothing yet says nothing about the horizon.
+                let slope =
+                    if keep > 0 { Some(tangent_from(hull, x, oy, keep - 1, p.1)) } else { tangent(hull, x, oy) };
+                if let Some(slope) = slope {
+                    // Blend tangents; one arctangent per cell at the end.
+                    let (i, w) = (self.cell[k], self.w[k]);
+                    acc.sum[i] += w * (slope - x * inv_r) as f32;
+                    acc.weight[i] += w;
                 }
             }
-            if let Some(h) = sample(j, t) {
-                push_hull(&mut hull, (s, h - s * s * inv_r / 2.0));
+            if has_p {
+                hull.truncate(keep);
+                hull.push(p);
             }
         }
     }
-    let _ = rows;
 }
 
-/// Adds a point to the right end of an upper convex hull.
-fn push_hull(hull: &mut Vec<(f64, f64)>, p: (f64, f64)) {
-    while hull.len() >= 2 {
-        let (a, b) = (hull[hull.len() - 2], hull[hull.len() - 1]);
+/// How many vertices of an upper convex hull stay when `p` is added at its right end:
+/// the last one kept is the hull's tangent vertex seen from `p`.
+fn hull_keep(hull: &[(f64, f64)], p: (f64, f64)) -> usize {
+    let mut keep = hull.len();
+    while keep >= 2 {
+        let (a, b) = (hull[keep - 2], hull[keep - 1]);
         // b is kept only if it lies strictly above the segment a–p.
         let cross = (b.0 - a.0) * (p.1 - a.1) - (b.1 - a.1) * (p.0 - a.0);
         if cross >= 0.0 {
-            hull.pop();
+            keep -= 1;
         } else {
             break;
         }
     }
-    hull.push(p);
+    keep
+}
+
+/// [`tangent`] for an observer at the abscissa of a point `(ox, py)` whose tangent
+/// vertex `kp` is known: the tangent vertex moves back along the hull as the
+/// observer rises, so it is searched from `kp` — rightward over vertices that `py`'s
+/// push removes anyway, leftward a few steps before falling back to bisection.
+fn tangent_from(hull: &[(f64, f64)], ox: f64, oy: f64, kp: usize, py: f64) -> f64 {
+    let not_worse = |b: (f64, f64), a: (f64, f64)| (b.1 - oy) * (ox - a.0) >= (a.1 - oy) * (ox - b.0);
+    let slope = |p: (f64, f64)| (p.1 - oy) / (ox - p.0);
+    let mut k = kp;
+    if oy <= py {
+        while k + 1 < hull.len() && not_worse(hull[k + 1], hull[k]) {
+            k += 1;
+        }
+        return slope(hull[k]);
+    }
+    for _ in 0..8 {
+        if k == 0 || not_worse(hull[k], hull[k - 1]) {
+            return slope(hull[k]);
+        }
+        k -= 1;
+    }
+    // Far back: bisect the prefix, where the answer now lies.
+    let (mut lo, mut hi) = (0usize, k);
+    while lo < hi {
+        let mid = (lo + hi) / 2;
+        if not_worse(hull[mid + 1], hull[mid]) {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    slope(hull[lo])
 }
 
 /// The largest slope (y − oy)/(ox − x) from an observer at (ox, oy), right of every
@@ -357,9 +537,35 @@ mod tests {
             eprintln!(
                 "az {az:6.2} el {el:4.1}: horizon map vs rays {differ}, of which {not_grazing} not grazing; vs sweep {sweep_differ} (of {n})"
             );
-            assert!(differ as f64 / n <= 0.002, "az {az}: {differ} differ from the ray cast");
+            assert!(differ as f64 / n <= 0.0025, "az {az}: {differ} differ from the ray cast");
             assert!(not_grazing as f64 / n <= 0.0005, "az {az}: {not_grazing} disagreements away from grazing");
             assert!(sweep_differ as f64 / n <= 0.015, "az {az}: {sweep_differ} differ from the shadow sweep");
+        }
+    }
+
+    #[test]
+    fn the_tangent_searched_from_a_neighbour_equals_the_bisection() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        for _ in 0..200 {
+            // A rough profile pushed onto the hull, then observers at the next abscissa
+            // above and below the next sample.
+            let mut hull = Vec::new();
+            let n = rng.random_range(1..120);
+            for x in 0..n {
+                let y = rng.random_range(-20.0..20.0) + 0.1 * f64::from(x);
+                let keep = hull_keep(&hull, (f64::from(x), y));
+                hull.truncate(keep);
+                hull.push((f64::from(x), y));
+            }
+            let ox = f64::from(n);
+            let py = rng.random_range(-30.0..40.0);
+            let keep = hull_keep(&hull, (ox, py));
+            for dy in [-50.0, -3.0, -0.2, 0.0, 0.2, 3.0, 50.0, 500.0] {
+                let fast = tangent_from(&hull, ox, py + dy, keep - 1, py);
+                let slow = tangent(&hull, ox, py + dy).unwrap();
+                assert!((fast - slow).abs() <= 1e-12 * slow.abs().max(1.0), "{fast} vs {slow}");
+            }
         }
     }
 
