@@ -17,6 +17,9 @@ use crate::error::{Error, Result};
 use crate::shadow::Curvature;
 use crate::slope::horn_gradient;
 
+/// A sector to sweep, its output, and the opposite sector's output when swept with it.
+type SectorJob<'a> = (usize, &'a mut [u16], Option<&'a mut [u16]>);
+
 /// Horizon elevation per cell and azimuth sector.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HorizonMap {
@@ -49,10 +52,11 @@ impl HorizonMap {
         // Each sector written in place; opposite sectors (when K is even) from one
         // sweep of their common lines; per-thread accumulators reused across sectors.
         let mut angles = vec![0u16; cells * sectors];
-        let paired = sectors % 2 == 0;
+        let paired = sectors.is_multiple_of(2);
         let jobs = if paired { sectors / 2 } else { sectors };
         let mut outs: Vec<&mut [u16]> = angles.chunks_mut(cells.max(1)).collect();
-        let mut pairs: Vec<(usize, &mut [u16], Option<&mut [u16]>)> = Vec::with_capacity(jobs);
+        // (sector, its output, the opposite sector's output)
+        let mut pairs: Vec<SectorJob> = Vec::with_capacity(jobs);
         if paired {
             let opposite = outs.split_off(jobs);
             for (s, (a, b)) in outs.into_iter().zip(opposite).enumerate() {
