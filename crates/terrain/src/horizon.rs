@@ -56,7 +56,7 @@ impl HorizonMap {
         let jobs = if paired { sectors / 2 } else { sectors };
         let mut outs: Vec<&mut [u16]> = angles.chunks_mut(cells.max(1)).collect();
         // (sector, its output, the opposite sector's output)
-        let mut pairs: Vec<SectorJob> = Vec::with_capacity(jobs);
+        let mut pairs: Vec<SectorJob<'_>> = Vec::with_capacity(jobs);
         if paired {
             let opposite = outs.split_off(jobs);
             for (s, (a, b)) in outs.into_iter().zip(opposite).enumerate() {
