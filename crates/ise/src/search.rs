@@ -338,8 +338,10 @@ pub struct Search<D: Domain> {
     stats: Stats,
     actions: Vec<D::Action>,
     states: Vec<D::State>,
-    /// With [`Domain::MANY_LABELS`]: the label holding each (state, key) class.
-    classes: FxHashMap<(D::State, D::Key), u32>,
+    /// With [`Domain::MANY_LABELS`]: the label holding each (state, key) class and its
+    /// cost — enough to prune a worse label without reading its rival's node (a cache
+    /// miss in a large arena). Removed nodes leave the table (see [`Search::update`]).
+    classes: FxHashMap<(D::State, D::Key), (u32, f64)>,
 }
 
 impl<D: Domain> std::fmt::Debug for Search<D> {
@@ -434,6 +436,12 @@ impl<D: Domain> Search<D> {
             n.flags = REMOVED;
             self.stats.invalidated += 1;
             let state = n.state;
+            if D::MANY_LABELS && !D::DOMINANCE {
+                let class = (state, n.key);
+                if self.classes.get(&class).is_some_and(|&(held, _)| held == id) {
+                    self.classes.remove(&class);
+                }
+            }
             let mut c = n.first_child;
             while c != NONE {
                 stack.push(c);
@@ -607,19 +615,26 @@ impl<D: Domain> Search<D> {
         let head = self.by_state.get(domain, state);
         if D::MANY_LABELS && !D::DOMINANCE {
             // The class table finds the one label this one competes with.
-            if let Some(&id) = self.classes.get(&(state, key))
-                && self.nodes[id].flags & (REMOVED | DEAD) == 0
-            {
-                let n = &self.nodes[id];
-                let keep_old = n.g < g || (n.g == g && !domain.better(&label, &n.label));
-                self.stats.pruned_resolution += 1;
-                if keep_old {
-                    return;
+            let new_id = self.nodes.len();
+            match self.classes.entry((state, key)) {
+                std::collections::hash_map::Entry::Occupied(mut e) => {
+                    let (id, old_g) = *e.get();
+                    self.stats.pruned_resolution += 1;
+                    let keep_old = old_g < g || (old_g == g && !domain.better(&label, &self.nodes[id].label));
+                    if keep_old {
+                        return;
+                    }
+                    // Killed in place: the entry borrows the table.
+                    self.nodes[id].flags = DEAD;
+                    self.alive -= 1;
+                    *e.get_mut() = (new_id, g);
                 }
-                self.kill(id);
+                std::collections::hash_map::Entry::Vacant(e) => {
+                    e.insert((new_id, g));
+                }
             }
-            let new_id = self.push_node(domain, state, label, key, g, parent, action, head);
-            self.classes.insert((state, key), new_id);
+            let pushed = self.push_node(domain, state, label, key, g, parent, action, head);
+            debug_assert_eq!(pushed, new_id);
             return;
         }
         // Walk the labels at this state, unlinking removed ones on the way.
@@ -723,7 +738,7 @@ impl<D: Domain> Search<D> {
         self.stats.bytes = self.nodes.bytes()
             + self.by_state.bytes()
             + self.open.bytes()
-            + (self.classes.capacity() * (std::mem::size_of::<(D::State, D::Key)>() + 4 + 1)) as u64;
+            + (self.classes.capacity() * (std::mem::size_of::<((D::State, D::Key), (u32, f64))>() + 1)) as u64;
     }
 
     fn extract(&self, best: Option<u32>) -> Plan<D> {

@@ -266,7 +266,10 @@ impl ActionModel {
 
     fn quantise_energy(&self, e: f64) -> f64 {
         let q = self.config.energy_quantum_wh;
-        if q > 0.0 { (e / q).round() * q } else { e }
+        // Round to nearest (ties to even) by the 1.5·2^52 trick: f64::round is a libm
+        // call on the baseline target, and this runs for every generated label.
+        const MAGIC: f64 = 6_755_399_441_055_744.0;
+        if q > 0.0 { ((e / q + MAGIC) - MAGIC) * q } else { e }
     }
 
     /// The drive from `from` to its neighbour `k`: the destination and the duration, s,
@@ -523,24 +526,7 @@ impl ActionModel {
         // The longest drive: a diagonal up the steepest slope allowed, at the slowest speed.
         let run = dem.dx().hypot(dem.dy());
         let longest = self.quantise_time(run / slowest / self.max_slope_deg.to_radians().cos().max(0.05)) + 1.0;
-        // While driving the array points along the heading, tipped by the ground (at
-        // most the slope limit): bound its output by the best incidence any heading,
-        // any Sun of the table and any admissible tilt allow — far below a Sun-facing
-        // panel's for a steep array, which tightens the search's heuristic.
-        let drive_source = self.rover.nuclear_w
-            + self.rover.solar.map_or(0.0, |a| {
-                // Without the slope constraint the ground can tip the array any way.
-                let tilt = if self.config.drive.max_slope { self.max_slope_deg } else { 90.0 }.to_radians();
-                let mut best: f64 = 0.0;
-                for sun in world.sun_table().iter().filter(|s| s.elevation_deg > 0.0) {
-                    for n in &self.level_normals {
-                        let cos = (n[0] * sun.enu[0] + n[1] * sun.enu[1] + n[2] * sun.enu[2]).clamp(-1.0, 1.0);
-                        let incidence = (cos.acos() - tilt).max(0.0);
-                        best = best.max(sun.beam_w_m2 * incidence.cos());
-                    }
-                }
-                best * a.area_m2 * a.efficiency
-            });
+        let drive_source = self.drive_source_bound_w(world);
         let drive = gain_from(drive_source, self.rover.electronics.power_w(Load::High), longest);
         let charge = gain(
             self.rover.electronics.power_w(self.config.charge_load.load()),
@@ -555,6 +541,60 @@ impl ActionModel {
         let all = drive.max(charge).max(hibernate);
         // Quantised energies round to the nearest quantum: allow for half of one.
         (all + q / 2.0, drive + q / 2.0)
+    }
+
+    /// An upper bound on the power sources while driving, W. While driving the array
+    /// points along the heading, tipped by the ground (at most the slope limit): its
+    /// output is bounded by the best incidence any heading, any Sun of the table and
+    /// any admissible tilt allow — far below a Sun-facing panel's for a steep array,
+    /// which tightens the search's heuristic.
+    fn drive_source_bound_w(&self, world: &World) -> f64 {
+        self.rover.nuclear_w
+            + self.rover.solar.map_or(0.0, |a| {
+                // Without the slope constraint the ground can tip the array any way.
+                let tilt = if self.config.drive.max_slope { self.max_slope_deg } else { 90.0 }.to_radians();
+                let mut best: f64 = 0.0;
+                for sun in world.sun_table().iter().filter(|s| s.elevation_deg > 0.0) {
+                    for n in &self.level_normals {
+                        let cos = (n[0] * sun.enu[0] + n[1] * sun.enu[1] + n[2] * sun.enu[2]).clamp(-1.0, 1.0);
+                        let incidence = (cos.acos() - tilt).max(0.0);
+                        best = best.max(sun.beam_w_m2 * incidence.cos());
+                    }
+                }
+                best * a.area_m2 * a.efficiency
+            })
+    }
+
+    /// Lower bounds on the battery energy of one drive, Wh, whatever the time, the
+    /// terrain's relief and the Sun: east–west, north–south and diagonal. Each is the
+    /// least, over the slopes a drive may have, of the loads over the drive's duration
+    /// less the most the sources can give meanwhile (negative: a drive can gain). The
+    /// search's heuristic adds E_max per step; being independent of the terrain, the
+    /// bounds stay valid when sensing changes the map.
+    pub fn drive_energy_floors_wh(&self, world: &World) -> [f64; 3] {
+        let source = self.drive_source_bound_w(world);
+        let loco = &self.rover.locomotor;
+        let electronics = self.rover.electronics.power_w(Load::High);
+        let limit = if self.config.drive.max_slope { self.max_slope_deg.min(89.0) } else { 89.0 };
+        let dem = world.dem();
+        let floor = |run: f64| {
+            // The energy is smooth in the slope; a 0.05° grid and a 0.1 % margin keep the
+            // sampled minimum below the true one.
+            let steps = (2.0 * limit / 0.05).ceil() as usize;
+            let mut least = f64::INFINITY;
+            for k in 0..=steps {
+                let slope = -limit + 2.0 * limit * k as f64 / steps as f64;
+                let speed = loco.speed_on_slope_m_s(slope);
+                let duration = run / slope.to_radians().cos() / speed;
+                // Durations are rounded up to the time quantum; a gain grows with them.
+                let net = loco.power_w(speed, slope) + electronics - source;
+                let longer = duration + self.config.time_quantum_s.max(0.0);
+                least = least.min(self.battery_wh(net, duration)).min(self.battery_wh(net, longer));
+            }
+            let q = self.config.energy_quantum_wh.max(0.0);
+            least - 1e-3 * least.abs() - q / 2.0
+        };
+        [floor(dem.dx()), floor(dem.dy()), floor(dem.dx().hypot(dem.dy()))]
     }
 
     /// The fastest possible speed, m/s.

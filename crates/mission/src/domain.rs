@@ -81,8 +81,9 @@ pub struct TempestDomain<'a> {
     objective: Objective,
     resolution: Resolution,
     e_max: f64,
-    /// Per drive step, a lower bound on its cost (for the heuristic).
-    step_floor: f64,
+    /// Lower bounds on the cost of a drive step east–west, north–south and diagonally
+    /// (for the heuristic).
+    step_floors: [f64; 3],
     capacity: f64,
 }
 
@@ -95,7 +96,8 @@ impl<'a> TempestDomain<'a> {
         objective: Objective,
         resolution: Resolution,
     ) -> TempestDomain<'a> {
-        let (e_max, drive_gain) = model.gain_bounds(world);
+        let (e_max, _) = model.gain_bounds(world);
+        let step_floors = model.drive_energy_floors_wh(world).map(|e| (e + e_max).max(0.0));
         TempestDomain {
             world,
             model,
@@ -104,7 +106,7 @@ impl<'a> TempestDomain<'a> {
             objective,
             resolution,
             e_max,
-            step_floor: (e_max - drive_gain).max(0.0),
+            step_floors,
             capacity: model.capacity_wh(),
         }
     }
@@ -239,7 +241,14 @@ impl Domain for TempestDomain<'_> {
 
     fn heuristic(&self, state: u32, _label: &Label) -> f64 {
         match self.objective {
-            Objective::Energy => self.world.chebyshev(state, self.start.cell) * self.step_floor,
+            Objective::Energy => {
+                // The cheapest way across the cell offsets with these step floors: as
+                // many diagonals as possible if one is cheaper than its two straights.
+                let ((c0, r0), (c1, r1)) = (self.world.col_row(state), self.world.col_row(self.start.cell));
+                let (a, b) = ((c0 as f64 - c1 as f64).abs(), (r0 as f64 - r1 as f64).abs());
+                let [wx, wy, wd] = self.step_floors;
+                a * wx + b * wy + a.min(b) * (wd - wx - wy).min(0.0)
+            }
             Objective::Duration { .. } => self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s(),
         }
     }

@@ -333,7 +333,18 @@ impl World {
             daz += 360.0;
         }
         Sun {
-            azimuth_deg: (a.azimuth_deg + daz * f).rem_euclid(360.0),
+            azimuth_deg: {
+                // Tabulated azimuths are in [0, 360) and |daz| ≤ 180: one wrap at most,
+                // without fmod.
+                let az = a.azimuth_deg + daz * f;
+                if az < 0.0 {
+                    az + 360.0
+                } else if az >= 360.0 {
+                    az - 360.0
+                } else {
+                    az
+                }
+            },
             elevation_deg: a.elevation_deg + (b.elevation_deg - a.elevation_deg) * f,
             enu,
             beam_w_m2: a.beam_w_m2 + (b.beam_w_m2 - a.beam_w_m2) * f,

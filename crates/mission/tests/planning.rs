@@ -239,3 +239,51 @@ fn a_communicate_session_holds_the_rover_still_at_the_radio_load() {
     // Drives that would overlap it are refused with the binding named.
     assert_eq!(talking.drive(&world, start.cell, 2, 1000.0).unwrap_err(), Binding::Communicate);
 }
+
+#[test]
+fn drive_energy_floors_bound_every_drive_on_steep_lit_ground() {
+    // Slopes up to ~25° on 20 m cells under the real Sun with terrain shadows: the
+    // heuristic's per-direction floors must not exceed any drive's energy, whatever
+    // the cell, heading and time.
+    let dem =
+        areo_terrain::Dem::from_fn(14, 12, 20.0, 20.0, |x, y| 6.0 * (x / 23.0).sin() * (y / 31.0).cos() + 0.15 * x)
+            .unwrap();
+    let world = mars_world(dem, 24.0, Some(16));
+    for quantum in [0.0, 1.0] {
+        let actions = ActionConfig { time_quantum_s: 60.0, energy_quantum_wh: quantum, ..Default::default() };
+        let model = model(1e6, actions);
+        let floors = model.drive_energy_floors_wh(&world);
+        let (mut tightest, mut drives) = ([f64::INFINITY; 3], 0);
+        for cell in 0..(14 * 12) as u32 {
+            let (c, r) = world.col_row(cell);
+            for k in 0..8 {
+                let mut t = 0.0;
+                while t < 23.0 * 3600.0 {
+                    if let Ok((to, effect)) = model.drive(&world, cell, k, t) {
+                        let (tc, tr) = world.col_row(to);
+                        let dir = if tr == r {
+                            0
+                        } else if tc == c {
+                            1
+                        } else {
+                            2
+                        };
+                        assert!(
+                            effect.energy_wh >= floors[dir] - 1e-9,
+                            "cell {cell} heading {k} at {t} s: {} Wh below the floor {}",
+                            effect.energy_wh,
+                            floors[dir]
+                        );
+                        tightest[dir] = tightest[dir].min(effect.energy_wh - floors[dir]);
+                        drives += 1;
+                    }
+                    t += 1200.0;
+                }
+            }
+        }
+        assert!(drives > 10_000, "{drives} drives checked");
+        // Useful bounds: the best drive in each direction comes within 15 Wh of its floor
+        // (the floors assume the best Sun of the sol on the best-tipped array).
+        assert!(tightest.iter().all(|&gap| (0.0..15.0).contains(&gap)), "gaps {tightest:?}, floors {floors:?}");
+    }
+}

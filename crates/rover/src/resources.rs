@@ -130,19 +130,18 @@ impl SolarArray {
 /// Rotates `v` by the rotation that takes straight up to `ground` (the rover's
 /// attitude on the slope).
 fn tilt_onto(v: [f64; 3], ground: [f64; 3]) -> [f64; 3] {
-    let n = (ground[0] * ground[0] + ground[1] * ground[1] + ground[2] * ground[2]).sqrt();
-    let g = [ground[0] / n, ground[1] / n, ground[2] / n];
-    // Rodrigues: axis = up × g, cos = up·g.
-    let axis = [-g[1], g[0], 0.0];
-    let s = (axis[0] * axis[0] + axis[1] * axis[1]).sqrt();
+    let inv = 1.0 / (ground[0] * ground[0] + ground[1] * ground[1] + ground[2] * ground[2]).sqrt();
+    let g = [ground[0] * inv, ground[1] * inv, ground[2] * inv];
+    // Rodrigues about the unnormalised axis a = up × g (|a| = sin, g_z = cos): the
+    // rotation is v cos + a × v + a (a·v) / (1 + cos) — no square root, one division.
+    let a = [-g[1], g[0]];
     let c = g[2];
-    if s < 1e-12 {
+    if a[0] * a[0] + a[1] * a[1] < 1e-24 || c <= -1.0 + 1e-12 {
         return v;
     }
-    let k = [axis[0] / s, axis[1] / s, 0.0];
-    let kv = [k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2], k[0] * v[1] - k[1] * v[0]];
-    let kdv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
-    std::array::from_fn(|i| v[i] * c + kv[i] * s + k[i] * kdv * (1.0 - c))
+    let av = (a[0] * v[0] + a[1] * v[1]) / (1.0 + c);
+    let cross = [a[1] * v[2], -a[0] * v[2], a[0] * v[1] - a[1] * v[0]];
+    [v[0] * c + cross[0] + a[0] * av, v[1] * c + cross[1] + a[1] * av, v[2] * c + cross[2]]
 }
 
 /// The battery.
@@ -330,6 +329,29 @@ impl ResourceModel {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tilting_onto_the_ground_is_the_rotation_taking_up_to_its_normal() {
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        // A 30° slope facing east (its normal leans east), given unnormalised.
+        let (s, c) = 30f64.to_radians().sin_cos();
+        let ground = [2.0 * s, 0.0, 2.0 * c];
+        let up = tilt_onto([0.0, 0.0, 1.0], ground);
+        assert!((up[0] - s).abs() < 1e-12 && up[1].abs() < 1e-12 && (up[2] - c).abs() < 1e-12, "{up:?}");
+        // The rotation axis (north) is fixed; east tips down by the slope.
+        let north = tilt_onto([0.0, 1.0, 0.0], ground);
+        assert!((north[1] - 1.0).abs() < 1e-12 && north[0].abs() < 1e-12 && north[2].abs() < 1e-12);
+        let east = tilt_onto([1.0, 0.0, 0.0], ground);
+        assert!((east[0] - c).abs() < 1e-12 && (east[2] + s).abs() < 1e-12, "{east:?}");
+        // Any vector keeps its length and its angle to the normal's image.
+        let v = [0.3, -0.5, 0.8];
+        let w = tilt_onto(v, [-0.2, 0.4, 0.9]);
+        assert!((dot(v, v) - dot(w, w)).abs() < 1e-12);
+        let n = tilt_onto([0.0, 0.0, 1.0], [-0.2, 0.4, 0.9]);
+        assert!((dot(w, n) - v[2]).abs() < 1e-12);
+        // Level ground changes nothing.
+        assert_eq!(tilt_onto(v, [0.0, 0.0, 3.0]), v);
+    }
 
     #[test]
     fn locomotor_power_is_the_work_against_resistance_and_gravity() {

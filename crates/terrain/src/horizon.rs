@@ -106,10 +106,13 @@ impl HorizonMap {
     /// sector centres.
     pub fn horizon_deg(&self, i: usize, azimuth_deg: f64) -> f64 {
         let cells = self.cols * self.rows;
-        let pos = azimuth_deg.rem_euclid(360.0) / 360.0 * self.sectors as f64;
-        let s0 = (pos.floor() as usize) % self.sectors;
+        // Planners pass azimuths already in [0, 360): skip the fmod then.
+        let az = if (0.0..360.0).contains(&azimuth_deg) { azimuth_deg } else { azimuth_deg.rem_euclid(360.0) };
+        let pos = az / 360.0 * self.sectors as f64;
+        // pos ≥ 0: truncation is the floor.
+        let s0 = (pos as usize) % self.sectors;
         let s1 = (s0 + 1) % self.sectors;
-        let t = pos - pos.floor();
+        let t = pos - (pos as usize) as f64;
         let a = decode(self.angles[s0 * cells + i]);
         let b = decode(self.angles[s1 * cells + i]);
         a + (b - a) * t
@@ -128,9 +131,9 @@ impl HorizonMap {
     pub fn profile_deg(profile: &[f32], azimuth_deg: f64) -> f64 {
         let n = profile.len();
         let pos = azimuth_deg.rem_euclid(360.0) / 360.0 * n as f64;
-        let s0 = (pos.floor() as usize) % n;
+        let s0 = (pos as usize) % n;
         let s1 = (s0 + 1) % n;
-        let t = pos - pos.floor();
+        let t = pos - (pos as usize) as f64;
         let (a, b) = (f64::from(profile[s0]), f64::from(profile[s1]));
         a + (b - a) * t
     }
