@@ -210,6 +210,20 @@ pub struct ActionModel {
     sessions: Vec<(f64, f64)>,
 }
 
+/// A drive's time-independent part: where it ends, how long it takes, its slope and
+/// its load.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DriveGeometry {
+    /// Destination cell.
+    pub to: u32,
+    /// Duration, s (quantised).
+    pub duration_s: f64,
+    /// Slope along the drive, degrees (positive uphill).
+    pub slope_deg: f64,
+    /// Locomotion plus the high electronics load, W.
+    pub load_w: f64,
+}
+
 impl ActionModel {
     /// The model for `rover` with `config`.
     pub fn new(rover: ResourceModel, config: ActionConfig) -> ActionModel {
@@ -272,9 +286,9 @@ impl ActionModel {
         if q > 0.0 { ((e / q + MAGIC) - MAGIC) * q } else { e }
     }
 
-    /// The drive from `from` to its neighbour `k`: the destination and the duration, s,
-    /// or why it is not possible (independent of time).
-    pub fn drive_geometry(&self, world: &World, from: u32, k: u8) -> Result<(u32, f64, f64), Binding> {
+    /// The drive from `from` to its neighbour `k`, or why it is not possible
+    /// (independent of time).
+    pub fn drive_geometry(&self, world: &World, from: u32, k: u8) -> Result<DriveGeometry, Binding> {
         let (c, r) = world.col_row(from);
         let (dc, dr) = NEIGHBOURS[k as usize % 8];
         let (nc, nr) = (c as i64 + i64::from(dc), r as i64 + i64::from(dr));
@@ -287,9 +301,11 @@ impl ActionModel {
         }
         let (h0, h1) = (world.elevation(from).ok_or(Binding::Blocked)?, world.elevation(to).ok_or(Binding::Blocked)?);
         let dem = world.dem();
-        let run = (f64::from(dc) * dem.dx()).hypot(f64::from(dr) * dem.dy());
+        let (ex, ny) = (f64::from(dc) * dem.dx(), f64::from(dr) * dem.dy());
+        let run = (ex * ex + ny * ny).sqrt();
         let rise = h1 - h0;
-        let slope = rise.atan2(run).to_degrees();
+        // run > 0: one-argument arctangent.
+        let slope = (rise / run).atan().to_degrees();
         if self.config.drive.max_slope
             && (slope.abs() > self.max_slope_deg
                 || world.slope_deg(from) > self.max_slope_deg
@@ -299,8 +315,9 @@ impl ActionModel {
         }
         let loco = &self.rover.locomotor;
         let speed = loco.speed_on_slope_m_s(slope);
-        let duration = self.quantise_time(run.hypot(rise) / speed);
-        Ok((to, duration, slope))
+        let length = (run * run + rise * rise).sqrt();
+        let load_w = loco.power_on_w(speed, rise / length, run / length) + self.rover.electronics.power_w(Load::High);
+        Ok(DriveGeometry { to, duration_s: self.quantise_time(length / speed), slope_deg: slope, load_w })
     }
 
     /// The drive from `from` to neighbour `k` starting at `t0`.
@@ -315,7 +332,7 @@ impl ActionModel {
         world: &World,
         from: u32,
         k: u8,
-        geometry: (u32, f64, f64),
+        geometry: DriveGeometry,
         t0: f64,
     ) -> Result<(u32, Effect), Binding> {
         self.drive_perturbed(world, from, k, geometry, t0, Perturbation::NONE)
@@ -326,11 +343,11 @@ impl ActionModel {
         world: &World,
         from: u32,
         k: u8,
-        (to, duration, slope): (u32, f64, f64),
+        DriveGeometry { to, duration_s, load_w: load, .. }: DriveGeometry,
         t0: f64,
         p: Perturbation,
     ) -> Result<(u32, Effect), Binding> {
-        let duration = duration * p.duration_factor;
+        let duration = duration_s * p.duration_factor;
         let t1 = t0 + duration;
         if t0 < 0.0 || t1 > world.span_s() {
             return Err(Binding::Horizon);
@@ -344,8 +361,6 @@ impl ActionModel {
         for (cell, sun) in [(from, &s0), (to, &s1)] {
             self.check(world, rules, cell, sun, Some(heading))?;
         }
-        let loco = &self.rover.locomotor;
-        let load = loco.power_w(loco.speed_on_slope_m_s(slope), slope) + self.rover.electronics.power_w(Load::High);
         let p0 = load - p.solar_factor * self.drive_source_w(world, from, &s0, k);
         let p1 = load - p.solar_factor * self.drive_source_w(world, to, &s1, k);
         let e = self.battery_wh(p0, duration / 2.0) + self.battery_wh(p1, duration / 2.0);

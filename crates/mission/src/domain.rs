@@ -168,7 +168,8 @@ impl Domain for TempestDomain<'_> {
             Action::Drive(k) => {
                 let from = self.source_of(state, k)?;
                 let geometry = self.model.drive_geometry(self.world, from, k).ok()?;
-                let (to, effect) = self.model.drive_from(self.world, from, k, geometry, label.t - geometry.1).ok()?;
+                let (to, effect) =
+                    self.model.drive_from(self.world, from, k, geometry, label.t - geometry.duration_s).ok()?;
                 debug_assert_eq!(to, state);
                 (from, effect)
             }

@@ -34,7 +34,10 @@ mod simulate;
 mod world;
 
 pub use crate::{
-    actions::{Action, ActionConfig, ActionModel, Binding, Constraints, Effect, LoadLevel, NEIGHBOURS, Perturbation},
+    actions::{
+        Action, ActionConfig, ActionModel, Binding, Constraints, DriveGeometry, Effect, LoadLevel, NEIGHBOURS,
+        Perturbation,
+    },
     domain::{Label, Objective, Resolution, Start, TempestDomain},
     error::{Error, Result},
     plan::{MissionPlan, Waypoint},

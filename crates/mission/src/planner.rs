@@ -605,7 +605,7 @@ fn connected(world: &World, model: &ActionModel, from: u32, to: u32, with_slope:
             return true;
         }
         for k in 0..8u8 {
-            if let Ok((n, _, _)) = model.drive_geometry(world, c, k)
+            if let Ok(n) = model.drive_geometry(world, c, k).map(|g| g.to)
                 && !seen[n as usize]
             {
                 seen[n as usize] = true;

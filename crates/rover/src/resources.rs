@@ -68,8 +68,14 @@ impl Locomotor {
     /// Electrical power to drive at `speed_m_s` up a slope of `slope_deg` (negative
     /// downhill), W: m·g·v·(c_rr·cos θ + sin θ)/η, never below 0 (no regeneration).
     pub fn power_w(&self, speed_m_s: f64, slope_deg: f64) -> f64 {
-        let th = slope_deg.to_radians();
-        let wheel = self.mass_kg * self.gravity_m_s2 * speed_m_s * (self.rolling_resistance * th.cos() + th.sin());
+        let (sin, cos) = slope_deg.to_radians().sin_cos();
+        self.power_on_w(speed_m_s, sin, cos)
+    }
+
+    /// [`Locomotor::power_w`] for a slope given by its sine and cosine (a planner that
+    /// knows rise and run needs no trigonometry), W.
+    pub fn power_on_w(&self, speed_m_s: f64, sin: f64, cos: f64) -> f64 {
+        let wheel = self.mass_kg * self.gravity_m_s2 * speed_m_s * (self.rolling_resistance * cos + sin);
         (wheel / self.drive_efficiency).max(0.0)
     }
 
@@ -236,9 +242,23 @@ impl Camera {
     /// Whether the Sun at (`sun_az_deg`, `sun_el_deg`) falls in the field of view for a
     /// rover heading `heading_deg` on level ground.
     pub fn sees_sun(&self, heading_deg: f64, sun_az_deg: f64, sun_el_deg: f64) -> bool {
-        let d_az = (sun_az_deg - heading_deg - self.yaw_deg + 540.0).rem_euclid(360.0) - 180.0;
         let d_el = sun_el_deg - self.pitch_deg;
-        d_az.abs() <= self.hfov_deg / 2.0 && d_el.abs() <= self.vfov_deg / 2.0
+        if d_el.abs() > self.vfov_deg / 2.0 {
+            return false;
+        }
+        // Into (−180°, 180°] by whole turns: planners call this for every drive, and
+        // their angles are within a turn or two, where fmod costs more than a loop.
+        let mut d_az = sun_az_deg - heading_deg - self.yaw_deg;
+        if !d_az.is_finite() {
+            return false;
+        }
+        while d_az > 180.0 {
+            d_az -= 360.0;
+        }
+        while d_az <= -180.0 {
+            d_az += 360.0;
+        }
+        d_az.abs() <= self.hfov_deg / 2.0
     }
 }
 
