@@ -43,6 +43,28 @@ pub trait Domain {
     /// forbids it.
     fn predecessor(&self, state: Self::State, label: &Self::Label, action: Self::Action) -> Option<Step<Self>>;
 
+    /// Every feasible backward transition from (`state`, `label`), appended to `out`
+    /// with its action — what the engine asks for when it expands a node. The default
+    /// asks [`Domain::actions`] (into the scratch buffer `actions`) and
+    /// [`Domain::predecessor`] for each; a domain whose actions share work (the same
+    /// Sun, the same arrival cell) overrides it, and must give the same steps in the
+    /// same order.
+    fn predecessors(
+        &self,
+        state: Self::State,
+        label: &Self::Label,
+        actions: &mut Vec<Self::Action>,
+        out: &mut Vec<(Self::Action, Step<Self>)>,
+    ) {
+        actions.clear();
+        self.actions(state, label, actions);
+        for &a in actions.iter() {
+            if let Some(step) = self.predecessor(state, label, a) {
+                out.push((a, step));
+            }
+        }
+    }
+
     /// The states reachable from `state` by one action (appended to `out`; include
     /// `state` itself for stationary actions). Used in re-planning to find the nodes
     /// whose expansion can regenerate labels at a state.

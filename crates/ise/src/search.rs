@@ -337,6 +337,8 @@ pub struct Search<D: Domain> {
     alive: u64,
     stats: Stats,
     actions: Vec<D::Action>,
+    /// Scratch for an expansion's predecessors.
+    steps: Vec<(D::Action, crate::domain::Step<D>)>,
     states: Vec<D::State>,
     /// With [`Domain::MANY_LABELS`]: the label holding each (state, key) class and its
     /// cost — enough to prune a worse label without reading its rival's node (a cache
@@ -362,6 +364,7 @@ impl<D: Domain> Search<D> {
             alive: 0,
             stats: Stats::default(),
             actions: Vec::new(),
+            steps: Vec::new(),
             states: Vec::new(),
             // Time-expanded domains collect hundreds of thousands of classes: start big
             // enough to skip the first dozen rehashes.
@@ -591,16 +594,14 @@ impl<D: Domain> Search<D> {
             let n = &self.nodes[id];
             (n.state, n.label.clone(), n.g)
         };
-        let mut actions = std::mem::take(&mut self.actions);
-        actions.clear();
-        domain.actions(state, &label, &mut actions);
-        for &a in &actions {
-            if let Some(step) = domain.predecessor(state, &label, a) {
-                debug_assert!(step.cost >= 0.0, "step costs must be non-negative");
-                self.insert(domain, step.state, step.label, g + step.cost, id, Some(a));
-            }
+        let mut steps = std::mem::take(&mut self.steps);
+        steps.clear();
+        domain.predecessors(state, &label, &mut self.actions, &mut steps);
+        for (a, step) in steps.drain(..) {
+            debug_assert!(step.cost >= 0.0, "step costs must be non-negative");
+            self.insert(domain, step.state, step.label, g + step.cost, id, Some(a));
         }
-        self.actions = actions;
+        self.steps = steps;
     }
 
     /// Adds a label unless the global constraint, its resolution class or dominance

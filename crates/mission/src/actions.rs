@@ -196,6 +196,17 @@ pub struct Effect {
     pub energy_wh: f64,
 }
 
+/// The shared arrival side of the drives into one cell at one time (see
+/// [`ActionModel::arrival`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Arrival {
+    to: u32,
+    t1: f64,
+    sun: Sun,
+    /// Whether the Sun lights the arrival cell (false without a solar array).
+    lit: bool,
+}
+
 /// Evaluates actions for one rover in one world.
 #[derive(Debug, Clone)]
 pub struct ActionModel {
@@ -204,6 +215,8 @@ pub struct ActionModel {
     max_slope_deg: f64,
     /// The array's normal on level ground for each drive heading.
     level_normals: [[f64; 3]; 8],
+    /// Azimuth of each drive direction, degrees.
+    headings: [f64; 8],
     /// sin and cos of the array's tilt.
     tilt_sin_cos: (f64, f64),
     /// Scheduled Communicate sessions, s after the epoch, sorted.
@@ -231,7 +244,8 @@ impl ActionModel {
         let level_normals =
             std::array::from_fn(|k| rover.solar.map_or([0.0, 0.0, 1.0], |a| a.level_normal_enu(heading_of(k as u8))));
         let tilt_sin_cos = rover.solar.map_or((0.0, 1.0), |a| a.tilt_deg.to_radians().sin_cos());
-        ActionModel { rover, config, max_slope_deg, level_normals, tilt_sin_cos, sessions: Vec::new() }
+        let headings = std::array::from_fn(|k| heading_of(k as u8));
+        ActionModel { rover, config, max_slope_deg, level_normals, headings, tilt_sin_cos, sessions: Vec::new() }
     }
 
     /// Schedules Communicate sessions (start, end), s after the epoch: during each the
@@ -323,19 +337,67 @@ impl ActionModel {
     /// The drive from `from` to neighbour `k` starting at `t0`.
     pub fn drive(&self, world: &World, from: u32, k: u8, t0: f64) -> Result<(u32, Effect), Binding> {
         let geometry = self.drive_geometry(world, from, k)?;
-        self.drive_from(world, from, k, geometry, t0)
+        self.drive_perturbed(world, from, k, geometry, t0, Perturbation::NONE)
     }
 
-    /// The drive with its geometry already known (from [`ActionModel::drive_geometry`]).
-    pub(crate) fn drive_from(
+    /// The arrival side of the drives into `to` that end at `t1` — what the 8 headings
+    /// of a backward expansion share: the Sun, whether it lights the cell and the
+    /// heading-independent checks there. `None` when no drive can end there then.
+    pub(crate) fn arrival(&self, world: &World, to: u32, t1: f64) -> Option<Arrival> {
+        if t1 > world.span_s() {
+            return None;
+        }
+        let sun = world.sun(t1);
+        self.check(world, &self.config.drive, to, &sun, None).ok()?;
+        let lit = self.rover.solar.is_some() && world.lit(to, &sun);
+        Some(Arrival { to, t1, sun, lit })
+    }
+
+    /// The cell from which drive `k` leads into `to`, and the drive's geometry; `None`
+    /// off the map or when the drive is impossible at any time.
+    pub(crate) fn drive_geometry_into(&self, world: &World, to: u32, k: u8) -> Option<(u32, DriveGeometry)> {
+        let (c, r) = world.col_row(to);
+        let (dc, dr) = NEIGHBOURS[k as usize % 8];
+        let (pc, pr) = (c as i64 - i64::from(dc), r as i64 - i64::from(dr));
+        if pc < 0 || pr < 0 || pc >= world.cols() as i64 || pr >= world.rows() as i64 {
+            return None;
+        }
+        let from = world.cell(pc as usize, pr as usize);
+        Some((from, self.drive_geometry(world, from, k).ok()?))
+    }
+
+    /// The drive in direction `k` from `from` (with its `geometry`, from
+    /// [`ActionModel::drive_geometry_into`]) that ends at `arrival`: the backward
+    /// transition of [`ActionModel::drive`], which it equals — same checks, same energy.
+    pub(crate) fn drive_into(
         &self,
         world: &World,
-        from: u32,
+        arrival: &Arrival,
         k: u8,
-        geometry: DriveGeometry,
-        t0: f64,
-    ) -> Result<(u32, Effect), Binding> {
-        self.drive_perturbed(world, from, k, geometry, t0, Perturbation::NONE)
+        from: u32,
+        DriveGeometry { duration_s: duration, load_w: load, .. }: DriveGeometry,
+    ) -> Option<(u32, Effect)> {
+        let (t1, s1) = (arrival.t1, &arrival.sun);
+        let t0 = t1 - duration;
+        if t0 < 0.0 || self.overlaps_session(t0, t1) {
+            return None;
+        }
+        let heading = self.headings[k as usize % 8];
+        let rules = &self.config.drive;
+        // The arrival cell passed its heading-free checks; the camera's depends on k.
+        if rules.sun_in_camera
+            && s1.elevation_deg > 0.0
+            && self.rover.sun_in_cameras(heading, s1.azimuth_deg, s1.elevation_deg)
+        {
+            return None;
+        }
+        let s0 = world.sun(t0);
+        self.check(world, rules, from, &s0, Some(heading)).ok()?;
+        let lit0 = self.rover.solar.is_some() && world.lit(from, &s0);
+        let p0 = load - self.drive_source_lit_w(world, from, &s0, k, lit0);
+        let p1 = load - self.drive_source_lit_w(world, arrival.to, s1, k, arrival.lit);
+        let e = self.battery_wh(p0, duration / 2.0) + self.battery_wh(p1, duration / 2.0);
+        Some((from, Effect { duration_s: duration, energy_wh: self.quantise_energy(e) }))
     }
 
     fn drive_perturbed(
@@ -355,14 +417,15 @@ impl ActionModel {
         if self.overlaps_session(t0, t1) {
             return Err(Binding::Communicate);
         }
-        let heading = heading_of(k);
+        let heading = self.headings[k as usize % 8];
         let (s0, s1) = (world.sun(t0), world.sun(t1));
         let rules = &self.config.drive;
         for (cell, sun) in [(from, &s0), (to, &s1)] {
             self.check(world, rules, cell, sun, Some(heading))?;
         }
-        let p0 = load - p.solar_factor * self.drive_source_w(world, from, &s0, k);
-        let p1 = load - p.solar_factor * self.drive_source_w(world, to, &s1, k);
+        let lit = |cell: u32, sun: &Sun| self.rover.solar.is_some() && world.lit(cell, sun);
+        let p0 = load - p.solar_factor * self.drive_source_lit_w(world, from, &s0, k, lit(from, &s0));
+        let p1 = load - p.solar_factor * self.drive_source_lit_w(world, to, &s1, k, lit(to, &s1));
         let e = self.battery_wh(p0, duration / 2.0) + self.battery_wh(p1, duration / 2.0);
         Ok((to, Effect { duration_s: duration, energy_wh: self.quantise_energy(e) }))
     }
@@ -473,11 +536,12 @@ impl ActionModel {
         Ok(())
     }
 
-    /// [`ActionModel::source_w`] for drive heading `k`, from the precomputed level normal.
-    fn drive_source_w(&self, world: &World, cell: u32, sun: &Sun, k: u8) -> f64 {
+    /// [`ActionModel::source_w`] for drive heading `k`, from the precomputed level
+    /// normal, given whether the Sun lights the cell (so callers test it once).
+    fn drive_source_lit_w(&self, world: &World, cell: u32, sun: &Sun, k: u8, lit: bool) -> f64 {
         let mut p = self.rover.nuclear_w;
         if let Some(array) = &self.rover.solar
-            && world.lit(cell, sun)
+            && lit
         {
             let n = areo_rover::resources::SolarArray::tipped_normal_enu(
                 self.level_normals[k as usize % 8],

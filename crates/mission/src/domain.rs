@@ -12,10 +12,12 @@
 //! better" (BESTDPARMS). Labels at a cell are grouped by time and energy resolution;
 //! within a time class, a label needing no more energy at no greater cost dominates.
 
+use std::cell::RefCell;
+
 use areo_ise::{Domain, Step};
 use serde::{Deserialize, Serialize};
 
-use crate::actions::{Action, ActionModel, NEIGHBOURS};
+use crate::actions::{Action, ActionModel, DriveGeometry, Effect, NEIGHBOURS};
 use crate::world::World;
 
 /// A search label.
@@ -85,7 +87,25 @@ pub struct TempestDomain<'a> {
     /// (for the heuristic).
     step_floors: [f64; 3],
     capacity: f64,
+    /// The geometry of the drives into each cell the search touched.
+    geometry: RefCell<GeometryCache>,
 }
+
+/// Drive geometries by arrival cell, computed on first use: the search expands a cell
+/// once per time class it reaches there (dozens of times), and the geometry does not
+/// depend on time. Paged like the engine's state table, so memory grows with the
+/// region searched; cells the world reports changed are forgotten
+/// ([`TempestDomain::forget`]).
+#[derive(Debug, Clone, Default)]
+struct GeometryCache {
+    pages: Vec<Option<Box<[Into]>>>,
+}
+
+/// The 8 drives into one cell: `None` until computed, then each drive's source cell and
+/// geometry (`None` where no drive is possible).
+type Into = Option<[Option<(u32, DriveGeometry)>; 8]>;
+
+const GEOMETRY_PAGE: usize = 256;
 
 impl<'a> TempestDomain<'a> {
     /// The domain.
@@ -108,6 +128,38 @@ impl<'a> TempestDomain<'a> {
             e_max,
             step_floors,
             capacity: model.capacity_wh(),
+            geometry: RefCell::default(),
+        }
+    }
+
+    /// The drives into `cell` (see [`GeometryCache`]).
+    fn drives_into(&self, cell: u32) -> [Option<(u32, DriveGeometry)>; 8] {
+        let mut cache = self.geometry.borrow_mut();
+        let (page, slot) = (cell as usize / GEOMETRY_PAGE, cell as usize % GEOMETRY_PAGE);
+        if cache.pages.len() <= page {
+            cache.pages.resize_with(page + 1, || None);
+        }
+        let entry = &mut cache.pages[page].get_or_insert_with(|| vec![None; GEOMETRY_PAGE].into_boxed_slice())[slot];
+        *entry.get_or_insert_with(|| std::array::from_fn(|k| self.model.drive_geometry_into(self.world, cell, k as u8)))
+    }
+
+    /// Forgets the cached drive geometry around `changed` cells (their elevation, slope
+    /// or passability changed, so every drive into or out of them may have). The
+    /// planner calls this with the cells it reports to the search.
+    pub fn forget(&self, changed: &[u32]) {
+        let mut cache = self.geometry.borrow_mut();
+        for &cell in changed {
+            let (c, r) = self.world.col_row(cell);
+            for (dc, dr) in NEIGHBOURS.into_iter().chain(std::iter::once((0, 0))) {
+                let (nc, nr) = (c as i64 + i64::from(dc), r as i64 + i64::from(dr));
+                if nc < 0 || nr < 0 || nc as usize >= self.world.cols() || nr as usize >= self.world.rows() {
+                    continue;
+                }
+                let n = self.world.cell(nc as usize, nr as usize) as usize;
+                if let Some(Some(page)) = cache.pages.get_mut(n / GEOMETRY_PAGE) {
+                    page[n % GEOMETRY_PAGE] = None;
+                }
+            }
         }
     }
 
@@ -137,13 +189,23 @@ impl<'a> TempestDomain<'a> {
         }
     }
 
-    /// The cell of neighbour `k` *from which* a drive `k` leads into `cell`.
-    fn source_of(&self, cell: u32, k: u8) -> Option<u32> {
-        let (c, r) = self.world.col_row(cell);
-        let (dc, dr) = NEIGHBOURS[k as usize];
-        let (pc, pr) = (c as i64 - i64::from(dc), r as i64 - i64::from(dr));
-        (pc >= 0 && pr >= 0 && (pc as usize) < self.world.cols() && (pr as usize) < self.world.rows())
-            .then(|| self.world.cell(pc as usize, pr as usize))
+    /// The predecessor label reached backward through `action` with `effect`, and the
+    /// step's cost.
+    fn step(&self, from: u32, label: &Label, action: Action, effect: Effect) -> Step<Self> {
+        let e = (label.e + effect.energy_wh).max(0.0);
+        let t = label.t - effect.duration_s;
+        let mut cost = self.step_cost(effect.energy_wh, effect.duration_s);
+        if !matches!(action, Action::Drive(_)) {
+            // Among plans of equal cost, wait as late as possible: a rover that re-plans
+            // after every action and always finds the wait first would never set off.
+            // The bias is a millionth of a step and shrinks to zero over the horizon.
+            let scale = match self.objective {
+                Objective::Energy => self.e_max,
+                Objective::Duration { .. } => effect.duration_s,
+            };
+            cost += 1e-6 * scale * (1.0 - t / self.world.span_s()).clamp(0.0, 1.0);
+        }
+        Step { state: from, label: Label { t, e }, cost }
     }
 }
 
@@ -164,31 +226,38 @@ impl Domain for TempestDomain<'_> {
     }
 
     fn predecessor(&self, state: u32, label: &Label, action: Action) -> Option<Step<Self>> {
-        let (from, effect) = match action {
+        match action {
             Action::Drive(k) => {
-                let from = self.source_of(state, k)?;
-                let geometry = self.model.drive_geometry(self.world, from, k).ok()?;
-                let (to, effect) =
-                    self.model.drive_from(self.world, from, k, geometry, label.t - geometry.duration_s).ok()?;
-                debug_assert_eq!(to, state);
-                (from, effect)
+                let arrival = self.model.arrival(self.world, state, label.t)?;
+                let (from, geometry) = self.drives_into(state)[k as usize % 8]?;
+                let (from, effect) = self.model.drive_into(self.world, &arrival, k, from, geometry)?;
+                Some(self.step(from, label, action, effect))
             }
-            stay => (state, self.model.stay(self.world, stay, state, label.t - self.model.stay_duration_s(stay)).ok()?),
-        };
-        let e = (label.e + effect.energy_wh).max(0.0);
-        let t = label.t - effect.duration_s;
-        let mut cost = self.step_cost(effect.energy_wh, effect.duration_s);
-        if !matches!(action, Action::Drive(_)) {
-            // Among plans of equal cost, wait as late as possible: a rover that re-plans
-            // after every action and always finds the wait first would never set off.
-            // The bias is a millionth of a step and shrinks to zero over the horizon.
-            let scale = match self.objective {
-                Objective::Energy => self.e_max,
-                Objective::Duration { .. } => effect.duration_s,
-            };
-            cost += 1e-6 * scale * (1.0 - t / self.world.span_s()).clamp(0.0, 1.0);
+            stay => {
+                let effect =
+                    self.model.stay(self.world, stay, state, label.t - self.model.stay_duration_s(stay)).ok()?;
+                Some(self.step(state, label, action, effect))
+            }
         }
-        Some(Step { state: from, label: Label { t, e }, cost })
+    }
+
+    fn predecessors(&self, state: u32, label: &Label, _actions: &mut Vec<Action>, out: &mut Vec<(Action, Step<Self>)>) {
+        // The 8 drives share their arrival (the Sun at label.t, the light and checks at
+        // this cell); same steps in the same order as `actions` + `predecessor`.
+        if let Some(arrival) = self.model.arrival(self.world, state, label.t) {
+            for (k, drive) in (0..8).zip(self.drives_into(state)) {
+                if let Some((from, geometry)) = drive
+                    && let Some((from, effect)) = self.model.drive_into(self.world, &arrival, k, from, geometry)
+                {
+                    out.push((Action::Drive(k), self.step(from, label, Action::Drive(k), effect)));
+                }
+            }
+        }
+        for stay in [Action::Charge, Action::Hibernate] {
+            if let Some(step) = self.predecessor(state, label, stay) {
+                out.push((stay, step));
+            }
+        }
     }
 
     fn successors(&self, state: u32, out: &mut Vec<u32>) {

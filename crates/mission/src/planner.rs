@@ -357,6 +357,9 @@ impl<'a> Mission<'a> {
     /// kept graph first.
     /// `start_moved`: the first segment's start changed since its last search.
     fn solve_from(&mut self, last: usize, changed: &[u32], start_moved: bool) {
+        for seg in &self.segments {
+            seg.domain.forget(changed);
+        }
         for k in (0..=last).rev() {
             if k + 1 < self.segments.len() {
                 // This segment's goals are the next segment's candidates.
@@ -597,10 +600,19 @@ fn connected(world: &World, model: &ActionModel, from: u32, to: u32, with_slope:
         ActionModel::new(model.rover().clone(), c)
     });
     let model = relaxed.as_ref().unwrap_or(model);
+    // Greedy best-first toward the goal: when it is reachable this touches little more
+    // than a path's worth of cells (a blind flood would visit the whole map first);
+    // only a goal that is cut off costs the flood.
+    let (tc, tr) = world.col_row(to);
+    let steps_to_goal = |cell: u32| {
+        let (c, r) = world.col_row(cell);
+        c.abs_diff(tc).max(r.abs_diff(tr))
+    };
     let mut seen = vec![false; world.cells()];
-    let mut stack = vec![from];
+    let mut open = std::collections::BinaryHeap::new();
+    open.push(std::cmp::Reverse((steps_to_goal(from), from)));
     seen[from as usize] = true;
-    while let Some(c) = stack.pop() {
+    while let Some(std::cmp::Reverse((_, c))) = open.pop() {
         if c == to {
             return true;
         }
@@ -609,7 +621,7 @@ fn connected(world: &World, model: &ActionModel, from: u32, to: u32, with_slope:
                 && !seen[n as usize]
             {
                 seen[n as usize] = true;
-                stack.push(n);
+                open.push(std::cmp::Reverse((steps_to_goal(n), n)));
             }
         }
     }

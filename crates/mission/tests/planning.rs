@@ -287,3 +287,53 @@ fn drive_energy_floors_bound_every_drive_on_steep_lit_ground() {
         assert!(tightest.iter().all(|&gap| (0.0..15.0).contains(&gap)), "gaps {tightest:?}, floors {floors:?}");
     }
 }
+
+#[test]
+fn a_backward_expansion_equals_its_actions_one_by_one_and_the_forward_drives() {
+    // The search expands with `predecessors`, which shares the arrival cell's Sun and
+    // light among the 8 drives: it must give exactly the per-action steps, and each
+    // drive's predecessor, driven forward, must arrive when and where the label says,
+    // using the energy the step charged.
+    use areo_ise::Domain;
+    use areo_mission::{Label, Objective, Resolution, TempestDomain};
+    let dem =
+        areo_terrain::Dem::from_fn(14, 12, 20.0, 20.0, |x, y| 6.0 * (x / 23.0).sin() * (y / 31.0).cos() + 0.15 * x)
+            .unwrap();
+    let world = mars_world(dem, 24.0, Some(16));
+    let model = model(2000.0, ActionConfig::default());
+    let start = Start { cell: 0, t_min: 0.0, t_max: 3600.0, energy_wh: 1000.0 };
+    let domain =
+        TempestDomain::new(&world, &model, start, Objective::Energy, Resolution { time_s: 60.0, energy_wh: 5.0 });
+    let (mut batch, mut actions, mut drives) = (Vec::new(), Vec::new(), 0);
+    for cell in 0..(14 * 12) as u32 {
+        let mut t = 1800.0;
+        while t < 23.0 * 3600.0 {
+            let label = Label { t, e: 40.0 };
+            batch.clear();
+            domain.predecessors(cell, &label, &mut actions, &mut batch);
+            let mut one_by_one = Vec::new();
+            let mut all = Vec::new();
+            domain.actions(cell, &label, &mut all);
+            for a in all {
+                if let Some(step) = domain.predecessor(cell, &label, a) {
+                    one_by_one.push((a, step));
+                }
+            }
+            assert_eq!(batch.len(), one_by_one.len(), "cell {cell} at {t} s");
+            for ((a, s), (b, u)) in batch.iter().zip(&one_by_one) {
+                assert_eq!(a, b);
+                assert_eq!((s.state, s.label, s.cost.to_bits()), (u.state, u.label, u.cost.to_bits()));
+            }
+            for (a, step) in &batch {
+                let Action::Drive(k) = *a else { continue };
+                let (to, effect) = model.drive(&world, step.state, k, step.label.t).expect("feasible forward");
+                assert_eq!(to, cell);
+                assert!((step.label.t + effect.duration_s - t).abs() < 1e-6);
+                assert!((step.label.e - (40.0 + effect.energy_wh).max(0.0)).abs() < 1e-9);
+                drives += 1;
+            }
+            t += 1700.0;
+        }
+    }
+    assert!(drives > 2000, "{drives} drives compared");
+}

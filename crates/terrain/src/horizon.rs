@@ -32,7 +32,8 @@ pub struct HorizonMap {
 
 /// −90°..90° onto 0..65535 (0.0027° steps).
 fn encode(deg: f64) -> u16 {
-    (((deg.clamp(-90.0, 90.0) + 90.0) / 180.0) * 65535.0).round() as u16
+    // Non-negative, so adding a half and truncating rounds (`round` is a libm call).
+    ((deg.clamp(-90.0, 90.0) + 90.0) / 180.0 * 65535.0 + 0.5) as u16
 }
 
 fn decode(v: u16) -> f64 {
