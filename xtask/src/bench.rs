@@ -55,6 +55,19 @@ const RATIOS: &[(&str, &str, &str, f64)] = &[
 /// Runs `cargo bench` (optionally only benches matching `filter`) and prints the table;
 /// `movingai` as the filter runs only the full Moving AI check.
 pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
+    let in_process = ["movingai", "horizon", "mission", "lita"];
+    if cfg!(debug_assertions) && args.first().is_some_and(|a| in_process.contains(&a.as_str())) {
+        // `cargo xtask` builds the dev profile (shared with the tests); timings are only
+        // meaningful optimised, so these run again from a release build of xtask.
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        let status = Command::new(cargo)
+            .args(["run", "--quiet", "--release", "--package", "xtask", "--", "bench"])
+            .args(args)
+            .current_dir(root)
+            .status()
+            .map_err(|e| format!("cargo run --release: {e}"))?;
+        return Ok(status.success());
+    }
     if args.first().is_some_and(|a| a == "movingai") {
         return movingai(root);
     }

@@ -107,6 +107,16 @@ pub trait Domain {
     /// (`state`, `label`).
     fn heuristic(&self, state: Self::State, label: &Self::Label) -> f64;
 
+    /// After the start moved from the state `previous` to the current one: a bound on
+    /// how much the heuristic of any label may have fallen — for a heuristic that is a
+    /// distance obeying the triangle inequality, the heuristic between the two starts.
+    /// With it the engine re-keys its open list lazily (D* Lite's key modifier), paying
+    /// per node popped rather than for the whole list at every move; `None` (the
+    /// default) means unknown, and the whole list is re-keyed.
+    fn heuristic_drop(&self, _previous: Self::State) -> Option<f64> {
+        None
+    }
+
     /// The BESTDPARMS order: whether `a` is strictly better than `b`.
     fn better(&self, _a: &Self::Label, _b: &Self::Label) -> bool {
         false

@@ -308,6 +308,12 @@ impl Domain for Grid {
         let dy = (y - self.start_xy.1).abs();
         dx.max(dy) + (std::f64::consts::SQRT_2 - 1.0) * dx.min(dy)
     }
+
+    /// The octile distance is a metric: no state's heuristic falls by more than the
+    /// distance the start moved.
+    fn heuristic_drop(&self, previous: u32) -> Option<f64> {
+        Some(self.heuristic(previous, &()))
+    }
 }
 
 /// One line of a Moving AI `.scen` file.

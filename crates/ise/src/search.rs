@@ -344,6 +344,14 @@ pub struct Search<D: Domain> {
     /// cost — enough to prune a worse label without reading its rival's node (a cache
     /// miss in a large arena). Removed nodes leave the table (see [`Search::update`]).
     classes: FxHashMap<(D::State, D::Key), (u32, f64)>,
+    /// D* Lite's key modifier: the sum of the heuristic drops since the open list was
+    /// last keyed in full, added to every new key so that older keys stay lower bounds
+    /// and can be brought up to date when they are popped.
+    key_offset: f64,
+    /// Whether the open list may hold keys older than the last start move.
+    stale_keys: bool,
+    /// The start state the keys were computed for.
+    keyed_start: Option<D::State>,
 }
 
 impl<D: Domain> std::fmt::Debug for Search<D> {
@@ -373,6 +381,9 @@ impl<D: Domain> Search<D> {
             } else {
                 FxHashMap::default()
             },
+            key_offset: 0.0,
+            stale_keys: false,
+            keyed_start: domain.start_state(),
         };
         for goal in goals {
             s.insert(domain, goal.state, goal.label, goal.cost.max(0.0), NONE, None);
@@ -469,18 +480,36 @@ impl<D: Domain> Search<D> {
             }
         }
         for s in near {
-            let mut id = self.by_state.get(domain, s);
+            let head = self.by_state.get(domain, s);
+            let (mut prev, mut id, mut new_head) = (NONE, head, head);
             while id != NONE {
                 let n = &mut self.nodes[id];
+                let next = n.next_in_state;
+                // Removed nodes, and replaced ones that were never expanded (no path
+                // hangs from them), are of no further use at this state: unlink them,
+                // so the next repair here walks only what matters. (With a class
+                // table, admitting labels never walks these lists, so they collect
+                // every label ever made at the state.)
+                if n.flags & REMOVED != 0 || (n.flags & DEAD != 0 && n.first_child == NONE) {
+                    if prev == NONE {
+                        new_head = next;
+                    } else {
+                        self.nodes[prev].next_in_state = next;
+                    }
+                    id = next;
+                    continue;
+                }
                 if n.flags == CLOSED {
                     n.flags = OPEN;
                     self.stats.reopened += 1;
                     let (g, label) = (n.g, n.label.clone());
-                    let f = g + domain.heuristic(s, &label);
+                    let f = g + domain.heuristic(s, &label) + self.key_offset;
                     self.open.push(Entry::new(f, g, id));
                 }
-                id = self.nodes[id].next_in_state;
+                prev = id;
+                id = next;
             }
+            self.relink_head(domain, s, head, new_head);
         }
         self.finish_stats();
         self.stats
@@ -489,6 +518,17 @@ impl<D: Domain> Search<D> {
     /// Tells the engine that the start (and so the heuristic) changed: plan extension
     /// after the rover moved, or a new start window. Re-keys the open list.
     pub fn start_moved(&mut self, domain: &D) {
+        let drop = self.keyed_start.and_then(|previous| domain.heuristic_drop(previous));
+        self.keyed_start = domain.start_state();
+        if let Some(drop) = drop {
+            if drop > 0.0 {
+                self.key_offset += drop;
+                self.stale_keys = true;
+            }
+            return;
+        }
+        self.key_offset = 0.0;
+        self.stale_keys = false;
         let mut seen = FxHashSet::default();
         let entries: Vec<Entry> = std::mem::replace(&mut self.open, OpenList::new())
             .into_vec()
@@ -509,8 +549,8 @@ impl<D: Domain> Search<D> {
         self.stats = Stats::default();
         // A start label may already be in the graph (the rover moved along the plan).
         let mut best = self.best_known_start(domain, f64::INFINITY, |a, b| a.g < b.g);
-        while let Some(top) = self.pop_valid() {
-            if best.is_some_and(|b| self.nodes[b].g <= top.f()) {
+        while let Some(top) = self.pop_valid(domain) {
+            if best.is_some_and(|b| self.nodes[b].g + self.key_offset <= top.f()) {
                 self.open.push_back(top);
                 break;
             }
@@ -535,8 +575,8 @@ impl<D: Domain> Search<D> {
 
     fn plan_best_dparms(&mut self, domain: &D, max_cost: f64) -> Plan<D> {
         self.stats = Stats::default();
-        while let Some(top) = self.pop_valid() {
-            if top.f() > max_cost {
+        while let Some(top) = self.pop_valid(domain) {
+            if top.f() - self.key_offset > max_cost {
                 self.open.push_back(top);
                 break;
             }
@@ -577,10 +617,20 @@ impl<D: Domain> Search<D> {
 
     /// Takes the least open entry that is still current, discarding stale ones (put it
     /// back with `push_back` if it is not expanded).
-    fn pop_valid(&mut self) -> Option<Entry> {
+    fn pop_valid(&mut self, domain: &D) -> Option<Entry> {
         while let Some(e) = self.open.pop() {
             let n = &self.nodes[e.id()];
             if n.flags == OPEN && e.matches(n.g) {
+                if self.stale_keys {
+                    // Keyed before a start move: a lower bound of its key now. Bring it
+                    // up to date; if it grew, it waits its turn.
+                    let f = n.g + domain.heuristic(n.state, &n.label) + self.key_offset;
+                    let current = Entry::new(f, n.g, e.id());
+                    if current.f() > e.f() {
+                        self.open.push(current);
+                        continue;
+                    }
+                }
                 return Some(e);
             }
         }
@@ -716,7 +766,7 @@ impl<D: Domain> Search<D> {
             self.nodes[parent].first_child = new_id;
         }
         self.by_state.set(domain, state, new_id);
-        self.open.push(Entry::new(g + h, g, new_id));
+        self.open.push(Entry::new(g + h + self.key_offset, g, new_id));
         self.alive += 1;
         self.stats.generated += 1;
         new_id

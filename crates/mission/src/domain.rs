@@ -323,6 +323,14 @@ impl Domain for TempestDomain<'_> {
         }
     }
 
+    fn heuristic_drop(&self, previous: u32) -> Option<f64> {
+        // Both heuristics are shortest-path lengths over the grid with fixed step
+        // costs (per-direction floors, or octile metres at top speed), so they obey the
+        // triangle inequality and ignore the label: the drop is the distance between
+        // the two starts.
+        Some(self.heuristic(previous, &Label { t: self.start.t_min, e: 0.0 }))
+    }
+
     fn better(&self, a: &Label, b: &Label) -> bool {
         a.e < b.e
     }
