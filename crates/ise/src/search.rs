@@ -175,10 +175,18 @@ impl OpenList {
     #[inline]
     fn push(&mut self, e: Entry) {
         let f = e.f().to_bits();
-        if self.radix.top().is_none_or(|Reverse(top)| f >= top) {
-            self.radix.push(Reverse(f), (e.g_bits(), e.id()));
-        } else {
-            self.below.push(e);
+        match self.radix.top() {
+            Some(Reverse(top)) if f < top => {
+                // A consistent heuristic never puts a child below its parent, but the
+                // sums g + c + h round: a key a few ulps under the top is the top's tie,
+                // not an inconsistency, and stays in the radix heap.
+                if e.f() >= f64::from_bits(top) * (1.0 - 1e-12) {
+                    self.radix.push(Reverse(top), (e.g_bits(), e.id()));
+                } else {
+                    self.below.push(e);
+                }
+            }
+            _ => self.radix.push(Reverse(f), (e.g_bits(), e.id())),
         }
     }
 

@@ -3,9 +3,10 @@
 //! state after the module with its duration and energy, or the first violated
 //! constraint and where it happened.
 //!
-//! Sampling: driving modules are sampled every [`Motion::spacing_m`] of wheel travel
-//! (1 cm by default, so a 25 cm ditch edge or a rock is never stepped over; the
-//! reference asks for ≥ 3 per 10 cm) and turns every 0.5°. Energy integrates the
+//! Sampling: driving modules are sampled every [`Motion::spacing_m`] of the reference
+//! point's travel (1 cm by default, so a 25 cm ditch edge or a rock is never stepped
+//! over; the reference asks for ≥ 3 per 10 cm), point turns every `spacing_m` of the
+//! farthest wheel's travel (a 5° turn rolls the corner wheels under 3 cm: 3 steps). Energy integrates the
 //! electrical power over the samples (trapezoid rule):
 //! P = Σ_i (max(τ_i ω_i, 0)/η_g + k τ_i²) + P₀, with ω_i = v_i/r from each wheel's
 //! speed about the instantaneous centre of rotation (the paper's Table 1 misprints 106
@@ -302,7 +303,8 @@ pub struct Motion<'e> {
     pub evaluator: &'e Evaluator,
     /// Friction coefficient μ.
     pub mu: f64,
-    /// Sample spacing of driving modules, m of reference-point travel (and 0.5° turns).
+    /// Sample spacing, m: of the reference point's travel on drives and arcs, of the
+    /// farthest wheel's on point turns.
     pub spacing_m: f64,
 }
 
@@ -456,11 +458,6 @@ impl<'e> Motion<'e> {
         let half = p.track_m / 2.0;
         let a = p.axle_x_m;
         let in_place = dist == 0.0;
-        let n = if in_place {
-            ((turn.abs() / 0.5f64.to_radians()).ceil() as usize).max(1)
-        } else {
-            ((dist.abs() / self.spacing_m).ceil() as usize).max(3)
-        };
         // Yaw rate and reference speed.
         let (speed, yaw_rate) = if in_place {
             (0.0, p.turn_rate_deg_s.to_radians() * turn.signum())
@@ -481,6 +478,15 @@ impl<'e> Motion<'e> {
                 }
             }
             w
+        };
+        // Drives and arcs: a sample every `spacing_m` of the reference point's travel (at
+        // least 3). Point turns: every `spacing_m` of the farthest wheel's travel — a
+        // 5° turn rolls the corner wheels under 3 cm.
+        let n = if in_place {
+            let travel = wheel_speeds.iter().fold(0.0f64, |m, &v| m.max(v)) * total_time;
+            ((travel / self.spacing_m - 1e-9).ceil() as usize).max(1)
+        } else {
+            ((dist.abs() / self.spacing_m).ceil() as usize).max(3)
         };
         let mut state = *start;
         let mut prev_power: Option<(f64, f64)> = None;
