@@ -499,11 +499,7 @@ impl<D: Domain> Search<D> {
                 // table, admitting labels never walks these lists, so they collect
                 // every label ever made at the state.)
                 if n.flags & REMOVED != 0 || (n.flags & DEAD != 0 && n.first_child == NONE) {
-                    if prev == NONE {
-                        new_head = next;
-                    } else {
-                        self.nodes[prev].next_in_state = next;
-                    }
+                    self.unlink(prev, next, &mut new_head);
                     id = next;
                     continue;
                 }
@@ -704,11 +700,7 @@ impl<D: Domain> Search<D> {
             let next = self.nodes[id].next_in_state;
             let flags = self.nodes[id].flags;
             if flags & REMOVED != 0 {
-                if prev == NONE {
-                    new_head = next;
-                } else {
-                    self.nodes[prev].next_in_state = next;
-                }
+                self.unlink(prev, next, &mut new_head);
                 id = next;
                 continue;
             }
@@ -778,6 +770,16 @@ impl<D: Domain> Search<D> {
         self.alive += 1;
         self.stats.generated += 1;
         new_id
+    }
+
+    /// Drops the node between `prev` (`NONE` at the head) and `next` from a state's
+    /// list; the head change, if any, goes to `new_head` (see `relink_head`).
+    fn unlink(&mut self, prev: u32, next: u32, new_head: &mut u32) {
+        if prev == NONE {
+            *new_head = next;
+        } else {
+            self.nodes[prev].next_in_state = next;
+        }
     }
 
     fn relink_head(&mut self, domain: &D, state: D::State, old_head: u32, new_head: u32) {

@@ -148,16 +148,14 @@ impl<'a> TempestDomain<'a> {
     /// planner calls this with the cells it reports to the search.
     pub fn forget(&self, changed: &[u32]) {
         let mut cache = self.geometry.borrow_mut();
+        let mut around = Vec::with_capacity(9);
         for &cell in changed {
-            let (c, r) = self.world.col_row(cell);
-            for (dc, dr) in NEIGHBOURS.into_iter().chain(std::iter::once((0, 0))) {
-                let (nc, nr) = (c as i64 + i64::from(dc), r as i64 + i64::from(dr));
-                if nc < 0 || nr < 0 || nc as usize >= self.world.cols() || nr as usize >= self.world.rows() {
-                    continue;
-                }
-                let n = self.world.cell(nc as usize, nr as usize) as usize;
-                if let Some(Some(page)) = cache.pages.get_mut(n / GEOMETRY_PAGE) {
-                    page[n % GEOMETRY_PAGE] = None;
+            around.clear();
+            // The cell and its neighbours on the map.
+            self.successors(cell, &mut around);
+            for &n in &around {
+                if let Some(Some(page)) = cache.pages.get_mut(n as usize / GEOMETRY_PAGE) {
+                    page[n as usize % GEOMETRY_PAGE] = None;
                 }
             }
         }

@@ -240,15 +240,21 @@ fn a_communicate_session_holds_the_rover_still_at_the_radio_load() {
     assert_eq!(talking.drive(&world, start.cell, 2, 1000.0).unwrap_err(), Binding::Communicate);
 }
 
+/// 14 × 12 cells of 20 m with slopes up to ~25°, under the real Sun for a sol, with
+/// terrain shadows (a 16-sector horizon map).
+fn steep_lit_world() -> areo_mission::World {
+    let dem =
+        areo_terrain::Dem::from_fn(14, 12, 20.0, 20.0, |x, y| 6.0 * (x / 23.0).sin() * (y / 31.0).cos() + 0.15 * x)
+            .unwrap();
+    mars_world(dem, 24.0, Some(16))
+}
+
 #[test]
 fn drive_energy_floors_bound_every_drive_on_steep_lit_ground() {
     // Slopes up to ~25° on 20 m cells under the real Sun with terrain shadows: the
     // heuristic's per-direction floors must not exceed any drive's energy, whatever
     // the cell, heading and time.
-    let dem =
-        areo_terrain::Dem::from_fn(14, 12, 20.0, 20.0, |x, y| 6.0 * (x / 23.0).sin() * (y / 31.0).cos() + 0.15 * x)
-            .unwrap();
-    let world = mars_world(dem, 24.0, Some(16));
+    let world = steep_lit_world();
     for quantum in [0.0, 1.0] {
         let actions = ActionConfig { time_quantum_s: 60.0, energy_quantum_wh: quantum, ..Default::default() };
         let model = model(1e6, actions);
@@ -296,10 +302,7 @@ fn a_backward_expansion_equals_its_actions_one_by_one_and_the_forward_drives() {
     // using the energy the step charged.
     use areo_ise::Domain;
     use areo_mission::{Label, Objective, Resolution, TempestDomain};
-    let dem =
-        areo_terrain::Dem::from_fn(14, 12, 20.0, 20.0, |x, y| 6.0 * (x / 23.0).sin() * (y / 31.0).cos() + 0.15 * x)
-            .unwrap();
-    let world = mars_world(dem, 24.0, Some(16));
+    let world = steep_lit_world();
     let model = model(2000.0, ActionConfig::default());
     let start = Start { cell: 0, t_min: 0.0, t_max: 3600.0, energy_wh: 1000.0 };
     let domain =
