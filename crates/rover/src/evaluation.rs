@@ -277,9 +277,8 @@ impl Evaluator {
             let mut lateral = [0.0; 3];
             for (i, l) in lateral.iter_mut().enumerate() {
                 let c = pose.wheels[3 * k + i].contact;
-                if let Some(n) = ground.normal(c[0], c[1]) {
-                    let nl = n[0] * lx + n[1] * ly;
-                    *l = (nl / n[2].max(1e-9)).abs();
+                if let Some((_, slope)) = ground.height_slope(c[0], c[1], (lx, ly)) {
+                    *l = slope.abs();
                 }
             }
             let worst_lateral = lateral.iter().copied().fold(0.0, f64::max);

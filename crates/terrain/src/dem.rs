@@ -67,6 +67,21 @@ pub trait Ground {
         };
         Some((h, slope))
     }
+
+    /// Heights at `out.len()` evenly spaced points (x0 + k·step.0, y0 + k·step.1), m —
+    /// a wheel rim's samples along its line of travel. `false` if any point is off the
+    /// terrain or on missing data (`out` is then unspecified). The default asks
+    /// [`Ground::height`] per point; a DEM walks its grid without re-checking bounds.
+    fn heights_along(&self, start: (f64, f64), step: (f64, f64), out: &mut [f64]) -> bool {
+        for (k, h) in out.iter_mut().enumerate() {
+            let t = k as f64;
+            match self.height(start.0 + step.0 * t, start.1 + step.1 * t) {
+                Some(z) => *h = z,
+                None => return false,
+            }
+        }
+        true
+    }
 }
 
 impl Dem {
@@ -201,7 +216,7 @@ impl Dem {
 
     /// Bilinear patch at (x, y): the four corner cells, the fractions, and the cell
     /// sizes; `None` off the map or if any corner is missing.
-    #[inline]
+    #[inline(always)]
     fn patch(&self, x: f64, y: f64) -> Option<([f64; 4], f64, f64)> {
         let fx = (x - self.x0) * self.inv_dx;
         let fy = (self.y_top - y) * self.inv_dy;
@@ -316,6 +331,58 @@ impl Ground for Dem {
         let gy = if self.rows > 1 { -((c - a) * (1.0 - s) + (d - b) * s) * self.inv_dy } else { 0.0 };
         Some((h, gx * dir.0 + gy * dir.1))
     }
+    /// Both ends on the map ⇒ every point between is (the map is a box); the per-point
+    /// work is then the bilinear blend alone, which is what makes a rim scan cheap.
+    #[inline]
+    fn heights_along(&self, start: (f64, f64), step: (f64, f64), out: &mut [f64]) -> bool {
+        let n = out.len();
+        if n == 0 {
+            return true;
+        }
+        let fx0 = (start.0 - self.x0) * self.inv_dx;
+        let fy0 = (self.y_top - start.1) * self.inv_dy;
+        let (dfx, dfy) = (step.0 * self.inv_dx, -step.1 * self.inv_dy);
+        let (cols, rows) = (self.cols as f64, self.rows as f64);
+        let inside = |fx: f64, fy: f64| fx >= 0.0 && fy >= 0.0 && fx <= cols && fy <= rows;
+        let last = (n - 1) as f64;
+        if !inside(fx0, fy0) || !inside(fx0 + dfx * last, fy0 + dfy * last) {
+            return false;
+        }
+        if !self.all_valid || self.cols < 2 || self.rows < 2 {
+            // Masks and one-cell-wide grids take the general path.
+            for (k, h) in out.iter_mut().enumerate() {
+                let t = k as f64;
+                match Dem::height(self, start.0 + step.0 * t, start.1 + step.1 * t) {
+                    Some(z) => *h = z,
+                    None => return false,
+                }
+            }
+            return true;
+        }
+        // Signed integers convert to and from f64 in one instruction each (usize does
+        // not); every value here is clamped into the grid first.
+        let (cmax, rmax) = ((self.cols - 2) as i64, (self.rows - 2) as i64);
+        let stride = self.cols as i64;
+        let (x1, y1) = (cols - 1.0, rows - 1.0);
+        let (u0, v0) = (fx0 - 0.5, fy0 - 0.5);
+        let corners = |c0: i64, r0: i64| {
+            let i = (r0 * stride + c0) as usize;
+            let j = i + self.cols;
+            (f64::from(self.z[i]), f64::from(self.z[i + 1]), f64::from(self.z[j]), f64::from(self.z[j + 1]))
+        };
+        for (k, h) in out.iter_mut().enumerate() {
+            let t = k as i64 as f64;
+            // Clamped exactly as `patch` clamps, so the edge half-cells hold their values.
+            let u = (u0 + dfx * t).max(0.0).min(x1);
+            let v = (v0 + dfy * t).max(0.0).min(y1);
+            let (c0, r0) = ((u as i64).min(cmax), (v as i64).min(rmax));
+            let (s, w) = (u - c0 as f64, v - r0 as f64);
+            let (a, b, c, d) = corners(c0, r0);
+            let top = a + (b - a) * s;
+            *h = top + (c + (d - c) * s - top) * w;
+        }
+        true
+    }
 }
 
 /// The upward unit normal of a surface with gradient (gx, gy).
@@ -391,6 +458,45 @@ pub mod analytic {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn heights_along_a_line_equal_the_pointwise_heights() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        // Rough, non-square cells; lines inside, through the edge half-cells and off.
+        let z: Vec<f32> = (0..17 * 11).map(|_| rng.random_range(-0.5f32..0.5)).collect();
+        let dem = Dem::new(17, 11, 0.02, 0.03, 1.0, 2.0, z).unwrap();
+        let (w, h) = (17.0 * 0.02, 11.0 * 0.03);
+        let mut out = [0.0; 25];
+        let (mut inside, mut off) = (0, 0);
+        for _ in 0..4000 {
+            let start = (rng.random_range(0.95..1.0 + w + 0.05), rng.random_range(2.0 - h - 0.05..2.05));
+            let a: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            let step = 0.008 * if rng.random_bool(0.1) { 0.0 } else { 1.0 };
+            let step = (step * a.cos(), step * a.sin());
+            let pointwise: Option<Vec<f64>> =
+                (0..25).map(|k| dem.height(start.0 + step.0 * k as f64, start.1 + step.1 * k as f64)).collect();
+            let ok = dem.heights_along(start, step, &mut out);
+            assert_eq!(ok, pointwise.is_some(), "{start:?} {step:?}");
+            if let Some(p) = pointwise {
+                inside += 1;
+                for k in 0..25 {
+                    assert!((out[k] - p[k]).abs() < 1e-12, "{start:?} {step:?} {k}: {} vs {}", out[k], p[k]);
+                }
+            } else {
+                off += 1;
+            }
+        }
+        assert!(inside > 500 && off > 500, "{inside} {off}");
+        // With missing data the answer is refused exactly where a point is.
+        let mut mask = vec![true; 17 * 11];
+        mask[dem.index(8, 5)] = false;
+        let holed = dem.clone().with_mask(mask).unwrap();
+        let (x, y) = holed.cell_center(8, 5);
+        assert!(!holed.heights_along((x - 0.1, y), (0.01, 0.0), &mut out[..21]));
+        assert!(holed.heights_along((x - 0.1, y + 0.06), (0.01, 0.0), &mut out[..21]));
+        assert!((out[10] - holed.height(x, y + 0.06).unwrap()).abs() < 1e-12);
+    }
 
     #[test]
     fn bilinear_reproduces_a_plane_and_refuses_off_map_and_nodata() {
