@@ -193,6 +193,13 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         o.number(&format!("{name}_arm_forward_net"), count(M::ArmForward) - count(M::ArmBack));
         if let Some(last) = best.trace.last() {
             o.number(&format!("{name}_last_pitch_deg"), last.pitch_deg);
+            // Left and right front wheels' share of the load where the plan last stood:
+            // near 0 as the rover rotates back over its rear wheels.
+            let l = last.wheel_loads_n;
+            let total: f64 = l.iter().sum();
+            if total > 0.0 {
+                o.number(&format!("{name}_last_front_load_fraction"), (l[0] + l[3]) / total);
+            }
         }
         if let Some((_, f)) = &best.failure {
             let kind = match f {

@@ -88,6 +88,8 @@ pub enum Expect {
     Is(bool),
     /// The text is exactly this.
     Equals(String),
+    /// The text is one of these.
+    OneOf(Vec<String>),
 }
 
 /// A fact that did not meet its expectation.
@@ -124,6 +126,7 @@ impl Expected {
                 (Expect::Between { min, max }, Some(Fact::Number(x))) => x >= min && x <= max,
                 (Expect::Is(b), Some(Fact::Flag(x))) => x == b,
                 (Expect::Equals(s), Some(Fact::Text(x))) => x == s,
+                (Expect::OneOf(v), Some(Fact::Text(x))) => v.contains(x),
                 _ => false,
             };
             if !ok {
@@ -134,6 +137,7 @@ impl Expected {
                         Expect::Between { min, max } => format!("in [{min}, {max}]"),
                         Expect::Is(b) => format!("{b}"),
                         Expect::Equals(s) => format!("{s:?}"),
+                        Expect::OneOf(v) => format!("one of {v:?}"),
                     },
                     found: found.map_or_else(|| "missing".to_string(), |f| f.to_string()),
                 });
@@ -154,9 +158,10 @@ mod tests {
         o.number("b", 5.0);
         o.flag("c", true);
         o.text("d", "yes");
-        let text = r#"(facts: {"a": Near(value: 1.05, tol: 0.1), "b": Between(min: 0, max: 4), "c": Is(true), "d": Equals("yes"), "e": Is(false), "a2": Is(true)})"#;
+        o.text("f", "slip");
+        let text = r#"(facts: {"a": Near(value: 1.05, tol: 0.1), "b": Between(min: 0, max: 4), "c": Is(true), "d": Equals("yes"), "e": Is(false), "a2": Is(true), "f": OneOf(["stability", "slip"]), "g": OneOf(["no"]), "d2": OneOf(["no"])})"#;
         let exp: Expected = crate::scenario::ron_options().from_str(text).unwrap();
         let bad: Vec<String> = exp.check(&o).into_iter().map(|m| m.fact).collect();
-        assert_eq!(bad, vec!["a2", "b", "e"]);
+        assert_eq!(bad, vec!["a2", "b", "d2", "e", "g"]);
     }
 }

@@ -206,7 +206,10 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
     }
 
     fn execute(&self, plan: &[Module], from: Option<(&Execution, usize)>, trace: bool) -> Execution {
-        let motion = Motion::new(self.evaluator, self.config.mu);
+        let mut motion = Motion::new(self.evaluator, self.config.mu);
+        // The floor is checked pose by pose, so a module that first dips below it and
+        // later slips is reported as what happened first.
+        motion.stability_floor = self.config.stability_floor;
         let mut state = self.start_state();
         let mut collected = vec![false; self.task.samples.len()];
         let mut out = Execution {
@@ -266,6 +269,11 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
                     out.prefix_len = i + 1;
                     out.checkpoints.push(checkpoint(&state, &collected, &out));
                     continue;
+                }
+                Err(Stopped { failure: MotionFailure::BelowFloor(s), progress, .. }) => {
+                    out.failure = Some((i, Failure::Stability(s)));
+                    out.failure_progress = progress;
+                    break;
                 }
                 Err(Stopped { failure, progress, .. }) => {
                     out.failure = Some((i, Failure::Module(failure.to_string())));

@@ -50,7 +50,7 @@ pub struct Conditions {
 }
 
 /// What stops the rover at a pose.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Violation {
     /// No pose: off the map, no loop closure, or a joint limit.
     Kinematics(KinematicsFailure),
@@ -60,6 +60,9 @@ pub enum Violation {
         side: usize,
         /// Which limit.
         failure: ForceFailure,
+        /// The pose's stability margin S, which is found before the forces (so a caller
+        /// with a stability floor can tell which limit the pose passed first).
+        stability: f64,
     },
     /// The centre of mass is outside the support polygon.
     TipOver,
@@ -69,7 +72,7 @@ impl std::fmt::Display for Violation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Violation::Kinematics(k) => write!(f, "kinematics: {k}"),
-            Violation::Forces { side, failure } => {
+            Violation::Forces { side, failure, .. } => {
                 write!(f, "{} side {failure}", if *side == 0 { "left" } else { "right" })
             }
             Violation::TipOver => f.write_str("tip-over: the centre of mass is outside the support polygon"),
@@ -283,7 +286,7 @@ impl Evaluator {
             }
             let worst_lateral = lateral.iter().copied().fold(0.0, f64::max);
             if worst_lateral >= cond.mu {
-                return Err(Violation::Forces { side: k, failure: ForceFailure::Slip });
+                return Err(Violation::Forces { side: k, failure: ForceFailure::Slip, stability });
             }
             let contacts = SideContacts {
                 axles: side.axles,
@@ -301,7 +304,11 @@ impl Evaluator {
                 rolling_resistance: p.rolling_resistance,
                 direction: cond.direction,
             };
-            let f = forces::solve(&contacts, &limits).map_err(|failure| Violation::Forces { side: k, failure })?;
+            let f = forces::solve(&contacts, &limits).map_err(|failure| Violation::Forces {
+                side: k,
+                failure,
+                stability,
+            })?;
             friction_used = friction_used.max(f.friction_used.hypot(worst_lateral));
             sides[k] = Some(f);
         }

@@ -111,12 +111,19 @@ pub struct Pose {
     pub alpha: [f64; 4],
     /// Wheels in the order left front, middle, rear, right front, middle, rear.
     pub wheels: [Wheel; 6],
+    /// The (x, y, heading) it was solved for.
+    at: (f64, f64, f64),
     /// The settling iteration's inverse Jacobian (roll and side shifts), which seeds a
     /// warm start's first correction.
     inverse_jacobian: Matrix3<f64>,
 }
 
 impl Pose {
+    /// The anchor position (m, map frame) and heading (rad) this pose was solved for.
+    pub fn solved_at(&self) -> (f64, f64, f64) {
+        self.at
+    }
+
     /// Horizontal unit vector along the heading (east, north).
     pub fn forward(&self) -> (f64, f64) {
         (self.heading.sin(), self.heading.cos())
@@ -525,6 +532,7 @@ impl Kinematics {
             alpha: [right.rocker_alpha, right.bogie_alpha, left.rocker_alpha, left.bogie_alpha],
             wheels,
             inverse_jacobian,
+            at: (x, y, heading),
         })
     }
 

@@ -3,10 +3,17 @@
 //! state after the module with its duration and energy, or the first violated
 //! constraint and where it happened.
 //!
-//! Sampling: driving modules are sampled every [`Motion::spacing_m`] of the reference
-//! point's travel (1 cm by default, so a 25 cm ditch edge or a rock is never stepped
-//! over; the reference asks for ≥ 3 per 10 cm), point turns every `spacing_m` of the
-//! farthest wheel's travel (a 5° turn rolls the corner wheels under 3 cm: 3 steps). Energy integrates the
+//! Sampling: poses lie on a grid of [`Motion::spacing_m`] of the reference point's
+//! travel on drives and arcs (1 cm by default, so a ditch edge or a rock is never
+//! stepped over; the reference asks for ≥ 3 per 10 cm) and of the farthest wheel's
+//! travel on point turns (a 5° turn rolls the corner wheels under 3 cm). The motion
+//! strides up to [`Motion::coarse_steps`] grid steps where the pose changes smoothly —
+//! every contact angle within 5°, pitch and roll within 1°, stability, friction and
+//! torque margins within 0.05 ([`Signature`]) — and halves the stride back to one step
+//! wherever it does not, or where a pose fails, so a failure is reported at the first
+//! failing grid point, as sampling every step would. A module's first pose re-uses the
+//! previous module's last one (only the forces change with the new motion). Poses are
+//! checked in order against [`Motion::stability_floor`] too. Energy integrates the
 //! electrical power over the samples (trapezoid rule):
 //! P = Σ_i (max(τ_i ω_i, 0)/η_g + k τ_i²) + P₀, with ω_i = v_i/r from each wheel's
 //! speed about the instantaneous centre of rotation (the paper's Table 1 misprints 106
@@ -270,6 +277,8 @@ pub enum MotionFailure {
     NotHolding,
     /// The battery would drop below its usable window.
     Battery,
+    /// A pose's stability margin S fell below [`Motion::stability_floor`].
+    BelowFloor(f64),
 }
 
 impl std::fmt::Display for MotionFailure {
@@ -280,6 +289,7 @@ impl std::fmt::Display for MotionFailure {
             MotionFailure::NoSample => f.write_str("no sample at the tool, or already holding one"),
             MotionFailure::NotHolding => f.write_str("release with an empty gripper"),
             MotionFailure::Battery => f.write_str("the battery would drop below its usable window"),
+            MotionFailure::BelowFloor(s) => write!(f, "stability margin {:.0} % below the floor", 100.0 * s),
         }
     }
 }
@@ -304,14 +314,87 @@ pub struct Motion<'e> {
     /// Friction coefficient μ.
     pub mu: f64,
     /// Sample spacing, m: of the reference point's travel on drives and arcs, of the
-    /// farthest wheel's on point turns.
+    /// farthest wheel's on point turns. The finest the poses are ever sampled.
     pub spacing_m: f64,
+    /// Widest stride between evaluated poses, in `spacing_m` steps, taken where the pose
+    /// changes smoothly ([`Signature::change`] at most 1); 1 samples every step.
+    pub coarse_steps: usize,
+    /// Smallest admissible stability margin S (0..1): a pose below it stops the module,
+    /// in the order its poses are reached. 0 stops only at tip-over.
+    pub stability_floor: f64,
+}
+
+/// What must change little between two poses for the motion between them to be taken
+/// as smooth: each wheel's contact angle (a wheel meeting an edge or a wall turns it),
+/// body pitch and roll, the stability margin, the friction used and the torque load.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Signature {
+    /// Contact angles γ, rad, left front..right rear.
+    pub gamma: [f64; 6],
+    /// Body pitch and roll, rad.
+    pub attitude: (f64, f64),
+    /// Stability margin S, friction used, torque over its limit.
+    pub margins: [f64; 3],
+}
+
+impl Signature {
+    /// The signature of an evaluation (`torque_max_nm` the wheel torque limit).
+    pub fn of(eval: &Evaluation, torque_max_nm: f64) -> Signature {
+        let (l, r) = (eval.pose.left.gamma, eval.pose.right.gamma);
+        Signature {
+            gamma: [l[0], l[1], l[2], r[0], r[1], r[2]],
+            attitude: (eval.pose.pitch, eval.pose.roll),
+            margins: [eval.stability, eval.friction_used, eval.saturation(torque_max_nm)],
+        }
+    }
+
+    /// How far apart two signatures are, as the largest of the changes over their
+    /// allowances: 5° per contact angle, 1° of pitch or roll, 0.05 of each margin. At
+    /// most 1 is smooth.
+    pub fn change(&self, other: &Signature) -> f64 {
+        let (deg5, deg1) = (5f64.to_radians(), 1f64.to_radians());
+        let gamma = self.gamma.iter().zip(&other.gamma).map(|(a, b)| (a - b).abs() / deg5);
+        let attitude = [self.attitude.0 - other.attitude.0, self.attitude.1 - other.attitude.1].map(|d| d.abs() / deg1);
+        let margins = self.margins.iter().zip(&other.margins).map(|(a, b)| (a - b).abs() / 0.05);
+        gamma.chain(attitude).chain(margins).fold(0.0, f64::max)
+    }
 }
 
 impl<'e> Motion<'e> {
-    /// Modules on `evaluator`'s rover with friction `mu`, sampled every centimetre.
+    /// Modules on `evaluator`'s rover with friction `mu`, sampled every centimetre where
+    /// the pose changes and every 4 cm where it changes smoothly.
     pub fn new(evaluator: &'e Evaluator, mu: f64) -> Motion<'e> {
-        Motion { evaluator, mu, spacing_m: 0.01 }
+        Motion { evaluator, mu, spacing_m: 0.01, coarse_steps: 4, stability_floor: 0.0 }
+    }
+
+    /// One pose of a module: the forces and stability at `at` with `arm` under `cond`,
+    /// re-using `known` if it was solved there (an arm move or a module's start does not
+    /// move the wheels), and the stability floor applied.
+    fn pose_at(
+        &self,
+        ground: &impl Ground,
+        at: Place,
+        arm: &ArmState,
+        cond: &Conditions,
+        known: Option<&Pose>,
+    ) -> Result<Evaluation, MotionFailure> {
+        let eval = match known {
+            Some(pose) if pose.solved_at() == (at.x, at.y, at.heading) => {
+                self.evaluator.evaluate_pose(ground, pose, arm, cond)
+            }
+            _ => self.evaluator.evaluate(ground, at, arm, cond, known),
+        }
+        .map_err(|v| match v {
+            // Stability is found before the forces: a pose under the floor fails on it.
+            Violation::Forces { stability, .. } if stability < self.stability_floor => {
+                MotionFailure::BelowFloor(stability)
+            }
+            v => MotionFailure::Violation(v),
+        })?;
+        if eval.stability < self.stability_floor {
+            return Err(MotionFailure::BelowFloor(eval.stability));
+        }
+        Ok(eval)
     }
 
     /// Evaluates the state where it stands (holding still).
@@ -479,22 +562,18 @@ impl<'e> Motion<'e> {
             }
             w
         };
-        // Drives and arcs: a sample every `spacing_m` of the reference point's travel (at
-        // least 3). Point turns: every `spacing_m` of the farthest wheel's travel — a
-        // 5° turn rolls the corner wheels under 3 cm.
+        // The fine grid. Drives and arcs: a step every `spacing_m` of the reference
+        // point's travel (at least 3). Point turns: every `spacing_m` of the farthest
+        // wheel's travel — a 5° turn rolls the corner wheels under 3 cm.
         let n = if in_place {
             let travel = wheel_speeds.iter().fold(0.0f64, |m, &v| m.max(v)) * total_time;
             ((travel / self.spacing_m - 1e-9).ceil() as usize).max(1)
         } else {
             ((dist.abs() / self.spacing_m).ceil() as usize).max(3)
         };
-        let mut state = *start;
-        let mut prev_power: Option<(f64, f64)> = None;
-        let mut warm = start.pose;
-        for j in 0..=n {
-            let f = j as f64 / n as f64;
-            let (x, y, heading) = if in_place {
-                (start.x, start.y, start.heading - turn * f)
+        let place_at = |f: f64| {
+            if in_place {
+                Place { x: start.x, y: start.y, heading: start.heading - turn * f }
             } else if radius.is_finite() {
                 // Along a circle: heading changes by s/R (left positive = azimuth down).
                 let s = dist * f;
@@ -502,34 +581,84 @@ impl<'e> Motion<'e> {
                 let (fx, fy) = (start.heading.sin(), start.heading.cos());
                 let (lx, ly) = (-fy, fx);
                 let (along, side) = (radius * dpsi.sin(), radius * (1.0 - dpsi.cos()));
-                (start.x + fx * along + lx * side, start.y + fy * along + ly * side, start.heading - dpsi)
+                Place {
+                    x: start.x + fx * along + lx * side,
+                    y: start.y + fy * along + ly * side,
+                    heading: start.heading - dpsi,
+                }
             } else {
                 let s = dist * f;
-                (start.x + start.heading.sin() * s, start.y + start.heading.cos() * s, start.heading)
-            };
-            let eval = self
-                .evaluator
-                .evaluate(ground, Place { x, y, heading }, &start.arm, &cond, warm.as_ref())
-                .map_err(|v| Stopped { failure: MotionFailure::Violation(v), progress: f, state: Box::new(state) })?;
-            warm = Some(eval.pose);
-            step.min_stability = Some(step.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
-            step.max_friction = step.max_friction.max(eval.friction_used);
-            step.max_saturation = step.max_saturation.max(eval.saturation(p.wheel_torque_max_nm));
+                Place {
+                    x: start.x + start.heading.sin() * s,
+                    y: start.y + start.heading.cos() * s,
+                    heading: start.heading,
+                }
+            }
+        };
+        let power = |eval: &Evaluation| {
             let torques = eval.torques_nm();
-            let mut mech = 0.0;
-            let mut copper = 0.0;
+            let (mut mech, mut copper) = (0.0, 0.0);
             for i in 0..6 {
                 let omega = wheel_speeds[i] / p.wheel_radius_m;
                 mech += (torques[i] * omega * direction).max(0.0) / eta;
                 copper += k_copper * torques[i] * torques[i];
             }
-            if let Some((m0, c0)) = prev_power {
-                let dt = total_time / n as f64;
-                step.energy.mechanical_wh += 0.5 * (m0 + mech) * dt / 3600.0;
-                step.energy.copper_wh += 0.5 * (c0 + copper) * dt / 3600.0;
+            (mech, copper)
+        };
+        let mut state = *start;
+        // The start: the previous module left its pose here, so only the forces under
+        // this module's conditions are new.
+        let first = self
+            .pose_at(ground, start.place(), &start.arm, &cond, start.pose.as_ref())
+            .map_err(|failure| Stopped { failure, progress: 0.0, state: Box::new(state) })?;
+        let record = |step: &mut Step, eval: &Evaluation| {
+            step.min_stability = Some(step.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
+            step.max_friction = step.max_friction.max(eval.friction_used);
+            step.max_saturation = step.max_saturation.max(eval.saturation(p.wheel_torque_max_nm));
+        };
+        record(step, &first);
+        let mut last = Signature::of(&first, p.wheel_torque_max_nm);
+        let mut prev_power = power(&first);
+        let mut warm = first.pose;
+        state.pose = Some(first.pose);
+        // Poses on a grid of n fine steps; a stride of up to `coarse_steps` of them where
+        // the pose changes smoothly, halved back to one wherever it does not (or where a
+        // pose fails, so the failure is reported at the first failing fine sample).
+        let coarse = self.coarse_steps.max(1);
+        let (mut j, mut stride) = (0usize, coarse);
+        while j < n {
+            let next = (j + stride).min(n);
+            let f = next as f64 / n as f64;
+            let at = place_at(f);
+            let eval = match self.pose_at(ground, at, &start.arm, &cond, Some(&warm)) {
+                Ok(eval) => eval,
+                Err(_) if next - j > 1 => {
+                    stride = (next - j) / 2;
+                    continue;
+                }
+                Err(failure) => return Err(Stopped { failure, progress: f, state: Box::new(state) }),
+            };
+            let sig = Signature::of(&eval, p.wheel_torque_max_nm);
+            let change = last.change(&sig);
+            if next - j > 1 && change > 1.0 {
+                stride = (next - j) / 2;
+                continue;
             }
-            prev_power = Some((mech, copper));
-            state = RoverState { x, y, heading, pose: Some(eval.pose), ..state };
+            record(step, &eval);
+            let (mech, copper) = power(&eval);
+            let dt = total_time * (next - j) as f64 / n as f64;
+            step.energy.mechanical_wh += 0.5 * (prev_power.0 + mech) * dt / 3600.0;
+            step.energy.copper_wh += 0.5 * (prev_power.1 + copper) * dt / 3600.0;
+            prev_power = (mech, copper);
+            warm = eval.pose;
+            last = sig;
+            state = RoverState { x: at.x, y: at.y, heading: at.heading, pose: Some(eval.pose), ..state };
+            // Like an integrator's step control: widen only after a step well within the
+            // allowance, so rough ground is not probed (and refused) at every step.
+            if change < 0.5 {
+                stride = (2 * (next - j)).min(coarse);
+            }
+            j = next;
         }
         step.duration_s += total_time;
         step.energy.hotel_wh += p.hotel_power_w * total_time / 3600.0;
@@ -559,9 +688,8 @@ impl<'e> Motion<'e> {
                 state: Box::new(state),
             })?;
             let eval = self
-                .evaluator
-                .evaluate(ground, state.place(), &arm, &cond, state.pose.as_ref())
-                .map_err(|v| Stopped { failure: MotionFailure::Violation(v), progress: f, state: Box::new(state) })?;
+                .pose_at(ground, state.place(), &arm, &cond, state.pose.as_ref())
+                .map_err(|failure| Stopped { failure, progress: f, state: Box::new(state) })?;
             step.min_stability = Some(step.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
             step.max_friction = step.max_friction.max(eval.friction_used);
             step.max_saturation = step.max_saturation.max(eval.saturation(p.wheel_torque_max_nm));
@@ -581,8 +709,8 @@ impl<'e> Motion<'e> {
     fn settle(&self, ground: &impl Ground, step: &mut Step, before: RoverState) -> Result<(), Stopped> {
         let s = &step.state;
         let cond = Conditions { mu: self.mu, direction: 0.0 };
-        let eval = self.evaluator.evaluate(ground, s.place(), &s.arm, &cond, s.pose.as_ref()).map_err(|v| Stopped {
-            failure: MotionFailure::Violation(v),
+        let eval = self.pose_at(ground, s.place(), &s.arm, &cond, s.pose.as_ref()).map_err(|failure| Stopped {
+            failure,
             progress: 0.0,
             state: Box::new(before),
         })?;
