@@ -76,6 +76,8 @@ pub struct SidePose {
     pub plane_z: f64,
     /// The rim sample touching the ground, per axle (seeds warm starts).
     pins: [usize; 3],
+    /// (sin γ, cos γ) per wheel, found with γ (the pose's normals need them).
+    gamma_sc: [(f64, f64); 3],
 }
 
 /// One wheel on the ground, map frame.
@@ -246,15 +248,21 @@ struct Line<'g, G> {
 }
 
 impl<G: Ground> Line<'_, G> {
+    /// Which wheel's stretch of the line s is in: 0 front, 1 middle, 2 rear.
+    #[inline]
+    fn segment(&self, s: f64) -> usize {
+        if s > self.split.0 {
+            0
+        } else if s < self.split.1 {
+            2
+        } else {
+            1
+        }
+    }
+
     #[inline]
     fn squeeze_at(&self, s: f64) -> f64 {
-        if s > self.split.0 {
-            self.squeeze[0]
-        } else if s < self.split.1 {
-            self.squeeze[2]
-        } else {
-            self.squeeze[1]
-        }
+        self.squeeze[self.segment(s)]
     }
 
     #[inline]
@@ -263,18 +271,36 @@ impl<G: Ground> Line<'_, G> {
         Some(self.zref + (h - self.zref) * self.squeeze_at(s))
     }
 
-    /// Heights at s0 + k·ds for k < out.len(), squeezed as [`Line::at`] does; `None`
-    /// if any is off the terrain.
+    /// The sample maximising (squeezed height at s0 + k·ds)·inv + rise[k] over the
+    /// `rise.len()` samples, or `None` if any is off the terrain.
     #[inline]
-    fn heights(&self, s0: f64, ds: f64, out: &mut [f64]) -> Option<()> {
+    fn argmax_along(&self, s0: f64, ds: f64, inv: f64, rise: &[f64; WHEEL_SAMPLES + 1]) -> Option<usize> {
+        let mut h = [0.0; WHEEL_SAMPLES + 1];
         let start = (self.origin.0 + self.dir.0 * s0, self.origin.1 + self.dir.1 * s0);
-        if !self.ground.heights_along(start, (self.dir.0 * ds, self.dir.1 * ds), out) {
+        if !self.ground.heights_along(start, (self.dir.0 * ds, self.dir.1 * ds), &mut h) {
             return None;
         }
-        for (k, h) in out.iter_mut().enumerate() {
-            *h = self.zref + (*h - self.zref) * self.squeeze_at(s0 + ds * k as f64);
+        let (first, last) = (self.segment(s0), self.segment(s0 + ds * WHEEL_SAMPLES as f64));
+        let mut best = (f64::NEG_INFINITY, 0);
+        if first == last {
+            // One wheel's stretch (the usual case): one squeeze factor, and the constant
+            // part of the squeezed height cannot change which sample is highest.
+            let a = self.squeeze[first] * inv;
+            for (k, (h, rise)) in h.iter().zip(rise).enumerate() {
+                let z = h * a + rise;
+                if z > best.0 {
+                    best = (z, k);
+                }
+            }
+        } else {
+            for (k, (h, rise)) in h.iter().zip(rise).enumerate() {
+                let z = (self.zref + (h - self.zref) * self.squeeze_at(s0 + ds * k as f64)) * inv + rise;
+                if z > best.0 {
+                    best = (z, k);
+                }
+            }
         }
-        Some(())
+        Some(best.1)
     }
 
     #[inline]
@@ -512,7 +538,7 @@ impl Kinematics {
             for i in 0..3 {
                 // In the wheel plane: −sin γ along the heading, cos γ along the tilted
                 // vertical (−sin ψ left + cos ψ up).
-                let (sg, cg) = side.gamma[i].sin_cos();
+                let (sg, cg) = side.gamma_sc[i];
                 wheels[3 * k + i] = Wheel {
                     axle: world(side, side.axles[i]),
                     contact: world(side, side.contacts[i]),
@@ -545,20 +571,7 @@ impl Kinematics {
         let inv = 1.0 / c;
         let k = match pin {
             Some(k) => k,
-            None => {
-                let mut h = [0.0; WHEEL_SAMPLES + 1];
-                profile.heights(s + self.u[0], self.u[1] - self.u[0], &mut h)?;
-                let mut best = f64::NEG_INFINITY;
-                let mut bk = 0;
-                for (k, (h, rise)) in h.iter().zip(&self.rise).enumerate() {
-                    let z = h * inv + rise;
-                    if z > best {
-                        best = z;
-                        bk = k;
-                    }
-                }
-                bk
-            }
+            None => profile.argmax_along(s + self.u[0], self.u[1] - self.u[0], inv, &self.rise)?,
         };
         let (h, slope) = profile.at_slope(s + self.u[k])?;
         Some(Dilated { z: h * inv + self.rise[k], u: self.u[k], slope: slope * inv, k })
@@ -710,15 +723,21 @@ impl Kinematics {
                 // On a wall face: the contact is on the face, level with the axle.
                 side.contacts[i] = (s + d.u, z_true);
                 side.gamma[i] = d.u.signum() * std::f64::consts::FRAC_PI_2;
+                side.gamma_sc[i] = (d.u.signum(), 0.0);
                 continue;
             }
             let tangent = d.slope.atan();
             let u = if (tangent - self.angle[d.k]).abs() <= self.angle_tol[d.k] {
                 side.gamma[i] = tangent;
-                self.r * tangent.sin()
+                // sin and cos of atan(slope), without the trigonometry.
+                let cos = 1.0 / (1.0 + d.slope * d.slope).sqrt();
+                side.gamma_sc[i] = (d.slope * cos, cos);
+                self.r * d.slope * cos
             } else {
                 let u = self.refine_contact(profile, s, c, d.u).ok_or(KinematicsFailure::OffTerrain)?;
-                side.gamma[i] = u.atan2((self.r * self.r - u * u).max(0.0).sqrt());
+                let rise = (self.r * self.r - u * u).max(0.0).sqrt();
+                side.gamma[i] = u.atan2(rise);
+                side.gamma_sc[i] = (u / self.r, rise / self.r);
                 u
             };
             side.contacts[i] = (s + u, profile.at(s + u).ok_or(KinematicsFailure::OffTerrain)?);
@@ -780,6 +799,7 @@ impl Kinematics {
             shift: 0.0,
             plane_z: 0.0,
             pins: [fp.k, m0.k, rp.k],
+            gamma_sc: [(0.0, 1.0); 3],
         })
     }
 }
