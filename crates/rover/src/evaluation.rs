@@ -258,16 +258,21 @@ impl Evaluator {
         let down = Vector3::new(0.0, 0.0, -weight);
         let fa = force_angle(&pts, Vector3::from(g), down, Vector3::zeros()).ok_or(Violation::TipOver)?;
         let stability = match self.normalisation {
-            Normalisation::PerAxis => fa
-                .angles()
-                .iter()
-                .enumerate()
-                .map(|(i, &a)| {
-                    let o = fa.outward(i, down);
-                    let class = class_of(o.x * fx + o.y * fy, o.x * lx + o.y * ly);
-                    a / self.flat.by_class[class]
-                })
-                .fold(f64::INFINITY, f64::min),
+            Normalisation::PerAxis => {
+                let hull = fa.hull();
+                fa.angles()
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &a)| {
+                        // The axis' outward direction, up × (q − p) with gravity down the
+                        // z axis; unnormalised, as the class only compares its components.
+                        let (p, q) = (hull[i], hull[(i + 1) % hull.len()]);
+                        let o = (p.y - q.y, q.x - p.x);
+                        let class = class_of(o.0 * fx + o.1 * fy, o.0 * lx + o.1 * ly);
+                        a / self.flat.by_class[class]
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            }
             Normalisation::Global => fa.critical().map_or(f64::NEG_INFINITY, |c| c.1) / self.flat.smallest,
         };
         if !(stability > 0.0) {
