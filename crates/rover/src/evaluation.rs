@@ -295,7 +295,7 @@ impl Evaluator {
             }
             let contacts = SideContacts {
                 axles: side.axles,
-                gamma: side.gamma,
+                gamma_sin_cos: side.gamma_sin_cos(),
                 bogie_pivot: side.bogie_pivot,
                 rocker_pivot: side.rocker_pivot,
                 load_n: loads[k],

@@ -23,8 +23,9 @@ use nalgebra::{Matrix2, Matrix4, SMatrix, SVector, Vector2, Vector4};
 pub struct SideContacts {
     /// Axle centres: front, middle, rear.
     pub axles: [(f64, f64); 3],
-    /// Contact angles γ_i (positive when the terrain rises ahead), rad.
-    pub gamma: [f64; 3],
+    /// (sin γ_i, cos γ_i) of the contact angles γ_i (positive when the terrain rises
+    /// ahead): the contact normals in the side's plane.
+    pub gamma_sin_cos: [(f64, f64); 3],
     /// Bogie pivot.
     pub bogie_pivot: (f64, f64),
     /// Rocker (body) pivot, where the load acts.
@@ -121,7 +122,7 @@ fn equilibrium(c: &SideContacts) -> (Mat46, Vector4<f64>) {
     let mut a = Mat46::zeros();
     let r = c.wheel_radius_m;
     for i in 0..3 {
-        let (s, co) = c.gamma[i].sin_cos();
+        let (s, co) = c.gamma_sin_cos[i];
         let n = (-s, co);
         let t = (co, s);
         let contact = (c.axles[i].0 - r * n.0, c.axles[i].1 - r * n.1);
@@ -387,7 +388,7 @@ mod tests {
         let rot = |p: (f64, f64)| (p.0 * c - p.1 * s, p.0 * s + p.1 * c);
         SideContacts {
             axles: [rot((0.40, 0.10)), rot((0.0, 0.10)), rot((-0.40, 0.10))],
-            gamma: [th; 3],
+            gamma_sin_cos: [th.sin_cos(); 3],
             bogie_pivot: rot((0.20, 0.22)),
             rocker_pivot: rot((0.0, 0.32)),
             load_n: 0.0,

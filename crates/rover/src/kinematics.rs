@@ -80,6 +80,13 @@ pub struct SidePose {
     gamma_sc: [(f64, f64); 3],
 }
 
+impl SidePose {
+    /// (sin γ, cos γ) of the contact angles, front to rear.
+    pub fn gamma_sin_cos(&self) -> [(f64, f64); 3] {
+        self.gamma_sc
+    }
+}
+
 /// One wheel on the ground, map frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Wheel {
