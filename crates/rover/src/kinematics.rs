@@ -400,7 +400,9 @@ impl Kinematics {
         // body's lateral axis (the differential's pivot line) with the anchor fixed.
         let mut roll = warm.map_or(0.0, |p| p.roll);
         let mut shift = warm.map_or((0.0, 0.0), |p| (p.left.shift, p.right.shift));
-        let mut guess = warm.map(|p| (p.left, p.right));
+        // Where each side's axles were (s along the line), to seed the closures.
+        let axle_s = |p: &SidePose| p.axles.map(|a| a.0);
+        let mut guess = warm.map(|p| (axle_s(&p.left), axle_s(&p.right)));
         // Until the check at the end, each axle evaluates only the rim sample that
         // touched last time (1 height instead of 25).
         let mut pins = warm.map(|p| (p.left.pins, p.right.pins));
@@ -433,12 +435,12 @@ impl Kinematics {
                 ground.height(origin_r.0, origin_r.1).ok_or(KinematicsFailure::OffTerrain)?,
             );
             // The sideways slope under each wheel (where the last pass put it).
-            let squeeze = |o: (f64, f64), side: Option<SidePose>, cache: &mut [(f64, f64, f64); 3]| {
+            let squeeze = |o: (f64, f64), side: Option<[f64; 3]>, cache: &mut [(f64, f64, f64); 3]| {
                 if t == 0.0 {
                     return [1.0; 3];
                 }
                 let mut at = |i: usize, nominal: f64| {
-                    let s = side.map_or(nominal, |p| p.axles[i].0);
+                    let s = side.map_or(nominal, |p| p[i]);
                     let p = (o.0 + fx * s, o.1 + fy * s);
                     // The slope over ±r/2 barely changes over 20 µm (the last passes
                     // move the axles by microns), so it is kept.
@@ -514,7 +516,7 @@ impl Kinematics {
                 inverse_jacobian = -Matrix3::identity();
                 step = f_now;
             }
-            guess = Some((left, right));
+            guess = Some((axle_s(&left), axle_s(&right)));
             roll += step.x;
             shift = match self.anchor {
                 Anchor::MiddleMidpoint => (shift.0 + step.y, shift.1 + step.z),
@@ -771,18 +773,18 @@ impl Kinematics {
         profile: &Line<'_, impl Ground>,
         origin: (f64, f64),
         c: f64,
-        warm: Option<SidePose>,
+        warm: Option<[f64; 3]>,
         pins: Option<[usize; 3]>,
     ) -> Result<SidePose, KinematicsFailure> {
         let pin = |i: usize| pins.map(|p| p[i]);
         let m0 = self.dilated(profile, 0.0, c, pin(1)).ok_or(KinematicsFailure::OffTerrain)?;
         let m = (0.0, m0.z);
         let front = Link { centre: m, dir: 1.0, len: self.len_fm };
-        let fp = self.closure(profile, c, front, warm.map(|w| w.axles[0].0), pin(0))?;
+        let fp = self.closure(profile, c, front, warm.map(|w| w[0]), pin(0))?;
         let f = (fp.s, fp.z);
         let pivot = place(m, f, self.front, self.pivot);
         let back = Link { centre: pivot, dir: -1.0, len: self.len_pr };
-        let rp = self.closure(profile, c, back, warm.map(|w| w.axles[2].0).filter(|&s| s < pivot.0), pin(2))?;
+        let rp = self.closure(profile, c, back, warm.map(|w| w[2]).filter(|&s| s < pivot.0), pin(2))?;
         let rear = (rp.s, rp.z);
         let nominal_pr = sub(self.rear, self.pivot);
         let rocker = place(pivot, rear, nominal_pr, sub(self.rocker, self.pivot));
