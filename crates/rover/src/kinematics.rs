@@ -226,6 +226,9 @@ pub struct Kinematics {
     /// and still be the sample's own contact (0.6 of the wider gap to a neighbour).
     angle: [f64; WHEEL_SAMPLES + 1],
     angle_tol: [f64; WHEEL_SAMPLES + 1],
+    /// Nominal in-plane angles of the middle→front and bogie pivot→rear chords, rad.
+    front_angle: f64,
+    rear_chord_angle: f64,
     /// Which point the input names.
     pub anchor: Anchor,
 }
@@ -374,6 +377,8 @@ impl Kinematics {
             rise,
             angle,
             angle_tol,
+            front_angle: front.1.atan2(front.0),
+            rear_chord_angle: (rear.1 - pivot.1).atan2(rear.0 - pivot.0),
             anchor: Anchor::default(),
         }
     }
@@ -759,10 +764,9 @@ impl Kinematics {
         let sc = |p: (f64, f64)| (p.0, p.1 / c);
         let (f, m, rear) = (sc(side.axles[0]), sc(side.axles[1]), sc(side.axles[2]));
         let (pivot, rocker) = (sc(side.bogie_pivot), sc(side.rocker_pivot));
-        let nominal_pr = sub(self.rear, self.pivot);
         let chord = sub(rear, pivot);
-        side.rocker_pitch = wrap_pi(chord.1.atan2(chord.0) - nominal_pr.1.atan2(nominal_pr.0));
-        let bogie_pitch = wrap_pi((f.1 - m.1).atan2(f.0 - m.0) - self.front.1.atan2(self.front.0));
+        side.rocker_pitch = wrap_pi(chord.1.atan2(chord.0) - self.rear_chord_angle);
+        let bogie_pitch = wrap_pi((f.1 - m.1).atan2(f.0 - m.0) - self.front_angle);
         side.bogie_angle = wrap_pi(bogie_pitch - side.rocker_pitch);
         side.rocker_alpha = (rocker.1 - pivot.1).atan2(pivot.0 - rocker.0);
         side.bogie_alpha = (pivot.1 - f.1).atan2(f.0 - pivot.0);
