@@ -97,7 +97,9 @@ impl ArmState {
         params: &RoverParams,
         stowed: Vector3<f64>,
     ) -> Result<(f64, Vector3<f64>), String> {
-        let now = self.arm_cg(params)?;
+        // Most poses of a plan are driven with the arm stowed: no arm solve then.
+        let t = params.arm.stowed_tool_m;
+        let now = if self.tool_m == [t.x, t.y, t.z] { stowed } else { self.arm_cg(params)? };
         let c = params.cg_m;
         let base = Vector3::new(c.x, c.y, c.z) + (now - stowed) * (params.arm.mass_kg / params.mass_kg);
         let total = params.mass_kg + self.payload_kg;

@@ -198,35 +198,25 @@ impl Reduced {
         }
         // Torque per unit r: T_i + σ c_rr N_i.
         let roll = limits.direction * limits.rolling_resistance;
-        let mut p = SMatrix::<f64, 3, 6>::zeros();
-        for w in 0..3 {
-            p[(w, 3 + w)] = 1.0;
-            p[(w, w)] = roll;
-        }
-        let (pz, pxp) = (p * z, p * xp);
+        // P x picks T_w + σ c_rr N_w per wheel.
+        let pz = SMatrix::<f64, 3, 2>::from_fn(|w, k| z[(3 + w, k)] + roll * z[(w, k)]);
+        let pxp = SVector::<f64, 3>::from_fn(|w, _| xp[3 + w] + roll * xp[w]);
         let q = pz.transpose() * pz;
         let lin = pz.transpose() * pxp;
         let t_max = limits.torque_max_nm / c.wheel_radius_m;
         let mut half = [Half { g: Vector2::zeros(), h: 0.0, kind: ForceFailure::Slip }; ROWS];
-        let mut put = |k: usize, g: Vec6, h: f64, kind: ForceFailure| {
-            half[k] = Half { g: z.transpose() * g, h: h - g.dot(&xp), kind };
+        // Every row is a·N_w + b·T_w ≥ h: in s, (a Z_w + b Z_{3+w})·s ≥ h − (a x_w + b x_{3+w}).
+        let mut put = |k: usize, w: usize, (a, b): (f64, f64), h: f64, kind: ForceFailure| {
+            let g = Vector2::new(a * z[(w, 0)] + b * z[(3 + w, 0)], a * z[(w, 1)] + b * z[(3 + w, 1)]);
+            half[k] = Half { g, h: h - (a * xp[w] + b * xp[3 + w]), kind };
         };
         for w in 0..3 {
-            let mut g = Vec6::zeros();
-            g[w] = 1.0;
-            put(5 * w, g, limits.n_min, ForceFailure::LossOfContact);
-            let mut g = Vec6::zeros();
-            g[w] = limits.mu;
-            g[3 + w] = -1.0;
-            put(5 * w + 1, g, 0.0, ForceFailure::Slip);
-            g[3 + w] = 1.0;
-            put(5 * w + 2, g, 0.0, ForceFailure::Slip);
+            put(5 * w, w, (1.0, 0.0), limits.n_min, ForceFailure::LossOfContact);
+            put(5 * w + 1, w, (limits.mu, -1.0), 0.0, ForceFailure::Slip);
+            put(5 * w + 2, w, (limits.mu, 1.0), 0.0, ForceFailure::Slip);
             // ±(T + σ c_rr N) ≥ −t_max.
-            let mut g = Vec6::zeros();
-            g[3 + w] = 1.0;
-            g[w] = roll;
-            put(5 * w + 3, g, -t_max, ForceFailure::Saturation);
-            put(5 * w + 4, -g, -t_max, ForceFailure::Saturation);
+            put(5 * w + 3, w, (roll, 1.0), -t_max, ForceFailure::Saturation);
+            put(5 * w + 4, w, (-roll, -1.0), -t_max, ForceFailure::Saturation);
         }
         let tol = 1e-9 * c.load_n.abs().max(1.0);
         Some(Reduced { xp, z, q, lin, half, tol })
