@@ -366,10 +366,15 @@ impl Ground for Dem {
         let stride = self.cols as i64;
         let (x1, y1) = (cols - 1.0, rows - 1.0);
         let (u0, v0) = (fx0 - 0.5, fy0 - 0.5);
-        let corners = |c0: i64, r0: i64| {
+        // The bilinear height in the patch whose top-left corner is (c0, r0), at
+        // fractions (s, w); one bounds check for the four corners.
+        let blend = |c0: i64, r0: i64, s: f64, w: f64| {
             let i = (r0 * stride + c0) as usize;
-            let j = i + self.cols;
-            (f64::from(self.z[i]), f64::from(self.z[i + 1]), f64::from(self.z[j]), f64::from(self.z[j + 1]))
+            let quad = &self.z[i..i + self.cols + 2];
+            let (a, b) = (f64::from(quad[0]), f64::from(quad[1]));
+            let (c, d) = (f64::from(quad[self.cols]), f64::from(quad[self.cols + 1]));
+            let top = a + (b - a) * s;
+            top + (c + (d - c) * s - top) * w
         };
         // Between the cell centres no clamping is needed, and the grid coordinates can
         // step in fixed point (F fractional bits, as many as the grid size leaves in an
@@ -388,17 +393,9 @@ impl Ground for Dem {
             // Truncation moves a position by under one unit, 2^-F cells.
             let fixed = |a: f64| (a * one) as i64;
             let (mut uu, mut vv, du, dv) = (fixed(u0), fixed(v0), fixed(dfx), fixed(dfy));
-            let cols = self.cols;
             for h in out.iter_mut() {
-                let (c0, r0) = (uu >> f, vv >> f);
                 let (s, w) = ((uu & mask) as f64 * inv_one, (vv & mask) as f64 * inv_one);
-                // One bounds check for the four corners.
-                let i = (r0 * stride + c0) as usize;
-                let quad = &self.z[i..i + cols + 2];
-                let (a, b, c, d) =
-                    (f64::from(quad[0]), f64::from(quad[1]), f64::from(quad[cols]), f64::from(quad[cols + 1]));
-                let top = a + (b - a) * s;
-                *h = top + (c + (d - c) * s - top) * w;
+                *h = blend(uu >> f, vv >> f, s, w);
                 uu += du;
                 vv += dv;
             }
@@ -410,10 +407,7 @@ impl Ground for Dem {
             let u = (u0 + dfx * t).max(0.0).min(x1);
             let v = (v0 + dfy * t).max(0.0).min(y1);
             let (c0, r0) = ((u as i64).min(cmax), (v as i64).min(rmax));
-            let (s, w) = (u - c0 as f64, v - r0 as f64);
-            let (a, b, c, d) = corners(c0, r0);
-            let top = a + (b - a) * s;
-            *h = top + (c + (d - c) * s - top) * w;
+            *h = blend(c0, r0, u - c0 as f64, v - r0 as f64);
         }
         true
     }
