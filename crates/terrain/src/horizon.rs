@@ -70,7 +70,8 @@ impl HorizonMap {
         }
         let write = |acc: &Accumulator, out: &mut [u16]| {
             for (i, o) in out.iter_mut().enumerate() {
-                *o = encode(finish(valid[i], acc.sum[i], acc.weight[i]));
+                let [sum, weight] = acc.cells[i];
+                *o = encode(finish(valid[i], sum, weight));
             }
         };
         pairs.into_par_iter().for_each_init(
@@ -160,7 +161,7 @@ impl HorizonMap {
 pub fn horizon_sweep(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f64> {
     let mut acc = Accumulator::default();
     sweep_lines(dem, &nan_coded(dem), azimuth_deg, curvature, Some(&mut acc), None);
-    (0..acc.sum.len()).map(|i| finish(dem.valid_mask()[i], acc.sum[i], acc.weight[i])).collect()
+    acc.cells.iter().zip(dem.valid_mask()).map(|(&[sum, weight], &valid)| finish(valid, sum, weight)).collect()
 }
 
 /// The horizon angle of one cell from its blended tangent.
@@ -189,16 +190,15 @@ fn nan_coded(dem: &Dem) -> Vec<f32> {
 /// fresh pages each time).
 #[derive(Default)]
 struct Accumulator {
-    sum: Vec<f32>,
-    weight: Vec<f32>,
+    /// Per cell, [sum, weight] side by side: an observer's update touches one cache
+    /// line, not two (rows-dominant lines visit a new line per observer).
+    cells: Vec<[f32; 2]>,
 }
 
 impl Accumulator {
     fn reset(&mut self, cells: usize) {
-        self.sum.clear();
-        self.sum.resize(cells, 0.0);
-        self.weight.clear();
-        self.weight.resize(cells, 0.0);
+        self.cells.clear();
+        self.cells.resize(cells, [0.0; 2]);
     }
 }
 
@@ -366,8 +366,9 @@ impl Line {
                 if let Some(slope) = slope {
                     // Blend tangents; one arctangent per cell at the end.
                     let (i, w) = (self.cell[k], self.w[k]);
-                    acc.sum[i] += w * (slope - x * inv_r) as f32;
-                    acc.weight[i] += w;
+                    let c = &mut acc.cells[i];
+                    c[0] += w * (slope - x * inv_r) as f32;
+                    c[1] += w;
                 }
             }
             if has_p {
