@@ -187,8 +187,14 @@ fn terrain_shadow(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<
         let dem_path = dir.join("dem.tif");
         areo_terrain::geotiff::write(&dem, &dem_path)?;
         let shadow_path = dir.join("shadow.tif");
-        let (files, _) =
-            crate::terrain_tools::write_shadow(&dem, sun.azimuth_deg, sun.elevation_deg, job.flat, &shadow_path)?;
+        let (files, _) = crate::terrain_tools::write_shadow(
+            &dem,
+            sun.azimuth_deg,
+            sun.elevation_deg,
+            job.flat,
+            false,
+            &shadow_path,
+        )?;
         o.files.push(dem_path);
         o.files.extend(files);
     }

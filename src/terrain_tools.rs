@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use areo_terrain::horizon::HorizonMap;
-use areo_terrain::shadow::{Curvature, shadow_map};
+use areo_terrain::shadow::{Curvature, shadow_map, shadow_map_from};
 use areo_terrain::slope::slope_aspect;
 use areo_terrain::{Dem, ascii, geotiff, pds3};
 
@@ -77,17 +77,24 @@ pub fn write_slope(dem: &Dem, out: &Path) -> Result<Vec<std::path::PathBuf>> {
 }
 
 /// Writes the direct-sun map (uint8 GeoTIFF: 1 lit, 0 shadowed, 255 no data) for a Sun
-/// at (azimuth, elevation), and a hillshade-with-shadows preview PNG beside it.
+/// at (azimuth, elevation), and a hillshade-with-shadows preview PNG beside it; cast
+/// shadows by the fast sweep, or with `exact` on the triangulated surface.
 /// Returns the files and the lit fraction.
 pub fn write_shadow(
     dem: &Dem,
     azimuth_deg: f64,
     elevation_deg: f64,
     flat: bool,
+    exact: bool,
     out: &Path,
 ) -> Result<(Vec<std::path::PathBuf>, f64)> {
     let curvature = if flat { Curvature::Flat } else { Curvature::of(dem) };
-    let map = shadow_map(dem, azimuth_deg, elevation_deg, curvature);
+    let map = if exact {
+        let cast = areo_terrain::tin::cast_shadows_exact(dem, azimuth_deg, elevation_deg, curvature);
+        shadow_map_from(dem, azimuth_deg, elevation_deg, cast)
+    } else {
+        shadow_map(dem, azimuth_deg, elevation_deg, curvature)
+    };
     geotiff::write_u8(dem, &map.to_u8(), Some(255), out)?;
     let sa = slope_aspect(dem);
     let dark: Vec<bool> = (0..map.cast.len()).map(|i| !map.direct_sun(i)).collect();

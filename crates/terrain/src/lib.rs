@@ -50,6 +50,7 @@ pub mod pds3;
 pub mod shadow;
 pub mod slope;
 pub mod synth;
+pub mod tin;
 
 pub use crate::{
     body::{Body, Projection},

@@ -80,8 +80,13 @@ impl ShadowMap {
 /// The shadow map for a source at `azimuth_deg` (clockwise from north) and
 /// `elevation_deg` above the local horizontal.
 pub fn shadow_map(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> ShadowMap {
+    shadow_map_from(dem, azimuth_deg, elevation_deg, cast_shadows(dem, azimuth_deg, elevation_deg, curvature))
+}
+
+/// [`shadow_map`] around a cast-shadow map from either sweep ([`cast_shadows`] or
+/// [`crate::tin::cast_shadows_exact`]) for the same source direction.
+pub fn shadow_map_from(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, cast: Vec<bool>) -> ShadowMap {
     let valid = dem.valid_mask().to_vec();
-    let cast = cast_shadows(dem, azimuth_deg, elevation_deg, curvature);
     let (gx, gy) = horn_gradient(dem);
     let (sa, ca) = azimuth_deg.to_radians().sin_cos();
     let (se, ce) = elevation_deg.to_radians().sin_cos();

@@ -1,0 +1,473 @@
+//! Cast shadows on the DEM's triangulated surface, exactly.
+//!
+//! [`crate::shadow::cast_shadows`] follows the terrain where rays cross the grid lines
+//! of one family, interpolating each ray's envelope from its neighbours line after
+//! line; it is fast (one pass, two samples a cell) but that interpolation blurs
+//! shadow edges over long distances. This module treats the DEM as the surface a mesh
+//! ray tracer sees — cell centres joined by the grid lines and by each quad's
+//! south-west–north-east diagonal, parry3d's `HeightField` split — on which terrain
+//! minus ray height is piecewise linear along a ray, so testing a ray where it crosses
+//! triangle edges is exact. [`cast_shadows_exact`] sweeps rays that never interpolate
+//! between each other; [`horizon_on_triangles`] is its brute-force reference.
+
+use crate::dem::Dem;
+use crate::shadow::Curvature;
+
+/// Sweep rays per cell width. A cell's envelope beyond its first step comes from the
+/// rays beside it, at most a third of a cell away (agreement with per-cell rays at a
+/// Sun 8–15° up: 99.81–99.83 % with 2, 99.89–99.94 % with 3, 99.93 % with 4).
+const RAYS: usize = 3;
+
+/// A point where a ray, stepping from one sweep line to the next toward the source,
+/// crosses a triangle edge between the two lines: a grid line of the other family or a
+/// cell diagonal. Offsets are along the lines from the ray's cell `floor(q)`; line 0 is
+/// the ray's own line, line 1 the sun-ward one.
+#[derive(Debug, Clone, Copy)]
+struct EdgeCrossing {
+    /// Fraction of the step toward the sun-ward line.
+    u: f64,
+    /// The edge's ends: cell `a` of line 0 and cell `b` of line 1.
+    a: isize,
+    b: isize,
+    /// The triangles either side of the crossing, along the lines: each one's slope
+    /// along the lines is that of its side lying on a line, from cell k to k + 1:
+    /// (line, k) to the left (decreasing position) and to the right.
+    left: (usize, isize),
+    right: (usize, isize),
+    /// Metres back from the ray's point on its line.
+    dist: f64,
+    /// How far a shadow ray from the crossing sinks by the time it reaches the line, m.
+    drop: f64,
+}
+
+/// At most one grid line and two diagonals lie between two lines along a ray.
+const MAX_CROSSINGS: usize = 3;
+
+/// The edge crossings between two lines of a ray whose position along its line has
+/// fractional part `phi`; unused slots sink infinitely, so they never occlude.
+fn edge_crossings(
+    phi: f64,
+    shift: f64,
+    sigma: isize,
+    step_m: f64,
+    tan_e: f64,
+    inv_2r: f64,
+) -> [EdgeCrossing; MAX_CROSSINGS] {
+    const EPS: f64 = 1e-9;
+    // The lines bounding the strip, lower and higher index.
+    let (lo, hi) = if sigma > 0 { (0, 1) } else { (1, 0) };
+    let unused = EdgeCrossing { u: 0.5, a: 0, b: 0, left: (0, 0), right: (0, 0), dist: 0.0, drop: f64::INFINITY };
+    let mut out = [unused; MAX_CROSSINGS];
+    let mut n = 0;
+    let mut add = |u: f64, a: isize, b: isize, diagonal: bool| {
+        if u > EPS && u < 1.0 - EPS && n < MAX_CROSSINGS {
+            let dist = u * step_m;
+            // In the strip, a triangle below the diagonal (fractions across and along
+            // summing under 1) has its along-line side on the lower line.
+            let (left, right) = if diagonal {
+                let k = (phi + shift * u).floor() as isize;
+                ((lo, k), (hi, k))
+            } else {
+                ((hi, a - 1), (lo, a))
+            };
+            out[n] = EdgeCrossing { u, a, b, left, right, dist, drop: dist * tan_e + dist * dist * inv_2r };
+            n += 1;
+        }
+    };
+    // The other family's grid lines: the position q + shift·u passes an integer.
+    if shift != 0.0 {
+        for delta in -1..=2isize {
+            add((delta as f64 - phi) / shift, delta, delta, false);
+        }
+    }
+    // Diagonals (line + position constant): q + (σ + shift)·u passes an integer.
+    let rate = sigma as f64 + shift;
+    if rate.abs() > EPS {
+        for delta in -2..=3isize {
+            add((delta as f64 - phi) / rate, delta, delta - sigma, true);
+        }
+    }
+    out
+}
+
+/// NaN cells either side of each line buffer: every offset a crossing or a slope
+/// reaches from a cell of the line lands inside them.
+const PAD: usize = 4;
+
+/// An envelope at a point of a line: the highest shadow ray over it (a height; NaN if
+/// none), the distance back to the terrain that cast it, and that terrain's slopes
+/// along the lines to either side, per cell: a parallel ray a little to the side meets
+/// the same triangle there, so its envelope is about h + slope·offset.
+#[derive(Debug, Clone, Copy)]
+struct Envelope {
+    h: f64,
+    d: f64,
+    left: f64,
+    right: f64,
+}
+
+const NO_ENVELOPE: Envelope = Envelope { h: f64::NAN, d: 0.0, left: 0.0, right: 0.0 };
+
+/// One line's heights, NaN where missing, with NaN padding: cell k at `PAD + k`.
+struct LineHeights(Vec<f64>);
+
+impl LineHeights {
+    /// Cell k's height; k is a cell of the line or within `PAD` of it.
+    #[inline]
+    fn at(&self, k: isize) -> f64 {
+        self.0[(k + PAD as isize) as usize]
+    }
+    /// Slope from cell k to k + 1 (0 where unknown: a missing neighbour lends no
+    /// shadow sideways).
+    #[inline]
+    fn slope(&self, k: isize) -> f64 {
+        let v = self.at(k + 1) - self.at(k);
+        if v.is_nan() { 0.0 } else { v }
+    }
+}
+
+/// Cast shadow (true = shadowed) on the triangulated surface, by a sweep.
+///
+/// The terrain is the DEM's triangulated surface: cell centres joined by the grid lines
+/// and by each quad's south-west–north-east diagonal (parry3d's `HeightField` split).
+/// Along a ray, terrain minus ray height is then piecewise linear, so testing the ray
+/// where it crosses triangle edges is exact. Rays run toward the source `RAYS` to a cell
+/// width, sheared so that each ray meets the previous line exactly at one of its rays:
+/// each ray's envelope is exact, never interpolated from step to step. A cell's own
+/// ray is tested exactly back to the previous line; beyond it, each of the two rays
+/// beside it lends its occluding triangle, moved sideways onto the cell's ray.
+pub fn cast_shadows_exact(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
+    let (cols, rows) = (dem.cols(), dem.rows());
+    if elevation_deg <= 0.0 {
+        // Below the local horizontal the source is behind the surface everywhere.
+        return vec![true; cols * rows];
+    }
+    let (sx, sy) = {
+        let a = azimuth_deg.to_radians();
+        (a.sin(), a.cos())
+    };
+    // Index steps toward the source per metre: columns grow east, rows grow south.
+    let snap = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
+    let (pc, pr) = (snap(sx / dem.dx()), snap(-sy / dem.dy()));
+    let along_cols = pc.abs() >= pr.abs();
+    // Line geometry: a line is a column (if along_cols) or a row; `step` is the metres
+    // travelled toward the source from one line to the next, `shift` the change in
+    // position along the lines over that step.
+    let (n_lines, n_cells, step_m, shift, toward_higher_line) = if along_cols {
+        (cols, rows, 1.0 / pc.abs(), pr / pc.abs(), pc > 0.0)
+    } else {
+        (rows, cols, 1.0 / pr.abs(), pc / pr.abs(), pr > 0.0)
+    };
+    // Directions a hair off an axis or a diagonal would otherwise straddle two cells
+    // with a weight of 1e-16 and lose the border cell's neighbour.
+    let shift = if (shift - shift.round()).abs() < 1e-9 { shift.round() } else { shift };
+    let sigma: isize = if toward_higher_line { 1 } else { -1 };
+    let (stride_line, stride_cell) = if along_cols { (1, cols) } else { (cols, 1) };
+    let z = dem.elevations();
+    let valid = dem.valid_mask();
+    let last = n_cells as isize - 1;
+    let tan_e = elevation_deg.to_radians().tan();
+    let inv_2r = curvature.inv_2r();
+    let line_drop = step_m * tan_e + step_m * step_m * inv_2r;
+    let ds = 1.0 / RAYS as f64;
+    let mut shadow = vec![false; cols * rows];
+    // A cell's own ray: its position is whole, so one set of crossings serves all;
+    // it meets the previous line at k + shift, inside it for k in k_reach.
+    let cell_crossings = edge_crossings(0.0, shift, sigma, step_m, tan_e, inv_2r);
+    let (s_whole, s_frac) = (shift.floor() as isize, shift - shift.floor());
+    let k_reach =
+        (-shift - 1e-9).ceil().max(0.0) as isize..=(last as f64 - shift + 1e-9).floor().min(last as f64) as isize;
+    // Per ray of the previous and current line: the envelope after the line's own
+    // terrain joined it; and, for the current line, the envelope arriving from
+    // sun-ward before it did.
+    let cap = RAYS * n_cells + 2;
+    let mut prev = vec![NO_ENVELOPE; cap];
+    let mut cur = vec![NO_ENVELOPE; cap];
+    let mut arriving = vec![NO_ENVELOPE; cap];
+    let mut here_z = LineHeights(vec![f64::NAN; n_cells + 2 * PAD]);
+    let mut sun_z = LineHeights(vec![f64::NAN; n_cells + 2 * PAD]);
+    let (mut prev_phi, mut prev_n) = (0.0, 0usize);
+    // Lines nearest the source first.
+    let order: Box<dyn Iterator<Item = usize>> =
+        if toward_higher_line { Box::new((0..n_lines).rev()) } else { Box::new(0..n_lines) };
+    for (i, line) in order.enumerate() {
+        std::mem::swap(&mut here_z, &mut sun_z);
+        for k in 0..n_cells {
+            let idx = line * stride_line + k * stride_cell;
+            here_z.0[PAD + k] = if valid[idx] { f64::from(z[idx]) } else { f64::NAN };
+        }
+        let first = i == 0;
+        // Rays sit at phi + m·ds along the line; a ray at q here was at q + shift on
+        // the previous line.
+        let mut phi = (-(i as f64) * shift).rem_euclid(ds);
+        if phi < 1e-9 || ds - phi < 1e-9 {
+            phi = 0.0;
+        }
+        let n = (((n_cells - 1) as f64 - phi) / ds + 1e-9).floor() as usize + 1;
+        let offset = ((phi + shift - prev_phi) / ds).round() as isize;
+        for p in 0..RAYS {
+            // Every RAYS-th ray, from ray p: the same fraction f, cell k0 = j + base.
+            let pos = phi + p as f64 * ds;
+            let (base, f) = (pos.floor() as isize, pos - pos.floor());
+            let crossings = edge_crossings(f, shift, sigma, step_m, tan_e, inv_2r);
+            for m in (p..n).step_by(RAYS) {
+                let k0 = (m / RAYS) as isize + base;
+                let (here, here_left, here_right) = if f < 1e-9 {
+                    (here_z.at(k0), here_z.slope(k0 - 1), here_z.slope(k0))
+                } else {
+                    let g = here_z.slope(k0);
+                    (lerp(here_z.at(k0), here_z.at(k0 + 1), f), g, g)
+                };
+                let mut inc = NO_ENVELOPE;
+                if !first {
+                    let mp = m as isize + offset;
+                    if mp >= 0 && (mp as usize) < prev_n {
+                        let e = prev[mp as usize];
+                        inc = Envelope { h: e.h - line_drop - 2.0 * e.d * step_m * inv_2r, d: e.d + step_m, ..e };
+                    }
+                    let mut best = usize::MAX;
+                    for (ci, c) in crossings.iter().enumerate() {
+                        let t = lerp(here_z.at(k0 + c.a), sun_z.at(k0 + c.b), c.u) - c.drop;
+                        if t > inc.h || (inc.h.is_nan() && !t.is_nan()) {
+                            inc.h = t;
+                            best = ci;
+                        }
+                    }
+                    if let Some(c) = crossings.get(best) {
+                        let lines = [&here_z, &sun_z];
+                        inc.d = c.dist;
+                        inc.left = lines[c.left.0].slope(k0 + c.left.1);
+                        inc.right = lines[c.right.0].slope(k0 + c.right.1);
+                    }
+                }
+                arriving[m] = inc;
+                cur[m] = if here >= inc.h || (inc.h.is_nan() && !here.is_nan()) {
+                    Envelope { h: here, d: 0.0, left: here_left, right: here_right }
+                } else {
+                    inc
+                };
+            }
+        }
+        if !first {
+            // The rays either side of cell k: m0 = RAYS·k + below, a fraction w of a
+            // ray spacing (in cells) above it; the same for every cell of the line.
+            let t = -phi / ds;
+            let below = t.floor() as isize;
+            let w = (t - t.floor()) * ds;
+            for k in k_reach.clone() {
+                let idx = line * stride_line + k as usize * stride_cell;
+                if !valid[idx] {
+                    continue;
+                }
+                let zc = f64::from(z[idx]);
+                // The cell's own ray back to the previous line, exactly.
+                let s0 = k + s_whole;
+                let mut h =
+                    if s_frac < 1e-9 { sun_z.at(s0) } else { lerp(sun_z.at(s0), sun_z.at(s0 + 1), s_frac) } - line_drop;
+                for c in &cell_crossings {
+                    let t = lerp(here_z.at(k + c.a), sun_z.at(k + c.b), c.u) - c.drop;
+                    if t > h || h.is_nan() {
+                        h = t;
+                    }
+                }
+                // Beyond it: the occluders of the rays on either side, moved sideways
+                // onto this cell's ray.
+                let m0 = RAYS as isize * k + below;
+                if m0 >= 0 {
+                    let e = arriving[m0 as usize];
+                    let from_below = e.h + e.right * w;
+                    if from_below > h || h.is_nan() {
+                        h = from_below;
+                    }
+                }
+                if w > 1e-9 && ((m0 + 1) as usize) < n {
+                    let e = arriving[(m0 + 1) as usize];
+                    let from_above = e.h - e.left * (ds - w);
+                    if from_above > h || h.is_nan() {
+                        h = from_above;
+                    }
+                }
+                shadow[idx] = zc < h;
+            }
+            // Cells whose ray leaves the map before the previous line: only the edges
+            // crossed on the way out.
+            for k in (0..n_cells as isize).filter(|k| !k_reach.contains(k)) {
+                let idx = line * stride_line + k as usize * stride_cell;
+                if !valid[idx] {
+                    continue;
+                }
+                let mut h = f64::NAN;
+                for c in &cell_crossings {
+                    let t = lerp(here_z.at(k + c.a), sun_z.at(k + c.b), c.u) - c.drop;
+                    if t > h || h.is_nan() {
+                        h = t;
+                    }
+                }
+                shadow[idx] = f64::from(z[idx]) < h;
+            }
+        }
+        std::mem::swap(&mut prev, &mut cur);
+        (prev_phi, prev_n) = (phi, n);
+    }
+    shadow
+}
+
+/// Linear interpolation; NaN (missing) if either end is.
+#[inline]
+fn lerp(a: f64, b: f64, t: f64) -> f64 {
+    a + (b - a) * t
+}
+
+/// Per cell, the elevation angle (degrees) of the highest terrain seen toward
+/// `azimuth_deg` along the cell's own ray (−90 where nothing rises, NaN on missing
+/// cells): a cell is in cast shadow from a source at that azimuth exactly when the
+/// source's elevation is below this angle. The ray is tested wherever it crosses an
+/// edge of the triangulated surface (both families of grid lines and the cell
+/// diagonals): exact for that surface. O(cells × length); the brute-force reference of
+/// [`cast_shadows_exact`].
+pub fn horizon_on_triangles(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f64> {
+    const EPS: f64 = 1e-9;
+    let (cols, rows) = (dem.cols() as i64, dem.rows() as i64);
+    let a = azimuth_deg.to_radians();
+    let snap = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
+    let (pc, pr) = (snap(a.sin() / dem.dx()), snap(-a.cos() / dem.dy()));
+    let inv_2r = curvature.inv_2r();
+    let at = |c: i64, r: i64| -> f64 {
+        if c < 0 || r < 0 || c >= cols || r >= rows {
+            return f64::NAN;
+        }
+        dem.z(c as usize, r as usize).map_or(f64::NAN, f64::from)
+    };
+    // The surface on an edge between two vertices, a fraction t from the first.
+    let edge = |a: f64, b: f64, t: f64| {
+        if t < EPS {
+            a
+        } else if t > 1.0 - EPS {
+            b
+        } else {
+            lerp(a, b, t)
+        }
+    };
+    let inside =
+        |fc: f64, fr: f64| fc > -EPS && fr > -EPS && fc < (cols - 1) as f64 + EPS && fr < (rows - 1) as f64 + EPS;
+    let mut out = vec![f64::NAN; (cols * rows) as usize];
+    for r in 0..rows {
+        for c in 0..cols {
+            let z0 = at(c, r);
+            if z0.is_nan() {
+                continue;
+            }
+            let mut best = -90f64;
+            let mut see = |s: f64, h: f64| {
+                if !h.is_nan() {
+                    best = best.max(((h - s * s * inv_2r - z0) / s).atan().to_degrees());
+                }
+            };
+            // Each family of edges: the ray's coordinate `rate·s` along it passes the
+            // integers j = 1, 2, … at s = j/|rate|.
+            for family in 0..3 {
+                let rate = [pc, pr, pc + pr][family];
+                if rate.abs() < 1e-12 {
+                    continue;
+                }
+                for j in 1.. {
+                    let s = j as f64 / rate.abs();
+                    let (fc, fr) = (c as f64 + pc * s, r as f64 + pr * s);
+                    if !inside(fc, fr) {
+                        break;
+                    }
+                    let h = match family {
+                        0 => {
+                            let cc = c + j * rate.signum() as i64;
+                            let r0 = fr.floor().max(0.0) as i64;
+                            edge(at(cc, r0), at(cc, r0 + 1), fr - r0 as f64)
+                        }
+                        1 => {
+                            let rr = r + j * rate.signum() as i64;
+                            let c0 = fc.floor().max(0.0) as i64;
+                            edge(at(c0, rr), at(c0 + 1, rr), fc - c0 as f64)
+                        }
+                        _ => {
+                            let sum = c + r + j * rate.signum() as i64;
+                            let c0 = fc.floor().max(0.0) as i64;
+                            edge(at(c0, sum - c0), at(c0 + 1, sum - c0 - 1), fc - c0 as f64)
+                        }
+                    };
+                    see(s, h);
+                }
+            }
+            out[(r * cols + c) as usize] = best;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    #[allow(clippy::print_stderr)] // the agreement figures are the point of the test
+    fn the_exact_sweep_agrees_with_per_cell_rays_on_rough_terrain() {
+        let dem = crate::synth::rough_test_terrain(120, 90, 7, 40.0, 4);
+        let (mut differ_all, mut cells_all) = (0, 0);
+        for (az, el) in
+            [(90.0, 20.0), (135.0, 10.0), (200.0, 35.0), (300.0, 8.0), (10.0, 15.0), (45.0, 3.0), (250.0, 12.0)]
+        {
+            let sweep = cast_shadows_exact(&dem, az, el, Curvature::Flat);
+            let horizon = horizon_on_triangles(&dem, az, Curvature::Flat);
+            let (mut differ, mut worst) = (0, 0f64);
+            for (s, h) in sweep.iter().zip(&horizon) {
+                if h.is_nan() {
+                    continue;
+                }
+                if *s != (*h > el) {
+                    differ += 1;
+                    worst = worst.max((h - el).abs());
+                }
+            }
+            eprintln!(
+                "az {az:5.1} el {el:4.1}: {differ} of {} cells differ, at most {worst:.2}° from grazing",
+                sweep.len()
+            );
+            // The rays beside a cell lend it their occluders; they miss only where the
+            // terrain's horizon is within a degree and a half of the Sun.
+            assert!(worst <= 1.5, "az {az} el {el}: a disagreement {worst:.2}° from grazing");
+            differ_all += differ;
+            cells_all += sweep.len();
+        }
+        let agree = 1.0 - differ_all as f64 / cells_all as f64;
+        assert!(agree >= 0.999, "only {:.3} % agree", 100.0 * agree);
+    }
+
+    #[test]
+    fn along_axes_and_diagonals_the_sweep_is_exact() {
+        // There every ray meets the previous line at a cell: nothing is borrowed from
+        // neighbouring rays.
+        let dem = crate::synth::rough_test_terrain(60, 60, 3, 40.0, 4);
+        for (az, el) in [(0.0, 10.0), (90.0, 5.0), (135.0, 12.0), (225.0, 7.0), (315.0, 20.0)] {
+            let sweep = cast_shadows_exact(&dem, az, el, Curvature::Flat);
+            let horizon = horizon_on_triangles(&dem, az, Curvature::Flat);
+            for (i, (s, h)) in sweep.iter().zip(&horizon).enumerate() {
+                assert_eq!(*s, *h > el, "az {az}: cell {i}, horizon {h}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_vertical_wall_and_a_curved_horizon() {
+        let (h, e) = (20.0, 30.0f64);
+        let dem = Dem::from_fn(200, 20, 1.0, 1.0, |x, _| if (50.0..51.0).contains(&x) { h } else { 0.0 }).unwrap();
+        let s = cast_shadows_exact(&dem, 270.0, e, Curvature::Flat);
+        let len = (51..200).take_while(|&c| s[10 * 200 + c]).count() as f64;
+        assert!((len - h / e.to_radians().tan()).abs() <= 1.0, "shadow {len} m");
+        assert!((0..50).all(|c| !s[10 * 200 + c]));
+        // A 1000 m peak 100 km west, Sun at 0.3°: hidden by the curvature of Mars.
+        let dem = Dem::from_fn(1101, 3, 100.0, 100.0, |x, _| if x < 100.0 { 1000.0 } else { 0.0 }).unwrap();
+        let target = 2 * 1101 + 1000;
+        assert!(cast_shadows_exact(&dem, 270.0, 0.3, Curvature::Flat)[target]);
+        assert!(!cast_shadows_exact(&dem, 270.0, 0.3, Curvature::Sphere { radius_m: 3_389_500.0 })[target]);
+        let truth = horizon_on_triangles(&dem, 270.0, Curvature::Sphere { radius_m: 3_389_500.0 });
+        assert!(truth[target] < 0.3);
+    }
+}
