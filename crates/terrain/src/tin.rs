@@ -90,39 +90,65 @@ fn edge_crossings(
     out
 }
 
-/// NaN cells either side of each line buffer: every offset a crossing or a slope
+/// NaN cells either side of each line's buffers: every offset a crossing or a slope
 /// reaches from a cell of the line lands inside them.
 const PAD: usize = 4;
+/// "No envelope" slots either side of each phase's rays: a ray's predecessor, and the
+/// rays beside a cell, lie at most two slots past either end.
+const EDGE: usize = 3;
 
-/// An envelope at a point of a line: the highest shadow ray over it (a height; NaN if
-/// none), the distance back to the terrain that cast it, and that terrain's slopes
-/// along the lines to either side, per cell: a parallel ray a little to the side meets
-/// the same triangle there, so its envelope is about h + slope·offset.
-#[derive(Debug, Clone, Copy)]
-struct Envelope {
-    h: f64,
-    d: f64,
-    left: f64,
-    right: f64,
+/// One line: heights (NaN where missing) and the slope from each cell to the next, per
+/// cell (0 where either end is missing: a missing neighbour lends no shadow sideways),
+/// both padded: cell k at `PAD + k`.
+struct LineBuf {
+    z: Vec<f64>,
+    slope: Vec<f64>,
 }
 
-const NO_ENVELOPE: Envelope = Envelope { h: f64::NAN, d: 0.0, left: 0.0, right: 0.0 };
-
-/// One line's heights, NaN where missing, with NaN padding: cell k at `PAD + k`.
-struct LineHeights(Vec<f64>);
-
-impl LineHeights {
-    /// Cell k's height; k is a cell of the line or within `PAD` of it.
-    #[inline]
-    fn at(&self, k: isize) -> f64 {
-        self.0[(k + PAD as isize) as usize]
+impl LineBuf {
+    fn new(n_cells: usize) -> LineBuf {
+        LineBuf { z: vec![f64::NAN; n_cells + 2 * PAD], slope: vec![0.0; n_cells + 2 * PAD] }
     }
-    /// Slope from cell k to k + 1 (0 where unknown: a missing neighbour lends no
-    /// shadow sideways).
-    #[inline]
-    fn slope(&self, k: isize) -> f64 {
-        let v = self.at(k + 1) - self.at(k);
-        if v.is_nan() { 0.0 } else { v }
+
+    /// Cell k's height at `PAD + k`, and the slopes.
+    fn load(&mut self, z: &[f32], valid: &[bool], cells: impl Iterator<Item = usize>) {
+        for (k, i) in cells.enumerate() {
+            self.z[PAD + k] = if valid[i] { f64::from(z[i]) } else { f64::NAN };
+        }
+        for (s, w) in self.slope.iter_mut().zip(self.z.windows(2)) {
+            let v = w[1] - w[0];
+            *s = if v.is_nan() { 0.0 } else { v };
+        }
+    }
+}
+
+/// Envelopes of a line's rays: the highest shadow ray over each ray's point (a height;
+/// −∞ if none), the distance back to the terrain that cast it, and that terrain's
+/// slopes along the lines to either side, per cell (a parallel ray a little to the
+/// side meets the same triangle there, so its envelope is about h + slope·offset).
+/// Ray m = RAYS·j + p sits at slot p·stride + EDGE + j: each phase p is one contiguous
+/// run, with the same geometry for all its rays, that the compiler can vectorise.
+struct Envelopes {
+    h: Vec<f64>,
+    d: Vec<f64>,
+    left: Vec<f64>,
+    right: Vec<f64>,
+    stride: usize,
+}
+
+impl Envelopes {
+    fn new(n_cells: usize) -> Envelopes {
+        let stride = n_cells + 2 * EDGE + 2;
+        let n = RAYS * stride;
+        Envelopes { h: vec![f64::NEG_INFINITY; n], d: vec![0.0; n], left: vec![0.0; n], right: vec![0.0; n], stride }
+    }
+
+    /// Clears the slots after phase p's `n` rays.
+    fn end_phase(&mut self, p: usize, n: usize) {
+        let from = p * self.stride + EDGE + n;
+        self.h[from..from + EDGE].fill(f64::NEG_INFINITY);
+        self.left[from..from + EDGE].fill(0.0);
+        self.right[from..from + EDGE].fill(0.0);
     }
 }
 
@@ -165,151 +191,270 @@ pub fn cast_shadows_exact(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curva
     let (stride_line, stride_cell) = if along_cols { (1, cols) } else { (cols, 1) };
     let z = dem.elevations();
     let valid = dem.valid_mask();
-    let last = n_cells as isize - 1;
     let tan_e = elevation_deg.to_radians().tan();
     let inv_2r = curvature.inv_2r();
     let line_drop = step_m * tan_e + step_m * step_m * inv_2r;
+    let curve_per_d = 2.0 * step_m * inv_2r;
     let ds = 1.0 / RAYS as f64;
     let mut shadow = vec![false; cols * rows];
     // A cell's own ray: its position is whole, so one set of crossings serves all;
-    // it meets the previous line at k + shift, inside it for k in k_reach.
+    // it meets the previous line at k + shift, inside it for k in k_lo..k_hi.
     let cell_crossings = edge_crossings(0.0, shift, sigma, step_m, tan_e, inv_2r);
     let (s_whole, s_frac) = (shift.floor() as isize, shift - shift.floor());
-    let k_reach =
-        (-shift - 1e-9).ceil().max(0.0) as isize..=(last as f64 - shift + 1e-9).floor().min(last as f64) as isize;
-    // Per ray of the previous and current line: the envelope after the line's own
-    // terrain joined it; and, for the current line, the envelope arriving from
-    // sun-ward before it did.
-    let cap = RAYS * n_cells + 2;
-    let mut prev = vec![NO_ENVELOPE; cap];
-    let mut cur = vec![NO_ENVELOPE; cap];
-    let mut arriving = vec![NO_ENVELOPE; cap];
-    let mut here_z = LineHeights(vec![f64::NAN; n_cells + 2 * PAD]);
-    let mut sun_z = LineHeights(vec![f64::NAN; n_cells + 2 * PAD]);
-    let (mut prev_phi, mut prev_n) = (0.0, 0usize);
+    let k_lo = ((-shift - 1e-9).ceil().max(0.0) as usize).min(n_cells);
+    let k_hi = (((n_cells - 1) as f64 - shift + 1e-9).floor() + 1.0).clamp(k_lo as f64, n_cells as f64) as usize;
+    let mut prev = Envelopes::new(n_cells);
+    let mut cur = Envelopes::new(n_cells);
+    // The envelopes arriving from sun-ward, before each ray's own line joins them.
+    let mut arriving = Envelopes::new(n_cells);
+    let mut here = LineBuf::new(n_cells);
+    let mut sun = LineBuf::new(n_cells);
+    let mut line_shadow = vec![false; n_cells];
+    let mut scratch = vec![0f64; n_cells + 1];
+    let mut prev_phi = 0.0;
     // Lines nearest the source first.
     let order: Box<dyn Iterator<Item = usize>> =
         if toward_higher_line { Box::new((0..n_lines).rev()) } else { Box::new(0..n_lines) };
     for (i, line) in order.enumerate() {
-        std::mem::swap(&mut here_z, &mut sun_z);
-        for k in 0..n_cells {
-            let idx = line * stride_line + k * stride_cell;
-            here_z.0[PAD + k] = if valid[idx] { f64::from(z[idx]) } else { f64::NAN };
-        }
-        let first = i == 0;
-        // Rays sit at phi + m·ds along the line; a ray at q here was at q + shift on
-        // the previous line.
+        std::mem::swap(&mut here, &mut sun);
+        here.load(z, valid, (0..n_cells).map(|k| line * stride_line + k * stride_cell));
+        // Rays sit at phi + m·ds along the line (phi < ds); a ray at q here was at
+        // q + shift on the previous line.
         let mut phi = (-(i as f64) * shift).rem_euclid(ds);
         if phi < 1e-9 || ds - phi < 1e-9 {
             phi = 0.0;
         }
         let n = (((n_cells - 1) as f64 - phi) / ds + 1e-9).floor() as usize + 1;
         let offset = ((phi + shift - prev_phi) / ds).round() as isize;
+        let lines = [&here, &sun];
         for p in 0..RAYS {
-            // Every RAYS-th ray, from ray p: the same fraction f, cell k0 = j + base.
-            let pos = phi + p as f64 * ds;
-            let (base, f) = (pos.floor() as isize, pos - pos.floor());
+            // Phase p: rays m = RAYS·j + p at j + f, all with the same crossings.
+            let f = phi + p as f64 * ds;
+            let n_p = if n > p { (n - p - 1) / RAYS + 1 } else { 0 };
             let crossings = edge_crossings(f, shift, sigma, step_m, tan_e, inv_2r);
-            for m in (p..n).step_by(RAYS) {
-                let k0 = (m / RAYS) as isize + base;
-                let (here, here_left, here_right) = if f < 1e-9 {
-                    (here_z.at(k0), here_z.slope(k0 - 1), here_z.slope(k0))
-                } else {
-                    let g = here_z.slope(k0);
-                    (lerp(here_z.at(k0), here_z.at(k0 + 1), f), g, g)
-                };
-                let mut inc = NO_ENVELOPE;
-                if !first {
-                    let mp = m as isize + offset;
-                    if mp >= 0 && (mp as usize) < prev_n {
-                        let e = prev[mp as usize];
-                        inc = Envelope { h: e.h - line_drop - 2.0 * e.d * step_m * inv_2r, d: e.d + step_m, ..e };
-                    }
-                    let mut best = usize::MAX;
-                    for (ci, c) in crossings.iter().enumerate() {
-                        let t = lerp(here_z.at(k0 + c.a), sun_z.at(k0 + c.b), c.u) - c.drop;
-                        if t > inc.h || (inc.h.is_nan() && !t.is_nan()) {
-                            inc.h = t;
-                            best = ci;
-                        }
-                    }
-                    if let Some(c) = crossings.get(best) {
-                        let lines = [&here_z, &sun_z];
-                        inc.d = c.dist;
-                        inc.left = lines[c.left.0].slope(k0 + c.left.1);
-                        inc.right = lines[c.right.0].slope(k0 + c.right.1);
-                    }
+            // The same ray on the previous line: phase pp, slot j + jshift.
+            let (pp, jshift) = ((p as isize + offset).rem_euclid(RAYS as isize), (p as isize + offset).div_euclid(RAYS as isize));
+            let from = (pp as usize * prev.stride) as isize + EDGE as isize + jshift;
+            let from = from as usize;
+            let (ph, pd, pl, pr_) =
+                (&prev.h[from..from + n_p], &prev.d[from..from + n_p], &prev.left[from..from + n_p], &prev.right[from..from + n_p]);
+            let at = |v, off: isize| run(v, PAD as isize + off, n_p);
+            let z0 = at(&here.z, 0);
+            let z1 = at(&here.z, 1);
+            let s_m1 = at(&here.slope, -1);
+            let s_0 = at(&here.slope, 0);
+            let ca: [&[f64]; MAX_CROSSINGS] = std::array::from_fn(|c| at(&here.z, crossings[c].a));
+            let cb: [&[f64]; MAX_CROSSINGS] = std::array::from_fn(|c| at(&sun.z, crossings[c].b));
+            let cl: [&[f64]; MAX_CROSSINGS] =
+                std::array::from_fn(|c| at(&lines[crossings[c].left.0].slope, crossings[c].left.1));
+            let cr: [&[f64]; MAX_CROSSINGS] =
+                std::array::from_fn(|c| at(&lines[crossings[c].right.0].slope, crossings[c].right.1));
+            let o = p * cur.stride + EDGE;
+            let (ah, ad_, al, ar) = (
+                &mut arriving.h[o..o + n_p],
+                &mut arriving.d[o..o + n_p],
+                &mut arriving.left[o..o + n_p],
+                &mut arriving.right[o..o + n_p],
+            );
+            descend(ah, ad_, al, ar, ph, pd, pl, pr_, line_drop, curve_per_d, step_m);
+            for c in 0..MAX_CROSSINGS {
+                let x = &crossings[c];
+                if x.drop.is_finite() {
+                    cross(ah, ad_, al, ar, ca[c], cb[c], cl[c], cr[c], x);
                 }
-                arriving[m] = inc;
-                cur[m] = if here >= inc.h || (inc.h.is_nan() && !here.is_nan()) {
-                    Envelope { h: here, d: 0.0, left: here_left, right: here_right }
-                } else {
-                    inc
-                };
             }
+            // The ray's own line: it casts the envelope from here on if it rises above
+            // what arrives.
+            let (here_h, here_l): (&[f64], &[f64]) = if f < 1e-9 {
+                (z0, s_m1)
+            } else {
+                let buf = &mut scratch[..n_p];
+                for ((b, a), c) in buf.iter_mut().zip(z0).zip(z1) {
+                    *b = lerp(*a, *c, f);
+                }
+                (&scratch[..n_p], s_0)
+            };
+            let (chh, cd, cl_, cr_) =
+                (&mut cur.h[o..o + n_p], &mut cur.d[o..o + n_p], &mut cur.left[o..o + n_p], &mut cur.right[o..o + n_p]);
+            own_line(chh, cd, cl_, cr_, ah, ad_, al, ar, here_h, here_l, s_0);
+            cur.end_phase(p, n_p);
+            arriving.end_phase(p, n_p);
         }
-        if !first {
+        if i > 0 {
             // The rays either side of cell k: m0 = RAYS·k + below, a fraction w of a
             // ray spacing (in cells) above it; the same for every cell of the line.
-            let t = -phi / ds;
-            let below = t.floor() as isize;
-            let w = (t - t.floor()) * ds;
-            for k in k_reach.clone() {
-                let idx = line * stride_line + k as usize * stride_cell;
-                if !valid[idx] {
-                    continue;
+            let below: isize = if phi > 0.0 { -1 } else { 0 };
+            let w = if phi > 0.0 { ds - phi } else { 0.0 };
+            let ray_slot = |m0: isize| {
+                let (p, j) = (m0.rem_euclid(RAYS as isize) as usize, m0.div_euclid(RAYS as isize));
+                ((p * arriving.stride) as isize + EDGE as isize + j + k_lo as isize) as usize
+            };
+            let len = k_hi - k_lo;
+            let (bs, as_) = (ray_slot(below), ray_slot(below + 1));
+            let (bh, br) = (&arriving.h[bs..bs + len], &arriving.right[bs..bs + len]);
+            let (ah, al) = (&arriving.h[as_..as_ + len], &arriving.left[as_..as_ + len]);
+            // A cell exactly on a ray takes that ray's envelope alone.
+            let above_gap = if w > 1e-9 { ds - w } else { f64::INFINITY };
+            let at = |v, off: isize| run(v, (PAD + k_lo) as isize + off, len);
+            let zc = at(&here.z, 0);
+            let (n0, n1) = (at(&sun.z, s_whole), at(&sun.z, s_whole + 1));
+            let ca: [&[f64]; MAX_CROSSINGS] = std::array::from_fn(|c| at(&here.z, cell_crossings[c].a));
+            let cb: [&[f64]; MAX_CROSSINGS] = std::array::from_fn(|c| at(&sun.z, cell_crossings[c].b));
+            // The cell's own ray back to the previous line, exactly; the edges it
+            // crosses on the way; then the occluders of the rays on either side,
+            // moved sideways onto it.
+            let h = &mut scratch[..len];
+            if s_frac < 1e-9 {
+                for (h, a) in h.iter_mut().zip(n0) {
+                    *h = a - line_drop;
                 }
-                let zc = f64::from(z[idx]);
-                // The cell's own ray back to the previous line, exactly.
-                let s0 = k + s_whole;
-                let mut h =
-                    if s_frac < 1e-9 { sun_z.at(s0) } else { lerp(sun_z.at(s0), sun_z.at(s0 + 1), s_frac) } - line_drop;
-                for c in &cell_crossings {
-                    let t = lerp(here_z.at(k + c.a), sun_z.at(k + c.b), c.u) - c.drop;
-                    if t > h || h.is_nan() {
-                        h = t;
-                    }
+            } else {
+                for ((h, a), b) in h.iter_mut().zip(n0).zip(n1) {
+                    *h = lerp(*a, *b, s_frac) - line_drop;
                 }
-                // Beyond it: the occluders of the rays on either side, moved sideways
-                // onto this cell's ray.
-                let m0 = RAYS as isize * k + below;
-                if m0 >= 0 {
-                    let e = arriving[m0 as usize];
-                    let from_below = e.h + e.right * w;
-                    if from_below > h || h.is_nan() {
-                        h = from_below;
-                    }
+            }
+            for c in 0..MAX_CROSSINGS {
+                let x = &cell_crossings[c];
+                if x.drop.is_finite() {
+                    cross_height(h, ca[c], cb[c], x);
                 }
-                if w > 1e-9 && ((m0 + 1) as usize) < n {
-                    let e = arriving[(m0 + 1) as usize];
-                    let from_above = e.h - e.left * (ds - w);
-                    if from_above > h || h.is_nan() {
-                        h = from_above;
-                    }
-                }
-                shadow[idx] = zc < h;
+            }
+            lend(h, bh, br, w);
+            if above_gap.is_finite() {
+                lend(h, ah, al, -above_gap);
+            }
+            for ((o, z), h) in line_shadow[k_lo..k_hi].iter_mut().zip(zc).zip(h.iter()) {
+                *o = z < h;
             }
             // Cells whose ray leaves the map before the previous line: only the edges
             // crossed on the way out.
-            for k in (0..n_cells as isize).filter(|k| !k_reach.contains(k)) {
-                let idx = line * stride_line + k as usize * stride_cell;
-                if !valid[idx] {
-                    continue;
-                }
-                let mut h = f64::NAN;
+            for k in (0..k_lo).chain(k_hi..n_cells) {
+                let mut h = f64::NEG_INFINITY;
                 for c in &cell_crossings {
-                    let t = lerp(here_z.at(k + c.a), sun_z.at(k + c.b), c.u) - c.drop;
-                    if t > h || h.is_nan() {
-                        h = t;
-                    }
+                    let t = lerp(here.z[(PAD as isize + k as isize + c.a) as usize], sun.z[(PAD as isize + k as isize + c.b) as usize], c.u)
+                        - c.drop;
+                    h = if t > h { t } else { h };
                 }
-                shadow[idx] = f64::from(z[idx]) < h;
+                line_shadow[k] = here.z[PAD + k] < h;
+            }
+            for (k, &s) in line_shadow.iter().enumerate() {
+                shadow[line * stride_line + k * stride_cell] = s;
             }
         }
         std::mem::swap(&mut prev, &mut cur);
-        (prev_phi, prev_n) = (phi, n);
+        prev_phi = phi;
     }
     shadow
+}
+
+/// The envelopes arriving at a line's rays from the same rays on the previous line:
+/// one step lower, further from what cast them.
+#[allow(clippy::too_many_arguments)] // separate slices let the compiler vectorise
+fn descend(
+    h: &mut [f64],
+    d: &mut [f64],
+    l: &mut [f64],
+    r: &mut [f64],
+    ph: &[f64],
+    pd: &[f64],
+    pl: &[f64],
+    pr: &[f64],
+    line_drop: f64,
+    curve_per_d: f64,
+    step_m: f64,
+) {
+    let n = h.len();
+    let (d, l, r, ph, pd, pl, pr) = (&mut d[..n], &mut l[..n], &mut r[..n], &ph[..n], &pd[..n], &pl[..n], &pr[..n]);
+    for j in 0..n {
+        h[j] = ph[j] - line_drop - curve_per_d * pd[j];
+        d[j] = pd[j] + step_m;
+        l[j] = pl[j];
+        r[j] = pr[j];
+    }
+}
+
+/// Raises the envelopes to an edge crossing's shadow where it is higher, taking its
+/// distance and its triangles' slopes. `za`, `zb`: the edge's ends per ray; `sl`,
+/// `sr`: the slopes of the triangles either side.
+#[allow(clippy::too_many_arguments)] // separate slices let the compiler vectorise
+fn cross(
+    h: &mut [f64],
+    d: &mut [f64],
+    l: &mut [f64],
+    r: &mut [f64],
+    za: &[f64],
+    zb: &[f64],
+    sl: &[f64],
+    sr: &[f64],
+    x: &EdgeCrossing,
+) {
+    let n = h.len();
+    let (d, l, r, za, zb, sl, sr) = (&mut d[..n], &mut l[..n], &mut r[..n], &za[..n], &zb[..n], &sl[..n], &sr[..n]);
+    let (u, drop, dist) = (x.u, x.drop, x.dist);
+    for j in 0..n {
+        let t = lerp(za[j], zb[j], u) - drop;
+        // NaN (a missing end) never wins.
+        let win = t > h[j];
+        h[j] = if win { t } else { h[j] };
+        d[j] = if win { dist } else { d[j] };
+        l[j] = if win { sl[j] } else { l[j] };
+        r[j] = if win { sr[j] } else { r[j] };
+    }
+}
+
+/// [`cross`] for heights alone.
+fn cross_height(h: &mut [f64], za: &[f64], zb: &[f64], x: &EdgeCrossing) {
+    let n = h.len();
+    let (za, zb) = (&za[..n], &zb[..n]);
+    for j in 0..n {
+        let t = lerp(za[j], zb[j], x.u) - x.drop;
+        h[j] = if t > h[j] { t } else { h[j] };
+    }
+}
+
+/// Raises heights to a neighbouring ray's envelope moved `offset` cells sideways along
+/// its occluding triangle.
+fn lend(h: &mut [f64], eh: &[f64], slope: &[f64], offset: f64) {
+    let n = h.len();
+    let (eh, slope) = (&eh[..n], &slope[..n]);
+    for j in 0..n {
+        let t = eh[j] + slope[j] * offset;
+        h[j] = if t > h[j] { t } else { h[j] };
+    }
+}
+
+/// The envelopes leaving a line's rays: the arriving ones, or the ray's own terrain
+/// where it rises to them (NaN, missing, never does).
+#[allow(clippy::too_many_arguments)] // separate slices let the compiler vectorise
+fn own_line(
+    ch: &mut [f64],
+    cd: &mut [f64],
+    cl: &mut [f64],
+    cr: &mut [f64],
+    h: &[f64],
+    d: &[f64],
+    l: &[f64],
+    r: &[f64],
+    here: &[f64],
+    here_l: &[f64],
+    here_r: &[f64],
+) {
+    let n = ch.len();
+    let (cd, cl, cr, h, d, l, r) = (&mut cd[..n], &mut cl[..n], &mut cr[..n], &h[..n], &d[..n], &l[..n], &r[..n]);
+    let (here, here_l, here_r) = (&here[..n], &here_l[..n], &here_r[..n]);
+    for j in 0..n {
+        let own = here[j] >= h[j];
+        ch[j] = if own { here[j] } else { h[j] };
+        cd[j] = if own { 0.0 } else { d[j] };
+        cl[j] = if own { here_l[j] } else { l[j] };
+        cr[j] = if own { here_r[j] } else { r[j] };
+    }
+}
+
+/// `len` values of `v` from `start` (not negative).
+#[inline]
+fn run(v: &[f64], start: isize, len: usize) -> &[f64] {
+    &v[start as usize..start as usize + len]
 }
 
 /// Linear interpolation; NaN (missing) if either end is.
