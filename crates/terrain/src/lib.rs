@@ -40,6 +40,7 @@
 mod body;
 mod dem;
 mod error;
+mod lines;
 
 pub mod ascii;
 pub mod fill;

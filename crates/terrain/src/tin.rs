@@ -11,6 +11,7 @@
 //! between each other; [`horizon_on_triangles`] is its brute-force reference.
 
 use crate::dem::Dem;
+use crate::lines::Lines;
 use crate::shadow::Curvature;
 
 /// Sweep rays per cell width. A cell's envelope beyond its first step comes from the
@@ -110,11 +111,10 @@ impl LineBuf {
         LineBuf { z: vec![f64::NAN; n_cells + 2 * PAD], slope: vec![0.0; n_cells + 2 * PAD] }
     }
 
-    /// Cell k's height at `PAD + k`, and the slopes.
-    fn load(&mut self, z: &[f32], valid: &[bool], cells: impl Iterator<Item = usize>) {
-        for (k, i) in cells.enumerate() {
-            self.z[PAD + k] = if valid[i] { f64::from(z[i]) } else { f64::NAN };
-        }
+    /// Line `line`'s heights at `PAD + k`, and the slopes.
+    fn load(&mut self, lines: &mut Lines<'_>, line: usize) {
+        let n = self.z.len() - 2 * PAD;
+        lines.read(line, &mut self.z[PAD..PAD + n]);
         for (s, w) in self.slope.iter_mut().zip(self.z.windows(2)) {
             let v = w[1] - w[0];
             *s = if v.is_nan() { 0.0 } else { v };
@@ -188,9 +188,6 @@ pub fn cast_shadows_exact(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curva
     // with a weight of 1e-16 and lose the border cell's neighbour.
     let shift = if (shift - shift.round()).abs() < 1e-9 { shift.round() } else { shift };
     let sigma: isize = if toward_higher_line { 1 } else { -1 };
-    let (stride_line, stride_cell) = if along_cols { (1, cols) } else { (cols, 1) };
-    let z = dem.elevations();
-    let valid = dem.valid_mask();
     let tan_e = elevation_deg.to_radians().tan();
     let inv_2r = curvature.inv_2r();
     let line_drop = step_m * tan_e + step_m * step_m * inv_2r;
@@ -210,6 +207,7 @@ pub fn cast_shadows_exact(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curva
     let mut here = LineBuf::new(n_cells);
     let mut sun = LineBuf::new(n_cells);
     let mut line_shadow = vec![false; n_cells];
+    let mut lines_io = Lines::new(dem, along_cols);
     let mut scratch = vec![0f64; n_cells + 1];
     let mut prev_phi = 0.0;
     // Lines nearest the source first.
@@ -217,7 +215,7 @@ pub fn cast_shadows_exact(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curva
         if toward_higher_line { Box::new((0..n_lines).rev()) } else { Box::new(0..n_lines) };
     for (i, line) in order.enumerate() {
         std::mem::swap(&mut here, &mut sun);
-        here.load(z, valid, (0..n_cells).map(|k| line * stride_line + k * stride_cell));
+        here.load(&mut lines_io, line);
         // Rays sit at phi + m·ds along the line (phi < ds); a ray at q here was at
         // q + shift on the previous line.
         let mut phi = (-(i as f64) * shift).rem_euclid(ds);
@@ -233,11 +231,16 @@ pub fn cast_shadows_exact(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curva
             let n_p = if n > p { (n - p - 1) / RAYS + 1 } else { 0 };
             let crossings = edge_crossings(f, shift, sigma, step_m, tan_e, inv_2r);
             // The same ray on the previous line: phase pp, slot j + jshift.
-            let (pp, jshift) = ((p as isize + offset).rem_euclid(RAYS as isize), (p as isize + offset).div_euclid(RAYS as isize));
+            let (pp, jshift) =
+                ((p as isize + offset).rem_euclid(RAYS as isize), (p as isize + offset).div_euclid(RAYS as isize));
             let from = (pp as usize * prev.stride) as isize + EDGE as isize + jshift;
             let from = from as usize;
-            let (ph, pd, pl, pr_) =
-                (&prev.h[from..from + n_p], &prev.d[from..from + n_p], &prev.left[from..from + n_p], &prev.right[from..from + n_p]);
+            let (ph, pd, pl, pr_) = (
+                &prev.h[from..from + n_p],
+                &prev.d[from..from + n_p],
+                &prev.left[from..from + n_p],
+                &prev.right[from..from + n_p],
+            );
             let at = |v, off: isize| run(v, PAD as isize + off, n_p);
             let z0 = at(&here.z, 0);
             let z1 = at(&here.z, 1);
@@ -249,20 +252,6 @@ pub fn cast_shadows_exact(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curva
                 std::array::from_fn(|c| at(&lines[crossings[c].left.0].slope, crossings[c].left.1));
             let cr: [&[f64]; MAX_CROSSINGS] =
                 std::array::from_fn(|c| at(&lines[crossings[c].right.0].slope, crossings[c].right.1));
-            let o = p * cur.stride + EDGE;
-            let (ah, ad_, al, ar) = (
-                &mut arriving.h[o..o + n_p],
-                &mut arriving.d[o..o + n_p],
-                &mut arriving.left[o..o + n_p],
-                &mut arriving.right[o..o + n_p],
-            );
-            descend(ah, ad_, al, ar, ph, pd, pl, pr_, line_drop, curve_per_d, step_m);
-            for c in 0..MAX_CROSSINGS {
-                let x = &crossings[c];
-                if x.drop.is_finite() {
-                    cross(ah, ad_, al, ar, ca[c], cb[c], cl[c], cr[c], x);
-                }
-            }
             // The ray's own line: it casts the envelope from here on if it rises above
             // what arrives.
             let (here_h, here_l): (&[f64], &[f64]) = if f < 1e-9 {
@@ -274,9 +263,26 @@ pub fn cast_shadows_exact(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curva
                 }
                 (&scratch[..n_p], s_0)
             };
-            let (chh, cd, cl_, cr_) =
-                (&mut cur.h[o..o + n_p], &mut cur.d[o..o + n_p], &mut cur.left[o..o + n_p], &mut cur.right[o..o + n_p]);
-            own_line(chh, cd, cl_, cr_, ah, ad_, al, ar, here_h, here_l, s_0);
+            let inputs = RayInputs {
+                prev: [ph, pd, pl, pr_],
+                here: [here_h, here_l, s_0],
+                crossings: std::array::from_fn(|c| [ca[c], cb[c], cl[c], cr[c]]),
+                x: crossings,
+                line_drop,
+                curve_per_d,
+                step_m,
+            };
+            let o = p * cur.stride + EDGE;
+            advance_rays(
+                &inputs,
+                &mut cur.h[o..o + n_p],
+                &mut cur.d[o..o + n_p],
+                &mut cur.left[o..o + n_p],
+                &mut cur.right[o..o + n_p],
+                &mut arriving.h[o..o + n_p],
+                &mut arriving.left[o..o + n_p],
+                &mut arriving.right[o..o + n_p],
+            );
             cur.end_phase(p, n_p);
             arriving.end_phase(p, n_p);
         }
@@ -331,78 +337,86 @@ pub fn cast_shadows_exact(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curva
             for k in (0..k_lo).chain(k_hi..n_cells) {
                 let mut h = f64::NEG_INFINITY;
                 for c in &cell_crossings {
-                    let t = lerp(here.z[(PAD as isize + k as isize + c.a) as usize], sun.z[(PAD as isize + k as isize + c.b) as usize], c.u)
-                        - c.drop;
+                    let t = lerp(
+                        here.z[(PAD as isize + k as isize + c.a) as usize],
+                        sun.z[(PAD as isize + k as isize + c.b) as usize],
+                        c.u,
+                    ) - c.drop;
                     h = if t > h { t } else { h };
                 }
                 line_shadow[k] = here.z[PAD + k] < h;
             }
-            for (k, &s) in line_shadow.iter().enumerate() {
-                shadow[line * stride_line + k * stride_cell] = s;
-            }
         }
+        lines_io.write(line, &line_shadow, &mut shadow);
         std::mem::swap(&mut prev, &mut cur);
         prev_phi = phi;
     }
+    lines_io.finish(&mut shadow);
     shadow
 }
 
-/// The envelopes arriving at a line's rays from the same rays on the previous line:
-/// one step lower, further from what cast them.
-#[allow(clippy::too_many_arguments)] // separate slices let the compiler vectorise
-fn descend(
-    h: &mut [f64],
-    d: &mut [f64],
-    l: &mut [f64],
-    r: &mut [f64],
-    ph: &[f64],
-    pd: &[f64],
-    pl: &[f64],
-    pr: &[f64],
+/// What one phase of a line's rays reads, each slice one value per ray: the same rays'
+/// envelopes on the previous line (height, distance, slopes left and right), the rays'
+/// own terrain (height, slopes), and per edge crossing its two ends and the slopes of
+/// the triangles either side.
+struct RayInputs<'a> {
+    prev: [&'a [f64]; 4],
+    here: [&'a [f64]; 3],
+    crossings: [[&'a [f64]; 4]; MAX_CROSSINGS],
+    x: [EdgeCrossing; MAX_CROSSINGS],
     line_drop: f64,
     curve_per_d: f64,
     step_m: f64,
+}
+
+/// One phase of a line's rays: the envelope arriving from sun-ward (`a*`: the previous
+/// line's, one step lower, raised to any edge crossing's shadow above it) and the one
+/// leaving (`c*`: the ray's own terrain where it rises to the arriving one). Every
+/// output a separate slice: the compiler then knows they alias nothing and
+/// vectorises the loop.
+#[allow(clippy::too_many_arguments)]
+fn advance_rays(
+    inp: &RayInputs<'_>,
+    ch: &mut [f64],
+    cd: &mut [f64],
+    cl: &mut [f64],
+    cr: &mut [f64],
+    ah: &mut [f64],
+    al: &mut [f64],
+    ar: &mut [f64],
 ) {
-    let n = h.len();
-    let (d, l, r, ph, pd, pl, pr) = (&mut d[..n], &mut l[..n], &mut r[..n], &ph[..n], &pd[..n], &pl[..n], &pr[..n]);
+    let n = ch.len();
+    let (cd, cl, cr, ah, al, ar) = (&mut cd[..n], &mut cl[..n], &mut cr[..n], &mut ah[..n], &mut al[..n], &mut ar[..n]);
+    let [ph, pd, pl, pr] = inp.prev.map(|v| &v[..n]);
+    let [here, here_l, here_r] = inp.here.map(|v| &v[..n]);
+    let [c0, c1, c2] = inp.crossings.map(|c| c.map(|v| &v[..n]));
+    let [x0, x1, x2] = inp.x;
+    let (line_drop, curve_per_d, step_m) = (inp.line_drop, inp.curve_per_d, inp.step_m);
     for j in 0..n {
-        h[j] = ph[j] - line_drop - curve_per_d * pd[j];
-        d[j] = pd[j] + step_m;
-        l[j] = pl[j];
-        r[j] = pr[j];
+        let mut h = ph[j] - line_drop - curve_per_d * pd[j];
+        let mut d = pd[j] + step_m;
+        let (mut l, mut r) = (pl[j], pr[j]);
+        for (c, x) in [(&c0, &x0), (&c1, &x1), (&c2, &x2)] {
+            let t = lerp(c[0][j], c[1][j], x.u) - x.drop;
+            // NaN (a missing end) never wins.
+            let win = t > h;
+            h = if win { t } else { h };
+            d = if win { x.dist } else { d };
+            l = if win { c[2][j] } else { l };
+            r = if win { c[3][j] } else { r };
+        }
+        (ah[j], al[j], ar[j]) = (h, l, r);
+        // NaN (missing) terrain never rises to the envelope.
+        let own = here[j] >= h;
+        ch[j] = if own { here[j] } else { h };
+        cd[j] = if own { 0.0 } else { d };
+        cl[j] = if own { here_l[j] } else { l };
+        cr[j] = if own { here_r[j] } else { r };
     }
 }
 
-/// Raises the envelopes to an edge crossing's shadow where it is higher, taking its
-/// distance and its triangles' slopes. `za`, `zb`: the edge's ends per ray; `sl`,
-/// `sr`: the slopes of the triangles either side.
-#[allow(clippy::too_many_arguments)] // separate slices let the compiler vectorise
-fn cross(
-    h: &mut [f64],
-    d: &mut [f64],
-    l: &mut [f64],
-    r: &mut [f64],
-    za: &[f64],
-    zb: &[f64],
-    sl: &[f64],
-    sr: &[f64],
-    x: &EdgeCrossing,
-) {
-    let n = h.len();
-    let (d, l, r, za, zb, sl, sr) = (&mut d[..n], &mut l[..n], &mut r[..n], &za[..n], &zb[..n], &sl[..n], &sr[..n]);
-    let (u, drop, dist) = (x.u, x.drop, x.dist);
-    for j in 0..n {
-        let t = lerp(za[j], zb[j], u) - drop;
-        // NaN (a missing end) never wins.
-        let win = t > h[j];
-        h[j] = if win { t } else { h[j] };
-        d[j] = if win { dist } else { d[j] };
-        l[j] = if win { sl[j] } else { l[j] };
-        r[j] = if win { sr[j] } else { r[j] };
-    }
-}
-
-/// [`cross`] for heights alone.
+/// Raises heights to an edge crossing's shadow where it is higher; `za`, `zb`: the
+/// edge's ends per ray.
 fn cross_height(h: &mut [f64], za: &[f64], zb: &[f64], x: &EdgeCrossing) {
     let n = h.len();
     let (za, zb) = (&za[..n], &zb[..n]);
@@ -420,34 +434,6 @@ fn lend(h: &mut [f64], eh: &[f64], slope: &[f64], offset: f64) {
     for j in 0..n {
         let t = eh[j] + slope[j] * offset;
         h[j] = if t > h[j] { t } else { h[j] };
-    }
-}
-
-/// The envelopes leaving a line's rays: the arriving ones, or the ray's own terrain
-/// where it rises to them (NaN, missing, never does).
-#[allow(clippy::too_many_arguments)] // separate slices let the compiler vectorise
-fn own_line(
-    ch: &mut [f64],
-    cd: &mut [f64],
-    cl: &mut [f64],
-    cr: &mut [f64],
-    h: &[f64],
-    d: &[f64],
-    l: &[f64],
-    r: &[f64],
-    here: &[f64],
-    here_l: &[f64],
-    here_r: &[f64],
-) {
-    let n = ch.len();
-    let (cd, cl, cr, h, d, l, r) = (&mut cd[..n], &mut cl[..n], &mut cr[..n], &h[..n], &d[..n], &l[..n], &r[..n]);
-    let (here, here_l, here_r) = (&here[..n], &here_l[..n], &here_r[..n]);
-    for j in 0..n {
-        let own = here[j] >= h[j];
-        ch[j] = if own { here[j] } else { h[j] };
-        cd[j] = if own { 0.0 } else { d[j] };
-        cl[j] = if own { here_l[j] } else { l[j] };
-        cr[j] = if own { here_r[j] } else { r[j] };
     }
 }
 
