@@ -78,19 +78,19 @@ pub fn write_slope(dem: &Dem, out: &Path) -> Result<Vec<std::path::PathBuf>> {
 
 /// Writes the direct-sun map (uint8 GeoTIFF: 1 lit, 0 shadowed, 255 no data) for a Sun
 /// at (azimuth, elevation), and a hillshade-with-shadows preview PNG beside it; cast
-/// shadows by the fast sweep, or with `exact` on the triangulated surface.
+/// shadows exact on the triangulated surface, or with `fast` by the approximate sweep.
 /// Returns the files and the lit fraction.
 pub fn write_shadow(
     dem: &Dem,
     azimuth_deg: f64,
     elevation_deg: f64,
     flat: bool,
-    exact: bool,
+    fast: bool,
     out: &Path,
 ) -> Result<(Vec<std::path::PathBuf>, f64)> {
     let curvature = if flat { Curvature::Flat } else { Curvature::of(dem) };
-    let map = if exact {
-        let cast = areo_terrain::tin::cast_shadows_exact(dem, azimuth_deg, elevation_deg, curvature);
+    let map = if fast {
+        let cast = areo_terrain::shadow::cast_shadows_fast(dem, azimuth_deg, elevation_deg, curvature);
         shadow_map_from(dem, azimuth_deg, elevation_deg, cast)
     } else {
         shadow_map(dem, azimuth_deg, elevation_deg, curvature)

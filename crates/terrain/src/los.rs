@@ -128,8 +128,8 @@ pub fn viewshed(dem: &Dem, x: f64, y: f64, height_m: f64, curvature: Curvature) 
 }
 
 /// Cast shadows by one parry3d ray per cell toward a source at infinity: the
-/// independent reference for [`crate::tin::cast_shadows_exact`] (which sees the same
-/// triangles) and [`crate::shadow::cast_shadows`]. Flat world only.
+/// independent reference for [`crate::shadow::cast_shadows`] (which sees the same
+/// triangles) and [`crate::shadow::cast_shadows_fast`]. Flat world only.
 pub fn cast_shadows_parry(dem: &Dem, azimuth_deg: f64, elevation_deg: f64) -> Result<Vec<bool>> {
     let (cx, cy) = dem.cell_center(dem.cols() / 2, dem.rows() / 2);
     let field = Field::new(dem, cx, cy, 0.0, Curvature::Flat)?;
@@ -173,7 +173,7 @@ pub fn cast_shadows_parry(dem: &Dem, azimuth_deg: f64, elevation_deg: f64) -> Re
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shadow::cast_shadows;
+    use crate::shadow::{cast_shadows, cast_shadows_fast};
 
     #[test]
     fn a_wall_hides_what_lies_behind_it() {
@@ -204,13 +204,13 @@ mod tests {
     #[test]
     #[allow(clippy::print_stderr)] // the agreement figures are the point of the test
     fn the_shadow_sweeps_agree_with_parry_ray_casts() {
-        use crate::tin::{cast_shadows_exact, horizon_on_triangles};
+        use crate::tin::horizon_on_triangles;
         let dem = crate::synth::rough_test_terrain(100, 80, 11, 30.0, 3);
         let (mut exact_differ, mut cells) = (0, 0);
         for (az, el) in [(90.0, 15.0), (200.0, 25.0), (315.0, 10.0), (300.0, 8.0), (10.0, 15.0), (135.0, 5.0)] {
             let parry = cast_shadows_parry(&dem, az, el).unwrap();
-            let exact = cast_shadows_exact(&dem, az, el, Curvature::Flat);
-            let fast = cast_shadows(&dem, az, el, Curvature::Flat);
+            let exact = cast_shadows(&dem, az, el, Curvature::Flat);
+            let fast = cast_shadows_fast(&dem, az, el, Curvature::Flat);
             let horizon = horizon_on_triangles(&dem, az, Curvature::Flat);
             let (mut differ, mut worst) = (0, 0f64);
             for i in 0..parry.len() {

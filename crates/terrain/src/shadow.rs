@@ -1,7 +1,10 @@
 //! Cast shadows from a source at infinity (the Sun), by one sweep along the source's
-//! azimuth: O(cells) per map, not a ray per cell.
+//! azimuth: O(cells) per map, not a ray per cell; and shadow maps (cast shadow plus
+//! slopes facing away).
 //!
-//! The grid is walked line by line away from the source, the lines being columns or
+//! [`cast_shadows`] is exact on the DEM's triangulated surface (see [`crate::tin`]).
+//! [`cast_shadows_fast`], described here, is about 1.4× faster and approximate:
+//! the grid is walked line by line away from the source, the lines being columns or
 //! rows, whichever the source direction crosses faster. For each cell, the ray toward
 //! the source crosses the previous (sun-ward) line at a fractional position; there the
 //! terrain, and the shadow envelope (the highest shadow ray passing over that point),
@@ -105,8 +108,18 @@ pub fn shadow_map_from(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, cast: Ve
 /// Samples per cell along each line (cells plus interpolated points between them).
 const SUB: usize = 2;
 
-/// Cast shadow only (true = shadowed), by the sweep.
+/// Cast shadow only (true = shadowed) for a source at `azimuth_deg` (clockwise from
+/// north) and `elevation_deg`, exact on the DEM's triangulated surface:
+/// [`crate::tin::cast_shadows_exact`].
 pub fn cast_shadows(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
+    crate::tin::cast_shadows_exact(dem, azimuth_deg, elevation_deg, curvature)
+}
+
+/// Cast shadow only (true = shadowed), by the fast sweep of the module's description:
+/// terrain sampled where rays cross one family of grid lines, each ray's envelope
+/// interpolated from its neighbours line after line. Agrees with [`cast_shadows`]
+/// but where the Sun grazes the terrain (98.9–100 % of cells in the tests).
+pub fn cast_shadows_fast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
     let (cols, rows) = (dem.cols(), dem.rows());
     if elevation_deg <= 0.0 {
         // Below the local horizontal the source is behind the surface everywhere.
@@ -218,7 +231,7 @@ pub fn cast_shadows(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: 
     shadow
 }
 
-/// Reference: one ray per cell, marched toward the source across every grid line it
+/// Reference of [`cast_shadows_fast`]: one ray per cell, marched toward the source across every grid line it
 /// crosses, with the terrain interpolated linearly along the crossed line and the
 /// same curvature drop. O(cells × length); for tests and validation.
 pub fn cast_shadows_by_rays(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
@@ -298,7 +311,7 @@ mod tests {
         // A 20 m wall along x = 50 on flat ground; Sun in the east at 30°.
         let (h, e) = (20.0, 30.0f64);
         let dem = Dem::from_fn(200, 20, 1.0, 1.0, |x, _| if (50.0..51.0).contains(&x) { h } else { 0.0 }).unwrap();
-        let s = cast_shadows(&dem, 270.0, e, Curvature::Flat);
+        let s = cast_shadows_fast(&dem, 270.0, e, Curvature::Flat);
         let row = 10;
         let len = (51..200).take_while(|&c| s[row * 200 + c]).count() as f64;
         let expect = h / e.to_radians().tan();
@@ -312,7 +325,7 @@ mod tests {
     fn sweep_agrees_with_per_cell_rays_on_rough_terrain() {
         let dem = crate::synth::rough_test_terrain(120, 90, 7, 40.0, 4);
         for (az, el) in [(90.0, 20.0), (135.0, 10.0), (200.0, 35.0), (300.0, 8.0), (10.0, 15.0), (45.0, 3.0)] {
-            let sweep = cast_shadows(&dem, az, el, Curvature::Flat);
+            let sweep = cast_shadows_fast(&dem, az, el, Curvature::Flat);
             let horizon = horizon_by_rays(&dem, az, Curvature::Flat);
             let (mut differ, mut not_grazing) = (0, 0);
             for (s, h) in sweep.iter().zip(&horizon) {
@@ -345,8 +358,8 @@ mod tests {
         // drops d²/2R ≈ 1.47 km at 100 km, hiding the peak.
         let dem = Dem::from_fn(1101, 3, 100.0, 100.0, |x, _| if x < 100.0 { 1000.0 } else { 0.0 }).unwrap();
         let target = 2 * 1101 + 1000; // 100 km east of the peak, middle row... row 2
-        let flat = cast_shadows(&dem, 270.0, 0.3, Curvature::Flat);
-        let curved = cast_shadows(&dem, 270.0, 0.3, Curvature::Sphere { radius_m: 3_389_500.0 });
+        let flat = cast_shadows_fast(&dem, 270.0, 0.3, Curvature::Flat);
+        let curved = cast_shadows_fast(&dem, 270.0, 0.3, Curvature::Sphere { radius_m: 3_389_500.0 });
         assert!(flat[target], "flat world: in the peak's shadow");
         assert!(!curved[target], "curved world: the peak is below the horizon");
         let reference = cast_shadows_by_rays(&dem, 270.0, 0.3, Curvature::Sphere { radius_m: 3_389_500.0 });
@@ -356,8 +369,9 @@ mod tests {
     #[test]
     fn sun_side_border_is_lit_and_low_sun_faces() {
         let dem = Dem::from_fn(30, 30, 1.0, 1.0, |x, y| (x * 0.7).sin() * 5.0 + (y * 0.3).cos() * 5.0).unwrap();
-        let s = cast_shadows(&dem, 0.0, 5.0, Curvature::Flat);
-        assert!((0..30).all(|c| !s[c]), "the northern border faces a northern Sun unobstructed");
+        for s in [cast_shadows(&dem, 0.0, 5.0, Curvature::Flat), cast_shadows_fast(&dem, 0.0, 5.0, Curvature::Flat)] {
+            assert!((0..30).all(|c| !s[c]), "the northern border faces a northern Sun unobstructed");
+        }
         let m = shadow_map(&dem, 0.0, -1.0, Curvature::Flat);
         assert_eq!(m.lit_fraction(), 0.0);
     }

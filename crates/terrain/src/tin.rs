@@ -1,9 +1,10 @@
 //! Cast shadows on the DEM's triangulated surface, exactly.
 //!
-//! [`crate::shadow::cast_shadows`] follows the terrain where rays cross the grid lines
-//! of one family, interpolating each ray's envelope from its neighbours line after
-//! line; it is fast (one pass, two samples a cell) but that interpolation blurs
-//! shadow edges over long distances. This module treats the DEM as the surface a mesh
+//! [`crate::shadow::cast_shadows_fast`] follows the terrain where rays cross the grid
+//! lines of one family, interpolating each ray's envelope from its neighbours line
+//! after line; it is fast (one pass, two samples a cell) but that interpolation blurs
+//! shadow edges over long distances. This module, behind
+//! [`crate::shadow::cast_shadows`], treats the DEM as the surface a mesh
 //! ray tracer sees — cell centres joined by the grid lines and by each quad's
 //! south-west–north-east diagonal, parry3d's `HeightField` split — on which terrain
 //! minus ray height is piecewise linear along a ray, so testing a ray where it crosses
@@ -45,7 +46,8 @@ struct EdgeCrossing {
 const MAX_CROSSINGS: usize = 3;
 
 /// The edge crossings between two lines of a ray whose position along its line has
-/// fractional part `phi`; unused slots sink infinitely, so they never occlude.
+/// fractional part `phi`, first; the unused slots after them sink infinitely, so they
+/// never occlude.
 fn edge_crossings(
     phi: f64,
     shift: f64,
@@ -273,7 +275,14 @@ pub fn cast_shadows_exact(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curva
                 step_m,
             };
             let o = p * cur.stride + EDGE;
-            advance_rays(
+            let used = crossings.iter().filter(|x| x.drop.is_finite()).count();
+            let run_phase = match used {
+                0 => advance_rays::<0>,
+                1 => advance_rays::<1>,
+                2 => advance_rays::<2>,
+                _ => advance_rays::<3>,
+            };
+            run_phase(
                 &inputs,
                 &mut cur.h[o..o + n_p],
                 &mut cur.d[o..o + n_p],
@@ -375,7 +384,7 @@ struct RayInputs<'a> {
 /// output a separate slice: the compiler then knows they alias nothing and
 /// vectorises the loop.
 #[allow(clippy::too_many_arguments)]
-fn advance_rays(
+fn advance_rays<const N: usize>(
     inp: &RayInputs<'_>,
     ch: &mut [f64],
     cd: &mut [f64],
@@ -389,14 +398,15 @@ fn advance_rays(
     let (cd, cl, cr, ah, al, ar) = (&mut cd[..n], &mut cl[..n], &mut cr[..n], &mut ah[..n], &mut al[..n], &mut ar[..n]);
     let [ph, pd, pl, pr] = inp.prev.map(|v| &v[..n]);
     let [here, here_l, here_r] = inp.here.map(|v| &v[..n]);
-    let [c0, c1, c2] = inp.crossings.map(|c| c.map(|v| &v[..n]));
-    let [x0, x1, x2] = inp.x;
+    // The phase's N crossings (the rest of the slots are unused).
+    let cs: [[&[f64]; 4]; N] = std::array::from_fn(|c| inp.crossings[c].map(|v| &v[..n]));
+    let xs: [EdgeCrossing; N] = std::array::from_fn(|c| inp.x[c]);
     let (line_drop, curve_per_d, step_m) = (inp.line_drop, inp.curve_per_d, inp.step_m);
     for j in 0..n {
         let mut h = ph[j] - line_drop - curve_per_d * pd[j];
         let mut d = pd[j] + step_m;
         let (mut l, mut r) = (pl[j], pr[j]);
-        for (c, x) in [(&c0, &x0), (&c1, &x1), (&c2, &x2)] {
+        for (c, x) in cs.iter().zip(&xs) {
             let t = lerp(c[0][j], c[1][j], x.u) - x.drop;
             // NaN (a missing end) never wins.
             let win = t > h;
