@@ -48,8 +48,7 @@ impl HorizonMap {
             return Err(Error::BadGrid(format!("{sectors} horizon sectors: allowed 16..=360")));
         }
         let cells = dem.cols() * dem.rows();
-        let zn = nan_coded(dem);
-        let valid = dem.valid_mask();
+        let zn = Elevations::of(dem);
         // Each sector written in place; opposite sectors (when K is even) from one
         // sweep of their common lines; per-thread accumulators reused across sectors.
         let mut angles = vec![0u16; cells * sectors];
@@ -68,25 +67,31 @@ impl HorizonMap {
                 pairs.push((s, a, None));
             }
         }
-        let write = |acc: &Accumulator, out: &mut [u16]| {
-            for (i, o) in out.iter_mut().enumerate() {
-                let [sum, weight] = acc.cells[i];
-                *o = encode(finish(valid[i], sum, weight));
+        let (cols, rows) = (dem.cols(), dem.rows());
+        // Encoded in the accumulator's own order (a loop the compiler vectorises), then
+        // tiles transposed into place for column-major accumulators.
+        let write = |acc: &Accumulator, scratch: &mut Vec<u16>, out: &mut [u16]| {
+            if acc.transposed {
+                scratch.resize(cells, 0);
+                encode_all(&acc.cells, &zn.cols_first, scratch);
+                for_each_tiled(cols, rows, |r, c| out[r * cols + c] = scratch[c * rows + r]);
+            } else {
+                encode_all(&acc.cells, &zn.rows_first, out);
             }
         };
         pairs.into_par_iter().for_each_init(
-            || (Accumulator::default(), Accumulator::default()),
-            |(toward, away), (s, out, opposite)| {
+            || (Accumulator::default(), Accumulator::default(), Vec::new()),
+            |(toward, away, scratch), (s, out, opposite)| {
                 let az = s as f64 * 360.0 / sectors as f64;
                 match opposite {
                     Some(opposite) => {
                         sweep_lines(dem, &zn, az, curvature, Some(&mut *toward), Some(&mut *away));
-                        write(toward, out);
-                        write(away, opposite);
+                        write(toward, scratch, out);
+                        write(away, scratch, opposite);
                     }
                     None => {
                         sweep_lines(dem, &zn, az, curvature, Some(&mut *toward), None);
-                        write(toward, out);
+                        write(toward, scratch, out);
                     }
                 }
             },
@@ -160,8 +165,23 @@ impl HorizonMap {
 /// cast at low Sun, against 0.1–0.2 % at a quarter cell).
 pub fn horizon_sweep(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f64> {
     let mut acc = Accumulator::default();
-    sweep_lines(dem, &nan_coded(dem), azimuth_deg, curvature, Some(&mut acc), None);
-    acc.cells.iter().zip(dem.valid_mask()).map(|(&[sum, weight], &valid)| finish(valid, sum, weight)).collect()
+    sweep_lines(dem, &Elevations::of(dem), azimuth_deg, curvature, Some(&mut acc), None);
+    let mut out = vec![0.0; dem.cols() * dem.rows()];
+    acc.for_each_cell(dem.cols(), dem.rows(), |i, [sum, weight]| out[i] = finish(dem.valid_mask()[i], sum, weight));
+    out
+}
+
+/// [`encode`]`(`[`finish`]`(..))` of every cell, in the accumulator's order; `zn`
+/// (NaN where missing) in the same order. Branch-free, so that it vectorises.
+fn encode_all(cells: &[[f32; 2]], zn: &[f32], out: &mut [u16]) {
+    let n = out.len();
+    let (cells, zn) = (&cells[..n], &zn[..n]);
+    for i in 0..n {
+        let [sum, weight] = cells[i];
+        let deg = f64::from(crate::slope::fast_atan(sum / weight)).to_degrees();
+        let deg = if weight > 0.0 { deg } else { -90.0 };
+        out[i] = encode(if zn[i].is_nan() { f64::NAN } else { deg });
+    }
 }
 
 /// The horizon angle of one cell from its blended tangent.
@@ -179,10 +199,40 @@ fn finish(valid: bool, sum: f32, weight: f32) -> f64 {
 const LINES_PER_CELL: i64 = 4;
 const SPACING: f64 = 1.0 / LINES_PER_CELL as f64;
 
-/// Elevations with missing cells as NaN: one test per sample instead of a mask lookup
-/// per corner, and NaN carries through the interpolation.
-fn nan_coded(dem: &Dem) -> Vec<f32> {
-    dem.elevations().iter().zip(dem.valid_mask()).map(|(&z, &v)| if v { z } else { f32::NAN }).collect()
+/// Elevations with missing cells as NaN (one test per sample instead of a mask lookup
+/// per corner, and NaN carries through the interpolation), row-major and transposed:
+/// lines that run down the rows walk the transposed copy, a page per sample otherwise.
+struct Elevations {
+    rows_first: Vec<f32>,
+    cols_first: Vec<f32>,
+}
+
+/// Cells per side of the tiles that transposes copy: a tile's rows and columns all
+/// stay in the TLB.
+const TILE: usize = 64;
+
+impl Elevations {
+    fn of(dem: &Dem) -> Elevations {
+        let rows_first: Vec<f32> =
+            dem.elevations().iter().zip(dem.valid_mask()).map(|(&z, &v)| if v { z } else { f32::NAN }).collect();
+        let (cols, rows) = (dem.cols(), dem.rows());
+        let mut cols_first = vec![0f32; rows_first.len()];
+        for_each_tiled(cols, rows, |r, c| cols_first[c * rows + r] = rows_first[r * cols + c]);
+        Elevations { rows_first, cols_first }
+    }
+}
+
+/// Calls `f(row, col)` for every cell of a cols × rows grid, tile by tile.
+fn for_each_tiled(cols: usize, rows: usize, mut f: impl FnMut(usize, usize)) {
+    for c0 in (0..cols).step_by(TILE) {
+        for r0 in (0..rows).step_by(TILE) {
+            for c in c0..(c0 + TILE).min(cols) {
+                for r in r0..(r0 + TILE).min(rows) {
+                    f(r, c);
+                }
+            }
+        }
+    }
 }
 
 /// Per-cell accumulators of one azimuth: the weighted sum of horizon tangents from the
@@ -190,15 +240,29 @@ fn nan_coded(dem: &Dem) -> Vec<f32> {
 /// fresh pages each time).
 #[derive(Default)]
 struct Accumulator {
+    /// Column-major (cell (r, c) at c·rows + r), for lines that run down the rows.
+    transposed: bool,
     /// Per cell, [sum, weight] side by side: an observer's update touches one cache
     /// line, not two (rows-dominant lines visit a new line per observer).
     cells: Vec<[f32; 2]>,
 }
 
 impl Accumulator {
-    fn reset(&mut self, cells: usize) {
+    fn reset(&mut self, cells: usize, transposed: bool) {
         self.cells.clear();
         self.cells.resize(cells, [0.0; 2]);
+        self.transposed = transposed;
+    }
+
+    /// Calls `f(i, [sum, weight])` for every cell, `i` its row-major index.
+    fn for_each_cell(&self, cols: usize, rows: usize, mut f: impl FnMut(usize, [f32; 2])) {
+        if self.transposed {
+            for_each_tiled(cols, rows, |r, c| f(r * cols + c, self.cells[c * rows + r]));
+        } else {
+            for (i, &v) in self.cells.iter().enumerate() {
+                f(i, v);
+            }
+        }
     }
 }
 
@@ -219,10 +283,10 @@ struct Line {
 /// be absent): both directions see the same samples, so they are computed once. The
 /// family of lines depends only on the axis, not on which end is `azimuth_deg`, so a
 /// sector's horizon is the same whether it is computed alone or with its opposite.
-/// `zn` is [`nan_coded`].
+/// `zn` is [`Elevations::of`] the DEM.
 fn sweep_lines<'a>(
     dem: &Dem,
-    zn: &[f32],
+    zn: &Elevations,
     azimuth_deg: f64,
     curvature: Curvature,
     mut toward: Option<&'a mut Accumulator>,
@@ -248,12 +312,13 @@ fn sweep_lines<'a>(
         std::mem::swap(&mut toward, &mut away);
     }
     let shift = if (shift - shift.round()).abs() < 1e-9 { shift.round() } else { shift };
-    // Cell at (dominant j, transverse t) → flat index j·dj + t·dt.
-    let (dj, dt) = if along_cols { (1, cols) } else { (cols, 1) };
+    // Cell at (dominant j, transverse t) → flat index j·dj + t·dt, in the copy of the
+    // elevations (and the accumulators' layout) where j runs along memory.
+    let (zn, dj, dt) = if along_cols { (&zn.rows_first, 1, cols) } else { (&zn.cols_first, 1, rows) };
     let inv_r = 2.0 * curvature.inv_2r();
     let t_last = t_len as i64 - 1;
     for acc in [&mut toward, &mut away].into_iter().flatten() {
-        acc.reset(cols * rows);
+        acc.reset(cols * rows, !along_cols);
     }
     let span = shift * (n - 1) as f64;
     let first = (span.min(0.0)).floor() as i64 - 1;
@@ -584,6 +649,26 @@ mod tests {
             assert!(differ as f64 / n <= 0.0025, "az {az}: {differ} differ from the ray cast");
             assert!(not_grazing as f64 / n <= 0.0005, "az {az}: {not_grazing} disagreements away from grazing");
             assert!(sweep_differ as f64 / n <= 0.015, "az {az}: {sweep_differ} differ from the shadow sweep");
+        }
+    }
+
+    #[test]
+    fn encoding_in_bulk_equals_encoding_one_by_one() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let cells: Vec<[f32; 2]> = (0..1000)
+            .map(|i| match i % 10 {
+                0 => [0.0, 0.0],
+                1 => [rng.random_range(-5.0..5.0), 0.0],
+                _ => [rng.random_range(-50.0..50.0), rng.random_range(0.01..2.0)],
+            })
+            .collect();
+        let zn: Vec<f32> = (0..1000).map(|i| if i % 7 == 0 { f32::NAN } else { 1.0 }).collect();
+        let mut out = vec![0u16; 1000];
+        encode_all(&cells, &zn, &mut out);
+        for i in 0..1000 {
+            let [sum, weight] = cells[i];
+            assert_eq!(out[i], encode(finish(!zn[i].is_nan(), sum, weight)), "cell {i}: {:?}", cells[i]);
         }
     }
 
