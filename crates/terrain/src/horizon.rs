@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 use crate::dem::{Dem, unit_normal};
 use crate::error::{Error, Result};
+use crate::lines::LineGeometry;
 use crate::shadow::Curvature;
 use crate::slope::horn_gradient;
 
@@ -293,17 +294,10 @@ fn sweep_lines<'a>(
     mut away: Option<&'a mut Accumulator>,
 ) {
     let (cols, rows) = (dem.cols(), dem.rows());
-    let a = azimuth_deg.to_radians();
-    let snap = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
-    let (pc, pr) = (snap(a.sin() / dem.dx()), snap(-a.cos() / dem.dy()));
-    let along_cols = pc.abs() >= pr.abs();
     // n: cells along the dominant axis; t_len: cells across; shift: transverse index
     // change per step toward the azimuth.
-    let (n, t_len, step_m, shift, toward_higher) = if along_cols {
-        (cols, rows, 1.0 / pc.abs(), pr / pc.abs(), pc > 0.0)
-    } else {
-        (rows, cols, 1.0 / pr.abs(), pc / pr.abs(), pr > 0.0)
-    };
+    let LineGeometry { along_cols, n_lines: n, n_cells: t_len, step_m, shift, toward_higher_line: toward_higher } =
+        LineGeometry::toward(dem, azimuth_deg);
     // Canonical walk: from dominant index 0 upward, away from the azimuth at that end.
     // If `azimuth_deg` lies toward the higher indices, it is the "away" direction of
     // the opposite azimuth (whose shift is negated).

@@ -21,6 +21,7 @@
 //! incidence (the tests count them).
 
 use crate::dem::Dem;
+use crate::lines::LineGeometry;
 use crate::slope::horn_gradient;
 
 /// Whether shadows account for the surface curving away.
@@ -125,21 +126,11 @@ pub fn cast_shadows_fast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvat
         // Below the local horizontal the source is behind the surface everywhere.
         return vec![true; cols * rows];
     }
-    let (sx, sy) = {
-        let a = azimuth_deg.to_radians();
-        (a.sin(), a.cos())
-    };
-    // Index steps toward the source per metre: columns grow east, rows grow south.
-    let (pc, pr) = (sx / dem.dx(), -sy / dem.dy());
-    let along_cols = pc.abs() >= pr.abs();
-    // Line geometry: a line is a column (if along_cols) or a row; `step` is the metres
-    // travelled toward the source from one line to the next, `shift` the fractional
-    // offset of the crossing along the line.
-    let (n_lines, n_cells, step_m, shift, toward_higher_line) = if along_cols {
-        (cols, rows, 1.0 / pc.abs(), pr / pc.abs(), pc > 0.0)
-    } else {
-        (rows, cols, 1.0 / pr.abs(), pc / pr.abs(), pr > 0.0)
-    };
+    // Line geometry: a line is a column or a row; `step` is the metres travelled toward
+    // the source from one line to the next, `shift` the fractional offset of the
+    // crossing along the line.
+    let LineGeometry { along_cols, n_lines, n_cells, step_m, shift, toward_higher_line } =
+        LineGeometry::toward(dem, azimuth_deg);
     let index = |line: usize, k: usize| if along_cols { k * cols + line } else { line * cols + k };
     let z = dem.elevations();
     let valid = dem.valid_mask();

@@ -12,7 +12,7 @@
 //! between each other; [`horizon_on_triangles`] is its brute-force reference.
 
 use crate::dem::Dem;
-use crate::lines::Lines;
+use crate::lines::{LineGeometry, Lines};
 use crate::shadow::Curvature;
 
 /// Sweep rays per cell width. A cell's envelope beyond its first step comes from the
@@ -170,22 +170,11 @@ pub fn cast_shadows_exact(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curva
         // Below the local horizontal the source is behind the surface everywhere.
         return vec![true; cols * rows];
     }
-    let (sx, sy) = {
-        let a = azimuth_deg.to_radians();
-        (a.sin(), a.cos())
-    };
-    // Index steps toward the source per metre: columns grow east, rows grow south.
-    let snap = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
-    let (pc, pr) = (snap(sx / dem.dx()), snap(-sy / dem.dy()));
-    let along_cols = pc.abs() >= pr.abs();
-    // Line geometry: a line is a column (if along_cols) or a row; `step` is the metres
-    // travelled toward the source from one line to the next, `shift` the change in
-    // position along the lines over that step.
-    let (n_lines, n_cells, step_m, shift, toward_higher_line) = if along_cols {
-        (cols, rows, 1.0 / pc.abs(), pr / pc.abs(), pc > 0.0)
-    } else {
-        (rows, cols, 1.0 / pr.abs(), pc / pr.abs(), pr > 0.0)
-    };
+    // Line geometry: a line is a column or a row; `step` is the metres travelled toward
+    // the source from one line to the next, `shift` the change in position along the
+    // lines over that step.
+    let LineGeometry { along_cols, n_lines, n_cells, step_m, shift, toward_higher_line } =
+        LineGeometry::toward(dem, azimuth_deg);
     // Directions a hair off an axis or a diagonal would otherwise straddle two cells
     // with a weight of 1e-16 and lose the border cell's neighbour.
     let shift = if (shift - shift.round()).abs() < 1e-9 { shift.round() } else { shift };
