@@ -16,7 +16,8 @@
 //!   the filled cells.
 //! - [`slope`]: Horn slope, aspect and normals with separate dx and dy.
 //! - [`shadow`]: cast shadows from the Sun by one sweep per map, with planetary
-//!   curvature; a per-cell ray-cast reference.
+//!   curvature: exact on the triangulated surface (the sweep lives in [`tin`], with its
+//!   per-cell ray-cast reference), or a faster approximate sweep; shadow maps.
 //! - [`los`]: surface-to-surface line of sight and viewsheds by parry3d ray casts.
 //! - [`horizon`]: horizon maps (K sectors, 2 bytes per cell per sector), the Sun's
 //!   elevation above each cell's ground plane, and line-of-sight map sequences.
