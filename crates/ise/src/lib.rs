@@ -40,6 +40,7 @@
 //! (the Moving AI parsers take text).
 
 mod domain;
+mod open;
 mod search;
 
 pub mod grid;

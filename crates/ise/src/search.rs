@@ -14,14 +14,10 @@
 //! sits at the leaves, so a change near the rover removes a small subtree and reopens a
 //! handful of nodes — the D* Lite insight, here over labelled states (DD* Lite).
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
-use radix_heap::RadixHeapMap;
-
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::domain::{Domain, Goal};
+use crate::open::{Entry, OpenList};
 
 const NONE: u32 = u32::MAX;
 const OPEN: u8 = 1;
@@ -109,113 +105,6 @@ struct Node<D: Domain> {
 impl<D: Domain> Node<D> {
     fn live(&self) -> bool {
         self.flags & (DEAD | REMOVED) == 0
-    }
-}
-
-/// An open-list entry packed into one integer so the heap compares with a single
-/// instruction: f (non-negative, so its IEEE bits order like the value), then larger
-/// g first (deeper nodes, fewer ties to expand), then the older node.
-#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-struct Entry(Reverse<u128>);
-
-impl Entry {
-    fn new(f: f64, g: f64, id: u32) -> Entry {
-        let f_bits = f.max(0.0).to_bits() as u128;
-        let tie = !(g as f32).to_bits() as u128;
-        Entry(Reverse((f_bits << 64) | (tie << 32) | u128::from(id)))
-    }
-    fn from_parts(f_bits: u64, g_bits: u32, id: u32) -> Entry {
-        Entry(Reverse((u128::from(f_bits) << 64) | (u128::from(!g_bits) << 32) | u128::from(id)))
-    }
-    fn f(self) -> f64 {
-        f64::from_bits((self.0.0 >> 64) as u64)
-    }
-    fn g_bits(self) -> u32 {
-        !((self.0.0 >> 32) as u32)
-    }
-    fn id(self) -> u32 {
-        self.0.0 as u32
-    }
-    /// Whether this entry still describes the node's current cost.
-    fn matches(self, g: f64) -> bool {
-        (g as f32).to_bits() == self.g_bits()
-    }
-}
-
-/// The open list. Best-first search with a consistent heuristic takes f in
-/// non-decreasing order, which a radix heap serves in O(1) amortised per operation, far
-/// faster than a binary heap on large searches; among equal f it returns the newest
-/// entry, which favours the deeper nodes. Entries below the radix heap's last key
-/// (inconsistent heuristics, reopened nodes in re-planning) go to a binary heap beside
-/// it, and each pop takes the smaller of the two.
-struct OpenList {
-    radix: RadixHeapMap<Reverse<u64>, (u32, u32)>,
-    below: BinaryHeap<Entry>,
-}
-
-impl OpenList {
-    fn new() -> OpenList {
-        OpenList { radix: RadixHeapMap::new(), below: BinaryHeap::new() }
-    }
-
-    fn from_vec(entries: Vec<Entry>) -> OpenList {
-        let mut open = OpenList::new();
-        for e in entries {
-            open.push(e);
-        }
-        open
-    }
-
-    fn into_vec(self) -> Vec<Entry> {
-        let mut v = self.below.into_vec();
-        v.extend(self.radix.into_iter().map(|(Reverse(f), (g_bits, id))| Entry::from_parts(f, g_bits, id)));
-        v
-    }
-
-    #[inline]
-    fn push(&mut self, e: Entry) {
-        let f = e.f().to_bits();
-        match self.radix.top() {
-            Some(Reverse(top)) if f < top => {
-                // A consistent heuristic never puts a child below its parent, but the
-                // sums g + c + h round: a key a few ulps under the top is the top's tie,
-                // not an inconsistency, and stays in the radix heap.
-                if e.f() >= f64::from_bits(top) * (1.0 - 1e-12) {
-                    self.radix.push(Reverse(top), (e.g_bits(), e.id()));
-                } else {
-                    self.below.push(e);
-                }
-            }
-            _ => self.radix.push(Reverse(f), (e.g_bits(), e.id())),
-        }
-    }
-
-    #[inline]
-    fn pop(&mut self) -> Option<Entry> {
-        let from_radix = self.radix.pop().map(|(Reverse(f), (g_bits, id))| Entry::from_parts(f, g_bits, id));
-        match (from_radix, self.below.peek()) {
-            (Some(r), Some(b)) if b.f() < r.f() => {
-                // Put it back: its key equals the radix heap's top, which is allowed.
-                self.radix.push(Reverse(r.f().to_bits()), (r.g_bits(), r.id()));
-                self.below.pop()
-            }
-            (Some(r), _) => Some(r),
-            (None, _) => self.below.pop(),
-        }
-    }
-
-    /// Re-inserts the entry just popped (its f is not below the radix heap's top).
-    fn push_back(&mut self, e: Entry) {
-        if self.radix.top().is_some_and(|Reverse(top)| e.f().to_bits() >= top) {
-            self.radix.push(Reverse(e.f().to_bits()), (e.g_bits(), e.id()));
-        } else {
-            self.below.push(e);
-        }
-    }
-
-    fn bytes(&self) -> u64 {
-        // The radix heap does not expose its buckets' capacity: count its entries.
-        (self.radix.len() * 24 + self.below.capacity() * std::mem::size_of::<Entry>()) as u64
     }
 }
 
@@ -660,6 +549,7 @@ impl<D: Domain> Search<D> {
 
     /// Adds a label unless the global constraint, its resolution class or dominance
     /// rejects it; replaces what it beats.
+    #[inline(always)]
     fn insert(&mut self, domain: &D, state: D::State, label: D::Label, g: f64, parent: u32, action: Option<D::Action>) {
         if !domain.within_global(state, &label, g) || matches!(self.mode, Mode::BestDparms { max_cost } if g > max_cost)
         {
@@ -668,6 +558,33 @@ impl<D: Domain> Search<D> {
         }
         let key = domain.key(state, &label);
         let head = self.by_state.get(domain, state);
+        if !D::MANY_LABELS && !D::DOMINANCE && head != NONE {
+            // Most labels offered during a search lose to the label already heading
+            // their state (on a grid, 4 of every 5): decide those here, inlined in the
+            // expansion loop, exactly as the walk below would at its first node.
+            let n = &self.nodes[head];
+            if n.flags & (DEAD | REMOVED) == 0 && n.key == key && n.g < g {
+                self.stats.pruned_resolution += 1;
+                return;
+            }
+        }
+        self.insert_slow(domain, state, label, key, head, g, parent, action);
+    }
+
+    /// The rest of [`Search::insert`]: the class table, or a walk over the state's labels.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn insert_slow(
+        &mut self,
+        domain: &D,
+        state: D::State,
+        label: D::Label,
+        key: D::Key,
+        head: u32,
+        g: f64,
+        parent: u32,
+        action: Option<D::Action>,
+    ) {
         if D::MANY_LABELS && !D::DOMINANCE {
             // The class table finds the one label this one competes with.
             let new_id = self.nodes.len();
