@@ -172,20 +172,33 @@ impl<D: Domain> StateTable<D> {
         StateTable::Undecided
     }
 
-    #[inline]
+    #[inline(always)]
     fn get(&self, domain: &D, state: D::State) -> u32 {
+        // The paged table first: it is the hot case, and one test of the variant.
+        if let StateTable::Paged(pages) = self {
+            let i = domain.dense_index(state).map_or(usize::MAX, |i| i as usize);
+            return pages.get(i / PAGE).and_then(|p| p.as_deref()).map_or(NONE, |p| p[i % PAGE]);
+        }
         match self {
-            StateTable::Undecided => NONE,
-            StateTable::Paged(pages) => {
-                let i = domain.dense_index(state).map_or(usize::MAX, |i| i as usize);
-                pages.get(i / PAGE).and_then(|p| p.as_ref()).map_or(NONE, |p| p[i % PAGE])
-            }
             StateTable::Hashed(map) => map.get(&state).copied().unwrap_or(NONE),
+            _ => NONE,
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn set(&mut self, domain: &D, state: D::State, head: u32) {
+        if let StateTable::Paged(pages) = self
+            && let Some(i) = domain.dense_index(state)
+            && let Some(Some(page)) = pages.get_mut(i as usize / PAGE)
+        {
+            page[i as usize % PAGE] = head;
+            return;
+        }
+        self.set_slow(domain, state, head);
+    }
+
+    #[inline(never)]
+    fn set_slow(&mut self, domain: &D, state: D::State, head: u32) {
         if let StateTable::Undecided = self {
             *self = if domain.dense_index(state).is_some() {
                 StateTable::Paged(Vec::new())
