@@ -290,6 +290,25 @@ impl Domain for Grid {
         }
     }
 
+    #[inline]
+    fn visit_predecessors(
+        &self,
+        state: u32,
+        _label: &(),
+        _actions: &mut Vec<u8>,
+        _steps: &mut Vec<(u8, Step<Grid>)>,
+        mut visit: impl FnMut(u8, Step<Grid>),
+    ) {
+        if !self.free[state as usize] {
+            return;
+        }
+        for action in 0..8u8 {
+            if let Some((pred, cost)) = self.step_cost(state, (action as usize + 4) % 8) {
+                visit(action, Step { state: pred, label: (), cost });
+            }
+        }
+    }
+
     fn successors(&self, state: u32, out: &mut Vec<u32>) {
         let (x, y) = self.xy(state);
         for (dx, dy) in MOVES {

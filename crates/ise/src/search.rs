@@ -551,13 +551,13 @@ impl<D: Domain> Search<D> {
             (n.state, n.label.clone(), n.g)
         };
         let mut steps = std::mem::take(&mut self.steps);
-        steps.clear();
-        domain.predecessors(state, &label, &mut self.actions, &mut steps);
-        for (a, step) in steps.drain(..) {
+        let mut actions = std::mem::take(&mut self.actions);
+        domain.visit_predecessors(state, &label, &mut actions, &mut steps, |a, step| {
             debug_assert!(step.cost >= 0.0, "step costs must be non-negative");
             self.insert(domain, step.state, step.label, g + step.cost, id, Some(a));
-        }
+        });
         self.steps = steps;
+        self.actions = actions;
     }
 
     /// Adds a label unless the global constraint, its resolution class or dominance

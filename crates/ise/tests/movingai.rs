@@ -92,3 +92,32 @@ fn malformed_maps_are_errors() {
     assert!(Grid::parse_movingai("").is_err());
     assert!(parse_scenarios("version 1\n0\tm\t1\t1\t0\t0\n").is_err());
 }
+
+/// The grid's one-at-a-time `visit_predecessors` (what the engine expands with) gives
+/// exactly the steps of `predecessors` (the per-action definition), in the same order,
+/// at every cell of a real map with uneven weights.
+#[test]
+fn grid_visits_the_same_predecessors_it_lists() {
+    use areo_ise::Domain;
+    let mut grid = Grid::parse_movingai(&data("den520d.map")).unwrap();
+    let cells: Vec<u32> = grid.cells().collect();
+    for (k, &c) in cells.iter().enumerate() {
+        grid.set_weight(c, 1.0 + (k % 7) as f32 * 0.25);
+    }
+    let (mut actions, mut buffer) = (Vec::new(), Vec::new());
+    let mut steps_seen = 0;
+    for &c in &cells {
+        let mut listed = Vec::new();
+        grid.predecessors(c, &(), &mut actions, &mut listed);
+        let listed: Vec<(u8, u32, f64)> = listed.into_iter().map(|(a, s)| (a, s.state, s.cost)).collect();
+        let mut visited = Vec::new();
+        grid.visit_predecessors(c, &(), &mut actions, &mut buffer, |a, s| visited.push((a, s.state, s.cost)));
+        assert_eq!(visited, listed, "cell {c}");
+        // And both agree with the per-action definition.
+        let per_action: Vec<(u8, u32, f64)> =
+            (0..8u8).filter_map(|a| grid.predecessor(c, &(), a).map(|s| (a, s.state, s.cost))).collect();
+        assert_eq!(per_action, listed, "cell {c}");
+        steps_seen += listed.len();
+    }
+    assert!(steps_seen > cells.len(), "the map has open ground: {steps_seen} steps");
+}
