@@ -7,8 +7,9 @@
 //! deeper nodes. Two things make this radix heap ours rather than the `radix-heap`
 //! crate's (measured on Moving AI grids, where the open list was a fifth of the search):
 //!
-//! - a bit mask of the non-empty buckets finds the next one with one `trailing_zeros`
-//!   (the crate walks all 65 on every pop that empties the smallest);
+//! - buckets by base-256 digits rather than bits (see [`DIGIT_BITS`]), and a bit mask
+//!   of the non-empty ones (the crate walks all 65 buckets on every pop that empties
+//!   the smallest);
 //! - the key is f without its 12 lowest mantissa bits (f to a relative 2⁻⁴⁰ ≈ 1e-12):
 //!   sums like g + c + h reach equal values with different roundings, and on the full
 //!   bits each rounding was a key of its own, with a refill to reach it. Entries whose
@@ -66,31 +67,67 @@ impl Entry {
 /// Mantissa bits below the radix heap's key.
 const COARSE_SHIFT: u32 = 12;
 
-/// Radix buckets: bucket 0 holds the entries whose coarse key equals the last one
-/// taken (a stack: newest first), bucket b ≥ 1 those whose highest bit differing from
-/// it is bit b − 1.
-const BUCKETS: usize = 65 - COARSE_SHIFT as usize;
-const _: () = assert!(BUCKETS <= 64, "the non-empty mask has 64 bits");
+/// Bits per digit of the radix heap: its buckets split keys by base-256 digits, so an
+/// entry moves down a level per refill that takes it, eight bits at a time. With binary
+/// digits entries moved 3.7 times each on the way out of a grid search and the refills
+/// were the open list's largest cost; base 16 took 4.6 % fewer instructions from the
+/// whole search, base 256 7.4 % (1793 buckets, a 29-word mask of the non-empty ones).
+const DIGIT_BITS: u32 = 8;
+const RADIX: usize = 1 << DIGIT_BITS;
+const LEVELS: usize = (64 - COARSE_SHIFT).div_ceil(DIGIT_BITS) as usize;
+
+/// Bucket 0 holds the entries whose key equals the last one taken (a stack: newest
+/// first); bucket `1 + RADIX·level + digit` those whose highest digit differing from it
+/// is `level`, where theirs is `digit` (greater than its). Bucket order is key order.
+const BUCKETS: usize = 1 + LEVELS * RADIX;
+const MASK_WORDS: usize = BUCKETS.div_ceil(64);
 
 #[inline]
 fn bucket_of(coarse: u64, least: u64) -> usize {
-    (64 - (coarse ^ least).leading_zeros()) as usize
+    let x = coarse ^ least;
+    if x == 0 {
+        return 0;
+    }
+    let level = (63 - x.leading_zeros()) / DIGIT_BITS;
+    let digit = (coarse >> (level * DIGIT_BITS)) as usize & (RADIX - 1);
+    1 + level as usize * RADIX + digit
 }
 
 /// The open list.
 pub(crate) struct OpenList {
-    /// The last coarse key taken: every entry in a bucket has one at least as great.
+    /// The last key taken: every entry in a bucket has one at least as great.
     least: u64,
     /// Bit b set when `buckets[b]` is non-empty.
-    nonempty: u64,
-    buckets: [Vec<Entry>; BUCKETS],
-    /// The entries whose coarse key is below `least`, in exact order.
+    nonempty: [u64; MASK_WORDS],
+    buckets: Box<[Vec<Entry>; BUCKETS]>,
+    /// The entries whose key is below `least`, in exact order.
     below: BinaryHeap<Entry>,
 }
 
 impl OpenList {
     pub(crate) fn new() -> OpenList {
-        OpenList { least: 0, nonempty: 0, buckets: std::array::from_fn(|_| Vec::new()), below: BinaryHeap::new() }
+        OpenList {
+            least: 0,
+            nonempty: [0; MASK_WORDS],
+            buckets: Box::new(std::array::from_fn(|_| Vec::new())),
+            below: BinaryHeap::new(),
+        }
+    }
+
+    #[inline]
+    fn mark(&mut self, b: usize) {
+        self.nonempty[b / 64] |= 1 << (b % 64);
+    }
+
+    #[inline]
+    fn unmark(&mut self, b: usize) {
+        self.nonempty[b / 64] &= !(1 << (b % 64));
+    }
+
+    /// The lowest non-empty bucket.
+    #[inline]
+    fn lowest(&self) -> Option<usize> {
+        self.nonempty.iter().enumerate().find(|(_, w)| **w != 0).map(|(i, w)| i * 64 + w.trailing_zeros() as usize)
     }
 
     pub(crate) fn from_vec(entries: Vec<Entry>) -> OpenList {
@@ -115,13 +152,13 @@ impl OpenList {
         } else {
             let b = bucket_of(coarse, self.least);
             self.buckets[b].push(e);
-            self.nonempty |= 1 << b;
+            self.mark(b);
         }
     }
 
     #[inline]
     pub(crate) fn pop(&mut self) -> Option<Entry> {
-        if self.nonempty & 1 == 0 {
+        if self.nonempty[0] & 1 == 0 {
             self.refill();
         }
         let top = self.buckets[0].last().copied();
@@ -130,7 +167,7 @@ impl OpenList {
             (Some(_), _) => {
                 let r = self.buckets[0].pop();
                 if self.buckets[0].is_empty() {
-                    self.nonempty &= !1;
+                    self.unmark(0);
                 }
                 r
             }
@@ -138,24 +175,22 @@ impl OpenList {
         }
     }
 
-    /// Bucket 0 is empty: the least coarse key of the lowest non-empty bucket becomes
-    /// the last taken, and that bucket's entries move down to buckets measured from it
-    /// (each to a lower bucket than it left: its highest bit differing from the new key
-    /// is below the old bucket's).
+    /// Bucket 0 is empty: the least key of the lowest non-empty bucket becomes the last
+    /// taken, and that bucket's entries move down to buckets measured from it (each to a
+    /// lower level than it left: they share its digit there with the new key). Entries
+    /// of other buckets keep theirs: their highest digit differing from the new key, and
+    /// their digit there, are what they were.
     #[cold]
     fn refill(&mut self) {
-        if self.nonempty == 0 {
-            return;
-        }
-        let b = self.nonempty.trailing_zeros() as usize;
-        self.nonempty &= !(1 << b);
+        let Some(b) = self.lowest() else { return };
+        self.unmark(b);
         let mut from = std::mem::take(&mut self.buckets[b]);
         let least = from.iter().map(|e| e.coarse()).min().unwrap_or(self.least);
         self.least = least;
         for &e in &from {
             let to = bucket_of(e.coarse(), least);
             self.buckets[to].push(e);
-            self.nonempty |= 1 << to;
+            self.mark(to);
         }
         from.clear();
         // Keep the allocation for the entries that will come back to this bucket.
