@@ -204,7 +204,7 @@ impl OpenList {
 
     pub(crate) fn bytes(&self) -> u64 {
         let cap: usize = self.buckets.iter().map(Vec::capacity).sum::<usize>() + self.below.capacity();
-        (cap * std::mem::size_of::<Entry>()) as u64
+        (cap * std::mem::size_of::<Entry>() + std::mem::size_of::<[Vec<Entry>; BUCKETS]>()) as u64
     }
 }
 

@@ -572,11 +572,15 @@ impl<D: Domain> Search<D> {
         let key = domain.key(state, &label);
         let head = self.by_state.get(domain, state);
         if !D::MANY_LABELS && !D::DOMINANCE && head != NONE {
-            // Most labels offered during a search lose to the label already heading
-            // their state (on a grid, 4 of every 5): decide those here, inlined in the
-            // expansion loop, exactly as the walk below would at its first node.
+            // Most labels offered during a search lose to (or tie with) the label
+            // already heading their state — on a grid, 4 of every 5: decide those here,
+            // inlined in the expansion loop, exactly as the walk below would at its
+            // first node.
             let n = &self.nodes[head];
-            if n.flags & (DEAD | REMOVED) == 0 && n.key == key && n.g < g {
+            if n.flags & (DEAD | REMOVED) == 0
+                && n.key == key
+                && (n.g < g || (n.g == g && !domain.better(&label, &n.label)))
+            {
                 self.stats.pruned_resolution += 1;
                 return;
             }
