@@ -647,8 +647,16 @@ impl<D: Domain> Search<D> {
                         self.relink_head(domain, state, head, new_head);
                         return;
                     }
-                    self.kill(id);
                     self.stats.pruned_resolution += 1;
+                    if !D::DOMINANCE && n.flags == OPEN && n.first_child == NONE {
+                        // Not yet expanded and nothing hangs from it: the better label
+                        // takes its node (A*'s decrease-key) instead of a new one. On a
+                        // grid half the labels made are such replacements.
+                        self.relabel(domain, id, label, g, parent, action);
+                        self.relink_head(domain, state, head, new_head);
+                        return;
+                    }
+                    self.kill(id);
                 } else if D::DOMINANCE {
                     if domain.dominates(state, &n.label, n.g, &label, g) {
                         self.stats.pruned_dominance += 1;
@@ -704,6 +712,42 @@ impl<D: Domain> Search<D> {
         self.alive += 1;
         self.stats.generated += 1;
         new_id
+    }
+
+    /// Gives the open, childless node `id` a better label of its class: new cost, path
+    /// and parent (it leaves its old parent's children), and a new open-list entry (the
+    /// old one no longer matches, or is taken after the new one and finds it closed).
+    fn relabel(&mut self, domain: &D, id: u32, label: D::Label, g: f64, parent: u32, action: Option<D::Action>) {
+        let old_parent = self.nodes[id].parent;
+        if old_parent != NONE {
+            let next = self.nodes[id].next_sibling;
+            if self.nodes[old_parent].first_child == id {
+                self.nodes[old_parent].first_child = next;
+            } else {
+                let mut c = self.nodes[old_parent].first_child;
+                while c != NONE {
+                    if self.nodes[c].next_sibling == id {
+                        self.nodes[c].next_sibling = next;
+                        break;
+                    }
+                    c = self.nodes[c].next_sibling;
+                }
+            }
+        }
+        let next_sibling = if parent == NONE { NONE } else { self.nodes[parent].first_child };
+        let state = self.nodes[id].state;
+        let h = domain.heuristic(state, &label);
+        let n = &mut self.nodes[id];
+        n.label = label;
+        n.g = g;
+        n.action = action;
+        n.parent = parent;
+        n.next_sibling = next_sibling;
+        if parent != NONE {
+            self.nodes[parent].first_child = id;
+        }
+        self.open.push(Entry::new(g + h + self.key_offset, g, id));
+        self.stats.generated += 1;
     }
 
     /// Drops the node between `prev` (`NONE` at the head) and `next` from a state's
