@@ -163,7 +163,7 @@ const PAGE: usize = 1 << 10;
 /// (memory ∝ the part of the space searched); others a hash table.
 enum StateTable<D: Domain> {
     Undecided,
-    Paged(Vec<Option<Box<[u32]>>>),
+    Paged(Vec<Option<Box<[u32; PAGE]>>>),
     Hashed(FxHashMap<D::State, u32>),
 }
 
@@ -214,7 +214,7 @@ impl<D: Domain> StateTable<D> {
                 if pages.len() <= page {
                     pages.resize_with(page + 1, || None);
                 }
-                pages[page].get_or_insert_with(|| vec![NONE; PAGE].into_boxed_slice())[slot] = head;
+                pages[page].get_or_insert_with(|| Box::new([NONE; PAGE]))[slot] = head;
             }
             StateTable::Hashed(map) => {
                 if head == NONE {
@@ -231,7 +231,7 @@ impl<D: Domain> StateTable<D> {
             StateTable::Undecided => 0,
             StateTable::Paged(pages) => {
                 let used = pages.iter().filter(|p| p.is_some()).count();
-                (pages.capacity() * std::mem::size_of::<Option<Box<[u32]>>>() + used * PAGE * 4) as u64
+                (pages.capacity() * std::mem::size_of::<Option<Box<[u32; PAGE]>>>() + used * PAGE * 4) as u64
             }
             StateTable::Hashed(map) => (map.capacity() * (std::mem::size_of::<(D::State, u32)>() + 1)) as u64,
         }
@@ -523,6 +523,7 @@ impl<D: Domain> Search<D> {
 
     /// Takes the least open entry that is still current, discarding stale ones (put it
     /// back with `push_back` if it is not expanded).
+    #[inline(always)]
     fn pop_valid(&mut self, domain: &D) -> Option<Entry> {
         while let Some(e) = self.open.pop() {
             let n = &self.nodes[e.id()];
