@@ -586,6 +586,11 @@ impl<D: Domain> Search<D> {
                 return;
             }
         }
+        if !D::MANY_LABELS && head == NONE {
+            // A state seen for the first time: nothing to compete with.
+            self.push_node(domain, state, label, key, g, parent, action, NONE);
+            return;
+        }
         self.insert_slow(domain, state, label, key, head, g, parent, action);
     }
 
