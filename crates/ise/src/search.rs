@@ -88,6 +88,10 @@ pub struct Plan<D: Domain> {
     pub stats: Stats,
 }
 
+/// Aligned to 32 bytes so that no node straddles two cache lines: the arena's chunks
+/// come from the allocator 16 bytes past a page boundary, and a grid's 32-byte nodes
+/// straddled every other time (the search reads a node's cost and flags together).
+#[repr(align(32))]
 struct Node<D: Domain> {
     state: D::State,
     label: D::Label,
