@@ -21,7 +21,7 @@
 //! incidence (the tests count them).
 
 use crate::dem::Dem;
-use crate::lines::LineGeometry;
+use crate::lines::{LineGeometry, Lines};
 use crate::slope::horn_gradient;
 
 /// Whether shadows account for the surface curving away.
@@ -131,9 +131,11 @@ pub fn cast_shadows_fast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvat
     // crossing along the line.
     let LineGeometry { along_cols, n_lines, n_cells, step_m, shift, toward_higher_line } =
         LineGeometry::toward(dem, azimuth_deg);
-    let index = |line: usize, k: usize| if along_cols { k * cols + line } else { line * cols + k };
-    let z = dem.elevations();
-    let valid = dem.valid_mask();
+    // Lines are read and written through blocks (columns would otherwise touch a page
+    // per cell); heights arrive as NaN where missing.
+    let mut lines = Lines::new(dem, along_cols);
+    let mut heights = vec![0f64; n_cells];
+    let mut marks = vec![false; n_cells];
     let tan_e = elevation_deg.to_radians().tan();
     let inv_2r = curvature.inv_2r();
     let mut shadow = vec![false; cols * rows];
@@ -161,19 +163,18 @@ pub fn cast_shadows_fast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvat
     let base = base as isize;
     let mut first = true;
     for line in order {
+        lines.read(line, &mut heights);
+        marks.fill(false);
         for k in 0..nv {
-            let (i, zc) = if k % SUB == 0 {
-                let i = index(line, k / SUB);
-                (i, if valid[i] { f64::from(z[i]) } else { f64::NEG_INFINITY })
+            let (cell, zc) = if k % SUB == 0 {
+                let h = heights[k / SUB];
+                (Some(k / SUB), if h.is_nan() { f64::NEG_INFINITY } else { h })
             } else {
-                let (a, b) = (index(line, k / SUB), index(line, k / SUB + 1));
+                let (a, b) = (heights[k / SUB], heights[k / SUB + 1]);
                 let t = (k % SUB) as f64 / SUB as f64;
-                let zc = if valid[a] && valid[b] {
-                    f64::from(z[a]) * (1.0 - t) + f64::from(z[b]) * t
-                } else {
-                    f64::NEG_INFINITY
-                };
-                (usize::MAX, zc)
+                // NaN (a missing end) fails the comparison: no terrain there.
+                let zc = if !a.is_nan() && !b.is_nan() { a * (1.0 - t) + b * t } else { f64::NEG_INFINITY };
+                (None, zc)
             };
             // The envelope arriving from the sun-ward line.
             let (mut h_in, mut d_in) = (f64::NEG_INFINITY, 0.0);
@@ -208,17 +209,19 @@ pub fn cast_shadows_fast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvat
                 cur_h[k] = zc;
                 cur_d[k] = 0.0;
             } else {
-                if i != usize::MAX {
-                    shadow[i] = valid[i];
+                if let Some(c) = cell {
+                    marks[c] = !heights[c].is_nan();
                 }
                 cur_h[k] = h_in;
                 cur_d[k] = d_in;
             }
         }
+        lines.write(line, &marks, &mut shadow);
         std::mem::swap(&mut prev_h, &mut cur_h);
         std::mem::swap(&mut prev_d, &mut cur_d);
         first = false;
     }
+    lines.finish(&mut shadow);
     shadow
 }
 
