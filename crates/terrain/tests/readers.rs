@@ -240,3 +240,97 @@ proptest! {
         let _ = ascii::parse(&text[..cut.min(text.len())], Path::new("cut.asc"));
     }
 }
+
+/// A little-endian tiled TIFF built by hand: `cols` × `rows` uint16 samples in 16 × 16
+/// tiles (the edge tiles padded, as the format requires), ModelPixelScale,
+/// ModelTiepoint and GDAL_NODATA.
+fn tiled_uint16_tiff(cols: u32, rows: u32, value: impl Fn(u32, u32) -> u16, nodata: &str) -> Vec<u8> {
+    const TILE: u32 = 16;
+    let (across, down) = (cols.div_ceil(TILE), rows.div_ceil(TILE));
+    let mut tiles = Vec::new();
+    for ty in 0..down {
+        for tx in 0..across {
+            for y in 0..TILE {
+                for x in 0..TILE {
+                    let (c, r) = (tx * TILE + x, ty * TILE + y);
+                    let v = if c < cols && r < rows { value(c, r) } else { 0 };
+                    tiles.extend_from_slice(&v.to_le_bytes());
+                }
+            }
+        }
+    }
+    let n_tiles = (across * down) as usize;
+    let tile_bytes = (TILE * TILE * 2) as usize;
+    let scale: Vec<u8> = [2.0f64, 3.0, 0.0].iter().flat_map(|v| v.to_le_bytes()).collect();
+    let tie: Vec<u8> = [0.0f64, 0.0, 0.0, 1000.0, 5000.0, 0.0].iter().flat_map(|v| v.to_le_bytes()).collect();
+    let mut ascii = nodata.as_bytes().to_vec();
+    ascii.push(0);
+    // Layout: header, pixel data, out-of-line values, IFD.
+    let data_at = 8usize;
+    let offsets_at = data_at + tiles.len();
+    let counts_at = offsets_at + 4 * n_tiles;
+    let scale_at = counts_at + 4 * n_tiles;
+    let tie_at = scale_at + scale.len();
+    let ascii_at = tie_at + tie.len();
+    let ifd_at = (ascii_at + ascii.len()).next_multiple_of(2);
+    let mut out = Vec::new();
+    out.extend_from_slice(b"II");
+    out.extend_from_slice(&42u16.to_le_bytes());
+    out.extend_from_slice(&(ifd_at as u32).to_le_bytes());
+    out.extend_from_slice(&tiles);
+    for k in 0..n_tiles {
+        out.extend_from_slice(&((data_at + k * tile_bytes) as u32).to_le_bytes());
+    }
+    for _ in 0..n_tiles {
+        out.extend_from_slice(&(tile_bytes as u32).to_le_bytes());
+    }
+    out.extend_from_slice(&scale);
+    out.extend_from_slice(&tie);
+    out.extend_from_slice(&ascii);
+    out.resize(ifd_at, 0);
+    // (tag, type, count, value or offset): SHORT 3, LONG 4, DOUBLE 12, ASCII 2.
+    let entries: [(u16, u16, u32, u32); 15] = [
+        (256, 4, 1, cols),
+        (257, 4, 1, rows),
+        (258, 3, 1, 16),
+        (259, 3, 1, 1),
+        (262, 3, 1, 1),
+        (277, 3, 1, 1),
+        (284, 3, 1, 1),
+        (322, 3, 1, TILE),
+        (323, 3, 1, TILE),
+        (324, 4, n_tiles as u32, offsets_at as u32),
+        (325, 4, n_tiles as u32, counts_at as u32),
+        (339, 3, 1, 1),
+        (33550, 12, 3, scale_at as u32),
+        (33922, 12, 6, tie_at as u32),
+        (42113, 2, ascii.len() as u32, ascii_at as u32),
+    ];
+    out.extend_from_slice(&(entries.len() as u16).to_le_bytes());
+    for (tag, kind, count, value) in entries {
+        out.extend_from_slice(&tag.to_le_bytes());
+        out.extend_from_slice(&kind.to_le_bytes());
+        out.extend_from_slice(&count.to_le_bytes());
+        out.extend_from_slice(&value.to_le_bytes());
+    }
+    out.extend_from_slice(&0u32.to_le_bytes());
+    out
+}
+
+#[test]
+fn tiled_uint16_geotiff_with_nodata_loads() {
+    // 37 × 21: three tiles across and two down, the last of each partly padding.
+    let value = |c: u32, r: u32| if (c, r) == (5, 17) { 65535 } else { (c * 100 + r) as u16 };
+    let path = tmp("tiled_u16.tif");
+    std::fs::write(&path, tiled_uint16_tiff(37, 21, value, "65535")).unwrap();
+    let dem = geotiff::read(&path).unwrap();
+    assert_eq!((dem.cols(), dem.rows(), dem.dx(), dem.dy()), (37, 21, 2.0, 3.0));
+    assert_eq!((dem.x0(), dem.y_top()), (1000.0, 5000.0));
+    for r in 0..21 {
+        for c in 0..37 {
+            let want = if (c, r) == (5, 17) { None } else { Some((c * 100 + r) as f32) };
+            assert_eq!(dem.z(c as usize, r as usize), want, "({c}, {r})");
+        }
+    }
+    assert_eq!(dem.valid_mask().iter().filter(|v| !**v).count(), 1);
+}
