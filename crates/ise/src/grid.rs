@@ -278,19 +278,11 @@ impl Domain for Grid {
         Some(Step { state: pred, label: (), cost })
     }
 
-    #[inline]
-    fn predecessors(&self, state: u32, _label: &(), _actions: &mut Vec<u8>, out: &mut Vec<(u8, Step<Grid>)>) {
-        // The 8 moves without the per-action calls: a blocked cell has none.
-        if !self.free[state as usize] {
-            return;
-        }
-        for action in 0..8u8 {
-            if let Some((pred, cost)) = self.step_cost(state, (action as usize + 4) % 8) {
-                out.push((action, Step { state: pred, label: (), cost }));
-            }
-        }
+    fn predecessors(&self, state: u32, label: &(), actions: &mut Vec<u8>, out: &mut Vec<(u8, Step<Grid>)>) {
+        self.visit_predecessors(state, label, actions, &mut Vec::new(), |a, step| out.push((a, step)));
     }
 
+    /// The 8 moves without the per-action calls (a blocked cell has none).
     #[inline]
     fn visit_predecessors(
         &self,

@@ -197,11 +197,6 @@ impl OpenList {
         self.buckets[b] = from;
     }
 
-    /// Re-inserts the entry just popped.
-    pub(crate) fn push_back(&mut self, e: Entry) {
-        self.push(e);
-    }
-
     pub(crate) fn bytes(&self) -> u64 {
         let cap: usize = self.buckets.iter().map(Vec::capacity).sum::<usize>() + self.below.capacity();
         (cap * std::mem::size_of::<Entry>() + std::mem::size_of::<[Vec<Entry>; BUCKETS]>()) as u64

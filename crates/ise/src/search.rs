@@ -461,7 +461,7 @@ impl<D: Domain> Search<D> {
         let mut best = self.best_known_start(domain, f64::INFINITY, |a, b| a.g < b.g);
         while let Some(top) = self.pop_valid(domain) {
             if best.is_some_and(|b| self.nodes[b].g + self.key_offset <= top.f()) {
-                self.open.push_back(top);
+                self.open.push(top);
                 break;
             }
             let id = top.id();
@@ -471,7 +471,7 @@ impl<D: Domain> Search<D> {
             };
             if domain.is_start(state, &label) {
                 // f = g + h ≥ g and this is the least f: nothing cheaper remains.
-                self.open.push_back(top);
+                self.open.push(top);
                 if best.is_none_or(|b| self.nodes[id].g < self.nodes[b].g) {
                     best = Some(id);
                 }
@@ -487,7 +487,7 @@ impl<D: Domain> Search<D> {
         self.stats = Stats::default();
         while let Some(top) = self.pop_valid(domain) {
             if top.f() - self.key_offset > max_cost {
-                self.open.push_back(top);
+                self.open.push(top);
                 break;
             }
             self.expand(domain, top.id());
@@ -526,7 +526,7 @@ impl<D: Domain> Search<D> {
     }
 
     /// Takes the least open entry that is still current, discarding stale ones (put it
-    /// back with `push_back` if it is not expanded).
+    /// back with `OpenList::push` if it is not expanded).
     #[inline(always)]
     fn pop_valid(&mut self, domain: &D) -> Option<Entry> {
         while let Some(e) = self.open.pop() {
