@@ -19,7 +19,7 @@ pub trait Domain {
     /// Discrete, coarse coordinates (IPARMS).
     type State: Copy + Eq + Hash + Debug;
     /// Fine-grained path quantities (DPARMS), e.g. time and required energy.
-    type Label: Clone + Debug;
+    type Label: Clone + Debug + PartialEq;
     /// Resolution-equivalence class of a label at a state.
     type Key: Copy + Eq + Hash + Debug;
     /// An action; applied forwards it leads from the predecessor to the state.
@@ -30,9 +30,11 @@ pub trait Domain {
     const DOMINANCE: bool = false;
 
     /// Whether a state may hold many labels (e.g. one per time class): the engine then
-    /// keeps a table of resolution classes, so admitting a label costs O(1) instead of
-    /// a walk over the state's labels (only without [`Domain::DOMINANCE`], which needs
-    /// the walk). Costs about 16 bytes per label.
+    /// indexes them instead of walking every label at the state. Without
+    /// [`Domain::DOMINANCE`] it keeps a table of resolution classes, so admitting a
+    /// label costs O(1) (about 16 bytes per label); with it, a list of the live labels of
+    /// each dominance group ([`Domain::dominance_group`]), so a label is tested only
+    /// against the few it can dominate or be dominated by (4 bytes per label).
     const MANY_LABELS: bool = false;
 
     /// The actions that may lead into `state` with `label` (appended to `out`).
@@ -100,6 +102,15 @@ pub trait Domain {
     /// when [`Domain::DOMINANCE`] is true.
     fn dominates(&self, _state: Self::State, _a: &Self::Label, _cost_a: f64, _b: &Self::Label, _cost_b: f64) -> bool {
         false
+    }
+
+    /// The dominance group of a label's resolution class at a state: labels can dominate
+    /// one another only within a group (for a time-expanded domain, a time class; the
+    /// key may further split it into energy classes). The default, the key itself,
+    /// makes every class its own group. Only used with [`Domain::MANY_LABELS`] and
+    /// [`Domain::DOMINANCE`].
+    fn dominance_group(&self, _state: Self::State, key: Self::Key) -> Self::Key {
+        key
     }
 
     /// The global constraint: false when the path quantities in `label` (with path cost

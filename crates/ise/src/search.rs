@@ -58,6 +58,8 @@ pub struct Stats {
     pub invalidated: u64,
     /// Closed nodes reopened for repair.
     pub reopened: u64,
+    /// Nodes reclaimed (see [`Search::compact`]).
+    pub reclaimed: u64,
     /// Live labels in the graph.
     pub labels_alive: u64,
     /// Approximate bytes held by the graph, the class table and the open list.
@@ -142,6 +144,27 @@ impl<T> Arena<T> {
     fn bytes(&self) -> u64 {
         (self.chunks.len() * CHUNK * std::mem::size_of::<T>() + self.chunks.capacity() * std::mem::size_of::<Vec<T>>())
             as u64
+    }
+    /// Swaps two values (`a` < `b`).
+    fn swap(&mut self, a: u32, b: u32) {
+        let (ca, ia) = ((a >> CHUNK_BITS) as usize, a as usize & (CHUNK - 1));
+        let (cb, ib) = ((b >> CHUNK_BITS) as usize, b as usize & (CHUNK - 1));
+        if ca == cb {
+            self.chunks[ca].swap(ia, ib);
+        } else {
+            let (lo, hi) = self.chunks.split_at_mut(cb);
+            std::mem::swap(&mut lo[ca][ia], &mut hi[0][ib]);
+        }
+    }
+    /// Drops every value from index `len` on, and the chunks left empty.
+    fn truncate(&mut self, len: u32) {
+        let chunks = (len as usize).div_ceil(CHUNK);
+        self.chunks.truncate(chunks);
+        if let Some(last) = self.chunks.last_mut() {
+            last.truncate(len as usize - (chunks - 1) * CHUNK);
+        }
+        self.chunks.shrink_to_fit();
+        self.len = len;
     }
 }
 
@@ -242,6 +265,21 @@ impl<D: Domain> StateTable<D> {
     }
 }
 
+/// The newest label of a (state, dominance group), with its cost and class: enough to
+/// prune the labels that lose to it without reading its node.
+struct GroupHead<D: Domain> {
+    id: u32,
+    g: f64,
+    key: D::Key,
+}
+
+impl<D: Domain> Clone for GroupHead<D> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<D: Domain> Copy for GroupHead<D> {}
+
 /// An incremental search over a [`Domain`].
 pub struct Search<D: Domain> {
     mode: Mode,
@@ -258,6 +296,15 @@ pub struct Search<D: Domain> {
     /// cost — enough to prune a worse label without reading its rival's node (a cache
     /// miss in a large arena). Removed nodes leave the table (see [`Search::update`]).
     classes: FxHashMap<(D::State, D::Key), (u32, f64)>,
+    /// The arena's length after the last compaction (see [`Search::compact`]).
+    compacted_len: u32,
+    /// The goal nodes, for [`Search::set_goals`].
+    goal_ids: Vec<u32>,
+    /// With [`Domain::MANY_LABELS`] and [`Domain::DOMINANCE`]: the head of each
+    /// (state, dominance group)'s list of live labels, threaded through `group_next`
+    /// (indexed by node). A label leaves its list when it is beaten or removed.
+    groups: FxHashMap<(D::State, D::Key), GroupHead<D>>,
+    group_next: Vec<u32>,
     /// D* Lite's key modifier: the sum of the heuristic drops since the open list was
     /// last keyed in full, added to every new key so that older keys stay lower bounds
     /// and can be brought up to date when they are popped.
@@ -295,12 +342,16 @@ impl<D: Domain> Search<D> {
             } else {
                 FxHashMap::default()
             },
+            groups: FxHashMap::default(),
+            group_next: Vec::new(),
+            compacted_len: 0,
+            goal_ids: Vec::new(),
             key_offset: 0.0,
             stale_keys: false,
             keyed_start: domain.start_state(),
         };
         for goal in goals {
-            s.insert(domain, goal.state, goal.label, goal.cost.max(0.0), NONE, None);
+            s.insert_goal(domain, goal);
         }
         s
     }
@@ -312,10 +363,13 @@ impl<D: Domain> Search<D> {
 
     /// Finds the optimal plan for the domain's current start, reusing the graph.
     pub fn plan(&mut self, domain: &D) -> Plan<D> {
-        match self.mode {
+        let reclaimed = if self.worth_compacting() { self.compact(domain) } else { 0 };
+        let mut plan = match self.mode {
             Mode::BestPathCost => self.plan_best_cost(domain),
             Mode::BestDparms { max_cost } => self.plan_best_dparms(domain, max_cost),
-        }
+        };
+        plan.stats.reclaimed += reclaimed;
+        plan
     }
 
     /// Tells the engine that transitions into or out of `changed` states have new costs
@@ -352,15 +406,72 @@ impl<D: Domain> Search<D> {
                 id = n.next_in_state;
             }
         }
+        self.repair(domain, roots, touched, touched_set);
+        self.finish_stats();
+        self.stats
+    }
+
+    /// Replaces the goals (multi-goal chaining: a later segment's candidates changed).
+    /// A goal that is still among `goals` — same state, label and cost — keeps its
+    /// subtree; the others are removed with theirs, the closed nodes around what they
+    /// held are reopened, and the new goals are added: the next [`Search::plan`]
+    /// repairs the graph instead of searching it again from scratch.
+    pub fn set_goals(&mut self, domain: &D, goals: impl IntoIterator<Item = Goal<D>>) -> Stats {
+        self.stats = Stats::default();
+        let mut fresh: Vec<Goal<D>> = goals.into_iter().collect();
+        let mut kept_goals = Vec::with_capacity(self.goal_ids.len());
+        let mut roots = Vec::new();
+        for &id in &self.goal_ids {
+            let n = &self.nodes[id];
+            if n.flags & REMOVED != 0 {
+                continue;
+            }
+            let g = n.g;
+            let same = fresh.iter().position(|goal| {
+                goal.state == n.state && goal.label == n.label && goal.cost.max(0.0).to_bits() == g.to_bits()
+            });
+            match same {
+                Some(i) => {
+                    fresh.swap_remove(i);
+                    kept_goals.push(id);
+                }
+                None => roots.push(id),
+            }
+        }
+        self.goal_ids = kept_goals;
+        self.repair(domain, roots, Vec::new(), FxHashSet::default());
+        for goal in fresh {
+            self.insert_goal(domain, goal);
+        }
+        self.finish_stats();
+        self.stats
+    }
+
+    /// Removes the subtrees under `roots` (the nodes and everything whose path passes
+    /// through them) and reopens the surviving closed nodes that can regenerate labels
+    /// at the `touched` states and the states of what was removed, or reach them more
+    /// cheaply now.
+    fn repair(
+        &mut self,
+        domain: &D,
+        roots: Vec<u32>,
+        mut touched: Vec<D::State>,
+        mut touched_set: FxHashSet<D::State>,
+    ) {
         let mut stack = roots;
         while let Some(id) = stack.pop() {
             let n = &mut self.nodes[id];
             if n.flags & REMOVED != 0 {
                 continue;
             }
-            if n.live() {
+            let was_live = n.live();
+            if was_live {
                 self.alive -= 1;
+                if D::MANY_LABELS && D::DOMINANCE {
+                    self.leave_group(domain, id);
+                }
             }
+            let n = &mut self.nodes[id];
             n.flags = REMOVED;
             self.stats.invalidated += 1;
             let state = n.state;
@@ -421,8 +532,113 @@ impl<D: Domain> Search<D> {
             }
             self.relink_head(domain, s, head, new_head);
         }
-        self.finish_stats();
-        self.stats
+        if self.worth_compacting() {
+            self.stats.reclaimed += self.compact(domain);
+        }
+    }
+
+    /// Adds a goal label (through the same class and dominance tests as any label).
+    fn insert_goal(&mut self, domain: &D, goal: Goal<D>) {
+        let before = self.nodes.len();
+        self.insert(domain, goal.state, goal.label, goal.cost.max(0.0), NONE, None);
+        if self.nodes.len() > before {
+            self.goal_ids.push(self.nodes.len() - 1);
+        }
+    }
+
+    /// Whether enough of the arena is garbage — labels killed by better ones with
+    /// nothing hanging from them, labels removed by a repair — to reclaim it: at least
+    /// half of the nodes are not live, and the arena grew by half since it was last
+    /// compacted (so the O(nodes) pass is paid for by the nodes made since).
+    fn worth_compacting(&self) -> bool {
+        let len = u64::from(self.nodes.len());
+        len >= 1 << 14 && 2 * self.alive <= len && 2 * len >= 3 * u64::from(self.compacted_len)
+    }
+
+    /// Reclaims the nodes that no longer serve a purpose (the paper's ISE "deletes a
+    /// state when it no longer serves a purpose"): removed nodes, and dead ones (beaten
+    /// by a better label) from which no live path hangs. The survivors keep their
+    /// order, so the open list's tie-breaking is unchanged; every index (parents,
+    /// children, state lists, the class and group tables, the open list) is rebuilt.
+    /// Returns the nodes reclaimed.
+    pub fn compact(&mut self, domain: &D) -> u64 {
+        let len = self.nodes.len();
+        // Live nodes and every node on their paths to the goals (dead ones included: a
+        // live label's path may pass through a beaten one). The state heads of every
+        // node are cleared on the way, to be rebuilt from the survivors.
+        let mut remap = vec![NONE; len as usize];
+        for id in 0..len {
+            let state = self.nodes[id].state;
+            self.by_state.set(domain, state, NONE);
+            if self.nodes[id].live() {
+                let mut a = id;
+                while a != NONE && remap[a as usize] == NONE {
+                    remap[a as usize] = 0;
+                    a = self.nodes[a].parent;
+                }
+            }
+        }
+        let mut kept = 0u32;
+        for slot in remap.iter_mut() {
+            if *slot != NONE {
+                *slot = kept;
+                kept += 1;
+            }
+        }
+        let open: Vec<Entry> = std::mem::replace(&mut self.open, OpenList::new())
+            .into_vec()
+            .into_iter()
+            .filter_map(|e| {
+                let n = &self.nodes[e.id()];
+                let new = remap[e.id() as usize];
+                (n.flags == OPEN && e.matches(n.g) && new != NONE).then(|| Entry::new(e.f(), n.g, new))
+            })
+            .collect();
+        // Slide the survivors down, in order.
+        for old in 0..len {
+            let new = remap[old as usize];
+            if new != NONE && new != old {
+                self.nodes.swap(new, old);
+            }
+        }
+        self.nodes.truncate(kept);
+        // Rebuild the links, newest first as they were made.
+        self.classes.clear();
+        self.groups.clear();
+        self.group_next.clear();
+        if D::MANY_LABELS && D::DOMINANCE {
+            self.group_next.resize(kept as usize, NONE);
+        }
+        for id in 0..kept {
+            let (state, key, parent, live, g) = {
+                let n = &mut self.nodes[id];
+                n.parent = if n.parent == NONE { NONE } else { remap[n.parent as usize] };
+                n.first_child = NONE;
+                (n.state, n.key, n.parent, n.live(), n.g)
+            };
+            self.nodes[id].next_sibling = if parent == NONE { NONE } else { self.nodes[parent].first_child };
+            if parent != NONE {
+                self.nodes[parent].first_child = id;
+            }
+            self.nodes[id].next_in_state = self.by_state.get(domain, state);
+            self.by_state.set(domain, state, id);
+            if live && D::MANY_LABELS {
+                if D::DOMINANCE {
+                    let group = (state, domain.dominance_group(state, key));
+                    self.group_next[id as usize] = self.groups.get(&group).map_or(NONE, |h| h.id);
+                    self.groups.insert(group, GroupHead { id, g, key });
+                } else {
+                    self.classes.insert((state, key), (id, g));
+                }
+            }
+        }
+        self.open = OpenList::from_vec(open);
+        self.goal_ids.retain_mut(|id| {
+            *id = remap[*id as usize];
+            *id != NONE
+        });
+        self.compacted_len = kept;
+        u64::from(len - kept)
     }
 
     /// Tells the engine that the start (and so the heuristic) changed: plan extension
@@ -612,6 +828,10 @@ impl<D: Domain> Search<D> {
         parent: u32,
         action: Option<D::Action>,
     ) {
+        if D::MANY_LABELS && D::DOMINANCE {
+            self.insert_in_group(domain, state, label, key, head, g, parent, action);
+            return;
+        }
         if D::MANY_LABELS && !D::DOMINANCE {
             // The class table finds the one label this one competes with.
             let new_id = self.nodes.len();
@@ -685,6 +905,107 @@ impl<D: Domain> Search<D> {
         self.push_node(domain, state, label, key, g, parent, action, new_head);
     }
 
+    /// [`Search::insert`] for domains with many labels per state and dominance: the new
+    /// label competes with the live labels of its (state, dominance group) only. First
+    /// whether anything there beats it (the same class at no greater cost, or a
+    /// dominating label); only if it survives does it kill what it beats, so a label
+    /// is never lost to one that is itself pruned.
+    #[allow(clippy::too_many_arguments)]
+    fn insert_in_group(
+        &mut self,
+        domain: &D,
+        state: D::State,
+        label: D::Label,
+        key: D::Key,
+        state_head: u32,
+        g: f64,
+        parent: u32,
+        action: Option<D::Action>,
+    ) {
+        let group = (state, domain.dominance_group(state, key));
+        let head = self.groups.get(&group).copied();
+        // Most labels lose to the newest of their group, of their own class: decided from
+        // the table, without reading a node (a cache miss in a large arena).
+        if let Some(h) = head
+            && h.key == key
+            && (h.g < g || (h.g == g && !domain.better(&label, &self.nodes[h.id].label)))
+        {
+            self.stats.pruned_resolution += 1;
+            return;
+        }
+        let head = head.map_or(NONE, |h| h.id);
+        let mut id = head;
+        while id != NONE {
+            let n = &self.nodes[id];
+            if n.key == key {
+                if n.g < g || (n.g == g && !domain.better(&label, &n.label)) {
+                    self.stats.pruned_resolution += 1;
+                    return;
+                }
+            } else if domain.dominates(state, &n.label, n.g, &label, g) {
+                self.stats.pruned_dominance += 1;
+                return;
+            }
+            id = self.group_next[id as usize];
+        }
+        // It survives: drop what it beats.
+        let (mut prev, mut id, mut new_head) = (NONE, head, head);
+        while id != NONE {
+            let next = self.group_next[id as usize];
+            let n = &self.nodes[id];
+            let drop = if n.key == key {
+                self.stats.pruned_resolution += 1;
+                true
+            } else if domain.dominates(state, &label, g, &n.label, n.g) {
+                self.stats.pruned_dominance += 1;
+                true
+            } else {
+                false
+            };
+            if drop {
+                self.kill(id);
+                if prev == NONE {
+                    new_head = next;
+                } else {
+                    self.group_next[prev as usize] = next;
+                }
+            } else {
+                prev = id;
+            }
+            id = next;
+        }
+        let new_id = self.push_node(domain, state, label, key, g, parent, action, state_head);
+        self.group_next[new_id as usize] = new_head;
+        self.groups.insert(group, GroupHead { id: new_id, g, key });
+    }
+
+    /// Takes a removed node out of its dominance group's list (which holds live labels
+    /// only).
+    fn leave_group(&mut self, domain: &D, id: u32) {
+        let (state, key) = (self.nodes[id].state, self.nodes[id].key);
+        let group = (state, domain.dominance_group(state, key));
+        let Some(head) = self.groups.get(&group).copied() else { return };
+        let next = self.group_next[id as usize];
+        if head.id == id {
+            if next == NONE {
+                self.groups.remove(&group);
+            } else {
+                let n = &self.nodes[next];
+                self.groups.insert(group, GroupHead { id: next, g: n.g, key: n.key });
+            }
+            return;
+        }
+        let mut c = head.id;
+        while c != NONE {
+            let after = self.group_next[c as usize];
+            if after == id {
+                self.group_next[c as usize] = next;
+                return;
+            }
+            c = after;
+        }
+    }
+
     /// Adds a node at the head of its state's list and to the open list.
     #[allow(clippy::too_many_arguments)]
     fn push_node(
@@ -716,6 +1037,9 @@ impl<D: Domain> Search<D> {
         });
         if parent != NONE {
             self.nodes[parent].first_child = new_id;
+        }
+        if D::MANY_LABELS && D::DOMINANCE {
+            self.group_next.push(NONE);
         }
         self.by_state.set(domain, state, new_id);
         self.open.push(Entry::new(g + h + self.key_offset, g, new_id));
@@ -787,7 +1111,9 @@ impl<D: Domain> Search<D> {
         self.stats.bytes = self.nodes.bytes()
             + self.by_state.bytes()
             + self.open.bytes()
-            + (self.classes.capacity() * (std::mem::size_of::<((D::State, D::Key), (u32, f64))>() + 1)) as u64;
+            + (self.classes.capacity() * (std::mem::size_of::<((D::State, D::Key), (u32, f64))>() + 1)) as u64
+            + (self.groups.capacity() * (std::mem::size_of::<((D::State, D::Key), GroupHead<D>)>() + 1)) as u64
+            + (self.group_next.capacity() * 4) as u64;
     }
 
     fn extract(&self, best: Option<u32>) -> Plan<D> {

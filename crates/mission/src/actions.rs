@@ -27,6 +27,10 @@ fn heading_of(k: u8) -> f64 {
     f64::from(dc).atan2(-f64::from(dr)).to_degrees().rem_euclid(360.0)
 }
 
+/// How far before the epoch a backward drive may start and still count as starting at
+/// it: sums of drive durations round differently from the straight-line best case, s.
+const EPOCH_SLACK_S: f64 = 1e-6;
+
 /// Stationary actions sample the Sun at least this often, s.
 const STATIONARY_SAMPLE_S: f64 = 1200.0;
 
@@ -379,7 +383,9 @@ impl ActionModel {
     ) -> Option<(u32, Effect)> {
         let (t1, s1) = (arrival.t1, &arrival.sun);
         let t0 = t1 - duration;
-        if t0 < 0.0 || self.overlaps_session(t0, t1) {
+        // A path from the earliest goal instant (the best case: straight at top speed)
+        // starts at the epoch to within rounding, on either side of it.
+        if t0 < -EPOCH_SLACK_S || self.overlaps_session(t0, t1) {
             return None;
         }
         let heading = self.headings[k as usize % 8];
@@ -477,7 +483,7 @@ impl ActionModel {
         };
         let duration = self.stay_duration_s(action);
         let t1 = t0 + duration;
-        if t0 < 0.0 || t1 > world.span_s() {
+        if t0 < -EPOCH_SLACK_S || t1 > world.span_s() {
             return Err(Binding::Horizon);
         }
         if !world.passable(cell) {

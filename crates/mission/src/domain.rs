@@ -9,8 +9,13 @@
 //! (eqs. 3–5): every step costs Δe + E_max ≥ 0, with E_max a bound on the largest
 //! single-step gain, so cost grows monotonically and BESTPCOST applies; or, for the
 //! Arctic configuration, path duration under a maximum with "less required energy is
-//! better" (BESTDPARMS). Labels at a cell are grouped by time and energy resolution;
-//! within a time class, a label needing no more energy at no greater cost dominates.
+//! better" (BESTDPARMS).
+//!
+//! Labels are Pareto labels: at each (cell, time class) the search keeps every label
+//! that no other dominates in (cost, E) — a label needing no more energy at no greater
+//! cost dominates — so the labels a tight battery needs survive beside the cheapest
+//! one. Energy classes are a resolution on top of that (of the labels in one
+//! (time, energy) class only the cheapest is kept), bounding how many survive.
 
 use std::cell::RefCell;
 
@@ -43,6 +48,32 @@ pub enum Objective {
     },
 }
 
+/// How the L term of the L + B objective counts a plan's length (eq. 4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum PathLength {
+    /// A drive counts its planar length in cells (a diagonal √2 of a straight step on
+    /// square cells, the shorter cell side being one); a stationary action counts one.
+    /// Zig-zags cost what they drive.
+    #[default]
+    Distance,
+    /// The paper's eq. 4: every action counts one step, whatever its length.
+    Steps,
+}
+
+impl PathLength {
+    /// The share of L, in steps, of `action` on a grid of `dx` × `dy` m cells: ≥ 1 for
+    /// every action, so every step's cost Δe + E_max·units stays ≥ 0.
+    pub fn units(self, action: Action, dx: f64, dy: f64) -> f64 {
+        match (self, action) {
+            (PathLength::Distance, Action::Drive(k)) => {
+                let (dc, dr) = NEIGHBOURS[k as usize % 8];
+                (f64::from(dc) * dx).hypot(f64::from(dr) * dy) / dx.min(dy)
+            }
+            _ => 1.0,
+        }
+    }
+}
+
 /// Where and when a plan may start. The planner widens a window narrower than the
 /// spacing of its goal instants to that spacing, so that some goal instant is reachable.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -63,9 +94,16 @@ pub struct Start {
 pub struct Resolution {
     /// Time class width, s.
     pub time_s: f64,
-    /// Energy class width, Wh.
+    /// Energy class width, Wh: of the Pareto labels in one (time, energy) class only
+    /// the cheapest is kept, so at most capacity / width labels survive per time class
+    /// and a plan's E is resolved to about this width. A width larger than the battery
+    /// collapses E as the paper does (one label per time class), which can lose the
+    /// only battery-feasible labels.
     pub energy_wh: f64,
 }
+
+/// Energy classes per time class in a key (its low 24 bits).
+const ENERGY_CLASSES: i64 = 1 << 24;
 
 /// The TEMPEST search domain over a world and a rover.
 #[derive(Debug, Clone)]
@@ -82,6 +120,9 @@ pub struct TempestDomain<'a> {
     reachable_from: (u32, f64),
     objective: Objective,
     resolution: Resolution,
+    length: PathLength,
+    /// Each drive direction's share of L, steps (see [`PathLength::units`]).
+    drive_units: [f64; 8],
     e_max: f64,
     /// Lower bounds on the cost of a drive step east–west, north–south and diagonally
     /// (for the heuristic).
@@ -115,9 +156,15 @@ impl<'a> TempestDomain<'a> {
         start: Start,
         objective: Objective,
         resolution: Resolution,
+        length: PathLength,
     ) -> TempestDomain<'a> {
         let (e_max, _) = model.gain_bounds(world);
-        let step_floors = model.drive_energy_floors_wh(world).map(|e| (e + e_max).max(0.0));
+        let (dx, dy) = (world.dem().dx(), world.dem().dy());
+        let drive_units = std::array::from_fn(|k| length.units(Action::Drive(k as u8), dx, dy));
+        // East–west, north–south and diagonal drives (directions 2, 0 and 1).
+        let units = [drive_units[2], drive_units[0], drive_units[1]];
+        let floors = model.drive_energy_floors_wh(world);
+        let step_floors = std::array::from_fn(|i| (floors[i] + e_max * units[i]).max(0.0));
         TempestDomain {
             world,
             model,
@@ -125,6 +172,8 @@ impl<'a> TempestDomain<'a> {
             reachable_from: (start.cell, start.t_min),
             objective,
             resolution,
+            length,
+            drive_units,
             e_max,
             step_floors,
             capacity: model.capacity_wh(),
@@ -171,10 +220,22 @@ impl<'a> TempestDomain<'a> {
         self.objective
     }
 
-    /// The cost of a step that used `energy_wh` over `duration_s`.
-    pub fn step_cost(&self, energy_wh: f64, duration_s: f64) -> f64 {
+    /// How L counts length.
+    pub fn path_length(&self) -> PathLength {
+        self.length
+    }
+
+    /// The cost of `action` when it used `energy_wh` over `duration_s`: Δe + E_max × its
+    /// share of L (eqs. 3–5), or its duration.
+    pub fn step_cost(&self, action: Action, energy_wh: f64, duration_s: f64) -> f64 {
         match self.objective {
-            Objective::Energy => (energy_wh + self.e_max).max(0.0),
+            Objective::Energy => {
+                let units = match action {
+                    Action::Drive(k) => self.drive_units[k as usize % 8],
+                    _ => 1.0,
+                };
+                (energy_wh + self.e_max * units).max(0.0)
+            }
             Objective::Duration { .. } => duration_s,
         }
     }
@@ -192,7 +253,7 @@ impl<'a> TempestDomain<'a> {
     fn step(&self, from: u32, label: &Label, action: Action, effect: Effect) -> Step<Self> {
         let e = (label.e + effect.energy_wh).max(0.0);
         let t = label.t - effect.duration_s;
-        let mut cost = self.step_cost(effect.energy_wh, effect.duration_s);
+        let mut cost = self.step_cost(action, effect.energy_wh, effect.duration_s);
         if !matches!(action, Action::Drive(_)) {
             // Among plans of equal cost, wait as late as possible: a rover that re-plans
             // after every action and always finds the wait first would never set off.
@@ -212,10 +273,10 @@ impl Domain for TempestDomain<'_> {
     type Label = Label;
     type Key = i64;
     type Action = Action;
-    // Labels are classed by time and energy; a cell holds one per class, so the
-    // engine's class table (O(1) per label) beats pairwise dominance walks over the
-    // hundreds of time classes a cell collects.
+    // A cell collects hundreds of time classes; dominance is tested only within one
+    // (its dominance group), among the few Pareto labels that survive there.
     const MANY_LABELS: bool = true;
+    const DOMINANCE: bool = true;
 
     fn actions(&self, _state: u32, _label: &Label, out: &mut Vec<Action>) {
         out.extend((0..8).map(Action::Drive));
@@ -272,14 +333,21 @@ impl Domain for TempestDomain<'_> {
     fn key(&self, _state: u32, label: &Label) -> i64 {
         // Time class in the high bits, energy class (E ≤ capacity) in the low 24.
         let t = (label.t / self.resolution.time_s).floor() as i64;
-        let e = ((label.e / self.resolution.energy_wh).floor() as i64).clamp(0, (1 << 24) - 1);
+        let e = ((label.e / self.resolution.energy_wh).floor() as i64).clamp(0, ENERGY_CLASSES - 1);
         (t << 24) | e
     }
 
+    fn dominance_group(&self, _state: u32, key: i64) -> i64 {
+        // The time class.
+        key & !(ENERGY_CLASSES - 1)
+    }
+
     fn dominates(&self, _state: u32, a: &Label, cost_a: f64, b: &Label, cost_b: f64) -> bool {
-        (a.t / self.resolution.time_s).floor() == (b.t / self.resolution.time_s).floor()
-            && a.e <= b.e
-            && cost_a <= cost_b
+        // Called within a time class only. Completions toward the start depend on the
+        // label's time (exactly when a class holds one instant) and on E only through
+        // E' = max(E + Δe, 0), the capacity and the start's battery, all monotone in E;
+        // step costs do not depend on E.
+        a.e <= b.e && cost_a <= cost_b
     }
 
     fn within_global(&self, state: u32, label: &Label, _cost: f64) -> bool {

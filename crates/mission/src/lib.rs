@@ -38,7 +38,7 @@ pub use crate::{
         Action, ActionConfig, ActionModel, Binding, Constraints, DriveGeometry, Effect, LoadLevel, NEIGHBOURS,
         Perturbation,
     },
-    domain::{Label, Objective, Resolution, Start, TempestDomain},
+    domain::{Label, Objective, PathLength, Resolution, Start, TempestDomain},
     error::{Error, Result},
     plan::{MissionPlan, Waypoint},
     planner::{Mission, PlannerConfig},

@@ -12,14 +12,15 @@
 //! the start is the optimum over this discretisation.
 //!
 //! Re-planning keeps every segment's graph. After a world change, every segment is
-//! told which cells changed; segments are re-planned from the last one backward, and a
-//! segment whose goals (the next segment's candidates) changed starts a fresh graph.
+//! told which cells changed; segments are re-planned from the latest one whose graph
+//! the change touched, backward, and a segment whose goals (the next segment's
+//! candidates) changed has its graph repaired around the changed goals.
 
 use areo_ise::{Goal, PathStep, Search, Stats};
 use serde::{Deserialize, Serialize};
 
 use crate::actions::{Action, ActionConfig, ActionModel, Binding};
-use crate::domain::{Label, Objective, Resolution, Start, TempestDomain};
+use crate::domain::{Label, Objective, PathLength, Resolution, Start, TempestDomain};
 use crate::error::{Error, Result};
 use crate::plan::{MissionPlan, Waypoint};
 use crate::world::World;
@@ -32,11 +33,10 @@ pub struct PlannerConfig {
     pub actions: ActionConfig,
     /// What to minimise.
     pub objective: Objective,
-    /// Label class widths for resolution pruning. The default energy class is
-    /// unbounded: E is carried but collapsed out of the search space, as in the paper;
-    /// finite widths keep one label per energy class too (more complete when the battery
-    /// binds, slower).
+    /// Label class widths for resolution pruning (see [`Resolution`]).
     pub resolution: Resolution,
+    /// How the objective's L counts length (see [`PathLength`]).
+    pub path_length: PathLength,
     /// Goal instants spread over the final goal window.
     pub goal_times: usize,
     /// Start intervals per intermediate goal (multi-goal chaining).
@@ -47,12 +47,6 @@ pub struct PlannerConfig {
     pub max_wait_s: f64,
     /// Least battery energy on arrival at the last goal, Wh above the floor.
     pub goal_energy_wh: f64,
-    /// Finest energy class width tried when a search finds no plan, Wh (0: never
-    /// refine). Collapsing E (one label per time class) can discard the only labels
-    /// that keep the battery feasible, typically over a night: the planner then searches
-    /// again keeping one label per energy class, 4× this width first, then this width,
-    /// and keeps the resolution that works for the rest of the mission.
-    pub refine_energy_wh: f64,
 }
 
 impl Default for PlannerConfig {
@@ -60,13 +54,13 @@ impl Default for PlannerConfig {
         PlannerConfig {
             actions: ActionConfig::default(),
             objective: Objective::Energy,
-            resolution: Resolution { time_s: 60.0, energy_wh: 1e12 },
+            resolution: Resolution { time_s: 60.0, energy_wh: 10.0 },
+            path_length: PathLength::Distance,
             goal_times: 24,
             segment_starts: 8,
             detour_factor: 1.5,
             max_wait_s: 88_775.0,
             goal_energy_wh: 0.0,
-            refine_energy_wh: 25.0,
         }
     }
 }
@@ -96,9 +90,6 @@ impl PlannerConfig {
         }
         if !(self.max_wait_s >= 0.0) {
             return bad("max_wait_s", format!("{}: must be ≥ 0", self.max_wait_s));
-        }
-        if !(self.refine_energy_wh >= 0.0) {
-            return bad("refine_energy_wh", format!("{}: must be ≥ 0", self.refine_energy_wh));
         }
         if let Objective::Duration { max_duration_s } = self.objective
             && !(max_duration_s > 0.0)
@@ -209,33 +200,11 @@ impl<'a> Mission<'a> {
         let mut mission = Mission { world, model, config, start, goals: goals.to_vec(), segments: Vec::new() };
         mission.widen_start();
         mission.build_segments();
-        mission.solve_from(mission.segments.len() - 1, &[], false);
-        match mission.assemble().or_else(|| mission.refine()) {
+        mission.solve_from(Some(mission.segments.len() - 1), &[], false);
+        match mission.assemble() {
             Some(plan) => Ok((mission, plan)),
             None => Err(mission.explain_unreachable()),
         }
-    }
-
-    /// With no plan found at the current energy resolution: search again with finer
-    /// energy classes — four times [`PlannerConfig::refine_energy_wh`], then that width —
-    /// on fresh graphs, and keep the resolution that works for the rest of the mission.
-    fn refine(&mut self) -> Option<MissionPlan> {
-        let fine = self.config.refine_energy_wh;
-        if !(fine > 0.0) {
-            return None;
-        }
-        for width in [4.0 * fine, fine] {
-            if self.config.resolution.energy_wh <= width {
-                continue;
-            }
-            self.config.resolution.energy_wh = width;
-            self.build_segments();
-            self.solve_from(self.segments.len() - 1, &[], false);
-            if let Some(plan) = self.assemble() {
-                return Some(plan);
-            }
-        }
-        None
     }
 
     /// The goal instants at the last goal: even instants over its window (on the time
@@ -331,8 +300,14 @@ impl<'a> Mission<'a> {
                 let s = Start { cell: from, t_min: iv[0].0, t_max: iv[0].1, energy_wh: self.model.capacity_wh() };
                 (s, iv)
             };
-            let domain =
-                TempestDomain::new(self.world, self.model, start, self.config.objective, self.config.resolution);
+            let domain = TempestDomain::new(
+                self.world,
+                self.model,
+                start,
+                self.config.objective,
+                self.config.resolution,
+                self.config.path_length,
+            );
             let goals = if k + 1 == n {
                 self.final_goal_times().into_iter().map(|t| (Label { t, e: self.config.goal_energy_wh }, 0.0)).collect()
             } else {
@@ -353,33 +328,41 @@ impl<'a> Mission<'a> {
         self.segments = segments;
     }
 
-    /// Solves segments `last`, `last − 1`, …, 0; `changed` cells are reported to every
-    /// kept graph first.
-    /// `start_moved`: the first segment's start changed since its last search.
-    fn solve_from(&mut self, last: usize, changed: &[u32], start_moved: bool) {
-        for seg in &self.segments {
+    /// Re-solves the segments that need it, from the latest one down to the first:
+    /// every kept graph is told which cells `changed` first, and re-planning starts at
+    /// the latest segment whose graph they touched (the paper's rule) — or at `last`,
+    /// or the first segment when its start moved, whichever is later. A segment
+    /// before it takes the next one's candidates as its goals through
+    /// [`Search::set_goals`], which repairs its graph where the seeds changed.
+    fn solve_from(&mut self, last: Option<usize>, changed: &[u32], start_moved: bool) {
+        let mut top = if start_moved { Some(0) } else { None };
+        for (k, seg) in self.segments.iter_mut().enumerate() {
             seg.domain.forget(changed);
+            // Statistics are per call: a segment not searched again did no work.
+            seg.stats = Stats::default();
+            if !changed.is_empty() {
+                let repair = seg.search.update(&seg.domain, changed);
+                add_stats(&mut seg.stats, &repair);
+                if repair.invalidated > 0 || repair.reopened > 0 {
+                    top = top.max(Some(k));
+                }
+            }
         }
-        for k in (0..=last).rev() {
+        let Some(top) = top.max(last) else { return };
+        for k in (0..=top).rev() {
             if k + 1 < self.segments.len() {
                 // This segment's goals are the next segment's candidates.
                 let goals: Vec<(Label, f64)> =
                     self.segments[k + 1].candidates.iter().map(|c| (c.start, c.cost)).collect();
                 let seg = &mut self.segments[k];
-                if goals != seg.goals || seg.goals.is_empty() {
+                if goals != seg.goals {
+                    let repair = seg.search.set_goals(&seg.domain, relabel_goals(goal_list(&goals, seg.to)));
+                    add_stats(&mut seg.stats, &repair);
                     seg.goals = goals;
-                    seg.search =
-                        Search::new(&seg.domain, relabel_goals(goal_list(&seg.goals, seg.to)), seg.domain.mode());
-                } else if !changed.is_empty() {
-                    seg.search.update(&seg.domain, changed);
                 }
-            } else if !changed.is_empty() {
-                let seg = &mut self.segments[k];
-                seg.search.update(&seg.domain, changed);
             }
             let seg = &mut self.segments[k];
             seg.candidates.clear();
-            seg.stats = Stats::default();
             for (j, &(t_min, t_max)) in seg.intervals.clone().iter().enumerate() {
                 seg.domain.start.t_min = t_min;
                 seg.domain.start.t_max = t_max;
@@ -508,7 +491,7 @@ impl<'a> Mission<'a> {
                 segments: Vec::new(),
             };
             probe.build_segments();
-            probe.solve_from(probe.segments.len() - 1, &[], false);
+            probe.solve_from(Some(probe.segments.len() - 1), &[], false);
             if !probe.segments[0].candidates.is_empty() {
                 return Error::Unreachable { binding, message: binding.describe().to_string() };
             }
@@ -523,15 +506,14 @@ impl<'a> Mission<'a> {
     /// Re-plans after the world changed in `changed` cells (from [`World::set_blocked`]
     /// or [`World::set_slope`]).
     pub fn replan(&mut self, changed: &[u32]) -> Result<MissionPlan> {
-        let last = self.segments.len() - 1;
-        self.solve_from(last, changed, false);
-        self.assemble().or_else(|| self.refine()).ok_or_else(|| self.explain_unreachable())
+        self.solve_from(None, changed, false);
+        self.assemble().ok_or_else(|| self.explain_unreachable())
     }
 
     /// Plan extension and re-planning in one call, as a rover does after each action:
     /// it is now at `start` (cell, time window, battery) and has sensed the world
-    /// change in `changed` cells. Every segment's graph is kept; with no changes only
-    /// the first segment is searched again.
+    /// change in `changed` cells. Every segment's graph is kept; the segments searched
+    /// again are the first and those up to the latest one the change touched.
     pub fn advance(&mut self, start: Start, changed: &[u32]) -> Result<MissionPlan> {
         self.start = start;
         self.widen_start();
@@ -540,9 +522,8 @@ impl<'a> Mission<'a> {
         seg.from = start.cell;
         seg.domain.start = start;
         seg.intervals = vec![(start.t_min, start.t_max)];
-        let last = if changed.is_empty() { 0 } else { self.segments.len() - 1 };
-        self.solve_from(last, changed, true);
-        self.assemble().or_else(|| self.refine()).ok_or_else(|| self.explain_unreachable())
+        self.solve_from(None, changed, true);
+        self.assemble().ok_or_else(|| self.explain_unreachable())
     }
 
     /// The rover has reached the first remaining goal: its segment is dropped and the
@@ -587,6 +568,7 @@ fn add_stats(total: &mut Stats, s: &Stats) {
     total.pruned_constraint += s.pruned_constraint;
     total.invalidated += s.invalidated;
     total.reopened += s.reopened;
+    total.reclaimed += s.reclaimed;
     total.labels_alive = s.labels_alive;
     total.bytes = s.bytes;
 }

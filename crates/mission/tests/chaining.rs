@@ -4,7 +4,7 @@
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
 
-use areo_mission::{Action, ActionConfig, ActionModel, Mission, PlannerConfig, Resolution, Start, World};
+use areo_mission::{Action, ActionConfig, ActionModel, Mission, PathLength, PlannerConfig, Resolution, Start, World};
 
 use crate::common::*;
 
@@ -77,7 +77,8 @@ fn brute_force(world: &World, model: &ActionModel, mission: &Mission<'_>, goals:
             };
             if let Ok((to, e)) = r {
                 let m2 = m + (e.duration_s / 60.0).round() as i64;
-                next.push((k, to, m2, e.energy_wh + e_max));
+                let units = PathLength::Distance.units(a, world.dem().dx(), world.dem().dy());
+                next.push((k, to, m2, e.energy_wh + e_max * units));
             }
         }
         for (k2, c2, m2, w) in next {
@@ -182,13 +183,15 @@ fn multi_goal_replanning_and_plan_extension_equal_fresh_plans() {
 
 /// The plan's cost from waypoint `k` to its end: the sum of the step costs after it.
 fn w_cost_to_go(plan: &areo_mission::MissionPlan, k: usize) -> f64 {
-    // Every step costs Δe + E_max, and Δe is the drop in required energy E along an
+    // Every step costs Δe + E_max × its length in steps, and Δe is the drop in required energy E along an
     // optimal plan wherever E stays above zero; recompute from the waypoints' battery
     // prediction instead, which is exact: Δe = battery before − battery after.
     let w = &plan.waypoints;
     let mut cost = 0.0;
     for i in k..w.len() - 1 {
-        cost += (w[i].battery_wh - w[i + 1].battery_wh) + plan.e_max_wh;
+        // L counts a drive's length in cells (the hills are on 20 m cells).
+        let units = w[i].action.map_or(1.0, |a| PathLength::Distance.units(a, 20.0, 20.0));
+        cost += (w[i].battery_wh - w[i + 1].battery_wh) + plan.e_max_wh * units;
     }
     cost
 }

@@ -301,12 +301,18 @@ fn a_backward_expansion_equals_its_actions_one_by_one_and_the_forward_drives() {
     // drive's predecessor, driven forward, must arrive when and where the label says,
     // using the energy the step charged.
     use areo_ise::Domain;
-    use areo_mission::{Label, Objective, Resolution, TempestDomain};
+    use areo_mission::{Label, Objective, PathLength, Resolution, TempestDomain};
     let world = steep_lit_world();
     let model = model(2000.0, ActionConfig::default());
     let start = Start { cell: 0, t_min: 0.0, t_max: 3600.0, energy_wh: 1000.0 };
-    let domain =
-        TempestDomain::new(&world, &model, start, Objective::Energy, Resolution { time_s: 60.0, energy_wh: 5.0 });
+    let domain = TempestDomain::new(
+        &world,
+        &model,
+        start,
+        Objective::Energy,
+        Resolution { time_s: 60.0, energy_wh: 5.0 },
+        PathLength::Distance,
+    );
     let (mut batch, mut actions, mut drives) = (Vec::new(), Vec::new(), 0);
     for cell in 0..(14 * 12) as u32 {
         let mut t = 1800.0;
