@@ -431,7 +431,26 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
     o.number("hibernate_h", hibernate_h);
     o.number("replans", replans.len() as f64);
     o.number("route_changes", route_changes as f64);
-    o.number("restarts", r.plans.iter().filter(|p| p.kind == PlanKind::Restart).count() as f64);
+    let restarts = r.plans.iter().filter(|p| p.kind == PlanKind::Restart).count();
+    o.number("restarts", restarts as f64);
+    // Deterministic search costs: each re-plan's expansions against the initial plan's
+    // (restarts are fresh plans, reported apart), and the search's memory.
+    let mut fractions: Vec<f64> = r
+        .plans
+        .iter()
+        .skip(1)
+        .zip(r.replan_expansion_fractions())
+        .filter(|(p, _)| p.kind == PlanKind::Replan)
+        .map(|(_, f)| f)
+        .collect();
+    fractions.sort_by(f64::total_cmp);
+    if let Some(&max) = fractions.last() {
+        o.number("replan_expansions_median", fractions[fractions.len() / 2]);
+        o.number("replan_expansions_p95", fractions[(fractions.len() * 95).div_ceil(100).saturating_sub(1)]);
+        o.number("replan_expansions_max", max);
+    }
+    o.number("peak_search_mb", r.peak_search_bytes() as f64 / 1e6);
+    o.number("world_mb", (ctx.world.bytes() + ctx.truth.bytes()) as f64 / 1e6);
     o.number("refused_actions", r.steps.iter().filter(|s| s.refused.is_some()).count() as f64);
     o.number("night_drives", night_drives as f64);
     o.number("sunlit_drive_fraction", if drives > 0 { 1.0 - shadowed_drives as f64 / drives as f64 } else { 1.0 });
@@ -469,9 +488,23 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
         1e3 * r.median_replan_s().unwrap_or(0.0),
         1e3 * r.plans[0].wall_s
     ));
+    if !fractions.is_empty() {
+        o.summary.push(format!(
+            "re-plan expansions: median {:.3} %, largest {:.1} % of the initial plan's",
+            100.0 * fractions[fractions.len() / 2],
+            100.0 * fractions[fractions.len() - 1]
+        ));
+    }
+    if restarts > 0 {
+        o.summary.push(format!(
+            "{restarts} restart(s): re-planning on the kept graphs found nothing, so the rover planned afresh"
+        ));
+    }
     o.summary.push(format!(
-        "pre-calculation {:.2} s (slope, horizon maps, Sun table); peak memory {}",
+        "pre-calculation {:.2} s (slope, horizon maps, Sun table); memory: search graphs {:.0} MB at most, worlds {:.0} MB, process peak {}",
         ctx.precalc_s,
+        r.peak_search_bytes() as f64 / 1e6,
+        (ctx.world.bytes() + ctx.truth.bytes()) as f64 / 1e6,
         peak_memory_mb().map_or("unknown".into(), |mb| format!("{mb:.0} MB"))
     ));
     if let SimStatus::Unreachable { message, .. } = &r.status {
@@ -564,12 +597,13 @@ fn executed_csv(ctx: &Context<'_>, r: &SimReport) -> String {
 
 fn replans_csv(ctx: &Context<'_>, r: &SimReport) -> String {
     let mut s = String::from(
-        "step,kind,utc,t_s,wall_ms,expansions,changed_cells,route_changed,waypoints,cost,duration_h,min_battery_wh\n",
+        "step,kind,utc,t_s,wall_ms,expansions,changed_cells,route_changed,waypoints,cost,duration_h,min_battery_wh,\
+         search_mb\n",
     );
     for p in &r.plans {
         let _ = writeln!(
             s,
-            "{},{},{},{:.1},{:.3},{},{},{},{},{:.4},{:.3},{:.2}",
+            "{},{},{},{:.1},{:.3},{},{},{},{},{:.4},{:.3},{:.2},{:.1}",
             p.step,
             match p.kind {
                 PlanKind::Initial => "initial",
@@ -585,7 +619,8 @@ fn replans_csv(ctx: &Context<'_>, r: &SimReport) -> String {
             p.plan.waypoints.len(),
             p.plan.cost,
             p.plan.duration_s() / 3600.0,
-            p.plan.min_battery_wh()
+            p.plan.min_battery_wh(),
+            p.search_bytes as f64 / 1e6
         );
     }
     s

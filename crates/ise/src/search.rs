@@ -356,6 +356,16 @@ impl<D: Domain> Search<D> {
         s
     }
 
+    /// Bytes held now by the graph, its tables and the open list (approximate).
+    pub fn bytes(&self) -> u64 {
+        self.nodes.bytes()
+            + self.by_state.bytes()
+            + self.open.bytes()
+            + (self.classes.capacity() * (std::mem::size_of::<((D::State, D::Key), (u32, f64))>() + 1)) as u64
+            + (self.groups.capacity() * (std::mem::size_of::<((D::State, D::Key), GroupHead<D>)>() + 1)) as u64
+            + (self.group_next.capacity() * 4) as u64
+    }
+
     /// The search mode.
     pub fn mode(&self) -> Mode {
         self.mode
@@ -609,11 +619,16 @@ impl<D: Domain> Search<D> {
         if D::MANY_LABELS && D::DOMINANCE {
             self.group_next.resize(kept as usize, NONE);
         }
+        // Children lists are emptied first: a relabelled node (decrease-key) may be older
+        // than its new parent.
+        for id in 0..kept {
+            let n = &mut self.nodes[id];
+            n.parent = if n.parent == NONE { NONE } else { remap[n.parent as usize] };
+            n.first_child = NONE;
+        }
         for id in 0..kept {
             let (state, key, parent, live, g) = {
-                let n = &mut self.nodes[id];
-                n.parent = if n.parent == NONE { NONE } else { remap[n.parent as usize] };
-                n.first_child = NONE;
+                let n = &self.nodes[id];
                 (n.state, n.key, n.parent, n.live(), n.g)
             };
             self.nodes[id].next_sibling = if parent == NONE { NONE } else { self.nodes[parent].first_child };
@@ -1108,12 +1123,7 @@ impl<D: Domain> Search<D> {
 
     fn finish_stats(&mut self) {
         self.stats.labels_alive = self.alive;
-        self.stats.bytes = self.nodes.bytes()
-            + self.by_state.bytes()
-            + self.open.bytes()
-            + (self.classes.capacity() * (std::mem::size_of::<((D::State, D::Key), (u32, f64))>() + 1)) as u64
-            + (self.groups.capacity() * (std::mem::size_of::<((D::State, D::Key), GroupHead<D>)>() + 1)) as u64
-            + (self.group_next.capacity() * 4) as u64;
+        self.stats.bytes = self.bytes();
     }
 
     fn extract(&self, best: Option<u32>) -> Plan<D> {

@@ -20,6 +20,7 @@ impl Lcg {
 const MOVES: [(i32, i32); 5] = [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1)];
 
 /// x, y, t with wait actions; each cell has a time-varying cost and blocked times.
+#[derive(Debug, Clone)]
 struct TimeGrid {
     w: i32,
     h: i32,
@@ -130,6 +131,7 @@ fn time_expanded_domain_matches_brute_force() {
 
 /// TEMPEST's battery handling: the label carries t and the minimum energy e needed to
 /// reach the goal; the backward step clamps e at 0 and abandons e > capacity.
+#[derive(Debug, Clone)]
 struct Battery {
     grid: TimeGrid,
     delta_e: Vec<i32>, // [t][cell]: energy used arriving at the cell at t (< 0: gained)
@@ -283,6 +285,144 @@ fn battery_domain_bestdparms_finds_least_required_energy() {
                 assert!(plan.cost <= f64::from(max_duration));
             }
             (b, p) => panic!("seed {seed}: brute {b:?}, ise found {}", p.is_some()),
+        }
+    }
+    assert!(checked > 10, "{checked}");
+}
+
+/// The battery domain with many labels per state, dominance tested within each time
+/// step only (its dominance group): the engine's group lists instead of walks over
+/// every label at a cell.
+#[derive(Debug, Clone)]
+struct Grouped(Battery);
+
+impl Domain for Grouped {
+    type State = u32;
+    type Label = Charge;
+    type Key = (u32, i32);
+    type Action = u8;
+    const DOMINANCE: bool = true;
+    const MANY_LABELS: bool = true;
+
+    fn actions(&self, s: u32, l: &Charge, out: &mut Vec<u8>) {
+        self.0.actions(s, l, out);
+    }
+    fn predecessor(&self, s: u32, l: &Charge, a: u8) -> Option<Step<Self>> {
+        self.0.predecessor(s, l, a).map(|st| Step { state: st.state, label: st.label, cost: st.cost })
+    }
+    fn successors(&self, s: u32, out: &mut Vec<u32>) {
+        self.0.successors(s, out);
+    }
+    fn key(&self, s: u32, l: &Charge) -> (u32, i32) {
+        self.0.key(s, l)
+    }
+    fn dominance_group(&self, _s: u32, key: (u32, i32)) -> (u32, i32) {
+        (key.0, 0)
+    }
+    fn dominates(&self, s: u32, a: &Charge, ca: f64, b: &Charge, cb: f64) -> bool {
+        self.0.dominates(s, a, ca, b, cb)
+    }
+    fn within_global(&self, s: u32, l: &Charge, cost: f64) -> bool {
+        self.0.within_global(s, l, cost)
+    }
+    fn is_start(&self, s: u32, l: &Charge) -> bool {
+        self.0.is_start(s, l)
+    }
+    fn start_state(&self) -> Option<u32> {
+        self.0.start_state()
+    }
+    fn heuristic(&self, s: u32, l: &Charge) -> f64 {
+        self.0.heuristic(s, l)
+    }
+    fn better(&self, a: &Charge, b: &Charge) -> bool {
+        self.0.better(a, b)
+    }
+}
+
+fn grouped_goals(d: &Battery, goal: u32, goal_energy: i32, last_t: u32) -> Vec<Goal<Grouped>> {
+    battery_goals(d, goal, goal_energy, last_t)
+        .into_iter()
+        .map(|g| Goal { state: g.state, label: g.label, cost: g.cost })
+        .collect()
+}
+
+#[test]
+fn dominance_groups_equal_brute_force_in_both_modes() {
+    let (mut cost_checked, mut energy_checked) = (0, 0);
+    for seed in 0..80u64 {
+        let mut d = Battery::random(seed);
+        d.grid.start = (seed % 16) as u32;
+        let goal = ((seed * 5 + 3) % 16) as u32;
+        let goal_energy = (seed % 3) as i32;
+        let g = Grouped(d.clone());
+        let plan = Search::new(&g, grouped_goals(&d, goal, goal_energy, d.grid.horizon), Mode::BestPathCost).plan(&g);
+        let start = (d.grid.start, 0u32, d.start_energy);
+        let brute = dijkstra(start, |s| d.forward(s), |(c, _, b)| (c == goal && b >= goal_energy).then_some(0.0));
+        match (brute, &plan.path) {
+            (None, None) => {}
+            (Some(b), Some(_)) => {
+                cost_checked += 1;
+                assert!((b - plan.cost).abs() < 1e-9, "seed {seed}: brute {b}, grouped {}", plan.cost);
+            }
+            (b, p) => panic!("seed {seed}: brute {b:?}, grouped found {}", p.is_some()),
+        }
+        // BESTDPARMS: the least starting charge under a step cap.
+        d.duration_objective = true;
+        d.start_energy = d.capacity;
+        let max_duration = 4 + (seed % 5) as u32;
+        let g = Grouped(d.clone());
+        let goals = grouped_goals(&d, goal, 0, max_duration.min(d.grid.horizon));
+        let plan = Search::new(&g, goals, Mode::BestDparms { max_cost: f64::from(max_duration) }).plan(&g);
+        let least = (0..=d.capacity).find(|&b0| {
+            dijkstra(
+                (d.grid.start, 0u32, b0),
+                |s| if s.1 >= max_duration { vec![] } else { d.forward(s) },
+                |(c, _, _)| (c == goal).then_some(0.0),
+            )
+            .is_some()
+        });
+        match (least, &plan.path) {
+            (None, None) => {}
+            (Some(b0), Some(path)) => {
+                energy_checked += 1;
+                assert_eq!(path[0].label.e, b0, "seed {seed}");
+            }
+            (b, p) => panic!("seed {seed}: brute {b:?}, grouped found {}", p.is_some()),
+        }
+    }
+    assert!(cost_checked > 10 && energy_checked > 10, "{cost_checked} {energy_checked}");
+}
+
+#[test]
+fn replaced_goals_repair_to_the_fresh_answer() {
+    // set_goals keeps the goals that stay and removes the others with their subtrees:
+    // the repaired graph answers as a search from the new goals alone.
+    let mut checked = 0;
+    for seed in 0..60u64 {
+        let mut d = Battery::random(seed);
+        d.grid.start = (seed % 16) as u32;
+        d.start_energy = d.capacity;
+        let goal = ((seed * 5 + 3) % 16) as u32;
+        let g = Grouped(d.clone());
+        let all = grouped_goals(&d, goal, 0, d.grid.horizon);
+        let mut search = Search::new(&g, all.clone(), Mode::BestPathCost);
+        search.plan(&g);
+        // Keep every other goal, change the cost of a third, add one at another cell.
+        let other = (goal + 7) % 16;
+        let mut next: Vec<Goal<Grouped>> = all
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| i % 2 == 0)
+            .map(|(i, g)| Goal { state: g.state, label: g.label, cost: if i % 3 == 0 { 1.5 } else { 0.0 } })
+            .collect();
+        next.extend(grouped_goals(&d, other, 1, d.grid.horizon / 2));
+        search.set_goals(&g, next.clone());
+        let repaired = search.plan(&g);
+        let fresh = Search::new(&g, next, Mode::BestPathCost).plan(&g);
+        assert_eq!(repaired.path.is_some(), fresh.path.is_some(), "seed {seed}");
+        if fresh.path.is_some() {
+            checked += 1;
+            assert!((repaired.cost - fresh.cost).abs() < 1e-9, "seed {seed}: {} vs {}", repaired.cost, fresh.cost);
         }
     }
     assert!(checked > 10, "{checked}");

@@ -138,3 +138,46 @@ proptest! {
         }
     }
 }
+
+/// Hundreds of re-plans on one graph: weights change all over a 160 × 160 grid, so
+/// repairs remove large subtrees. Nodes that no longer serve a purpose are reclaimed,
+/// so the graph's memory stays flat, and every answer still equals a fresh search.
+#[test]
+fn memory_stays_flat_over_hundreds_of_replans() {
+    let (w, h) = (160u32, 160u32);
+    let mut grid = Grid::new(w, h);
+    let mut rng = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move |n: u32| {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng % u64::from(n)) as u32
+    };
+    for c in 0..w * h {
+        grid.set_weight(c, 1.0 + next(3) as f32);
+    }
+    grid.set_start(grid.cell(5, 5));
+    let goal = Goal { state: grid.cell(150, 150), label: (), cost: 0.0 };
+    let mut search = Search::new(&grid, [goal.clone()], Mode::BestPathCost);
+    let mut plan = search.plan(&grid);
+    let first_bytes = search.bytes();
+    let (mut reclaimed, mut peak, mut invalidated) = (0, 0, 0);
+    for round in 0..300 {
+        // A cell on the current route: its subtree (everything planned through it) goes.
+        let path = plan.path.as_ref().expect("the grid is open");
+        let cell = path[next(path.len() as u32) as usize].state;
+        grid.set_weight(cell, 1.0 + next(4) as f32);
+        let repair = search.update(&grid, &grid.changed_states(cell, false));
+        (reclaimed, invalidated) = (reclaimed + repair.reclaimed, invalidated + repair.invalidated);
+        plan = search.plan(&grid);
+        reclaimed += plan.stats.reclaimed;
+        peak = peak.max(search.bytes());
+        let fresh = Search::new(&grid, [goal.clone()], Mode::BestPathCost).plan(&grid);
+        assert!((plan.cost - fresh.cost).abs() < 1e-9, "round {round}: {} vs {}", plan.cost, fresh.cost);
+    }
+    // Without reclaiming, the 600 k nodes the repairs removed stay: the graph grew to
+    // 15 times its first size.
+    assert!(invalidated > 300_000, "{invalidated} nodes removed: the repairs were too small to test this");
+    assert!(reclaimed > invalidated / 2, "{reclaimed} of {invalidated} removed nodes reclaimed");
+    assert!(peak <= 2 * first_bytes, "the graph grew from {first_bytes} to {peak} bytes");
+}

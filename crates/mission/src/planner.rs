@@ -558,6 +558,12 @@ impl<'a> Mission<'a> {
     pub fn labels_alive(&self) -> u64 {
         self.segments.iter().map(|s| s.stats.labels_alive).sum()
     }
+
+    /// Bytes the segments' search graphs, tables and open lists hold now — the search's
+    /// memory, apart from the worlds' (terrain, horizon maps, Sun table).
+    pub fn search_bytes(&self) -> u64 {
+        self.segments.iter().map(|s| s.search.bytes()).sum()
+    }
 }
 
 fn add_stats(total: &mut Stats, s: &Stats) {

@@ -108,6 +108,8 @@ pub struct PlanRecord {
     pub expansions: u64,
     /// Cells whose sensed values differed from the map.
     pub changed_cells: usize,
+    /// Bytes held by the search graphs after this plan (see [`Mission::search_bytes`]).
+    pub search_bytes: u64,
     /// Whether the route ahead differs from the previous plan's remaining route.
     pub route_changed: bool,
     /// The plan.
@@ -209,6 +211,18 @@ impl SimReport {
         n
     }
 
+    /// Each re-plan's expansions as a fraction of the initial plan's, in plan order (a
+    /// restart counts as what it is: a fresh plan).
+    pub fn replan_expansion_fractions(&self) -> Vec<f64> {
+        let initial = self.plans.first().map_or(1, |p| p.expansions.max(1)) as f64;
+        self.plans.iter().skip(1).map(|p| p.expansions as f64 / initial).collect()
+    }
+
+    /// The most bytes the search graphs held after any plan.
+    pub fn peak_search_bytes(&self) -> u64 {
+        self.plans.iter().map(|p| p.search_bytes).max().unwrap_or(0)
+    }
+
     /// Median wall-clock time of the re-plans (not the initial plan), s.
     pub fn median_replan_s(&self) -> Option<f64> {
         let mut t: Vec<f64> = self.plans.iter().filter(|p| p.kind != PlanKind::Initial).map(|p| p.wall_s).collect();
@@ -276,6 +290,7 @@ pub fn simulate(
         wall_s: clock.elapsed().as_secs_f64(),
         expansions: plan.expansions,
         changed_cells: sensed.len(),
+        search_bytes: mission.search_bytes(),
         route_changed: true,
         plan: plan.clone(),
     });
@@ -390,6 +405,7 @@ pub fn simulate(
                     wall_s: clock.elapsed().as_secs_f64(),
                     expansions: p.expansions,
                     changed_cells: changed.len(),
+                    search_bytes: mission.search_bytes(),
                     route_changed,
                     plan: p.clone(),
                 });

@@ -2,5 +2,7 @@
 
 mod chaining;
 mod common;
+mod pareto;
 mod planning;
+mod sensing;
 mod simulation;

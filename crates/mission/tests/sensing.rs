@@ -1,0 +1,136 @@
+//! Re-planning after what the rover senses equals planning afresh on the updated map.
+//!
+//! The map and the true terrain differ by bumps and pits that change elevation, slope
+//! and the horizon (so light and shadow too). Random patches of the truth are sensed
+//! one after another (seeded); after each, the kept graphs are repaired
+//! ([`Mission::replan`]) and a fresh mission is planned on the same, updated map. With
+//! quantised actions and classes as fine as the quanta the search is exact, so the two
+//! costs must be equal — and the repair must not expand more than the fresh search.
+
+use areo_mission::{ActionConfig, Mission, MissionPlan, PathLength, PlannerConfig, Resolution, Start, World};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::common::*;
+
+fn ground(cols: usize, rows: usize, bumps: &[(f64, f64, f64)]) -> areo_terrain::Dem {
+    areo_terrain::Dem::from_fn(cols, rows, 20.0, 20.0, |x, y| {
+        let base = 3.0 * (x / 37.0).sin() + 2.0 * (y / 23.0).cos() + 0.02 * x;
+        base + bumps.iter().map(|&(bx, by, h)| h * (-((x - bx).powi(2) + (y - by).powi(2)) / 1600.0).exp()).sum::<f64>()
+    })
+    .unwrap()
+}
+
+fn quantised() -> ActionConfig {
+    let mut a = ActionConfig {
+        time_quantum_s: 60.0,
+        energy_quantum_wh: 1.0,
+        charge_s: 600.0,
+        hibernate_s: 1200.0,
+        ..Default::default()
+    };
+    a.drive.daylight = false;
+    a.charge.direct_sun = false;
+    a
+}
+
+fn config() -> PlannerConfig {
+    PlannerConfig {
+        actions: quantised(),
+        resolution: Resolution { time_s: 60.0, energy_wh: 1.0 },
+        path_length: PathLength::Distance,
+        goal_times: 8,
+        segment_starts: 4,
+        max_wait_s: 3600.0,
+        ..PlannerConfig::default()
+    }
+}
+
+/// The map (no bumps) and the truth (bumps and a pit), both with 16-sector horizons.
+fn worlds(cols: usize, rows: usize) -> (World, World) {
+    let bumps = [(150.0, 110.0, 12.0), (300.0, 200.0, -8.0), (420.0, 90.0, 15.0), (230.0, 300.0, 10.0)];
+    (mars_world(ground(cols, rows, &[]), 14.0, Some(16)), mars_world(ground(cols, rows, &bumps), 14.0, Some(16)))
+}
+
+/// Senses `patches` random discs of the truth one after another, re-planning after
+/// each, and checks every re-plan against a fresh plan. Returns the number of patches
+/// that changed the map.
+fn check(seed: u64, goals: &[(usize, usize)], battery_wh: f64) -> (usize, MissionPlan) {
+    let (cols, rows) = (26, 18);
+    let (map, truth) = worlds(cols, rows);
+    let model = model(2000.0, quantised());
+    let start = Start { cell: map.cell(1, 1), t_min: 0.0, t_max: 600.0, energy_wh: battery_wh };
+    let goals: Vec<u32> = goals.iter().map(|&(c, r)| map.cell(c, r)).collect();
+    let (mut mission, first) = Mission::plan(&map, &model, config(), start, &goals).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut effective = 0;
+    for patch in 0..6 {
+        let (c, r) = (rng.random_range(0..cols), rng.random_range(0..rows));
+        let radius: usize = rng.random_range(1..=3);
+        let mut cells = Vec::new();
+        for rr in r.saturating_sub(radius)..(r + radius + 1).min(rows) {
+            for cc in c.saturating_sub(radius)..(c + radius + 1).min(cols) {
+                cells.push(map.cell(cc, rr));
+            }
+        }
+        let changed = map.sense(&truth, &cells).unwrap();
+        if changed.is_empty() {
+            continue;
+        }
+        effective += 1;
+        let replanned = mission.replan(&changed).unwrap();
+        let (_, fresh) = Mission::plan(&map, &model, config(), start, &goals).unwrap();
+        assert!(
+            (replanned.cost - fresh.cost).abs() < 1e-6,
+            "seed {seed}, patch {patch} at ({c}, {r}): re-plan {} vs fresh {}",
+            replanned.cost,
+            fresh.cost
+        );
+        assert_eq!(replanned.waypoints.last().map(|w| w.cell), goals.last().copied());
+        assert!(
+            replanned.expansions <= fresh.expansions,
+            "seed {seed}, patch {patch}: the repair expanded {} nodes, a fresh plan {}",
+            replanned.expansions,
+            fresh.expansions
+        );
+    }
+    (effective, first)
+}
+
+#[test]
+fn single_goal_replans_after_sensed_terrain_equal_fresh_plans() {
+    let mut effective = 0;
+    for seed in 1..=4 {
+        effective += check(seed, &[(23, 15)], 1500.0).0;
+    }
+    assert!(effective >= 12, "only {effective} patches changed the map");
+}
+
+#[test]
+fn multi_goal_replans_after_sensed_terrain_equal_fresh_plans() {
+    let mut effective = 0;
+    for seed in 11..=13 {
+        effective += check(seed, &[(12, 14), (23, 3)], 1500.0).0;
+    }
+    assert!(effective >= 8, "only {effective} patches changed the map");
+}
+
+#[test]
+fn replans_with_a_binding_battery_equal_fresh_plans() {
+    // A battery that barely suffices (the night allows no charging): the Pareto labels a
+    // tight battery needs must survive repair too.
+    let mut effective = 0;
+    for seed in 21..=23 {
+        let (n, first) = check(seed, &[(23, 15)], 160.0);
+        effective += n;
+        // It binds: the plan runs the battery to within 10 Wh of its floor (200 Wh), and
+        // 30 Wh less at the start leaves no plan at all.
+        assert!(first.min_battery_wh() < 210.0, "{}", first.min_battery_wh());
+    }
+    assert!(effective >= 8, "only {effective} patches changed the map");
+    let (map, _) = worlds(26, 18);
+    let start = Start { cell: map.cell(1, 1), t_min: 0.0, t_max: 600.0, energy_wh: 130.0 };
+    let model = model(2000.0, quantised());
+    let lean = Mission::plan(&map, &model, config(), start, &[map.cell(23, 15)]);
+    assert!(lean.is_err(), "30 Wh less should leave no plan");
+}
