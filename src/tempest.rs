@@ -418,6 +418,17 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
         .filter(|s| matches!(s.action, Action::Drive(_)) && !ctx.truth.lit(s.cell, &ctx.truth.sun(s.t_s)))
         .count();
     let drives = r.steps.iter().filter(|s| matches!(s.action, Action::Drive(_))).count();
+    // Back-to-back diagonal drives at right angles (NE then NW, …): a zig-zag that one
+    // straight drive of the same net advance would beat when L counts length.
+    let zigzags = r
+        .steps
+        .windows(2)
+        .filter(|w| match (w[0].action, w[1].action) {
+            (Action::Drive(a), Action::Drive(b)) => a % 2 == 1 && b % 2 == 1 && (a + 8 - b) % 8 % 4 == 2,
+            _ => false,
+        })
+        .count();
+    o.number("zigzag_pairs", zigzags as f64);
     let min_battery = r.steps.iter().map(|s| s.battery_wh).fold(r.start.energy_wh, f64::min);
     o.number("actions", r.steps.len() as f64);
     o.number("distance_m", r.distance_m());
