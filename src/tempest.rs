@@ -169,7 +169,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     };
     let world = World::new(map_dem, &config, &Mars24)?;
     let truth = match truth_dem {
-        Some(d) => Some(World::new(d, &config, &Mars24)?),
+        Some(d) => Some(World::truth(d, &config, &Mars24, &world)?),
         None => None,
     };
     let precalc_s = clock.elapsed().as_secs_f64();

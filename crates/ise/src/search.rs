@@ -558,11 +558,11 @@ impl<D: Domain> Search<D> {
 
     /// Whether enough of the arena is garbage — labels killed by better ones with
     /// nothing hanging from them, labels removed by a repair — to reclaim it: at least
-    /// half of the nodes are not live, and the arena grew by half since it was last
+    /// 40 % of the nodes are not live, and the arena grew by a quarter since it was last
     /// compacted (so the O(nodes) pass is paid for by the nodes made since).
     fn worth_compacting(&self) -> bool {
         let len = u64::from(self.nodes.len());
-        len >= 1 << 14 && 2 * self.alive <= len && 2 * len >= 3 * u64::from(self.compacted_len)
+        len >= 1 << 14 && 5 * self.alive <= 3 * len && 4 * len >= 5 * u64::from(self.compacted_len)
     }
 
     /// Reclaims the nodes that no longer serve a purpose (the paper's ISE "deletes a

@@ -210,6 +210,13 @@ impl<'a> TempestDomain<'a> {
         }
     }
 
+    /// Bytes held by the drive-geometry cache.
+    pub fn cache_bytes(&self) -> usize {
+        let cache = self.geometry.borrow();
+        cache.pages.iter().flatten().count() * GEOMETRY_PAGE * std::mem::size_of::<Into>()
+            + cache.pages.capacity() * std::mem::size_of::<Option<Box<[Into]>>>()
+    }
+
     /// E_max used by the objective, Wh.
     pub fn e_max_wh(&self) -> f64 {
         self.e_max

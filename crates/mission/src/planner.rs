@@ -559,10 +559,11 @@ impl<'a> Mission<'a> {
         self.segments.iter().map(|s| s.stats.labels_alive).sum()
     }
 
-    /// Bytes the segments' search graphs, tables and open lists hold now — the search's
-    /// memory, apart from the worlds' (terrain, horizon maps, Sun table).
+    /// Bytes the segments' search graphs, tables, open lists and drive-geometry caches
+    /// hold now — the search's memory, apart from the worlds' (terrain, horizon maps,
+    /// Sun table).
     pub fn search_bytes(&self) -> u64 {
-        self.segments.iter().map(|s| s.search.bytes()).sum()
+        self.segments.iter().map(|s| s.search.bytes() + s.domain.cache_bytes() as u64).sum()
     }
 }
 

@@ -34,7 +34,7 @@ fn quantised() -> ActionConfig {
     a
 }
 
-fn config() -> PlannerConfig {
+fn planner_config() -> PlannerConfig {
     PlannerConfig {
         actions: quantised(),
         resolution: Resolution { time_s: 60.0, energy_wh: 1.0 },
@@ -61,7 +61,7 @@ fn check(seed: u64, goals: &[(usize, usize)], battery_wh: f64) -> (usize, Missio
     let model = model(2000.0, quantised());
     let start = Start { cell: map.cell(1, 1), t_min: 0.0, t_max: 600.0, energy_wh: battery_wh };
     let goals: Vec<u32> = goals.iter().map(|&(c, r)| map.cell(c, r)).collect();
-    let (mut mission, first) = Mission::plan(&map, &model, config(), start, &goals).unwrap();
+    let (mut mission, first) = Mission::plan(&map, &model, planner_config(), start, &goals).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut effective = 0;
     for patch in 0..6 {
@@ -79,7 +79,7 @@ fn check(seed: u64, goals: &[(usize, usize)], battery_wh: f64) -> (usize, Missio
         }
         effective += 1;
         let replanned = mission.replan(&changed).unwrap();
-        let (_, fresh) = Mission::plan(&map, &model, config(), start, &goals).unwrap();
+        let (_, fresh) = Mission::plan(&map, &model, planner_config(), start, &goals).unwrap();
         assert!(
             (replanned.cost - fresh.cost).abs() < 1e-6,
             "seed {seed}, patch {patch} at ({c}, {r}): re-plan {} vs fresh {}",
@@ -131,6 +131,31 @@ fn replans_with_a_binding_battery_equal_fresh_plans() {
     let (map, _) = worlds(26, 18);
     let start = Start { cell: map.cell(1, 1), t_min: 0.0, t_max: 600.0, energy_wh: 130.0 };
     let model = model(2000.0, quantised());
-    let lean = Mission::plan(&map, &model, config(), start, &[map.cell(23, 15)]);
+    let lean = Mission::plan(&map, &model, planner_config(), start, &[map.cell(23, 15)]);
     assert!(lean.is_err(), "30 Wh less should leave no plan");
+}
+
+#[test]
+fn a_truth_sharing_the_maps_horizons_senses_and_lights_as_a_full_one() {
+    let bumps = [(150.0, 110.0, 12.0), (300.0, 200.0, -8.0), (420.0, 90.0, 15.0), (230.0, 300.0, 10.0)];
+    let map = mars_world(ground(26, 18, &[]), 14.0, Some(16));
+    let full = mars_world(ground(26, 18, &bumps), 14.0, Some(16));
+    let world_config = crate::common::config(14.0, Some(16));
+    let shared = World::truth(ground(26, 18, &bumps), &world_config, &areo_ephemeris::Mars24, &map).unwrap();
+    for t in (0..14).map(|h| f64::from(h) * 3600.0) {
+        let sun = full.sun(t);
+        for c in 0..full.cells() as u32 {
+            assert_eq!(shared.lit(c, &sun), full.lit(c, &sun), "cell {c} at {t} s");
+        }
+    }
+    // Sensing either truth changes a believed map the same way.
+    let (a, b) = (mars_world(ground(26, 18, &[]), 14.0, Some(16)), mars_world(ground(26, 18, &[]), 14.0, Some(16)));
+    let cells: Vec<u32> = (0..map.cells() as u32).collect();
+    let (from_full, from_shared) = (a.sense(&full, &cells).unwrap(), b.sense(&shared, &cells).unwrap());
+    assert_eq!(from_full, from_shared);
+    assert!(from_full.len() > 50, "{} cells changed", from_full.len());
+    for t in (0..14).map(|h| f64::from(h) * 3600.0) {
+        let sun = a.sun(t);
+        assert!((0..a.cells() as u32).all(|c| a.lit(c, &sun) == b.lit(c, &sun)));
+    }
 }

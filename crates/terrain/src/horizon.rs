@@ -51,7 +51,7 @@ impl HorizonMap {
         let cells = dem.cols() * dem.rows();
         let zn = Elevations::of(dem);
         // Each sector written in place; opposite sectors (when K is even) from one
-        // sweep of their common lines; per-thread accumulators reused across sectors.
+        // sweep of their common lines.
         let mut angles = vec![0u16; cells * sectors];
         let paired = sectors.is_multiple_of(2);
         let jobs = if paired { sectors / 2 } else { sectors };
@@ -68,36 +68,75 @@ impl HorizonMap {
                 pairs.push((s, a, None));
             }
         }
-        let (cols, rows) = (dem.cols(), dem.rows());
-        // Encoded in the accumulator's own order (a loop the compiler vectorises), then
-        // tiles transposed into place for column-major accumulators.
-        let write = |acc: &Accumulator, scratch: &mut Vec<u16>, out: &mut [u16]| {
-            if acc.transposed {
-                scratch.resize(cells, 0);
-                encode_all(&acc.cells, &zn.cols_first, scratch);
-                for_each_tiled(cols, rows, |r, c| out[r * cols + c] = scratch[c * rows + r]);
-            } else {
-                encode_all(&acc.cells, &zn.rows_first, out);
+        sweep_sectors(dem, &zn, sectors, curvature, pairs);
+        Ok(HorizonMap { cols: dem.cols(), rows: dem.rows(), sectors, angles })
+    }
+
+    /// The horizon of `dem` — the terrain a rover truly drives on, on this map's grid —
+    /// where it differs from this map, cell by cell: the same sweep as
+    /// [`HorizonMap::compute`], run a few sectors at a time and compared with this map,
+    /// so that a second full map is never held. Cells whose surroundings are the same
+    /// on both get the same horizon bit for bit and are left out.
+    pub fn changes(&self, dem: &Dem, curvature: Curvature) -> Result<HorizonChanges> {
+        let cells = dem.cols() * dem.rows();
+        if dem.cols() != self.cols || dem.rows() != self.rows {
+            return Err(Error::BadGrid(format!(
+                "{}×{} cells against a horizon map of {}×{}: they must share one grid",
+                dem.cols(),
+                dem.rows(),
+                self.cols,
+                self.rows
+            )));
+        }
+        let sectors = self.sectors;
+        let zn = Elevations::of(dem);
+        let paired = sectors.is_multiple_of(2);
+        let jobs = if paired { sectors / 2 } else { sectors };
+        let per_job = if paired { 2 } else { 1 };
+        // As many jobs at once as there are threads: each holds its sectors' cells.
+        let batch = rayon::current_num_threads().max(1);
+        let mut changed: Vec<(u32, u16, u16)> = Vec::new();
+        let mut buffer = vec![0u16; cells * per_job * batch.min(jobs)];
+        for first in (0..jobs).step_by(batch) {
+            let n = batch.min(jobs - first);
+            let mut outs: Vec<&mut [u16]> = buffer[..cells * per_job * n].chunks_mut(cells.max(1)).collect();
+            let mut pairs: Vec<SectorJob<'_>> = Vec::with_capacity(n);
+            let mut sector_of = Vec::with_capacity(n * per_job);
+            for k in 0..n {
+                let s = first + k;
+                if paired {
+                    let b = outs.pop().unwrap_or_default();
+                    let a = outs.pop().unwrap_or_default();
+                    pairs.push((s, a, Some(b)));
+                } else {
+                    let a = outs.pop().unwrap_or_default();
+                    pairs.push((s, a, None));
+                }
             }
-        };
-        pairs.into_par_iter().for_each_init(
-            || (Accumulator::default(), Accumulator::default(), Vec::new()),
-            |(toward, away, scratch), (s, out, opposite)| {
-                let az = s as f64 * 360.0 / sectors as f64;
-                match opposite {
-                    Some(opposite) => {
-                        sweep_lines(dem, &zn, az, curvature, Some(&mut *toward), Some(&mut *away));
-                        write(toward, scratch, out);
-                        write(away, scratch, opposite);
-                    }
-                    None => {
-                        sweep_lines(dem, &zn, az, curvature, Some(&mut *toward), None);
-                        write(toward, scratch, out);
+            // Popped from the back: job k's outputs are the chunks counted from the end.
+            pairs.reverse();
+            for &(s, _, ref b) in &pairs {
+                sector_of.push(s);
+                if b.is_some() {
+                    sector_of.push(s + jobs);
+                }
+            }
+            sweep_sectors(dem, &zn, sectors, curvature, pairs);
+            for (chunk, &s) in buffer[..cells * per_job * n].chunks(cells.max(1)).zip(&sector_of) {
+                let reference = &self.angles[s * cells..(s + 1) * cells];
+                for (i, (&new, &old)) in chunk.iter().zip(reference).enumerate() {
+                    if new != old {
+                        changed.push((i as u32, s as u16, new));
                     }
                 }
-            },
-        );
-        Ok(HorizonMap { cols: dem.cols(), rows: dem.rows(), sectors, angles })
+            }
+        }
+        let mut profiles: std::collections::HashMap<u32, Box<[f32]>> = std::collections::HashMap::new();
+        for (i, s, v) in changed {
+            let profile = profiles.entry(i).or_insert_with(|| self.cell_profile(i as usize).into_boxed_slice());
+            profile[s as usize] = decode(v) as f32;
+        }
+        Ok(HorizonChanges { sectors, profiles })
     }
 
     /// Number of sectors.
@@ -151,6 +190,79 @@ impl HorizonMap {
     pub fn shadowed(&self, azimuth_deg: f64, elevation_deg: f64) -> Vec<bool> {
         (0..self.cols * self.rows).map(|i| elevation_deg < self.horizon_deg(i, azimuth_deg)).collect()
     }
+}
+
+/// The cells whose horizon on one terrain differs from a [`HorizonMap`] of another on
+/// the same grid ([`HorizonMap::changes`]), with their whole profiles.
+#[derive(Debug, Clone, Default)]
+pub struct HorizonChanges {
+    sectors: usize,
+    profiles: std::collections::HashMap<u32, Box<[f32]>>,
+}
+
+impl HorizonChanges {
+    /// Cell `i`'s profile (degrees per sector, as [`HorizonMap::cell_profile`]) where it
+    /// differs from the reference map.
+    pub fn profile(&self, i: usize) -> Option<&[f32]> {
+        self.profiles.get(&(i as u32)).map(|p| &p[..])
+    }
+
+    /// How many cells differ.
+    pub fn len(&self) -> usize {
+        self.profiles.len()
+    }
+
+    /// Whether no cell differs.
+    pub fn is_empty(&self) -> bool {
+        self.profiles.is_empty()
+    }
+
+    /// Number of sectors.
+    pub fn sectors(&self) -> usize {
+        self.sectors
+    }
+
+    /// Bytes held (approximate).
+    pub fn bytes(&self) -> usize {
+        self.profiles.capacity() * (std::mem::size_of::<(u32, Box<[f32]>)>() + 1)
+            + self.profiles.len() * self.sectors * 4
+    }
+}
+
+/// Sweeps every (sector, output, opposite output) job in parallel (the result does not
+/// depend on the thread count): each sector's horizons encoded into its output.
+fn sweep_sectors(dem: &Dem, zn: &Elevations, sectors: usize, curvature: Curvature, pairs: Vec<SectorJob<'_>>) {
+    let (cols, rows) = (dem.cols(), dem.rows());
+    let cells = cols * rows;
+    // Encoded in the accumulator's own order (a loop the compiler vectorises), then
+    // tiles transposed into place for column-major accumulators.
+    let write = |acc: &Accumulator, scratch: &mut Vec<u16>, out: &mut [u16]| {
+        if acc.transposed {
+            scratch.resize(cells, 0);
+            encode_all(&acc.cells, &zn.cols_first, scratch);
+            for_each_tiled(cols, rows, |r, c| out[r * cols + c] = scratch[c * rows + r]);
+        } else {
+            encode_all(&acc.cells, &zn.rows_first, out);
+        }
+    };
+    // Per-thread accumulators reused across sectors.
+    pairs.into_par_iter().for_each_init(
+        || (Accumulator::default(), Accumulator::default(), Vec::new()),
+        |(toward, away, scratch), (s, out, opposite)| {
+            let az = s as f64 * 360.0 / sectors as f64;
+            match opposite {
+                Some(opposite) => {
+                    sweep_lines(dem, zn, az, curvature, Some(&mut *toward), Some(&mut *away));
+                    write(toward, scratch, out);
+                    write(away, scratch, opposite);
+                }
+                None => {
+                    sweep_lines(dem, zn, az, curvature, Some(&mut *toward), None);
+                    write(toward, scratch, out);
+                }
+            }
+        },
+    );
 }
 
 /// Per-cell horizon elevation (degrees) toward `azimuth_deg`; NaN on missing cells,
