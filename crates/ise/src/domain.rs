@@ -89,6 +89,13 @@ pub trait Domain {
         }
     }
 
+    /// The predecessor state `action` comes from into `state`, when it can be told
+    /// without evaluating the transition (`None`: unknown). Repairs use it to skip the
+    /// steps that cannot land on a changed state.
+    fn predecessor_state(&self, _state: Self::State, _action: Self::Action) -> Option<Self::State> {
+        None
+    }
+
     /// The states reachable from `state` by one action (appended to `out`; include
     /// `state` itself for stationary actions). Used in re-planning to find the nodes
     /// whose expansion can regenerate labels at a state.

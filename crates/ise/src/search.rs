@@ -27,6 +27,9 @@ const CLOSED: u8 = 2;
 const DEAD: u8 = 4;
 /// Invalidated by a change: its path crosses a changed state.
 const REMOVED: u8 = 8;
+/// With OPEN: reopened by a repair; its expansion makes only the steps into the states
+/// that repair touched.
+const PARTIAL: u8 = 16;
 
 /// What the search optimises.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -300,6 +303,10 @@ pub struct Search<D: Domain> {
     compacted_len: u32,
     /// The goal nodes, for [`Search::set_goals`].
     goal_ids: Vec<u32>,
+    /// Nodes the last repair reopened for a partial expansion, and the states it
+    /// touched.
+    partial: Vec<u32>,
+    touched: FxHashSet<D::State>,
     /// With [`Domain::MANY_LABELS`] and [`Domain::DOMINANCE`]: the head of each
     /// (state, dominance group)'s list of live labels, threaded through `group_next`
     /// (indexed by node). A label leaves its list when it is beaten or removed.
@@ -346,6 +353,8 @@ impl<D: Domain> Search<D> {
             group_next: Vec::new(),
             compacted_len: 0,
             goal_ids: Vec::new(),
+            partial: Vec::new(),
+            touched: FxHashSet::default(),
             key_offset: 0.0,
             stale_keys: false,
             keyed_start: domain.start_state(),
@@ -468,6 +477,11 @@ impl<D: Domain> Search<D> {
         mut touched: Vec<D::State>,
         mut touched_set: FxHashSet<D::State>,
     ) {
+        // Nodes still waiting for a partial expansion from the last repair expand in
+        // full instead: the touched states are this repair's from here on.
+        for id in std::mem::take(&mut self.partial) {
+            self.nodes[id].flags &= !PARTIAL;
+        }
         let mut stack = roots;
         while let Some(id) = stack.pop() {
             let n = &mut self.nodes[id];
@@ -500,8 +514,8 @@ impl<D: Domain> Search<D> {
                 touched.push(state);
             }
         }
-        // Reopen the surviving closed nodes that can regenerate labels at the touched
-        // states, or reach them more cheaply now.
+        // The surviving closed nodes that can regenerate labels at the touched states, or
+        // reach them more cheaply now.
         let mut near = Vec::new();
         let mut seen: FxHashSet<D::State> = FxHashSet::default();
         for &t in &touched {
@@ -514,6 +528,7 @@ impl<D: Domain> Search<D> {
                 }
             }
         }
+        let mut closed = Vec::new();
         for s in near {
             let head = self.by_state.get(domain, s);
             let (mut prev, mut id, mut new_head) = (NONE, head, head);
@@ -531,17 +546,27 @@ impl<D: Domain> Search<D> {
                     continue;
                 }
                 if n.flags == CLOSED {
-                    n.flags = OPEN;
-                    self.stats.reopened += 1;
-                    let (g, label) = (n.g, n.label.clone());
-                    let f = g + domain.heuristic(s, &label) + self.key_offset;
-                    self.open.push(Entry::new(f, g, id));
+                    closed.push(id);
                 }
                 prev = id;
                 id = next;
             }
             self.relink_head(domain, s, head, new_head);
         }
+        // Those closed nodes keep every step they made that lands on an untouched state
+        // (its transition did not change): they are reopened for a partial expansion
+        // that makes again only the steps into touched states — if the search still
+        // needs them when they come up.
+        for id in closed {
+            let n = &mut self.nodes[id];
+            n.flags = OPEN | PARTIAL;
+            self.stats.reopened += 1;
+            let (g, label, state) = (n.g, n.label.clone(), n.state);
+            let f = g + domain.heuristic(state, &label) + self.key_offset;
+            self.open.push(Entry::new(f, g, id));
+            self.partial.push(id);
+        }
+        self.touched = touched_set;
         if self.worth_compacting() {
             self.stats.reclaimed += self.compact(domain);
         }
@@ -572,6 +597,10 @@ impl<D: Domain> Search<D> {
     /// children, state lists, the class and group tables, the open list) is rebuilt.
     /// Returns the nodes reclaimed.
     pub fn compact(&mut self, domain: &D) -> u64 {
+        // Pending partial expansions become full ones (the list's ids are about to move).
+        for id in std::mem::take(&mut self.partial) {
+            self.nodes[id].flags &= !PARTIAL;
+        }
         let len = self.nodes.len();
         // Live nodes and every node on their paths to the goals (dead ones included: a
         // live label's path may pass through a beaten one). The state heads of every
@@ -601,7 +630,7 @@ impl<D: Domain> Search<D> {
             .filter_map(|e| {
                 let n = &self.nodes[e.id()];
                 let new = remap[e.id() as usize];
-                (n.flags == OPEN && e.matches(n.g) && new != NONE).then(|| Entry::new(e.f(), n.g, new))
+                (n.flags & !PARTIAL == OPEN && e.matches(n.g) && new != NONE).then(|| Entry::new(e.f(), n.g, new))
             })
             .collect();
         // Slide the survivors down, in order.
@@ -676,7 +705,7 @@ impl<D: Domain> Search<D> {
             .into_iter()
             .filter(|e| {
                 let n = &self.nodes[e.id()];
-                n.flags == OPEN && e.matches(n.g) && seen.insert(e.id())
+                n.flags & !PARTIAL == OPEN && e.matches(n.g) && seen.insert(e.id())
             })
             .map(|e| {
                 let n = &self.nodes[e.id()];
@@ -762,7 +791,7 @@ impl<D: Domain> Search<D> {
     fn pop_valid(&mut self, domain: &D) -> Option<Entry> {
         while let Some(e) = self.open.pop() {
             let n = &self.nodes[e.id()];
-            if n.flags == OPEN && e.matches(n.g) {
+            if n.flags & !PARTIAL == OPEN && e.matches(n.g) {
                 if self.stale_keys {
                     // Keyed before a start move: a lower bound of its key now. Bring it
                     // up to date; if it grew, it waits its turn.
@@ -780,12 +809,17 @@ impl<D: Domain> Search<D> {
     }
 
     fn expand(&mut self, domain: &D, id: u32) {
+        let partial = self.nodes[id].flags & PARTIAL != 0;
         self.nodes[id].flags = CLOSED;
         self.stats.expansions += 1;
         let (state, label, g) = {
             let n = &self.nodes[id];
             (n.state, n.label.clone(), n.g)
         };
+        if partial {
+            self.expand_partially(domain, id, state, label, g);
+            return;
+        }
         let mut steps = std::mem::take(&mut self.steps);
         let mut actions = std::mem::take(&mut self.actions);
         domain.visit_predecessors(state, &label, &mut actions, &mut steps, |a, step| {
@@ -793,6 +827,26 @@ impl<D: Domain> Search<D> {
             self.insert(domain, step.state, step.label, g + step.cost, id, Some(a));
         });
         self.steps = steps;
+        self.actions = actions;
+    }
+
+    /// A reopened node's expansion: only the steps into the states the last repair
+    /// touched (the others it made before are still in the graph, at their costs).
+    fn expand_partially(&mut self, domain: &D, id: u32, state: D::State, label: D::Label, g: f64) {
+        let mut actions = std::mem::take(&mut self.actions);
+        actions.clear();
+        domain.actions(state, &label, &mut actions);
+        for &a in &actions {
+            if domain.predecessor_state(state, a).is_some_and(|p| !self.touched.contains(&p)) {
+                continue;
+            }
+            if let Some(step) = domain.predecessor(state, &label, a)
+                && self.touched.contains(&step.state)
+            {
+                debug_assert!(step.cost >= 0.0, "step costs must be non-negative");
+                self.insert(domain, step.state, step.label, g + step.cost, id, Some(a));
+            }
+        }
         self.actions = actions;
     }
 

@@ -326,6 +326,21 @@ impl Domain for TempestDomain<'_> {
         }
     }
 
+    fn predecessor_state(&self, state: u32, action: Action) -> Option<u32> {
+        match action {
+            Action::Drive(k) => {
+                let (c, r) = self.world.col_row(state);
+                let (dc, dr) = NEIGHBOURS[k as usize % 8];
+                let (pc, pr) = (c as i64 - i64::from(dc), r as i64 - i64::from(dr));
+                let inside =
+                    pc >= 0 && pr >= 0 && (pc as usize) < self.world.cols() && (pr as usize) < self.world.rows();
+                // Off the map: no drive; the transition says so.
+                inside.then(|| self.world.cell(pc as usize, pr as usize))
+            }
+            _ => Some(state),
+        }
+    }
+
     fn successors(&self, state: u32, out: &mut Vec<u32>) {
         let (c, r) = self.world.col_row(state);
         for (dc, dr) in NEIGHBOURS {
