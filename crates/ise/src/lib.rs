@@ -9,11 +9,15 @@
 //! then searches backwards from one or many [`Goal`]s (each with an initial cost) to
 //! the start, in [`Mode::BestPathCost`] (BESTPCOST) or [`Mode::BestDparms`]
 //! (BESTDPARMS), and repairs its graph incrementally when costs change
-//! ([`Search::update`]) or the start moves ([`Search::start_moved`]).
+//! ([`Search::update`]), the goals change ([`Search::set_goals`]) or the start moves
+//! ([`Search::start_moved`]).
 //!
 //! Memory grows with the states touched (a hash table of states, an arena of labels);
-//! nothing is allocated for the untouched space. With no DPARMS and no constraints the
-//! answers equal A*'s.
+//! nothing is allocated for the untouched space, and labels that no longer serve a
+//! purpose (beaten, or removed by a repair) are reclaimed ([`Search::compact`]). With
+//! many labels per state and dominance, a label is tested only against those of its
+//! dominance group (Pareto labels per time class, say). With no DPARMS and no
+//! constraints the answers equal A*'s.
 //!
 //! ```
 //! use areo_ise::{Goal, Mode, Search, grid::Grid};

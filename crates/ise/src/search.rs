@@ -9,7 +9,8 @@
 //! predecessors, and every generated node has a cost that is the true cost of its path
 //! to a goal. `update` removes the nodes whose paths cross a changed state (with their
 //! subtrees, whose costs derived from them) and reopens the surviving closed nodes that
-//! could regenerate what was removed or now reach something cheaper; `plan` then resumes
+//! could regenerate what was removed or now reach something cheaper — for a partial
+//! expansion that makes only the steps into the states the change touched; `plan` then resumes
 //! best-first search (with reopening) from the frontier. In a backward search the start
 //! sits at the leaves, so a change near the rover removes a small subtree and reopens a
 //! handful of nodes — the D* Lite insight, here over labelled states (DD* Lite).
