@@ -461,6 +461,21 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
         o.number("replan_expansions_max", max);
     }
     o.number("peak_search_mb", r.peak_search_bytes() as f64 / 1e6);
+    // With `compare_fresh`: re-plans against the same problem searched from scratch.
+    let compared: Vec<(&areo_mission::PlanRecord, (u64, f64))> =
+        r.plans.iter().filter_map(|p| p.fresh.map(|f| (p, f))).collect();
+    if !compared.is_empty() {
+        o.number("fresh_compared", compared.len() as f64);
+        o.number("replans_above_fresh", compared.iter().filter(|(p, (e, _))| p.expansions > *e).count() as f64);
+        let worst = compared.iter().map(|(p, (_, c))| (p.plan.cost - c).abs() / c.abs().max(1.0)).fold(0.0, f64::max);
+        o.number("replan_fresh_cost_difference", worst);
+        o.summary.push(format!(
+            "compared with fresh plans: {} re-plans, {} expanded more than the fresh search; costs within {:.2e} (relative)",
+            compared.len(),
+            compared.iter().filter(|(p, (e, _))| p.expansions > *e).count(),
+            worst
+        ));
+    }
     o.number("world_mb", (ctx.world.bytes() + ctx.truth.bytes()) as f64 / 1e6);
     o.number("refused_actions", r.steps.iter().filter(|s| s.refused.is_some()).count() as f64);
     o.number("night_drives", night_drives as f64);
@@ -609,12 +624,12 @@ fn executed_csv(ctx: &Context<'_>, r: &SimReport) -> String {
 fn replans_csv(ctx: &Context<'_>, r: &SimReport) -> String {
     let mut s = String::from(
         "step,kind,utc,t_s,wall_ms,expansions,changed_cells,route_changed,waypoints,cost,duration_h,min_battery_wh,\
-         search_mb\n",
+         search_mb,fresh_expansions,fresh_cost\n",
     );
     for p in &r.plans {
         let _ = writeln!(
             s,
-            "{},{},{},{:.1},{:.3},{},{},{},{},{:.4},{:.3},{:.2},{:.1}",
+            "{},{},{},{:.1},{:.3},{},{},{},{},{:.4},{:.3},{:.2},{:.1},{},{}",
             p.step,
             match p.kind {
                 PlanKind::Initial => "initial",
@@ -631,7 +646,9 @@ fn replans_csv(ctx: &Context<'_>, r: &SimReport) -> String {
             p.plan.cost,
             p.plan.duration_s() / 3600.0,
             p.plan.min_battery_wh(),
-            p.search_bytes as f64 / 1e6
+            p.search_bytes as f64 / 1e6,
+            p.fresh.map_or(String::new(), |f| f.0.to_string()),
+            p.fresh.map_or(String::new(), |f| format!("{:.4}", f.1))
         );
     }
     s

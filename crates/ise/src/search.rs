@@ -833,6 +833,9 @@ impl<D: Domain> Search<D> {
 
     /// A reopened node's expansion: only the steps into the states the last repair
     /// touched (the others it made before are still in the graph, at their costs).
+    /// Kept out of line: a fresh search never takes it.
+    #[cold]
+    #[inline(never)]
     fn expand_partially(&mut self, domain: &D, id: u32, state: D::State, label: D::Label, g: f64) {
         let mut actions = std::mem::take(&mut self.actions);
         actions.clear();

@@ -526,6 +526,57 @@ impl<'a> Mission<'a> {
         self.assemble().ok_or_else(|| self.explain_unreachable())
     }
 
+    /// The plan a search from scratch makes of the problem as it now stands — the same
+    /// start, goals, goal instants and start intervals, on the world as it now is, with
+    /// new graphs — for checking what re-planning on the kept graphs gives (its cost,
+    /// its expansions) against. `None` when no plan exists.
+    pub fn fresh(&self) -> Option<MissionPlan> {
+        let n = self.segments.len();
+        let segments = self
+            .segments
+            .iter()
+            .enumerate()
+            .map(|(k, seg)| {
+                let start = if k == 0 {
+                    self.start
+                } else {
+                    let (t_min, t_max) = seg.intervals[0];
+                    Start { t_min, t_max, ..seg.domain.start }
+                };
+                let domain = TempestDomain::new(
+                    self.world,
+                    self.model,
+                    start,
+                    self.config.objective,
+                    self.config.resolution,
+                    self.config.path_length,
+                );
+                let goals = if k + 1 == n { seg.goals.clone() } else { Vec::new() };
+                let search = Search::new(&domain, relabel_goals(goal_list(&goals, seg.to)), domain.mode());
+                Segment {
+                    from: seg.from,
+                    to: seg.to,
+                    domain,
+                    search,
+                    goals,
+                    intervals: seg.intervals.clone(),
+                    candidates: Vec::new(),
+                    stats: Stats::default(),
+                }
+            })
+            .collect();
+        let mut fresh = Mission {
+            world: self.world,
+            model: self.model,
+            config: self.config.clone(),
+            start: self.start,
+            goals: self.goals.clone(),
+            segments,
+        };
+        fresh.solve_from(Some(n - 1), &[], n > 0);
+        fresh.assemble()
+    }
+
     /// The rover has reached the first remaining goal: its segment is dropped and the
     /// next goal's segment becomes the first (call [`Mission::advance`] next). Returns
     /// false, changing nothing, when it was the last goal.

@@ -34,11 +34,15 @@ pub struct SimConfig {
     pub noise: Noise,
     /// Most actions to execute before giving up (≥ 1).
     pub max_steps: usize,
+    /// For checking the planner: after every re-plan that sensing changed, also plan
+    /// the same problem from scratch ([`Mission::fresh`]) and record its cost and
+    /// expansions beside the re-plan's (slow: a whole search per re-plan).
+    pub compare_fresh: bool,
 }
 
 impl Default for SimConfig {
     fn default() -> SimConfig {
-        SimConfig { sense_radius_cells: 2.0, noise: Noise::default(), max_steps: 20_000 }
+        SimConfig { sense_radius_cells: 2.0, noise: Noise::default(), max_steps: 20_000, compare_fresh: false }
     }
 }
 
@@ -112,6 +116,9 @@ pub struct PlanRecord {
     pub search_bytes: u64,
     /// Whether the route ahead differs from the previous plan's remaining route.
     pub route_changed: bool,
+    /// With [`SimConfig::compare_fresh`]: the same problem planned from scratch — its
+    /// expansions and cost (`None` when not compared, or no fresh plan exists).
+    pub fresh: Option<(u64, f64)>,
     /// The plan.
     pub plan: MissionPlan,
 }
@@ -292,6 +299,7 @@ pub fn simulate(
         changed_cells: sensed.len(),
         search_bytes: mission.search_bytes(),
         route_changed: true,
+        fresh: None,
         plan: plan.clone(),
     });
 
@@ -398,6 +406,10 @@ pub fn simulate(
         match outcome {
             Ok((p, kind)) => {
                 let route_changed = !same_route(&plan, &p, cell);
+                let fresh = (sim.compare_fresh && kind == PlanKind::Replan && !changed.is_empty())
+                    .then(|| mission.fresh())
+                    .flatten()
+                    .map(|f| (f.expansions, f.cost));
                 report.plans.push(PlanRecord {
                     step,
                     kind,
@@ -407,6 +419,7 @@ pub fn simulate(
                     changed_cells: changed.len(),
                     search_bytes: mission.search_bytes(),
                     route_changed,
+                    fresh,
                     plan: p.clone(),
                 });
                 plan = p;

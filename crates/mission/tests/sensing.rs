@@ -159,3 +159,88 @@ fn a_truth_sharing_the_maps_horizons_senses_and_lights_as_a_full_one() {
         assert!((0..a.cells() as u32).all(|c| a.lit(c, &sun) == b.lit(c, &sun)));
     }
 }
+
+/// The cells within `radius` cells of `cell` (centre to centre).
+fn disc(world: &World, cell: u32, radius: i64) -> Vec<u32> {
+    let (c, r) = world.col_row(cell);
+    let mut out = Vec::new();
+    for dr in -radius..=radius {
+        for dc in -radius..=radius {
+            let (nc, nr) = (c as i64 + dc, r as i64 + dr);
+            if dc * dc + dr * dr <= radius * radius
+                && nc >= 0
+                && nr >= 0
+                && (nc as usize) < world.cols()
+                && (nr as usize) < world.rows()
+            {
+                out.push(world.cell(nc as usize, nr as usize));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn a_rover_that_finds_a_wall_replans_with_no_more_work_than_a_fresh_plan() {
+    // The valley-detour situation at a small scale: the map shows a gap in a ridge, the
+    // truth closes it; the rover drives, senses 2 cells around it after every action
+    // and re-plans (plan extension + repair). Every re-plan — the wall's discovery
+    // included — costs what the same problem searched from scratch on the updated map
+    // costs, and expands no more than that search.
+    let ridge = |gap: bool| {
+        areo_terrain::Dem::from_fn(30, 24, 20.0, 20.0, move |x, y| {
+            let base = 2.0 * (x / 37.0).sin() + 1.5 * (y / 23.0).cos();
+            // The ridge leaves a way round at its eastern end.
+            let on_ridge = (230.0..270.0).contains(&y) && x < 470.0 && !(gap && (250.0..330.0).contains(&x));
+            base + if on_ridge { 60.0 } else { 0.0 }
+        })
+        .unwrap()
+    };
+    let map = mars_world(ridge(true), 14.0, Some(16));
+    let truth =
+        World::truth(ridge(false), &crate::common::config(14.0, Some(16)), &areo_ephemeris::Mars24, &map).unwrap();
+    let model = model(2000.0, quantised());
+    let start = Start { cell: map.cell(14, 21), t_min: 0.0, t_max: 600.0, energy_wh: 1500.0 };
+    let goals = [map.cell(14, 2)];
+    // What the rover sees before it sets off (the horizon there shows the closed gap).
+    map.sense(&truth, &disc(&map, start.cell, 2)).unwrap();
+    let (mut mission, mut plan) = Mission::plan(&map, &model, planner_config(), start, &goals).unwrap();
+    assert!(plan.waypoints.iter().any(|w| (250.0..330.0).contains(&w.x_m) && (230.0..270.0).contains(&w.y_m)));
+    let (mut cell, mut t, mut battery) = (start.cell, plan.waypoints[0].t_s, start.energy_wh);
+    let (mut walls, mut steps, mut replanned, mut searched) = (0, 0, 0, 0);
+    while let Some(action) = plan.waypoints.first().and_then(|w| w.action) {
+        t = t.max(plan.waypoints[0].t_s);
+        let exact = areo_mission::Perturbation { duration_factor: 1.0, solar_factor: 1.0 };
+        let (to, effect) = model.execute(&truth, action, cell, t, exact).unwrap();
+        (cell, t, battery) = (to, t + effect.duration_s, (battery - effect.energy_wh).min(model.capacity_wh()));
+        let changed = map.sense(&truth, &disc(&map, cell, 2)).unwrap();
+        let here = Start { cell, t_min: t, t_max: t, energy_wh: battery };
+        plan = mission.advance(here, &changed).unwrap();
+        // The same problem (goal instants, start) searched from scratch on the updated map.
+        let fresh = mission.fresh().expect("a fresh plan");
+        assert!((plan.cost - fresh.cost).abs() < 1e-6, "step {steps}: re-plan {} vs fresh {}", plan.cost, fresh.cost);
+        // A fresh search of a nearly finished trip is tiny, while a change beside the
+        // goal (the backward search's root) costs a repair a few hundred expansions:
+        // the comparison holds wherever the fresh search has real work to do.
+        if fresh.expansions >= 2000 {
+            assert!(
+                plan.expansions <= fresh.expansions,
+                "step {steps}: the re-plan expanded {}, a fresh plan {}",
+                plan.expansions,
+                fresh.expansions
+            );
+        }
+        (replanned, searched) = (replanned + plan.expansions, searched + fresh.expansions);
+        walls += usize::from(changed.iter().any(|&c| {
+            let (x, y) = map.center(c);
+            (250.0..330.0).contains(&x) && (230.0..270.0).contains(&y)
+        }));
+        steps += 1;
+        assert!(steps < 400, "the rover never arrives");
+    }
+    assert_eq!(cell, goals[0]);
+    assert!(walls > 0, "the rover never sensed the wall");
+    // Over the whole trip re-planning did under a fifth of the fresh searches' work
+    // (most of it at the wall's discovery).
+    assert!(5 * replanned <= searched, "re-plans expanded {replanned}, fresh searches {searched}");
+}
