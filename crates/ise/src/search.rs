@@ -345,12 +345,16 @@ impl<D: Domain> Search<D> {
             states: Vec::new(),
             // Time-expanded domains collect hundreds of thousands of classes: start big
             // enough to skip the first dozen rehashes.
-            classes: if D::MANY_LABELS {
+            classes: if D::MANY_LABELS && !D::DOMINANCE {
                 FxHashMap::with_capacity_and_hasher(1 << 16, Default::default())
             } else {
                 FxHashMap::default()
             },
-            groups: FxHashMap::default(),
+            groups: if D::MANY_LABELS && D::DOMINANCE {
+                FxHashMap::with_capacity_and_hasher(1 << 16, Default::default())
+            } else {
+                FxHashMap::default()
+            },
             group_next: Vec::new(),
             compacted_len: 0,
             goal_ids: Vec::new(),
