@@ -2,10 +2,11 @@
 //! Sans font compiled into the binary, so no system font or library is needed).
 //!
 //! - [`route`]: the routes over a hillshade with cast shadows (Figures 5 and 8).
-//! - [`distance`]: straight-line distance to the final goal against time, nights
-//!   shaded, with the fastest possible approach (Figure 6).
-//! - [`energy`]: required battery energy and battery charge against time, nights shaded
-//!   (Figure 7).
+//! - [`time`]: quantities against time with nights shaded — the straight-line distance
+//!   to the final goal with the fastest possible approach (Figure 6), and required
+//!   battery energy and battery charge (Figure 7).
+//! - [`profile`] and [`histogram`]: the action planner's side profile and stability
+//!   plots.
 
 use std::path::{Path, PathBuf};
 use std::sync::Once;

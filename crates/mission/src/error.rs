@@ -26,5 +26,5 @@ pub enum Error {
     Terrain(#[from] areo_terrain::Error),
 }
 
-/// `Result` with this crate's [`Error`].
+/// `Result` with this crate's [`enum@Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;

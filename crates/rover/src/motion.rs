@@ -21,7 +21,7 @@
 //! energy of the arm and sample over the joint efficiency plus hotel power; the others
 //! their listed load for their listed time.
 //!
-//! [A] Assumptions, all in the parameter file: point turns and arcs use steerable
+//! \[A\] Assumptions, all in the parameter file: point turns and arcs use steerable
 //! corner wheels (as on Sojourner); "turn to sample" turns toward the nearest sample by
 //! at most `activities.turn_to_sample_deg` and "turn from sample" undoes it; while
 //! recharging the Sun is overhead, so the array's output is flux × area × efficiency ×

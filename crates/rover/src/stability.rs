@@ -42,7 +42,7 @@ impl ForceAngle {
         &self.hull[..self.len]
     }
 
-    /// Signed angle per tip-over axis (edge i runs from hull[i] to hull[i+1]), rad.
+    /// Signed angle per tip-over axis (edge i runs from `hull[i]` to `hull[i+1]`), rad.
     pub fn angles(&self) -> &[f64] {
         &self.angles[..self.len]
     }
