@@ -107,7 +107,7 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
             return Err(Error::Scenario {
                 path: file.path.clone(),
                 field: "job.task.start".into(),
-                message: problem.into(),
+                message: format!("the start pose is not admissible: {problem}"),
             });
         }
         let clock = std::time::Instant::now();
@@ -202,14 +202,7 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
             }
         }
         if let Some((_, f)) = &best.failure {
-            let kind = match f {
-                areo_actions::Failure::Module(m) if m.contains("tip") => "tip_over",
-                areo_actions::Failure::Module(m) if m.contains("slip") || m.contains("friction") => "slip",
-                areo_actions::Failure::Module(_) => "module",
-                areo_actions::Failure::Stability(_) => "stability",
-                areo_actions::Failure::Collision(_) => "collision",
-            };
-            o.text(&format!("{name}_failure"), kind);
+            o.text(&format!("{name}_failure"), f.kind());
         }
         if let Some(dir) = opts.out_dir {
             let sub = if reports.len() == 1 { dir.to_path_buf() } else { dir.join(name) };

@@ -14,7 +14,8 @@
 //! reach, a release with an empty gripper) or an arm move out of reach violates no
 //! constraint: it does nothing and the plan goes on.
 
-use areo_rover::evaluation::Evaluator;
+use areo_rover::evaluation::{Evaluator, Violation};
+use areo_rover::forces::ForceFailure;
 use areo_rover::motion::{Module, Motion, MotionFailure, RoverState, Stopped};
 use areo_terrain::Ground;
 use parry3d::math::{Pose, Rotation, Vector};
@@ -47,18 +48,44 @@ impl Default for ExecConfig {
 /// Why a plan stopped early.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Failure {
-    /// A module could not run: the physical or task reason.
-    Module(String),
+    /// The start pose is not admissible: no plan can run.
+    StartPose(Violation),
+    /// A module could not run: the physical limit it met (areo-rover's reason, typed).
+    Motion(MotionFailure),
     /// The stability margin fell below the floor.
     Stability(f64),
     /// The body hit a rock.
     Collision(usize),
 }
 
+impl Failure {
+    /// A short name of the kind of failure, for reports: `start_pose`, `tip_over`,
+    /// `slip`, `loss_of_contact`, `saturation`, `kinematics`, `battery`, `stability`,
+    /// `collision` (the arm's and gripper's no-ops, which are not failures, as
+    /// `module`).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Failure::StartPose(_) => "start_pose",
+            Failure::Motion(MotionFailure::Violation(v)) => match v {
+                Violation::TipOver => "tip_over",
+                Violation::Forces { failure: ForceFailure::Slip, .. } => "slip",
+                Violation::Forces { failure: ForceFailure::LossOfContact, .. } => "loss_of_contact",
+                Violation::Forces { failure: ForceFailure::Saturation, .. } => "saturation",
+                Violation::Kinematics(_) => "kinematics",
+            },
+            Failure::Motion(MotionFailure::Battery) => "battery",
+            Failure::Motion(MotionFailure::BelowFloor(_)) | Failure::Stability(_) => "stability",
+            Failure::Motion(_) => "module",
+            Failure::Collision(_) => "collision",
+        }
+    }
+}
+
 impl std::fmt::Display for Failure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Failure::Module(m) => f.write_str(m),
+            Failure::StartPose(v) => write!(f, "the start pose is not admissible: {v}"),
+            Failure::Motion(m) => m.fmt(f),
             Failure::Stability(s) => write!(f, "stability margin {:.0} % below the floor", 100.0 * s),
             Failure::Collision(i) => write!(f, "the body hit rock {i}"),
         }
@@ -150,7 +177,7 @@ pub struct Executor<'a, G: Ground> {
     config: ExecConfig,
     /// Why the start pose is not admissible, if it is not (checked once: every plan
     /// starts there).
-    start_problem: Option<String>,
+    start_problem: Option<Violation>,
 }
 
 impl<G: Ground> std::fmt::Debug for Executor<'_, G> {
@@ -165,14 +192,14 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
         let mut ex = Executor { ground, evaluator, task, config, start_problem: None };
         let motion = Motion::new(evaluator, config.mu);
         if let Err(v) = motion.check(ground, &ex.start_state()) {
-            ex.start_problem = Some(format!("the start pose is not admissible: {v}"));
+            ex.start_problem = Some(v);
         }
         ex
     }
 
     /// Why no plan can start, if the start pose is not admissible.
-    pub fn start_problem(&self) -> Option<&str> {
-        self.start_problem.as_deref()
+    pub fn start_problem(&self) -> Option<&Violation> {
+        self.start_problem.as_ref()
     }
 
     /// The settings.
@@ -230,7 +257,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             checkpoints: Vec::with_capacity(plan.len()),
         };
         if let Some(problem) = &self.start_problem {
-            out.failure = Some((0, Failure::Module(problem.clone())));
+            out.failure = Some((0, Failure::StartPose(*problem)));
             return out;
         }
         let mut first = 0;
@@ -276,7 +303,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
                     break;
                 }
                 Err(Stopped { failure, progress, .. }) => {
-                    out.failure = Some((i, Failure::Module(failure.to_string())));
+                    out.failure = Some((i, Failure::Motion(failure)));
                     out.failure_progress = progress;
                     break;
                 }

@@ -112,7 +112,13 @@ fn constraints_stop_a_plan_with_its_successful_prefix() {
     let (at, why) = e.failure.clone().expect("the wall stops the plan");
     assert_eq!(e.prefix_len, at);
     assert!((1..=5).contains(&at), "fails within the 0.6 m before the wall: {at}");
-    assert!(matches!(why, Failure::Module(_)), "{why}");
+    // The wall stops the wheels (a typed physical limit, not text).
+    assert!(matches!(why, Failure::Motion(areo_rover::motion::MotionFailure::Violation(_))), "{why}");
+    assert!(
+        ["slip", "saturation", "loss_of_contact", "kinematics", "tip_over"].contains(&why.kind()),
+        "{}",
+        why.kind()
+    );
     // A rock taller than the belly (0.26 m) on the path hits the body.
     let mut r = task((0.0, 2.0));
     r.rocks = vec![Rock { x_m: 0.0, y_m: 0.9, height_m: 0.35, width_m: 0.2 }];

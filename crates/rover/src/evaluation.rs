@@ -50,7 +50,7 @@ pub struct Conditions {
 }
 
 /// What stops the rover at a pose.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Violation {
     /// No pose: off the map, no loop closure, or a joint limit.
     Kinematics(KinematicsFailure),

@@ -85,7 +85,7 @@ pub struct SideForces {
 }
 
 /// Why no admissible forces exist.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum ForceFailure {
     /// Equilibrium needs more friction than μ gives.
     Slip,

@@ -185,7 +185,7 @@ impl Pose {
 }
 
 /// Why no pose exists.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum KinematicsFailure {
     /// A wheel footprint is off the terrain or on missing data.
     OffTerrain,

@@ -265,7 +265,7 @@ pub struct Step {
 }
 
 /// Why a module could not run.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum MotionFailure {
     /// A pose violated a physical limit.
     Violation(Violation),
