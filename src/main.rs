@@ -309,12 +309,9 @@ fn terrain(cmd: &TerrainCommand) -> Result<(), Error> {
         TerrainCommand::Slope { file, out } => wrote(&tt::write_slope(&tt::read_dem(file)?, out)?),
         TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, flat, fast, out } => {
             if !(-90.0..=90.0).contains(sun_elevation) || !sun_azimuth.is_finite() {
-                return Err(Error::Grid {
-                    path: file.clone(),
-                    message: format!(
-                        "--sun-elevation {sun_elevation} must be within -90..=90 and --sun-azimuth finite"
-                    ),
-                });
+                return Err(Error::Usage(format!(
+                    "--sun-elevation {sun_elevation}: allowed -90..=90; --sun-azimuth {sun_azimuth}: must be finite"
+                )));
             }
             let (files, lit) = tt::write_shadow(&tt::read_dem(file)?, *sun_azimuth, *sun_elevation, *flat, *fast, out)?;
             println!("{:.2} % of the valid cells in direct sun", 100.0 * lit);

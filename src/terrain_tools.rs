@@ -19,7 +19,7 @@ pub fn read_dem(path: &Path) -> Result<Dem> {
         "asc" => ascii::read(path),
         "img" | "lbl" => pds3::read(path),
         _ => {
-            return Err(Error::Grid {
+            return Err(Error::UnknownFormat {
                 path: path.to_path_buf(),
                 message: "unknown DEM format: use .tif/.tiff (GeoTIFF), .asc (ESRI ASCII) or .img/.lbl (PDS3)".into(),
             });

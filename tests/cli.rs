@@ -254,6 +254,24 @@ fn terrain_rejects_a_corrupt_dem_with_exit_2() {
 }
 
 #[test]
+fn terrain_names_an_unknown_format_and_a_bad_sun_as_such() {
+    let dir = tmp("terrain-unknown");
+    let odd = dir.join("heights.xyz");
+    std::fs::write(&odd, b"0 0 0").unwrap();
+    let out = areo(&["terrain", "info", odd.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("heights.xyz: unknown DEM format") && err.contains(".tif/.tiff"), "{err}");
+    assert!(!err.contains("Moving AI"), "{err}");
+    let shadow = dir.join("shadow.tif");
+    let args = ["terrain", "shadow", odd.to_str().unwrap(), "--sun-azimuth", "90", "--sun-elevation", "120", "-o"];
+    let out = areo(&[&args[..], &[shadow.to_str().unwrap()]].concat());
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--sun-elevation 120: allowed -90..=90"), "{err}");
+}
+
+#[test]
 fn out_of_range_terrain_feature_is_located() {
     let (code, err) = bad("bad_terrain_feature.ron");
     assert_eq!(code, 2);
