@@ -78,7 +78,7 @@ fn load_terrain(source: &TerrainSource, file: &ScenarioFile) -> Result<Dem> {
 /// One Communicate session per sol over the world's span, centred on the Earth's
 /// highest elevation that sol (sampled every 5 minutes), if it rises high enough.
 fn sessions(world: &World, com: &crate::scenario::CommunicateSpec) -> Vec<(f64, f64)> {
-    const SOL_S: f64 = 88_775.244;
+    use areo_ephemeris::SOL_S;
     let site = world.site();
     let half = com.duration_min * 30.0;
     let mut out = Vec::new();

@@ -265,7 +265,7 @@ fn mission() -> Result<bool, String> {
     let epoch = areo::ephemeris::parse_utc("2025-03-01T00:00:00Z").map_err(|e| e.to_string())?;
     let config = WorldConfig {
         epoch,
-        span_s: 3.0 * 88_775.0,
+        span_s: 3.0 * areo::ephemeris::SOL_S,
         sun_step_s: 120.0,
         horizon_sectors: Some(32),
         atmosphere: areo::ephemeris::flux::Atmosphere::BeerLambert { tau: 0.5 },

@@ -10,6 +10,10 @@ use crate::sun::SolarGeometry;
 pub(crate) const J2000_JD_TT: f64 = 2_451_545.0;
 /// Length of the mean Mars solar day in Earth days (Mars24, 2018 constants).
 pub(crate) const SOL_IN_DAYS: f64 = 1.027_491_251_7;
+
+/// A mean Mars solar day (sol), seconds: 1.0274912517 Earth days (Allison & McEwen
+/// 2000, as Mars24 uses).
+pub const SOL_S: f64 = SOL_IN_DAYS * 86_400.0;
 /// JD (TT) that Mars24 anchors the Mars Sol Date count to.
 const MSD_ANCHOR_JD_TT: f64 = 2_451_549.5;
 /// Mars Sol Date at the anchor, less the 2018 page's small correction.
@@ -142,6 +146,17 @@ pub fn format_utc(epoch: Epoch) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_sol_is_24_h_39_min_35_244_s() {
+        // The published mean solar day: 24 h 39 min 35.244 s = 88 775.244 s.
+        assert!((SOL_S - 88_775.244).abs() < 1e-3, "{SOL_S}");
+        // One sol advances the Mars Sol Date by one.
+        let t = parse_utc("2025-03-01T00:00:00Z").unwrap();
+        let msd0 = MarsTime::from_epoch(t).msd;
+        let msd1 = MarsTime::from_epoch(t + hifitime::Duration::from_seconds(SOL_S)).msd;
+        assert!((msd1 - msd0 - 1.0).abs() < 1e-9, "{}", msd1 - msd0);
+    }
 
     #[test]
     fn parse_accepts_z_and_rejects_garbage() {

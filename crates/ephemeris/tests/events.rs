@@ -68,7 +68,7 @@ fn equinox_day_at_the_equator_is_half_a_sol() {
     let site = Site::new(0.0, 0.0).unwrap();
     let day =
         solar_day(local_sol(parse_utc("2021-02-07T12:00:00Z").unwrap(), &site), &site, &HorizonMask::flat()).unwrap();
-    let half_sol = 88_775.244 / 2.0;
+    let half_sol = areo_ephemeris::SOL_S / 2.0;
     assert!((day.daylight_s() - half_sol).abs() < 300.0, "{}", day.daylight_s());
     assert!(day.noon_elevation_deg > 88.0);
 }

@@ -23,7 +23,7 @@ fn world() -> World {
     .expect("valid terrain");
     let config = WorldConfig {
         epoch: parse_utc("2025-03-01T00:00:00Z").expect("valid time"),
-        span_s: 3.0 * 88_775.0,
+        span_s: 3.0 * areo_ephemeris::SOL_S,
         sun_step_s: 120.0,
         horizon_sectors: Some(32),
         atmosphere: Atmosphere::BeerLambert { tau: 0.5 },

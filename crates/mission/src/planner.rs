@@ -59,7 +59,7 @@ impl Default for PlannerConfig {
             goal_times: 24,
             segment_starts: 8,
             detour_factor: 1.5,
-            max_wait_s: 88_775.0,
+            max_wait_s: areo_ephemeris::SOL_S.round(),
             goal_energy_wh: 0.0,
         }
     }
