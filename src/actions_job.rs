@@ -260,7 +260,7 @@ fn write_outputs(
         "first_solved": report.first_solved,
         "lookahead": report.lookahead,
     });
-    put("plan.json", serde_json::to_string_pretty(&plan_json).unwrap_or_default())?;
+    put("plan.json", crate::run::json_for(&dir.join("plan.json"), &plan_json, true)?)?;
     let mut csv = String::from(
         "step,code,x_m,y_m,z_m,heading_deg,pitch_deg,stability,load_lf_n,load_lm_n,load_lr_n,load_rf_n,load_rm_n,load_rr_n,energy_wh\n",
     );

@@ -353,7 +353,7 @@ fn grid(args: &GridArgs) -> Result<(), Error> {
                 })
             })
             .collect();
-        println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+        println!("{}", json(&v)?);
         return Ok(());
     }
     match args.format {
@@ -423,7 +423,7 @@ fn sun(args: &SunArgs) -> Result<(), Error> {
                 println!("{}", r.csv());
             }
         }
-        Format::Json => println!("{}", serde_json::to_string_pretty(&rows).unwrap_or_default()),
+        Format::Json => println!("{}", json(&rows)?),
         Format::Text => {
             for r in &rows {
                 println!("{}", r.utc);
@@ -467,7 +467,7 @@ fn sol_events(sol: i64, site: &Site, format: Format) -> Result<(), Error> {
                 "noon_elevation_deg": day.noon_elevation_deg,
                 "daylight_hours": day.daylight_s() / 3600.0,
             });
-            println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+            println!("{}", json(&v)?);
         }
         Format::Text => {
             println!("sol {sol} at ({:.4}°, {:.4}°E)", site.lat_deg(), site.lon_east_deg());
@@ -478,4 +478,9 @@ fn sol_events(sol: i64, site: &Site, format: Format) -> Result<(), Error> {
         }
     }
     Ok(())
+}
+
+/// `value` as pretty JSON for standard output.
+fn json(value: &impl serde::Serialize) -> Result<String, Error> {
+    serde_json::to_string_pretty(value).map_err(|e| Error::Usage(format!("cannot write the JSON output: {e}")))
 }

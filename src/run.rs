@@ -42,7 +42,7 @@ pub fn run(file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
     };
     if let Some(dir) = opts.out_dir {
         let path = dir.join("facts.json");
-        let json = serde_json::to_string_pretty(&outcome.facts).unwrap_or_default();
+        let json = json_for(&path, &outcome.facts, true)?;
         write_file(&path, json.as_bytes())?;
         outcome.files.push(path);
     }
@@ -203,8 +203,59 @@ fn terrain_shadow(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<
     Ok(o)
 }
 
+/// Writes `bytes` to `path` through a temporary file beside it, renamed into place
+/// once complete: an interrupted run never leaves a truncated file under the real
+/// name. Errors name the file.
 pub(crate) fn write_file(path: &PathBuf, bytes: &[u8]) -> Result<()> {
     let io = |source| Error::Io { path: path.clone(), source };
-    let mut f = std::fs::File::create(path).map_err(io)?;
-    f.write_all(bytes).map_err(io)
+    let mut partial = path.clone().into_os_string();
+    partial.push(".partial");
+    let partial = PathBuf::from(partial);
+    let written = std::fs::File::create(&partial).and_then(|mut f| {
+        f.write_all(bytes)?;
+        f.sync_all()
+    });
+    if let Err(e) = written.and_then(|()| std::fs::rename(&partial, path)) {
+        // Best effort: the partial file is of no use to anyone.
+        let _ = std::fs::remove_file(&partial);
+        return Err(io(e));
+    }
+    Ok(())
+}
+
+/// `value` as JSON (pretty), or an error naming the file it was meant for.
+pub(crate) fn json_for(path: &std::path::Path, value: &impl serde::Serialize, pretty: bool) -> Result<String> {
+    let text = if pretty { serde_json::to_string_pretty(value) } else { serde_json::to_string(value) };
+    text.map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn files_are_written_whole_or_not_at_all() {
+        let dir = std::env::temp_dir().join(format!("areo-write-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("plan.csv");
+        write_file(&path, b"a,b\n1,2\n").unwrap();
+        write_file(&path, b"a,b\n3,4\n").unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "a,b\n3,4\n");
+        assert!(!dir.join("plan.csv.partial").exists());
+        // Into a directory that does not exist: an error naming the file, nothing left.
+        let missing = dir.join("no-such-dir").join("plan.json");
+        let err = write_file(&missing, b"{}").unwrap_err();
+        assert!(err.to_string().contains("no-such-dir/plan.json"), "{err}");
+        assert!(!missing.exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn json_that_cannot_be_written_is_an_error_naming_the_file() {
+        // A map with non-string keys is not JSON.
+        let bad: std::collections::HashMap<(u8, u8), u8> = [((1, 2), 3)].into_iter().collect();
+        let err = json_for(std::path::Path::new("out/x/facts.json"), &bad, true).unwrap_err();
+        assert!(err.to_string().contains("out/x/facts.json"), "{err}");
+        assert_eq!(json_for(std::path::Path::new("f.json"), &[1, 2], false).unwrap(), "[1,2]");
+    }
 }

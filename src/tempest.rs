@@ -550,10 +550,10 @@ fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf
         files.push(path);
         Ok(())
     };
-    put("plan.json", serde_json::to_string_pretty(initial).unwrap_or_default())?;
+    put("plan.json", crate::run::json_for(&dir.join("plan.json"), initial, true)?)?;
     put("plan.csv", plan_csv(ctx, initial))?;
     if let Some(r) = report {
-        put("simulation.json", serde_json::to_string(r).unwrap_or_default())?;
+        put("simulation.json", crate::run::json_for(&dir.join("simulation.json"), r, false)?)?;
         put("executed.csv", executed_csv(ctx, r))?;
         put("replans.csv", replans_csv(ctx, r))?;
     }
