@@ -300,32 +300,35 @@ impl<'a> Mission<'a> {
                 let s = Start { cell: from, t_min: iv[0].0, t_max: iv[0].1, energy_wh: self.model.capacity_wh() };
                 (s, iv)
             };
-            let domain = TempestDomain::new(
-                self.world,
-                self.model,
-                start,
-                self.config.objective,
-                self.config.resolution,
-                self.config.path_length,
-            );
             let goals = if k + 1 == n {
                 self.final_goal_times().into_iter().map(|t| (Label { t, e: self.config.goal_energy_wh }, 0.0)).collect()
             } else {
                 Vec::new()
             };
-            let search = Search::new(&domain, relabel_goals(goal_list(&goals, to)), domain.mode());
-            segments.push(Segment {
-                from,
-                to,
-                domain,
-                search,
-                goals,
-                intervals,
-                candidates: Vec::new(),
-                stats: Stats::default(),
-            });
+            segments.push(self.new_segment(from, to, start, goals, intervals));
         }
         self.segments = segments;
+    }
+
+    /// A segment with a new, empty graph seeded with `goals` at `to`.
+    fn new_segment(
+        &self,
+        from: u32,
+        to: u32,
+        start: Start,
+        goals: Vec<(Label, f64)>,
+        intervals: Vec<(f64, f64)>,
+    ) -> Segment<'a> {
+        let domain = TempestDomain::new(
+            self.world,
+            self.model,
+            start,
+            self.config.objective,
+            self.config.resolution,
+            self.config.path_length,
+        );
+        let search = Search::new(&domain, relabel_goals(goal_list(&goals, to)), domain.mode());
+        Segment { from, to, domain, search, goals, intervals, candidates: Vec::new(), stats: Stats::default() }
     }
 
     /// Re-solves the segments that need it, from the latest one down to the first:
@@ -543,26 +546,8 @@ impl<'a> Mission<'a> {
                     let (t_min, t_max) = seg.intervals[0];
                     Start { t_min, t_max, ..seg.domain.start }
                 };
-                let domain = TempestDomain::new(
-                    self.world,
-                    self.model,
-                    start,
-                    self.config.objective,
-                    self.config.resolution,
-                    self.config.path_length,
-                );
                 let goals = if k + 1 == n { seg.goals.clone() } else { Vec::new() };
-                let search = Search::new(&domain, relabel_goals(goal_list(&goals, seg.to)), domain.mode());
-                Segment {
-                    from: seg.from,
-                    to: seg.to,
-                    domain,
-                    search,
-                    goals,
-                    intervals: seg.intervals.clone(),
-                    candidates: Vec::new(),
-                    stats: Stats::default(),
-                }
+                self.new_segment(seg.from, seg.to, start, goals, seg.intervals.clone())
             })
             .collect();
         let mut fresh = Mission {

@@ -17,30 +17,7 @@ fn hills(cols: usize, rows: usize) -> areo_terrain::Dem {
 }
 
 fn quantised() -> ActionConfig {
-    let mut a = ActionConfig {
-        time_quantum_s: 60.0,
-        energy_quantum_wh: 1.0,
-        charge_s: 600.0,
-        hibernate_s: 1200.0,
-        ..Default::default()
-    };
-    a.drive.daylight = false;
-    a.charge.direct_sun = false;
-    a
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Ord64(f64);
-impl Eq for Ord64 {}
-impl PartialOrd for Ord64 {
-    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Ord64 {
-    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&o.0)
-    }
+    quantised_actions(1200.0)
 }
 
 /// Dijkstra over (phase, cell, minute) with the planner's own action model: phase k

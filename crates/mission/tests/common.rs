@@ -70,3 +70,34 @@ pub(crate) fn rover(capacity_wh: f64) -> ResourceModel {
 pub(crate) fn model(capacity_wh: f64, actions: ActionConfig) -> ActionModel {
     ActionModel::new(rover(capacity_wh), actions)
 }
+
+/// Actions on whole minutes and whole watt-hours (so label classes as fine as the
+/// quanta make the search exact), with drives at any hour and charging without
+/// direct sun.
+pub(crate) fn quantised_actions(hibernate_s: f64) -> ActionConfig {
+    let mut a = ActionConfig {
+        time_quantum_s: 60.0,
+        energy_quantum_wh: 1.0,
+        charge_s: 600.0,
+        hibernate_s,
+        ..Default::default()
+    };
+    a.drive.daylight = false;
+    a.charge.direct_sun = false;
+    a
+}
+
+/// An f64 ordered by `total_cmp`, for the brute-force searches' heaps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Ord64(pub(crate) f64);
+impl Eq for Ord64 {}
+impl PartialOrd for Ord64 {
+    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Ord64 {
+    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&o.0)
+    }
+}

@@ -29,17 +29,9 @@ fn hills(cols: usize, rows: usize) -> areo_terrain::Dem {
 }
 
 fn quantised() -> ActionConfig {
-    let mut a = ActionConfig {
-        time_quantum_s: 60.0,
-        energy_quantum_wh: 1.0,
-        charge_s: 600.0,
-        hibernate_s: 600.0,
-        ..Default::default()
-    };
-    // Drives and charges at any hour: the battery, not the light, is what binds.
-    a.drive.daylight = false;
+    let mut a = quantised_actions(600.0);
+    // Drives at any heading too: the battery, not the light, is what binds.
     a.drive.sun_in_camera = false;
-    a.charge.direct_sun = false;
     a
 }
 
@@ -52,20 +44,6 @@ fn config(energy_wh: f64, objective: Objective) -> PlannerConfig {
         goal_times: 40,
         max_wait_s: 2400.0,
         ..PlannerConfig::default()
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Ord64(f64);
-impl Eq for Ord64 {}
-impl PartialOrd for Ord64 {
-    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Ord64 {
-    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&o.0)
     }
 }
 

@@ -22,16 +22,7 @@ fn ground(cols: usize, rows: usize, bumps: &[(f64, f64, f64)]) -> areo_terrain::
 }
 
 fn quantised() -> ActionConfig {
-    let mut a = ActionConfig {
-        time_quantum_s: 60.0,
-        energy_quantum_wh: 1.0,
-        charge_s: 600.0,
-        hibernate_s: 1200.0,
-        ..Default::default()
-    };
-    a.drive.daylight = false;
-    a.charge.direct_sun = false;
-    a
+    quantised_actions(1200.0)
 }
 
 fn planner_config() -> PlannerConfig {
