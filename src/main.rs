@@ -1,5 +1,6 @@
-//! The `areo` command line: parse flags, call the library, map errors to exit codes
-//! (0 success, 1 failure while running, 2 bad input: flags, scenario files, times).
+//! The `areo` command line: parse flags, call areo-scenario, print what it returns
+//! (`print`), map errors to exit codes (0 success, 1 failure while running, 2 bad
+//! input: flags, scenario files, times; 3 unreachable goals). It computes nothing.
 
 #![allow(clippy::print_stdout, clippy::print_stderr)]
 
@@ -7,10 +8,9 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use areo::ephemeris::events::solar_day;
-use areo::ephemeris::{HorizonMask, Site, format_utc, parse_utc};
-use areo::sun_report::{CSV_HEADER, SunRow};
-use areo::{Error, Progress, RunOptions};
+mod print;
+
+use areo_scenario::{Error, Progress, RunOptions};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
@@ -64,8 +64,8 @@ enum RoverCommand {
         params: PathBuf,
         /// flat, slope:DEG (rising ahead), side-slope:DEG (rising to the left), or
         /// step:HEIGHT_M (front wheels against a vertical step).
-        #[arg(long, default_value = "flat", value_parser = clap::value_parser!(areo::rover_check::TestTerrain))]
-        terrain: areo::rover_check::TestTerrain,
+        #[arg(long, default_value = "flat", value_parser = clap::value_parser!(areo_scenario::rover_check::TestTerrain))]
+        terrain: areo_scenario::rover_check::TestTerrain,
         /// Wheel–ground friction coefficient.
         #[arg(long, default_value_t = 0.6)]
         mu: f64,
@@ -194,7 +194,7 @@ struct GridArgs {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum Format {
+pub(crate) enum Format {
     Text,
     Json,
     Csv,
@@ -209,14 +209,13 @@ fn main() -> ExitCode {
         Command::Grid(args) => grid(&args),
         Command::Terrain(cmd) => terrain(&cmd),
         Command::Rover(RoverCommand::Check { params, terrain, mu, moving, format }) => {
-            areo::rover_check::check(&params, terrain, mu, moving).map(|report| match format {
-                ReportFormat::Text => print!("{}", report.text()),
-                ReportFormat::Json => {
-                    println!(
-                        "{}",
-                        serde_json::to_string_pretty(&report).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
-                    )
-                }
+            areo_scenario::rover_check::check(&params, terrain, mu, moving).and_then(|report| {
+                let text = match format {
+                    ReportFormat::Text => print::rover::text(&report),
+                    ReportFormat::Json => print::json(&report)? + "\n",
+                };
+                print!("{text}");
+                Ok(())
             })
         }
     };
@@ -273,11 +272,11 @@ fn progress_bar() -> Bar {
 }
 
 fn run(scenario: &std::path::Path, out: &std::path::Path) -> Result<(), Error> {
-    let file = areo::scenario::load(scenario)?;
+    let file = areo_scenario::format::load(scenario)?;
     tracing::info!(scenario = %file.path.display(), "loaded");
     let dir = out.join(&file.name);
     let bar = progress_bar();
-    let outcome = areo::run(&file, RunOptions { out_dir: Some(&dir), progress: &bar })?;
+    let outcome = areo_scenario::run(&file, RunOptions { out_dir: Some(&dir), progress: &bar })?;
     println!("{}: {}", file.name, file.scenario.description);
     for line in &outcome.summary {
         println!("  {line}");
@@ -292,21 +291,10 @@ fn run(scenario: &std::path::Path, out: &std::path::Path) -> Result<(), Error> {
 }
 
 fn terrain(cmd: &TerrainCommand) -> Result<(), Error> {
-    use areo::terrain_tools as tt;
-    let wrote = |files: &[PathBuf]| {
-        for f in files {
-            println!("wrote {}", f.display());
-        }
-    };
-    match cmd {
-        TerrainCommand::Info { file } => {
-            let dem = tt::read_dem(file)?;
-            println!("{}", file.display());
-            for line in tt::info(&dem) {
-                println!("  {line}");
-            }
-        }
-        TerrainCommand::Slope { file, out } => wrote(&tt::write_slope(&tt::read_dem(file)?, out)?),
+    use areo_scenario::terrain as tt;
+    let text = match cmd {
+        TerrainCommand::Info { file } => print::terrain::info(file, &tt::info(&tt::read_dem(file)?)),
+        TerrainCommand::Slope { file, out } => print::terrain::wrote(&tt::write_slope(&tt::read_dem(file)?, out)?),
         TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, flat, fast, out } => {
             if !(-90.0..=90.0).contains(sun_elevation) || !sun_azimuth.is_finite() {
                 return Err(Error::Usage(format!(
@@ -314,18 +302,17 @@ fn terrain(cmd: &TerrainCommand) -> Result<(), Error> {
                 )));
             }
             let (files, lit) = tt::write_shadow(&tt::read_dem(file)?, *sun_azimuth, *sun_elevation, *flat, *fast, out)?;
-            println!("{:.2} % of the valid cells in direct sun", 100.0 * lit);
-            wrote(&files);
+            print::terrain::fraction(lit, "in direct sun") + &print::terrain::wrote(&files)
         }
         TerrainCommand::Viewshed { file, from, out } => {
             let (files, seen) = tt::write_viewshed(&tt::read_dem(file)?, from.0, from.1, from.2, out)?;
-            println!("{:.2} % of the valid cells visible", 100.0 * seen);
-            wrote(&files);
+            print::terrain::fraction(seen, "visible") + &print::terrain::wrote(&files)
         }
         TerrainCommand::Horizon { file, sectors, out } => {
-            wrote(&tt::write_horizon(&tt::read_dem(file)?, *sectors, out, &progress_bar())?)
+            print::terrain::wrote(&tt::write_horizon(&tt::read_dem(file)?, *sectors, out, &progress_bar())?)
         }
-    }
+    };
+    print!("{text}");
     Ok(())
 }
 
@@ -339,148 +326,24 @@ fn parse_xyz(s: &str) -> Result<(f64, f64, f64), String> {
 }
 
 fn grid(args: &GridArgs) -> Result<(), Error> {
-    let opts = areo::movingai::GridOptions { replan: args.replan, seed: args.seed };
-    let rows = areo::movingai::solve_file(&args.map, &args.scen, opts, &progress_bar())?;
-    let replan = args.replan.is_some();
-    if args.format == Format::Json {
-        let v: Vec<serde_json::Value> = rows
-            .iter()
-            .map(|r| {
-                serde_json::json!({
-                    "index": r.index, "expected": r.expected, "found": r.found, "expansions": r.expansions,
-                    "replanned": r.replan.map(|x| x.0), "fresh": r.replan.map(|x| x.1),
-                    "replan_expansions": r.replan.map(|x| x.2), "mismatched": r.mismatched(),
-                })
-            })
-            .collect();
-        println!("{}", json(&v)?);
-        return Ok(());
-    }
-    match args.format {
-        Format::Csv | Format::Json => {
-            let extra = if replan { ",replanned,fresh,replan_expansions" } else { "" };
-            println!("index,expected,found,expansions{extra}");
-        }
-        Format::Text => {
-            let extra = if replan {
-                format!(" {:>14} {:>14} {:>10}", "replanned", "fresh", "repair exp")
-            } else {
-                String::new()
-            };
-            println!("{:>6} {:>14} {:>14} {:>10}{extra}", "index", "expected", "found", "expansions");
-        }
-    }
-    for r in &rows {
-        let extra = match (r.replan, args.format) {
-            (Some((a, b, e)), Format::Text) => format!(" {a:>14.6} {b:>14.6} {e:>10}"),
-            (Some((a, b, e)), _) => format!(",{a:.8},{b:.8},{e}"),
-            (None, _) => String::new(),
-        };
-        match args.format {
-            Format::Text => {
-                println!("{:>6} {:>14.6} {:>14.6} {:>10}{extra}", r.index, r.expected, r.found, r.expansions)
-            }
-            _ => println!("{},{},{:.8},{}{extra}", r.index, r.expected, r.found, r.expansions),
-        }
-    }
-    let mismatched = rows.iter().filter(|r| r.mismatched()).count();
-    println!("{} solved, {mismatched} mismatched", rows.len() - rows.iter().filter(|r| r.found.is_infinite()).count());
+    let opts = areo_scenario::grid::GridOptions { replan: args.replan, seed: args.seed };
+    let rows = areo_scenario::grid::solve_file(&args.map, &args.scen, opts, &progress_bar())?;
+    print!("{}", print::grid::rows(&rows, args.replan.is_some(), args.format)?);
     Ok(())
 }
 
 fn sun(args: &SunArgs) -> Result<(), Error> {
-    let site = match (args.lat, args.lon) {
-        (Some(lat), Some(lon)) => Some(Site::new(lat, lon)?),
-        _ => None,
+    use areo_scenario::sun::{Instants, rows, sol_events};
+    let site = args.lat.zip(args.lon);
+    let text = match (args.sol, &args.time, &args.times_file) {
+        (Some(sol), _, _) => {
+            let (lat, lon) = site.ok_or_else(|| Error::Usage("--sol needs --lat and --lon".into()))?;
+            print::sun::sol(&sol_events(sol, lat, lon)?, args.format)?
+        }
+        (None, Some(t), _) => print::sun::rows(&rows(Instants::One(t), site)?, args.format)?,
+        (None, None, Some(path)) => print::sun::rows(&rows(Instants::File(path), site)?, args.format)?,
+        (None, None, None) => print::sun::rows(&[], args.format)?,
     };
-    if let Some(sol) = args.sol {
-        let site = site.as_ref().expect("clap requires --lat and --lon with --sol");
-        return sol_events(sol, site, args.format);
-    }
-    let times: Vec<String> = match (&args.time, &args.times_file) {
-        (Some(t), _) => vec![t.clone()],
-        (None, Some(path)) => std::fs::read_to_string(path)
-            .map_err(|source| Error::Io { path: path.clone(), source })?
-            .lines()
-            .map(str::trim)
-            .filter(|l| !l.is_empty() && !l.starts_with('#'))
-            .map(String::from)
-            .collect(),
-        (None, None) => Vec::new(),
-    };
-    let mut rows = Vec::with_capacity(times.len());
-    for (i, t) in times.iter().enumerate() {
-        let epoch = parse_utc(t).map_err(|e| match &args.times_file {
-            Some(path) => Error::Syntax { path: path.clone(), line: i + 1, col: 1, message: e.to_string() },
-            None => e.into(),
-        })?;
-        rows.push(SunRow::at(epoch, site.as_ref()));
-    }
-    match args.format {
-        Format::Csv => {
-            println!("{CSV_HEADER}");
-            for r in &rows {
-                println!("{}", r.csv());
-            }
-        }
-        Format::Json => println!("{}", json(&rows)?),
-        Format::Text => {
-            for r in &rows {
-                println!("{}", r.utc);
-                println!("  Ls                 {:10.5}°", r.ls_deg);
-                println!("  sub-solar latitude {:10.5}° (planetocentric)", r.subsolar_lat_deg);
-                println!("  sub-solar longitude{:10.5}° E", r.subsolar_lon_east_deg);
-                println!("  Sun distance       {:10.6} AU", r.sun_distance_au);
-                println!("  MTC                {:10.5} h", r.mtc_hours);
-                if let (Some(l), Some(a), Some(e)) = (r.ltst_hours, r.azimuth_deg, r.elevation_deg) {
-                    println!("  LTST               {l:10.5} h");
-                    println!("  Sun azimuth        {a:10.4}° (from north, clockwise)");
-                    println!("  Sun elevation      {e:10.4}°");
-                }
-            }
-        }
-    }
+    print!("{text}");
     Ok(())
-}
-
-fn sol_events(sol: i64, site: &Site, format: Format) -> Result<(), Error> {
-    let day = solar_day(sol, site, &HorizonMask::flat())?;
-    let t = |e: Option<hifitime::Epoch>| e.map_or_else(|| "none".to_string(), format_utc);
-    match format {
-        Format::Csv => {
-            println!("sol,sunrise_utc,noon_utc,sunset_utc,noon_elevation_deg,daylight_hours");
-            println!(
-                "{sol},{},{},{},{:.4},{:.4}",
-                t(day.sunrise),
-                format_utc(day.noon),
-                t(day.sunset),
-                day.noon_elevation_deg,
-                day.daylight_s() / 3600.0
-            );
-        }
-        Format::Json => {
-            let v = serde_json::json!({
-                "sol": sol,
-                "sunrise_utc": day.sunrise.map(format_utc),
-                "noon_utc": format_utc(day.noon),
-                "sunset_utc": day.sunset.map(format_utc),
-                "noon_elevation_deg": day.noon_elevation_deg,
-                "daylight_hours": day.daylight_s() / 3600.0,
-            });
-            println!("{}", json(&v)?);
-        }
-        Format::Text => {
-            println!("sol {sol} at ({:.4}°, {:.4}°E)", site.lat_deg(), site.lon_east_deg());
-            println!("  sunrise  {}", t(day.sunrise));
-            println!("  noon     {}  (Sun {:.2}° high)", format_utc(day.noon), day.noon_elevation_deg);
-            println!("  sunset   {}", t(day.sunset));
-            println!("  daylight {:.3} h", day.daylight_s() / 3600.0);
-        }
-    }
-    Ok(())
-}
-
-/// `value` as pretty JSON for standard output.
-fn json(value: &impl serde::Serialize) -> Result<String, Error> {
-    serde_json::to_string_pretty(value).map_err(|e| Error::Usage(format!("cannot write the JSON output: {e}")))
 }

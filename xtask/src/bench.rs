@@ -196,8 +196,9 @@ fn movingai(root: &Path) -> Result<bool, String> {
     for map in maps {
         let scen = map.with_extension("map.scen");
         let started = std::time::Instant::now();
-        let opts = areo::movingai::GridOptions { replan: Some(3), seed: 1 };
-        let rows = areo::movingai::solve_file(&map, &scen, opts, &areo::NoProgress).map_err(|e| e.to_string())?;
+        let opts = areo_scenario::grid::GridOptions { replan: Some(3), seed: 1 };
+        let rows = areo_scenario::grid::solve_file(&map, &scen, opts, &areo_scenario::NoProgress)
+            .map_err(|e| e.to_string())?;
         let bad = rows.iter().filter(|r| r.mismatched()).count();
         let solved = rows.iter().filter(|r| r.found.is_finite()).count();
         ok &= bad == 0;
@@ -223,12 +224,12 @@ fn collect_maps(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
 /// ≤ 20 s on 2 cores). A single shot: too long for criterion's ten samples.
 fn horizon(root: &Path) -> Result<bool, String> {
     let path = root.join("../shared/data/dem/gale_mola_cubic164m_2527x2356.tif");
-    let Ok(dem) = areo::terrain::geotiff::read(&path) else {
+    let Ok(dem) = areo_terrain::geotiff::read(&path) else {
         println!("no DEM at {}", path.display());
         return Ok(true);
     };
     let started = std::time::Instant::now();
-    let map = areo::terrain::horizon::HorizonMap::compute(&dem, 64, areo::terrain::shadow::Curvature::of(&dem))
+    let map = areo_terrain::horizon::HorizonMap::compute(&dem, 64, areo_terrain::shadow::Curvature::of(&dem))
         .map_err(|e| e.to_string())?;
     let secs = started.elapsed().as_secs_f64();
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -247,9 +248,9 @@ fn horizon(root: &Path) -> Result<bool, String> {
 /// re-plans after 2-cell sensing updates near the rover. Targets: pre-calculation
 /// ≤ 20 s on 2 cores, initial plan ≤ 2 s, median re-plan ≤ 1 % of the initial plan.
 fn mission() -> Result<bool, String> {
-    use areo::ephemeris::Mars24;
-    use areo::mission::{ActionConfig, ActionModel, Mission, PlannerConfig, Start, World, WorldConfig};
-    use areo::terrain::synth::{Noise, TerrainSpec};
+    use areo_ephemeris::Mars24;
+    use areo_mission::{ActionConfig, ActionModel, Mission, PlannerConfig, Start, World, WorldConfig};
+    use areo_terrain::synth::{Noise, TerrainSpec};
     use std::time::Instant;
     let dem = TerrainSpec {
         cols: 2527,
@@ -262,14 +263,14 @@ fn mission() -> Result<bool, String> {
     }
     .build()
     .map_err(|e| e.to_string())?;
-    let epoch = areo::ephemeris::parse_utc("2025-03-01T00:00:00Z").map_err(|e| e.to_string())?;
+    let epoch = areo_ephemeris::parse_utc("2025-03-01T00:00:00Z").map_err(|e| e.to_string())?;
     let config = WorldConfig {
         epoch,
-        span_s: 3.0 * areo::ephemeris::SOL_S,
+        span_s: 3.0 * areo_ephemeris::SOL_S,
         sun_step_s: 120.0,
         horizon_sectors: Some(32),
-        atmosphere: areo::ephemeris::flux::Atmosphere::BeerLambert { tau: 0.5 },
-        site: Some(areo::ephemeris::Site::new(-4.6, 137.4).map_err(|e| e.to_string())?),
+        atmosphere: areo_ephemeris::flux::Atmosphere::BeerLambert { tau: 0.5 },
+        site: Some(areo_ephemeris::Site::new(-4.6, 137.4).map_err(|e| e.to_string())?),
     };
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let t = Instant::now();
@@ -284,13 +285,13 @@ fn mission() -> Result<bool, String> {
     while !(world.sun(t0).elevation_deg > 10.0 && world.sun(t0 - 600.0).elevation_deg <= 10.0) {
         t0 += 600.0;
     }
-    let model = ActionModel::new(areo::rover::resources::ResourceModel::hyperion(), ActionConfig::default());
+    let model = ActionModel::new(areo_rover::resources::ResourceModel::hyperion(), ActionConfig::default());
     let start = Start { cell: world.cell(1200, 1200), t_min: t0, t_max: t0 + 600.0, energy_wh: 800.0 };
     let goal = world.cell(1263, 1230);
     // Coarser classes than the defaults and a half-day wait allowance, as a field
     // planner would run at this scale.
     let planner = PlannerConfig {
-        resolution: areo::mission::Resolution { time_s: 300.0, energy_wh: 1e12 },
+        resolution: areo_mission::Resolution { time_s: 300.0, energy_wh: 1e12 },
         goal_times: 8,
         max_wait_s: 6.0 * 3600.0,
         ..PlannerConfig::default()
@@ -345,23 +346,24 @@ fn peak_memory() -> Option<String> {
 
 /// Runs a shipped scenario through the library as `areo run` does; its facts and the
 /// wall time.
-fn run_scenario(root: &Path, name: &str, compare_fresh: bool) -> Result<(areo::Outcome, f64), String> {
+fn run_scenario(root: &Path, name: &str, compare_fresh: bool) -> Result<(areo_scenario::Outcome, f64), String> {
     let path = root.join("scenarios").join(format!("{name}.ron"));
-    let mut file = areo::scenario::load(&path).map_err(|e| e.to_string())?;
-    if let areo::scenario::Job::Tempest(job) = &mut file.scenario.job
+    let mut file = areo_scenario::format::load(&path).map_err(|e| e.to_string())?;
+    if let areo_scenario::format::Job::Tempest(job) = &mut file.scenario.job
         && let Some(sim) = &mut job.simulate
     {
         sim.compare_fresh = compare_fresh;
     }
     let clock = std::time::Instant::now();
     let outcome =
-        areo::run(&file, areo::RunOptions { out_dir: None, progress: &areo::NoProgress }).map_err(|e| e.to_string())?;
+        areo_scenario::run(&file, areo_scenario::RunOptions { out_dir: None, progress: &areo_scenario::NoProgress })
+            .map_err(|e| e.to_string())?;
     Ok((outcome, clock.elapsed().as_secs_f64()))
 }
 
-fn number(outcome: &areo::Outcome, name: &str) -> f64 {
+fn number(outcome: &areo_scenario::Outcome, name: &str) -> f64 {
     match outcome.facts.get(name) {
-        Some(areo::Fact::Number(x)) => *x,
+        Some(areo_scenario::Fact::Number(x)) => *x,
         _ => f64::NAN,
     }
 }

@@ -4,8 +4,10 @@
 use std::path::Path;
 use std::process::Command;
 
-/// Which areo crates each library crate may depend on (normal, build and dev
+/// Which areo crates each package may depend on (normal, build and dev
 /// dependencies alike: a test that reaches up the map is still a cycle in spirit).
+/// The binary (`areo`) reaches the libraries only through areo-scenario, so it
+/// computes nothing of its own; xtask never links the binary.
 const ALLOWED: &[(&str, &[&str])] = &[
     ("areo-terrain", &[]),
     ("areo-ephemeris", &[]),
@@ -13,7 +15,14 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("areo-rover", &["areo-terrain"]),
     ("areo-actions", &["areo-rover", "areo-terrain"]),
     ("areo-mission", &["areo-ise", "areo-terrain", "areo-ephemeris", "areo-rover"]),
+    ("areo-scenario", &["areo-ise", "areo-terrain", "areo-ephemeris", "areo-rover", "areo-actions", "areo-mission"]),
+    ("areo", &["areo-scenario"]),
+    ("xtask", &["areo-scenario", "areo-terrain", "areo-ephemeris", "areo-rover", "areo-mission"]),
 ];
+
+/// The command-line stack: flag parsing, progress bars, log output. Only the binary
+/// depends on it, so the libraries and xtask stay free of it.
+const CLI_STACK: &[&str] = &["clap", "indicatif", "tracing-subscriber"];
 
 /// Every dependency that breaks the map, as a sentence.
 pub(crate) fn check(root: &Path) -> Result<Vec<String>, String> {
@@ -44,6 +53,9 @@ fn violations(meta: &serde_json::Value) -> Result<Vec<String>, String> {
             if (dep_name == "areo" || dep_name.starts_with("areo-")) && !allowed.contains(&dep_name) {
                 found.push(format!("{name} must not depend on {dep_name} (allowed: {allowed:?})"));
             }
+            if name != "areo" && CLI_STACK.contains(&dep_name) {
+                found.push(format!("{name} must not depend on {dep_name} (only the areo binary parses flags)"));
+            }
         }
     }
     for (name, _) in ALLOWED {
@@ -51,6 +63,40 @@ fn violations(meta: &serde_json::Value) -> Result<Vec<String>, String> {
             found.push(format!("{name} is missing from the workspace"));
         }
     }
+    Ok(found)
+}
+
+/// Libraries print nothing: every line of a library crate's sources that writes to
+/// standard output or error, as `path:line`. (Clippy's print lints catch the macros;
+/// this also catches direct handles and an `#[allow]` that would silence the lint.)
+/// A file's unit tests, from its `#[cfg(test)]` on, may print.
+pub(crate) fn printing_in_libraries(root: &Path) -> Result<Vec<String>, String> {
+    const WRITERS: &[&str] = &["print!(", "println!(", "eprint!(", "eprintln!(", "io::stdout(", "io::stderr(", "dbg!("];
+    let mut found = Vec::new();
+    let mut stack = vec![root.join("crates")];
+    while let Some(dir) = stack.pop() {
+        let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        for entry in entries {
+            let path = entry.map_err(|e| format!("{}: {e}", dir.display()))?.path();
+            let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+            if path.is_dir() {
+                // Tests and benches may print; only the libraries' sources are held to it.
+                if !matches!(name, "tests" | "benches" | "examples" | "target") {
+                    stack.push(path);
+                }
+            } else if name.ends_with(".rs") {
+                let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+                // Unit tests sit at the end of a file, after `#[cfg(test)]`: they may print.
+                for (i, line) in text.lines().enumerate().take_while(|(_, l)| l.trim() != "#[cfg(test)]") {
+                    let code = line.split("//").next().unwrap_or_default();
+                    if WRITERS.iter().any(|w| code.contains(w)) {
+                        found.push(format!("{}:{}", path.strip_prefix(root).unwrap_or(&path).display(), i + 1));
+                    }
+                }
+            }
+        }
+    }
+    found.sort();
     Ok(found)
 }
 
@@ -65,6 +111,22 @@ mod tests {
     }
 
     #[test]
+    fn no_library_prints() {
+        let found = printing_in_libraries(&crate::project_root()).unwrap();
+        assert!(found.is_empty(), "libraries print nothing; the binary does: {found:#?}");
+        // The scan itself finds a print where there is one.
+        let dir = std::env::temp_dir().join(format!("areo-print-scan-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("crates/x/src")).unwrap();
+        std::fs::write(
+            dir.join("crates/x/src/lib.rs"),
+            "// println!(\"ok\")\nfn f() { println!(\"hi\"); }\n#[cfg(test)]\nfn g() { println!(\"in a test\"); }\n",
+        )
+        .unwrap();
+        assert_eq!(printing_in_libraries(&dir).unwrap(), vec!["crates/x/src/lib.rs:2".to_string()]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
     fn an_upward_dependency_is_reported() {
         let mut meta: serde_json::Value = serde_json::json!({"packages": []});
         let pkgs = meta["packages"].as_array_mut().unwrap();
@@ -74,5 +136,21 @@ mod tests {
         pkgs[2]["dependencies"] = serde_json::json!([{"name": "areo-mission"}, {"name": "serde"}]);
         let v = violations(&meta).unwrap();
         assert_eq!(v, vec!["areo-ise must not depend on areo-mission (allowed: [])".to_string()]);
+    }
+
+    #[test]
+    fn the_cli_stack_outside_the_binary_is_reported() {
+        let mut meta: serde_json::Value = serde_json::json!({"packages": []});
+        let pkgs = meta["packages"].as_array_mut().unwrap();
+        for (name, _) in ALLOWED {
+            let deps = if *name == "areo" || *name == "areo-scenario" {
+                serde_json::json!([{"name": "clap"}])
+            } else {
+                serde_json::json!([])
+            };
+            pkgs.push(serde_json::json!({"name": name, "dependencies": deps}));
+        }
+        let v = violations(&meta).unwrap();
+        assert_eq!(v, vec!["areo-scenario must not depend on clap (only the areo binary parses flags)".to_string()]);
     }
 }

@@ -24,15 +24,21 @@ fn main() -> ExitCode {
             print!("{}", report.table());
             report.failures() == 0
         }),
-        Some("deps") => deps::check(&project_root()).map(|violations| {
-            for v in &violations {
-                println!("{v}");
-            }
-            if violations.is_empty() {
-                println!("dependency directions: ok");
-            }
-            violations.is_empty()
-        }),
+        Some("deps") => deps::check(&project_root())
+            .and_then(|mut violations| {
+                let prints = deps::printing_in_libraries(&project_root())?;
+                violations.extend(prints.into_iter().map(|at| format!("{at}: a library writes to stdout or stderr")));
+                Ok(violations)
+            })
+            .map(|violations| {
+                for v in &violations {
+                    println!("{v}");
+                }
+                if violations.is_empty() {
+                    println!("dependency directions: ok");
+                }
+                violations.is_empty()
+            }),
         Some("bench") => bench::run(&project_root(), &args[1..]),
         _ => {
             eprintln!("usage: cargo xtask <scenarios|deps|bench [FILTER]>");

@@ -4,8 +4,8 @@ use std::fmt::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use areo::outcome::{Expected, Mismatch};
-use areo::{NoProgress, RunOptions};
+use areo_scenario::outcome::{Expected, Mismatch};
+use areo_scenario::{NoProgress, RunOptions};
 
 /// One scenario's result.
 pub(crate) struct Row {
@@ -98,9 +98,9 @@ fn run_one(path: &Path, expected_path: &Path, out: &Path) -> Result<(usize, Vec<
         return Err(None);
     }
     let expected = Expected::load(expected_path).map_err(|e| Some(e.to_string()))?;
-    let file = areo::scenario::load(path).map_err(|e| Some(e.to_string()))?;
-    let outcome =
-        areo::run(&file, RunOptions { out_dir: Some(out), progress: &NoProgress }).map_err(|e| Some(e.to_string()))?;
+    let file = areo_scenario::format::load(path).map_err(|e| Some(e.to_string()))?;
+    let outcome = areo_scenario::run(&file, RunOptions { out_dir: Some(out), progress: &NoProgress })
+        .map_err(|e| Some(e.to_string()))?;
     Ok((expected.facts.len(), expected.check(&outcome)))
 }
 

@@ -11,7 +11,8 @@
 //! constraint is violated: slip, contact, saturation, stability floor, a rock hitting
 //! the body, leaving the map), [`fitness()`] (eq. 17) and [`evolve`] (the GA:
 //! crossover at the failure point, mutation, tournament selection, elitism, seeded and
-//! identical for any thread count).
+//! identical for any thread count), and [`friction_sweep`] (the task at each of a
+//! list of friction coefficients).
 //!
 //! ```no_run
 //! # use areo_actions::*;
@@ -35,6 +36,7 @@ mod executor;
 mod fitness;
 mod ga;
 mod inventory;
+mod sweep;
 mod task;
 
 pub use crate::{
@@ -43,5 +45,6 @@ pub use crate::{
     fitness::{Scale, Weights, fitness, h},
     ga::{CrossoverPoint, GaConfig, GaReport, Generation, Individual, evolve},
     inventory::{Inventory, Overrides, Removal, design_space_log10},
+    sweep::{FrictionSweep, SweepPoint, friction_sweep},
     task::{Rock, Sample, Task},
 };

@@ -121,6 +121,92 @@ pub fn earth_visible_intervals(site: &Site, mask: &HorizonMask, start: Epoch, en
     )
 }
 
+/// The intervals between `start` and `end` during which the Sun's centre is at or below
+/// the horizon `mask` at `site`: the complement of [`daylight_intervals`] there.
+pub fn night_intervals(site: &Site, mask: &HorizonMask, start: Epoch, end: Epoch) -> Vec<(Epoch, Epoch)> {
+    let mut out = Vec::new();
+    let mut from = start;
+    for (rise, set) in daylight_intervals(site, mask, start, end) {
+        if rise > from {
+            out.push((from, rise));
+        }
+        from = set;
+    }
+    if end > from {
+        out.push((from, end));
+    }
+    out
+}
+
+/// One direct-to-Earth session per sol: for each sol-long window from `start` (the
+/// last one cut at `end`), a session of `duration_s` seconds centred on the Earth's
+/// highest elevation in that window, kept if that elevation is at least
+/// `min_elevation_deg` and clipped to [`start`, `end`]. The culmination is found by
+/// scanning at 5 min and refining by golden-section search to 10 ms.
+pub fn communication_windows(
+    site: &Site,
+    start: Epoch,
+    end: Epoch,
+    min_elevation_deg: f64,
+    duration_s: f64,
+) -> Vec<(Epoch, Epoch)> {
+    let elevation = |jd: f64| {
+        let e = earth_from_mars(epoch_from_jd_tt(jd));
+        site.azimuth_elevation_deg(e.direction_body_fixed).1
+    };
+    let (t0, t1) = (MarsTime::from_epoch(start).jd_tt, MarsTime::from_epoch(end).jd_tt);
+    let half_days = 0.5 * duration_s / 86_400.0;
+    let mut out = Vec::new();
+    let mut sol_start = t0;
+    // A window shorter than the scan tolerance is rounding, not a sol.
+    while sol_start < t1 - TOLERANCE_DAYS {
+        let sol_end = (sol_start + SOL_IN_DAYS).min(t1);
+        let (peak, el) = maximum(&elevation, sol_start, sol_end);
+        if el >= min_elevation_deg {
+            let (a, b) = ((peak - half_days).max(t0), (peak + half_days).min(t1));
+            if b > a {
+                out.push((epoch_from_jd_tt(a), epoch_from_jd_tt(b)));
+            }
+        }
+        sol_start += SOL_IN_DAYS;
+    }
+    out
+}
+
+/// The largest value of `f` on [a, b] and where: the best scan sample, refined by
+/// golden-section search between its neighbours.
+fn maximum(f: &impl Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
+    let n = ((b - a) / SCAN_STEP_DAYS).ceil().max(1.0) as usize;
+    let step = (b - a) / n as f64;
+    let (mut best_i, mut best) = (0, f(a));
+    for i in 1..=n {
+        let v = f(a + step * i as f64);
+        if v > best {
+            (best_i, best) = (i, v);
+        }
+    }
+    let (mut lo, mut hi) = ((a + step * best_i as f64 - step).max(a), (a + step * best_i as f64 + step).min(b));
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    while hi - lo > TOLERANCE_DAYS {
+        if f1 < f2 {
+            lo = x1;
+            (x1, f1) = (x2, f2);
+            x2 = lo + g * (hi - lo);
+            f2 = f(x2);
+        } else {
+            hi = x2;
+            (x2, f2) = (x1, f1);
+            x1 = hi - g * (hi - lo);
+            f1 = f(x1);
+        }
+    }
+    let x = 0.5 * (lo + hi);
+    let fx = f(x);
+    if fx >= best { (x, fx) } else { (a + step * best_i as f64, best) }
+}
+
 const SCAN_STEP_DAYS: f64 = 300.0 / 86_400.0;
 const TOLERANCE_DAYS: f64 = 0.01 / 86_400.0;
 

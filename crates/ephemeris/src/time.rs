@@ -127,9 +127,9 @@ pub fn parse_utc(text: &str) -> Result<Epoch> {
     if body.len() < 10 || !body.as_bytes()[..4].iter().all(u8::is_ascii_digit) {
         return Err(bad("not of the form YYYY-MM-DDTHH:MM:SS".into()));
     }
-    let epoch = Epoch::from_gregorian_str(body).map_err(|e| {
-        let msg = e.to_string();
-        bad(if msg.contains("InvalidGregorianDate") { "no such calendar date or time of day".into() } else { msg })
+    let epoch = Epoch::from_gregorian_str(body).map_err(|e| match e {
+        hifitime::HifitimeError::InvalidGregorianDate => bad("no such calendar date or time of day".into()),
+        other => bad(other.to_string()),
     })?;
     if epoch.time_scale != TimeScale::UTC {
         return Err(bad(format!("time scale {} given; areo files and flags use UTC", epoch.time_scale)));

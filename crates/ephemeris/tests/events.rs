@@ -98,3 +98,63 @@ fn bad_inputs_are_errors() {
     assert!(utc_at_ltst(50_000, &site, 25.0).is_err());
     assert!(Site::new(-91.0, 0.0).is_err());
 }
+
+#[test]
+fn nights_are_the_complement_of_daylight() {
+    use areo_ephemeris::events::night_intervals;
+    let site = Site::new(-4.5895, 137.4417).unwrap();
+    let flat = HorizonMask::flat();
+    let (start, end) = (parse_utc("2025-03-01T00:00:00Z").unwrap(), parse_utc("2025-03-04T00:00:00Z").unwrap());
+    let days = daylight_intervals(&site, &flat, start, end);
+    let nights = night_intervals(&site, &flat, start, end);
+    let total: f64 = days.iter().chain(&nights).map(|(a, b)| (*b - *a).to_seconds()).sum();
+    assert!((total - (end - start).to_seconds()).abs() < 1e-3, "{total}");
+    // They alternate and touch: every night ends where a day begins.
+    for n in &nights {
+        assert!(days.iter().any(|d| (d.0 - n.1).to_seconds().abs() < 1e-6) || n.1 == end);
+    }
+    // Three Earth days near the equator: three or four nights, each 11-14 h unless cut.
+    assert!((3..=4).contains(&nights.len()), "{}", nights.len());
+    for n in &nights[1..nights.len() - 1] {
+        let h = (n.1 - n.0).to_seconds() / 3600.0;
+        assert!((11.0..14.0).contains(&h), "{h}");
+    }
+}
+
+#[test]
+fn communication_windows_are_centred_on_the_earths_culmination() {
+    use areo_ephemeris::earth::earth_azimuth_elevation_deg;
+    use areo_ephemeris::events::communication_windows;
+    let site = Site::new(-4.5895, 137.4417).unwrap();
+    let start = parse_utc("2025-03-01T00:00:00Z").unwrap();
+    let end = start + hifitime::Duration::from_seconds(3.0 * areo_ephemeris::SOL_S);
+    let w = communication_windows(&site, start, end, 10.0, 1800.0);
+    assert_eq!(w.len(), 3, "{w:?}");
+    for (a, b) in &w {
+        assert!(((*b - *a).to_seconds() - 1800.0).abs() < 1e-3);
+        // The centre is the maximum: a brute-force scan at 10 s around it finds no
+        // higher Earth (within the 10 ms tolerance's effect on elevation).
+        let mid = *a + hifitime::Duration::from_seconds(900.0);
+        let el_mid = earth_azimuth_elevation_deg(mid, &site).1;
+        assert!(el_mid >= 10.0);
+        for k in -360..=360 {
+            let t = mid + hifitime::Duration::from_seconds(10.0 * f64::from(k));
+            assert!(earth_azimuth_elevation_deg(t, &site).1 <= el_mid + 1e-6, "higher at {k}");
+        }
+    }
+    // An elevation the Earth never reaches gives no session.
+    assert!(communication_windows(&site, start, end, 89.0, 1800.0).is_empty());
+}
+
+#[test]
+fn impossible_calendar_dates_and_other_scales_are_explained() {
+    // 30 February: hifitime's InvalidGregorianDate, said in words (matched by variant).
+    let err = parse_utc("2021-02-30T00:00:00Z").unwrap_err().to_string();
+    assert!(err.contains("no such calendar date"), "{err}");
+    assert!(err.contains("2021-02-30"), "{err}");
+    let err = parse_utc("yesterday").unwrap_err().to_string();
+    assert!(err.contains("YYYY-MM-DD"), "{err}");
+    let err = parse_utc("2021-02-18T20:55:00 TAI").unwrap_err().to_string();
+    assert!(err.contains("UTC"), "{err}");
+    assert_eq!(format_utc(parse_utc("2021-02-18T20:55:00Z").unwrap()), "2021-02-18T20:55:00.000Z");
+}

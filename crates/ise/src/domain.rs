@@ -37,57 +37,26 @@ pub trait Domain {
     /// against the few it can dominate or be dominated by (4 bytes per label).
     const MANY_LABELS: bool = false;
 
-    /// The actions that may lead into `state` with `label` (appended to `out`).
-    fn actions(&self, state: Self::State, label: &Self::Label, out: &mut Vec<Self::Action>);
-
-    /// The backward transition: the state and label from which `action` leads to
-    /// (`state`, `label`), with the step's cost (≥ 0); `None` when a local constraint
-    /// forbids it.
-    fn predecessor(&self, state: Self::State, label: &Self::Label, action: Self::Action) -> Option<Step<Self>>;
-
-    /// Every feasible backward transition from (`state`, `label`), appended to `out`
-    /// with its action — what the engine asks for when it expands a node. The default
-    /// asks [`Domain::actions`] (into the scratch buffer `actions`) and
-    /// [`Domain::predecessor`] for each; a domain whose actions share work (the same
-    /// Sun, the same arrival cell) overrides it, and must give the same steps in the
-    /// same order.
-    fn predecessors(
+    /// Expands (`state`, `label`): calls `visit` with every feasible backward
+    /// transition — the action, and the state and label it leads from with the step's
+    /// cost (≥ 0) — in a fixed order, skipping those a local constraint forbids.
+    ///
+    /// Only actions for which `wanted` is true need be evaluated: a repair's partial
+    /// re-expansion asks for the few steps into the states it changed, and a domain
+    /// saves the work of the others by asking `wanted` before evaluating an action. A
+    /// full expansion passes `|_| true`, which the compiler removes. The steps given for
+    /// a `wanted` action must not depend on which other actions are wanted.
+    ///
+    /// This is the one way the engine learns transitions; a domain whose actions share
+    /// work (the same Sun, the same arrival cell) does it once here.
+    fn expand(
         &self,
         state: Self::State,
         label: &Self::Label,
-        actions: &mut Vec<Self::Action>,
-        out: &mut Vec<(Self::Action, Step<Self>)>,
-    ) {
-        actions.clear();
-        self.actions(state, label, actions);
-        for &a in actions.iter() {
-            if let Some(step) = self.predecessor(state, label, a) {
-                out.push((a, step));
-            }
-        }
-    }
-
-    /// Calls `visit` with every feasible backward transition from (`state`, `label`), in
-    /// the order of [`Domain::predecessors`] — how the engine expands a node. The
-    /// default collects `predecessors` into the scratch buffer `steps` and visits them;
-    /// a domain that makes its steps one at a time overrides it and skips the buffer
-    /// (on a grid the buffer's pushes and drains were 4 % of the search's instructions).
-    fn visit_predecessors(
-        &self,
-        state: Self::State,
-        label: &Self::Label,
-        actions: &mut Vec<Self::Action>,
-        steps: &mut Vec<(Self::Action, Step<Self>)>,
-        mut visit: impl FnMut(Self::Action, Step<Self>),
+        wanted: impl Fn(Self::Action) -> bool,
+        visit: impl FnMut(Self::Action, Step<Self>),
     ) where
-        Self: Sized,
-    {
-        steps.clear();
-        self.predecessors(state, label, actions, steps);
-        for (a, step) in steps.drain(..) {
-            visit(a, step);
-        }
-    }
+        Self: Sized;
 
     /// The predecessor state `action` comes from into `state`, when it can be told
     /// without evaluating the transition (`None`: unknown). Repairs use it to skip the

@@ -265,38 +265,18 @@ impl Domain for Grid {
     type Key = ();
     type Action = u8;
 
-    fn actions(&self, _state: u32, _label: &(), out: &mut Vec<u8>) {
-        out.extend(0..8u8);
-    }
-
+    /// The 8 moves (a blocked cell has none). Action m leads from the predecessor to
+    /// `state`: the predecessor lies one move in the opposite direction, and moves are
+    /// symmetric in legality and cost.
     #[inline]
-    fn predecessor(&self, state: u32, _label: &(), action: u8) -> Option<Step<Grid>> {
-        // Action m leads from the predecessor to `state`: the predecessor lies one move
-        // in the opposite direction, and moves are symmetric in legality and cost.
-        let back = (action as usize + 4) % 8;
-        let (pred, cost) = self.step_cost(state, back)?;
-        Some(Step { state: pred, label: (), cost })
-    }
-
-    fn predecessors(&self, state: u32, label: &(), actions: &mut Vec<u8>, out: &mut Vec<(u8, Step<Grid>)>) {
-        self.visit_predecessors(state, label, actions, &mut Vec::new(), |a, step| out.push((a, step)));
-    }
-
-    /// The 8 moves without the per-action calls (a blocked cell has none).
-    #[inline]
-    fn visit_predecessors(
-        &self,
-        state: u32,
-        _label: &(),
-        _actions: &mut Vec<u8>,
-        _steps: &mut Vec<(u8, Step<Grid>)>,
-        mut visit: impl FnMut(u8, Step<Grid>),
-    ) {
+    fn expand(&self, state: u32, _label: &(), wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Step<Grid>)) {
         if !self.free[state as usize] {
             return;
         }
         for action in 0..8u8 {
-            if let Some((pred, cost)) = self.step_cost(state, (action as usize + 4) % 8) {
+            if wanted(action)
+                && let Some((pred, cost)) = self.step_cost(state, (action as usize + 4) % 8)
+            {
                 visit(action, Step { state: pred, label: (), cost });
             }
         }

@@ -43,9 +43,11 @@
 //! Architecture invariant: areo-ise depends on no other areo crate and does no I/O
 //! (the Moving AI parsers take text).
 
+mod arena;
 mod domain;
 mod open;
 mod search;
+mod state_table;
 
 pub mod grid;
 

@@ -17,10 +17,13 @@
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
+use crate::arena::Arena;
 use crate::domain::{Domain, Goal};
 use crate::open::{Entry, OpenList};
+use crate::state_table::StateTable;
 
-const NONE: u32 = u32::MAX;
+/// No node (the end of a list, a root's parent).
+pub(crate) const NONE: u32 = u32::MAX;
 const OPEN: u8 = 1;
 const CLOSED: u8 = 2;
 /// Replaced by a better label of its class or dominated: no longer a search node, but
@@ -118,157 +121,6 @@ impl<D: Domain> Node<D> {
     }
 }
 
-/// The node store: fixed-size chunks, so growing never copies and never holds twice
-/// the memory it needs (a doubling `Vec` does, just after it grows).
-struct Arena<T> {
-    chunks: Vec<Vec<T>>,
-    len: u32,
-}
-
-const CHUNK_BITS: u32 = 12;
-const CHUNK: usize = 1 << CHUNK_BITS;
-
-impl<T> Arena<T> {
-    fn new() -> Arena<T> {
-        Arena { chunks: Vec::new(), len: 0 }
-    }
-    fn len(&self) -> u32 {
-        self.len
-    }
-    fn push(&mut self, value: T) -> u32 {
-        if (self.len as usize).is_multiple_of(CHUNK) {
-            self.chunks.push(Vec::with_capacity(CHUNK));
-        }
-        if let Some(last) = self.chunks.last_mut() {
-            last.push(value);
-        }
-        self.len += 1;
-        self.len - 1
-    }
-    fn bytes(&self) -> u64 {
-        (self.chunks.len() * CHUNK * std::mem::size_of::<T>() + self.chunks.capacity() * std::mem::size_of::<Vec<T>>())
-            as u64
-    }
-    /// Swaps two values (`a` < `b`).
-    fn swap(&mut self, a: u32, b: u32) {
-        let (ca, ia) = ((a >> CHUNK_BITS) as usize, a as usize & (CHUNK - 1));
-        let (cb, ib) = ((b >> CHUNK_BITS) as usize, b as usize & (CHUNK - 1));
-        if ca == cb {
-            self.chunks[ca].swap(ia, ib);
-        } else {
-            let (lo, hi) = self.chunks.split_at_mut(cb);
-            std::mem::swap(&mut lo[ca][ia], &mut hi[0][ib]);
-        }
-    }
-    /// Drops every value from index `len` on, and the chunks left empty.
-    fn truncate(&mut self, len: u32) {
-        let chunks = (len as usize).div_ceil(CHUNK);
-        self.chunks.truncate(chunks);
-        if let Some(last) = self.chunks.last_mut() {
-            last.truncate(len as usize - (chunks - 1) * CHUNK);
-        }
-        self.chunks.shrink_to_fit();
-        self.len = len;
-    }
-}
-
-impl<T> std::ops::Index<u32> for Arena<T> {
-    type Output = T;
-    #[inline]
-    fn index(&self, id: u32) -> &T {
-        &self.chunks[(id >> CHUNK_BITS) as usize][id as usize & (CHUNK - 1)]
-    }
-}
-
-impl<T> std::ops::IndexMut<u32> for Arena<T> {
-    #[inline]
-    fn index_mut(&mut self, id: u32) -> &mut T {
-        &mut self.chunks[(id >> CHUNK_BITS) as usize][id as usize & (CHUNK - 1)]
-    }
-}
-
-/// Cells per page of the dense state table.
-const PAGE: usize = 1 << 10;
-
-/// State → first node at that state. Dense domains get pages allocated on first touch
-/// (memory ∝ the part of the space searched); others a hash table.
-enum StateTable<D: Domain> {
-    Undecided,
-    Paged(Vec<Option<Box<[u32; PAGE]>>>),
-    Hashed(FxHashMap<D::State, u32>),
-}
-
-impl<D: Domain> StateTable<D> {
-    fn new() -> StateTable<D> {
-        StateTable::Undecided
-    }
-
-    #[inline(always)]
-    fn get(&self, domain: &D, state: D::State) -> u32 {
-        // The paged table first: it is the hot case, and one test of the variant.
-        if let StateTable::Paged(pages) = self {
-            let i = domain.dense_index(state).map_or(usize::MAX, |i| i as usize);
-            return pages.get(i / PAGE).and_then(|p| p.as_deref()).map_or(NONE, |p| p[i % PAGE]);
-        }
-        match self {
-            StateTable::Hashed(map) => map.get(&state).copied().unwrap_or(NONE),
-            _ => NONE,
-        }
-    }
-
-    #[inline(always)]
-    fn set(&mut self, domain: &D, state: D::State, head: u32) {
-        if let StateTable::Paged(pages) = self
-            && let Some(i) = domain.dense_index(state)
-            && let Some(Some(page)) = pages.get_mut(i as usize / PAGE)
-        {
-            page[i as usize % PAGE] = head;
-            return;
-        }
-        self.set_slow(domain, state, head);
-    }
-
-    #[inline(never)]
-    fn set_slow(&mut self, domain: &D, state: D::State, head: u32) {
-        if let StateTable::Undecided = self {
-            *self = if domain.dense_index(state).is_some() {
-                StateTable::Paged(Vec::new())
-            } else {
-                StateTable::Hashed(FxHashMap::default())
-            };
-        }
-        match self {
-            StateTable::Undecided => {}
-            StateTable::Paged(pages) => {
-                let Some(i) = domain.dense_index(state) else { return };
-                let (page, slot) = (i as usize / PAGE, i as usize % PAGE);
-                if pages.len() <= page {
-                    pages.resize_with(page + 1, || None);
-                }
-                pages[page].get_or_insert_with(|| Box::new([NONE; PAGE]))[slot] = head;
-            }
-            StateTable::Hashed(map) => {
-                if head == NONE {
-                    map.remove(&state);
-                } else {
-                    map.insert(state, head);
-                }
-            }
-        }
-    }
-
-    fn bytes(&self) -> u64 {
-        match self {
-            StateTable::Undecided => 0,
-            StateTable::Paged(pages) => {
-                let used = pages.iter().filter(|p| p.is_some()).count();
-                (pages.capacity() * std::mem::size_of::<Option<Box<[u32; PAGE]>>>() + used * PAGE * 4) as u64
-            }
-            StateTable::Hashed(map) => (map.capacity() * (std::mem::size_of::<(D::State, u32)>() + 1)) as u64,
-        }
-    }
-}
-
 /// The newest label of a (state, dominance group), with its cost and class: enough to
 /// prune the labels that lose to it without reading its node.
 struct GroupHead<D: Domain> {
@@ -292,9 +144,6 @@ pub struct Search<D: Domain> {
     open: OpenList,
     alive: u64,
     stats: Stats,
-    actions: Vec<D::Action>,
-    /// Scratch for an expansion's predecessors.
-    steps: Vec<(D::Action, crate::domain::Step<D>)>,
     states: Vec<D::State>,
     /// With [`Domain::MANY_LABELS`]: the label holding each (state, key) class and its
     /// cost — enough to prune a worse label without reading its rival's node (a cache
@@ -325,7 +174,7 @@ pub struct Search<D: Domain> {
 
 impl<D: Domain> std::fmt::Debug for Search<D> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Search").field("mode", &self.mode).field("nodes", &self.nodes.len).finish_non_exhaustive()
+        f.debug_struct("Search").field("mode", &self.mode).field("nodes", &self.nodes.len()).finish_non_exhaustive()
     }
 }
 
@@ -340,8 +189,6 @@ impl<D: Domain> Search<D> {
             open: OpenList::new(),
             alive: 0,
             stats: Stats::default(),
-            actions: Vec::new(),
-            steps: Vec::new(),
             states: Vec::new(),
             // Time-expanded domains collect hundreds of thousands of classes: start big
             // enough to skip the first dozen rehashes.
@@ -825,14 +672,15 @@ impl<D: Domain> Search<D> {
             self.expand_partially(domain, id, state, label, g);
             return;
         }
-        let mut steps = std::mem::take(&mut self.steps);
-        let mut actions = std::mem::take(&mut self.actions);
-        domain.visit_predecessors(state, &label, &mut actions, &mut steps, |a, step| {
-            debug_assert!(step.cost >= 0.0, "step costs must be non-negative");
-            self.insert(domain, step.state, step.label, g + step.cost, id, Some(a));
-        });
-        self.steps = steps;
-        self.actions = actions;
+        domain.expand(
+            state,
+            &label,
+            |_| true,
+            |a, step| {
+                debug_assert!(step.cost >= 0.0, "step costs must be non-negative");
+                self.insert(domain, step.state, step.label, g + step.cost, id, Some(a));
+            },
+        );
     }
 
     /// A reopened node's expansion: only the steps into the states the last repair
@@ -841,21 +689,19 @@ impl<D: Domain> Search<D> {
     #[cold]
     #[inline(never)]
     fn expand_partially(&mut self, domain: &D, id: u32, state: D::State, label: D::Label, g: f64) {
-        let mut actions = std::mem::take(&mut self.actions);
-        actions.clear();
-        domain.actions(state, &label, &mut actions);
-        for &a in &actions {
-            if domain.predecessor_state(state, a).is_some_and(|p| !self.touched.contains(&p)) {
-                continue;
-            }
-            if let Some(step) = domain.predecessor(state, &label, a)
-                && self.touched.contains(&step.state)
-            {
-                debug_assert!(step.cost >= 0.0, "step costs must be non-negative");
-                self.insert(domain, step.state, step.label, g + step.cost, id, Some(a));
-            }
-        }
-        self.actions = actions;
+        let touched = std::mem::take(&mut self.touched);
+        domain.expand(
+            state,
+            &label,
+            |a| domain.predecessor_state(state, a).is_none_or(|p| touched.contains(&p)),
+            |a, step| {
+                if touched.contains(&step.state) {
+                    debug_assert!(step.cost >= 0.0, "step costs must be non-negative");
+                    self.insert(domain, step.state, step.label, g + step.cost, id, Some(a));
+                }
+            },
+        );
+        self.touched = touched;
     }
 
     /// Adds a label unless the global constraint, its resolution class or dominance

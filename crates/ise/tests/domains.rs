@@ -60,6 +60,17 @@ impl TimeGrid {
             .map(|c| ((c, t + 1), self.cost[self.idx(c, t + 1)]))
             .collect()
     }
+    /// The state and time `a` leads from into (`s`, `t`), and the step's cost.
+    fn predecessor(&self, s: u32, t: u32, a: u8) -> Option<Step<TimeGrid>> {
+        if t == 0 || !self.free(s, t) {
+            return None;
+        }
+        let p = self.moved(s, a as usize, -1)?;
+        if !self.free(p, t - 1) {
+            return None;
+        }
+        Some(Step { state: p, label: t - 1, cost: self.cost[self.idx(s, t)] })
+    }
     fn manhattan(&self, a: u32, b: u32) -> f64 {
         let (ax, ay) = ((a as i32) % self.w, (a as i32) / self.w);
         let (bx, by) = ((b as i32) % self.w, (b as i32) / self.w);
@@ -73,18 +84,12 @@ impl Domain for TimeGrid {
     type Key = u32;
     type Action = u8;
 
-    fn actions(&self, _s: u32, _t: &u32, out: &mut Vec<u8>) {
-        out.extend(0..5u8);
-    }
-    fn predecessor(&self, s: u32, &t: &u32, a: u8) -> Option<Step<Self>> {
-        if t == 0 || !self.free(s, t) {
-            return None;
+    fn expand(&self, s: u32, t: &u32, wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Step<Self>)) {
+        for a in (0..5u8).filter(|&a| wanted(a)) {
+            if let Some(step) = self.predecessor(s, *t, a) {
+                visit(a, step);
+            }
         }
-        let p = self.moved(s, a as usize, -1)?;
-        if !self.free(p, t - 1) {
-            return None;
-        }
-        Some(Step { state: p, label: t - 1, cost: self.cost[self.idx(s, t)] })
     }
     fn successors(&self, s: u32, out: &mut Vec<u32>) {
         out.extend((0..5).filter_map(|m| self.moved(s, m, 1)));
@@ -182,14 +187,14 @@ impl Domain for Battery {
     type Action = u8;
     const DOMINANCE: bool = true;
 
-    fn actions(&self, _s: u32, _l: &Charge, out: &mut Vec<u8>) {
-        out.extend(0..5u8);
-    }
-    fn predecessor(&self, s: u32, l: &Charge, a: u8) -> Option<Step<Self>> {
-        let step = self.grid.predecessor(s, &l.t, a)?;
-        let de = self.delta_e[self.grid.idx(s, l.t)];
-        let e = (l.e + de).max(0);
-        Some(Step { state: step.state, label: Charge { t: l.t - 1, e }, cost: self.step_cost(de) })
+    fn expand(&self, s: u32, l: &Charge, wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Step<Self>)) {
+        for a in (0..5u8).filter(|&a| wanted(a)) {
+            if let Some(step) = self.grid.predecessor(s, l.t, a) {
+                let de = self.delta_e[self.grid.idx(s, l.t)];
+                let e = (l.e + de).max(0);
+                visit(a, Step { state: step.state, label: Charge { t: l.t - 1, e }, cost: self.step_cost(de) });
+            }
+        }
     }
     fn successors(&self, s: u32, out: &mut Vec<u32>) {
         self.grid.successors(s, out);
@@ -304,11 +309,8 @@ impl Domain for Grouped {
     const DOMINANCE: bool = true;
     const MANY_LABELS: bool = true;
 
-    fn actions(&self, s: u32, l: &Charge, out: &mut Vec<u8>) {
-        self.0.actions(s, l, out);
-    }
-    fn predecessor(&self, s: u32, l: &Charge, a: u8) -> Option<Step<Self>> {
-        self.0.predecessor(s, l, a).map(|st| Step { state: st.state, label: st.label, cost: st.cost })
+    fn expand(&self, s: u32, l: &Charge, wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Step<Self>)) {
+        self.0.expand(s, l, wanted, |a, st| visit(a, Step { state: st.state, label: st.label, cost: st.cost }));
     }
     fn successors(&self, s: u32, out: &mut Vec<u32>) {
         self.0.successors(s, out);

@@ -97,27 +97,35 @@ fn malformed_maps_are_errors() {
 /// exactly the steps of `predecessors` (the per-action definition), in the same order,
 /// at every cell of a real map with uneven weights.
 #[test]
-fn grid_visits_the_same_predecessors_it_lists() {
+fn grid_expands_to_the_moves_it_allows_whatever_else_is_wanted() {
     use areo_ise::Domain;
     let mut grid = Grid::parse_movingai(&data("den520d.map")).unwrap();
     let cells: Vec<u32> = grid.cells().collect();
     for (k, &c) in cells.iter().enumerate() {
         grid.set_weight(c, 1.0 + (k % 7) as f32 * 0.25);
     }
-    let (mut actions, mut buffer) = (Vec::new(), Vec::new());
     let mut steps_seen = 0;
     for &c in &cells {
-        let mut listed = Vec::new();
-        grid.predecessors(c, &(), &mut actions, &mut listed);
-        let listed: Vec<(u8, u32, f64)> = listed.into_iter().map(|(a, s)| (a, s.state, s.cost)).collect();
-        let mut visited = Vec::new();
-        grid.visit_predecessors(c, &(), &mut actions, &mut buffer, |a, s| visited.push((a, s.state, s.cost)));
-        assert_eq!(visited, listed, "cell {c}");
-        // And both agree with the per-action definition.
-        let per_action: Vec<(u8, u32, f64)> =
-            (0..8u8).filter_map(|a| grid.predecessor(c, &(), a).map(|s| (a, s.state, s.cost))).collect();
-        assert_eq!(per_action, listed, "cell {c}");
-        steps_seen += listed.len();
+        let mut all = Vec::new();
+        grid.expand(c, &(), |_| true, |a, s| all.push((a, s.state, s.cost)));
+        // Asking for one action at a time gives the same steps (a partial expansion
+        // sees what a full one does).
+        let one_by_one: Vec<(u8, u32, f64)> = (0..8u8)
+            .flat_map(|want| {
+                let mut v = Vec::new();
+                grid.expand(c, &(), |a| a == want, |a, s| v.push((a, s.state, s.cost)));
+                v
+            })
+            .collect();
+        assert_eq!(one_by_one, all, "cell {c}");
+        // Every step comes from a neighbour one move away, at a move's cost.
+        for &(_, from, cost) in &all {
+            let mut next = Vec::new();
+            grid.successors(from, &mut next);
+            assert!(from != c && next.contains(&c), "cell {c} from {from}");
+            assert!(cost >= 1.0, "{cost}");
+        }
+        steps_seen += all.len();
     }
     assert!(steps_seen > cells.len(), "the map has open ground: {steps_seen} steps");
 }

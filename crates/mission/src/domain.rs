@@ -285,43 +285,33 @@ impl Domain for TempestDomain<'_> {
     const MANY_LABELS: bool = true;
     const DOMINANCE: bool = true;
 
-    fn actions(&self, _state: u32, _label: &Label, out: &mut Vec<Action>) {
-        out.extend((0..8).map(Action::Drive));
-        out.push(Action::Charge);
-        out.push(Action::Hibernate);
-    }
-
-    fn predecessor(&self, state: u32, label: &Label, action: Action) -> Option<Step<Self>> {
-        match action {
-            Action::Drive(k) => {
-                let arrival = self.model.arrival(self.world, state, label.t)?;
-                let (from, geometry) = self.drives_into(state)[k as usize % 8]?;
-                let (from, effect) = self.model.drive_into(self.world, &arrival, k, from, geometry)?;
-                Some(self.step(from, label, action, effect))
-            }
-            stay => {
-                let effect =
-                    self.model.stay(self.world, stay, state, label.t - self.model.stay_duration_s(stay)).ok()?;
-                Some(self.step(state, label, action, effect))
-            }
-        }
-    }
-
-    fn predecessors(&self, state: u32, label: &Label, _actions: &mut Vec<Action>, out: &mut Vec<(Action, Step<Self>)>) {
-        // The 8 drives share their arrival (the Sun at label.t, the light and checks at
-        // this cell); same steps in the same order as `actions` + `predecessor`.
-        if let Some(arrival) = self.model.arrival(self.world, state, label.t) {
+    /// The 8 drives share their arrival (the Sun at `label.t`, the light and checks at
+    /// this cell), computed once and only if a drive is wanted; then Charge and
+    /// Hibernate.
+    fn expand(
+        &self,
+        state: u32,
+        label: &Label,
+        wanted: impl Fn(Action) -> bool,
+        mut visit: impl FnMut(Action, Step<Self>),
+    ) {
+        if (0..8).any(|k| wanted(Action::Drive(k)))
+            && let Some(arrival) = self.model.arrival(self.world, state, label.t)
+        {
             for (k, drive) in (0..8).zip(self.drives_into(state)) {
-                if let Some((from, geometry)) = drive
+                if wanted(Action::Drive(k))
+                    && let Some((from, geometry)) = drive
                     && let Some((from, effect)) = self.model.drive_into(self.world, &arrival, k, from, geometry)
                 {
-                    out.push((Action::Drive(k), self.step(from, label, Action::Drive(k), effect)));
+                    visit(Action::Drive(k), self.step(from, label, Action::Drive(k), effect));
                 }
             }
         }
         for stay in [Action::Charge, Action::Hibernate] {
-            if let Some(step) = self.predecessor(state, label, stay) {
-                out.push((stay, step));
+            if wanted(stay)
+                && let Ok(effect) = self.model.stay(self.world, stay, state, label.t - self.model.stay_duration_s(stay))
+            {
+                visit(stay, self.step(state, label, stay, effect));
             }
         }
     }

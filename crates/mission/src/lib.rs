@@ -42,6 +42,8 @@ pub use crate::{
     error::{Error, Result},
     plan::{MissionPlan, Waypoint},
     planner::{Mission, PlannerConfig},
-    simulate::{ExecutedStep, Noise, PlanKind, PlanRecord, SimConfig, SimProgress, SimReport, SimStatus, simulate},
+    simulate::{
+        ExecutedStep, Noise, PlanKind, PlanRecord, SimConfig, SimProgress, SimReport, SimStatus, Simulation, simulate,
+    },
     world::{Sun, World, WorldConfig},
 };

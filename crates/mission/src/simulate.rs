@@ -262,21 +262,33 @@ pub struct SimProgress {
     pub goals_reached: usize,
 }
 
-/// Runs the simulation: plans on `believed`, executes on `truth` (same grid), senses,
-/// re-plans, until done. Errors only for bad inputs or a first plan that cannot be
-/// made; an unreachable goal found later ends the run with
-/// [`SimStatus::Unreachable`] and everything so far kept.
-#[allow(clippy::too_many_arguments)]
-pub fn simulate(
-    believed: &World,
-    truth: &World,
-    model: &ActionModel,
-    planner: PlannerConfig,
-    start: Start,
-    goals: &[u32],
-    sim: &SimConfig,
-    on_step: &mut dyn FnMut(SimProgress),
-) -> Result<SimReport> {
+/// What a simulation runs: the map the rover plans on, the terrain it drives on, the
+/// rover, the planner, where and when it starts, and its goals in order.
+#[derive(Debug, Clone)]
+pub struct Simulation<'a> {
+    /// The map the planner believes.
+    pub believed: &'a World,
+    /// The terrain the rover drives on and senses (same grid as `believed`).
+    pub truth: &'a World,
+    /// The rover's resource models and action settings.
+    pub model: &'a ActionModel,
+    /// The planner's settings.
+    pub planner: PlannerConfig,
+    /// Where, when and with how much energy the rover starts.
+    pub start: Start,
+    /// The goal cells, in the order they are visited.
+    pub goals: &'a [u32],
+    /// Sensing, noise and step limits.
+    pub config: SimConfig,
+}
+
+/// Runs the simulation: plans on `believed`, executes on `truth`, senses, re-plans,
+/// until done; `on_step` hears of every executed action. Errors only for bad inputs
+/// or a first plan that cannot be made; an unreachable goal found later ends the run
+/// with [`SimStatus::Unreachable`] and everything so far kept.
+pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress)) -> Result<SimReport> {
+    let Simulation { believed, truth, model, ref planner, start, goals, config: ref sim } = *simulation;
+    let planner = planner.clone();
     sim.validate()?;
     let mut report = SimReport {
         status: SimStatus::StepLimit,

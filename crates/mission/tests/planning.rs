@@ -296,8 +296,9 @@ fn drive_energy_floors_bound_every_drive_on_steep_lit_ground() {
 
 #[test]
 fn a_backward_expansion_equals_its_actions_one_by_one_and_the_forward_drives() {
-    // The search expands with `predecessors`, which shares the arrival cell's Sun and
-    // light among the 8 drives: it must give exactly the per-action steps, and each
+    // The search expands with `expand`, which shares the arrival cell's Sun and light
+    // among the 8 drives: asked for one action at a time (as a repair's partial
+    // expansion asks) it must give exactly the same steps, and each
     // drive's predecessor, driven forward, must arrive when and where the label says,
     // using the energy the step charged.
     use areo_ise::Domain;
@@ -313,20 +314,17 @@ fn a_backward_expansion_equals_its_actions_one_by_one_and_the_forward_drives() {
         Resolution { time_s: 60.0, energy_wh: 5.0 },
         PathLength::Distance,
     );
-    let (mut batch, mut actions, mut drives) = (Vec::new(), Vec::new(), 0);
+    let mut drives = 0;
+    let actions: Vec<Action> = (0..8).map(Action::Drive).chain([Action::Charge, Action::Hibernate]).collect();
     for cell in 0..(14 * 12) as u32 {
         let mut t = 1800.0;
         while t < 23.0 * 3600.0 {
             let label = Label { t, e: 40.0 };
-            batch.clear();
-            domain.predecessors(cell, &label, &mut actions, &mut batch);
+            let mut batch = Vec::new();
+            domain.expand(cell, &label, |_| true, |a, step| batch.push((a, step)));
             let mut one_by_one = Vec::new();
-            let mut all = Vec::new();
-            domain.actions(cell, &label, &mut all);
-            for a in all {
-                if let Some(step) = domain.predecessor(cell, &label, a) {
-                    one_by_one.push((a, step));
-                }
+            for &want in &actions {
+                domain.expand(cell, &label, |a| a == want, |a, step| one_by_one.push((a, step)));
             }
             assert_eq!(batch.len(), one_by_one.len(), "cell {cell} at {t} s");
             for ((a, s), (b, u)) in batch.iter().zip(&one_by_one) {

@@ -1,11 +1,24 @@
 //! Execution simulation: a map that lacks an obstacle, sensing, re-planning, noise.
 
 use areo_mission::{
-    Action, ActionConfig, Error, Mission, Noise, PlanKind, PlannerConfig, SimConfig, SimStatus, Start, simulate,
+    Action, ActionConfig, ActionModel, Error, Mission, Noise, PlanKind, PlannerConfig, SimConfig, SimStatus,
+    Simulation, Start, World, simulate,
 };
 use areo_terrain::Dem;
 
 use crate::common::*;
+
+/// A simulation with the default planner.
+fn sim_of<'a>(
+    believed: &'a World,
+    truth: &'a World,
+    model: &'a ActionModel,
+    start: Start,
+    goals: &'a [u32],
+    config: SimConfig,
+) -> Simulation<'a> {
+    Simulation { believed, truth, model, planner: PlannerConfig::default(), start, goals, config }
+}
 
 /// Flat 30 × 20 cells of 10 m; the truth has a 30 m block (vertical walls: far above
 /// the 20° limit) across the straight route, columns 14–16, rows `rows`.
@@ -24,9 +37,7 @@ fn an_obstacle_missing_from_the_map_is_sensed_and_detoured() {
     let model = model(1e5, ActionConfig::default());
     let start = Start { cell: map.cell(3, 10), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
     let goal = map.cell(27, 10);
-    let report =
-        simulate(&map, &truth, &model, PlannerConfig::default(), start, &[goal], &SimConfig::default(), &mut |_| {})
-            .unwrap();
+    let report = simulate(&sim_of(&map, &truth, &model, start, &[goal], SimConfig::default()), &mut |_| {}).unwrap();
     assert_eq!(report.status, SimStatus::Completed);
     assert_eq!(report.goals_reached.len(), 1);
     // The first plan believed the map: straight east, 24 drives.
@@ -60,7 +71,7 @@ fn execution_noise_is_seeded_and_slows_the_drives() {
     let goal = map.cell(27, 4);
     let run = |noise: Noise| {
         let sim = SimConfig { noise, ..SimConfig::default() };
-        simulate(&map, &map, &model, PlannerConfig::default(), start, &[goal], &sim, &mut |_| {}).unwrap()
+        simulate(&sim_of(&map, &map, &model, start, &[goal], sim.clone()), &mut |_| {}).unwrap()
     };
     let calm = run(Noise::default());
     let noisy = Noise { drive_slowdown: 0.3, solar_loss: 0.5, seed: 7 };
@@ -94,17 +105,8 @@ fn a_goal_the_truth_walls_off_ends_the_run_as_unreachable() {
     let truth = fixed_sun_world(block(0..=19), 120.0, 60.0, 10.0);
     let model = model(1e5, ActionConfig::default());
     let start = Start { cell: map.cell(3, 10), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
-    let report = simulate(
-        &map,
-        &truth,
-        &model,
-        PlannerConfig::default(),
-        start,
-        &[map.cell(27, 10)],
-        &SimConfig::default(),
-        &mut |_| {},
-    )
-    .unwrap();
+    let report =
+        simulate(&sim_of(&map, &truth, &model, start, &[map.cell(27, 10)], SimConfig::default()), &mut |_| {}).unwrap();
     assert!(matches!(report.status, SimStatus::Unreachable { .. }), "{:?}", report.status);
     assert!(report.goals_reached.is_empty());
     assert!(!report.steps.is_empty(), "the rover drove until it saw the wall");
@@ -116,7 +118,6 @@ fn bad_simulation_settings_name_the_field() {
     let model = model(1e5, ActionConfig::default());
     let start = Start { cell: map.cell(1, 1), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
     let sim = SimConfig { noise: Noise { solar_loss: 1.5, ..Noise::default() }, ..SimConfig::default() };
-    let err = simulate(&map, &map, &model, PlannerConfig::default(), start, &[map.cell(8, 8)], &sim, &mut |_| {})
-        .unwrap_err();
+    let err = simulate(&sim_of(&map, &map, &model, start, &[map.cell(8, 8)], sim), &mut |_| {}).unwrap_err();
     assert!(matches!(err, Error::Config { field: "noise.solar_loss", .. }), "{err}");
 }

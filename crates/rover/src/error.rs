@@ -46,15 +46,22 @@ pub(crate) fn read_text(path: &std::path::Path) -> Result<String> {
     std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })
 }
 
-/// Parses RON (optional fields may omit `Some(…)`), turning errors into
+/// The RON dialect every areo file is read with — parameter files here, scenarios and
+/// expected outcomes in areo-scenario: optional fields may omit `Some(…)`, and a
+/// variant wrapping a struct may be written with the struct's fields directly.
+pub fn ron_options() -> ron::Options {
+    ron::Options::default().with_default_extension(
+        ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES | ron::extensions::Extensions::IMPLICIT_SOME,
+    )
+}
+
+/// Parses RON in areo's dialect ([`ron_options`]), turning errors into
 /// [`Error::Syntax`] with `origin` and the position.
 pub(crate) fn parse_ron<T: serde::de::DeserializeOwned>(text: &str, origin: &str) -> Result<T> {
-    ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME).from_str(text).map_err(
-        |e| Error::Syntax {
-            path: origin.into(),
-            line: e.span.start.line,
-            col: e.span.start.col,
-            message: e.code.to_string(),
-        },
-    )
+    ron_options().from_str(text).map_err(|e| Error::Syntax {
+        path: origin.into(),
+        line: e.span.start.line,
+        col: e.span.start.col,
+        message: e.code.to_string(),
+    })
 }

@@ -40,6 +40,6 @@ pub mod resources;
 pub mod stability;
 
 pub use crate::{
-    error::{Error, Result},
+    error::{Error, Result, ron_options},
     params::{Activities, Arm, Axles, Battery, BodyPoint, Drive, Geometry, LSR1_RON, RoverParams, SidePoint, Solar},
 };

@@ -84,6 +84,19 @@ pub trait Ground {
     }
 }
 
+/// A DEM's edges in its frame, metres (x east, y north).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Extent {
+    /// The west edge.
+    pub x_min: f64,
+    /// The east edge.
+    pub x_max: f64,
+    /// The south edge.
+    pub y_min: f64,
+    /// The north edge.
+    pub y_max: f64,
+}
+
 impl Dem {
     /// A DEM from row-major elevations (row 0 north); every cell valid. Cell sizes must
     /// be positive and finite and `z` must hold cols × rows values.
@@ -128,6 +141,45 @@ impl Dem {
             }
         }
         Dem::new(cols, rows, dx, dy, 0.0, y_top, z)
+    }
+
+    /// Another raster on this DEM's grid and georeference: `values` row-major, cols ×
+    /// rows of them, non-finite values marking missing cells (a slope map, a horizon
+    /// band, a filled copy).
+    pub fn with_values(&self, values: Vec<f32>) -> Result<Dem> {
+        Ok(Dem::new(self.cols, self.rows, self.dx, self.dy, self.x0, self.y_top, values)?.with_georef(self.georef))
+    }
+
+    /// The map's edges in its frame, metres.
+    pub fn extent(&self) -> Extent {
+        Extent {
+            x_min: self.x0,
+            x_max: self.x0 + self.cols as f64 * self.dx,
+            y_min: self.y_top - self.rows as f64 * self.dy,
+            y_max: self.y_top,
+        }
+    }
+
+    /// A map with no georeference (a synthesised one) placed at a site: centred on
+    /// (`lat_deg`, `lon_east_deg`) of `body`, equirectangular with true scale at the
+    /// site's latitude, so every cell has a latitude and longitude. A georeferenced map
+    /// is returned as it is. Missing cells stay missing.
+    pub fn placed_at(self, body: Body, lat_deg: f64, lon_east_deg: f64) -> Result<Dem> {
+        if self.georef.projection != Projection::Local {
+            return Ok(self);
+        }
+        if !(lat_deg.abs() < 90.0 && lon_east_deg.is_finite()) {
+            return Err(Error::BadGrid(format!(
+                "site ({lat_deg}°, {lon_east_deg}°E): latitude must be inside -90..90, longitude finite"
+            )));
+        }
+        let e = self.extent();
+        let (w, h) = (e.x_max - e.x_min, e.y_max - e.y_min);
+        let y_mid = body.equatorial_radius_m * lat_deg.to_radians();
+        let z: Vec<f32> = self.z.iter().zip(&self.valid).map(|(z, v)| if *v { *z } else { f32::NAN }).collect();
+        let georef =
+            Georef { projection: Projection::Equirectangular { lat_ts_deg: lat_deg, lon0_deg: lon_east_deg }, body };
+        Ok(Dem::new(self.cols, self.rows, self.dx, self.dy, -w / 2.0, y_mid + h / 2.0, z)?.with_georef(georef))
     }
 
     /// Sets the georeference.

@@ -20,6 +20,14 @@ pub enum Error {
         /// What is wrong with it.
         message: String,
     },
+    /// A file's format cannot be told from its name.
+    #[error("{path}: {message}")]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong and which formats are read.
+        message: String,
+    },
     /// Grid dimensions or cell sizes that cannot describe a DEM.
     #[error("invalid grid: {0}")]
     BadGrid(String),

@@ -19,6 +19,8 @@
 //!   curvature: exact on the triangulated surface (the sweep lives in [`tin`], with its
 //!   per-cell ray-cast reference), or a faster approximate sweep; shadow maps.
 //! - [`los`]: surface-to-surface line of sight and viewsheds by parry3d ray casts.
+//! - [`read`]: any of those formats, told by the file's extension.
+//! - [`hillshade`]: a shaded-relief picture (RGB) with cast shadows.
 //! - [`horizon`]: horizon maps (K sectors, 2 bytes per cell per sector), the Sun's
 //!   elevation above each cell's ground plane, and line-of-sight map sequences.
 //!
@@ -43,6 +45,8 @@ mod dem;
 mod error;
 mod lines;
 
+pub mod hillshade;
+
 pub mod ascii;
 pub mod fill;
 pub mod geotiff;
@@ -56,6 +60,21 @@ pub mod tin;
 
 pub use crate::{
     body::{Body, Projection},
-    dem::{Dem, Georef, Ground, analytic, unit_normal},
+    dem::{Dem, Extent, Georef, Ground, analytic, unit_normal},
     error::{Error, Result},
 };
+
+/// Reads a DEM by its file's extension: `.tif`/`.tiff` GeoTIFF, `.asc` ESRI ASCII grid,
+/// `.img`/`.lbl` PDS3 (case-insensitive). Any other name is [`Error::UnknownFormat`].
+pub fn read(path: &std::path::Path) -> Result<Dem> {
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
+    match ext.as_str() {
+        "tif" | "tiff" => geotiff::read(path),
+        "asc" => ascii::read(path),
+        "img" | "lbl" => pds3::read(path),
+        _ => Err(Error::UnknownFormat {
+            path: path.to_path_buf(),
+            message: "unknown DEM format: use .tif/.tiff (GeoTIFF), .asc (ESRI ASCII) or .img/.lbl (PDS3)".into(),
+        }),
+    }
+}

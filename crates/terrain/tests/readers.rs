@@ -148,6 +148,48 @@ fn bad_files_are_errors_naming_the_file() {
     assert!(err.to_string().contains("junk.tif"));
 }
 
+#[test]
+fn any_format_is_read_by_its_extension_and_others_are_refused() {
+    let dem = sample_dem();
+    let (tif, asc) = (tmp("by-ext.TIF"), tmp("by-ext.asc"));
+    geotiff::write(&dem, &tif).unwrap();
+    ascii::write(&dem, &asc).unwrap();
+    assert_eq!(areo_terrain::read(&tif).unwrap().valid_mask(), dem.valid_mask());
+    assert_eq!(areo_terrain::read(&asc).unwrap().cols(), 13);
+    let err = areo_terrain::read(Path::new("elevations.xyz")).unwrap_err();
+    assert!(matches!(err, areo_terrain::Error::UnknownFormat { .. }), "{err:?}");
+    assert!(err.to_string().contains("elevations.xyz") && err.to_string().contains(".asc"), "{err}");
+}
+
+#[test]
+fn extent_values_and_placement_keep_the_grid() {
+    let dem = sample_dem();
+    let e = dem.extent();
+    assert_eq!((e.x_min, e.x_max, e.y_min, e.y_max), (0.0, 32.5, 0.0, 28.0));
+    // Another raster on the same grid and georeference; NaN marks missing cells.
+    let mut v: Vec<f32> = (0..91).map(|i| i as f32).collect();
+    v[5] = f32::NAN;
+    let other = dem.with_values(v).unwrap();
+    assert_eq!(other.extent(), e);
+    assert_eq!(other.georef(), dem.georef());
+    assert_eq!((other.z(5, 0), other.z(6, 0)), (None, Some(6.0)));
+    assert!(dem.with_values(vec![0.0; 90]).is_err());
+    // A georeferenced map stays where it is.
+    assert_eq!(dem.clone().placed_at(areo_terrain::Body::MARS_MOLA_SPHERE, 10.0, 20.0).unwrap(), dem);
+    // A local map is centred on the site: its centre cell is at the site's latitude and
+    // longitude, and a cell 1 km north is 1 km / R radians further north.
+    let local = Dem::from_fn(21, 21, 100.0, 100.0, |x, _| x).unwrap();
+    let body = areo_terrain::Body::MARS_MOLA_SPHERE;
+    let placed = local.placed_at(body, -4.6, 137.4).unwrap();
+    let (cx, cy) = placed.cell_center(10, 10);
+    let (lat, lon) = placed.geographic(cx, cy).unwrap();
+    assert!((lat + 4.6).abs() < 1e-9 && (lon - 137.4).abs() < 1e-9, "{lat} {lon}");
+    let (lat_n, _) = placed.geographic(cx, cy + 1000.0).unwrap();
+    let expected = (1000.0 / body.equatorial_radius_m).to_degrees();
+    assert!((lat_n - lat - expected).abs() < 1e-9, "{}", lat_n - lat);
+    assert_eq!(placed.z(3, 4), Some(350.0));
+}
+
 /// A PDS3 label for a 3 × 2 image.
 fn pds_label(pointer: &str, sample_type: &str, bits: u32, extra: &str) -> String {
     format!(

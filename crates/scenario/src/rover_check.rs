@@ -3,7 +3,6 @@
 //! stability margin and the smallest friction coefficient that holds — so an engineer
 //! can sanity-check a parameter file against their own numbers.
 
-use std::fmt::Write as _;
 use std::path::Path;
 use std::str::FromStr;
 
@@ -242,65 +241,6 @@ fn wheels(e: &Evaluation, mu: f64, torque_max: f64) -> Vec<WheelReport> {
         }
     }
     out
-}
-
-impl Report {
-    /// The report as aligned text.
-    pub fn text(&self) -> String {
-        let mut s = String::new();
-        let _ = writeln!(
-            s,
-            "{} on {} with μ = {} ({})",
-            self.rover,
-            self.terrain,
-            self.mu,
-            if self.moving { "driving" } else { "holding still" }
-        );
-        let _ = writeln!(s, "verdict: {}", self.verdict);
-        if let Some(p) = &self.pose {
-            let _ = writeln!(
-                s,
-                "pose: pitch {:.2}°, roll {:.2}°, body {:.3} m up; α1..α4 = {:.2}°, {:.2}°, {:.2}°, {:.2}°",
-                p.pitch_deg,
-                p.roll_deg,
-                p.body_height_m,
-                p.alpha_deg[0],
-                p.alpha_deg[1],
-                p.alpha_deg[2],
-                p.alpha_deg[3]
-            );
-        }
-        if !self.wheels.is_empty() {
-            let _ =
-                writeln!(s, "{:<13} {:>9} {:>10} {:>10} {:>8}  binding", "wheel", "N (N)", "T (N)", "τ (N·m)", "γ (°)");
-            for w in &self.wheels {
-                let _ = writeln!(
-                    s,
-                    "{:<13} {:>9.3} {:>10.3} {:>10.4} {:>8.2}  {}",
-                    w.wheel,
-                    w.normal_n,
-                    w.traction_n,
-                    w.torque_nm,
-                    w.contact_deg,
-                    if w.binding.is_empty() { "-".to_string() } else { w.binding.join(", ") }
-                );
-            }
-            let total: f64 = self.wheels.iter().map(|w| w.normal_n).sum();
-            let _ = writeln!(s, "sum of normal loads {total:.3} N; weight {:.3} N", self.weight_n);
-        }
-        if let Some(pct) = self.stability_pct {
-            let _ = writeln!(s, "stability margin: {pct:.1} % of flat ground");
-        }
-        match self.mu_needed {
-            Some(m) => {
-                let _ = writeln!(s, "smallest μ that holds here: {m:.4}");
-            }
-            None => {
-                let _ = writeln!(s, "no μ ≤ 5 holds here");
-            }
-        }
-        s
-    }
 }
 
 #[cfg(test)]

@@ -2,30 +2,19 @@
 
 use std::path::Path;
 
+use areo_terrain::hillshade::hillshade_rgb;
 use areo_terrain::horizon::HorizonMap;
 use areo_terrain::shadow::{Curvature, shadow_map, shadow_map_from};
 use areo_terrain::slope::slope_aspect;
-use areo_terrain::{Dem, ascii, geotiff, pds3};
+use areo_terrain::{Dem, geotiff};
 
-use crate::error::{Error, Result};
-use crate::render::{hillshade_rgb, write_png};
+use crate::error::Result;
+use crate::output::png::write_png;
+use crate::output::write_with;
 
-/// Reads a DEM by its extension: `.tif`/`.tiff` GeoTIFF, `.asc` ESRI ASCII grid,
-/// `.img`/`.lbl` PDS3.
+/// Reads a DEM by its extension (see [`areo_terrain::read`]).
 pub fn read_dem(path: &Path) -> Result<Dem> {
-    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
-    let r = match ext.as_str() {
-        "tif" | "tiff" => geotiff::read(path),
-        "asc" => ascii::read(path),
-        "img" | "lbl" => pds3::read(path),
-        _ => {
-            return Err(Error::UnknownFormat {
-                path: path.to_path_buf(),
-                message: "unknown DEM format: use .tif/.tiff (GeoTIFF), .asc (ESRI ASCII) or .img/.lbl (PDS3)".into(),
-            });
-        }
-    };
-    r.map_err(Error::from)
+    Ok(areo_terrain::read(path)?)
 }
 
 /// A summary of a DEM, one fact a line.
@@ -33,6 +22,7 @@ pub fn info(dem: &Dem) -> Vec<String> {
     let valid: Vec<f32> = dem.elevations().iter().zip(dem.valid_mask()).filter(|(_, v)| **v).map(|(z, _)| *z).collect();
     let (lo, hi) = valid.iter().fold((f32::MAX, f32::MIN), |(a, b), z| (a.min(*z), b.max(*z)));
     let mean = valid.iter().map(|z| f64::from(*z)).sum::<f64>() / valid.len().max(1) as f64;
+    let e = dem.extent();
     let mut out = vec![
         format!(
             "size        {} x {} cells ({} valid, {} missing)",
@@ -42,13 +32,7 @@ pub fn info(dem: &Dem) -> Vec<String> {
             dem.cols() * dem.rows() - valid.len()
         ),
         format!("cell size   {} m x {} m", dem.dx(), dem.dy()),
-        format!(
-            "extent      x {} .. {} m, y {} .. {} m",
-            dem.x0(),
-            dem.x0() + dem.cols() as f64 * dem.dx(),
-            dem.y_top() - dem.rows() as f64 * dem.dy(),
-            dem.y_top()
-        ),
+        format!("extent      x {} .. {} m, y {} .. {} m", e.x_min, e.x_max, e.y_min, e.y_max),
         format!("elevation   {lo} .. {hi} m (mean {mean:.2} m)"),
         format!("projection  {:?}", dem.georef().projection),
         format!(
@@ -57,7 +41,7 @@ pub fn info(dem: &Dem) -> Vec<String> {
             dem.georef().body.polar_radius_m
         ),
     ];
-    let (cx, cy) = (dem.x0() + dem.cols() as f64 * dem.dx() / 2.0, dem.y_top() - dem.rows() as f64 * dem.dy() / 2.0);
+    let (cx, cy) = ((e.x_min + e.x_max) / 2.0, (e.y_min + e.y_max) / 2.0);
     if let Some((lat, lon)) = dem.geographic(cx, cy) {
         out.push(format!("centre      {lat:.6}°, {lon:.6}°E"));
     }
@@ -68,9 +52,8 @@ pub fn info(dem: &Dem) -> Vec<String> {
 /// beside it.
 pub fn write_slope(dem: &Dem, out: &Path) -> Result<Vec<std::path::PathBuf>> {
     let sa = slope_aspect(dem);
-    let slope_dem = Dem::new(dem.cols(), dem.rows(), dem.dx(), dem.dy(), dem.x0(), dem.y_top(), sa.slope_deg.clone())?
-        .with_georef(*dem.georef());
-    geotiff::write(&slope_dem, out)?;
+    let slope_dem = dem.with_values(sa.slope_deg.clone())?;
+    write_with(out, |tmp| Ok(geotiff::write(&slope_dem, tmp)?))?;
     let png = out.with_extension("png");
     write_png(&png, dem.cols(), dem.rows(), &hillshade_rgb(dem, &sa, None, 315.0, 45.0))?;
     Ok(vec![out.to_path_buf(), png])
@@ -95,7 +78,7 @@ pub fn write_shadow(
     } else {
         shadow_map(dem, azimuth_deg, elevation_deg, curvature)
     };
-    geotiff::write_u8(dem, &map.to_u8(), Some(255), out)?;
+    write_with(out, |tmp| Ok(geotiff::write_u8(dem, &map.to_u8(), Some(255), tmp)?))?;
     let sa = slope_aspect(dem);
     let dark: Vec<bool> = (0..map.cast.len()).map(|i| !map.direct_sun(i)).collect();
     let png = out.with_extension("png");
@@ -120,10 +103,9 @@ pub fn write_horizon(
     for s in 0..sectors {
         let az = s as f64 * 360.0 / sectors as f64;
         let band: Vec<f32> = (0..dem.cols() * dem.rows()).map(|i| map.horizon_deg(i, az) as f32).collect();
-        let d = Dem::new(dem.cols(), dem.rows(), dem.dx(), dem.dy(), dem.x0(), dem.y_top(), band)?
-            .with_georef(*dem.georef());
+        let d = dem.with_values(band)?;
         let path = dir.join(format!("{stem}_s{s:03}.tif"));
-        geotiff::write(&d, &path)?;
+        write_with(&path, |tmp| Ok(geotiff::write(&d, tmp)?))?;
         files.push(path);
     }
     Ok(files)
@@ -136,7 +118,7 @@ pub fn write_viewshed(dem: &Dem, x: f64, y: f64, height_m: f64, out: &Path) -> R
     let seen = areo_terrain::los::viewshed(dem, x, y, height_m, Curvature::of(dem))?;
     let bytes: Vec<u8> =
         seen.iter().zip(dem.valid_mask()).map(|(s, ok)| if !ok { 255 } else { u8::from(*s) }).collect();
-    geotiff::write_u8(dem, &bytes, Some(255), out)?;
+    write_with(out, |tmp| Ok(geotiff::write_u8(dem, &bytes, Some(255), tmp)?))?;
     let sa = slope_aspect(dem);
     let hidden: Vec<bool> = seen.iter().map(|s| !s).collect();
     let png = out.with_extension("png");

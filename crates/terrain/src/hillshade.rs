@@ -1,12 +1,8 @@
-//! Pictures of terrain: a hillshade with cast shadows, as PNG (pure Rust, no system
-//! library or font).
+//! Shaded relief: a DEM as a picture lit from a Sun direction, with cells in cast
+//! shadow darkened, as RGB bytes for any image writer.
 
-use std::path::Path;
-
-use areo_terrain::Dem;
-use areo_terrain::slope::SlopeAspect;
-
-use crate::error::{Error, Result};
+use crate::Dem;
+use crate::slope::SlopeAspect;
 
 /// Grey hillshade lit from (`azimuth_deg`, `elevation_deg`) — the usual
 /// cos z·cos s + sin z·sin s·cos(az − aspect) — with cells in cast shadow darkened
@@ -43,20 +39,23 @@ pub fn hillshade_rgb(
     rgb
 }
 
-/// Encodes RGB bytes (`width` × `height`) as PNG into `out`.
-pub fn encode_png(out: &mut Vec<u8>, width: usize, height: usize, rgb: &[u8]) -> std::result::Result<(), String> {
-    let mut enc = png::Encoder::new(out, width as u32, height as u32);
-    enc.set_color(png::ColorType::Rgb);
-    enc.set_depth(png::BitDepth::Eight);
-    let mut w = enc.write_header().map_err(|e| e.to_string())?;
-    w.write_image_data(rgb).map_err(|e| e.to_string())?;
-    w.finish().map_err(|e| e.to_string())
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::slope::slope_aspect;
 
-/// Writes RGB bytes (`width` × `height`) as a PNG.
-pub fn write_png(path: &Path, width: usize, height: usize, rgb: &[u8]) -> Result<()> {
-    let mut bytes = Vec::new();
-    encode_png(&mut bytes, width, height, rgb)
-        .map_err(|m| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(m) })?;
-    std::fs::write(path, bytes).map_err(|source| Error::Io { path: path.to_path_buf(), source })
+    #[test]
+    fn flat_ground_under_a_45_degree_sun_is_lit_at_cos_45() {
+        let mut z = vec![0.0_f32; 9];
+        z[8] = f32::NAN;
+        let dem = Dem::new(3, 3, 1.0, 1.0, 0.0, 3.0, z).unwrap();
+        let sa = slope_aspect(&dem);
+        let mut shadowed = vec![false; 9];
+        shadowed[2] = true;
+        let rgb = hillshade_rgb(&dem, &sa, Some(&shadowed), 135.0, 45.0);
+        // cos 45° = 0.7071: lit grey 60 + 195·0.7071 = 197, shadowed 25 + 50·0.7071 = 60.
+        assert_eq!(&rgb[0..3], &[207, 197, 187]);
+        assert_eq!(&rgb[6..9], &[60, 60, 85]);
+        assert_eq!(&rgb[24..27], &[255, 0, 255], "missing cells are magenta");
+    }
 }

@@ -108,7 +108,7 @@ impl Expected {
     pub fn load(path: &Path) -> Result<Expected, crate::Error> {
         let text =
             std::fs::read_to_string(path).map_err(|source| crate::Error::Io { path: path.to_path_buf(), source })?;
-        crate::scenario::ron_options().from_str(&text).map_err(|e| crate::Error::Syntax {
+        crate::format::ron_options().from_str(&text).map_err(|e| crate::Error::Syntax {
             path: path.to_path_buf(),
             line: e.span.start.line,
             col: e.span.start.col,
@@ -160,7 +160,7 @@ mod tests {
         o.text("d", "yes");
         o.text("f", "slip");
         let text = r#"(facts: {"a": Near(value: 1.05, tol: 0.1), "b": Between(min: 0, max: 4), "c": Is(true), "d": Equals("yes"), "e": Is(false), "a2": Is(true), "f": OneOf(["stability", "slip"]), "g": OneOf(["no"]), "d2": OneOf(["no"])})"#;
-        let exp: Expected = crate::scenario::ron_options().from_str(text).unwrap();
+        let exp: Expected = crate::format::ron_options().from_str(text).unwrap();
         let bad: Vec<String> = exp.check(&o).into_iter().map(|m| m.fact).collect();
         assert_eq!(bad, vec!["a2", "b", "d2", "e", "g"]);
     }

@@ -1,26 +1,30 @@
 //! The TEMPEST job: build the believed and true worlds, plan (and simulate), and
 //! write plan.json, plan.csv, route.geojson, replans.csv, executed.csv and the plots.
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use areo_ephemeris::events::{communication_windows, night_intervals};
 use areo_ephemeris::flux::Atmosphere;
-use areo_ephemeris::{Mars24, Site, format_utc, parse_utc};
+use areo_ephemeris::{HorizonMask, Mars24, Site, format_utc, parse_utc};
 use areo_mission::{
-    Action, ActionModel, Error as MissionError, Mission, MissionPlan, PlanKind, SimReport, SimStatus, Start, World,
-    WorldConfig, simulate,
+    Action, ActionModel, Error as MissionError, Mission, MissionPlan, PlanKind, SimReport, SimStatus, Simulation,
+    Start, World, WorldConfig, simulate,
 };
 use areo_rover::resources::ResourceModel;
-use areo_terrain::{Body, Dem, Georef, Projection};
+use areo_terrain::{Body, Dem};
+use geojson::FeatureCollection;
 use hifitime::Duration;
 use serde_json::json;
 
 use crate::error::{Error, Result};
+use crate::format::{ScenarioFile, TempestJob, TerrainSource, Truth};
+use crate::jobs::RunOptions;
 use crate::outcome::Outcome;
-use crate::plots::{Marker, RoutePlot, Series, TimePlot};
-use crate::run::{RunOptions, write_file};
-use crate::scenario::{ScenarioFile, TempestJob, TerrainSource, Truth};
+use crate::output::csv::Table;
+use crate::output::geojson::{collection, feature, line, point};
+use crate::output::plots::{Marker, RoutePlot, Series, TimePlot};
+use crate::output::{json_for, write_file};
 
 /// The map's south-west corner in map coordinates: scenario positions are relative
 /// to it.
@@ -32,7 +36,8 @@ struct Frame {
 
 impl Frame {
     fn of(dem: &Dem) -> Frame {
-        Frame { x0: dem.x0(), y0: dem.y_top() - dem.rows() as f64 * dem.dy() }
+        let e = dem.extent();
+        Frame { x0: e.x_min, y0: e.y_min }
     }
     fn to_map(self, x: f64, y: f64) -> (f64, f64) {
         (self.x0 + x, self.y0 + y)
@@ -46,64 +51,24 @@ fn scenario_error(file: &ScenarioFile, field: impl Into<String>, message: impl I
     Error::Scenario { path: file.path.clone(), field: field.into(), message: message.into() }
 }
 
-/// A synthesised map has no georeference: centre it on the site, equirectangular on
-/// the MOLA sphere, so every cell has a latitude and longitude.
-fn place(dem: Dem, site: &Site) -> Result<Dem> {
-    if dem.georef().projection != Projection::Local {
-        return Ok(dem);
-    }
-    let body = Body::MARS_MOLA_SPHERE;
-    let (w, h) = (dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy());
-    let y_mid = body.equatorial_radius_m * site.lat_deg().to_radians();
-    let z: Vec<f32> =
-        dem.elevations().iter().zip(dem.valid_mask()).map(|(z, v)| if *v { *z } else { f32::NAN }).collect();
-    let placed =
-        Dem::new(dem.cols(), dem.rows(), dem.dx(), dem.dy(), -w / 2.0, y_mid + h / 2.0, z)?.with_georef(Georef {
-            projection: Projection::Equirectangular { lat_ts_deg: site.lat_deg(), lon0_deg: site.lon_east_deg() },
-            body,
-        });
-    Ok(placed)
-}
-
 fn load_terrain(source: &TerrainSource, file: &ScenarioFile) -> Result<Dem> {
     Ok(match source {
         TerrainSource::Synth(spec) => spec.build()?,
         TerrainSource::File(rel) => {
             let base = file.path.parent().unwrap_or(Path::new("."));
-            crate::terrain_tools::read_dem(&base.join(rel))?
+            areo_terrain::read(&base.join(rel))?
         }
     })
 }
 
 /// One Communicate session per sol over the world's span, centred on the Earth's
-/// highest elevation that sol (sampled every 5 minutes), if it rises high enough.
-fn sessions(world: &World, com: &crate::scenario::CommunicateSpec) -> Vec<(f64, f64)> {
-    use areo_ephemeris::SOL_S;
-    let site = world.site();
-    let half = com.duration_min * 30.0;
-    let mut out = Vec::new();
-    let mut sol_start = 0.0;
-    while sol_start < world.span_s() {
-        let sol_end = (sol_start + SOL_S).min(world.span_s());
-        let mut best = (f64::NEG_INFINITY, sol_start);
-        let mut t = sol_start;
-        while t < sol_end {
-            let (_, el) =
-                areo_ephemeris::earth::earth_azimuth_elevation_deg(world.epoch() + Duration::from_seconds(t), &site);
-            if el > best.0 {
-                best = (el, t);
-            }
-            t += 300.0;
-        }
-        if best.0 >= com.min_earth_elevation_deg {
-            let (a, b) = ((best.1 - half).max(0.0), (best.1 + half).min(world.span_s()));
-            if b > a {
-                out.push((a, b));
-            }
-        }
-        sol_start += SOL_S;
-    }
-    out
+/// highest elevation that sol, if it rises high enough; seconds since the epoch.
+fn sessions(world: &World, com: &crate::format::CommunicateSpec) -> Vec<(f64, f64)> {
+    let (start, end) = (world.epoch(), world.epoch() + Duration::from_seconds(world.span_s()));
+    communication_windows(&world.site(), start, end, com.min_earth_elevation_deg, com.duration_min * 60.0)
+        .into_iter()
+        .map(|(a, b)| ((a - start).to_seconds(), (b - start).to_seconds()))
+        .collect()
 }
 
 /// Peak resident memory of this process, MB (Linux), if known.
@@ -120,7 +85,8 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let epoch = parse_utc(&job.start_utc)?;
     let clock = Instant::now();
     opts.progress.start(3, "terrain");
-    let map_dem = place(load_terrain(&job.terrain, file)?, &site)?;
+    let map_dem =
+        load_terrain(&job.terrain, file)?.placed_at(Body::MARS_MOLA_SPHERE, site.lat_deg(), site.lon_east_deg())?;
     let frame = Frame::of(&map_dem);
     let truth_dem = match &job.truth {
         Truth::Map => None,
@@ -140,7 +106,8 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
             )
         }
         Truth::Terrain(source) => {
-            let t = place(load_terrain(source, file)?, &site)?;
+            let t =
+                load_terrain(source, file)?.placed_at(Body::MARS_MOLA_SPHERE, site.lat_deg(), site.lon_east_deg())?;
             if (t.cols(), t.rows()) != (map_dem.cols(), map_dem.rows()) {
                 return Err(scenario_error(
                     file,
@@ -233,9 +200,16 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         Some(sim) => {
             let total = sim.max_steps.min(10_000) as u64;
             opts.progress.start(total, "simulating");
-            let report = simulate(&world, truth_world, &model, job.planner.clone(), start, &goals, sim, &mut |_| {
-                opts.progress.advance(1)
-            });
+            let simulation = Simulation {
+                believed: &world,
+                truth: truth_world,
+                model: &model,
+                planner: job.planner.clone(),
+                start,
+                goals: &goals,
+                config: sim.clone(),
+            };
+            let report = simulate(&simulation, &mut |_| opts.progress.advance(1));
             report.map(Run::Simulated)
         }
     };
@@ -318,7 +292,7 @@ impl Context<'_> {
     fn goal_name(&self, i: usize) -> &str {
         &self.job.goals[i].name
     }
-    fn enters(&self, cells: impl Iterator<Item = u32>, region: &crate::scenario::RegionSpec) -> bool {
+    fn enters(&self, cells: impl Iterator<Item = u32>, region: &crate::format::RegionSpec) -> bool {
         cells.into_iter().any(|c| {
             let (x, y) = self.local(c);
             (x - region.x_m).hypot(y - region.y_m) <= region.radius_m
@@ -544,20 +518,20 @@ fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf
         Run::Plan { plan, .. } => (plan, None),
         Run::Simulated(r) => (&r.plans[0].plan, Some(r)),
     };
-    let mut put = |name: &str, text: String| -> Result<()> {
+    let mut put = |name: &str, write: &dyn Fn(&Path) -> Result<()>| -> Result<()> {
         let path = dir.join(name);
-        write_file(&path, text.as_bytes())?;
+        write(&path)?;
         files.push(path);
         Ok(())
     };
-    put("plan.json", crate::run::json_for(&dir.join("plan.json"), initial, true)?)?;
-    put("plan.csv", plan_csv(ctx, initial))?;
+    put("plan.json", &|p| write_file(p, json_for(p, initial, true)?.as_bytes()))?;
+    put("plan.csv", &|p| plan_csv(ctx, initial).write(p))?;
     if let Some(r) = report {
-        put("simulation.json", crate::run::json_for(&dir.join("simulation.json"), r, false)?)?;
-        put("executed.csv", executed_csv(ctx, r))?;
-        put("replans.csv", replans_csv(ctx, r))?;
+        put("simulation.json", &|p| write_file(p, json_for(p, r, false)?.as_bytes()))?;
+        put("executed.csv", &|p| executed_csv(ctx, r).write(p))?;
+        put("replans.csv", &|p| replans_csv(ctx, r).write(p))?;
     }
-    put("route.geojson", serde_json::to_string_pretty(&geojson(ctx, initial, report)).unwrap_or_default())?;
+    put("route.geojson", &|p| crate::output::geojson::write(p, &route_geojson(ctx, initial, report)))?;
     files.extend(plots(dir, ctx, initial, report)?);
     Ok(files)
 }
@@ -566,182 +540,185 @@ fn action_name(a: Option<Action>) -> &'static str {
     a.map_or("arrive", Action::name)
 }
 
-fn plan_csv(ctx: &Context<'_>, plan: &MissionPlan) -> String {
-    let mut s = String::from(
-        "index,utc,t_s,ltst_h,col,row,x_m,y_m,lat_deg,lon_deg,action,required_wh,battery_wh,slope_deg,\
-         sun_elevation_deg,sun_above_ground_deg,lit,goal\n",
-    );
+fn plan_csv(ctx: &Context<'_>, plan: &MissionPlan) -> Table {
+    let mut table = Table::new([
+        "index",
+        "utc",
+        "t_s",
+        "ltst_h",
+        "col",
+        "row",
+        "x_m",
+        "y_m",
+        "lat_deg",
+        "lon_deg",
+        "action",
+        "required_wh",
+        "battery_wh",
+        "slope_deg",
+        "sun_elevation_deg",
+        "sun_above_ground_deg",
+        "lit",
+        "goal",
+    ]);
     for (i, w) in plan.waypoints.iter().enumerate() {
         let (x, y) = ctx.local(w.cell);
-        let goal = w.goal.map(|g| ctx.goal_name(g).to_string()).unwrap_or_default();
-        let _ = writeln!(
-            s,
-            "{i},{},{:.1},{:.4},{},{},{x:.2},{y:.2},{:.7},{:.7},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{goal}",
-            w.utc,
-            w.t_s,
-            w.ltst_h,
-            w.col_row.0,
-            w.col_row.1,
-            w.lat_deg,
-            w.lon_deg,
-            action_name(w.action),
-            w.required_wh,
-            w.battery_wh,
-            w.slope_deg,
-            w.sun_elevation_deg,
-            w.sun_above_ground_deg,
-            u8::from(w.lit)
-        );
+        table.push(vec![
+            i.to_string(),
+            w.utc.clone(),
+            format!("{:.1}", w.t_s),
+            format!("{:.4}", w.ltst_h),
+            w.col_row.0.to_string(),
+            w.col_row.1.to_string(),
+            format!("{x:.2}"),
+            format!("{y:.2}"),
+            format!("{:.7}", w.lat_deg),
+            format!("{:.7}", w.lon_deg),
+            action_name(w.action).to_string(),
+            format!("{:.3}", w.required_wh),
+            format!("{:.3}", w.battery_wh),
+            format!("{:.3}", w.slope_deg),
+            format!("{:.3}", w.sun_elevation_deg),
+            format!("{:.3}", w.sun_above_ground_deg),
+            u8::from(w.lit).to_string(),
+            w.goal.map(|g| ctx.goal_name(g).to_string()).unwrap_or_default(),
+        ]);
     }
-    s
+    table
 }
 
-fn executed_csv(ctx: &Context<'_>, r: &SimReport) -> String {
-    let mut s = String::from(
-        "step,utc,t_s,col,row,x_m,y_m,action,duration_s,energy_wh,battery_wh,distance_m,sun_elevation_deg,refused\n",
-    );
+fn executed_csv(ctx: &Context<'_>, r: &SimReport) -> Table {
+    let mut table = Table::new([
+        "step",
+        "utc",
+        "t_s",
+        "col",
+        "row",
+        "x_m",
+        "y_m",
+        "action",
+        "duration_s",
+        "energy_wh",
+        "battery_wh",
+        "distance_m",
+        "sun_elevation_deg",
+        "refused",
+    ]);
     for (i, st) in r.steps.iter().enumerate() {
         let (c, rw) = ctx.world.col_row(st.cell);
         let (x, y) = ctx.local(st.cell);
-        let refused = st.refused.map(|(a, b)| format!("{} ({})", a.name(), b.describe())).unwrap_or_default();
-        let _ = writeln!(
-            s,
-            "{},{},{:.1},{c},{rw},{x:.2},{y:.2},{},{:.1},{:.3},{:.3},{:.3},{:.3},{refused}",
-            i + 1,
+        table.push(vec![
+            (i + 1).to_string(),
             format_utc(ctx.world.epoch() + Duration::from_seconds(st.t_s)),
-            st.t_s,
-            st.action.name(),
-            st.duration_s,
-            st.energy_wh,
-            st.battery_wh,
-            st.distance_m,
-            st.sun_elevation_deg
-        );
+            format!("{:.1}", st.t_s),
+            c.to_string(),
+            rw.to_string(),
+            format!("{x:.2}"),
+            format!("{y:.2}"),
+            st.action.name().to_string(),
+            format!("{:.1}", st.duration_s),
+            format!("{:.3}", st.energy_wh),
+            format!("{:.3}", st.battery_wh),
+            format!("{:.3}", st.distance_m),
+            format!("{:.3}", st.sun_elevation_deg),
+            st.refused.map(|(a, b)| format!("{} ({})", a.name(), b.describe())).unwrap_or_default(),
+        ]);
     }
-    s
+    table
 }
 
-fn replans_csv(ctx: &Context<'_>, r: &SimReport) -> String {
-    let mut s = String::from(
-        "step,kind,utc,t_s,wall_ms,expansions,changed_cells,route_changed,waypoints,cost,duration_h,min_battery_wh,\
-         search_mb,fresh_expansions,fresh_cost\n",
-    );
+fn replans_csv(ctx: &Context<'_>, r: &SimReport) -> Table {
+    let mut table = Table::new([
+        "step",
+        "kind",
+        "utc",
+        "t_s",
+        "wall_ms",
+        "expansions",
+        "changed_cells",
+        "route_changed",
+        "waypoints",
+        "cost",
+        "duration_h",
+        "min_battery_wh",
+        "search_mb",
+        "fresh_expansions",
+        "fresh_cost",
+    ]);
     for p in &r.plans {
-        let _ = writeln!(
-            s,
-            "{},{},{},{:.1},{:.3},{},{},{},{},{:.4},{:.3},{:.2},{:.1},{},{}",
-            p.step,
+        table.push(vec![
+            p.step.to_string(),
             match p.kind {
                 PlanKind::Initial => "initial",
                 PlanKind::Replan => "replan",
                 PlanKind::Restart => "restart",
-            },
+            }
+            .to_string(),
             format_utc(ctx.world.epoch() + Duration::from_seconds(p.t_s)),
-            p.t_s,
-            1e3 * p.wall_s,
-            p.expansions,
-            p.changed_cells,
-            u8::from(p.route_changed),
-            p.plan.waypoints.len(),
-            p.plan.cost,
-            p.plan.duration_s() / 3600.0,
-            p.plan.min_battery_wh(),
-            p.search_bytes as f64 / 1e6,
+            format!("{:.1}", p.t_s),
+            format!("{:.3}", 1e3 * p.wall_s),
+            p.expansions.to_string(),
+            p.changed_cells.to_string(),
+            u8::from(p.route_changed).to_string(),
+            p.plan.waypoints.len().to_string(),
+            format!("{:.4}", p.plan.cost),
+            format!("{:.3}", p.plan.duration_s() / 3600.0),
+            format!("{:.2}", p.plan.min_battery_wh()),
+            format!("{:.1}", p.search_bytes as f64 / 1e6),
             p.fresh.map_or(String::new(), |f| f.0.to_string()),
-            p.fresh.map_or(String::new(), |f| format!("{:.4}", f.1))
-        );
+            p.fresh.map_or(String::new(), |f| format!("{:.4}", f.1)),
+        ]);
     }
-    s
+    table
 }
 
-/// Longitude in −180..180 (GeoJSON's range).
-fn lon180(lon: f64) -> f64 {
-    let l = lon.rem_euclid(360.0);
-    if l > 180.0 { l - 360.0 } else { l }
-}
-
-fn geojson(ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> serde_json::Value {
-    let coord = |cell: u32| {
-        let (lat, lon) = ctx.world.lat_lon(cell);
-        json!([lon180(lon), lat])
-    };
-    let mut features = Vec::new();
-    let line = |name: &str, cells: Vec<u32>| {
-        json!({
-            "type": "Feature",
-            "geometry": {"type": "LineString", "coordinates": cells.iter().map(|&c| coord(c)).collect::<Vec<_>>()},
-            "properties": {"name": name},
-        })
-    };
-    features.push(line("initial plan", initial.waypoints.iter().map(|w| w.cell).collect()));
+fn route_geojson(ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> FeatureCollection {
+    let at = |cell: u32| ctx.world.lat_lon(cell);
+    let mut features =
+        vec![feature(line(initial.waypoints.iter().map(|w| at(w.cell))), json!({"name": "initial plan"}))];
     match report {
         None => {
             for (i, w) in initial.waypoints.iter().enumerate() {
-                features.push(json!({
-                    "type": "Feature",
-                    "geometry": {"type": "Point", "coordinates": coord(w.cell)},
-                    "properties": {
+                features.push(feature(
+                    point(at(w.cell)),
+                    json!({
                         "kind": "waypoint", "index": i, "utc": w.utc, "t_h": w.t_s / 3600.0,
                         "action": action_name(w.action), "required_wh": w.required_wh, "battery_wh": w.battery_wh,
-                    },
-                }));
+                    }),
+                ));
             }
         }
         Some(r) => {
-            let mut cells = vec![r.start.cell];
-            cells.extend(r.steps.iter().map(|s| s.to));
-            features.push(line("executed route", cells));
+            let cells = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
+            features.push(feature(line(cells.map(at)), json!({"name": "executed route"})));
             for (i, s) in r.steps.iter().enumerate() {
-                features.push(json!({
-                    "type": "Feature",
-                    "geometry": {"type": "Point", "coordinates": coord(s.cell)},
-                    "properties": {
+                features.push(feature(
+                    point(at(s.cell)),
+                    json!({
                         "kind": "executed", "step": i + 1,
                         "utc": format_utc(ctx.world.epoch() + Duration::from_seconds(s.t_s)),
                         "t_h": s.t_s / 3600.0, "action": s.action.name(), "energy_wh": s.energy_wh,
                         "battery_wh": s.battery_wh,
-                    },
-                }));
+                    }),
+                ));
             }
         }
     }
-    features.push(json!({
-        "type": "Feature",
-        "geometry": {"type": "Point", "coordinates": coord(ctx.start.cell)},
-        "properties": {"kind": "start", "name": "start"},
-    }));
+    features.push(feature(point(at(ctx.start.cell)), json!({"kind": "start", "name": "start"})));
     for (i, &g) in ctx.goals.iter().enumerate() {
-        features.push(json!({
-            "type": "Feature",
-            "geometry": {"type": "Point", "coordinates": coord(g)},
-            "properties": {"kind": "goal", "name": ctx.goal_name(i), "order": i},
-        }));
+        features.push(feature(point(at(g)), json!({"kind": "goal", "name": ctx.goal_name(i), "order": i})));
     }
-    json!({"type": "FeatureCollection", "features": features})
+    collection(features, &ctx.world.dem().georef().body)
 }
 
-/// Night intervals (Sun below the horizontal) over [0, end_s], hours.
+/// Night intervals (the Sun's centre below the horizontal) over [0, end_s], hours
+/// since the epoch.
 fn nights(world: &World, end_s: f64) -> Vec<(f64, f64)> {
-    let step = 300.0;
-    let mut out = Vec::new();
-    let mut open: Option<f64> = None;
-    let mut t = 0.0;
-    while t <= end_s + step {
-        let dark = world.sun(t).elevation_deg <= 0.0;
-        match (dark, open) {
-            (true, None) => open = Some(t),
-            (false, Some(a)) => {
-                out.push((a / 3600.0, t / 3600.0));
-                open = None;
-            }
-            _ => {}
-        }
-        t += step;
-    }
-    if let Some(a) = open {
-        out.push((a / 3600.0, (end_s + step) / 3600.0));
-    }
-    out
+    let start = world.epoch();
+    night_intervals(&world.site(), &HorizonMask::flat(), start, start + Duration::from_seconds(end_s))
+        .into_iter()
+        .map(|(a, b)| ((a - start).to_seconds() / 3600.0, (b - start).to_seconds() / 3600.0))
+        .collect()
 }
 
 fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> Result<Vec<PathBuf>> {
@@ -756,8 +733,13 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
     let sun = world.sun(t_shadow.clamp(0.0, world.span_s()));
     let shadowed: Vec<bool> = (0..world.cells() as u32).map(|c| !world.lit(c, &sun)).collect();
     let slope = areo_terrain::slope::slope_aspect(dem);
-    let background =
-        crate::render::hillshade_rgb(dem, &slope, Some(&shadowed), sun.azimuth_deg, sun.elevation_deg.max(5.0));
+    let background = areo_terrain::hillshade::hillshade_rgb(
+        dem,
+        &slope,
+        Some(&shadowed),
+        sun.azimuth_deg,
+        sun.elevation_deg.max(5.0),
+    );
     let to_xy = |cells: &mut dyn Iterator<Item = u32>| cells.map(|c| ctx.local(c)).collect::<Vec<_>>();
     let mut series = vec![Series {
         label: "initial plan".into(),
@@ -824,7 +806,7 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
         series,
         markers,
     };
-    files.extend(crate::plots::route(dir, "route", &route)?);
+    files.extend(crate::output::plots::route(dir, "route", &route)?);
 
     // (b) Distance to the final goal against time.
     let last = *ctx.goals.last().unwrap_or(&ctx.start.cell);
@@ -858,7 +840,7 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
         width: 1,
     });
     let night = nights(world, end_s);
-    files.extend(crate::plots::time(
+    files.extend(crate::output::plots::time(
         dir,
         "distance",
         &TimePlot {
@@ -903,7 +885,7 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
         }
         eseries.push(Series { label: "executed charge above floor".into(), points: pts, rgb: (220, 30, 40), width: 2 });
     }
-    files.extend(crate::plots::time(
+    files.extend(crate::output::plots::time(
         dir,
         "energy",
         &TimePlot {

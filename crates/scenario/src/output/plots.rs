@@ -244,7 +244,7 @@ pub fn route(dir: &Path, name: &str, p: &RoutePlot) -> Result<Vec<PathBuf>> {
     // under the drawing (after the white fill).
     let embed = |svg: String, rect: PixelRect| -> std::result::Result<String, String> {
         let mut png = Vec::new();
-        crate::render::encode_png(&mut png, p.cols, p.rows, &p.background)?;
+        crate::output::png::encode_png(&mut png, p.cols, p.rows, &p.background)?;
         let image = format!(
             r#"<image x="{}" y="{}" width="{}" height="{}" preserveAspectRatio="none" href="data:image/png;base64,{}"/>"#,
             rect.0,
@@ -415,7 +415,7 @@ fn both_with<T>(
         let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
         draw_png(&root).map_err(|m| plot_error(&png_path, m))?;
     }
-    crate::render::write_png(&png_path, width as usize, height as usize, &buf)?;
+    crate::output::png::write_png(&png_path, width as usize, height as usize, &buf)?;
     Ok(vec![svg_path, png_path])
 }
 

@@ -2,11 +2,11 @@
 //! the GA (per run, or per μ of a sweep), and write plan.json, plan.csv, ga.csv and the
 //! plots (top view, side profile, stability, fitness, look-ahead).
 
-use std::fmt::Write as _;
 use std::path::Path;
 
 use areo_actions::{
-    ExecConfig, Executor, GaReport, Inventory, Rock, Scale, Task, TraceStep, design_space_log10, evolve,
+    ExecConfig, Executor, FrictionSweep, GaReport, Inventory, Rock, Scale, Task, TraceStep, design_space_log10, evolve,
+    friction_sweep,
 };
 use areo_rover::RoverParams;
 use areo_rover::evaluation::Evaluator;
@@ -14,10 +14,12 @@ use areo_terrain::Dem;
 use areo_terrain::synth::Feature;
 
 use crate::error::{Error, Result};
+use crate::format::{ActionsJob, ScenarioFile, TerrainSource};
+use crate::jobs::RunOptions;
 use crate::outcome::Outcome;
-use crate::plots::{HistogramPlot, Marker, ProfilePlot, ProfileRover, RoutePlot, Series, TimePlot};
-use crate::run::{RunOptions, write_file};
-use crate::scenario::{ActionsJob, ScenarioFile, TerrainSource};
+use crate::output::csv::Table;
+use crate::output::plots::{HistogramPlot, Marker, ProfilePlot, ProfileRover, RoutePlot, Series, TimePlot};
+use crate::output::{json_for, write_file};
 
 fn mission_error(file: &ScenarioFile, e: areo_actions::Error) -> Error {
     match e {
@@ -43,7 +45,7 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
                 .collect();
             (spec.build()?, rocks)
         }
-        TerrainSource::File(rel) => (crate::terrain_tools::read_dem(&base.join(rel))?, Vec::new()),
+        TerrainSource::File(rel) => (crate::terrain::read_dem(&base.join(rel))?, Vec::new()),
     };
     let params = match &job.rover {
         Some(rel) => RoverParams::load(&base.join(rel))?,
@@ -120,33 +122,21 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         opts.progress.advance(1);
     }
     if !sweep.is_empty() {
-        let inv = &runs[0].1;
-        let mut crossed: Option<f64> = None;
-        let mut completed: Option<f64> = None;
-        let mut csv = String::from("mu,complete,best_fitness,prefix,max_y_m,failure\n");
-        for &mu in &sweep {
-            let exec = ExecConfig { mu, ..job.execution };
-            let executor = Executor::new(&dem, &evaluator, &task, exec);
-            let report = evolve(&executor, inv, &job.weights, &scale, &job.ga).map_err(|e| mission_error(file, e))?;
-            let best = executor.run(&report.best.plan, true);
-            let max_y = best.trace.iter().map(|t| t.y_m).fold(task.start.1, f64::max);
-            if job.ditch_far_edge_y_m.is_some_and(|y| max_y > y) && crossed.is_none() {
-                crossed = Some(mu);
-            }
-            if best.complete && completed.is_none() {
-                completed = Some(mu);
-            }
-            let why = best.failure.as_ref().map(|(_, f)| f.to_string()).unwrap_or_default();
-            let _ = writeln!(
-                csv,
-                "{mu},{},{:.4},{},{max_y:.3},{}",
-                u8::from(best.complete),
-                report.best.fitness,
-                best.prefix_len,
-                why.replace(',', ";")
-            );
-            opts.progress.advance(1);
-        }
+        let result = friction_sweep(
+            &dem,
+            &evaluator,
+            &task,
+            job.execution,
+            &runs[0].1,
+            &job.weights,
+            &scale,
+            &job.ga,
+            &sweep,
+            job.ditch_far_edge_y_m,
+            |_| opts.progress.advance(1),
+        )
+        .map_err(|e| mission_error(file, e))?;
+        let (crossed, completed) = (result.min_mu_crossing, result.min_mu_completing);
         if let Some(mu) = crossed {
             o.number("sweep_min_mu_crossing_ditch", mu);
         }
@@ -165,7 +155,7 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         ));
         if let Some(dir) = opts.out_dir {
             let path = dir.join("sweep.csv");
-            write_file(&path, csv.as_bytes())?;
+            sweep_table(&result).write(&path)?;
             o.files.push(path);
         }
     }
@@ -236,6 +226,22 @@ fn run_facts(o: &mut Outcome, name: &str, r: &GaReport, seconds: f64) {
     );
 }
 
+/// The sweep as a table, one row per μ.
+fn sweep_table(sweep: &FrictionSweep) -> Table {
+    let mut table = Table::new(["mu", "complete", "best_fitness", "prefix", "max_y_m", "failure"]);
+    for p in &sweep.points {
+        table.push(vec![
+            p.mu.to_string(),
+            u8::from(p.complete).to_string(),
+            format!("{:.4}", p.best_fitness),
+            p.prefix_len.to_string(),
+            format!("{:.3}", p.max_y_m),
+            p.failure.as_ref().map(ToString::to_string).unwrap_or_default(),
+        ]);
+    }
+    table
+}
+
 fn write_outputs(
     dir: &Path,
     dem: &Dem,
@@ -260,44 +266,56 @@ fn write_outputs(
         "first_solved": report.first_solved,
         "lookahead": report.lookahead,
     });
-    put("plan.json", crate::run::json_for(&dir.join("plan.json"), &plan_json, true)?)?;
-    let mut csv = String::from(
-        "step,code,x_m,y_m,z_m,heading_deg,pitch_deg,stability,load_lf_n,load_lm_n,load_lr_n,load_rf_n,load_rm_n,load_rr_n,energy_wh\n",
-    );
+    put("plan.json", json_for(&dir.join("plan.json"), &plan_json, true)?)?;
+    let mut csv = Table::new([
+        "step",
+        "code",
+        "x_m",
+        "y_m",
+        "z_m",
+        "heading_deg",
+        "pitch_deg",
+        "stability",
+        "load_lf_n",
+        "load_lm_n",
+        "load_lr_n",
+        "load_rf_n",
+        "load_rm_n",
+        "load_rr_n",
+        "energy_wh",
+    ]);
     for (i, t) in trace.iter().enumerate() {
-        let l = t.wheel_loads_n;
-        let _ = writeln!(
-            csv,
-            "{},{},{:.4},{:.4},{:.4},{:.2},{:.2},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.6}",
-            i + 1,
-            t.code,
-            t.x_m,
-            t.y_m,
-            t.z_m,
-            t.heading_deg,
-            t.pitch_deg,
+        let mut row = vec![
+            (i + 1).to_string(),
+            t.code.to_string(),
+            format!("{:.4}", t.x_m),
+            format!("{:.4}", t.y_m),
+            format!("{:.4}", t.z_m),
+            format!("{:.2}", t.heading_deg),
+            format!("{:.2}", t.pitch_deg),
             t.stability.map_or(String::new(), |s| format!("{s:.4}")),
-            l[0],
-            l[1],
-            l[2],
-            l[3],
-            l[4],
-            l[5],
-            t.energy_wh
-        );
+        ];
+        row.extend(t.wheel_loads_n.iter().map(|l| format!("{l:.3}")));
+        row.push(format!("{:.6}", t.energy_wh));
+        csv.push(row);
     }
-    put("plan.csv", csv)?;
-    let mut ga = String::from("generation,best,mean,best_prefix,solved\n");
+    put("plan.csv", csv.to_csv(&dir.join("plan.csv"))?)?;
+    let mut ga = Table::new(["generation", "best", "mean", "best_prefix", "solved"]);
     for g in &report.generations {
-        let _ = writeln!(ga, "{},{:.5},{:.5},{},{}", g.index, g.best, g.mean, g.best_prefix, u8::from(g.solved));
+        ga.push(vec![
+            g.index.to_string(),
+            format!("{:.5}", g.best),
+            format!("{:.5}", g.mean),
+            g.best_prefix.to_string(),
+            u8::from(g.solved).to_string(),
+        ]);
     }
-    put("ga.csv", ga)?;
+    put("ga.csv", ga.to_csv(&dir.join("ga.csv"))?)?;
 
     // Top view over a hillshade, with rocks and samples.
     let slope = areo_terrain::slope::slope_aspect(dem);
-    let background = crate::render::hillshade_rgb(dem, &slope, None, 315.0, 45.0);
-    let x0 = dem.x0();
-    let y0 = dem.y_top() - dem.rows() as f64 * dem.dy();
+    let background = areo_terrain::hillshade::hillshade_rgb(dem, &slope, None, 315.0, 45.0);
+    let (x0, y0) = (dem.extent().x_min, dem.extent().y_min);
     let mut path = vec![(task.start.0, task.start.1)];
     path.extend(trace.iter().map(|t| (t.x_m, t.y_m)));
     let mut markers = vec![
@@ -320,7 +338,7 @@ fn write_outputs(
         series: vec![Series { label: "reference point".into(), points: path, rgb: (220, 30, 40), width: 2 }],
         markers,
     };
-    files.extend(crate::plots::route(dir, "top_view", &top)?);
+    files.extend(crate::output::plots::route(dir, "top_view", &top)?);
 
     // Side profile along the path, with the rover drawn at a few steps: the first,
     // the steepest-pitched ones, and the last.
@@ -385,7 +403,7 @@ fn write_outputs(
             ProfileRover { wheels, body: (d, t.z_m), label: format!("{} ({:.0}°)", i + 1, t.pitch_deg) }
         })
         .collect();
-    files.extend(crate::plots::profile(
+    files.extend(crate::output::plots::profile(
         dir,
         "side_profile",
         &ProfilePlot {
@@ -397,7 +415,7 @@ fn write_outputs(
     )?);
     let stability: Vec<(f64, f64)> =
         trace.iter().enumerate().filter_map(|(i, t)| t.stability.map(|s| ((i + 1) as f64, 100.0 * s))).collect();
-    files.extend(crate::plots::time(
+    files.extend(crate::output::plots::time(
         dir,
         "stability",
         &TimePlot {
@@ -411,7 +429,7 @@ fn write_outputs(
     )?);
     let best: Vec<(f64, f64)> = report.generations.iter().map(|g| (g.index as f64, g.best)).collect();
     let mean: Vec<(f64, f64)> = report.generations.iter().map(|g| (g.index as f64, g.mean)).collect();
-    files.extend(crate::plots::time(
+    files.extend(crate::output::plots::time(
         dir,
         "fitness",
         &TimePlot {
@@ -426,7 +444,7 @@ fn write_outputs(
             x_range: (0.0, report.generations.len().saturating_sub(1).max(1) as f64),
         },
     )?);
-    files.extend(crate::plots::histogram(
+    files.extend(crate::output::plots::histogram(
         dir,
         "lookahead",
         &HistogramPlot {

@@ -47,14 +47,6 @@ pub enum Error {
         /// What is wrong, with the line where known.
         message: String,
     },
-    /// A file's format cannot be told from its name.
-    #[error("{path}: {message}")]
-    UnknownFormat {
-        /// The file.
-        path: PathBuf,
-        /// What is wrong and which formats are read.
-        message: String,
-    },
     /// A DEM could not be read, written or built.
     #[error(transparent)]
     Terrain(#[from] areo_terrain::Error),
@@ -91,11 +83,7 @@ impl Error {
     /// goal, 1 otherwise.
     pub fn exit_code(&self) -> i32 {
         match self {
-            Error::Syntax { .. }
-            | Error::Invalid { .. }
-            | Error::Grid { .. }
-            | Error::UnknownFormat { .. }
-            | Error::Ephemeris(_) => 2,
+            Error::Syntax { .. } | Error::Invalid { .. } | Error::Grid { .. } | Error::Ephemeris(_) => 2,
             Error::Terrain(areo_terrain::Error::Io { .. }) => 1,
             Error::Terrain(_) => 2,
             Error::Io { .. } => 1,

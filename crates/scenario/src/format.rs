@@ -514,9 +514,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Scenario, Error> {
     Ok(scenario)
 }
 
-/// The RON options every areo file is read with.
+/// The RON options every areo file is read with (areo-rover's, for one dialect).
 pub fn ron_options() -> ron::Options {
-    ron::Options::default().with_default_extension(
-        ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES | ron::extensions::Extensions::IMPLICIT_SOME,
-    )
+    areo_rover::ron_options()
 }

@@ -1,0 +1,36 @@
+//! areo's jobs, between the library crates and the `areo` binary.
+//!
+//! A scenario file goes in; a typed report, named facts and files come out. This crate
+//! owns:
+//!
+//! - [`format`]: the RON scenario format (v1), its range checks and the line:column of
+//!   every error ([`format::load`], [`format::parse`]);
+//! - [`run()`]: one scenario's job ([`jobs`]: Sun table, terrain shadow, TEMPEST,
+//!   GA actions) through the library crates into an [`Outcome`];
+//! - [`outcome`]: named [`Fact`]s and the [`outcome::Expected`] checks of
+//!   `cargo xtask scenarios`;
+//! - [`output`]: the writers (atomic files, CSV, GeoJSON, plots, PNG);
+//! - the computations behind the binary's other commands: [`sun`] (the Sun as rows),
+//!   [`terrain`] (DEM rasters), [`grid`] (Moving AI benchmarks), [`rover_check`].
+//!
+//! It prints nothing and parses no flags: the `areo` binary does that, and reports
+//! progress through the [`Progress`] trait it implements.
+
+mod error;
+mod progress;
+
+pub mod format;
+pub mod grid;
+pub mod jobs;
+pub mod outcome;
+pub mod output;
+pub mod rover_check;
+pub mod sun;
+pub mod terrain;
+
+pub use crate::{
+    error::{Error, Result},
+    jobs::{RunOptions, run},
+    outcome::{Fact, Outcome},
+    progress::{NoProgress, Progress},
+};

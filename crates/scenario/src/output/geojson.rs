@@ -1,0 +1,103 @@
+//! GeoJSON through the `geojson` crate. Coordinates are [longitude east in −180..180,
+//! latitude] in degrees on the map's body; since GeoJSON (RFC 7946) assumes WGS 84,
+//! every collection records its body and coordinate reference system as foreign
+//! members (`body`, `crs`) so a GIS does not take Mars for the Earth.
+
+use std::path::Path;
+
+use areo_terrain::Body;
+use geojson::{Feature, FeatureCollection, Geometry, JsonObject, JsonValue};
+
+use crate::error::{Error, Result};
+
+/// Longitude in −180..180 (GeoJSON's range).
+pub fn lon180(lon: f64) -> f64 {
+    let l = lon.rem_euclid(360.0);
+    if l > 180.0 { l - 360.0 } else { l }
+}
+
+/// A feature with `geometry` and the properties of a JSON object (`serde_json::json!`);
+/// anything else gives no properties.
+pub fn feature(geometry: Geometry, properties: JsonValue) -> Feature {
+    Feature {
+        geometry: Some(geometry),
+        properties: match properties {
+            JsonValue::Object(map) => Some(map),
+            _ => None,
+        },
+        ..Feature::default()
+    }
+}
+
+/// A point at (latitude, longitude east), degrees.
+pub fn point((lat, lon): (f64, f64)) -> Geometry {
+    Geometry::new_point([lon180(lon), lat])
+}
+
+/// A line through (latitude, longitude east) points, degrees.
+pub fn line(points: impl IntoIterator<Item = (f64, f64)>) -> Geometry {
+    Geometry::new_line_string(points.into_iter().map(|(lat, lon)| [lon180(lon), lat]).collect::<Vec<_>>())
+}
+
+/// The features as a collection on `body`: the body's radii and its geographic CRS
+/// (planetocentric latitude, east longitude) as foreign members.
+pub fn collection(features: Vec<Feature>, body: &Body) -> FeatureCollection {
+    let mut members = JsonObject::new();
+    members.insert(
+        "body".into(),
+        serde_json::json!({
+            "name": body_name(body),
+            "equatorial_radius_m": body.equatorial_radius_m,
+            "polar_radius_m": body.polar_radius_m,
+        }),
+    );
+    members.insert(
+        "crs".into(),
+        serde_json::json!({
+            "type": "geographic",
+            "latitude": "planetocentric",
+            "longitude": "east, -180..180",
+            "units": "degrees",
+        }),
+    );
+    let mut fc = FeatureCollection::new(features);
+    fc.foreign_members = Some(members);
+    fc
+}
+
+/// The body's name where its radii are a known reference body's.
+fn body_name(body: &Body) -> &'static str {
+    if *body == Body::MARS_IAU2015 || *body == Body::MARS_MOLA_SPHERE { "Mars" } else { "unknown" }
+}
+
+/// Writes the collection as pretty JSON (atomically, see [`super::write_file`]).
+pub fn write(path: &Path, fc: &FeatureCollection) -> Result<()> {
+    let text = serde_json::to_string_pretty(fc)
+        .map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) })?;
+    super::write_file(path, text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_route_round_trips_with_its_body_and_names_intact() {
+        let features = vec![
+            feature(line([(-4.6, 137.4), (-4.5, 137.5)]), serde_json::json!({"name": "plan, \"initial\""})),
+            feature(point((-4.5, 200.0)), serde_json::json!({"kind": "goal"})),
+        ];
+        let fc = collection(features, &Body::MARS_MOLA_SPHERE);
+        let text = serde_json::to_string(&fc).unwrap();
+        let back: geojson::GeoJson = text.parse().unwrap();
+        let geojson::GeoJson::FeatureCollection(back) = back else { panic!("not a collection") };
+        assert_eq!(back.features.len(), 2);
+        assert_eq!(back.features[0].property("name").and_then(JsonValue::as_str), Some("plan, \"initial\""));
+        // 200°E is −160° in GeoJSON's range; latitude second.
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(v["features"][1]["geometry"]["coordinates"], serde_json::json!([-160.0, -4.5]));
+        assert_eq!(v["body"]["name"], "Mars");
+        assert_eq!(v["body"]["equatorial_radius_m"], 3_396_000.0);
+        assert_eq!(v["crs"]["latitude"], "planetocentric");
+    }
+}

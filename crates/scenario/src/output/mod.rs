@@ -1,0 +1,91 @@
+//! Writers: every output file goes through here, to a temporary name renamed into
+//! place once complete, with errors that name the file.
+
+pub mod csv;
+pub mod geojson;
+pub mod plots;
+pub mod png;
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+
+/// Writes `bytes` to `path` through a temporary file beside it, renamed into place
+/// once complete: an interrupted run never leaves a truncated file under the real
+/// name. Errors name the file.
+pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
+    let io = |source| Error::Io { path: path.to_path_buf(), source };
+    let partial = partial_name(path);
+    let written = std::fs::File::create(&partial).and_then(|mut f| {
+        f.write_all(bytes)?;
+        f.sync_all()
+    });
+    if let Err(e) = written.and_then(|()| std::fs::rename(&partial, path)) {
+        // Best effort: the partial file is of no use to anyone.
+        let _ = std::fs::remove_file(&partial);
+        return Err(io(e));
+    }
+    Ok(())
+}
+
+/// Writes `path` through `write`, which is handed a temporary name beside it; the
+/// file is renamed into place only if `write` succeeds (for writers that take a path,
+/// like the GeoTIFF and plot writers).
+pub fn write_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let partial = partial_name(path);
+    match write(&partial)
+        .and_then(|()| std::fs::rename(&partial, path).map_err(|source| Error::Io { path: path.to_path_buf(), source }))
+    {
+        Ok(()) => Ok(()),
+        Err(e) => {
+            // Best effort: the partial file is of no use to anyone.
+            let _ = std::fs::remove_file(&partial);
+            Err(e)
+        }
+    }
+}
+
+/// `NAME.partial` beside `path`.
+fn partial_name(path: &Path) -> PathBuf {
+    let mut partial = path.as_os_str().to_os_string();
+    partial.push(".partial");
+    PathBuf::from(partial)
+}
+
+/// `value` as JSON (pretty), or an error naming the file it was meant for.
+pub fn json_for(path: &Path, value: &impl serde::Serialize, pretty: bool) -> Result<String> {
+    let text = if pretty { serde_json::to_string_pretty(value) } else { serde_json::to_string(value) };
+    text.map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn files_are_written_whole_or_not_at_all() {
+        let dir = std::env::temp_dir().join(format!("areo-write-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("plan.csv");
+        write_file(&path, b"a,b\n1,2\n").unwrap();
+        write_file(&path, b"a,b\n3,4\n").unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "a,b\n3,4\n");
+        assert!(!dir.join("plan.csv.partial").exists());
+        // Into a directory that does not exist: an error naming the file, nothing left.
+        let missing = dir.join("no-such-dir").join("plan.json");
+        let err = write_file(&missing, b"{}").unwrap_err();
+        assert!(err.to_string().contains("no-such-dir/plan.json"), "{err}");
+        assert!(!missing.exists());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn json_that_cannot_be_written_is_an_error_naming_the_file() {
+        // A map with non-string keys is not JSON.
+        let bad: std::collections::HashMap<(u8, u8), u8> = [((1, 2), 3)].into_iter().collect();
+        let err = json_for(Path::new("out/x/facts.json"), &bad, true).unwrap_err();
+        assert!(err.to_string().contains("out/x/facts.json"), "{err}");
+        assert_eq!(json_for(Path::new("f.json"), &[1, 2], false).unwrap(), "[1,2]");
+    }
+}

@@ -1,0 +1,21 @@
+//! Printers: typed results from areo-scenario as text, CSV or JSON on standard output.
+//! They format; they compute nothing.
+
+pub(crate) mod grid;
+pub(crate) mod rover;
+pub(crate) mod sun;
+pub(crate) mod terrain;
+
+use std::path::Path;
+
+use areo_scenario::Error;
+
+/// `value` as pretty JSON for standard output.
+pub(crate) fn json(value: &impl serde::Serialize) -> Result<String, Error> {
+    serde_json::to_string_pretty(value).map_err(|e| Error::Usage(format!("cannot write the JSON output: {e}")))
+}
+
+/// A CSV table for standard output (quoted as the file writers quote).
+pub(crate) fn csv(table: &areo_scenario::output::csv::Table) -> Result<String, Error> {
+    table.to_csv(Path::new("<stdout>"))
+}
