@@ -386,6 +386,14 @@ fn tempest_run_writes_every_output_and_each_parses() {
     }
     let route_svg = std::fs::read_to_string(dir.join("route.svg")).unwrap();
     assert!(route_svg.contains("data:image/png;base64,"), "the hillshade is embedded");
+    // Three layers, bottom to top: the white page, the hillshade image, the drawing.
+    let doc = roxmltree::Document::parse(&route_svg).unwrap();
+    let layers: Vec<&str> =
+        doc.root_element().children().filter(|n| n.is_element()).map(|n| n.tag_name().name()).collect();
+    assert_eq!(layers, ["rect", "image", "svg"]);
+    let image = doc.descendants().find(|n| n.has_tag_name("image")).unwrap();
+    let size = |a: &str| image.attribute(a).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+    assert!(size("width") > 500.0 && size("height") > 100.0, "the image covers the plotting area");
     let facts: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("facts.json")).unwrap()).unwrap();
     assert_eq!(facts["status"], "completed");

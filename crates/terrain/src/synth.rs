@@ -377,6 +377,28 @@ impl FractalNoise {
     }
 }
 
+/// `dem` with `features` added to it: the features are placed in the map's local frame
+/// (its south-west corner at (0, 0), as in [`TerrainSpec`]), whatever its georeference,
+/// so a feature described for a synthesised map lands on the same cells after the map
+/// is placed at a site. Missing cells stay missing. (How a simulation's true terrain
+/// differs from the rover's map: a pass that is a wall, a boulder field.)
+pub fn add_features(dem: &Dem, features: &[Feature]) -> Result<Dem> {
+    let e = dem.extent();
+    let mut z = Vec::with_capacity(dem.cols() * dem.rows());
+    for row in 0..dem.rows() {
+        for col in 0..dem.cols() {
+            let Some(h) = dem.z(col, row) else {
+                z.push(f32::NAN);
+                continue;
+            };
+            let (x, y) = dem.cell_center(col, row);
+            let (x, y) = (x - e.x_min, y - e.y_min);
+            z.push(h + features.iter().map(|f| f.height(x, y)).sum::<f64>() as f32);
+        }
+    }
+    dem.with_values(z)
+}
+
 /// Rough test terrain for the line-of-sight tests: 10 m cells, fractal noise of the
 /// given amplitude and octaves, and a 25° hill in the middle.
 #[cfg(test)]
@@ -496,5 +518,27 @@ mod tests {
         assert_ne!(noisy(3), noisy(4));
         let z = noisy(3);
         assert!(z.elevations().iter().all(|v| (v - 10.0).abs() <= 5.0 * 1.75 + 1e-3));
+    }
+
+    #[test]
+    fn features_added_to_a_placed_map_land_where_they_were_described() {
+        let hill = Feature::Hill { x_m: 50.5, y_m: 50.5, radius_m: 40.0, slope_deg: 20.0 };
+        let flat = spec(vec![]).build().unwrap();
+        let mut valid = vec![true; 101 * 101];
+        valid[flat.index(3, 4)] = false;
+        let flat = flat.with_mask(valid).unwrap();
+        // Placed at a site its frame moves (x0 = −w/2), but the features must not.
+        let placed = flat.clone().placed_at(crate::Body::MARS_MOLA_SPHERE, -4.6, 137.4).unwrap();
+        let with_hill = spec(vec![hill.clone()]).build().unwrap();
+        for dem in [&flat, &placed] {
+            let added = add_features(dem, std::slice::from_ref(&hill)).unwrap();
+            assert_eq!(added.georef(), dem.georef());
+            assert_eq!(added.z(3, 4), None, "a missing cell stays missing");
+            for (col, row) in [(50, 50), (70, 50), (20, 80), (0, 0)] {
+                // f32 heights: the base and the hill are rounded separately here.
+                let (a, b) = (added.z(col, row).unwrap(), with_hill.z(col, row).unwrap());
+                assert!((a - b).abs() < 1e-5, "cell ({col}, {row}): {a} against {b}");
+            }
+        }
     }
 }

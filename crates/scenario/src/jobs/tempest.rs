@@ -90,21 +90,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let frame = Frame::of(&map_dem);
     let truth_dem = match &job.truth {
         Truth::Map => None,
-        Truth::AddFeatures(features) => {
-            let mut z = map_dem.elevations().to_vec();
-            for row in 0..map_dem.rows() {
-                for col in 0..map_dem.cols() {
-                    let (x, y) = frame.to_local(map_dem.cell_center(col, row));
-                    let i = map_dem.index(col, row);
-                    z[i] += features.iter().map(|f| f.height(x, y)).sum::<f64>() as f32;
-                }
-            }
-            let z = z.iter().zip(map_dem.valid_mask()).map(|(z, v)| if *v { *z } else { f32::NAN }).collect();
-            Some(
-                Dem::new(map_dem.cols(), map_dem.rows(), map_dem.dx(), map_dem.dy(), map_dem.x0(), map_dem.y_top(), z)?
-                    .with_georef(*map_dem.georef()),
-            )
-        }
+        Truth::AddFeatures(features) => Some(areo_terrain::synth::add_features(&map_dem, features)?),
         Truth::Terrain(source) => {
             let t =
                 load_terrain(source, file)?.placed_at(Body::MARS_MOLA_SPHERE, site.lat_deg(), site.lon_east_deg())?;

@@ -150,7 +150,11 @@ fn draw_route<DB: DrawingBackend>(
     p: &RoutePlot,
     paint_background: bool,
 ) -> std::result::Result<PixelRect, String> {
-    root.fill(&WHITE).map_err(draw_err)?;
+    // Without the painted background (the SVG), the caller lays the white page and the
+    // map image under this drawing.
+    if paint_background {
+        root.fill(&WHITE).map_err(draw_err)?;
+    }
     let (w, h) = p.extent;
     let (x0, y0) = p.origin;
     let mut chart = titled(root, &p.title, 60).build_cartesian_2d(x0..x0 + w, y0..y0 + h).map_err(draw_err)?;
@@ -231,34 +235,37 @@ fn plot_error(path: &Path, message: String) -> Error {
     Error::Io { path: path.to_path_buf(), source: std::io::Error::other(message) }
 }
 
-fn write_text(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|source| Error::Io { path: path.to_path_buf(), source })
-}
-
 /// Writes the route plot as `dir/NAME.svg` and `dir/NAME.png`.
 pub fn route(dir: &Path, name: &str, p: &RoutePlot) -> Result<Vec<PathBuf>> {
     let width = 900u32;
     // Square metres: the plot area keeps the map's aspect (within the label margins).
     let height = ((f64::from(width) - 96.0) * p.extent.1 / p.extent.0 + 104.0).clamp(300.0, 1400.0) as u32;
-    // The PNG paints the background pixel by pixel; the SVG embeds it as one PNG image
-    // under the drawing (after the white fill).
-    let embed = |svg: String, rect: PixelRect| -> std::result::Result<String, String> {
+    // The PNG paints the background pixel by pixel. The SVG is a page of three layers:
+    // a white rectangle, the background as one embedded PNG image over the plotting
+    // area, and plotters' drawing (left unfilled) as a nested <svg> on top.
+    let layers = |drawing: String, rect: PixelRect| -> std::result::Result<String, String> {
         let mut png = Vec::new();
         crate::output::png::encode_png(&mut png, p.cols, p.rows, &p.background)?;
-        let image = format!(
-            r#"<image x="{}" y="{}" width="{}" height="{}" preserveAspectRatio="none" href="data:image/png;base64,{}"/>"#,
-            rect.0,
-            rect.1,
-            rect.2,
-            rect.3,
-            base64::engine::general_purpose::STANDARD.encode(&png)
-        );
-        Ok(match svg.find("<rect").and_then(|i| svg[i..].find("/>").map(|j| i + j + 2)) {
-            Some(at) => format!("{}\n{image}{}", &svg[..at], &svg[at..]),
-            None => svg,
-        })
+        Ok(format!(
+            concat!(
+                r#"<svg width="{w}" height="{h}" viewBox="0 0 {w} {h}" xmlns="http://www.w3.org/2000/svg">"#,
+                "\n",
+                r#"<rect x="0" y="0" width="{w}" height="{h}" fill="white"/>"#,
+                "\n",
+                r#"<image x="{x}" y="{y}" width="{iw}" height="{ih}" preserveAspectRatio="none" href="data:image/png;base64,{data}"/>"#,
+                "\n{drawing}\n</svg>\n"
+            ),
+            w = width,
+            h = height,
+            x = rect.0,
+            y = rect.1,
+            iw = rect.2,
+            ih = rect.3,
+            data = base64::engine::general_purpose::STANDARD.encode(&png),
+            drawing = drawing.trim_end(),
+        ))
     };
-    both_with(dir, name, (width, height), |r| draw_route(r, p, false), embed, |r| draw_route(r, p, true).map(|_| ()))
+    both_with(dir, name, (width, height), |r| draw_route(r, p, false), layers, |r| draw_route(r, p, true).map(|_| ()))
 }
 
 /// Writes a time plot as `dir/NAME.svg` and `dir/NAME.png`.
@@ -408,7 +415,7 @@ fn both_with<T>(
         draw_svg(&root).map_err(|m| plot_error(&svg_path, m))?
     };
     let svg = finish_svg(svg, drawn).map_err(|m| plot_error(&svg_path, m))?;
-    write_text(&svg_path, &svg)?;
+    crate::output::write_file(&svg_path, svg.as_bytes())?;
     let png_path = dir.join(format!("{name}.png"));
     let mut buf = vec![0u8; width as usize * height as usize * 3];
     {
