@@ -10,7 +10,8 @@ use std::process::ExitCode;
 
 mod print;
 
-use areo_scenario::{Error, Progress, RunOptions};
+use areo_scenario::budget::Budget;
+use areo_scenario::{Error, Progress};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
@@ -25,6 +26,14 @@ struct Cli {
     /// Only errors.
     #[arg(short, long, global = true, conflicts_with = "verbose")]
     quiet: bool,
+    /// Refuse a job whose estimated peak memory exceeds this, GiB (default: three
+    /// quarters of this machine's memory).
+    #[arg(long, global = true, value_name = "GIB")]
+    max_memory_gb: Option<f64>,
+    /// Refuse a job whose estimated work exceeds this many elementary steps (module
+    /// executions, cell-sector sweeps; default 1e11).
+    #[arg(long, global = true, value_name = "STEPS")]
+    max_work: Option<f64>,
     #[command(subcommand)]
     command: Command,
 }
@@ -203,11 +212,18 @@ pub(crate) enum Format {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     init_logging(&cli);
+    let budget = match budget(&cli) {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(e.exit_code() as u8);
+        }
+    };
     let result = match cli.command {
-        Command::Run { scenario, out } => run(&scenario, &out),
+        Command::Run { scenario, out } => run(&scenario, &out, budget),
         Command::Sun(args) => sun(&args),
         Command::Grid(args) => grid(&args),
-        Command::Terrain(cmd) => terrain(&cmd),
+        Command::Terrain(cmd) => terrain(&cmd, budget),
         Command::Rover(RoverCommand::Check { params, terrain, mu, moving, format }) => {
             areo_scenario::rover_check::check(&params, terrain, mu, moving).and_then(|report| {
                 let text = match format {
@@ -271,12 +287,29 @@ fn progress_bar() -> Bar {
     Bar(bar)
 }
 
-fn run(scenario: &std::path::Path, out: &std::path::Path) -> Result<(), Error> {
+/// The limits from the flags, or this machine's defaults.
+fn budget(cli: &Cli) -> Result<Budget, Error> {
+    let mut b = Budget::for_this_machine();
+    if let Some(gb) = cli.max_memory_gb {
+        if !(gb > 0.0 && gb <= 1e6) {
+            return Err(Error::Usage(format!("--max-memory-gb {gb}: allowed 0 (exclusive)..=1000000")));
+        }
+        b.memory_bytes = (gb * f64::from(1u32 << 30)) as u64;
+    }
+    if let Some(steps) = cli.max_work {
+        if !(1.0..=1e18).contains(&steps) {
+            return Err(Error::Usage(format!("--max-work {steps}: allowed 1..=1e18")));
+        }
+        b.work_steps = steps as u64;
+    }
+    Ok(b)
+}
+
+fn run(scenario: &std::path::Path, out: &std::path::Path, budget: Budget) -> Result<(), Error> {
     let file = areo_scenario::format::load(scenario)?;
     tracing::info!(scenario = %file.path.display(), "loaded");
-    let dir = out.join(&file.name);
     let bar = progress_bar();
-    let outcome = areo_scenario::run(&file, RunOptions { out_dir: Some(&dir), progress: &bar })?;
+    let outcome = areo_scenario::run_into(&file, out, &bar, budget)?;
     println!("{}: {}", file.name, file.scenario.description);
     for line in &outcome.summary {
         println!("  {line}");
@@ -290,26 +323,47 @@ fn run(scenario: &std::path::Path, out: &std::path::Path) -> Result<(), Error> {
     }
 }
 
-fn terrain(cmd: &TerrainCommand) -> Result<(), Error> {
+fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
     use areo_scenario::terrain as tt;
+    // Each command checks its estimate once the DEM's size is known.
+    let read = |file: &std::path::Path, what: &str, sectors: usize| -> Result<areo_scenario::terrain::Dem, Error> {
+        let dem = tt::read_dem(file)?;
+        let cells = (dem.cols() * dem.rows()) as u64;
+        budget.check(&areo_scenario::budget::terrain_command(what, cells, sectors as u64))?;
+        Ok(dem)
+    };
     let text = match cmd {
-        TerrainCommand::Info { file } => print::terrain::info(file, &tt::info(&tt::read_dem(file)?)),
-        TerrainCommand::Slope { file, out } => print::terrain::wrote(&tt::write_slope(&tt::read_dem(file)?, out)?),
+        TerrainCommand::Info { file } => print::terrain::info(file, &tt::info(&read(file, "info", 0)?)),
+        TerrainCommand::Slope { file, out } => {
+            tt::check_output(file, out)?;
+            print::terrain::wrote(&tt::write_slope(&read(file, "slope", 0)?, out)?)
+        }
         TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, flat, fast, out } => {
             if !(-90.0..=90.0).contains(sun_elevation) || !sun_azimuth.is_finite() {
                 return Err(Error::Usage(format!(
                     "--sun-elevation {sun_elevation}: allowed -90..=90; --sun-azimuth {sun_azimuth}: must be finite"
                 )));
             }
-            let (files, lit) = tt::write_shadow(&tt::read_dem(file)?, *sun_azimuth, *sun_elevation, *flat, *fast, out)?;
+            tt::check_output(file, out)?;
+            let (files, lit) =
+                tt::write_shadow(&read(file, "shadow", 0)?, *sun_azimuth, *sun_elevation, *flat, *fast, out)?;
             print::terrain::fraction(lit, "in direct sun") + &print::terrain::wrote(&files)
         }
         TerrainCommand::Viewshed { file, from, out } => {
-            let (files, seen) = tt::write_viewshed(&tt::read_dem(file)?, from.0, from.1, from.2, out)?;
+            tt::check_output(file, out)?;
+            let (files, seen) = tt::write_viewshed(&read(file, "viewshed", 0)?, from.0, from.1, from.2, out)?;
             print::terrain::fraction(seen, "visible") + &print::terrain::wrote(&files)
         }
         TerrainCommand::Horizon { file, sectors, out } => {
-            print::terrain::wrote(&tt::write_horizon(&tt::read_dem(file)?, *sectors, out, &progress_bar())?)
+            for path in tt::horizon_paths(out, *sectors) {
+                tt::check_output(file, &path)?;
+            }
+            print::terrain::wrote(&tt::write_horizon(
+                &read(file, "horizon", *sectors)?,
+                *sectors,
+                out,
+                &progress_bar(),
+            )?)
         }
     };
     print!("{text}");
@@ -329,6 +383,18 @@ fn grid(args: &GridArgs) -> Result<(), Error> {
     let opts = areo_scenario::grid::GridOptions { replan: args.replan, seed: args.seed };
     let rows = areo_scenario::grid::solve_file(&args.map, &args.scen, opts, &progress_bar())?;
     print!("{}", print::grid::rows(&rows, args.replan.is_some(), args.format)?);
+    // Exit 3 when a goal was not reached, 1 when a length differs from the published one.
+    let unreachable = rows.iter().filter(|r| r.found.is_infinite() && r.expected.is_finite()).count();
+    let mismatched = rows.iter().filter(|r| r.mismatched()).count();
+    if unreachable > 0 {
+        return Err(Error::Unreachable(format!(
+            "{unreachable} of {} scenarios: no path to the goal (the published length says there is one)",
+            rows.len()
+        )));
+    }
+    if mismatched > 0 {
+        return Err(Error::Failed(format!("{mismatched} of {} scenarios mismatched", rows.len())));
+    }
     Ok(())
 }
 

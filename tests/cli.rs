@@ -65,8 +65,9 @@ fn impossible_date_is_a_field_error() {
 
 #[test]
 fn missing_file_is_an_error_not_a_panic() {
+    // A missing input is bad input (exit 2), not a failure while running.
     let out = areo(&["run", "no/such/scenario.ron"]);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/scenario.ron"));
 }
 
@@ -315,7 +316,7 @@ fn rover_check_rejects_bad_terrain_and_bad_parameters_with_exit_2() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("bad_gear.ron") && err.contains("drive.gear_efficiency") && err.contains("1.5"), "{err}");
     let out = areo(&["rover", "check", "no/such/params.ron"]);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(2), "a missing input is bad input");
     assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/params.ron"));
 }
 

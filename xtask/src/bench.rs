@@ -355,9 +355,15 @@ fn run_scenario(root: &Path, name: &str, compare_fresh: bool) -> Result<(areo_sc
         sim.compare_fresh = compare_fresh;
     }
     let clock = std::time::Instant::now();
-    let outcome =
-        areo_scenario::run(&file, areo_scenario::RunOptions { out_dir: None, progress: &areo_scenario::NoProgress })
-            .map_err(|e| e.to_string())?;
+    let outcome = areo_scenario::run(
+        &file,
+        areo_scenario::RunOptions {
+            out_dir: None,
+            progress: &areo_scenario::NoProgress,
+            budget: areo_scenario::budget::Budget::for_this_machine(),
+        },
+    )
+    .map_err(|e| e.to_string())?;
     Ok((outcome, clock.elapsed().as_secs_f64()))
 }
 

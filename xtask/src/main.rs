@@ -4,7 +4,9 @@
 //!   it against `scenarios/expected/NAME.ron`;
 //! - `cargo xtask deps`: check that crate dependencies point down the design's crate map;
 //! - `cargo xtask bench`: run the criterion benches and print the figures and ratios
-//!   that `docs/benchmarks.md` records.
+//!   that `docs/benchmarks.md` records;
+//! - `cargo xtask fuzz`: the long, seeded robustness run against the release binary
+//!   (`docs/robustness.md`).
 //!
 //! Each check is also a `#[test]` here, so `cargo test --workspace` covers them.
 
@@ -12,6 +14,7 @@
 
 mod bench;
 mod deps;
+mod fuzz;
 mod scenarios;
 
 use std::path::PathBuf;
@@ -40,8 +43,9 @@ fn main() -> ExitCode {
                 violations.is_empty()
             }),
         Some("bench") => bench::run(&project_root(), &args[1..]),
+        Some("fuzz") => fuzz::Options::parse(&args[1..]).and_then(|o| fuzz::run(&project_root(), &o)),
         _ => {
-            eprintln!("usage: cargo xtask <scenarios|deps|bench [FILTER]>");
+            eprintln!("usage: cargo xtask <scenarios|deps|bench [FILTER]|fuzz [--cases N] [--seed S] [--timeout-s T]>");
             return ExitCode::from(2);
         }
     };

@@ -99,8 +99,15 @@ fn run_one(path: &Path, expected_path: &Path, out: &Path) -> Result<(usize, Vec<
     }
     let expected = Expected::load(expected_path).map_err(|e| Some(e.to_string()))?;
     let file = areo_scenario::format::load(path).map_err(|e| Some(e.to_string()))?;
-    let outcome = areo_scenario::run(&file, RunOptions { out_dir: Some(out), progress: &NoProgress })
-        .map_err(|e| Some(e.to_string()))?;
+    let outcome = areo_scenario::run(
+        &file,
+        RunOptions {
+            out_dir: Some(out),
+            progress: &NoProgress,
+            budget: areo_scenario::budget::Budget::for_this_machine(),
+        },
+    )
+    .map_err(|e| Some(e.to_string()))?;
     Ok((expected.facts.len(), expected.check(&outcome)))
 }
 

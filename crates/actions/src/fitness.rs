@@ -41,6 +41,32 @@ impl Default for Weights {
     }
 }
 
+impl Weights {
+    /// Checks ranges, naming the first bad field: every weight 0..=1e6 (a larger one
+    /// only rescales the others, and products must stay finite), `s_free` 0..=1.
+    pub fn validate(&self) -> crate::Result<()> {
+        for (field, w) in [
+            ("progress", self.progress),
+            ("samples", self.samples),
+            ("stability", self.stability),
+            ("time", self.time),
+            ("energy", self.energy),
+            ("complete", self.complete),
+        ] {
+            if !(0.0..=1e6).contains(&w) {
+                return Err(crate::Error::Config { field: field.into(), message: format!("{w}: allowed 0..=1e6") });
+            }
+        }
+        if !(0.0..=1.0).contains(&self.s_free) {
+            return Err(crate::Error::Config {
+                field: "s_free".into(),
+                message: format!("{}: allowed 0..=1 (a fraction of the flat-ground margin)", self.s_free),
+            });
+        }
+        Ok(())
+    }
+}
+
 /// Normalisation constants of one task.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Scale {

@@ -86,11 +86,16 @@ impl GaConfig {
     /// Checks ranges, naming the first bad field.
     pub fn validate(&self) -> Result<()> {
         let bad = |field: &str, message: String| Err(Error::Config { field: field.into(), message });
-        if self.population < 2 {
-            return bad("population", format!("{}: at least 2", self.population));
+        // Upper bounds keep a run's work (population × generations × plan length module
+        // executions) within what a planner could ever need.
+        if !(2..=10_000).contains(&self.population) {
+            return bad("population", format!("{}: allowed 2..=10000", self.population));
         }
-        if self.generations == 0 {
-            return bad("generations", "0: at least 1".into());
+        if !(1..=10_000).contains(&self.generations) {
+            return bad("generations", format!("{}: allowed 1..=10000", self.generations));
+        }
+        if !(1..=10_000).contains(&self.max_length) {
+            return bad("max_length", format!("{}: allowed 1..=10000 modules", self.max_length));
         }
         let (lo, hi) = self.initial_length;
         if lo == 0 || hi < lo || hi > self.max_length {
@@ -106,12 +111,15 @@ impl GaConfig {
             }
         }
         if let CrossoverPoint::Centred { sigma, uniform } = self.crossover
-            && !(sigma > 0.0 && (0.0..=1.0).contains(&uniform))
+            && !(sigma > 0.0 && sigma <= 1e4 && (0.0..=1.0).contains(&uniform))
         {
-            return bad("crossover", "sigma must be > 0 and uniform a probability".into());
+            return bad("crossover", "sigma must be in 0 (exclusive)..=10000 and uniform a probability".into());
         }
-        if self.tournament == 0 || self.elitism >= self.population {
-            return bad("tournament", "tournament ≥ 1 and elitism < population".into());
+        if self.tournament == 0 || self.tournament > self.population {
+            return bad("tournament", format!("{}: allowed 1..=population ({})", self.tournament, self.population));
+        }
+        if self.elitism >= self.population {
+            return bad("elitism", format!("{}: allowed 0..population ({})", self.elitism, self.population));
         }
         Ok(())
     }

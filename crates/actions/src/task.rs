@@ -68,8 +68,33 @@ impl Task {
     /// Checks values, naming the first bad field.
     pub fn validate(&self) -> Result<()> {
         let bad = |field: String, message: String| Err(Error::Config { field, message });
-        if !(self.target_radius_m > 0.0) {
-            return bad("target_radius_m".into(), format!("{}: must be > 0", self.target_radius_m));
+        // Positions within 10 km of the map origin: an action plan covers metres.
+        const FAR: f64 = 1e4;
+        for (field, v) in
+            [("start", self.start.0), ("start", self.start.1), ("target", self.target.0), ("target", self.target.1)]
+        {
+            if !(v.abs() <= FAR) {
+                return bad(field.into(), format!("{v}: coordinates allowed -10000..=10000 m"));
+            }
+        }
+        if !(self.start.2.abs() <= 360.0) {
+            return bad("start".into(), format!("heading {}: allowed -360..=360 degrees", self.start.2));
+        }
+        if !(self.target_radius_m > 0.0 && self.target_radius_m <= FAR) {
+            return bad("target_radius_m".into(), format!("{}: allowed 0 (exclusive)..=10000 m", self.target_radius_m));
+        }
+        for (i, s) in self.samples.iter().enumerate() {
+            if !(s.x_m.abs() <= FAR && s.y_m.abs() <= FAR) {
+                return bad(format!("samples[{i}]"), format!("({}, {}): allowed -10000..=10000 m", s.x_m, s.y_m));
+            }
+        }
+        for (i, r) in self.rocks.iter().enumerate() {
+            if !(r.x_m.abs() <= FAR && r.y_m.abs() <= FAR && r.height_m <= 100.0 && r.width_m <= 100.0) {
+                return bad(
+                    format!("rocks[{i}]"),
+                    "x_m, y_m allowed -10000..=10000 m; height_m, width_m at most 100 m".into(),
+                );
+            }
         }
         for (i, s) in self.samples.iter().enumerate() {
             if !(s.mass_kg > 0.0 && s.mass_kg < 100.0) {

@@ -51,5 +51,5 @@ pub use crate::{
     events::HorizonMask,
     site::Site,
     sun::{Mars24, SolarGeometry, SunModel, SunPosition, SunState},
-    time::{MarsTime, SOL_S, format_utc, local_sol, parse_utc, utc_at_ltst},
+    time::{MarsTime, SOL_S, VALID_SOLS, VALID_YEARS, format_utc, local_sol, parse_utc, utc_at_ltst},
 };

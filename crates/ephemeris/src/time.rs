@@ -103,6 +103,13 @@ pub fn local_sol(epoch: Epoch, site: &Site) -> i64 {
 /// fixed-point steps converge to well under a millisecond. Because EOT reaches ±50 min,
 /// the instant can lie up to that much outside the mean-time bounds of sol `sol`.
 pub fn utc_at_ltst(sol: i64, site: &Site, ltst_hours: f64) -> Result<Epoch> {
+    if !VALID_SOLS.contains(&sol) {
+        return Err(Error::OutOfRange {
+            field: "sol",
+            value: sol as f64,
+            allowed: "-97000..=258000 (Mars Sol Dates of the years 1600 to 2600, where the ephemeris holds)",
+        });
+    }
     if !(0.0..=24.0).contains(&ltst_hours) {
         return Err(Error::OutOfRange { field: "ltst_hours", value: ltst_hours, allowed: "0..=24" });
     }
@@ -116,6 +123,13 @@ pub fn utc_at_ltst(sol: i64, site: &Site, ltst_hours: f64) -> Result<Epoch> {
     }
     Ok(epoch_from_jd_tt(jd_tt))
 }
+
+/// The years the ephemeris serves (Mars24's series, hifitime's leap-second table and
+/// the Keplerian elements all lose meaning far outside them).
+pub const VALID_YEARS: std::ops::RangeInclusive<i32> = 1600..=2600;
+
+/// The Mars Sol Dates inside [`VALID_YEARS`].
+pub const VALID_SOLS: std::ops::RangeInclusive<i64> = -97_000..=258_000;
 
 /// Parses an ISO 8601 UTC instant such as `2012-08-06T05:17:57Z` or
 /// `2012-08-06T05:17:57.250 UTC`.
@@ -133,6 +147,10 @@ pub fn parse_utc(text: &str) -> Result<Epoch> {
     })?;
     if epoch.time_scale != TimeScale::UTC {
         return Err(bad(format!("time scale {} given; areo files and flags use UTC", epoch.time_scale)));
+    }
+    let year = epoch.to_gregorian_utc().0;
+    if !VALID_YEARS.contains(&year) {
+        return Err(bad(format!("year {year} is outside the ephemeris' validity, 1600..=2600")));
     }
     Ok(epoch)
 }

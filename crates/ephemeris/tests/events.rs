@@ -157,4 +157,13 @@ fn impossible_calendar_dates_and_other_scales_are_explained() {
     let err = parse_utc("2021-02-18T20:55:00 TAI").unwrap_err().to_string();
     assert!(err.contains("UTC"), "{err}");
     assert_eq!(format_utc(parse_utc("2021-02-18T20:55:00Z").unwrap()), "2021-02-18T20:55:00.000Z");
+    // Outside the ephemeris' years: refused at once, not computed for minutes.
+    let err = parse_utc("9999-01-01T00:00:00Z").unwrap_err().to_string();
+    assert!(err.contains("1600..=2600"), "{err}");
+    let site = Site::new(0.0, 0.0).unwrap();
+    let err = utc_at_ltst(-1_000_000_000, &site, 12.0).unwrap_err().to_string();
+    assert!(err.contains("sol") && err.contains("-97000..=258000"), "{err}");
+    // The bounds are the years': MSD −97000 is in 1600, 258000 in 2600.
+    let year = |sol| utc_at_ltst(sol, &site, 12.0).unwrap().to_gregorian_utc().0;
+    assert_eq!((year(-97_000), year(258_000)), (1601, 2599));
 }

@@ -85,7 +85,13 @@ impl Grid {
         for (i, line) in lines.by_ref() {
             let mut parts = line.split_whitespace();
             match (parts.next(), parts.next()) {
-                (Some("type"), _) => {}
+                (Some("type"), Some("octile")) => {}
+                (Some("type"), t) => {
+                    return Err(GridError::Header {
+                        line: i + 1,
+                        message: format!("type {}: only `type octile` (8-connected) is solved", t.unwrap_or("(none)")),
+                    });
+                }
                 (Some("height"), Some(v)) => height = v.parse::<u32>().ok(),
                 (Some("width"), Some(v)) => width = v.parse::<u32>().ok(),
                 (Some("map"), None) => break,
@@ -99,6 +105,14 @@ impl Grid {
         };
         if width == 0 || height == 0 || (width as u64) * (height as u64) > u32::MAX as u64 / 2 {
             return Err(GridError::Header { line: 1, message: format!("unsupported size {width}x{height}") });
+        }
+        // One byte per cell: a header that declares more cells than the text holds is
+        // refused before the grid is allocated.
+        if (width as u64) * (height as u64) > text.len() as u64 {
+            return Err(GridError::Shape {
+                line: 1,
+                message: format!("{width}x{height} cells declared, but the file has only {} bytes", text.len()),
+            });
         }
         let mut grid = Grid::new(width, height);
         let mut rows = 0u32;

@@ -90,6 +90,12 @@ fn malformed_maps_are_errors() {
     assert!(Grid::parse_movingai("type octile\nheight 2\nwidth 3\nmap\n...\n").is_err());
     assert!(Grid::parse_movingai("height x\nwidth 3\nmap\n").is_err());
     assert!(Grid::parse_movingai("").is_err());
+    // Only octile maps are solved; a hexagonal one is refused, not solved as octile.
+    let err = Grid::parse_movingai("type hex\nheight 1\nwidth 3\nmap\n...\n").unwrap_err().to_string();
+    assert!(err.contains("line 1") && err.contains("octile"), "{err}");
+    // A header declaring 1.6e9 cells in a 40-byte file is refused before allocating.
+    let err = Grid::parse_movingai("type octile\nheight 40000\nwidth 40000\nmap\n").unwrap_err().to_string();
+    assert!(err.contains("40000x40000") && err.contains("bytes"), "{err}");
     assert!(parse_scenarios("version 1\n0\tm\t1\t1\t0\t0\n").is_err());
 }
 

@@ -70,14 +70,38 @@ impl PlannerConfig {
     pub fn validate(&self) -> Result<()> {
         let bad = |field: &'static str, message: String| Err(Error::Config { field, message });
         let a = &self.actions;
-        if !(a.charge_s > 0.0 && a.hibernate_s > 0.0) {
-            return bad("actions.charge_s", "charge_s and hibernate_s must be positive".into());
+        // Physical ranges: a step of a second to days, classes that a search can hold.
+        if !((1.0..=1e6).contains(&a.charge_s) && (1.0..=1e6).contains(&a.hibernate_s)) {
+            return bad("actions.charge_s", "charge_s and hibernate_s: allowed 1..=1e6 s".into());
         }
-        if !(a.time_quantum_s >= 0.0 && a.energy_quantum_wh >= 0.0) {
-            return bad("actions.time_quantum_s", "quanta must be ≥ 0".into());
+        if !(a.time_quantum_s == 0.0 || (1e-3..=86_400.0).contains(&a.time_quantum_s)) {
+            return bad(
+                "actions.time_quantum_s",
+                format!("{}: allowed 0 (exact) or 0.001..=86400 s", a.time_quantum_s),
+            );
         }
-        if !(self.resolution.time_s > 0.0 && self.resolution.energy_wh > 0.0) {
-            return bad("resolution", "time_s and energy_wh must be positive".into());
+        if !(a.energy_quantum_wh == 0.0 || (1e-6..=1e6).contains(&a.energy_quantum_wh)) {
+            return bad(
+                "actions.energy_quantum_wh",
+                format!("{}: allowed 0 (exact) or 1e-6..=1e6 Wh", a.energy_quantum_wh),
+            );
+        }
+        if let Some(m) = a.max_slope_deg
+            && !(m > 0.0 && m < 90.0)
+        {
+            return bad("actions.max_slope_deg", format!("{m}: allowed 0..90 degrees"));
+        }
+        if !(1.0..=1e6).contains(&self.resolution.time_s) {
+            return bad("resolution.time_s", format!("{}: allowed 1..=1e6 s", self.resolution.time_s));
+        }
+        if !(1e-3..=1e15).contains(&self.resolution.energy_wh) {
+            return bad(
+                "resolution.energy_wh",
+                format!("{}: allowed 0.001..=1e15 Wh (wider than the battery collapses E)", self.resolution.energy_wh),
+            );
+        }
+        if !(0.0..=1e7).contains(&self.goal_energy_wh) {
+            return bad("goal_energy_wh", format!("{}: allowed 0..=1e7 Wh", self.goal_energy_wh));
         }
         if !(1..=10_000).contains(&self.goal_times) {
             return bad("goal_times", format!("{}: allowed 1..=10000", self.goal_times));
@@ -85,16 +109,16 @@ impl PlannerConfig {
         if !(1..=10_000).contains(&self.segment_starts) {
             return bad("segment_starts", format!("{}: allowed 1..=10000", self.segment_starts));
         }
-        if !(self.detour_factor >= 1.0) {
-            return bad("detour_factor", format!("{}: must be ≥ 1", self.detour_factor));
+        if !(1.0..=100.0).contains(&self.detour_factor) {
+            return bad("detour_factor", format!("{}: allowed 1..=100", self.detour_factor));
         }
-        if !(self.max_wait_s >= 0.0) {
-            return bad("max_wait_s", format!("{}: must be ≥ 0", self.max_wait_s));
+        if !(0.0..=1e7).contains(&self.max_wait_s) {
+            return bad("max_wait_s", format!("{}: allowed 0..=1e7 s", self.max_wait_s));
         }
         if let Objective::Duration { max_duration_s } = self.objective
-            && !(max_duration_s > 0.0)
+            && !(max_duration_s > 0.0 && max_duration_s <= 1e8)
         {
-            return bad("objective.max_duration_s", format!("{max_duration_s}: must be positive"));
+            return bad("objective.max_duration_s", format!("{max_duration_s}: allowed 0 (exclusive)..=1e8 s"));
         }
         Ok(())
     }

@@ -78,8 +78,8 @@ impl SimConfig {
         if !(0.0..=1.0).contains(&self.noise.solar_loss) {
             return bad("noise.solar_loss", format!("{}: allowed 0..=1", self.noise.solar_loss));
         }
-        if self.max_steps == 0 {
-            return bad("max_steps", "0: at least 1".into());
+        if !(1..=1_000_000).contains(&self.max_steps) {
+            return bad("max_steps", format!("{}: allowed 1..=1000000", self.max_steps));
         }
         Ok(())
     }

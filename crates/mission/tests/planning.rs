@@ -129,7 +129,9 @@ fn bad_inputs_are_errors_naming_the_field() {
     let start = Start { cell: world.cell(1, 1), ..start };
     let bad = PlannerConfig { detour_factor: 0.5, ..PlannerConfig::default() };
     match Mission::plan(&world, &model, bad, start, &[world.cell(5, 5)]) {
-        Err(Error::Config { field, message }) => assert!(field == "detour_factor" && message.contains("≥ 1")),
+        Err(Error::Config { field, message }) => {
+            assert!(field == "detour_factor" && message.contains("allowed 1..=100"))
+        }
         other => panic!("{other:?}"),
     }
     assert!(matches!(Mission::plan(&world, &model, PlannerConfig::default(), start, &[]), Err(Error::Config { .. })));

@@ -227,30 +227,38 @@ impl RoverParams {
         let fail = |field: &'static str, value: f64, why: String| {
             Err(Error::Invalid { origin: origin.into(), field, value, why })
         };
-        let positive: [(&'static str, f64); 18] = [
-            ("arm.tool_speed_m_s", self.arm.tool_speed_m_s),
-            ("turn_rate_deg_s", self.turn_rate_deg_s),
-            ("activities.turn_to_sample_deg", self.activities.turn_to_sample_deg),
-            ("activities.sleep_s", self.activities.sleep_s),
-            ("wheel_radius_m", self.wheel_radius_m),
-            ("wheel_width_m", self.wheel_width_m),
-            ("track_m", self.track_m),
-            ("mass_kg", self.mass_kg),
-            ("wheel_torque_max_nm", self.wheel_torque_max_nm),
-            ("drive.gear_ratio", self.drive.gear_ratio),
-            ("drive.torque_constant_nm_per_a", self.drive.torque_constant_nm_per_a),
-            ("drive.winding_resistance_ohm", self.drive.winding_resistance_ohm),
-            ("drive.bus_voltage_v", self.drive.bus_voltage_v),
-            ("arm.upper_link_m", self.arm.upper_link_m),
-            ("arm.lower_link_m", self.arm.lower_link_m),
-            ("battery.capacity_wh", self.battery.capacity_wh),
-            ("gravity_m_s2", self.gravity_m_s2),
-            ("speed_m_s", self.speed_m_s),
+        // Physical ranges: finite, positive where a zero would divide, and bounded so
+        // that no product overflows (masses to 10 t, lengths to 100 m, powers to 1 MW).
+        const LEN: f64 = 100.0;
+        const POWER: f64 = 1e6;
+        const DURATION: f64 = 1e7;
+        let positive: [(&'static str, f64, f64); 18] = [
+            ("arm.tool_speed_m_s", self.arm.tool_speed_m_s, 10.0),
+            ("turn_rate_deg_s", self.turn_rate_deg_s, 360.0),
+            ("activities.turn_to_sample_deg", self.activities.turn_to_sample_deg, 360.0),
+            ("activities.sleep_s", self.activities.sleep_s, DURATION),
+            ("wheel_radius_m", self.wheel_radius_m, 10.0),
+            ("wheel_width_m", self.wheel_width_m, 10.0),
+            ("track_m", self.track_m, LEN),
+            ("mass_kg", self.mass_kg, 1e4),
+            ("wheel_torque_max_nm", self.wheel_torque_max_nm, 1e6),
+            ("drive.gear_ratio", self.drive.gear_ratio, 1e6),
+            ("drive.torque_constant_nm_per_a", self.drive.torque_constant_nm_per_a, 1e3),
+            ("drive.winding_resistance_ohm", self.drive.winding_resistance_ohm, 1e6),
+            ("drive.bus_voltage_v", self.drive.bus_voltage_v, 1e5),
+            ("arm.upper_link_m", self.arm.upper_link_m, LEN),
+            ("arm.lower_link_m", self.arm.lower_link_m, LEN),
+            ("battery.capacity_wh", self.battery.capacity_wh, 1e7),
+            ("gravity_m_s2", self.gravity_m_s2, 100.0),
+            ("speed_m_s", self.speed_m_s, 100.0),
         ];
-        for (field, v) in positive {
-            if !(v > 0.0 && v.is_finite()) {
-                return fail(field, v, "must be positive and finite".into());
+        for (field, v, hi) in positive {
+            if !(v > 0.0 && v <= hi) {
+                return fail(field, v, format!("allowed 0 (exclusive)..={hi}"));
             }
+        }
+        if !(self.mass_kg >= 1e-3) {
+            return fail("mass_kg", self.mass_kg, "allowed 0.001..=10000 kg".into());
         }
         let fractions: [(&'static str, f64); 4] = [
             ("arm.efficiency", self.arm.efficiency),
@@ -263,28 +271,51 @@ impl RoverParams {
                 return fail(field, v, "allowed 0 (exclusive)..=1".into());
             }
         }
-        for (field, v) in [
-            ("hotel_power_w", self.hotel_power_w),
-            ("arm.mass_kg", self.arm.mass_kg),
-            ("arm.payload_max_kg", self.arm.payload_max_kg),
-            ("solar.area_m2", self.solar.area_m2),
-            ("rolling_resistance", self.rolling_resistance),
-            ("activities.grasp_s", self.activities.grasp_s),
-            ("activities.grasp_w", self.activities.grasp_w),
-            ("activities.tray_s", self.activities.tray_s),
-            ("activities.tray_w", self.activities.tray_w),
-            ("activities.video_s", self.activities.video_s),
-            ("activities.video_w", self.activities.video_w),
-            ("activities.sweep_s", self.activities.sweep_s),
-            ("activities.sweep_w", self.activities.sweep_w),
-            ("activities.communicate_s", self.activities.communicate_s),
-            ("activities.communicate_w", self.activities.communicate_w),
-            ("activities.sleep_w", self.activities.sleep_w),
-            ("activities.recharge_s", self.activities.recharge_s),
-            ("activities.recharge_flux_w_m2", self.activities.recharge_flux_w_m2),
+        for (field, v, hi) in [
+            ("hotel_power_w", self.hotel_power_w, POWER),
+            ("arm.mass_kg", self.arm.mass_kg, 1e4),
+            ("arm.payload_max_kg", self.arm.payload_max_kg, 1e4),
+            ("solar.area_m2", self.solar.area_m2, 1e4),
+            ("rolling_resistance", self.rolling_resistance, 1.0),
+            ("activities.grasp_s", self.activities.grasp_s, DURATION),
+            ("activities.grasp_w", self.activities.grasp_w, POWER),
+            ("activities.tray_s", self.activities.tray_s, DURATION),
+            ("activities.tray_w", self.activities.tray_w, POWER),
+            ("activities.video_s", self.activities.video_s, DURATION),
+            ("activities.video_w", self.activities.video_w, POWER),
+            ("activities.sweep_s", self.activities.sweep_s, DURATION),
+            ("activities.sweep_w", self.activities.sweep_w, POWER),
+            ("activities.communicate_s", self.activities.communicate_s, DURATION),
+            ("activities.communicate_w", self.activities.communicate_w, POWER),
+            ("activities.sleep_w", self.activities.sleep_w, POWER),
+            ("activities.recharge_s", self.activities.recharge_s, DURATION),
+            ("activities.recharge_flux_w_m2", self.activities.recharge_flux_w_m2, 1e5),
         ] {
-            if !(v >= 0.0 && v.is_finite()) {
-                return fail(field, v, "must be ≥ 0".into());
+            if !(v >= 0.0 && v <= hi) {
+                return fail(field, v, format!("allowed 0..={hi}"));
+            }
+        }
+        // Every point of the geometry within 100 m of the body origin.
+        for (field, v) in [
+            ("axle_x_m.front", self.axle_x_m.front),
+            ("axle_x_m.middle", self.axle_x_m.middle),
+            ("axle_x_m.rear", self.axle_x_m.rear),
+            ("bogie_pivot_m.x", self.bogie_pivot_m.x),
+            ("bogie_pivot_m.z", self.bogie_pivot_m.z),
+            ("rocker_pivot_m.x", self.rocker_pivot_m.x),
+            ("rocker_pivot_m.z", self.rocker_pivot_m.z),
+            ("cg_m.x", self.cg_m.x),
+            ("cg_m.y", self.cg_m.y),
+            ("cg_m.z", self.cg_m.z),
+            ("arm.shoulder_m.x", self.arm.shoulder_m.x),
+            ("arm.shoulder_m.y", self.arm.shoulder_m.y),
+            ("arm.shoulder_m.z", self.arm.shoulder_m.z),
+            ("arm.stowed_tool_m.x", self.arm.stowed_tool_m.x),
+            ("arm.stowed_tool_m.y", self.arm.stowed_tool_m.y),
+            ("arm.stowed_tool_m.z", self.arm.stowed_tool_m.z),
+        ] {
+            if !(v.abs() <= LEN) {
+                return fail(field, v, format!("allowed -{LEN}..={LEN} m"));
             }
         }
         for (field, v) in [("bogie_limit_deg", self.bogie_limit_deg), ("rocker_limit_deg", self.rocker_limit_deg)] {

@@ -287,14 +287,15 @@ impl ResourceModel {
             Err(Error::Invalid { origin: origin.into(), field, value, why: why.into() })
         };
         let l = &self.locomotor;
-        for (f, v) in [
-            ("locomotor.mass_kg", l.mass_kg),
-            ("locomotor.speed_m_s", l.speed_m_s),
-            ("locomotor.gravity_m_s2", l.gravity_m_s2),
-            ("battery.capacity_wh", self.battery.capacity_wh),
+        // Physical ranges, so that no product overflows and no search step is absurd.
+        for (f, v, hi, why) in [
+            ("locomotor.mass_kg", l.mass_kg, 1e4, "allowed 0 (exclusive)..=10000 kg"),
+            ("locomotor.speed_m_s", l.speed_m_s, 100.0, "allowed 0 (exclusive)..=100 m/s"),
+            ("locomotor.gravity_m_s2", l.gravity_m_s2, 100.0, "allowed 0 (exclusive)..=100 m/s²"),
+            ("battery.capacity_wh", self.battery.capacity_wh, 1e7, "allowed 0 (exclusive)..=1e7 Wh"),
         ] {
-            if !(v > 0.0 && v.is_finite()) {
-                return bad(f, v, "must be positive and finite");
+            if !(v > 0.0 && v <= hi) {
+                return bad(f, v, why);
             }
         }
         if !(l.rolling_resistance >= 0.0 && l.rolling_resistance < 1.0) {
@@ -318,7 +319,13 @@ impl ResourceModel {
             return bad("battery.min_soc", b.min_soc, "allowed 0..max_soc");
         }
         if let Some(s) = &self.solar {
-            if !(s.area_m2 > 0.0 && s.efficiency > 0.0 && s.efficiency <= 1.0) {
+            if !(s.area_m2 > 0.0 && s.area_m2 <= 1e4) {
+                return bad("solar.area_m2", s.area_m2, "allowed 0 (exclusive)..=10000 m²");
+            }
+            if !(s.facing_deg.abs() <= 360.0) {
+                return bad("solar.facing_deg", s.facing_deg, "allowed -360..=360 degrees");
+            }
+            if !(s.efficiency > 0.0 && s.efficiency <= 1.0) {
                 return bad("solar.efficiency", s.efficiency, "area > 0 and efficiency in 0 (exclusive)..=1");
             }
             if !(0.0..=90.0).contains(&s.tilt_deg) {
@@ -329,10 +336,16 @@ impl ResourceModel {
         if !(e.low_w >= 0.0 && e.low_w <= e.medium_w && e.medium_w <= e.high_w) {
             return bad("electronics.low_w", e.low_w, "need 0 ≤ low_w ≤ medium_w ≤ high_w");
         }
-        if !(self.nuclear_w >= 0.0) {
-            return bad("nuclear_w", self.nuclear_w, "must be ≥ 0");
+        if !(e.high_w <= 1e6) {
+            return bad("electronics.high_w", e.high_w, "allowed 0..=1e6 W");
+        }
+        if !(self.nuclear_w >= 0.0 && self.nuclear_w <= 1e6) {
+            return bad("nuclear_w", self.nuclear_w, "allowed 0..=1e6 W");
         }
         for c in &self.cameras {
+            if !(c.yaw_deg.abs() <= 360.0 && c.pitch_deg.abs() <= 90.0) {
+                return bad("cameras.yaw_deg", c.yaw_deg, "yaw within -360..=360 and pitch within -90..=90 degrees");
+            }
             if !(c.hfov_deg > 0.0 && c.hfov_deg < 360.0 && c.vfov_deg > 0.0 && c.vfov_deg <= 180.0) {
                 return bad("cameras.hfov_deg", c.hfov_deg, "fields of view must be within (0, 360) and (0, 180]");
             }

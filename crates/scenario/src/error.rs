@@ -4,7 +4,32 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
-    /// A file could not be read or written.
+    /// An input file could not be read (missing, unreadable, not UTF-8): bad input.
+    #[error("{path}: cannot read: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// A file that a scenario field names (a DEM, a rover file) could not be used.
+    #[error("{path}: field `{field}`: {source}")]
+    Referenced {
+        /// The scenario file.
+        path: PathBuf,
+        /// Dotted path of the field that names the file.
+        field: String,
+        /// What went wrong with the file.
+        source: Box<Error>,
+    },
+    /// The run finished but its answer is wrong (a benchmark's known optimum missed).
+    #[error("{0}")]
+    Failed(String),
+    /// A job needs more memory or work than it is allowed (see `budget`).
+    #[error("{0}")]
+    Budget(String),
+    /// An output file could not be written (a full disk, no permission): a failure
+    /// while running.
     #[error("{path}: {source}")]
     Io {
         /// The file.
@@ -84,14 +109,26 @@ impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Syntax { .. } | Error::Invalid { .. } | Error::Grid { .. } | Error::Ephemeris(_) => 2,
+            Error::Read { .. } | Error::Budget(_) => 2,
+            // A referenced file that cannot be read or used is bad input, whatever the
+            // cause; only an output that cannot be written is a failure while running.
+            Error::Referenced { source, .. } => match source.exit_code() {
+                1 => 2,
+                code => code,
+            },
             Error::Terrain(areo_terrain::Error::Io { .. }) => 1,
             Error::Terrain(_) => 2,
-            Error::Io { .. } => 1,
-            Error::Rover(areo_rover::Error::Io { .. }) => 1,
+            Error::Io { .. } | Error::Failed(_) => 1,
+            // areo-rover only reads (its parameter files).
             Error::Rover(_) | Error::Usage(_) | Error::Scenario { .. } => 2,
             Error::Mission(areo_mission::Error::Unreachable { .. }) | Error::Unreachable(_) => 3,
             Error::Mission(_) => 2,
         }
+    }
+
+    /// This error as the failure to use the file that `field` of scenario `path` names.
+    pub fn referenced_by(self, path: &std::path::Path, field: &str) -> Error {
+        Error::Referenced { path: path.to_path_buf(), field: field.to_string(), source: Box::new(self) }
     }
 }
 

@@ -18,7 +18,8 @@
 //! Loading checks syntax, then value ranges; either kind of error names the file,
 //! the line:column and the field. `docs/scenarios.md` documents every field.
 
-mod locate;
+pub mod locate;
+pub mod rover_files;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -377,12 +378,16 @@ impl Validate for ActionsJob {
         if let Err(areo_actions::Error::Config { field, message }) = self.ga.validate() {
             c.nested("ga", |c| c.fail_at(&field_segments(&field), message));
         }
+        if let Err(areo_actions::Error::Config { field, message }) = self.weights.validate() {
+            c.nested("weights", |c| c.fail_at(&field_segments(&field), message));
+        }
         c.nested("execution", |c| {
             c.range("mu", self.execution.mu, 0.01, 2.0, "friction coefficient");
             c.range("stability_floor", self.execution.stability_floor, 0.0, 0.99, "fraction of the flat-ground margin");
             c.range("grasp_radius_m", self.execution.grasp_radius_m, 0.0, 1.0, "m");
         });
         c.list("runs", &self.runs, |c, r| {
+            check_identifier(c, &r.name);
             if let Some(codes) = &r.inventory
                 && let Err(code) = areo_actions::Inventory::from_codes(codes)
             {
@@ -392,10 +397,14 @@ impl Validate for ActionsJob {
                 c.range("mu", mu, 0.01, 2.0, "friction coefficient");
             }
         });
+        check_unique(c, "runs", self.runs.iter().map(|r| r.name.as_str()));
+        if let Some(y) = self.ditch_far_edge_y_m {
+            c.range("ditch_far_edge_y_m", y, -1e4, 1e4, "m");
+        }
         if let Some((a, b, step)) = self.mu_sweep
-            && !(a > 0.0 && b >= a && step > 0.0 && (b - a) / step <= 100.0)
+            && !(a >= 0.01 && b >= a && b <= 2.0 && step > 0.0 && (b - a) / step <= 100.0)
         {
-            c.fail("mu_sweep", format!("({a}, {b}, {step}): need 0 < from ≤ to, step > 0, at most 100 steps"));
+            c.fail("mu_sweep", format!("({a}, {b}, {step}): need 0.01 ≤ from ≤ to ≤ 2, step > 0, at most 100 steps"));
         }
     }
 }
@@ -449,11 +458,18 @@ impl Validate for TempestJob {
         if self.goals.is_empty() {
             c.fail("goals", "is empty: give at least one goal".into());
         }
-        for r in &self.regions {
-            if !(r.radius_m > 0.0) {
-                c.fail("regions", format!("region `{}`: radius_m {} must be > 0", r.name, r.radius_m));
-            }
-        }
+        c.list("goals", &self.goals, |c, g| {
+            check_label(c, &g.name);
+            check_position(c, g.x_m, g.y_m);
+        });
+        check_unique(c, "goals", self.goals.iter().map(|g| g.name.as_str()));
+        c.list("regions", &self.regions, |c, r| {
+            check_identifier(c, &r.name);
+            check_position(c, r.x_m, r.y_m);
+            c.range("radius_m", r.radius_m, f64::MIN_POSITIVE, 1e7, "m, > 0");
+        });
+        check_unique(c, "regions", self.regions.iter().map(|r| r.name.as_str()));
+        c.nested("start", |c| check_position(c, self.start.x_m, self.start.y_m));
         if let Err(areo_mission::Error::Config { field, message }) = self.planner.validate() {
             c.nested("planner", |c| c.fail_at(&field_segments(field), message));
         }
@@ -469,6 +485,47 @@ impl Validate for TempestJob {
             c.nested("simulate", |c| c.fail_at(&field_segments(field), message));
         }
     }
+}
+
+/// A name that becomes part of a file or fact name: 1 to 64 ASCII letters, digits,
+/// `_` or `-`, starting with a letter or digit (so it can never be a path).
+fn check_identifier(c: &mut Checks, name: &str) {
+    let ok = (1..=64).contains(&name.len())
+        && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
+        && name.as_bytes()[0].is_ascii_alphanumeric();
+    if !ok {
+        c.fail(
+            "name",
+            format!("{name:?}: allowed 1 to 64 ASCII letters, digits, `_` or `-`, starting with a letter or digit"),
+        );
+    }
+}
+
+/// A name shown in reports and plots (writers quote it): 1 to 100 characters, none a
+/// control character.
+fn check_label(c: &mut Checks, name: &str) {
+    if !(1..=100).contains(&name.chars().count()) || name.chars().any(char::is_control) {
+        c.fail("name", format!("{name:?}: allowed 1 to 100 characters, no control characters (tab, newline, …)"));
+    }
+}
+
+/// Names must differ: the second use of a name is the error.
+fn check_unique<'a>(c: &mut Checks, list: &str, names: impl IntoIterator<Item = &'a str>) {
+    let mut seen = std::collections::HashSet::new();
+    for (i, name) in names.into_iter().enumerate() {
+        if !seen.insert(name) {
+            c.fail_at(
+                &[list.to_string(), format!("[{i}]"), "name".into()],
+                format!("{name:?} is used twice: names must be unique"),
+            );
+        }
+    }
+}
+
+/// A position in a map's frame, m.
+fn check_position(c: &mut Checks, x: f64, y: f64) {
+    c.range("x_m", x, -1e7, 1e7, "m");
+    c.range("y_m", y, -1e7, 1e7, "m");
 }
 
 impl Validate for SiteSpec {
@@ -491,7 +548,7 @@ pub struct ScenarioFile {
 
 /// Reads, parses and validates a scenario file.
 pub fn load(path: &Path) -> Result<ScenarioFile, Error> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
     let scenario = parse(path, &text)?;
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scenario".into());
     Ok(ScenarioFile { path: path.to_path_buf(), name, scenario })
@@ -505,6 +562,18 @@ pub fn parse(path: &Path, text: &str) -> Result<Scenario, Error> {
         col: e.span.start.col,
         message: e.code.to_string(),
     })?;
+    // Every number must be finite, whatever field it is in: NaN and infinity (written,
+    // or a literal too large for f64) are refused here once, with their place.
+    if let Some(bad) = locate::scalars(text).into_iter().find(|s| s.value().is_some_and(|v| !v.is_finite())) {
+        let field = validate::Violation { path: bad.path.clone(), message: String::new() }.dotted();
+        return Err(Error::Invalid {
+            path: path.to_path_buf(),
+            line: bad.line,
+            col: bad.col,
+            field,
+            message: format!("`{}` is not a finite number: every number in a scenario must be finite", bad.text),
+        });
+    }
     let mut checks = Checks::default();
     scenario.validate(&mut checks);
     if let Some(v) = checks.into_first() {

@@ -48,7 +48,7 @@ impl GridRow {
 
 /// Reads a `.map` and its `.scen` and solves every scenario.
 pub fn solve_file(map: &Path, scen: &Path, opts: GridOptions, progress: &dyn Progress) -> Result<Vec<GridRow>> {
-    let read = |p: &Path| std::fs::read_to_string(p).map_err(|source| Error::Io { path: p.to_path_buf(), source });
+    let read = |p: &Path| std::fs::read_to_string(p).map_err(|source| Error::Read { path: p.to_path_buf(), source });
     let grid_err =
         |p: &Path, e: areo_ise::grid::GridError| Error::Grid { path: p.to_path_buf(), message: e.to_string() };
     let mut grid = Grid::parse_movingai(&read(map)?).map_err(|e| grid_err(map, e))?;

@@ -7,6 +7,8 @@
 //!   every error ([`format::load`], [`format::parse`]);
 //! - [`run()`]: one scenario's job ([`jobs`]: Sun table, terrain shadow, TEMPEST,
 //!   GA actions) through the library crates into an [`Outcome`];
+//! - [`budget`]: a job's memory and work estimated before it starts, and refused
+//!   when over the limit;
 //! - [`outcome`]: named [`Fact`]s and the [`outcome::Expected`] checks of
 //!   `cargo xtask scenarios`;
 //! - [`output`]: the writers (atomic files, CSV, GeoJSON, plots, PNG);
@@ -19,6 +21,7 @@
 mod error;
 mod progress;
 
+pub mod budget;
 pub mod format;
 pub mod grid;
 pub mod jobs;
@@ -30,7 +33,7 @@ pub mod terrain;
 
 pub use crate::{
     error::{Error, Result},
-    jobs::{RunOptions, run},
+    jobs::{RunOptions, run, run_into},
     outcome::{Fact, Outcome},
     progress::{NoProgress, Progress},
 };

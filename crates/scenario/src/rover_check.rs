@@ -6,7 +6,6 @@
 use std::path::Path;
 use std::str::FromStr;
 
-use areo_rover::RoverParams;
 use areo_rover::arm::ArmState;
 use areo_rover::evaluation::{Conditions, Evaluation, Evaluator, Place, Violation};
 use areo_rover::kinematics::Pose;
@@ -128,7 +127,7 @@ const WHEELS: [&str; 6] = ["left front", "left middle", "left rear", "right fron
 
 /// Loads `params_path` and evaluates it on `terrain` with friction `mu`.
 pub fn check(params_path: &Path, terrain: TestTerrain, mu: f64, moving: bool) -> Result<Report> {
-    let params = RoverParams::load(params_path)?;
+    let params = crate::format::rover_files::load_params(params_path)?;
     if !(mu > 0.0 && mu.is_finite()) {
         return Err(Error::Usage(format!("--mu {mu}: must be positive and finite")));
     }

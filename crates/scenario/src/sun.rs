@@ -104,7 +104,7 @@ pub fn rows(instants: Instants<'_>, lat_lon: Option<(f64, f64)>) -> Result<Vec<S
         Instants::One(t) => Ok(vec![SunRow::at(parse_utc(t)?, site.as_ref())]),
         Instants::File(path) => {
             let text =
-                std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+                std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
             let mut rows = Vec::new();
             for (i, line) in text.lines().enumerate() {
                 let t = line.trim();

@@ -2,19 +2,51 @@
 
 use std::path::Path;
 
+pub use areo_terrain::Dem;
+use areo_terrain::geotiff;
 use areo_terrain::hillshade::hillshade_rgb;
 use areo_terrain::horizon::HorizonMap;
 use areo_terrain::shadow::{Curvature, shadow_map, shadow_map_from};
 use areo_terrain::slope::slope_aspect;
-use areo_terrain::{Dem, geotiff};
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::output::png::write_png;
 use crate::output::write_with;
 
 /// Reads a DEM by its extension (see [`areo_terrain::read`]).
 pub fn read_dem(path: &Path) -> Result<Dem> {
     Ok(areo_terrain::read(path)?)
+}
+
+/// Checks an output path before anything is computed: a GeoTIFF name (`.tif` or
+/// `.tiff`, since a PNG preview is written beside it under the `.png` name), and neither
+/// it nor its preview the input file itself.
+pub fn check_output(input: &Path, out: &Path) -> Result<()> {
+    let ext = out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if !matches!(ext.as_deref(), Some("tif" | "tiff")) {
+        return Err(Error::Usage(format!(
+            "-o {}: the output is a GeoTIFF, name it NAME.tif (its preview goes to NAME.png)",
+            out.display()
+        )));
+    }
+    let same = |a: &Path, b: &Path| -> bool {
+        // The output may not exist yet: compare its directory's real path and its name.
+        let real = |p: &Path| {
+            let dir = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+            dir.canonicalize().ok().map(|d| d.join(p.file_name().unwrap_or_default()))
+        };
+        matches!((real(a), real(b)), (Some(x), Some(y)) if x == y)
+    };
+    for candidate in [out.to_path_buf(), out.with_extension("png")] {
+        if same(input, &candidate) {
+            return Err(Error::Usage(format!(
+                "-o {}: writing it would overwrite the input {}",
+                out.display(),
+                input.display()
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// A summary of a DEM, one fact a line.
@@ -33,7 +65,11 @@ pub fn info(dem: &Dem) -> Vec<String> {
         ),
         format!("cell size   {} m x {} m", dem.dx(), dem.dy()),
         format!("extent      x {} .. {} m, y {} .. {} m", e.x_min, e.x_max, e.y_min, e.y_max),
-        format!("elevation   {lo} .. {hi} m (mean {mean:.2} m)"),
+        if valid.is_empty() {
+            "elevation   none: every cell is missing".to_string()
+        } else {
+            format!("elevation   {lo} .. {hi} m (mean {mean:.2} m)")
+        },
         format!("projection  {:?}", dem.georef().projection),
         format!(
             "body        a = {} m, b = {} m",
@@ -97,24 +133,40 @@ pub fn write_horizon(
     progress.start(1, "horizon");
     let map = HorizonMap::compute(dem, sectors, Curvature::of(dem))?;
     progress.finish();
-    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "horizon".into());
-    let dir = out.parent().unwrap_or(Path::new("."));
-    let mut files = Vec::new();
-    for s in 0..sectors {
+    let files = horizon_paths(out, sectors);
+    for (s, path) in files.iter().enumerate() {
         let az = s as f64 * 360.0 / sectors as f64;
         let band: Vec<f32> = (0..dem.cols() * dem.rows()).map(|i| map.horizon_deg(i, az) as f32).collect();
         let d = dem.with_values(band)?;
-        let path = dir.join(format!("{stem}_s{s:03}.tif"));
-        write_with(&path, |tmp| Ok(geotiff::write(&d, tmp)?))?;
-        files.push(path);
+        write_with(path, |tmp| Ok(geotiff::write(&d, tmp)?))?;
     }
     Ok(files)
+}
+
+/// The files a horizon map of `sectors` sectors is written to for `-o OUT`:
+/// `OUT_s000.tif`, `OUT_s001.tif`, … beside OUT.
+pub fn horizon_paths(out: &Path, sectors: usize) -> Vec<std::path::PathBuf> {
+    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "horizon".into());
+    let dir = out.parent().unwrap_or(Path::new("."));
+    (0..sectors).map(|s| dir.join(format!("{stem}_s{s:03}.tif"))).collect()
 }
 
 /// Writes the viewshed from a point `height_m` above the ground at (x, y) (uint8
 /// GeoTIFF: 1 visible, 0 hidden, 255 no data) and a preview PNG beside it; returns the
 /// files and the visible fraction.
 pub fn write_viewshed(dem: &Dem, x: f64, y: f64, height_m: f64, out: &Path) -> Result<(Vec<std::path::PathBuf>, f64)> {
+    if !(height_m > 0.0 && height_m <= 1e5) {
+        return Err(Error::Usage(format!(
+            "--from height {height_m} m: allowed 0 (exclusive)..=100000 m above the ground"
+        )));
+    }
+    let e = dem.extent();
+    if !(x >= e.x_min && x <= e.x_max && y >= e.y_min && y <= e.y_max) {
+        return Err(Error::Usage(format!(
+            "--from ({x}, {y}): off the map (x {} .. {} m, y {} .. {} m)",
+            e.x_min, e.x_max, e.y_min, e.y_max
+        )));
+    }
     let seen = areo_terrain::los::viewshed(dem, x, y, height_m, Curvature::of(dem))?;
     let bytes: Vec<u8> =
         seen.iter().zip(dem.valid_mask()).map(|(s, ok)| if !ok { 255 } else { u8::from(*s) }).collect();

@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 
 /// Reads an ESRI ASCII grid.
 pub fn read(path: &Path) -> Result<Dem> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
     parse(&text, path)
 }
 
@@ -60,6 +60,29 @@ pub fn parse(text: &str, path: &Path) -> Result<Dem> {
         return Err(bad(1, format!("ncols = {ncols}, nrows = {nrows}: need positive whole numbers")));
     }
     let (cols, rows) = (ncols as usize, nrows as usize);
+    // Every value takes at least two bytes (a digit and a separator): a header that
+    // declares more cells than the file can hold is refused before anything is
+    // allocated for them.
+    if cols * rows > text.len() / 2 + 1 {
+        return Err(bad(
+            1,
+            format!(
+                "ncols × nrows = {cols} × {rows} cells, but the file's {} bytes can hold at most {} values",
+                text.len(),
+                text.len() / 2 + 1
+            ),
+        ));
+    }
+    for (name, v) in [("cellsize", dx), ("cellsize", dy)] {
+        if !(v > 0.0 && v <= 1e7) {
+            return Err(bad(1, format!("`{name}` = {v}: allowed 0 (exclusive)..=1e7")));
+        }
+    }
+    for (name, v) in [("xllcorner", xll), ("yllcorner", yll)] {
+        if !(v.abs() <= 1e9) {
+            return Err(bad(1, format!("`{name}` = {v}: allowed -1e9..=1e9")));
+        }
+    }
     let mut z = Vec::with_capacity(cols * rows);
     for (i, line) in lines {
         for tok in line.split_whitespace() {

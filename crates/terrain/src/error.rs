@@ -4,7 +4,17 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
-    /// A file could not be read or written.
+    /// An input file could not be read (missing, unreadable, not UTF-8 where text is
+    /// needed): bad input.
+    #[error("{path}: cannot read: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// An output file could not be written (a full disk, no permission): a failure while
+    /// running.
     #[error("{path}: {source}")]
     Io {
         /// The file.

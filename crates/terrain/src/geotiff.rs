@@ -36,7 +36,7 @@ mod key {
 
 /// Reads a GeoTIFF DEM.
 pub fn read(path: &Path) -> Result<Dem> {
-    let file = File::open(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let file = File::open(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
     read_from(BufReader::new(file), path)
 }
 

@@ -21,9 +21,12 @@ use crate::body::{Body, Projection};
 use crate::dem::{Dem, Georef};
 use crate::error::{Error, Result};
 
+/// The largest byte count or offset a label may give (1 TiB).
+const MAX_BYTES: f64 = 1_099_511_627_776.0;
+
 /// Reads a PDS3 image, its label attached or in a sibling `.LBL` (pass either file).
 pub fn read(path: &Path) -> Result<Dem> {
-    let io = |p: &Path, source| Error::Io { path: p.to_path_buf(), source };
+    let io = |p: &Path, source| Error::Read { path: p.to_path_buf(), source };
     let bytes = std::fs::read(path).map_err(|e| io(path, e))?;
     let is_label = |b: &[u8]| {
         let head = String::from_utf8_lossy(&b[..b.len().min(4096)]).to_ascii_uppercase();
@@ -67,17 +70,36 @@ pub fn parse(label_bytes: &[u8], image: Option<&[u8]>, path: &Path, dir: Option<
         return Err(bad(format!("LINES = {lines}, LINE_SAMPLES = {samples}: need positive whole numbers")));
     }
     let (rows, cols) = (lines as usize, samples as usize);
-    let sample_type = label.get("IMAGE", "SAMPLE_TYPE").unwrap_or("").trim_matches('"').to_ascii_uppercase();
-    let kind = SampleKind::from_label(&sample_type, bits as u32)
-        .ok_or_else(|| bad(format!("unsupported SAMPLE_TYPE {sample_type} with SAMPLE_BITS {bits}")))?;
-    let prefix = num("IMAGE", "LINE_PREFIX_BYTES")?.unwrap_or(0.0) as usize;
-    let suffix = num("IMAGE", "LINE_SUFFIX_BYTES")?.unwrap_or(0.0) as usize;
-    let record_bytes = num("", "RECORD_BYTES")?.unwrap_or(1.0);
+    let sample_type = label
+        .get("IMAGE", "SAMPLE_TYPE")
+        .ok_or_else(|| bad("label lacks SAMPLE_TYPE".into()))?
+        .trim_matches('"')
+        .to_ascii_uppercase();
+    let kind = SampleKind::from_label(&sample_type, bits).ok_or_else(|| {
+        bad(format!(
+            "SAMPLE_TYPE {sample_type} with SAMPLE_BITS {bits} is not read: allowed MSB_/LSB_/PC_/SUN_/MAC_ INTEGER or \
+             UNSIGNED_INTEGER of 8, 16 or 32 bits, IEEE_REAL or PC_REAL of 32 or 64 bits"
+        ))
+    })?;
+    // Byte counts from the label: whole numbers up to 2^40, so no sum or product of them
+    // can wrap.
+    let count = |key: &str, value: Option<f64>, default: f64| -> Result<u64> {
+        let v = value.unwrap_or(default);
+        if (0.0..=MAX_BYTES).contains(&v) && v.fract() == 0.0 {
+            Ok(v as u64)
+        } else {
+            Err(bad(format!("{key} = {v}: allowed a whole number of bytes, 0..=2^40")))
+        }
+    };
+    let prefix = count("LINE_PREFIX_BYTES", num("IMAGE", "LINE_PREFIX_BYTES")?, 0.0)?;
+    let suffix = count("LINE_SUFFIX_BYTES", num("IMAGE", "LINE_SUFFIX_BYTES")?, 0.0)?;
+    let record_bytes = count("RECORD_BYTES", num("", "RECORD_BYTES")?, 1.0)?;
 
     // Where the pixels are.
     let pointer = label.get("", "^IMAGE").ok_or_else(|| bad("label lacks ^IMAGE".into()))?.to_string();
-    let (file, offset) =
-        parse_pointer(&pointer, record_bytes).ok_or_else(|| bad(format!("cannot read ^IMAGE = {pointer}")))?;
+    let (file, offset) = parse_pointer(&pointer, record_bytes).ok_or_else(|| {
+        bad(format!("cannot read ^IMAGE = {pointer}: need a record or byte offset ≥ 1, within 2^40 bytes"))
+    })?;
     let owned;
     let data: &[u8] = match (file, image) {
         (Some(name), _) => {
@@ -87,23 +109,28 @@ pub fn parse(label_bytes: &[u8], image: Option<&[u8]>, path: &Path, dir: Option<
             } else {
                 dir.map_or_else(|| PathBuf::from(name.to_lowercase()), |d| d.join(name.to_lowercase()))
             };
-            owned = std::fs::read(&p).map_err(|source| Error::Io { path: p.clone(), source })?;
+            owned = std::fs::read(&p).map_err(|source| Error::Read { path: p.clone(), source })?;
             &owned
         }
         (None, Some(img)) => img,
         (None, None) => label_bytes,
     };
     let width = kind.bytes();
-    let line_bytes = prefix + cols * width + suffix;
-    let needed = offset + rows * line_bytes;
-    if data.len() < needed {
+    // At most 4e9 samples of 8 bytes and counts below 2^40: no overflow in u64.
+    let line_bytes = prefix + cols as u64 * width as u64 + suffix;
+    let needed = offset + rows as u64 * line_bytes;
+    if (data.len() as u64) < needed {
         return Err(bad(format!("image truncated: {} bytes, {needed} needed for {cols} x {rows} samples", data.len())));
     }
     let scale = num("IMAGE", "SCALING_FACTOR")?.unwrap_or(1.0);
     let add = num("IMAGE", "OFFSET")?.unwrap_or(0.0);
+    if !(scale.is_finite() && scale != 0.0 && add.is_finite()) {
+        return Err(bad(format!("SCALING_FACTOR = {scale}, OFFSET = {add}: need finite values, a non-zero factor")));
+    }
     let missing = num("IMAGE", "MISSING_CONSTANT")?;
     let mut z = Vec::with_capacity(rows * cols);
     let mut valid = Vec::with_capacity(rows * cols);
+    let (offset, line_bytes, prefix) = (offset as usize, line_bytes as usize, prefix as usize);
     for r in 0..rows {
         let start = offset + r * line_bytes + prefix;
         for c in 0..cols {
@@ -126,17 +153,36 @@ pub fn parse(label_bytes: &[u8], image: Option<&[u8]>, path: &Path, dir: Option<
     let a = km_or_m("A_AXIS_RADIUS")?;
     let b = km_or_m("B_AXIS_RADIUS")?.or(a);
     let body = match (a, b) {
-        (Some(a), Some(b)) if a > 0.0 && b > 0.0 => Body { equatorial_radius_m: a, polar_radius_m: b },
-        _ => Body::MARS_IAU2015,
+        (Some(a), Some(b)) if (1e3..=1e8).contains(&a) && (1e3..=1e8).contains(&b) => {
+            Body { equatorial_radius_m: a, polar_radius_m: b }
+        }
+        (None, None) => Body::MARS_IAU2015,
+        (a, b) => {
+            return Err(bad(format!(
+                "A_AXIS_RADIUS = {a:?} m, B_AXIS_RADIUS = {b:?} m: allowed 1 km..=100 000 km (a body's radius)"
+            )));
+        }
     };
     let center_lat = num(proj_obj, "CENTER_LATITUDE")?.unwrap_or(0.0);
     let center_lon = num(proj_obj, "CENTER_LONGITUDE")?.unwrap_or(0.0);
+    if !(center_lat.abs() <= 90.0 && center_lon.abs() <= 360.0) {
+        return Err(bad(format!(
+            "CENTER_LATITUDE = {center_lat}, CENTER_LONGITUDE = {center_lon}: allowed -90..=90 and -360..=360 degrees"
+        )));
+    }
     let map_scale_m = match km_or_m("MAP_SCALE")? {
         Some(s) => Some(s),
-        None => num(proj_obj, "MAP_RESOLUTION")?
-            .filter(|r| *r > 0.0)
-            .map(|px_per_deg| body.equatorial_radius_m * std::f64::consts::PI / 180.0 / px_per_deg),
+        None => match num(proj_obj, "MAP_RESOLUTION")? {
+            Some(r) if r > 0.0 && r.is_finite() => Some(body.equatorial_radius_m * std::f64::consts::PI / 180.0 / r),
+            Some(r) => return Err(bad(format!("MAP_RESOLUTION = {r}: allowed > 0 pixels per degree"))),
+            None => None,
+        },
     };
+    if let Some(s) = map_scale_m
+        && !(1e-3..=1e7).contains(&s)
+    {
+        return Err(bad(format!("MAP_SCALE = {s} m: allowed 0.001..=1e7 m per pixel")));
+    }
     let ptype = label.get(proj_obj, "MAP_PROJECTION_TYPE").unwrap_or("").trim_matches('"').to_ascii_uppercase();
     let projection = if ptype.contains("EQUIRECTANGULAR") || ptype.contains("SIMPLE CYLINDRICAL") {
         Projection::Equirectangular { lat_ts_deg: center_lat, lon0_deg: center_lon }
@@ -153,6 +199,9 @@ pub fn parse(label_bytes: &[u8], image: Option<&[u8]>, path: &Path, dir: Option<
         }
         _ => (1.0, 0.0, rows as f64),
     };
+    if !(x0.abs() <= 1e12 && y_top.abs() <= 1e12) {
+        return Err(bad("LINE_PROJECTION_OFFSET, SAMPLE_PROJECTION_OFFSET: the map's corner is beyond 1e12 m".into()));
+    }
     Dem::new(cols, rows, dx, dx, x0, y_top, z)
         .and_then(|d| d.with_mask(valid))
         .map(|d| d.with_georef(Georef { projection, body }))
@@ -172,7 +221,7 @@ fn parse_number(v: &str) -> Option<f64> {
 }
 
 /// `^IMAGE` forms: `12`, `12 <BYTES>`, `"F.IMG"`, `("F.IMG", 12)`, `("F.IMG", 12 <BYTES>)`.
-fn parse_pointer(v: &str, record_bytes: f64) -> Option<(Option<String>, usize)> {
+fn parse_pointer(v: &str, record_bytes: u64) -> Option<(Option<String>, u64)> {
     let v = v.trim().trim_start_matches('(').trim_end_matches(')');
     let mut parts = v.split(',').map(str::trim);
     let first = parts.next()?;
@@ -185,13 +234,14 @@ fn parse_pointer(v: &str, record_bytes: f64) -> Option<(Option<String>, usize)> 
         None => 0,
         Some(l) => {
             let n = parse_number(l)?;
-            if n < 1.0 {
+            if !((1.0..=MAX_BYTES).contains(&n) && n.fract() == 0.0) {
                 return None;
             }
+            let n = n as u64 - 1;
             if l.to_ascii_uppercase().contains("<BYTES>") {
-                n as usize - 1
+                n
             } else {
-                ((n - 1.0) * record_bytes) as usize
+                n.checked_mul(record_bytes).filter(|o| *o as f64 <= MAX_BYTES)?
             }
         }
     };
@@ -209,14 +259,21 @@ enum SampleKind {
 }
 
 impl SampleKind {
-    fn from_label(t: &str, bits: u32) -> Option<SampleKind> {
-        let big = t.starts_with("MSB")
-            || t.starts_with("IEEE")
-            || t == "INTEGER"
-            || t == "UNSIGNED_INTEGER"
-            || t == "SUN_INTEGER";
-        let real = t.contains("REAL");
-        let unsigned = t.contains("UNSIGNED");
+    fn from_label(t: &str, bits: f64) -> Option<SampleKind> {
+        // The PDS3 data types a DEM can hold (Standards Reference, appendix C); VAX
+        // reals are not IEEE and are refused with the rest.
+        let (big, real, unsigned) = match t {
+            "MSB_INTEGER" | "INTEGER" | "SUN_INTEGER" | "MAC_INTEGER" => (true, false, false),
+            "MSB_UNSIGNED_INTEGER" | "UNSIGNED_INTEGER" | "SUN_UNSIGNED_INTEGER" | "MAC_UNSIGNED_INTEGER" => {
+                (true, false, true)
+            }
+            "LSB_INTEGER" | "PC_INTEGER" | "VAX_INTEGER" => (false, false, false),
+            "LSB_UNSIGNED_INTEGER" | "PC_UNSIGNED_INTEGER" | "VAX_UNSIGNED_INTEGER" => (false, false, true),
+            "IEEE_REAL" | "SUN_REAL" | "MAC_REAL" | "FLOAT" | "REAL" => (true, true, false),
+            "PC_REAL" => (false, true, false),
+            _ => return None,
+        };
+        let bits = if [8.0, 16.0, 32.0, 64.0].contains(&bits) { bits as u32 } else { return None };
         Some(match (bits, real, unsigned) {
             (8, false, _) => SampleKind::U8,
             (16, false, false) => SampleKind::I16 { big },

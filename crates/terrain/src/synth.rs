@@ -12,6 +12,12 @@ use serde::{Deserialize, Serialize};
 use crate::dem::Dem;
 use crate::error::{Error, Result};
 
+/// The largest position or horizontal size a description may give, m (10 000 km: more
+/// than any body's circumference is nonsense, and keeps every product finite).
+const MAX_LENGTH_M: f64 = 1e7;
+/// The largest height, depth or relief, m.
+const MAX_HEIGHT_M: f64 = 1e5;
+
 /// A terrain to synthesise.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -20,9 +26,9 @@ pub struct TerrainSpec {
     pub cols: usize,
     /// Rows (north to south), 1..=20000.
     pub rows: usize,
-    /// Cell size, m (> 0).
+    /// Cell size, m (0.001..=10000).
     pub cell_m: f64,
-    /// Height everywhere before features, m.
+    /// Height everywhere before features, m (|h| ≤ 100 km).
     #[serde(default)]
     pub base_m: f64,
     /// Seed for the noise.
@@ -43,7 +49,8 @@ pub struct TerrainSpec {
 pub struct Noise {
     /// Amplitude of the first octave, m (≥ 0).
     pub amplitude_m: f64,
-    /// Wavelength of the first octave, m (> 0).
+    /// Wavelength of the first octave, m (≤ 1e7; its finest octave, wavelength /
+    /// 2^(octaves − 1), no finer than half a cell).
     pub wavelength_m: f64,
     /// Number of octaves, 1..=12.
     #[serde(default = "default_octaves")]
@@ -169,7 +176,10 @@ pub struct Pass {
 }
 
 impl TerrainSpec {
-    /// Checks every value, naming the first bad field.
+    /// Checks every value, naming the first bad field. Beyond finiteness, the ranges are
+    /// physical: cells from 1 mm to 10 km, positions and sizes within 10 000 km,
+    /// heights within 100 km, and noise no finer than half a cell (finer adds only
+    /// aliasing, and its lattice would outgrow the map).
     pub fn validate(&self) -> Result<()> {
         let bad = |field: String, value: f64, allowed: &'static str| Err(Error::BadSynth { field, value, allowed });
         if !(1..=20_000).contains(&self.cols) {
@@ -178,18 +188,26 @@ impl TerrainSpec {
         if !(1..=20_000).contains(&self.rows) {
             return bad("rows".into(), self.rows as f64, "1..=20000");
         }
-        if !(self.cell_m > 0.0 && self.cell_m.is_finite()) {
-            return bad("cell_m".into(), self.cell_m, "> 0");
+        if !(self.cell_m >= 1e-3 && self.cell_m <= 1e4) {
+            return bad("cell_m".into(), self.cell_m, "0.001..=10000 m");
+        }
+        if !(self.base_m.abs() <= MAX_HEIGHT_M) {
+            return bad("base_m".into(), self.base_m, "-100000..=100000 m");
         }
         if let Some(n) = &self.noise {
-            if !(n.amplitude_m >= 0.0 && n.amplitude_m.is_finite()) {
-                return bad("noise.amplitude_m".into(), n.amplitude_m, ">= 0");
-            }
-            if !(n.wavelength_m > 0.0 && n.wavelength_m.is_finite()) {
-                return bad("noise.wavelength_m".into(), n.wavelength_m, "> 0");
+            if !(n.amplitude_m >= 0.0 && n.amplitude_m <= MAX_HEIGHT_M) {
+                return bad("noise.amplitude_m".into(), n.amplitude_m, "0..=100000 m");
             }
             if !(1..=12).contains(&n.octaves) {
                 return bad("noise.octaves".into(), f64::from(n.octaves), "1..=12");
+            }
+            let finest = n.wavelength_m / f64::from(1u32 << (n.octaves - 1));
+            if !(finest >= 0.5 * self.cell_m && n.wavelength_m <= MAX_LENGTH_M) {
+                return bad(
+                    "noise.wavelength_m".into(),
+                    n.wavelength_m,
+                    "at most 1e7 m, and at least cell_m × 2^(octaves − 2), so that the finest octave is no finer than half a cell",
+                );
             }
             if !(0.0..=1.0).contains(&n.persistence) {
                 return bad("noise.persistence".into(), n.persistence, "0..=1");
@@ -197,31 +215,70 @@ impl TerrainSpec {
         }
         for (i, f) in self.features.iter().enumerate() {
             let p = |name: &str| format!("features[{i}].{name}");
-            let positive = |name: &str, v: f64| if v > 0.0 && v.is_finite() { Ok(()) } else { bad(p(name), v, "> 0") };
+            let at = |name: &str, v: f64| {
+                if v.abs() <= MAX_LENGTH_M { Ok(()) } else { bad(p(name), v, "-1e7..=1e7 m") }
+            };
+            let positive = |name: &str, v: f64| {
+                if v > 0.0 && v <= MAX_LENGTH_M { Ok(()) } else { bad(p(name), v, "0 (exclusive)..=1e7 m") }
+            };
+            let height = |name: &str, v: f64| {
+                if v.abs() <= MAX_HEIGHT_M { Ok(()) } else { bad(p(name), v, "-100000..=100000 m") }
+            };
+            let depth = |name: &str, v: f64| {
+                if (0.0..=MAX_HEIGHT_M).contains(&v) { Ok(()) } else { bad(p(name), v, "0..=100000 m") }
+            };
             let slope = |name: &str, v: f64| if (0.0..90.0).contains(&v) { Ok(()) } else { bad(p(name), v, "0..90") };
             match *f {
-                Feature::Crater { radius_m, depth_m, rim_height_m, ejecta_radii, .. } => {
+                Feature::Crater { x_m, y_m, radius_m, depth_m, rim_height_m, ejecta_radii } => {
+                    at("x_m", x_m)?;
+                    at("y_m", y_m)?;
                     positive("radius_m", radius_m)?;
-                    if !(depth_m >= 0.0) {
-                        return bad(p("depth_m"), depth_m, ">= 0");
-                    }
-                    if !(rim_height_m >= 0.0) {
-                        return bad(p("rim_height_m"), rim_height_m, ">= 0");
-                    }
-                    if !(ejecta_radii >= 1.0) {
-                        return bad(p("ejecta_radii"), ejecta_radii, ">= 1");
+                    depth("depth_m", depth_m)?;
+                    depth("rim_height_m", rim_height_m)?;
+                    if !(1.0..=100.0).contains(&ejecta_radii) {
+                        return bad(p("ejecta_radii"), ejecta_radii, "1..=100");
                     }
                 }
-                Feature::Hill { radius_m, slope_deg, .. } => {
+                Feature::Hill { x_m, y_m, radius_m, slope_deg } => {
+                    at("x_m", x_m)?;
+                    at("y_m", y_m)?;
                     positive("radius_m", radius_m)?;
                     slope("slope_deg", slope_deg)?;
                 }
-                Feature::Ridge { width_m, .. } | Feature::MountainChain { width_m, .. } => {
-                    positive("width_m", width_m)?
-                }
-                Feature::Ditch { width_m, depth_m, wall_deg, .. } => {
+                Feature::Ridge { from_m, to_m, height_m, width_m } => {
+                    for (name, v) in [("from_m", from_m.0), ("from_m", from_m.1), ("to_m", to_m.0), ("to_m", to_m.1)] {
+                        at(name, v)?;
+                    }
+                    height("height_m", height_m)?;
                     positive("width_m", width_m)?;
-                    positive("depth_m", depth_m)?;
+                }
+                Feature::MountainChain { x_m, y_from_m, y_to_m, height_m, width_m, ref passes } => {
+                    at("x_m", x_m)?;
+                    at("y_from_m", y_from_m)?;
+                    at("y_to_m", y_to_m)?;
+                    height("height_m", height_m)?;
+                    positive("width_m", width_m)?;
+                    for (k, pass) in passes.iter().enumerate() {
+                        let q = |name: &str| format!("features[{i}].passes[{k}].{name}");
+                        if !(pass.y_m.abs() <= MAX_LENGTH_M) {
+                            return bad(q("y_m"), pass.y_m, "-1e7..=1e7 m");
+                        }
+                        if !(pass.height_m.abs() <= MAX_HEIGHT_M) {
+                            return bad(q("height_m"), pass.height_m, "-100000..=100000 m");
+                        }
+                        if !(pass.width_m > 0.0 && pass.width_m <= MAX_LENGTH_M) {
+                            return bad(q("width_m"), pass.width_m, "0 (exclusive)..=1e7 m");
+                        }
+                    }
+                }
+                Feature::Ditch { from_m, to_m, width_m, depth_m, wall_deg } => {
+                    for (name, v) in [("from_m", from_m.0), ("from_m", from_m.1), ("to_m", to_m.0), ("to_m", to_m.1)] {
+                        at(name, v)?;
+                    }
+                    positive("width_m", width_m)?;
+                    if !(depth_m > 0.0 && depth_m <= MAX_HEIGHT_M) {
+                        return bad(p("depth_m"), depth_m, "0 (exclusive)..=100000 m");
+                    }
                     if !(wall_deg > 0.0 && wall_deg <= 90.0) {
                         return bad(p("wall_deg"), wall_deg, "0 (exclusive)..=90");
                     }
@@ -230,16 +287,18 @@ impl TerrainSpec {
                         return bad(p("wall_deg"), wall_deg, "steep enough that both walls fit in width_m");
                     }
                 }
-                Feature::Rock { height_m, width_m, .. } => {
-                    positive("height_m", height_m)?;
+                Feature::Rock { x_m, y_m, height_m, width_m } => {
+                    at("x_m", x_m)?;
+                    at("y_m", y_m)?;
+                    if !(height_m > 0.0 && height_m <= MAX_HEIGHT_M) {
+                        return bad(p("height_m"), height_m, "0 (exclusive)..=100000 m");
+                    }
                     positive("width_m", width_m)?;
                 }
-                Feature::Tilt { slope_deg, .. } => slope("slope_deg", slope_deg)?,
-            }
-            if let Feature::MountainChain { passes, .. } = f {
-                for (k, pass) in passes.iter().enumerate() {
-                    if !(pass.width_m > 0.0) {
-                        return bad(format!("features[{i}].passes[{k}].width_m"), pass.width_m, "> 0");
+                Feature::Tilt { slope_deg, aspect_deg } => {
+                    slope("slope_deg", slope_deg)?;
+                    if !(aspect_deg.abs() <= 360.0) {
+                        return bad(p("aspect_deg"), aspect_deg, "-360..=360 degrees");
                     }
                 }
             }

@@ -45,10 +45,15 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
                 .collect();
             (spec.build()?, rocks)
         }
-        TerrainSource::File(rel) => (crate::terrain::read_dem(&base.join(rel))?, Vec::new()),
+        TerrainSource::File(rel) => (
+            crate::terrain::read_dem(&base.join(rel)).map_err(|e| e.referenced_by(&file.path, "job.terrain"))?,
+            Vec::new(),
+        ),
     };
+    opts.budget.check(&crate::budget::actions(job, (dem.cols() * dem.rows()) as u64))?;
     let params = match &job.rover {
-        Some(rel) => RoverParams::load(&base.join(rel))?,
+        Some(rel) => crate::format::rover_files::load_params(&base.join(rel))
+            .map_err(|e| e.referenced_by(&file.path, "job.rover"))?,
         None => RoverParams::lsr1(),
     };
     let evaluator = Evaluator::new(&params);

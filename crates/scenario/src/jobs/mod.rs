@@ -9,6 +9,7 @@ pub mod terrain_shadow;
 
 use std::path::Path;
 
+use crate::budget::Budget;
 use crate::error::{Error, Result};
 use crate::format::{Job, ScenarioFile};
 use crate::outcome::Outcome;
@@ -22,16 +23,24 @@ pub struct RunOptions<'a> {
     pub out_dir: Option<&'a Path>,
     /// Where to report progress.
     pub progress: &'a dyn Progress,
+    /// The memory and work the job may take; checked before it starts.
+    pub budget: Budget,
 }
 
 impl std::fmt::Debug for RunOptions<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("RunOptions").field("out_dir", &self.out_dir).finish_non_exhaustive()
+        f.debug_struct("RunOptions")
+            .field("out_dir", &self.out_dir)
+            .field("budget", &self.budget)
+            .finish_non_exhaustive()
     }
 }
 
 /// Runs the scenario's job; writes its files into `opts.out_dir` if given.
 pub fn run(file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
+    if let Some(estimate) = crate::budget::estimate(&file.scenario) {
+        opts.budget.check(&estimate)?;
+    }
     if let Some(dir) = opts.out_dir {
         std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.to_path_buf(), source })?;
     }
@@ -46,6 +55,65 @@ pub fn run(file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
         let json = json_for(&path, &outcome.facts, true)?;
         write_file(&path, json.as_bytes())?;
         outcome.files.push(path);
+    }
+    Ok(outcome)
+}
+
+/// Runs the scenario into `out_root/NAME/` (NAME the scenario's file stem), replacing
+/// that directory's previous contents as a set: the job writes into a staging directory
+/// beside it, renamed into place only when the job has finished (an unreachable goal
+/// included), so no stale file of an earlier run survives beside the new ones and a
+/// failed run leaves the previous outputs as they were. Refuses an output directory
+/// that holds the scenario file itself.
+pub fn run_into(file: &ScenarioFile, out_root: &Path, progress: &dyn Progress, budget: Budget) -> Result<Outcome> {
+    let name = &file.name;
+    if name.is_empty() || name.starts_with('.') || name.contains(['/', '\\']) {
+        return Err(Error::Usage(format!(
+            "{}: the scenario's file name gives the output directory; {name:?} cannot be one",
+            file.path.display()
+        )));
+    }
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| Error::Io { path, source }
+    };
+    std::fs::create_dir_all(out_root).map_err(io(out_root))?;
+    let dir = out_root.join(name);
+    if let (Ok(scenario), Ok(target)) = (file.path.canonicalize(), dir.canonicalize())
+        && scenario.starts_with(&target)
+    {
+        return Err(Error::Usage(format!(
+            "--out {}: the outputs go to {}, which holds the scenario {} itself",
+            out_root.display(),
+            dir.display(),
+            file.path.display()
+        )));
+    }
+    let staging = out_root.join(format!(".{name}.partial-{}", std::process::id()));
+    if staging.exists() {
+        std::fs::remove_dir_all(&staging).map_err(io(&staging))?;
+    }
+    let outcome = run(file, RunOptions { out_dir: Some(&staging), progress, budget });
+    let mut outcome = match outcome {
+        Ok(o) => o,
+        Err(e) => {
+            // Best effort: a half-written staging directory is of no use.
+            let _ = std::fs::remove_dir_all(&staging);
+            return Err(e);
+        }
+    };
+    let old = out_root.join(format!(".{name}.old-{}", std::process::id()));
+    if dir.exists() {
+        std::fs::rename(&dir, &old).map_err(io(&dir))?;
+    }
+    std::fs::rename(&staging, &dir).map_err(io(&dir))?;
+    if old.exists() {
+        std::fs::remove_dir_all(&old).map_err(io(&old))?;
+    }
+    for f in &mut outcome.files {
+        if let Ok(rest) = f.strip_prefix(&staging) {
+            *f = dir.join(rest);
+        }
     }
     Ok(outcome)
 }

@@ -51,12 +51,12 @@ fn scenario_error(file: &ScenarioFile, field: impl Into<String>, message: impl I
     Error::Scenario { path: file.path.clone(), field: field.into(), message: message.into() }
 }
 
-fn load_terrain(source: &TerrainSource, file: &ScenarioFile) -> Result<Dem> {
+fn load_terrain(source: &TerrainSource, file: &ScenarioFile, field: &str) -> Result<Dem> {
     Ok(match source {
         TerrainSource::Synth(spec) => spec.build()?,
         TerrainSource::File(rel) => {
             let base = file.path.parent().unwrap_or(Path::new("."));
-            areo_terrain::read(&base.join(rel))?
+            areo_terrain::read(&base.join(rel)).map_err(|e| Error::from(e).referenced_by(&file.path, field))?
         }
     })
 }
@@ -85,15 +85,22 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let epoch = parse_utc(&job.start_utc)?;
     let clock = Instant::now();
     opts.progress.start(3, "terrain");
-    let map_dem =
-        load_terrain(&job.terrain, file)?.placed_at(Body::MARS_MOLA_SPHERE, site.lat_deg(), site.lon_east_deg())?;
+    let map_dem = load_terrain(&job.terrain, file, "job.terrain")?.placed_at(
+        Body::MARS_MOLA_SPHERE,
+        site.lat_deg(),
+        site.lon_east_deg(),
+    )?;
+    opts.budget.check(&crate::budget::tempest(job, (map_dem.cols() * map_dem.rows()) as u64))?;
     let frame = Frame::of(&map_dem);
     let truth_dem = match &job.truth {
         Truth::Map => None,
         Truth::AddFeatures(features) => Some(areo_terrain::synth::add_features(&map_dem, features)?),
         Truth::Terrain(source) => {
-            let t =
-                load_terrain(source, file)?.placed_at(Body::MARS_MOLA_SPHERE, site.lat_deg(), site.lon_east_deg())?;
+            let t = load_terrain(source, file, "job.truth")?.placed_at(
+                Body::MARS_MOLA_SPHERE,
+                site.lat_deg(),
+                site.lon_east_deg(),
+            )?;
             if (t.cols(), t.rows()) != (map_dem.cols(), map_dem.rows()) {
                 return Err(scenario_error(
                     file,
@@ -130,7 +137,10 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
 
     let mut rover = match &job.rover {
         None => ResourceModel::hyperion(),
-        Some(rel) => ResourceModel::load(&file.path.parent().unwrap_or(Path::new(".")).join(rel))?,
+        Some(rel) => {
+            crate::format::rover_files::load_resources(&file.path.parent().unwrap_or(Path::new(".")).join(rel))
+                .map_err(|e| e.referenced_by(&file.path, "job.rover"))?
+        }
     };
     if let Some(c) = job.battery_capacity_wh {
         rover.battery.capacity_wh = c;

@@ -19,9 +19,10 @@ pub(crate) fn run(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<
         TerrainSource::Synth(spec) => spec.build()?,
         TerrainSource::File(rel) => {
             let base = file.path.parent().unwrap_or(Path::new("."));
-            crate::terrain::read_dem(&base.join(rel))?
+            crate::terrain::read_dem(&base.join(rel)).map_err(|e| e.referenced_by(&file.path, "job.terrain"))?
         }
     };
+    opts.budget.check(&crate::budget::terrain_command("shadow", (dem.cols() * dem.rows()) as u64, 0))?;
     opts.progress.advance(1);
     let site = Site::new(job.site.lat_deg, job.site.lon_east_deg)?;
     let t = parse_utc(&job.utc)?;

@@ -1,0 +1,177 @@
+//! What a job will cost, estimated before it starts: peak memory in bytes and work in
+//! elementary steps (cell-sector sweeps, module executions, table rows). A job whose
+//! estimate exceeds its [`Budget`] is refused ([`Error::Budget`], exit 2) with the
+//! estimate, so a legal-looking but enormous input fails in a millisecond instead of
+//! aborting on allocation or running for days.
+//!
+//! The per-cell figures are upper bounds read off the data structures (f32 heights,
+//! a validity byte, slope and normals, 2 bytes per horizon sector, a share of search
+//! graph per cell measured on the shipped scenarios); they are meant to be within a
+//! factor of two of the measured peaks (`docs/benchmarks.md`), and on the safe side.
+
+use crate::error::{Error, Result};
+use crate::format::{ActionsJob, Job, Scenario, TempestJob, TerrainSource, Truth};
+
+/// The limits a job must fit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Budget {
+    /// Peak memory allowed, bytes.
+    pub memory_bytes: u64,
+    /// Elementary steps allowed.
+    pub work_steps: u64,
+}
+
+impl Budget {
+    /// Three quarters of this machine's memory (`/proc/meminfo`; 8 GiB where it cannot
+    /// be read) and 10¹¹ steps (hours of work, not years).
+    pub fn for_this_machine() -> Budget {
+        let total = std::fs::read_to_string("/proc/meminfo")
+            .ok()
+            .and_then(|t| {
+                let line = t.lines().find(|l| l.starts_with("MemTotal:"))?.to_string();
+                line.split_whitespace().nth(1)?.parse::<u64>().ok()
+            })
+            .map_or(8 << 30, |kb| kb * 1024);
+        Budget { memory_bytes: total / 4 * 3, work_steps: 100_000_000_000 }
+    }
+
+    /// Refuses `estimate` if it does not fit, naming what it is for.
+    pub fn check(&self, estimate: &Estimate) -> Result<()> {
+        if estimate.memory_bytes > self.memory_bytes {
+            return Err(Error::Budget(format!(
+                "{} needs about {} of memory, more than the {} allowed (raise it with --max-memory-gb)",
+                estimate.what,
+                gib(estimate.memory_bytes),
+                gib(self.memory_bytes)
+            )));
+        }
+        if estimate.work_steps > self.work_steps {
+            return Err(Error::Budget(format!(
+                "{} needs about {:.2e} steps of work ({}), more than the {:.2e} allowed (raise it with --max-work)",
+                estimate.what, estimate.work_steps as f64, estimate.work_unit, self.work_steps as f64
+            )));
+        }
+        Ok(())
+    }
+}
+
+fn gib(bytes: u64) -> String {
+    format!("{:.2} GiB", bytes as f64 / f64::from(1u32 << 30))
+}
+
+/// A job's estimated cost.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Estimate {
+    /// What is being estimated, e.g. "the TEMPEST job on 2527 × 2356 cells".
+    pub what: String,
+    /// Peak memory, bytes.
+    pub memory_bytes: u64,
+    /// Elementary steps.
+    pub work_steps: u64,
+    /// What one step is.
+    pub work_unit: &'static str,
+}
+
+/// Bytes per DEM cell held by a read or synthesised map: f32 height and a validity byte.
+const DEM_BYTES: u64 = 5;
+/// Bytes per cell of a planning world beyond its DEM and horizon map: slope, normals,
+/// sensed-change flags, and the share of search graph (nodes, state table, open list)
+/// measured on valley-detour and lita-scale.
+const WORLD_BYTES: u64 = 150;
+
+/// The cost of a DEM command on `cells` cells (`sectors` horizon sectors for `horizon`,
+/// 0 otherwise).
+pub fn terrain_command(what: &str, cells: u64, sectors: u64) -> Estimate {
+    // Shadow, slope and viewshed keep a few rasters (slope, aspect, map, preview RGB).
+    let per_cell = DEM_BYTES + 20 + 2 * sectors + if sectors > 0 { 4 } else { 0 };
+    Estimate {
+        what: format!("`areo terrain {what}` on {cells} cells"),
+        memory_bytes: cells.saturating_mul(per_cell),
+        work_steps: cells.saturating_mul(sectors.max(1)),
+        work_unit: "cell-sector sweeps",
+    }
+}
+
+/// The cost of a TEMPEST job on a map of `cells` cells.
+pub fn tempest(job: &TempestJob, cells: u64) -> Estimate {
+    let sectors = job.horizon_sectors as u64;
+    let truth = !matches!(job.truth, Truth::Map);
+    // The true world shares the map's horizon map and keeps its own DEM and world.
+    let per_cell = DEM_BYTES + 2 * sectors + WORLD_BYTES + if truth { DEM_BYTES + WORLD_BYTES } else { 0 };
+    let steps = job.simulate.as_ref().map_or(1, |s| s.max_steps as u64 + 1);
+    Estimate {
+        what: format!("the TEMPEST job on {cells} cells with {sectors} horizon sectors"),
+        memory_bytes: cells.saturating_mul(per_cell),
+        work_steps: cells.saturating_mul(sectors.max(1)).saturating_add(cells.saturating_mul(steps)),
+        work_unit: "cell-sector sweeps and cell expansions",
+    }
+}
+
+/// The cost of an actions job on a map of `cells` cells.
+pub fn actions(job: &ActionsJob, cells: u64) -> Estimate {
+    let runs = job.runs.len().max(1) as u64
+        + job.mu_sweep.map_or(0, |(a, b, step)| ((b - a) / step).floor().max(0.0) as u64 + 1);
+    let ga = &job.ga;
+    let evaluations = (ga.population as u64).saturating_mul(ga.generations as u64 + 1);
+    let modules = evaluations.saturating_mul(ga.max_length as u64).saturating_mul(runs);
+    // Every plan of a generation is kept with its execution (a few hundred bytes a
+    // module), on top of the map.
+    let plans = (ga.population as u64).saturating_mul(ga.max_length as u64).saturating_mul(400);
+    Estimate {
+        what: format!(
+            "the actions job ({runs} GA runs of {} plans × {} generations, up to {} modules each)",
+            ga.population, ga.generations, ga.max_length
+        ),
+        memory_bytes: cells.saturating_mul(DEM_BYTES + 20).saturating_add(plans),
+        work_steps: modules,
+        work_unit: "module executions",
+    }
+}
+
+/// Cells of a terrain source known before reading it (a synthesised one), else `None`.
+pub fn synth_cells(source: &TerrainSource) -> Option<u64> {
+    match source {
+        TerrainSource::Synth(spec) => Some(spec.cols as u64 * spec.rows as u64),
+        TerrainSource::File(_) => None,
+    }
+}
+
+/// What can be estimated from the scenario alone (before any file is read): the whole
+/// job when its terrain is synthesised, `None` when the map's size comes from a file
+/// (the job checks again once it has read it).
+pub fn estimate(scenario: &Scenario) -> Option<Estimate> {
+    match &scenario.job {
+        Job::SunTable(job) => {
+            let rows = (job.duration_h * 60.0 / job.step_min).ceil().max(1.0) as u64;
+            Some(Estimate {
+                what: format!("the Sun table of {rows} rows"),
+                memory_bytes: rows * 200,
+                work_steps: rows,
+                work_unit: "table rows",
+            })
+        }
+        Job::TerrainShadow(job) => synth_cells(&job.terrain).map(|c| terrain_command("shadow", c, 0)),
+        Job::Tempest(job) => synth_cells(&job.terrain).map(|c| tempest(job, c)),
+        Job::Actions(job) => synth_cells(&job.terrain).map(|c| actions(job, c)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_map_too_big_for_the_machine_is_refused_with_its_estimate() {
+        // 20 000 × 20 000 cells with 360 sectors: 288 GB of horizon map alone, plus the
+        // DEM and the rasters: 4e8 × (5 + 20 + 720 + 4) bytes = 279.02 GiB.
+        let e = terrain_command("horizon", 20_000 * 20_000, 360);
+        assert!(e.memory_bytes > 288_000_000_000, "{}", e.memory_bytes);
+        let small = Budget { memory_bytes: 24 << 30, work_steps: 100_000_000_000 };
+        let err = small.check(&e).unwrap_err().to_string();
+        assert!(err.contains("GiB") && err.contains("--max-memory-gb") && err.contains("horizon"), "{err}");
+        assert_eq!(err.split("needs about ").nth(1).map(|s| s.starts_with("279.02 GiB")), Some(true), "{err}");
+        // The LITA-size map with 64 sectors fits in 24 GiB.
+        assert!(small.check(&terrain_command("horizon", 2527 * 2356, 64)).is_ok());
+        assert!(Budget::for_this_machine().memory_bytes > 0);
+    }
+}

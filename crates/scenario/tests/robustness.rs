@@ -1,0 +1,117 @@
+//! Hostile input, the fast part (the long seeded run is `cargo xtask fuzz`): every
+//! number of every shipped scenario replaced by NaN, ±inf, 0, −1, ±1e308, a subnormal
+//! and a huge integer; every shipped scenario cut short at many offsets. Each case must
+//! give a located error or a scenario whose numbers are all finite — never a panic.
+
+use std::path::{Path, PathBuf};
+
+use areo_scenario::Error;
+use areo_scenario::format::{locate, parse};
+
+/// What replaces a number.
+const HOSTILE: &[&str] =
+    &["NaN", "inf", "-inf", "0", "-1", "1e308", "-1e308", "5e-324", "18446744073709551615", "1e400"];
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn shipped() -> Vec<(PathBuf, String)> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("scenarios"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 8, "the shipped scenarios are there");
+    files.into_iter().map(|p| (p.clone(), std::fs::read_to_string(&p).unwrap())).collect()
+}
+
+/// Parses `text` and checks the contract: no panic; an error is located; what is
+/// accepted has only finite numbers.
+fn check(path: &Path, text: &str, what: &str) -> Result<(), String> {
+    let parsed = std::panic::catch_unwind(|| parse(path, text)).map_err(|_| format!("{what}: panicked"))?;
+    match parsed {
+        Ok(_) => {
+            if let Some(s) = locate::scalars(text).iter().find(|s| s.value().is_some_and(|v| !v.is_finite())) {
+                return Err(format!("{what}: accepted the non-finite `{}` at {}:{}", s.text, s.line, s.col));
+            }
+        }
+        Err(Error::Invalid { line, col, field, message, .. }) => {
+            if line == 0 || col == 0 || field.is_empty() || message.is_empty() {
+                return Err(format!("{what}: error without its place: {line}:{col} `{field}` {message}"));
+            }
+        }
+        Err(Error::Syntax { line, col, .. }) => {
+            if line == 0 || col == 0 {
+                return Err(format!("{what}: syntax error without its place"));
+            }
+        }
+        Err(e) => return Err(format!("{what}: unexpected kind of error: {e}")),
+    }
+    Ok(())
+}
+
+#[test]
+fn every_number_of_every_scenario_survives_hostile_values() {
+    let mut failures = Vec::new();
+    let (mut cases, mut accepted, mut refused) = (0, 0, 0);
+    for (path, text) in shipped() {
+        let numbers = locate::scalars(&text);
+        assert!(numbers.len() >= 10, "{}: numbers found", path.display());
+        for s in &numbers {
+            for v in HOSTILE {
+                let mutated = format!("{}{}{}", &text[..s.span.start], v, &text[s.span.end..]);
+                let what = format!("{}:{}:{} `{}` → {v}", path.display(), s.line, s.col, s.path.join("."));
+                cases += 1;
+                match check(&path, &mutated, &what) {
+                    Ok(()) => {
+                        if parse(&path, &mutated).is_ok() {
+                            accepted += 1;
+                        } else {
+                            refused += 1;
+                        }
+                    }
+                    Err(e) => failures.push(e),
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{} of {cases} cases broke the contract:\n{}", failures.len(), failures.join("\n"));
+    // Non-finite values are refused everywhere; most hostile values are out of range.
+    assert!(cases > 4000, "{cases} cases");
+    assert!(refused > accepted, "{refused} refused, {accepted} accepted");
+}
+
+#[test]
+fn non_finite_numbers_are_refused_with_their_field_and_place() {
+    let text = std::fs::read_to_string(root().join("scenarios/gale-sol-sun.ron")).unwrap();
+    let s = locate::scalars(&text).into_iter().find(|s| s.path.last().is_some_and(|k| k == "tau")).unwrap();
+    for v in ["NaN", "inf", "-inf", "1e999"] {
+        let mutated = format!("{}{}{}", &text[..s.span.start], v, &text[s.span.end..]);
+        let err = parse(Path::new("gale.ron"), &mutated).unwrap_err();
+        let Error::Invalid { line, col, field, message, .. } = &err else { panic!("{err}") };
+        assert_eq!((*line, *col), (s.line, s.col), "{err}");
+        assert_eq!(field, "job.tau");
+        assert!(message.contains(v) && message.contains("finite"), "{message}");
+    }
+}
+
+#[test]
+fn every_truncation_of_every_scenario_is_a_located_error() {
+    let mut failures = Vec::new();
+    for (path, text) in shipped() {
+        // Every character boundary for the first 200 bytes, then every 7th.
+        let cuts = (0..text.len()).filter(|&i| text.is_char_boundary(i) && (i < 200 || i % 7 == 0));
+        for cut in cuts {
+            let what = format!("{} cut at {cut}", path.display());
+            match std::panic::catch_unwind(|| parse(&path, &text[..cut])) {
+                Err(_) => failures.push(format!("{what}: panicked")),
+                Ok(Ok(_)) => failures.push(format!("{what}: accepted")),
+                Ok(Err(Error::Syntax { line, col, .. } | Error::Invalid { line, col, .. })) if line > 0 && col > 0 => {}
+                Ok(Err(e)) => failures.push(format!("{what}: {e}")),
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
