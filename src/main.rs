@@ -31,7 +31,7 @@ struct Cli {
     #[arg(long, global = true, value_name = "GIB")]
     max_memory_gb: Option<f64>,
     /// Refuse a job whose estimated work exceeds this many elementary steps (module
-    /// executions, cell-sector sweeps; default 1e11).
+    /// executions, cell-sector sweeps, search label classes; default 2e10).
     #[arg(long, global = true, value_name = "STEPS")]
     max_work: Option<f64>,
     #[command(subcommand)]

@@ -217,3 +217,15 @@ fn a_sol_outside_the_ephemeris_is_refused_at_once() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("-97000..=258000"), "{}", stderr(&o));
 }
+
+#[test]
+fn a_goal_off_the_map_is_placed_at_its_line_and_indexed() {
+    let dir = tmp("goal-off-map");
+    let out = run_variant(&dir, "valley-detour.ron", "(name: \"goal2\", x_m: 250,", "(name: \"goal2\", x_m: 99999,");
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let err = stderr(&out);
+    let text = std::fs::read_to_string(dir.join("valley-detour.ron")).unwrap();
+    let line = text.lines().position(|l| l.contains("x_m: 99999")).unwrap() + 1;
+    assert!(err.contains(&format!("valley-detour.ron:{line}:")), "line {line}: {err}");
+    assert!(err.contains("field `job.goals[1]`") && err.contains("off the map"), "{err}");
+}

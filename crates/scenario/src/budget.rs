@@ -12,6 +12,9 @@
 use crate::error::{Error, Result};
 use crate::format::{ActionsJob, Job, Scenario, TempestJob, TerrainSource, Truth};
 
+/// The default work limit, steps.
+pub const DEFAULT_WORK_STEPS: u64 = 20_000_000_000;
+
 /// The limits a job must fit.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Budget {
@@ -23,7 +26,8 @@ pub struct Budget {
 
 impl Budget {
     /// Three quarters of this machine's memory (`/proc/meminfo`; 8 GiB where it cannot
-    /// be read) and 10¹¹ steps (hours of work, not years).
+    /// be read) and 2·10¹⁰ steps (the largest shipped scenario, lita-scale, is 5·10⁹;
+    /// minutes to an hour of work, not days).
     pub fn for_this_machine() -> Budget {
         let total = std::fs::read_to_string("/proc/meminfo")
             .ok()
@@ -32,7 +36,7 @@ impl Budget {
                 line.split_whitespace().nth(1)?.parse::<u64>().ok()
             })
             .map_or(8 << 30, |kb| kb * 1024);
-        Budget { memory_bytes: total / 4 * 3, work_steps: 100_000_000_000 }
+        Budget { memory_bytes: total / 4 * 3, work_steps: DEFAULT_WORK_STEPS }
     }
 
     /// Refuses `estimate` if it does not fit, naming what it is for.
@@ -92,18 +96,32 @@ pub fn terrain_command(what: &str, cells: u64, sectors: u64) -> Estimate {
     }
 }
 
-/// The cost of a TEMPEST job on a map of `cells` cells.
-pub fn tempest(job: &TempestJob, cells: u64) -> Estimate {
+/// The cost of a TEMPEST job on a map of `cells` cells, with a battery of `battery_wh`
+/// (`None`: not known yet, one energy class assumed).
+///
+/// Work is the horizon map's cell-sector sweeps plus the label space the searches may
+/// fill: cells × time classes (horizon / `resolution.time_s`) × energy classes (battery
+/// / `resolution.energy_wh`) × goals — an upper bound that the shipped scenarios fill to
+/// a few per cent, and the figure that grows without limit when classes are made fine.
+pub fn tempest(job: &TempestJob, cells: u64, battery_wh: Option<f64>) -> Estimate {
     let sectors = job.horizon_sectors as u64;
     let truth = !matches!(job.truth, Truth::Map);
     // The true world shares the map's horizon map and keeps its own DEM and world.
     let per_cell = DEM_BYTES + 2 * sectors + WORLD_BYTES + if truth { DEM_BYTES + WORLD_BYTES } else { 0 };
-    let steps = job.simulate.as_ref().map_or(1, |s| s.max_steps as u64 + 1);
+    let r = &job.planner.resolution;
+    let time_classes = (job.horizon_h * 3600.0 / r.time_s).ceil().max(1.0);
+    let battery_wh = job.battery_capacity_wh.or(battery_wh);
+    let energy_classes = battery_wh.map_or(1.0, |b| (b / r.energy_wh).ceil().clamp(1.0, f64::from(1u32 << 24)));
+    let labels = cells as f64 * time_classes * energy_classes * job.goals.len().max(1) as f64;
     Estimate {
-        what: format!("the TEMPEST job on {cells} cells with {sectors} horizon sectors"),
+        what: format!(
+            "the TEMPEST job on {cells} cells ({sectors} horizon sectors, {time_classes} time × {energy_classes} \
+             energy classes, {} goals)",
+            job.goals.len()
+        ),
         memory_bytes: cells.saturating_mul(per_cell),
-        work_steps: cells.saturating_mul(sectors.max(1)).saturating_add(cells.saturating_mul(steps)),
-        work_unit: "cell-sector sweeps and cell expansions",
+        work_steps: (cells.saturating_mul(sectors.max(1)) as f64 + labels).min(u64::MAX as f64) as u64,
+        work_unit: "cell-sector sweeps and label classes",
     }
 }
 
@@ -151,7 +169,7 @@ pub fn estimate(scenario: &Scenario) -> Option<Estimate> {
             })
         }
         Job::TerrainShadow(job) => synth_cells(&job.terrain).map(|c| terrain_command("shadow", c, 0)),
-        Job::Tempest(job) => synth_cells(&job.terrain).map(|c| tempest(job, c)),
+        Job::Tempest(job) => synth_cells(&job.terrain).map(|c| tempest(job, c, None)),
         Job::Actions(job) => synth_cells(&job.terrain).map(|c| actions(job, c)),
     }
 }

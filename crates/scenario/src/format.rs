@@ -385,6 +385,10 @@ impl Validate for ActionsJob {
             c.range("mu", self.execution.mu, 0.01, 2.0, "friction coefficient");
             c.range("stability_floor", self.execution.stability_floor, 0.0, 0.99, "fraction of the flat-ground margin");
             c.range("grasp_radius_m", self.execution.grasp_radius_m, 0.0, 1.0, "m");
+            let (a, b, h) = self.execution.body_half_m;
+            if !([a, b, h].iter().all(|v| *v > 0.0 && *v <= 10.0)) {
+                c.fail("body_half_m", format!("({a}, {b}, {h}): each half extent 0 (exclusive)..=10 m"));
+            }
         });
         c.list("runs", &self.runs, |c, r| {
             check_identifier(c, &r.name);
@@ -544,6 +548,22 @@ pub struct ScenarioFile {
     pub name: String,
     /// The parsed, validated scenario.
     pub scenario: Scenario,
+    /// The text it was parsed from (to place errors found later, while running).
+    pub text: String,
+}
+
+impl ScenarioFile {
+    /// An error about the value of `field` (dotted, e.g. `job.goals[1]`) found while
+    /// running: placed at its line:column when the field is written in the file.
+    pub fn error_at(&self, field: &str, message: impl Into<String>) -> Error {
+        let segments = field_segments(field);
+        match locate::field_position(&self.text, &segments) {
+            Some((line, col)) => {
+                Error::Invalid { path: self.path.clone(), line, col, field: field.to_string(), message: message.into() }
+            }
+            None => Error::Scenario { path: self.path.clone(), field: field.to_string(), message: message.into() },
+        }
+    }
 }
 
 /// Reads, parses and validates a scenario file.
@@ -551,7 +571,7 @@ pub fn load(path: &Path) -> Result<ScenarioFile, Error> {
     let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
     let scenario = parse(path, &text)?;
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scenario".into());
-    Ok(ScenarioFile { path: path.to_path_buf(), name, scenario })
+    Ok(ScenarioFile { path: path.to_path_buf(), name, scenario, text })
 }
 
 /// Parses and validates scenario text; `path` only labels errors.

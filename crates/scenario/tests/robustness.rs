@@ -115,3 +115,34 @@ fn every_truncation_of_every_scenario_is_a_located_error() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+#[test]
+fn the_shipped_scenarios_fit_the_default_budget_and_fine_classes_do_not() {
+    use areo_scenario::budget::{Budget, DEFAULT_WORK_STEPS, tempest};
+    use areo_scenario::format::Job;
+    let budget = Budget { memory_bytes: 16 << 30, work_steps: DEFAULT_WORK_STEPS };
+    for (path, text) in shipped() {
+        let scenario = parse(&path, &text).unwrap();
+        if let Some(e) = areo_scenario::budget::estimate(&scenario) {
+            budget.check(&e).unwrap_or_else(|err| panic!("{}: {err}", path.display()));
+        }
+        if let Job::Tempest(job) = &scenario.job
+            && let Some(cells) = areo_scenario::budget::synth_cells(&job.terrain)
+        {
+            // With the mock rover's 1000 Wh battery, as the job checks it.
+            budget.check(&tempest(job, cells, Some(1000.0))).unwrap_or_else(|err| panic!("{}: {err}", path.display()));
+        }
+    }
+    // The fuzz finding: sun-synchronous-traverse with 0.5 Wh energy classes (2000 per
+    // time class instead of 1) ran for minutes; it is now refused with its estimate.
+    let text = std::fs::read_to_string(root().join("scenarios/sun-synchronous-traverse.ron")).unwrap();
+    let text = text.replacen("energy_wh: 1e12", "energy_wh: 0.5", 1);
+    let scenario = parse(Path::new("s.ron"), &text).unwrap();
+    let Job::Tempest(job) = &scenario.job else { panic!("a TEMPEST job") };
+    let cells = areo_scenario::budget::synth_cells(&job.terrain).unwrap();
+    let e = tempest(job, cells, Some(1000.0));
+    // 160 × 120 cells × 330 time classes × 2000 energy classes × 3 goals.
+    assert_eq!(e.work_steps, 160 * 120 * 64 + 160 * 120 * 330 * 2000 * 3);
+    let err = budget.check(&e).unwrap_err().to_string();
+    assert!(err.contains("--max-work") && err.contains("2000 energy classes"), "{err}");
+}

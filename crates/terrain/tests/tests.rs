@@ -3,5 +3,6 @@
 
 #![allow(clippy::print_stderr)] // tests report what they measured
 
+mod hostile;
 mod readers;
 mod threads;

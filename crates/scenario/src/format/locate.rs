@@ -189,7 +189,16 @@ fn walk(text: &str, mut on: impl FnMut(Event) -> bool) {
         } else if matches!(c, '(' | '[' | '{') {
             // A bracket directly inside a list is an element: key it by its index.
             let key = match frames.last_mut() {
-                Some(Frame { list_index: Some(n), .. }) if pending_key.is_none() => Some(format!("[{n}]")),
+                Some(Frame { list_index: Some(n), .. }) if pending_key.is_none() => {
+                    // The element itself is a field too (`job.goals[1]`): place it here.
+                    let element = format!("[{n}]");
+                    let mut p = current_path(&frames);
+                    p.push(element.clone());
+                    if !on(Event::Element { path: p, line, col }) {
+                        return;
+                    }
+                    Some(element)
+                }
                 _ => pending_key.take(),
             };
             frames.push(Frame { key, list_index: (c == '[').then_some(0) });
@@ -271,6 +280,7 @@ mod tests {
         assert_eq!(at(text, &["job", "horizon_deg", "[0]"]), Some((6, 19)));
         assert_eq!(at(text, &["job", "horizon_deg", "[2]"]), Some((7, 7)));
         assert_eq!(at(text, &["job", "goals", "[1]", "x"]), Some((8, 22)));
+        assert_eq!(at(text, &["job", "goals", "[1]"]), Some((8, 21)), "a bracketed element is placed at its bracket");
         assert_eq!(at(text, &["a"]), None, "comments are skipped");
         assert_eq!(at(text, &["job", "y"]), None, "strings are skipped");
         assert_eq!(at(text, &["job", "tau"]), None);

@@ -23,10 +23,8 @@ use crate::output::{json_for, write_file};
 
 fn mission_error(file: &ScenarioFile, e: areo_actions::Error) -> Error {
     match e {
-        areo_actions::Error::Config { field, message } => {
-            Error::Scenario { path: file.path.clone(), field: format!("job.{field}"), message }
-        }
-        other => Error::Scenario { path: file.path.clone(), field: "job".into(), message: other.to_string() },
+        areo_actions::Error::Config { field, message } => file.error_at(&format!("job.{field}"), message),
+        other => file.error_at("job", other.to_string()),
     }
 }
 
@@ -85,12 +83,11 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     } else {
         job.runs
             .iter()
-            .map(|r| {
+            .enumerate()
+            .map(|(i, r)| {
                 let inv = match &r.inventory {
-                    Some(codes) => Inventory::from_codes(codes).map_err(|c| Error::Scenario {
-                        path: file.path.clone(),
-                        field: "job.runs.inventory".into(),
-                        message: format!("{c} is not a Table 1 code"),
+                    Some(codes) => Inventory::from_codes(codes).map_err(|c| {
+                        file.error_at(&format!("job.runs[{i}].inventory"), format!("{c} is not a Table 1 code"))
                     })?,
                     None => filtered.clone(),
                 };
@@ -111,11 +108,7 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         let exec = ExecConfig { mu: *mu, ..job.execution };
         let executor = Executor::new(&dem, &evaluator, &task, exec);
         if let Some(problem) = executor.start_problem() {
-            return Err(Error::Scenario {
-                path: file.path.clone(),
-                field: "job.task.start".into(),
-                message: format!("the start pose is not admissible: {problem}"),
-            });
+            return Err(file.error_at("job.task.start", format!("the start pose is not admissible: {problem}")));
         }
         let clock = std::time::Instant::now();
         let report = evolve(&executor, inv, &job.weights, &scale, &job.ga).map_err(|e| mission_error(file, e))?;

@@ -48,7 +48,17 @@ impl Frame {
 }
 
 fn scenario_error(file: &ScenarioFile, field: impl Into<String>, message: impl Into<String>) -> Error {
-    Error::Scenario { path: file.path.clone(), field: field.into(), message: message.into() }
+    file.error_at(&field.into(), message)
+}
+
+/// The scenario field behind a planner's `Config` error field.
+fn planner_field(field: &str) -> String {
+    match field {
+        "start" | "goals" | "site" | "truth" => format!("job.{field}"),
+        "span_s" => "job.horizon_h".into(),
+        "sun_step_s" => "job.sun_step_min".into(),
+        other => format!("job.planner.{other}"),
+    }
 }
 
 fn load_terrain(source: &TerrainSource, file: &ScenarioFile, field: &str) -> Result<Dem> {
@@ -90,7 +100,21 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         site.lat_deg(),
         site.lon_east_deg(),
     )?;
-    opts.budget.check(&crate::budget::tempest(job, (map_dem.cols() * map_dem.rows()) as u64))?;
+    let mut rover = match &job.rover {
+        None => ResourceModel::hyperion(),
+        Some(rel) => {
+            crate::format::rover_files::load_resources(&file.path.parent().unwrap_or(Path::new(".")).join(rel))
+                .map_err(|e| e.referenced_by(&file.path, "job.rover"))?
+        }
+    };
+    if let Some(c) = job.battery_capacity_wh {
+        rover.battery.capacity_wh = c;
+    }
+    opts.budget.check(&crate::budget::tempest(
+        job,
+        (map_dem.cols() * map_dem.rows()) as u64,
+        Some(rover.battery.capacity_wh),
+    ))?;
     let frame = Frame::of(&map_dem);
     let truth_dem = match &job.truth {
         Truth::Map => None,
@@ -127,24 +151,18 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         atmosphere: Atmosphere::BeerLambert { tau: job.tau },
         site: Some(site),
     };
-    let world = World::new(map_dem, &config, &Mars24)?;
+    let located = |e: MissionError| match e {
+        MissionError::Config { field, message } => scenario_error(file, planner_field(field), message),
+        other => Error::from(other),
+    };
+    let world = World::new(map_dem, &config, &Mars24).map_err(located)?;
     let truth = match truth_dem {
-        Some(d) => Some(World::truth(d, &config, &Mars24, &world)?),
+        Some(d) => Some(World::truth(d, &config, &Mars24, &world).map_err(located)?),
         None => None,
     };
     let precalc_s = clock.elapsed().as_secs_f64();
     opts.progress.advance(1);
 
-    let mut rover = match &job.rover {
-        None => ResourceModel::hyperion(),
-        Some(rel) => {
-            crate::format::rover_files::load_resources(&file.path.parent().unwrap_or(Path::new(".")).join(rel))
-                .map_err(|e| e.referenced_by(&file.path, "job.rover"))?
-        }
-    };
-    if let Some(c) = job.battery_capacity_wh {
-        rover.battery.capacity_wh = c;
-    }
     let mut model = ActionModel::new(rover, job.planner.actions.clone());
     if let Some(com) = &job.communicate {
         model = model.with_sessions(sessions(&world, com));
@@ -162,17 +180,21 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     }
     let cell_of = |field: String, x: f64, y: f64| -> Result<u32> {
         let (mx, my) = frame.to_map(x, y);
-        world.cell_at(mx, my).ok_or_else(|| {
+        let cell = world.cell_at(mx, my).ok_or_else(|| {
             scenario_error(
                 file,
-                field,
+                field.clone(),
                 format!(
                     "({x}, {y}) m is off the map: allowed 0..{:.0} m east, 0..{:.0} m north",
                     world.cols() as f64 * world.dem().dx(),
                     world.rows() as f64 * world.dem().dy()
                 ),
             )
-        })
+        })?;
+        if !world.passable(cell) {
+            return Err(scenario_error(file, field, format!("({x}, {y}) m is on missing data or blocked ground")));
+        }
+        Ok(cell)
     };
     let start_cell = cell_of("job.start".into(), job.start.x_m, job.start.y_m)?;
     let goals: Vec<u32> = job
@@ -213,7 +235,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let run = match result {
         Ok(run) => run,
         Err(MissionError::Config { field, message }) => {
-            return Err(scenario_error(file, format!("job.planner.{field}"), message));
+            return Err(scenario_error(file, planner_field(field), message));
         }
         Err(MissionError::Unreachable { message, .. }) => {
             o.failure = Some(format!("no plan reaches the goals: binding constraint: {message}"));
