@@ -3,7 +3,7 @@
 //! A scenario file goes in; a typed report, named facts and files come out. This crate
 //! owns:
 //!
-//! - [`format`]: the RON scenario format (v1), its range checks and the line:column of
+//! - [`format`](mod@format): the RON scenario format (v1), its range checks and the line:column of
 //!   every error ([`format::load`], [`format::parse`]);
 //! - [`run()`]: one scenario's job ([`jobs`]: Sun table, terrain shadow, TEMPEST,
 //!   GA actions) through the library crates into an [`Outcome`];
