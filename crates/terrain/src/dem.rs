@@ -104,11 +104,13 @@ impl Dem {
         if cols == 0 || rows == 0 {
             return Err(Error::BadGrid(format!("{cols} x {rows} cells: both must be at least 1")));
         }
-        if !(dx > 0.0 && dy > 0.0 && dx.is_finite() && dy.is_finite()) {
-            return Err(Error::BadGrid(format!("cell size {dx} x {dy} m: both must be positive and finite")));
+        // A micrometre to 100 000 km: beyond either, no product of a cell size with the
+        // grid's extent or a slope is meaningful (or finite).
+        if !((1e-6..=1e8).contains(&dx) && (1e-6..=1e8).contains(&dy)) {
+            return Err(Error::BadGrid(format!("cell size {dx} x {dy} m: both must be within 1e-6..=1e8 m")));
         }
-        if !(x0.is_finite() && y_top.is_finite()) {
-            return Err(Error::BadGrid(format!("origin ({x0}, {y_top}) must be finite")));
+        if !(x0.abs() <= 1e13 && y_top.abs() <= 1e13) {
+            return Err(Error::BadGrid(format!("origin ({x0}, {y_top}) m: both must be within ±1e13 m")));
         }
         if z.len() != cols * rows {
             return Err(Error::BadGrid(format!("{} elevations for {cols} x {rows} cells", z.len())));
