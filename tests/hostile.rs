@@ -229,3 +229,20 @@ fn a_goal_off_the_map_is_placed_at_its_line_and_indexed() {
     assert!(err.contains(&format!("valley-detour.ron:{line}:")), "line {line}: {err}");
     assert!(err.contains("field `job.goals[1]`") && err.contains("off the map"), "{err}");
 }
+
+#[test]
+fn a_full_disk_is_a_failure_while_running_not_bad_input() {
+    // The output's temporary name points at /dev/full: every write fails with ENOSPC.
+    if !std::path::Path::new("/dev/full").exists() {
+        panic!("/dev/full is needed to simulate a full disk");
+    }
+    let dir = tmp("full-disk");
+    let dem = dir.join("dem.asc");
+    std::fs::write(&dem, "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n4 5 6\n").unwrap();
+    std::os::unix::fs::symlink("/dev/full", dir.join("slope.tif.partial")).unwrap();
+    let out = areo(&["terrain", "slope", dem.to_str().unwrap(), "-o", dir.join("slope.tif").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(err.contains("slope.tif") && err.to_lowercase().contains("no space"), "{err}");
+    assert!(!dir.join("slope.tif").exists(), "no file under the real name");
+}

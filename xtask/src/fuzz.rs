@@ -60,6 +60,24 @@ struct Outcome {
 }
 
 impl Outcome {
+    /// Whether an error message places itself: a `FILE:LINE:COL:` prefix or a named
+    /// field (what every exit 2 about a scenario or rover file must have).
+    fn located(&self) -> bool {
+        let has_line_col = self.stderr.match_indices(':').any(|(i, _)| {
+            let rest = &self.stderr[i + 1..];
+            let line = rest.bytes().take_while(u8::is_ascii_digit).count();
+            line > 0
+                && rest[line..].starts_with(':')
+                && rest[line + 1..].bytes().next().is_some_and(|b| b.is_ascii_digit())
+        });
+        has_line_col || self.stderr.contains("field `")
+    }
+
+    /// Scenario and rover file cases whose exit-2 error must be located.
+    fn must_locate(&self) -> bool {
+        self.code == Some(2) && matches!(self.kind, "scenario number" | "scenario cut" | "rover number" | "rover check")
+    }
+
     fn finding(&self) -> Option<String> {
         let why = if self.timed_out {
             "did not end within the time bound".to_string()
@@ -67,6 +85,7 @@ impl Outcome {
             format!("wrote outside --out: {:?}", self.outside)
         } else {
             match self.code {
+                Some(2) if self.must_locate() && !self.located() => "exit 2 without a field or line:column".into(),
                 Some(0 | 2 | 3) => return None,
                 Some(c) => format!("exit {c}"),
                 None => "killed by a signal".into(),
@@ -132,6 +151,13 @@ pub(crate) fn run(root: &Path, opts: &Options) -> Result<bool, String> {
             of.iter().filter(|o| o.finding().is_some()).count()
         );
     }
+    let must: Vec<&Outcome> = outcomes.iter().filter(|o| o.must_locate()).collect();
+    let _ = writeln!(
+        report,
+        "located: {} of {} exit-2 errors about scenario and rover files name a field or line:column",
+        must.iter().filter(|o| o.located()).count(),
+        must.len()
+    );
     let _ = writeln!(report, "findings: {}", findings.len());
     for f in &findings {
         let _ = writeln!(report, "  {f}");

@@ -576,11 +576,26 @@ pub fn load(path: &Path) -> Result<ScenarioFile, Error> {
 
 /// Parses and validates scenario text; `path` only labels errors.
 pub fn parse(path: &Path, text: &str) -> Result<Scenario, Error> {
-    let scenario: Scenario = ron_options().from_str(text).map_err(|e| Error::Syntax {
-        path: path.to_path_buf(),
-        line: e.span.start.line,
-        col: e.span.start.col,
-        message: e.code.to_string(),
+    let scenario: Scenario = ron_options().from_str(text).map_err(|e| {
+        // A number of the wrong type (−1 for a count, 2^64 for an index) is a syntax
+        // error to RON; name the field it was written for.
+        let (line, col) = (e.span.start.line, e.span.start.col);
+        let field = locate::scalars(text)
+            .into_iter()
+            .find(|s| {
+                let cols = s.col..=s.col + s.text.chars().count();
+                s.line == line && (cols.contains(&col) || (e.span.end.line == line && cols.contains(&e.span.end.col)))
+            })
+            .map(|s| validate::Violation { path: s.path, message: String::new() }.dotted());
+        Error::Syntax {
+            path: path.to_path_buf(),
+            line,
+            col,
+            message: match field {
+                Some(f) if !f.is_empty() => format!("field `{f}`: {}", e.code),
+                _ => e.code.to_string(),
+            },
+        }
     })?;
     // Every number must be finite, whatever field it is in: NaN and infinity (written,
     // or a literal too large for f64) are refused here once, with their place.

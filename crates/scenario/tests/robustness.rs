@@ -146,3 +146,14 @@ fn the_shipped_scenarios_fit_the_default_budget_and_fine_classes_do_not() {
     let err = budget.check(&e).unwrap_err().to_string();
     assert!(err.contains("--max-work") && err.contains("2000 energy classes"), "{err}");
 }
+
+#[test]
+fn a_number_of_the_wrong_type_names_its_field() {
+    let text = std::fs::read_to_string(root().join("scenarios/crater-morning-shadows.ron")).unwrap();
+    for (from, to, field) in [("cols: ", "cols: -", "cols"), ("octaves: 3", "octaves: 99999999999", "octaves")] {
+        let mutated = text.replacen(from, to, 1);
+        let err = parse(Path::new("c.ron"), &mutated).unwrap_err();
+        let Error::Syntax { message, line, .. } = &err else { panic!("{err}") };
+        assert!(*line > 1 && message.contains(&format!("{field}`")), "{err}");
+    }
+}
