@@ -224,7 +224,12 @@ where
     [C::Inner]: tiff::encoder::TiffValue,
 {
     let io = |e: std::io::Error| Error::Io { path: path.to_path_buf(), source: e };
-    let tiff_err = |e: tiff::TiffError| Error::format(path, format!("cannot write TIFF: {e}"));
+    // Writing can only fail in the file system (the values were checked): an I/O
+    // failure while running, not a malformed input.
+    let tiff_err = |e: tiff::TiffError| match e {
+        tiff::TiffError::IoError(source) => Error::Io { path: path.to_path_buf(), source },
+        other => Error::Io { path: path.to_path_buf(), source: std::io::Error::other(other) },
+    };
     if data.len() != dem.cols() * dem.rows() {
         return Err(Error::BadGrid(format!("{} values for {} cells", data.len(), dem.cols() * dem.rows())));
     }
