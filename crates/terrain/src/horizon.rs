@@ -9,6 +9,16 @@
 //! Each sector's horizon comes from [`horizon_sweep`] along its centre azimuth: upper
 //! convex hulls along parallel lines, exact along each line. Planetary curvature
 //! lowers an occluder at distance d by d²/2R.
+//!
+//! **Error against each cell's own ray** (brute force on the triangulated surface,
+//! [`crate::tin::horizon_on_triangles`], every cell of every sector centre, border
+//! cells excluded; `tests/horizon_error.rs`): on the real Gale MOLA crop (463 m cells)
+//! 99 % of cells within 1.83°, 99.9 % within 5.73°, the worst 18.97°; on synthesised
+//! terrain 1.18°, 3.55°, 11.91°. The large errors are cells whose nearest occluder is a
+//! cell or two away, where a sweep line's terrain beside the own ray differs most. On
+//! the border the own ray may leave the map at once (no horizon) while the sweep line
+//! beside it stays in. Tests assert 2°, 6° and 20°. This is an approximation, not an
+//! exact horizon; issue 21 tracks an exact method.
 
 use rayon::prelude::*;
 

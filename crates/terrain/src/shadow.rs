@@ -2,7 +2,14 @@
 //! azimuth: O(cells) per map, not a ray per cell; and shadow maps (cast shadow plus
 //! slopes facing away).
 //!
-//! [`cast_shadows`] is exact on the DEM's triangulated surface (see [`crate::tin`]).
+//! [`cast_shadows`] sweeps the DEM's triangulated surface (see [`crate::tin`]). It is
+//! not exact everywhere: against each cell's own ray on the same surface (brute force,
+//! [`crate::tin::horizon_on_triangles`]; `tests/horizon_error.rs`) on the real
+//! 897 × 897 Gale MOLA map, 0 cells differ at 270°/5° and 90°/10° (cardinal
+//! azimuths), 0.007 % at 315°/15° and 0.004 % at 135°/20° (diagonals), 0.028 % at
+//! 200°/8° and 0.113 % at 250°/2°. A [`ShadowMap`] also darkens cells whose own slope
+//! faces away from the Sun (`facing_away`, from the Horn normal): at a low Sun these are
+//! many more than the cast-shadow disagreements, and are not cast shadows.
 //! [`cast_shadows_fast`], described here, is about 1.4× faster and approximate:
 //! the grid is walked line by line away from the source, the lines being columns or
 //! rows, whichever the source direction crosses faster. For each cell, the ray toward
@@ -110,8 +117,9 @@ pub fn shadow_map_from(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, cast: Ve
 const SUB: usize = 2;
 
 /// Cast shadow only (true = shadowed) for a source at `azimuth_deg` (clockwise from
-/// north) and `elevation_deg`, exact on the DEM's triangulated surface:
-/// [`crate::tin::cast_shadows_exact`].
+/// north) and `elevation_deg`, swept on the DEM's triangulated surface
+/// ([`crate::tin::cast_shadows_exact`]); its disagreement with each cell's own ray is
+/// in the module docs.
 pub fn cast_shadows(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
     crate::tin::cast_shadows_exact(dem, azimuth_deg, elevation_deg, curvature)
 }

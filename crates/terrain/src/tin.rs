@@ -1,4 +1,6 @@
-//! Cast shadows on the DEM's triangulated surface, exactly.
+//! Cast shadows on the DEM's triangulated surface, by sweeping sheared rays (agreement
+//! with each cell's own ray measured in [`crate::shadow`]'s docs; not exact at every
+//! azimuth).
 //!
 //! [`crate::shadow::cast_shadows_fast`] follows the terrain where rays cross the grid
 //! lines of one family, interpolating each ray's envelope from its neighbours line

@@ -9,7 +9,7 @@ use proptest::prelude::*;
 /// A DEM of `../shared/data/dem` (beside the repository), if it is there. Where the
 /// data must be there — `.ci/run` sets `AREO_REQUIRE_SHARED_DATA` — a missing file
 /// fails the test instead of skipping it.
-fn shared(name: &str) -> Option<PathBuf> {
+pub(crate) fn shared(name: &str) -> Option<PathBuf> {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/dem").join(name);
     if !p.exists() && std::env::var_os("AREO_REQUIRE_SHARED_DATA").is_some() {
         panic!("{}: missing, and AREO_REQUIRE_SHARED_DATA says it must be there", p.display());

@@ -3,6 +3,7 @@
 
 #![allow(clippy::print_stderr)] // tests report what they measured
 
+mod horizon_error;
 mod hostile;
 mod readers;
 mod threads;
