@@ -157,3 +157,54 @@ fn a_number_of_the_wrong_type_names_its_field() {
         assert!(*line > 1 && message.contains(&format!("{field}`")), "{err}");
     }
 }
+
+#[test]
+fn every_number_of_every_rover_file_survives_hostile_values() {
+    use areo_scenario::format::rover_files::{load_params, load_resources};
+    use areo_scenario::rover_check::{TestTerrain, check};
+    let dir = std::env::temp_dir().join(format!("areo-rover-robustness-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let files = [
+        ("crates/rover/params/lsr1.ron", true),
+        ("scenarios/rovers/lsr1-instrument-arm.ron", true),
+        ("crates/rover/params/hyperion.ron", false),
+        ("scenarios/rovers/mock-solar-rover.ron", false),
+    ];
+    let (mut cases, mut accepted, mut failures) = (0, 0, Vec::new());
+    for (file, lsr1_style) in files {
+        let text = std::fs::read_to_string(root().join(file)).unwrap();
+        let numbers = locate::scalars(&text);
+        assert!(numbers.len() >= 10, "{file}: numbers found");
+        for s in &numbers {
+            for v in HOSTILE {
+                cases += 1;
+                let path = dir.join(format!("case-{cases}.ron"));
+                std::fs::write(&path, format!("{}{}{}", &text[..s.span.start], v, &text[s.span.end..])).unwrap();
+                let what = format!("{file}:{}:{} `{}` → {v}", s.line, s.col, s.path.join("."));
+                // Loading and, for an LSR-1 file, a pose with forces and stability on flat
+                // ground — where a mass of 1e308 used to panic.
+                let result = std::panic::catch_unwind(|| {
+                    if lsr1_style {
+                        check(&path, TestTerrain::Flat, 0.6, false).map(|_| ())
+                    } else {
+                        load_resources(&path).map(|_| ())
+                    }
+                });
+                match result {
+                    Err(_) => failures.push(format!("{what}: panicked")),
+                    Ok(Ok(())) => accepted += 1,
+                    Ok(Err(Error::Invalid { line, col, field, .. })) if line > 0 && col > 0 && !field.is_empty() => {}
+                    Ok(Err(Error::Rover(areo_rover::Error::Syntax { line, col, .. }))) if line > 0 && col > 0 => {}
+                    Ok(Err(e)) => failures.push(format!("{what}: {e}")),
+                }
+                // What is accepted holds only finite numbers.
+                if lsr1_style && load_params(&path).is_ok() && ["NaN", "inf", "-inf", "1e400"].contains(v) {
+                    failures.push(format!("{what}: accepted a non-finite number"));
+                }
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(failures.is_empty(), "{} of {cases} cases broke the contract:\n{}", failures.len(), failures.join("\n"));
+    assert!(cases > 1000 && accepted > 0 && accepted < cases, "{accepted} of {cases} accepted");
+}
