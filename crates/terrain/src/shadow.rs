@@ -7,7 +7,9 @@
 //! [`crate::tin::horizon_on_triangles`]; `tests/horizon_error.rs`) on the real
 //! 897 × 897 Gale MOLA map, 0 cells differ at 270°/5° and 90°/10° (cardinal
 //! azimuths), 0.007 % at 315°/15° and 0.004 % at 135°/20° (diagonals), 0.028 % at
-//! 200°/8° and 0.113 % at 250°/2°. A [`ShadowMap`] also darkens cells whose own slope
+//! 200°/8° and 0.113 % at 250°/2°; on synthesised craters and hills (30 m cells, every
+//! 15° of azimuth) 0 at cardinal azimuths, at most 0.100 % at a Sun 5° or 15° up and
+//! 0.142 % at 2°. A [`ShadowMap`] also darkens cells whose own slope
 //! faces away from the Sun (`facing_away`, from the Horn normal): at a low Sun these are
 //! many more than the cast-shadow disagreements, and are not cast shadows.
 //! [`cast_shadows_fast`], described here, is about 1.4× faster and approximate:

@@ -121,3 +121,55 @@ fn the_shadow_sweep_is_measured_against_each_cells_own_ray() {
         assert!(d <= bound, "az {az} el {el}: {d} of cells differ (stated at most {bound})");
     }
 }
+
+#[test]
+fn the_shadow_sweep_on_synthesised_terrain_at_many_azimuths() {
+    // Craters, a hill and noise on square 30 m cells: every 15° of azimuth, at a Sun 2°,
+    // 5° and 15° up, against each cell's own ray. Issue 21's targets are ≥ 99.95 % of
+    // cells at 5° and above, ≥ 99.5 % at 2°, and every cell on cardinal azimuths.
+    let dem = TerrainSpec {
+        cols: 120,
+        rows: 100,
+        cell_m: 30.0,
+        base_m: 0.0,
+        seed: 11,
+        noise: Some(Noise { amplitude_m: 25.0, wavelength_m: 900.0, octaves: 4, persistence: 0.5 }),
+        features: vec![
+            Feature::Crater {
+                x_m: 1200.0,
+                y_m: 1500.0,
+                radius_m: 500.0,
+                depth_m: 120.0,
+                rim_height_m: 40.0,
+                ejecta_radii: 2.0,
+            },
+            Feature::Hill { x_m: 2800.0, y_m: 1000.0, radius_m: 600.0, slope_deg: 22.0 },
+        ],
+    }
+    .build()
+    .unwrap();
+    let (mut worst_low, mut worst_high): (f64, f64) = (0.0, 0.0);
+    for k in 0..24 {
+        let az = k as f64 * 15.0;
+        for el in [2.0, 5.0, 15.0] {
+            let d = sweep_disagreement(&dem, az, el);
+            if az % 90.0 == 0.0 {
+                assert_eq!(d, 0.0, "az {az} el {el}: a cardinal azimuth, every cell as its own ray says");
+            }
+            if el < 5.0 {
+                worst_low = worst_low.max(d);
+            } else {
+                worst_high = worst_high.max(d);
+            }
+        }
+    }
+    eprintln!(
+        "synthesised 120x100, 24 azimuths: worst {:.3} % at 2°, {:.3} % at 5° and 15°",
+        100.0 * worst_low,
+        100.0 * worst_high
+    );
+    // Measured 2026-11-25: 0.100 % at 5° and above (99.90 %: issue 21's 99.95 % is not
+    // met here yet), 0.142 % at 2° (met). The asserts keep today's level.
+    assert!(worst_high <= 0.0012, "at 5° and above: {worst_high}");
+    assert!(worst_low <= 0.005, "≥ 99.5 % at 2°: {worst_low}");
+}
