@@ -574,6 +574,21 @@ pub fn load(path: &Path) -> Result<ScenarioFile, Error> {
     Ok(ScenarioFile { path: path.to_path_buf(), name, scenario, text })
 }
 
+/// Refuses the first number in `text` (a file of `kind`, e.g. "a scenario") that is not
+/// finite — `NaN`, `inf`, or a literal too large for f64 — with its field and place.
+pub(crate) fn refuse_non_finite(path: &Path, text: &str, kind: &str) -> Result<(), Error> {
+    match locate::scalars(text).into_iter().find(|s| s.value().is_some_and(|v| !v.is_finite())) {
+        None => Ok(()),
+        Some(bad) => Err(Error::Invalid {
+            path: path.to_path_buf(),
+            line: bad.line,
+            col: bad.col,
+            field: validate::Violation { path: bad.path, message: String::new() }.dotted(),
+            message: format!("`{}` is not a finite number: every number in {kind} must be finite", bad.text),
+        }),
+    }
+}
+
 /// Parses and validates scenario text; `path` only labels errors.
 pub fn parse(path: &Path, text: &str) -> Result<Scenario, Error> {
     let scenario: Scenario = ron_options().from_str(text).map_err(|e| {
@@ -599,16 +614,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Scenario, Error> {
     })?;
     // Every number must be finite, whatever field it is in: NaN and infinity (written,
     // or a literal too large for f64) are refused here once, with their place.
-    if let Some(bad) = locate::scalars(text).into_iter().find(|s| s.value().is_some_and(|v| !v.is_finite())) {
-        let field = validate::Violation { path: bad.path.clone(), message: String::new() }.dotted();
-        return Err(Error::Invalid {
-            path: path.to_path_buf(),
-            line: bad.line,
-            col: bad.col,
-            field,
-            message: format!("`{}` is not a finite number: every number in a scenario must be finite", bad.text),
-        });
-    }
+    refuse_non_finite(path, text, "a scenario")?;
     let mut checks = Checks::default();
     scenario.validate(&mut checks);
     if let Some(v) = checks.into_first() {

@@ -7,7 +7,6 @@ use areo_rover::RoverParams;
 use areo_rover::resources::ResourceModel;
 
 use super::locate;
-use super::validate::Violation;
 use crate::error::{Error, Result};
 
 /// Reads and validates an LSR-1-style parameter file.
@@ -22,15 +21,7 @@ pub fn load_resources(path: &Path) -> Result<ResourceModel> {
 
 fn load<T>(path: &Path, parse: impl Fn(&str, &str) -> areo_rover::Result<T>) -> Result<T> {
     let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
-    if let Some(bad) = locate::scalars(&text).into_iter().find(|s| s.value().is_some_and(|v| !v.is_finite())) {
-        return Err(Error::Invalid {
-            path: path.to_path_buf(),
-            line: bad.line,
-            col: bad.col,
-            field: Violation { path: bad.path, message: String::new() }.dotted(),
-            message: format!("`{}` is not a finite number: every number in a rover file must be finite", bad.text),
-        });
-    }
+    super::refuse_non_finite(path, &text, "a rover file")?;
     parse(&text, &path.display().to_string()).map_err(|e| match e {
         areo_rover::Error::Invalid { field, value, why, .. } => {
             let segments: Vec<String> = field.split('.').map(str::to_string).collect();
