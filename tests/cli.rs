@@ -205,20 +205,34 @@ fn terrain_info_slope_and_shadow_on_the_real_crop() {
     let bytes = std::fs::read(&shadow).unwrap();
     assert!(bytes.starts_with(b"II*\0") || bytes.starts_with(b"MM\0*"));
     assert!(dir.join("shadow.png").exists());
-    // A low Sun, by both sweeps: the same shadows but for cells it grazes.
-    let lit = |fast: bool| {
+    // A low Sun, by each method: the same shadows but for cells it grazes.
+    let lit = |method: &str| {
         let mut args = vec!["terrain", "shadow", dem.to_str().unwrap(), "--sun-azimuth", "100"];
-        args.extend(["--sun-elevation", "4", "-o", shadow.to_str().unwrap()]);
-        if fast {
-            args.push("--fast");
-        }
+        args.extend(["--sun-elevation", "4", "--method", method, "-o", shadow.to_str().unwrap()]);
         let out = areo(&args);
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         let text = String::from_utf8_lossy(&out.stdout).into_owned();
         text.split(" % of the valid cells").next().and_then(|v| v.trim().parse::<f64>().ok()).expect("lit %")
     };
-    let (exact, fast) = (lit(false), lit(true));
-    assert!(fast < 99.0 && (fast - exact).abs() < 2.0, "fast {fast} %, exact {exact} %");
+    let (own, swept, fast) = (lit("own-ray"), lit("swept"), lit("interpolated"));
+    assert!(
+        own < 99.0 && (swept - own).abs() < 1.0 && (fast - own).abs() < 2.0,
+        "own {own} %, swept {swept} %, interpolated {fast} %"
+    );
+    let out = areo(&[
+        "terrain",
+        "shadow",
+        dem.to_str().unwrap(),
+        "--sun-azimuth",
+        "1",
+        "--sun-elevation",
+        "4",
+        "--method",
+        "exact",
+        "-o",
+        shadow.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "an unknown --method is a usage error");
     let slope = dir.join("slope.tif");
     let out = areo(&["terrain", "slope", dem.to_str().unwrap(), "-o", slope.to_str().unwrap()]);
     assert!(out.status.success());

@@ -6,7 +6,8 @@ pub use areo_terrain::Dem;
 use areo_terrain::geotiff;
 use areo_terrain::hillshade::hillshade_rgb;
 use areo_terrain::horizon::HorizonMap;
-use areo_terrain::shadow::{Curvature, shadow_map, shadow_map_from};
+pub use areo_terrain::shadow::Method as ShadowMethod;
+use areo_terrain::shadow::{Curvature, Sun, shadow_map};
 use areo_terrain::slope::slope_aspect;
 
 use crate::error::{Error, Result};
@@ -97,23 +98,17 @@ pub fn write_slope(dem: &Dem, out: &Path) -> Result<Vec<std::path::PathBuf>> {
 
 /// Writes the direct-sun map (uint8 GeoTIFF: 1 lit, 0 shadowed, 255 no data) for a Sun
 /// at (azimuth, elevation), and a hillshade-with-shadows preview PNG beside it; cast
-/// shadows exact on the triangulated surface, or with `fast` by the approximate sweep.
-/// Returns the files and the lit fraction.
+/// shadows decided by `method`. Returns the files and the lit fraction.
 pub fn write_shadow(
     dem: &Dem,
     azimuth_deg: f64,
     elevation_deg: f64,
     flat: bool,
-    fast: bool,
+    method: ShadowMethod,
     out: &Path,
 ) -> Result<(Vec<std::path::PathBuf>, f64)> {
     let curvature = if flat { Curvature::Flat } else { Curvature::of(dem) };
-    let map = if fast {
-        let cast = areo_terrain::shadow::cast_shadows_fast(dem, azimuth_deg, elevation_deg, curvature);
-        shadow_map_from(dem, azimuth_deg, elevation_deg, cast)
-    } else {
-        shadow_map(dem, azimuth_deg, elevation_deg, curvature)
-    };
+    let map = shadow_map(dem, Sun::new(azimuth_deg, elevation_deg), curvature, method);
     write_with(out, |tmp| Ok(geotiff::write_u8(dem, &map.to_u8(), Some(255), tmp)?))?;
     let sa = slope_aspect(dem);
     let dark: Vec<bool> = (0..map.cast.len()).map(|i| !map.direct_sun(i)).collect();

@@ -1,12 +1,13 @@
 //! Terrain throughput on the TEMPEST-sized Gale DEM (2527 × 2356, from
 //! ../shared/data/dem when present, else a synthesised DEM of the same size): one
-//! shadow map (target ≥ 50 M cells/s on one core), exact on the triangulated surface
-//! and by the fast approximate sweep, and slope + aspect (≥ 100 M cells/s).
+//! shadow map by each method (target ≥ 50 M cells/s on one core for the default,
+//! `Method::OwnRay`; `cast_shadows_*` names it, `swept_*` and `interpolated_*` the
+//! approximate sweeps), slope + aspect (≥ 100 M cells/s) and one horizon sector.
 
 use std::path::PathBuf;
 
 use areo_terrain::horizon::horizon_sweep;
-use areo_terrain::shadow::{Curvature, cast_shadows, cast_shadows_fast};
+use areo_terrain::shadow::{Curvature, Method, Sun, cast_shadows};
 use areo_terrain::slope::slope_aspect;
 use areo_terrain::synth::{Noise, TerrainSpec};
 use areo_terrain::{Dem, geotiff};
@@ -46,15 +47,20 @@ fn terrain(c: &mut Criterion) {
     let mut g = c.benchmark_group("terrain_2527x2356");
     g.sample_size(10);
     g.throughput(Throughput::Elements(cells));
-    g.bench_function("cast_shadows_az135_el20_curved", |b| {
-        b.iter(|| cast_shadows(&dem, 135.0, 20.0, Curvature::Sphere { radius_m: 3_389_500.0 }))
-    });
-    g.bench_function("cast_shadows_az80_el5_flat", |b| b.iter(|| cast_shadows(&dem, 80.0, 5.0, Curvature::Flat)));
-    g.bench_function("cast_shadows_fast_az135_el20_curved", |b| {
-        b.iter(|| cast_shadows_fast(&dem, 135.0, 20.0, Curvature::Sphere { radius_m: 3_389_500.0 }))
-    });
-    g.bench_function("cast_shadows_fast_az80_el5_flat", |b| {
-        b.iter(|| cast_shadows_fast(&dem, 80.0, 5.0, Curvature::Flat))
+    let mars = Curvature::Sphere { radius_m: 3_389_500.0 };
+    let cases = [("az135_el20_curved", 135.0, 20.0, mars), ("az80_el5_flat", 80.0, 5.0, Curvature::Flat)];
+    for (prefix, method) in
+        [("cast_shadows", Method::OwnRay), ("swept", Method::Swept), ("interpolated", Method::Interpolated)]
+    {
+        for (case, az, el, curvature) in cases {
+            g.bench_function(format!("{prefix}_{case}"), |b| {
+                b.iter(|| cast_shadows(&dem, Sun::new(az, el), curvature, method))
+            });
+        }
+    }
+    // A low Sun: the longest shadows, where the own ray marches furthest.
+    g.bench_function("cast_shadows_az250_el2_flat", |b| {
+        b.iter(|| cast_shadows(&dem, Sun::new(250.0, 2.0), Curvature::Flat, Method::OwnRay))
     });
     g.bench_function("slope_aspect", |b| b.iter(|| slope_aspect(&dem)));
     // One sector of a horizon map (a 64-sector map is 64 of these, split over cores).

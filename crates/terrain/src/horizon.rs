@@ -11,7 +11,7 @@
 //! lowers an occluder at distance d by d²/2R.
 //!
 //! **Error against each cell's own ray** (brute force on the triangulated surface,
-//! [`crate::tin::horizon_on_triangles`], every cell of every sector centre, border
+//! [`crate::reference::horizon_on_triangles`], every cell of every sector centre, border
 //! cells excluded; `tests/horizon_error.rs`): on the real Gale MOLA crop (463 m cells)
 //! 99 % of cells within 1.83°, 99.9 % within 5.73°, the worst 18.97°; on synthesised
 //! terrain 1.18°, 3.55°, 11.91°. The large errors are cells whose nearest occluder is a
@@ -24,9 +24,9 @@ use rayon::prelude::*;
 
 use crate::dem::{Dem, unit_normal};
 use crate::error::{Error, Result};
-use crate::lines::LineGeometry;
 use crate::shadow::Curvature;
 use crate::slope::horn_gradient;
+use crate::sweep_lines::LineGeometry;
 
 /// A sector to sweep, its output, and the opposite sector's output when swept with it.
 type SectorJob<'a> = (usize, &'a mut [u16], Option<&'a mut [u16]>);
@@ -717,7 +717,8 @@ pub fn los_sequence(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shadow::{cast_shadows, horizon_by_rays};
+    use crate::reference::horizon_on_grid_lines;
+    use crate::shadow::{Method, Sun, cast_shadows};
     use crate::synth::{Feature, Noise, TerrainSpec};
 
     fn terrain() -> Dem {
@@ -742,9 +743,9 @@ mod tests {
         assert_eq!(map.bytes(), 32 * 90 * 70 * 2);
         for (sector, el) in [(0usize, 10.0), (4, 15.0), (9, 6.0), (17, 25.0), (26, 12.0)] {
             let az = sector as f64 * 360.0 / 32.0;
-            let truth = horizon_by_rays(&dem, az, Curvature::Flat);
+            let truth = horizon_on_grid_lines(&dem, az, Curvature::Flat);
             let looked_up = map.shadowed(az, el);
-            let swept = cast_shadows(&dem, az, el, Curvature::Flat);
+            let swept = cast_shadows(&dem, Sun::new(az, el), Curvature::Flat, Method::OwnRay);
             let (mut differ, mut not_grazing, mut sweep_differ) = (0, 0, 0);
             for i in 0..truth.len() {
                 let shadowed = truth[i] > el;

@@ -15,11 +15,13 @@
 //! - [`fill`]: nodata holes filled by a sparse Laplace solve (faer), with a mask of
 //!   the filled cells.
 //! - [`slope`]: Horn slope, aspect and normals with separate dx and dy.
-//! - [`shadow`]: cast shadows from the Sun by one sweep per map, with planetary
-//!   curvature: swept on the triangulated surface (the sweep lives in [`tin`], with its
-//!   per-cell ray-cast reference; every cell as its own ray says at cardinal azimuths,
-//!   99.89–99.996 % elsewhere on the Gale map), or a faster approximate sweep; shadow
-//!   maps.
+//! - [`shadow`]: cast shadows from the Sun through one door,
+//!   [`shadow::cast_shadows`]`(&dem, sun, curvature, method)`, with planetary
+//!   curvature: by default every cell decided by its own ray on the triangulated
+//!   surface (the brute force's answer on every cell, at every azimuth), or by one of
+//!   two cheaper, approximate sweeps whose error is stated; shadow maps.
+//! - [`reference`](mod@reference): the brute-force references the tests hold every method to: one ray
+//!   per cell, no sweep, no shortcuts; and parry3d ray casts.
 //! - [`los`]: surface-to-surface line of sight and viewsheds by parry3d ray casts.
 //! - [`read`]: any of those formats, told by the file's extension.
 //! - [`hillshade`]: a shaded-relief picture (RGB) with cast shadows.
@@ -30,11 +32,11 @@
 //! from north. Only this crate does index↔metre arithmetic.
 //!
 //! ```
-//! use areo_terrain::{Dem, shadow::{Curvature, cast_shadows}};
+//! use areo_terrain::{Dem, shadow::{Curvature, Method, Sun, cast_shadows}};
 //!
 //! // A 10 m wall on flat ground; the Sun 45° up in the east: a 10 m shadow to the west.
 //! let dem = Dem::from_fn(40, 3, 1.0, 1.0, |x, _| if (20.0..21.0).contains(&x) { 10.0 } else { 0.0 }).unwrap();
-//! let shadowed = cast_shadows(&dem, 90.0, 45.0, Curvature::Flat);
+//! let shadowed = cast_shadows(&dem, Sun::new(90.0, 45.0), Curvature::Flat, Method::OwnRay);
 //! let row = 1 * 40;
 //! assert!(shadowed[row + 15] && !shadowed[row + 5] && !shadowed[row + 30]);
 //! ```
@@ -45,7 +47,7 @@
 mod body;
 mod dem;
 mod error;
-mod lines;
+mod sweep_lines;
 
 pub mod hillshade;
 
@@ -55,10 +57,10 @@ pub mod geotiff;
 pub mod horizon;
 pub mod los;
 pub mod pds3;
+pub mod reference;
 pub mod shadow;
 pub mod slope;
 pub mod synth;
-pub mod tin;
 
 pub use crate::{
     body::{Body, Projection},

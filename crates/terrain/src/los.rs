@@ -1,6 +1,6 @@
 //! Surface-to-surface line of sight and viewsheds, by ray casts against a parry3d
-//! `HeightField` (two triangles per quad of cell centres) — also the independent
-//! brute-force reference the sweeps are checked against.
+//! `HeightField` (two triangles per quad of cell centres) — also behind
+//! [`crate::reference::cast_shadows_parry`].
 //!
 //! parry3d works in f32, so the height field is re-centred on the map's middle and on
 //! the observer's height: projected coordinates of 8e6 m would have 0.5 m steps.
@@ -16,8 +16,8 @@ use crate::error::{Error, Result};
 use crate::shadow::Curvature;
 
 /// A DEM as a parry3d height field seen from one point, with the frame conversions.
-struct Field {
-    shape: HeightField,
+pub(crate) struct Field {
+    pub(crate) shape: HeightField,
     /// How far to step off a ray's origin: parry3d's height-field traversal misses
     /// everything when a ray starts exactly on a vertex column (cell centres are
     /// vertices here, and observers stand on them).
@@ -29,7 +29,7 @@ struct Field {
 
 impl Field {
     /// The DEM with heights lowered by curvature as seen from (ox, oy).
-    fn new(dem: &Dem, ox: f64, oy: f64, z_ref: f64, curvature: Curvature) -> Result<Field> {
+    pub(crate) fn new(dem: &Dem, ox: f64, oy: f64, z_ref: f64, curvature: Curvature) -> Result<Field> {
         let (cols, rows) = (dem.cols(), dem.rows());
         if cols < 2 || rows < 2 {
             return Err(Error::BadGrid("line of sight needs at least 2 x 2 cells".into()));
@@ -66,7 +66,7 @@ impl Field {
         })
     }
 
-    fn local(&self, x: f64, y: f64, z: f64) -> Vector {
+    pub(crate) fn local(&self, x: f64, y: f64, z: f64) -> Vector {
         Vector::new((x - self.x_mid) as f32, (z - self.z_ref) as f32, (self.y_mid - y) as f32)
     }
 
@@ -127,53 +127,9 @@ pub fn viewshed(dem: &Dem, x: f64, y: f64, height_m: f64, curvature: Curvature) 
     Ok(out)
 }
 
-/// Cast shadows by one parry3d ray per cell toward a source at infinity: the
-/// independent reference for [`crate::shadow::cast_shadows`] (which sees the same
-/// triangles) and [`crate::shadow::cast_shadows_fast`]. Flat world only.
-pub fn cast_shadows_parry(dem: &Dem, azimuth_deg: f64, elevation_deg: f64) -> Result<Vec<bool>> {
-    let (cx, cy) = dem.cell_center(dem.cols() / 2, dem.rows() / 2);
-    let field = Field::new(dem, cx, cy, 0.0, Curvature::Flat)?;
-    let (sa, ca) = azimuth_deg.to_radians().sin_cos();
-    let (se, ce) = elevation_deg.to_radians().sin_cos();
-    if elevation_deg <= 0.0 {
-        return Ok(vec![true; dem.cols() * dem.rows()]);
-    }
-    // Horizontal distances: to the first grid-line crossing, and far enough to leave the map.
-    // Half of it: parry3d misses hits from origins exactly on vertex lines, and the
-    // terrain between a cell centre and that crossing is the cell's own facet.
-    let skip = 0.01 * (dem.dx() / sa.abs().max(1e-12)).min(dem.dy() / ca.abs().max(1e-12));
-    let reach = (dem.cols() as f64 * dem.dx()).hypot(dem.rows() as f64 * dem.dy()) * 2.0;
-    let mut out = vec![false; dem.cols() * dem.rows()];
-    for r in 0..dem.rows() {
-        for c in 0..dem.cols() {
-            let Some(z) = dem.z(c, r) else { continue };
-            let (x, y) = dem.cell_center(c, r);
-            // Start toward the first grid-line crossing, where the sweep's occluders
-            // begin: the cell's own slope (facing away from the Sun) is not a cast shadow.
-            // The ray of a point a thousandth of a cell to the side, on the ground there:
-            // parry3d's traversal loses rays that run exactly along vertex rows or
-            // through vertices. Toward the map's middle, so that rays from border cells
-            // stay on the map.
-            let side = (ca, -sa);
-            let to_mid = (cx - x, cy - y);
-            let sign = if side.0 * to_mid.0 + side.1 * to_mid.1 >= 0.0 { 1.0 } else { -1.0 };
-            let j = 0.001 * dem.dx().min(dem.dy()) * sign;
-            let (x, y) = (x + side.0 * j, y + side.1 * j);
-            let z = dem.height(x, y).unwrap_or(f64::from(z));
-            let start = (x + skip * sa, y + skip * ca, z + skip * se / ce);
-            let end = (x + reach * sa, y + reach * ca, z + reach * se / ce);
-            let (pa, pb) = (field.local(start.0, start.1, start.2), field.local(end.0, end.1, end.2));
-            let hit = field.shape.cast_local_ray(&Ray::new(pa, pb - pa), 1.0, false);
-            out[dem.index(c, r)] = hit.is_some();
-        }
-    }
-    Ok(out)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shadow::{cast_shadows, cast_shadows_fast};
 
     #[test]
     fn a_wall_hides_what_lies_behind_it() {
@@ -199,42 +155,5 @@ mod tests {
         assert!(!seen[row + 45], "4.5 km: below the horizon");
         let flat = viewshed(&dem, 50.0, 150.0, 2.0, Curvature::Flat).unwrap();
         assert!(flat[row + 99]);
-    }
-
-    #[test]
-    #[allow(clippy::print_stderr)] // the agreement figures are the point of the test
-    fn the_shadow_sweeps_agree_with_parry_ray_casts() {
-        use crate::tin::horizon_on_triangles;
-        let dem = crate::synth::rough_test_terrain(100, 80, 11, 30.0, 3);
-        let (mut exact_differ, mut cells) = (0, 0);
-        for (az, el) in [(90.0, 15.0), (200.0, 25.0), (315.0, 10.0), (300.0, 8.0), (10.0, 15.0), (135.0, 5.0)] {
-            let parry = cast_shadows_parry(&dem, az, el).unwrap();
-            let exact = cast_shadows(&dem, az, el, Curvature::Flat);
-            let fast = cast_shadows_fast(&dem, az, el, Curvature::Flat);
-            let horizon = horizon_on_triangles(&dem, az, Curvature::Flat);
-            let (mut differ, mut worst) = (0, 0f64);
-            for i in 0..parry.len() {
-                if exact[i] != parry[i] {
-                    differ += 1;
-                    worst = worst.max((horizon[i] - el).abs());
-                }
-            }
-            let fast_differ = fast.iter().zip(&parry).filter(|(a, b)| a != b).count();
-            eprintln!(
-                "az {az} el {el}: exact sweep vs parry3d {differ} of {} differ (at most {worst:.2}° from grazing); fast sweep vs parry3d {fast_differ}",
-                parry.len()
-            );
-            // Both see the same triangles: they part only where the Sun grazes the
-            // terrain (parry3d works in f32 and its rays start a thousandth of a cell
-            // aside; the sweep borrows occluders from rays up to a third of a cell away).
-            assert!(worst <= 1.5, "az {az}: a disagreement {worst:.2}° from grazing");
-            // The fast sweep follows grid-line crossings only, and blurs far shadows.
-            assert!(fast_differ as f64 / parry.len() as f64 <= 0.015, "az {az}: {fast_differ} differ");
-            exact_differ += differ;
-            cells += parry.len();
-        }
-        let agree = 1.0 - exact_differ as f64 / cells as f64;
-        eprintln!("exact sweep vs parry3d over all: {:.3} % agree", 100.0 * agree);
-        assert!(agree >= 0.999, "exact sweep: only {:.3} % agree with parry3d", 100.0 * agree);
     }
 }

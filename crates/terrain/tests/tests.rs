@@ -6,4 +6,5 @@
 mod horizon_error;
 mod hostile;
 mod readers;
+mod shadow_methods;
 mod threads;

@@ -11,7 +11,7 @@ use crate::outcome::Outcome;
 
 pub(crate) fn run(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
     use areo_ephemeris::{Mars24, SunModel};
-    use areo_terrain::shadow::{Curvature, shadow_map};
+    use areo_terrain::shadow::{Curvature, Method, Sun, shadow_map};
     use areo_terrain::slope::slope_aspect;
 
     opts.progress.start(3, "terrain");
@@ -28,7 +28,7 @@ pub(crate) fn run(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<
     let t = parse_utc(&job.utc)?;
     let sun = Mars24.sun(t).at_site(&site);
     let curvature = if job.flat { Curvature::Flat } else { Curvature::of(&dem) };
-    let map = shadow_map(&dem, sun.azimuth_deg, sun.elevation_deg, curvature);
+    let map = shadow_map(&dem, Sun::new(sun.azimuth_deg, sun.elevation_deg), curvature, Method::OwnRay);
     let sa = slope_aspect(&dem);
     opts.progress.advance(1);
 
@@ -68,8 +68,14 @@ pub(crate) fn run(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<
         let dem_path = dir.join("dem.tif");
         areo_terrain::geotiff::write(&dem, &dem_path)?;
         let shadow_path = dir.join("shadow.tif");
-        let (files, _) =
-            crate::terrain::write_shadow(&dem, sun.azimuth_deg, sun.elevation_deg, job.flat, false, &shadow_path)?;
+        let (files, _) = crate::terrain::write_shadow(
+            &dem,
+            sun.azimuth_deg,
+            sun.elevation_deg,
+            job.flat,
+            Method::OwnRay,
+            &shadow_path,
+        )?;
         o.files.push(dem_path);
         o.files.extend(files);
     }

@@ -1,21 +1,18 @@
-//! Cast shadows on the DEM's triangulated surface, by sweeping sheared rays (agreement
-//! with each cell's own ray measured in [`crate::shadow`]'s docs; not exact at every
-//! azimuth).
+//! [`Method::Swept`](super::Method::Swept): a sweep of sheared rays on the
+//! triangulated surface, approximate off the cardinal azimuths.
 //!
-//! [`crate::shadow::cast_shadows_fast`] follows the terrain where rays cross the grid
-//! lines of one family, interpolating each ray's envelope from its neighbours line
-//! after line; it is fast (one pass, two samples a cell) but that interpolation blurs
-//! shadow edges over long distances. This module, behind
-//! [`crate::shadow::cast_shadows`], treats the DEM as the surface a mesh
-//! ray tracer sees — cell centres joined by the grid lines and by each quad's
-//! south-west–north-east diagonal, parry3d's `HeightField` split — on which terrain
-//! minus ray height is piecewise linear along a ray, so testing a ray where it crosses
-//! triangle edges is exact. [`cast_shadows_exact`] sweeps rays that never interpolate
-//! between each other; [`horizon_on_triangles`] is its brute-force reference.
+//! Rays run toward the Sun three to a cell width, sheared so that each meets the
+//! previous line exactly at one of its rays: each ray's envelope is exact, never
+//! interpolated from step to step, and testing a ray where it crosses triangle edges is
+//! exact because terrain minus ray height is piecewise linear along it. A cell's own
+//! ray is tested back to the previous line; beyond it, the two rays beside the cell
+//! (up to a third of a cell away) lend it their occluding triangles, moved sideways
+//! onto its ray. That lending is the approximation: the measured disagreement with
+//! each cell's own ray is in [`crate::shadow`]'s docs.
 
 use crate::dem::Dem;
-use crate::lines::{LineGeometry, Lines};
 use crate::shadow::Curvature;
+use crate::sweep_lines::{LineGeometry, Lines};
 
 /// Sweep rays per cell width. A cell's envelope beyond its first step comes from the
 /// rays beside it, at most a third of a cell away (agreement with per-cell rays at a
@@ -166,7 +163,7 @@ impl Envelopes {
 /// each ray's envelope is exact, never interpolated from step to step. A cell's own
 /// ray is tested exactly back to the previous line; beyond it, each of the two rays
 /// beside it lends its occluding triangle, moved sideways onto the cell's ray.
-pub fn cast_shadows_exact(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
+pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
     let (cols, rows) = (dem.cols(), dem.rows());
     if elevation_deg <= 0.0 {
         // Below the local horizontal the source is behind the surface everywhere.
@@ -450,93 +447,10 @@ fn lerp(a: f64, b: f64, t: f64) -> f64 {
     a + (b - a) * t
 }
 
-/// Per cell, the elevation angle (degrees) of the highest terrain seen toward
-/// `azimuth_deg` along the cell's own ray (−90 where nothing rises, NaN on missing
-/// cells): a cell is in cast shadow from a source at that azimuth exactly when the
-/// source's elevation is below this angle. The ray is tested wherever it crosses an
-/// edge of the triangulated surface (both families of grid lines and the cell
-/// diagonals): exact for that surface. O(cells × length); the brute-force reference of
-/// [`cast_shadows_exact`].
-pub fn horizon_on_triangles(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f64> {
-    const EPS: f64 = 1e-9;
-    let (cols, rows) = (dem.cols() as i64, dem.rows() as i64);
-    let a = azimuth_deg.to_radians();
-    let snap = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
-    let (pc, pr) = (snap(a.sin() / dem.dx()), snap(-a.cos() / dem.dy()));
-    let inv_2r = curvature.inv_2r();
-    let at = |c: i64, r: i64| -> f64 {
-        if c < 0 || r < 0 || c >= cols || r >= rows {
-            return f64::NAN;
-        }
-        dem.z(c as usize, r as usize).map_or(f64::NAN, f64::from)
-    };
-    // The surface on an edge between two vertices, a fraction t from the first.
-    let edge = |a: f64, b: f64, t: f64| {
-        if t < EPS {
-            a
-        } else if t > 1.0 - EPS {
-            b
-        } else {
-            lerp(a, b, t)
-        }
-    };
-    let inside =
-        |fc: f64, fr: f64| fc > -EPS && fr > -EPS && fc < (cols - 1) as f64 + EPS && fr < (rows - 1) as f64 + EPS;
-    let mut out = vec![f64::NAN; (cols * rows) as usize];
-    for r in 0..rows {
-        for c in 0..cols {
-            let z0 = at(c, r);
-            if z0.is_nan() {
-                continue;
-            }
-            let mut best = -90f64;
-            let mut see = |s: f64, h: f64| {
-                if !h.is_nan() {
-                    best = best.max(((h - s * s * inv_2r - z0) / s).atan().to_degrees());
-                }
-            };
-            // Each family of edges: the ray's coordinate `rate·s` along it passes the
-            // integers j = 1, 2, … at s = j/|rate|.
-            for family in 0..3 {
-                let rate = [pc, pr, pc + pr][family];
-                if rate.abs() < 1e-12 {
-                    continue;
-                }
-                for j in 1.. {
-                    let s = j as f64 / rate.abs();
-                    let (fc, fr) = (c as f64 + pc * s, r as f64 + pr * s);
-                    if !inside(fc, fr) {
-                        break;
-                    }
-                    let h = match family {
-                        0 => {
-                            let cc = c + j * rate.signum() as i64;
-                            let r0 = fr.floor().max(0.0) as i64;
-                            edge(at(cc, r0), at(cc, r0 + 1), fr - r0 as f64)
-                        }
-                        1 => {
-                            let rr = r + j * rate.signum() as i64;
-                            let c0 = fc.floor().max(0.0) as i64;
-                            edge(at(c0, rr), at(c0 + 1, rr), fc - c0 as f64)
-                        }
-                        _ => {
-                            let sum = c + r + j * rate.signum() as i64;
-                            let c0 = fc.floor().max(0.0) as i64;
-                            edge(at(c0, sum - c0), at(c0 + 1, sum - c0 - 1), fc - c0 as f64)
-                        }
-                    };
-                    see(s, h);
-                }
-            }
-            out[(r * cols + c) as usize] = best;
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::reference::horizon_on_triangles;
 
     #[test]
     #[allow(clippy::print_stderr)] // the agreement figures are the point of the test
@@ -546,7 +460,7 @@ mod tests {
         for (az, el) in
             [(90.0, 20.0), (135.0, 10.0), (200.0, 35.0), (300.0, 8.0), (10.0, 15.0), (45.0, 3.0), (250.0, 12.0)]
         {
-            let sweep = cast_shadows_exact(&dem, az, el, Curvature::Flat);
+            let sweep = cast(&dem, az, el, Curvature::Flat);
             let horizon = horizon_on_triangles(&dem, az, Curvature::Flat);
             let (mut differ, mut worst) = (0, 0f64);
             for (s, h) in sweep.iter().zip(&horizon) {
@@ -578,7 +492,7 @@ mod tests {
         // neighbouring rays.
         let dem = crate::synth::rough_test_terrain(60, 60, 3, 40.0, 4);
         for (az, el) in [(0.0, 10.0), (90.0, 5.0), (135.0, 12.0), (225.0, 7.0), (315.0, 20.0)] {
-            let sweep = cast_shadows_exact(&dem, az, el, Curvature::Flat);
+            let sweep = cast(&dem, az, el, Curvature::Flat);
             let horizon = horizon_on_triangles(&dem, az, Curvature::Flat);
             for (i, (s, h)) in sweep.iter().zip(&horizon).enumerate() {
                 assert_eq!(*s, *h > el, "az {az}: cell {i}, horizon {h}");
@@ -590,15 +504,15 @@ mod tests {
     fn a_vertical_wall_and_a_curved_horizon() {
         let (h, e) = (20.0, 30.0f64);
         let dem = Dem::from_fn(200, 20, 1.0, 1.0, |x, _| if (50.0..51.0).contains(&x) { h } else { 0.0 }).unwrap();
-        let s = cast_shadows_exact(&dem, 270.0, e, Curvature::Flat);
+        let s = cast(&dem, 270.0, e, Curvature::Flat);
         let len = (51..200).take_while(|&c| s[10 * 200 + c]).count() as f64;
         assert!((len - h / e.to_radians().tan()).abs() <= 1.0, "shadow {len} m");
         assert!((0..50).all(|c| !s[10 * 200 + c]));
         // A 1000 m peak 100 km west, Sun at 0.3°: hidden by the curvature of Mars.
         let dem = Dem::from_fn(1101, 3, 100.0, 100.0, |x, _| if x < 100.0 { 1000.0 } else { 0.0 }).unwrap();
         let target = 2 * 1101 + 1000;
-        assert!(cast_shadows_exact(&dem, 270.0, 0.3, Curvature::Flat)[target]);
-        assert!(!cast_shadows_exact(&dem, 270.0, 0.3, Curvature::Sphere { radius_m: 3_389_500.0 })[target]);
+        assert!(cast(&dem, 270.0, 0.3, Curvature::Flat)[target]);
+        assert!(!cast(&dem, 270.0, 0.3, Curvature::Sphere { radius_m: 3_389_500.0 })[target]);
         let truth = horizon_on_triangles(&dem, 270.0, Curvature::Sphere { radius_m: 3_389_500.0 });
         assert!(truth[target] < 0.3);
     }
