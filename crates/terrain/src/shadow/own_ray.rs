@@ -51,7 +51,7 @@ pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: C
     let view = SunView::new(dem, azimuth_deg);
     let tan_e = elevation_deg.to_radians().tan();
     let crossings = Crossings::new(&view, tan_e, curvature.inv_2r());
-    let bands = Bands::new(&view, tan_e);
+    let mut bands = Bands::new(&view, tan_e);
     let fine = Blocks::new(&view, 8);
     let blocks = [fine.coarser(8), fine];
     let n_pos = view.n_pos;
@@ -63,45 +63,55 @@ pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: C
     // first place to look for a cell's own.
     let (mut met_sun, mut met_here) = (vec![0u32; n_pos], vec![0u32; n_pos]);
     let last_step = crossings.ends.len() - 1;
+    let mut open = vec![false; n_pos];
     for line in 0..view.n_lines {
+        bands.push_line(&view);
         first_step(&view, step1, line, &mut first);
-        met_here.fill(0);
         let out = &mut shadow_lines[line * n_pos..(line + 1) * n_pos];
         let heights = &view.z[view.slot(line, 0)..][..n_pos];
+        // Whole-line passes first: shadowed within the first step, and — among the
+        // rest — lit by the bound of the band each ray runs in one line on. `open`
+        // marks the cells neither settles.
+        for (((o, met), z0), h1) in out.iter_mut().zip(met_here.iter_mut()).zip(heights).zip(&first) {
+            *o = *h1 > f64::from(*z0);
+            *met = u32::from(*o);
+        }
+        let rise = crossings.rise[1];
+        if line == 0 {
+            // Nothing lies beyond the sun-most line.
+            open.fill(false);
+        } else {
+            let (bounds, from) = bands.line_after_one_step(line);
+            for (p, ((u, o), z0)) in open.iter_mut().zip(out.iter()).zip(heights).enumerate() {
+                let z0 = f64::from(*z0);
+                // Off the band lattice's slots nothing bounds the ray: it is lit.
+                let bound = bounds.get(p.wrapping_add_signed(from)).copied().unwrap_or(f64::NEG_INFINITY);
+                *u = !*o && z0 != f64::NEG_INFINITY && z0 + rise < bound;
+            }
+        }
         // The last shadow witness on this line: the next cell tries it first.
         let mut witness: Option<usize> = None;
-        for (pos, ((o, &z0), &h1)) in out.iter_mut().zip(heights).zip(&first).enumerate() {
-            let z0 = f64::from(z0);
-            if z0 == f64::NEG_INFINITY {
+        for pos in 0..n_pos {
+            if !open[pos] {
                 continue;
             }
-            if h1 > z0 {
-                let ray = Ray::new(&view, line, pos, z0);
-                witness = step1.iter().position(|x| ray.above(&view, x));
-                met_here[pos] = 1;
-                *o = true;
-                continue;
-            }
-            if line == 0 || z0 + crossings.rise[1] >= bands.bound(line, pos, 1) {
-                continue;
-            }
+            let z0 = f64::from(heights[pos]);
             let ray = Ray::new(&view, line, pos, z0);
             let hit = |e: &usize| ray.reaches(&crossings.list[*e]) && ray.above(&view, &crossings.list[*e]);
-            // Witnesses: the last one on this line, then the occluders of the two cells
-            // either side of the ray one line toward the Sun, a step further on.
+            // Witnesses: the last cell marched into shadow on this line, then the
+            // occluders of the two cells either side of the ray one line toward the
+            // Sun, a step further on.
             let q = pos as isize + crossings.whole[1];
             let sunward = [q, q + 1].into_iter().filter(|q| *q >= 0 && (*q as usize) < n_pos).flat_map(|q| {
                 let m = met_sun[q as usize] as usize;
                 if m == 0 { 0..0 } else { crossings.ends[m - 1]..crossings.ends[(m + 2).min(last_step)] }
             });
-            let found = witness
-                .filter(hit)
-                .or_else(|| sunward.into_iter().find(hit))
-                .or_else(|| ray.march(&view, &crossings, &bands, &blocks));
+            let found =
+                witness.into_iter().chain(sunward).find(hit).or_else(|| ray.march(&view, &crossings, &bands, &blocks));
             if let Some(e) = found {
                 witness = Some(e);
                 met_here[pos] = crossings.list[e].step;
-                *o = true;
+                out[pos] = true;
             }
         }
         std::mem::swap(&mut met_sun, &mut met_here);
@@ -238,12 +248,18 @@ impl Layout {
             }
             return;
         }
+        // Blocks of 64 columns × 8 rows: each column's 8 values land side by side.
         const B: usize = 64;
+        const R: usize = 8;
         for c0 in (0..self.n_lines).step_by(B) {
             let c1 = (c0 + B).min(self.n_lines);
-            for r in 0..self.n_pos {
+            for r0 in (0..self.n_pos).step_by(R) {
+                let r1 = (r0 + R).min(self.n_pos);
                 for c in c0..c1 {
-                    dst[self.line_of(c) * stride + offset + r] = value(r * self.cols + c);
+                    let line = &mut dst[self.line_of(c) * stride + offset..][r0..r1];
+                    for (k, d) in line.iter_mut().enumerate() {
+                        *d = value((r0 + k) * self.cols + c);
+                    }
                 }
             }
         }
@@ -575,84 +591,111 @@ struct Bands {
     /// Per line ℓ: the sum over lines 1..=ℓ of how far the band index moves from a line
     /// to the next toward the Sun.
     prefix: Vec<isize>,
+    /// Scratch, per ray of a line: terrain under it, highest edge crossing.
+    e: Vec<f64>,
+    r: Vec<f64>,
+    /// tan e per line step, m.
+    line_drop: f64,
 }
 
 impl Bands {
     fn new(view: &SunView, tan_e: f64) -> Bands {
-        let (n_lines, n, shift) = (view.n_lines, view.n_pos, view.shift);
-        let width = n + 2;
-        let mut b = vec![f64::NEG_INFINITY; n_lines * width];
-        let mut zero_phase = vec![false; n_lines];
-        let mut prefix = vec![0isize; n_lines];
-        let phase = |line: usize| {
-            let phi = (-(line as f64) * shift).rem_euclid(1.0);
-            if (1e-9..=1.0 - 1e-9).contains(&phi) { phi } else { 0.0 }
-        };
-        let line_drop = view.step_m * tan_e;
-        // Rays j = −1..=n + 1, the terrain under them on the line (e), and the highest
-        // edge crossing before the next line (r), per ray at slot j + 1.
-        let mut e = vec![f64::NEG_INFINITY; n + 3];
-        let mut r = vec![f64::NEG_INFINITY; n + 3];
-        for line in 0..n_lines {
-            let phi = phase(line);
-            zero_phase[line] = phi == 0.0;
-            let here = &view.z[view.slot(line, 0) - PAD_POS..][..n + 2 * PAD_POS];
-            // Slot j + 1 of `e` reads positions j and j + 1: here[j + PAD_POS].
-            fn at(v: &[f32], dp: isize, len: usize) -> &[f32] {
-                &v[(PAD_POS as isize - 1 + dp) as usize..][..len]
-            }
-            let (z0, z1) = (at(here, 0, n + 3), at(here, 1, n + 3));
-            for ((o, a), c) in e.iter_mut().zip(z0).zip(z1) {
-                let (a, c) = (f64::from(*a), f64::from(*c));
-                *o = if phi == 0.0 { a } else { a + (c - a) * phi };
-            }
-            r.fill(f64::NEG_INFINITY);
-            if line > 0 {
-                let sun = &view.z[view.slot(line - 1, 0) - PAD_POS..][..n + 2 * PAD_POS];
-                for x in strip_crossings(phi, shift, view.diagonal, view.step_m * tan_e) {
-                    let (za, zb) = (at(here, x.a, n + 3), at(sun, x.b, n + 3));
-                    for ((o, a), c) in r.iter_mut().zip(za).zip(zb) {
-                        let (a, c) = (f64::from(*a), f64::from(*c));
-                        let v = a + (c - a) * x.u - x.drop;
-                        *o = if v > *o { v } else { *o };
-                    }
-                }
-            }
-            let (done, rest) = b.split_at_mut(line * width);
-            let out = &mut rest[..width];
-            // Band j (slot j + 1) lies between rays j and j + 1 (slots j + 1, j + 2);
-            // inside its stretch of the line, vertex j + 1 when the rays are off the
-            // vertices.
-            let inner = at(here, 1, n + 3);
-            // NaN (an edge with a missing end: no surface there) never wins.
-            let top = |v: f64, c: f64| if c > v { c } else { v };
-            let parts = out.iter_mut().zip(e.windows(2)).zip(r.windows(2)).zip(inner);
-            if phi != 0.0 {
-                for (((o, e), r), z) in parts {
-                    *o = top(top(top(top(f64::NEG_INFINITY, e[0]), e[1]), top(r[0], r[1])), f64::from(*z));
-                }
-            } else {
-                for (((o, e), r), _) in parts {
-                    *o = top(top(top(f64::NEG_INFINITY, e[0]), e[1]), top(r[0], r[1]));
-                }
-            }
-            if line > 0 {
-                // Ray j here is ray j + shift_j on the next line toward the Sun.
-                let shift_j = (phi + shift - phase(line - 1)).round() as isize;
-                prefix[line] = prefix[line - 1] + shift_j;
-                let prev = &done[(line - 1) * width..][..width];
-                // Slots whose band continues on the map's stretch of the next line.
-                let lo = (-shift_j).max(0) as usize;
-                let hi = (width as isize - shift_j).clamp(0, width as isize) as usize;
-                if lo < hi {
-                    let from = &prev[(lo as isize + shift_j) as usize..(hi as isize + shift_j) as usize];
-                    for (o, p) in out[lo..hi].iter_mut().zip(from) {
-                        *o = top(*o, p - line_drop);
-                    }
+        let (n_lines, n) = (view.n_lines, view.n_pos);
+        Bands {
+            b: Vec::with_capacity(n_lines * (n + 2)),
+            width: n + 2,
+            zero_phase: Vec::with_capacity(n_lines),
+            prefix: Vec::with_capacity(n_lines),
+            e: vec![f64::NEG_INFINITY; n + 3],
+            r: vec![f64::NEG_INFINITY; n + 3],
+            line_drop: view.step_m * tan_e,
+        }
+    }
+
+    /// The ray lattice's phase on `line`: rays at φ + j.
+    fn phase(line: usize, shift: f64) -> f64 {
+        let phi = (-(line as f64) * shift).rem_euclid(1.0);
+        if (1e-9..=1.0 - 1e-9).contains(&phi) { phi } else { 0.0 }
+    }
+
+    /// Adds the bounds of the next line's bands (lines go away from the Sun, each after
+    /// the one before it). Done line by line inside the cell loop, so that a line's
+    /// bounds are still in cache when its cells first read them.
+    fn push_line(&mut self, view: &SunView) {
+        let line = self.zero_phase.len();
+        let (n, shift, width) = (view.n_pos, view.shift, self.width);
+        let phi = Bands::phase(line, shift);
+        self.zero_phase.push(phi == 0.0);
+        let (e, r) = (&mut self.e, &mut self.r);
+        let here = &view.z[view.slot(line, 0) - PAD_POS..][..n + 2 * PAD_POS];
+        // Rays j = −1..=n + 1: the terrain under them on the line (e), and the highest
+        // edge crossing before the next line (r), per ray at slot j + 1, which reads
+        // positions j and j + 1: here[j + PAD_POS].
+        fn at(v: &[f32], dp: isize, len: usize) -> &[f32] {
+            &v[(PAD_POS as isize - 1 + dp) as usize..][..len]
+        }
+        let (z0, z1) = (at(here, 0, n + 3), at(here, 1, n + 3));
+        for ((o, a), c) in e.iter_mut().zip(z0).zip(z1) {
+            let (a, c) = (f64::from(*a), f64::from(*c));
+            *o = if phi == 0.0 { a } else { a + (c - a) * phi };
+        }
+        r.fill(f64::NEG_INFINITY);
+        if line > 0 {
+            let sun = &view.z[view.slot(line - 1, 0) - PAD_POS..][..n + 2 * PAD_POS];
+            for x in strip_crossings(phi, shift, view.diagonal, self.line_drop) {
+                let (za, zb) = (at(here, x.a, n + 3), at(sun, x.b, n + 3));
+                for ((o, a), c) in r.iter_mut().zip(za).zip(zb) {
+                    let (a, c) = (f64::from(*a), f64::from(*c));
+                    let v = a + (c - a) * x.u - x.drop;
+                    *o = if v > *o { v } else { *o };
                 }
             }
         }
-        Bands { b, width, zero_phase, prefix }
+        let start = self.b.len();
+        self.b.resize(start + width, f64::NEG_INFINITY);
+        let (done, out) = self.b.split_at_mut(start);
+        // Band j (slot j + 1) lies between rays j and j + 1 (slots j + 1, j + 2);
+        // inside its stretch of the line, vertex j + 1 when the rays are off the
+        // vertices.
+        let inner = at(here, 1, n + 3);
+        // NaN (an edge with a missing end: no surface there) never wins.
+        let top = |v: f64, c: f64| if c > v { c } else { v };
+        let parts = out.iter_mut().zip(e.windows(2)).zip(r.windows(2)).zip(inner);
+        if phi != 0.0 {
+            for (((o, e), r), z) in parts {
+                *o = top(top(top(top(f64::NEG_INFINITY, e[0]), e[1]), top(r[0], r[1])), f64::from(*z));
+            }
+        } else {
+            for (((o, e), r), _) in parts {
+                *o = top(top(top(f64::NEG_INFINITY, e[0]), e[1]), top(r[0], r[1]));
+            }
+        }
+        if line == 0 {
+            self.prefix.push(0);
+            return;
+        }
+        // Ray j here is ray j + shift_j on the next line toward the Sun.
+        let shift_j = (phi + shift - Bands::phase(line - 1, shift)).round() as isize;
+        self.prefix.push(self.prefix[line - 1] + shift_j);
+        let prev = &done[start - width..];
+        // Slots whose band continues on the map's stretch of the next line.
+        let lo = (-shift_j).max(0) as usize;
+        let hi = (width as isize - shift_j).clamp(0, width as isize) as usize;
+        if lo < hi {
+            let from = &prev[(lo as isize + shift_j) as usize..(hi as isize + shift_j) as usize];
+            for (o, p) in out[lo..hi].iter_mut().zip(from) {
+                *o = top(*o, p - self.line_drop);
+            }
+        }
+    }
+
+    /// For the cells of `line` (≥ 1): the bounds of the line one step toward the Sun,
+    /// and the offset from a cell's position to the band its ray runs in there (a
+    /// position p reads `bounds[p + offset]`, if it is there).
+    fn line_after_one_step(&self, line: usize) -> (&[f64], isize) {
+        let j0 = -isize::from(!self.zero_phase[line]);
+        let from = j0 + self.prefix[line] - self.prefix[line - 1] + 1;
+        (&self.b[(line - 1) * self.width..][..self.width], from)
     }
 
     /// The bound of the band holding the own ray of cell (`line`, `pos`) on the line
@@ -751,7 +794,10 @@ mod tests {
         for az in [0.0, 30.0, 45.0, 77.0, 135.0, 250.0, 333.0] {
             let view = SunView::new(&dem, az);
             let tan_e = 0.1;
-            let bands = Bands::new(&view, tan_e);
+            let mut bands = Bands::new(&view, tan_e);
+            for _ in 0..view.n_lines {
+                bands.push_line(&view);
+            }
             for line in 1..view.n_lines {
                 let phi = (-(line as f64) * view.shift).rem_euclid(1.0);
                 for pos in 0..view.n_pos {
