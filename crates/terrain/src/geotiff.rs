@@ -42,63 +42,229 @@ pub fn read(path: &Path) -> Result<Dem> {
 
 /// Reads a GeoTIFF DEM from any reader; `path` labels errors.
 pub fn read_from<R: Read + Seek>(reader: R, path: &Path) -> Result<Dem> {
-    let bad = |m: String| Error::format(path, m);
     let tiff_err = |e: tiff::TiffError| Error::format(path, format!("not a readable TIFF: {e}"));
     let mut dec = Decoder::new(reader).map_err(tiff_err)?;
-    let (w, h) = dec.dimensions().map_err(tiff_err)?;
-    let samples = dec.find_tag_unsigned::<u16>(Tag::SamplesPerPixel).map_err(tiff_err)?.unwrap_or(1);
-    if samples != 1 {
-        return Err(bad(format!("{samples} samples per pixel; a DEM has one band")));
-    }
+    let header = Header::parse(&mut dec, path)?;
     let image = dec.read_image().map_err(tiff_err)?;
-    let z: Vec<f32> = match image {
+    let z = samples(image, path)?;
+    header.dem(0, 0, header.cols, header.rows, z, path)
+}
+
+/// What a GeoTIFF says of its grid: size, cells, georeference and nodata.
+#[derive(Debug, Clone)]
+struct Header {
+    cols: usize,
+    rows: usize,
+    dx: f64,
+    dy: f64,
+    x0: f64,
+    y_top: f64,
+    nodata: Option<f64>,
+    georef: Georef,
+}
+
+impl Header {
+    fn parse<R: Read + Seek>(dec: &mut Decoder<R>, path: &Path) -> Result<Header> {
+        let bad = |m: String| Error::format(path, m);
+        let tiff_err = |e: tiff::TiffError| Error::format(path, format!("not a readable TIFF: {e}"));
+        let (w, h) = dec.dimensions().map_err(tiff_err)?;
+        let samples = dec.find_tag_unsigned::<u16>(Tag::SamplesPerPixel).map_err(tiff_err)?.unwrap_or(1);
+        if samples != 1 {
+            return Err(bad(format!("{samples} samples per pixel; a DEM has one band")));
+        }
+        let scale = f64_vec(dec, Tag::ModelPixelScaleTag).map_err(tiff_err)?;
+        let tie = f64_vec(dec, Tag::ModelTiepointTag).map_err(tiff_err)?;
+        let keys = dec.find_tag_unsigned_vec::<u16>(Tag::GeoKeyDirectoryTag).map_err(tiff_err)?.unwrap_or_default();
+        let doubles = f64_vec(dec, Tag::GeoDoubleParamsTag).map_err(tiff_err)?.unwrap_or_default();
+        let geokeys = GeoKeys::parse(&keys, &doubles);
+        let (dx, dy, x0, y_top) = match (scale, tie) {
+            (Some(s), Some(t)) if s.len() >= 2 && t.len() >= 6 => {
+                let (dx, dy) = (s[0], s[1]);
+                // Tiepoint (i, j) ↔ (x, y): the raster's origin follows. PixelIsPoint
+                // rasters tie pixel centres, so shift by half a pixel to reach the corner.
+                let half = if geokeys.short(key::RASTER_TYPE) == Some(2) { 0.5 } else { 0.0 };
+                (dx, dy, t[3] - (t[0] + half) * dx, t[4] + (t[1] + half) * dy)
+            }
+            _ => (1.0, 1.0, 0.0, h as f64),
+        };
+        if !(dx > 0.0 && dy > 0.0 && dx.is_finite() && dy.is_finite()) {
+            return Err(bad(format!("ModelPixelScale {dx} x {dy}: cell sizes must be positive")));
+        }
+        let nodata: Option<f64> = match dec.find_tag(Tag::GdalNodata).map_err(tiff_err)? {
+            Some(Value::Ascii(s)) => {
+                let t = s.trim_matches(char::from(0)).trim();
+                Some(t.parse::<f64>().map_err(|_| bad(format!("GDAL_NODATA {t:?} is not a number")))?)
+            }
+            _ => None,
+        };
+        Ok(Header { cols: w as usize, rows: h as usize, dx, dy, x0, y_top, nodata, georef: geokeys.georef() })
+    }
+
+    /// The DEM of the window (`col0`, `row0`, `cols` × `rows`) from its samples.
+    fn dem(&self, col0: usize, row0: usize, cols: usize, rows: usize, z: Vec<f32>, path: &Path) -> Result<Dem> {
+        let bad = |m: String| Error::format(path, m);
+        if z.len() != cols * rows {
+            return Err(bad(format!("{} samples for {cols} x {rows} pixels", z.len())));
+        }
+        let nodata = self.nodata;
+        let valid: Vec<bool> = z
+            .iter()
+            .map(|&v| v.is_finite() && nodata.is_none_or(|nd| !(f64::from(v) == nd || (nd.is_nan() && v.is_nan()))))
+            .collect();
+        let z = z.into_iter().zip(&valid).map(|(v, ok)| if *ok { v } else { f32::NAN }).collect();
+        let (x0, y_top) = (self.x0 + col0 as f64 * self.dx, self.y_top - row0 as f64 * self.dy);
+        Dem::new(cols, rows, self.dx, self.dy, x0, y_top, z)
+            .and_then(|d| d.with_mask(valid))
+            .map(|d| d.with_georef(self.georef))
+            .map_err(|e| bad(e.to_string()))
+    }
+}
+
+/// Decoded samples as f32 elevations.
+fn samples(image: DecodingResult, path: &Path) -> Result<Vec<f32>> {
+    Ok(match image {
         DecodingResult::I16(v) => v.into_iter().map(f32::from).collect(),
         DecodingResult::U16(v) => v.into_iter().map(f32::from).collect(),
         DecodingResult::I32(v) => v.into_iter().map(|x| x as f32).collect(),
         DecodingResult::U8(v) => v.into_iter().map(f32::from).collect(),
         DecodingResult::F32(v) => v,
         DecodingResult::F64(v) => v.into_iter().map(|x| x as f32).collect(),
-        other => return Err(bad(format!("unsupported sample type {:?}", std::mem::discriminant(&other)))),
-    };
-    let (cols, rows) = (w as usize, h as usize);
-    if z.len() != cols * rows {
-        return Err(bad(format!("{} samples for {cols} x {rows} pixels", z.len())));
-    }
-    let scale = f64_vec(&mut dec, Tag::ModelPixelScaleTag).map_err(tiff_err)?;
-    let tie = f64_vec(&mut dec, Tag::ModelTiepointTag).map_err(tiff_err)?;
-    let keys = dec.find_tag_unsigned_vec::<u16>(Tag::GeoKeyDirectoryTag).map_err(tiff_err)?.unwrap_or_default();
-    let doubles = f64_vec(&mut dec, Tag::GeoDoubleParamsTag).map_err(tiff_err)?.unwrap_or_default();
-    let geokeys = GeoKeys::parse(&keys, &doubles);
-    let (dx, dy, x0, y_top) = match (scale, tie) {
-        (Some(s), Some(t)) if s.len() >= 2 && t.len() >= 6 => {
-            let (dx, dy) = (s[0], s[1]);
-            // Tiepoint (i, j) ↔ (x, y): the raster's origin follows. PixelIsPoint rasters
-            // tie pixel centres, so shift by half a pixel to reach the corner.
-            let half = if geokeys.short(key::RASTER_TYPE) == Some(2) { 0.5 } else { 0.0 };
-            (dx, dy, t[3] - (t[0] + half) * dx, t[4] + (t[1] + half) * dy)
+        other => {
+            return Err(Error::format(path, format!("unsupported sample type {:?}", std::mem::discriminant(&other))));
         }
-        _ => (1.0, 1.0, 0.0, h as f64),
-    };
-    if !(dx > 0.0 && dy > 0.0 && dx.is_finite() && dy.is_finite()) {
-        return Err(bad(format!("ModelPixelScale {dx} x {dy}: cell sizes must be positive")));
+    })
+}
+
+impl std::fmt::Debug for Windows {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Windows")
+            .field("path", &self.path)
+            .field("size", &self.size())
+            .field("chunk", &self.chunk)
+            .finish()
     }
-    let nodata: Option<f64> = match dec.find_tag(Tag::GdalNodata).map_err(tiff_err)? {
-        Some(Value::Ascii(s)) => {
-            let t = s.trim_matches(char::from(0)).trim();
-            Some(t.parse::<f64>().map_err(|_| bad(format!("GDAL_NODATA {t:?} is not a number")))?)
+}
+
+/// A GeoTIFF read a window at a time: only the strips or tiles a window touches are
+/// decoded, and the decoded ones are kept up to a byte budget (least recently used
+/// first out), so a sweep of windows across a map decodes each chunk about once and
+/// memory follows the window, not the map.
+pub struct Windows {
+    dec: Decoder<BufReader<File>>,
+    path: std::path::PathBuf,
+    header: Header,
+    /// Chunk width and height (a strip is the image's width).
+    chunk: (usize, usize),
+    across: usize,
+    cache: std::collections::HashMap<usize, (Vec<f32>, usize, u64)>,
+    cache_bytes: usize,
+    budget_bytes: usize,
+    clock: u64,
+}
+
+impl Windows {
+    /// Opens `path`, keeping at most `budget_bytes` of decoded chunks.
+    pub fn open(path: &Path, budget_bytes: usize) -> Result<Windows> {
+        let file = File::open(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+        let tiff_err = |e: tiff::TiffError| Error::format(path, format!("not a readable TIFF: {e}"));
+        let mut dec = Decoder::new(BufReader::new(file)).map_err(tiff_err)?;
+        let header = Header::parse(&mut dec, path)?;
+        let (cw, ch) = dec.chunk_dimensions();
+        let chunk = (cw as usize, ch as usize);
+        if chunk.0 == 0 || chunk.1 == 0 {
+            return Err(Error::format(path, format!("chunks of {} x {} pixels", chunk.0, chunk.1)));
         }
-        _ => None,
-    };
-    let valid: Vec<bool> = z
-        .iter()
-        .map(|&v| v.is_finite() && nodata.is_none_or(|nd| !(f64::from(v) == nd || (nd.is_nan() && v.is_nan()))))
-        .collect();
-    let z = z.into_iter().zip(&valid).map(|(v, ok)| if *ok { v } else { f32::NAN }).collect();
-    let georef = geokeys.georef();
-    Dem::new(cols, rows, dx, dy, x0, y_top, z)
-        .and_then(|d| d.with_mask(valid))
-        .map(|d| d.with_georef(georef))
-        .map_err(|e| bad(e.to_string()))
+        let across = header.cols.div_ceil(chunk.0);
+        Ok(Windows {
+            dec,
+            path: path.to_path_buf(),
+            header,
+            chunk,
+            across,
+            cache: std::collections::HashMap::new(),
+            cache_bytes: 0,
+            budget_bytes,
+            clock: 0,
+        })
+    }
+
+    /// Columns and rows of the whole map.
+    pub fn size(&self) -> (usize, usize) {
+        (self.header.cols, self.header.rows)
+    }
+
+    /// The map's grid: size, cells, placement, georeference.
+    pub fn grid(&self) -> Grid {
+        let h = &self.header;
+        Grid { cols: h.cols, rows: h.rows, dx: h.dx, dy: h.dy, x0: h.x0, y_top: h.y_top, georef: h.georef }
+    }
+
+    /// The window `cols` × `rows` from (`col0`, `row0`) as a DEM, placed where it lies
+    /// in the map.
+    pub fn read(&mut self, col0: usize, row0: usize, cols: usize, rows: usize) -> Result<Dem> {
+        let (w, h) = self.size();
+        if cols == 0 || rows == 0 || col0 + cols > w || row0 + rows > h {
+            return Err(Error::format(
+                &self.path,
+                format!("window {cols} x {rows} at ({col0}, {row0}) does not fit in {w} x {h}"),
+            ));
+        }
+        let (cw, ch) = self.chunk;
+        let mut z = vec![f32::NAN; cols * rows];
+        for cr in row0 / ch..=(row0 + rows - 1) / ch {
+            for cc in col0 / cw..=(col0 + cols - 1) / cw {
+                let index = cr * self.across + cc;
+                let (data, data_w) = self.chunk(index)?;
+                let (c_lo, r_lo) = (cc * cw, cr * ch);
+                let data_h = data.len() / data_w.max(1);
+                for r in r_lo.max(row0)..(r_lo + data_h).min(row0 + rows) {
+                    let (a, b) = (c_lo.max(col0), (c_lo + data_w).min(col0 + cols));
+                    if a >= b {
+                        continue;
+                    }
+                    let src = &data[(r - r_lo) * data_w + (a - c_lo)..][..b - a];
+                    z[(r - row0) * cols + (a - col0)..][..b - a].copy_from_slice(src);
+                }
+            }
+        }
+        self.header.dem(col0, row0, cols, rows, z, &self.path)
+    }
+
+    /// Chunk `index` decoded (and its data width), from the cache or the file.
+    fn chunk(&mut self, index: usize) -> Result<(&[f32], usize)> {
+        self.clock += 1;
+        if !self.cache.contains_key(&index) {
+            let path = self.path.clone();
+            let tiff_err = |e: tiff::TiffError| Error::format(&path, format!("chunk {index}: {e}"));
+            let count = match self.dec.get_chunk_type() {
+                tiff::decoder::ChunkType::Tile => self.dec.tile_count(),
+                tiff::decoder::ChunkType::Strip => self.dec.strip_count(),
+            }
+            .map_err(tiff_err)? as usize;
+            if index >= count {
+                return Err(Error::format(
+                    &path,
+                    format!("chunk {index} of {count}: the file's chunks do not cover it"),
+                ));
+            }
+            let (data_w, _) = self.dec.chunk_data_dimensions(index as u32);
+            let data_w = data_w as usize;
+            let data = samples(self.dec.read_chunk(index as u32).map_err(tiff_err)?, &path)?;
+            let bytes = data.len() * 4;
+            while self.cache_bytes + bytes > self.budget_bytes && !self.cache.is_empty() {
+                let oldest = self.cache.iter().min_by_key(|(_, v)| v.2).map(|(k, _)| *k);
+                if let Some(k) = oldest.and_then(|k| self.cache.remove(&k)) {
+                    self.cache_bytes -= k.0.len() * 4;
+                }
+            }
+            self.cache_bytes += bytes;
+            self.cache.insert(index, (data, data_w, 0));
+        }
+        let clock = self.clock;
+        let entry = self.cache.get_mut(&index).expect("just inserted");
+        entry.2 = clock;
+        Ok((&entry.0, entry.1))
+    }
 }
 
 fn f64_vec<R: Read + Seek>(dec: &mut Decoder<R>, tag: Tag) -> tiff::TiffResult<Option<Vec<f64>>> {
@@ -249,4 +415,101 @@ where
         img.write_data(data).map_err(tiff_err)?;
     }
     out.flush().map_err(io)
+}
+
+/// A raster's grid without its values: what a writer needs to place it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Grid {
+    /// Columns.
+    pub cols: usize,
+    /// Rows.
+    pub rows: usize,
+    /// Cell size east–west, m.
+    pub dx: f64,
+    /// Cell size north–south, m.
+    pub dy: f64,
+    /// West edge, m.
+    pub x0: f64,
+    /// North edge, m.
+    pub y_top: f64,
+    /// Projection and body.
+    pub georef: Georef,
+}
+
+impl Grid {
+    /// The grid of `dem`.
+    pub fn of(dem: &Dem) -> Grid {
+        Grid {
+            cols: dem.cols(),
+            rows: dem.rows(),
+            dx: dem.dx(),
+            dy: dem.dy(),
+            x0: dem.x0(),
+            y_top: dem.y_top(),
+            georef: *dem.georef(),
+        }
+    }
+}
+
+/// Beyond this many bytes of samples a streamed raster is written as BigTIFF (classic
+/// TIFF offsets are 32-bit).
+pub const BIGTIFF_FROM_BYTES: u64 = 4_000_000_000;
+
+/// Writes a one-byte-per-cell GeoTIFF band by band, so that only one band of
+/// `band_rows` rows is ever in memory: `fill(row0, band)` fills rows `row0..` (the
+/// last band may be shorter) in order, north to south. Each band is one TIFF strip.
+/// Past [`BIGTIFF_FROM_BYTES`] (or with `big`) the file is BigTIFF. Returns whether
+/// it was.
+pub fn write_u8_by_bands(
+    grid: &Grid,
+    nodata: Option<u8>,
+    band_rows: usize,
+    big: bool,
+    path: &Path,
+    fill: impl FnMut(usize, &mut [u8]) -> Result<()>,
+) -> Result<bool> {
+    let big = big || (grid.cols * grid.rows) as u64 > BIGTIFF_FROM_BYTES;
+    let io = |e: std::io::Error| Error::Io { path: path.to_path_buf(), source: e };
+    let mut out = BufWriter::new(File::create(path).map_err(io)?);
+    if big {
+        write_bands::<_, tiff::encoder::TiffKindBig>(&mut out, grid, nodata, band_rows, path, fill)?;
+    } else {
+        write_bands::<_, tiff::encoder::TiffKindStandard>(&mut out, grid, nodata, band_rows, path, fill)?;
+    }
+    out.flush().map_err(io)?;
+    Ok(big)
+}
+
+fn write_bands<W: Write + Seek, K: tiff::encoder::TiffKind>(
+    out: W,
+    grid: &Grid,
+    nodata: Option<u8>,
+    band_rows: usize,
+    path: &Path,
+    mut fill: impl FnMut(usize, &mut [u8]) -> Result<()>,
+) -> Result<()> {
+    let tiff_err = |e: tiff::TiffError| match e {
+        tiff::TiffError::IoError(source) => Error::Io { path: path.to_path_buf(), source },
+        other => Error::Io { path: path.to_path_buf(), source: std::io::Error::other(other) },
+    };
+    let band_rows = band_rows.clamp(1, grid.rows.max(1));
+    let mut enc = TiffEncoder::<W, K>::new_generic(out).map_err(tiff_err)?;
+    let mut img = enc.new_image::<colortype::Gray8>(grid.cols as u32, grid.rows as u32).map_err(tiff_err)?;
+    let (dir, doubles) = geokeys_for(&grid.georef);
+    let e = img.encoder();
+    e.write_tag(Tag::ModelPixelScaleTag, &[grid.dx, grid.dy, 0.0][..]).map_err(tiff_err)?;
+    e.write_tag(Tag::ModelTiepointTag, &[0.0, 0.0, 0.0, grid.x0, grid.y_top, 0.0][..]).map_err(tiff_err)?;
+    e.write_tag(Tag::GeoKeyDirectoryTag, &dir[..]).map_err(tiff_err)?;
+    e.write_tag(Tag::GeoDoubleParamsTag, &doubles[..]).map_err(tiff_err)?;
+    if let Some(nd) = nodata {
+        e.write_tag(Tag::GdalNodata, nd.to_string().as_str()).map_err(tiff_err)?;
+    }
+    img.rows_per_strip(band_rows as u32).map_err(tiff_err)?;
+    let mut band = vec![0u8; band_rows * grid.cols];
+    for row0 in (0..grid.rows).step_by(band_rows) {
+        let n = band_rows.min(grid.rows - row0) * grid.cols;
+        fill(row0, &mut band[..n])?;
+        img.write_strip(&band[..n]).map_err(tiff_err)?;
+    }
+    img.finish().map_err(tiff_err)
 }

@@ -61,6 +61,7 @@ pub mod reference;
 pub mod shadow;
 pub mod slope;
 pub mod synth;
+pub mod tiles;
 
 pub use crate::{
     body::{Body, Projection},

@@ -382,3 +382,61 @@ fn tiled_uint16_geotiff_with_nodata_loads() {
     }
     assert_eq!(dem.valid_mask().iter().filter(|v| !**v).count(), 1);
 }
+
+#[test]
+fn windows_of_tiled_and_stripped_geotiffs_equal_crops_of_the_whole() {
+    // The hand-built 16 × 16-tiled file (padded edge tiles), and the Gale crop as our
+    // writer stores it (strips), read through windows of every awkward shape.
+    let value = |c: u32, r: u32| if (c, r) == (5, 17) { 65535 } else { (c * 100 + r) as u16 };
+    let tiled = tmp("tiled_u16_windows.tif");
+    std::fs::write(&tiled, tiled_uint16_tiff(37, 21, value, "65535")).unwrap();
+    for path in [tiled, data("gale_mola_crop_64.tif")] {
+        let whole = geotiff::read(&path).unwrap();
+        // A budget of one chunk: every window evicts and re-reads.
+        for budget in [1usize, 1 << 20] {
+            let mut w = geotiff::Windows::open(&path, budget).unwrap();
+            assert_eq!(w.size(), (whole.cols(), whole.rows()));
+            for (c0, r0, c, r) in
+                [(0, 0, 1, 1), (3, 2, 17, 19), (15, 15, 2, 2), (16, 0, 5, 21), (0, 5, 37, 1), (20, 4, 17, 17)]
+            {
+                let (c, r) = (c.min(whole.cols() - c0), r.min(whole.rows() - r0));
+                let got = w.read(c0, r0, c, r).unwrap();
+                let want = whole.crop(c0, r0, c, r).unwrap();
+                assert_eq!(got.valid_mask(), want.valid_mask(), "{}: window ({c0}, {r0}) {c} x {r}", path.display());
+                let same =
+                    got.elevations().iter().zip(want.elevations()).all(|(a, b)| a == b || (a.is_nan() && b.is_nan()));
+                assert!(same, "{}: window ({c0}, {r0}) {c} x {r}", path.display());
+                assert_eq!((got.x0(), got.y_top(), got.georef()), (want.x0(), want.y_top(), want.georef()));
+            }
+        }
+        let mut w = geotiff::Windows::open(&path, 1 << 20).unwrap();
+        assert!(w.read(60, 0, 10, 1).is_err(), "a window past the edge is an error, not a panic");
+    }
+}
+
+#[test]
+fn band_by_band_writes_read_back_as_tiff_and_bigtiff() {
+    let dem = geotiff::read(&data("gale_mola_crop_64.tif")).unwrap();
+    let grid = geotiff::Grid::of(&dem);
+    let values: Vec<u8> = (0..64 * 64).map(|i| (i % 7) as u8).collect();
+    for big in [false, true] {
+        let path = tmp(if big { "bands_big.tif" } else { "bands.tif" });
+        let was_big = geotiff::write_u8_by_bands(&grid, Some(255), 10, big, &path, |row0, band| {
+            band.copy_from_slice(&values[row0 * 64..][..band.len()]);
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(was_big, big);
+        let bytes = std::fs::read(&path).unwrap();
+        // Classic TIFF says 42 in its header, BigTIFF 43.
+        assert_eq!(bytes[2], if big { 43 } else { 42 });
+        let back = geotiff::read(&path).unwrap();
+        assert_eq!(
+            (back.x0(), back.y_top(), back.dx(), back.georef()),
+            (dem.x0(), dem.y_top(), dem.dx(), dem.georef())
+        );
+        for (i, v) in values.iter().enumerate() {
+            assert_eq!(back.z(i % 64, i / 64), Some(f32::from(*v)), "cell {i}");
+        }
+    }
+}

@@ -1,0 +1,332 @@
+//! Maps of metre-scale DTMs in bounded memory: shadow and slope maps computed tile by
+//! tile, each tile read through a window with a halo wide enough that it gives exactly
+//! what the whole-map computation gives.
+//!
+//! - [`Source`]: a DEM read a window at a time — an in-memory [`Dem`] or a GeoTIFF
+//!   through [`crate::geotiff::Windows`] (only the strips or tiles a window touches are
+//!   decoded).
+//! - [`relief`]: the lowest and highest elevation, one pass of windows.
+//! - [`ShadowHalo`]: how far a shadow can reach, from the relief and the lowest Sun
+//!   elevation: terrain further than (highest − lowest)/tan e toward the Sun cannot
+//!   rise above a cell's ray. A tile read with that much terrain sun-ward (and two
+//!   cells around, for the triangles and the Horn normal at its edge) sees every
+//!   crossing of its cells' rays that can shadow them; with [`Method::OwnRay`], which
+//!   decides each cell on its own ray alone, the tile's cells come out exactly as on
+//!   the whole map (`tests::tiles_give_the_whole_maps_answer`).
+//! - [`shadow_map_by_tiles`], [`slope_by_tiles`]: row bands of results, north to south,
+//!   handed to a sink as each band of tiles finishes (for
+//!   [`crate::geotiff::write_u8_by_bands`]).
+//!
+//! Peak memory is a band of results (tile rows × map width) plus one tile with its halo
+//! and the shadow method's working arrays (about 40 bytes a cell), and the reader's
+//! chunk cache: not the map.
+
+use crate::dem::Dem;
+use crate::error::{Error, Result};
+use crate::geotiff::{Grid, Windows};
+use crate::shadow::{Curvature, Method, Sun, shadow_map};
+use crate::slope::slope_aspect;
+
+/// A DEM read a window at a time.
+pub trait Source {
+    /// The whole map's grid.
+    fn grid(&self) -> Grid;
+    /// The window `cols` × `rows` from (`col0`, `row0`), placed where it lies.
+    fn window(&mut self, col0: usize, row0: usize, cols: usize, rows: usize) -> Result<Dem>;
+}
+
+impl Source for Dem {
+    fn grid(&self) -> Grid {
+        Grid::of(self)
+    }
+
+    fn window(&mut self, col0: usize, row0: usize, cols: usize, rows: usize) -> Result<Dem> {
+        self.crop(col0, row0, cols, rows)
+    }
+}
+
+impl Source for Windows {
+    fn grid(&self) -> Grid {
+        Windows::grid(self)
+    }
+
+    fn window(&mut self, col0: usize, row0: usize, cols: usize, rows: usize) -> Result<Dem> {
+        self.read(col0, row0, cols, rows)
+    }
+}
+
+/// The lowest and highest valid elevation, m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Relief {
+    /// Lowest, m.
+    pub min_m: f64,
+    /// Highest, m.
+    pub max_m: f64,
+}
+
+/// The relief of the whole source, read `tile` × `tile` cells at a time; None if no
+/// cell has data.
+pub fn relief(src: &mut impl Source, tile: usize) -> Result<Option<Relief>> {
+    let g = src.grid();
+    let tile = tile.max(1);
+    let mut r: Option<Relief> = None;
+    for row0 in (0..g.rows).step_by(tile) {
+        for col0 in (0..g.cols).step_by(tile) {
+            let w = src.window(col0, row0, tile.min(g.cols - col0), tile.min(g.rows - row0))?;
+            for (z, ok) in w.elevations().iter().zip(w.valid_mask()) {
+                if *ok {
+                    let z = f64::from(*z);
+                    let e = r.get_or_insert(Relief { min_m: z, max_m: z });
+                    e.min_m = e.min_m.min(z);
+                    e.max_m = e.max_m.max(z);
+                }
+            }
+        }
+    }
+    Ok(r)
+}
+
+/// Cells beyond the halo a tile is read with on every side: the triangles a ray
+/// crosses at the tile's edge, and the Horn normal's neighbours.
+const MARGIN: usize = 2;
+
+/// How far shadows reach, and the halo a tile is read with toward the Sun.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShadowHalo {
+    /// The longest possible shadow, m: relief / tan(lowest Sun elevation).
+    pub metres: f64,
+    /// The halo in columns and rows (the shadow's reach, plus [`MARGIN`]).
+    pub cols: usize,
+    /// Rows.
+    pub rows: usize,
+}
+
+impl ShadowHalo {
+    /// The halo for Suns at `lowest_elevation_deg` or higher over `relief` on `grid`.
+    /// A Sun at or below the horizon needs none (every cell is in shadow).
+    pub fn new(relief: Relief, grid: &Grid, lowest_elevation_deg: f64) -> Result<ShadowHalo> {
+        if !lowest_elevation_deg.is_finite() {
+            return Err(Error::BadGrid(format!("lowest Sun elevation {lowest_elevation_deg}: must be finite")));
+        }
+        let metres = if lowest_elevation_deg <= 0.0 {
+            0.0
+        } else {
+            (relief.max_m - relief.min_m).max(0.0) / lowest_elevation_deg.to_radians().tan()
+        };
+        let cells = |cell_m: f64| (metres / cell_m).ceil().min(1e9) as usize + MARGIN;
+        Ok(ShadowHalo { metres, cols: cells(grid.dx), rows: cells(grid.dy) })
+    }
+}
+
+/// The window a tile is read through: the tile grown by the halo toward the Sun and by
+/// [`MARGIN`] all round, clipped to the map. Returns (col0, row0, cols, rows).
+fn window_for(
+    g: &Grid,
+    tile: (usize, usize, usize, usize),
+    sun: Sun,
+    halo: &ShadowHalo,
+) -> (usize, usize, usize, usize) {
+    let (c0, r0, w, h) = tile;
+    let (sa, ca) = sun.azimuth_deg.to_radians().sin_cos();
+    // East of the tile if the Sun is east; north (lower rows) if it is north.
+    let (east, west) = if sa > 1e-12 {
+        (halo.cols, MARGIN)
+    } else if sa < -1e-12 {
+        (MARGIN, halo.cols)
+    } else {
+        (MARGIN, MARGIN)
+    };
+    let (north, south) = if ca > 1e-12 {
+        (halo.rows, MARGIN)
+    } else if ca < -1e-12 {
+        (MARGIN, halo.rows)
+    } else {
+        (MARGIN, MARGIN)
+    };
+    let a = c0.saturating_sub(west);
+    let b = (c0 + w + east).min(g.cols);
+    let top = r0.saturating_sub(north);
+    let bottom = (r0 + h + south).min(g.rows);
+    (a, top, b - a, bottom - top)
+}
+
+/// What [`shadow_map_by_tiles`] computes, and in what pieces.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShadowTiles {
+    /// The Sun's direction.
+    pub sun: Sun,
+    /// Flat or curved world.
+    pub curvature: Curvature,
+    /// How cast shadows are decided (only [`Method::OwnRay`] is the whole map's answer
+    /// tile for tile).
+    pub method: Method,
+    /// The halo each tile is read with (at least for this Sun's elevation).
+    pub halo: ShadowHalo,
+    /// Tile side, cells.
+    pub tile: usize,
+}
+
+/// The direct-sun map (1 lit, 0 shadowed, 255 no data, as [`crate::shadow::ShadowMap::to_u8`])
+/// tile by tile: `band(row0, values)` receives rows `row0..` of the whole map's width,
+/// `tile` rows at a time (fewer at the end), north to south; `progress(done, total)`
+/// counts tiles. With [`Method::OwnRay`] every value is the whole-map one.
+pub fn shadow_map_by_tiles(
+    src: &mut impl Source,
+    plan: &ShadowTiles,
+    mut band: impl FnMut(usize, &[u8]) -> Result<()>,
+    mut progress: impl FnMut(usize, usize),
+) -> Result<()> {
+    let ShadowTiles { sun, curvature, method, halo, tile } = *plan;
+    let halo = &halo;
+    let g = src.grid();
+    let tile = tile.max(1);
+    let total = g.rows.div_ceil(tile) * g.cols.div_ceil(tile);
+    let mut done = 0;
+    let mut out = vec![255u8; tile * g.cols];
+    for row0 in (0..g.rows).step_by(tile) {
+        let h = tile.min(g.rows - row0);
+        for col0 in (0..g.cols).step_by(tile) {
+            let w = tile.min(g.cols - col0);
+            let (wc, wr, ww, wh) = window_for(&g, (col0, row0, w, h), sun, halo);
+            let dem = src.window(wc, wr, ww, wh)?;
+            let map = shadow_map(&dem, sun, curvature, method).to_u8();
+            for r in 0..h {
+                let from = &map[(row0 + r - wr) * ww + (col0 - wc)..][..w];
+                out[r * g.cols + col0..][..w].copy_from_slice(from);
+            }
+            done += 1;
+            progress(done, total);
+        }
+        band(row0, &out[..h * g.cols])?;
+    }
+    Ok(())
+}
+
+/// Horn slope in degrees tile by tile, bands as in [`shadow_map_by_tiles`]; each tile is
+/// read with the one-cell ring the Horn kernel needs, so every value is the whole
+/// map's.
+pub fn slope_by_tiles(
+    src: &mut impl Source,
+    tile: usize,
+    mut band: impl FnMut(usize, &[f32]) -> Result<()>,
+) -> Result<()> {
+    let g = src.grid();
+    let tile = tile.max(1);
+    let mut out = vec![f32::NAN; tile * g.cols];
+    for row0 in (0..g.rows).step_by(tile) {
+        let h = tile.min(g.rows - row0);
+        for col0 in (0..g.cols).step_by(tile) {
+            let w = tile.min(g.cols - col0);
+            let (wc, wr) = (col0.saturating_sub(1), row0.saturating_sub(1));
+            let (ww, wh) = ((col0 + w + 1).min(g.cols) - wc, (row0 + h + 1).min(g.rows) - wr);
+            let dem = src.window(wc, wr, ww, wh)?;
+            let slope = slope_aspect(&dem).slope_deg;
+            for r in 0..h {
+                let from = &slope[(row0 + r - wr) * ww + (col0 - wc)..][..w];
+                out[r * g.cols + col0..][..w].copy_from_slice(from);
+            }
+        }
+        band(row0, &out[..h * g.cols])?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shadow::shadow_map as whole_map;
+
+    /// 161 × 119 cells of 10 m: noise and two small hills (relief about 70 m).
+    fn terrain() -> Dem {
+        use crate::synth::{Feature, Noise, TerrainSpec};
+        TerrainSpec {
+            cols: 161,
+            rows: 119,
+            cell_m: 10.0,
+            base_m: 0.0,
+            seed: 6,
+            noise: Some(Noise { amplitude_m: 12.0, wavelength_m: 250.0, octaves: 4, persistence: 0.5 }),
+            features: vec![
+                Feature::Hill { x_m: 500.0, y_m: 400.0, radius_m: 110.0, slope_deg: 22.0 },
+                Feature::Hill { x_m: 1100.0, y_m: 800.0, radius_m: 90.0, slope_deg: 28.0 },
+            ],
+        }
+        .build()
+        .unwrap()
+    }
+
+    #[test]
+    fn tiles_give_the_whole_maps_answer() {
+        // 161 × 119 cells of rough terrain with holes, in 16 × 16 tiles: 88 tiles, the
+        // halo reaching over several of them.
+        let dem = terrain();
+        let valid: Vec<bool> = (0..161 * 119).map(|i| i % 31 != 7).collect();
+        let mut dem = dem.with_mask(valid).unwrap();
+        let relief = relief(&mut dem, 16).unwrap().unwrap();
+        let grid = Grid::of(&dem);
+        for (az, el, curvature) in [
+            (0.0, 12.0, Curvature::Flat),
+            (77.0, 6.0, Curvature::Flat),
+            (135.0, 9.0, Curvature::Sphere { radius_m: 5.0e4 }),
+            (250.0, 20.0, Curvature::Flat),
+        ] {
+            let sun = Sun::new(az, el);
+            let halo = ShadowHalo::new(relief, &grid, el).unwrap();
+            assert!(halo.cols < 60 && halo.rows < 60, "az {az}: a halo of {halo:?} would hide the tiling");
+            let whole = whole_map(&dem, sun, curvature, Method::OwnRay).to_u8();
+            let mut tiled = Vec::new();
+            let mut tiles = 0;
+            let plan = ShadowTiles { sun, curvature, method: Method::OwnRay, halo, tile: 16 };
+            shadow_map_by_tiles(
+                &mut dem,
+                &plan,
+                |row0, band| {
+                    assert_eq!(row0 * 161, tiled.len(), "bands arrive in order");
+                    tiled.extend_from_slice(band);
+                    Ok(())
+                },
+                |done, total| {
+                    tiles = done;
+                    assert_eq!(total, 88);
+                },
+            )
+            .unwrap();
+            assert_eq!(tiles, 88);
+            let differ = whole.iter().zip(&tiled).filter(|(a, b)| a != b).count();
+            assert_eq!(differ, 0, "az {az} el {el}: the tiles must give the whole map's answer");
+            // Some shadow at all, or the test proves nothing.
+            assert!(whole.iter().filter(|v| **v == 0).count() > 100, "az {az}");
+        }
+        let whole = slope_aspect(&dem).slope_deg;
+        let mut tiled = Vec::new();
+        slope_by_tiles(&mut dem, 16, |_, band| {
+            tiled.extend_from_slice(band);
+            Ok(())
+        })
+        .unwrap();
+        assert!(whole.iter().zip(&tiled).all(|(a, b)| a == b || (a.is_nan() && b.is_nan())));
+    }
+
+    #[test]
+    fn a_halo_too_short_is_what_makes_tiles_differ() {
+        // The same check with the halo cut to the margin: long shadows are lost at the
+        // tiles' sun-ward edges — the halo is what the identity rests on.
+        let mut dem = terrain();
+        let sun = Sun::new(77.0, 4.0);
+        let short = ShadowHalo { metres: 0.0, cols: MARGIN, rows: MARGIN };
+        let whole = whole_map(&dem, sun, Curvature::Flat, Method::OwnRay).to_u8();
+        let mut tiled = Vec::new();
+        let plan = ShadowTiles { sun, curvature: Curvature::Flat, method: Method::OwnRay, halo: short, tile: 16 };
+        shadow_map_by_tiles(
+            &mut dem,
+            &plan,
+            |_, band| {
+                tiled.extend_from_slice(band);
+                Ok(())
+            },
+            |_, _| {},
+        )
+        .unwrap();
+        assert!(whole.iter().zip(&tiled).filter(|(a, b)| a != b).count() > 10);
+    }
+}
