@@ -95,7 +95,7 @@ const MARGIN: usize = 2;
 pub struct ShadowHalo {
     /// The longest possible shadow, m: relief / tan(lowest Sun elevation).
     pub metres: f64,
-    /// The halo in columns and rows (the shadow's reach, plus [`MARGIN`]).
+    /// The halo in columns (the shadow's reach, plus two cells of margin).
     pub cols: usize,
     /// Rows.
     pub rows: usize,
@@ -119,7 +119,7 @@ impl ShadowHalo {
 }
 
 /// The window a tile is read through: the tile grown by the halo toward the Sun and by
-/// [`MARGIN`] all round, clipped to the map. Returns (col0, row0, cols, rows).
+/// the margin all round, clipped to the map. Returns (col0, row0, cols, rows).
 fn window_for(
     g: &Grid,
     tile: (usize, usize, usize, usize),
