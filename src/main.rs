@@ -172,6 +172,12 @@ enum TerrainCommand {
         /// darkens cells whose slope faces away from the Sun.
         #[arg(long, value_enum, default_value_t = ShadowMethodArg::OwnRay)]
         method: ShadowMethodArg,
+        /// For DEMs too large to hold (metre-scale DTMs): compute the map tile by tile,
+        /// TILE × TILE cells each, reading a GeoTIFF a window at a time with the halo
+        /// its longest shadow needs (stated), and write it band by band (BigTIFF past
+        /// 4 GB). No PNG preview. With own-ray, the same map as without.
+        #[arg(long, value_name = "TILE", value_parser = clap::value_parser!(u32).range(16..=65536))]
+        tile: Option<u32>,
         /// Output GeoTIFF.
         #[arg(short, long)]
         out: PathBuf,
@@ -358,7 +364,26 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
             tt::check_output(file, out)?;
             print::terrain::wrote(&tt::write_slope(&read(file, "slope", 0)?, out)?)
         }
-        TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, flat, method, out } => {
+        TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, flat, method, tile: Some(tile), out } => {
+            if !(-90.0..=90.0).contains(sun_elevation) || !sun_azimuth.is_finite() {
+                return Err(Error::Usage(format!(
+                    "--sun-elevation {sun_elevation}: allowed -90..=90; --sun-azimuth {sun_azimuth}: must be finite"
+                )));
+            }
+            tt::check_output(file, out)?;
+            let bar = progress_bar();
+            let run = tt::write_shadow_tiled(
+                file,
+                (*sun_azimuth, *sun_elevation),
+                *flat,
+                (*method).into(),
+                *tile as usize,
+                out,
+                &bar,
+            )?;
+            print::terrain::tiled_shadow(&run)
+        }
+        TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, flat, method, tile: None, out } => {
             if !(-90.0..=90.0).contains(sun_elevation) || !sun_azimuth.is_finite() {
                 return Err(Error::Usage(format!(
                     "--sun-elevation {sun_elevation}: allowed -90..=90; --sun-azimuth {sun_azimuth}: must be finite"

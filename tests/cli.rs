@@ -240,6 +240,46 @@ fn terrain_info_slope_and_shadow_on_the_real_crop() {
 }
 
 #[test]
+fn tiled_shadow_on_the_real_crop_is_the_whole_maps_map() {
+    // The Gale crop in 16 × 16 tiles (16 of them), read through windows, written band
+    // by band: byte for byte the values of the whole-map run.
+    let dem = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");
+    let dir = tmp("tiled_shadow");
+    let (whole, tiled) = (dir.join("whole.tif"), dir.join("tiled.tif"));
+    let run = |out: &Path, tile: Option<&str>| {
+        let mut args =
+            vec!["terrain", "shadow", dem.to_str().unwrap(), "--sun-azimuth", "290", "--sun-elevation", "12"];
+        args.extend(["-o", out.to_str().unwrap()]);
+        if let Some(t) = tile {
+            args.extend(["--tile", t]);
+        }
+        let out = areo(&args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    run(&whole, None);
+    let text = run(&tiled, Some("16"));
+    assert!(text.contains("16 tiles, each read with a halo of"), "{text}");
+    let (a, b) = (areo_scenario::terrain::read_dem(&whole).unwrap(), areo_scenario::terrain::read_dem(&tiled).unwrap());
+    assert_eq!(a.elevations(), b.elevations());
+    assert!(a.elevations().iter().any(|v| *v == 0.0), "some cells in shadow");
+    let out = areo(&[
+        "terrain",
+        "shadow",
+        dem.to_str().unwrap(),
+        "--sun-azimuth",
+        "1",
+        "--sun-elevation",
+        "4",
+        "--tile",
+        "3",
+        "-o",
+        tiled.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "a tile under 16 cells is a usage error");
+}
+
+#[test]
 fn terrain_viewshed_from_a_mast_on_the_real_crop() {
     let dem = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");
     let out_path = tmp("viewshed").join("view.tif");

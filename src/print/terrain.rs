@@ -20,3 +20,17 @@ pub(crate) fn info(path: &Path, lines: &[String]) -> String {
 pub(crate) fn fraction(fraction: f64, what: &str) -> String {
     format!("{:.2} % of the valid cells {what}\n", 100.0 * fraction)
 }
+
+/// A tiled shadow run: the lit fraction, the halo it rested on, what was written.
+pub(crate) fn tiled_shadow(run: &areo_scenario::terrain::TiledShadow) -> String {
+    fraction(run.lit_fraction, "in direct sun")
+        + &format!(
+            "{} tiles, each read with a halo of {} x {} cells toward the Sun (the longest possible shadow: {:.0} m){}\n",
+            run.tiles,
+            run.halo_cells.0,
+            run.halo_cells.1,
+            run.halo_m,
+            if run.bigtiff { "; BigTIFF" } else { "" }
+        )
+        + &wrote(std::slice::from_ref(&run.file))
+}

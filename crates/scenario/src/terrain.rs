@@ -117,6 +117,95 @@ pub fn write_shadow(
     Ok((vec![out.to_path_buf(), png], map.lit_fraction()))
 }
 
+/// What a tiled shadow run did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TiledShadow {
+    /// The file written.
+    pub file: std::path::PathBuf,
+    /// Fraction of valid cells in direct sun.
+    pub lit_fraction: f64,
+    /// The longest possible shadow, m, and the halo read around each tile, cells.
+    pub halo_m: f64,
+    /// Halo columns and rows.
+    pub halo_cells: (usize, usize),
+    /// Tiles computed.
+    pub tiles: usize,
+    /// Written as BigTIFF (past 4 GB).
+    pub bigtiff: bool,
+}
+
+/// The direct-sun map of a DEM file too large to hold, tile by tile: a GeoTIFF is read
+/// a window at a time (other formats are read whole, then tiled), each `tile` × `tile`
+/// tile with the halo its longest possible shadow needs, and the uint8 result is
+/// written band by band as tiles finish (BigTIFF past 4 GB). No preview PNG (the map
+/// may be 10⁸ cells). With the own-ray method every cell is the whole-map answer.
+pub fn write_shadow_tiled(
+    input: &Path,
+    sun: (f64, f64),
+    flat: bool,
+    method: ShadowMethod,
+    tile: usize,
+    out: &Path,
+    progress: &dyn crate::Progress,
+) -> Result<TiledShadow> {
+    let ext = input.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
+    if matches!(ext.as_str(), "tif" | "tiff") {
+        // Decoded chunks kept: 512 MB, enough for a band of tiles of strips.
+        let mut src = areo_terrain::geotiff::Windows::open(input, 512 << 20)?;
+        shadow_tiled(&mut src, input, sun, flat, method, tile, out, progress)
+    } else {
+        shadow_tiled(&mut read_dem(input)?, input, sun, flat, method, tile, out, progress)
+    }
+}
+
+#[allow(clippy::too_many_arguments)] // write_shadow_tiled's, with the source opened
+fn shadow_tiled(
+    src: &mut impl areo_terrain::tiles::Source,
+    input: &Path,
+    sun: (f64, f64),
+    flat: bool,
+    method: ShadowMethod,
+    tile: usize,
+    out: &Path,
+    progress: &dyn crate::Progress,
+) -> Result<TiledShadow> {
+    use areo_terrain::tiles::{ShadowHalo, ShadowTiles, relief, shadow_band};
+    let tile = tile.max(1);
+    let grid = src.grid();
+    let Some(relief) = relief(src, tile)? else {
+        return Err(Error::Usage(format!("{}: no cell has data", input.display())));
+    };
+    let curvature =
+        if flat { Curvature::Flat } else { Curvature::Sphere { radius_m: grid.georef.body.mean_radius_m() } };
+    let halo = ShadowHalo::new(relief, &grid, sun.1)?;
+    let plan = ShadowTiles { sun: Sun::new(sun.0, sun.1), curvature, method, halo, tile };
+    progress.start((grid.rows.div_ceil(tile) * grid.cols.div_ceil(tile)) as u64, "tiles");
+    let (mut lit, mut valid, mut tiles, mut bigtiff) = (0u64, 0u64, 0usize, false);
+    write_with(out, |tmp| {
+        bigtiff = areo_terrain::geotiff::write_u8_by_bands(&grid, Some(255), tile, false, tmp, |row0, band| {
+            shadow_band(src, &plan, row0, band, |done, _| {
+                tiles = done;
+                progress.advance(1);
+            })?;
+            for v in band.iter() {
+                valid += u64::from(*v != 255);
+                lit += u64::from(*v == 1);
+            }
+            Ok(())
+        })?;
+        Ok(())
+    })?;
+    progress.finish();
+    Ok(TiledShadow {
+        file: out.to_path_buf(),
+        lit_fraction: lit as f64 / valid.max(1) as f64,
+        halo_m: halo.metres,
+        halo_cells: (halo.cols, halo.rows),
+        tiles,
+        bigtiff,
+    })
+}
+
 /// Writes a horizon map: one float32 GeoTIFF band per sector (`OUT_sNN.tif`,
 /// degrees), since GeoTIFF readers expect single-band DEM-like rasters here.
 pub fn write_horizon(

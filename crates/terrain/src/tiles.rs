@@ -176,28 +176,50 @@ pub fn shadow_map_by_tiles(
     mut band: impl FnMut(usize, &[u8]) -> Result<()>,
     mut progress: impl FnMut(usize, usize),
 ) -> Result<()> {
-    let ShadowTiles { sun, curvature, method, halo, tile } = *plan;
-    let halo = &halo;
     let g = src.grid();
-    let tile = tile.max(1);
-    let total = g.rows.div_ceil(tile) * g.cols.div_ceil(tile);
-    let mut done = 0;
+    let tile = plan.tile.max(1);
     let mut out = vec![255u8; tile * g.cols];
     for row0 in (0..g.rows).step_by(tile) {
-        let h = tile.min(g.rows - row0);
-        for col0 in (0..g.cols).step_by(tile) {
-            let w = tile.min(g.cols - col0);
-            let (wc, wr, ww, wh) = window_for(&g, (col0, row0, w, h), sun, halo);
-            let dem = src.window(wc, wr, ww, wh)?;
-            let map = shadow_map(&dem, sun, curvature, method).to_u8();
-            for r in 0..h {
-                let from = &map[(row0 + r - wr) * ww + (col0 - wc)..][..w];
-                out[r * g.cols + col0..][..w].copy_from_slice(from);
-            }
-            done += 1;
-            progress(done, total);
+        let n = tile.min(g.rows - row0) * g.cols;
+        shadow_band(src, plan, row0, &mut out[..n], &mut progress)?;
+        band(row0, &out[..n])?;
+    }
+    Ok(())
+}
+
+/// One band of [`shadow_map_by_tiles`]: the tiles of rows `row0..` into `out` (the
+/// band's rows × the map's width), for a writer that asks for bands in turn.
+pub fn shadow_band(
+    src: &mut impl Source,
+    plan: &ShadowTiles,
+    row0: usize,
+    out: &mut [u8],
+    mut progress: impl FnMut(usize, usize),
+) -> Result<()> {
+    let ShadowTiles { sun, curvature, method, halo, tile } = *plan;
+    let g = src.grid();
+    let tile = tile.max(1);
+    let h = out.len() / g.cols.max(1);
+    if row0 + h > g.rows || h * g.cols != out.len() {
+        return Err(Error::BadGrid(format!(
+            "band of {} values at row {row0} of a {} x {} map",
+            out.len(),
+            g.cols,
+            g.rows
+        )));
+    }
+    let per_band = g.cols.div_ceil(tile);
+    let total = g.rows.div_ceil(tile) * per_band;
+    for (k, col0) in (0..g.cols).step_by(tile).enumerate() {
+        let w = tile.min(g.cols - col0);
+        let (wc, wr, ww, wh) = window_for(&g, (col0, row0, w, h), sun, &halo);
+        let dem = src.window(wc, wr, ww, wh)?;
+        let map = shadow_map(&dem, sun, curvature, method).to_u8();
+        for r in 0..h {
+            let from = &map[(row0 + r - wr) * ww + (col0 - wc)..][..w];
+            out[r * g.cols + col0..][..w].copy_from_slice(from);
         }
-        band(row0, &out[..h * g.cols])?;
+        progress((row0 / tile) * per_band + k + 1, total);
     }
     Ok(())
 }
