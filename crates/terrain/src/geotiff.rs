@@ -468,33 +468,66 @@ pub fn write_u8_by_bands(
     path: &Path,
     fill: impl FnMut(usize, &mut [u8]) -> Result<()>,
 ) -> Result<bool> {
-    let big = big || (grid.cols * grid.rows) as u64 > BIGTIFF_FROM_BYTES;
+    let nodata = nodata.map(|v| v.to_string());
+    write_by_bands::<colortype::Gray8>(grid, nodata.as_deref(), band_rows, big, path, fill)
+}
+
+/// [`write_u8_by_bands`] for float32 elevations (missing as NaN, GDAL_NODATA "nan"):
+/// a DEM larger than memory, written as it is made.
+pub fn write_f32_by_bands(
+    grid: &Grid,
+    band_rows: usize,
+    big: bool,
+    path: &Path,
+    fill: impl FnMut(usize, &mut [f32]) -> Result<()>,
+) -> Result<bool> {
+    write_by_bands::<colortype::Gray32Float>(grid, Some("nan"), band_rows, big, path, fill)
+}
+
+fn write_by_bands<C: colortype::ColorType>(
+    grid: &Grid,
+    nodata: Option<&str>,
+    band_rows: usize,
+    big: bool,
+    path: &Path,
+    fill: impl FnMut(usize, &mut [C::Inner]) -> Result<()>,
+) -> Result<bool>
+where
+    [C::Inner]: tiff::encoder::TiffValue,
+    C::Inner: Default + Copy,
+{
+    let bytes = (grid.cols * grid.rows * std::mem::size_of::<C::Inner>()) as u64;
+    let big = big || bytes > BIGTIFF_FROM_BYTES;
     let io = |e: std::io::Error| Error::Io { path: path.to_path_buf(), source: e };
     let mut out = BufWriter::new(File::create(path).map_err(io)?);
     if big {
-        write_bands::<_, tiff::encoder::TiffKindBig>(&mut out, grid, nodata, band_rows, path, fill)?;
+        write_bands::<_, tiff::encoder::TiffKindBig, C>(&mut out, grid, nodata, band_rows, path, fill)?;
     } else {
-        write_bands::<_, tiff::encoder::TiffKindStandard>(&mut out, grid, nodata, band_rows, path, fill)?;
+        write_bands::<_, tiff::encoder::TiffKindStandard, C>(&mut out, grid, nodata, band_rows, path, fill)?;
     }
     out.flush().map_err(io)?;
     Ok(big)
 }
 
-fn write_bands<W: Write + Seek, K: tiff::encoder::TiffKind>(
+fn write_bands<W: Write + Seek, K: tiff::encoder::TiffKind, C: colortype::ColorType>(
     out: W,
     grid: &Grid,
-    nodata: Option<u8>,
+    nodata: Option<&str>,
     band_rows: usize,
     path: &Path,
-    mut fill: impl FnMut(usize, &mut [u8]) -> Result<()>,
-) -> Result<()> {
+    mut fill: impl FnMut(usize, &mut [C::Inner]) -> Result<()>,
+) -> Result<()>
+where
+    [C::Inner]: tiff::encoder::TiffValue,
+    C::Inner: Default + Copy,
+{
     let tiff_err = |e: tiff::TiffError| match e {
         tiff::TiffError::IoError(source) => Error::Io { path: path.to_path_buf(), source },
         other => Error::Io { path: path.to_path_buf(), source: std::io::Error::other(other) },
     };
     let band_rows = band_rows.clamp(1, grid.rows.max(1));
     let mut enc = TiffEncoder::<W, K>::new_generic(out).map_err(tiff_err)?;
-    let mut img = enc.new_image::<colortype::Gray8>(grid.cols as u32, grid.rows as u32).map_err(tiff_err)?;
+    let mut img = enc.new_image::<C>(grid.cols as u32, grid.rows as u32).map_err(tiff_err)?;
     let (dir, doubles) = geokeys_for(&grid.georef);
     let e = img.encoder();
     e.write_tag(Tag::ModelPixelScaleTag, &[grid.dx, grid.dy, 0.0][..]).map_err(tiff_err)?;
@@ -502,10 +535,10 @@ fn write_bands<W: Write + Seek, K: tiff::encoder::TiffKind>(
     e.write_tag(Tag::GeoKeyDirectoryTag, &dir[..]).map_err(tiff_err)?;
     e.write_tag(Tag::GeoDoubleParamsTag, &doubles[..]).map_err(tiff_err)?;
     if let Some(nd) = nodata {
-        e.write_tag(Tag::GdalNodata, nd.to_string().as_str()).map_err(tiff_err)?;
+        e.write_tag(Tag::GdalNodata, nd).map_err(tiff_err)?;
     }
     img.rows_per_strip(band_rows as u32).map_err(tiff_err)?;
-    let mut band = vec![0u8; band_rows * grid.cols];
+    let mut band = vec![C::Inner::default(); band_rows * grid.cols];
     for row0 in (0..grid.rows).step_by(band_rows) {
         let n = band_rows.min(grid.rows - row0) * grid.cols;
         fill(row0, &mut band[..n])?;

@@ -5,7 +5,9 @@
 //! `<BYTES>` offset, or a file name with either), and in `OBJECT = IMAGE`: `LINES`,
 //! `LINE_SAMPLES`, `SAMPLE_TYPE` (MSB/LSB/PC/IEEE integers and reals), `SAMPLE_BITS`
 //! (8, 16, 32, 64), `BANDS` (must be 1), `LINE_PREFIX_BYTES`/`LINE_SUFFIX_BYTES`,
-//! `SCALING_FACTOR`, `OFFSET`, `MISSING_CONSTANT` (decimal or `16#…#` hex); in
+//! `SCALING_FACTOR`, `OFFSET`, `MISSING_CONSTANT` (decimal or `16#…#` hex),
+//! `VALID_MINIMUM`/`VALID_MAXIMUM` (stored values outside them are missing, as in HiRISE
+//! DTMs); in
 //! `OBJECT = IMAGE_MAP_PROJECTION`: `MAP_PROJECTION_TYPE` (equirectangular / simple
 //! cylindrical, polar stereographic), `A_AXIS_RADIUS`, `B_AXIS_RADIUS`, `MAP_SCALE`
 //! (`<KM/PIXEL>` or `<METERS/PIXEL>`), `MAP_RESOLUTION` (pixels/degree, when there is
@@ -128,6 +130,9 @@ pub fn parse(label_bytes: &[u8], image: Option<&[u8]>, path: &Path, dir: Option<
         return Err(bad(format!("SCALING_FACTOR = {scale}, OFFSET = {add}: need finite values, a non-zero factor")));
     }
     let missing = num("IMAGE", "MISSING_CONSTANT")?;
+    // HiRISE DTMs also bound the good values: stored values outside
+    // VALID_MINIMUM..=VALID_MAXIMUM are missing (their fill is −3.4028227e38).
+    let (valid_min, valid_max) = (num("IMAGE", "VALID_MINIMUM")?, num("IMAGE", "VALID_MAXIMUM")?);
     let mut z = Vec::with_capacity(rows * cols);
     let mut valid = Vec::with_capacity(rows * cols);
     let (offset, line_bytes, prefix) = (offset as usize, line_bytes as usize, prefix as usize);
@@ -136,7 +141,9 @@ pub fn parse(label_bytes: &[u8], image: Option<&[u8]>, path: &Path, dir: Option<
         for c in 0..cols {
             let raw = kind.decode(&data[start + c * width..start + (c + 1) * width]);
             let is_missing = missing.is_some_and(|m| raw == m || (kind.is_float() && (raw as f32) == (m as f32)))
-                || !raw.is_finite();
+                || !raw.is_finite()
+                || valid_min.is_some_and(|v| raw < v)
+                || valid_max.is_some_and(|v| raw > v);
             valid.push(!is_missing);
             z.push(if is_missing { f32::NAN } else { (raw * scale + add) as f32 });
         }

@@ -253,6 +253,36 @@ fn pds3_detached_label_with_pc_real_and_hex_missing_constant() {
     assert!(err.contains("DETACHED.LBL") && err.contains("truncated"), "{err}");
 }
 
+#[test]
+fn pds3_hirise_style_valid_minimum_and_polar_stereographic() {
+    // A HiRISE-style DTM label: PC_REAL, MISSING_CONSTANT 16#FF7FFFFB#, VALID_MINIMUM
+    // −8000 (values below it are fill, here −1e30), polar stereographic at the south
+    // pole with metre cells.
+    let label = "PDS_VERSION_ID = PDS3\r\nRECORD_TYPE = FIXED_LENGTH\r\nRECORD_BYTES = 12\r\n\
+        ^IMAGE = \"HIRISE.IMG\"\r\nOBJECT = IMAGE\r\n  LINES = 2\r\n  LINE_SAMPLES = 3\r\n\
+        SAMPLE_TYPE = PC_REAL\r\n  SAMPLE_BITS = 32\r\n  MISSING_CONSTANT = 16#FF7FFFFB#\r\n\
+        VALID_MINIMUM = -8000.0\r\n  VALID_MAXIMUM = 30000.0\r\nEND_OBJECT = IMAGE\r\n\
+        OBJECT = IMAGE_MAP_PROJECTION\r\n  MAP_PROJECTION_TYPE = \"POLAR STEREOGRAPHIC\"\r\n\
+        A_AXIS_RADIUS = 3396.19 <KM>\r\n  B_AXIS_RADIUS = 3376.2 <KM>\r\n  MAP_SCALE = 1.0 <METERS/PIXEL>\r\n\
+        CENTER_LATITUDE = -90.0 <DEGREE>\r\n  CENTER_LONGITUDE = 0.0 <DEGREE>\r\n\
+        LINE_PROJECTION_OFFSET = 100.5 <PIXEL>\r\n  SAMPLE_PROJECTION_OFFSET = -50.5 <PIXEL>\r\n\
+        END_OBJECT = IMAGE_MAP_PROJECTION\r\nEND\r\n";
+    let mut img = Vec::new();
+    for v in [-4100.25f32, -1e30, -4099.0, f32::from_bits(0xFF7F_FFFB), 31000.0, -4098.5] {
+        img.extend_from_slice(&v.to_le_bytes());
+    }
+    std::fs::write(tmp("HIRISE.IMG"), &img).unwrap();
+    std::fs::write(tmp("HIRISE.LBL"), label.as_bytes()).unwrap();
+    let dem = pds3::read(&tmp("HIRISE.LBL")).unwrap();
+    assert_eq!(dem.z(0, 0), Some(-4100.25));
+    assert_eq!(dem.z(1, 0), None, "below VALID_MINIMUM");
+    assert_eq!(dem.z(0, 1), None, "MISSING_CONSTANT");
+    assert_eq!(dem.z(1, 1), None, "above VALID_MAXIMUM");
+    assert_eq!(dem.z(2, 1), Some(-4098.5));
+    assert_eq!((dem.dx(), dem.dy()), (1.0, 1.0));
+    assert!(matches!(dem.georef().projection, Projection::PolarStereographic { north: false, .. }));
+}
+
 fn tiff_bytes() -> Vec<u8> {
     let path = tmp("prop.tif");
     geotiff::write(&sample_dem(), &path).unwrap();
