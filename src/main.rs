@@ -379,6 +379,7 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
                 (*method).into(),
                 *tile as usize,
                 out,
+                &budget,
                 &bar,
             )?;
             print::terrain::tiled_shadow(&run)

@@ -277,6 +277,25 @@ fn tiled_shadow_on_the_real_crop_is_the_whole_maps_map() {
         tiled.to_str().unwrap(),
     ]);
     assert_eq!(out.status.code(), Some(2), "a tile under 16 cells is a usage error");
+    // A Sun half a degree up over 1.2 km of relief: a 476 km halo, past a small budget.
+    let out = areo(&[
+        "--max-memory-gb",
+        "0.001",
+        "terrain",
+        "shadow",
+        dem.to_str().unwrap(),
+        "--sun-azimuth",
+        "10",
+        "--sun-elevation",
+        "0.5",
+        "--tile",
+        "16",
+        "-o",
+        tiled.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("--tile 16") && err.contains("--max-memory-gb"), "{err}");
 }
 
 #[test]

@@ -83,6 +83,23 @@ const DEM_BYTES: u64 = 5;
 /// measured on valley-detour and lita-scale.
 const WORLD_BYTES: u64 = 150;
 
+/// The cost of `areo terrain shadow --tile`: one tile read with its halo at a time
+/// (`window_cells`; its DEM, the own-ray method's views and bounds, the shadow map and
+/// the Horn normals: about 60 bytes a cell), a band of results (`band_cells`, a byte
+/// each) and the reader's chunk cache; every cell of the map computed once per tile
+/// window it falls in.
+pub fn tiled_shadow(map_cells: u64, tile: u64, window_cells: u64, band_cells: u64, cache_bytes: u64) -> Estimate {
+    let tile_cells = tile.saturating_mul(tile).max(1);
+    Estimate {
+        what: format!(
+            "`areo terrain shadow --tile {tile}` on {map_cells} cells (each tile read as {window_cells} cells with its halo)"
+        ),
+        memory_bytes: window_cells.saturating_mul(60).saturating_add(band_cells).saturating_add(cache_bytes),
+        work_steps: map_cells.saturating_mul(window_cells.div_ceil(tile_cells).max(1)),
+        work_unit: "cells computed",
+    }
+}
+
 /// The cost of a DEM command on `cells` cells (`sectors` horizon sectors for `horizon`,
 /// 0 otherwise).
 pub fn terrain_command(what: &str, cells: u64, sectors: u64) -> Estimate {

@@ -146,17 +146,26 @@ pub fn write_shadow_tiled(
     method: ShadowMethod,
     tile: usize,
     out: &Path,
+    budget: &crate::budget::Budget,
     progress: &dyn crate::Progress,
 ) -> Result<TiledShadow> {
     let ext = input.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
     if matches!(ext.as_str(), "tif" | "tiff") {
         // Decoded chunks kept: 512 MB, enough for a band of tiles of strips.
-        let mut src = areo_terrain::geotiff::Windows::open(input, 512 << 20)?;
-        shadow_tiled(&mut src, input, sun, flat, method, tile, out, progress)
+        let mut src = areo_terrain::geotiff::Windows::open(input, CHUNK_CACHE_BYTES)?;
+        // The cache never holds more than the decoded map.
+        let (cols, rows) = src.size();
+        let held = CHUNK_CACHE_BYTES.min(cols * rows * 4);
+        shadow_tiled(&mut src, input, sun, flat, method, (tile, held), out, budget, progress)
     } else {
-        shadow_tiled(&mut read_dem(input)?, input, sun, flat, method, tile, out, progress)
+        let dem = read_dem(input)?;
+        let held = dem.cols() * dem.rows() * 5;
+        shadow_tiled(&mut { dem }, input, sun, flat, method, (tile, held), out, budget, progress)
     }
 }
+
+/// Decoded GeoTIFF chunks kept by a tiled run: enough for a band of tiles of strips.
+const CHUNK_CACHE_BYTES: usize = 512 << 20;
 
 #[allow(clippy::too_many_arguments)] // write_shadow_tiled's, with the source opened
 fn shadow_tiled(
@@ -165,8 +174,9 @@ fn shadow_tiled(
     sun: (f64, f64),
     flat: bool,
     method: ShadowMethod,
-    tile: usize,
+    (tile, held_bytes): (usize, usize),
     out: &Path,
+    budget: &crate::budget::Budget,
     progress: &dyn crate::Progress,
 ) -> Result<TiledShadow> {
     use areo_terrain::tiles::{ShadowHalo, ShadowTiles, relief, shadow_band};
@@ -178,6 +188,16 @@ fn shadow_tiled(
     let curvature =
         if flat { Curvature::Flat } else { Curvature::Sphere { radius_m: grid.georef.body.mean_radius_m() } };
     let halo = ShadowHalo::new(relief, &grid, sun.1)?;
+    // A low Sun over high relief needs a wide halo: refuse before a window outgrows
+    // the machine (the message names the estimate; a higher Sun or a smaller tile help).
+    let window = ((tile + halo.cols + 4).min(grid.cols) as u64) * ((tile + halo.rows + 4).min(grid.rows) as u64);
+    budget.check(&crate::budget::tiled_shadow(
+        (grid.cols * grid.rows) as u64,
+        tile as u64,
+        window,
+        (tile * grid.cols) as u64,
+        held_bytes as u64,
+    ))?;
     let plan = ShadowTiles { sun: Sun::new(sun.0, sun.1), curvature, method, halo, tile };
     progress.start((grid.rows.div_ceil(tile) * grid.cols.div_ceil(tile)) as u64, "tiles");
     let (mut lit, mut valid, mut tiles, mut bigtiff) = (0u64, 0u64, 0usize, false);
