@@ -280,7 +280,7 @@ fn tiled_shadow_on_the_real_crop_is_the_whole_maps_map() {
     // A Sun half a degree up over 1.2 km of relief: a 476 km halo, past a small budget.
     let out = areo(&[
         "--max-memory-gb",
-        "0.001",
+        "0.0001",
         "terrain",
         "shadow",
         dem.to_str().unwrap(),

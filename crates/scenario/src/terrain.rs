@@ -139,6 +139,7 @@ pub struct TiledShadow {
 /// tile with the halo its longest possible shadow needs, and the uint8 result is
 /// written band by band as tiles finish (BigTIFF past 4 GB). No preview PNG (the map
 /// may be 10⁸ cells). With the own-ray method every cell is the whole-map answer.
+#[allow(clippy::too_many_arguments)] // `areo terrain shadow --tile`'s options, as given
 pub fn write_shadow_tiled(
     input: &Path,
     sun: (f64, f64),
