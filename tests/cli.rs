@@ -277,7 +277,8 @@ fn tiled_shadow_on_the_real_crop_is_the_whole_maps_map() {
         tiled.to_str().unwrap(),
     ]);
     assert_eq!(out.status.code(), Some(2), "a tile under 16 cells is a usage error");
-    // A Sun half a degree up over 1.2 km of relief: a 476 km halo, past a small budget.
+    // A Sun half a degree up over 1.2 km of relief: a 476 km halo, so each tile is read
+    // as the whole crop, and the estimate is past a 100 KB allowance.
     let out = areo(&[
         "--max-memory-gb",
         "0.0001",
