@@ -42,7 +42,7 @@ pub struct HorizonMap {
 }
 
 /// −90°..90° onto 0..65535 (0.0027° steps).
-fn encode(deg: f64) -> u16 {
+pub(crate) fn encode(deg: f64) -> u16 {
     // Non-negative, so adding a half and truncating rounds (`round` is a libm call).
     ((deg.clamp(-90.0, 90.0) + 90.0) / 180.0 * 65535.0 + 0.5) as u16
 }
@@ -55,6 +55,18 @@ impl HorizonMap {
     /// Computes the horizon in `sectors` sectors (16..=360) centred on azimuths
     /// k·360°/K, sectors in parallel (the result does not depend on the thread count).
     pub fn compute(dem: &Dem, sectors: usize, curvature: Curvature) -> Result<HorizonMap> {
+        HorizonMap::compute_at(dem, sectors, curvature, (0, 0))
+    }
+
+    /// [`HorizonMap::compute`] of a window whose first cell is (`col`, `row`) of a larger
+    /// map: the sweep lines are laid where the whole map's lie, so that a cell whose
+    /// horizon the window's terrain decides gets the whole map's value bit for bit.
+    pub(crate) fn compute_at(
+        dem: &Dem,
+        sectors: usize,
+        curvature: Curvature,
+        origin: (usize, usize),
+    ) -> Result<HorizonMap> {
         if !(16..=360).contains(&sectors) {
             return Err(Error::BadGrid(format!("{sectors} horizon sectors: allowed 16..=360")));
         }
@@ -78,8 +90,14 @@ impl HorizonMap {
                 pairs.push((s, a, None));
             }
         }
-        sweep_sectors(dem, &zn, sectors, curvature, pairs);
+        sweep_sectors(dem, &zn, sectors, curvature, origin, pairs);
         Ok(HorizonMap { cols: dem.cols(), rows: dem.rows(), sectors, angles })
+    }
+
+    /// Sector `s`'s encoded horizons, cell by cell (row-major).
+    pub(crate) fn sector_codes(&self, s: usize) -> &[u16] {
+        let cells = self.cols * self.rows;
+        &self.angles[s * cells..(s + 1) * cells]
     }
 
     /// The horizon of `dem` — the terrain a rover truly drives on, on this map's grid —
@@ -131,7 +149,7 @@ impl HorizonMap {
                     sector_of.push(s + jobs);
                 }
             }
-            sweep_sectors(dem, &zn, sectors, curvature, pairs);
+            sweep_sectors(dem, &zn, sectors, curvature, (0, 0), pairs);
             for (chunk, &s) in buffer[..cells * per_job * n].chunks(cells.max(1)).zip(&sector_of) {
                 let reference = &self.angles[s * cells..(s + 1) * cells];
                 for (i, (&new, &old)) in chunk.iter().zip(reference).enumerate() {
@@ -241,7 +259,14 @@ impl HorizonChanges {
 
 /// Sweeps every (sector, output, opposite output) job in parallel (the result does not
 /// depend on the thread count): each sector's horizons encoded into its output.
-fn sweep_sectors(dem: &Dem, zn: &Elevations, sectors: usize, curvature: Curvature, pairs: Vec<SectorJob<'_>>) {
+fn sweep_sectors(
+    dem: &Dem,
+    zn: &Elevations,
+    sectors: usize,
+    curvature: Curvature,
+    origin: (usize, usize),
+    pairs: Vec<SectorJob<'_>>,
+) {
     let (cols, rows) = (dem.cols(), dem.rows());
     let cells = cols * rows;
     // Encoded in the accumulator's own order (a loop the compiler vectorises), then
@@ -262,12 +287,12 @@ fn sweep_sectors(dem: &Dem, zn: &Elevations, sectors: usize, curvature: Curvatur
             let az = s as f64 * 360.0 / sectors as f64;
             match opposite {
                 Some(opposite) => {
-                    sweep_lines(dem, zn, az, curvature, Some(&mut *toward), Some(&mut *away));
+                    sweep_lines(dem, zn, az, curvature, origin, Some(&mut *toward), Some(&mut *away));
                     write(toward, scratch, out);
                     write(away, scratch, opposite);
                 }
                 None => {
-                    sweep_lines(dem, zn, az, curvature, Some(&mut *toward), None);
+                    sweep_lines(dem, zn, az, curvature, origin, Some(&mut *toward), None);
                     write(toward, scratch, out);
                 }
             }
@@ -288,7 +313,7 @@ fn sweep_sectors(dem: &Dem, zn: &Elevations, sectors: usize, curvature: Curvatur
 /// cast at low Sun, against 0.1–0.2 % at a quarter cell).
 pub fn horizon_sweep(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f64> {
     let mut acc = Accumulator::default();
-    sweep_lines(dem, &Elevations::of(dem), azimuth_deg, curvature, Some(&mut acc), None);
+    sweep_lines(dem, &Elevations::of(dem), azimuth_deg, curvature, (0, 0), Some(&mut acc), None);
     let mut out = vec![0.0; dem.cols() * dem.rows()];
     acc.for_each_cell(dem.cols(), dem.rows(), |i, [sum, weight]| out[i] = finish(dem.valid_mask()[i], sum, weight));
     out
@@ -406,12 +431,14 @@ struct Line {
 /// be absent): both directions see the same samples, so they are computed once. The
 /// family of lines depends only on the axis, not on which end is `azimuth_deg`, so a
 /// sector's horizon is the same whether it is computed alone or with its opposite.
-/// `zn` is [`Elevations::of`] the DEM.
+/// `zn` is [`Elevations::of`] the DEM; `origin`, the (column, row) of the DEM's first
+/// cell in the map whose line family to follow.
 fn sweep_lines<'a>(
     dem: &Dem,
     zn: &Elevations,
     azimuth_deg: f64,
     curvature: Curvature,
+    origin: (usize, usize),
     mut toward: Option<&'a mut Accumulator>,
     mut away: Option<&'a mut Accumulator>,
 ) {
@@ -439,10 +466,16 @@ fn sweep_lines<'a>(
     let span = shift * (n - 1) as f64;
     let first = (span.min(0.0)).floor() as i64 - 1;
     let last = ((t_len - 1) as f64 + span.max(0.0)).ceil() as i64 + 1;
+    // The map's lines sit at t0 = q·SPACING at its dominant index 0; a window starting at
+    // dominant J, transverse T follows them at t0 ≡ −T − shift·J (mod SPACING).
+    let (big_j, big_t) = if along_cols { (origin.0, origin.1) } else { (origin.1, origin.0) };
+    let phase = (-(big_t as f64) - shift * big_j as f64).rem_euclid(SPACING);
+    let phase = if phase < 1e-9 || SPACING - phase < 1e-9 { 0.0 } else { phase };
+    let (q_lo, q_hi) = if phase == 0.0 { (0, 0) } else { (1, 0) };
     let mut hull = Hull::with_capacity(n);
     let mut line = Line::default();
-    for q in (first * LINES_PER_CELL)..=(last * LINES_PER_CELL) {
-        let t0 = q as f64 * SPACING;
+    for q in (first * LINES_PER_CELL - q_lo)..=(last * LINES_PER_CELL + q_hi) {
+        let t0 = q as f64 * SPACING + phase;
         // Only the steps where this line is on the map: −1 ≤ t0 − shift·j ≤ t_len.
         let (j_lo, j_hi) = if shift == 0.0 {
             if t0 < -1.0 || t0 > t_len as f64 { (1, 0) } else { (0, n - 1) }

@@ -1,6 +1,6 @@
-//! Maps of metre-scale DTMs in bounded memory: shadow and slope maps computed tile by
-//! tile, each tile read through a window with a halo wide enough that it gives exactly
-//! what the whole-map computation gives.
+//! Maps of metre-scale DTMs in bounded memory: shadow, horizon and slope maps computed
+//! tile by tile, each tile read through a window with a halo wide enough that it gives
+//! exactly what the whole-map computation gives.
 //!
 //! - [`Source`]: a DEM read a window at a time — an in-memory [`Dem`] or a GeoTIFF
 //!   through [`crate::geotiff::Windows`] (only the strips or tiles a window touches are
@@ -16,6 +16,9 @@
 //! - [`shadow_map_by_tiles`], [`slope_by_tiles`]: row bands of results, north to south,
 //!   handed to a sink as each band of tiles finishes (for
 //!   [`crate::geotiff::write_u8_by_bands`]).
+//! - [`horizon_by_tiles`]: each tile's horizons as it finishes, read with the halo on
+//!   every side and its sweep lines laid where the whole map's lie: every horizon at or
+//!   above the lowest Sun planned for is the whole map's, bit for bit.
 //!
 //! Peak memory is a band of results (tile rows × map width) plus one tile with its halo
 //! and the shadow method's working arrays (about 40 bytes a cell), and the reader's
@@ -24,6 +27,7 @@
 use crate::dem::Dem;
 use crate::error::{Error, Result};
 use crate::geotiff::{Grid, Windows};
+use crate::horizon::HorizonMap;
 use crate::shadow::{Curvature, Method, Sun, shadow_map};
 use crate::slope::slope_aspect;
 
@@ -224,6 +228,62 @@ pub fn shadow_band(
     Ok(())
 }
 
+/// What [`horizon_by_tiles`] computes, and in what pieces.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HorizonTiles {
+    /// Azimuth sectors (16..=360), as [`HorizonMap::compute`].
+    pub sectors: usize,
+    /// Flat or curved world.
+    pub curvature: Curvature,
+    /// The lowest horizon kept, degrees: lower horizons are stored as this one, so the
+    /// map answers for Suns at or above it. The halo must be [`ShadowHalo::new`] for it.
+    pub lowest_deg: f64,
+    /// The halo each tile is read with, on every side (horizons look every way).
+    pub halo: ShadowHalo,
+    /// Tile side, cells.
+    pub tile: usize,
+}
+
+/// A horizon map tile by tile: `each(col0, row0, cols, rows, codes)` receives each
+/// tile's encoded horizons (as [`HorizonMap`] stores them, 2 bytes a cell and sector),
+/// sector after sector, row-major within the tile, as the tile finishes — a horizon map
+/// of a 10⁸-cell DTM is gigabytes, so nothing larger than a tile is held. Every horizon
+/// at or above `lowest_deg` is the whole map's bit for bit (the sweep lines are laid
+/// where the whole map's lie, and terrain beyond the halo cannot rise that high); lower
+/// ones are stored as `lowest_deg`, on the whole map as here.
+pub fn horizon_by_tiles(
+    src: &mut impl Source,
+    plan: &HorizonTiles,
+    mut each: impl FnMut(usize, usize, usize, usize, &[u16]) -> Result<()>,
+) -> Result<()> {
+    let g = src.grid();
+    let tile = plan.tile.max(1);
+    let floor = crate::horizon::encode(plan.lowest_deg);
+    let mut out = Vec::new();
+    for row0 in (0..g.rows).step_by(tile) {
+        let h = tile.min(g.rows - row0);
+        for col0 in (0..g.cols).step_by(tile) {
+            let w = tile.min(g.cols - col0);
+            let (wc, wr) = (col0.saturating_sub(plan.halo.cols), row0.saturating_sub(plan.halo.rows));
+            let ww = (col0 + w + plan.halo.cols).min(g.cols) - wc;
+            let wh = (row0 + h + plan.halo.rows).min(g.rows) - wr;
+            let dem = src.window(wc, wr, ww, wh)?;
+            let map = HorizonMap::compute_at(&dem, plan.sectors, plan.curvature, (wc, wr))?;
+            out.clear();
+            for s in 0..plan.sectors {
+                let codes = map.sector_codes(s);
+                for r in 0..h {
+                    let from = &codes[(row0 + r - wr) * ww + (col0 - wc)..][..w];
+                    out.extend(from.iter().map(|f| (*f).max(floor)));
+                }
+            }
+            drop(map);
+            each(col0, row0, w, h, &out)?;
+        }
+    }
+    Ok(())
+}
+
 /// Horn slope in degrees tile by tile, bands as in [`shadow_map_by_tiles`]; each tile is
 /// read with the one-cell ring the Horn kernel needs, so every value is the whole
 /// map's.
@@ -327,6 +387,43 @@ mod tests {
         })
         .unwrap();
         assert!(whole.iter().zip(&tiled).all(|(a, b)| a == b || (a.is_nan() && b.is_nan())));
+    }
+
+    #[test]
+    fn horizon_tiles_give_the_whole_maps_horizons_above_the_lowest_sun() {
+        let mut dem = terrain();
+        let (cols, rows) = (dem.cols(), dem.rows());
+        let relief = relief(&mut dem, 16).unwrap().unwrap();
+        let lowest = 12.0;
+        let halo = ShadowHalo::new(relief, &Grid::of(&dem), lowest).unwrap();
+        for curvature in [Curvature::Flat, Curvature::Sphere { radius_m: 5.0e4 }] {
+            let plan = HorizonTiles { sectors: 16, curvature, lowest_deg: lowest, halo, tile: 24 };
+            let whole = HorizonMap::compute(&dem, 16, curvature).unwrap();
+            let floor = crate::horizon::encode(lowest);
+            let mut tiled = vec![vec![0u16; cols * rows]; 16];
+            let mut tiles = 0;
+            horizon_by_tiles(&mut dem, &plan, |col0, row0, w, h, codes| {
+                tiles += 1;
+                for (s, t) in tiled.iter_mut().enumerate() {
+                    for r in 0..h {
+                        t[(row0 + r) * cols + col0..][..w].copy_from_slice(&codes[s * w * h + r * w..][..w]);
+                    }
+                }
+                Ok(())
+            })
+            .unwrap();
+            assert_eq!(tiles, 7 * 5);
+            let mut above = 0;
+            for (s, t) in tiled.iter().enumerate() {
+                assert_eq!(t.len(), cols * rows);
+                for (i, (a, b)) in whole.sector_codes(s).iter().zip(t).enumerate() {
+                    assert_eq!((*a).max(floor), *b, "{curvature:?} sector {s} cell {i}");
+                    above += usize::from(*a > floor);
+                }
+            }
+            // Enough horizons above the floor for the identity to mean something.
+            assert!(above > 1000, "{curvature:?}: {above}");
+        }
     }
 
     #[test]
