@@ -8,7 +8,9 @@
 //!
 //! Each sector's horizon comes from [`horizon_sweep`] along its centre azimuth: upper
 //! convex hulls along parallel lines, exact along each line. Planetary curvature
-//! lowers an occluder at distance d by d²/2R.
+//! lowers an occluder at distance d by d²/2R. The lines are laid on the whole map's
+//! lattice even when a window of it is computed, so that
+//! [`crate::tiles::horizon_by_tiles`] gives the whole map's horizons tile by tile.
 //!
 //! **Error against each cell's own ray** (brute force on the triangulated surface,
 //! [`crate::reference::horizon_on_triangles`], every cell of every sector centre, border
