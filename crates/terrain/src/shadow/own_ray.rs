@@ -443,7 +443,7 @@ impl Ray {
     }
 
     /// Marches the ray line step by line step: the crossing that stands above it
-    /// (shadowed), or None once the corridor bound shows nothing further can, or the
+    /// (shadowed), or None once the band bound shows nothing further can, or the
     /// ray has left the map.
     fn march(&self, view: &SunView, crossings: &Crossings, bands: &Bands, blocks: &[Blocks; 2]) -> Option<usize> {
         // The first step has been taken for the whole line (`first_step`).
