@@ -16,7 +16,8 @@ use areo_ephemeris::{Site, SunModel};
 use areo_terrain::Dem;
 use areo_terrain::horizon::HorizonMap;
 use areo_terrain::shadow::Curvature;
-use areo_terrain::slope::slope_aspect;
+use areo_terrain::slope::{SlopeAspect, slope_aspect};
+use areo_terrain::tiles::Region;
 use hifitime::{Duration, Epoch};
 
 use crate::error::{Error, Result};
@@ -87,6 +88,33 @@ impl World {
     /// Builds the world: slope and normals, the horizon map (in parallel), and the Sun
     /// table from `sun_model`.
     pub fn new(dem: Dem, config: &WorldConfig, sun_model: &impl SunModel) -> Result<World> {
+        World::check(config)?;
+        let sa = slope_aspect(&dem);
+        let horizon = match config.horizon_sectors {
+            Some(k) => Some(HorizonMap::compute(&dem, k, MARS_CURVATURE)?),
+            None => None,
+        };
+        World::from_parts(dem, sa, horizon, config, sun_model)
+    }
+
+    /// The world of a planning region cut from a map too large to hold
+    /// ([`areo_terrain::tiles::region`]): its slope and horizons are the whole map's,
+    /// so the plan is the one the whole map would give while memory follows the region
+    /// (horizons below the region's lowest planned Sun are stored as that Sun). The
+    /// region's horizon map must have `config.horizon_sectors` sectors.
+    pub fn for_region(region: Region, config: &WorldConfig, sun_model: &impl SunModel) -> Result<World> {
+        World::check(config)?;
+        let sectors = region.horizon.as_ref().map(HorizonMap::sectors);
+        if sectors != config.horizon_sectors {
+            return Err(Error::Config {
+                field: "horizon_sectors",
+                message: format!("{:?}: the region's horizon map has {sectors:?}", config.horizon_sectors),
+            });
+        }
+        World::from_parts(region.dem, region.slope, region.horizon, config, sun_model)
+    }
+
+    fn check(config: &WorldConfig) -> Result<()> {
         if !(config.span_s > 0.0 && config.span_s <= 400.0 * 86_400.0) {
             return Err(Error::Config {
                 field: "span_s",
@@ -99,6 +127,16 @@ impl World {
                 message: format!("{} s: allowed 1..=3600", config.sun_step_s),
             });
         }
+        Ok(())
+    }
+
+    fn from_parts(
+        dem: Dem,
+        sa: SlopeAspect,
+        horizon: Option<HorizonMap>,
+        config: &WorldConfig,
+        sun_model: &impl SunModel,
+    ) -> Result<World> {
         let site = match config.site {
             Some(s) => s,
             None => {
@@ -110,7 +148,6 @@ impl World {
                 Site::new(lat, lon).map_err(|e| Error::Config { field: "site", message: e.to_string() })?
             }
         };
-        let sa = slope_aspect(&dem);
         let cells = dem.cols() * dem.rows();
         let normal = (0..cells)
             .map(|i| {
@@ -124,10 +161,7 @@ impl World {
                 AtomicU32::new(z.to_bits())
             })
             .collect();
-        let horizon = match config.horizon_sectors {
-            Some(k) => Some(Arc::new(HorizonMap::compute(&dem, k, MARS_CURVATURE)?)),
-            None => None,
-        };
+        let horizon = horizon.map(Arc::new);
         let n = (config.span_s / config.sun_step_s).ceil() as usize + 2;
         let sun = (0..n)
             .map(|k| {

@@ -346,3 +346,49 @@ fn a_backward_expansion_equals_its_actions_one_by_one_and_the_forward_drives() {
     }
     assert!(drives > 2000, "{drives} drives compared");
 }
+
+#[test]
+fn a_world_for_a_region_cut_from_a_larger_map_sees_what_the_whole_map_sees() {
+    use areo_mission::World;
+    use areo_terrain::shadow::Curvature;
+    use areo_terrain::synth::{Feature, Noise, TerrainSpec};
+    use areo_terrain::tiles::{RegionHorizon, ShadowHalo, region, relief};
+    let dem = TerrainSpec {
+        cols: 120,
+        rows: 90,
+        cell_m: 30.0,
+        base_m: 0.0,
+        seed: 4,
+        noise: Some(Noise { amplitude_m: 20.0, wavelength_m: 900.0, octaves: 3, persistence: 0.5 }),
+        features: vec![Feature::Hill { x_m: 1500.0, y_m: 1500.0, radius_m: 400.0, slope_deg: 25.0 }],
+    }
+    .build()
+    .unwrap();
+    // The Sun on a sector centre (16 sectors), 15° up; horizons kept down to 10°.
+    let sun = FixedSun::new(&site(), 112.5, 15.0);
+    let whole = World::new(dem.clone(), &config(2.0, Some(16)), &sun).unwrap();
+    let mut src = dem.clone();
+    let rel = relief(&mut src, 64).unwrap().unwrap();
+    let halo = ShadowHalo::new(rel, &areo_terrain::geotiff::Grid::of(&dem), 10.0).unwrap();
+    let plan =
+        RegionHorizon { sectors: 16, curvature: Curvature::Sphere { radius_m: 3_389_500.0 }, lowest_deg: 10.0, halo };
+    let (c0, r0, w, h) = (35, 25, 50, 40);
+    let part =
+        World::for_region(region(&mut src, (c0, r0, w, h), Some(plan)).unwrap(), &config(2.0, Some(16)), &sun).unwrap();
+    assert_eq!((part.cols(), part.rows()), (w, h));
+    let s = part.sun(0.0);
+    let mut shadowed = 0;
+    for r in 0..h {
+        for c in 0..w {
+            let (a, b) = (part.cell(c, r), whole.cell(c0 + c, r0 + r));
+            assert_eq!(part.slope_deg(a).to_bits(), whole.slope_deg(b).to_bits(), "({c}, {r})");
+            assert_eq!(part.normal(a), whole.normal(b));
+            assert_eq!(part.lit(a, &s), whole.lit(b, &whole.sun(0.0)), "({c}, {r})");
+            shadowed += usize::from(!part.lit(a, &s));
+        }
+    }
+    assert!(shadowed > 20, "some cells in the hill's shadow: {shadowed}");
+    // A region map of the wrong number of sectors is a located error.
+    let other = region(&mut src, (c0, r0, w, h), Some(RegionHorizon { sectors: 32, ..plan })).unwrap();
+    assert!(World::for_region(other, &config(2.0, Some(16)), &sun).is_err());
+}

@@ -102,6 +102,24 @@ impl HorizonMap {
         &self.angles[s * cells..(s + 1) * cells]
     }
 
+    /// The map of the window `cols` × `rows` from (`col0`, `row0`), horizons below
+    /// `floor_deg` raised to it (None: kept).
+    pub(crate) fn window(
+        &self,
+        (col0, row0, cols, rows): (usize, usize, usize, usize),
+        floor_deg: Option<f64>,
+    ) -> HorizonMap {
+        let floor = floor_deg.map_or(0, encode);
+        let mut angles = Vec::with_capacity(cols * rows * self.sectors);
+        for s in 0..self.sectors {
+            let codes = self.sector_codes(s);
+            for r in row0..row0 + rows {
+                angles.extend(codes[r * self.cols + col0..][..cols].iter().map(|c| (*c).max(floor)));
+            }
+        }
+        HorizonMap { cols, rows, sectors: self.sectors, angles }
+    }
+
     /// The horizon of `dem` — the terrain a rover truly drives on, on this map's grid —
     /// where it differs from this map, cell by cell: the same sweep as
     /// [`HorizonMap::compute`], run a few sectors at a time and compared with this map,

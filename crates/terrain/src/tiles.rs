@@ -29,7 +29,7 @@ use crate::error::{Error, Result};
 use crate::geotiff::{Grid, Windows};
 use crate::horizon::HorizonMap;
 use crate::shadow::{Curvature, Method, Sun, shadow_map};
-use crate::slope::slope_aspect;
+use crate::slope::{SlopeAspect, slope_aspect};
 
 /// A DEM read a window at a time.
 pub trait Source {
@@ -284,6 +284,79 @@ pub fn horizon_by_tiles(
     Ok(())
 }
 
+/// A planning region cut from a map too large to hold: its DEM, slope and horizon map
+/// carry the whole map's values (the slope from the region read with the Horn
+/// kernel's ring, the horizons from the region read with the halo on every side,
+/// floored at the lowest Sun planned for), so memory follows the region and its halo,
+/// not the map.
+#[derive(Debug, Clone)]
+pub struct Region {
+    /// The region's DEM, placed where it lies in the map.
+    pub dem: Dem,
+    /// Slope, aspect and gradients, cell for cell the whole map's.
+    pub slope: SlopeAspect,
+    /// The horizon map, if asked for: every horizon at or above the lowest Sun is the
+    /// whole map's, lower ones are stored as the lowest Sun.
+    pub horizon: Option<HorizonMap>,
+}
+
+/// How a [`Region`]'s horizon map is made.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RegionHorizon {
+    /// Azimuth sectors (16..=360).
+    pub sectors: usize,
+    /// Flat or curved world.
+    pub curvature: Curvature,
+    /// The lowest Sun planned for, degrees; the halo follows from it and the relief.
+    pub lowest_deg: f64,
+    /// The halo, [`ShadowHalo::new`] for `lowest_deg`.
+    pub halo: ShadowHalo,
+}
+
+/// Reads the region `cols` × `rows` from (`col0`, `row0`) of `src` with what a planner
+/// needs of it; see [`Region`].
+pub fn region(
+    src: &mut impl Source,
+    (col0, row0, cols, rows): (usize, usize, usize, usize),
+    horizon: Option<RegionHorizon>,
+) -> Result<Region> {
+    let g = src.grid();
+    if cols == 0 || rows == 0 || col0 + cols > g.cols || row0 + rows > g.rows {
+        return Err(Error::BadGrid(format!(
+            "region {cols} x {rows} at ({col0}, {row0}) does not fit in the {} x {} map",
+            g.cols, g.rows
+        )));
+    }
+    // Grows the region by (halo cols, halo rows), clipped: (window, the region's place in it).
+    let grow = |hc: usize, hr: usize| {
+        let (wc, wr) = (col0.saturating_sub(hc), row0.saturating_sub(hr));
+        let (ww, wh) = ((col0 + cols + hc).min(g.cols) - wc, (row0 + rows + hr).min(g.rows) - wr);
+        ((wc, wr, ww, wh), (col0 - wc, row0 - wr, cols, rows))
+    };
+    let dem = src.window(col0, row0, cols, rows)?;
+    let ((wc, wr, ww, wh), inner) = grow(1, 1);
+    let ring = slope_aspect(&src.window(wc, wr, ww, wh)?);
+    let cut = |v: &[f32]| -> Vec<f32> {
+        (inner.1..inner.1 + rows).flat_map(|r| v[r * ww + inner.0..][..cols].iter().copied()).collect()
+    };
+    let slope = SlopeAspect {
+        slope_deg: cut(&ring.slope_deg),
+        aspect_deg: cut(&ring.aspect_deg),
+        dzdx: cut(&ring.dzdx),
+        dzdy: cut(&ring.dzdy),
+    };
+    let horizon = match horizon {
+        None => None,
+        Some(h) => {
+            let ((wc, wr, ww, wh), inner) = grow(h.halo.cols, h.halo.rows);
+            let window = src.window(wc, wr, ww, wh)?;
+            let map = HorizonMap::compute_at(&window, h.sectors, h.curvature, (wc, wr))?;
+            Some(map.window(inner, Some(h.lowest_deg)))
+        }
+    };
+    Ok(Region { dem, slope, horizon })
+}
+
 /// Horn slope in degrees tile by tile, bands as in [`shadow_map_by_tiles`]; each tile is
 /// read with the one-cell ring the Horn kernel needs, so every value is the whole
 /// map's.
@@ -424,6 +497,44 @@ mod tests {
             // Enough horizons above the floor for the identity to mean something.
             assert!(above > 1000, "{curvature:?}: {above}");
         }
+    }
+
+    #[test]
+    fn a_region_carries_the_whole_maps_slope_and_horizons() {
+        let mut dem = terrain();
+        let relief = relief(&mut dem, 64).unwrap().unwrap();
+        let lowest = 12.0;
+        let halo = ShadowHalo::new(relief, &Grid::of(&dem), lowest).unwrap();
+        let curvature = Curvature::Flat;
+        let whole_slope = slope_aspect(&dem);
+        let whole_horizon = HorizonMap::compute(&dem, 16, curvature).unwrap();
+        let floor = crate::horizon::encode(lowest);
+        for (c0, r0, w, h) in [(40, 30, 50, 40), (0, 0, 30, 20), (130, 100, 31, 19)] {
+            let plan = RegionHorizon { sectors: 16, curvature, lowest_deg: lowest, halo };
+            let reg = region(&mut dem, (c0, r0, w, h), Some(plan)).unwrap();
+            let map = reg.horizon.as_ref().unwrap();
+            assert_eq!((reg.dem.cols(), reg.dem.rows()), (w, h));
+            assert_eq!(reg.dem.cell_center(0, 0), dem.cell_center(c0, r0));
+            for r in 0..h {
+                for c in 0..w {
+                    let (i, j) = (r * w + c, (r0 + r) * dem.cols() + c0 + c);
+                    assert_eq!(
+                        reg.slope.slope_deg[i].to_bits(),
+                        whole_slope.slope_deg[j].to_bits(),
+                        "slope ({c}, {r})"
+                    );
+                    assert_eq!(reg.slope.dzdx[i].to_bits(), whole_slope.dzdx[j].to_bits());
+                    for s in 0..16 {
+                        assert_eq!(
+                            map.sector_codes(s)[i],
+                            whole_horizon.sector_codes(s)[j].max(floor),
+                            "sector {s} ({c}, {r})"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(region(&mut dem, (150, 0, 20, 5), None).is_err(), "a region off the map is an error");
     }
 
     #[test]
