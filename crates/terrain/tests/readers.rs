@@ -323,22 +323,47 @@ proptest! {
 /// tiles (the edge tiles padded, as the format requires), ModelPixelScale,
 /// ModelTiepoint and GDAL_NODATA.
 fn tiled_uint16_tiff(cols: u32, rows: u32, value: impl Fn(u32, u32) -> u16, nodata: &str) -> Vec<u8> {
+    tiled_uint16_tiff_compressed(cols, rows, value, nodata, 1)
+}
+
+/// [`tiled_uint16_tiff`] with each tile compressed: 1 none, 5 LZW (MSB-first codes,
+/// as TIFF 6.0 specifies), 8 deflate (zlib stream, Adobe's code).
+fn tiled_uint16_tiff_compressed(
+    cols: u32,
+    rows: u32,
+    value: impl Fn(u32, u32) -> u16,
+    nodata: &str,
+    compression: u32,
+) -> Vec<u8> {
     const TILE: u32 = 16;
     let (across, down) = (cols.div_ceil(TILE), rows.div_ceil(TILE));
     let mut tiles = Vec::new();
+    let mut sizes = Vec::new();
     for ty in 0..down {
         for tx in 0..across {
+            let mut raw = Vec::new();
             for y in 0..TILE {
                 for x in 0..TILE {
                     let (c, r) = (tx * TILE + x, ty * TILE + y);
                     let v = if c < cols && r < rows { value(c, r) } else { 0 };
-                    tiles.extend_from_slice(&v.to_le_bytes());
+                    raw.extend_from_slice(&v.to_le_bytes());
                 }
             }
+            let packed = match compression {
+                5 => weezl::encode::Encoder::with_tiff_size_switch(weezl::BitOrder::Msb, 8).encode(&raw).unwrap(),
+                8 => {
+                    use std::io::Write;
+                    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+                    z.write_all(&raw).unwrap();
+                    z.finish().unwrap()
+                }
+                _ => raw,
+            };
+            sizes.push(packed.len());
+            tiles.extend_from_slice(&packed);
         }
     }
     let n_tiles = (across * down) as usize;
-    let tile_bytes = (TILE * TILE * 2) as usize;
     let scale: Vec<u8> = [2.0f64, 3.0, 0.0].iter().flat_map(|v| v.to_le_bytes()).collect();
     let tie: Vec<u8> = [0.0f64, 0.0, 0.0, 1000.0, 5000.0, 0.0].iter().flat_map(|v| v.to_le_bytes()).collect();
     let mut ascii = nodata.as_bytes().to_vec();
@@ -356,11 +381,13 @@ fn tiled_uint16_tiff(cols: u32, rows: u32, value: impl Fn(u32, u32) -> u16, noda
     out.extend_from_slice(&42u16.to_le_bytes());
     out.extend_from_slice(&(ifd_at as u32).to_le_bytes());
     out.extend_from_slice(&tiles);
-    for k in 0..n_tiles {
-        out.extend_from_slice(&((data_at + k * tile_bytes) as u32).to_le_bytes());
+    let mut at = data_at;
+    for size in &sizes {
+        out.extend_from_slice(&(at as u32).to_le_bytes());
+        at += size;
     }
-    for _ in 0..n_tiles {
-        out.extend_from_slice(&(tile_bytes as u32).to_le_bytes());
+    for size in &sizes {
+        out.extend_from_slice(&(*size as u32).to_le_bytes());
     }
     out.extend_from_slice(&scale);
     out.extend_from_slice(&tie);
@@ -371,7 +398,7 @@ fn tiled_uint16_tiff(cols: u32, rows: u32, value: impl Fn(u32, u32) -> u16, noda
         (256, 4, 1, cols),
         (257, 4, 1, rows),
         (258, 3, 1, 16),
-        (259, 3, 1, 1),
+        (259, 3, 1, compression),
         (262, 3, 1, 1),
         (277, 3, 1, 1),
         (284, 3, 1, 1),
@@ -441,6 +468,29 @@ fn windows_of_tiled_and_stripped_geotiffs_equal_crops_of_the_whole() {
         }
         let mut w = geotiff::Windows::open(&path, 1 << 20).unwrap();
         assert!(w.read(60, 0, 10, 1).is_err(), "a window past the edge is an error, not a panic");
+    }
+}
+
+#[test]
+fn deflate_and_lzw_tiles_read_whole_and_through_windows() {
+    let value = |c: u32, r: u32| if (c, r) == (30, 3) { 65535 } else { (c * 37 + r * 11) as u16 };
+    for (compression, name) in [(8, "deflate"), (5, "lzw")] {
+        let path = tmp(&format!("tiled_{name}.tif"));
+        let bytes = tiled_uint16_tiff_compressed(37, 21, value, "65535", compression);
+        assert!(bytes.len() < tiled_uint16_tiff(37, 21, value, "65535").len(), "{name}: the tiles are compressed");
+        std::fs::write(&path, bytes).unwrap();
+        let dem = geotiff::read(&path).unwrap();
+        for r in 0..21 {
+            for c in 0..37 {
+                let want = if (c, r) == (30, 3) { None } else { Some((c * 37 + r * 11) as f32) };
+                assert_eq!(dem.z(c as usize, r as usize), want, "{name} ({c}, {r})");
+            }
+        }
+        let mut w = geotiff::Windows::open(&path, 1).unwrap();
+        let win = w.read(14, 2, 20, 17).unwrap();
+        assert_eq!(win.elevations().len(), 20 * 17);
+        assert_eq!(win.z(0, 0), dem.z(14, 2));
+        assert_eq!(win.z(16, 1), None, "{name}: nodata inside a window");
     }
 }
 
