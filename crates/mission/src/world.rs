@@ -98,9 +98,11 @@ impl World {
     }
 
     /// The world of a planning region cut from a map too large to hold
-    /// ([`areo_terrain::tiles::region`]): its slope and horizons are the whole map's,
-    /// so the plan is the one the whole map would give while memory follows the region
-    /// (horizons below the region's lowest planned Sun are stored as that Sun). The
+    /// ([`areo_terrain::tiles::region`]): its slopes, normals and every sector horizon at
+    /// or above the region's lowest planned Sun are the whole map's, while memory
+    /// follows the region (test `a_world_for_a_region_cut_from_a_larger_map_sees_what_the_whole_map_sees`,
+    /// lit cells compared at a sector-centre azimuth). Lower horizons are stored as that
+    /// Sun, so a lookup between sectors near it can differ from the whole map's. The
     /// region's horizon map must have `config.horizon_sectors` sectors.
     pub fn for_region(region: Region, config: &WorldConfig, sun_model: &impl SunModel) -> Result<World> {
         World::check(config)?;

@@ -18,7 +18,8 @@
 //! - [`shadow`]: cast shadows from the Sun through one door,
 //!   [`shadow::cast_shadows`]`(&dem, sun, curvature, method)`, with planetary
 //!   curvature: by default every cell decided by its own ray on the triangulated
-//!   surface (the brute force's answer on every cell, at every azimuth), or by one of
+//!   surface (the brute force's answer on every cell at every azimuth tested,
+//!   `tests/shadow_methods.rs`), or by one of
 //!   two cheaper, approximate sweeps whose error is stated; shadow maps.
 //! - [`reference`](mod@reference): the brute-force references the tests hold every method to: one ray
 //!   per cell, no sweep, no shortcuts; and parry3d ray casts.

@@ -25,11 +25,7 @@ const SUB: usize = 2;
 
 /// Cast shadow (true = shadowed) by the interpolating sweep of the module docs.
 pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
-    let (cols, rows) = (dem.cols(), dem.rows());
-    if elevation_deg <= 0.0 {
-        // Below the local horizontal the source is behind the surface everywhere.
-        return vec![true; cols * rows];
-    }
+    debug_assert!(elevation_deg > 0.0, "the door (`cast_shadows`) answers a Sun at or below the horizon");
     // Line geometry: a line is a column or a row; `step` is the metres travelled toward
     // the source from one line to the next, `shift` the fractional offset of the
     // crossing along the line.
@@ -42,7 +38,7 @@ pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: C
     let mut marks = vec![false; n_cells];
     let tan_e = elevation_deg.to_radians().tan();
     let inv_2r = curvature.inv_2r();
-    let mut shadow = vec![false; cols * rows];
+    let mut shadow = vec![false; dem.cols() * dem.rows()];
     // Envelope of the previous line: ray height above the reference surface and the
     // distance back to the ray's source.
     // Each line is sampled at its cells and at SUB − 1 points between each pair

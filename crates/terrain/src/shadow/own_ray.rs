@@ -43,11 +43,7 @@ const PAD_POS: usize = 5;
 
 /// Cast shadow (true = shadowed) decided by each cell's own ray; see the module docs.
 pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
-    let (cols, rows) = (dem.cols(), dem.rows());
-    if elevation_deg <= 0.0 {
-        // Below the local horizontal the source is behind the surface everywhere.
-        return vec![true; cols * rows];
-    }
+    debug_assert!(elevation_deg > 0.0, "the door (`cast_shadows`) answers a Sun at or below the horizon");
     let view = SunView::new(dem, azimuth_deg);
     let tan_e = elevation_deg.to_radians().tan();
     let crossings = Crossings::new(&view, tan_e, curvature.inv_2r());

@@ -164,11 +164,7 @@ impl Envelopes {
 /// ray is tested exactly back to the previous line; beyond it, each of the two rays
 /// beside it lends its occluding triangle, moved sideways onto the cell's ray.
 pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
-    let (cols, rows) = (dem.cols(), dem.rows());
-    if elevation_deg <= 0.0 {
-        // Below the local horizontal the source is behind the surface everywhere.
-        return vec![true; cols * rows];
-    }
+    debug_assert!(elevation_deg > 0.0, "the door (`cast_shadows`) answers a Sun at or below the horizon");
     // Line geometry: a line is a column or a row; `step` is the metres travelled toward
     // the source from one line to the next, `shift` the change in position along the
     // lines over that step.
@@ -183,7 +179,7 @@ pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: C
     let line_drop = step_m * tan_e + step_m * step_m * inv_2r;
     let curve_per_d = 2.0 * step_m * inv_2r;
     let ds = 1.0 / RAYS as f64;
-    let mut shadow = vec![false; cols * rows];
+    let mut shadow = vec![false; dem.cols() * dem.rows()];
     // A cell's own ray: its position is whole, so one set of crossings serves all;
     // it meets the previous line at k + shift, inside it for k in k_lo..k_hi.
     let cell_crossings = edge_crossings(0.0, shift, sigma, step_m, tan_e, inv_2r);
@@ -454,7 +450,7 @@ mod tests {
 
     #[test]
     #[allow(clippy::print_stderr)] // the agreement figures are the point of the test
-    fn the_exact_sweep_agrees_with_per_cell_rays_on_rough_terrain() {
+    fn the_swept_method_agrees_with_per_cell_rays_on_rough_terrain() {
         let dem = crate::synth::rough_test_terrain(120, 90, 7, 40.0, 4);
         let (mut differ_all, mut cells_all) = (0, 0);
         for (az, el) in
