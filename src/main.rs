@@ -174,7 +174,7 @@ enum TerrainCommand {
         method: ShadowMethodArg,
         /// For DEMs too large to hold (metre-scale DTMs): compute the map tile by tile,
         /// TILE × TILE cells each, reading a GeoTIFF a window at a time with the halo
-        /// its longest shadow needs (stated), and write it band by band (BigTIFF past
+        /// its longest shadow needs (stated), and write it as a tiled GeoTIFF (TILE a multiple of 16; BigTIFF past
         /// 4 GB). No PNG preview. With own-ray, the same map as without.
         #[arg(long, value_name = "TILE", value_parser = clap::value_parser!(u32).range(16..=65536))]
         tile: Option<u32>,
@@ -195,14 +195,25 @@ enum TerrainCommand {
         #[arg(short, long)]
         out: PathBuf,
     },
-    /// Horizon elevation in K azimuth sectors (one float32 GeoTIFF per sector).
+    /// Horizon elevation in K azimuth sectors (one float32 GeoTIFF per sector; with
+    /// --tile, one tiled GeoTIFF with a plane per sector).
     Horizon {
         /// The DEM.
         file: PathBuf,
         /// Number of sectors, 16..=360.
         #[arg(long, default_value_t = 64)]
         sectors: usize,
-        /// Output path stem (files OUT_s000.tif …).
+        /// For DEMs too large to hold: compute the map tile by tile (TILE × TILE cells,
+        /// a multiple of 16), each read with the halo its lowest Sun needs (stated), and
+        /// write ONE tiled GeoTIFF to OUT: uint16 codes, a plane per sector (degrees =
+        /// code × 180/65535 − 90, written as GDAL band scale and offset).
+        #[arg(long, value_name = "TILE", value_parser = clap::value_parser!(u32).range(16..=65536))]
+        tile: Option<u32>,
+        /// With --tile: the lowest Sun the map must answer for, degrees; lower horizons
+        /// are stored as it (the halo is relief / tan of it).
+        #[arg(long, value_name = "DEG", default_value_t = 5.0)]
+        lowest_sun: f64,
+        /// Output path stem (files OUT_s000.tif …), or with --tile the output GeoTIFF.
         #[arg(short, long)]
         out: PathBuf,
     },
@@ -406,7 +417,13 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
             let (files, seen) = tt::write_viewshed(&read(file, "viewshed", 0)?, from.0, from.1, from.2, out)?;
             print::terrain::fraction(seen, "visible") + &print::terrain::wrote(&files)
         }
-        TerrainCommand::Horizon { file, sectors, out } => {
+        TerrainCommand::Horizon { file, sectors, tile: Some(tile), lowest_sun, out } => {
+            tt::check_output(file, out)?;
+            let run =
+                tt::write_horizon_tiled(file, *sectors, *lowest_sun, *tile as usize, out, &budget, &progress_bar())?;
+            print::terrain::tiled_horizon(&run)
+        }
+        TerrainCommand::Horizon { file, sectors, tile: None, lowest_sun: _, out } => {
             for path in tt::horizon_paths(out, *sectors) {
                 tt::check_output(file, &path)?;
             }

@@ -300,6 +300,49 @@ fn tiled_shadow_on_the_real_crop_is_the_whole_maps_map() {
 }
 
 #[test]
+fn tiled_horizon_on_the_real_crop_holds_the_whole_maps_horizons() {
+    // The Gale crop's 16-sector horizon map in 32-cell tiles: one tiled GeoTIFF with a
+    // plane per sector, every horizon at or above the lowest Sun the whole map's.
+    let dem = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");
+    let dir = tmp("tiled_horizon");
+    let (whole, tiled) = (dir.join("whole.tif"), dir.join("tiled.tif"));
+    let d = dem.to_str().unwrap();
+    let out = areo(&["terrain", "horizon", d, "--sectors", "16", "-o", whole.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let args = ["terrain", "horizon", d, "--sectors", "16", "--tile", "32", "--lowest-sun", "3"];
+    let out = areo(&[&args[..], &["-o", tiled.to_str().unwrap()]].concat());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("4 tiles, each read with a halo of") && text.contains("below 3° stored as 3°"), "{text}");
+    let mut dec = tiff::decoder::Decoder::new(std::fs::File::open(&tiled).unwrap()).unwrap();
+    assert_eq!(dec.chunk_dimensions(), (32, 32));
+    let (mut above, mut checked) = (0, 0);
+    for s in 0..16 {
+        let plane = areo_scenario::terrain::read_dem(&dir.join(format!("whole_s{s:03}.tif"))).unwrap();
+        for t in 0..4u32 {
+            let tiff::decoder::DecodingResult::U16(codes) = dec.read_chunk(s * 4 + t).unwrap() else { panic!() };
+            let (c0, r0) = ((t % 2) as usize * 32, (t / 2) as usize * 32);
+            for r in 0..32 {
+                for c in 0..32 {
+                    let deg = f64::from(codes[r * 32 + c]) * 180.0 / 65535.0 - 90.0;
+                    let want = f64::from(plane.z(c0 + c, r0 + r).unwrap()).max(3.0);
+                    // Both are the same 2-byte code; the float file rounds it to f32.
+                    assert!((deg - want).abs() < 0.002, "sector {s} cell ({}, {}): {deg} vs {want}", c0 + c, r0 + r);
+                    above += usize::from(want > 3.01);
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(checked, 16 * 64 * 64);
+    assert!(above > 500, "enough horizons above the floor to mean something: {above}");
+    let out = areo(&[&args[..5], &["--tile", "24", "-o", tiled.to_str().unwrap()]].concat());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("--tile 24: allowed a multiple of 16"), "{err}");
+}
+
+#[test]
 fn terrain_viewshed_from_a_mast_on_the_real_crop() {
     let dem = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");
     let out_path = tmp("viewshed").join("view.tif");

@@ -22,6 +22,20 @@ pub(crate) fn fraction(fraction: f64, what: &str) -> String {
 }
 
 /// A tiled shadow run: the lit fraction, the halo it rested on, what was written.
+pub(crate) fn tiled_horizon(run: &areo_scenario::terrain::TiledHorizon) -> String {
+    format!(
+        "{} sectors, horizons below {}° stored as {}° (degrees = code x 180/65535 - 90)\n{} tiles, each read with a halo of {} x {} cells on every side ({:.0} m){}\n",
+        run.sectors,
+        run.lowest_deg,
+        run.lowest_deg,
+        run.tiles,
+        run.halo_cells.0,
+        run.halo_cells.1,
+        run.halo_m,
+        if run.bigtiff { "; BigTIFF" } else { "" }
+    ) + &wrote(std::slice::from_ref(&run.file))
+}
+
 pub(crate) fn tiled_shadow(run: &areo_scenario::terrain::TiledShadow) -> String {
     fraction(run.lit_fraction, "in direct sun")
         + &format!(

@@ -45,5 +45,5 @@ pub use crate::{
     simulate::{
         ExecutedStep, Noise, PlanKind, PlanRecord, SimConfig, SimProgress, SimReport, SimStatus, Simulation, simulate,
     },
-    world::{Sun, World, WorldConfig},
+    world::{MARS_CURVATURE, Sun, World, WorldConfig},
 };

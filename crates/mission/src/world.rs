@@ -23,7 +23,7 @@ use hifitime::{Duration, Epoch};
 use crate::error::{Error, Result};
 
 /// Mars's mean sphere for the horizon maps' curvature drop.
-const MARS_CURVATURE: Curvature = Curvature::Sphere { radius_m: 3_389_500.0 };
+pub const MARS_CURVATURE: Curvature = Curvature::Sphere { radius_m: 3_389_500.0 };
 
 /// How to build a [`World`].
 #[derive(Debug, Clone)]

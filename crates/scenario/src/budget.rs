@@ -100,6 +100,27 @@ pub fn tiled_shadow(map_cells: u64, tile: u64, window_cells: u64, band_cells: u6
     }
 }
 
+/// The cost of `areo terrain horizon --tile`: one tile read with its halo on every
+/// side at a time (`window_cells`; its DEM and the horizon sweep's codes and working
+/// arrays: about 2 bytes a sector plus 24 bytes a cell), one tile of results (2 bytes
+/// a cell and sector) and the reader's chunk cache; every window cell swept once per
+/// sector.
+pub fn tiled_horizon(map_cells: u64, sectors: u64, tile: u64, window_cells: u64, cache_bytes: u64) -> Estimate {
+    let tile_cells = tile.saturating_mul(tile).max(1);
+    let per_window_cell = DEM_BYTES + 24 + 2 * sectors;
+    Estimate {
+        what: format!(
+            "`areo terrain horizon --tile {tile}` on {map_cells} cells, {sectors} sectors (each tile read as {window_cells} cells with its halo)"
+        ),
+        memory_bytes: window_cells
+            .saturating_mul(per_window_cell)
+            .saturating_add(tile_cells.saturating_mul(2 * sectors))
+            .saturating_add(cache_bytes),
+        work_steps: map_cells.saturating_mul(window_cells.div_ceil(tile_cells).max(1)).saturating_mul(sectors),
+        work_unit: "cell-sector sweeps",
+    }
+}
+
 /// The cost of a DEM command on `cells` cells (`sectors` horizon sectors for `horizon`,
 /// 0 otherwise).
 pub fn terrain_command(what: &str, cells: u64, sectors: u64) -> Estimate {

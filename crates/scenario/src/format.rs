@@ -171,6 +171,33 @@ pub struct TempestJob {
     /// A Communicate session with Earth each sol; default none.
     #[serde(default)]
     pub communicate: Option<CommunicateSpec>,
+    /// Plan in this part of the map only, for maps too large to hold (metre-scale
+    /// DTMs): a GeoTIFF is read a window at a time, and the region gets the whole map's
+    /// slopes and horizons (read with the halo its lowest Sun needs), so memory follows
+    /// the region, not the map. Default: the whole map.
+    #[serde(default)]
+    pub plan_region: Option<PlanRegionSpec>,
+}
+
+/// A rectangle of the map to plan in, metres from the map's south-west corner (as
+/// `start` and `goals`), and the lowest Sun its horizons must answer for.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlanRegionSpec {
+    /// West and east edges, m (0 ≤ west < east).
+    pub x_m: (f64, f64),
+    /// South and north edges, m (0 ≤ south < north).
+    pub y_m: (f64, f64),
+    /// The lowest Sun the region's horizons answer for, degrees (0.5..=89; default 2):
+    /// horizons below it are stored as it, so a Sun lower than this counts as hidden
+    /// (it gives little power anyway). The halo read around the region is relief / tan
+    /// of it.
+    #[serde(default = "default_lowest_sun_deg")]
+    pub lowest_sun_deg: f64,
+}
+
+fn default_lowest_sun_deg() -> f64 {
+    2.0
 }
 
 /// One Communicate session per sol, centred on the Earth's highest point in the site's
@@ -474,6 +501,19 @@ impl Validate for TempestJob {
         });
         check_unique(c, "regions", self.regions.iter().map(|r| r.name.as_str()));
         c.nested("start", |c| check_position(c, self.start.x_m, self.start.y_m));
+        if let Some(r) = &self.plan_region {
+            c.nested("plan_region", |c| {
+                for (name, (lo, hi)) in [("x_m", r.x_m), ("y_m", r.y_m)] {
+                    if !(lo.is_finite() && hi.is_finite() && lo >= 0.0 && lo < hi && hi <= 1e8) {
+                        c.fail(name, format!("({lo}, {hi}): allowed (low, high) m with 0 ≤ low < high ≤ 1e8"));
+                    }
+                }
+                c.range("lowest_sun_deg", r.lowest_sun_deg, 0.5, 89.0, "degrees");
+            });
+            if !matches!(self.truth, Truth::Map) {
+                c.fail("plan_region", "a region is planned on the map as true (truth: Map, the default)".into());
+            }
+        }
         if let Err(areo_mission::Error::Config { field, message }) = self.planner.validate() {
             c.nested("planner", |c| c.fail_at(&field_segments(field), message));
         }

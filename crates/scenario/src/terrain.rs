@@ -9,6 +9,7 @@ use areo_terrain::horizon::HorizonMap;
 pub use areo_terrain::shadow::Method as ShadowMethod;
 use areo_terrain::shadow::{Curvature, Sun, shadow_map};
 use areo_terrain::slope::slope_aspect;
+use areo_terrain::tiles::Source as _;
 
 use crate::error::{Error, Result};
 use crate::output::png::write_png;
@@ -137,8 +138,9 @@ pub struct TiledShadow {
 /// The direct-sun map of a DEM file too large to hold, tile by tile: a GeoTIFF is read
 /// a window at a time (other formats are read whole, then tiled), each `tile` × `tile`
 /// tile with the halo its longest possible shadow needs, and the uint8 result is
-/// written band by band as tiles finish (BigTIFF past 4 GB). No preview PNG (the map
-/// may be 10⁸ cells). With the own-ray method every cell is the whole-map answer.
+/// written as a tiled GeoTIFF (`tile`-cell TIFF tiles; BigTIFF past 4 GB) as bands of
+/// tiles finish. No preview PNG (the map may be 10⁸ cells). With the own-ray method
+/// every cell is the whole-map answer.
 #[allow(clippy::too_many_arguments)] // `areo terrain shadow --tile`'s options, as given
 pub fn write_shadow_tiled(
     input: &Path,
@@ -150,40 +152,11 @@ pub fn write_shadow_tiled(
     budget: &crate::budget::Budget,
     progress: &dyn crate::Progress,
 ) -> Result<TiledShadow> {
-    let ext = input.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
-    if matches!(ext.as_str(), "tif" | "tiff") {
-        // Decoded chunks kept: 512 MB, enough for a band of tiles of strips.
-        let mut src = areo_terrain::geotiff::Windows::open(input, CHUNK_CACHE_BYTES)?;
-        // The cache never holds more than the decoded map.
-        let (cols, rows) = src.size();
-        let held = CHUNK_CACHE_BYTES.min(cols * rows * 4);
-        shadow_tiled(&mut src, input, sun, flat, method, (tile, held), out, budget, progress)
-    } else {
-        let dem = read_dem(input)?;
-        let held = dem.cols() * dem.rows() * 5;
-        shadow_tiled(&mut { dem }, input, sun, flat, method, (tile, held), out, budget, progress)
-    }
-}
-
-/// Decoded GeoTIFF chunks kept by a tiled run: enough for a band of tiles of strips.
-const CHUNK_CACHE_BYTES: usize = 512 << 20;
-
-#[allow(clippy::too_many_arguments)] // write_shadow_tiled's, with the source opened
-fn shadow_tiled(
-    src: &mut impl areo_terrain::tiles::Source,
-    input: &Path,
-    sun: (f64, f64),
-    flat: bool,
-    method: ShadowMethod,
-    (tile, held_bytes): (usize, usize),
-    out: &Path,
-    budget: &crate::budget::Budget,
-    progress: &dyn crate::Progress,
-) -> Result<TiledShadow> {
     use areo_terrain::tiles::{ShadowHalo, ShadowTiles, relief, shadow_band};
-    let tile = tile.max(1);
+    check_tile(tile)?;
+    let (mut src, held_bytes) = Opened::open(input)?;
     let grid = src.grid();
-    let Some(relief) = relief(src, tile)? else {
+    let Some(relief) = relief(&mut src, tile)? else {
         return Err(Error::Usage(format!("{}: no cell has data", input.display())));
     };
     let curvature =
@@ -203,8 +176,8 @@ fn shadow_tiled(
     progress.start((grid.rows.div_ceil(tile) * grid.cols.div_ceil(tile)) as u64, "tiles");
     let (mut lit, mut valid, mut tiles, mut bigtiff) = (0u64, 0u64, 0usize, false);
     write_with(out, |tmp| {
-        bigtiff = areo_terrain::geotiff::write_u8_by_bands(&grid, Some(255), tile, false, tmp, |row0, band| {
-            shadow_band(src, &plan, row0, band, |done, _| {
+        bigtiff = areo_terrain::geotiff::write_u8_tiled(&grid, Some(255), tile, false, tmp, |row0, band| {
+            shadow_band(&mut src, &plan, row0, band, |done, _| {
                 tiles = done;
                 progress.advance(1);
             })?;
@@ -226,6 +199,139 @@ fn shadow_tiled(
         bigtiff,
     })
 }
+
+/// A tiled horizon map written to a file.
+#[derive(Debug, Clone)]
+pub struct TiledHorizon {
+    /// The file written: uint16 codes, a plane per sector.
+    pub file: std::path::PathBuf,
+    /// Sectors (planes).
+    pub sectors: usize,
+    /// The lowest horizon kept, degrees (lower ones are stored as it).
+    pub lowest_deg: f64,
+    /// The halo read around each tile, m and cells (columns, rows).
+    pub halo_m: f64,
+    /// Halo columns and rows.
+    pub halo_cells: (usize, usize),
+    /// Tiles computed.
+    pub tiles: usize,
+    /// Written as BigTIFF (past 4 GB).
+    pub bigtiff: bool,
+}
+
+/// The horizon map of a DEM file too large to hold, tile by tile, for Suns at or above
+/// `lowest_deg` (lower horizons are stored as it; the halo follows from it and the
+/// relief): one tiled GeoTIFF of uint16 codes, a plane per sector (sector k centred on
+/// azimuth k·360°/K; degrees = code × 180/65535 − 90, also written as GDAL band scale and
+/// offset), each tile written as it finishes.
+#[allow(clippy::too_many_arguments)] // `areo terrain horizon --tile`'s options, as given
+pub fn write_horizon_tiled(
+    input: &Path,
+    sectors: usize,
+    lowest_deg: f64,
+    tile: usize,
+    out: &Path,
+    budget: &crate::budget::Budget,
+    progress: &dyn crate::Progress,
+) -> Result<TiledHorizon> {
+    use areo_terrain::tiles::{HorizonTiles, ShadowHalo, relief, write_horizon_tiled};
+    check_tile(tile)?;
+    if !(16..=360).contains(&sectors) {
+        return Err(Error::Usage(format!("--sectors {sectors}: allowed 16..=360")));
+    }
+    if !(0.5..=89.0).contains(&lowest_deg) {
+        return Err(Error::Usage(format!(
+            "--lowest-sun {lowest_deg}: allowed 0.5..=89 degrees (the halo grows as 1/tan of it)"
+        )));
+    }
+    let (mut src, held_bytes) = Opened::open(input)?;
+    let grid = src.grid();
+    let Some(relief) = relief(&mut src, tile)? else {
+        return Err(Error::Usage(format!("{}: no cell has data", input.display())));
+    };
+    let curvature = Curvature::Sphere { radius_m: grid.georef.body.mean_radius_m() };
+    let halo = ShadowHalo::new(relief, &grid, lowest_deg)?;
+    let window = ((tile + 2 * halo.cols).min(grid.cols) as u64) * ((tile + 2 * halo.rows).min(grid.rows) as u64);
+    budget.check(&crate::budget::tiled_horizon(
+        (grid.cols * grid.rows) as u64,
+        sectors as u64,
+        tile as u64,
+        window,
+        held_bytes as u64,
+    ))?;
+    let plan = HorizonTiles { sectors, curvature, lowest_deg, halo, tile };
+    progress.start((grid.rows.div_ceil(tile) * grid.cols.div_ceil(tile)) as u64, "tiles");
+    let (mut tiles, mut bigtiff) = (0usize, false);
+    write_with(out, |tmp| {
+        bigtiff = write_horizon_tiled(&mut src, &plan, tmp, |done, _| {
+            tiles = done;
+            progress.advance(1);
+        })?;
+        Ok(())
+    })?;
+    progress.finish();
+    Ok(TiledHorizon {
+        file: out.to_path_buf(),
+        sectors,
+        lowest_deg,
+        halo_m: halo.metres,
+        halo_cells: (halo.cols, halo.rows),
+        tiles,
+        bigtiff,
+    })
+}
+
+/// `--tile`: TIFF tiles are multiples of 16 cells.
+fn check_tile(tile: usize) -> Result<()> {
+    if tile < 16 || !tile.is_multiple_of(16) || tile > 65536 {
+        return Err(Error::Usage(format!(
+            "--tile {tile}: allowed a multiple of 16 in 16..=65536 (a TIFF tile's side)"
+        )));
+    }
+    Ok(())
+}
+
+/// A DEM file opened for reading a window at a time: a GeoTIFF through its chunks,
+/// other formats read whole.
+enum Opened {
+    Tiff(Box<areo_terrain::geotiff::Windows>),
+    Whole(Dem),
+}
+
+impl Opened {
+    /// The source and the bytes it holds (decoded chunks, or the whole DEM).
+    fn open(input: &Path) -> Result<(Opened, usize)> {
+        let ext = input.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
+        if matches!(ext.as_str(), "tif" | "tiff") {
+            let src = areo_terrain::geotiff::Windows::open(input, CHUNK_CACHE_BYTES)?;
+            // The cache never holds more than the decoded map.
+            let (cols, rows) = src.size();
+            Ok((Opened::Tiff(Box::new(src)), CHUNK_CACHE_BYTES.min(cols * rows * 4)))
+        } else {
+            let dem = read_dem(input)?;
+            let held = dem.cols() * dem.rows() * 5;
+            Ok((Opened::Whole(dem), held))
+        }
+    }
+}
+
+impl areo_terrain::tiles::Source for Opened {
+    fn grid(&self) -> areo_terrain::geotiff::Grid {
+        match self {
+            Opened::Tiff(w) => areo_terrain::tiles::Source::grid(w.as_ref()),
+            Opened::Whole(d) => areo_terrain::tiles::Source::grid(d),
+        }
+    }
+    fn window(&mut self, col0: usize, row0: usize, cols: usize, rows: usize) -> areo_terrain::Result<Dem> {
+        match self {
+            Opened::Tiff(w) => areo_terrain::tiles::Source::window(w.as_mut(), col0, row0, cols, rows),
+            Opened::Whole(d) => areo_terrain::tiles::Source::window(d, col0, row0, cols, rows),
+        }
+    }
+}
+
+/// Decoded GeoTIFF chunks kept by a tiled run: enough for a band of tiles of strips.
+const CHUNK_CACHE_BYTES: usize = 512 << 20;
 
 /// Writes a horizon map: one float32 GeoTIFF band per sector (`OUT_sNN.tif`,
 /// degrees), since GeoTIFF readers expect single-band DEM-like rasters here.

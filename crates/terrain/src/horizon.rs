@@ -43,6 +43,11 @@ pub struct HorizonMap {
     angles: Vec<u16>,
 }
 
+/// Degrees per step of an encoded horizon (code × this + [`CODE_OFFSET_DEG`]).
+pub const CODE_STEP_DEG: f64 = 180.0 / 65535.0;
+/// The elevation of code 0, degrees.
+pub const CODE_OFFSET_DEG: f64 = -90.0;
+
 /// −90°..90° onto 0..65535 (0.0027° steps).
 pub(crate) fn encode(deg: f64) -> u16 {
     // Non-negative, so adding a half and truncating rounds (`round` is a libm call).

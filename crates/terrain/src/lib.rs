@@ -24,10 +24,11 @@
 //! - [`reference`](mod@reference): the brute-force references the tests hold every method to: one ray
 //!   per cell, no sweep, no shortcuts; and parry3d ray casts.
 //! - [`los`]: surface-to-surface line of sight and viewsheds by parry3d ray casts.
-//! - [`tiles`]: shadow and slope maps of DTMs too large to hold, tile by tile with the
-//!   halo the longest shadow needs (the whole map's answer), read through
-//!   [`geotiff::Windows`] and written band by band ([`geotiff::write_u8_by_bands`],
-//!   BigTIFF past 4 GB).
+//! - [`tiles`]: shadow, slope and horizon maps of DTMs too large to hold, tile by tile
+//!   with the halo the longest shadow needs (the whole map's answer), read through
+//!   [`geotiff::Windows`] and written as tiled GeoTIFFs as tiles finish
+//!   ([`geotiff::write_u8_tiled`], [`geotiff::write_u16_planes_tiled`]; BigTIFF past
+//!   4 GB); planning regions cut from them ([`tiles::region`]).
 //! - [`read`]: any of those formats, told by the file's extension.
 //! - [`hillshade`]: a shaded-relief picture (RGB) with cast shadows.
 //! - [`horizon`]: horizon maps (K sectors, 2 bytes per cell per sector), the Sun's

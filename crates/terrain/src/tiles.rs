@@ -15,10 +15,14 @@
 //!   the whole map (`tests::tiles_give_the_whole_maps_answer`).
 //! - [`shadow_map_by_tiles`], [`slope_by_tiles`]: row bands of results, north to south,
 //!   handed to a sink as each band of tiles finishes (for
-//!   [`crate::geotiff::write_u8_by_bands`]).
+//!   [`crate::geotiff::write_u8_tiled`]).
 //! - [`horizon_by_tiles`]: each tile's horizons as it finishes, read with the halo on
 //!   every side and its sweep lines laid where the whole map's lie: every horizon at or
-//!   above the lowest Sun planned for is the whole map's, bit for bit.
+//!   above the lowest Sun planned for is the whole map's, bit for bit;
+//!   [`write_horizon_tiled`] writes them to a tiled GeoTIFF, a plane per sector.
+//!
+//! Results are written as tiled GeoTIFFs ([`crate::geotiff::write_u8_tiled`],
+//! [`crate::geotiff::write_u16_planes_tiled`]) as tiles finish.
 //!
 //! Peak memory is a band of results (tile rows × map width) plus one tile with its halo
 //! and the shadow method's working arrays (about 40 bytes a cell), and the reader's
@@ -284,6 +288,41 @@ pub fn horizon_by_tiles(
     Ok(())
 }
 
+/// Writes [`horizon_by_tiles`]'s map as one tiled GeoTIFF of uint16 codes, a plane
+/// per sector (sector k centred on azimuth k·360°/K), each tile written as it
+/// finishes; the file carries GDAL's band scale and offset
+/// ([`crate::horizon::CODE_STEP_DEG`], [`crate::horizon::CODE_OFFSET_DEG`]) so that GDAL
+/// reads degrees. `tile` must be a multiple of 16 (TIFF tiles). `progress(done, total)`
+/// after each tile. Returns whether the file is BigTIFF.
+pub fn write_horizon_tiled(
+    src: &mut impl Source,
+    plan: &HorizonTiles,
+    path: &std::path::Path,
+    mut progress: impl FnMut(usize, usize),
+) -> Result<bool> {
+    use crate::horizon::{CODE_OFFSET_DEG, CODE_STEP_DEG};
+    let grid = src.grid();
+    let total = grid.cols.div_ceil(plan.tile.max(1)) * grid.rows.div_ceil(plan.tile.max(1));
+    crate::geotiff::write_u16_planes_tiled(
+        &grid,
+        plan.sectors,
+        None,
+        Some((CODE_STEP_DEG, CODE_OFFSET_DEG)),
+        plan.tile,
+        false,
+        path,
+        |sink| {
+            let mut done = 0;
+            horizon_by_tiles(src, plan, |col0, row0, w, h, codes| {
+                sink(col0, row0, w, h, codes)?;
+                done += 1;
+                progress(done, total);
+                Ok(())
+            })
+        },
+    )
+}
+
 /// A planning region cut from a map too large to hold: its DEM, slope and horizon map
 /// carry the whole map's values (the slope from the region read with the Horn
 /// kernel's ring, the horizons from the region read with the halo on every side,
@@ -497,6 +536,48 @@ mod tests {
             // Enough horizons above the floor for the identity to mean something.
             assert!(above > 1000, "{curvature:?}: {above}");
         }
+    }
+
+    #[test]
+    fn a_tiled_horizon_file_holds_the_whole_maps_horizons() {
+        use tiff::decoder::{Decoder, DecodingResult};
+        let mut dem = terrain();
+        let (cols, rows) = (dem.cols(), dem.rows());
+        let relief = relief(&mut dem, 16).unwrap().unwrap();
+        let lowest = 12.0;
+        let halo = ShadowHalo::new(relief, &Grid::of(&dem), lowest).unwrap();
+        let curvature = Curvature::Flat;
+        // 32-cell tiles on 161 × 119 cells: ragged edge tiles both ways.
+        let plan = HorizonTiles { sectors: 16, curvature, lowest_deg: lowest, halo, tile: 32 };
+        let path = std::env::temp_dir().join(format!("areo_horizon_tiles_{}.tif", std::process::id()));
+        let mut last = (0, 0);
+        let big = write_horizon_tiled(&mut dem, &plan, &path, |done, total| last = (done, total)).unwrap();
+        assert!(!big);
+        assert_eq!(last, (6 * 4, 6 * 4));
+        let whole = HorizonMap::compute(&dem, 16, curvature).unwrap();
+        let floor = crate::horizon::encode(lowest);
+        let mut dec = Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap())).unwrap();
+        assert_eq!(dec.dimensions().unwrap(), (cols as u32, rows as u32));
+        assert_eq!(dec.chunk_dimensions(), (32, 32), "a tiled file");
+        assert_eq!(dec.tile_count().unwrap(), 16 * 6 * 4, "a plane of tiles per sector");
+        for s in 0..16 {
+            for t in 0..24usize {
+                let DecodingResult::U16(v) = dec.read_chunk((s * 24 + t) as u32).unwrap() else {
+                    panic!("uint16 codes")
+                };
+                let (c0, r0) = ((t % 6) * 32, (t / 6) * 32);
+                let (w, _) = dec.chunk_data_dimensions((s * 24 + t) as u32);
+                for r in 0..32.min(rows - r0) {
+                    for c in 0..32.min(cols - c0) {
+                        let j = (r0 + r) * cols + c0 + c;
+                        assert_eq!(v[r * w as usize + c], whole.sector_codes(s)[j].max(floor), "sector {s} cell {j}");
+                    }
+                }
+            }
+        }
+        let (step, offset) = crate::geotiff::gdal_scale_offset_of(&path).unwrap().expect("GDAL scale and offset");
+        assert_eq!((step, offset), (crate::horizon::CODE_STEP_DEG, crate::horizon::CODE_OFFSET_DEG));
+        std::fs::remove_file(&path).unwrap();
     }
 
     #[test]

@@ -495,28 +495,61 @@ fn deflate_and_lzw_tiles_read_whole_and_through_windows() {
 }
 
 #[test]
-fn band_by_band_writes_read_back_as_tiff_and_bigtiff() {
+fn tiled_writes_read_back_as_tiff_and_bigtiff() {
     let dem = geotiff::read(&data("gale_mola_crop_64.tif")).unwrap();
-    let grid = geotiff::Grid::of(&dem);
-    let values: Vec<u8> = (0..64 * 64).map(|i| (i % 7) as u8).collect();
+    // 50 × 37 cells in 16-cell tiles: ragged tiles on the east and south edges.
+    let grid = geotiff::Grid { cols: 50, rows: 37, ..geotiff::Grid::of(&dem) };
+    let values: Vec<u8> = (0..50 * 37).map(|i| (i % 7) as u8).collect();
     for big in [false, true] {
-        let path = tmp(if big { "bands_big.tif" } else { "bands.tif" });
-        let was_big = geotiff::write_u8_by_bands(&grid, Some(255), 10, big, &path, |row0, band| {
-            band.copy_from_slice(&values[row0 * 64..][..band.len()]);
+        let path = tmp(if big { "tiles_big.tif" } else { "tiles.tif" });
+        let mut bands = 0;
+        let was_big = geotiff::write_u8_tiled(&grid, Some(255), 16, big, &path, |row0, band| {
+            assert_eq!(row0, 16 * bands, "bands in order");
+            bands += 1;
+            band.copy_from_slice(&values[row0 * 50..][..band.len()]);
             Ok(())
         })
         .unwrap();
-        assert_eq!(was_big, big);
+        assert_eq!((was_big, bands), (big, 3));
         let bytes = std::fs::read(&path).unwrap();
         // Classic TIFF says 42 in its header, BigTIFF 43.
         assert_eq!(bytes[2], if big { 43 } else { 42 });
+        let mut dec = tiff::decoder::Decoder::new(std::fs::File::open(&path).unwrap()).unwrap();
+        assert_eq!((dec.chunk_dimensions(), dec.tile_count().unwrap()), ((16, 16), 4 * 3), "a tiled file");
         let back = geotiff::read(&path).unwrap();
+        assert_eq!((back.cols(), back.rows()), (50, 37));
         assert_eq!(
             (back.x0(), back.y_top(), back.dx(), back.georef()),
             (dem.x0(), dem.y_top(), dem.dx(), dem.georef())
         );
         for (i, v) in values.iter().enumerate() {
-            assert_eq!(back.z(i % 64, i / 64), Some(f32::from(*v)), "cell {i}");
+            assert_eq!(back.z(i % 50, i / 50), Some(f32::from(*v)), "cell {i}");
+        }
+        // And through windows, a chunk at a time.
+        let mut win = geotiff::Windows::open(&path, 1 << 20).unwrap();
+        let part = win.read(13, 9, 30, 20).unwrap();
+        for r in 0..20 {
+            for c in 0..30 {
+                assert_eq!(part.z(c, r), Some(f32::from(values[(9 + r) * 50 + 13 + c])));
+            }
         }
     }
+    // Elevations with holes, float32.
+    let path = tmp("tiles_f32.tif");
+    let z = |i: usize| if i % 11 == 3 { f32::NAN } else { -2000.0 + i as f32 * 0.25 };
+    geotiff::write_f32_tiled(&grid, 32, false, &path, |row0, band| {
+        for (k, v) in band.iter_mut().enumerate() {
+            *v = z(row0 * 50 + k);
+        }
+        Ok(())
+    })
+    .unwrap();
+    let back = geotiff::read(&path).unwrap();
+    for i in 0..50 * 37 {
+        let want = if z(i).is_nan() { None } else { Some(z(i)) };
+        assert_eq!(back.z(i % 50, i / 50), want, "cell {i}");
+    }
+    // A tile TIFF cannot hold is refused with the rule.
+    let err = geotiff::write_u8_tiled(&grid, None, 20, false, &path, |_, _| Ok(())).unwrap_err().to_string();
+    assert!(err.contains("multiple of 16"), "{err}");
 }

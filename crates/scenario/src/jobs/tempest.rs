@@ -61,6 +61,101 @@ fn planner_field(field: &str) -> String {
     }
 }
 
+/// The terrain a job plans on: the whole map, or a region cut from it.
+enum Terrain {
+    Whole(Dem),
+    Region { region: areo_terrain::tiles::Region, frame: Frame },
+}
+
+/// Cuts `job.plan_region` from the job's map: a GeoTIFF a window at a time (other
+/// formats, and synthesised maps, built whole first), with the whole map's slopes and
+/// the horizons its lowest Sun needs.
+fn cut_region(
+    job: &TempestJob,
+    spec: &crate::format::PlanRegionSpec,
+    file: &ScenarioFile,
+    sectors: usize,
+    place: impl Fn(Dem) -> areo_terrain::Result<Dem>,
+) -> Result<Terrain> {
+    use areo_terrain::tiles::{RegionHorizon, ShadowHalo, Source, region, relief};
+    let at = |message: String| scenario_error(file, "job.plan_region", message);
+    let tiff = match &job.terrain {
+        TerrainSource::File(rel) => {
+            let path = file.path.parent().unwrap_or(Path::new(".")).join(rel);
+            let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
+            if matches!(ext.as_str(), "tif" | "tiff") {
+                let w = areo_terrain::geotiff::Windows::open(&path, 256 << 20)
+                    .map_err(|e| Error::from(e).referenced_by(&file.path, "job.terrain"))?;
+                // A map without a projection is placed at the site: read it whole.
+                (w.grid().georef.projection != areo_terrain::Projection::Local).then_some(w)
+            } else {
+                None
+            }
+        }
+        TerrainSource::Synth(_) => None,
+    };
+    let mut src: Box<dyn FnMut(usize, usize, usize, usize) -> areo_terrain::Result<Dem>>;
+    let grid;
+    match tiff {
+        Some(mut w) => {
+            grid = w.grid();
+            src = Box::new(move |c, r, cols, rows| w.window(c, r, cols, rows));
+        }
+        None => {
+            let mut dem = place(load_terrain(&job.terrain, file, "job.terrain")?)?;
+            grid = Source::grid(&dem);
+            src = Box::new(move |c, r, cols, rows| Source::window(&mut dem, c, r, cols, rows));
+        }
+    }
+    let mut src = Windowed { grid, read: src.as_mut() };
+    let frame = Frame { x0: grid.x0, y0: grid.y_top - grid.rows as f64 * grid.dy };
+    // The region's cells: those whose centres lie inside it.
+    let span = |(lo, hi): (f64, f64), cell: f64, n: usize, name: &str| -> Result<(usize, usize)> {
+        let first = ((lo / cell - 0.5).ceil().max(0.0)) as usize;
+        let end = (((hi / cell - 0.5).floor() + 1.0).max(0.0) as usize).min(n);
+        if first >= end {
+            return Err(at(format!("{name} ({lo}, {hi}) m holds no cell centre of the {:.0} m map", n as f64 * cell)));
+        }
+        Ok((first, end - first))
+    };
+    let (c0, cols) = span(spec.x_m, grid.dx, grid.cols, "x_m")?;
+    let (s0, rows) = span(spec.y_m, grid.dy, grid.rows, "y_m")?;
+    // Rows count from the north.
+    let r0 = grid.rows - s0 - rows;
+    let horizon = if sectors > 0 {
+        let Some(rel) = relief(&mut src, 1024)? else {
+            return Err(at("the map has no cell with data".into()));
+        };
+        let halo = ShadowHalo::new(rel, &grid, spec.lowest_sun_deg)?;
+        Some(RegionHorizon {
+            sectors,
+            // The planner's curvature, so that the horizons are the whole map world's.
+            curvature: areo_mission::MARS_CURVATURE,
+            lowest_deg: spec.lowest_sun_deg,
+            halo,
+        })
+    } else {
+        None
+    };
+    let region = region(&mut src, (c0, r0, cols, rows), horizon)?;
+    Ok(Terrain::Region { region, frame })
+}
+
+/// A window reader as a [`areo_terrain::tiles::Source`].
+struct Windowed<'a> {
+    grid: areo_terrain::geotiff::Grid,
+    read: &'a mut dyn FnMut(usize, usize, usize, usize) -> areo_terrain::Result<Dem>,
+}
+
+impl areo_terrain::tiles::Source for Windowed<'_> {
+    fn grid(&self) -> areo_terrain::geotiff::Grid {
+        self.grid
+    }
+    fn window(&mut self, col0: usize, row0: usize, cols: usize, rows: usize) -> areo_terrain::Result<Dem> {
+        (self.read)(col0, row0, cols, rows)
+    }
+}
+
 fn load_terrain(source: &TerrainSource, file: &ScenarioFile, field: &str) -> Result<Dem> {
     Ok(match source {
         TerrainSource::Synth(spec) => spec.build()?,
@@ -95,11 +190,11 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let epoch = parse_utc(&job.start_utc)?;
     let clock = Instant::now();
     opts.progress.start(3, "terrain");
-    let map_dem = load_terrain(&job.terrain, file, "job.terrain")?.placed_at(
-        Body::MARS_MOLA_SPHERE,
-        site.lat_deg(),
-        site.lon_east_deg(),
-    )?;
+    let place = |d: Dem| d.placed_at(Body::MARS_MOLA_SPHERE, site.lat_deg(), site.lon_east_deg());
+    let terrain = match &job.plan_region {
+        None => Terrain::Whole(place(load_terrain(&job.terrain, file, "job.terrain")?)?),
+        Some(spec) => cut_region(job, spec, file, job.horizon_sectors, place)?,
+    };
     let mut rover = match &job.rover {
         None => ResourceModel::hyperion(),
         Some(rel) => {
@@ -110,16 +205,29 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     if let Some(c) = job.battery_capacity_wh {
         rover.battery.capacity_wh = c;
     }
-    opts.budget.check(&crate::budget::tempest(
-        job,
-        (map_dem.cols() * map_dem.rows()) as u64,
-        Some(rover.battery.capacity_wh),
-    ))?;
-    let frame = Frame::of(&map_dem);
-    let truth_dem = match &job.truth {
-        Truth::Map => None,
-        Truth::AddFeatures(features) => Some(areo_terrain::synth::add_features(&map_dem, features)?),
-        Truth::Terrain(source) => {
+    let cells = match &terrain {
+        Terrain::Whole(d) => d.cols() * d.rows(),
+        Terrain::Region { region, .. } => region.dem.cols() * region.dem.rows(),
+    };
+    opts.budget.check(&crate::budget::tempest(job, cells as u64, Some(rover.battery.capacity_wh)))?;
+    let region_note = match (&terrain, &job.plan_region) {
+        (Terrain::Region { region, .. }, Some(spec)) => Some(format!(
+            "planning region of {} x {} cells cut from the map with its slopes and horizons (horizons below {}° stored as {}°)",
+            region.dem.cols(),
+            region.dem.rows(),
+            spec.lowest_sun_deg,
+            spec.lowest_sun_deg
+        )),
+        _ => None,
+    };
+    let (frame, map_dem) = match terrain {
+        Terrain::Whole(d) => (Frame::of(&d), Ok(d)),
+        Terrain::Region { region, frame } => (frame, Err(region)),
+    };
+    let truth_dem = match (&job.truth, &map_dem) {
+        (Truth::Map, _) | (_, Err(_)) => None,
+        (Truth::AddFeatures(features), Ok(map_dem)) => Some(areo_terrain::synth::add_features(map_dem, features)?),
+        (Truth::Terrain(source), Ok(map_dem)) => {
             let t = load_terrain(source, file, "job.truth")?.placed_at(
                 Body::MARS_MOLA_SPHERE,
                 site.lat_deg(),
@@ -155,7 +263,11 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         MissionError::Config { field, message } => scenario_error(file, planner_field(field), message),
         other => Error::from(other),
     };
-    let world = World::new(map_dem, &config, &Mars24).map_err(located)?;
+    let world = match map_dem {
+        Ok(dem) => World::new(dem, &config, &Mars24),
+        Err(region) => World::for_region(region, &config, &Mars24),
+    }
+    .map_err(located)?;
     let truth = match truth_dem {
         Some(d) => Some(World::truth(d, &config, &Mars24, &world).map_err(located)?),
         None => None,
@@ -181,15 +293,13 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let cell_of = |field: String, x: f64, y: f64| -> Result<u32> {
         let (mx, my) = frame.to_map(x, y);
         let cell = world.cell_at(mx, my).ok_or_else(|| {
-            scenario_error(
-                file,
-                field.clone(),
-                format!(
-                    "({x}, {y}) m is off the map: allowed 0..{:.0} m east, 0..{:.0} m north",
-                    world.cols() as f64 * world.dem().dx(),
-                    world.rows() as f64 * world.dem().dy()
-                ),
-            )
+            scenario_error(file, field.clone(), {
+                let e = world.dem().extent();
+                let (w, s) = frame.to_local((e.x_min, e.y_min));
+                let (east, n) = frame.to_local((e.x_max, e.y_max));
+                let what = if job.plan_region.is_some() { "the planning region" } else { "the map" };
+                format!("({x}, {y}) m is off {what}: allowed {w:.0}..{east:.0} m east, {s:.0}..{n:.0} m north")
+            })
         })?;
         if !world.passable(cell) {
             return Err(scenario_error(file, field, format!("({x}, {y}) m is on missing data or blocked ground")));
@@ -209,6 +319,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     // Plan, or simulate.
     let truth_world = truth.as_ref().unwrap_or(&world);
     let mut o = Outcome::default();
+    o.summary.extend(region_note);
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
             let clock = Instant::now();
