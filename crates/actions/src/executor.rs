@@ -8,15 +8,16 @@
 //! (a box) must not touch a rock (parry3d). [A] The body box is 0.60 × 0.40 × 0.12 m
 //! centred on the rocker pivots (belly 0.26 m up: rocks up to one wheel diameter pass
 //! under it); it turns with the heading, and its pitch and roll are ignored for the
-//! collision test (a few centimetres at the box's ends on the slopes driven). A sample
-//! is grasped when the tool is within `grasp_radius_m` of it horizontally (the gripper
-//! reaches the ground). A sample module with nothing to do (a grasp with nothing in
-//! reach, a release with an empty gripper) or an arm move out of reach violates no
-//! constraint: it does nothing and the plan goes on.
+//! collision test (a few centimetres at the box's ends on the slopes driven). A grasp
+//! reaches down to the nearest sample in the arm's workspace by inverse kinematics and
+//! back (areo-rover's `Motion::run`). A module with nothing to act on (a grasp with
+//! nothing in reach, a release with an empty gripper, an arm move out of reach, a turn
+//! to a sample with none near) violates no constraint: it changes nothing but still
+//! spends its time and hotel energy (`Motion::idle`), and the plan goes on.
 
 use areo_rover::evaluation::{Evaluator, Violation};
 use areo_rover::forces::ForceFailure;
-use areo_rover::motion::{Module, Motion, MotionFailure, RoverState, Stopped};
+use areo_rover::motion::{Module, Motion, MotionFailure, RoverState, SampleSite, Stopped};
 use areo_terrain::Ground;
 use parry3d::math::{Pose, Rotation, Vector};
 use parry3d::query::intersection_test;
@@ -33,15 +34,13 @@ pub struct ExecConfig {
     pub mu: f64,
     /// Hard floor of the stability margin S (0..1): below it the plan fails.
     pub stability_floor: f64,
-    /// Horizontal reach of the gripper around the tool, m.
-    pub grasp_radius_m: f64,
     /// Body box half extents (forward, left, up), m.
     pub body_half_m: (f64, f64, f64),
 }
 
 impl Default for ExecConfig {
     fn default() -> ExecConfig {
-        ExecConfig { mu: 0.65, stability_floor: 0.20, grasp_radius_m: 0.10, body_half_m: (0.30, 0.20, 0.06) }
+        ExecConfig { mu: 0.65, stability_floor: 0.20, body_half_m: (0.30, 0.20, 0.06) }
     }
 }
 
@@ -276,27 +275,34 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             out.prefix_len = k;
             first = k;
         }
-        let r2 = self.config.grasp_radius_m * self.config.grasp_radius_m;
         for (i, &module) in plan.iter().enumerate().skip(first) {
-            let samples = |tool: [f64; 3]| {
-                self.task.samples.iter().enumerate().find_map(|(k, s)| {
-                    let (dx, dy) = (tool[0] - s.x_m, tool[1] - s.y_m);
-                    (!collected[k] && dx * dx + dy * dy <= r2).then_some((k, s.mass_kg))
-                })
-            };
+            let samples: Vec<SampleSite> = self
+                .task
+                .samples
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| !collected[*k])
+                .map(|(k, s)| SampleSite { id: k, x: s.x_m, y: s.y_m, mass_kg: s.mass_kg })
+                .collect();
             let step = match motion.run(self.ground, &state, module, &samples) {
                 Ok(step) => step,
-                // A grasp with nothing in reach, a release with an empty gripper or an
-                // arm move out of reach does nothing: no constraint is violated, the
-                // module is wasted (the fitness pays for its time).
+                // Nothing to act on: no constraint is violated, but the module's time
+                // and hotel energy are spent.
                 Err(Stopped {
-                    failure: MotionFailure::NoSample | MotionFailure::NotHolding | MotionFailure::ArmReach,
+                    failure:
+                        MotionFailure::NoSample
+                        | MotionFailure::NotHolding
+                        | MotionFailure::ArmReach
+                        | MotionFailure::NothingToTurnTo,
                     ..
-                }) => {
-                    out.prefix_len = i + 1;
-                    out.checkpoints.push(checkpoint(&state, &collected, &out));
-                    continue;
-                }
+                }) => match motion.idle(&state, module) {
+                    Ok(step) => step,
+                    Err(stopped) => {
+                        out.failure = Some((i, Failure::Motion(stopped.failure)));
+                        out.failure_progress = stopped.progress;
+                        break;
+                    }
+                },
                 Err(Stopped { failure: MotionFailure::BelowFloor(s), progress, .. }) => {
                     out.failure = Some((i, Failure::Stability(s)));
                     out.failure_progress = progress;

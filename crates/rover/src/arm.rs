@@ -106,6 +106,32 @@ impl ArmState {
         Ok((total, (base * params.mass_kg + Vector3::from(self.tool_m) * self.payload_kg) / total))
     }
 
+    /// The tool position (body frame, m) of joint angles `j`: forward kinematics, the
+    /// inverse of [`ArmState::joints`].
+    pub fn tool_of(joints: &Joints, params: &RoverParams) -> [f64; 3] {
+        let a = &params.arm;
+        let far = joints.shoulder - (std::f64::consts::PI - joints.elbow);
+        let horizontal = a.upper_link_m * joints.shoulder.cos() + a.lower_link_m * far.cos();
+        let (sy, cy) = joints.yaw.sin_cos();
+        [
+            a.shoulder_m.x + horizontal * cy,
+            a.shoulder_m.y + horizontal * sy,
+            a.shoulder_m.z + a.upper_link_m * joints.shoulder.sin() + a.lower_link_m * far.sin(),
+        ]
+    }
+
+    /// The arm a fraction `f` (0..1) of the way to `target` in joint space (each joint
+    /// turning at a steady rate, as an arm moves between poses; a straight line of
+    /// the tool may pass through the shoulder), checked.
+    pub fn toward(&self, target: &ArmState, f: f64, params: &RoverParams) -> Result<ArmState, String> {
+        let (a, b) = (self.joints(params)?, target.joints(params)?);
+        let mix = |x: f64, y: f64| x + (y - x) * f;
+        let j = Joints { yaw: mix(a.yaw, b.yaw), shoulder: mix(a.shoulder, b.shoulder), elbow: mix(a.elbow, b.elbow) };
+        let next = ArmState { tool_m: if f >= 1.0 { target.tool_m } else { ArmState::tool_of(&j, params) }, ..*self };
+        next.check(params)?;
+        Ok(next)
+    }
+
     /// The tool moved by `delta` (m, body frame), checked.
     pub fn moved(&self, delta: [f64; 3], params: &RoverParams) -> Result<ArmState, String> {
         let next = ArmState {
@@ -134,8 +160,10 @@ mod tests {
             let (h1, v1) = reach(j.shoulder, a.upper_link_m);
             let (h2, v2) = reach(far, a.lower_link_m);
             let got = [a.shoulder_m.x + (h1 + h2) * cy, a.shoulder_m.y + (h1 + h2) * sy, a.shoulder_m.z + v1 + v2];
+            let fk = ArmState::tool_of(&j, &p);
             for k in 0..3 {
                 assert!((got[k] - tool[k]).abs() < 1e-9, "{tool:?} → {got:?}");
+                assert!((fk[k] - tool[k]).abs() < 1e-9, "forward kinematics {fk:?}");
             }
         }
         assert!(ArmState { tool_m: [1.5, 0.0, 0.4], payload_kg: 0.0 }.check(&p).is_err());

@@ -264,6 +264,27 @@ pub struct Step {
     pub grasped: Option<usize>,
 }
 
+/// A sample on the ground that a grasp can pick up.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SampleSite {
+    /// The caller's id for it.
+    pub id: usize,
+    /// Position on the map, m.
+    pub x: f64,
+    /// Position on the map, m.
+    pub y: f64,
+    /// Mass, kg.
+    pub mass_kg: f64,
+}
+
+/// The gripper's length below the wrist, m \[A\]: a grasp puts the tool this far above
+/// the ground at the sample.
+pub const GRIPPER_M: f64 = 0.05;
+
+/// How far a sample may be from the reference point for "turn to sample" to turn
+/// toward it, m \[A\] (the arm reaches about 0.7 m ahead).
+pub const SAMPLE_SEARCH_M: f64 = 1.0;
+
 /// Why a module could not run.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum MotionFailure {
@@ -271,8 +292,10 @@ pub enum MotionFailure {
     Violation(Violation),
     /// The arm cannot reach the new tool position.
     ArmReach,
-    /// Nothing to grasp at the tool, or the gripper is already holding a sample.
+    /// No sample within the arm's reach, or the gripper is already holding one.
     NoSample,
+    /// "Turn to sample" with no sample near, or "turn from sample" with no turn to undo.
+    NothingToTurnTo,
     /// Release with an empty gripper.
     NotHolding,
     /// The battery would drop below its usable window.
@@ -286,7 +309,8 @@ impl std::fmt::Display for MotionFailure {
         match self {
             MotionFailure::Violation(v) => v.fmt(f),
             MotionFailure::ArmReach => f.write_str("the arm cannot reach there"),
-            MotionFailure::NoSample => f.write_str("no sample at the tool, or already holding one"),
+            MotionFailure::NoSample => f.write_str("no sample within the arm's reach, or already holding one"),
+            MotionFailure::NothingToTurnTo => f.write_str("no sample to turn to, or no turn to undo"),
             MotionFailure::NotHolding => f.write_str("release with an empty gripper"),
             MotionFailure::Battery => f.write_str("the battery would drop below its usable window"),
             MotionFailure::BelowFloor(s) => write!(f, "stability margin {:.0} % below the floor", 100.0 * s),
@@ -403,14 +427,18 @@ impl<'e> Motion<'e> {
         self.evaluator.evaluate(ground, state.place(), &state.arm, &cond, state.pose.as_ref())
     }
 
-    /// Runs `module` from `state`. `samples` maps a tool position (map frame, m) to the
-    /// id and mass (kg) of a sample there, if any.
+    /// Runs `module` from `state`; `samples` are the samples still on the ground.
+    ///
+    /// A module with nothing to act on — a grasp with no sample in reach or a full
+    /// gripper, a release with an empty one, an arm move out of reach, a turn to (or
+    /// from) a sample with none to turn to — stops with that reason and changes
+    /// nothing; what it costs all the same is [`Motion::idle`].
     pub fn run(
         &self,
         ground: &impl Ground,
         state: &RoverState,
         module: Module,
-        samples: &impl Fn([f64; 3]) -> Option<(usize, f64)>,
+        samples: &[SampleSite],
     ) -> Result<Step, Stopped> {
         let p = self.evaluator.params();
         let act = &p.activities;
@@ -448,15 +476,20 @@ impl<'e> Motion<'e> {
                         Module::ArmDown => [0.0, 0.0, -d],
                         _ => [0.0, 0.0, d],
                     };
-                    self.move_arm(ground, state, delta, &mut step)?;
+                    let from = state.arm;
+                    let path = |f: f64| from.moved([delta[0] * f, delta[1] * f, delta[2] * f], p);
+                    self.move_arm(ground, state, path, &mut step)?;
                     timed(&mut step, d / p.arm.tool_speed_m_s, 0.0);
                 }
                 Module::TurnToSample | Module::TurnFromSample => {
                     let turn = if module == Module::TurnFromSample {
                         -state.sample_turn
                     } else {
-                        self.turn_toward_sample(ground, state, samples)
+                        self.turn_toward_sample(state, samples)
                     };
+                    if turn == 0.0 {
+                        return Err(stop(MotionFailure::NothingToTurnTo, 0.0, *state));
+                    }
                     self.drive(ground, state, 0.0, 0.0, turn, &mut step)?;
                     step.state.sample_turn =
                         if module == Module::TurnFromSample { 0.0 } else { state.sample_turn + turn };
@@ -465,17 +498,28 @@ impl<'e> Motion<'e> {
                     if state.arm.payload_kg > 0.0 {
                         return Err(stop(MotionFailure::NoSample, 0.0, *state));
                     }
-                    let tool = self.tool_world(ground, state);
-                    let Some((id, mass)) = tool.and_then(samples) else {
+                    let Some((site, target)) = self.reachable_sample(ground, state, samples) else {
                         return Err(stop(MotionFailure::NoSample, 0.0, *state));
                     };
-                    let arm = ArmState { payload_kg: mass, ..state.arm };
-                    if arm.check(p).is_err() {
-                        return Err(stop(MotionFailure::ArmReach, 0.0, *state));
+                    // Reach down to the sample and back, by inverse kinematics through
+                    // the arm's workspace: the arm's CG and then the sample's shift the
+                    // rover's along the way, and lifting the sample costs its work.
+                    let (from, to) = (state.arm, ArmState { tool_m: target, ..state.arm });
+                    self.move_arm(ground, state, |f| from.toward(&to, f, p), &mut step)?;
+                    let reached = step.state;
+                    step.state.arm.payload_kg = site.mass_kg;
+                    if step.state.arm.check(p).is_err() {
+                        return Err(stop(MotionFailure::ArmReach, 0.5, reached));
                     }
-                    step.state.arm = arm;
-                    self.settle(ground, &mut step, *state)?;
-                    step.grasped = Some(id);
+                    self.settle(ground, &mut step, reached)?;
+                    let holding = step.state;
+                    let back = ArmState { payload_kg: site.mass_kg, ..from };
+                    self.move_arm(ground, &holding, |f| holding.arm.toward(&back, f, p), &mut step)?;
+                    step.grasped = Some(site.id);
+                    // Timed by the tool's straight-line distance at the tool speed.
+                    let t = from.tool_m;
+                    let travel = (target[0] - t[0]).hypot(target[1] - t[1]).hypot(target[2] - t[2]);
+                    timed(&mut step, 2.0 * travel / p.arm.tool_speed_m_s, 0.0);
                     timed(&mut step, act.grasp_s, act.grasp_w);
                 }
                 Module::Release => {
@@ -666,23 +710,33 @@ impl<'e> Motion<'e> {
         Ok(())
     }
 
-    /// Moves the tool by `delta`, checking reach and stability at intermediate arm
-    /// positions; the energy is the rise in potential energy over the joints'
-    /// efficiency.
+    /// Moves the arm along `path` (the arm a fraction 0..1 of the way), checking reach
+    /// and stability at intermediate positions (every quarter of a 2 cm move, every
+    /// twentieth of a reach to the ground); the energy is the rise in potential energy
+    /// over the joints' efficiency.
     fn move_arm(
         &self,
         ground: &impl Ground,
         start: &RoverState,
-        delta: [f64; 3],
+        path: impl Fn(f64) -> Result<ArmState, String>,
         step: &mut Step,
     ) -> Result<(), Stopped> {
         let p = self.evaluator.params();
         let cond = Conditions { mu: self.mu, direction: 0.0 };
-        let parts = 4;
+        let end = path(1.0).map_err(|_| Stopped {
+            failure: MotionFailure::ArmReach,
+            progress: 0.0,
+            state: Box::new(*start),
+        })?;
+        let t = (end.tool_m[0] - start.arm.tool_m[0])
+            .hypot(end.tool_m[1] - start.arm.tool_m[1])
+            .hypot(end.tool_m[2] - start.arm.tool_m[2]);
+        // About every 5 mm of the tool's straight-line travel, at least 4.
+        let parts = ((t / 0.005).ceil() as usize).clamp(4, 200);
         let mut state = *start;
         for j in 1..=parts {
             let f = j as f64 / parts as f64;
-            let arm = start.arm.moved([delta[0] * f, delta[1] * f, delta[2] * f], p).map_err(|_| Stopped {
+            let arm = path(f).map_err(|_| Stopped {
                 failure: MotionFailure::ArmReach,
                 progress: f,
                 state: Box::new(state),
@@ -739,28 +793,115 @@ impl<'e> Motion<'e> {
         Some([pose.body[0] + fx * px + lx * by, pose.body[1] + fy * px + ly * by, pose.body[2] + pz])
     }
 
-    /// The heading change (rad, positive left) that points the arm's shoulder line at
-    /// the nearest sample within 1 m, limited to the module's angle; 0 if none.
-    fn turn_toward_sample(
-        &self,
-        ground: &impl Ground,
-        state: &RoverState,
-        samples: &impl Fn([f64; 3]) -> Option<(usize, f64)>,
-    ) -> f64 {
+    /// What a module with nothing to act on costs (see [`Motion::run`]): its time —
+    /// an arm move's 2 cm at the tool speed, a grasp's or release's cycle of the gripper
+    /// (with its power), a turn to or from a sample the time to sweep the turn's
+    /// largest angle looking for one — and the hotel power over it. The state changes
+    /// only by the battery drawn; a draw below the battery's usable window stops it.
+    pub fn idle(&self, state: &RoverState, module: Module) -> Result<Step, Stopped> {
+        let p = self.evaluator.params();
+        let act = &p.activities;
+        let (seconds, load_w) = match module {
+            Module::ArmForward
+            | Module::ArmBack
+            | Module::ArmLeft
+            | Module::ArmRight
+            | Module::ArmDown
+            | Module::ArmUp => (0.02 / p.arm.tool_speed_m_s, 0.0),
+            Module::Grasp | Module::Release => (act.grasp_s, act.grasp_w),
+            Module::TurnToSample | Module::TurnFromSample => (act.turn_to_sample_deg / p.turn_rate_deg_s, 0.0),
+            _ => (0.0, 0.0),
+        };
+        let energy = Energy {
+            hotel_wh: p.hotel_power_w * seconds / 3600.0,
+            payload_wh: load_w * seconds / 3600.0 + if state.video_on { act.video_w * seconds / 3600.0 } else { 0.0 },
+            ..Energy::default()
+        };
+        let mut after = *state;
+        after.battery_wh -= energy.net_wh();
+        if after.battery_wh < p.battery.capacity_wh * (1.0 - p.battery.usable_fraction) {
+            return Err(Stopped { failure: MotionFailure::Battery, progress: 1.0, state: Box::new(*state) });
+        }
+        Ok(Step {
+            state: after,
+            duration_s: seconds,
+            energy,
+            min_stability: None,
+            max_friction: 0.0,
+            max_saturation: 0.0,
+            grasped: None,
+        })
+    }
+
+    /// The heading change (rad, positive left) toward the sample within
+    /// [`SAMPLE_SEARCH_M`] of the reference point that needs the least turn, limited
+    /// to the module's angle; 0 if there is none.
+    fn turn_toward_sample(&self, state: &RoverState, samples: &[SampleSite]) -> f64 {
         let limit = self.evaluator.params().activities.turn_to_sample_deg.to_radians();
-        // Probe the ground around the rover for a sample, 2° apart at 0.6 m.
         let mut best: Option<f64> = None;
-        for k in -45..=45 {
-            let ang = (k as f64 * 2.0).to_radians();
-            let h = state.heading - ang;
-            let (x, y) = (state.x + 0.6 * h.sin(), state.y + 0.6 * h.cos());
-            if let Some(z) = ground.height(x, y)
-                && samples([x, y, z]).is_some()
-                && best.is_none_or(|b: f64| ang.abs() < b.abs())
-            {
+        for s in samples {
+            let (dx, dy) = (s.x - state.x, s.y - state.y);
+            if dx.hypot(dy) > SAMPLE_SEARCH_M || dx.hypot(dy) < 1e-9 {
+                continue;
+            }
+            // Bearing clockwise from north; a left turn lowers the heading.
+            let bearing = dx.atan2(dy);
+            let ang = (state.heading - bearing + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI;
+            if best.is_none_or(|b: f64| ang.abs() < b.abs()) {
                 best = Some(ang);
             }
         }
         best.map_or(0.0, |a| a.clamp(-limit, limit))
+    }
+
+    /// The sample nearest the arm's shoulder that the tool can reach (gripper
+    /// [`GRIPPER_M`] above the ground at the sample, within the arm's workspace), and
+    /// the tool position (body frame, m) that reaches it.
+    fn reachable_sample(
+        &self,
+        ground: &impl Ground,
+        state: &RoverState,
+        samples: &[SampleSite],
+    ) -> Option<(SampleSite, [f64; 3])> {
+        let p = self.evaluator.params();
+        let sh = p.arm.shoulder_m;
+        let mut best: Option<(f64, SampleSite, [f64; 3])> = None;
+        for s in samples {
+            // Far beyond any arm: skip the pose work.
+            if (s.x - state.x).hypot(s.y - state.y) > 2.0 * (p.arm.upper_link_m + p.arm.lower_link_m) + 1.0 {
+                continue;
+            }
+            let Some(z) = ground.height(s.x, s.y) else { continue };
+            let Some(tool) = self.body_point(ground, state, [s.x, s.y, z + GRIPPER_M]) else { continue };
+            let arm = ArmState { tool_m: tool, payload_kg: s.mass_kg };
+            if arm.check(p).is_err() {
+                continue;
+            }
+            let d = (tool[0] - sh.x).hypot(tool[1] - sh.y).hypot(tool[2] - sh.z);
+            if best.is_none_or(|b| d < b.0) {
+                best = Some((d, *s, tool));
+            }
+        }
+        best.map(|(_, s, t)| (s, t))
+    }
+
+    /// A map point (m) in the body frame of `state`'s pose (x forward, y left, z up
+    /// from the ground under the middle axles): the inverse of [`Motion::tool_world`].
+    pub fn body_point(&self, ground: &impl Ground, state: &RoverState, world: [f64; 3]) -> Option<[f64; 3]> {
+        let p = self.evaluator.params();
+        let pose = match state.pose {
+            Some(q) => q,
+            None => self.evaluator.kinematics().solve(ground, state.x, state.y, state.heading, None).ok()?,
+        };
+        let (fx, fy) = pose.forward();
+        let (lx, ly) = (-fy, fx);
+        let (sp, cp) = pose.pitch.sin_cos();
+        let (sr, cr) = pose.roll.sin_cos();
+        let d = [world[0] - pose.body[0], world[1] - pose.body[1], world[2] - pose.body[2]];
+        let (px, by, pz) = (d[0] * fx + d[1] * fy, d[0] * lx + d[1] * ly, d[2]);
+        let (bx, bz) = (px * cp + pz * sp, -px * sp + pz * cp);
+        let (ry, rz) = (by * cr + bz * sr, -by * sr + bz * cr);
+        Some([bx + p.rocker_pivot_m.x, ry, rz + p.rocker_pivot_m.z])
     }
 }

@@ -6,7 +6,7 @@ use areo_rover::arm::ArmState;
 use areo_rover::evaluation::{Conditions, Evaluator, Place, Violation};
 use areo_rover::forces::ForceFailure;
 use areo_rover::kinematics::{Kinematics, newton_pose};
-use areo_rover::motion::{Module, Motion, RoverState};
+use areo_rover::motion::{Module, Motion, MotionFailure, RoverState, SampleSite};
 use areo_terrain::Ground;
 use areo_terrain::analytic::{Plane, Step};
 
@@ -305,7 +305,7 @@ fn a_ten_centimetre_move_costs_the_rolling_resistance_work_over_the_efficiency()
     let flat = Plane { z0: 0.0, gx: 0.0, gy: 0.0 };
     let motion = Motion::new(&ev, 0.6);
     let start = RoverState::new(&ev, 0.0, 0.0, 0.0);
-    let step = motion.run(&flat, &start, Module::Forward, &|_| None).unwrap();
+    let step = motion.run(&flat, &start, Module::Forward, &[]).unwrap();
     let w = 7.0 * 9.81;
     let work_j = p.rolling_resistance * w * 0.10;
     let mech_j = step.energy.mechanical_wh * 3600.0;
@@ -325,20 +325,20 @@ fn every_module_runs_and_arcs_follow_their_circles() {
     let flat = Plane { z0: 0.0, gx: 0.0, gy: 0.0 };
     let motion = Motion::new(&ev, 0.6);
     let start = RoverState::new(&ev, 0.0, 0.0, 0.0);
-    // A sample on the ground 0.57 m away, 38° to the left (found by "turn to sample");
-    // "grasp" finds one at the stowed tool.
-    let sample = |t: [f64; 3]| {
-        let near = if t[2] < 0.05 { (t[0] + 0.35).hypot(t[1] - 0.45) < 0.1 } else { t[0].hypot(t[1] - 0.15) < 0.05 };
-        near.then_some((7usize, 0.1))
-    };
+    // A sample on the ground 0.57 m away, 38° to the left: "turn to sample" turns 15°
+    // toward it and "grasp" reaches it from here.
+    let sample = [SampleSite { id: 7, x: -0.35, y: 0.45, mass_kg: 0.1 }];
     for m in Module::ALL {
         assert_eq!(Module::from_code(m.code()), Some(m));
         let r = motion.run(&flat, &start, m, &sample);
         match m {
-            Module::Release => assert!(r.is_err(), "nothing to release"),
+            Module::Release => assert_eq!(r.unwrap_err().failure, MotionFailure::NotHolding, "nothing to release"),
             Module::Grasp => assert_eq!(r.unwrap().grasped, Some(7)),
+            Module::TurnToSample => {
+                assert!((r.unwrap().state.heading + 15f64.to_radians()).abs() < 1e-12, "15° to the left")
+            }
             // Nothing to undo from a fresh start.
-            Module::TurnFromSample => assert_eq!(r.unwrap().duration_s, 0.0),
+            Module::TurnFromSample => assert_eq!(r.unwrap_err().failure, MotionFailure::NothingToTurnTo),
             _ => {
                 let s = r.unwrap_or_else(|e| panic!("{m:?}: {e:?}"));
                 assert!(s.duration_s > 0.0, "{m:?}");
@@ -347,14 +347,14 @@ fn every_module_runs_and_arcs_follow_their_circles() {
     }
     // 105: 10 cm on a 0.5 m circle to the left: heading −0.2 rad (to the west), chord
     // 2R sin(0.1).
-    let s = motion.run(&flat, &start, Module::ArcLeftTight, &|_| None).unwrap();
+    let s = motion.run(&flat, &start, Module::ArcLeftTight, &[]).unwrap();
     assert!((s.state.heading + 0.2).abs() < 1e-12);
     assert!((s.state.x.hypot(s.state.y) - 2.0 * 0.5 * 0.1f64.sin()).abs() < 1e-12 && s.state.x < 0.0);
     // 103: 5° in place.
-    let s = motion.run(&flat, &start, Module::TurnLeft, &|_| None).unwrap();
+    let s = motion.run(&flat, &start, Module::TurnLeft, &[]).unwrap();
     assert!((s.state.heading + 5f64.to_radians()).abs() < 1e-12 && s.state.x == 0.0);
     // Recharging on flat ground at noon gains flux·area·efficiency for its duration.
-    let s = motion.run(&flat, &start, Module::Recharge, &|_| None).unwrap();
+    let s = motion.run(&flat, &start, Module::Recharge, &[]).unwrap();
     assert!((s.energy.solar_wh - 1000.0 * 0.25 * 0.18).abs() < 1e-9);
 }
 
@@ -369,7 +369,7 @@ fn a_drive_into_a_wall_stops_at_the_first_violation() {
     let mut state = RoverState::new(&ev, -0.60, 0.0, 90f64.to_radians());
     let mut stopped = None;
     for _ in 0..10 {
-        match motion.run(&wall, &state, Module::Forward, &|_| None) {
+        match motion.run(&wall, &state, Module::Forward, &[]) {
             Ok(s) => state = s.state,
             Err(e) => {
                 stopped = Some(e);
@@ -493,7 +493,7 @@ fn adaptive_sampling_finds_what_sampling_every_centimetre_finds() {
                 let mut steps = Vec::new();
                 let mut stop = None;
                 for _ in 0..modules {
-                    match motion.run(&ground, &state, Module::Forward, &|_| None) {
+                    match motion.run(&ground, &state, Module::Forward, &[]) {
                         Ok(s) => {
                             state = s.state;
                             steps.push(s);
@@ -540,4 +540,78 @@ fn adaptive_sampling_finds_what_sampling_every_centimetre_finds() {
         assert!(ratio < cost_bound, "terrain queries fine {} vs adaptive {} ({ratio:.2})", queries[0], queries[1]);
     }
     assert!(stops >= 2, "some drives stop at the ditch: {stops}");
+}
+
+#[test]
+fn a_module_with_nothing_to_act_on_still_spends_its_time_and_hotel_energy() {
+    let p = lsr1();
+    let ev = Evaluator::new(&p);
+    let flat = Plane { z0: 0.0, gx: 0.0, gy: 0.0 };
+    let motion = Motion::new(&ev, 0.6);
+    let start = RoverState::new(&ev, 0.0, 0.0, 0.0);
+    let act = &p.activities;
+    // (module, why it has nothing to do, its time, its load beyond hotel power)
+    let cases = [
+        (Module::Grasp, MotionFailure::NoSample, act.grasp_s, act.grasp_w),
+        (Module::Release, MotionFailure::NotHolding, act.grasp_s, act.grasp_w),
+        (Module::TurnToSample, MotionFailure::NothingToTurnTo, act.turn_to_sample_deg / p.turn_rate_deg_s, 0.0),
+        (Module::TurnFromSample, MotionFailure::NothingToTurnTo, act.turn_to_sample_deg / p.turn_rate_deg_s, 0.0),
+    ];
+    for (m, why, seconds, load_w) in cases {
+        assert_eq!(motion.run(&flat, &start, m, &[]).unwrap_err().failure, why, "{m:?}");
+        let idle = motion.idle(&start, m).unwrap();
+        assert!((idle.duration_s - seconds).abs() < 1e-12, "{m:?}");
+        let wh = (p.hotel_power_w + load_w) * seconds / 3600.0;
+        assert!((idle.energy.net_wh() - wh).abs() < 1e-12, "{m:?}: {} Wh", idle.energy.net_wh());
+        assert!((start.battery_wh - idle.state.battery_wh - wh).abs() < 1e-12);
+        assert_eq!((idle.state.x, idle.state.heading, idle.state.arm), (start.x, start.heading, start.arm));
+    }
+    // An arm move out of reach: 2 cm at the tool speed.
+    let far = RoverState { arm: ArmState { tool_m: [0.84, 0.0, 0.42], payload_kg: 0.0 }, ..start };
+    assert_eq!(motion.run(&flat, &far, Module::ArmForward, &[]).unwrap_err().failure, MotionFailure::ArmReach);
+    let idle = motion.idle(&far, Module::ArmForward).unwrap();
+    assert!((idle.duration_s - 0.02 / p.arm.tool_speed_m_s).abs() < 1e-12);
+}
+
+#[test]
+fn a_grasp_reaches_down_by_inverse_kinematics_and_pays_for_lifting() {
+    let p = lsr1();
+    let ev = Evaluator::new(&p);
+    let flat = Plane { z0: 0.0, gx: 0.0, gy: 0.0 };
+    let motion = Motion::new(&ev, 0.6);
+    let start = RoverState::new(&ev, 0.0, 0.0, 0.0);
+    // Straight ahead on flat ground, 0.6 m from the reference point: the tool goes to
+    // (0.6, 0, gripper) in the body frame and back to the stowed position.
+    let site = SampleSite { id: 3, x: 0.0, y: 0.6, mass_kg: 0.15 };
+    let step = motion.run(&flat, &start, Module::Grasp, &[site]).unwrap();
+    assert_eq!(step.grasped, Some(3));
+    assert_eq!(step.state.arm.tool_m, start.arm.tool_m, "back to the stowed position");
+    assert_eq!(step.state.arm.payload_kg, 0.15);
+    let t = start.arm.tool_m;
+    let target = [0.6, 0.0, areo_rover::motion::GRIPPER_M];
+    let travel = (target[0] - t[0]).hypot(target[1] - t[1]).hypot(target[2] - t[2]);
+    let seconds = 2.0 * travel / p.arm.tool_speed_m_s + p.activities.grasp_s;
+    assert!((step.duration_s - seconds).abs() < 1e-9, "{} s vs {seconds} s", step.duration_s);
+    // Work: lifting the arm's links back up and the sample from the ground to the
+    // stowed tool, over the joints' efficiency (lowering is not recovered).
+    let reached = ArmState { tool_m: target, payload_kg: 0.0 };
+    let lift_arm = p.arm.mass_kg * (start.arm.arm_cg(&p).unwrap().z - reached.arm_cg(&p).unwrap().z);
+    let lift_sample = 0.15 * (t[2] - target[2]);
+    let work_wh = (lift_arm + lift_sample) * p.gravity_m_s2 / p.arm.efficiency / 3600.0;
+    assert!((step.energy.mechanical_wh - work_wh).abs() < 1e-9, "{} vs {work_wh}", step.energy.mechanical_wh);
+    // The reach moves the CG forward: the margin is found at the poses on the way.
+    assert!(step.min_stability.is_some());
+    // Out of reach (1.2 m ahead) or behind the rover: nothing to grasp.
+    for (x, y) in [(0.0, 1.2), (0.0, -0.6)] {
+        let far = SampleSite { id: 4, x, y, mass_kg: 0.1 };
+        assert_eq!(motion.run(&flat, &start, Module::Grasp, &[far]).unwrap_err().failure, MotionFailure::NoSample);
+    }
+    // body_point inverts tool_world on a tilted pose.
+    let tilted = Plane { z0: 0.3, gx: 0.12, gy: -0.2 };
+    let s = RoverState::new(&ev, 1.0, 2.0, 0.7);
+    let tool = motion.tool_world(&tilted, &s).unwrap();
+    let back = motion.body_point(&tilted, &s, tool).unwrap();
+    for k in 0..3 {
+        assert!((back[k] - s.arm.tool_m[k]).abs() < 1e-9, "{back:?} vs {:?}", s.arm.tool_m);
+    }
 }

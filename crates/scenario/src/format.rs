@@ -411,7 +411,6 @@ impl Validate for ActionsJob {
         c.nested("execution", |c| {
             c.range("mu", self.execution.mu, 0.01, 2.0, "friction coefficient");
             c.range("stability_floor", self.execution.stability_floor, 0.0, 0.99, "fraction of the flat-ground margin");
-            c.range("grasp_radius_m", self.execution.grasp_radius_m, 0.0, 1.0, "m");
             let (a, b, h) = self.execution.body_half_m;
             if !([a, b, h].iter().all(|v| *v > 0.0 && *v <= 10.0)) {
                 c.fail("body_half_m", format!("({a}, {b}, {h}): each half extent 0 (exclusive)..=10 m"));
