@@ -376,8 +376,15 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
         self.task.rocks.iter().position(|r| {
             // The rock's cap as a ball of its half-width whose top is the rock's top.
             let radius = (0.5 * r.width_m).max(1e-3);
-            let ground = self.ground.height(r.x_m, r.y_m).unwrap_or(0.0);
-            let top = ground.max(self.ground.height(r.x_m + radius, r.y_m).unwrap_or(ground)) + r.height_m;
+            // The ground the rock sits on: the lowest of four points just beyond its
+            // edge (the map under the rock may already hold the rock itself).
+            let reach = 1.1 * radius;
+            let base = [(reach, 0.0), (-reach, 0.0), (0.0, reach), (0.0, -reach)]
+                .iter()
+                .filter_map(|(dx, dy)| self.ground.height(r.x_m + dx, r.y_m + dy))
+                .fold(f64::INFINITY, f64::min);
+            let base = if base.is_finite() { base } else { self.ground.height(r.x_m, r.y_m).unwrap_or(0.0) };
+            let top = base + r.height_m;
             let ball = Ball::new(radius as f32);
             let centre = Pose::translation(r.x_m as f32, r.y_m as f32, (top - radius) as f32);
             intersection_test(&at, &body, &centre, &ball).is_ok_and(|t| t.intersecting)

@@ -209,3 +209,37 @@ fn resuming_from_a_parents_prefix_gives_the_same_execution_as_running_afresh() {
         assert_eq!(resumed, fresh, "cut at {cut}");
     }
 }
+
+#[test]
+fn a_rock_already_in_the_map_is_not_counted_twice_by_the_body_test() {
+    // Synthesised rocks are part of the map *and* listed for the body test: the rock's
+    // top is its height above the ground beside it, not above its own apex. An 18 cm
+    // rock between the wheels passes under the 26 cm belly; a 32 cm one does not.
+    use areo_terrain::synth::{Feature, TerrainSpec};
+    let p = RoverParams::lsr1();
+    let ev = Evaluator::new(&p);
+    for (height, hits) in [(0.18, false), (0.32, true)] {
+        let rock = Rock { x_m: 1.0, y_m: 1.2, height_m: height, width_m: 0.22 };
+        let dem = TerrainSpec {
+            cols: 100,
+            rows: 150,
+            cell_m: 0.02,
+            base_m: 0.0,
+            seed: 1,
+            noise: None,
+            features: vec![Feature::Rock { x_m: 1.0, y_m: 1.2, height_m: height, width_m: 0.22 }],
+        }
+        .build()
+        .unwrap();
+        let mut t = task((1.0, 2.4));
+        t.start = (1.0, 0.6, 0.0);
+        t.rocks = vec![rock];
+        let ex = Executor::new(&dem, &ev, &t, ExecConfig::default());
+        let run = ex.run(&[Module::Forward; 12], false);
+        let collided = matches!(run.failure, Some((_, Failure::Collision(0))));
+        assert_eq!(collided, hits, "{height} m rock: {:?}", run.failure);
+        if !hits {
+            assert!(run.failure.is_none() && run.prefix_len == 12, "{:?}", run.failure);
+        }
+    }
+}

@@ -98,6 +98,23 @@ pub enum Feature {
         /// Flank slope, degrees (0..90).
         slope_deg: f64,
     },
+    /// A cone `height_m` high whose flank steepens from `west_slope_deg` on its west
+    /// side to `east_slope_deg` on its east: the slope angle is west + (east − west)·w²
+    /// with w = (1 + sin azimuth)/2, so most of the west half is near the gentle slope
+    /// (due south and north a quarter of the way) and exactly the stated slopes lie due
+    /// west and east.
+    AsymmetricHill {
+        /// Summit x, m.
+        x_m: f64,
+        /// Summit y, m.
+        y_m: f64,
+        /// Height, m (> 0).
+        height_m: f64,
+        /// Flank slope due west, degrees (0..90).
+        west_slope_deg: f64,
+        /// Flank slope due east, degrees (0..90).
+        east_slope_deg: f64,
+    },
     /// A straight ridge with a cosine cross-section.
     Ridge {
         /// One end (x, y), m.
@@ -245,6 +262,13 @@ impl TerrainSpec {
                     positive("radius_m", radius_m)?;
                     slope("slope_deg", slope_deg)?;
                 }
+                Feature::AsymmetricHill { x_m, y_m, height_m, west_slope_deg, east_slope_deg } => {
+                    at("x_m", x_m)?;
+                    at("y_m", y_m)?;
+                    positive("height_m", height_m)?;
+                    slope("west_slope_deg", west_slope_deg)?;
+                    slope("east_slope_deg", east_slope_deg)?;
+                }
                 Feature::Ridge { from_m, to_m, height_m, width_m } => {
                     for (name, v) in [("from_m", from_m.0), ("from_m", from_m.1), ("to_m", to_m.0), ("to_m", to_m.1)] {
                         at(name, v)?;
@@ -359,6 +383,13 @@ impl Feature {
             Feature::Hill { x_m, y_m, radius_m, slope_deg } => {
                 let r = (x - x_m).hypot(y - y_m);
                 (radius_m - r).max(0.0) * slope_deg.to_radians().tan()
+            }
+            Feature::AsymmetricHill { x_m, y_m, height_m, west_slope_deg, east_slope_deg } => {
+                let r = (x - x_m).hypot(y - y_m);
+                let east = if r > 0.0 { (x - x_m) / r } else { 0.0 };
+                let w = 0.5 * (1.0 + east);
+                let slope = west_slope_deg + (east_slope_deg - west_slope_deg) * w * w;
+                (height_m - r * slope.to_radians().tan()).max(0.0)
             }
             Feature::Ridge { from_m, to_m, height_m, width_m } => {
                 height_m * bell(segment_distance(x, y, from_m, to_m), width_m / 2.0)
@@ -483,6 +514,30 @@ mod tests {
 
     fn spec(features: Vec<Feature>) -> TerrainSpec {
         TerrainSpec { cols: 101, rows: 101, cell_m: 1.0, base_m: 10.0, seed: 0, noise: None, features }
+    }
+
+    #[test]
+    fn an_asymmetric_hill_has_its_stated_slopes_due_west_and_east() {
+        let hill = Feature::AsymmetricHill {
+            x_m: 50.5,
+            y_m: 50.5,
+            height_m: 30.0,
+            west_slope_deg: 25.0,
+            east_slope_deg: 60.0,
+        };
+        let dem = spec(vec![hill]).build().unwrap();
+        let sa = slope_aspect(&dem);
+        let top = dem.z(50, 50).unwrap();
+        assert!((top - 40.0).abs() < 0.5, "{top}");
+        // Halfway down each flank, due west and due east of the summit.
+        let (w, e) = (dem.index(40, 50), dem.index(58, 50));
+        assert!((sa.slope_deg[w] - 25.0).abs() < 0.3, "west {}", sa.slope_deg[w]);
+        assert!((sa.slope_deg[e] - 60.0).abs() < 0.3, "east {}", sa.slope_deg[e]);
+        assert!((sa.aspect_deg[w] - 270.0).abs() < 1.0 && (sa.aspect_deg[e] - 90.0).abs() < 1.0);
+        // Due north a quarter of the way (25° + 35°/4 along the radius; steeper along
+        // the fall line, which the azimuthal change of slope turns).
+        let n = sa.slope_deg[dem.index(50, 45)];
+        assert!(n > 31.0 && n < 41.0, "north {n}");
     }
 
     #[test]

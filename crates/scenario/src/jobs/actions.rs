@@ -28,8 +28,20 @@ fn mission_error(file: &ScenarioFile, e: areo_actions::Error) -> Error {
     }
 }
 
-/// Runs an actions job.
-pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
+/// What an actions job plans on: the terrain, the task (with the synthesised rocks
+/// added) and the rover.
+#[derive(Debug)]
+pub struct Setup {
+    /// The terrain.
+    pub dem: Dem,
+    /// The task.
+    pub task: Task,
+    /// The rover.
+    pub params: RoverParams,
+}
+
+/// Builds an actions job's terrain, task and rover (paths relative to `file`).
+pub fn setup(job: &ActionsJob, file: &ScenarioFile) -> Result<Setup> {
     let base = file.path.parent().unwrap_or(Path::new("."));
     let (dem, synth_rocks): (Dem, Vec<Rock>) = match &job.terrain {
         TerrainSource::Synth(spec) => {
@@ -48,15 +60,21 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
             Vec::new(),
         ),
     };
-    opts.budget.check(&crate::budget::actions(job, (dem.cols() * dem.rows()) as u64))?;
     let params = match &job.rover {
         Some(rel) => crate::format::rover_files::load_params(&base.join(rel))
             .map_err(|e| e.referenced_by(&file.path, "job.rover"))?,
         None => RoverParams::lsr1(),
     };
-    let evaluator = Evaluator::new(&params);
     let mut task: Task = job.task.clone();
     task.rocks.extend(synth_rocks);
+    Ok(Setup { dem, task, params })
+}
+
+/// Runs an actions job.
+pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
+    let Setup { dem, task, params } = setup(job, file)?;
+    opts.budget.check(&crate::budget::actions(job, (dem.cols() * dem.rows()) as u64))?;
+    let evaluator = Evaluator::new(&params);
     let scale = Scale {
         start_distance_m: task.start_distance_m(),
         samples_wanted: task.samples_wanted,
