@@ -112,6 +112,14 @@ pub struct ActionsRun {
     /// μ for this run; default the execution's.
     #[serde(default)]
     pub mu: Option<f64>,
+    /// Where crossover cuts the first parent, for this run; default the GA's.
+    #[serde(default)]
+    pub crossover: Option<areo_actions::CrossoverPoint>,
+    /// A seed study: run the GA once for every seed from `.0` to `.1` (inclusive, at
+    /// most 1000 seeds) and report the success fraction, the median first-solved
+    /// generation and the pooled look-ahead histogram; default the GA's one seed.
+    #[serde(default)]
+    pub seeds: Option<(u64, u64)>,
 }
 
 /// A TEMPEST mission (see `docs/tempest.md`). Positions are metres east and north of
@@ -425,6 +433,17 @@ impl Validate for ActionsJob {
             }
             if let Some(mu) = r.mu {
                 c.range("mu", mu, 0.01, 2.0, "friction coefficient");
+            }
+            if let Some(how) = r.crossover
+                && let Err(areo_actions::Error::Config { message, .. }) =
+                    (areo_actions::GaConfig { crossover: how, ..self.ga.clone() }).validate()
+            {
+                c.fail("crossover", message);
+            }
+            if let Some((a, b)) = r.seeds
+                && !(a <= b && b - a < 1000)
+            {
+                c.fail("seeds", format!("({a}, {b}): allowed (first, last) with first ≤ last and at most 1000 seeds"));
             }
         });
         check_unique(c, "runs", self.runs.iter().map(|r| r.name.as_str()));

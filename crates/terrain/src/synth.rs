@@ -114,6 +114,9 @@ pub enum Feature {
         west_slope_deg: f64,
         /// Flank slope due east, degrees (0..90).
         east_slope_deg: f64,
+        /// Radius of a flat top, m (≥ 0; default 0, a point).
+        #[serde(default)]
+        top_radius_m: f64,
     },
     /// A straight ridge with a cosine cross-section.
     Ridge {
@@ -262,7 +265,10 @@ impl TerrainSpec {
                     positive("radius_m", radius_m)?;
                     slope("slope_deg", slope_deg)?;
                 }
-                Feature::AsymmetricHill { x_m, y_m, height_m, west_slope_deg, east_slope_deg } => {
+                Feature::AsymmetricHill { x_m, y_m, height_m, west_slope_deg, east_slope_deg, top_radius_m } => {
+                    if !(0.0..=MAX_LENGTH_M).contains(&top_radius_m) {
+                        return bad(p("top_radius_m"), top_radius_m, "0..=1e7 m");
+                    }
                     at("x_m", x_m)?;
                     at("y_m", y_m)?;
                     positive("height_m", height_m)?;
@@ -384,12 +390,12 @@ impl Feature {
                 let r = (x - x_m).hypot(y - y_m);
                 (radius_m - r).max(0.0) * slope_deg.to_radians().tan()
             }
-            Feature::AsymmetricHill { x_m, y_m, height_m, west_slope_deg, east_slope_deg } => {
+            Feature::AsymmetricHill { x_m, y_m, height_m, west_slope_deg, east_slope_deg, top_radius_m } => {
                 let r = (x - x_m).hypot(y - y_m);
                 let east = if r > 0.0 { (x - x_m) / r } else { 0.0 };
                 let w = 0.5 * (1.0 + east);
-                let slope = west_slope_deg + (east_slope_deg - west_slope_deg) * w * w;
-                (height_m - r * slope.to_radians().tan()).max(0.0)
+                let slope = west_slope_deg + (east_slope_deg - west_slope_deg) * (w * w) * (w * w);
+                (height_m - (r - top_radius_m).max(0.0) * slope.to_radians().tan()).max(0.0)
             }
             Feature::Ridge { from_m, to_m, height_m, width_m } => {
                 height_m * bell(segment_distance(x, y, from_m, to_m), width_m / 2.0)

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use areo_actions::{
-    ExecConfig, Executor, FrictionSweep, GaReport, Inventory, Rock, Scale, Task, TraceStep, design_space_log10, evolve,
+    ExecConfig, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Rock, Scale, Task, TraceStep, design_space_log10, evolve,
     friction_sweep,
 };
 use areo_rover::RoverParams;
@@ -96,20 +96,27 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     ));
 
     // The runs: the job's list, or one run on the filtered inventory.
-    let runs: Vec<(String, Inventory, f64)> = if job.runs.is_empty() {
-        vec![("plan".to_string(), filtered.clone(), job.execution.mu)]
+    let runs: Vec<RunPlan> = if job.runs.is_empty() {
+        vec![RunPlan {
+            name: "plan".to_string(),
+            inventory: filtered.clone(),
+            mu: job.execution.mu,
+            ga: job.ga.clone(),
+            seeds: None,
+        }]
     } else {
         job.runs
             .iter()
             .enumerate()
             .map(|(i, r)| {
-                let inv = match &r.inventory {
+                let inventory = match &r.inventory {
                     Some(codes) => Inventory::from_codes(codes).map_err(|c| {
                         file.error_at(&format!("job.runs[{i}].inventory"), format!("{c} is not a Table 1 code"))
                     })?,
                     None => filtered.clone(),
                 };
-                Ok((r.name.clone(), inv, r.mu.unwrap_or(job.execution.mu)))
+                let ga = GaConfig { crossover: r.crossover.unwrap_or(job.ga.crossover), ..job.ga.clone() };
+                Ok(RunPlan { name: r.name.clone(), inventory, mu: r.mu.unwrap_or(job.execution.mu), ga, seeds: r.seeds })
             })
             .collect::<Result<_>>()?
     };
@@ -120,22 +127,52 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         }
         None => Vec::new(),
     };
-    opts.progress.start((runs.len() + sweep.len()) as u64, "evolving");
+    // The run's own seed, then the study's others.
+    let evolutions: usize = runs
+        .iter()
+        .map(|r| 1 + r.seeds.map_or(0, |(a, b)| (b - a + 1) as usize - usize::from((a..=b).contains(&r.ga.seed))))
+        .sum();
+    opts.progress.start((evolutions + sweep.len()) as u64, "evolving");
     let mut reports: Vec<(String, GaReport, ExecConfig, Inventory)> = Vec::new();
-    for (name, inv, mu) in &runs {
-        let exec = ExecConfig { mu: *mu, ..job.execution };
+    let mut studies: Vec<(String, SeedStudy)> = Vec::new();
+    for run in &runs {
+        let exec = ExecConfig { mu: run.mu, ..job.execution };
         let executor = Executor::new(&dem, &evaluator, &task, exec);
         if let Some(problem) = executor.start_problem() {
             return Err(file.error_at("job.task.start", format!("the start pose is not admissible: {problem}")));
         }
+        let name = &run.name;
         let clock = std::time::Instant::now();
-        let report = evolve(&executor, inv, &job.weights, &scale, &job.ga).map_err(|e| mission_error(file, e))?;
+        let report =
+            evolve(&executor, &run.inventory, &job.weights, &scale, &run.ga).map_err(|e| mission_error(file, e))?;
         let seconds = clock.elapsed().as_secs_f64();
-        run_facts(&mut o, name, &report, seconds);
-        o.number(&format!("{name}_modules"), inv.modules.len() as f64);
-        o.number(&format!("{name}_design_space_log10"), design_space_log10(inv.modules.len(), m));
-        reports.push((name.clone(), report, exec, inv.clone()));
         opts.progress.advance(1);
+        run_facts(&mut o, name, &report, seconds);
+        o.number(&format!("{name}_modules"), run.inventory.modules.len() as f64);
+        o.number(&format!("{name}_design_space_log10"), design_space_log10(run.inventory.modules.len(), m));
+        if let Some((first, last)) = run.seeds {
+            let mut study = SeedStudy::default();
+            for seed in first..=last {
+                let r = if seed == run.ga.seed {
+                    report.clone()
+                } else {
+                    let ga = GaConfig { seed, ..run.ga.clone() };
+                    let r = evolve(&executor, &run.inventory, &job.weights, &scale, &ga)
+                        .map_err(|e| mission_error(file, e))?;
+                    opts.progress.advance(1);
+                    r
+                };
+                study.add(seed, &r);
+            }
+            study_facts(&mut o, name, &study, run.ga.generations);
+            studies.push((name.clone(), study));
+        }
+        reports.push((name.clone(), report, exec, run.inventory.clone()));
+    }
+    if let Some(dir) = opts.out_dir
+        && !studies.is_empty()
+    {
+        o.files.extend(write_studies(dir, &studies, job.ga.generations)?);
     }
     if !sweep.is_empty() {
         let result = friction_sweep(
@@ -143,7 +180,7 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
             &evaluator,
             &task,
             job.execution,
-            &runs[0].1,
+            &runs[0].inventory,
             &job.weights,
             &scale,
             &job.ga,
@@ -217,6 +254,142 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         }
     }
     Ok(o)
+}
+
+/// One GA run of the job, as configured.
+struct RunPlan {
+    name: String,
+    inventory: Inventory,
+    mu: f64,
+    ga: GaConfig,
+    seeds: Option<(u64, u64)>,
+}
+
+/// A run repeated over seeds: what each seed's GA found.
+#[derive(Debug, Default)]
+struct SeedStudy {
+    /// (seed, first-solved generation, best fitness, samples, least stability margin)
+    seeds: Vec<(u64, Option<usize>, f64, usize, f64)>,
+    /// Every seed's look-ahead values, pooled.
+    lookahead: Vec<i64>,
+}
+
+impl SeedStudy {
+    fn add(&mut self, seed: u64, r: &GaReport) {
+        let e = &r.best.execution;
+        self.seeds.push((seed, r.first_solved, r.best.fitness, e.samples, e.min_stability));
+        self.lookahead.extend_from_slice(&r.lookahead);
+    }
+
+    /// Fraction of seeds solved by generation `g` (0-based, inclusive).
+    fn solved_by(&self, g: usize) -> f64 {
+        let n = self.seeds.iter().filter(|s| s.1.is_some_and(|f| f <= g)).count();
+        n as f64 / self.seeds.len().max(1) as f64
+    }
+
+    /// The median first-solved generation, an unsolved seed counting as never; `None`
+    /// when half the seeds or more never solve it.
+    fn median_first_solved(&self) -> Option<f64> {
+        let mut g: Vec<f64> = self.seeds.iter().map(|s| s.1.map_or(f64::INFINITY, |f| f as f64)).collect();
+        g.sort_by(f64::total_cmp);
+        let n = g.len();
+        let m = if n == 0 {
+            f64::INFINITY
+        } else if n % 2 == 1 {
+            g[n / 2]
+        } else {
+            0.5 * (g[n / 2 - 1] + g[n / 2])
+        };
+        m.is_finite().then_some(m)
+    }
+}
+
+fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usize) {
+    let n = study.seeds.len();
+    o.number(&format!("{name}_seeds"), n as f64);
+    let last = generations.saturating_sub(1);
+    o.number(&format!("{name}_success_fraction"), study.solved_by(last));
+    if let Some(m) = study.median_first_solved() {
+        o.number(&format!("{name}_first_solved_median"), m);
+    }
+    let la = &study.lookahead;
+    let small = la.iter().filter(|d| (1..=4).contains(*d)).count();
+    o.number(
+        &format!("{name}_pooled_lookahead_1_to_4_fraction"),
+        if la.is_empty() { 0.0 } else { small as f64 / la.len() as f64 },
+    );
+    o.number(&format!("{name}_pooled_improving_crossovers"), la.len() as f64);
+    let share = |f: &dyn Fn(i64) -> bool| {
+        if la.is_empty() { 0.0 } else { la.iter().filter(|d| f(**d)).count() as f64 / la.len() as f64 }
+    };
+    o.number(&format!("{name}_pooled_lookahead_none_fraction"), share(&|d| d <= 0));
+    o.number(&format!("{name}_pooled_lookahead_5_plus_fraction"), share(&|d| d >= 5));
+    o.summary.push(format!(
+        "{name}: seeds {}..{}: solved by generation {last} in {} of {n}; median first-solved generation {}; {} improving crossovers, {:.0} % adding 1–4 successful modules",
+        study.seeds.first().map_or(0, |s| s.0),
+        study.seeds.last().map_or(0, |s| s.0),
+        study.seeds.iter().filter(|s| s.1.is_some()).count(),
+        study.median_first_solved().map_or("never (half or more unsolved)".into(), |m| format!("{m}")),
+        la.len(),
+        if la.is_empty() { 0.0 } else { 100.0 * small as f64 / la.len() as f64 }
+    ));
+}
+
+/// `seeds.csv` (one row per run and seed), the success-by-generation plot and each
+/// study's pooled look-ahead histogram.
+fn write_studies(dir: &Path, studies: &[(String, SeedStudy)], generations: usize) -> Result<Vec<std::path::PathBuf>> {
+    let mut files = Vec::new();
+    let mut table = Table::new(["run", "seed", "first_solved_generation", "best_fitness", "samples", "min_stability"]);
+    for (name, study) in studies {
+        for (seed, first, fitness, samples, s) in &study.seeds {
+            table.push(vec![
+                name.clone(),
+                seed.to_string(),
+                first.map_or(String::new(), |g| g.to_string()),
+                format!("{fitness:.4}"),
+                samples.to_string(),
+                format!("{s:.4}"),
+            ]);
+        }
+    }
+    let path = dir.join("seeds.csv");
+    table.write(&path)?;
+    files.push(path);
+    let palette = [(220, 30, 40), (30, 90, 220), (40, 160, 60), (150, 60, 200)];
+    let series = studies
+        .iter()
+        .enumerate()
+        .map(|(k, (name, study))| Series {
+            label: name.clone(),
+            points: (0..generations).map(|g| (g as f64, 100.0 * study.solved_by(g))).collect(),
+            rgb: palette[k % palette.len()],
+            width: 2,
+        })
+        .collect();
+    files.extend(crate::output::plots::time(
+        dir,
+        "success_by_generation",
+        &TimePlot {
+            title: "Seeds whose GA has completed the task, by generation".into(),
+            x_label: "generation".into(),
+            y_label: "seeds solved, %".into(),
+            series,
+            nights: Vec::new(),
+            x_range: (0.0, generations.saturating_sub(1).max(1) as f64),
+        },
+    )?);
+    for (name, study) in studies {
+        files.extend(crate::output::plots::histogram(
+            dir,
+            &format!("lookahead_{name}"),
+            &HistogramPlot {
+                title: format!("Look-ahead of improving crossovers, {name}, all seeds"),
+                x_label: "change in successful-prefix length, modules".into(),
+                values: study.lookahead.clone(),
+            },
+        )?);
+    }
+    Ok(files)
 }
 
 fn run_facts(o: &mut Outcome, name: &str, r: &GaReport, seconds: f64) {
