@@ -530,6 +530,7 @@ mod tests {
             height_m: 30.0,
             west_slope_deg: 25.0,
             east_slope_deg: 60.0,
+            top_radius_m: 0.0,
         };
         let dem = spec(vec![hill]).build().unwrap();
         let sa = slope_aspect(&dem);
@@ -540,10 +541,25 @@ mod tests {
         assert!((sa.slope_deg[w] - 25.0).abs() < 0.3, "west {}", sa.slope_deg[w]);
         assert!((sa.slope_deg[e] - 60.0).abs() < 0.3, "east {}", sa.slope_deg[e]);
         assert!((sa.aspect_deg[w] - 270.0).abs() < 1.0 && (sa.aspect_deg[e] - 90.0).abs() < 1.0);
-        // Due north a quarter of the way (25° + 35°/4 along the radius; steeper along
-        // the fall line, which the azimuthal change of slope turns).
+        // Due north a sixteenth of the way (25° + 35°/16 along the radius; a little
+        // steeper along the fall line, which the azimuthal change of slope turns).
         let n = sa.slope_deg[dem.index(50, 45)];
-        assert!(n > 31.0 && n < 41.0, "north {n}");
+        assert!(n > 27.0 && n < 31.0, "north {n}");
+        // A flat top 5 m across the summit, the flanks unchanged beyond it.
+        let flat = Feature::AsymmetricHill {
+            x_m: 50.5,
+            y_m: 50.5,
+            height_m: 30.0,
+            west_slope_deg: 25.0,
+            east_slope_deg: 60.0,
+            top_radius_m: 5.0,
+        };
+        let dem = spec(vec![flat]).build().unwrap();
+        for (c, r) in [(50, 50), (47, 50), (53, 52), (50, 46)] {
+            assert!((dem.z(c, r).unwrap() - 40.0).abs() < 1e-4, "({c}, {r}) on the top");
+        }
+        let w = slope_aspect(&dem).slope_deg[dem.index(35, 50)];
+        assert!((w - 25.0).abs() < 0.3, "west flank {w}");
     }
 
     #[test]

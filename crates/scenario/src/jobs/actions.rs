@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use areo_actions::{
-    ExecConfig, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Rock, Scale, Task, TraceStep, design_space_log10, evolve,
-    friction_sweep,
+    ExecConfig, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Rock, Scale, Task, TraceStep,
+    design_space_log10, evolve, friction_sweep,
 };
 use areo_rover::RoverParams;
 use areo_rover::evaluation::Evaluator;
@@ -116,7 +116,13 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
                     None => filtered.clone(),
                 };
                 let ga = GaConfig { crossover: r.crossover.unwrap_or(job.ga.crossover), ..job.ga.clone() };
-                Ok(RunPlan { name: r.name.clone(), inventory, mu: r.mu.unwrap_or(job.execution.mu), ga, seeds: r.seeds })
+                Ok(RunPlan {
+                    name: r.name.clone(),
+                    inventory,
+                    mu: r.mu.unwrap_or(job.execution.mu),
+                    ga,
+                    seeds: r.seeds,
+                })
             })
             .collect::<Result<_>>()?
     };
