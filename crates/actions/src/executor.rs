@@ -15,7 +15,7 @@
 //! to a sample with none near) violates no constraint: it changes nothing but still
 //! spends its time and hotel energy (`Motion::idle`), and the plan goes on.
 
-use areo_rover::evaluation::{Evaluator, Violation};
+use areo_rover::evaluation::{Conditions, Evaluator, Violation};
 use areo_rover::forces::ForceFailure;
 use areo_rover::motion::{Module, Motion, MotionFailure, RoverState, SampleSite, Stopped};
 use areo_terrain::Ground;
@@ -114,6 +114,51 @@ pub struct TraceStep {
     pub energy_wh: f64,
     /// Wheel axle positions after the module (x, y, z), m — for the side profile.
     pub wheels: [[f64; 3]; 6],
+    /// Largest friction any wheel used over the module's poses (|T|/N, in-plane and
+    /// lateral): the least μ the module needs.
+    pub friction_used: f64,
+}
+
+/// The wheel whose friction (or contact) gave out when a plan stopped on a force
+/// limit, read at the last admissible pose: the wheel using the largest share of its
+/// normal force as traction there.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Binding {
+    /// "left front", "right middle", …
+    pub wheel: String,
+    /// Its contact point, map frame, m.
+    pub contact_m: [f64; 3],
+    /// Its contact angle γ, degrees: the ground rising ahead positive (90 a wall ahead).
+    pub contact_angle_deg: f64,
+    /// Whether the wheel is moving up its contact (γ and the direction of travel of
+    /// the same sign) — climbing a wall or slope — rather than down it.
+    pub climbing: bool,
+    /// Body pitch, degrees (nose up positive).
+    pub pitch_deg: f64,
+    /// That wheel's |T|/N at the last admissible pose.
+    pub friction_used: f64,
+    /// The wheel on the steepest ground there (largest |γ|) — the one meeting the wall
+    /// or slope that makes the others push or hold — its contact angle, degrees, and
+    /// whether it is climbing.
+    pub steepest: (String, f64, bool),
+}
+
+impl std::fmt::Display for Binding {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} wheel at its friction limit (|T|/N = {:.2}, contact angle {:.0}°, at ({:.2}, {:.2}) m) while the {} wheel is {} ground at {:.0}° (body pitch {:.0}°)",
+            self.wheel,
+            self.friction_used,
+            self.contact_angle_deg,
+            self.contact_m[0],
+            self.contact_m[1],
+            self.steepest.0,
+            if self.steepest.2 { "climbing" } else { "descending" },
+            self.steepest.1.abs(),
+            self.pitch_deg
+        )
+    }
 }
 
 /// The executor's state after a module: enough to resume a plan that shares this
@@ -162,6 +207,9 @@ pub struct Execution {
     pub peak_saturation: f64,
     /// The executed modules, when asked for.
     pub trace: Vec<TraceStep>,
+    /// When the plan stopped on slip, loss of contact or saturation: the wheel that
+    /// bound, when asked for (with the trace).
+    pub binding: Option<Binding>,
     /// The state after each executed module (index k: after k + 1 modules), kept so
     /// plans sharing a prefix can resume (see [`Executor::resume`]); not serialised.
     #[serde(skip)]
@@ -253,6 +301,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             peak_friction_ratio: 0.0,
             peak_saturation: 0.0,
             trace: Vec::new(),
+            binding: None,
             checkpoints: Vec::with_capacity(plan.len()),
         };
         if let Some(problem) = &self.start_problem {
@@ -308,7 +357,10 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
                     out.failure_progress = progress;
                     break;
                 }
-                Err(Stopped { failure, progress, .. }) => {
+                Err(Stopped { failure, progress, state: last }) => {
+                    if trace && matches!(failure, MotionFailure::Violation(Violation::Forces { .. })) {
+                        out.binding = self.binding(&last, module);
+                    }
                     out.failure = Some((i, Failure::Motion(failure)));
                     out.failure_progress = progress;
                     break;
@@ -337,7 +389,9 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
                 out.stabilities.push(s);
             }
             if trace {
-                out.trace.push(self.trace_step(module, &step.state, step.min_stability, energy, &motion));
+                let mut t = self.trace_step(module, &step.state, step.min_stability, energy, &motion);
+                t.friction_used = step.max_friction;
+                out.trace.push(t);
             }
             state = step.state;
             out.prefix_len = i + 1;
@@ -424,7 +478,39 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             wheel_loads_n: loads,
             energy_wh,
             wheels,
+            friction_used: 0.0,
         }
+    }
+
+    /// The wheel closest to its friction limit at `state` (the last admissible pose of
+    /// a module that stopped on a force limit) under `module`'s direction of travel.
+    fn binding(&self, state: &RoverState, module: Module) -> Option<Binding> {
+        // The pose was admissible: the wheel nearest its limit there is the one that
+        // gives out a step later.
+        let cond = Conditions { mu: self.config.mu, direction: module.direction() };
+        let eval = self.evaluator.evaluate(self.ground, state.place(), &state.arm, &cond, state.pose.as_ref()).ok()?;
+        let names = ["left front", "left middle", "left rear", "right front", "right middle", "right rear"];
+        let ratio = |k: usize| {
+            let side = &eval.sides[k / 3];
+            let n = side.normal_n[k % 3];
+            if n > 1e-9 { side.traction_n[k % 3].abs() / n } else { f64::INFINITY }
+        };
+        let k = (0..6).max_by(|a, b| ratio(*a).total_cmp(&ratio(*b)))?;
+        let gammas: Vec<f64> = eval.pose.left.gamma.iter().chain(&eval.pose.right.gamma).copied().collect();
+        let gamma = gammas[k];
+        // A turn in place rolls the wheels forward on one side: call it climbing if
+        // the ground rises ahead of the wheel.
+        let direction = if module.direction() == 0.0 { 1.0 } else { module.direction() };
+        let j = (0..6).max_by(|a, b| gammas[*a].abs().total_cmp(&gammas[*b].abs()))?;
+        Some(Binding {
+            wheel: names[k].to_string(),
+            contact_m: eval.pose.wheels[k].contact,
+            contact_angle_deg: gamma.to_degrees(),
+            climbing: gamma * direction > 0.0,
+            pitch_deg: eval.pose.pitch.to_degrees(),
+            friction_used: ratio(k),
+            steepest: (names[j].to_string(), gammas[j].to_degrees(), gammas[j] * direction > 0.0),
+        })
     }
 }
 

@@ -41,7 +41,7 @@ mod task;
 
 pub use crate::{
     error::{Error, Result},
-    executor::{ExecConfig, Execution, Executor, Failure, TraceStep},
+    executor::{Binding, ExecConfig, Execution, Executor, Failure, TraceStep},
     fitness::{Scale, Weights, fitness, h},
     ga::{CrossoverPoint, GaConfig, GaReport, Generation, Individual, evolve},
     inventory::{Inventory, Overrides, Removal, design_space_log10},

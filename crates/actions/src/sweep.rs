@@ -6,7 +6,7 @@ use areo_rover::evaluation::Evaluator;
 use areo_terrain::Ground;
 
 use crate::error::Result;
-use crate::executor::{ExecConfig, Executor, Failure};
+use crate::executor::{Binding, ExecConfig, Executor, Failure};
 use crate::fitness::{Scale, Weights};
 use crate::ga::{GaConfig, evolve};
 use crate::inventory::Inventory;
@@ -27,6 +27,8 @@ pub struct SweepPoint {
     pub max_y_m: f64,
     /// What stopped the best plan, if anything.
     pub failure: Option<Failure>,
+    /// The wheel that bound, when a force limit stopped it.
+    pub binding: Option<Binding>,
 }
 
 /// A sweep's points in the order given, and its two thresholds.
@@ -77,6 +79,7 @@ pub fn friction_sweep<G: Ground + Sync>(
             prefix_len: best.prefix_len,
             max_y_m,
             failure: best.failure.map(|(_, f)| f),
+            binding: best.binding,
         };
         each(&point);
         sweep.points.push(point);

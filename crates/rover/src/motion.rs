@@ -158,6 +158,15 @@ impl Module {
         Module::ALL.into_iter().find(|m| m.code() == code)
     }
 
+    /// Direction of travel of the reference point: +1 forward, −1 backward, 0 for
+    /// modules that do not drive it (turns in place, arm, instruments).
+    pub fn direction(self) -> f64 {
+        match self.path() {
+            Some((d, _, _)) if d != 0.0 => d.signum(),
+            _ => 0.0,
+        }
+    }
+
     /// A driving path: (distance of the reference point along the path, m; turn
     /// radius, m, positive left, infinite straight; in-place rotation, rad, positive
     /// left).

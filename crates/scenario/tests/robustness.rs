@@ -102,7 +102,9 @@ fn every_truncation_of_every_scenario_is_a_located_error() {
     let mut failures = Vec::new();
     for (path, text) in shipped() {
         // Every character boundary for the first 200 bytes, then every 7th.
-        let cuts = (0..text.len()).filter(|&i| text.is_char_boundary(i) && (i < 200 || i % 7 == 0));
+        // (A cut that only drops trailing whitespace leaves the whole scenario.)
+        let cuts = (0..text.len())
+            .filter(|&i| text.is_char_boundary(i) && (i < 200 || i % 7 == 0) && !text[i..].trim().is_empty());
         for cut in cuts {
             let what = format!("{} cut at {cut}", path.display());
             match std::panic::catch_unwind(|| parse(&path, &text[..cut])) {

@@ -205,6 +205,23 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         if let (Some(a), Some(b)) = (crossed, completed) {
             o.flag("sweep_ditch_needs_less_friction_than_hill", a < b);
         }
+        // What binds just below each threshold: the best plan at the last μ that fails.
+        for (what, threshold) in [("crossing", crossed), ("completing", completed)] {
+            // (The nearest μ below whose best plan stopped on a force limit: a plan that
+            // merely runs out of modules names no wheel.)
+            let below =
+                threshold.and_then(|t| result.points.iter().rev().find(|p| p.mu < t - 1e-9 && p.binding.is_some()));
+            if let Some(b) = below.and_then(|p| p.binding.as_ref()) {
+                o.text(&format!("sweep_binding_below_{what}_wheel"), b.wheel.clone());
+                o.flag(&format!("sweep_binding_below_{what}_climbing"), b.climbing);
+                o.number(&format!("sweep_binding_below_{what}_y_m"), b.contact_m[1]);
+                o.number(&format!("sweep_binding_below_{what}_mu"), below.map_or(0.0, |p| p.mu));
+                o.text(&format!("sweep_binding_below_{what}_steepest_wheel"), b.steepest.0.clone());
+                o.flag(&format!("sweep_binding_below_{what}_steepest_climbing"), b.steepest.2);
+                o.number(&format!("sweep_binding_below_{what}_steepest_angle_deg"), b.steepest.1);
+                o.summary.push(format!("below the {what} threshold (μ = {}): {b}", below.map_or(0.0, |p| p.mu)));
+            }
+        }
         o.summary.push(format!(
             "friction sweep μ = {}..{}: ditch crossed from μ = {}, task completed from μ = {}",
             sweep[0],
@@ -253,10 +270,15 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         if let Some((_, f)) = &best.failure {
             o.text(&format!("{name}_failure"), f.kind());
         }
+        if let Some(b) = &best.binding {
+            o.text(&format!("{name}_binding_wheel"), b.wheel.clone());
+            o.flag(&format!("{name}_binding_climbing"), b.climbing);
+            o.summary.push(format!("{name}: bound by the {b}"));
+        }
         if let Some(dir) = opts.out_dir {
             let sub = if reports.len() == 1 { dir.to_path_buf() } else { dir.join(name) };
             std::fs::create_dir_all(&sub).map_err(|source| Error::Io { path: sub.clone(), source })?;
-            o.files.extend(write_outputs(&sub, &dem, &task, report, &best.trace, &params)?);
+            o.files.extend(write_outputs(&sub, &dem, &task, report, &best.trace, &params, exec.mu)?);
         }
     }
     Ok(o)
@@ -423,8 +445,25 @@ fn run_facts(o: &mut Outcome, name: &str, r: &GaReport, seconds: f64) {
 
 /// The sweep as a table, one row per μ.
 fn sweep_table(sweep: &FrictionSweep) -> Table {
-    let mut table = Table::new(["mu", "complete", "best_fitness", "prefix", "max_y_m", "failure"]);
+    let mut table = Table::new([
+        "mu",
+        "complete",
+        "best_fitness",
+        "prefix",
+        "max_y_m",
+        "failure",
+        "binding_wheel",
+        "climbing",
+        "contact_x_m",
+        "contact_y_m",
+        "contact_angle_deg",
+        "pitch_deg",
+        "steepest_wheel",
+        "steepest_angle_deg",
+        "steepest_climbing",
+    ]);
     for p in &sweep.points {
+        let b = p.binding.as_ref();
         table.push(vec![
             p.mu.to_string(),
             u8::from(p.complete).to_string(),
@@ -432,6 +471,15 @@ fn sweep_table(sweep: &FrictionSweep) -> Table {
             p.prefix_len.to_string(),
             format!("{:.3}", p.max_y_m),
             p.failure.as_ref().map(ToString::to_string).unwrap_or_default(),
+            b.map(|b| b.wheel.clone()).unwrap_or_default(),
+            b.map(|b| u8::from(b.climbing).to_string()).unwrap_or_default(),
+            b.map(|b| format!("{:.3}", b.contact_m[0])).unwrap_or_default(),
+            b.map(|b| format!("{:.3}", b.contact_m[1])).unwrap_or_default(),
+            b.map(|b| format!("{:.1}", b.contact_angle_deg)).unwrap_or_default(),
+            b.map(|b| format!("{:.1}", b.pitch_deg)).unwrap_or_default(),
+            b.map(|b| b.steepest.0.clone()).unwrap_or_default(),
+            b.map(|b| format!("{:.1}", b.steepest.1)).unwrap_or_default(),
+            b.map(|b| u8::from(b.steepest.2).to_string()).unwrap_or_default(),
         ]);
     }
     table
@@ -444,6 +492,7 @@ fn write_outputs(
     report: &GaReport,
     trace: &[TraceStep],
     params: &RoverParams,
+    mu: f64,
 ) -> Result<Vec<std::path::PathBuf>> {
     let mut files = Vec::new();
     let mut put = |name: &str, text: String| -> Result<()> {
@@ -618,6 +667,27 @@ fn write_outputs(
             x_label: "module".into(),
             y_label: "least margin in the module, % of flat ground".into(),
             series: vec![Series { label: "stability margin".into(), points: stability, rgb: (30, 90, 220), width: 2 }],
+            nights: Vec::new(),
+            x_range: (0.0, trace.len().max(1) as f64),
+        },
+    )?);
+    let friction: Vec<(f64, f64)> = trace.iter().enumerate().map(|(i, t)| (i as f64 + 1.0, t.friction_used)).collect();
+    files.extend(crate::output::plots::time(
+        dir,
+        "friction",
+        &TimePlot {
+            title: "Friction needed along the plan (largest |T|/N over each module's poses)".into(),
+            x_label: "module".into(),
+            y_label: "friction needed".into(),
+            series: vec![
+                Series { label: "needed".into(), points: friction, rgb: (200, 90, 20), width: 2 },
+                Series {
+                    label: format!("μ = {mu}"),
+                    points: vec![(0.0, mu), (trace.len().max(1) as f64, mu)],
+                    rgb: (120, 120, 120),
+                    width: 1,
+                },
+            ],
             nights: Vec::new(),
             x_range: (0.0, trace.len().max(1) as f64),
         },
