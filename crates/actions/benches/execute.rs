@@ -40,6 +40,7 @@ fn task() -> Task {
         communication: false,
         video: false,
         recharge: false,
+        tray: false,
     }
 }
 

@@ -1,5 +1,7 @@
 //! The action-module inventory (Table 1) and the filters that remove modules a task
-//! cannot need, shrinking the design space D = N^m (eq. 1).
+//! cannot need, shrinking the design space D = N^m (eq. 1). Task tests (what the task
+//! asks for) and physics tests (what the rover's geometry does on the task's map) each
+//! give their reason; for the paper's task 1 they leave its nine modules.
 
 use areo_rover::motion::Module;
 use serde::{Deserialize, Serialize};
@@ -41,26 +43,65 @@ fn is_arm(m: Module) -> bool {
     )
 }
 
+/// Where a task is planned: what the physics filters look at.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Surroundings {
+    /// The map's width (east–west) and height (north–south), m.
+    pub map_m: (f64, f64),
+    /// The rover's track (wheel mid-plane to mid-plane) and wheel width, m.
+    pub track_m: f64,
+    /// Wheel width, m.
+    pub wheel_width_m: f64,
+}
+
+impl Surroundings {
+    /// `params`'s rover on a map `map_m` (width, height) metres.
+    pub fn new(map_m: (f64, f64), params: &areo_rover::RoverParams) -> Surroundings {
+        Surroundings { map_m, track_m: params.track_m, wheel_width_m: params.wheel_width_m }
+    }
+
+    /// The width a U-turn on the tightest arc (105/107, 0.5 m radius) sweeps, m: the
+    /// outer wheel's circle.
+    fn u_turn_m(&self) -> f64 {
+        2.0 * (TIGHT_ARC_M + 0.5 * self.track_m + 0.5 * self.wheel_width_m)
+    }
+}
+
+/// The tight arcs' radius (105, 107), m.
+const TIGHT_ARC_M: f64 = 0.5;
+
 /// Why the task cannot need `m`, if it cannot.
-fn filter_reason(task: &Task, m: Module) -> Option<&'static str> {
+fn filter_reason(task: &Task, room: &Surroundings, m: Module) -> Option<String> {
     let sampling = task.samples_wanted > 0;
-    match m {
+    let (dx, dy) = (task.target.0 - task.start.0, task.target.1 - task.start.1);
+    let heading = task.start.2.to_radians();
+    // The target's bearing off the start heading: ahead when within ±90°.
+    let ahead = dx * heading.sin() + dy * heading.cos() > 0.0;
+    Some(match m {
         Module::Grasp | Module::Release | Module::TurnToSample | Module::TurnFromSample if !sampling => {
-            Some("no samples wanted: nothing to grasp, release or turn to")
+            "no samples wanted: nothing to grasp, release or turn to".into()
         }
-        Module::TrayDeploy | Module::TrayRetract if !sampling => {
-            Some("no samples wanted: the science tray stays stowed")
+        Module::TrayDeploy | Module::TrayRetract if !task.tray => {
+            "no in-situ measurement: samples are grasped and carried, the science tray stays stowed".into()
+        }
+        Module::TurnLeft | Module::TurnRight if room.map_m.0.min(room.map_m.1) >= room.u_turn_m() => format!(
+            "the tight arcs turn the rover through any heading while moving: a U-turn on them sweeps {:.2} m, and the map is {:.2} m across",
+            room.u_turn_m(),
+            room.map_m.0.min(room.map_m.1)
+        ),
+        Module::Backward if ahead && room.map_m.0.min(room.map_m.1) >= room.u_turn_m() => {
+            "the target lies ahead of the start, and the forward arcs can turn the rover anywhere on the map: backing only lengthens the way".into()
         }
         _ if is_arm(m) && !task.manipulation => {
-            Some("no manipulation: the arm stays stowed (sample modules bring the tool down themselves)")
+            "no manipulation: the arm stays stowed (a grasp reaches down to the sample itself)".into()
         }
-        Module::Communicate if !task.communication => Some("no communication required"),
-        Module::VideoStart | Module::VideoEnd if !task.video => Some("no video required"),
-        Module::SweepSensors => Some("sweeping sensors changes neither the rover's place nor the task's state"),
-        Module::Sleep => Some("sleeping only passes time"),
-        Module::Recharge if !task.recharge => Some("the battery covers the task: no recharging needed"),
-        _ => None,
-    }
+        Module::Communicate if !task.communication => "no communication required".into(),
+        Module::VideoStart | Module::VideoEnd if !task.video => "no video required".into(),
+        Module::SweepSensors => "sweeping sensors changes neither the rover's place nor the task's state".into(),
+        Module::Sleep => "sleeping only passes time".into(),
+        Module::Recharge if !task.recharge => "the battery covers the task: no recharging needed".into(),
+        _ => return None,
+    })
 }
 
 impl Inventory {
@@ -69,9 +110,9 @@ impl Inventory {
         Inventory { modules: Module::ALL.to_vec(), removed: Vec::new() }
     }
 
-    /// The modules `task` can need, with every removal and its reason, then the
-    /// scenario's overrides.
-    pub fn for_task(task: &Task, overrides: &Overrides) -> Inventory {
+    /// The modules `task` can need where it is planned (`room`), with every removal
+    /// and its reason, then the scenario's overrides.
+    pub fn for_task(task: &Task, room: &Surroundings, overrides: &Overrides) -> Inventory {
         let mut modules = Vec::new();
         let mut removed = Vec::new();
         for m in Module::ALL {
@@ -80,8 +121,8 @@ impl Inventory {
                 removed.push(Removal { code, reason: "forced out by the scenario".into() });
             } else if overrides.force_in.contains(&code) {
                 modules.push(m);
-            } else if let Some(reason) = filter_reason(task, m) {
-                removed.push(Removal { code, reason: reason.into() });
+            } else if let Some(reason) = filter_reason(task, room, m) {
+                removed.push(Removal { code, reason });
             } else {
                 modules.push(m);
             }

@@ -20,7 +20,8 @@
 //! let params = areo_rover::RoverParams::lsr1();
 //! let evaluator = areo_rover::evaluation::Evaluator::new(&params);
 //! let executor = Executor::new(dem, &evaluator, task, ExecConfig::default());
-//! let inventory = Inventory::for_task(task, &Overrides::default());
+//! let room = Surroundings::new((dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy()), &params);
+//! let inventory = Inventory::for_task(task, &room, &Overrides::default());
 //! let scale = Scale { start_distance_m: task.start_distance_m(), samples_wanted: 1,
 //!     reference_time_s: task.start_distance_m() / 0.03, battery_wh: 48.0, s_floor: 0.2 };
 //! let report = evolve(&executor, &inventory, &Weights::default(), &scale, &GaConfig::default())?;
@@ -44,7 +45,7 @@ pub use crate::{
     executor::{Binding, ExecConfig, Execution, Executor, Failure, TraceStep},
     fitness::{Scale, Weights, fitness, h},
     ga::{CrossoverPoint, GaConfig, GaReport, Generation, Individual, evolve},
-    inventory::{Inventory, Overrides, Removal, design_space_log10},
+    inventory::{Inventory, Overrides, Removal, Surroundings, design_space_log10},
     sweep::{FrictionSweep, SweepPoint, friction_sweep},
     task::{Rock, Sample, Task},
 };

@@ -62,6 +62,10 @@ pub struct Task {
     /// The battery may need recharging on the way.
     #[serde(default)]
     pub recharge: bool,
+    /// In-situ measurements that put the science tray down (2010/2020); samples alone
+    /// are grasped and carried.
+    #[serde(default)]
+    pub tray: bool,
 }
 
 impl Task {

@@ -19,7 +19,13 @@ fn task(target: (f64, f64)) -> Task {
         communication: false,
         video: false,
         recharge: false,
+        tray: false,
     }
+}
+
+/// LSR-1 on a map `w` × `h` metres.
+fn room(w: f64, h: f64) -> Surroundings {
+    Surroundings::new((w, h), &RoverParams::lsr1())
 }
 
 fn scale(t: &Task) -> Scale {
@@ -37,7 +43,9 @@ const FLAT: Plane = Plane { z0: 0.0, gx: 0.0, gy: 0.0 };
 #[test]
 fn filters_remove_what_a_mobility_task_cannot_need_and_say_why() {
     let t = task((0.0, 2.0));
-    let inv = Inventory::for_task(&t, &Overrides::default());
+    // On a map too narrow for a U-turn on the tight arcs (1.0 + 0.6 + 0.1 = 1.7 m),
+    // point turns and backing stay.
+    let inv = Inventory::for_task(&t, &room(1.6, 4.0), &Overrides::default());
     // Mobility only: the 8 driving modules stay; arm, grasp, tray, video, comms,
     // sleep, sweep and recharge go, each with a reason.
     assert_eq!(inv.codes(), vec![101, 102, 103, 104, 105, 106, 107, 108]);
@@ -51,18 +59,39 @@ fn filters_remove_what_a_mobility_task_cannot_need_and_say_why() {
     assert!((design_space_log10(26, 40) - 40.0 * 26f64.log10()).abs() < 1e-12);
     assert!((design_space_log10(26, 40) - design_space_log10(8, 40) - 40.0 * (26.0f64 / 8.0).log10()).abs() < 1e-9);
     // The scenario can force modules in (task 2's arm) and out.
-    let forced =
-        Inventory::for_task(&t, &Overrides { force_in: vec![1001, 1002, 1003, 1004], force_out: vec![102, 103, 104] });
+    let forced = Inventory::for_task(
+        &t,
+        &room(1.6, 4.0),
+        &Overrides { force_in: vec![1001, 1002, 1003, 1004], force_out: vec![102, 103, 104] },
+    );
     assert_eq!(forced.codes(), vec![101, 105, 106, 107, 108, 1001, 1002, 1003, 1004]);
     assert!(forced.removed.iter().any(|r| r.code == 102 && r.reason.contains("forced out")));
     // Sampling tasks keep the sample modules.
     let mut s = task((0.0, 2.0));
     s.samples = vec![Sample { x_m: 0.0, y_m: 1.0, mass_kg: 0.1 }];
     s.samples_wanted = 1;
-    let codes = Inventory::for_task(&s, &Overrides::default()).codes();
-    for c in [3000, 3001, 3002, 3003, 2010, 2020] {
+    let codes = Inventory::for_task(&s, &room(1.6, 4.0), &Overrides::default()).codes();
+    for c in [3000, 3001, 3002, 3003] {
         assert!(codes.contains(&c), "{c}");
     }
+    // The tray only for in-situ measurements.
+    assert!(!codes.contains(&2010) && !codes.contains(&2020));
+    s.tray = true;
+    let codes = Inventory::for_task(&s, &room(1.6, 4.0), &Overrides::default()).codes();
+    assert!(codes.contains(&2010) && codes.contains(&2020));
+    // With room for a U-turn on the tight arcs and the target ahead, the point turns
+    // and backing go too: the paper's nine modules for task 1, each removal with its
+    // reason.
+    s.tray = false;
+    let nine = Inventory::for_task(&s, &room(1.8, 4.0), &Overrides::default());
+    assert_eq!(nine.codes(), vec![101, 105, 106, 107, 108, 3000, 3001, 3002, 3003]);
+    let reason = |code| nine.removed.iter().find(|r| r.code == code).unwrap().reason.clone();
+    assert!(reason(103).contains("U-turn") && reason(104).contains("1.80 m"), "{}", reason(103));
+    assert!(reason(102).contains("ahead"), "{}", reason(102));
+    // A target behind the start keeps backing.
+    let mut back = s.clone();
+    back.target = (0.0, -2.0);
+    assert!(Inventory::for_task(&back, &room(4.0, 4.0), &Overrides::default()).codes().contains(&102));
     assert_eq!(Inventory::from_codes(&[101, 999]), Err(999));
 }
 

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use areo_actions::{
-    ExecConfig, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Rock, Scale, Task, TraceStep,
+    ExecConfig, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Rock, Scale, Surroundings, Task, TraceStep,
     design_space_log10, evolve, friction_sweep,
 };
 use areo_rover::RoverParams;
@@ -82,7 +82,8 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         battery_wh: params.battery.capacity_wh * params.battery.usable_fraction,
         s_floor: job.execution.stability_floor,
     };
-    let filtered = Inventory::for_task(&task, &job.overrides);
+    let room = Surroundings::new((dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy()), &params);
+    let filtered = Inventory::for_task(&task, &room, &job.overrides);
     let mut o = Outcome::default();
     let m = job.ga.initial_length.1;
     o.number("design_space_log10_full", design_space_log10(26, m));
@@ -95,6 +96,18 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         design_space_log10(filtered.modules.len(), m)
     ));
 
+    if let Some(dir) = opts.out_dir {
+        let mut table = Table::new(["code", "kept", "reason"]);
+        for code in filtered.codes() {
+            table.push(vec![code.to_string(), "1".into(), String::new()]);
+        }
+        for r in &filtered.removed {
+            table.push(vec![r.code.to_string(), "0".into(), r.reason.clone()]);
+        }
+        let path = dir.join("inventory.csv");
+        table.write(&path)?;
+        o.files.push(path);
+    }
     // The runs: the job's list, or one run on the filtered inventory.
     let runs: Vec<RunPlan> = if job.runs.is_empty() {
         vec![RunPlan {
