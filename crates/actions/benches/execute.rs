@@ -10,18 +10,35 @@ use areo_terrain::Dem;
 use areo_terrain::synth::{Feature, Noise, TerrainSpec};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
-/// Task 1's terrain (scenarios/ditch-and-hill.ron without the rocks).
+/// Task 1's terrain (scenarios/ditch-and-hill.ron, as of issue 20).
 fn terrain() -> Dem {
+    let rock = |x_m, y_m, height_m, width_m| Feature::Rock { x_m, y_m, height_m, width_m };
     TerrainSpec {
-        cols: 150,
-        rows: 300,
+        cols: 200,
+        rows: 320,
         cell_m: 0.02,
         base_m: 0.0,
         seed: 5,
         noise: Some(Noise { amplitude_m: 0.005, wavelength_m: 0.5, octaves: 2, persistence: 0.5 }),
         features: vec![
-            Feature::Ditch { from_m: (0.0, 1.5), to_m: (3.0, 1.5), width_m: 0.2, depth_m: 0.2, wall_deg: 70.0 },
-            Feature::Hill { x_m: 1.5, y_m: 4.6, radius_m: 1.39, slope_deg: 25.0 },
+            Feature::Ditch { from_m: (0.0, 1.9), to_m: (4.0, 1.9), width_m: 0.25, depth_m: 0.25, wall_deg: 70.0 },
+            Feature::AsymmetricHill {
+                x_m: 2.4,
+                y_m: 5.0,
+                height_m: 0.65,
+                west_slope_deg: 25.0,
+                east_slope_deg: 70.0,
+                top_radius_m: 0.5,
+            },
+            rock(1.70, 1.45, 0.20, 0.22),
+            rock(2.30, 2.75, 0.19, 0.22),
+            rock(2.00, 3.60, 0.15, 0.20),
+            rock(2.55, 2.35, 0.12, 0.18),
+            rock(1.35, 2.65, 0.16, 0.20),
+            rock(2.80, 3.50, 0.18, 0.22),
+            rock(1.05, 0.95, 0.10, 0.15),
+            rock(2.95, 0.85, 0.14, 0.18),
+            rock(1.10, 3.90, 0.12, 0.16),
         ],
     }
     .build()
@@ -29,13 +46,25 @@ fn terrain() -> Dem {
 }
 
 fn task() -> Task {
+    let sample = |x_m, y_m| Sample { x_m, y_m, mass_kg: 0.1 };
     Task {
-        start: (1.5, 0.6, 0.0),
-        target: (1.5, 4.6),
-        target_radius_m: 0.2,
-        samples: vec![Sample { x_m: 1.45, y_m: 1.05, mass_kg: 0.1 }],
+        start: (2.0, 0.6, 0.0),
+        target: (2.4, 5.0),
+        target_radius_m: 0.25,
+        samples: vec![
+            sample(1.55, 1.25),
+            sample(1.45, 2.85),
+            sample(2.70, 2.60),
+            sample(3.10, 1.30),
+            sample(3.00, 4.30),
+        ],
         samples_wanted: 1,
-        rocks: Vec::new(),
+        // The rocks as obstacles for the body, as the scenario job lists them.
+        rocks: vec![
+            areo_actions::Rock { x_m: 1.70, y_m: 1.45, height_m: 0.20, width_m: 0.22 },
+            areo_actions::Rock { x_m: 2.30, y_m: 2.75, height_m: 0.19, width_m: 0.22 },
+            areo_actions::Rock { x_m: 2.00, y_m: 3.60, height_m: 0.15, width_m: 0.20 },
+        ],
         manipulation: false,
         communication: false,
         video: false,
@@ -50,7 +79,7 @@ fn bench(c: &mut Criterion) {
     let evaluator = Evaluator::new(&params);
     let task = task();
     let executor = Executor::new(&dem, &evaluator, &task, ExecConfig::default());
-    // 40 modules on the ground before the ditch: forward, turn, back, turn, a wide arc
+    // 40 modules on the ground before the ditch (clear of the rocks): forward, turn, back, turn, a wide arc
     // and its way back — ten driving centimetres or five degrees each.
     let plan: Vec<Module> = (0..40)
         .map(|i| match i % 4 {
@@ -76,8 +105,9 @@ fn bench(c: &mut Criterion) {
         s_floor: 0.2,
     };
     let config = GaConfig { initial_length: (60, 100), ..GaConfig::default() };
+    let weights = Weights { samples: 2.0, ..Weights::default() };
     g.bench_function("ga_50x20_task1", |b| {
-        b.iter(|| evolve(&executor, &inventory, &Weights::default(), &scale, &config).expect("valid settings"))
+        b.iter(|| evolve(&executor, &inventory, &weights, &scale, &config).expect("valid settings"))
     });
     g.finish();
 }
