@@ -784,13 +784,18 @@ impl<'e> Motion<'e> {
         Ok(())
     }
 
+    /// The pose `state` stands in: its last one, or solved where it stands.
+    fn pose_of(&self, ground: &impl Ground, state: &RoverState) -> Option<Pose> {
+        match state.pose {
+            Some(q) => Some(q),
+            None => self.evaluator.kinematics().solve(ground, state.x, state.y, state.heading, None).ok(),
+        }
+    }
+
     /// The tool's position on the map, from the body pose.
     pub fn tool_world(&self, ground: &impl Ground, state: &RoverState) -> Option<[f64; 3]> {
         let p = self.evaluator.params();
-        let pose = match state.pose {
-            Some(q) => q,
-            None => self.evaluator.kinematics().solve(ground, state.x, state.y, state.heading, None).ok()?,
-        };
+        let pose = self.pose_of(ground, state)?;
         let (fx, fy) = pose.forward();
         let (lx, ly) = (-fy, fx);
         let (sp, cp) = pose.pitch.sin_cos();
@@ -899,10 +904,7 @@ impl<'e> Motion<'e> {
     /// from the ground under the middle axles): the inverse of [`Motion::tool_world`].
     pub fn body_point(&self, ground: &impl Ground, state: &RoverState, world: [f64; 3]) -> Option<[f64; 3]> {
         let p = self.evaluator.params();
-        let pose = match state.pose {
-            Some(q) => q,
-            None => self.evaluator.kinematics().solve(ground, state.x, state.y, state.heading, None).ok()?,
-        };
+        let pose = self.pose_of(ground, state)?;
         let (fx, fy) = pose.forward();
         let (lx, ly) = (-fy, fx);
         let (sp, cp) = pose.pitch.sin_cos();
