@@ -1,9 +1,10 @@
 //! Sun-direction throughput: the planners ask for the Sun at every time step of every
-//! LOS map, so this is the ephemeris' hot path (target ≥ 5 M evaluations/s on one core).
+//! LOS map, so this is the ephemeris' hot path (target ≥ 5 M evaluations/s on one core
+//! on Mars, ≥ 2 M on the Moon).
 
 use std::hint::black_box;
 
-use areo_ephemeris::{Mars24, Site, SolarGeometry, SunModel, parse_utc};
+use areo_ephemeris::{Body, Mars24, Site, SolarGeometry, SunModel, moon, parse_utc};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
 fn sun_direction(c: &mut Criterion) {
@@ -26,6 +27,20 @@ fn sun_direction(c: &mut Criterion) {
     g.bench_function("azimuth_elevation_at_site", |b| {
         b.iter(|| black_box(SolarGeometry::at_days_since_j2000(black_box(dt0)).state().at_site(&site)))
     });
+    // The Moon and the Earth: the Sun's (and on the Moon the Earth's) direction from an
+    // Epoch, at a south-polar site (target ≥ 2 M evaluations/s on one core).
+    let moon_site = Site::on(Body::Moon, -89.5, 0.0).unwrap();
+    g.bench_function("Moon::sun(Epoch)", |b| b.iter(|| black_box(Body::Moon.sun(black_box(t0)))));
+    g.bench_function("moon::sky(Epoch) (Sun and Earth)", |b| b.iter(|| black_box(moon::sky(black_box(t0)))));
+    g.bench_function("moon_sun_and_earth_at_site", |b| {
+        b.iter(|| {
+            let s = moon::sky(black_box(t0));
+            black_box((s.sun.at_site(&moon_site), s.earth.at_site(&moon_site)))
+        })
+    });
+    let devon = Site::on(Body::Earth, 75.43, -89.87).unwrap();
+    g.bench_function("Earth::sun(Epoch)", |b| b.iter(|| black_box(Body::Earth.sun(black_box(t0)))));
+    g.bench_function("earth_sun_at_site", |b| b.iter(|| black_box(Body::Earth.sun(black_box(t0)).at_site(&devon))));
     g.finish();
 }
 

@@ -26,9 +26,7 @@ pub fn top_of_atmosphere_w_m2(distance_au: f64) -> f64 {
 
 /// Air mass of a homogeneous spherical shell atmosphere for a Sun at `elevation_deg`.
 pub fn air_mass(elevation_deg: f64) -> f64 {
-    let mu = elevation_deg.to_radians().sin();
-    let k = MARS_MEAN_RADIUS_M / SCALE_HEIGHT_M;
-    ((k * mu).powi(2) + 2.0 * k + 1.0).sqrt() - k * mu
+    shell_air_mass(elevation_deg, MARS_MEAN_RADIUS_M, SCALE_HEIGHT_M)
 }
 
 /// How the atmosphere turns top-of-atmosphere flux into surface flux.
@@ -39,11 +37,51 @@ pub enum Atmosphere {
         /// Beam flux, W/m² normal to the beam.
         peak_w_m2: f64,
     },
-    /// Beer–Lambert extinction of the direct beam with optical depth `tau`.
+    /// Beer–Lambert extinction of the direct beam with optical depth `tau` (Mars's
+    /// shell: R = 3389.5 km, H = 11.1 km).
     BeerLambert {
         /// Normal-incidence optical depth, ≥ 0.
         tau: f64,
     },
+    /// Beer–Lambert extinction in a spherical shell of any body's radius and scale
+    /// height (the Earth: R = 6371 km, H = 8.43 km; see [`Atmosphere::for_body`]).
+    Shell {
+        /// Normal-incidence optical depth, ≥ 0.
+        tau: f64,
+        /// The body's mean radius, m.
+        radius_m: f64,
+        /// The atmosphere's scale height, m.
+        scale_height_m: f64,
+    },
+    /// No atmosphere (the Moon): the top-of-atmosphere flux whenever the Sun is up.
+    Airless,
+}
+
+/// The Earth's atmospheric scale height used for the air mass, m (the standard
+/// atmosphere's density scale height near the ground).
+pub const EARTH_SCALE_HEIGHT_M: f64 = 8_430.0;
+
+impl Atmosphere {
+    /// The surface flux model of `body` with optical depth `tau` (ignored on the Moon).
+    pub fn for_body(body: crate::Body, tau: f64) -> Atmosphere {
+        match body {
+            crate::Body::Mars => Atmosphere::BeerLambert { tau },
+            crate::Body::Moon => Atmosphere::Airless,
+            crate::Body::Earth => Atmosphere::Shell {
+                tau,
+                radius_m: crate::Body::Earth.mean_radius_m(),
+                scale_height_m: EARTH_SCALE_HEIGHT_M,
+            },
+        }
+    }
+}
+
+/// Air mass of a homogeneous spherical shell of scale height `h` over a body of radius
+/// `r` for a Sun at `elevation_deg`.
+pub fn shell_air_mass(elevation_deg: f64, r: f64, h: f64) -> f64 {
+    let mu = elevation_deg.to_radians().sin();
+    let k = r / h;
+    ((k * mu).powi(2) + 2.0 * k + 1.0).sqrt() - k * mu
 }
 
 impl Atmosphere {
@@ -58,6 +96,11 @@ impl Atmosphere {
             Atmosphere::BeerLambert { tau } => {
                 top_of_atmosphere_w_m2(distance_au) * (-tau * air_mass(elevation_deg)).exp()
             }
+            Atmosphere::Shell { tau, radius_m, scale_height_m } => {
+                top_of_atmosphere_w_m2(distance_au)
+                    * (-tau * shell_air_mass(elevation_deg, radius_m, scale_height_m)).exp()
+            }
+            Atmosphere::Airless => top_of_atmosphere_w_m2(distance_au),
         }
     }
 
@@ -119,6 +162,19 @@ mod tests {
         let a = Atmosphere::BeerLambert { tau: 0.5 };
         let expect = top_of_atmosphere_w_m2(1.5) * (-0.5f64).exp();
         assert!((a.beam_w_m2(90.0, 1.5) - expect).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_moon_gets_the_solar_constant_and_the_earth_its_clear_sky_beam() {
+        let moon = Atmosphere::for_body(crate::Body::Moon, 0.5);
+        assert_eq!(moon.beam_w_m2(0.5, 1.0), SOLAR_CONSTANT_W_M2);
+        assert_eq!(moon.beam_w_m2(-0.5, 1.0), 0.0);
+        // Earth, τ = 0.1 broadband: exp(−0.1) of 1361 at the zenith; Kasten & Young's
+        // relative air mass at 10° elevation is 5.60, the shell's 5.6 ± 0.1.
+        let earth = Atmosphere::for_body(crate::Body::Earth, 0.1);
+        assert!((earth.beam_w_m2(90.0, 1.0) - 1361.0 * (-0.1f64).exp()).abs() < 1e-9);
+        let m10 = shell_air_mass(10.0, crate::Body::Earth.mean_radius_m(), EARTH_SCALE_HEIGHT_M);
+        assert!((m10 - 5.60).abs() < 0.1, "{m10}");
     }
 
     #[test]

@@ -1,5 +1,5 @@
-//! areo-ephemeris: Mars time, where the Sun and the Earth are seen from Mars, and how
-//! much sunlight reaches a panel.
+//! areo-ephemeris: Mars time, where the Sun and the Earth are in the sky of Mars, the
+//! Moon or the Earth, and how much sunlight reaches a panel.
 //!
 //! TEMPEST used CSPICE for the Sun's position; this crate gives the same answers with
 //! no data files, from the Mars24 algorithm (Allison & McEwen 2000; NASA GISS "Mars24
@@ -19,6 +19,10 @@
 //! - [`earth`]: the direction from a Mars site to the Earth (Keplerian heliocentric
 //!   orbits of both planets, IAU Mars rotation, light time).
 //! - [`flux`]: top-of-atmosphere and surface solar flux, and panel power.
+//! - [`Body`]: Mars, the Moon or the Earth — shape, gravity, day length, and a
+//!   [`SunModel`] each: [`moon`] (Meeus's truncated ELP-2000/82 and solar theory, the IAU
+//!   lunar rotation; the Earth seen from the Moon) and [`terrestrial`] (the Sun at a
+//!   WGS84 site, UTC as UT1), both on [`geocentric`].
 //!
 //! Angles at the API are degrees in fields whose names say so (`ls_deg`); latitudes
 //! are planetocentric and longitudes east unless the name says otherwise; azimuth is
@@ -37,6 +41,7 @@
 //! Architecture invariant: areo-ephemeris depends on no other areo crate and reads no
 //! files.
 
+mod body;
 mod error;
 mod site;
 mod sun;
@@ -45,8 +50,12 @@ mod time;
 pub mod earth;
 pub mod events;
 pub mod flux;
+pub mod geocentric;
+pub mod moon;
+pub mod terrestrial;
 
 pub use crate::{
+    body::{Body, EarthView},
     error::{Error, Result},
     events::HorizonMask,
     site::Site,

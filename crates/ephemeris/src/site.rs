@@ -1,3 +1,4 @@
+use crate::body::Body;
 use crate::error::{Error, Result};
 
 /// Mars IAU 2015 equatorial radius, m.
@@ -5,20 +6,28 @@ pub(crate) const MARS_EQUATORIAL_RADIUS_M: f64 = 3_396_190.0;
 /// Mars IAU 2015 polar radius, m.
 pub(crate) const MARS_POLAR_RADIUS_M: f64 = 3_376_200.0;
 
-/// A place on Mars: planetocentric latitude and east longitude, degrees.
+/// A place on a [`Body`]: latitude and east longitude, degrees — planetocentric on Mars
+/// and the Moon, geodetic (WGS84, as GPS gives it) on the Earth.
 ///
-/// The local horizontal at a site is the tangent plane of the IAU 2015 ellipsoid, so
+/// The local horizontal at a site is the tangent plane of the body's ellipsoid, so
 /// "up" is the ellipsoid normal (planetographic latitude), not the radius vector.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Site {
     lat_deg: f64,
     lon_east_deg: f64,
+    body: Body,
 }
 
 impl Site {
-    /// A site at planetocentric latitude `lat_deg` ∈ [−90, 90] and east longitude
-    /// `lon_east_deg` (any finite value; wrapped to [0, 360)).
+    /// A site on Mars at planetocentric latitude `lat_deg` ∈ [−90, 90] and east
+    /// longitude `lon_east_deg` (any finite value; wrapped to [0, 360)).
     pub fn new(lat_deg: f64, lon_east_deg: f64) -> Result<Site> {
+        Site::on(Body::Mars, lat_deg, lon_east_deg)
+    }
+
+    /// A site on `body` (latitude planetocentric on Mars and the Moon, geodetic on the
+    /// Earth), with the ranges of [`Site::new`].
+    pub fn on(body: Body, lat_deg: f64, lon_east_deg: f64) -> Result<Site> {
         if !(-90.0..=90.0).contains(&lat_deg) {
             return Err(Error::OutOfRange {
                 field: "lat_deg",
@@ -33,10 +42,15 @@ impl Site {
                 allowed: "a finite number of degrees east",
             });
         }
-        Ok(Site { lat_deg, lon_east_deg: lon_east_deg.rem_euclid(360.0) })
+        Ok(Site { lat_deg, lon_east_deg: lon_east_deg.rem_euclid(360.0), body })
     }
 
-    /// Planetocentric latitude, degrees.
+    /// The body the site is on.
+    pub fn body(&self) -> Body {
+        self.body
+    }
+
+    /// Latitude as given (planetocentric, or geodetic on the Earth), degrees.
     pub fn lat_deg(&self) -> f64 {
         self.lat_deg
     }
@@ -46,12 +60,31 @@ impl Site {
         self.lon_east_deg
     }
 
-    /// Planetographic (geodetic) latitude on the IAU 2015 ellipsoid, degrees.
+    /// Planetographic (geodetic) latitude on the body's ellipsoid, degrees.
     pub fn planetographic_lat_deg(&self) -> f64 {
-        planetocentric_to_planetographic_deg(self.lat_deg)
+        match self.body {
+            Body::Mars => planetocentric_to_planetographic_deg(self.lat_deg),
+            Body::Moon | Body::Earth => self.lat_deg,
+        }
     }
 
-    /// The local east, north and up unit vectors in the Mars body-fixed frame.
+    /// The site's body-fixed position on the ellipsoid (height 0), m.
+    pub fn position_m(&self) -> [f64; 3] {
+        let (a, b) = (self.body.equatorial_radius_m(), self.body.polar_radius_m());
+        let (sl, cl) = self.lon_east_deg.to_radians().sin_cos();
+        if self.body == Body::Earth {
+            // Geodetic latitude: prime-vertical radius N = a / √(1 − e² sin²φ).
+            let (sp, cp) = self.lat_deg.to_radians().sin_cos();
+            let e2 = 1.0 - (b / a).powi(2);
+            let n = a / (1.0 - e2 * sp * sp).sqrt();
+            return [n * cp * cl, n * cp * sl, n * (1.0 - e2) * sp];
+        }
+        let (sp, cp) = self.lat_deg.to_radians().sin_cos();
+        let r = a * b / ((b * cp).powi(2) + (a * sp).powi(2)).sqrt();
+        [r * cp * cl, r * cp * sl, r * sp]
+    }
+
+    /// The local east, north and up unit vectors in the body-fixed frame.
     pub fn enu_axes(&self) -> [[f64; 3]; 3] {
         let lat_g = self.planetographic_lat_deg().to_radians();
         let lon = self.lon_east_deg.to_radians();

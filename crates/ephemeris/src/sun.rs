@@ -251,35 +251,65 @@ fn wrap(x: f64, period: f64) -> f64 {
 }
 
 fn cos_deg_small(deg: f64) -> f64 {
+    sin_cos_deg_small(deg).1
+}
+
+/// sin and cos of an angle in degrees, each to ~3e-8 absolute (see [`cos_deg_small`]):
+/// for terms whose amplitude makes that error negligible.
+pub(crate) fn sin_cos_deg_small(deg: f64) -> (f64, f64) {
     let q = (deg / 90.0).round();
     let x = (deg - 90.0 * q).to_radians();
     let x2 = x * x;
     let c = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)));
     let s = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
     match (q as i64).rem_euclid(4) {
-        0 => c,
-        1 => -s,
-        2 => -c,
-        _ => s,
+        0 => (s, c),
+        1 => (c, -s),
+        2 => (-s, -c),
+        _ => (-c, s),
     }
 }
 
-/// The Sun seen from Mars' centre at one instant.
+/// The Sun seen from a body's centre at one instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SunState {
-    /// Unit vector from Mars' centre to the Sun, Mars body-fixed frame.
+    /// Unit vector from the body's centre to the Sun, body-fixed frame.
     pub direction_body_fixed: [f64; 3],
-    /// Sun–Mars distance, astronomical units.
+    /// Sun–body distance, astronomical units.
     pub distance_au: f64,
 }
 
 impl SunState {
-    /// The Sun's azimuth and elevation above the local horizontal at `site`. The Sun is
-    /// taken at infinity: the parallax from a site 3400 km off-centre is below 0.001°.
+    /// Latitude (planetocentric) and east longitude [0, 360) of the sub-solar point,
+    /// degrees.
+    pub fn subsolar_deg(&self) -> (f64, f64) {
+        let v = self.direction_body_fixed;
+        (v[2].clamp(-1.0, 1.0).asin().to_degrees(), v[1].atan2(v[0]).to_degrees().rem_euclid(360.0))
+    }
+
+    /// Local true solar time at east longitude `lon_east_deg`, hours [0, 24): 12 h when
+    /// the Sun crosses the meridian, one hour per 15° of the body's turn against the
+    /// Sun (a lunar "hour" is 29.5 Earth hours).
+    pub fn local_solar_time_hours(&self, lon_east_deg: f64) -> f64 {
+        (12.0 + (lon_east_deg - self.subsolar_deg().1) / 15.0).rem_euclid(24.0)
+    }
+
+    /// The Sun's azimuth and elevation above the local horizontal at `site`. On Mars the
+    /// Sun is taken at infinity, as Mars24 does (the parallax from a site 3400 km
+    /// off-centre is below 0.001°); on the Moon and the Earth the direction is
+    /// topocentric, from the site.
     pub fn at_site(&self, site: &Site) -> SunPosition {
-        let (azimuth_deg, elevation_deg) = site.azimuth_elevation_deg(self.direction_body_fixed);
+        let d = if site.body() == crate::Body::Mars {
+            self.direction_body_fixed
+        } else {
+            let p = site.position_m();
+            let r = self.distance_au * crate::earth::AU_M;
+            let v: [f64; 3] = std::array::from_fn(|i| self.direction_body_fixed[i] * r - p[i]);
+            let n = crate::site::dot(v, v).sqrt();
+            [v[0] / n, v[1] / n, v[2] / n]
+        };
+        let (azimuth_deg, elevation_deg) = site.azimuth_elevation_deg(d);
         let [e, n, u] = site.enu_axes();
-        let d = self.direction_body_fixed;
         let enu = [crate::site::dot(e, d), crate::site::dot(n, d), crate::site::dot(u, d)];
         SunPosition { azimuth_deg, elevation_deg, direction_enu: enu }
     }
@@ -298,14 +328,30 @@ pub struct SunPosition {
 
 /// Where the Sun is, as a function of time. areo-terrain's LOS sequences and
 /// areo-mission's planner take any implementation, so a higher-fidelity ephemeris can
-/// replace [`Mars24`] without touching them.
+/// replace [`Mars24`] (or a [`crate::Body`]'s) without touching them.
 pub trait SunModel {
-    /// The Sun's direction (Mars body-fixed) and distance at `epoch`.
+    /// The Sun's direction (body-fixed, from the body's centre) and distance at `epoch`.
     fn sun(&self, epoch: Epoch) -> SunState;
+
+    /// The body whose sky this is; default Mars.
+    fn body(&self) -> crate::Body {
+        crate::Body::Mars
+    }
 }
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn fast_sine_is_accurate_everywhere() {
+        let mut worst = 0.0f64;
+        let mut x = -5000.0;
+        while x < 5000.0 {
+            worst = worst.max((super::sin_cos_deg_small(x).0 - x.to_radians().sin()).abs());
+            x += 0.37;
+        }
+        assert!(worst < 5e-8, "{worst}");
+    }
+
     #[test]
     fn fast_cosine_is_accurate_everywhere() {
         let mut worst = 0.0f64;
