@@ -111,6 +111,24 @@ enum ReportFormat {
     Json,
 }
 
+/// A body of `areo sun --body`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum BodyArg {
+    Mars,
+    Moon,
+    Earth,
+}
+
+impl BodyArg {
+    fn body(self) -> areo_scenario::Body {
+        match self {
+            BodyArg::Mars => areo_scenario::Body::Mars,
+            BodyArg::Moon => areo_scenario::Body::Moon,
+            BodyArg::Earth => areo_scenario::Body::Earth,
+        }
+    }
+}
+
 #[derive(Debug, Args)]
 #[command(group = clap::ArgGroup::new("when").required(true).args(["time", "times_file", "sol"]))]
 struct SunArgs {
@@ -124,7 +142,11 @@ struct SunArgs {
     /// prints sunrise, noon and sunset. Needs --lat and --lon.
     #[arg(long, requires_all = ["lat", "lon"])]
     sol: Option<i64>,
-    /// Site latitude, planetocentric degrees.
+    /// Whose sky: mars (Mars24), moon (Sun and Earth from a lunar site) or earth (the
+    /// Sun at a WGS84 site, UTC as UT1).
+    #[arg(long, value_enum, default_value_t = BodyArg::Mars)]
+    body: BodyArg,
+    /// Site latitude, degrees: planetocentric on Mars and the Moon, geodetic on the Earth.
     #[arg(long, requires = "lon", allow_hyphen_values = true)]
     lat: Option<f64>,
     /// Site longitude, degrees east.
@@ -468,16 +490,22 @@ fn grid(args: &GridArgs) -> Result<(), Error> {
 }
 
 fn sun(args: &SunArgs) -> Result<(), Error> {
-    use areo_scenario::sun::{Instants, rows, sol_events};
+    use areo_scenario::sun::{Instants, SunRows, body_rows, sol_events};
     let site = args.lat.zip(args.lon);
+    let body = args.body.body();
     let text = match (args.sol, &args.time, &args.times_file) {
+        (Some(_), _, _) if args.body != BodyArg::Mars => {
+            return Err(Error::Usage(format!(
+                "--sol counts Mars sols; over the {body} give --time or --times-file (a file of instants, one per line)"
+            )));
+        }
         (Some(sol), _, _) => {
             let (lat, lon) = site.ok_or_else(|| Error::Usage("--sol needs --lat and --lon".into()))?;
             print::sun::sol(&sol_events(sol, lat, lon)?, args.format)?
         }
-        (None, Some(t), _) => print::sun::rows(&rows(Instants::One(t), site)?, args.format)?,
-        (None, None, Some(path)) => print::sun::rows(&rows(Instants::File(path), site)?, args.format)?,
-        (None, None, None) => print::sun::rows(&[], args.format)?,
+        (None, Some(t), _) => print::sun::rows(&body_rows(body, Instants::One(t), site)?, args.format)?,
+        (None, None, Some(path)) => print::sun::rows(&body_rows(body, Instants::File(path), site)?, args.format)?,
+        (None, None, None) => print::sun::rows(&SunRows::Mars(Vec::new()), args.format)?,
     };
     print!("{text}");
     Ok(())

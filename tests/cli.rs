@@ -118,6 +118,69 @@ fn sun_times_file_without_site_leaves_local_columns_empty() {
 }
 
 #[test]
+fn sun_over_the_earth_reproduces_the_nrel_spa_example_and_the_moon_adds_the_earth() {
+    let out = areo(&[
+        "sun",
+        "--body",
+        "earth",
+        "--time",
+        "2003-10-17T19:30:30Z",
+        "--lat",
+        "39.742476",
+        "--lon",
+        "-105.1786",
+        "--format",
+        "csv",
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let row: Vec<f64> = lines.next().unwrap().split(',').skip(1).map(|v| v.parse().unwrap()).collect();
+    let col = |name: &str| row[header.iter().position(|h| *h == name).unwrap() - 1];
+    // SPA: azimuth 194.34024°, zenith 50.11162° refracted at 820 hPa; areo refracts for
+    // 1010 hPa, so compare the geometric elevation: 90 − 50.11162 − 0.0163 (SPA's own
+    // refraction at 820 hPa, 11 °C) = 39.8721°.
+    assert!((col("azimuth_deg") - 194.34024).abs() < 0.01);
+    assert!((col("elevation_deg") - 39.8721).abs() < 0.01);
+    assert!((col("sun_distance_au") - 0.996_542_3).abs() < 1e-4);
+    assert!(!header.contains(&"earth_elevation_deg"));
+
+    let file = tmp("moon-times").join("times.txt");
+    std::fs::write(&file, "2025-01-15T00:00:00Z\n2025-01-29T00:00:00Z\n").unwrap();
+    let out = areo(&[
+        "sun",
+        "--body",
+        "moon",
+        "--times-file",
+        file.to_str().unwrap(),
+        "--lat",
+        "-89.5",
+        "--lon",
+        "0",
+        "--format",
+        "csv",
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    assert!(header.contains(&"earth_azimuth_deg") && header.contains(&"earth_elevation_deg"));
+    assert_eq!(text.lines().count(), 3);
+    for line in text.lines().skip(1) {
+        let v: Vec<&str> = line.split(',').collect();
+        let el: f64 = v[header.iter().position(|h| *h == "elevation_deg").unwrap()].parse().unwrap();
+        let earth: f64 = v[header.iter().position(|h| *h == "earth_elevation_deg").unwrap()].parse().unwrap();
+        // Half a degree from the pole the Sun stays within 2.1° of the horizon and the
+        // Earth within 7.6°.
+        assert!(el.abs() < 2.1 && earth.abs() < 7.6, "{line}");
+    }
+    // Mars stays the default, and its sols are Mars's alone.
+    let out = areo(&["sun", "--body", "moon", "--sol", "3", "--lat", "0", "--lon", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--times-file"));
+}
+
+#[test]
 fn sun_bad_time_is_exit_2() {
     let out = areo(&["sun", "--time", "2001-02-29T00:00:00Z"]);
     assert_eq!(out.status.code(), Some(2));

@@ -1,16 +1,53 @@
 //! `areo sun`: the Sun at instants, or one sol's events.
 
 use areo_scenario::Error;
-use areo_scenario::sun::{SolEvents, SunRow};
+use areo_scenario::sun::{SkyRow, SolEvents, SunRow, SunRows};
 
 use crate::Format;
 
-/// Rows of the Sun at instants.
-pub(crate) fn rows(rows: &[SunRow], format: Format) -> Result<String, Error> {
-    Ok(match format {
-        Format::Csv => super::csv(&areo_scenario::sun::csv_table(rows))?,
-        Format::Json => super::json(&rows)? + "\n",
-        Format::Text => {
+/// Rows of the Sun at instants, over any body.
+pub(crate) fn rows(rows: &SunRows, format: Format) -> Result<String, Error> {
+    Ok(match (format, rows) {
+        (Format::Csv, _) => super::csv(&rows.csv_table())?,
+        (Format::Json, SunRows::Mars(r)) => super::json(r)? + "\n",
+        (Format::Json, SunRows::Sky(_, r)) => super::json(r)? + "\n",
+        (Format::Text, SunRows::Mars(r)) => mars_text(r),
+        (Format::Text, SunRows::Sky(_, r)) => sky_text(r),
+    })
+}
+
+/// The Sun over the Moon or the Earth, as text.
+fn sky_text(rows: &[SkyRow]) -> String {
+    let mut s = String::new();
+    for r in rows {
+        s += &format!("{}\n", r.utc);
+        s += &format!("  sub-solar latitude {:10.5}°\n", r.subsolar_lat_deg);
+        s += &format!("  sub-solar longitude{:10.5}° E\n", r.subsolar_lon_east_deg);
+        s += &format!("  Sun distance       {:10.6} AU\n", r.sun_distance_au);
+        if let (Some(l), Some(a), Some(e)) = (r.local_solar_time_hours, r.azimuth_deg, r.elevation_deg) {
+            s += &format!("  local solar time   {l:10.5} h\n");
+            s += &format!("  Sun azimuth        {a:10.4}° (from north, clockwise)\n");
+            s += &format!("  Sun elevation      {e:10.4}° (geometric, topocentric)\n");
+        }
+        if let Some(e) = r.refracted_elevation_deg {
+            s += &format!("  refracted          {e:10.4}° (1010 hPa, 10 °C)\n");
+        }
+        if let (Some(a), Some(e)) = (r.earth_azimuth_deg, r.earth_elevation_deg) {
+            s += &format!("  Earth azimuth      {a:10.4}°\n");
+            s += &format!("  Earth elevation    {e:10.4}°\n");
+        }
+        if let (Some(d), Some(la), Some(lo)) = (r.earth_distance_km, r.sub_earth_lat_deg, r.sub_earth_lon_east_deg) {
+            s += &format!("  Earth distance     {d:10.1} km\n");
+            s += &format!("  libration          {la:+.4}° lat, {lo:+.4}° lon (sub-Earth point)\n");
+        }
+    }
+    s
+}
+
+/// Mars24 rows as text.
+fn mars_text(rows: &[SunRow]) -> String {
+    {
+        {
             let mut s = String::new();
             for r in rows {
                 s += &format!("{}\n", r.utc);
@@ -27,7 +64,7 @@ pub(crate) fn rows(rows: &[SunRow], format: Format) -> Result<String, Error> {
             }
             s
         }
-    })
+    }
 }
 
 /// Sunrise, noon and sunset of a sol.

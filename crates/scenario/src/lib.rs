@@ -31,6 +31,9 @@ pub mod rover_check;
 pub mod sun;
 pub mod terrain;
 
+/// The body a job plans on (re-exported so the binary needs no other areo crate).
+pub use areo_ephemeris::Body;
+
 pub use crate::{
     error::{Error, Result},
     jobs::{RunOptions, run, run_into},

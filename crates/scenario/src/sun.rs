@@ -4,7 +4,8 @@
 use std::path::Path;
 
 use areo_ephemeris::events::solar_day;
-use areo_ephemeris::{HorizonMask, MarsTime, Site, SolarGeometry, format_utc, parse_utc};
+use areo_ephemeris::terrestrial::refraction_deg;
+use areo_ephemeris::{Body, HorizonMask, MarsTime, Site, SolarGeometry, SunModel, format_utc, parse_utc};
 use hifitime::Epoch;
 use serde::Serialize;
 
@@ -79,6 +80,140 @@ impl SunRow {
     }
 }
 
+/// CSV header of [`SkyRow`] on the Moon (on the Earth without the `earth_` and
+/// `sub_earth_` columns, with `refracted_elevation_deg`).
+pub const MOON_CSV_HEADER: &str = "utc,jd_tt,subsolar_lat_deg,subsolar_lon_east_deg,sun_distance_au,local_solar_time_hours,azimuth_deg,elevation_deg,earth_azimuth_deg,earth_elevation_deg,earth_distance_km,sub_earth_lat_deg,sub_earth_lon_east_deg";
+
+/// CSV header of [`SkyRow`] on the Earth.
+pub const EARTH_CSV_HEADER: &str = "utc,jd_tt,subsolar_lat_deg,subsolar_lon_east_deg,sun_distance_au,local_solar_time_hours,azimuth_deg,elevation_deg,refracted_elevation_deg";
+
+/// Standard air for [`SkyRow::refracted_elevation_deg`]: 1010 hPa, 10 °C.
+const STANDARD_AIR: (f64, f64) = (1010.0, 10.0);
+
+/// The Sun (and on the Moon the Earth) at one instant over the Moon or the Earth,
+/// optionally at a site. Directions at a site are topocentric and geometric.
+#[derive(Debug, Clone, Serialize)]
+pub struct SkyRow {
+    /// ISO 8601 UTC.
+    pub utc: String,
+    /// Julian date, TT.
+    pub jd_tt: f64,
+    /// Sub-solar latitude (selenographic or geocentric), degrees.
+    pub subsolar_lat_deg: f64,
+    /// Sub-solar longitude, degrees east [0, 360).
+    pub subsolar_lon_east_deg: f64,
+    /// Sun–body distance, AU.
+    pub sun_distance_au: f64,
+    /// Local solar time at the site, hours (a lunar hour is 1/24 of a synodic month).
+    pub local_solar_time_hours: Option<f64>,
+    /// The Sun's azimuth at the site, degrees clockwise from north.
+    pub azimuth_deg: Option<f64>,
+    /// The Sun's elevation above the site's horizontal, degrees (geometric).
+    pub elevation_deg: Option<f64>,
+    /// On the Earth: the elevation with standard refraction (1010 hPa, 10 °C).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refracted_elevation_deg: Option<f64>,
+    /// On the Moon: the Earth's azimuth at the site, degrees.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub earth_azimuth_deg: Option<f64>,
+    /// On the Moon: the Earth's elevation at the site, degrees.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub earth_elevation_deg: Option<f64>,
+    /// On the Moon: Earth–Moon centre distance, km.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub earth_distance_km: Option<f64>,
+    /// On the Moon: the sub-Earth point's latitude (libration in latitude), degrees.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sub_earth_lat_deg: Option<f64>,
+    /// On the Moon: the sub-Earth point's longitude (libration in longitude), degrees east.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sub_earth_lon_east_deg: Option<f64>,
+}
+
+impl SkyRow {
+    /// The row for `epoch` over `body` (the Moon or the Earth), at `site` if given.
+    pub fn at(body: Body, epoch: Epoch, site: Option<&Site>) -> SkyRow {
+        let sun = body.sun(epoch);
+        let (sub_lat, sub_lon) = sun.subsolar_deg();
+        let local = site.map(|s| (sun.local_solar_time_hours(s.lon_east_deg()), sun.at_site(s)));
+        let earth = body.earth(epoch);
+        let earth_local = earth.zip(site).map(|(e, s)| e.at_site(s));
+        let on_earth = body == Body::Earth;
+        SkyRow {
+            utc: format_utc(epoch),
+            jd_tt: epoch.to_jde_tt_days(),
+            subsolar_lat_deg: sub_lat,
+            subsolar_lon_east_deg: sub_lon,
+            sun_distance_au: sun.distance_au,
+            local_solar_time_hours: local.map(|l| l.0),
+            azimuth_deg: local.map(|l| l.1.azimuth_deg),
+            elevation_deg: local.map(|l| l.1.elevation_deg),
+            refracted_elevation_deg: local
+                .filter(|_| on_earth)
+                .map(|l| l.1.elevation_deg + refraction_deg(l.1.elevation_deg, STANDARD_AIR.0, STANDARD_AIR.1)),
+            earth_azimuth_deg: earth_local.map(|e| e.0),
+            earth_elevation_deg: earth_local.map(|e| e.1),
+            earth_distance_km: earth.map(|e| e.distance_km),
+            sub_earth_lat_deg: earth.map(|e| e.sub_point_deg().0),
+            sub_earth_lon_east_deg: earth.map(|e| e.sub_point_deg().1),
+        }
+    }
+
+    /// The row's CSV fields for `body`'s header.
+    pub fn csv_fields(&self, body: Body) -> Vec<String> {
+        let opt = |x: Option<f64>, p: usize| x.map_or_else(String::new, |v| format!("{v:.p$}"));
+        let mut out = vec![
+            self.utc.clone(),
+            format!("{:.8}", self.jd_tt),
+            format!("{:.6}", self.subsolar_lat_deg),
+            format!("{:.6}", self.subsolar_lon_east_deg),
+            format!("{:.8}", self.sun_distance_au),
+            opt(self.local_solar_time_hours, 6),
+            opt(self.azimuth_deg, 4),
+            opt(self.elevation_deg, 4),
+        ];
+        if body == Body::Earth {
+            out.push(opt(self.refracted_elevation_deg, 4));
+        } else {
+            out.extend([
+                opt(self.earth_azimuth_deg, 4),
+                opt(self.earth_elevation_deg, 4),
+                opt(self.earth_distance_km, 1),
+                opt(self.sub_earth_lat_deg, 4),
+                opt(self.sub_earth_lon_east_deg, 4),
+            ]);
+        }
+        out
+    }
+}
+
+/// Rows of `areo sun`: Mars24's on Mars, [`SkyRow`]s on the Moon and the Earth.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub enum SunRows {
+    /// Mars.
+    Mars(Vec<SunRow>),
+    /// The Moon or the Earth.
+    Sky(#[serde(skip)] Body, Vec<SkyRow>),
+}
+
+impl SunRows {
+    /// The rows as a CSV table with the body's header.
+    pub fn csv_table(&self) -> Table {
+        match self {
+            SunRows::Mars(rows) => csv_table(rows),
+            SunRows::Sky(body, rows) => {
+                let header = if *body == Body::Earth { EARTH_CSV_HEADER } else { MOON_CSV_HEADER };
+                let mut table = Table::new(header.split(','));
+                for r in rows {
+                    table.push(r.csv_fields(*body));
+                }
+                table
+            }
+        }
+    }
+}
+
 /// Where the instants of `areo sun` come from.
 #[derive(Debug, Clone, Copy)]
 pub enum Instants<'a> {
@@ -88,20 +223,35 @@ pub enum Instants<'a> {
     File(&'a Path),
 }
 
-/// A site given as planetocentric latitude and east longitude, degrees.
-fn site(lat_lon: Option<(f64, f64)>) -> Result<Option<Site>> {
+/// A site on `body` given as latitude and east longitude, degrees.
+fn site(body: Body, lat_lon: Option<(f64, f64)>) -> Result<Option<Site>> {
     Ok(match lat_lon {
-        Some((lat, lon)) => Some(Site::new(lat, lon)?),
+        Some((lat, lon)) => Some(Site::on(body, lat, lon)?),
         None => None,
     })
 }
 
-/// The Sun at each instant, at the site if given. A bad instant in a file is an
-/// error naming the file and its line.
+/// The Sun over `body` at each instant, at the site if given. A bad instant in a file
+/// is an error naming the file and its line.
+pub fn body_rows(body: Body, instants: Instants<'_>, lat_lon: Option<(f64, f64)>) -> Result<SunRows> {
+    if body == Body::Mars {
+        return Ok(SunRows::Mars(rows(instants, lat_lon)?));
+    }
+    let site = site(body, lat_lon)?;
+    let epochs = epochs(instants)?;
+    Ok(SunRows::Sky(body, epochs.into_iter().map(|t| SkyRow::at(body, t, site.as_ref())).collect()))
+}
+
+/// The Sun over Mars at each instant, at the site if given (see [`body_rows`]).
 pub fn rows(instants: Instants<'_>, lat_lon: Option<(f64, f64)>) -> Result<Vec<SunRow>> {
-    let site = site(lat_lon)?;
+    let site = site(Body::Mars, lat_lon)?;
+    Ok(epochs(instants)?.into_iter().map(|t| SunRow::at(t, site.as_ref())).collect())
+}
+
+/// The instants, in order.
+fn epochs(instants: Instants<'_>) -> Result<Vec<Epoch>> {
     match instants {
-        Instants::One(t) => Ok(vec![SunRow::at(parse_utc(t)?, site.as_ref())]),
+        Instants::One(t) => Ok(vec![parse_utc(t)?]),
         Instants::File(path) => {
             let text =
                 std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
@@ -117,7 +267,7 @@ pub fn rows(instants: Instants<'_>, lat_lon: Option<(f64, f64)>) -> Result<Vec<S
                     col: 1 + line.len() - line.trim_start().len(),
                     message: e.to_string(),
                 })?;
-                rows.push(SunRow::at(epoch, site.as_ref()));
+                rows.push(epoch);
             }
             Ok(rows)
         }
