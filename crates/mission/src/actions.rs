@@ -110,6 +110,8 @@ pub enum Binding {
     Battery,
     /// A scheduled Communicate session: the rover must stand still.
     Communicate,
+    /// A scheduled Communicate session: the rover must stand where the Earth is in view.
+    EarthHidden,
 }
 
 impl Binding {
@@ -124,6 +126,7 @@ impl Binding {
             Binding::Horizon => "the planning horizon (the goal cannot be reached within it)",
             Binding::Battery => "battery energy",
             Binding::Communicate => "a scheduled Communicate session (the rover stands still)",
+            Binding::EarthHidden => "a scheduled Communicate session (the Earth must be in view)",
         }
     }
 }
@@ -225,6 +228,8 @@ pub struct ActionModel {
     tilt_sin_cos: (f64, f64),
     /// Scheduled Communicate sessions, s after the epoch, sorted.
     sessions: Vec<(f64, f64)>,
+    /// Whether a session needs the Earth in view from where the rover stands.
+    sessions_need_earth: bool,
 }
 
 /// A drive's time-independent part: where it ends, how long it takes, its slope and
@@ -249,7 +254,16 @@ impl ActionModel {
             std::array::from_fn(|k| rover.solar.map_or([0.0, 0.0, 1.0], |a| a.level_normal_enu(heading_of(k as u8))));
         let tilt_sin_cos = rover.solar.map_or((0.0, 1.0), |a| a.tilt_deg.to_radians().sin_cos());
         let headings = std::array::from_fn(|k| heading_of(k as u8));
-        ActionModel { rover, config, max_slope_deg, level_normals, headings, tilt_sin_cos, sessions: Vec::new() }
+        ActionModel {
+            rover,
+            config,
+            max_slope_deg,
+            level_normals,
+            headings,
+            tilt_sin_cos,
+            sessions: Vec::new(),
+            sessions_need_earth: false,
+        }
     }
 
     /// Schedules Communicate sessions (start, end), s after the epoch: during each the
@@ -260,6 +274,19 @@ impl ActionModel {
         sessions.sort_by(|a, b| a.0.total_cmp(&b.0));
         self.sessions = sessions;
         self
+    }
+
+    /// Makes every session need the Earth in view from where the rover stands
+    /// ([`World::earth_visible`], checked at each stationary sample inside a session):
+    /// direct-to-Earth radio from the Moon.
+    pub fn sessions_need_earth(mut self, need: bool) -> ActionModel {
+        self.sessions_need_earth = need;
+        self
+    }
+
+    /// Whether sessions need the Earth in view.
+    pub fn needs_earth(&self) -> bool {
+        self.sessions_need_earth
     }
 
     /// The scheduled Communicate sessions, s after the epoch.
@@ -490,6 +517,17 @@ impl ActionModel {
             return Err(Binding::Blocked);
         }
         let load_w = self.rover.electronics.power_w(load);
+        if self.sessions_need_earth {
+            // Each overlapping session's part inside the action, at its ends and every
+            // ten minutes between (the Earth moves 0.5°/h at most in the lunar sky).
+            for &(a, b) in self.sessions.iter().filter(|&&(a, b)| a < t1 && b > t0) {
+                let (lo, hi) = (a.max(t0), b.min(t1));
+                let n = ((hi - lo) / 600.0).ceil().max(1.0) as usize;
+                if (0..=n).any(|k| !world.earth_visible(cell, lo + (hi - lo) * k as f64 / n as f64)) {
+                    return Err(Binding::EarthHidden);
+                }
+            }
+        }
         let n = ((duration / STATIONARY_SAMPLE_S).ceil() as usize).max(2);
         let mut e = 0.0;
         let mut prev: Option<f64> = None;

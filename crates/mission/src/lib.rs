@@ -45,5 +45,5 @@ pub use crate::{
     simulate::{
         ExecutedStep, Noise, PlanKind, PlanRecord, SimConfig, SimProgress, SimReport, SimStatus, Simulation, simulate,
     },
-    world::{MARS_CURVATURE, Sun, World, WorldConfig},
+    world::{EarthSky, MARS_CURVATURE, Sun, World, WorldConfig, curvature_of},
 };

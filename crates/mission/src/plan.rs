@@ -1,7 +1,7 @@
 //! The plan TEMPEST hands to the rover: waypoints with where, when, what next, and the
 //! energy picture (TEMPEST's required energy E and the predicted battery charge).
 
-use areo_ephemeris::{SolarGeometry, format_utc};
+use areo_ephemeris::format_utc;
 use hifitime::Duration;
 use serde::{Deserialize, Serialize};
 
@@ -28,7 +28,8 @@ pub struct Waypoint {
     pub t_s: f64,
     /// Time, ISO 8601 UTC.
     pub utc: String,
-    /// Local true solar time at the waypoint, hours.
+    /// Local true solar time at the waypoint, hours (on the Moon a lunar hour is 1/24
+    /// of a synodic month).
     pub ltst_h: f64,
     /// The action taken from here (`None` at the final goal).
     pub action: Option<Action>,
@@ -44,6 +45,9 @@ pub struct Waypoint {
     pub sun_above_ground_deg: f64,
     /// Lit by the Sun (not in terrain shadow, Sun up).
     pub lit: bool,
+    /// The Earth above the terrain's horizon here (never on the Earth itself).
+    #[serde(default)]
+    pub earth_in_view: bool,
     /// The goal reached here (0-based), if any.
     pub goal: Option<usize>,
 }
@@ -70,7 +74,7 @@ impl Waypoint {
             lon_deg: lon,
             t_s: label.t,
             utc: format_utc(epoch),
-            ltst_h: SolarGeometry::at(epoch).ltst_hours(lon),
+            ltst_h: world.local_solar_time_h(label.t, lon),
             action,
             required_wh: label.e,
             battery_wh,
@@ -78,6 +82,7 @@ impl Waypoint {
             sun_elevation_deg: sun.elevation_deg,
             sun_above_ground_deg: world.sun_above_ground_deg(cell, sun),
             lit: world.lit(cell, sun),
+            earth_in_view: world.earth_visible(cell, label.t),
             goal,
         }
     }

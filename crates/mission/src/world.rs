@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 
 use areo_ephemeris::flux::Atmosphere;
-use areo_ephemeris::{Site, SunModel};
+use areo_ephemeris::{Body, Site, SunModel};
 use areo_terrain::Dem;
 use areo_terrain::horizon::HorizonMap;
 use areo_terrain::shadow::Curvature;
@@ -24,6 +24,25 @@ use crate::error::{Error, Result};
 
 /// Mars's mean sphere for the horizon maps' curvature drop.
 pub const MARS_CURVATURE: Curvature = Curvature::Sphere { radius_m: 3_389_500.0 };
+
+/// The sphere a body's horizon maps drop away on: the IAU mean radius (Mars
+/// 3389.5 km, the Moon 1737.4 km, the Earth 6371.0088 km).
+pub fn curvature_of(body: Body) -> Curvature {
+    match body {
+        Body::Mars => MARS_CURVATURE,
+        Body::Moon => Curvature::Sphere { radius_m: 1_737_400.0 },
+        Body::Earth => Curvature::Sphere { radius_m: 6_371_008.8 },
+    }
+}
+
+/// The Earth at one instant in the sky of the reference site.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EarthSky {
+    /// Azimuth, degrees clockwise from north.
+    pub azimuth_deg: f64,
+    /// Elevation above the horizontal, degrees (topocentric).
+    pub elevation_deg: f64,
+}
 
 /// How to build a [`World`].
 #[derive(Debug, Clone)]
@@ -79,9 +98,12 @@ pub struct World {
     horizon_sensed: Vec<AtomicBool>,
     sensed_horizon: Mutex<HashMap<u32, Box<[f32]>>>,
     sun: Vec<Sun>,
+    /// The Earth, tabulated like the Sun (empty on the Earth itself).
+    earth: Vec<EarthSky>,
     sun_step_s: f64,
     epoch: Epoch,
     site: Site,
+    body: Body,
 }
 
 impl World {
@@ -91,7 +113,7 @@ impl World {
         World::check(config)?;
         let sa = slope_aspect(&dem);
         let horizon = match config.horizon_sectors {
-            Some(k) => Some(HorizonMap::compute(&dem, k, MARS_CURVATURE)?),
+            Some(k) => Some(HorizonMap::compute(&dem, k, curvature_of(sun_model.body()))?),
             None => None,
         };
         World::from_parts(dem, sa, horizon, config, sun_model)
@@ -147,9 +169,17 @@ impl World {
                     field: "site",
                     message: "the DEM has no georeference: give the site's latitude and longitude".into(),
                 })?;
-                Site::new(lat, lon).map_err(|e| Error::Config { field: "site", message: e.to_string() })?
+                Site::on(sun_model.body(), lat, lon)
+                    .map_err(|e| Error::Config { field: "site", message: e.to_string() })?
             }
         };
+        if site.body() != sun_model.body() {
+            return Err(Error::Config {
+                field: "site",
+                message: format!("a site on {} under the Sun of {}", site.body(), sun_model.body()),
+            });
+        }
+        let body = sun_model.body();
         let cells = dem.cols() * dem.rows();
         let normal = (0..cells)
             .map(|i| {
@@ -178,6 +208,13 @@ impl World {
                 }
             })
             .collect();
+        let earth = (0..n)
+            .map_while(|k| {
+                let at = config.epoch + Duration::from_seconds(k as f64 * config.sun_step_s);
+                let (azimuth_deg, elevation_deg) = body.earth(at)?.at_site(&site);
+                Some(EarthSky { azimuth_deg, elevation_deg })
+            })
+            .collect();
         Ok(World {
             dem,
             elevation,
@@ -189,9 +226,11 @@ impl World {
             horizon,
             shares_horizon: false,
             sun,
+            earth,
             sun_step_s: config.sun_step_s,
             epoch: config.epoch,
             site,
+            body,
         })
     }
 
@@ -404,6 +443,56 @@ impl World {
         }
     }
 
+    /// Local true solar time at east longitude `lon_east_deg` at time `t` (s after the
+    /// epoch), hours: Mars24's LTST on Mars, the sub-solar longitude's elsewhere.
+    pub fn local_solar_time_h(&self, t: f64, lon_east_deg: f64) -> f64 {
+        let epoch = self.epoch + Duration::from_seconds(t);
+        match self.body {
+            Body::Mars => areo_ephemeris::SolarGeometry::at(epoch).ltst_hours(lon_east_deg),
+            other => other.sun(epoch).local_solar_time_hours(lon_east_deg),
+        }
+    }
+
+    /// The body the world is on.
+    pub fn body(&self) -> Body {
+        self.body
+    }
+
+    /// The Earth at time `t` (s after the epoch), interpolated; `None` on the Earth.
+    pub fn earth(&self, t: f64) -> Option<EarthSky> {
+        if self.earth.len() < 2 {
+            return None;
+        }
+        let pos = (t / self.sun_step_s).clamp(0.0, (self.earth.len() - 1) as f64);
+        let k = (pos as usize).min(self.earth.len() - 2);
+        let f = pos - k as f64;
+        let (a, b) = (&self.earth[k], &self.earth[k + 1]);
+        let daz = (b.azimuth_deg - a.azimuth_deg + 180.0).rem_euclid(360.0) - 180.0;
+        Some(EarthSky {
+            azimuth_deg: (a.azimuth_deg + daz * f).rem_euclid(360.0),
+            elevation_deg: a.elevation_deg + (b.elevation_deg - a.elevation_deg) * f,
+        })
+    }
+
+    /// Whether the Earth is in view from a cell at time `t`: above the horizontal and
+    /// above the terrain's horizon there (the cell's horizon map, as for the Sun).
+    /// Always false on the Earth.
+    pub fn earth_visible(&self, cell: u32, t: f64) -> bool {
+        self.earth(t).is_some_and(|e| e.elevation_deg > self.horizon_floor_deg(cell, e.azimuth_deg))
+    }
+
+    /// The terrain's horizon at a cell toward `azimuth_deg`, not below the horizontal.
+    fn horizon_floor_deg(&self, cell: u32, azimuth_deg: f64) -> f64 {
+        match &self.horizon {
+            Some(_) if self.horizon_sensed[cell as usize].load(Ordering::Relaxed) => {
+                let table = self.sensed_horizon.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+                table.get(&cell).map_or(0.0, |p| HorizonMap::profile_deg(p, azimuth_deg).max(0.0))
+            }
+            Some(h) => h.horizon_deg(cell as usize, azimuth_deg).max(0.0),
+            None => 0.0,
+        }
+    }
+
     /// Cell `i`'s horizon profile (degrees per sector), sensed or from the map.
     fn horizon_profile(&self, i: usize) -> Option<Vec<f32>> {
         let map = self.horizon.as_ref()?;
@@ -419,15 +508,7 @@ impl World {
     /// Whether the Sun lights a cell: above the horizontal and above the terrain's
     /// horizon there.
     pub fn lit(&self, cell: u32, sun: &Sun) -> bool {
-        let floor = match &self.horizon {
-            Some(_) if self.horizon_sensed[cell as usize].load(Ordering::Relaxed) => {
-                let table = self.sensed_horizon.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-                table.get(&cell).map_or(0.0, |p| HorizonMap::profile_deg(p, sun.azimuth_deg).max(0.0))
-            }
-            Some(h) => h.horizon_deg(cell as usize, sun.azimuth_deg).max(0.0),
-            None => 0.0,
-        };
-        sun.elevation_deg > floor
+        sun.elevation_deg > self.horizon_floor_deg(cell, sun.azimuth_deg)
     }
 
     /// The Sun's elevation above a cell's ground plane, degrees (TEMPEST's LOS-map value).
@@ -459,7 +540,7 @@ impl World {
         let sectors = self.horizon.as_ref().map_or(0, |h| h.sectors());
         let sensed = self.sensed_horizon.lock().map_or(0, |t| t.len() * (sectors * 4 + 24));
         let map = if self.shares_horizon { 0 } else { self.horizon.as_ref().map_or(0, |h| h.bytes()) };
-        cells * (4 + 4 + 8 + 2) + map + sensed + self.sun.len() * 48
+        cells * (4 + 4 + 8 + 2) + map + sensed + self.sun.len() * 48 + self.earth.len() * 16
     }
 
     /// The true world a rover drives on, on the map's grid, for simulation: like
@@ -473,7 +554,7 @@ impl World {
             (Some(h), Some(k)) if h.sectors() == k && map.cols() == dem.cols() && map.rows() == dem.rows() => h.clone(),
             _ => return World::new(dem, config, sun_model),
         };
-        let changes = shared.changes(&dem, MARS_CURVATURE)?;
+        let changes = shared.changes(&dem, curvature_of(sun_model.body()))?;
         let mut world = World::new(dem, &WorldConfig { horizon_sectors: None, ..config.clone() }, sun_model)?;
         world.horizon = Some(shared);
         world.shares_horizon = true;

@@ -1,5 +1,6 @@
 //! areo-mission integration tests.
 
+mod bodies;
 mod chaining;
 mod common;
 mod pareto;
