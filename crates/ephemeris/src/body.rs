@@ -6,8 +6,8 @@ use hifitime::Epoch;
 
 use crate::sun::{Mars24, SunModel, SunState};
 
-/// A body a rover can drive on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+/// A body a rover can drive on (scenario files write `Mars`, `Moon` or `Earth`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
 pub enum Body {
     /// Mars: Mars24 time and Sun (Allison & McEwen 2000), IAU 2015 ellipsoid,
     /// planetocentric latitudes.

@@ -78,8 +78,13 @@ impl SolarDay {
     }
 }
 
+/// The Sun's elevation over the mask at `site` (on the site's body).
 fn sun_margin(site: &Site, mask: &HorizonMask, jd_tt: f64) -> f64 {
-    let pos = SolarGeometry::at_days_since_j2000(jd_tt - J2000_JD_TT).state().at_site(site);
+    let state = match site.body() {
+        crate::Body::Mars => SolarGeometry::at_days_since_j2000(jd_tt - J2000_JD_TT).state(),
+        other => crate::SunModel::sun(&other, epoch_from_jd_tt(jd_tt)),
+    };
+    let pos = state.at_site(site);
     pos.elevation_deg - mask.elevation_at(pos.azimuth_deg)
 }
 
@@ -102,18 +107,25 @@ pub fn solar_day(sol: i64, site: &Site, mask: &HorizonMask) -> Result<SolarDay> 
 }
 
 /// The intervals between `start` and `end` during which the Sun's centre is above the
-/// horizon `mask` at `site`.
+/// horizon `mask` at `site` (on the site's body).
 pub fn daylight_intervals(site: &Site, mask: &HorizonMask, start: Epoch, end: Epoch) -> Vec<(Epoch, Epoch)> {
     intervals_above(|jd| sun_margin(site, mask, jd), start, end)
 }
 
 /// The intervals between `start` and `end` during which the Earth is above the horizon
-/// `mask` at `site` (direct-to-Earth communication windows).
+/// `mask` at `site` (direct-to-Earth communication windows); none on the Earth. On
+/// the Moon the Earth is seen from the site (topocentric).
 pub fn earth_visible_intervals(site: &Site, mask: &HorizonMask, start: Epoch, end: Epoch) -> Vec<(Epoch, Epoch)> {
     intervals_above(
         |jd| {
-            let e = earth_from_mars(epoch_from_jd_tt(jd));
-            let (az, el) = site.azimuth_elevation_deg(e.direction_body_fixed);
+            let t = epoch_from_jd_tt(jd);
+            let (az, el) = match site.body() {
+                crate::Body::Mars => site.azimuth_elevation_deg(earth_from_mars(t).direction_body_fixed),
+                other => match other.earth(t) {
+                    Some(e) => e.at_site(site),
+                    None => return -1.0,
+                },
+            };
             el - mask.elevation_at(az)
         },
         start,

@@ -134,7 +134,7 @@ fn a_session_that_needs_the_earth_sends_the_rover_out_of_the_ridges_radio_shadow
     let visible = at(-350.0, 0.0);
     assert!(!world.earth_visible(hidden, 0.0) && world.earth_visible(visible, 0.0));
     let mut lunar = rover(1e5);
-    lunar.locomotor.gravity_m_s2 = Body::Moon.surface_gravity_m_s2();
+    lunar.locomotor.gravity_m_s2 = Some(Body::Moon.surface_gravity_m_s2());
     let session = (1200.0, 3000.0);
     let talking = ActionModel::new(lunar.clone(), quantised_actions(600.0)).with_sessions(vec![session]);
     let needs_earth = talking.clone().sessions_need_earth(true);

@@ -12,7 +12,8 @@ use serde::Deserialize;
 
 use crate::error::{Error, Result, parse_ron, read_text};
 
-/// Standard gravity used for the locomotor unless the file says otherwise, m/s².
+/// Gravity of a locomotor whose file and job name none, m/s²: Mars's, where the
+/// library's planners began (a scenario sets its body's, see `areo-scenario`).
 const MARS_GRAVITY: f64 = 3.711;
 
 /// The shipped Hyperion-class parameters.
@@ -55,16 +56,18 @@ pub struct Locomotor {
     pub drive_efficiency: f64,
     /// Steepest slope the rover can climb, degrees.
     pub max_slope_deg: f64,
-    /// Gravity, m/s² (default Mars, 3.711).
-    #[serde(default = "mars_gravity")]
-    pub gravity_m_s2: f64,
-}
-
-fn mars_gravity() -> f64 {
-    MARS_GRAVITY
+    /// Gravity, m/s²; default: the body's (a scenario fills it in from its `body`;
+    /// with no body, Mars's 3.711).
+    #[serde(default)]
+    pub gravity_m_s2: Option<f64>,
 }
 
 impl Locomotor {
+    /// The gravity the locomotor works against, m/s².
+    pub fn gravity(&self) -> f64 {
+        self.gravity_m_s2.unwrap_or(MARS_GRAVITY)
+    }
+
     /// Electrical power to drive at `speed_m_s` up a slope of `slope_deg` (negative
     /// downhill), W: m·g·v·(c_rr·cos θ + sin θ)/η, never below 0 (no regeneration).
     pub fn power_w(&self, speed_m_s: f64, slope_deg: f64) -> f64 {
@@ -75,7 +78,7 @@ impl Locomotor {
     /// [`Locomotor::power_w`] for a slope given by its sine and cosine (a planner that
     /// knows rise and run needs no trigonometry), W.
     pub fn power_on_w(&self, speed_m_s: f64, sin: f64, cos: f64) -> f64 {
-        let wheel = self.mass_kg * self.gravity_m_s2 * speed_m_s * (self.rolling_resistance * cos + sin);
+        let wheel = self.mass_kg * self.gravity() * speed_m_s * (self.rolling_resistance * cos + sin);
         (wheel / self.drive_efficiency).max(0.0)
     }
 
@@ -291,7 +294,7 @@ impl ResourceModel {
         for (f, v, hi, why) in [
             ("locomotor.mass_kg", l.mass_kg, 1e4, "allowed 0 (exclusive)..=10000 kg"),
             ("locomotor.speed_m_s", l.speed_m_s, 100.0, "allowed 0 (exclusive)..=100 m/s"),
-            ("locomotor.gravity_m_s2", l.gravity_m_s2, 100.0, "allowed 0 (exclusive)..=100 m/s²"),
+            ("locomotor.gravity_m_s2", l.gravity(), 100.0, "allowed 0 (exclusive)..=100 m/s²"),
             ("battery.capacity_wh", self.battery.capacity_wh, 1e7, "allowed 0 (exclusive)..=1e7 Wh"),
         ] {
             if !(v > 0.0 && v <= hi) {
@@ -390,11 +393,10 @@ mod tests {
     fn locomotor_power_is_the_work_against_resistance_and_gravity() {
         let l = ResourceModel::hyperion().locomotor;
         let flat = l.power_w(0.3, 0.0);
-        assert!((flat - l.mass_kg * l.gravity_m_s2 * 0.3 * l.rolling_resistance / l.drive_efficiency).abs() < 1e-9);
+        assert!((flat - l.mass_kg * l.gravity() * 0.3 * l.rolling_resistance / l.drive_efficiency).abs() < 1e-9);
         let up = l.power_w(0.3, 10.0);
         let th = 10f64.to_radians();
-        let expect =
-            l.mass_kg * l.gravity_m_s2 * 0.3 * (l.rolling_resistance * th.cos() + th.sin()) / l.drive_efficiency;
+        let expect = l.mass_kg * l.gravity() * 0.3 * (l.rolling_resistance * th.cos() + th.sin()) / l.drive_efficiency;
         assert!((up - expect).abs() < 1e-9 && up > flat);
         assert_eq!(l.power_w(0.3, -45.0), 0.0, "no regeneration downhill");
         assert!((l.speed_on_slope_m_s(l.max_slope_deg) - l.speed_m_s / 3.0).abs() < 1e-12);

@@ -132,7 +132,12 @@ pub struct TempestJob {
     /// The terrain the rover drives on; default: the map is true.
     #[serde(default)]
     pub truth: Truth,
-    /// Where on Mars the map lies; synthesised maps are placed with their centre here.
+    /// The body: `Mars` (default), `Moon` or `Earth` — its Sun (and Earth) ephemeris,
+    /// radius and curvature, gravity, atmosphere and day length.
+    #[serde(default)]
+    pub body: areo_ephemeris::Body,
+    /// Where on the body the map lies; synthesised maps are placed with their centre
+    /// here (polar stereographic at or beyond 80° of latitude).
     pub site: SiteSpec,
     /// Mission start, ISO 8601 UTC (t = 0).
     pub start_utc: String,
@@ -144,11 +149,11 @@ pub struct TempestJob {
     /// Horizon-map sectors for terrain shadows (16..=360), 0 for none; default 64.
     #[serde(default = "default_sectors")]
     pub horizon_sectors: usize,
-    /// Atmospheric optical depth τ (0 ≤ τ ≤ 10); default 0.5.
+    /// Atmospheric optical depth τ (0 ≤ τ ≤ 10); default 0.5; ignored on the Moon.
     #[serde(default = "default_tau")]
     pub tau: f64,
     /// Rover resource-model file (RON), relative to the scenario; default: the shipped
-    /// Hyperion-class rover.
+    /// Hyperion-class rover. A locomotor that names no gravity gets the body's.
     #[serde(default)]
     pub rover: Option<String>,
     /// Battery capacity override, Wh (> 0).
@@ -208,17 +213,28 @@ fn default_lowest_sun_deg() -> f64 {
     2.0
 }
 
-/// One Communicate session per sol, centred on the Earth's highest point in the site's
-/// sky that sol: the rover stands still with its radio on (high electronics load).
+/// Communicate sessions: the rover stands still with its radio on (high electronics
+/// load). By default one per sol, centred on the Earth's highest point in the site's
+/// sky that sol (Mars); with `every_h`, one ending at every `every_h` hours from the
+/// start — at least `duration_min` minutes of contact every `every_h` hours.
 #[derive(Debug, Clone, Copy, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CommunicateSpec {
     /// Session length, minutes (1..=720).
     pub duration_min: f64,
-    /// Lowest Earth elevation for a session, degrees (−90..90); a sol whose Earth stays
-    /// lower has no session. Default 10.
+    /// Lowest Earth elevation for a once-a-sol session, degrees (−90..90); a sol whose
+    /// Earth stays lower has no session. Default 10.
     #[serde(default = "default_earth_elevation")]
     pub min_earth_elevation_deg: f64,
+    /// A session every this many hours (more than the session, at most the horizon),
+    /// instead of once a sol; needed on the Moon, whose solar day is a month.
+    #[serde(default)]
+    pub every_h: Option<f64>,
+    /// Whether the rover must stand where the Earth is above the terrain's horizon
+    /// for the whole session (direct-to-Earth radio); default: true on the Moon, false
+    /// elsewhere (Mars rovers talk through orbiters).
+    #[serde(default)]
+    pub earth_in_view: Option<bool>,
 }
 
 fn default_earth_elevation() -> f64 {
@@ -296,7 +312,11 @@ pub enum TerrainSource {
 pub struct TerrainShadowJob {
     /// The terrain.
     pub terrain: TerrainSource,
-    /// Where on Mars the map lies (for the Sun's direction).
+    /// The body: `Mars` (default), `Moon` or `Earth`.
+    #[serde(default)]
+    pub body: areo_ephemeris::Body,
+    /// Where on the body the map lies (for the Sun's direction; a synthesised map is
+    /// placed with its centre here).
     pub site: SiteSpec,
     /// When, ISO 8601 UTC.
     pub utc: String,
@@ -329,11 +349,12 @@ fn default_tau() -> f64 {
     0.5
 }
 
-/// A place on Mars.
+/// A place on the job's body.
 #[derive(Debug, Clone, Copy, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SiteSpec {
-    /// Planetocentric latitude, degrees [−90, 90].
+    /// Latitude, degrees [−90, 90]: planetocentric on Mars and the Moon, geodetic
+    /// (WGS84) on the Earth.
     pub lat_deg: f64,
     /// East longitude, degrees [−360, 360].
     pub lon_east_deg: f64,
@@ -539,7 +560,28 @@ impl Validate for TempestJob {
             c.nested("communicate", |c| {
                 c.range("duration_min", com.duration_min, 1.0, 720.0, "minutes");
                 c.range("min_earth_elevation_deg", com.min_earth_elevation_deg, -90.0, 90.0, "degrees");
+                if let Some(every) = com.every_h {
+                    let lo = com.duration_min / 60.0;
+                    if !(every > lo && every <= self.horizon_h.max(lo)) {
+                        c.fail(
+                            "every_h",
+                            format!(
+                                "{every}: allowed more than the session ({lo} h) and at most the horizon ({} h)",
+                                self.horizon_h
+                            ),
+                        );
+                    }
+                }
             });
+            if self.body == areo_ephemeris::Body::Earth {
+                c.fail("communicate", "on the Earth there is no Earth to talk to: leave communicate out".into());
+            }
+            if self.body == areo_ephemeris::Body::Moon && com.every_h.is_none() {
+                c.fail(
+                    "communicate",
+                    "on the Moon a solar day is a month: give every_h (a session every so many hours)".into(),
+                );
+            }
         }
         if let Some(sim) = &self.simulate
             && let Err(areo_mission::Error::Config { field, message }) = sim.validate()

@@ -17,6 +17,28 @@ impl Body {
     pub const MARS_IAU2015: Body = Body { equatorial_radius_m: 3_396_190.0, polar_radius_m: 3_376_200.0 };
     /// The MOLA reference sphere of the MEGDR products, R = 3396 km.
     pub const MARS_MOLA_SPHERE: Body = Body { equatorial_radius_m: 3_396_000.0, polar_radius_m: 3_396_000.0 };
+    /// The Moon's reference sphere of the LOLA products (and IAU mean radius),
+    /// R = 1737.4 km.
+    pub const MOON: Body = Body { equatorial_radius_m: 1_737_400.0, polar_radius_m: 1_737_400.0 };
+    /// The Earth's WGS84 ellipsoid: a = 6378.137 km, 1/f = 298.257223563.
+    pub const EARTH_WGS84: Body =
+        Body { equatorial_radius_m: 6_378_137.0, polar_radius_m: 6_378_137.0 * (1.0 - 1.0 / 298.257_223_563) };
+
+    /// The name of the body whose reference surface this is ("Mars", "Moon",
+    /// "Earth"), or `None` for radii that are none of the shipped ones (within 1 km).
+    pub fn name(&self) -> Option<&'static str> {
+        let near = |r: f64, lo: f64, hi: f64| (lo - 1000.0..=hi + 1000.0).contains(&r);
+        let (a, b) = (self.equatorial_radius_m, self.polar_radius_m);
+        if near(a, 3_396_000.0, 3_396_190.0) && near(b, 3_376_200.0, 3_396_000.0) {
+            Some("Mars")
+        } else if near(a, 1_737_400.0, 1_737_400.0) && near(b, 1_737_400.0, 1_737_400.0) {
+            Some("Moon")
+        } else if near(a, 6_378_137.0, 6_378_137.0) && near(b, 6_356_752.0, 6_378_137.0) {
+            Some("Earth")
+        } else {
+            None
+        }
+    }
 
     /// Mean radius (2a + b)/3, m: the radius used for the surface's curvature.
     pub fn mean_radius_m(&self) -> f64 {

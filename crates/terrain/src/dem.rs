@@ -23,6 +23,11 @@ impl Default for Georef {
 /// Rows run north to south (row 0 is the northernmost), columns west to east. Cell
 /// (col, row) is centred at x = x0 + (col + 0.5)·dx, y = y_top − (row + 0.5)·dy; dx and
 /// dy may differ. Heights between cell centres are bilinear; within half a cell of the
+/// Latitude (degrees, either hemisphere) from which [`Dem::placed_at`] places a map in
+/// polar stereographic instead of equirectangular: where a cylindrical projection's
+/// scale starts to change noticeably across a few kilometres.
+pub const POLAR_PROJECTION_LAT_DEG: f64 = 80.0;
+
 /// map edge the edge cells' values continue (each cell covers its whole square).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Dem {
@@ -163,9 +168,11 @@ impl Dem {
     }
 
     /// A map with no georeference (a synthesised one) placed at a site: centred on
-    /// (`lat_deg`, `lon_east_deg`) of `body`, equirectangular with true scale at the
-    /// site's latitude, so every cell has a latitude and longitude. A georeferenced map
-    /// is returned as it is. Missing cells stay missing.
+    /// (`lat_deg`, `lon_east_deg`) of `body`, so every cell has a latitude and
+    /// longitude — equirectangular with true scale at the site's latitude, or polar
+    /// stereographic (the LOLA polar products' projection, the site's meridian as grid
+    /// north) at or beyond [`POLAR_PROJECTION_LAT_DEG`]. A georeferenced map is
+    /// returned as it is. Missing cells stay missing.
     pub fn placed_at(self, body: Body, lat_deg: f64, lon_east_deg: f64) -> Result<Dem> {
         if self.georef.projection != Projection::Local {
             return Ok(self);
@@ -177,11 +184,18 @@ impl Dem {
         }
         let e = self.extent();
         let (w, h) = (e.x_max - e.x_min, e.y_max - e.y_min);
-        let y_mid = body.equatorial_radius_m * lat_deg.to_radians();
+        // Near a pole, polar stereographic as the LOLA and MOLA polar products use it,
+        // with the site's meridian along the grid's north (so the grid's axes are the
+        // site's east and north); elsewhere equirectangular, true scale at the site.
+        let projection = if lat_deg.abs() >= POLAR_PROJECTION_LAT_DEG {
+            Projection::PolarStereographic { north: lat_deg > 0.0, lon0_deg: lon_east_deg }
+        } else {
+            Projection::Equirectangular { lat_ts_deg: lat_deg, lon0_deg: lon_east_deg }
+        };
+        let (x_mid, y_mid) = projection.from_geographic(&body, lat_deg, lon_east_deg).unwrap_or((0.0, 0.0));
         let z: Vec<f32> = self.z.iter().zip(&self.valid).map(|(z, v)| if *v { *z } else { f32::NAN }).collect();
-        let georef =
-            Georef { projection: Projection::Equirectangular { lat_ts_deg: lat_deg, lon0_deg: lon_east_deg }, body };
-        Ok(Dem::new(self.cols, self.rows, self.dx, self.dy, -w / 2.0, y_mid + h / 2.0, z)?.with_georef(georef))
+        let georef = Georef { projection, body };
+        Ok(Dem::new(self.cols, self.rows, self.dx, self.dy, x_mid - w / 2.0, y_mid + h / 2.0, z)?.with_georef(georef))
     }
 
     /// Sets the georeference.

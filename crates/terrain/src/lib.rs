@@ -71,7 +71,7 @@ pub mod tiles;
 
 pub use crate::{
     body::{Body, Projection},
-    dem::{Dem, Extent, Georef, Ground, analytic, unit_normal},
+    dem::{Dem, Extent, Georef, Ground, POLAR_PROJECTION_LAT_DEG, analytic, unit_normal},
     error::{Error, Result},
 };
 

@@ -117,6 +117,39 @@ fn geotiff_round_trip_keeps_values_mask_and_georeference() {
     assert_eq!(back.georef(), dem.georef());
 }
 
+/// A synthesised map placed at the lunar south pole is polar stereographic on the LOLA
+/// sphere (R = 1737.4 km, true scale at the pole, the site's meridian as grid north);
+/// it goes through a GeoTIFF and back as the Moon, and its cells' latitudes are the
+/// stereographic projection's: 2R·tan(c/2) from the pole for colatitude c.
+#[test]
+fn lunar_polar_map_is_lola_polar_stereographic_through_a_geotiff() {
+    let flat = Dem::from_fn(50, 40, 20.0, 20.0, |x, y| 0.01 * x - 0.02 * y).unwrap();
+    let dem = flat.clone().placed_at(areo_terrain::Body::MOON, -89.5, 45.0).unwrap();
+    assert_eq!(dem.georef().projection, Projection::PolarStereographic { north: false, lon0_deg: 45.0 });
+    let e = dem.extent();
+    let (xc, yc) = ((e.x_min + e.x_max) / 2.0, (e.y_min + e.y_max) / 2.0);
+    let (lat, lon) = dem.geographic(xc, yc).unwrap();
+    assert!((lat + 89.5).abs() < 1e-9 && (lon - 45.0).abs() < 1e-9, "{lat} {lon}");
+    // The centre lies 2R tan(0.25°) = 15.163 km from the pole along grid +y.
+    assert!(xc.abs() < 1e-6 && (yc - 2.0 * 1_737_400.0 * 0.25f64.to_radians().tan()).abs() < 1e-3, "{xc} {yc}");
+    // Grid north at the site is geographic north: 400 m up is 400 / R rad farther
+    // from the pole (the stereographic scale at 89.5° S is 1.00002).
+    let (lat_n, lon_n) = dem.geographic(xc, yc + 400.0).unwrap();
+    assert!((lat_n - (-89.5 + (400.0 / 1_737_400.0f64).to_degrees())).abs() < 1e-5, "{lat_n}");
+    assert!((lon_n - 45.0).abs() < 1e-9);
+    let path = tmp("lunar-polar.tif");
+    geotiff::write(&dem, &path).unwrap();
+    let back = geotiff::read(&path).unwrap();
+    assert_eq!(back.georef(), dem.georef());
+    assert_eq!(back.georef().body.name(), Some("Moon"));
+    assert_eq!(areo_terrain::Body::MARS_IAU2015.name(), Some("Mars"));
+    assert_eq!(areo_terrain::Body::EARTH_WGS84.name(), Some("Earth"));
+    assert_eq!(areo_terrain::Body { equatorial_radius_m: 2e6, polar_radius_m: 2e6 }.name(), None);
+    // Below 80° the placement stays equirectangular.
+    let low = flat.placed_at(areo_terrain::Body::MOON, -79.0, 45.0).unwrap();
+    assert!(matches!(low.georef().projection, Projection::Equirectangular { .. }));
+}
+
 #[test]
 fn ascii_round_trip_and_centre_registration() {
     let dem = sample_dem();

@@ -417,6 +417,8 @@ fn write_studies(dir: &Path, studies: &[(String, SeedStudy)], generations: usize
             series,
             nights: Vec::new(),
             x_range: (0.0, generations.saturating_sub(1).max(1) as f64),
+            windows: Vec::new(),
+            windows_label: String::new(),
         },
     )?);
     for (name, study) in studies {
@@ -682,6 +684,8 @@ fn write_outputs(
             series: vec![Series { label: "stability margin".into(), points: stability, rgb: (30, 90, 220), width: 2 }],
             nights: Vec::new(),
             x_range: (0.0, trace.len().max(1) as f64),
+            windows: Vec::new(),
+            windows_label: String::new(),
         },
     )?);
     let friction: Vec<(f64, f64)> = trace.iter().enumerate().map(|(i, t)| (i as f64 + 1.0, t.friction_used)).collect();
@@ -703,6 +707,8 @@ fn write_outputs(
             ],
             nights: Vec::new(),
             x_range: (0.0, trace.len().max(1) as f64),
+            windows: Vec::new(),
+            windows_label: String::new(),
         },
     )?);
     let best: Vec<(f64, f64)> = report.generations.iter().map(|g| (g.index as f64, g.best)).collect();
@@ -720,6 +726,8 @@ fn write_outputs(
             ],
             nights: Vec::new(),
             x_range: (0.0, report.generations.len().saturating_sub(1).max(1) as f64),
+            windows: Vec::new(),
+            windows_label: String::new(),
         },
     )?);
     files.extend(crate::output::plots::histogram(

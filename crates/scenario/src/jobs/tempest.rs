@@ -4,9 +4,9 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use areo_ephemeris::events::{communication_windows, night_intervals};
+use areo_ephemeris::events::night_intervals;
 use areo_ephemeris::flux::Atmosphere;
-use areo_ephemeris::{HorizonMask, Mars24, Site, format_utc, parse_utc};
+use areo_ephemeris::{HorizonMask, Site, format_utc, parse_utc};
 use areo_mission::{
     Action, ActionModel, Error as MissionError, Mission, MissionPlan, PlanKind, SimReport, SimStatus, Simulation,
     Start, World, WorldConfig, simulate,
@@ -130,7 +130,7 @@ fn cut_region(
         Some(RegionHorizon {
             sectors,
             // The planner's curvature, so that the horizons are the whole map world's.
-            curvature: areo_mission::MARS_CURVATURE,
+            curvature: areo_mission::curvature_of(job.body),
             lowest_deg: spec.lowest_sun_deg,
             halo,
         })
@@ -166,14 +166,14 @@ fn load_terrain(source: &TerrainSource, file: &ScenarioFile, field: &str) -> Res
     })
 }
 
-/// One Communicate session per sol over the world's span, centred on the Earth's
-/// highest elevation that sol, if it rises high enough; seconds since the epoch.
-fn sessions(world: &World, com: &crate::format::CommunicateSpec) -> Vec<(f64, f64)> {
-    let (start, end) = (world.epoch(), world.epoch() + Duration::from_seconds(world.span_s()));
-    communication_windows(&world.site(), start, end, com.min_earth_elevation_deg, com.duration_min * 60.0)
-        .into_iter()
-        .map(|(a, b)| ((a - start).to_seconds(), (b - start).to_seconds()))
-        .collect()
+/// The reference surface synthesised maps are placed on: MOLA's sphere on Mars (as the
+/// MEGDR products), LOLA's on the Moon, WGS84 on the Earth.
+pub(crate) fn reference_surface(body: areo_ephemeris::Body) -> Body {
+    match body {
+        areo_ephemeris::Body::Mars => Body::MARS_MOLA_SPHERE,
+        areo_ephemeris::Body::Moon => Body::MOON,
+        areo_ephemeris::Body::Earth => Body::EARTH_WGS84,
+    }
 }
 
 /// Peak resident memory of this process, MB (Linux), if known.
@@ -186,11 +186,11 @@ fn peak_memory_mb() -> Option<f64> {
 
 /// Runs a TEMPEST job.
 pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
-    let site = Site::new(job.site.lat_deg, job.site.lon_east_deg)?;
+    let site = Site::on(job.body, job.site.lat_deg, job.site.lon_east_deg)?;
     let epoch = parse_utc(&job.start_utc)?;
     let clock = Instant::now();
     opts.progress.start(3, "terrain");
-    let place = |d: Dem| d.placed_at(Body::MARS_MOLA_SPHERE, site.lat_deg(), site.lon_east_deg());
+    let place = |d: Dem| d.placed_at(reference_surface(job.body), site.lat_deg(), site.lon_east_deg());
     let terrain = match &job.plan_region {
         None => Terrain::Whole(place(load_terrain(&job.terrain, file, "job.terrain")?)?),
         Some(spec) => cut_region(job, spec, file, job.horizon_sectors, place)?,
@@ -205,6 +205,8 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     if let Some(c) = job.battery_capacity_wh {
         rover.battery.capacity_wh = c;
     }
+    // The locomotor works against the body's gravity unless its file says otherwise.
+    rover.locomotor.gravity_m_s2.get_or_insert(job.body.surface_gravity_m_s2());
     let cells = match &terrain {
         Terrain::Whole(d) => d.cols() * d.rows(),
         Terrain::Region { region, .. } => region.dem.cols() * region.dem.rows(),
@@ -229,7 +231,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         (Truth::AddFeatures(features), Ok(map_dem)) => Some(areo_terrain::synth::add_features(map_dem, features)?),
         (Truth::Terrain(source), Ok(map_dem)) => {
             let t = load_terrain(source, file, "job.truth")?.placed_at(
-                Body::MARS_MOLA_SPHERE,
+                reference_surface(job.body),
                 site.lat_deg(),
                 site.lon_east_deg(),
             )?;
@@ -256,7 +258,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         span_s: job.horizon_h * 3600.0,
         sun_step_s: job.sun_step_min * 60.0,
         horizon_sectors: (job.horizon_sectors > 0).then_some(job.horizon_sectors),
-        atmosphere: Atmosphere::BeerLambert { tau: job.tau },
+        atmosphere: Atmosphere::for_body(job.body, job.tau),
         site: Some(site),
     };
     let located = |e: MissionError| match e {
@@ -264,12 +266,12 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         other => Error::from(other),
     };
     let world = match map_dem {
-        Ok(dem) => World::new(dem, &config, &Mars24),
-        Err(region) => World::for_region(region, &config, &Mars24),
+        Ok(dem) => World::new(dem, &config, &job.body),
+        Err(region) => World::for_region(region, &config, &job.body),
     }
     .map_err(located)?;
     let truth = match truth_dem {
-        Some(d) => Some(World::truth(d, &config, &Mars24, &world).map_err(located)?),
+        Some(d) => Some(World::truth(d, &config, &job.body, &world).map_err(located)?),
         None => None,
     };
     let precalc_s = clock.elapsed().as_secs_f64();
@@ -277,7 +279,8 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
 
     let mut model = ActionModel::new(rover, job.planner.actions.clone());
     if let Some(com) = &job.communicate {
-        model = model.with_sessions(sessions(&world, com));
+        let needs_earth = com.earth_in_view.unwrap_or(job.body == areo_ephemeris::Body::Moon);
+        model = model.with_sessions(super::contact::sessions(&world, com)).sessions_need_earth(needs_earth);
     }
     if job.start_battery_wh > model.capacity_wh() + 1e-9 {
         return Err(scenario_error(
@@ -360,7 +363,22 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         Err(e) => return Err(e.into()),
     };
 
-    let ctx = Context { job, world: &world, truth: truth_world, frame, start, goals: &goals, model: &model, precalc_s };
+    // Off Mars: where the rover can wait out a shadow or a loss of the Earth.
+    let havens = (job.body != areo_ephemeris::Body::Mars).then(|| {
+        let every = job.communicate.filter(|_| model.needs_earth()).and_then(|c| c.every_h);
+        super::contact::havens(&world, &model, world.span_s(), HAVEN_STEP_S, every)
+    });
+    let ctx = Context {
+        job,
+        world: &world,
+        truth: truth_world,
+        frame,
+        start,
+        goals: &goals,
+        model: &model,
+        precalc_s,
+        havens: havens.as_ref(),
+    };
     o.number("precalc_s", precalc_s);
     if let Some(mb) = peak_memory_mb() {
         o.number("peak_memory_mb", mb);
@@ -403,7 +421,12 @@ enum Run {
     Simulated(SimReport),
 }
 
+/// Sampling step of the haven map and of the plan's contact and shadow checks, s.
+const HAVEN_STEP_S: f64 = 1800.0;
+const CONTACT_STEP_S: f64 = 300.0;
+
 struct Context<'a> {
+    havens: Option<&'a super::contact::Havens>,
     job: &'a TempestJob,
     world: &'a World,
     truth: &'a World,
@@ -472,6 +495,9 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
     for r in &ctx.job.regions {
         o.flag(&format!("initial_plan_enters_{}", r.name), ctx.enters(plan.waypoints.iter().map(|w| w.cell), r));
     }
+    if ctx.job.body != areo_ephemeris::Body::Mars {
+        body_facts(o, ctx, plan);
+    }
     o.summary.push(format!(
         "initial plan: {} waypoints ({drives} drives, {charges} charges, {hibernations} hibernations) over {:.1} h; \
          lowest predicted battery {:.0} Wh; E_max {:.2} Wh",
@@ -480,6 +506,78 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
         plan.min_battery_wh(),
         plan.e_max_wh
     ));
+}
+
+/// Facts of a plan off Mars: driving in shadow, Earth contact, the Sun's sweep, the
+/// circuit, and the waits at safe havens — each measured on the plan by sampling, not
+/// taken from the planner's constraints.
+fn body_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
+    use super::contact::{contact_along, shadowed_drive_h, waits};
+    o.number("initial_plan_shadowed_drive_h", shadowed_drive_h(ctx.world, plan, CONTACT_STEP_S));
+    if let Some(com) = ctx.job.communicate
+        && ctx.model.needs_earth()
+    {
+        let c = contact_along(ctx.world, plan, com.duration_min * 60.0, CONTACT_STEP_S);
+        o.number("initial_plan_contact_max_gap_h", c.max_gap_h);
+        o.number("initial_plan_earth_in_view_fraction", c.in_view_fraction);
+        o.summary.push(format!(
+            "Earth contact: in view {:.0} % of the plan; longest gap without {} min of contact {:.1} h",
+            100.0 * c.in_view_fraction,
+            com.duration_min,
+            c.max_gap_h
+        ));
+    }
+    let (t0, t1) = (plan.waypoints.first().map_or(0.0, |w| w.t_s), plan.waypoints.last().map_or(0.0, |w| w.t_s));
+    let n = (((t1 - t0) / CONTACT_STEP_S).ceil() as usize).max(1);
+    let swept: f64 = (0..n)
+        .map(|k| {
+            let a = ctx.world.sun(t0 + (t1 - t0) * k as f64 / n as f64).azimuth_deg;
+            let b = ctx.world.sun(t0 + (t1 - t0) * (k + 1) as f64 / n as f64).azimuth_deg;
+            ((b - a + 180.0).rem_euclid(360.0) - 180.0).abs()
+        })
+        .sum();
+    o.number("initial_plan_sun_azimuth_swept_deg", swept);
+    let sun_lo =
+        (0..=n).map(|k| ctx.world.sun(t0 + (t1 - t0) * k as f64 / n as f64).elevation_deg).fold(90.0, f64::min);
+    o.number("initial_plan_lowest_sun_deg", sun_lo);
+    if let Some(last) = plan.waypoints.last() {
+        o.flag("initial_plan_closes_circuit", ctx.world.chebyshev(last.cell, ctx.start.cell) <= 1.0);
+    }
+    // Sun-synchronous driving: drives whose array faces within 90° of the Sun's
+    // azimuth (the heading from the drive's displacement).
+    if let Some(array) = ctx.model.rover().solar {
+        let drives: Vec<_> =
+            plan.waypoints.windows(2).filter(|w| matches!(w[0].action, Some(Action::Drive(_)))).collect();
+        let sunward = drives
+            .iter()
+            .filter(|w| {
+                let heading = (w[1].x_m - w[0].x_m).atan2(w[1].y_m - w[0].y_m).to_degrees();
+                let facing = heading + array.facing_deg;
+                let sun = ctx.world.sun(0.5 * (w[0].t_s + w[1].t_s)).azimuth_deg;
+                ((facing - sun + 180.0).rem_euclid(360.0) - 180.0).abs() < 90.0
+            })
+            .count();
+        o.number("initial_plan_panel_sunward_drive_fraction", sunward as f64 / drives.len().max(1) as f64);
+    }
+    if let Some(h) = ctx.havens {
+        o.number("safe_haven_cells", h.haven.iter().filter(|&&x| x).count() as f64);
+        o.number("safe_haven_survive_h", h.survive_h.min(1e6));
+        let ws = waits(plan, h, floor_wh(ctx), HAVEN_STEP_S);
+        o.number("initial_plan_waits", ws.len() as f64);
+        o.number("initial_plan_waits_at_havens", ws.iter().filter(|w| w.haven).count() as f64);
+        let longest = ws.iter().max_by(|a, b| (a.to_h - a.from_h).total_cmp(&(b.to_h - b.from_h)));
+        o.number("initial_plan_longest_wait_h", longest.map_or(0.0, |w| w.to_h - w.from_h));
+        o.flag("initial_plan_longest_wait_at_haven", longest.is_some_and(|w| w.haven));
+        o.summary.push(format!(
+            "safe havens: {} cells (shadows shorter than the {:.0} h a full battery lasts asleep); the plan waits {} \
+             times for at least {:.1} h, {} of them at havens",
+            h.haven.iter().filter(|&&x| x).count(),
+            h.survive_h.min(1e6),
+            ws.len(),
+            HAVEN_STEP_S / 3600.0,
+            ws.iter().filter(|w| w.haven).count()
+        ));
+    }
 }
 
 fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
@@ -499,13 +597,9 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
         o.number(&format!("goal_{name}_arrival_h"), ctx.hours(t));
         let (_, lon) = ctx.world.lat_lon(ctx.goals[g]);
         let at = epoch + Duration::from_seconds(t);
-        o.number(&format!("goal_{name}_arrival_ltst_h"), areo_ephemeris::SolarGeometry::at(at).ltst_hours(lon));
-        o.summary.push(format!(
-            "reached {name} at {} (after {:.1} h, LTST {:.2} h)",
-            format_utc(at),
-            ctx.hours(t),
-            areo_ephemeris::SolarGeometry::at(at).ltst_hours(lon)
-        ));
+        let ltst = ctx.world.local_solar_time_h(t, lon);
+        o.number(&format!("goal_{name}_arrival_ltst_h"), ltst);
+        o.summary.push(format!("reached {name} at {} (after {:.1} h, LTST {ltst:.2} h)", format_utc(at), ctx.hours(t)));
     }
     let count = |f: &dyn Fn(Action) -> bool| r.steps.iter().filter(|s| f(s.action)).map(|s| s.duration_s).sum::<f64>();
     let drive_h = count(&|a| matches!(a, Action::Drive(_))) / 3600.0;
@@ -661,8 +755,42 @@ fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf
         put("replans.csv", &|p| replans_csv(ctx, r).write(p))?;
     }
     put("route.geojson", &|p| crate::output::geojson::write(p, &route_geojson(ctx, initial, report)))?;
+    if let Some(h) = ctx.havens {
+        put("waits.csv", &|p| waits_csv(ctx, initial, h).write(p))?;
+    }
     files.extend(plots(dir, ctx, initial, report)?);
     Ok(files)
+}
+
+/// The plan's waits with their place, span, lowest charge and whether at a haven.
+fn waits_csv(ctx: &Context<'_>, plan: &MissionPlan, havens: &super::contact::Havens) -> Table {
+    let mut table = Table::new([
+        "x_m",
+        "y_m",
+        "from_h",
+        "to_h",
+        "hours",
+        "lowest_battery_wh",
+        "safe_haven",
+        "longest_shadow_h",
+        "longest_earth_loss_h",
+    ]);
+    for w in super::contact::waits(plan, havens, floor_wh(ctx), HAVEN_STEP_S) {
+        let (x, y) = ctx.local(w.cell);
+        let i = w.cell as usize;
+        table.push(vec![
+            format!("{x:.1}"),
+            format!("{y:.1}"),
+            format!("{:.3}", w.from_h),
+            format!("{:.3}", w.to_h),
+            format!("{:.3}", w.to_h - w.from_h),
+            format!("{:.1}", w.lowest_battery_wh),
+            w.haven.to_string(),
+            format!("{:.1}", havens.longest_shadow_h[i]),
+            format!("{:.1}", havens.longest_earth_loss_h[i]),
+        ]);
+    }
+    table
 }
 
 fn action_name(a: Option<Action>) -> &'static str {
@@ -901,41 +1029,16 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
     for (i, &g) in ctx.goals.iter().enumerate() {
         markers.push(Marker { label: ctx.goal_name(i).to_string(), at: ctx.local(g), rgb: (250, 220, 40) });
     }
-    // Frame the routes: their bounding box with a margin, on whole cells.
-    let (dx, dy) = (dem.dx(), dem.dy());
-    let (mut lo, mut hi) = ((f64::INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::NEG_INFINITY));
-    for p in series.iter().flat_map(|s| s.points.iter()).chain(markers.iter().map(|m| &m.at)) {
-        lo = (lo.0.min(p.0), lo.1.min(p.1));
-        hi = (hi.0.max(p.0), hi.1.max(p.1));
-    }
-    let margin = (0.15 * (hi.0 - lo.0).max(hi.1 - lo.1)).max(5.0 * dx.max(dy));
-    let col0 = (((lo.0 - margin) / dx).floor().max(0.0) as usize).min(dem.cols() - 1);
-    let col1 = (((hi.0 + margin) / dx).ceil() as usize).clamp(col0 + 1, dem.cols());
-    // Rows count from the north edge.
-    let height_m = dem.rows() as f64 * dy;
-    let row0 = (((height_m - hi.1 - margin) / dy).floor().max(0.0) as usize).min(dem.rows() - 1);
-    let row1 = (((height_m - lo.1 + margin) / dy).ceil() as usize).clamp(row0 + 1, dem.rows());
-    let (cols, rows) = (col1 - col0, row1 - row0);
-    let mut crop = Vec::with_capacity(cols * rows * 3);
-    for r in row0..row1 {
-        let i = 3 * (r * dem.cols() + col0);
-        crop.extend_from_slice(&background[i..i + 3 * cols]);
-    }
-    let route = RoutePlot {
-        title: format!(
-            "{}: routes over the terrain (shadows at {})",
-            ctx.job.goals.last().map_or("", |g| g.name.as_str()),
-            format_utc(world.epoch() + Duration::from_seconds(t_shadow))
-        ),
-        background: crop,
-        cols,
-        rows,
-        origin: (col0 as f64 * dx, height_m - row1 as f64 * dy),
-        extent: (cols as f64 * dx, rows as f64 * dy),
-        series,
-        markers,
-    };
+    let title = format!(
+        "{}: routes over the terrain (shadows at {})",
+        ctx.job.goals.last().map_or("", |g| g.name.as_str()),
+        format_utc(world.epoch() + Duration::from_seconds(t_shadow))
+    );
+    let route = framed(dem, &background, series.clone(), markers.clone(), title);
     files.extend(crate::output::plots::route(dir, "route", &route)?);
+    if let Some(h) = ctx.havens {
+        files.extend(haven_plots(dir, ctx, initial, h, series, markers)?);
+    }
 
     // (b) Distance to the final goal against time.
     let last = *ctx.goals.last().unwrap_or(&ctx.start.cell);
@@ -979,6 +1082,8 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
             series: dseries,
             nights: night.clone(),
             x_range: (0.0, end_s / 3600.0),
+            windows: Vec::new(),
+            windows_label: String::new(),
         },
     )?);
 
@@ -1024,6 +1129,133 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
             series: eseries,
             nights: night,
             x_range: (0.0, end_s / 3600.0),
+            windows: Vec::new(),
+            windows_label: String::new(),
+        },
+    )?);
+    Ok(files)
+}
+
+/// A route plot framed on its routes and markers: their bounding box with a margin, on
+/// whole cells of `dem`, over `background` (RGB, the whole map).
+fn framed(dem: &Dem, background: &[u8], series: Vec<Series>, markers: Vec<Marker>, title: String) -> RoutePlot {
+    let (dx, dy) = (dem.dx(), dem.dy());
+    let (mut lo, mut hi) = ((f64::INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::NEG_INFINITY));
+    for p in series.iter().flat_map(|s| s.points.iter()).chain(markers.iter().map(|m| &m.at)) {
+        lo = (lo.0.min(p.0), lo.1.min(p.1));
+        hi = (hi.0.max(p.0), hi.1.max(p.1));
+    }
+    let margin = (0.15 * (hi.0 - lo.0).max(hi.1 - lo.1)).max(5.0 * dx.max(dy));
+    let col0 = (((lo.0 - margin) / dx).floor().max(0.0) as usize).min(dem.cols() - 1);
+    let col1 = (((hi.0 + margin) / dx).ceil() as usize).clamp(col0 + 1, dem.cols());
+    // Rows count from the north edge.
+    let height_m = dem.rows() as f64 * dy;
+    let row0 = (((height_m - hi.1 - margin) / dy).floor().max(0.0) as usize).min(dem.rows() - 1);
+    let row1 = (((height_m - lo.1 + margin) / dy).ceil() as usize).clamp(row0 + 1, dem.rows());
+    let (cols, rows) = (col1 - col0, row1 - row0);
+    let mut crop = Vec::with_capacity(cols * rows * 3);
+    for r in row0..row1 {
+        let i = 3 * (r * dem.cols() + col0);
+        crop.extend_from_slice(&background[i..i + 3 * cols]);
+    }
+    RoutePlot {
+        title,
+        background: crop,
+        cols,
+        rows,
+        origin: (col0 as f64 * dx, height_m - row1 as f64 * dy),
+        extent: (cols as f64 * dx, rows as f64 * dy),
+        series,
+        markers,
+    }
+}
+
+/// Off Mars: the safe havens under the plan (`havens.png`) and the Sun and the Earth
+/// over the plan with the Communicate sessions shaded (`sky.png`).
+fn haven_plots(
+    dir: &Path,
+    ctx: &Context<'_>,
+    plan: &MissionPlan,
+    havens: &super::contact::Havens,
+    series: Vec<Series>,
+    mut markers: Vec<Marker>,
+) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let world = ctx.world;
+    let dem = world.dem();
+    let slope = areo_terrain::slope::slope_aspect(dem);
+    let sun = world.sun(0.0);
+    let mut rgb =
+        areo_terrain::hillshade::hillshade_rgb(dem, &slope, None, sun.azimuth_deg, sun.elevation_deg.max(5.0));
+    // Havens tinted green, ground the Sun leaves dark longer than a battery lasts
+    // tinted blue.
+    for (i, px) in rgb.chunks_exact_mut(3).enumerate() {
+        let tint = if havens.haven[i] {
+            Some((40u16, 200u16, 80u16))
+        } else if world.passable(i as u32) {
+            Some((40, 60, 200))
+        } else {
+            None
+        };
+        if let Some((r, g, b)) = tint {
+            px[0] = ((u16::from(px[0]) + r) / 2) as u8;
+            px[1] = ((u16::from(px[1]) + g) / 2) as u8;
+            px[2] = ((u16::from(px[2]) + b) / 2) as u8;
+        }
+    }
+    for w in super::contact::waits(plan, havens, floor_wh(ctx), HAVEN_STEP_S) {
+        markers.push(Marker {
+            label: format!("wait {:.1} h", w.to_h - w.from_h),
+            at: ctx.local(w.cell),
+            rgb: if w.haven { (20, 140, 40) } else { (200, 40, 40) },
+        });
+    }
+    let title = format!(
+        "safe havens (green): shadows under {:.0} h{}",
+        havens.survive_h.min(1e6),
+        if ctx.model.needs_earth() { ", the Earth never lost longer than the contact interval" } else { "" }
+    );
+    files.extend(crate::output::plots::route(dir, "havens", &framed(dem, &rgb, series, markers, title))?);
+
+    let end_s = plan.waypoints.last().map_or(world.span_s(), |w| w.t_s).max(3600.0);
+    let n = ((end_s / CONTACT_STEP_S).ceil() as usize).max(2);
+    let hours = |k: usize| end_s * k as f64 / n as f64;
+    let mut sky = vec![Series {
+        label: "Sun elevation, °".into(),
+        points: (0..=n).map(|k| (hours(k) / 3600.0, world.sun(hours(k)).elevation_deg)).collect(),
+        rgb: (230, 160, 20),
+        width: 2,
+    }];
+    if world.earth(0.0).is_some() {
+        sky.push(Series {
+            label: "Earth elevation, °".into(),
+            points: (0..=n).filter_map(|k| Some((hours(k) / 3600.0, world.earth(hours(k))?.elevation_deg))).collect(),
+            rgb: (30, 90, 220),
+            width: 2,
+        });
+    }
+    let sessions: Vec<(f64, f64)> = ctx
+        .model
+        .sessions()
+        .iter()
+        .map(|&(a, b)| (a / 3600.0, b / 3600.0))
+        .filter(|&(a, _)| a <= end_s / 3600.0)
+        .collect();
+    files.extend(crate::output::plots::time(
+        dir,
+        "sky",
+        &TimePlot {
+            title: format!(
+                "The Sun{} over the plan, at the site",
+                if world.earth(0.0).is_some() { " and the Earth" } else { "" }
+            ),
+            x_label: "hours since the start".into(),
+            y_label: "elevation, degrees".into(),
+            series: sky,
+            nights: nights(world, end_s),
+            x_range: (0.0, end_s / 3600.0),
+            windows: sessions,
+            windows_label: "Communicate session".into(),
         },
     )?);
     Ok(files)

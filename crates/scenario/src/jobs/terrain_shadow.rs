@@ -10,7 +10,7 @@ use crate::jobs::RunOptions;
 use crate::outcome::Outcome;
 
 pub(crate) fn run(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
-    use areo_ephemeris::{Mars24, SunModel};
+    use areo_ephemeris::SunModel;
     use areo_terrain::shadow::{Curvature, Method, Sun, shadow_map};
     use areo_terrain::slope::slope_aspect;
 
@@ -24,9 +24,12 @@ pub(crate) fn run(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<
     };
     opts.budget.check(&crate::budget::terrain_command("shadow", (dem.cols() * dem.rows()) as u64, 0))?;
     opts.progress.advance(1);
-    let site = Site::new(job.site.lat_deg, job.site.lon_east_deg)?;
+    let site = Site::on(job.body, job.site.lat_deg, job.site.lon_east_deg)?;
     let t = parse_utc(&job.utc)?;
-    let sun = Mars24.sun(t).at_site(&site);
+    let state = job.body.sun(t);
+    let sun = state.at_site(&site);
+    // A synthesised map lies on the body's reference surface (its curvature).
+    let dem = dem.placed_at(super::tempest::reference_surface(job.body), site.lat_deg(), site.lon_east_deg())?;
     let curvature = if job.flat { Curvature::Flat } else { Curvature::of(&dem) };
     let map = shadow_map(&dem, Sun::new(sun.azimuth_deg, sun.elevation_deg), curvature, Method::OwnRay);
     let sa = slope_aspect(&dem);
@@ -45,7 +48,11 @@ pub(crate) fn run(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<
     o.number("mean_slope_deg", slopes.iter().sum::<f64>() / slopes.len().max(1) as f64);
     o.number("sun_azimuth_deg", sun.azimuth_deg);
     o.number("sun_elevation_deg", sun.elevation_deg);
-    o.number("ltst_hours", SolarGeometry::at(t).ltst_hours(site.lon_east_deg()));
+    let ltst = match job.body {
+        areo_ephemeris::Body::Mars => SolarGeometry::at(t).ltst_hours(site.lon_east_deg()),
+        _ => state.local_solar_time_hours(site.lon_east_deg()),
+    };
+    o.number("ltst_hours", ltst);
     o.number("lit_fraction", map.lit_fraction());
     o.number("cast_shadow_fraction", cast);
     o.summary.push(format!(

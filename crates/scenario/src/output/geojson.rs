@@ -67,7 +67,7 @@ pub fn collection(features: Vec<Feature>, body: &Body) -> FeatureCollection {
 
 /// The body's name where its radii are a known reference body's.
 fn body_name(body: &Body) -> &'static str {
-    if *body == Body::MARS_IAU2015 || *body == Body::MARS_MOLA_SPHERE { "Mars" } else { "unknown" }
+    body.name().unwrap_or("unknown")
 }
 
 /// Writes the collection as pretty JSON (atomically, see [`super::write_file`]).

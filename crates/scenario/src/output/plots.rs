@@ -78,6 +78,10 @@ pub struct TimePlot {
     pub series: Vec<Series>,
     /// Night intervals, hours.
     pub nights: Vec<(f64, f64)>,
+    /// Other intervals to shade (contact sessions), hours, with their legend label.
+    pub windows: Vec<(f64, f64)>,
+    /// The legend label of `windows`.
+    pub windows_label: String,
     /// X range, hours.
     pub x_range: (f64, f64),
 }
@@ -225,6 +229,14 @@ fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) ->
         .map_err(draw_err)?
         .label("night")
         .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], night));
+    if !p.windows.is_empty() {
+        let shade = RGBColor(40, 160, 60).mix(0.18).filled();
+        chart
+            .draw_series(p.windows.iter().map(|&(a, b)| Rectangle::new([(a.max(x0), y0), (b.min(x1), y1)], shade)))
+            .map_err(draw_err)?
+            .label(p.windows_label.as_str())
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], shade));
+    }
     draw_lines(&mut chart, &p.series)?;
     draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
     root.present().map_err(draw_err)?;
