@@ -305,14 +305,14 @@ fn mission() -> Result<bool, String> {
     let planner = PlannerConfig {
         resolution: areo_mission::Resolution { time_s: 300.0, energy_wh: 1e12 },
         goal_times: 8,
-        max_wait_s: 6.0 * 3600.0,
+        max_wait_s: Some(6.0 * 3600.0),
         ..PlannerConfig::default()
     };
     println!(
         "planner: {} s time classes, one energy class (E collapsed), {} goal instants, {} h wait allowance",
         planner.resolution.time_s,
         planner.goal_times,
-        planner.max_wait_s / 3600.0
+        planner.max_wait_s.unwrap_or(0.0) / 3600.0
     );
     let t = Instant::now();
     let (mut mission, plan) = Mission::plan(&world, &model, planner, start, &[goal]).map_err(|e| e.to_string())?;

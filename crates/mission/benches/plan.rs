@@ -44,7 +44,7 @@ fn plan(c: &mut Criterion) {
     let config = PlannerConfig {
         resolution: Resolution { time_s: 300.0, energy_wh: 1e12 },
         goal_times: 8,
-        max_wait_s: 6.0 * 3600.0,
+        max_wait_s: Some(6.0 * 3600.0),
         ..PlannerConfig::default()
     };
     let mut g = c.benchmark_group("tempest_200x150");

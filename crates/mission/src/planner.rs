@@ -43,8 +43,10 @@ pub struct PlannerConfig {
     pub segment_starts: usize,
     /// Worst-case path length as a multiple of the straight-line distance.
     pub detour_factor: f64,
-    /// Longest total wait (charging, hibernating) the worst case allows, s.
-    pub max_wait_s: f64,
+    /// Longest total wait (charging, hibernating) the worst case allows, s; default
+    /// (`None`) one solar day of the world's body (a sol on Mars, a synodic month on
+    /// the Moon, a day on the Earth).
+    pub max_wait_s: Option<f64>,
     /// Least battery energy on arrival at the last goal, Wh above the floor.
     pub goal_energy_wh: f64,
 }
@@ -59,7 +61,7 @@ impl Default for PlannerConfig {
             goal_times: 24,
             segment_starts: 8,
             detour_factor: 1.5,
-            max_wait_s: areo_ephemeris::SOL_S.round(),
+            max_wait_s: None,
             goal_energy_wh: 0.0,
         }
     }
@@ -112,8 +114,10 @@ impl PlannerConfig {
         if !(1.0..=100.0).contains(&self.detour_factor) {
             return bad("detour_factor", format!("{}: allowed 1..=100", self.detour_factor));
         }
-        if !(0.0..=1e7).contains(&self.max_wait_s) {
-            return bad("max_wait_s", format!("{}: allowed 0..=1e7 s", self.max_wait_s));
+        if let Some(w) = self.max_wait_s
+            && !(0.0..=1e7).contains(&w)
+        {
+            return bad("max_wait_s", format!("{w}: allowed 0..=1e7 s"));
         }
         if let Objective::Duration { max_duration_s } = self.objective
             && !(max_duration_s > 0.0 && max_duration_s <= 1e8)
@@ -283,20 +287,21 @@ impl<'a> Mission<'a> {
         let slow = top / 3.0;
         let mut out = Vec::new();
         let (mut best, mut worst) = (self.start.t_min, self.start.t_max);
+        let max_wait_s = self.config.max_wait_s.unwrap_or_else(|| self.world.body().solar_day_s().round());
         let mut at = self.start.cell;
         for (i, &g) in self.goals.iter().enumerate() {
             let d = self.world.octile_m(at, g);
             best += d / top;
             worst += self.config.detour_factor * d / slow;
             if i + 1 == self.goals.len() {
-                worst += self.config.max_wait_s;
+                worst += max_wait_s;
             }
             out.push((best, worst.max(best).min(self.world.span_s())));
             at = g;
         }
         // Intermediate goals may wait too: the wait allowance applies to every goal.
         for w in out.iter_mut().take(self.goals.len() - 1) {
-            w.1 = (w.1 + self.config.max_wait_s).min(self.world.span_s());
+            w.1 = (w.1 + max_wait_s).min(self.world.span_s());
         }
         out
     }

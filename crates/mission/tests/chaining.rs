@@ -74,7 +74,7 @@ fn config(segment_starts: usize) -> PlannerConfig {
         resolution: Resolution { time_s: 60.0, energy_wh: 1e9 },
         goal_times: 12,
         segment_starts,
-        max_wait_s: 1800.0,
+        max_wait_s: Some(1800.0),
         ..PlannerConfig::default()
     }
 }
@@ -108,7 +108,7 @@ fn replanning_after_blocked_cells_equals_planning_from_scratch() {
     let model = model(1e6, quantised());
     let start = Start { cell: world.cell(2, 3), t_min: 0.0, t_max: 600.0, energy_wh: 9e5 };
     let goals = [world.cell(25, 15)];
-    let cfg = PlannerConfig { max_wait_s: 3600.0, goal_times: 8, ..config(4) };
+    let cfg = PlannerConfig { max_wait_s: Some(3600.0), goal_times: 8, ..config(4) };
     let (mut mission, plan) = Mission::plan(&world, &model, cfg.clone(), start, &goals).unwrap();
     // Sensing finds two obstacles on the planned route.
     let on_route: Vec<u32> = plan.waypoints.iter().map(|w| w.cell).skip(5).step_by(4).take(2).collect();
@@ -131,7 +131,7 @@ fn multi_goal_replanning_and_plan_extension_equal_fresh_plans() {
     let model = model(1e6, quantised());
     let start = Start { cell: world.cell(1, 1), t_min: 0.0, t_max: 600.0, energy_wh: 9e5 };
     let goals = [world.cell(12, 14), world.cell(22, 3)];
-    let cfg = PlannerConfig { max_wait_s: 3600.0, goal_times: 6, ..config(4) };
+    let cfg = PlannerConfig { max_wait_s: Some(3600.0), goal_times: 6, ..config(4) };
     let (mut mission, plan) = Mission::plan(&world, &model, cfg.clone(), start, &goals).unwrap();
     assert_eq!(plan.segments, 2);
     // An obstacle on the second segment.

@@ -42,7 +42,7 @@ fn config(energy_wh: f64, objective: Objective) -> PlannerConfig {
         resolution: Resolution { time_s: 60.0, energy_wh },
         path_length: PathLength::Distance,
         goal_times: 40,
-        max_wait_s: 2400.0,
+        max_wait_s: Some(2400.0),
         ..PlannerConfig::default()
     }
 }

@@ -52,7 +52,7 @@ fn a_small_battery_before_night_makes_the_plan_wait() {
     }
     let start = Start { cell: world.cell(3, 2), t_min: t0, t_max: t0 + 600.0, energy_wh: 450.0 };
     let config = PlannerConfig {
-        max_wait_s: 20.0 * 3600.0,
+        max_wait_s: Some(20.0 * 3600.0),
         goal_times: 24,
         resolution: areo_mission::Resolution { time_s: 300.0, energy_wh: 10.0 },
         ..PlannerConfig::default()
@@ -108,7 +108,7 @@ fn unreachable_goals_name_the_binding_constraint() {
     let small = crate::common::model(50.0, actions);
     let long = fixed_sun_world(flat(80, 3, 20.0), 90.0, -30.0, 12.0);
     let start = Start { cell: long.cell(2, 1), t_min: 0.0, t_max: 0.0, energy_wh: 45.0 };
-    let quick = PlannerConfig { max_wait_s: 3600.0, ..PlannerConfig::default() };
+    let quick = PlannerConfig { max_wait_s: Some(3600.0), ..PlannerConfig::default() };
     match Mission::plan(&long, &small, quick, start, &[long.cell(77, 1)]) {
         Err(Error::Unreachable { binding, message }) => {
             assert_eq!(binding, Binding::Battery, "{message}");
@@ -157,7 +157,7 @@ fn the_duration_objective_keeps_under_its_maximum_and_prefers_less_energy() {
     let start = Start { cell: world.cell(2, 2), t_min: 0.0, t_max: 600.0, energy_wh: 2500.0 };
     let goal = [world.cell(26, 9)];
     let base = PlannerConfig {
-        max_wait_s: 3600.0,
+        max_wait_s: Some(3600.0),
         goal_times: 12,
         resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: 1.0 },
         ..PlannerConfig::default()

@@ -32,7 +32,7 @@ fn planner_config() -> PlannerConfig {
         path_length: PathLength::Distance,
         goal_times: 8,
         segment_starts: 4,
-        max_wait_s: 3600.0,
+        max_wait_s: Some(3600.0),
         ..PlannerConfig::default()
     }
 }
