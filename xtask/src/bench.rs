@@ -8,6 +8,11 @@ use std::process::Command;
 /// Throughput targets, elements per second: (criterion full id, minimum, what it means).
 const TARGETS: &[(&str, f64, &str)] = &[
     ("sun/direction_body_fixed(days_since_j2000)", 5.0e6, "Sun directions per second, one core"),
+    (
+        "sun/moon::SkyTable::sky(Epoch) (Sun and Earth)",
+        2.0e6,
+        "Sun and Earth directions per second on the Moon (Chebyshev table), one core",
+    ),
     ("rover_pose/evaluate_warm_rough_dem", 2.0e5, "LSR-1 pose evaluations per second (≤ 5 µs each), one core"),
     (
         "terrain_2527x2356/cast_shadows_az135_el20_curved",

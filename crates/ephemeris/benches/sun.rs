@@ -38,6 +38,11 @@ fn sun_direction(c: &mut Criterion) {
             black_box((s.sun.at_site(&moon_site), s.earth.at_site(&moon_site)))
         })
     });
+    // The same sky tabulated as Chebyshev series (a month from t0).
+    let table = moon::SkyTable::new(t0, t0 + hifitime::Duration::from_days(30.0));
+    g.bench_function("moon::SkyTable::sky(Epoch) (Sun and Earth)", |b| {
+        b.iter(|| black_box(table.sky(black_box(t0 + hifitime::Duration::from_seconds(f64::from(k % 1000))))))
+    });
     let devon = Site::on(Body::Earth, 75.43, -89.87).unwrap();
     g.bench_function("Earth::sun(Epoch)", |b| b.iter(|| black_box(Body::Earth.sun(black_box(t0)))));
     g.bench_function("earth_sun_at_site", |b| b.iter(|| black_box(Body::Earth.sun(black_box(t0)).at_site(&devon))));

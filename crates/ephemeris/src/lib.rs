@@ -21,7 +21,8 @@
 //! - [`flux`]: top-of-atmosphere and surface solar flux, and panel power.
 //! - [`Body`]: Mars, the Moon or the Earth — shape, gravity, day length, and a
 //!   [`SunModel`] each: [`moon`] (Meeus's truncated ELP-2000/82 and solar theory, the IAU
-//!   lunar rotation; the Earth seen from the Moon) and [`terrestrial`] (the Sun at a
+//!   lunar rotation; the Earth seen from the Moon; [`moon::SkyTable`], the same sky as
+//!   Chebyshev series a day at a time) and [`terrestrial`] (the Sun at a
 //!   WGS84 site, UTC as UT1), both on [`geocentric`].
 //!
 //! Angles at the API are degrees in fields whose names say so (`ls_deg`); latitudes
