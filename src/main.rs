@@ -130,7 +130,7 @@ impl BodyArg {
 }
 
 #[derive(Debug, Args)]
-#[command(group = clap::ArgGroup::new("when").required(true).args(["time", "times_file", "sol"]))]
+#[command(group = clap::ArgGroup::new("when").required(true).args(["time", "times_file", "sol", "day"]))]
 struct SunArgs {
     /// An instant, ISO 8601 UTC (e.g. 2012-08-06T05:17:57Z).
     #[arg(long)]
@@ -142,6 +142,11 @@ struct SunArgs {
     /// prints sunrise, noon and sunset. Needs --lat and --lon.
     #[arg(long, requires_all = ["lat", "lon"])]
     sol: Option<i64>,
+    /// On the Moon or the Earth: the solar day from this date (YYYY-MM-DD, 00:00 UTC;
+    /// a synodic month on the Moon): sunrises, sunsets, the Sun's highest point,
+    /// daylight hours (and on the Moon the Earth's). Needs --lat and --lon.
+    #[arg(long, requires_all = ["lat", "lon"])]
+    day: Option<String>,
     /// Whose sky: mars (Mars24), moon (Sun and Earth from a lunar site) or earth (the
     /// Sun at a WGS84 site, UTC as UT1).
     #[arg(long, value_enum, default_value_t = BodyArg::Mars)]
@@ -490,9 +495,17 @@ fn grid(args: &GridArgs) -> Result<(), Error> {
 }
 
 fn sun(args: &SunArgs) -> Result<(), Error> {
-    use areo_scenario::sun::{Instants, SunRows, body_rows, sol_events};
+    use areo_scenario::sun::{Instants, SunRows, body_rows, day_events, sol_events};
     let site = args.lat.zip(args.lon);
     let body = args.body.body();
+    if let Some(date) = &args.day {
+        if args.body == BodyArg::Mars {
+            return Err(Error::Usage("--day is for the Moon and the Earth; on Mars give --sol".into()));
+        }
+        let (lat, lon) = site.ok_or_else(|| Error::Usage("--day needs --lat and --lon".into()))?;
+        print!("{}", print::sun::day(&day_events(body, date, lat, lon)?, args.format)?);
+        return Ok(());
+    }
     let text = match (args.sol, &args.time, &args.times_file) {
         (Some(_), _, _) if args.body != BodyArg::Mars => {
             return Err(Error::Usage(format!(

@@ -180,6 +180,53 @@ fn sun_over_the_earth_reproduces_the_nrel_spa_example_and_the_moon_adds_the_eart
     assert!(String::from_utf8_lossy(&out.stderr).contains("--times-file"));
 }
 
+/// A solar day off Mars: at Greenwich on the March equinox the Sun's centre is up
+/// 12.0 h (geometric: no refraction, centre not limb) and culminates at 12:07 UTC
+/// (equation of time −7.5 min),
+/// 90° − 51.48° high; at Devon Island in July it never sets; half a degree from the
+/// lunar south pole in January 2025 the Sun stays up the whole synodic month.
+#[test]
+fn sun_day_over_the_earth_and_the_moon() {
+    let run = |args: &[&str]| {
+        let out = areo(args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let g =
+        run(&["sun", "--body", "earth", "--day", "2025-03-20", "--lat", "51.4779", "--lon", "0", "--format", "json"]);
+    let daylight = g["daylight_hours"].as_f64().unwrap();
+    assert!((daylight - 12.0).abs() < 0.03, "{daylight}");
+    assert!(g["noon_utc"].as_str().unwrap().starts_with("2025-03-20T12:07"), "{}", g["noon_utc"]);
+    assert!((g["noon_elevation_deg"].as_f64().unwrap() - (90.0 - 51.4779)).abs() < 0.1);
+    assert_eq!(g["sunrise_utc"].as_array().unwrap().len(), 1);
+    let d = run(&[
+        "sun",
+        "--body",
+        "earth",
+        "--day",
+        "2001-07-19",
+        "--lat",
+        "75.38",
+        "--lon",
+        "-89.68",
+        "--format",
+        "json",
+    ]);
+    assert!(d["sunrise_utc"].as_array().unwrap().is_empty() && d["sunset_utc"].as_array().unwrap().is_empty());
+    assert!((d["daylight_hours"].as_f64().unwrap() - 24.0).abs() < 1e-3);
+    let m =
+        run(&["sun", "--body", "moon", "--day", "2025-01-05", "--lat", "-89.45", "--lon", "30", "--format", "json"]);
+    let month_h = 29.530_588_853 * 24.0;
+    assert!((m["daylight_hours"].as_f64().unwrap() - month_h).abs() < 0.01);
+    assert!(m["sunrise_utc"].as_array().unwrap().is_empty() && m["sunset_utc"].as_array().unwrap().is_empty());
+    // On the lunar equator the Sun is up half the month.
+    let e = run(&["sun", "--body", "moon", "--day", "2025-01-05", "--lat", "0", "--lon", "0", "--format", "json"]);
+    assert!((e["daylight_hours"].as_f64().unwrap() - 0.5 * month_h).abs() < 4.0, "{}", e["daylight_hours"]);
+    assert!(m["earth_up_hours"].as_f64().unwrap() > 0.0);
+    let out = areo(&["sun", "--day", "2025-01-05", "--lat", "0", "--lon", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
 #[test]
 fn sun_bad_time_is_exit_2() {
     let out = areo(&["sun", "--time", "2001-02-29T00:00:00Z"]);

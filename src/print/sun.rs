@@ -1,7 +1,7 @@
 //! `areo sun`: the Sun at instants, or one sol's events.
 
 use areo_scenario::Error;
-use areo_scenario::sun::{SkyRow, SolEvents, SunRow, SunRows};
+use areo_scenario::sun::{DayEvents, SkyRow, SolEvents, SunRow, SunRows};
 
 use crate::Format;
 
@@ -84,5 +84,25 @@ pub(crate) fn sol(day: &SolEvents, format: Format) -> Result<String, Error> {
             t(&day.sunset_utc),
             day.daylight_hours
         ),
+    })
+}
+
+/// A solar day of the Moon or the Earth.
+pub(crate) fn day(d: &DayEvents, format: Format) -> Result<String, Error> {
+    Ok(match format {
+        Format::Csv => super::csv(&d.csv_table())?,
+        Format::Json => super::json(d)? + "\n",
+        Format::Text => {
+            let list = |v: &[String]| if v.is_empty() { "none".to_string() } else { v.join(", ") };
+            let mut s = format!("{} from {} to {}\n", d.body, d.from_utc, d.to_utc);
+            s += &format!("  sunrise  {}\n", list(&d.sunrise_utc));
+            s += &format!("  noon     {}  (Sun {:.2}° high)\n", d.noon_utc, d.noon_elevation_deg);
+            s += &format!("  sunset   {}\n", list(&d.sunset_utc));
+            s += &format!("  daylight {:.3} h\n", d.daylight_hours);
+            if let Some(h) = d.earth_up_hours {
+                s += &format!("  Earth up {h:.3} h\n");
+            }
+            s
+        }
     })
 }

@@ -185,6 +185,16 @@ pub fn communication_windows(
     out
 }
 
+/// The Sun's highest point over `mask`-free flat ground at `site` between `start` and
+/// `end` (on the site's body): the instant and the elevation, degrees. Scanned every
+/// 5 min and refined to 10 ms.
+pub fn culmination(site: &Site, start: Epoch, end: Epoch) -> (Epoch, f64) {
+    let flat = HorizonMask::flat();
+    let (t0, t1) = (MarsTime::from_epoch(start).jd_tt, MarsTime::from_epoch(end).jd_tt);
+    let (jd, el) = maximum(&|jd| sun_margin(site, &flat, jd), t0, t1);
+    (epoch_from_jd_tt(jd), el)
+}
+
 /// The largest value of `f` on [a, b] and where: the best scan sample, refined by
 /// golden-section search between its neighbours.
 fn maximum(f: &impl Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64) {

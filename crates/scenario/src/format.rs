@@ -217,7 +217,7 @@ fn default_lowest_sun_deg() -> f64 {
 /// load). By default one per sol, centred on the Earth's highest point in the site's
 /// sky that sol (Mars); with `every_h`, one ending at every `every_h` hours from the
 /// start — at least `duration_min` minutes of contact every `every_h` hours.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CommunicateSpec {
     /// Session length, minutes (1..=720).
@@ -230,6 +230,10 @@ pub struct CommunicateSpec {
     /// instead of once a sol; needed on the Moon, whose solar day is a month.
     #[serde(default)]
     pub every_h: Option<f64>,
+    /// Contact deadlines, hours after the start: a session ends at each (the last
+    /// `duration_min` before it), in addition to the `every_h` ones.
+    #[serde(default)]
+    pub deadlines_h: Vec<f64>,
     /// Whether the rover must stand where the Earth is above the terrain's horizon
     /// for the whole session (direct-to-Earth radio); default: true on the Moon, false
     /// elsewhere (Mars rovers talk through orbiters).
@@ -560,6 +564,15 @@ impl Validate for TempestJob {
             c.nested("communicate", |c| {
                 c.range("duration_min", com.duration_min, 1.0, 720.0, "minutes");
                 c.range("min_earth_elevation_deg", com.min_earth_elevation_deg, -90.0, 90.0, "degrees");
+                let lo = com.duration_min / 60.0;
+                c.list("deadlines_h", &com.deadlines_h, |c, d| {
+                    c.range_here(
+                        *d,
+                        lo,
+                        self.horizon_h.max(lo),
+                        "hours after the start, at least one session long and within the horizon",
+                    )
+                });
                 if let Some(every) = com.every_h {
                     let lo = com.duration_min / 60.0;
                     if !(every > lo && every <= self.horizon_h.max(lo)) {
@@ -576,10 +589,11 @@ impl Validate for TempestJob {
             if self.body == areo_ephemeris::Body::Earth {
                 c.fail("communicate", "on the Earth there is no Earth to talk to: leave communicate out".into());
             }
-            if self.body == areo_ephemeris::Body::Moon && com.every_h.is_none() {
+            if self.body == areo_ephemeris::Body::Moon && com.every_h.is_none() && com.deadlines_h.is_empty() {
                 c.fail(
                     "communicate",
-                    "on the Moon a solar day is a month: give every_h (a session every so many hours)".into(),
+                    "on the Moon a solar day is a month: give every_h (a session every so many hours) or deadlines_h"
+                        .into(),
                 );
             }
         }

@@ -324,6 +324,80 @@ impl SolEvents {
     }
 }
 
+/// The Sun over one solar day of the Moon or the Earth at a site (flat horizon): every
+/// sunrise and sunset, the Sun's highest point, hours of daylight, and on the Moon the
+/// hours the Earth is up.
+#[derive(Debug, Clone, Serialize)]
+pub struct DayEvents {
+    /// The body.
+    pub body: String,
+    /// The window's start, ISO 8601 UTC (the given date at 00:00 UTC).
+    pub from_utc: String,
+    /// The window's end: one solar day of the body later.
+    pub to_utc: String,
+    /// Sunrises in the window, ISO 8601 UTC (none in polar day or night).
+    pub sunrise_utc: Vec<String>,
+    /// Sunsets in the window.
+    pub sunset_utc: Vec<String>,
+    /// The Sun's highest point, ISO 8601 UTC.
+    pub noon_utc: String,
+    /// Its elevation, degrees (geometric).
+    pub noon_elevation_deg: f64,
+    /// Hours with the Sun's centre above the horizontal.
+    pub daylight_hours: f64,
+    /// On the Moon: hours with the Earth's centre above the horizontal.
+    pub earth_up_hours: Option<f64>,
+}
+
+impl DayEvents {
+    /// The events as a CSV table: one row per event (`event`, `utc`).
+    pub fn csv_table(&self) -> Table {
+        let mut table = Table::new(["event", "utc", "value"]);
+        for t in &self.sunrise_utc {
+            table.push(vec!["sunrise".into(), t.clone(), String::new()]);
+        }
+        for t in &self.sunset_utc {
+            table.push(vec!["sunset".into(), t.clone(), String::new()]);
+        }
+        table.push(vec!["noon".into(), self.noon_utc.clone(), format!("{:.4}", self.noon_elevation_deg)]);
+        table.push(vec!["daylight_hours".into(), self.from_utc.clone(), format!("{:.4}", self.daylight_hours)]);
+        if let Some(h) = self.earth_up_hours {
+            table.push(vec!["earth_up_hours".into(), self.from_utc.clone(), format!("{h:.4}")]);
+        }
+        table
+    }
+}
+
+/// The Sun over the solar day of `body` (the Moon or the Earth) that starts at
+/// `date` (YYYY-MM-DD, 00:00 UTC) at (`lat_deg`, `lon_east_deg`).
+pub fn day_events(body: Body, date: &str, lat_deg: f64, lon_east_deg: f64) -> Result<DayEvents> {
+    use areo_ephemeris::events::{culmination, daylight_intervals, earth_visible_intervals};
+    let start = parse_utc(&format!("{}T00:00:00Z", date.trim()))?;
+    let site = Site::on(body, lat_deg, lon_east_deg)?;
+    let end = start + hifitime::Duration::from_seconds(body.solar_day_s());
+    let flat = HorizonMask::flat();
+    let days = daylight_intervals(&site, &flat, start, end);
+    let hours = |iv: &[(Epoch, Epoch)]| iv.iter().map(|(a, b)| (*b - *a).to_seconds()).sum::<f64>() / 3600.0;
+    let (noon, el) = culmination(&site, start, end);
+    Ok(DayEvents {
+        body: body.name().into(),
+        from_utc: format_utc(start),
+        to_utc: format_utc(end),
+        // An interval open at the window's edge is no sunrise or sunset (the Julian-date
+        // round trip moves the edge by microseconds).
+        sunrise_utc: days
+            .iter()
+            .filter(|(a, _)| (*a - start).to_seconds() > 1.0)
+            .map(|(a, _)| format_utc(*a))
+            .collect(),
+        sunset_utc: days.iter().filter(|(_, b)| (end - *b).to_seconds() > 1.0).map(|(_, b)| format_utc(*b)).collect(),
+        noon_utc: format_utc(noon),
+        noon_elevation_deg: el,
+        daylight_hours: hours(&days),
+        earth_up_hours: (body == Body::Moon).then(|| hours(&earth_visible_intervals(&site, &flat, start, end))),
+    })
+}
+
 /// Sunrise, noon and sunset of local sol `sol` at (`lat_deg`, `lon_east_deg`).
 pub fn sol_events(sol: i64, lat_deg: f64, lon_east_deg: f64) -> Result<SolEvents> {
     let site = Site::new(lat_deg, lon_east_deg)?;

@@ -10,17 +10,18 @@ use hifitime::Duration;
 use crate::format::CommunicateSpec;
 
 /// Communicate sessions over the world's span, s after the epoch: one ending at every
-/// `every_h` hours when given, else one per sol centred on the Earth's culmination
-/// (Mars's relay-free direct-to-Earth pass).
+/// `every_h` hours and at each deadline when given, else one per sol centred on the
+/// Earth's culmination (Mars's relay-free direct-to-Earth pass).
 pub(crate) fn sessions(world: &World, com: &CommunicateSpec) -> Vec<(f64, f64)> {
     let length = com.duration_min * 60.0;
-    if let Some(every_h) = com.every_h {
-        let every = every_h * 3600.0;
-        return (1..)
-            .map(|k| k as f64 * every)
-            .take_while(|&end| end <= world.span_s() + 1e-6)
-            .map(|end| (end - length, end))
-            .collect();
+    if com.every_h.is_some() || !com.deadlines_h.is_empty() {
+        let periodic = com.every_h.map_or(Vec::new(), |every_h| {
+            (1..).map(|k| k as f64 * every_h * 3600.0).take_while(|&end| end <= world.span_s() + 1e-6).collect()
+        });
+        let mut ends: Vec<f64> = periodic.into_iter().chain(com.deadlines_h.iter().map(|h| h * 3600.0)).collect();
+        ends.sort_by(f64::total_cmp);
+        ends.dedup();
+        return ends.into_iter().map(|end| (end - length, end)).collect();
     }
     let (start, end) = (world.epoch(), world.epoch() + Duration::from_seconds(world.span_s()));
     communication_windows(&world.site(), start, end, com.min_earth_elevation_deg, length)
@@ -207,4 +208,56 @@ pub(crate) fn waits(plan: &MissionPlan, havens: &Havens, floor_wh: f64, min_s: f
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use areo_ephemeris::flux::Atmosphere;
+    use areo_ephemeris::{Body, Site, parse_utc};
+    use areo_mission::WorldConfig;
+    use areo_terrain::Dem;
+
+    fn lunar_world(span_h: f64) -> World {
+        let dem = Dem::from_fn(20, 20, 30.0, 30.0, |_, _| 0.0).unwrap();
+        let config = WorldConfig {
+            epoch: parse_utc("2025-01-10T00:00:00Z").unwrap(),
+            span_s: span_h * 3600.0,
+            sun_step_s: 600.0,
+            horizon_sectors: Some(16),
+            atmosphere: Atmosphere::Airless,
+            site: Some(Site::on(Body::Moon, -89.45, 30.0).unwrap()),
+        };
+        World::new(dem, &config, &Body::Moon).unwrap()
+    }
+
+    #[test]
+    fn sessions_end_every_interval_and_at_each_deadline() {
+        let world = lunar_world(24.0);
+        let com = CommunicateSpec {
+            duration_min: 30.0,
+            min_earth_elevation_deg: 10.0,
+            every_h: Some(8.0),
+            deadlines_h: vec![5.0, 16.0],
+            earth_in_view: None,
+        };
+        let ends: Vec<f64> = sessions(&world, &com).iter().map(|s| s.1 / 3600.0).collect();
+        assert_eq!(ends, vec![5.0, 8.0, 16.0, 24.0]);
+        assert!(sessions(&world, &com).iter().all(|(a, b)| (b - a - 1800.0).abs() < 1e-9));
+    }
+
+    #[test]
+    fn on_open_ground_near_the_pole_in_lunar_summer_every_cell_is_a_haven() {
+        // Flat ground, the Sun 1.9–2.0° up all day and the Earth 6° up: no shadow, no
+        // loss of the Earth, so every cell is a haven whatever the battery.
+        let world = lunar_world(48.0);
+        let mut rover = areo_rover::resources::ResourceModel::hyperion();
+        rover.battery.capacity_wh = 100.0;
+        let model = ActionModel::new(rover, areo_mission::ActionConfig::default());
+        let h = havens(&world, &model, world.span_s(), 1800.0, Some(8.0));
+        assert!(h.haven.iter().all(|&x| x));
+        assert!(h.longest_shadow_h.iter().chain(&h.longest_earth_loss_h).all(|&x| x == 0.0));
+        // 90 Wh usable over Hyperion's 20 W low load less no generator: 4.5 h.
+        assert!((h.survive_h - 90.0 / 20.0).abs() < 1e-9, "{}", h.survive_h);
+    }
 }

@@ -365,7 +365,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
 
     // Off Mars: where the rover can wait out a shadow or a loss of the Earth.
     let havens = (job.body != areo_ephemeris::Body::Mars).then(|| {
-        let every = job.communicate.filter(|_| model.needs_earth()).and_then(|c| c.every_h);
+        let every = job.communicate.as_ref().filter(|_| model.needs_earth()).and_then(|c| c.every_h);
         super::contact::havens(&world, &model, world.span_s(), HAVEN_STEP_S, every)
     });
     let ctx = Context {
@@ -514,7 +514,7 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
 fn body_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
     use super::contact::{contact_along, shadowed_drive_h, waits};
     o.number("initial_plan_shadowed_drive_h", shadowed_drive_h(ctx.world, plan, CONTACT_STEP_S));
-    if let Some(com) = ctx.job.communicate
+    if let Some(com) = &ctx.job.communicate
         && ctx.model.needs_earth()
     {
         let c = contact_along(ctx.world, plan, com.duration_min * 60.0, CONTACT_STEP_S);
