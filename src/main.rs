@@ -62,6 +62,69 @@ enum Command {
     /// Rover models: check a parameter file.
     #[command(subcommand)]
     Rover(RoverCommand),
+    /// Studies as sweeps: expand a sweep file into array tasks, run one, collect them,
+    /// or print a Slurm or Kubernetes launch recipe.
+    #[command(subcommand)]
+    Sweep(SweepCommand),
+}
+
+#[derive(Debug, Subcommand)]
+enum SweepCommand {
+    /// Write one validated scenario per task and the manifest into DIR.
+    Expand {
+        /// The sweep file (RON), e.g. scenarios/sweeps/landing-date.sweep.ron.
+        sweep: PathBuf,
+        /// The sweep directory.
+        #[arg(short = 'o', long)]
+        out: PathBuf,
+    },
+    /// Run one task into DIR/out/ID/ (skipped if finished, unless --force).
+    Run {
+        /// The sweep directory.
+        dir: PathBuf,
+        /// The task; default SLURM_ARRAY_TASK_ID, then JOB_COMPLETION_INDEX.
+        #[arg(long)]
+        index: Option<usize>,
+        /// Run a finished task again.
+        #[arg(long)]
+        force: bool,
+    },
+    /// Merge the finished tasks' facts into DIR/results.csv; list missing and failed.
+    Collect {
+        /// The sweep directory.
+        dir: PathBuf,
+        /// Plot this fact against --against.
+        #[arg(long, requires = "against")]
+        plot: Option<String>,
+        /// The axis to plot against.
+        #[arg(long, requires = "plot")]
+        against: Option<String>,
+    },
+    /// Print an sbatch script running the sweep as a Slurm job array.
+    Slurm {
+        /// The sweep directory.
+        dir: PathBuf,
+        /// Tasks at once (`%K` of --array).
+        #[arg(long, default_value_t = 8)]
+        parallel: usize,
+        /// Cores per task.
+        #[arg(long, default_value_t = 2)]
+        cpus: usize,
+    },
+    /// Print a Kubernetes Indexed Job running the sweep.
+    K8s {
+        /// The sweep directory (mounted at the same path in the pods).
+        dir: PathBuf,
+        /// The container image holding the areo binary.
+        #[arg(long, default_value = "areo:latest")]
+        image: String,
+        /// The persistent volume claim holding the sweep directory.
+        #[arg(long, default_value = "areo-sweeps")]
+        claim: String,
+        /// Pods at once.
+        #[arg(long, default_value_t = 8)]
+        parallel: usize,
+    },
 }
 
 #[derive(Debug, Subcommand)]
@@ -288,6 +351,7 @@ fn main() -> ExitCode {
         Command::Sun(args) => sun(&args),
         Command::Grid(args) => grid(&args),
         Command::Terrain(cmd) => terrain(&cmd, budget),
+        Command::Sweep(cmd) => sweep(cmd, budget),
         Command::Rover(RoverCommand::Check { params, terrain, mu, moving, format }) => {
             areo_scenario::rover_check::check(&params, terrain, mu, moving).and_then(|report| {
                 let text = match format {
@@ -306,6 +370,51 @@ fn main() -> ExitCode {
             ExitCode::from(e.exit_code() as u8)
         }
     }
+}
+
+fn sweep(cmd: SweepCommand, budget: Budget) -> Result<(), Error> {
+    use areo_scenario::sweep;
+    match cmd {
+        SweepCommand::Expand { sweep: file, out } => {
+            let tasks = sweep::expand(&file, &out)?;
+            println!("{} tasks in {} (manifest.jsonl, tasks/)", tasks.len(), out.display());
+        }
+        SweepCommand::Run { dir, index, force } => {
+            let index = sweep::task_index(index)?;
+            if let Some(n) = sweep::configure_threads() {
+                tracing::info!("{n} threads (SLURM_CPUS_PER_TASK)");
+            }
+            match sweep::run_task(&dir, index, force, &progress_bar(), budget)? {
+                sweep::TaskRun::Skipped(t) => {
+                    println!("task {index} ({}): finished before; skipped (--force runs it)", t.id)
+                }
+                sweep::TaskRun::Ran(t, outcome) => {
+                    println!("task {index} ({}): {}", t.id, outcome.failure.as_deref().unwrap_or("done"));
+                }
+            }
+        }
+        SweepCommand::Collect { dir, plot, against } => {
+            let c = sweep::collect(&dir, plot.as_deref().zip(against.as_deref()))?;
+            println!("{} finished, {} missing, {} failed", c.finished, c.missing.len(), c.failed.len());
+            for id in &c.missing {
+                println!("  missing {id}");
+            }
+            for (id, err) in &c.failed {
+                println!("  failed  {id}: {err}");
+            }
+            for f in &c.files {
+                println!("  wrote {}", f.display());
+            }
+        }
+        SweepCommand::Slurm { dir, parallel, cpus } => {
+            let areo = std::env::current_exe().map_err(|e| Error::Failed(format!("the areo binary's path: {e}")))?;
+            print!("{}", sweep::slurm_script(&dir, &areo, parallel.max(1), cpus.max(1))?);
+        }
+        SweepCommand::K8s { dir, image, claim, parallel } => {
+            print!("{}", sweep::k8s_job(&dir, &image, &claim, parallel.max(1))?);
+        }
+    }
+    Ok(())
 }
 
 fn init_logging(cli: &Cli) {

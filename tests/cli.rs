@@ -227,6 +227,56 @@ fn sun_day_over_the_earth_and_the_moon() {
     assert_eq!(out.status.code(), Some(2));
 }
 
+/// `areo sweep`: expand, run tasks by the schedulers' index variables, skip finished
+/// ones, collect, and print the launch recipes.
+#[test]
+fn sweep_runs_tasks_by_array_index_and_collects_them() {
+    let dir = tmp("sweep");
+    let _ = std::fs::remove_dir_all(dir.join("run"));
+    std::fs::write(
+        dir.join("sun.ron"),
+        r#"Scenario(version: 1, description: "t", job: SunTable(site: (lat_deg: -4.5895, lon_east_deg: 137.4417),
+            start_utc: "2012-08-06T00:00:00Z", duration_h: 2, step_min: 30, tau: 0.5))"#,
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("tau.sweep.ron"),
+        r#"Sweep(version: 1, base: "sun.ron", name: "tau-{tau}", axes: [(name: "tau", path: "job.tau", range: (0.25, 1.0, 0.25))])"#,
+    )
+    .unwrap();
+    let run_dir = dir.join("run");
+    let (sweep, run) = (dir.join("tau.sweep.ron"), run_dir.to_str().unwrap().to_string());
+    let out = areo(&["sweep", "expand", sweep.to_str().unwrap(), "-o", &run]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("4 tasks"));
+    let with_env = |var: &str, value: &str| {
+        Command::new(env!("CARGO_BIN_EXE_areo")).args(["sweep", "run", &run]).env(var, value).output().unwrap()
+    };
+    assert!(with_env("SLURM_ARRAY_TASK_ID", "1").status.success());
+    assert!(run_dir.join("out/tau-0.5/facts.json").exists());
+    assert!(with_env("JOB_COMPLETION_INDEX", "3").status.success());
+    assert!(run_dir.join("out/tau-1/facts.json").exists());
+    let again = with_env("SLURM_ARRAY_TASK_ID", "1");
+    assert!(String::from_utf8_lossy(&again.stdout).contains("skipped"));
+    // No index anywhere: a usage error naming where one comes from.
+    let none = Command::new(env!("CARGO_BIN_EXE_areo"))
+        .args(["sweep", "run", &run])
+        .env_remove("SLURM_ARRAY_TASK_ID")
+        .env_remove("JOB_COMPLETION_INDEX")
+        .output()
+        .unwrap();
+    assert_eq!(none.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&none.stderr).contains("SLURM_ARRAY_TASK_ID"));
+    let out = areo(&["sweep", "collect", &run]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with("2 finished, 2 missing, 0 failed"), "{text}");
+    assert!(text.contains("missing tau-0.25") && text.contains("missing tau-0.75"));
+    let script = String::from_utf8_lossy(&areo(&["sweep", "slurm", &run, "--parallel", "2"]).stdout).into_owned();
+    assert!(script.contains("#SBATCH --array=0-3%2"), "{script}");
+    let job = String::from_utf8_lossy(&areo(&["sweep", "k8s", &run]).stdout).into_owned();
+    assert!(job.contains("completions: 4") && job.contains("completionMode: Indexed"), "{job}");
+}
+
 #[test]
 fn sun_bad_time_is_exit_2() {
     let out = areo(&["sun", "--time", "2001-02-29T00:00:00Z"]);

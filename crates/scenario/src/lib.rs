@@ -12,6 +12,8 @@
 //! - [`outcome`]: named [`Fact`]s and the [`outcome::Expected`] checks of
 //!   `cargo xtask scenarios`;
 //! - [`output`]: the writers (atomic files, CSV, GeoJSON, plots, PNG);
+//! - [`sweep`]: studies as sweep files expanded into array tasks (Slurm, Kubernetes),
+//!   run by index and collected into one table;
 //! - the computations behind the binary's other commands: [`sun`] (the Sun as rows),
 //!   [`terrain`] (DEM rasters), [`grid`] (Moving AI benchmarks), [`rover_check`].
 //!
@@ -29,6 +31,7 @@ pub mod outcome;
 pub mod output;
 pub mod rover_check;
 pub mod sun;
+pub mod sweep;
 pub mod terrain;
 
 /// The body a job plans on (re-exported so the binary needs no other areo crate).

@@ -224,11 +224,13 @@ fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) ->
         .draw()
         .map_err(draw_err)?;
     let night = RGBColor(40, 40, 90).mix(0.15).filled();
-    chart
-        .draw_series(p.nights.iter().map(|&(a, b)| Rectangle::new([(a.max(x0), y0), (b.min(x1), y1)], night)))
-        .map_err(draw_err)?
-        .label("night")
-        .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], night));
+    if !p.nights.is_empty() {
+        chart
+            .draw_series(p.nights.iter().map(|&(a, b)| Rectangle::new([(a.max(x0), y0), (b.min(x1), y1)], night)))
+            .map_err(draw_err)?
+            .label("night")
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], night));
+    }
     if !p.windows.is_empty() {
         let shade = RGBColor(40, 160, 60).mix(0.18).filled();
         chart

@@ -1,0 +1,645 @@
+//! Studies as sweeps, for the array schedulers users already have (Slurm job arrays,
+//! Kubernetes Indexed Jobs): a sweep file names a base scenario and axes over its
+//! fields; [`expand`] writes one scenario per task and a manifest, validating every one
+//! up front; [`run_task`] runs task N (from `--index`, `SLURM_ARRAY_TASK_ID` or
+//! `JOB_COMPLETION_INDEX`) into `DIR/out/ID/` atomically; [`collect`] merges the
+//! finished tasks' facts into `results.csv` and lists the missing and failed ones;
+//! [`slurm_script`] and [`k8s_job`] write the launch recipes.
+//!
+//! A sweep directory:
+//! - `sweep.json`: the sweep's name, the base scenario's directory (relative files of
+//!   the base resolve against it), the axes and the task count;
+//! - `manifest.jsonl`: one line per task (`index`, `id`, the axis values, `scenario`);
+//! - `tasks/ID.ron`: each task's scenario;
+//! - `out/ID/`: a finished task's outputs (`facts.json` among them);
+//! - `failed/ID.txt`: the error of a task that failed (removed when it later succeeds).
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::format::ScenarioFile;
+use crate::output::csv::Table;
+use crate::output::write_file;
+
+/// The sweep file format version this build reads.
+pub const SWEEP_VERSION: u32 = 1;
+/// The most tasks one sweep may expand to.
+pub const MAX_TASKS: usize = 1_000_000;
+
+/// A sweep file (`*.sweep.ron`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[serde(rename = "Sweep")]
+pub struct SweepFile {
+    /// Format version (1).
+    pub version: u32,
+    /// The base scenario, relative to the sweep file.
+    pub base: String,
+    /// Task id pattern: `{AXIS}` is replaced by the axis value, `{index}` by the task
+    /// index; characters other than letters, digits, `.`, `_` and `-` become `_`.
+    /// Default `"{index}"`.
+    #[serde(default = "default_pattern")]
+    pub name: String,
+    /// How the axes combine: every combination (`Product`, default) or element by
+    /// element (`Zip`, equal lengths).
+    #[serde(default)]
+    pub combine: Combine,
+    /// The axes.
+    pub axes: Vec<Axis>,
+}
+
+fn default_pattern() -> String {
+    "{index}".into()
+}
+
+/// How axes combine.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+pub enum Combine {
+    /// Every combination, the last axis fastest.
+    #[default]
+    Product,
+    /// The i-th value of every axis together.
+    Zip,
+}
+
+/// One axis: a scenario field by its path and the values it takes.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Axis {
+    /// Name (1–64 of `A–Z a–z 0–9 _ -`), a column of `results.csv`.
+    pub name: String,
+    /// The field's path in the scenario, dotted, list elements as `[i]`: e.g.
+    /// `job.execution.mu`, `job.start_utc`, `job.goals[1].x_m`. The base scenario must
+    /// write the field out. No path: a label axis, a column of values zipped with the
+    /// others (a number to plot against, say) that sets no field.
+    #[serde(default)]
+    pub path: Option<String>,
+    /// The values, as RON literals (numbers, strings, booleans, tuples).
+    #[serde(default)]
+    pub values: Vec<ron::Value>,
+    /// Or a range of numbers: (from, to, step), `to` included when the steps land on it.
+    #[serde(default)]
+    pub range: Option<(f64, f64, f64)>,
+}
+
+impl Axis {
+    /// The axis's values as RON text.
+    fn literals(&self) -> std::result::Result<Vec<String>, String> {
+        match (&self.range, self.values.is_empty()) {
+            (Some(_), false) => Err("give values or range, not both".into()),
+            (None, true) => Err("give values (a list) or range: (from, to, step)".into()),
+            (None, false) => self.values.iter().map(|v| ron::to_string(v).map_err(|e| e.to_string())).collect(),
+            (Some((from, to, step)), true) => {
+                if !(from.is_finite() && to.is_finite() && *step > 0.0 && to >= from) {
+                    return Err(format!("range ({from}, {to}, {step}): need finite from ≤ to and step > 0"));
+                }
+                let n = ((to - from) / step + 1e-9).floor() as usize + 1;
+                if n > MAX_TASKS {
+                    return Err(format!("range ({from}, {to}, {step}) has {n} values: at most {MAX_TASKS}"));
+                }
+                Ok((0..n).map(|k| number_literal(from + step * k as f64)).collect())
+            }
+        }
+    }
+}
+
+/// A number as RON text: integral values without a fraction (so integer fields take
+/// them), others in the shortest form that reads back exactly.
+fn number_literal(v: f64) -> String {
+    let r = (v * 1e9).round() / 1e9;
+    if r.fract() == 0.0 && r.abs() < 1e15 { format!("{}", r as i64) } else { format!("{r}") }
+}
+
+/// One task of an expanded sweep (a line of `manifest.jsonl`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Task {
+    /// 0-based index (the array task id).
+    pub index: usize,
+    /// Id: the output directory's name.
+    pub id: String,
+    /// Axis name → the value's RON text.
+    pub values: BTreeMap<String, String>,
+    /// The task's scenario, relative to the sweep directory.
+    pub scenario: String,
+}
+
+/// `sweep.json`: what the sweep directory holds.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SweepInfo {
+    /// The sweep file's stem.
+    pub name: String,
+    /// The base scenario's directory: relative paths inside tasks resolve against it.
+    pub base_dir: PathBuf,
+    /// The base scenario's file stem.
+    pub base_name: String,
+    /// Axis names, in the file's order.
+    pub axes: Vec<String>,
+    /// How they combine.
+    pub combine: Combine,
+    /// Number of tasks.
+    pub tasks: usize,
+}
+
+/// Reads a sweep file.
+pub fn load(path: &Path) -> Result<SweepFile> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    let sweep: SweepFile = crate::format::ron_options().from_str(&text).map_err(|e| Error::Syntax {
+        path: path.to_path_buf(),
+        line: e.span.start.line,
+        col: e.span.start.col,
+        message: e.code.to_string(),
+    })?;
+    let bad = |field: String, message: String| Error::Scenario { path: path.to_path_buf(), field, message };
+    if sweep.version != SWEEP_VERSION {
+        return Err(bad("version".into(), format!("{} is not supported: allowed {SWEEP_VERSION}", sweep.version)));
+    }
+    if sweep.axes.is_empty() {
+        return Err(bad("axes".into(), "is empty: give at least one axis".into()));
+    }
+    let mut names = BTreeSet::new();
+    let mut paths = BTreeSet::new();
+    for (i, a) in sweep.axes.iter().enumerate() {
+        let ok = (1..=64).contains(&a.name.len())
+            && a.name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
+            && a.name != "index";
+        if !ok {
+            return Err(bad(
+                format!("axes[{i}].name"),
+                format!("{:?}: allowed 1 to 64 of A–Z a–z 0–9 _ - (not \"index\")", a.name),
+            ));
+        }
+        if !names.insert(a.name.as_str()) {
+            return Err(bad(format!("axes[{i}].name"), format!("{:?} is used twice", a.name)));
+        }
+        if let Some(p) = &a.path
+            && !paths.insert(p.as_str())
+        {
+            return Err(bad(format!("axes[{i}].path"), format!("{p:?} is swept twice")));
+        }
+        a.literals().map_err(|m| bad(format!("axes[{i}]"), m))?;
+    }
+    Ok(sweep)
+}
+
+/// The byte range of the value written for `path` in RON `text`, if written.
+fn value_span(text: &str, path: &[String]) -> Option<std::ops::Range<usize>> {
+    let (line, col) = crate::format::locate::field_position(text, path)?;
+    let line_start: usize = text.split_inclusive('\n').take(line - 1).map(str::len).sum();
+    let at = line_start + text[line_start..].char_indices().nth(col - 1)?.0;
+    let bytes = text.as_bytes();
+    let mut i = at;
+    // A key (`name:`) precedes the value of a struct field; a list element has none.
+    let ident_end = text[at..].find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).map_or(text.len(), |n| at + n);
+    let after = text[ident_end..].trim_start();
+    if ident_end > at && after.starts_with(':') {
+        i = text.len() - after.len() + 1;
+    }
+    while i < bytes.len() && bytes[i].is_ascii_whitespace() {
+        i += 1;
+    }
+    let start = i;
+    let mut depth = 0i32;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'"' => {
+                i += 1;
+                while i < bytes.len() && bytes[i] != b'"' {
+                    i += if bytes[i] == b'\\' { 2 } else { 1 };
+                }
+            }
+            b'(' | b'[' | b'{' => depth += 1,
+            b')' | b']' | b'}' if depth == 0 => break,
+            b')' | b']' | b'}' => depth -= 1,
+            b',' if depth == 0 => break,
+            b'/' if bytes.get(i + 1) == Some(&b'/') && depth == 0 => break,
+            b'\n' if depth == 0 => break,
+            _ => {}
+        }
+        i += 1;
+        if depth == 0 && i > start && matches!(bytes[i - 1], b'"' | b')' | b']' | b'}') {
+            break;
+        }
+    }
+    let end = start + text[start..i].trim_end().len();
+    (end > start).then_some(start..end)
+}
+
+/// Dotted path → segments (`a.b[2].c` → `a`, `b`, `[2]`, `c`).
+fn segments(path: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for part in path.split('.') {
+        match part.split_once('[') {
+            Some((name, idx)) => {
+                if !name.is_empty() {
+                    out.push(name.to_string());
+                }
+                out.push(format!("[{idx}"));
+            }
+            None => out.push(part.to_string()),
+        }
+    }
+    out
+}
+
+/// The task id for one combination.
+fn task_id(pattern: &str, index: usize, values: &BTreeMap<String, String>) -> String {
+    let mut id = pattern.replace("{index}", &index.to_string());
+    for (name, v) in values {
+        id = id.replace(&format!("{{{name}}}"), v.trim_matches('"'));
+    }
+    let id: String =
+        id.chars().map(|c| if c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-') { c } else { '_' }).collect();
+    if id.starts_with('.') || id.is_empty() { format!("t{id}") } else { id }
+}
+
+/// Expands `sweep_path` into `dir`: one validated scenario per task, `manifest.jsonl`
+/// and `sweep.json`. A task whose scenario is invalid is an error naming the task, its
+/// axis values and the field, before anything is written.
+pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<Task>> {
+    let sweep = load(sweep_path)?;
+    let here = sweep_path.parent().unwrap_or(Path::new("."));
+    let base_path = here.join(&sweep.base);
+    let base_text =
+        std::fs::read_to_string(&base_path).map_err(|source| Error::Read { path: base_path.clone(), source })?;
+    let bad = |field: String, message: String| Error::Scenario { path: sweep_path.to_path_buf(), field, message };
+    crate::format::parse(&base_path, &base_text)?;
+    let mut spans = Vec::new();
+    let mut literals = Vec::new();
+    for (i, a) in sweep.axes.iter().enumerate() {
+        let span = match &a.path {
+            None => None,
+            Some(p) => Some(value_span(&base_text, &segments(p)).ok_or_else(|| {
+                bad(
+                    format!("axes[{i}].path"),
+                    format!("{p:?} is not written in {}: write the field out (any value) to sweep it", sweep.base),
+                )
+            })?),
+        };
+        spans.push(span);
+        literals.push(a.literals().map_err(|m| bad(format!("axes[{i}]"), m))?);
+    }
+    let combos: Vec<Vec<usize>> = match sweep.combine {
+        Combine::Zip => {
+            let n = literals[0].len();
+            if let Some((i, l)) = literals.iter().enumerate().find(|(_, l)| l.len() != n) {
+                return Err(bad(
+                    format!("axes[{i}]"),
+                    format!("{} values, axes[0] {n}: zipped axes must match", l.len()),
+                ));
+            }
+            (0..n).map(|k| vec![k; literals.len()]).collect()
+        }
+        Combine::Product => {
+            let total = literals.iter().try_fold(1usize, |acc, l| acc.checked_mul(l.len())).unwrap_or(usize::MAX);
+            if total > MAX_TASKS {
+                return Err(bad("axes".into(), format!("{total} combinations: at most {MAX_TASKS}")));
+            }
+            (0..total)
+                .map(|mut t| {
+                    let mut idx = vec![0; literals.len()];
+                    for a in (0..literals.len()).rev() {
+                        idx[a] = t % literals[a].len();
+                        t /= literals[a].len();
+                    }
+                    idx
+                })
+                .collect()
+        }
+    };
+    // Replacements are applied from the end of the text so earlier spans stay valid.
+    let mut order: Vec<usize> = (0..spans.len()).filter(|&a| spans[a].is_some()).collect();
+    order.sort_by_key(|&a| std::cmp::Reverse(spans[a].as_ref().map_or(0, |s| s.start)));
+    let base_name = base_path.file_stem().map_or_else(|| "base".into(), |s| s.to_string_lossy().into_owned());
+    let mut tasks = Vec::with_capacity(combos.len());
+    let mut texts = Vec::with_capacity(combos.len());
+    let mut ids = BTreeSet::new();
+    for (index, combo) in combos.iter().enumerate() {
+        let mut text = base_text.clone();
+        for &a in &order {
+            if let Some(span) = &spans[a] {
+                text.replace_range(span.clone(), &literals[a][combo[a]]);
+            }
+        }
+        let values: BTreeMap<String, String> = sweep
+            .axes
+            .iter()
+            .zip(combo)
+            .enumerate()
+            .map(|(a, (axis, &k))| (axis.name.clone(), literals[a][k].clone()))
+            .collect();
+        let id = task_id(&sweep.name, index, &values);
+        if !ids.insert(id.clone()) {
+            return Err(bad(
+                "name".into(),
+                format!("{:?} gives the id {id:?} to two tasks: add {{index}} or an axis", sweep.name),
+            ));
+        }
+        crate::format::parse(&base_path.with_file_name(format!("{id}.ron")), &text).map_err(|e| {
+            let at: Vec<String> = values.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+            bad(format!("task {index} ({})", at.join(", ")), e.to_string())
+        })?;
+        tasks.push(Task { index, id: id.clone(), values, scenario: format!("tasks/{id}.ron") });
+        texts.push(text);
+    }
+    let io = |p: &Path| {
+        let p = p.to_path_buf();
+        move |source| Error::Io { path: p, source }
+    };
+    std::fs::create_dir_all(dir.join("tasks")).map_err(io(&dir.join("tasks")))?;
+    for (t, text) in tasks.iter().zip(&texts) {
+        write_file(&dir.join(&t.scenario), text.as_bytes())?;
+    }
+    let mut manifest = String::new();
+    for t in &tasks {
+        manifest += &serde_json::to_string(t).map_err(|e| Error::Failed(e.to_string()))?;
+        manifest.push('\n');
+    }
+    write_file(&dir.join("manifest.jsonl"), manifest.as_bytes())?;
+    let base_parent = base_path.parent().unwrap_or(Path::new("."));
+    let base_dir = base_parent.canonicalize().unwrap_or_else(|_| base_parent.to_path_buf());
+    let info = SweepInfo {
+        name: sweep_path.file_name().map_or_else(String::new, |s| {
+            s.to_string_lossy().trim_end_matches(".sweep.ron").trim_end_matches(".ron").to_string()
+        }),
+        base_dir,
+        base_name,
+        axes: sweep.axes.iter().map(|a| a.name.clone()).collect(),
+        combine: sweep.combine,
+        tasks: tasks.len(),
+    };
+    let json = serde_json::to_string_pretty(&info).map_err(|e| Error::Failed(e.to_string()))?;
+    write_file(&dir.join("sweep.json"), json.as_bytes())?;
+    Ok(tasks)
+}
+
+/// The sweep directory's description.
+pub fn info(dir: &Path) -> Result<SweepInfo> {
+    let path = dir.join("sweep.json");
+    let text = std::fs::read_to_string(&path).map_err(|source| Error::Read { path: path.clone(), source })?;
+    serde_json::from_str(&text).map_err(|e| Error::Scenario {
+        path,
+        field: "sweep.json".into(),
+        message: e.to_string(),
+    })
+}
+
+/// Every task of an expanded sweep.
+pub fn tasks(dir: &Path) -> Result<Vec<Task>> {
+    let path = dir.join("manifest.jsonl");
+    let text = std::fs::read_to_string(&path).map_err(|source| Error::Read { path: path.clone(), source })?;
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+        .map(|(i, l)| {
+            serde_json::from_str(l).map_err(|e| Error::Syntax {
+                path: path.clone(),
+                line: i + 1,
+                col: e.column(),
+                message: e.to_string(),
+            })
+        })
+        .collect()
+}
+
+/// The array index of this task: `index` if given, else `SLURM_ARRAY_TASK_ID`, else
+/// `JOB_COMPLETION_INDEX` (Kubernetes Indexed Jobs).
+pub fn task_index(index: Option<usize>) -> Result<usize> {
+    if let Some(i) = index {
+        return Ok(i);
+    }
+    for var in ["SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"] {
+        if let Ok(v) = std::env::var(var) {
+            return v.trim().parse().map_err(|_| Error::Usage(format!("{var}={v:?} is not a task index")));
+        }
+    }
+    Err(Error::Usage(
+        "no task index: give --index N, or run under a Slurm job array (SLURM_ARRAY_TASK_ID) or a Kubernetes Indexed Job (JOB_COMPLETION_INDEX)".into(),
+    ))
+}
+
+/// Threads for a task: `SLURM_CPUS_PER_TASK` when set (the allocation), else every
+/// core. Sets rayon's global pool once; later calls change nothing.
+pub fn configure_threads() -> Option<usize> {
+    let n: usize = std::env::var("SLURM_CPUS_PER_TASK").ok()?.trim().parse().ok().filter(|&n| n > 0)?;
+    rayon::ThreadPoolBuilder::new().num_threads(n).build_global().ok().map(|_| n)
+}
+
+/// What running a task did.
+#[derive(Debug)]
+pub enum TaskRun {
+    /// It had finished before (its `facts.json` exists) and `force` was not given.
+    Skipped(Task),
+    /// It ran; its outputs are in `DIR/out/ID/`.
+    Ran(Task, crate::Outcome),
+}
+
+/// Runs task `index` of the sweep in `dir` into `DIR/out/ID/` (staged and renamed on
+/// success, so a preempted or retried task replaces its outputs as a set); skips a
+/// finished task unless `force`. A failure is recorded in `DIR/failed/ID.txt`.
+pub fn run_task(
+    dir: &Path,
+    index: usize,
+    force: bool,
+    progress: &dyn crate::Progress,
+    budget: crate::budget::Budget,
+) -> Result<TaskRun> {
+    let info = info(dir)?;
+    let all = tasks(dir)?;
+    let task = all.into_iter().find(|t| t.index == index).ok_or_else(|| {
+        Error::Usage(format!(
+            "task {index}: the sweep in {} has tasks 0..={}",
+            dir.display(),
+            info.tasks.saturating_sub(1)
+        ))
+    })?;
+    let out = dir.join("out");
+    if !force && out.join(&task.id).join("facts.json").exists() {
+        return Ok(TaskRun::Skipped(task));
+    }
+    let path = dir.join(&task.scenario);
+    // The task runs as if it sat beside the base scenario, so its relative files resolve.
+    let as_if = info.base_dir.join(format!("{}.ron", task.id));
+    let failed = dir.join("failed").join(format!("{}.txt", task.id));
+    let result =
+        std::fs::read_to_string(&path).map_err(|source| Error::Read { path: path.clone(), source }).and_then(|text| {
+            let scenario = crate::format::parse(&as_if, &text)?;
+            let file = ScenarioFile { path: as_if.clone(), name: task.id.clone(), scenario, text };
+            crate::run_into(&file, &out, progress, budget)
+        });
+    match result {
+        Ok(outcome) => {
+            if failed.exists() {
+                std::fs::remove_file(&failed).map_err(|source| Error::Io { path: failed.clone(), source })?;
+            }
+            Ok(TaskRun::Ran(task, outcome))
+        }
+        Err(e) => {
+            std::fs::create_dir_all(dir.join("failed"))
+                .map_err(|source| Error::Io { path: dir.join("failed"), source })?;
+            write_file(&failed, format!("{e}\n").as_bytes())?;
+            Err(e)
+        }
+    }
+}
+
+/// What [`collect`] found.
+#[derive(Debug, Clone)]
+pub struct Collected {
+    /// Tasks with outputs.
+    pub finished: usize,
+    /// Ids of tasks with neither outputs nor a recorded failure.
+    pub missing: Vec<String>,
+    /// Failed tasks: id and error.
+    pub failed: Vec<(String, String)>,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+}
+
+/// Merges every finished task's facts into `DIR/results.csv` (one row per task: index,
+/// id, the axis values, status, then every fact any task reported, by name), and with
+/// `plot: Some((fact, axis))` plots that fact against that axis (`DIR/FACT_vs_AXIS`).
+pub fn collect(dir: &Path, plot: Option<(&str, &str)>) -> Result<Collected> {
+    let info = info(dir)?;
+    let all = tasks(dir)?;
+    let mut facts: Vec<Option<serde_json::Map<String, serde_json::Value>>> = Vec::with_capacity(all.len());
+    let (mut missing, mut failed) = (Vec::new(), Vec::new());
+    let mut names = BTreeSet::new();
+    for t in &all {
+        let path = dir.join("out").join(&t.id).join("facts.json");
+        match std::fs::read_to_string(&path) {
+            Ok(text) => {
+                let map: serde_json::Map<String, serde_json::Value> = serde_json::from_str(&text).map_err(|e| {
+                    Error::Syntax { path: path.clone(), line: e.line(), col: e.column(), message: e.to_string() }
+                })?;
+                names.extend(map.keys().cloned());
+                facts.push(Some(map));
+            }
+            Err(_) => {
+                facts.push(None);
+                match std::fs::read_to_string(dir.join("failed").join(format!("{}.txt", t.id))) {
+                    Ok(err) => failed.push((t.id.clone(), err.trim().to_string())),
+                    Err(_) => missing.push(t.id.clone()),
+                }
+            }
+        }
+    }
+    let failed_ids: BTreeSet<&str> = failed.iter().map(|(id, _)| id.as_str()).collect();
+    let mut header: Vec<String> = vec!["index".into(), "id".into()];
+    header.extend(info.axes.iter().cloned());
+    header.push("status".into());
+    header.extend(names.iter().cloned());
+    let mut table = Table::new(header.iter().map(String::as_str));
+    let cell = |v: &serde_json::Value| match v {
+        serde_json::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    };
+    for (t, f) in all.iter().zip(&facts) {
+        let mut row = vec![t.index.to_string(), t.id.clone()];
+        row.extend(
+            info.axes.iter().map(|a| t.values.get(a).map_or(String::new(), |v| v.trim_matches('"').to_string())),
+        );
+        row.push(match f {
+            Some(_) => "done".into(),
+            None if failed_ids.contains(t.id.as_str()) => "failed".into(),
+            None => "missing".into(),
+        });
+        row.extend(names.iter().map(|n| f.as_ref().and_then(|m| m.get(n)).map_or(String::new(), cell)));
+        table.push(row);
+    }
+    let mut files = vec![dir.join("results.csv")];
+    table.write(&files[0])?;
+    if let Some((fact, axis)) = plot {
+        if !info.axes.iter().any(|a| a == axis) {
+            return Err(Error::Usage(format!("--against {axis}: the sweep's axes are {}", info.axes.join(", "))));
+        }
+        if !names.contains(fact) {
+            return Err(Error::Usage(format!("--plot {fact}: no finished task reported that fact")));
+        }
+        let mut points: Vec<(f64, f64)> = all
+            .iter()
+            .zip(&facts)
+            .filter_map(|(t, f)| {
+                // Numbers as they are, booleans as 0 and 1.
+                let x: f64 = match t.values.get(axis)?.trim_matches('"') {
+                    "true" => 1.0,
+                    "false" => 0.0,
+                    v => v.parse().ok()?,
+                };
+                let y = f.as_ref()?.get(fact)?.as_f64()?;
+                Some((x, y))
+            })
+            .collect();
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if points.is_empty() {
+            return Err(Error::Usage(format!("--plot {fact} --against {axis}: no numeric values to plot")));
+        }
+        let (lo, hi) = points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| (l.min(p.0), h.max(p.0)));
+        let plot = crate::output::plots::TimePlot {
+            title: format!("{}: {fact} against {axis}", info.name),
+            x_label: axis.to_string(),
+            y_label: fact.to_string(),
+            series: vec![crate::output::plots::Series {
+                label: fact.to_string(),
+                points,
+                rgb: (30, 90, 220),
+                width: 2,
+            }],
+            nights: Vec::new(),
+            x_range: (lo, if hi > lo { hi } else { lo + 1.0 }),
+            windows: Vec::new(),
+            windows_label: String::new(),
+        };
+        files.extend(crate::output::plots::time(dir, &format!("{fact}_vs_{axis}"), &plot)?);
+    }
+    Ok(Collected { finished: facts.iter().filter(|f| f.is_some()).count(), missing, failed, files })
+}
+
+/// An `sbatch` script running the sweep in `dir` as a job array, at most `parallel`
+/// tasks at once, `cpus` cores each; `areo` is the binary's path as the nodes see it.
+pub fn slurm_script(dir: &Path, areo: &Path, parallel: usize, cpus: usize) -> Result<String> {
+    let info = info(dir)?;
+    let dir = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
+    let last = info.tasks.saturating_sub(1);
+    Ok(format!(
+        "#!/bin/bash\n\
+         # areo sweep {name}: {n} tasks as a Slurm job array ({parallel} at a time).\n\
+         #SBATCH --job-name=areo-{name}\n\
+         #SBATCH --array=0-{last}%{parallel}\n\
+         #SBATCH --cpus-per-task={cpus}\n\
+         #SBATCH --output={logs}/%A_%a.out\n\
+         set -euo pipefail\n\
+         mkdir -p {logs}\n\
+         exec {areo} sweep run {dir}\n",
+        name = info.name,
+        n = info.tasks,
+        logs = dir.join("logs").display(),
+        areo = areo.display(),
+        dir = dir.display(),
+    ))
+}
+
+/// A Kubernetes Indexed Job running the sweep in `dir` (mounted at the same path in
+/// the container from a volume claim `claim`), `parallel` pods at a time.
+pub fn k8s_job(dir: &Path, image: &str, claim: &str, parallel: usize) -> Result<String> {
+    let info = info(dir)?;
+    let dir = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
+    let name: String =
+        info.name.to_ascii_lowercase().chars().map(|c| if c.is_ascii_alphanumeric() { c } else { '-' }).collect();
+    Ok(format!(
+        "# areo sweep {sweep}: {n} tasks as a Kubernetes Indexed Job ({parallel} at a time).\n\
+         apiVersion: batch/v1\n\
+         kind: Job\n\
+         metadata:\n  name: areo-{name}\n\
+         spec:\n  completions: {n}\n  parallelism: {parallel}\n  completionMode: Indexed\n  backoffLimitPerIndex: 2\n  maxFailedIndexes: {n}\n\
+         \x20 template:\n    spec:\n      restartPolicy: Never\n      containers:\n      - name: areo\n        image: {image}\n        \
+         command: [\"areo\", \"sweep\", \"run\", \"{dir}\"]\n        volumeMounts:\n        - name: sweep\n          mountPath: {mount}\n      \
+         volumes:\n      - name: sweep\n        persistentVolumeClaim:\n          claimName: {claim}\n",
+        sweep = info.name,
+        n = info.tasks,
+        dir = dir.display(),
+        mount = dir.parent().unwrap_or(&dir).display(),
+    ))
+}
