@@ -349,6 +349,8 @@ pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<Task>> {
         move |source| Error::Io { path: p, source }
     };
     std::fs::create_dir_all(dir.join("tasks")).map_err(io(&dir.join("tasks")))?;
+    // Schedulers open a task's log before it starts: the directory must exist.
+    std::fs::create_dir_all(dir.join("logs")).map_err(io(&dir.join("logs")))?;
     for (t, text) in tasks.iter().zip(&texts) {
         write_file(&dir.join(&t.scenario), text.as_bytes())?;
     }
@@ -611,8 +613,7 @@ pub fn slurm_script(dir: &Path, areo: &Path, parallel: usize, cpus: usize) -> Re
          #SBATCH --cpus-per-task={cpus}\n\
          #SBATCH --output={logs}/%A_%a.out\n\
          set -euo pipefail\n\
-         mkdir -p {logs}\n\
-         exec {areo} sweep run {dir}\n",
+         exec {areo} -v sweep run {dir}\n",
         name = info.name,
         n = info.tasks,
         logs = dir.join("logs").display(),
