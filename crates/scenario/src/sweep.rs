@@ -83,26 +83,39 @@ pub struct Axis {
     /// Or a range of numbers: (from, to, step), `to` included when the steps land on it.
     #[serde(default)]
     pub range: Option<(f64, f64, f64)>,
+    /// Or RON text written into the scenario as it is: enum variants and tuples
+    /// (`"Uniform"`, `"Centred(sigma: 2.0, uniform: 0.1)"`, `"(1, 1)"`), which RON
+    /// values cannot carry.
+    #[serde(default)]
+    pub raw: Vec<String>,
 }
 
 impl Axis {
     /// The axis's values as RON text.
     fn literals(&self) -> std::result::Result<Vec<String>, String> {
-        match (&self.range, self.values.is_empty()) {
-            (Some(_), false) => Err("give values or range, not both".into()),
-            (None, true) => Err("give values (a list) or range: (from, to, step)".into()),
-            (None, false) => self.values.iter().map(|v| ron::to_string(v).map_err(|e| e.to_string())).collect(),
-            (Some((from, to, step)), true) => {
-                if !(from.is_finite() && to.is_finite() && *step > 0.0 && to >= from) {
-                    return Err(format!("range ({from}, {to}, {step}): need finite from ≤ to and step > 0"));
-                }
-                let n = ((to - from) / step + 1e-9).floor() as usize + 1;
-                if n > MAX_TASKS {
-                    return Err(format!("range ({from}, {to}, {step}) has {n} values: at most {MAX_TASKS}"));
-                }
-                Ok((0..n).map(|k| number_literal(from + step * k as f64)).collect())
-            }
+        let given = usize::from(self.range.is_some())
+            + usize::from(!self.values.is_empty())
+            + usize::from(!self.raw.is_empty());
+        if given != 1 {
+            return Err("give exactly one of values (a list), range: (from, to, step) or raw (RON text)".into());
         }
+        if !self.raw.is_empty() {
+            return match self.raw.iter().find(|r| r.trim().is_empty() || r.contains(['\n', '\r'])) {
+                Some(r) => Err(format!("raw value {r:?}: one line of RON text, not empty")),
+                None => Ok(self.raw.clone()),
+            };
+        }
+        let Some((from, to, step)) = self.range else {
+            return self.values.iter().map(|v| ron::to_string(v).map_err(|e| e.to_string())).collect();
+        };
+        if !(from.is_finite() && to.is_finite() && step > 0.0 && to >= from) {
+            return Err(format!("range ({from}, {to}, {step}): need finite from ≤ to and step > 0"));
+        }
+        let n = ((to - from) / step + 1e-9).floor() as usize + 1;
+        if n > MAX_TASKS {
+            return Err(format!("range ({from}, {to}, {step}) has {n} values: at most {MAX_TASKS}"));
+        }
+        Ok((0..n).map(|k| number_literal(from + step * k as f64)).collect())
     }
 }
 

@@ -142,6 +142,12 @@ fn a_zip_sweep_a_range_and_a_label_axis() {
     assert_eq!(tasks[1].values["lat"], "-5.5");
     let text = std::fs::read_to_string(dir.join("run").join(&tasks[1].scenario)).unwrap();
     assert!(text.contains("lat_deg: -5.5,") && text.contains("utc: \"2012-08-06T21:00:00Z\""), "{text}");
+    // Raw RON text for what RON values cannot carry (here a tuple-free bool as text).
+    let file = write_sweep(&dir, r#"(name: "flat", path: "job.flat", raw: ["true"])"#, "");
+    let tasks = sweep::expand(&file, &dir.join("raw")).unwrap();
+    assert!(std::fs::read_to_string(dir.join("raw").join(&tasks[0].scenario)).unwrap().contains("flat: true,"));
+    let file = write_sweep(&dir, r#"(name: "flat", path: "job.flat", raw: ["true"], values: [false])"#, "");
+    assert!(sweep::expand(&file, &dir.join("both")).unwrap_err().to_string().contains("exactly one of"));
 }
 
 #[test]
@@ -199,7 +205,7 @@ fn launch_recipes_name_every_task() {
     sweep::expand(&file, &out).unwrap();
     let script = sweep::slurm_script(&out, Path::new("/opt/areo/bin/areo"), 4, 2).unwrap();
     assert!(script.contains("#SBATCH --array=0-7%4") && script.contains("#SBATCH --cpus-per-task=2"), "{script}");
-    assert!(script.contains("exec /opt/areo/bin/areo sweep run "), "{script}");
+    assert!(script.contains("exec /opt/areo/bin/areo -v sweep run "), "{script}");
     let job = sweep::k8s_job(&out, "ghcr.io/x/areo:1", "sweeps", 3).unwrap();
     for needle in
         ["completions: 8", "parallelism: 3", "completionMode: Indexed", "image: ghcr.io/x/areo:1", "claimName: sweeps"]
