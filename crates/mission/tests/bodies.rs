@@ -53,6 +53,11 @@ fn the_worlds_earth_is_the_ephemeris_earth_at_the_site() {
     let t0 = epoch();
     let world = lunar_world(ridge(0.0), t0, 12.0);
     assert_eq!(world.body(), Body::Moon);
+    // Horizon maps drop away on each body's IAU mean sphere.
+    let sphere = |radius_m| areo_terrain::shadow::Curvature::Sphere { radius_m };
+    assert_eq!(curvature_of(Body::Moon), sphere(1_737_400.0));
+    assert_eq!(curvature_of(Body::Mars), sphere(3_389_500.0));
+    assert_eq!(curvature_of(Body::Earth), sphere(6_371_008.8));
     for t in [0.0, 1234.0, 7777.0, 40_000.0] {
         let e = world.earth(t).unwrap();
         let (az, el) = Body::Moon.earth(t0 + Duration::from_seconds(t)).unwrap().at_site(&site());
@@ -67,9 +72,8 @@ fn the_worlds_earth_is_the_ephemeris_earth_at_the_site() {
 fn brute_horizon_deg(dem: &Dem, x0: f64, y0: f64, az_deg: f64) -> (f64, f64) {
     let (s, c) = az_deg.to_radians().sin_cos();
     let z0 = dem.height(x0, y0).unwrap();
-    let Some(areo_terrain::shadow::Curvature::Sphere { radius_m }) = Some(curvature_of(Body::Moon)) else {
-        unreachable!()
-    };
+    // The Moon's mean radius (IAU), independent of the planner's curvature.
+    let radius_m = 1_737_400.0;
     let mut best = f64::NEG_INFINITY;
     let mut d = 5.0;
     while let Some(z) = dem.height(x0 + d * s, y0 + d * c) {
@@ -194,10 +198,8 @@ fn earth_visibility_on_the_gale_mola_crop_matches_a_ray_march() {
     };
     let world = World::new(dem.clone(), &config, &Body::Mars).unwrap();
     let e = world.earth(0.0).unwrap();
-    let radius_m = match curvature_of(Body::Mars) {
-        areo_terrain::shadow::Curvature::Sphere { radius_m } => radius_m,
-        areo_terrain::shadow::Curvature::Flat => unreachable!(),
-    };
+    // Mars's mean radius (IAU 2015), independent of the planner's curvature.
+    let radius_m = 3_389_500.0;
     let (s, c) = e.azimuth_deg.to_radians().sin_cos();
     let (mut visible, mut hidden, mut close) = (0, 0, 0);
     for cell in 0..world.cells() as u32 {
