@@ -251,7 +251,17 @@ fn wrap(x: f64, period: f64) -> f64 {
 }
 
 fn cos_deg_small(deg: f64) -> f64 {
-    sin_cos_deg_small(deg).1
+    let q = (deg / 90.0).round();
+    let x = (deg - 90.0 * q).to_radians();
+    let x2 = x * x;
+    let c = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)));
+    let s = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
+    match (q as i64).rem_euclid(4) {
+        0 => c,
+        1 => -s,
+        2 => -c,
+        _ => s,
+    }
 }
 
 /// sin and cos of an angle in degrees, each to ~3e-8 absolute (see [`cos_deg_small`]):
