@@ -565,6 +565,9 @@ impl Validate for TempestJob {
                 c.range("duration_min", com.duration_min, 1.0, 720.0, "minutes");
                 c.range("min_earth_elevation_deg", com.min_earth_elevation_deg, -90.0, 90.0, "degrees");
                 let lo = com.duration_min / 60.0;
+                if com.deadlines_h.len() > 1000 {
+                    c.fail("deadlines_h", format!("{} deadlines: at most 1000", com.deadlines_h.len()));
+                }
                 c.list("deadlines_h", &com.deadlines_h, |c, d| {
                     c.range_here(
                         *d,
@@ -574,15 +577,21 @@ impl Validate for TempestJob {
                     )
                 });
                 if let Some(every) = com.every_h {
-                    let lo = com.duration_min / 60.0;
-                    if !(every > lo && every <= self.horizon_h.max(lo)) {
+                    // At least an hour apart: a session costs a scan of the schedule in
+                    // every stationary action, so thousands would slow every search.
+                    let lo = (com.duration_min / 60.0).max(1.0);
+                    if !(every >= lo && every <= self.horizon_h.max(lo)) {
                         c.fail(
                             "every_h",
                             format!(
-                                "{every}: allowed more than the session ({lo} h) and at most the horizon ({} h)",
+                                "{every}: allowed at least an hour and more than the session ({} h), at most the horizon ({} h)",
+                                com.duration_min / 60.0,
                                 self.horizon_h
                             ),
                         );
+                    }
+                    if every * 60.0 <= com.duration_min {
+                        c.fail("every_h", format!("{every} h: a session ({} min) must fit between two", com.duration_min));
                     }
                 }
             });

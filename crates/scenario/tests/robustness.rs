@@ -210,3 +210,35 @@ fn every_number_of_every_rover_file_survives_hostile_values() {
     assert!(failures.is_empty(), "{} of {cases} cases broke the contract:\n{}", failures.len(), failures.join("\n"));
     assert!(cases > 1000 && accepted > 0 && accepted < cases, "{accepted} of {cases} accepted");
 }
+
+/// Off Mars, Communicate sessions are refused with the field and the rule: on the Moon
+/// a schedule is required (its solar day is a month), sessions at least an hour apart,
+/// and on the Earth there is no Earth to talk to.
+#[test]
+fn communicate_off_mars_is_checked_with_its_rule() {
+    let base = std::fs::read_to_string(root().join("scenarios/lunar-south-pole.ron")).unwrap();
+    let path = root().join("scenarios/lunar-south-pole.ron");
+    assert!(areo_scenario::format::parse(&path, &base).is_ok());
+    for (from, to, needle) in [
+        ("communicate: (duration_min: 30, every_h: 8),", "communicate: (duration_min: 30),", "every_h"),
+        (
+            "communicate: (duration_min: 30, every_h: 8),",
+            "communicate: (duration_min: 30, every_h: 0.25),",
+            "at least an hour",
+        ),
+        ("communicate: (duration_min: 30, every_h: 8),", "communicate: (duration_min: 60, every_h: 1),", "must fit"),
+        (
+            "communicate: (duration_min: 30, every_h: 8),",
+            "communicate: (duration_min: 30, deadlines_h: [500]),",
+            "deadlines_h",
+        ),
+        ("body: Moon,", "body: Earth,", "no Earth to talk to"),
+        ("body: Moon,", "body: Venus,", "Venus"),
+    ] {
+        assert!(base.contains(from), "{from}");
+        let text = base.replace(from, to);
+        let e = areo_scenario::format::parse(&path, &text).unwrap_err().to_string();
+        assert!(e.contains(needle), "{to}: {e}");
+        assert!(e.contains("lunar-south-pole.ron:"), "{e}");
+    }
+}
