@@ -302,8 +302,12 @@ pub fn precession_to_j2000(t: f64) -> [[f64; 3]; 3] {
     let theta = arcsec(2004.3109 * t - 0.426_65 * t * t - 0.041_833 * t * t * t);
     // J2000 → date adds ζ to the right ascension, tilts by θ and adds z (Meeus 21.4):
     // Rz(z)·Ry(−θ)·Rz(ζ) as active rotations; date → J2000 is its transpose.
-    let column = |v: [f64; 3]| rot_z(-zeta, rot_y(theta, rot_z(-z, v)));
-    let (c0, c1, c2) = (column([1.0, 0.0, 0.0]), column([0.0, 1.0, 0.0]), column([0.0, 0.0, 1.0]));
+    matrix_of(|v| rot_z(-zeta, rot_y(theta, rot_z(-z, v))))
+}
+
+/// The matrix of a linear map, from its images of the unit vectors (its columns).
+pub(crate) fn matrix_of(f: impl Fn([f64; 3]) -> [f64; 3]) -> [[f64; 3]; 3] {
+    let (c0, c1, c2) = (f([1.0, 0.0, 0.0]), f([0.0, 1.0, 0.0]), f([0.0, 0.0, 1.0]));
     [[c0[0], c1[0], c2[0]], [c0[1], c1[1], c2[1]], [c0[2], c1[2], c2[2]]]
 }
 

@@ -94,9 +94,7 @@ pub fn body_fixed_matrix(d: f64) -> [[f64; 3]; 3] {
         let (s, c) = a.to_radians().sin_cos();
         [v[0], c * v[1] + s * v[2], -s * v[1] + c * v[2]]
     };
-    let column = |v: [f64; 3]| frame_z(w, frame_x(90.0 - delta, frame_z(90.0 + alpha, v)));
-    let (c0, c1, c2) = (column([1.0, 0.0, 0.0]), column([0.0, 1.0, 0.0]), column([0.0, 0.0, 1.0]));
-    [[c0[0], c1[0], c2[0]], [c0[1], c1[1], c2[1]], [c0[2], c1[2], c2[2]]]
+    crate::geocentric::matrix_of(|v| frame_z(w, frame_x(90.0 - delta, frame_z(90.0 + alpha, v))))
 }
 
 /// The Sun and the Earth from the Moon's centre at one instant, lunar body-fixed frame.

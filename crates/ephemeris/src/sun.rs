@@ -241,42 +241,45 @@ impl Core {
     }
 }
 
-/// cos of an angle in degrees, to ~3e-8 absolute: quadrant reduction and Taylor
-/// polynomials on [−45°, 45°]. Used only for the perturbation terms, whose amplitudes
-/// (≤ 0.0071°) make the error below 1e-9°; it halves the cost of the Sun's direction.
 /// `x` wrapped to [0, period) without the cost of `fmod`.
 fn wrap(x: f64, period: f64) -> f64 {
     let w = x - period * (x / period).floor();
     if w >= period { w - period } else { w }
 }
 
-fn cos_deg_small(deg: f64) -> f64 {
+/// An angle in degrees reduced to the nearest multiple of 90° (its quadrant, 0..4) and
+/// the cosine and sine of the remainder on [−45°, 45°] by Taylor polynomials, each to
+/// ~3e-8 absolute.
+#[inline(always)]
+fn reduced(deg: f64) -> (i64, f64, f64) {
     let q = (deg / 90.0).round();
     let x = (deg - 90.0 * q).to_radians();
     let x2 = x * x;
     let c = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)));
     let s = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
-    match (q as i64).rem_euclid(4) {
-        0 => c,
-        1 => -s,
-        2 => -c,
-        _ => s,
+    ((q as i64).rem_euclid(4), c, s)
+}
+
+/// cos of an angle in degrees, to ~3e-8 absolute. Used only for the perturbation terms,
+/// whose amplitudes (≤ 0.0071°) make the error below 1e-9°; it halves the cost of the
+/// Sun's direction.
+fn cos_deg_small(deg: f64) -> f64 {
+    match reduced(deg) {
+        (0, c, _) => c,
+        (1, _, s) => -s,
+        (2, c, _) => -c,
+        (_, _, s) => s,
     }
 }
 
-/// sin and cos of an angle in degrees, each to ~3e-8 absolute (see [`cos_deg_small`]):
-/// for terms whose amplitude makes that error negligible.
+/// sin and cos of an angle in degrees, each to ~3e-8 absolute: for terms whose
+/// amplitude makes that error negligible.
 pub(crate) fn sin_cos_deg_small(deg: f64) -> (f64, f64) {
-    let q = (deg / 90.0).round();
-    let x = (deg - 90.0 * q).to_radians();
-    let x2 = x * x;
-    let c = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)));
-    let s = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
-    match (q as i64).rem_euclid(4) {
-        0 => (s, c),
-        1 => (c, -s),
-        2 => (-s, -c),
-        _ => (-c, s),
+    match reduced(deg) {
+        (0, c, s) => (s, c),
+        (1, c, s) => (c, -s),
+        (2, c, s) => (-s, -c),
+        (_, c, s) => (-c, s),
     }
 }
 
