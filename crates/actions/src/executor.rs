@@ -162,18 +162,37 @@ impl std::fmt::Display for Binding {
 }
 
 /// The executor's state after a module: enough to resume a plan that shares this
-/// prefix (a GA child keeps its parent's modules up to the crossover point).
+/// prefix (a GA child keeps its parent's modules up to the crossover point), or to go
+/// on from it with other modules ([`Executor::continue_from`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Checkpoint {
     state: RoverState,
     collected: Vec<bool>,
     samples: usize,
+    taken: Vec<usize>,
     stabilities: usize,
     time_s: f64,
     energy_wh: f64,
     peak_friction_ratio: f64,
     peak_saturation: f64,
     distance_to_target_m: f64,
+}
+
+impl Checkpoint {
+    /// The rover's state: where it stands, its heading, arm, battery and pose.
+    pub fn state(&self) -> &RoverState {
+        &self.state
+    }
+
+    /// Which of the task's samples have been picked up, by index.
+    pub fn collected(&self) -> &[bool] {
+        &self.collected
+    }
+
+    /// Time spent so far, s.
+    pub fn time_s(&self) -> f64 {
+        self.time_s
+    }
 }
 
 /// What running a plan did.
@@ -191,6 +210,9 @@ pub struct Execution {
     pub distance_to_target_m: f64,
     /// Samples collected.
     pub samples: usize,
+    /// The task's samples collected, by index into `Task::samples`, in the order they
+    /// were grasped.
+    pub taken: Vec<usize>,
     /// Least stability margin over the executed modules (1 if none moved).
     pub min_stability: f64,
     /// Mean of the modules' least margins.
@@ -279,7 +301,40 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
         self.execute(plan, Some((parent, k)), false)
     }
 
+    /// Runs `plan` from a saved state `at` (a checkpoint of an earlier execution) as if
+    /// its modules followed the ones that led there; the result covers only `plan`'s
+    /// modules (its `prefix_len`, stabilities and checkpoints count from `at`), with
+    /// time, energy, samples and peaks carried on from `at`.
+    pub fn continue_from(&self, at: &Checkpoint, plan: &[Module]) -> Execution {
+        self.execute_at(plan, Some(at), 0, (&[], &[]), false)
+    }
+
     fn execute(&self, plan: &[Module], from: Option<(&Execution, usize)>, trace: bool) -> Execution {
+        match from {
+            Some((parent, k)) => {
+                let c = &parent.checkpoints[k - 1];
+                self.execute_at(
+                    plan,
+                    Some(c),
+                    k,
+                    (&parent.stabilities[..c.stabilities], &parent.checkpoints[..k]),
+                    trace,
+                )
+            }
+            None => self.execute_at(plan, None, 0, (&[], &[]), trace),
+        }
+    }
+
+    /// Runs `plan[first..]` from `at` (the start when `None`), with `history` (the
+    /// stabilities and checkpoints of the modules before `first`) copied in.
+    fn execute_at(
+        &self,
+        plan: &[Module],
+        at: Option<&Checkpoint>,
+        first: usize,
+        history: (&[f64], &[Checkpoint]),
+        trace: bool,
+    ) -> Execution {
         let mut motion = Motion::new(self.evaluator, self.config.mu);
         // The floor is checked pose by pose, so a module that first dips below it and
         // later slips is reported as what happened first.
@@ -293,6 +348,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             complete: false,
             distance_to_target_m: self.distance(&state),
             samples: 0,
+            taken: Vec::new(),
             min_stability: 1.0,
             mean_stability: 1.0,
             stabilities: Vec::new(),
@@ -308,21 +364,19 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             out.failure = Some((0, Failure::StartPose(*problem)));
             return out;
         }
-        let mut first = 0;
-        if let Some((parent, k)) = from {
-            let c = &parent.checkpoints[k - 1];
+        if let Some(c) = at {
             state = c.state;
             collected.clone_from(&c.collected);
             out.samples = c.samples;
-            out.stabilities.extend_from_slice(&parent.stabilities[..c.stabilities]);
+            out.taken = c.taken.clone();
+            out.stabilities.extend_from_slice(history.0);
             out.time_s = c.time_s;
             out.energy_wh = c.energy_wh;
             out.peak_friction_ratio = c.peak_friction_ratio;
             out.peak_saturation = c.peak_saturation;
             out.distance_to_target_m = c.distance_to_target_m;
-            out.checkpoints.extend_from_slice(&parent.checkpoints[..k]);
-            out.prefix_len = k;
-            first = k;
+            out.checkpoints.extend_from_slice(history.1);
+            out.prefix_len = first;
         }
         for (i, &module) in plan.iter().enumerate().skip(first) {
             let samples: Vec<SampleSite> = self
@@ -379,6 +433,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             if let Some(k) = step.grasped {
                 collected[k] = true;
                 out.samples += 1;
+                out.taken.push(k);
             }
             let energy = step.energy.net_wh();
             out.time_s += step.duration_s;
@@ -519,6 +574,7 @@ fn checkpoint(state: &RoverState, collected: &[bool], out: &Execution) -> Checkp
         state: *state,
         collected: collected.to_vec(),
         samples: out.samples,
+        taken: out.taken.clone(),
         stabilities: out.stabilities.len(),
         time_s: out.time_s,
         energy_wh: out.energy_wh,

@@ -11,8 +11,9 @@
 //! constraint is violated: slip, contact, saturation, stability floor, a rock hitting
 //! the body, leaving the map), [`fitness()`] (eq. 17) and [`evolve`] (the GA:
 //! crossover at the failure point, mutation, tournament selection, elitism, seeded and
-//! identical for any thread count), and [`friction_sweep`] (the task at each of a
-//! list of friction coefficients).
+//! identical for any thread count), [`friction_sweep`] (the task at each of a
+//! list of friction coefficients) and [`climb_margins`] (the stability margin along a
+//! straight climb with the arm stowed and reached forward).
 //!
 //! ```no_run
 //! # use areo_actions::*;
@@ -32,6 +33,7 @@
 //! Architecture invariant: areo-actions depends only on areo-rover and areo-terrain;
 //! every random process takes an explicit seed.
 
+mod climb;
 mod error;
 mod executor;
 mod fitness;
@@ -41,8 +43,9 @@ mod sweep;
 mod task;
 
 pub use crate::{
+    climb::{ArmCase, ClimbPose, ClimbProfile, arm_reached_forward, climb_margins},
     error::{Error, Result},
-    executor::{Binding, ExecConfig, Execution, Executor, Failure, TraceStep},
+    executor::{Binding, Checkpoint, ExecConfig, Execution, Executor, Failure, TraceStep},
     fitness::{Scale, Weights, fitness, h},
     ga::{CrossoverPoint, GaConfig, GaReport, Generation, Individual, evolve},
     inventory::{Inventory, Overrides, Removal, Surroundings, design_space_log10},

@@ -236,7 +236,17 @@ fn resuming_from_a_parents_prefix_gives_the_same_execution_as_running_afresh() {
         let fresh = ex.run(&child, false);
         let resumed = ex.resume(&child, &parent, cut);
         assert_eq!(resumed, fresh, "cut at {cut}");
+        // Going on from the cut's checkpoint alone ends where the fresh run ends.
+        if (1..=parent.checkpoints.len()).contains(&cut) {
+            let on = ex.continue_from(&parent.checkpoints[cut - 1], &child[cut..]);
+            let end = |e: &Execution| e.checkpoints.last().map(|c| (*c.state(), c.collected().to_vec(), c.time_s()));
+            assert_eq!(end(&on), end(&fresh), "cut at {cut}");
+            assert_eq!((on.complete, on.samples, &on.taken), (fresh.complete, fresh.samples, &fresh.taken));
+            assert_eq!(on.prefix_len + cut, fresh.prefix_len);
+        }
     }
+    // The sample taken is named: the task's first (and only) one.
+    assert_eq!(parent.taken, vec![0]);
 }
 
 #[test]
@@ -271,4 +281,47 @@ fn a_rock_already_in_the_map_is_not_counted_twice_by_the_body_test() {
             assert!(run.failure.is_none() && run.prefix_len == 12, "{:?}", run.failure);
         }
     }
+}
+
+#[test]
+fn climb_margins_on_a_uniform_slope_follow_the_rear_tip_angle() {
+    let p = RoverParams::lsr1();
+    let ev = Evaluator::new(&p);
+    let rear_tip = |arm: &areo_rover::arm::ArmState| {
+        let (_, cg) = arm.system_mass_cg(&p).unwrap();
+        ((p.axle_x_m.middle - p.axle_x_m.rear + cg.x) / cg.z).atan()
+    };
+    let stowed = areo_rover::arm::ArmState::stowed(&p);
+    let forward = arm_reached_forward(&ev);
+    // 1001 stops at the arm's reach: one more 2 cm step would not be reachable.
+    assert!(forward.tool_m[0] > stowed.tool_m[0] + 0.2);
+    assert!(forward.moved([0.02, 0.0, 0.0], &p).is_err());
+    let (a0, a1) = (rear_tip(&stowed), rear_tip(&forward));
+    // Facing up a 30° plane: the pitch is the slope, and the margin is the rear
+    // axis's force angle over its flat-ground value, (α − θ)/α₀, with α the rear tip
+    // angle of the arm's configuration and α₀ the stowed one.
+    let theta = 30f64.to_radians();
+    let plane = Plane { z0: 0.0, gx: 0.0, gy: theta.tan() };
+    let climb = climb_margins(&plane, &ev, (0.0, 0.0, 0.0), 2.0, 0.1, 0.3);
+    assert_eq!(climb.stop, None);
+    assert_eq!(climb.poses.len(), 4);
+    for pose in &climb.poses {
+        assert!((pose.pitch_deg - 30.0).abs() < 1e-6, "{pose:?}");
+        assert!((pose.stowed.margin - (a0 - theta) / a0).abs() < 1e-6, "{pose:?} vs {}", (a0 - theta) / a0);
+        assert!((pose.forward.margin - (a1 - theta) / a0).abs() < 1e-6, "{pose:?} vs {}", (a1 - theta) / a0);
+        assert_eq!(pose.stowed.violation, None);
+    }
+    // Between the two tip angles the stowed rover tips over and the reached-forward
+    // one stands: the climb stops at its first pose, on tipping.
+    let between = 0.5 * (a0 + a1);
+    let steep = Plane { z0: 0.0, gx: 0.0, gy: between.tan() };
+    let climb = climb_margins(&steep, &ev, (0.0, 0.0, 0.0), 2.0, 0.1, 0.3);
+    assert_eq!(climb.stop, Some("tip_over"));
+    assert_eq!(climb.poses.len(), 1);
+    assert_eq!(climb.poses[0].stowed.margin, 0.0);
+    // (Its front wheels have lost their load there, so the margin is no longer the
+    // rear axis's alone; it lies between 0 and the gap of the two tip angles.)
+    let f = climb.poses[0].forward;
+    assert!(f.margin > 0.0 && f.margin < (a1 - a0) / a0, "{:?}", climb.poses[0]);
+    assert_eq!(f.violation, None);
 }

@@ -23,7 +23,10 @@
 //!
 //! \[A\] Assumptions, all in the parameter file: point turns and arcs use steerable
 //! corner wheels (as on Sojourner); "turn to sample" turns toward the nearest sample by
-//! at most `activities.turn_to_sample_deg` and "turn from sample" undoes it; while
+//! at most `activities.turn_to_sample_deg` and "turn from sample" undoes it — a stance
+//! for the arm, not a steering command: a driving module after a turn to a sample
+//! first turns back to the route heading (its time and energy counted), so the sample
+//! modules never change the way the rover drives; while
 //! recharging the Sun is overhead, so the array's output is flux × area × efficiency ×
 //! cos(tilt).
 
@@ -202,7 +205,8 @@ pub struct RoverState {
     pub tray_deployed: bool,
     /// Video on.
     pub video_on: bool,
-    /// Heading change of the last "turn to sample", rad (undone by "turn from").
+    /// Heading change of the turns to a sample since the rover last drove, rad (undone
+    /// by "turn from", or by the next driving module before it drives).
     pub sample_turn: f64,
     /// The last pose, to warm-start the next.
     pub pose: Option<Pose>,
@@ -467,7 +471,15 @@ impl<'e> Motion<'e> {
             step.energy.payload_wh += load_w * seconds / 3600.0;
         };
         if let Some((dist, radius, turn)) = module.path() {
-            self.drive(ground, state, dist, radius, turn, &mut step)?;
+            // A turn to a sample is a stance for the arm, not a change of route: the
+            // rover turns back to its route heading before it drives on.
+            let mut from = *state;
+            if state.sample_turn != 0.0 {
+                self.drive(ground, state, 0.0, 0.0, -state.sample_turn, &mut step)?;
+                from = RoverState { sample_turn: 0.0, ..step.state };
+                step.state = from;
+            }
+            self.drive(ground, &from, dist, radius, turn, &mut step)?;
         } else {
             match module {
                 Module::ArmForward

@@ -319,6 +319,32 @@ fn a_ten_centimetre_move_costs_the_rolling_resistance_work_over_the_efficiency()
 }
 
 #[test]
+fn a_drive_after_a_turn_to_a_sample_turns_back_first_so_sample_turns_never_steer() {
+    let p = lsr1();
+    let ev = Evaluator::new(&p);
+    let flat = Plane { z0: 0.0, gx: 0.0, gy: 0.0 };
+    let motion = Motion::new(&ev, 0.6);
+    let start = RoverState::new(&ev, 0.0, 0.0, 0.0);
+    let sample = [SampleSite { id: 0, x: -0.35, y: 0.45, mass_kg: 0.1 }];
+    let turned = motion.run(&flat, &start, Module::TurnToSample, &sample).unwrap();
+    let twice = motion.run(&flat, &turned.state, Module::TurnToSample, &sample).unwrap();
+    assert!((twice.state.sample_turn - 30f64.to_radians()).abs() < 1e-12, "two 15° turns to the left");
+    assert!((twice.state.heading + 30f64.to_radians()).abs() < 1e-12);
+    // 101 from the stance: back to north first, then 10 cm straight north.
+    let on = motion.run(&flat, &twice.state, Module::Forward, &sample).unwrap();
+    assert!(on.state.heading.abs() < 1e-12 && on.state.sample_turn == 0.0);
+    assert!(on.state.x.abs() < 1e-12 && (on.state.y - 0.10).abs() < 1e-12);
+    // It pays for the turn back: a 30° turn at the turn rate, on top of the 10 cm.
+    let plain = motion.run(&flat, &start, Module::Forward, &sample).unwrap();
+    let turn_s = 30.0 / p.turn_rate_deg_s;
+    assert!((on.duration_s - plain.duration_s - turn_s).abs() < 1e-9, "{} vs {}", on.duration_s, plain.duration_s);
+    assert!(on.energy.net_wh() > plain.energy.net_wh() + p.hotel_power_w * turn_s / 3600.0 * 0.999);
+    // Nothing is left to turn from.
+    let back = motion.run(&flat, &on.state, Module::TurnFromSample, &sample);
+    assert_eq!(back.unwrap_err().failure, MotionFailure::NothingToTurnTo);
+}
+
+#[test]
 fn every_module_runs_and_arcs_follow_their_circles() {
     let p = lsr1();
     let ev = Evaluator::new(&p);

@@ -98,6 +98,11 @@ pub struct ActionsJob {
     /// smallest μ whose best plan gets past it.
     #[serde(default)]
     pub ditch_far_edge_y_m: Option<f64>,
+    /// A straight climb from the task's start examined pose by pose, without the GA:
+    /// (step, length), m. Writes the stability margin, pitch and front-wheel load with
+    /// the arm stowed and reached forward (`climb.csv`, `climb.png`, `climb_…` facts).
+    #[serde(default)]
+    pub climb_profile: Option<(f64, f64)>,
 }
 
 /// One GA run of an actions job.
@@ -479,6 +484,14 @@ impl Validate for ActionsJob {
             && !(a >= 0.01 && b >= a && b <= 2.0 && step > 0.0 && (b - a) / step <= 100.0)
         {
             c.fail("mu_sweep", format!("({a}, {b}, {step}): need 0.01 ≤ from ≤ to ≤ 2, step > 0, at most 100 steps"));
+        }
+        if let Some((step, length)) = self.climb_profile
+            && !((0.001..=1.0).contains(&step) && length > 0.0 && length <= 100.0 && length / step <= 10_000.0)
+        {
+            c.fail(
+                "climb_profile",
+                format!("({step}, {length}): need a step of 0.001..=1 m, a length of 0 (exclusive)..=100 m and at most 10 000 poses"),
+            );
         }
     }
 }

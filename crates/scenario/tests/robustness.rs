@@ -242,3 +242,22 @@ fn communicate_off_mars_is_checked_with_its_rule() {
         assert!(e.contains("lunar-south-pole.ron:"), "{e}");
     }
 }
+
+/// The straight climb's step and length are checked with their rule, located.
+#[test]
+fn a_climb_profile_out_of_range_names_its_field_and_rule() {
+    let path = root().join("scenarios/steep-face.ron");
+    let base = std::fs::read_to_string(&path).unwrap();
+    let from = "climb_profile: (0.01, 1.2),";
+    assert!(base.contains(from) && areo_scenario::format::parse(&path, &base).is_ok());
+    for to in [
+        "climb_profile: (0, 1.2),",
+        "climb_profile: (0.01, 0),",
+        "climb_profile: (0.001, 50),",
+        "climb_profile: (2, 5),",
+    ] {
+        let e = areo_scenario::format::parse(&path, &base.replace(from, to)).unwrap_err().to_string();
+        assert!(e.contains("steep-face.ron:") && e.contains("climb_profile"), "{to}: {e}");
+        assert!(e.contains("at most 10 000 poses"), "{to}: {e}");
+    }
+}

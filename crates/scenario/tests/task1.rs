@@ -45,3 +45,86 @@ fn straight_and_single_arc_plans_fail_on_task_1() {
     }
     assert_eq!(plans, 4 * 56);
 }
+
+/// What the exhaustive search of straight driving with the sample modules found.
+#[derive(Debug)]
+struct Reach {
+    /// Distinct states reached.
+    states: usize,
+    /// Farthest the reference point got along the start heading, m.
+    farthest_m: f64,
+    /// Farthest it got off the straight line through the start, m.
+    off_line_m: f64,
+    /// A plan that completed the task, if any did.
+    completed: Option<Vec<u16>>,
+}
+
+/// Every state the rover can reach on task 1 with straight driving and the sample
+/// modules (101, 3000–3003), explored breadth first from the start with the real
+/// executor — each module's physics, the stability floor and the rock collisions —
+/// and merged when two states agree to 5 mm, 0.25° and the same samples on the ground
+/// and in the gripper.
+fn straight_with_samples_reachable(ex: &Executor<'_, areo_terrain::Dem>, start: (f64, f64, f64)) -> Reach {
+    use std::collections::HashSet;
+    let modules = [Module::Forward, Module::TurnToSample, Module::TurnFromSample, Module::Grasp, Module::Release];
+    let key = |c: &areo_actions::Checkpoint| {
+        let s = c.state();
+        let mask = c.collected().iter().enumerate().fold(0u32, |m, (i, &b)| m | (u32::from(b) << i));
+        (
+            (s.x / 0.005).round() as i64,
+            (s.y / 0.005).round() as i64,
+            (s.heading.to_degrees() / 0.25).round() as i64,
+            (s.sample_turn.to_degrees() / 0.25).round() as i64,
+            mask,
+            s.arm.payload_kg > 0.0,
+        )
+    };
+    let (fx, fy) = (start.2.to_radians().sin(), start.2.to_radians().cos());
+    let mut reach = Reach { states: 0, farthest_m: 0.0, off_line_m: 0.0, completed: None };
+    let mut seen = HashSet::new();
+    let mut frontier: Vec<(Vec<Module>, Option<areo_actions::Checkpoint>)> = vec![(Vec::new(), None)];
+    while !frontier.is_empty() {
+        let mut next = Vec::new();
+        for (plan, at) in &frontier {
+            for &m in &modules {
+                let run = match at {
+                    Some(c) => ex.continue_from(c, &[m]),
+                    None => ex.run(&[m], false),
+                };
+                let Some(c) = run.checkpoints.last() else { continue };
+                let mut longer = plan.clone();
+                longer.push(m);
+                if run.complete {
+                    reach.completed = Some(longer.iter().map(|m| m.code()).collect());
+                    return reach;
+                }
+                if seen.insert(key(c)) {
+                    let (dx, dy) = (c.state().x - start.0, c.state().y - start.1);
+                    reach.farthest_m = reach.farthest_m.max(dx * fx + dy * fy);
+                    reach.off_line_m = reach.off_line_m.max((dx * fy - dy * fx).abs());
+                    next.push((longer, Some(c.clone())));
+                }
+            }
+        }
+        frontier = next;
+    }
+    reach.states = seen.len();
+    reach
+}
+
+#[test]
+fn straight_driving_with_the_sample_modules_cannot_complete_task_1() {
+    let (file, job) = task1();
+    let s = setup(&job, &file).unwrap();
+    let ev = Evaluator::new(&s.params);
+    let ex = Executor::new(&s.dem, &ev, &s.task, ExecConfig { ..job.execution });
+    let reach = straight_with_samples_reachable(&ex, s.task.start);
+    assert_eq!(reach.completed, None, "a plan of 101 and 3000–3003 completed the task");
+    // Turns to a sample are stances for the arm: every state lies on the straight line
+    // (to rounding), and the search met the same rock as straight driving, short of
+    // the ditch (0.85 m ahead of the start's front wheels).
+    assert!(reach.off_line_m < 1e-6, "{reach:?}");
+    assert!(reach.farthest_m > 0.4 && reach.farthest_m < 1.0, "{reach:?}");
+    // Turning, grasping and releasing where it stands multiply the states.
+    assert!(reach.states > 10, "{reach:?}");
+}

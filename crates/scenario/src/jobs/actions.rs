@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use areo_actions::{
-    ExecConfig, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Rock, Scale, Surroundings, Task, TraceStep,
-    design_space_log10, evolve, friction_sweep,
+    ClimbProfile, ExecConfig, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Rock, Scale, Surroundings, Task,
+    TraceStep, climb_margins, design_space_log10, evolve, friction_sweep,
 };
 use areo_rover::RoverParams;
 use areo_rover::evaluation::Evaluator;
@@ -166,7 +166,7 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
             evolve(&executor, &run.inventory, &job.weights, &scale, &run.ga).map_err(|e| mission_error(file, e))?;
         let seconds = clock.elapsed().as_secs_f64();
         opts.progress.advance(1);
-        run_facts(&mut o, name, &report, seconds);
+        run_facts(&mut o, name, &report, seconds, &task);
         o.number(&format!("{name}_modules"), run.inventory.modules.len() as f64);
         o.number(&format!("{name}_design_space_log10"), design_space_log10(run.inventory.modules.len(), m));
         if let Some((first, last)) = run.seeds {
@@ -181,7 +181,7 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
                     opts.progress.advance(1);
                     r
                 };
-                study.add(seed, &r);
+                study.add(seed, &r, &task);
             }
             study_facts(&mut o, name, &study, run.ga.generations);
             studies.push((name.clone(), study));
@@ -249,17 +249,25 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         }
     }
     opts.progress.finish();
+    if let Some((step, length)) = job.climb_profile {
+        let profile = climb_margins(&dem, &evaluator, task.start, job.execution.mu, step, length);
+        climb_facts(&mut o, &profile);
+        if let Some(dir) = opts.out_dir {
+            o.files.extend(write_climb(dir, &profile)?);
+        }
+    }
     for (name, report, exec, _) in &reports {
         let executor = Executor::new(&dem, &evaluator, &task, *exec);
         let best = executor.run(&report.best.plan, true);
         let failure =
             best.failure.as_ref().map(|(i, f)| format!("module {} ({}): {f}", i + 1, report.best.plan[*i].code()));
         o.summary.push(format!(
-            "{name}: {} in {} modules; fitness {:.2}; {} samples; stability min {:.0} %, mean {:.0} %; {:.0} s, {:.2} Wh{}",
+            "{name}: {} in {} modules; fitness {:.2}; {} samples ({}); stability min {:.0} %, mean {:.0} %; {:.0} s, {:.2} Wh{}",
             if best.complete { "task complete" } else { "not complete" },
             best.prefix_len,
             report.best.fitness,
             best.samples,
+            taken_label(&best.taken),
             100.0 * best.min_stability,
             100.0 * best.mean_stability,
             best.time_s,
@@ -297,6 +305,104 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     Ok(o)
 }
 
+/// The climb's facts: what ended it and where, and the margins along it.
+fn climb_facts(o: &mut Outcome, profile: &ClimbProfile) {
+    let Some(last) = profile.poses.last() else {
+        o.text("climb_stop", profile.stop.unwrap_or("none"));
+        return;
+    };
+    o.text("climb_stop", profile.stop.unwrap_or("none"));
+    o.number("climb_stop_distance_m", profile.stop_distance_m);
+    o.number("climb_last_pitch_deg", last.pitch_deg);
+    o.number("climb_last_margin_stowed", last.stowed.margin);
+    o.number("climb_last_margin_forward", last.forward.margin);
+    let min = |f: &dyn Fn(&areo_actions::ClimbPose) -> f64| profile.poses.iter().map(f).fold(f64::INFINITY, f64::min);
+    let max =
+        |f: &dyn Fn(&areo_actions::ClimbPose) -> f64| profile.poses.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
+    o.number("climb_max_pitch_deg", max(&|p| p.pitch_deg));
+    o.number("climb_min_margin_stowed", min(&|p| p.stowed.margin));
+    o.number("climb_min_margin_forward", min(&|p| p.forward.margin));
+    o.number("climb_max_margin_gain", max(&|p| p.forward.margin - p.stowed.margin));
+    let front = profile.poses.iter().map(|p| p.stowed.front_load_fraction).filter(|f| f.is_finite());
+    o.number("climb_min_front_load_stowed", front.fold(f64::INFINITY, f64::min));
+    o.summary.push(format!(
+        "straight climb: {} after {:.2} m at {:.1}° of pitch; stability margin there {:.3} stowed, {:.3} with the arm forward (tool at {:.2} m); least margins {:.3} and {:.3}",
+        match profile.stop {
+            Some("kinematics") => "no pose (a joint limit or the map's edge)",
+            Some("tip_over") => "tipped over",
+            _ => "climbed its length",
+        },
+        profile.stop_distance_m,
+        last.pitch_deg,
+        last.stowed.margin,
+        last.forward.margin,
+        profile.forward_tool_m[0],
+        min(&|p| p.stowed.margin),
+        min(&|p| p.forward.margin),
+    ));
+}
+
+/// `climb.csv` (one row per pose) and `climb.png` (margins and front load along it).
+fn write_climb(dir: &Path, profile: &ClimbProfile) -> Result<Vec<std::path::PathBuf>> {
+    let mut table = Table::new([
+        "distance_m",
+        "pitch_deg",
+        "margin_stowed",
+        "margin_forward",
+        "front_load_stowed",
+        "front_load_forward",
+        "friction_needed_stowed",
+        "friction_needed_forward",
+        "violation_stowed",
+        "violation_forward",
+    ]);
+    let num = |v: f64| if v.is_finite() { format!("{v:.4}") } else { String::new() };
+    for p in &profile.poses {
+        table.push(vec![
+            format!("{:.3}", p.distance_m),
+            format!("{:.3}", p.pitch_deg),
+            num(p.stowed.margin),
+            num(p.forward.margin),
+            num(p.stowed.front_load_fraction),
+            num(p.forward.front_load_fraction),
+            num(p.stowed.friction_needed),
+            num(p.forward.friction_needed),
+            p.stowed.violation.unwrap_or("").to_string(),
+            p.forward.violation.unwrap_or("").to_string(),
+        ]);
+    }
+    let path = dir.join("climb.csv");
+    table.write(&path)?;
+    let mut files = vec![path];
+    let series = |label: &str, rgb, f: &dyn Fn(&areo_actions::ClimbPose) -> f64| Series {
+        label: label.to_string(),
+        points: profile.poses.iter().map(|p| (p.distance_m, f(p))).filter(|q| q.1.is_finite()).collect(),
+        rgb,
+        width: 2,
+    };
+    let end = profile.poses.last().map_or(1.0, |p| p.distance_m.max(0.01));
+    files.extend(crate::output::plots::time(
+        dir,
+        "climb",
+        &TimePlot {
+            title: "Straight climb: stability margin and front-wheel load, arm stowed and forward".into(),
+            x_label: "distance from the start, m".into(),
+            y_label: "margin S / front share of the load".into(),
+            series: vec![
+                series("margin, arm stowed", (220, 30, 40), &|p| p.stowed.margin),
+                series("margin, arm forward", (30, 90, 220), &|p| p.forward.margin),
+                series("front load, arm stowed", (40, 160, 60), &|p| p.stowed.front_load_fraction),
+                series("pitch / 90°", (120, 120, 120), &|p| p.pitch_deg / 90.0),
+            ],
+            nights: Vec::new(),
+            x_range: (0.0, end),
+            windows: Vec::new(),
+            windows_label: String::new(),
+        },
+    )?);
+    Ok(files)
+}
+
 /// One GA run of the job, as configured.
 struct RunPlan {
     name: String,
@@ -311,14 +417,19 @@ struct RunPlan {
 struct SeedStudy {
     /// (seed, first-solved generation, best fitness, samples, least stability margin)
     seeds: Vec<(u64, Option<usize>, f64, usize, f64)>,
+    /// The samples each seed's best plan took, as [`taken_label`] writes them, and how
+    /// many of them lie left and right of the way.
+    taken: Vec<(String, usize, usize)>,
     /// Every seed's look-ahead values, pooled.
     lookahead: Vec<i64>,
 }
 
 impl SeedStudy {
-    fn add(&mut self, seed: u64, r: &GaReport) {
+    fn add(&mut self, seed: u64, r: &GaReport, task: &Task) {
         let e = &r.best.execution;
         self.seeds.push((seed, r.first_solved, r.best.fitness, e.samples, e.min_stability));
+        let (left, right) = sides(task, &e.taken);
+        self.taken.push((taken_label(&e.taken), left, right));
         self.lookahead.extend_from_slice(&r.lookahead);
     }
 
@@ -360,6 +471,9 @@ fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usiz
         if la.is_empty() { 0.0 } else { small as f64 / la.len() as f64 },
     );
     o.number(&format!("{name}_pooled_improving_crossovers"), la.len() as f64);
+    // The paper's plan took the samples on the left of the way and left the others.
+    let left_only = study.taken.iter().filter(|t| t.1 > 0 && t.2 == 0).count();
+    o.number(&format!("{name}_left_only_fraction"), left_only as f64 / n.max(1) as f64);
     let share = |f: &dyn Fn(i64) -> bool| {
         if la.is_empty() { 0.0 } else { la.iter().filter(|d| f(**d)).count() as f64 / la.len() as f64 }
     };
@@ -380,15 +494,17 @@ fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usiz
 /// study's pooled look-ahead histogram.
 fn write_studies(dir: &Path, studies: &[(String, SeedStudy)], generations: usize) -> Result<Vec<std::path::PathBuf>> {
     let mut files = Vec::new();
-    let mut table = Table::new(["run", "seed", "first_solved_generation", "best_fitness", "samples", "min_stability"]);
+    let mut table =
+        Table::new(["run", "seed", "first_solved_generation", "best_fitness", "samples", "taken", "min_stability"]);
     for (name, study) in studies {
-        for (seed, first, fitness, samples, s) in &study.seeds {
+        for ((seed, first, fitness, samples, s), taken) in study.seeds.iter().zip(&study.taken) {
             table.push(vec![
                 name.clone(),
                 seed.to_string(),
                 first.map_or(String::new(), |g| g.to_string()),
                 format!("{fitness:.4}"),
                 samples.to_string(),
+                taken.0.clone(),
                 format!("{s:.4}"),
             ]);
         }
@@ -435,11 +551,38 @@ fn write_studies(dir: &Path, studies: &[(String, SeedStudy)], generations: usize
     Ok(files)
 }
 
-fn run_facts(o: &mut Outcome, name: &str, r: &GaReport, seconds: f64) {
+/// The samples a plan took, by their 1-based number in the task ("s1 s4"), in the
+/// order grasped; "none" for none.
+fn taken_label(taken: &[usize]) -> String {
+    if taken.is_empty() {
+        return "none".to_string();
+    }
+    taken.iter().map(|k| format!("s{}", k + 1)).collect::<Vec<_>>().join(" ")
+}
+
+/// How many of the samples `taken` lie left and right of the way (the line from the
+/// start to the target, looking toward the target).
+fn sides(task: &Task, taken: &[usize]) -> (usize, usize) {
+    let (dx, dy) = (task.target.0 - task.start.0, task.target.1 - task.start.1);
+    let left = taken
+        .iter()
+        .filter(|&&k| {
+            let s = &task.samples[k];
+            dx * (s.y_m - task.start.1) - dy * (s.x_m - task.start.0) > 0.0
+        })
+        .count();
+    (left, taken.len() - left)
+}
+
+fn run_facts(o: &mut Outcome, name: &str, r: &GaReport, seconds: f64, task: &Task) {
     let e = &r.best.execution;
     o.flag(&format!("{name}_complete"), e.complete);
     o.number(&format!("{name}_best_fitness"), r.best.fitness);
     o.number(&format!("{name}_samples"), e.samples as f64);
+    o.text(&format!("{name}_samples_taken"), taken_label(&e.taken));
+    let (left, right) = sides(task, &e.taken);
+    o.number(&format!("{name}_samples_left"), left as f64);
+    o.number(&format!("{name}_samples_right"), right as f64);
     o.number(&format!("{name}_min_stability"), e.min_stability);
     o.number(&format!("{name}_peak_saturation"), e.peak_saturation);
     o.number(&format!("{name}_peak_friction_ratio"), e.peak_friction_ratio);

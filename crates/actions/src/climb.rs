@@ -1,0 +1,145 @@
+//! A straight climb examined pose by pose: the stability margin, pitch and front-wheel
+//! load along a straight drive from the task's start, with the arm stowed and with the
+//! arm reached as far forward as 1001 takes it. It answers "would moving the arm
+//! forward keep this rover from tipping backward here, and what stops it first?"
+//! without the GA: the climb stops at the first pose with no solution (a joint limit,
+//! the map's edge) or where the stowed rover tips over.
+
+use areo_rover::arm::ArmState;
+use areo_rover::evaluation::{Conditions, Evaluation, Evaluator, Place, Violation};
+use areo_terrain::Ground;
+use serde::Serialize;
+
+/// One arm configuration at one pose of the climb.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ArmCase {
+    /// Stability margin S (1 on flat ground with the arm stowed, 0 at tip-over).
+    pub margin: f64,
+    /// The front wheels' share of the rover's weight on the wheels (0: about to rotate
+    /// back over the rear wheels).
+    pub front_load_fraction: f64,
+    /// The largest |T|/N any wheel needs to hold the pose (the least μ that holds it).
+    pub friction_needed: f64,
+    /// What the pose violates under the climb's μ, if anything (`slip`,
+    /// `loss_of_contact`, `saturation`, `tip_over`).
+    pub violation: Option<&'static str>,
+}
+
+/// One pose of the climb.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ClimbPose {
+    /// Distance of the reference point from the start, m.
+    pub distance_m: f64,
+    /// Body pitch, degrees (nose up positive).
+    pub pitch_deg: f64,
+    /// The arm stowed.
+    pub stowed: ArmCase,
+    /// The arm reached forward.
+    pub forward: ArmCase,
+}
+
+/// The margins along a straight climb, and what ended it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ClimbProfile {
+    /// The arm's tool position reached forward (body frame, m).
+    pub forward_tool_m: [f64; 3],
+    /// Every pose, in order.
+    pub poses: Vec<ClimbPose>,
+    /// Why the climb ended before its length, if it did: `kinematics` (a joint limit or
+    /// the map's edge: no pose) or `tip_over` (the stowed rover's margin reached 0).
+    pub stop: Option<&'static str>,
+    /// The distance at which it ended, m.
+    pub stop_distance_m: f64,
+}
+
+/// The tool position that repeated 2 cm moves forward (module 1001) reach from the
+/// stowed arm of `evaluator`'s rover.
+pub fn arm_reached_forward(evaluator: &Evaluator) -> ArmState {
+    let p = evaluator.params();
+    let mut arm = ArmState::stowed(p);
+    while let Ok(next) = arm.moved([0.02, 0.0, 0.0], p) {
+        arm = next;
+    }
+    arm
+}
+
+fn case(eval: Result<Evaluation, Violation>) -> Option<ArmCase> {
+    let kind = |v: &Violation| match v {
+        Violation::TipOver => "tip_over",
+        Violation::Forces { failure, .. } => match failure {
+            areo_rover::forces::ForceFailure::Slip => "slip",
+            areo_rover::forces::ForceFailure::LossOfContact => "loss_of_contact",
+            areo_rover::forces::ForceFailure::Saturation => "saturation",
+        },
+        Violation::Kinematics(_) => "kinematics",
+    };
+    match eval {
+        Ok(e) => {
+            let n = e.normals_n();
+            let total: f64 = n.iter().sum();
+            Some(ArmCase {
+                margin: e.stability,
+                front_load_fraction: if total > 0.0 { (n[0] + n[3]) / total } else { 0.0 },
+                friction_needed: e.friction_used,
+                violation: None,
+            })
+        }
+        Err(v @ Violation::Forces { stability, .. }) => Some(ArmCase {
+            margin: stability,
+            front_load_fraction: f64::NAN,
+            friction_needed: f64::NAN,
+            violation: Some(kind(&v)),
+        }),
+        Err(Violation::TipOver) => Some(ArmCase {
+            margin: 0.0,
+            front_load_fraction: f64::NAN,
+            friction_needed: f64::NAN,
+            violation: Some("tip_over"),
+        }),
+        Err(Violation::Kinematics(_)) => None,
+    }
+}
+
+/// Drives the reference point straight from `start` (x m, y m, heading ° clockwise
+/// from north) for `length_m`, a pose every `step_m`, holding still at each under
+/// friction `mu`, and evaluates it with the arm stowed and reached forward.
+pub fn climb_margins(
+    ground: &impl Ground,
+    evaluator: &Evaluator,
+    start: (f64, f64, f64),
+    mu: f64,
+    step_m: f64,
+    length_m: f64,
+) -> ClimbProfile {
+    let stowed = ArmState::stowed(evaluator.params());
+    let forward = arm_reached_forward(evaluator);
+    let heading = start.2.to_radians();
+    let cond = Conditions { mu, direction: 0.0 };
+    let n = (length_m / step_m).round() as usize;
+    let mut profile =
+        ClimbProfile { forward_tool_m: forward.tool_m, poses: Vec::new(), stop: None, stop_distance_m: 0.0 };
+    let mut warm = None;
+    for k in 0..=n {
+        let d = k as f64 * step_m;
+        profile.stop_distance_m = d;
+        let at = Place { x: start.0 + heading.sin() * d, y: start.1 + heading.cos() * d, heading };
+        let Ok(pose) = evaluator.kinematics().solve(ground, at.x, at.y, at.heading, warm.as_ref()) else {
+            profile.stop = Some("kinematics");
+            return profile;
+        };
+        warm = Some(pose);
+        let (Some(s), Some(f)) = (
+            case(evaluator.evaluate_pose(ground, &pose, &stowed, &cond)),
+            case(evaluator.evaluate_pose(ground, &pose, &forward, &cond)),
+        ) else {
+            profile.stop = Some("kinematics");
+            return profile;
+        };
+        profile.poses.push(ClimbPose { distance_m: d, pitch_deg: pose.pitch.to_degrees(), stowed: s, forward: f });
+        if s.violation == Some("tip_over") {
+            profile.stop = Some("tip_over");
+            return profile;
+        }
+    }
+    profile
+}
