@@ -420,6 +420,8 @@ struct SeedStudy {
     /// The samples each seed's best plan took, as [`taken_label`] writes them, and how
     /// many of them lie left and right of the way.
     taken: Vec<(String, usize, usize)>,
+    /// The task has samples to take (else the sample facts are left out).
+    has_samples: bool,
     /// Every seed's look-ahead values, pooled.
     lookahead: Vec<i64>,
 }
@@ -430,6 +432,7 @@ impl SeedStudy {
         self.seeds.push((seed, r.first_solved, r.best.fitness, e.samples, e.min_stability));
         let (left, right) = sides(task, &e.taken);
         self.taken.push((taken_label(&e.taken), left, right));
+        self.has_samples = !task.samples.is_empty();
         self.lookahead.extend_from_slice(&r.lookahead);
     }
 
@@ -472,8 +475,10 @@ fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usiz
     );
     o.number(&format!("{name}_pooled_improving_crossovers"), la.len() as f64);
     // The paper's plan took the samples on the left of the way and left the others.
-    let left_only = study.taken.iter().filter(|t| t.1 > 0 && t.2 == 0).count();
-    o.number(&format!("{name}_left_only_fraction"), left_only as f64 / n.max(1) as f64);
+    if study.has_samples {
+        let left_only = study.taken.iter().filter(|t| t.1 > 0 && t.2 == 0).count();
+        o.number(&format!("{name}_left_only_fraction"), left_only as f64 / n.max(1) as f64);
+    }
     let share = |f: &dyn Fn(i64) -> bool| {
         if la.is_empty() { 0.0 } else { la.iter().filter(|d| f(**d)).count() as f64 / la.len() as f64 }
     };
@@ -579,10 +584,12 @@ fn run_facts(o: &mut Outcome, name: &str, r: &GaReport, seconds: f64, task: &Tas
     o.flag(&format!("{name}_complete"), e.complete);
     o.number(&format!("{name}_best_fitness"), r.best.fitness);
     o.number(&format!("{name}_samples"), e.samples as f64);
-    o.text(&format!("{name}_samples_taken"), taken_label(&e.taken));
-    let (left, right) = sides(task, &e.taken);
-    o.number(&format!("{name}_samples_left"), left as f64);
-    o.number(&format!("{name}_samples_right"), right as f64);
+    if !task.samples.is_empty() {
+        o.text(&format!("{name}_samples_taken"), taken_label(&e.taken));
+        let (left, right) = sides(task, &e.taken);
+        o.number(&format!("{name}_samples_left"), left as f64);
+        o.number(&format!("{name}_samples_right"), right as f64);
+    }
     o.number(&format!("{name}_min_stability"), e.min_stability);
     o.number(&format!("{name}_peak_saturation"), e.peak_saturation);
     o.number(&format!("{name}_peak_friction_ratio"), e.peak_friction_ratio);
