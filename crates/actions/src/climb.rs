@@ -7,8 +7,11 @@
 
 use areo_rover::arm::ArmState;
 use areo_rover::evaluation::{Conditions, Evaluation, Evaluator, Place, Violation};
+use areo_rover::motion::MotionFailure;
 use areo_terrain::Ground;
 use serde::Serialize;
+
+use crate::executor::Failure;
 
 /// One arm configuration at one pose of the climb.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -64,15 +67,8 @@ pub fn arm_reached_forward(evaluator: &Evaluator) -> ArmState {
 }
 
 fn case(eval: Result<Evaluation, Violation>) -> Option<ArmCase> {
-    let kind = |v: &Violation| match v {
-        Violation::TipOver => "tip_over",
-        Violation::Forces { failure, .. } => match failure {
-            areo_rover::forces::ForceFailure::Slip => "slip",
-            areo_rover::forces::ForceFailure::LossOfContact => "loss_of_contact",
-            areo_rover::forces::ForceFailure::Saturation => "saturation",
-        },
-        Violation::Kinematics(_) => "kinematics",
-    };
+    // The executor's names for the limits, so climb.csv and the plans agree.
+    let kind = |v: &Violation| Failure::Motion(MotionFailure::Violation(*v)).kind();
     match eval {
         Ok(e) => {
             let n = e.normals_n();
