@@ -308,7 +308,7 @@ fn mission() -> Result<bool, String> {
     // Coarser classes than the defaults and a half-day wait allowance, as a field
     // planner would run at this scale.
     let planner = PlannerConfig {
-        resolution: areo_mission::Resolution { time_s: 300.0, energy_wh: 1e12 },
+        resolution: areo_mission::Resolution { time_s: 300.0, energy_wh: None },
         goal_times: 8,
         max_wait_s: Some(6.0 * 3600.0),
         ..PlannerConfig::default()

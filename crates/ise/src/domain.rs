@@ -37,6 +37,16 @@ pub trait Domain {
     /// against the few it can dominate or be dominated by (4 bytes per label).
     const MANY_LABELS: bool = false;
 
+    /// With [`Domain::MANY_LABELS`] and [`Domain::DOMINANCE`]: whether the labels of one
+    /// resolution class compete by [`Domain::dominates`] alone (the key only groups
+    /// them), instead of the cheapest standing for the whole class. A domain whose
+    /// labels carry a resource that decides feasibility (a battery) answers true when it
+    /// is asked to be exact in it, so that a cheaper label needing more of the resource
+    /// never hides one needing less.
+    fn pareto_classes(&self) -> bool {
+        false
+    }
+
     /// Expands (`state`, `label`): calls `visit` with every feasible backward
     /// transition — the action, and the state and label it leads from with the step's
     /// cost (≥ 0) — in a fixed order, skipping those a local constraint forbids.
@@ -65,6 +75,15 @@ pub trait Domain {
         None
     }
 
+    /// A test of whether expanding a label at `state` can make a label of a given class
+    /// at `pred` (a state among [`Domain::successors`] of `pred`, or `pred` itself).
+    /// A repair that must regenerate one class at a state reopens only the neighbours'
+    /// labels that pass it. Made once per pair of states and asked for each label
+    /// there; the default passes every label, which is always sound.
+    fn lands_in(&self, _state: Self::State, _pred: Self::State) -> impl Fn(&Self::Label, Self::Key) -> bool {
+        |_, _| true
+    }
+
     /// The states reachable from `state` by one action (appended to `out`; include
     /// `state` itself for stationary actions). Used in re-planning to find the nodes
     /// whose expansion can regenerate labels at a state.
@@ -89,9 +108,30 @@ pub trait Domain {
         key
     }
 
+    /// Whether `better`, which beat the expanded label `beaten` at `state` (same class at
+    /// no greater cost, or dominating it), stands in for it: every step from `beaten`
+    /// has a counterpart from `better` that lands in the same class and beats it, so
+    /// `beaten`'s subtree is replaced label by label as the search reaches it and may
+    /// stay meanwhile. True (the default) where a class is one exact value; a domain
+    /// whose classes merge different values (time classes wider than one instant)
+    /// answers false when they differ, and the engine then removes the subtree at once
+    /// — otherwise labels that descend from a beaten one could hold classes a fresh
+    /// search gives to others, and the answer would depend on the search's history.
+    fn stands_in_for(&self, _state: Self::State, _better: &Self::Label, _beaten: &Self::Label) -> bool {
+        true
+    }
+
     /// The global constraint: false when the path quantities in `label` (with path cost
     /// `cost` from the goal) violate it, so the label is not propagated.
     fn within_global(&self, _state: Self::State, _label: &Self::Label, _cost: f64) -> bool {
+        true
+    }
+
+    /// Whether any label of class `key` at `state` may pass [`Domain::within_global`]:
+    /// false lets a repair skip regenerating labels for a class that is ruled out
+    /// entirely (for a time-expanded domain, a time class the rover can no longer
+    /// reach). The default, true, is always sound.
+    fn class_within_global(&self, _state: Self::State, _key: Self::Key) -> bool {
         true
     }
 

@@ -67,6 +67,9 @@ pub struct Stats {
     pub reopened: u64,
     /// Nodes reclaimed (see [`Search::compact`]).
     pub reclaimed: u64,
+    /// Expanded labels beaten by a better label of their class (or dominated) whose
+    /// subtrees were removed; zero in a fresh search with a consistent heuristic.
+    pub beaten_subtrees: u64,
     /// Live labels in the graph.
     pub labels_alive: u64,
     /// Approximate bytes held by the graph, the class table and the open list.
@@ -157,6 +160,10 @@ pub struct Search<D: Domain> {
     /// touched.
     partial: Vec<u32>,
     touched: FxHashSet<D::State>,
+    /// With [`Domain::MANY_LABELS`]: expanded labels beaten in their class or dominated
+    /// during the current call, whose subtrees are removed once the expansion that beat
+    /// them ends (see [`Search::insert`]).
+    doomed: Vec<u32>,
     /// With [`Domain::MANY_LABELS`] and [`Domain::DOMINANCE`]: the head of each
     /// (state, dominance group)'s list of live labels, threaded through `group_next`
     /// (indexed by node). A label leaves its list when it is beaten or removed.
@@ -207,6 +214,7 @@ impl<D: Domain> Search<D> {
             goal_ids: Vec::new(),
             partial: Vec::new(),
             touched: FxHashSet::default(),
+            doomed: Vec::new(),
             key_offset: 0.0,
             stale_keys: false,
             keyed_start: domain.start_state(),
@@ -248,13 +256,7 @@ impl<D: Domain> Search<D> {
     /// [`Search::plan`].
     pub fn update(&mut self, domain: &D, changed: &[D::State]) -> Stats {
         self.stats = Stats::default();
-        let mut touched: Vec<D::State> = Vec::new();
-        let mut touched_set: FxHashSet<D::State> = FxHashSet::default();
-        for &s in changed {
-            if touched_set.insert(s) {
-                touched.push(s);
-            }
-        }
+        let touched: Vec<D::State> = changed.to_vec();
         // Remove every node whose own transition crosses a changed state, with the
         // subtree below it.
         let mut roots = Vec::new();
@@ -277,7 +279,8 @@ impl<D: Domain> Search<D> {
                 id = n.next_in_state;
             }
         }
-        self.repair(domain, roots, touched, touched_set);
+        self.repair(domain, roots, touched);
+        self.compact_if_worth_it(domain);
         self.finish_stats();
         self.stats
     }
@@ -310,7 +313,8 @@ impl<D: Domain> Search<D> {
             }
         }
         self.goal_ids = kept_goals;
-        self.repair(domain, roots, Vec::new(), FxHashSet::default());
+        self.repair(domain, roots, Vec::new());
+        self.compact_if_worth_it(domain);
         for goal in fresh {
             self.insert_goal(domain, goal);
         }
@@ -320,19 +324,26 @@ impl<D: Domain> Search<D> {
 
     /// Removes the subtrees under `roots` (the nodes and everything whose path passes
     /// through them) and reopens the surviving closed nodes that can regenerate labels
-    /// at the `touched` states and the states of what was removed, or reach them more
-    /// cheaply now.
-    fn repair(
-        &mut self,
-        domain: &D,
-        roots: Vec<u32>,
-        mut touched: Vec<D::State>,
-        mut touched_set: FxHashSet<D::State>,
-    ) {
-        // Nodes still waiting for a partial expansion from the last repair expand in
-        // full instead: the touched states are this repair's from here on.
-        for id in std::mem::take(&mut self.partial) {
-            self.nodes[id].flags &= !PARTIAL;
+    /// at the states in `whole` (any class: their transitions changed) and in the
+    /// classes of what was removed, or reach them more cheaply now.
+    fn repair(&mut self, domain: &D, roots: Vec<u32>, whole: Vec<D::State>) {
+        // Nodes still waiting for a partial expansion from an earlier repair stay
+        // partial: the touched states accumulate (a superset of what each of them
+        // needs), and are forgotten once no partial expansion is pending.
+        let nodes = &self.nodes;
+        self.partial.retain(|&id| nodes[id].flags & PARTIAL != 0 && nodes[id].flags & REMOVED == 0);
+        if self.partial.is_empty() {
+            self.touched.clear();
+        }
+        // What must be regenerated, state by state in the order first touched: every
+        // class (`true`) or the listed ones.
+        let mut order: Vec<D::State> = Vec::new();
+        let mut touch: FxHashMap<D::State, (bool, Vec<D::Key>)> = FxHashMap::default();
+        for s in whole {
+            touch.entry(s).or_insert_with(|| {
+                order.push(s);
+                (true, Vec::new())
+            });
         }
         let mut stack = roots;
         while let Some(id) = stack.pop() {
@@ -357,35 +368,57 @@ impl<D: Domain> Search<D> {
                     self.classes.remove(&class);
                 }
             }
+            let key = n.key;
             let mut c = n.first_child;
             while c != NONE {
                 stack.push(c);
                 c = self.nodes[c].next_sibling;
             }
-            if touched_set.insert(state) {
-                touched.push(state);
+            // What the removed label had pruned is in its own class at its state. A
+            // class the global constraint now rules out entirely has nothing to
+            // regenerate (the start moved on past it).
+            if domain.class_within_global(state, key) {
+                let (all, keys) = touch.entry(state).or_insert_with(|| {
+                    order.push(state);
+                    (false, Vec::new())
+                });
+                if !*all && !keys.contains(&key) {
+                    keys.push(key);
+                }
             }
         }
         // The surviving closed nodes that can regenerate labels at the touched states, or
-        // reach them more cheaply now.
+        // reach them more cheaply now: those at the touched states and their
+        // neighbours whose steps can land in a touched class.
         let mut near = Vec::new();
-        let mut seen: FxHashSet<D::State> = FxHashSet::default();
-        for &t in &touched {
+        let mut toward: FxHashMap<D::State, Vec<D::State>> = FxHashMap::default();
+        for &t in &order {
             self.states.clear();
             domain.successors(t, &mut self.states);
             self.states.push(t);
             for &s in &self.states {
-                if seen.insert(s) {
-                    near.push(s);
-                }
+                toward
+                    .entry(s)
+                    .or_insert_with(|| {
+                        near.push(s);
+                        Vec::new()
+                    })
+                    .push(t);
             }
         }
         let mut closed = Vec::new();
         for s in near {
+            let targets: Vec<_> = toward[&s]
+                .iter()
+                .map(|t| {
+                    let (all, keys) = &touch[t];
+                    (*all, keys.as_slice(), domain.lands_in(s, *t))
+                })
+                .collect();
             let head = self.by_state.get(domain, s);
             let (mut prev, mut id, mut new_head) = (NONE, head, head);
             while id != NONE {
-                let n = &mut self.nodes[id];
+                let n = &self.nodes[id];
                 let next = n.next_in_state;
                 // Removed nodes, and replaced ones that were never expanded (no path
                 // hangs from them), are of no further use at this state: unlink them,
@@ -397,7 +430,9 @@ impl<D: Domain> Search<D> {
                     id = next;
                     continue;
                 }
-                if n.flags == CLOSED {
+                if n.flags == CLOSED
+                    && targets.iter().any(|(all, keys, lands)| *all || keys.iter().any(|&k| lands(&n.label, k)))
+                {
                     closed.push(id);
                 }
                 prev = id;
@@ -418,10 +453,57 @@ impl<D: Domain> Search<D> {
             self.open.push(Entry::new(f, g, id));
             self.partial.push(id);
         }
-        self.touched = touched_set;
+        self.touched.extend(order);
+    }
+
+    /// Tells the engine that [`Domain::within_global`] may now reject labels it
+    /// accepted before (the start moved on, so fewer labels are reachable): those labels
+    /// are removed with their subtrees, and the closed nodes that can regenerate what
+    /// they had pruned in their classes are reopened, as in [`Search::update`]. Without
+    /// this a kept graph would hold labels a fresh search never makes, and one of them
+    /// could hold a class that a reachable label needs. Scans every node once.
+    pub fn restrict(&mut self, domain: &D) -> Stats {
+        self.stats = Stats::default();
+        let roots: Vec<u32> = (0..self.nodes.len())
+            .filter(|&id| {
+                let n = &self.nodes[id];
+                n.live() && !domain.within_global(n.state, &n.label, n.g)
+            })
+            .collect();
+        if !roots.is_empty() {
+            self.repair(domain, roots, Vec::new());
+            self.compact_if_worth_it(domain);
+        }
+        self.finish_stats();
+        self.stats
+    }
+
+    fn compact_if_worth_it(&mut self, domain: &D) {
         if self.worth_compacting() {
             self.stats.reclaimed += self.compact(domain);
         }
+    }
+
+    /// Removes the subtrees of the expanded labels the last expansion beat (see
+    /// `doomed`): their descendants' paths run through a label that is no longer its
+    /// class's best, and a fresh search would never have made them. Leaving them would
+    /// make the graph, and so the answer, depend on the order labels arrived in — with
+    /// coarse classes, on the search's history. The closed nodes around what is
+    /// removed are reopened, so what those descendants had pruned is made again.
+    #[cold]
+    #[inline(never)]
+    fn remove_doomed(&mut self, domain: &D) {
+        let roots = std::mem::take(&mut self.doomed);
+        let mut children = Vec::new();
+        for &id in &roots {
+            let mut c = std::mem::replace(&mut self.nodes[id].first_child, NONE);
+            while c != NONE {
+                children.push(c);
+                c = self.nodes[c].next_sibling;
+            }
+        }
+        self.stats.beaten_subtrees += roots.len() as u64;
+        self.repair(domain, children, Vec::new());
     }
 
     /// Adds a goal label (through the same class and dominance tests as any label).
@@ -430,6 +512,9 @@ impl<D: Domain> Search<D> {
         self.insert(domain, goal.state, goal.label, goal.cost.max(0.0), NONE, None);
         if self.nodes.len() > before {
             self.goal_ids.push(self.nodes.len() - 1);
+        }
+        if D::MANY_LABELS && !self.doomed.is_empty() {
+            self.remove_doomed(domain);
         }
     }
 
@@ -590,6 +675,10 @@ impl<D: Domain> Search<D> {
                 break;
             }
             self.expand(domain, id);
+            if best.is_some_and(|b| !self.nodes[b].live()) {
+                // The expansion beat a label on the known start's path.
+                best = self.best_known_start(domain, f64::INFINITY, |a, b| a.g < b.g);
+            }
         }
         self.finish_stats();
         self.extract(best)
@@ -660,7 +749,16 @@ impl<D: Domain> Search<D> {
         None
     }
 
+    /// Expands `id`, then removes the subtrees of the expanded labels it beat.
+    #[inline(always)]
     fn expand(&mut self, domain: &D, id: u32) {
+        self.expand_node(domain, id);
+        if D::MANY_LABELS && !self.doomed.is_empty() {
+            self.remove_doomed(domain);
+        }
+    }
+
+    fn expand_node(&mut self, domain: &D, id: u32) {
         let partial = self.nodes[id].flags & PARTIAL != 0;
         self.nodes[id].flags = CLOSED;
         self.stats.expansions += 1;
@@ -769,6 +867,10 @@ impl<D: Domain> Search<D> {
                     // Killed in place: the entry borrows the table.
                     self.nodes[id].flags = DEAD;
                     self.alive -= 1;
+                    if self.nodes[id].first_child != NONE && !domain.stands_in_for(state, &label, &self.nodes[id].label)
+                    {
+                        self.doomed.push(id);
+                    }
                     *e.get_mut() = (new_id, g);
                 }
                 std::collections::hash_map::Entry::Vacant(e) => {
@@ -809,7 +911,7 @@ impl<D: Domain> Search<D> {
                         self.relink_head(domain, state, head, new_head);
                         return;
                     }
-                    self.kill(id);
+                    self.kill(domain, id, &label);
                 } else if D::DOMINANCE {
                     if domain.dominates(state, &n.label, n.g, &label, g) {
                         self.stats.pruned_dominance += 1;
@@ -817,7 +919,7 @@ impl<D: Domain> Search<D> {
                         return;
                     }
                     if domain.dominates(state, &label, g, &n.label, n.g) {
-                        self.kill(id);
+                        self.kill(domain, id, &label);
                         self.stats.pruned_dominance += 1;
                     }
                 }
@@ -850,6 +952,7 @@ impl<D: Domain> Search<D> {
         // Most labels lose to the newest of their group, of their own class: decided from
         // the table, without reading a node (a cache miss in a large arena).
         if let Some(h) = head
+            && !domain.pareto_classes()
             && h.key == key
             && (h.g < g || (h.g == g && !domain.better(&label, &self.nodes[h.id].label)))
         {
@@ -860,7 +963,7 @@ impl<D: Domain> Search<D> {
         let mut id = head;
         while id != NONE {
             let n = &self.nodes[id];
-            if n.key == key {
+            if !domain.pareto_classes() && n.key == key {
                 if n.g < g || (n.g == g && !domain.better(&label, &n.label)) {
                     self.stats.pruned_resolution += 1;
                     return;
@@ -876,7 +979,7 @@ impl<D: Domain> Search<D> {
         while id != NONE {
             let next = self.group_next[id as usize];
             let n = &self.nodes[id];
-            let drop = if n.key == key {
+            let drop = if !domain.pareto_classes() && n.key == key {
                 self.stats.pruned_resolution += 1;
                 true
             } else if domain.dominates(state, &label, g, &n.label, n.g) {
@@ -886,7 +989,7 @@ impl<D: Domain> Search<D> {
                 false
             };
             if drop {
-                self.kill(id);
+                self.kill(domain, id, &label);
                 if prev == NONE {
                     new_head = next;
                 } else {
@@ -1023,10 +1126,16 @@ impl<D: Domain> Search<D> {
         }
     }
 
-    fn kill(&mut self, id: u32) {
+    /// Marks `id` beaten by `by` (a label at the same state). An expanded label's
+    /// subtree stays only if `by` stands in for it ([`Domain::stands_in_for`]): then
+    /// `by`'s own steps beat every label of that subtree as the search reaches them.
+    fn kill(&mut self, domain: &D, id: u32, by: &D::Label) {
         let n = &mut self.nodes[id];
         n.flags = DEAD;
         self.alive -= 1;
+        if D::MANY_LABELS && n.first_child != NONE && !domain.stands_in_for(n.state, by, &n.label) {
+            self.doomed.push(id);
+        }
     }
 
     fn finish_stats(&mut self) {

@@ -42,7 +42,7 @@ fn plan(c: &mut Criterion) {
     let start = Start { cell: world.cell(20, 50), t_min: t0, t_max: t0 + 600.0, energy_wh: 800.0 };
     let goal = [world.cell(60, 70)];
     let config = PlannerConfig {
-        resolution: Resolution { time_s: 300.0, energy_wh: 1e12 },
+        resolution: Resolution { time_s: 300.0, energy_wh: None },
         goal_times: 8,
         max_wait_s: Some(6.0 * 3600.0),
         ..PlannerConfig::default()

@@ -444,7 +444,9 @@ impl ActionModel {
     ) -> Result<(u32, Effect), Binding> {
         let duration = duration_s * p.duration_factor;
         let t1 = t0 + duration;
-        if t0 < 0.0 || t1 > world.span_s() {
+        // The same slack as the backward transition (`drive_into`), so that a planned
+        // drive replays forward.
+        if t0 < -EPOCH_SLACK_S || t1 > world.span_s() {
             return Err(Binding::Horizon);
         }
         if self.overlaps_session(t0, t1) {

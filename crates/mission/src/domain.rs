@@ -14,8 +14,7 @@
 //! Labels are Pareto labels: at each (cell, time class) the search keeps every label
 //! that no other dominates in (cost, E) — a label needing no more energy at no greater
 //! cost dominates — so the labels a tight battery needs survive beside the cheapest
-//! one. Energy classes are a resolution on top of that (of the labels in one
-//! (time, energy) class only the cheapest is kept), bounding how many survive.
+//! one. E is never bucketed (see [`Resolution`] for what pruning guarantees).
 
 use std::cell::RefCell;
 
@@ -89,17 +88,32 @@ pub struct Start {
 }
 
 /// Resolution of the label classes.
+///
+/// What pruning guarantees. At one cell, labels whose times fall in one class of
+/// `time_s` are compared as if they were at one instant; every kept plan is evaluated
+/// at the real times of its actions. Then:
+/// - `energy_wh: None` (the default): E is a Pareto dimension, never bucketed — a label
+///   is dropped only when another of its time class needs no more battery energy at no
+///   greater cost (ties: the later time). No plan is lost for want of energy; the one
+///   approximation is time (a dropped label's plan is represented by one up to
+///   `time_s` earlier or later at that cell). With `time_s` no wider than the actions'
+///   time quantum (and goal instants on that grid) a class holds one instant and the
+///   search is exact.
+/// - `energy_wh: Some(w)`: energy classes, an explicit approximation for speed — of the
+///   labels of one (time class, energy class) the cheapest stands, so a kept label may
+///   need up to `w` more energy than one it dropped, and a plan that only the dropped
+///   label allowed can be lost. The planner reports the classes it used, and when it
+///   finds no plan with them it searches again with E exact before it calls a goal
+///   unreachable (reported as a fallback). `w` is at most half the usable battery, so E
+///   is never collapsed to one class.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Resolution {
     /// Time class width, s.
     pub time_s: f64,
-    /// Energy class width, Wh: of the Pareto labels in one (time, energy) class only
-    /// the cheapest is kept, so at most capacity / width labels survive per time class
-    /// and a plan's E is resolved to about this width. A width larger than the battery
-    /// collapses E as the paper does (one label per time class), which can lose the
-    /// only battery-feasible labels.
-    pub energy_wh: f64,
+    /// Energy class width, Wh (`None`: E exact; see above).
+    #[serde(default)]
+    pub energy_wh: Option<f64>,
 }
 
 /// Energy classes per time class in a key (its low 24 bits).
@@ -179,6 +193,23 @@ impl<'a> TempestDomain<'a> {
             capacity: model.capacity_wh(),
             geometry: RefCell::default(),
         }
+    }
+
+    /// The rover is now at `start` (plan extension): it becomes the start, and the
+    /// lower bound on reachable times is taken from it — never earlier than before, as
+    /// the rover cannot outrun its top speed. Call [`areo_ise::Search::restrict`] next,
+    /// so the kept graph drops the labels no longer reachable, as a fresh search would
+    /// never make them.
+    pub fn moved_to(&mut self, start: Start) {
+        self.start = start;
+        self.reachable_from = (start.cell, start.t_min);
+    }
+
+    /// The earliest time the rover can be at `cell`: the first start plus the fastest
+    /// travel from it, s after the epoch.
+    fn earliest(&self, cell: u32) -> f64 {
+        let (cell0, t0) = self.reachable_from;
+        t0 + self.world.octile_m(cell, cell0) / self.model.top_speed_m_s()
     }
 
     /// The drives into `cell` (see [`GeometryCache`]).
@@ -331,6 +362,23 @@ impl Domain for TempestDomain<'_> {
         }
     }
 
+    fn lands_in(&self, state: u32, pred: u32) -> impl Fn(&Label, i64) -> bool {
+        // A step from a label at `state` into `pred` starts at the label's time less
+        // its duration: the stays' fixed durations, or the one drive from `pred` into
+        // `state` (none: nothing lands). Compared by time class: the energy class of
+        // the step depends on E.
+        let durations: [Option<f64>; 2] = if pred == state {
+            [Action::Charge, Action::Hibernate].map(|a| Some(self.model.stay_duration_s(a)))
+        } else {
+            let drive = self.drives_into(state).into_iter().flatten().find(|&(from, _)| from == pred);
+            [drive.map(|(_, g)| g.duration_s), None]
+        };
+        let time_s = self.resolution.time_s;
+        move |label: &Label, key: i64| {
+            durations.iter().flatten().any(|d| ((label.t - d) / time_s).floor() as i64 == key >> 24)
+        }
+    }
+
     fn successors(&self, state: u32, out: &mut Vec<u32>) {
         let (c, r) = self.world.col_row(state);
         for (dc, dr) in NEIGHBOURS {
@@ -343,9 +391,12 @@ impl Domain for TempestDomain<'_> {
     }
 
     fn key(&self, _state: u32, label: &Label) -> i64 {
-        // Time class in the high bits, energy class (E ≤ capacity) in the low 24.
+        // Time class in the high bits, energy class (if any) in the low 24.
         let t = (label.t / self.resolution.time_s).floor() as i64;
-        let e = ((label.e / self.resolution.energy_wh).floor() as i64).clamp(0, ENERGY_CLASSES - 1);
+        let e = match self.resolution.energy_wh {
+            Some(w) => ((label.e / w).floor() as i64).clamp(0, ENERGY_CLASSES - 1),
+            None => 0,
+        };
         (t << 24) | e
     }
 
@@ -354,21 +405,38 @@ impl Domain for TempestDomain<'_> {
         key & !(ENERGY_CLASSES - 1)
     }
 
+    fn pareto_classes(&self) -> bool {
+        self.resolution.energy_wh.is_none()
+    }
+
     fn dominates(&self, _state: u32, a: &Label, cost_a: f64, b: &Label, cost_b: f64) -> bool {
         // Called within a time class only. Completions toward the start depend on the
         // label's time (exactly when a class holds one instant) and on E only through
         // E' = max(E + Δe, 0), the capacity and the start's battery, all monotone in E;
-        // step costs do not depend on E.
-        a.e <= b.e && cost_a <= cost_b
+        // step costs do not depend on E. Equal in both, the later label stands (a
+        // rover can reach a cell later more easily than earlier), so which one is kept
+        // does not depend on the order they came in.
+        a.e <= b.e && cost_a <= cost_b && (a.e < b.e || cost_a < cost_b || a.t >= b.t)
+    }
+
+    fn stands_in_for(&self, _state: u32, better: &Label, beaten: &Label) -> bool {
+        // At the same instant every step has the same time, effect and cost from both,
+        // and E' = max(E + Δe, 0) keeps the order of E: each step from `better`
+        // dominates the matching step from `beaten`. At another instant of the same
+        // class the steps differ, so the beaten subtree must go.
+        better.t.to_bits() == beaten.t.to_bits()
     }
 
     fn within_global(&self, state: u32, label: &Label, _cost: f64) -> bool {
         // A label earlier than the first start plus the fastest travel from it can never
         // be reached. (Not the current start: a label pruned for a late start interval
         // would be lost to an earlier one, as the engine keeps its graph.)
-        let (cell0, t0) = self.reachable_from;
-        let earliest = t0 + self.world.octile_m(state, cell0) / self.model.top_speed_m_s();
-        label.e <= self.capacity + 1e-9 && label.t >= earliest - 1e-6
+        label.e <= self.capacity + 1e-9 && label.t >= self.earliest(state) - 1e-6
+    }
+
+    fn class_within_global(&self, state: u32, key: i64) -> bool {
+        // The time class [kΔ, (k+1)Δ) holds a reachable instant.
+        ((key >> 24) + 1) as f64 * self.resolution.time_s > self.earliest(state) - 1e-6
     }
 
     fn is_start(&self, state: u32, label: &Label) -> bool {

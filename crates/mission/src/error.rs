@@ -21,6 +21,20 @@ pub enum Error {
         /// A description.
         message: String,
     },
+    /// A planned action could not be predicted forward (the plan's battery and times
+    /// are computed by replaying it): the search and the forward model disagree, and
+    /// the plan is not returned rather than returned with a step left out.
+    #[error("the plan's step {step} ({action}) at cell {cell} could not be replayed forward: {binding}")]
+    Replay {
+        /// The step's index in the plan.
+        step: usize,
+        /// The action, as text.
+        action: String,
+        /// The cell it starts from.
+        cell: u32,
+        /// What refused it.
+        binding: String,
+    },
     /// The terrain could not be processed.
     #[error(transparent)]
     Terrain(#[from] areo_terrain::Error),

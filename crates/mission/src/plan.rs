@@ -103,6 +103,11 @@ pub struct MissionPlan {
     pub expansions: u64,
     /// Number of segments (goals).
     pub segments: usize,
+    /// The energy class width the plan was searched with, Wh (`None`: E exact). An
+    /// approximation (see [`crate::Resolution`]); `None` here while the planner was
+    /// given classes means it found nothing with them and fell back to exact E.
+    #[serde(default)]
+    pub energy_classes_wh: Option<f64>,
 }
 
 impl MissionPlan {

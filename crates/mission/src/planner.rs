@@ -56,7 +56,7 @@ impl Default for PlannerConfig {
         PlannerConfig {
             actions: ActionConfig::default(),
             objective: Objective::Energy,
-            resolution: Resolution { time_s: 60.0, energy_wh: 10.0 },
+            resolution: Resolution { time_s: 60.0, energy_wh: None },
             path_length: PathLength::Distance,
             goal_times: 24,
             segment_starts: 8,
@@ -95,12 +95,6 @@ impl PlannerConfig {
         }
         if !(1.0..=1e6).contains(&self.resolution.time_s) {
             return bad("resolution.time_s", format!("{}: allowed 1..=1e6 s", self.resolution.time_s));
-        }
-        if !(1e-3..=1e15).contains(&self.resolution.energy_wh) {
-            return bad(
-                "resolution.energy_wh",
-                format!("{}: allowed 0.001..=1e15 Wh (wider than the battery collapses E)", self.resolution.energy_wh),
-            );
         }
         if !(0.0..=1e7).contains(&self.goal_energy_wh) {
             return bad("goal_energy_wh", format!("{}: allowed 0..=1e7 Wh", self.goal_energy_wh));
@@ -225,14 +219,35 @@ impl<'a> Mission<'a> {
             }
             at = g;
         }
+        if let Some(w) = config.resolution.energy_wh {
+            let usable = model.capacity_wh();
+            if !(1e-3..=usable / 2.0).contains(&w) {
+                return Err(Error::Config {
+                    field: "resolution.energy_wh",
+                    message: format!(
+                        "{w} Wh: allowed 0.001 Wh up to half the usable battery ({:.1} Wh), or none for exact \
+                         energy — a wider class would collapse E",
+                        usable / 2.0
+                    ),
+                });
+            }
+        }
         let mut mission = Mission { world, model, config, start, goals: goals.to_vec(), segments: Vec::new() };
         mission.widen_start();
         mission.build_segments();
         mission.solve_from(Some(mission.segments.len() - 1), &[], false);
-        match mission.assemble() {
-            Some(plan) => Ok((mission, plan)),
-            None => Err(mission.explain_unreachable()),
+        if let Some(plan) = mission.assemble()? {
+            return Ok((mission, plan));
         }
+        if mission.config.resolution.energy_wh.is_some() {
+            // Energy classes can drop the one label a tight battery needs: search again
+            // with E exact before calling the goal unreachable. The plan then reports
+            // no energy classes.
+            let mut exact = mission.config.clone();
+            exact.resolution.energy_wh = None;
+            return Mission::plan(world, model, exact, start, goals);
+        }
+        Err(mission.explain_unreachable())
     }
 
     /// The goal instants at the last goal: even instants over its window (on the time
@@ -411,29 +426,31 @@ impl<'a> Mission<'a> {
     }
 
     /// The chained plan from the first segment's best candidate.
-    fn assemble(&self) -> Option<MissionPlan> {
-        let first = self.segments[0].candidates.first()?;
+    fn assemble(&self) -> Result<Option<MissionPlan>> {
+        let Some(first) = self.segments[0].candidates.first() else { return Ok(None) };
         let mut steps: Vec<(PathStep<TempestDomain<'static>>, usize)> = Vec::new();
         let mut current = first;
         for k in 0..self.segments.len() {
-            let end = current.path.last()?.label;
+            let Some(end) = current.path.last().map(|s| s.label) else { return Ok(None) };
             for s in &current.path {
                 steps.push((s.clone(), k));
             }
             if k + 1 < self.segments.len() {
                 // The candidate of the next segment that starts where this one ended.
-                current = self.segments[k + 1]
+                let next = self.segments[k + 1]
                     .candidates
                     .iter()
-                    .find(|c| c.start.t.to_bits() == end.t.to_bits() && c.start.e.to_bits() == end.e.to_bits())?;
+                    .find(|c| c.start.t.to_bits() == end.t.to_bits() && c.start.e.to_bits() == end.e.to_bits());
+                let Some(next) = next else { return Ok(None) };
+                current = next;
                 // Its first step repeats the goal we are standing on.
                 steps.pop();
             }
         }
-        Some(self.waypoints(&steps, first.cost))
+        self.waypoints(&steps, first.cost).map(Some)
     }
 
-    fn waypoints(&self, steps: &[(PathStep<TempestDomain<'static>>, usize)], cost: f64) -> MissionPlan {
+    fn waypoints(&self, steps: &[(PathStep<TempestDomain<'static>>, usize)], cost: f64) -> Result<MissionPlan> {
         let capacity = self.model.capacity_wh();
         let floor = {
             let b = &self.model.rover().battery;
@@ -465,21 +482,26 @@ impl<'a> Mission<'a> {
                     Action::Drive(k) => self.model.drive(self.world, step.state, k, step.label.t).map(|(_, e)| e),
                     stay => self.model.stay(self.world, stay, step.state, step.label.t),
                 };
-                if let Ok(e) = effect {
-                    battery = (battery - e.energy_wh).min(capacity);
-                }
+                let e = effect.map_err(|b| Error::Replay {
+                    step: i,
+                    action: format!("{a:?}"),
+                    cell: step.state,
+                    binding: b.describe().to_string(),
+                })?;
+                battery = (battery - e.energy_wh).min(capacity);
             }
         }
         let (e_max, _) = self.model.gain_bounds(self.world);
         let expansions = self.segments.iter().map(|s| s.stats.expansions).sum();
-        MissionPlan {
+        Ok(MissionPlan {
             waypoints,
             cost,
             e_max_wh: e_max,
             objective: self.config.objective,
             expansions,
             segments: self.segments.len(),
-        }
+            energy_classes_wh: self.config.resolution.energy_wh,
+        })
     }
 
     /// Why no plan exists: the first relaxation (battery, darkness, shadow, slope, Sun
@@ -508,12 +530,9 @@ impl<'a> Mission<'a> {
                 start.energy_wh = rover.battery.capacity_wh;
             }
             let model = ActionModel::new(rover, actions).with_sessions(self.model.sessions().to_vec());
-            // A coarser search is enough to tell which constraint binds.
-            let mut config = self.config.clone();
-            config.resolution.time_s = config.resolution.time_s.max(600.0);
-            config.resolution.energy_wh *= 4.0;
-            config.goal_times = config.goal_times.min(6);
-            config.segment_starts = config.segment_starts.min(3);
+            // The same settings as the plan: a coarser probe could lose the very plan
+            // the relaxation makes possible, and name the wrong constraint.
+            let config = self.config.clone();
             let mut probe = Mission {
                 world: self.world,
                 model: &model,
@@ -539,7 +558,7 @@ impl<'a> Mission<'a> {
     /// or [`World::set_slope`]).
     pub fn replan(&mut self, changed: &[u32]) -> Result<MissionPlan> {
         self.solve_from(None, changed, false);
-        self.assemble().ok_or_else(|| self.explain_unreachable())
+        self.assemble()?.ok_or_else(|| self.explain_unreachable())
     }
 
     /// Plan extension and re-planning in one call, as a rover does after each action:
@@ -552,17 +571,19 @@ impl<'a> Mission<'a> {
         let start = self.start;
         let seg = &mut self.segments[0];
         seg.from = start.cell;
-        seg.domain.start = start;
+        seg.domain.moved_to(start);
         seg.intervals = vec![(start.t_min, start.t_max)];
+        let restricted = seg.search.restrict(&seg.domain);
         self.solve_from(None, changed, true);
-        self.assemble().ok_or_else(|| self.explain_unreachable())
+        add_stats(&mut self.segments[0].stats, &restricted);
+        self.assemble()?.ok_or_else(|| self.explain_unreachable())
     }
 
     /// The plan a search from scratch makes of the problem as it now stands — the same
     /// start, goals, goal instants and start intervals, on the world as it now is, with
     /// new graphs — for checking what re-planning on the kept graphs gives (its cost,
     /// its expansions) against. `None` when no plan exists.
-    pub fn fresh(&self) -> Option<MissionPlan> {
+    pub fn fresh(&self) -> Result<Option<MissionPlan>> {
         let n = self.segments.len();
         let segments = self
             .segments
@@ -641,6 +662,7 @@ fn add_stats(total: &mut Stats, s: &Stats) {
     total.invalidated += s.invalidated;
     total.reopened += s.reopened;
     total.reclaimed += s.reclaimed;
+    total.beaten_subtrees += s.beaten_subtrees;
     total.labels_alive = s.labels_alive;
     total.bytes = s.bytes;
 }

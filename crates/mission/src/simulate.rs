@@ -418,10 +418,13 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         match outcome {
             Ok((p, kind)) => {
                 let route_changed = !same_route(&plan, &p, cell);
-                let fresh = (sim.compare_fresh && kind == PlanKind::Replan && !changed.is_empty())
-                    .then(|| mission.fresh())
-                    .flatten()
-                    .map(|f| (f.expansions, f.cost));
+                // Every re-plan, sensed change or not: plan extension alone moves the
+                // start, and the kept graph must still answer as a fresh one.
+                let fresh = if sim.compare_fresh && kind == PlanKind::Replan {
+                    mission.fresh()?.map(|f| (f.expansions, f.cost))
+                } else {
+                    None
+                };
                 report.plans.push(PlanRecord {
                     step,
                     kind,

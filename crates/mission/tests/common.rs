@@ -2,7 +2,7 @@
 
 use areo_ephemeris::flux::Atmosphere;
 use areo_ephemeris::{Mars24, Site, SunModel, SunState, parse_utc};
-use areo_mission::{ActionConfig, ActionModel, World, WorldConfig};
+use areo_mission::{Action, ActionConfig, ActionModel, Objective, PathLength, World, WorldConfig};
 use areo_rover::resources::ResourceModel;
 use areo_terrain::Dem;
 use hifitime::Epoch;
@@ -100,4 +100,39 @@ impl Ord for Ord64 {
     fn cmp(&self, o: &Self) -> std::cmp::Ordering {
         self.0.total_cmp(&o.0)
     }
+}
+
+/// Every action from (`cell`, `t`) forward: (action, destination, effect).
+pub(crate) fn moves(world: &World, model: &ActionModel, cell: u32, t: f64) -> Vec<(Action, u32, areo_mission::Effect)> {
+    let mut out = Vec::new();
+    for a in (0..8).map(Action::Drive).chain([Action::Charge, Action::Hibernate]) {
+        let r = match a {
+            Action::Drive(k) => model.drive(world, cell, k, t),
+            stay => model.stay(world, stay, cell, t).map(|e| (cell, e)),
+        };
+        if let Ok((to, e)) = r {
+            out.push((a, to, e));
+        }
+    }
+    out
+}
+
+/// A step's cost in the planner's terms: Δe + E_max × length, or the duration, plus the
+/// planner's wait-late tie-breaker on stationary actions.
+pub(crate) fn step_cost(
+    world: &World,
+    objective: Objective,
+    e_max: f64,
+    a: Action,
+    t0: f64,
+    e: areo_mission::Effect,
+) -> f64 {
+    let units = PathLength::Distance.units(a, world.dem().dx(), world.dem().dy());
+    let (base, scale) = match objective {
+        Objective::Energy => ((e.energy_wh + e_max * units).max(0.0), e_max),
+        Objective::Duration { .. } => (e.duration_s, e.duration_s),
+    };
+    let bias =
+        if matches!(a, Action::Drive(_)) { 0.0 } else { 1e-6 * scale * (1.0 - t0 / world.span_s()).clamp(0.0, 1.0) };
+    base + bias
 }

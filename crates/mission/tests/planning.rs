@@ -54,7 +54,7 @@ fn a_small_battery_before_night_makes_the_plan_wait() {
     let config = PlannerConfig {
         max_wait_s: Some(20.0 * 3600.0),
         goal_times: 24,
-        resolution: areo_mission::Resolution { time_s: 300.0, energy_wh: 10.0 },
+        resolution: areo_mission::Resolution { time_s: 300.0, energy_wh: None },
         ..PlannerConfig::default()
     };
     let (_m, plan) = Mission::plan(&world, &model, config, start, &[world.cell(93, 2)]).unwrap();
@@ -159,7 +159,7 @@ fn the_duration_objective_keeps_under_its_maximum_and_prefers_less_energy() {
     let base = PlannerConfig {
         max_wait_s: Some(3600.0),
         goal_times: 12,
-        resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: 1.0 },
+        resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: None },
         ..PlannerConfig::default()
     };
     let (_m, energy_plan) = Mission::plan(&world, &model, base.clone(), start, &goal).unwrap();
@@ -313,7 +313,7 @@ fn a_backward_expansion_equals_its_actions_one_by_one_and_the_forward_drives() {
         &model,
         start,
         Objective::Energy,
-        Resolution { time_s: 60.0, energy_wh: 5.0 },
+        Resolution { time_s: 60.0, energy_wh: None },
         PathLength::Distance,
     );
     let mut drives = 0;

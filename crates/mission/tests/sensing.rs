@@ -28,7 +28,7 @@ fn quantised() -> ActionConfig {
 fn planner_config() -> PlannerConfig {
     PlannerConfig {
         actions: quantised(),
-        resolution: Resolution { time_s: 60.0, energy_wh: 1.0 },
+        resolution: Resolution { time_s: 60.0, energy_wh: None },
         path_length: PathLength::Distance,
         goal_times: 8,
         segment_starts: 4,
@@ -177,7 +177,7 @@ fn a_rover_that_finds_a_wall_replans_with_no_more_work_than_a_fresh_plan() {
     // truth closes it; the rover drives, senses 2 cells around it after every action
     // and re-plans (plan extension + repair). Every re-plan — the wall's discovery
     // included — costs what the same problem searched from scratch on the updated map
-    // costs, and expands no more than that search.
+    // costs, and expands at most 5 % more than that search.
     let ridge = |gap: bool| {
         areo_terrain::Dem::from_fn(30, 24, 20.0, 20.0, move |x, y| {
             let base = 2.0 * (x / 37.0).sin() + 1.5 * (y / 23.0).cos();
@@ -208,14 +208,16 @@ fn a_rover_that_finds_a_wall_replans_with_no_more_work_than_a_fresh_plan() {
         let here = Start { cell, t_min: t, t_max: t, energy_wh: battery };
         plan = mission.advance(here, &changed).unwrap();
         // The same problem (goal instants, start) searched from scratch on the updated map.
-        let fresh = mission.fresh().expect("a fresh plan");
+        let fresh = mission.fresh().unwrap().expect("a fresh plan");
         assert!((plan.cost - fresh.cost).abs() < 1e-6, "step {steps}: re-plan {} vs fresh {}", plan.cost, fresh.cost);
         // A fresh search of a nearly finished trip is tiny, while a change beside the
         // goal (the backward search's root) costs a repair a few hundred expansions:
         // the comparison holds wherever the fresh search has real work to do.
+        // (Within 5 %: a re-plan also drops the labels the rover's progress made
+        // unreachable, and reopens what they had pruned.)
         if fresh.expansions >= 2000 {
             assert!(
-                plan.expansions <= fresh.expansions,
+                plan.expansions * 100 <= fresh.expansions * 105,
                 "step {steps}: the re-plan expanded {}, a fresh plan {}",
                 plan.expansions,
                 fresh.expansions
@@ -234,4 +236,78 @@ fn a_rover_that_finds_a_wall_replans_with_no_more_work_than_a_fresh_plan() {
     // Over the whole trip re-planning did under a fifth of the fresh searches' work
     // (most of it at the wall's discovery).
     assert!(5 * replanned <= searched, "re-plans expanded {replanned}, fresh searches {searched}");
+}
+
+/// The ridge-and-gap walk of the test above at the shipped scenarios' settings: actions
+/// not quantised (any duration, any energy), 20-minute time classes, energy exact or in
+/// 25 Wh classes. Classes then merge different instants, which is where a kept graph
+/// used to answer from its history: every re-plan must still cost exactly what a fresh
+/// search of the same problem costs.
+fn walk_with_coarse_classes(energy_wh: Option<f64>) -> usize {
+    let ridge = |gap: bool| {
+        areo_terrain::Dem::from_fn(30, 24, 20.0, 20.0, move |x, y| {
+            let base = 2.0 * (x / 37.0).sin() + 1.5 * (y / 23.0).cos();
+            let on_ridge = (230.0..270.0).contains(&y) && x < 470.0 && !(gap && (250.0..330.0).contains(&x));
+            base + if on_ridge { 60.0 } else { 0.0 }
+        })
+        .unwrap()
+    };
+    let map = mars_world(ridge(true), 14.0, Some(16));
+    let truth =
+        World::truth(ridge(false), &crate::common::config(14.0, Some(16)), &areo_ephemeris::Mars24, &map).unwrap();
+    let mut actions = ActionConfig { charge_s: 900.0, hibernate_s: 1800.0, ..ActionConfig::default() };
+    actions.drive.daylight = false;
+    actions.charge.direct_sun = false;
+    let model = model(2000.0, actions);
+    let config = PlannerConfig {
+        actions: model.config().clone(),
+        resolution: Resolution { time_s: 1200.0, energy_wh },
+        goal_times: 8,
+        segment_starts: 4,
+        max_wait_s: Some(3600.0),
+        ..PlannerConfig::default()
+    };
+    let start = Start { cell: map.cell(14, 21), t_min: 0.0, t_max: 600.0, energy_wh: 1500.0 };
+    let goals = [map.cell(26, 15), map.cell(14, 2)];
+    map.sense(&truth, &disc(&map, start.cell, 2)).unwrap();
+    let (mut mission, mut plan) = Mission::plan(&map, &model, config, start, &goals).unwrap();
+    let (mut cell, mut t, mut battery) = (start.cell, plan.waypoints[0].t_s, start.energy_wh);
+    let (mut steps, mut next_goal) = (0, 0);
+    while let Some(action) = plan.waypoints.first().and_then(|w| w.action) {
+        t = t.max(plan.waypoints[0].t_s);
+        let exact = areo_mission::Perturbation { duration_factor: 1.0, solar_factor: 1.0 };
+        let (to, effect) = model.execute(&truth, action, cell, t, exact).unwrap();
+        (cell, t, battery) = (to, t + effect.duration_s, (battery - effect.energy_wh).min(model.capacity_wh()));
+        // As the simulation does: the first goal is reached when the rover stands on it.
+        if next_goal == 0 && cell == goals[0] {
+            next_goal = 1;
+            mission.goal_reached();
+        }
+        let changed = map.sense(&truth, &disc(&map, cell, 2)).unwrap();
+        let here = Start { cell, t_min: t, t_max: t, energy_wh: battery };
+        plan = mission.advance(here, &changed).unwrap();
+        let fresh = mission.fresh().unwrap().expect("a fresh plan");
+        assert!(
+            (plan.cost - fresh.cost).abs() <= 1e-9 * fresh.cost.abs().max(1.0),
+            "step {steps} ({energy_wh:?} Wh classes): re-plan {} vs fresh {}",
+            plan.cost,
+            fresh.cost
+        );
+        steps += 1;
+        assert!(steps < 600, "the rover never arrives");
+    }
+    assert_eq!((cell, next_goal), (goals[1], 1));
+    steps
+}
+
+#[test]
+fn replans_with_coarse_time_and_energy_classes_equal_fresh_plans() {
+    let steps = walk_with_coarse_classes(Some(25.0));
+    assert!(steps > 20, "{steps}");
+}
+
+#[test]
+fn replans_with_coarse_time_classes_and_exact_energy_equal_fresh_plans() {
+    let steps = walk_with_coarse_classes(None);
+    assert!(steps > 20, "{steps}");
 }

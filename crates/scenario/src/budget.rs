@@ -134,27 +134,24 @@ pub fn terrain_command(what: &str, cells: u64, sectors: u64) -> Estimate {
     }
 }
 
-/// The cost of a TEMPEST job on a map of `cells` cells, with a battery of `battery_wh`
-/// (`None`: not known yet, one energy class assumed).
+/// The cost of a TEMPEST job on a map of `cells` cells.
 ///
-/// Work is the horizon map's cell-sector sweeps plus the label space the searches may
-/// fill: cells × time classes (horizon / `resolution.time_s`) × energy classes (battery
-/// / `resolution.energy_wh`) × goals — an upper bound that the shipped scenarios fill to
-/// a few per cent, and the figure that grows without limit when classes are made fine.
-pub fn tempest(job: &TempestJob, cells: u64, battery_wh: Option<f64>) -> Estimate {
+/// Work is the horizon map's cell-sector sweeps plus the label classes the searches may
+/// fill: cells × time classes (horizon / `resolution.time_s`) × goals. Each class holds
+/// a Pareto front in (cost, battery energy), a few labels in practice; energy is never
+/// bucketed, so it adds no factor. An upper bound that the shipped scenarios fill to a
+/// few per cent, and the figure that grows without limit when classes are made fine.
+pub fn tempest(job: &TempestJob, cells: u64) -> Estimate {
     let sectors = job.horizon_sectors as u64;
     let truth = !matches!(job.truth, Truth::Map);
     // The true world shares the map's horizon map and keeps its own DEM and world.
     let per_cell = DEM_BYTES + 2 * sectors + WORLD_BYTES + if truth { DEM_BYTES + WORLD_BYTES } else { 0 };
     let r = &job.planner.resolution;
     let time_classes = (job.horizon_h * 3600.0 / r.time_s).ceil().max(1.0);
-    let battery_wh = job.battery_capacity_wh.or(battery_wh);
-    let energy_classes = battery_wh.map_or(1.0, |b| (b / r.energy_wh).ceil().clamp(1.0, f64::from(1u32 << 24)));
-    let labels = cells as f64 * time_classes * energy_classes * job.goals.len().max(1) as f64;
+    let labels = cells as f64 * time_classes * job.goals.len().max(1) as f64;
     Estimate {
         what: format!(
-            "the TEMPEST job on {cells} cells ({sectors} horizon sectors, {time_classes} time × {energy_classes} \
-             energy classes, {} goals)",
+            "the TEMPEST job on {cells} cells ({sectors} horizon sectors, {time_classes} time classes, {} goals)",
             job.goals.len()
         ),
         memory_bytes: cells.saturating_mul(per_cell),
@@ -207,7 +204,7 @@ pub fn estimate(scenario: &Scenario) -> Option<Estimate> {
             })
         }
         Job::TerrainShadow(job) => synth_cells(&job.terrain).map(|c| terrain_command("shadow", c, 0)),
-        Job::Tempest(job) => synth_cells(&job.terrain).map(|c| tempest(job, c, None)),
+        Job::Tempest(job) => synth_cells(&job.terrain).map(|c| tempest(job, c)),
         Job::Actions(job) => synth_cells(&job.terrain).map(|c| actions(job, c)),
     }
 }

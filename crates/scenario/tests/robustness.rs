@@ -131,22 +131,21 @@ fn the_shipped_scenarios_fit_the_default_budget_and_fine_classes_do_not() {
         if let Job::Tempest(job) = &scenario.job
             && let Some(cells) = areo_scenario::budget::synth_cells(&job.terrain)
         {
-            // With the mock rover's 1000 Wh battery, as the job checks it.
-            budget.check(&tempest(job, cells, Some(1000.0))).unwrap_or_else(|err| panic!("{}: {err}", path.display()));
+            budget.check(&tempest(job, cells)).unwrap_or_else(|err| panic!("{}: {err}", path.display()));
         }
     }
-    // The fuzz finding: sun-synchronous-traverse with 0.5 Wh energy classes (2000 per
-    // time class instead of 1) ran for minutes; it is now refused with its estimate.
+    // Time classes of a second over sun-synchronous-traverse's 110 h are refused with
+    // their estimate.
     let text = std::fs::read_to_string(root().join("scenarios/sun-synchronous-traverse.ron")).unwrap();
-    let text = text.replacen("energy_wh: 1e12", "energy_wh: 0.5", 1);
+    let text = text.replacen("time_s: 1200", "time_s: 1", 1);
     let scenario = parse(Path::new("s.ron"), &text).unwrap();
     let Job::Tempest(job) = &scenario.job else { panic!("a TEMPEST job") };
     let cells = areo_scenario::budget::synth_cells(&job.terrain).unwrap();
-    let e = tempest(job, cells, Some(1000.0));
-    // 160 × 120 cells × 330 time classes × 2000 energy classes × 3 goals.
-    assert_eq!(e.work_steps, 160 * 120 * 64 + 160 * 120 * 330 * 2000 * 3);
+    let e = tempest(job, cells);
+    // 160 × 120 cells × 396 000 time classes × 3 goals.
+    assert_eq!(e.work_steps, 160 * 120 * 64 + 160 * 120 * 396_000 * 3);
     let err = budget.check(&e).unwrap_err().to_string();
-    assert!(err.contains("--max-work") && err.contains("2000 energy classes"), "{err}");
+    assert!(err.contains("--max-work") && err.contains("396000 time classes"), "{err}");
 }
 
 #[test]

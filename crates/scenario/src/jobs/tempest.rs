@@ -211,7 +211,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         Terrain::Whole(d) => d.cols() * d.rows(),
         Terrain::Region { region, .. } => region.dem.cols() * region.dem.rows(),
     };
-    opts.budget.check(&crate::budget::tempest(job, cells as u64, Some(rover.battery.capacity_wh)))?;
+    opts.budget.check(&crate::budget::tempest(job, cells as u64))?;
     let region_note = match (&terrain, &job.plan_region) {
         (Terrain::Region { region, .. }, Some(spec)) => Some(format!(
             "planning region of {} x {} cells cut from the map with its slopes and horizons (horizons below {}° stored as {}°)",
@@ -506,6 +506,23 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
         plan.min_battery_wh(),
         plan.e_max_wh
     ));
+    // What the search approximated, said as what it is.
+    let resolution = ctx.job.planner.resolution;
+    let fallback = resolution.energy_wh.is_some() && plan.energy_classes_wh.is_none();
+    o.flag("initial_plan_exact_energy_fallback", fallback);
+    o.summary.push(format!(
+        "search resolution: time classes of {:.0} s (approximate: labels of a class are compared as one instant); {}",
+        resolution.time_s,
+        match (resolution.energy_wh, fallback) {
+            (None, _) => "energy exact (Pareto labels)".to_string(),
+            (Some(w), false) => format!(
+                "energy classes of {w} Wh (approximate: a kept label may need up to {w} Wh more than one it dropped)"
+            ),
+            (Some(w), true) => format!(
+                "no plan with energy classes of {w} Wh, so the planner searched again with energy exact (fallback)"
+            ),
+        }
+    ));
 }
 
 /// Facts of a plan off Mars: driving in shadow, Earth contact, the Sun's sweep, the
@@ -641,16 +658,13 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
     o.number("route_changes", route_changes as f64);
     let restarts = r.plans.iter().filter(|p| p.kind == PlanKind::Restart).count();
     o.number("restarts", restarts as f64);
+    let asked = ctx.job.planner.resolution.energy_wh;
+    let fallbacks = r.plans.iter().filter(|p| asked.is_some() && p.plan.energy_classes_wh.is_none()).count();
+    o.number("exact_energy_fallbacks", fallbacks as f64);
     // Deterministic search costs: each re-plan's expansions against the initial plan's
-    // (restarts are fresh plans, reported apart), and the search's memory.
-    let mut fractions: Vec<f64> = r
-        .plans
-        .iter()
-        .skip(1)
-        .zip(r.replan_expansion_fractions())
-        .filter(|(p, _)| p.kind == PlanKind::Replan)
-        .map(|(_, f)| f)
-        .collect();
+    // — restarts included, as the fresh plans they are (counted apart as well) — and
+    // the search's memory.
+    let mut fractions: Vec<f64> = r.replan_expansion_fractions();
     fractions.sort_by(f64::total_cmp);
     if let Some(&max) = fractions.last() {
         o.number("replan_expansions_median", fractions[fractions.len() / 2]);
@@ -713,9 +727,10 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
     ));
     if !fractions.is_empty() {
         o.summary.push(format!(
-            "re-plan expansions: median {:.3} %, largest {:.1} % of the initial plan's",
+            "re-plan expansions: median {:.3} %, largest {:.1} % of the initial plan's{}",
             100.0 * fractions[fractions.len() / 2],
-            100.0 * fractions[fractions.len() - 1]
+            100.0 * fractions[fractions.len() - 1],
+            if restarts > 0 { format!(" ({restarts} restart(s) included)") } else { String::new() }
         ));
     }
     if restarts > 0 {
