@@ -428,16 +428,8 @@ fn valley(root: &Path) -> Result<bool, String> {
         fact("peak_search_mb"),
         fact("peak_memory_mb")
     );
-    // Again, each re-plan that sensing changed checked against the same problem
-    // searched from scratch (slow: a whole search each).
-    let (compared, _) = run_scenario(root, "valley-detour", true)?;
+    let compared = against_fresh(root, "valley-detour")?;
     let check = |name: &str| number(&compared, name);
-    println!(
-        "  against fresh searches: {} re-plans compared, {} expanded more; costs within {:.2e} (relative)",
-        check("fresh_compared"),
-        check("replans_above_fresh"),
-        check("replan_fresh_cost_difference")
-    );
     Ok(check_all(&[
         ("re-plan cost against a fresh search's (relative)", check("replan_fresh_cost_difference"), 1e-9),
         ("restarts", fact("restarts"), 0.0),
@@ -446,6 +438,20 @@ fn valley(root: &Path) -> Result<bool, String> {
         ("process peak memory, MB", fact("peak_memory_mb"), 200.0),
         ("whole run, s", wall, 15.0),
     ]))
+}
+
+/// Runs `name` again with every re-plan checked against the same problem searched
+/// from scratch (slow: a whole search each), and prints the comparison.
+fn against_fresh(root: &Path, name: &str) -> Result<areo_scenario::Outcome, String> {
+    let (compared, _) = run_scenario(root, name, true)?;
+    let check = |fact: &str| number(&compared, fact);
+    println!(
+        "  against fresh searches: {} re-plans compared, {} expanded more; costs within {:.2e} (relative)",
+        check("fresh_compared"),
+        check("replans_above_fresh"),
+        check("replan_fresh_cost_difference")
+    );
+    Ok(compared)
 }
 
 /// The lita-scale scenario end to end (the paper's Figure 11 experiment): runs it
@@ -485,15 +491,8 @@ fn lita(root: &Path) -> Result<bool, String> {
         fact("peak_search_mb"),
         fact("peak_memory_mb")
     );
-    // Again, every re-plan checked against the same problem searched from scratch.
-    let (compared, _) = run_scenario(root, "lita-scale", true)?;
+    let compared = against_fresh(root, "lita-scale")?;
     let check = |name: &str| number(&compared, name);
-    println!(
-        "  against fresh searches: {} re-plans compared, {} expanded more; costs within {:.2e} (relative)",
-        check("fresh_compared"),
-        check("replans_above_fresh"),
-        check("replan_fresh_cost_difference")
-    );
     // Issue 34's targets: energy-aware (25 Wh energy classes, E never collapsed).
     Ok(check_all(&[
         ("re-plan cost against a fresh search's (relative)", check("replan_fresh_cost_difference"), 1e-9),

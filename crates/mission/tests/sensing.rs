@@ -171,17 +171,12 @@ fn disc(world: &World, cell: u32, radius: i64) -> Vec<u32> {
     out
 }
 
-#[test]
-fn a_rover_that_finds_a_wall_replans_with_no_more_work_than_a_fresh_plan() {
-    // The valley-detour situation at a small scale: the map shows a gap in a ridge, the
-    // truth closes it; the rover drives, senses 2 cells around it after every action
-    // and re-plans (plan extension + repair). Every re-plan — the wall's discovery
-    // included — costs what the same problem searched from scratch on the updated map
-    // costs, and expands at most 5 % more than that search.
+/// The map shows a gap in an east–west ridge; the truth closes it (the ridge leaves a
+/// way round at its eastern end). Both over 14 h with 16-sector horizons.
+fn ridge_worlds() -> (World, World) {
     let ridge = |gap: bool| {
         areo_terrain::Dem::from_fn(30, 24, 20.0, 20.0, move |x, y| {
             let base = 2.0 * (x / 37.0).sin() + 1.5 * (y / 23.0).cos();
-            // The ridge leaves a way round at its eastern end.
             let on_ridge = (230.0..270.0).contains(&y) && x < 470.0 && !(gap && (250.0..330.0).contains(&x));
             base + if on_ridge { 60.0 } else { 0.0 }
         })
@@ -190,6 +185,17 @@ fn a_rover_that_finds_a_wall_replans_with_no_more_work_than_a_fresh_plan() {
     let map = mars_world(ridge(true), 14.0, Some(16));
     let truth =
         World::truth(ridge(false), &crate::common::config(14.0, Some(16)), &areo_ephemeris::Mars24, &map).unwrap();
+    (map, truth)
+}
+
+#[test]
+fn a_rover_that_finds_a_wall_replans_with_no_more_work_than_a_fresh_plan() {
+    // The valley-detour situation at a small scale: the map shows a gap in a ridge, the
+    // truth closes it; the rover drives, senses 2 cells around it after every action
+    // and re-plans (plan extension + repair). Every re-plan — the wall's discovery
+    // included — costs what the same problem searched from scratch on the updated map
+    // costs, and expands at most 5 % more than that search.
+    let (map, truth) = ridge_worlds();
     let model = model(2000.0, quantised());
     let start = Start { cell: map.cell(14, 21), t_min: 0.0, t_max: 600.0, energy_wh: 1500.0 };
     let goals = [map.cell(14, 2)];
@@ -244,17 +250,7 @@ fn a_rover_that_finds_a_wall_replans_with_no_more_work_than_a_fresh_plan() {
 /// used to answer from its history: every re-plan must still cost exactly what a fresh
 /// search of the same problem costs.
 fn walk_with_coarse_classes(energy_wh: Option<f64>) -> usize {
-    let ridge = |gap: bool| {
-        areo_terrain::Dem::from_fn(30, 24, 20.0, 20.0, move |x, y| {
-            let base = 2.0 * (x / 37.0).sin() + 1.5 * (y / 23.0).cos();
-            let on_ridge = (230.0..270.0).contains(&y) && x < 470.0 && !(gap && (250.0..330.0).contains(&x));
-            base + if on_ridge { 60.0 } else { 0.0 }
-        })
-        .unwrap()
-    };
-    let map = mars_world(ridge(true), 14.0, Some(16));
-    let truth =
-        World::truth(ridge(false), &crate::common::config(14.0, Some(16)), &areo_ephemeris::Mars24, &map).unwrap();
+    let (map, truth) = ridge_worlds();
     let mut actions = ActionConfig { charge_s: 900.0, hibernate_s: 1800.0, ..ActionConfig::default() };
     actions.drive.daylight = false;
     actions.charge.direct_sun = false;
