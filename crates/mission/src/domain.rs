@@ -14,7 +14,8 @@
 //! Labels are Pareto labels: at each (cell, time class) the search keeps every label
 //! that no other dominates in (cost, E) — a label needing no more energy at no greater
 //! cost dominates — so the labels a tight battery needs survive beside the cheapest
-//! one. E is never bucketed (see [`Resolution`] for what pruning guarantees).
+//! one. E is bucketed only when the scenario asks for energy classes, an approximation
+//! the planner reports (see [`Resolution`] for what pruning guarantees).
 
 use std::cell::RefCell;
 

@@ -204,14 +204,9 @@ fn brute_force_with_battery(
     type Key = (usize, u32, i64, u64);
     let mut dist: HashMap<Key, f64> = HashMap::new();
     let mut heap = BinaryHeap::new();
-    let mut m = (start.t_min / 60.0).ceil() as i64;
-    while m as f64 * 60.0 <= start.t_max + 1e-9 {
-        let battery = start.energy_wh - model.idle_wh(m as f64 * 60.0 - start.t_min);
-        if battery >= 0.0 {
-            dist.insert((0, start.cell, m, battery.to_bits()), 0.0);
-            heap.push(Reverse((Ord64(0.0), 0usize, start.cell, m, battery.to_bits())));
-        }
-        m += 1;
+    for (m, battery) in start_minutes(model, &start) {
+        dist.insert((0, start.cell, m, battery.to_bits()), 0.0);
+        heap.push(Reverse((Ord64(0.0), 0usize, start.cell, m, battery.to_bits())));
     }
     while let Some(Reverse((Ord64(d), k, cell, m, b))) = heap.pop() {
         if dist.get(&(k, cell, m, b)).is_some_and(|&best| best < d) {

@@ -136,3 +136,19 @@ pub(crate) fn step_cost(
         if matches!(a, Action::Drive(_)) { 0.0 } else { 1e-6 * scale * (1.0 - t0 / world.span_s()).clamp(0.0, 1.0) };
     base + bias
 }
+
+/// The whole minutes of a start window and the battery at each (the rover idles from
+/// the window's opening), where it is not below zero — where the brute-force searches
+/// begin.
+pub(crate) fn start_minutes(model: &ActionModel, start: &areo_mission::Start) -> Vec<(i64, f64)> {
+    let mut out = Vec::new();
+    let mut m = (start.t_min / 60.0).ceil() as i64;
+    while m as f64 * 60.0 <= start.t_max + 1e-9 {
+        let battery = start.energy_wh - model.idle_wh(m as f64 * 60.0 - start.t_min);
+        if battery >= 0.0 {
+            out.push((m, battery));
+        }
+        m += 1;
+    }
+    out
+}

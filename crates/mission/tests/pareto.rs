@@ -59,14 +59,9 @@ fn least_cost(world: &World, model: &ActionModel, mission: &Mission<'_>, goal: u
     type Key = (u32, i64, u64);
     let mut dist: HashMap<Key, f64> = HashMap::new();
     let mut heap = BinaryHeap::new();
-    let mut m = (start.t_min / 60.0).ceil() as i64;
-    while m as f64 * 60.0 <= start.t_max + 1e-9 {
-        let battery = start.energy_wh - model.idle_wh(m as f64 * 60.0 - start.t_min);
-        if battery >= 0.0 {
-            dist.insert((start.cell, m, battery.to_bits()), 0.0);
-            heap.push(Reverse((Ord64(0.0), start.cell, m, battery.to_bits())));
-        }
-        m += 1;
+    for (m, battery) in start_minutes(model, &start) {
+        dist.insert((start.cell, m, battery.to_bits()), 0.0);
+        heap.push(Reverse((Ord64(0.0), start.cell, m, battery.to_bits())));
     }
     while let Some(Reverse((Ord64(d), cell, m, b))) = heap.pop() {
         if dist.get(&(cell, m, b)).is_some_and(|&best| best < d) {
@@ -169,7 +164,7 @@ fn pareto_labels_equal_an_exhaustive_search_where_the_battery_binds() {
     let world = world();
     let t0 = morning(&world);
     let model = model(400.0, quantised());
-    let (mut exact, mut binding) = (0, 0);
+    let (mut exact, mut binding, mut fallbacks) = (0, 0, 0);
     for (from, to) in [((0, 0), (6, 4)), ((6, 0), (0, 4)), ((0, 2), (6, 2))] {
         for start_wh in [6.0, 10.0, 14.0, 20.0, 30.0] {
             let start = Start { cell: world.cell(from.0, from.1), t_min: t0, t_max: t0, energy_wh: start_wh };
@@ -178,6 +173,18 @@ fn pareto_labels_equal_an_exhaustive_search_where_the_battery_binds() {
             let (full, _) =
                 Mission::plan(&world, &model, config(Objective::Energy), Start { energy_wh: 300.0, ..start }, &[goal])
                     .unwrap();
+            // The coarsest energy classes allowed (half the usable battery): where they
+            // lose the plan the planner must fall back to exact energy and say so.
+            let classes = PlannerConfig {
+                resolution: Resolution { time_s: 60.0, energy_wh: Some(model.capacity_wh() / 2.0) },
+                ..config(Objective::Energy)
+            };
+            let coarse = Mission::plan(&world, &model, classes, start, &[goal]);
+            if let Ok((_, plan)) = &coarse
+                && plan.energy_classes_wh.is_none()
+            {
+                fallbacks += 1;
+            }
             let mission = match &pareto {
                 Ok((m, _)) => m,
                 Err(_) => &full,
@@ -198,6 +205,8 @@ fn pareto_labels_equal_an_exhaustive_search_where_the_battery_binds() {
                             >= model.rover().battery.capacity_wh * model.rover().battery.min_soc - 1e-6
                     );
                     exact += 1;
+                    // Energy classes never turn a plan into "unreachable".
+                    assert!(coarse.is_ok(), "{from:?}→{to:?} {start_wh} Wh: energy classes lost the plan");
                 }
                 (Err(_), None) => {}
                 (p, b) => panic!(
@@ -216,6 +225,7 @@ fn pareto_labels_equal_an_exhaustive_search_where_the_battery_binds() {
     // cheapest plan.
     assert_eq!(exact, 15);
     assert!(binding >= 5, "the battery binds in only {binding} cases: they do not test Pareto labels");
+    assert!(fallbacks >= 1, "energy classes never lost a plan here: the fallback is not exercised");
 }
 
 #[test]

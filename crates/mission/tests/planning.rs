@@ -135,6 +135,22 @@ fn bad_inputs_are_errors_naming_the_field() {
         other => panic!("{other:?}"),
     }
     assert!(matches!(Mission::plan(&world, &model, PlannerConfig::default(), start, &[]), Err(Error::Config { .. })));
+    // Energy classes wider than half the usable battery (900 Wh here) would collapse E.
+    let collapsing = PlannerConfig {
+        resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: Some(451.0) },
+        ..PlannerConfig::default()
+    };
+    match Mission::plan(&world, &model, collapsing, start, &[world.cell(5, 5)]) {
+        Err(Error::Config { field, message }) => {
+            assert!(field == "resolution.energy_wh" && message.contains("450.0 Wh"), "{message}")
+        }
+        other => panic!("{other:?}"),
+    }
+    let widest = PlannerConfig {
+        resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: Some(450.0) },
+        ..PlannerConfig::default()
+    };
+    assert!(Mission::plan(&world, &model, widest, start, &[world.cell(5, 5)]).is_ok());
 }
 
 #[test]
