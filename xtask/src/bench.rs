@@ -77,7 +77,7 @@ const RATIOS: &[(&str, &str, &str, f64)] = &[
 /// Runs `cargo bench` (optionally only benches matching `filter`) and prints the table;
 /// `movingai` as the filter runs only the full Moving AI check.
 pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
-    let in_process = ["movingai", "horizon", "mission", "lita", "valley", "bigmap"];
+    let in_process = ["movingai", "horizon", "mission", "lita", "valley", "lunar", "bigmap"];
     if cfg!(debug_assertions) && args.first().is_some_and(|a| in_process.contains(&a.as_str())) {
         // `cargo xtask` builds the dev profile (shared with the tests); timings are only
         // meaningful optimised, so these run again from a release build of xtask.
@@ -104,6 +104,9 @@ pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
     }
     if args.first().is_some_and(|a| a == "valley") {
         return valley(root);
+    }
+    if args.first().is_some_and(|a| a == "lunar") {
+        return lunar(root);
     }
     if args.first().is_some_and(|a| a == "bigmap") {
         let side = args.get(1).map_or(Ok(30_000), |s| s.parse::<usize>()).map_err(|e| format!("bigmap SIDE: {e}"))?;
@@ -364,12 +367,23 @@ fn peak_memory() -> Option<String> {
 /// Runs a shipped scenario through the library as `areo run` does; its facts and the
 /// wall time.
 fn run_scenario(root: &Path, name: &str, compare_fresh: bool) -> Result<(areo_scenario::Outcome, f64), String> {
+    run_scenario_with(root, name, compare_fresh, |_| {})
+}
+
+/// [`run_scenario`] with the TEMPEST job changed by `change` first.
+fn run_scenario_with(
+    root: &Path,
+    name: &str,
+    compare_fresh: bool,
+    change: impl FnOnce(&mut areo_scenario::format::TempestJob),
+) -> Result<(areo_scenario::Outcome, f64), String> {
     let path = root.join("scenarios").join(format!("{name}.ron"));
     let mut file = areo_scenario::format::load(&path).map_err(|e| e.to_string())?;
-    if let areo_scenario::format::Job::Tempest(job) = &mut file.scenario.job
-        && let Some(sim) = &mut job.simulate
-    {
-        sim.compare_fresh = compare_fresh;
+    if let areo_scenario::format::Job::Tempest(job) = &mut file.scenario.job {
+        if let Some(sim) = &mut job.simulate {
+            sim.compare_fresh = compare_fresh;
+        }
+        change(job);
     }
     let clock = std::time::Instant::now();
     let outcome = areo_scenario::run(
@@ -428,16 +442,57 @@ fn valley(root: &Path) -> Result<bool, String> {
         fact("peak_search_mb"),
         fact("peak_memory_mb")
     );
+    // The same problem on a map of four times the area (the route, the valley and the
+    // pass where they were; ground added north and east): a guided search's work grows
+    // with the route, not with the map.
+    let (wide, wide_wall) = run_scenario_with(root, "valley-detour", false, |job| {
+        if let areo_scenario::format::TerrainSource::Synth(spec) = &mut job.terrain {
+            spec.cols *= 2;
+            spec.rows *= 2;
+        }
+    })?;
+    let wide_fact = |name: &str| number(&wide, name);
+    let growth = wide_fact("initial_plan_expansions") / fact("initial_plan_expansions");
+    println!(
+        "  at 4 x the area (160 x 120 cells): initial plan {:.3} s, {} expansions ({growth:.2} x); whole run {wide_wall:.1} s, process peak {:.0} MB",
+        wide_fact("initial_plan_s"),
+        wide_fact("initial_plan_expansions"),
+        wide_fact("peak_memory_mb")
+    );
     let compared = against_fresh(root, "valley-detour")?;
     let check = |name: &str| number(&compared, name);
     Ok(check_all(&[
+        ("initial plan, s", fact("initial_plan_s"), 1.9),
+        ("initial plan expansions at 4 x the area / at 1 x", growth, 1.3),
         ("re-plan cost against a fresh search's (relative)", check("replan_fresh_cost_difference"), 1e-9),
         ("restarts", fact("restarts"), 0.0),
         ("median re-plan expansions / initial", fact("replan_expansions_median"), 0.02),
-        ("largest re-plan expansions / initial", fact("replan_expansions_max"), 2.0),
+        ("largest re-plan expansions / initial", fact("replan_expansions_max"), 2.5),
         ("process peak memory, MB", fact("peak_memory_mb"), 200.0),
         ("whole run, s", wall, 15.0),
     ]))
+}
+
+/// The lunar south-pole traverse at 30 m and at 10 m cells (issue 34): how the work
+/// and the memory grow with nine times the cells, and the 10 m plan's targets.
+fn lunar(root: &Path) -> Result<bool, String> {
+    println!("lunar-south-pole, four goals over four days (plan only):");
+    let mut figures = Vec::new();
+    for name in ["lunar-south-pole", "lunar-south-pole-10m"] {
+        let (outcome, wall) = run_scenario(root, name, false)?;
+        let fact = |name: &str| number(&outcome, name);
+        println!(
+            "  {name}: {} cells, initial plan {:.1} s, {} expansions; whole run {wall:.1} s, process peak so far {:.0} MB",
+            fact("cells"),
+            fact("initial_plan_s"),
+            fact("initial_plan_expansions"),
+            fact("peak_memory_mb")
+        );
+        figures.push((fact("initial_plan_expansions"), fact("peak_memory_mb"), wall));
+    }
+    let ((e30, _, _), (e10, peak10, wall10)) = (figures[0], figures[1]);
+    println!("  30 m to 10 m: 9 x the cells, {:.1} x the expansions", e10 / e30);
+    Ok(check_all(&[("10 m whole run, s", wall10, 120.0), ("10 m process peak memory, MB", peak10, 3072.0)]))
 }
 
 /// Runs `name` again with every re-plan checked against the same problem searched

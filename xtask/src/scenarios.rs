@@ -139,6 +139,7 @@ mod tests {
         gale_sol_sun => "gale-sol-sun",
         lita_scale => "lita-scale",
         lunar_south_pole => "lunar-south-pole",
+        lunar_south_pole_10m => "lunar-south-pole-10m",
         steep_face => "steep-face",
         steep_hill => "steep-hill",
         sun_synchronous_traverse => "sun-synchronous-traverse",

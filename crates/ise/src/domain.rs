@@ -166,6 +166,32 @@ pub trait Domain {
         None
     }
 
+    /// Whether the current start cannot reach (`state`, `label`) at all, by a bound
+    /// that ignores cost (TEMPEST: a label earlier than the start window plus the
+    /// fastest travel from the start). `None`: it may. `Some(r)`: it cannot while
+    /// [`Domain::release_threshold`] is above `r`; the engine sets such a label aside
+    /// instead of expanding it — every label it would make is dormant too, so a start
+    /// window no plan can use costs nothing to search instead of everything — and
+    /// takes it back when the start moves so that it may wake. Must be consistent:
+    /// the predecessors of a dormant label are dormant.
+    #[inline(always)]
+    fn dormant(&self, _state: Self::State, _label: &Self::Label) -> Option<f64> {
+        None
+    }
+
+    /// The current start's threshold for [`Domain::dormant`] (TEMPEST: the opening
+    /// of the start window, s).
+    fn release_threshold(&self) -> f64 {
+        f64::NEG_INFINITY
+    }
+
+    /// After the start moved from the state `previous` to the current one: a bound on
+    /// how much any label's release value may have risen (TEMPEST: the fastest travel
+    /// between the two starts).
+    fn release_drift(&self, _previous: Self::State) -> f64 {
+        0.0
+    }
+
     /// The BESTDPARMS order: whether `a` is strictly better than `b`.
     fn better(&self, _a: &Self::Label, _b: &Self::Label) -> bool {
         false

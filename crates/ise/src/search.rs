@@ -70,6 +70,9 @@ pub struct Stats {
     /// Expanded labels beaten by a better label of their class (or dominated) whose
     /// subtrees were removed; zero in a fresh search with a consistent heuristic.
     pub beaten_subtrees: u64,
+    /// Open labels set aside because the current start cannot reach them
+    /// ([`Domain::dormant`]).
+    pub parked: u64,
     /// Live labels in the graph.
     pub labels_alive: u64,
     /// Approximate bytes held by the graph, the class table and the open list.
@@ -177,6 +180,36 @@ pub struct Search<D: Domain> {
     stale_keys: bool,
     /// The start state the keys were computed for.
     keyed_start: Option<D::State>,
+    /// Open labels set aside as dormant ([`Domain::dormant`]), by their release value
+    /// less `drift` when they were parked: the greatest first.
+    parked: std::collections::BinaryHeap<Parked>,
+    /// The sum of the release drifts since the search began ([`Domain::release_drift`]):
+    /// a parked label's release value is now at most its stored one plus this.
+    drift: f64,
+}
+
+/// A dormant open label and its stored release value.
+#[derive(Debug, Clone, Copy)]
+struct Parked {
+    release: f64,
+    id: u32,
+}
+
+impl PartialEq for Parked {
+    fn eq(&self, other: &Parked) -> bool {
+        self.cmp(other).is_eq()
+    }
+}
+impl Eq for Parked {}
+impl PartialOrd for Parked {
+    fn partial_cmp(&self, other: &Parked) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Parked {
+    fn cmp(&self, other: &Parked) -> std::cmp::Ordering {
+        self.release.total_cmp(&other.release).then(self.id.cmp(&other.id))
+    }
 }
 
 impl<D: Domain> std::fmt::Debug for Search<D> {
@@ -218,6 +251,8 @@ impl<D: Domain> Search<D> {
             key_offset: 0.0,
             stale_keys: false,
             keyed_start: domain.start_state(),
+            parked: std::collections::BinaryHeap::new(),
+            drift: 0.0,
         };
         for goal in goals {
             s.insert_goal(domain, goal);
@@ -233,6 +268,7 @@ impl<D: Domain> Search<D> {
             + (self.classes.capacity() * (std::mem::size_of::<((D::State, D::Key), (u32, f64))>() + 1)) as u64
             + (self.groups.capacity() * (std::mem::size_of::<((D::State, D::Key), GroupHead<D>)>() + 1)) as u64
             + (self.group_next.capacity() * 4) as u64
+            + (self.parked.capacity() * std::mem::size_of::<Parked>()) as u64
     }
 
     /// The search mode.
@@ -614,6 +650,14 @@ impl<D: Domain> Search<D> {
             }
         }
         self.open = OpenList::from_vec(open);
+        let parked = std::mem::take(&mut self.parked);
+        self.parked = parked
+            .into_iter()
+            .filter_map(|p| {
+                let new = remap[p.id as usize];
+                (new != NONE).then_some(Parked { release: p.release, id: new })
+            })
+            .collect();
         self.goal_ids.retain_mut(|id| {
             *id = remap[*id as usize];
             *id != NONE
@@ -625,17 +669,52 @@ impl<D: Domain> Search<D> {
     /// Tells the engine that the start (and so the heuristic) changed: plan extension
     /// after the rover moved, or a new start window. Re-keys the open list.
     pub fn start_moved(&mut self, domain: &D) {
-        let drop = self.keyed_start.and_then(|previous| domain.heuristic_drop(previous));
+        let previous = self.keyed_start;
+        let drop = previous.and_then(|p| domain.heuristic_drop(p));
+        // Without a single start to measure from, any parked label may wake.
+        self.drift += previous.map_or(f64::INFINITY, |p| domain.release_drift(p).max(0.0));
         self.keyed_start = domain.start_state();
-        if let Some(drop) = drop {
-            if drop > 0.0 {
-                self.key_offset += drop;
-                self.stale_keys = true;
+        self.heuristic_fell(domain, drop);
+        self.wake(domain);
+    }
+
+    /// Returns to the open list the parked labels that the current start may reach:
+    /// those whose release value can now be at least the start's threshold. Each is
+    /// judged again when popped.
+    fn wake(&mut self, domain: &D) {
+        let threshold = domain.release_threshold();
+        while let Some(&Parked { release, id }) = self.parked.peek() {
+            if release + self.drift < threshold {
+                break;
             }
+            self.parked.pop();
+            let n = &self.nodes[id];
+            if n.flags & !PARTIAL == OPEN {
+                let f = n.g + domain.heuristic(n.state, &n.label) + self.key_offset;
+                self.open.push(Entry::new(f, n.g, id));
+            }
+        }
+        if self.drift.is_infinite() {
+            self.drift = 0.0;
+        }
+    }
+
+    /// Tells the engine that the heuristic of any label fell by at most `by` (`None`:
+    /// by an unknown amount) — a domain whose heuristic is a cached bound repaired
+    /// after the world changed. Older keys stay lower bounds and are brought up to
+    /// date as they are popped (D* Lite's key modifier); with `None` the open list is
+    /// keyed again in full.
+    pub fn heuristic_fell(&mut self, domain: &D, by: Option<f64>) {
+        if let Some(drop) = by.filter(|d| d.is_finite()) {
+            self.key_offset += drop.max(0.0);
+            // Keys may also have risen: each is brought up to date when popped, so a
+            // label the new heuristic puts past the answer is not expanded.
+            self.stale_keys = true;
             return;
         }
         self.key_offset = 0.0;
         self.stale_keys = false;
+        self.keyed_start = domain.start_state();
         let mut seen = FxHashSet::default();
         let entries: Vec<Entry> = std::mem::replace(&mut self.open, OpenList::new())
             .into_vec()
@@ -733,6 +812,12 @@ impl<D: Domain> Search<D> {
         while let Some(e) = self.open.pop() {
             let n = &self.nodes[e.id()];
             if n.flags & !PARTIAL == OPEN && e.matches(n.g) {
+                if let Some(release) = domain.dormant(n.state, &n.label) {
+                    // The current start cannot reach it: set aside until it may.
+                    self.parked.push(Parked { release: release - self.drift, id: e.id() });
+                    self.stats.parked += 1;
+                    continue;
+                }
                 if self.stale_keys {
                     // Keyed before a start move: a lower bound of its key now. Bring it
                     // up to date; if it grew, it waits its turn.

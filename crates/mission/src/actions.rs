@@ -673,7 +673,7 @@ impl ActionModel {
     /// output is bounded by the best incidence any heading, any Sun of the table and
     /// any admissible tilt allow — far below a Sun-facing panel's for a steep array,
     /// which tightens the search's heuristic.
-    fn drive_source_bound_w(&self, world: &World) -> f64 {
+    pub(crate) fn drive_source_bound_w(&self, world: &World) -> f64 {
         self.rover.nuclear_w
             + self.rover.solar.map_or(0.0, |a| {
                 // Without the slope constraint the ground can tip the array any way.
@@ -720,6 +720,17 @@ impl ActionModel {
             least - 1e-3 * least.abs() - q / 2.0
         };
         [floor(dem.dx()), floor(dem.dy()), floor(dem.dx().hypot(dem.dy()))]
+    }
+
+    /// The least battery energy the drive with `geometry` can use at any time, Wh, with
+    /// `source_w` ([`ActionModel::drive_source_bound_w`]) bounding the sources while
+    /// driving: the drive's energy is two half-durations of its load less the sources
+    /// at each end, increasing in the net load, then rounded to the energy quantum.
+    pub(crate) fn drive_energy_floor_wh(&self, geometry: &DriveGeometry, source_w: f64) -> f64 {
+        let least = self.battery_wh(geometry.load_w - source_w, geometry.duration_s);
+        // The Sun is interpolated between the table's entries that bound the source: a
+        // 0.1 % margin, as for the terrain-free floors.
+        least - 1e-3 * least.abs() - self.config.energy_quantum_wh.max(0.0) / 2.0
     }
 
     /// The fastest possible speed, m/s.

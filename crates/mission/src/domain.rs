@@ -23,6 +23,7 @@ use areo_ise::{Domain, Step};
 use serde::{Deserialize, Serialize};
 
 use crate::actions::{Action, ActionModel, DriveGeometry, Effect, NEIGHBOURS};
+use crate::landmark::{Edges, Landmark};
 use crate::world::World;
 
 /// A search label.
@@ -145,6 +146,13 @@ pub struct TempestDomain<'a> {
     capacity: f64,
     /// The geometry of the drives into each cell the search touched.
     geometry: RefCell<GeometryCache>,
+    /// The cached 2-D lower bound on the cost from the first start to each cell (see
+    /// [`crate::landmark`]).
+    landmark: RefCell<Landmark>,
+    /// The landmark's anchor: the start the domain was made with.
+    anchor: u32,
+    /// An upper bound on the sources while driving, W (for the landmark's drive costs).
+    drive_source_w: f64,
 }
 
 /// Drive geometries by arrival cell, computed on first use: the search expands a cell
@@ -193,7 +201,61 @@ impl<'a> TempestDomain<'a> {
             step_floors,
             capacity: model.capacity_wh(),
             geometry: RefCell::default(),
+            landmark: RefCell::new(Landmark::new(start.cell)),
+            anchor: start.cell,
+            drive_source_w: model.drive_source_bound_w(world),
         }
+    }
+
+    /// The drives out of `from` that are possible at some time, each with the least its
+    /// step can cost at any time (the landmark's graph). A drive's feasibility apart from
+    /// time (map, passability, slopes) is symmetric, so whatever the landmark reaches
+    /// can reach it back.
+    fn floor_edges(&self, from: u32, out: Edges<'_>) {
+        for k in 0..8u8 {
+            if let Ok(g) = self.model.drive_geometry(self.world, from, k) {
+                let cost = match self.objective {
+                    Objective::Energy => {
+                        let e = self.model.drive_energy_floor_wh(&g, self.drive_source_w);
+                        (e + self.e_max * self.drive_units[k as usize]).max(0.0)
+                    }
+                    Objective::Duration { .. } => g.duration_s,
+                };
+                out.push((g.to, cost));
+            }
+        }
+    }
+
+    /// The landmark's bound on the cost from the current start to `state`: D(state) −
+    /// D(start), when the landmark reaches both.
+    fn landmark_bound(&self, state: u32) -> Option<f64> {
+        let mut landmark = self.landmark.borrow_mut();
+        let edges = |c: u32, out: Edges<'_>| self.floor_edges(c, out);
+        let to = landmark.distance(state, edges)?;
+        let from = landmark.distance(self.start.cell, edges)?;
+        Some(to - from)
+    }
+
+    /// The octile bound on the cost from the current start to `state`: the per-direction
+    /// floors of any drive, or the straight-line time at top speed.
+    fn octile_bound(&self, state: u32) -> f64 {
+        match self.objective {
+            Objective::Energy => {
+                // The cheapest way across the cell offsets with these step floors: as
+                // many diagonals as possible if one is cheaper than its two straights.
+                let ((c0, r0), (c1, r1)) = (self.world.col_row(state), self.world.col_row(self.start.cell));
+                let (a, b) = ((c0 as f64 - c1 as f64).abs(), (r0 as f64 - r1 as f64).abs());
+                let [wx, wy, wd] = self.step_floors;
+                a * wx + b * wy + a.min(b) * (wd - wx - wy).min(0.0)
+            }
+            Objective::Duration { .. } => self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s(),
+        }
+    }
+
+    /// Cells whose landmark distance is settled, and the landmark's bytes.
+    pub fn landmark_stats(&self) -> (u64, usize) {
+        let l = self.landmark.borrow();
+        (l.settled(), l.bytes())
     }
 
     /// The rover is now at `start` (plan extension): it becomes the start, and the
@@ -225,9 +287,25 @@ impl<'a> TempestDomain<'a> {
     }
 
     /// Forgets the cached drive geometry around `changed` cells (their elevation, slope
-    /// or passability changed, so every drive into or out of them may have). The
-    /// planner calls this with the cells it reports to the search.
-    pub fn forget(&self, changed: &[u32]) {
+    /// or passability changed, so every drive into or out of them may have) and repairs
+    /// the landmark where drives became cheaper. The planner calls this with the cells
+    /// it reports to the search. Returns a bound on how far the heuristic of any label
+    /// fell, for [`areo_ise::Search::heuristic_fell`].
+    pub fn forget(&mut self, changed: &[u32]) -> Option<f64> {
+        if changed.is_empty() {
+            return Some(0.0);
+        }
+        self.forget_geometry(changed);
+        // The map is made again from where the rover now is: as tight as a fresh
+        // search's. Its fall cannot be bounded from the old map's distances (they were
+        // from another anchor), so the engine keys its open list again.
+        self.anchor = self.start.cell;
+        let landmark = Landmark::new(self.anchor);
+        *self.landmark.get_mut() = landmark;
+        None
+    }
+
+    fn forget_geometry(&self, changed: &[u32]) {
         let mut cache = self.geometry.borrow_mut();
         let mut around = Vec::with_capacity(9);
         for &cell in changed {
@@ -242,11 +320,12 @@ impl<'a> TempestDomain<'a> {
         }
     }
 
-    /// Bytes held by the drive-geometry cache.
+    /// Bytes held by the drive-geometry cache and the landmark.
     pub fn cache_bytes(&self) -> usize {
         let cache = self.geometry.borrow();
         cache.pages.iter().flatten().count() * GEOMETRY_PAGE * std::mem::size_of::<Into>()
             + cache.pages.capacity() * std::mem::size_of::<Option<Box<[Into]>>>()
+            + self.landmark.borrow().bytes()
     }
 
     /// E_max used by the objective, Wh.
@@ -457,25 +536,44 @@ impl Domain for TempestDomain<'_> {
     }
 
     fn heuristic(&self, state: u32, _label: &Label) -> f64 {
-        match self.objective {
-            Objective::Energy => {
-                // The cheapest way across the cell offsets with these step floors: as
-                // many diagonals as possible if one is cheaper than its two straights.
-                let ((c0, r0), (c1, r1)) = (self.world.col_row(state), self.world.col_row(self.start.cell));
-                let (a, b) = ((c0 as f64 - c1 as f64).abs(), (r0 as f64 - r1 as f64).abs());
-                let [wx, wy, wd] = self.step_floors;
-                a * wx + b * wy + a.min(b) * (wd - wx - wy).min(0.0)
-            }
-            Objective::Duration { .. } => self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s(),
-        }
+        // The larger of two bounds that each obey the triangle inequality over the
+        // drives: the octile floors (terrain-blind) and the landmark (which knows walls
+        // and slopes, but loosens behind its anchor).
+        let octile = self.octile_bound(state);
+        self.landmark_bound(state).map_or(octile, |l| octile.max(l))
     }
 
     fn heuristic_drop(&self, previous: u32) -> Option<f64> {
-        // Both heuristics are shortest-path lengths over the grid with fixed step
-        // costs (per-direction floors, or octile metres at top speed), so they obey the
-        // triangle inequality and ignore the label: the drop is the distance between
-        // the two starts.
-        Some(self.heuristic(previous, &Label { t: self.start.t_min, e: 0.0 }))
+        // The start moved from `previous`. The octile bound falls by at most the octile
+        // bound between the two starts; the landmark's D(s) − D(start) by D(start) −
+        // D(previous). A landmark that reached the old start but not the new one would
+        // lose its term everywhere: unknown.
+        let octile = self.octile_bound(previous);
+        let mut landmark = self.landmark.borrow_mut();
+        let edges = |c: u32, out: Edges<'_>| self.floor_edges(c, out);
+        let (before, now) = (landmark.distance(previous, edges), landmark.distance(self.start.cell, edges));
+        match (before, now) {
+            (Some(b), Some(n)) => Some(octile.max(n - b)),
+            (Some(_), None) => None,
+            (None, _) => Some(octile),
+        }
+    }
+
+    fn dormant(&self, state: u32, label: &Label) -> Option<f64> {
+        // The latest start from which the rover could still be here at `label.t`,
+        // driving straight at top speed: a label of a later window's start can never
+        // be reached — nor can anything searched behind it (earlier, and farther).
+        let latest = label.t - self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s() + 1e-6;
+        (latest < self.start.t_min).then_some(latest)
+    }
+
+    fn release_threshold(&self) -> f64 {
+        self.start.t_min
+    }
+
+    fn release_drift(&self, previous: u32) -> f64 {
+        // The latest-start bound moves by at most the fastest travel between the starts.
+        self.world.octile_m(previous, self.start.cell) / self.model.top_speed_m_s()
     }
 
     fn better(&self, a: &Label, b: &Label) -> bool {

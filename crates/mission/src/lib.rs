@@ -28,6 +28,7 @@
 mod actions;
 mod domain;
 mod error;
+mod landmark;
 mod plan;
 mod planner;
 mod simulate;

@@ -384,7 +384,10 @@ impl<'a> Mission<'a> {
     fn solve_from(&mut self, last: Option<usize>, changed: &[u32], start_moved: bool) {
         let mut top = if start_moved { Some(0) } else { None };
         for (k, seg) in self.segments.iter_mut().enumerate() {
-            seg.domain.forget(changed);
+            if !changed.is_empty() {
+                let fell = seg.domain.forget(changed);
+                seg.search.heuristic_fell(&seg.domain, fell);
+            }
             // Statistics are per call: a segment not searched again did no work.
             seg.stats = Stats::default();
             if !changed.is_empty() {
@@ -663,6 +666,7 @@ fn add_stats(total: &mut Stats, s: &Stats) {
     total.reopened += s.reopened;
     total.reclaimed += s.reclaimed;
     total.beaten_subtrees += s.beaten_subtrees;
+    total.parked += s.parked;
     total.labels_alive = s.labels_alive;
     total.bytes = s.bytes;
 }

@@ -408,3 +408,47 @@ fn a_world_for_a_region_cut_from_a_larger_map_sees_what_the_whole_map_sees() {
     let other = region(&mut src, (c0, r0, w, h), Some(RegionHorizon { sectors: 32, ..plan })).unwrap();
     assert!(World::for_region(other, &config(2.0, Some(16)), &sun).is_err());
 }
+
+/// A wall runs east from the world's western edge between the start and the goal; the
+/// way round is past its eastern end. `cols` × `rows` cells of 20 m, the south-west
+/// corner at the origin, so a larger world adds ground north and east of the same
+/// problem.
+fn walled_world(cols: usize, rows: usize) -> areo_mission::World {
+    let dem = areo_terrain::Dem::from_fn(cols, rows, 20.0, 20.0, |x, y| {
+        let wall = (330.0..370.0).contains(&y) && x < 640.0;
+        1.5 * (x / 53.0).sin() + 1.0 * (y / 37.0).cos() + if wall { 80.0 } else { 0.0 }
+    })
+    .unwrap();
+    mars_world(dem, 14.0, None)
+}
+
+#[test]
+fn the_cached_bound_guides_a_detour_so_a_wider_world_adds_little_work() {
+    // The octile floors do not see the wall, so a search guided by them alone floods
+    // every cell within the detour's extra cost of the straight line — as far as the
+    // world reaches. The landmark bound (a 2-D Dijkstra over the drives possible at
+    // some time) knows the way round: nine times the area must cost at most 1.3 times
+    // the expansions, with the same plan.
+    let model = model(2000.0, quantised_actions(1200.0));
+    let config = PlannerConfig {
+        actions: quantised_actions(1200.0),
+        resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: None },
+        goal_times: 8,
+        segment_starts: 4,
+        max_wait_s: Some(3600.0),
+        ..PlannerConfig::default()
+    };
+    let mut answers = Vec::new();
+    for (cols, rows) in [(40, 30), (120, 90)] {
+        let world = walled_world(cols, rows);
+        let cell = |x: f64, y: f64| world.cell_at(x, y).unwrap();
+        let start = Start { cell: cell(300.0, 150.0), t_min: 0.0, t_max: 600.0, energy_wh: 1500.0 };
+        let (_m, plan) = Mission::plan(&world, &model, config.clone(), start, &[cell(300.0, 550.0)]).unwrap();
+        // The route goes round the wall's end.
+        assert!(plan.waypoints.iter().any(|w| w.x_m > 640.0 && (330.0..370.0).contains(&w.y_m)));
+        answers.push((plan.cost, plan.expansions));
+    }
+    let ((small_cost, small), (large_cost, large)) = (answers[0], answers[1]);
+    assert!((small_cost - large_cost).abs() < 1e-9, "the same plan: {small_cost} vs {large_cost}");
+    assert!(large * 10 <= small * 13, "{large} expansions in the larger world, {small} in the smaller");
+}
