@@ -481,8 +481,9 @@ impl World {
         self.earth(t).is_some_and(|e| e.elevation_deg > self.horizon_floor_deg(cell, e.azimuth_deg))
     }
 
-    /// The terrain's horizon at a cell toward `azimuth_deg`, not below the horizontal.
-    fn horizon_floor_deg(&self, cell: u32, azimuth_deg: f64) -> f64 {
+    /// The terrain's horizon at a cell toward `azimuth_deg`, not below the horizontal,
+    /// degrees: what the Sun must stand above to light the cell.
+    pub fn horizon_floor_deg(&self, cell: u32, azimuth_deg: f64) -> f64 {
         match &self.horizon {
             Some(_) if self.horizon_sensed[cell as usize].load(Ordering::Relaxed) => {
                 let table = self.sensed_horizon.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
@@ -541,6 +542,42 @@ impl World {
         let sensed = self.sensed_horizon.lock().map_or(0, |t| t.len() * (sectors * 4 + 24));
         let map = if self.shares_horizon { 0 } else { self.horizon.as_ref().map_or(0, |h| h.bytes()) };
         cells * (4 + 4 + 8 + 2) + map + sensed + self.sun.len() * 48 + self.earth.len() * 16
+    }
+
+    /// Holds the horizon map in one byte per angle ([`HorizonMap::narrowed`]: half the
+    /// memory, angles within 0.353° of the two-byte map's) when that error is small
+    /// against the planner's time classes of `time_s`: a horizon error e moves a shadow's
+    /// edge by what the Sun's elevation does in e/ω, ω its fastest elevation change over
+    /// the span (¼° a minute at Mars's equator, almost none at a pole), so the map is
+    /// narrowed when e/ω is at most half a class. Returns e/ω, s, when it narrowed;
+    /// `None` (the map kept) without a horizon map, when it is shared or when the Sun
+    /// is too slow. Call it before building a truth on this map, which then shares the
+    /// narrowed map and keeps its differences at that precision.
+    pub fn narrow_horizon_within(&mut self, time_s: f64) -> Option<f64> {
+        if self.shares_horizon {
+            return None;
+        }
+        let map = self.horizon.as_ref()?;
+        let error = map.narrowed_error_deg();
+        let fastest = self
+            .sun
+            .windows(2)
+            .map(|w| (w[1].elevation_deg - w[0].elevation_deg).abs() / self.sun_step_s)
+            .fold(0.0, f64::max);
+        let shift = error / fastest;
+        if !(shift <= time_s / 2.0) {
+            return None;
+        }
+        if !map.is_narrow() {
+            self.horizon = Some(Arc::new(map.narrowed()));
+        }
+        Some(shift)
+    }
+
+    /// Whether the horizon map holds one byte per angle (see
+    /// [`World::narrow_horizon_within`]).
+    pub fn horizon_is_narrow(&self) -> bool {
+        self.horizon.as_ref().is_some_and(|h| h.is_narrow())
     }
 
     /// The true world a rover drives on, on the map's grid, for simulation: like

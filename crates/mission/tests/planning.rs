@@ -452,3 +452,47 @@ fn the_cached_bound_guides_a_detour_so_a_wider_world_adds_little_work() {
     assert!((small_cost - large_cost).abs() < 1e-9, "the same plan: {small_cost} vs {large_cost}");
     assert!(large * 10 <= small * 13, "{large} expansions in the larger world, {small} in the smaller");
 }
+
+#[test]
+fn a_narrowed_horizon_map_changes_light_only_where_the_sun_grazes_the_horizon() {
+    // Rough Mars terrain under the real Sun over a sol, 32-sector horizons: the
+    // one-byte map may only change a cell's light where the Sun stands within the
+    // stated error of the two-byte map's horizon, and must change some (else the test
+    // sees nothing).
+    let dem = areo_terrain::Dem::from_fn(60, 50, 20.0, 20.0, |x, y| {
+        25.0 * (x / 90.0).sin() * (y / 70.0).cos() + 12.0 * ((x + y) / 45.0).sin()
+    })
+    .unwrap();
+    let wide = mars_world(dem.clone(), 25.0, Some(32));
+    let mut narrow = mars_world(dem, 25.0, Some(32));
+    // Mars's Sun rises at up to about ¼° a minute: narrowed for 20-min classes, with a
+    // shadow-edge shift near the 85 s of the equator's fastest Sun.
+    let shift = narrow.narrow_horizon_within(1200.0).expect("narrowed at 20-min classes");
+    assert!(narrow.horizon_is_narrow() && (60.0..=120.0).contains(&shift), "{shift} s");
+    let error = 90.0 / 255.0;
+    let (mut changed, mut lit) = (0, 0);
+    for sun in wide.sun_table().iter().step_by(5) {
+        for cell in 0..wide.cells() as u32 {
+            let (a, b) = (wide.lit(cell, sun), narrow.lit(cell, sun));
+            lit += usize::from(a);
+            if a != b {
+                changed += 1;
+                let margin = sun.elevation_deg - wide.horizon_floor_deg(cell, sun.azimuth_deg);
+                assert!(margin.abs() <= error + 1e-9, "cell {cell}: light changed {margin}° from the horizon");
+            }
+        }
+    }
+    assert!(changed > 0 && lit > 10 * changed, "{changed} changes among {lit} lit samples");
+    // A polar Sun that skims the horizon is too slow: the map keeps two bytes.
+    let mut polar = areo_mission::World::new(
+        areo_terrain::Dem::from_fn(30, 30, 20.0, 20.0, |x, _| x / 50.0).unwrap(),
+        &areo_mission::WorldConfig {
+            site: Some(areo_ephemeris::Site::new(-89.5, 0.0).unwrap()),
+            ..config(25.0, Some(32))
+        },
+        &areo_ephemeris::Mars24,
+    )
+    .unwrap();
+    assert_eq!(polar.narrow_horizon_within(1200.0), None);
+    assert!(!polar.horizon_is_narrow());
+}

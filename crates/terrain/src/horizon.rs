@@ -39,8 +39,39 @@ pub struct HorizonMap {
     cols: usize,
     rows: usize,
     sectors: usize,
-    /// Sector-major: `angles[s * cells + i]`, encoded by [`encode`].
-    angles: Vec<u16>,
+    /// Sector-major: `angles[s * cells + i]`.
+    angles: Codes,
+}
+
+/// A horizon map's angles: two bytes each ([`encode`], 0.0027° steps) or one
+/// ([`HorizonMap::narrowed`], [`NARROW_STEP_DEG`] steps).
+#[derive(Debug, Clone, PartialEq)]
+enum Codes {
+    Wide(Vec<u16>),
+    Narrow(Vec<u8>),
+}
+
+/// Degrees per step of a one-byte horizon: −90°..90° onto 0..255.
+pub const NARROW_STEP_DEG: f64 = 180.0 / 255.0;
+
+/// A two-byte code as the nearest one-byte code.
+fn narrow(v: u16) -> u8 {
+    // Both scales run from −90° to 90°: 65535 = 255 × 257.
+    ((u32::from(v) + 128) / 257) as u8
+}
+
+fn decode_narrow(v: u8) -> f64 {
+    f64::from(v) * NARROW_STEP_DEG - 90.0
+}
+
+impl Codes {
+    #[inline]
+    fn deg(&self, k: usize) -> f64 {
+        match self {
+            Codes::Wide(a) => decode(a[k]),
+            Codes::Narrow(a) => decode_narrow(a[k]),
+        }
+    }
 }
 
 /// Degrees per step of an encoded horizon (code × this + [`CODE_OFFSET_DEG`]).
@@ -98,13 +129,46 @@ impl HorizonMap {
             }
         }
         sweep_sectors(dem, &zn, sectors, curvature, origin, pairs);
-        Ok(HorizonMap { cols: dem.cols(), rows: dem.rows(), sectors, angles })
+        Ok(HorizonMap { cols: dem.cols(), rows: dem.rows(), sectors, angles: Codes::Wide(angles) })
     }
 
-    /// Sector `s`'s encoded horizons, cell by cell (row-major).
-    pub(crate) fn sector_codes(&self, s: usize) -> &[u16] {
+    /// The map with one byte per angle instead of two: half the memory, each angle
+    /// within half a step ([`HorizonMap::error_deg`], 0.353°) of this map's. For
+    /// planners whose time resolution makes that error small (the Sun's elevation moves
+    /// at most ¼° a minute on Mars); a polar Sun that skims the horizon all day needs
+    /// the two-byte map.
+    pub fn narrowed(&self) -> HorizonMap {
+        let angles = match &self.angles {
+            Codes::Wide(a) => Codes::Narrow(a.iter().map(|&v| narrow(v)).collect()),
+            Codes::Narrow(a) => Codes::Narrow(a.clone()),
+        };
+        HorizonMap { cols: self.cols, rows: self.rows, sectors: self.sectors, angles }
+    }
+
+    /// The error [`HorizonMap::narrowed`] brings (or brought), degrees: half a one-byte
+    /// step.
+    pub fn narrowed_error_deg(&self) -> f64 {
+        NARROW_STEP_DEG / 2.0
+    }
+
+    /// Whether the map holds one byte per angle ([`HorizonMap::narrowed`]).
+    pub fn is_narrow(&self) -> bool {
+        matches!(self.angles, Codes::Narrow(_))
+    }
+
+    /// The most an angle can differ from the two-byte map's because of its encoding,
+    /// degrees: half a one-byte step for a narrowed map, zero otherwise.
+    pub fn error_deg(&self) -> f64 {
+        if self.is_narrow() { NARROW_STEP_DEG / 2.0 } else { 0.0 }
+    }
+
+    /// Sector `s`'s horizons as two-byte codes ([`encode`]), cell by cell (row-major).
+    pub(crate) fn sector_codes(&self, s: usize) -> std::borrow::Cow<'_, [u16]> {
         let cells = self.cols * self.rows;
-        &self.angles[s * cells..(s + 1) * cells]
+        match &self.angles {
+            Codes::Wide(a) => std::borrow::Cow::Borrowed(&a[s * cells..(s + 1) * cells]),
+            Codes::Narrow(a) => a[s * cells..(s + 1) * cells].iter().map(|&v| u16::from(v) * 257).collect(),
+        }
     }
 
     /// The map of the window `cols` × `rows` from (`col0`, `row0`), horizons below
@@ -122,7 +186,8 @@ impl HorizonMap {
                 angles.extend(codes[r * self.cols + col0..][..cols].iter().map(|c| (*c).max(floor)));
             }
         }
-        HorizonMap { cols, rows, sectors: self.sectors, angles }
+        let window = HorizonMap { cols, rows, sectors: self.sectors, angles: Codes::Wide(angles) };
+        if self.is_narrow() { window.narrowed() } else { window }
     }
 
     /// The horizon of `dem` — the terrain a rover truly drives on, on this map's grid —
@@ -148,7 +213,7 @@ impl HorizonMap {
         let per_job = if paired { 2 } else { 1 };
         // As many jobs at once as there are threads: each holds its sectors' cells.
         let batch = rayon::current_num_threads().max(1);
-        let mut changed: Vec<(u32, u16, u16)> = Vec::new();
+        let mut changed: Vec<(u32, u16, f64)> = Vec::new();
         let mut buffer = vec![0u16; cells * per_job * batch.min(jobs)];
         for first in (0..jobs).step_by(batch) {
             let n = batch.min(jobs - first);
@@ -176,10 +241,22 @@ impl HorizonMap {
             }
             sweep_sectors(dem, &zn, sectors, curvature, (0, 0), pairs);
             for (chunk, &s) in buffer[..cells * per_job * n].chunks(cells.max(1)).zip(&sector_of) {
-                let reference = &self.angles[s * cells..(s + 1) * cells];
-                for (i, (&new, &old)) in chunk.iter().zip(reference).enumerate() {
-                    if new != old {
-                        changed.push((i as u32, s as u16, new));
+                // At the map's own precision: a narrowed map's truth differs where the
+                // one-byte codes do.
+                match &self.angles {
+                    Codes::Wide(a) => {
+                        for (i, (&new, &old)) in chunk.iter().zip(&a[s * cells..(s + 1) * cells]).enumerate() {
+                            if new != old {
+                                changed.push((i as u32, s as u16, decode(new)));
+                            }
+                        }
+                    }
+                    Codes::Narrow(a) => {
+                        for (i, (&new, &old)) in chunk.iter().zip(&a[s * cells..(s + 1) * cells]).enumerate() {
+                            if narrow(new) != old {
+                                changed.push((i as u32, s as u16, decode_narrow(narrow(new))));
+                            }
+                        }
                     }
                 }
             }
@@ -187,7 +264,7 @@ impl HorizonMap {
         let mut profiles: std::collections::HashMap<u32, Box<[f32]>> = std::collections::HashMap::new();
         for (i, s, v) in changed {
             let profile = profiles.entry(i).or_insert_with(|| self.cell_profile(i as usize).into_boxed_slice());
-            profile[s as usize] = decode(v) as f32;
+            profile[s as usize] = v as f32;
         }
         Ok(HorizonChanges { sectors, profiles })
     }
@@ -199,7 +276,10 @@ impl HorizonMap {
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        self.angles.len() * 2
+        match &self.angles {
+            Codes::Wide(a) => a.len() * 2,
+            Codes::Narrow(a) => a.len(),
+        }
     }
 
     /// Horizon elevation (degrees) of cell `i` at `azimuth_deg`, interpolated between
@@ -213,8 +293,8 @@ impl HorizonMap {
         let s0 = (pos as usize) % self.sectors;
         let s1 = (s0 + 1) % self.sectors;
         let t = pos - (pos as usize) as f64;
-        let a = decode(self.angles[s0 * cells + i]);
-        let b = decode(self.angles[s1 * cells + i]);
+        let a = self.angles.deg(s0 * cells + i);
+        let b = self.angles.deg(s1 * cells + i);
         a + (b - a) * t
     }
 
@@ -222,7 +302,7 @@ impl HorizonMap {
     /// azimuth k·360°/K): what a rover senses of its own horizon.
     pub fn cell_profile(&self, i: usize) -> Vec<f32> {
         let cells = self.cols * self.rows;
-        (0..self.sectors).map(|s| decode(self.angles[s * cells + i]) as f32).collect()
+        (0..self.sectors).map(|s| self.angles.deg(s * cells + i) as f32).collect()
     }
 
     /// The horizon elevation (degrees) of a per-sector profile (from
@@ -824,6 +904,58 @@ mod tests {
             assert!(differ as f64 / n <= 0.0025, "az {az}: {differ} differ from the ray cast");
             assert!(not_grazing as f64 / n <= 0.0005, "az {az}: {not_grazing} disagreements away from grazing");
             assert!(sweep_differ as f64 / n <= 0.015, "az {az}: {sweep_differ} differ from the shadow sweep");
+        }
+    }
+
+    #[test]
+    fn a_narrowed_map_is_within_half_a_step_of_the_two_byte_map_in_half_the_memory() {
+        let dem = terrain();
+        let wide = HorizonMap::compute(&dem, 32, Curvature::Flat).unwrap();
+        let narrow = wide.narrowed();
+        assert!(narrow.is_narrow() && !wide.is_narrow());
+        assert_eq!(narrow.bytes() * 2, wide.bytes());
+        let bound = narrow.error_deg();
+        assert!((bound - 90.0 / 255.0).abs() < 1e-12);
+        let mut largest: f64 = 0.0;
+        for i in 0..dem.cols() * dem.rows() {
+            for k in 0..97 {
+                let az = k as f64 * 360.0 / 97.0;
+                largest = largest.max((narrow.horizon_deg(i, az) - wide.horizon_deg(i, az)).abs());
+            }
+        }
+        // The bound holds, and is nearly reached: the encoding is not finer than stated.
+        assert!(largest <= bound + 1e-9, "{largest}° against the stated {bound}°");
+        assert!(largest > 0.9 * bound, "{largest}°: far inside the stated {bound}°");
+        // A window of the narrowed map is the narrowed window of the map.
+        let a = narrow.window((10, 5, 40, 30), None);
+        let b = wide.window((10, 5, 40, 30), None).narrowed();
+        assert_eq!(a, b);
+        // The truth's differences are taken at the map's precision: none on the same
+        // terrain, and where the terrain differs, profiles within the bound of the
+        // two-byte map's.
+        assert!(narrow.changes(&dem, Curvature::Flat).unwrap().is_empty());
+        let raised = TerrainSpec {
+            cols: 90,
+            rows: 70,
+            cell_m: 20.0,
+            base_m: 0.0,
+            seed: 3,
+            noise: Some(Noise { amplitude_m: 60.0, wavelength_m: 600.0, octaves: 3, persistence: 0.5 }),
+            features: vec![
+                Feature::Hill { x_m: 900.0, y_m: 700.0, radius_m: 400.0, slope_deg: 20.0 },
+                Feature::Hill { x_m: 400.0, y_m: 300.0, radius_m: 100.0, slope_deg: 30.0 },
+            ],
+        }
+        .build()
+        .unwrap();
+        let (wide_changes, narrow_changes) =
+            (wide.changes(&raised, Curvature::Flat).unwrap(), narrow.changes(&raised, Curvature::Flat).unwrap());
+        assert!(!narrow_changes.is_empty() && narrow_changes.len() <= wide_changes.len());
+        for i in 0..dem.cols() * dem.rows() {
+            if let Some(p) = narrow_changes.profile(i) {
+                let q = wide_changes.profile(i).expect("a narrow change is a wide one");
+                assert!(p.iter().zip(q).all(|(a, b)| f64::from((a - b).abs()) <= bound + 1e-4));
+            }
         }
     }
 

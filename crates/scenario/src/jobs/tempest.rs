@@ -265,11 +265,14 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         MissionError::Config { field, message } => scenario_error(file, planner_field(field), message),
         other => Error::from(other),
     };
-    let world = match map_dem {
+    let mut world = match map_dem {
         Ok(dem) => World::new(dem, &config, &job.body),
         Err(region) => World::for_region(region, &config, &job.body),
     }
     .map_err(located)?;
+    // One byte per horizon angle where the search's time classes make its error small
+    // (before the truth is built: it shares the map's horizons).
+    let narrowed = world.narrow_horizon_within(job.planner.resolution.time_s);
     let truth = match truth_dem {
         Some(d) => Some(World::truth(d, &config, &job.body, &world).map_err(located)?),
         None => None,
@@ -323,6 +326,16 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let truth_world = truth.as_ref().unwrap_or(&world);
     let mut o = Outcome::default();
     o.summary.extend(region_note);
+    if job.horizon_sectors > 0 {
+        o.number("horizon_bytes_per_angle", if world.horizon_is_narrow() { 1.0 } else { 2.0 });
+    }
+    if let Some(shift_s) = narrowed {
+        o.summary.push(format!(
+            "horizon map: one byte per angle (approximate: within {:.2}°, which moves a shadow's edge by at most the Sun's elevation change in {shift_s:.0} s; time classes of {:.0} s)",
+            areo_terrain::horizon::NARROW_STEP_DEG / 2.0,
+            job.planner.resolution.time_s
+        ));
+    }
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
             let clock = Instant::now();
