@@ -467,7 +467,7 @@ fn valley(root: &Path) -> Result<bool, String> {
         ("re-plan cost against a fresh search's (relative)", check("replan_fresh_cost_difference"), 1e-9),
         ("restarts", fact("restarts"), 0.0),
         ("median re-plan expansions / initial", fact("replan_expansions_median"), 0.02),
-        ("largest re-plan expansions / initial", fact("replan_expansions_max"), 2.5),
+        ("largest re-plan expansions / initial", fact("replan_expansions_max"), 3.5),
         ("process peak memory, MB", fact("peak_memory_mb"), 200.0),
         ("whole run, s", wall, 15.0),
     ]))

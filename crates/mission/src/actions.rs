@@ -645,12 +645,7 @@ impl ActionModel {
             ((source - load_w) * duration_s / 3600.0 * b.charge_efficiency).max(0.0)
         };
         let gain = |load_w: f64, duration_s: f64| gain_from(source, load_w, duration_s);
-        let dem = world.dem();
-        let loco = &self.rover.locomotor;
-        let slowest = loco.speed_m_s / 3.0;
-        // The longest drive: a diagonal up the steepest slope allowed, at the slowest speed.
-        let run = dem.dx().hypot(dem.dy());
-        let longest = self.quantise_time(run / slowest / self.max_slope_deg.to_radians().cos().max(0.05)) + 1.0;
+        let longest = self.longest_drive_s(world);
         let drive_source = self.drive_source_bound_w(world);
         let drive = gain_from(drive_source, self.rover.electronics.power_w(Load::High), longest);
         let charge = gain(
@@ -731,6 +726,28 @@ impl ActionModel {
         // The Sun is interpolated between the table's entries that bound the source: a
         // 0.1 % margin, as for the terrain-free floors.
         least - 1e-3 * least.abs() - self.config.energy_quantum_wh.max(0.0) / 2.0
+    }
+
+    /// An upper bound on a drive's duration, s: a diagonal up the steepest slope
+    /// allowed, at the slowest speed.
+    pub(crate) fn longest_drive_s(&self, world: &World) -> f64 {
+        let dem = world.dem();
+        let slowest = self.rover.locomotor.speed_m_s / 3.0;
+        let run = dem.dx().hypot(dem.dy());
+        self.quantise_time(run / slowest / self.max_slope_deg.to_radians().cos().max(0.05)) + 1.0
+    }
+
+    /// The least battery energy a stationary `action` uses in the dark, Wh: its load
+    /// against the generator alone (sessions only add the radio's), rounded to the
+    /// energy quantum.
+    pub(crate) fn dark_stay_floor_wh(&self, action: Action) -> f64 {
+        let load = match action {
+            Action::Charge => self.config.charge_load.load(),
+            _ => Load::Low,
+        };
+        let e =
+            self.battery_wh(self.rover.electronics.power_w(load) - self.rover.nuclear_w, self.stay_duration_s(action));
+        e - 1e-9 * e.abs() - self.config.energy_quantum_wh.max(0.0) / 2.0
     }
 
     /// The fastest possible speed, m/s.

@@ -153,6 +153,72 @@ pub struct TempestDomain<'a> {
     anchor: u32,
     /// An upper bound on the sources while driving, W (for the landmark's drive costs).
     drive_source_w: f64,
+    /// The cost of the time a plan must spend standing in the dark (see [`DarkCost`]).
+    dark: Option<DarkCost>,
+    /// The start window's close when the engine's keys were last brought up to date
+    /// ([`Domain::heuristic_drop`]): the dark-time bound falls as it moves later.
+    keyed_t_max: std::cell::Cell<f64>,
+}
+
+/// A lower bound on the cost of the time a plan spends in *deep night* — instants from
+/// which the Sun is below the horizon for at least the longest action's duration either
+/// way. With drives allowed only in daylight, every action that overlaps deep night is a
+/// stay wholly in the dark, which costs at least E_max plus its load against the
+/// generator (the array gains nothing); so from the start window's close to a label's
+/// time the plan pays at least `rate` per second of deep night. Drives never overlap it,
+/// so the bound adds to the drive-cost bounds (octile, landmark), and it is consistent:
+/// a step's share of it is at most the step's cost. A plan that must wait out a night
+/// is then seen to cost the night from anywhere — the spatial bounds alone let the
+/// search spread as far as a night's cost reaches (valley-detour at four times the
+/// area).
+#[derive(Debug, Clone)]
+struct DarkCost {
+    /// Sun-table step, s.
+    step_s: f64,
+    /// The bound from t = 0 to each table instant, cost units.
+    cumulative: Vec<f64>,
+}
+
+impl DarkCost {
+    fn new(world: &World, model: &ActionModel, objective: Objective, e_max: f64) -> Option<DarkCost> {
+        if objective != Objective::Energy || !model.config().drive.daylight {
+            return None;
+        }
+        let table = world.sun_table();
+        if table.len() < 3 {
+            return None;
+        }
+        let step_s = world.span_s() / (table.len() - 2) as f64;
+        let stays = [Action::Charge, Action::Hibernate];
+        let rate = stays
+            .iter()
+            .map(|&a| (e_max + model.dark_stay_floor_wh(a)).max(0.0) / model.stay_duration_s(a))
+            .fold(f64::INFINITY, f64::min);
+        if !(rate > 0.0 && rate.is_finite()) {
+            return None;
+        }
+        let longest = stays.iter().map(|&a| model.stay_duration_s(a)).fold(model.longest_drive_s(world), f64::max);
+        let reach = (longest / step_s).ceil() as usize + 1;
+        let dark: Vec<bool> = table.iter().map(|s| s.elevation_deg <= 0.0).collect();
+        let mut cumulative = Vec::with_capacity(table.len());
+        cumulative.push(0.0);
+        for k in 0..table.len() - 1 {
+            // The interval [k, k + 1] of the table is deep night when the Sun is down at
+            // every sample within `reach` of it (elevations are interpolated linearly).
+            let (lo, hi) = (k.saturating_sub(reach), (k + 1 + reach).min(table.len() - 1));
+            let deep = dark[lo..=hi].iter().all(|&d| d);
+            cumulative.push(cumulative[k] + if deep { rate * step_s } else { 0.0 });
+        }
+        Some(DarkCost { step_s, cumulative })
+    }
+
+    /// The bound from t = 0 to `t` (s after the epoch).
+    fn at(&self, t: f64) -> f64 {
+        let pos = (t / self.step_s).clamp(0.0, (self.cumulative.len() - 1) as f64);
+        let k = (pos as usize).min(self.cumulative.len() - 2);
+        let f = pos - k as f64;
+        self.cumulative[k] + (self.cumulative[k + 1] - self.cumulative[k]) * f
+    }
 }
 
 /// Drive geometries by arrival cell, computed on first use: the search expands a cell
@@ -204,6 +270,8 @@ impl<'a> TempestDomain<'a> {
             landmark: RefCell::new(Landmark::new(start.cell)),
             anchor: start.cell,
             drive_source_w: model.drive_source_bound_w(world),
+            dark: DarkCost::new(world, model, objective, e_max),
+            keyed_t_max: std::cell::Cell::new(start.t_max),
         }
     }
 
@@ -250,6 +318,11 @@ impl<'a> TempestDomain<'a> {
             }
             Objective::Duration { .. } => self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s(),
         }
+    }
+
+    /// The dark-time bound from the start window's close to `t` (see [`DarkCost`]).
+    fn dark_bound(&self, t: f64) -> f64 {
+        self.dark.as_ref().map_or(0.0, |d| (d.at(t) - d.at(self.start.t_max)).max(0.0))
     }
 
     /// Cells whose landmark distance is settled, and the landmark's bytes.
@@ -535,12 +608,14 @@ impl Domain for TempestDomain<'_> {
         Some(state)
     }
 
-    fn heuristic(&self, state: u32, _label: &Label) -> f64 {
+    fn heuristic(&self, state: u32, label: &Label) -> f64 {
         // The larger of two bounds that each obey the triangle inequality over the
         // drives: the octile floors (terrain-blind) and the landmark (which knows walls
-        // and slopes, but loosens behind its anchor).
+        // and slopes, but loosens behind its anchor) — both on drives — plus the cost
+        // of the deep night between the start and the label, which only stays pay.
         let octile = self.octile_bound(state);
-        self.landmark_bound(state).map_or(octile, |l| octile.max(l))
+        let drives = self.landmark_bound(state).map_or(octile, |l| octile.max(l));
+        drives + self.dark_bound(label.t)
     }
 
     fn heuristic_drop(&self, previous: u32) -> Option<f64> {
@@ -549,13 +624,19 @@ impl Domain for TempestDomain<'_> {
         // D(previous). A landmark that reached the old start but not the new one would
         // lose its term everywhere: unknown.
         let octile = self.octile_bound(previous);
+        // The dark-time bound counts from the start window's close: it falls as that
+        // moves later.
+        let dark = self.dark.as_ref().map_or(0.0, |d| {
+            let keyed = self.keyed_t_max.replace(self.start.t_max);
+            (d.at(self.start.t_max) - d.at(keyed)).max(0.0)
+        });
         let mut landmark = self.landmark.borrow_mut();
         let edges = |c: u32, out: Edges<'_>| self.floor_edges(c, out);
         let (before, now) = (landmark.distance(previous, edges), landmark.distance(self.start.cell, edges));
         match (before, now) {
-            (Some(b), Some(n)) => Some(octile.max(n - b)),
+            (Some(b), Some(n)) => Some(octile.max(n - b) + dark),
             (Some(_), None) => None,
-            (None, _) => Some(octile),
+            (None, _) => Some(octile + dark),
         }
     }
 

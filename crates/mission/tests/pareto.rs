@@ -52,8 +52,19 @@ fn config(objective: Objective) -> PlannerConfig {
 /// the mission's start (any minute of its window, idling from the window's opening)
 /// to the goal at one of its instants with at least `goal_wh` left.
 fn least_cost(world: &World, model: &ActionModel, mission: &Mission<'_>, goal: u32, goal_wh: f64) -> Option<f64> {
+    least_cost_from(world, model, mission, mission.start(), goal, goal_wh)
+}
+
+/// [`least_cost`] from `start` (the mission's goal instants).
+fn least_cost_from(
+    world: &World,
+    model: &ActionModel,
+    mission: &Mission<'_>,
+    start: Start,
+    goal: u32,
+    goal_wh: f64,
+) -> Option<f64> {
     let (e_max, _) = model.gain_bounds(world);
-    let start = mission.start();
     let capacity = model.capacity_wh();
     let finals: Vec<i64> = mission.final_goal_times().iter().map(|t| (t / 60.0).round() as i64).collect();
     type Key = (u32, i64, u64);
@@ -316,4 +327,110 @@ fn finer_resolution_never_loses_a_plan() {
     }
     assert!((20..60).contains(&found), "{found} of 60 cases have a plan at the coarse settings");
     assert!(lost.is_empty(), "finer settings lost plans (case, setting): {lost:?}");
+}
+
+/// The first instant after the Sun sets, s (after `morning`).
+fn sunset(world: &World) -> f64 {
+    let mut t = morning(world);
+    while world.sun(t).elevation_deg > 0.0 {
+        t += 60.0;
+    }
+    t
+}
+
+#[test]
+fn the_heuristic_never_exceeds_the_cheapest_way_to_any_place_and_time_through_a_night() {
+    // With drives in daylight only, the heuristic adds the cost of the deep night
+    // between the start and a label (stays in the dark gain nothing) to the drive
+    // bounds (octile floors, the cached 2-D landmark). Checked against a forward
+    // Dijkstra over (cell, minute) from an afternoon start to every place and time over
+    // the night and the next morning: never more than the cheapest way there.
+    use areo_ise::Domain;
+    use areo_mission::{Label, TempestDomain};
+    let world = mars_world(hills(7, 5), 40.0, None);
+    let mut actions = quantised();
+    actions.drive.daylight = true;
+    let model = model(400.0, actions);
+    let t0 = sunset(&world) - 3600.0;
+    let start = Start { cell: world.cell(1, 1), t_min: t0, t_max: t0 + 600.0, energy_wh: 300.0 };
+    let resolution = Resolution { time_s: 60.0, energy_wh: None };
+    let domain = TempestDomain::new(&world, &model, start, Objective::Energy, resolution, PathLength::Distance);
+    let (e_max, _) = model.gain_bounds(&world);
+    let end = ((t0 + 24.0 * 3600.0) / 60.0) as i64;
+    let mut dist: HashMap<(u32, i64), f64> = HashMap::new();
+    let mut heap = BinaryHeap::new();
+    for m in (t0 / 60.0).ceil() as i64..=((t0 + 600.0) / 60.0).floor() as i64 {
+        dist.insert((start.cell, m), 0.0);
+        heap.push(Reverse((Ord64(0.0), start.cell, m)));
+    }
+    let (mut checked, mut night_share) = (0, 0.0f64);
+    while let Some(Reverse((Ord64(d), cell, m))) = heap.pop() {
+        if dist.get(&(cell, m)).is_some_and(|&best| best < d) {
+            continue;
+        }
+        let t = m as f64 * 60.0;
+        let h = domain.heuristic(cell, &Label { t, e: 0.0 });
+        assert!(h <= d + 1e-6, "cell {cell} at {t} s: heuristic {h} above the cheapest way there {d}");
+        // The time-independent part is the heuristic at the window's close.
+        night_share = night_share.max(h - domain.heuristic(cell, &Label { t: start.t_max, e: 0.0 }));
+        checked += 1;
+        for (a, to, e) in moves(&world, &model, cell, t) {
+            let key = (to, m + (e.duration_s / 60.0).round() as i64);
+            if key.1 > end {
+                continue;
+            }
+            let nd = d + step_cost(&world, Objective::Energy, e_max, a, t, e);
+            if dist.get(&key).is_none_or(|&best| nd < best - 1e-12) {
+                dist.insert(key, nd);
+                heap.push(Reverse((Ord64(nd), key.0, key.1)));
+            }
+        }
+    }
+    assert!(checked > 10_000, "only {checked} places and times reached");
+    // The night is worth many E_max to the bound: it is not vacuous.
+    assert!(night_share > 10.0 * e_max, "the night adds only {night_share} (E_max {e_max})");
+}
+
+#[test]
+fn a_plan_that_waits_out_a_night_equals_an_exhaustive_search() {
+    // Drives in daylight only, an afternoon start too far from the goal to arrive
+    // before dark: the plan must stand through the night, where the deep-night bound
+    // guides the search. Its cost must equal the exhaustive search's.
+    let world = mars_world(hills(7, 5), 40.0, None);
+    let mut actions = quantised();
+    actions.drive.daylight = true;
+    let model = model(400.0, actions.clone());
+    let t0 = sunset(&world) - 240.0;
+    let (mut hibernated, mut planned) = (0, 0);
+    for (from, to, start_wh) in [((0, 0), (6, 4), 360.0), ((6, 0), (0, 4), 300.0), ((0, 2), (6, 2), 330.0)] {
+        let start = Start { cell: world.cell(from.0, from.1), t_min: t0, t_max: t0, energy_wh: start_wh };
+        let goal = world.cell(to.0, to.1);
+        let config = PlannerConfig {
+            actions: actions.clone(),
+            goal_times: 40,
+            max_wait_s: Some(20.0 * 3600.0),
+            ..config(Objective::Energy)
+        };
+        let planned_here = Mission::plan(&world, &model, config.clone(), start, &[goal]);
+        // The same problem with a full battery: the goal instants and the start window
+        // (which do not depend on the battery) that the exhaustive search uses.
+        let (full, _) = Mission::plan(&world, &model, config, Start { energy_wh: 360.0, ..start }, &[goal]).unwrap();
+        // The exhaustive search from the same (widened) start window with this battery.
+        let brute = least_cost_from(&world, &model, &full, Start { energy_wh: start_wh, ..full.start() }, goal, 0.0);
+        match (&planned_here, brute) {
+            (Ok((_, plan)), Some(brute)) => {
+                assert!(
+                    (plan.cost - brute).abs() < 1e-6,
+                    "{from:?}→{to:?}: planned {} vs exhaustive {brute}",
+                    plan.cost
+                );
+                hibernated += plan.action_counts().2;
+                planned += 1;
+            }
+            (Err(_), None) => {}
+            (p, b) => panic!("{from:?}→{to:?}: planned {:?} vs exhaustive {b:?}", p.as_ref().map(|x| x.1.cost)),
+        }
+    }
+    assert!(planned >= 2, "only {planned} of 3 cases have a plan");
+    assert!(hibernated >= 30, "the plans stand through the night: {hibernated} hibernations");
 }
