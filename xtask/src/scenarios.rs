@@ -98,7 +98,13 @@ fn run_one(path: &Path, expected_path: &Path, out: &Path) -> Result<(usize, Vec<
         return Err(None);
     }
     let expected = Expected::load(expected_path).map_err(|e| Some(e.to_string()))?;
-    let file = areo_scenario::format::load(path).map_err(|e| Some(e.to_string()))?;
+    let mut file = areo_scenario::format::load(path).map_err(|e| Some(e.to_string()))?;
+    if expected.compare_fresh
+        && let areo_scenario::format::Job::Tempest(job) = &mut file.scenario.job
+        && let Some(sim) = &mut job.simulate
+    {
+        sim.compare_fresh = true;
+    }
     let outcome = areo_scenario::run(
         &file,
         RunOptions {

@@ -581,10 +581,15 @@ impl Domain for TempestDomain<'_> {
     }
 
     fn within_global(&self, state: u32, label: &Label, _cost: f64) -> bool {
-        // A label earlier than the first start plus the fastest travel from it can never
-        // be reached. (Not the current start: a label pruned for a late start interval
-        // would be lost to an earlier one, as the engine keeps its graph.)
-        label.e <= self.capacity + 1e-9 && label.t >= self.earliest(state) - 1e-6
+        // A label is kept while its time class holds an instant the rover can still
+        // reach: the first start plus the fastest travel from it (not the current
+        // start: a label pruned for a late start interval would be lost to an earlier
+        // one, as the engine keeps its graph). Whole classes, as the search compares
+        // labels: when the rover moves on, what `Search::restrict` drops are classes
+        // no reachable label can be in, so nothing it pruned needs making again — a
+        // fresh search keeps the same labels. Labels before that instant in its class
+        // stay in the graph, set aside as dormant if the search reaches them.
+        label.e <= self.capacity + 1e-9 && self.class_within_global(state, self.key(state, label))
     }
 
     fn class_within_global(&self, state: u32, key: i64) -> bool {

@@ -63,6 +63,11 @@ impl Outcome {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Expected {
+    /// Run the scenario with every re-plan compared with the same problem searched
+    /// afresh (a simulated TEMPEST job's `compare_fresh`), so that the facts can check
+    /// `replans_above_fresh` and `replan_fresh_cost_difference`.
+    #[serde(default)]
+    pub compare_fresh: bool,
     /// Expected facts by name; facts not listed are not checked.
     pub facts: BTreeMap<String, Expect>,
 }
