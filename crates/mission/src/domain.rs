@@ -369,9 +369,20 @@ impl<'a> TempestDomain<'a> {
             return Some(0.0);
         }
         self.forget_geometry(changed);
-        // The map is made again from where the rover now is: as tight as a fresh
-        // search's. Its fall cannot be bounded from the old map's distances (they were
-        // from another anchor), so the engine keys its open list again.
+        if self.start.cell == self.anchor {
+            // The rover is where the map is anchored: the map is repaired where drives
+            // got cheaper and the fall is bounded, so the engine keeps its open list.
+            // (Where they got dearer the old bound stays: looser, still a bound.)
+            let fall = self.landmark.borrow_mut().lower(
+                changed,
+                |c, out| self.successors(c, out),
+                |c, out: Edges<'_>| self.floor_edges(c, out),
+            );
+            return Some(fall);
+        }
+        // The rover has moved on: the map is made again from where it now is, as tight
+        // as a fresh search's. Its fall cannot be bounded from the old map's distances
+        // (they were from another anchor), so the engine keys its open list again.
         self.anchor = self.start.cell;
         let landmark = Landmark::new(self.anchor);
         *self.landmark.get_mut() = landmark;

@@ -13,9 +13,12 @@
 //! The map is filled lazily (a resumable Dijkstra): a cell's distance is settled when
 //! the search first asks for it, so the work grows with the region the search explores,
 //! not with the world (LITA's map holds 6 million cells; its route crosses 70). When
-//! sensing changes the map — a wall where it showed a pass, a gentler slope — the
-//! domain starts a new map anchored at the rover (as tight as a fresh search's) and the
-//! engine keys its open list again ([`crate::TempestDomain::forget`]).
+//! sensing changes the map — a wall where it showed a pass, a gentler slope — the map
+//! is repaired where drives got cheaper, with a bound on how far any distance fell
+//! ([`Landmark::lower`], so the engine keeps its open list), while the rover is still at
+//! the anchor; once it has moved on, a new map is anchored at the rover (as tight as a
+//! fresh search's) and the engine keys its open list again
+//! ([`crate::TempestDomain::forget`]).
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -115,6 +118,52 @@ impl Landmark {
         d.is_finite().then_some(d)
     }
 
+    /// Sensing changed `changed` cells, so the drives into and out of them may cost
+    /// less (or more) than before. Repairs the distances that fall — a decrease-only
+    /// Dijkstra from the changed drives, so the map is that of the world where each
+    /// drive costs the lesser of its old and new bounds, still a lower bound — and
+    /// returns a bound on how far any settled distance fell: the most the search's
+    /// heuristic can have dropped, so the engine keeps its open list (D* Lite's key
+    /// modifier). Rises are left: the old distance is still a lower bound, only looser.
+    ///
+    /// The bound: a distance that falls does so along a new shortest path whose last
+    /// changed drive ends at a changed cell or a neighbour of one (a head); after it the
+    /// path's drives are unchanged, so the fall is at most the head's. A settled
+    /// distance was at most the radius, so a head's old distance counts up to it.
+    pub(crate) fn lower(
+        &mut self,
+        changed: &[u32],
+        neighbours: impl Fn(u32, &mut Vec<u32>),
+        mut edges: impl FnMut(u32, Edges<'_>),
+    ) -> f64 {
+        let mut heads = Vec::new();
+        for &c in changed {
+            neighbours(c, &mut heads);
+            heads.push(c);
+        }
+        heads.sort_unstable();
+        heads.dedup();
+        let radius = self.radius;
+        let before: Vec<f64> = heads.iter().map(|&q| self.value(q).min(radius)).collect();
+        // Every drive with an end in a changed cell is relaxed with its new cost: those
+        // out of the heads reach the changed cells and their neighbours.
+        let mut out = Vec::with_capacity(8);
+        for &q in &heads {
+            let d = self.value(q);
+            if !d.is_finite() {
+                continue;
+            }
+            out.clear();
+            edges(q, &mut out);
+            for &(to, w) in &out {
+                self.relax(to, d + w);
+            }
+        }
+        // Bring everything below the old radius up to date: what was settled is again.
+        self.settle_below(radius, &mut edges);
+        heads.iter().zip(before).map(|(&q, b)| (b - self.value(q)).max(0.0)).fold(0.0, f64::max)
+    }
+
     /// Cells settled so far.
     pub(crate) fn settled(&self) -> u64 {
         self.settled
@@ -196,5 +245,60 @@ mod tests {
                 assert_eq!(d, r.is_finite().then_some(r), "seed {seed} cell {c}");
             }
         }
+    }
+
+    #[test]
+    fn repairs_after_cheaper_cells_equal_a_map_of_the_cheaper_world_and_bound_the_fall() {
+        let (cols, rows) = (13, 11);
+        let neighbours = |c: u32, out: &mut Vec<u32>| {
+            let (x, y) = ((c % cols) as i64, (c / cols) as i64);
+            for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
+                let (nx, ny) = (x + dx, y + dy);
+                if nx >= 0 && ny >= 0 && nx < cols as i64 && ny < rows as i64 {
+                    out.push((ny * cols as i64 + nx) as u32);
+                }
+            }
+        };
+        let mut falls = 0;
+        for seed in 0..20 {
+            let mut before = world(seed, cols, rows);
+            before[0] = 1.0;
+            let mut after = before.clone();
+            // Sensing opens walls and makes cells cheaper.
+            let changed: Vec<u32> = (0..cols * rows).filter(|&c| c % 17 == 5).take(3).collect();
+            for &c in &changed {
+                after[c as usize] = 0.5;
+            }
+            let old = bellman_ford(cols, rows, &before, 0);
+            let new = bellman_ford(cols, rows, &after, 0);
+            let mut l = Landmark::new(0);
+            // Settle half the world, as a search part-way through would have.
+            let asked: Vec<u32> = (0..cols * rows).step_by(2).collect();
+            for &c in &asked {
+                l.distance(c, grid_edges(cols, rows, &before));
+            }
+            let fall = l.lower(&changed, neighbours, grid_edges(cols, rows, &after));
+            let mut largest: f64 = 0.0;
+            for &c in &asked {
+                if old[c as usize].is_finite() {
+                    largest = largest.max(old[c as usize] - new[c as usize]);
+                }
+            }
+            assert!(fall >= largest - 1e-12, "seed {seed}: bound {fall} below the largest fall {largest}");
+            if largest > 0.0 {
+                falls += 1;
+            }
+            // Every cell only got cheaper, so the repaired map is the cheaper world's.
+            for c in 0..cols * rows {
+                let d = l.distance(c, grid_edges(cols, rows, &after));
+                let r = new[c as usize];
+                assert_eq!(
+                    d.map(|d| (d * 1e9).round()),
+                    r.is_finite().then(|| (r * 1e9).round()),
+                    "seed {seed} cell {c}"
+                );
+            }
+        }
+        assert!(falls >= 10, "only {falls} of 20 worlds had a distance fall: the test would not see a missed repair");
     }
 }
