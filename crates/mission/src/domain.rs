@@ -325,12 +325,6 @@ impl<'a> TempestDomain<'a> {
         self.dark.as_ref().map_or(0.0, |d| (d.at(t) - d.at(self.start.t_max)).max(0.0))
     }
 
-    /// Cells whose landmark distance is settled, and the landmark's bytes.
-    pub fn landmark_stats(&self) -> (u64, usize) {
-        let l = self.landmark.borrow();
-        (l.settled(), l.bytes())
-    }
-
     /// The rover is now at `start` (plan extension): it becomes the start, and the
     /// lower bound on reachable times is taken from it — never earlier than before, as
     /// the rover cannot outrun its top speed. Call [`areo_ise::Search::restrict`] next,

@@ -36,8 +36,6 @@ pub(crate) struct Landmark {
     heap: BinaryHeap<Reverse<(u64, u32)>>,
     /// The largest distance settled so far: every cell below it is settled.
     radius: f64,
-    /// Cells settled (counted for the statistics).
-    settled: u64,
 }
 
 /// The drives out of a cell: each destination and the least the drive can cost (≥ 0).
@@ -46,7 +44,7 @@ pub(crate) type Edges<'e> = &'e mut Vec<(u32, f64)>;
 impl Landmark {
     /// The map for `anchor`; nothing is settled until asked.
     pub(crate) fn new(anchor: u32) -> Landmark {
-        let mut l = Landmark { pages: Vec::new(), heap: BinaryHeap::new(), radius: 0.0, settled: 0 };
+        let mut l = Landmark { pages: Vec::new(), heap: BinaryHeap::new(), radius: 0.0 };
         l.set(anchor, 0.0);
         l.heap.push(Reverse((0f64.to_bits(), anchor)));
         l
@@ -87,7 +85,6 @@ impl Landmark {
                 continue;
             }
             self.radius = self.radius.max(d);
-            self.settled += 1;
             out.clear();
             edges(cell, &mut out);
             for &(to, w) in &out {
@@ -162,11 +159,6 @@ impl Landmark {
         // Bring everything below the old radius up to date: what was settled is again.
         self.settle_below(radius, &mut edges);
         heads.iter().zip(before).map(|(&q, b)| (b - self.value(q)).max(0.0)).fold(0.0, f64::max)
-    }
-
-    /// Cells settled so far.
-    pub(crate) fn settled(&self) -> u64 {
-        self.settled
     }
 
     /// Bytes held.

@@ -558,7 +558,7 @@ impl World {
             return None;
         }
         let map = self.horizon.as_ref()?;
-        let error = map.narrowed_error_deg();
+        let error = areo_terrain::horizon::NARROW_ERROR_DEG;
         let fastest = self
             .sun
             .windows(2)

@@ -54,6 +54,10 @@ enum Codes {
 /// Degrees per step of a one-byte horizon: −90°..90° onto 0..255.
 pub const NARROW_STEP_DEG: f64 = 180.0 / 255.0;
 
+/// The most a one-byte angle differs from the two-byte one it was narrowed from,
+/// degrees: half a step.
+pub const NARROW_ERROR_DEG: f64 = NARROW_STEP_DEG / 2.0;
+
 /// A two-byte code as the nearest one-byte code.
 fn narrow(v: u16) -> u8 {
     // Both scales run from −90° to 90°: 65535 = 255 × 257.
@@ -145,12 +149,6 @@ impl HorizonMap {
         HorizonMap { cols: self.cols, rows: self.rows, sectors: self.sectors, angles }
     }
 
-    /// The error [`HorizonMap::narrowed`] brings (or brought), degrees: half a one-byte
-    /// step.
-    pub fn narrowed_error_deg(&self) -> f64 {
-        NARROW_STEP_DEG / 2.0
-    }
-
     /// Whether the map holds one byte per angle ([`HorizonMap::narrowed`]).
     pub fn is_narrow(&self) -> bool {
         matches!(self.angles, Codes::Narrow(_))
@@ -159,7 +157,7 @@ impl HorizonMap {
     /// The most an angle can differ from the two-byte map's because of its encoding,
     /// degrees: half a one-byte step for a narrowed map, zero otherwise.
     pub fn error_deg(&self) -> f64 {
-        if self.is_narrow() { NARROW_STEP_DEG / 2.0 } else { 0.0 }
+        if self.is_narrow() { NARROW_ERROR_DEG } else { 0.0 }
     }
 
     /// Sector `s`'s horizons as two-byte codes ([`encode`]), cell by cell (row-major).
@@ -860,6 +858,13 @@ mod tests {
     use crate::synth::{Feature, Noise, TerrainSpec};
 
     fn terrain() -> Dem {
+        terrain_with(vec![])
+    }
+
+    /// The test terrain with `more` features besides its hill.
+    fn terrain_with(more: Vec<Feature>) -> Dem {
+        let mut features = vec![Feature::Hill { x_m: 900.0, y_m: 700.0, radius_m: 400.0, slope_deg: 20.0 }];
+        features.extend(more);
         TerrainSpec {
             cols: 90,
             rows: 70,
@@ -867,7 +872,7 @@ mod tests {
             base_m: 0.0,
             seed: 3,
             noise: Some(Noise { amplitude_m: 60.0, wavelength_m: 600.0, octaves: 3, persistence: 0.5 }),
-            features: vec![Feature::Hill { x_m: 900.0, y_m: 700.0, radius_m: 400.0, slope_deg: 20.0 }],
+            features,
         }
         .build()
         .unwrap()
@@ -934,20 +939,7 @@ mod tests {
         // terrain, and where the terrain differs, profiles within the bound of the
         // two-byte map's.
         assert!(narrow.changes(&dem, Curvature::Flat).unwrap().is_empty());
-        let raised = TerrainSpec {
-            cols: 90,
-            rows: 70,
-            cell_m: 20.0,
-            base_m: 0.0,
-            seed: 3,
-            noise: Some(Noise { amplitude_m: 60.0, wavelength_m: 600.0, octaves: 3, persistence: 0.5 }),
-            features: vec![
-                Feature::Hill { x_m: 900.0, y_m: 700.0, radius_m: 400.0, slope_deg: 20.0 },
-                Feature::Hill { x_m: 400.0, y_m: 300.0, radius_m: 100.0, slope_deg: 30.0 },
-            ],
-        }
-        .build()
-        .unwrap();
+        let raised = terrain_with(vec![Feature::Hill { x_m: 400.0, y_m: 300.0, radius_m: 100.0, slope_deg: 30.0 }]);
         let (wide_changes, narrow_changes) =
             (wide.changes(&raised, Curvature::Flat).unwrap(), narrow.changes(&raised, Curvature::Flat).unwrap());
         assert!(!narrow_changes.is_empty() && narrow_changes.len() <= wide_changes.len());

@@ -332,7 +332,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     if let Some(shift_s) = narrowed {
         o.summary.push(format!(
             "horizon map: one byte per angle (approximate: within {:.2}°, which moves a shadow's edge by at most the Sun's elevation change in {shift_s:.0} s; time classes of {:.0} s)",
-            areo_terrain::horizon::NARROW_STEP_DEG / 2.0,
+            areo_terrain::horizon::NARROW_ERROR_DEG,
             job.planner.resolution.time_s
         ));
     }
