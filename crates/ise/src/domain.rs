@@ -21,7 +21,7 @@ pub trait Domain {
     /// Fine-grained path quantities (DPARMS), e.g. time and required energy.
     type Label: Clone + Debug + PartialEq;
     /// Resolution-equivalence class of a label at a state.
-    type Key: Copy + Eq + Hash + Debug;
+    type Key: Copy + Ord + Hash + Debug;
     /// An action; applied forwards it leads from the predecessor to the state.
     type Action: Copy + Debug;
 

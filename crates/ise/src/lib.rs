@@ -45,6 +45,7 @@
 
 mod arena;
 mod domain;
+mod group_table;
 mod open;
 mod search;
 mod state_table;

@@ -19,11 +19,14 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use crate::arena::Arena;
 use crate::domain::{Domain, Goal};
+use crate::group_table::GroupTable;
 use crate::open::{Entry, OpenList};
 use crate::state_table::StateTable;
 
 /// No node (the end of a list, a root's parent).
 pub(crate) const NONE: u32 = u32::MAX;
+/// The open list's length below which stale entries are never purged.
+const OPEN_PURGE_MIN: usize = 1 << 16;
 const OPEN: u8 = 1;
 const CLOSED: u8 = 2;
 /// Replaced by a better label of its class or dominated: no longer a search node, but
@@ -103,14 +106,14 @@ pub struct Plan<D: Domain> {
     pub stats: Stats,
 }
 
-/// Aligned to 32 bytes so that no node straddles two cache lines: the arena's chunks
-/// come from the allocator 16 bytes past a page boundary, and a grid's 32-byte nodes
-/// straddled every other time (the search reads a node's cost and flags together).
-#[repr(align(32))]
+/// A label in the graph: 48 bytes in TEMPEST, 32 on a grid. Its resolution class is
+/// not stored but recomputed ([`Domain::key`] is a division or two): nodes are most of
+/// a large search's memory. (Aligning nodes to 32 bytes, so that a grid's never
+/// straddle two cache lines, once made grids faster; with the class gone it measured
+/// no faster, and padded TEMPEST's nodes to 64 bytes.)
 struct Node<D: Domain> {
     state: D::State,
     label: D::Label,
-    key: D::Key,
     /// The action leading from this node to its parent; `None` at goals.
     action: Option<D::Action>,
     g: f64,
@@ -126,21 +129,6 @@ impl<D: Domain> Node<D> {
         self.flags & (DEAD | REMOVED) == 0
     }
 }
-
-/// The newest label of a (state, dominance group), with its cost and class: enough to
-/// prune the labels that lose to it without reading its node.
-struct GroupHead<D: Domain> {
-    id: u32,
-    g: f64,
-    key: D::Key,
-}
-
-impl<D: Domain> Clone for GroupHead<D> {
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-impl<D: Domain> Copy for GroupHead<D> {}
 
 /// An incremental search over a [`Domain`].
 pub struct Search<D: Domain> {
@@ -170,7 +158,7 @@ pub struct Search<D: Domain> {
     /// With [`Domain::MANY_LABELS`] and [`Domain::DOMINANCE`]: the head of each
     /// (state, dominance group)'s list of live labels, threaded through `group_next`
     /// (indexed by node). A label leaves its list when it is beaten or removed.
-    groups: FxHashMap<(D::State, D::Key), GroupHead<D>>,
+    groups: GroupTable<D>,
     group_next: Vec<u32>,
     /// D* Lite's key modifier: the sum of the heuristic drops since the open list was
     /// last keyed in full, added to every new key so that older keys stay lower bounds
@@ -178,6 +166,8 @@ pub struct Search<D: Domain> {
     key_offset: f64,
     /// Whether the open list may hold keys older than the last start move.
     stale_keys: bool,
+    /// The open list's length at which stale entries are next purged.
+    open_purge_at: usize,
     /// The start state the keys were computed for.
     keyed_start: Option<D::State>,
     /// Open labels set aside as dormant ([`Domain::dormant`]), by their release value
@@ -237,11 +227,7 @@ impl<D: Domain> Search<D> {
             } else {
                 FxHashMap::default()
             },
-            groups: if D::MANY_LABELS && D::DOMINANCE {
-                FxHashMap::with_capacity_and_hasher(1 << 16, Default::default())
-            } else {
-                FxHashMap::default()
-            },
+            groups: GroupTable::new(),
             group_next: Vec::new(),
             compacted_len: 0,
             goal_ids: Vec::new(),
@@ -250,6 +236,7 @@ impl<D: Domain> Search<D> {
             doomed: Vec::new(),
             key_offset: 0.0,
             stale_keys: false,
+            open_purge_at: OPEN_PURGE_MIN,
             keyed_start: domain.start_state(),
             parked: std::collections::BinaryHeap::new(),
             drift: 0.0,
@@ -266,7 +253,7 @@ impl<D: Domain> Search<D> {
             + self.by_state.bytes()
             + self.open.bytes()
             + (self.classes.capacity() * (std::mem::size_of::<((D::State, D::Key), (u32, f64))>() + 1)) as u64
-            + (self.groups.capacity() * (std::mem::size_of::<((D::State, D::Key), GroupHead<D>)>() + 1)) as u64
+            + self.groups.bytes()
             + (self.group_next.capacity() * 4) as u64
             + (self.parked.capacity() * std::mem::size_of::<Parked>()) as u64
     }
@@ -399,12 +386,12 @@ impl<D: Domain> Search<D> {
             self.stats.invalidated += 1;
             let state = n.state;
             if D::MANY_LABELS && !D::DOMINANCE {
-                let class = (state, n.key);
+                let class = (state, domain.key(state, &n.label));
                 if self.classes.get(&class).is_some_and(|&(held, _)| held == id) {
                     self.classes.remove(&class);
                 }
             }
-            let key = n.key;
+            let key = domain.key(state, &n.label);
             let mut c = n.first_child;
             while c != NONE {
                 stack.push(c);
@@ -631,7 +618,7 @@ impl<D: Domain> Search<D> {
         for id in 0..kept {
             let (state, key, parent, live, g) = {
                 let n = &self.nodes[id];
-                (n.state, n.key, n.parent, n.live(), n.g)
+                (n.state, domain.key(n.state, &n.label), n.parent, n.live(), n.g)
             };
             self.nodes[id].next_sibling = if parent == NONE { NONE } else { self.nodes[parent].first_child };
             if parent != NONE {
@@ -641,15 +628,16 @@ impl<D: Domain> Search<D> {
             self.by_state.set(domain, state, id);
             if live && D::MANY_LABELS {
                 if D::DOMINANCE {
-                    let group = (state, domain.dominance_group(state, key));
-                    self.group_next[id as usize] = self.groups.get(&group).map_or(NONE, |h| h.id);
-                    self.groups.insert(group, GroupHead { id, g, key });
+                    let group = domain.dominance_group(state, key);
+                    self.group_next[id as usize] = self.groups.get(domain, state, group);
+                    self.groups.set(domain, state, group, id);
                 } else {
                     self.classes.insert((state, key), (id, g));
                 }
             }
         }
         self.open = OpenList::from_vec(open);
+        self.open_purge_at = (3 * self.open.len() / 2).max(OPEN_PURGE_MIN);
         let parked = std::mem::take(&mut self.parked);
         self.parked = parked
             .into_iter()
@@ -729,6 +717,7 @@ impl<D: Domain> Search<D> {
             })
             .collect();
         self.open = OpenList::from_vec(entries);
+        self.open_purge_at = (3 * self.open.len() / 2).max(OPEN_PURGE_MIN);
     }
 
     fn plan_best_cost(&mut self, domain: &D) -> Plan<D> {
@@ -841,6 +830,24 @@ impl<D: Domain> Search<D> {
         if D::MANY_LABELS && !self.doomed.is_empty() {
             self.remove_doomed(domain);
         }
+        if D::MANY_LABELS && self.open.len() > self.open_purge_at {
+            self.purge_open();
+        }
+    }
+
+    /// Drops the open list's stale entries — those of labels since beaten, or given a
+    /// lower cost (each left its entry behind). With many labels per state many
+    /// entries go stale before they are popped. Run when the list has grown by half since the last
+    /// purge, so the cost is constant per entry.
+    #[cold]
+    #[inline(never)]
+    fn purge_open(&mut self) {
+        let nodes = &self.nodes;
+        self.open.retain(|e| {
+            let n = &nodes[e.id()];
+            n.flags & !PARTIAL == OPEN && e.matches(n.g)
+        });
+        self.open_purge_at = (3 * self.open.len() / 2).max(OPEN_PURGE_MIN);
     }
 
     fn expand_node(&mut self, domain: &D, id: u32) {
@@ -905,7 +912,7 @@ impl<D: Domain> Search<D> {
             // first node.
             let n = &self.nodes[head];
             if n.flags & (DEAD | REMOVED) == 0
-                && n.key == key
+                && domain.key(state, &n.label) == key
                 && (n.g < g || (n.g == g && !domain.better(&label, &n.label)))
             {
                 self.stats.pruned_resolution += 1;
@@ -914,7 +921,7 @@ impl<D: Domain> Search<D> {
         }
         if !D::MANY_LABELS && head == NONE {
             // A state seen for the first time: nothing to compete with.
-            self.push_node(domain, state, label, key, g, parent, action, NONE);
+            self.push_node(domain, state, label, g, parent, action, NONE);
             return;
         }
         self.insert_slow(domain, state, label, key, head, g, parent, action);
@@ -962,7 +969,7 @@ impl<D: Domain> Search<D> {
                     e.insert((new_id, g));
                 }
             }
-            let pushed = self.push_node(domain, state, label, key, g, parent, action, head);
+            let pushed = self.push_node(domain, state, label, g, parent, action, head);
             debug_assert_eq!(pushed, new_id);
             return;
         }
@@ -980,7 +987,7 @@ impl<D: Domain> Search<D> {
             }
             if flags & DEAD == 0 {
                 let n = &self.nodes[id];
-                if n.key == key {
+                if domain.key(state, &n.label) == key {
                     let keep_old = n.g < g || (n.g == g && !domain.better(&label, &n.label));
                     if keep_old {
                         self.stats.pruned_resolution += 1;
@@ -1012,7 +1019,7 @@ impl<D: Domain> Search<D> {
             prev = id;
             id = next;
         }
-        self.push_node(domain, state, label, key, g, parent, action, new_head);
+        self.push_node(domain, state, label, g, parent, action, new_head);
     }
 
     /// [`Search::insert`] for domains with many labels per state and dominance: the new
@@ -1032,23 +1039,12 @@ impl<D: Domain> Search<D> {
         parent: u32,
         action: Option<D::Action>,
     ) {
-        let group = (state, domain.dominance_group(state, key));
-        let head = self.groups.get(&group).copied();
-        // Most labels lose to the newest of their group, of their own class: decided from
-        // the table, without reading a node (a cache miss in a large arena).
-        if let Some(h) = head
-            && !domain.pareto_classes()
-            && h.key == key
-            && (h.g < g || (h.g == g && !domain.better(&label, &self.nodes[h.id].label)))
-        {
-            self.stats.pruned_resolution += 1;
-            return;
-        }
-        let head = head.map_or(NONE, |h| h.id);
+        let group = domain.dominance_group(state, key);
+        let head = self.groups.get(domain, state, group);
         let mut id = head;
         while id != NONE {
             let n = &self.nodes[id];
-            if !domain.pareto_classes() && n.key == key {
+            if !domain.pareto_classes() && domain.key(state, &n.label) == key {
                 if n.g < g || (n.g == g && !domain.better(&label, &n.label)) {
                     self.stats.pruned_resolution += 1;
                     return;
@@ -1059,12 +1055,14 @@ impl<D: Domain> Search<D> {
             }
             id = self.group_next[id as usize];
         }
-        // It survives: drop what it beats.
-        let (mut prev, mut id, mut new_head) = (NONE, head, head);
+        // It survives: drop what it beats. The first dropped label that was never
+        // expanded gives the new one its node (A*'s decrease-key): most labels are
+        // beaten before they are expanded, and each left a dead node behind.
+        let (mut prev, mut id, mut new_head, mut reuse) = (NONE, head, head, NONE);
         while id != NONE {
             let next = self.group_next[id as usize];
             let n = &self.nodes[id];
-            let drop = if !domain.pareto_classes() && n.key == key {
+            let drop = if !domain.pareto_classes() && domain.key(state, &n.label) == key {
                 self.stats.pruned_resolution += 1;
                 true
             } else if domain.dominates(state, &label, g, &n.label, n.g) {
@@ -1074,7 +1072,20 @@ impl<D: Domain> Search<D> {
                 false
             };
             if drop {
-                self.kill(domain, id, &label);
+                // Not a goal (goal_ids name goals' nodes), and a cost the old node's
+                // open-list entry cannot match (see `Entry::matches`), so that entry
+                // goes stale.
+                if reuse == NONE
+                    && n.flags == OPEN
+                    && n.first_child == NONE
+                    && n.parent != NONE
+                    && parent != NONE
+                    && (n.g as f32).to_bits() != (g as f32).to_bits()
+                {
+                    reuse = id;
+                } else {
+                    self.kill(domain, id, &label);
+                }
                 if prev == NONE {
                     new_head = next;
                 } else {
@@ -1085,28 +1096,32 @@ impl<D: Domain> Search<D> {
             }
             id = next;
         }
-        let new_id = self.push_node(domain, state, label, key, g, parent, action, state_head);
+        let new_id = if reuse == NONE {
+            self.push_node(domain, state, label, g, parent, action, state_head)
+        } else {
+            self.relabel(domain, reuse, label, g, parent, action);
+            reuse
+        };
         self.group_next[new_id as usize] = new_head;
-        self.groups.insert(group, GroupHead { id: new_id, g, key });
+        self.groups.set(domain, state, group, new_id);
     }
 
     /// Takes a removed node out of its dominance group's list (which holds live labels
     /// only).
     fn leave_group(&mut self, domain: &D, id: u32) {
-        let (state, key) = (self.nodes[id].state, self.nodes[id].key);
-        let group = (state, domain.dominance_group(state, key));
-        let Some(head) = self.groups.get(&group).copied() else { return };
-        let next = self.group_next[id as usize];
-        if head.id == id {
-            if next == NONE {
-                self.groups.remove(&group);
-            } else {
-                let n = &self.nodes[next];
-                self.groups.insert(group, GroupHead { id: next, g: n.g, key: n.key });
-            }
+        let state = self.nodes[id].state;
+        let key = domain.key(state, &self.nodes[id].label);
+        let group = domain.dominance_group(state, key);
+        let head = self.groups.get(domain, state, group);
+        if head == NONE {
             return;
         }
-        let mut c = head.id;
+        let next = self.group_next[id as usize];
+        if head == id {
+            self.groups.set(domain, state, group, next);
+            return;
+        }
+        let mut c = head;
         while c != NONE {
             let after = self.group_next[c as usize];
             if after == id {
@@ -1124,7 +1139,6 @@ impl<D: Domain> Search<D> {
         domain: &D,
         state: D::State,
         label: D::Label,
-        key: D::Key,
         g: f64,
         parent: u32,
         action: Option<D::Action>,
@@ -1137,7 +1151,6 @@ impl<D: Domain> Search<D> {
         self.nodes.push(Node {
             state,
             label,
-            key,
             action,
             g,
             parent,

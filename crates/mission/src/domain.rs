@@ -18,6 +18,7 @@
 //! the planner reports (see [`Resolution`] for what pruning guarantees).
 
 use std::cell::RefCell;
+use std::rc::Rc;
 
 use areo_ise::{Domain, Step};
 use serde::{Deserialize, Serialize};
@@ -144,8 +145,9 @@ pub struct TempestDomain<'a> {
     /// (for the heuristic).
     step_floors: [f64; 3],
     capacity: f64,
-    /// The geometry of the drives into each cell the search touched.
-    geometry: RefCell<GeometryCache>,
+    /// The geometry of the drives into each cell the search touched — shared by the
+    /// segments of one mission, as it depends only on the world and the model.
+    geometry: SharedGeometry,
     /// The cached 2-D lower bound on the cost from the first start to each cell (see
     /// [`crate::landmark`]).
     landmark: RefCell<Landmark>,
@@ -227,9 +229,13 @@ impl DarkCost {
 /// region searched; cells the world reports changed are forgotten
 /// ([`TempestDomain::forget`]).
 #[derive(Debug, Clone, Default)]
-struct GeometryCache {
+pub(crate) struct GeometryCache {
     pages: Vec<Option<Box<[Into]>>>,
 }
+
+/// A drive-geometry cache shared by the domains of one world and one action model (a
+/// mission's segments): on the 10 m lunar plan, four copies held 280 MB.
+pub(crate) type SharedGeometry = Rc<RefCell<GeometryCache>>;
 
 /// The 8 drives into one cell: `None` until computed, then each drive's source cell and
 /// geometry (`None` where no drive is possible).
@@ -266,7 +272,7 @@ impl<'a> TempestDomain<'a> {
             e_max,
             step_floors,
             capacity: model.capacity_wh(),
-            geometry: RefCell::default(),
+            geometry: SharedGeometry::default(),
             landmark: RefCell::new(Landmark::new(start.cell)),
             anchor: start.cell,
             drive_source_w: model.drive_source_bound_w(world),
@@ -400,10 +406,26 @@ impl<'a> TempestDomain<'a> {
 
     /// Bytes held by the drive-geometry cache and the landmark.
     pub fn cache_bytes(&self) -> usize {
+        self.geometry_bytes() + self.landmark_bytes()
+    }
+
+    /// Bytes held by the drive-geometry cache (which segments may share).
+    pub(crate) fn geometry_bytes(&self) -> usize {
         let cache = self.geometry.borrow();
         cache.pages.iter().flatten().count() * GEOMETRY_PAGE * std::mem::size_of::<Into>()
             + cache.pages.capacity() * std::mem::size_of::<Option<Box<[Into]>>>()
-            + self.landmark.borrow().bytes()
+    }
+
+    /// Bytes held by the landmark.
+    pub(crate) fn landmark_bytes(&self) -> usize {
+        self.landmark.borrow().bytes()
+    }
+
+    /// The domain, with its drive geometries kept in `cache` (the same world and action
+    /// model's, else the geometries would be wrong).
+    pub(crate) fn sharing_geometry(mut self, cache: &SharedGeometry) -> TempestDomain<'a> {
+        self.geometry = Rc::clone(cache);
+        self
     }
 
     /// E_max used by the objective, Wh.

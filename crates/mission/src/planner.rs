@@ -16,11 +16,13 @@
 //! the change touched, backward, and a segment whose goals (the next segment's
 //! candidates) changed has its graph repaired around the changed goals.
 
+use std::rc::Rc;
+
 use areo_ise::{Goal, PathStep, Search, Stats};
 use serde::{Deserialize, Serialize};
 
 use crate::actions::{Action, ActionConfig, ActionModel, Binding};
-use crate::domain::{Label, Objective, PathLength, Resolution, Start, TempestDomain};
+use crate::domain::{Label, Objective, PathLength, Resolution, SharedGeometry, Start, TempestDomain};
 use crate::error::{Error, Result};
 use crate::plan::{MissionPlan, Waypoint};
 use crate::world::World;
@@ -164,6 +166,8 @@ pub struct Mission<'a> {
     start: Start,
     goals: Vec<u32>,
     segments: Vec<Segment<'a>>,
+    /// The drive geometries, shared by every segment's domain.
+    geometry: SharedGeometry,
 }
 
 fn goal_list(goals: &[(Label, f64)], cell: u32) -> Vec<Goal<TempestDomain<'static>>> {
@@ -232,7 +236,15 @@ impl<'a> Mission<'a> {
                 });
             }
         }
-        let mut mission = Mission { world, model, config, start, goals: goals.to_vec(), segments: Vec::new() };
+        let mut mission = Mission {
+            world,
+            model,
+            config,
+            start,
+            goals: goals.to_vec(),
+            segments: Vec::new(),
+            geometry: SharedGeometry::default(),
+        };
         mission.widen_start();
         mission.build_segments();
         mission.solve_from(Some(mission.segments.len() - 1), &[], false);
@@ -370,7 +382,8 @@ impl<'a> Mission<'a> {
             self.config.objective,
             self.config.resolution,
             self.config.path_length,
-        );
+        )
+        .sharing_geometry(&self.geometry);
         let search = Search::new(&domain, relabel_goals(goal_list(&goals, to)), domain.mode());
         Segment { from, to, domain, search, goals, intervals, candidates: Vec::new(), stats: Stats::default() }
     }
@@ -543,6 +556,8 @@ impl<'a> Mission<'a> {
                 start,
                 goals: self.goals.clone(),
                 segments: Vec::new(),
+                // Another action model: its own drive geometries.
+                geometry: SharedGeometry::default(),
             };
             probe.build_segments();
             probe.solve_from(Some(probe.segments.len() - 1), &[], false);
@@ -610,6 +625,7 @@ impl<'a> Mission<'a> {
             start: self.start,
             goals: self.goals.clone(),
             segments,
+            geometry: Rc::clone(&self.geometry),
         };
         fresh.solve_from(Some(n - 1), &[], n > 0);
         fresh.assemble()
@@ -652,7 +668,8 @@ impl<'a> Mission<'a> {
     /// hold now — the search's memory, apart from the worlds' (terrain, horizon maps,
     /// Sun table).
     pub fn search_bytes(&self) -> u64 {
-        self.segments.iter().map(|s| s.search.bytes() + s.domain.cache_bytes() as u64).sum()
+        let geometry = self.segments.first().map_or(0, |s| s.domain.geometry_bytes() as u64);
+        geometry + self.segments.iter().map(|s| s.search.bytes() + s.domain.landmark_bytes() as u64).sum::<u64>()
     }
 }
 

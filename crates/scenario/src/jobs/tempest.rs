@@ -339,8 +339,11 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
             let clock = Instant::now();
-            Mission::plan(&world, &model, job.planner.clone(), start, &goals)
-                .map(|(_, plan)| Run::Plan { plan, seconds: clock.elapsed().as_secs_f64() })
+            Mission::plan(&world, &model, job.planner.clone(), start, &goals).map(|(mission, plan)| Run::Plan {
+                plan,
+                seconds: clock.elapsed().as_secs_f64(),
+                search_bytes: mission.search_bytes(),
+            })
         }
         Some(sim) => {
             let total = sim.max_steps.min(10_000) as u64;
@@ -398,8 +401,10 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     }
     o.number("cells", world.cells() as f64);
     match &run {
-        Run::Plan { plan, seconds } => {
+        Run::Plan { plan, seconds, search_bytes } => {
             o.number("initial_plan_s", *seconds);
+            // The segments' graphs as the plan leaves them (the most they held).
+            o.number("peak_search_mb", *search_bytes as f64 / 1e6);
             plan_facts(&mut o, &ctx, plan);
             o.text("status", "planned");
             o.number("goals_reached", 0.0);
@@ -430,7 +435,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
 }
 
 enum Run {
-    Plan { plan: MissionPlan, seconds: f64 },
+    Plan { plan: MissionPlan, seconds: f64, search_bytes: u64 },
     Simulated(SimReport),
 }
 
