@@ -489,7 +489,10 @@ fn lunar(root: &Path) -> Result<bool, String> {
             fact("peak_memory_mb")
         );
         let per_expansion = fact("peak_search_mb") * 1e6 / fact("initial_plan_expansions");
-        println!("    search graphs {:.0} MB at the plan's end: {per_expansion:.1} bytes per expansion", fact("peak_search_mb"));
+        println!(
+            "    search graphs {:.0} MB at the plan's end: {per_expansion:.1} bytes per expansion",
+            fact("peak_search_mb")
+        );
         figures.push((fact("initial_plan_expansions"), fact("peak_memory_mb"), wall, per_expansion));
     }
     let ((e30, _, _, _), (e10, peak10, wall10, bytes10)) = (figures[0], figures[1]);

@@ -179,11 +179,26 @@ struct DarkCost {
     step_s: f64,
     /// The bound from t = 0 to each table instant, cost units.
     cumulative: Vec<f64>,
+    /// The *time bound* from t = 0 to each table instant: the cost of any action is at
+    /// least the integral, over its span, of the least cost per second an action there
+    /// can have (`ActionModel::cost_rate_floor`, with the most the array can give in
+    /// the Sun-table samples around) — so a plan pays at least the bound's rise from
+    /// the start window's close to a label, drives or not. Stays in the day cost little
+    /// only near noon; a label hours after the rover could be there is seen to cost
+    /// the waiting.
+    any: Vec<f64>,
 }
 
 impl DarkCost {
-    fn new(world: &World, model: &ActionModel, objective: Objective, e_max: f64) -> Option<DarkCost> {
-        if objective != Objective::Energy || !model.config().drive.daylight {
+    fn new(
+        world: &World,
+        model: &ActionModel,
+        objective: Objective,
+        e_max: f64,
+        drive_units: f64,
+        drive_source_w: f64,
+    ) -> Option<DarkCost> {
+        if objective != Objective::Energy {
             return None;
         }
         let table = world.sun_table();
@@ -192,34 +207,53 @@ impl DarkCost {
         }
         let step_s = world.span_s() / (table.len() - 2) as f64;
         let stays = [Action::Charge, Action::Hibernate];
-        let rate = stays
-            .iter()
-            .map(|&a| (e_max + model.dark_stay_floor_wh(a)).max(0.0) / model.stay_duration_s(a))
-            .fold(f64::INFINITY, f64::min);
-        if !(rate > 0.0 && rate.is_finite()) {
-            return None;
-        }
+        let dark_rate = if model.config().drive.daylight {
+            stays
+                .iter()
+                .map(|&a| (e_max + model.dark_stay_floor_wh(a)).max(0.0) / model.stay_duration_s(a))
+                .fold(f64::INFINITY, f64::min)
+        } else {
+            0.0
+        };
+        let dark_rate = if dark_rate.is_finite() { dark_rate.max(0.0) } else { 0.0 };
         let longest = stays.iter().map(|&a| model.stay_duration_s(a)).fold(model.longest_drive_s(world), f64::max);
         let reach = (longest / step_s).ceil() as usize + 1;
         let dark: Vec<bool> = table.iter().map(|s| s.elevation_deg <= 0.0).collect();
         let mut cumulative = Vec::with_capacity(table.len());
+        let mut any = Vec::with_capacity(table.len());
         cumulative.push(0.0);
+        any.push(0.0);
         for k in 0..table.len() - 1 {
-            // The interval [k, k + 1] of the table is deep night when the Sun is down at
-            // every sample within `reach` of it (elevations are interpolated linearly).
+            // Every action overlapping the interval [k, k + 1] of the table lies within
+            // `reach` samples of it; elevations and beams are interpolated linearly, so
+            // the samples there bound them. The interval is deep night when the Sun is
+            // down at every one of them.
             let (lo, hi) = (k.saturating_sub(reach), (k + 1 + reach).min(table.len() - 1));
             let deep = dark[lo..=hi].iter().all(|&d| d);
-            cumulative.push(cumulative[k] + if deep { rate * step_s } else { 0.0 });
+            cumulative.push(cumulative[k] + if deep { dark_rate * step_s } else { 0.0 });
+            let solar_w = table[lo..=hi].iter().map(|s| model.solar_peak_w(s.beam_w_m2)).fold(0.0, f64::max);
+            let rate = model.cost_rate_floor(world, e_max, drive_units, solar_w, drive_source_w);
+            any.push(any[k] + rate * step_s);
         }
-        Some(DarkCost { step_s, cumulative })
+        let useful = cumulative.last().is_some_and(|&c| c > 0.0) || any.last().is_some_and(|&c| c > 0.0);
+        useful.then_some(DarkCost { step_s, cumulative, any })
     }
 
-    /// The bound from t = 0 to `t` (s after the epoch).
-    fn at(&self, t: f64) -> f64 {
-        let pos = (t / self.step_s).clamp(0.0, (self.cumulative.len() - 1) as f64);
-        let k = (pos as usize).min(self.cumulative.len() - 2);
+    fn interpolate(&self, table: &[f64], t: f64) -> f64 {
+        let pos = (t / self.step_s).clamp(0.0, (table.len() - 1) as f64);
+        let k = (pos as usize).min(table.len() - 2);
         let f = pos - k as f64;
-        self.cumulative[k] + (self.cumulative[k + 1] - self.cumulative[k]) * f
+        table[k] + (table[k + 1] - table[k]) * f
+    }
+
+    /// The dark-time bound from t = 0 to `t` (s after the epoch).
+    fn at(&self, t: f64) -> f64 {
+        self.interpolate(&self.cumulative, t)
+    }
+
+    /// The time bound from t = 0 to `t` (s after the epoch).
+    fn any_at(&self, t: f64) -> f64 {
+        self.interpolate(&self.any, t)
     }
 }
 
@@ -276,7 +310,14 @@ impl<'a> TempestDomain<'a> {
             landmark: RefCell::new(Landmark::new(start.cell)),
             anchor: start.cell,
             drive_source_w: model.drive_source_bound_w(world),
-            dark: DarkCost::new(world, model, objective, e_max),
+            dark: DarkCost::new(
+                world,
+                model,
+                objective,
+                e_max,
+                drive_units.iter().copied().fold(f64::INFINITY, f64::min),
+                model.drive_source_bound_w(world),
+            ),
             keyed_t_max: std::cell::Cell::new(start.t_max),
         }
     }
@@ -329,6 +370,11 @@ impl<'a> TempestDomain<'a> {
     /// The dark-time bound from the start window's close to `t` (see [`DarkCost`]).
     fn dark_bound(&self, t: f64) -> f64 {
         self.dark.as_ref().map_or(0.0, |d| (d.at(t) - d.at(self.start.t_max)).max(0.0))
+    }
+
+    /// The time bound from the start window's close to `t` (see [`DarkCost`]).
+    fn time_bound(&self, t: f64) -> f64 {
+        self.dark.as_ref().map_or(0.0, |d| (d.any_at(t) - d.any_at(self.start.t_max)).max(0.0))
     }
 
     /// The rover is now at `start` (plan extension): it becomes the start, and the
@@ -647,7 +693,7 @@ impl Domain for TempestDomain<'_> {
         // of the deep night between the start and the label, which only stays pay.
         let octile = self.octile_bound(state);
         let drives = self.landmark_bound(state).map_or(octile, |l| octile.max(l));
-        drives + self.dark_bound(label.t)
+        (drives + self.dark_bound(label.t)).max(self.time_bound(label.t))
     }
 
     fn heuristic_drop(&self, previous: u32) -> Option<f64> {
@@ -658,17 +704,19 @@ impl Domain for TempestDomain<'_> {
         let octile = self.octile_bound(previous);
         // The dark-time bound counts from the start window's close: it falls as that
         // moves later.
-        let dark = self.dark.as_ref().map_or(0.0, |d| {
-            let keyed = self.keyed_t_max.replace(self.start.t_max);
-            (d.at(self.start.t_max) - d.at(keyed)).max(0.0)
+        let keyed = self.keyed_t_max.replace(self.start.t_max);
+        let (dark, time) = self.dark.as_ref().map_or((0.0, 0.0), |d| {
+            ((d.at(self.start.t_max) - d.at(keyed)).max(0.0), (d.any_at(self.start.t_max) - d.any_at(keyed)).max(0.0))
         });
         let mut landmark = self.landmark.borrow_mut();
         let edges = |c: u32, out: Edges<'_>| self.floor_edges(c, out);
         let (before, now) = (landmark.distance(previous, edges), landmark.distance(self.start.cell, edges));
+        // The heuristic is max(drives + dark, time): it falls by at most the larger of
+        // the two falls.
         match (before, now) {
-            (Some(b), Some(n)) => Some(octile.max(n - b) + dark),
+            (Some(b), Some(n)) => Some((octile.max(n - b) + dark).max(time)),
             (Some(_), None) => None,
-            (None, _) => Some(octile + dark),
+            (None, _) => Some((octile + dark).max(time)),
         }
     }
 

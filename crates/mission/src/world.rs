@@ -395,7 +395,11 @@ impl World {
                 copy(&self.normal[i][k], &truth.normal[i][k], &mut differs);
             }
             if let (Some(believed), Some(truth_profile)) = (self.horizon_profile(i), truth.horizon_profile(i)) {
-                if believed != truth_profile {
+                // A horizon that differs only where neither the Sun nor the Earth ever
+                // stands near it changes no answer of `lit` or `earth_visible`, so no
+                // step's cost: the cell is not reported (its repair would reopen every
+                // time class there for nothing).
+                if believed != truth_profile && self.horizon_change_is_seen(&believed, &truth_profile) {
                     differs = true;
                 }
                 let mut table = self.sensed_horizon.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
@@ -407,6 +411,49 @@ impl World {
             }
         }
         Ok(changed)
+    }
+
+    /// Whether replacing a cell's horizon profile `old` by `new` can change whether the
+    /// Sun lights it or the Earth is in view from it at some instant of the span. The
+    /// Sun and the Earth move linearly in azimuth (the shorter way) and elevation
+    /// between table samples ([`World::sun`], [`World::earth`]), and the profile is
+    /// interpolated linearly between sectors, so over one table interval the floor
+    /// stays within the values of the sectors the azimuth sweeps and their next ones:
+    /// if the body stands above both profiles there, or at or below both, nothing can
+    /// differ. Conservative: `true` whenever that cannot be shown.
+    fn horizon_change_is_seen(&self, old: &[f32], new: &[f32]) -> bool {
+        let sectors = old.len();
+        if sectors == 0 || new.len() != sectors {
+            return old != new;
+        }
+        let width = 360.0 / sectors as f64;
+        let seen = |(a_az, a_el): (f64, f64), (b_az, b_el): (f64, f64)| {
+            let (el_lo, el_hi) = (a_el.min(b_el), a_el.max(b_el));
+            if el_hi <= 0.0 {
+                return false; // below the horizontal: unseen under both floors (≥ 0)
+            }
+            let daz = (b_az - a_az + 180.0).rem_euclid(360.0) - 180.0;
+            let from = a_az.min(a_az + daz);
+            let first = (from / width).floor() as i64;
+            let last = ((from + daz.abs()) / width).floor() as i64 + 1;
+            let (mut lo, mut hi, mut same) = (f64::INFINITY, 0.0f64, true);
+            for s in first..=last {
+                let k = s.rem_euclid(sectors as i64) as usize;
+                let (o, n) = (f64::from(old[k]).max(0.0), f64::from(new[k]).max(0.0));
+                same &= o == n;
+                lo = lo.min(o.min(n));
+                hi = hi.max(o.max(n));
+            }
+            !(same || el_lo > hi || el_hi <= lo)
+        };
+        let sun = self
+            .sun
+            .windows(2)
+            .any(|w| seen((w[0].azimuth_deg, w[0].elevation_deg), (w[1].azimuth_deg, w[1].elevation_deg)));
+        sun || self
+            .earth
+            .windows(2)
+            .any(|w| seen((w[0].azimuth_deg, w[0].elevation_deg), (w[1].azimuth_deg, w[1].elevation_deg)))
     }
 
     /// The Sun at time `t` (s after the epoch), interpolated; clamped to the table.

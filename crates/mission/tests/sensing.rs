@@ -313,3 +313,50 @@ fn replans_with_coarse_time_classes_and_exact_energy_equal_fresh_plans() {
     let steps = walk_with_coarse_classes(None);
     assert!(steps > 20, "{steps}");
 }
+
+#[test]
+fn a_horizon_change_neither_sun_nor_earth_can_see_is_not_reported_and_changes_no_light() {
+    // One tall hill in the middle of the truth changes the horizon of most cells; for
+    // many the change lies where the Sun never stands near the horizon. Those cells are
+    // not reported (a repair there would reopen every time class for nothing) — and
+    // then their light must be the same as on the truth at every instant, between the
+    // Sun table's samples too.
+    let cone = |height: f64| {
+        areo_terrain::Dem::from_fn(26, 18, 20.0, 20.0, move |x, y| {
+            let base = 3.0 * (x / 37.0).sin() + 2.0 * (y / 23.0).cos() + 0.02 * x;
+            base + height * (1.0 - (x - 260.0).hypot(y - 180.0) / 70.0).max(0.0)
+        })
+        .unwrap()
+    };
+    let before = mars_world(cone(0.0), 14.0, Some(16));
+    let sensed = mars_world(cone(0.0), 14.0, Some(16));
+    let truth = mars_world(cone(45.0), 14.0, Some(16));
+    let cells: Vec<u32> = (0..before.cells() as u32).collect();
+    let changed = sensed.sense(&truth, &cells).unwrap();
+    let mut unreported_but_different = 0;
+    for &c in &cells {
+        if changed.contains(&c) {
+            continue;
+        }
+        let floors_differ = (0..64)
+            .any(|k| before.horizon_floor_deg(c, k as f64 * 5.625) != truth.horizon_floor_deg(c, k as f64 * 5.625));
+        unreported_but_different += usize::from(floors_differ);
+        for t in (0..=14 * 3600 / 37).map(|k| f64::from(k) * 37.0) {
+            let sun = truth.sun(t);
+            assert_eq!(before.lit(c, &sun), truth.lit(c, &sun), "cell {c} at {t} s");
+            assert_eq!(sensed.lit(c, &sun), truth.lit(c, &sun), "cell {c} at {t} s");
+        }
+    }
+    // The filter had work to do, and left work for the search.
+    assert!(unreported_but_different > 20, "{unreported_but_different} cells");
+    assert!(changed.len() > 20, "{} cells reported", changed.len());
+    // A reported cell whose terrain did not change was reported for its light.
+    let lit_changed = changed.iter().any(|&c| {
+        before.elevation(c) == truth.elevation(c)
+            && (0..=14 * 3600 / 37).any(|k| {
+                let sun = truth.sun(f64::from(k) * 37.0);
+                before.lit(c, &sun) != truth.lit(c, &sun)
+            })
+    });
+    assert!(lit_changed);
+}
