@@ -737,19 +737,20 @@ impl ActionModel {
         self.quantise_time(run / slowest / self.max_slope_deg.to_radians().cos().max(0.05)) + 1.0
     }
 
-    /// A lower bound on the cost per second (Wh/s) of any action, in the Energy
-    /// objective (its energy plus `e_max` per unit of L), that lies wholly within a
-    /// time when the array can give at most `solar_w` W: a charge (its load against the
-    /// generator and `solar_w`), a hibernation (the generator alone) or a drive (at
-    /// least `drive_units` of L and the high electronics load, against the smaller of
-    /// `drive_source_w` and the generator plus `solar_w`, at most the longest drive's
-    /// duration). Energies round to the quantum: half of one is allowed for.
+    /// A lower bound on the cost per second (Wh/s), in the Energy objective (energy
+    /// plus `e_max` per unit of L), of any action overlapping an instant: a charge (its
+    /// load against the generator and `charge_solar_w`, the most the array can give
+    /// within a charge's duration of the instant), a hibernation (the generator alone)
+    /// or a drive (at least `drive_units` of L and the high electronics load, against
+    /// the smaller of `drive_source_w` and the generator plus `drive_solar_w`, the most
+    /// within the longest drive's duration; at most that duration). Energies round to
+    /// the quantum: half of one is allowed for.
     pub(crate) fn cost_rate_floor(
         &self,
         world: &World,
         e_max: f64,
         drive_units: f64,
-        solar_w: f64,
+        (charge_solar_w, drive_solar_w): (f64, f64),
         drive_source_w: f64,
     ) -> f64 {
         let half_quantum = self.config.energy_quantum_wh.max(0.0) / 2.0;
@@ -759,11 +760,12 @@ impl ActionModel {
             // (A relative hair below, for rounding in the sums the plan makes.)
             (e_max + e - 1e-9 * e.abs() - half_quantum).max(0.0) / d
         };
-        let charge = stay(Action::Charge, self.rover.nuclear_w + solar_w, self.config.charge_load.load());
+        let charge = stay(Action::Charge, self.rover.nuclear_w + charge_solar_w, self.config.charge_load.load());
         let hibernate = stay(Action::Hibernate, self.rover.nuclear_w, Load::Low);
         // Per second a drive costs (E_max·units − ½q)/d plus its net load's energy rate:
         // least at the longest d.
-        let net_w = self.rover.electronics.power_w(Load::High) - drive_source_w.min(self.rover.nuclear_w + solar_w);
+        let net_w =
+            self.rover.electronics.power_w(Load::High) - drive_source_w.min(self.rover.nuclear_w + drive_solar_w);
         let per_hour = self.battery_wh(net_w, 3600.0);
         let drive = (e_max * drive_units - half_quantum).max(0.0) / self.longest_drive_s(world)
             + (per_hour - 1e-9 * per_hour.abs()) / 3600.0;

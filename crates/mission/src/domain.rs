@@ -218,6 +218,8 @@ impl DarkCost {
         let dark_rate = if dark_rate.is_finite() { dark_rate.max(0.0) } else { 0.0 };
         let longest = stays.iter().map(|&a| model.stay_duration_s(a)).fold(model.longest_drive_s(world), f64::max);
         let reach = (longest / step_s).ceil() as usize + 1;
+        let charge_reach = (model.stay_duration_s(Action::Charge) / step_s).ceil() as usize + 1;
+        let drive_reach = (model.longest_drive_s(world) / step_s).ceil() as usize + 1;
         let dark: Vec<bool> = table.iter().map(|s| s.elevation_deg <= 0.0).collect();
         let mut cumulative = Vec::with_capacity(table.len());
         let mut any = Vec::with_capacity(table.len());
@@ -231,7 +233,13 @@ impl DarkCost {
             let (lo, hi) = (k.saturating_sub(reach), (k + 1 + reach).min(table.len() - 1));
             let deep = dark[lo..=hi].iter().all(|&d| d);
             cumulative.push(cumulative[k] + if deep { dark_rate * step_s } else { 0.0 });
-            let solar_w = table[lo..=hi].iter().map(|s| model.solar_peak_w(s.beam_w_m2)).fold(0.0, f64::max);
+            // Each kind of action is bounded over its own duration around the interval:
+            // a charge's half hour sees less of a rising Sun than a two-hour window.
+            let solar_within = |reach: usize| {
+                let (lo, hi) = (k.saturating_sub(reach), (k + 1 + reach).min(table.len() - 1));
+                table[lo..=hi].iter().map(|s| model.solar_peak_w(s.beam_w_m2)).fold(0.0, f64::max)
+            };
+            let solar_w = (solar_within(charge_reach), solar_within(drive_reach));
             let rate = model.cost_rate_floor(world, e_max, drive_units, solar_w, drive_source_w);
             any.push(any[k] + rate * step_s);
         }
