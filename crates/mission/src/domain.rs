@@ -698,7 +698,9 @@ impl Domain for TempestDomain<'_> {
         // The larger of two bounds that each obey the triangle inequality over the
         // drives: the octile floors (terrain-blind) and the landmark (which knows walls
         // and slopes, but loosens behind its anchor) — both on drives — plus the cost
-        // of the deep night between the start and the label, which only stays pay.
+        // of the deep night between the start and the label, which only stays pay; or
+        // the time bound (what any actions filling the time since the start cost at
+        // least), where that is larger.
         let octile = self.octile_bound(state);
         let drives = self.landmark_bound(state).map_or(octile, |l| octile.max(l));
         (drives + self.dark_bound(label.t)).max(self.time_bound(label.t))
