@@ -23,7 +23,13 @@ type Page<K> = Option<Box<[Heads<K>]>>;
 
 pub(crate) enum GroupTable<D: Domain> {
     Undecided,
-    Paged(Vec<Page<D::Key>>),
+    /// `held`: the heads' capacities summed, and the pages allocated (kept as they
+    /// change, so that reporting memory does not walk every page).
+    Paged {
+        pages: Vec<Page<D::Key>>,
+        held: usize,
+        allocated: usize,
+    },
     Hashed(FxHashMap<(D::State, D::Key), u32>),
 }
 
@@ -36,7 +42,7 @@ impl<D: Domain> GroupTable<D> {
     #[inline]
     pub(crate) fn get(&self, domain: &D, state: D::State, group: D::Key) -> u32 {
         match self {
-            GroupTable::Paged(pages) => {
+            GroupTable::Paged { pages, .. } => {
                 let Some(i) = domain.dense_index(state) else { return NONE };
                 let i = i as usize;
                 let Some(Some(page)) = pages.get(i / PAGE) else { return NONE };
@@ -52,19 +58,23 @@ impl<D: Domain> GroupTable<D> {
     pub(crate) fn set(&mut self, domain: &D, state: D::State, group: D::Key, id: u32) {
         if let GroupTable::Undecided = self {
             *self = if domain.dense_index(state).is_some() {
-                GroupTable::Paged(Vec::new())
+                GroupTable::Paged { pages: Vec::new(), held: 0, allocated: 0 }
             } else {
                 GroupTable::Hashed(FxHashMap::default())
             };
         }
         match self {
-            GroupTable::Paged(pages) => {
+            GroupTable::Paged { pages, held, allocated } => {
                 let Some(i) = domain.dense_index(state) else { return };
                 let (page, slot) = (i as usize / PAGE, i as usize % PAGE);
                 if pages.len() <= page {
                     pages.resize_with(page + 1, || None);
                 }
-                let heads = &mut pages[page].get_or_insert_with(|| (0..PAGE).map(|_| Vec::new()).collect())[slot];
+                let heads = &mut pages[page].get_or_insert_with(|| {
+                    *allocated += 1;
+                    (0..PAGE).map(|_| Vec::new()).collect()
+                })[slot];
+                let before = heads.capacity();
                 match heads.binary_search_by(|(g, _)| g.cmp(&group)) {
                     Ok(k) if id == NONE => {
                         heads.remove(k);
@@ -79,6 +89,7 @@ impl<D: Domain> GroupTable<D> {
                         heads.insert(k, (group, id));
                     }
                 }
+                *held = *held + heads.capacity() - before;
             }
             GroupTable::Hashed(map) => {
                 if id == NONE {
@@ -99,17 +110,9 @@ impl<D: Domain> GroupTable<D> {
     pub(crate) fn bytes(&self) -> u64 {
         match self {
             GroupTable::Undecided => 0,
-            GroupTable::Paged(pages) => {
+            GroupTable::Paged { pages, held, allocated } => {
                 let entry = std::mem::size_of::<(D::Key, u32)>();
-                let held: usize = pages
-                    .iter()
-                    .flatten()
-                    .map(|page| {
-                        page.iter().map(|h| h.capacity() * entry).sum::<usize>()
-                            + PAGE * std::mem::size_of::<Heads<D::Key>>()
-                    })
-                    .sum();
-                (held + pages.capacity() * 8) as u64
+                (held * entry + allocated * PAGE * std::mem::size_of::<Heads<D::Key>>() + pages.capacity() * 8) as u64
             }
             GroupTable::Hashed(map) => (map.capacity() * (std::mem::size_of::<((D::State, D::Key), u32)>() + 1)) as u64,
         }
@@ -178,6 +181,12 @@ mod tests {
                 assert_eq!(table.get(&domain, state, group), id);
             }
             assert!(table.bytes() > 0);
+            if let GroupTable::Paged { pages, held, allocated } = &table {
+                // The kept counts equal a walk over the pages.
+                let walked: usize = pages.iter().flatten().map(|p| p.iter().map(Vec::capacity).sum::<usize>()).sum();
+                assert_eq!(*held, walked);
+                assert_eq!(*allocated, pages.iter().flatten().count());
+            }
             table.clear();
             assert_eq!(table.get(&domain, 7, 0), NONE);
         }
