@@ -108,6 +108,12 @@ pub struct MissionPlan {
     /// given classes means it found nothing with them and fell back to exact E.
     #[serde(default)]
     pub energy_classes_wh: Option<f64>,
+    /// The time class width the plan was searched with, s. Narrower than the scenario's
+    /// `resolution.time_s` when the planner found nothing at that width and searched
+    /// again at the actions' time quantum (exact at the quanta) before calling the goal
+    /// unreachable.
+    #[serde(default)]
+    pub time_classes_s: f64,
 }
 
 impl MissionPlan {

@@ -168,6 +168,14 @@ pub struct Mission<'a> {
     segments: Vec<Segment<'a>>,
     /// The drive geometries, shared by every segment's domain.
     geometry: SharedGeometry,
+    /// Intermediate goals keep a staircase of candidates per start interval (see
+    /// `solve_from`): set for the last-resort search at the quanta.
+    last_resort: bool,
+    /// The start window's close as given, before widening, s.
+    given_t_max: f64,
+    /// The time class width the start window was widened for, s (the configured one:
+    /// the last resort keeps it).
+    widened_for_s: f64,
 }
 
 fn goal_list(goals: &[(Label, f64)], cell: u32) -> Vec<Goal<TempestDomain<'static>>> {
@@ -236,44 +244,92 @@ impl<'a> Mission<'a> {
                 });
             }
         }
-        let mut mission = Mission {
-            world,
-            model,
-            config,
-            start,
-            goals: goals.to_vec(),
-            segments: Vec::new(),
-            geometry: SharedGeometry::default(),
-        };
-        mission.widen_start();
-        mission.build_segments();
-        mission.solve_from(Some(mission.segments.len() - 1), &[], false);
-        if let Some(plan) = mission.assemble()? {
-            return Ok((mission, plan));
+        // Each try searches the same problem — the same start window (widened once, by
+        // the configured settings), goal instants and start intervals — at finer classes
+        // than the last, so a coarser setting that finds a plan is never needed for a
+        // finer one to find it too (see `finer_classes`).
+        let geometry = SharedGeometry::default();
+        let (mut config, mut start, mut last_resort) = (config, start, false);
+        let (given_t_max, widened_for_s) = (start.t_max, config.resolution.time_s);
+        loop {
+            let mut mission = Mission {
+                world,
+                model,
+                config: config.clone(),
+                start,
+                goals: goals.to_vec(),
+                segments: Vec::new(),
+                geometry: Rc::clone(&geometry),
+                last_resort,
+                given_t_max,
+                widened_for_s,
+            };
+            mission.widen_start();
+            mission.build_segments();
+            mission.solve_from(Some(mission.segments.len() - 1), &[], false);
+            if let Some(plan) = mission.assemble()? {
+                return Ok((mission, plan));
+            }
+            start = mission.start;
+            match mission.finer_classes() {
+                Some((finer, resort)) => {
+                    if resort {
+                        // As wide as a coarser setting's could be (see `widen_start`):
+                        // one Hibernate, or two of these time classes.
+                        let width = model.stay_duration_s(Action::Hibernate).max(2.0 * config.resolution.time_s);
+                        start.t_max = start.t_max.max(start.t_min + width);
+                    }
+                    (config, last_resort) = (finer, resort);
+                }
+                None => return Err(mission.explain_unreachable()),
+            }
         }
-        if mission.config.resolution.energy_wh.is_some() {
-            // Energy classes can drop the one label a tight battery needs: search again
-            // with E exact before calling the goal unreachable. The plan then reports
-            // no energy classes.
-            let mut exact = mission.config.clone();
-            exact.resolution.energy_wh = None;
-            return Mission::plan(world, model, exact, start, goals);
-        }
-        Err(mission.explain_unreachable())
     }
 
-    /// The goal instants at the last goal: even instants over its window (on the time
-    /// quantum's grid when actions are quantised, so that quantised paths can meet
-    /// them).
-    pub fn final_goal_times(&self) -> Vec<f64> {
-        let windows = self.windows();
-        let (lo, hi) = windows[windows.len() - 1];
-        let m = self.config.goal_times;
+    /// The next, finer settings to search this problem at when its own found no plan,
+    /// and whether they are the last resort: energy exact first (energy classes can
+    /// drop the one label a tight battery needs); then, for quantised actions, a search
+    /// exact at the quanta that holds every plan a coarser setting could find — time
+    /// classes of one quantum (one instant each), the goal instants of every smaller
+    /// `goal_times` (`final_goal_times`), the start window of the widest spacing (see
+    /// `Mission::plan`), and at each intermediate goal one start interval per quantum,
+    /// each keeping its staircase of ways on (cost against the battery they need).
+    /// `None` after that, or when actions are not quantised (or on a quantum under the
+    /// 1 s a class can be). A plan found this way reports the classes it was searched
+    /// with ([`MissionPlan::energy_classes_wh`], [`MissionPlan::time_classes_s`]).
+    fn finer_classes(&self) -> Option<(PlannerConfig, bool)> {
+        let mut finer = self.config.clone();
+        if finer.resolution.energy_wh.is_some() {
+            finer.resolution.energy_wh = None;
+            return Some((finer, false));
+        }
         let q = self.model.config().time_quantum_s;
-        let mut times: Vec<f64> = (0..m)
-            .map(|j| if m == 1 { hi } else { lo + (hi - lo) * j as f64 / (m - 1) as f64 })
-            .map(|t| if q > 0.0 { (t / q).round() * q } else { t })
-            .collect();
+        if q < 1.0 || self.last_resort {
+            return None;
+        }
+        finer.resolution.time_s = finer.resolution.time_s.min(q);
+        Some((finer, true))
+    }
+
+    /// The goal instants at the last goal: `goal_times` even instants over its window
+    /// (on the time quantum's grid when actions are quantised, so that quantised paths
+    /// can meet them). Even sets are not nested — 4 and 8 instants share only the ends
+    /// — so the last-resort search takes the instants of every `goal_times` up to this
+    /// one: more instants then never take away an arrival time a coarser setting's plan
+    /// used. Sorted.
+    pub fn final_goal_times(&self) -> Vec<f64> {
+        let q = self.model.config().time_quantum_s;
+        let (lo, hi) = *self.windows().last().expect("at least one goal");
+        let even = |n: usize| (0..n).map(move |j| if n == 1 { hi } else { lo + (hi - lo) * j as f64 / (n - 1) as f64 });
+        let m = self.config.goal_times;
+        let counts = if self.last_resort { 1..=m } else { m..=m };
+        let mut times: Vec<f64> = counts.flat_map(even).collect();
+        for t in &mut times {
+            if q > 0.0 {
+                *t = (*t / q).round() * q;
+            }
+        }
+        times.sort_by(f64::total_cmp);
         times.dedup();
         times
     }
@@ -292,28 +348,32 @@ impl<'a> Mission<'a> {
     /// narrower than the gaps a path can bridge could miss every goal instant, so it is
     /// widened. Waits come in whole Hibernate periods, so a window as long as one
     /// Hibernate (or as the spacing of the goal instants, if shorter), and no narrower
-    /// than a time class, lets some number of waits meet an instant; the rover idles from the window's opening to the
-    /// plan's start, and that idle's energy is counted (see `TempestDomain::is_start`).
+    /// than two time classes, lets some number of waits meet an instant; the rover
+    /// idles from the window's opening to the plan's start, and that idle's energy is
+    /// counted (see `TempestDomain::is_start`). The last-resort search starts from a
+    /// window as wide as any setting with time classes of at most half a Hibernate
+    /// gives (see `Mission::plan`).
     fn widen_start(&mut self) {
-        let windows = self.windows();
-        let (lo, hi) = windows[windows.len() - 1];
+        let (lo, hi) = *self.windows().last().expect("at least one goal");
         let m = self.config.goal_times.max(2) - 1;
         // Resolution pruning keeps one label per time class, so starts can shift by up
         // to one class width: the window is at least that wide too.
-        let spacing = ((hi - lo) / m as f64)
-            .min(self.model.stay_duration_s(Action::Hibernate))
-            .max(2.0 * self.config.resolution.time_s);
-        if self.start.t_max - self.start.t_min < spacing {
-            self.start.t_max = self.start.t_min + spacing;
+        let width =
+            ((hi - lo) / m as f64).min(self.model.stay_duration_s(Action::Hibernate)).max(2.0 * self.widened_for_s);
+        if self.start.t_max - self.start.t_min < width {
+            self.start.t_max = self.start.t_min + width;
         }
     }
 
     /// The best- and worst-case arrival windows at each goal.
+    ///
+    /// From the start window as given, not as widened: the widening depends on the
+    /// settings, and the goal instants, spread over these windows, must not.
     fn windows(&self) -> Vec<(f64, f64)> {
         let top = self.model.top_speed_m_s();
         let slow = top / 3.0;
         let mut out = Vec::new();
-        let (mut best, mut worst) = (self.start.t_min, self.start.t_max);
+        let (mut best, mut worst) = (self.start.t_min, self.given_t_max);
         let max_wait_s = self.config.max_wait_s.unwrap_or_else(|| self.world.body().solar_day_s().round());
         let mut at = self.start.cell;
         for (i, &g) in self.goals.iter().enumerate() {
@@ -344,7 +404,13 @@ impl<'a> Mission<'a> {
                 (self.start, vec![(self.start.t_min, self.start.t_max)])
             } else {
                 let (lo, hi) = windows[k - 1];
-                let m = self.config.segment_starts;
+                let q = self.model.config().time_quantum_s;
+                // The last resort: one interval per quantum (at most one instant each).
+                let m = if self.last_resort {
+                    ((hi - lo) / q).ceil().clamp(1.0, 10_000.0) as usize
+                } else {
+                    self.config.segment_starts
+                };
                 // Half-open intervals (the last one closed), so no instant is in two.
                 let iv: Vec<(f64, f64)> = (0..m)
                     .map(|j| {
@@ -426,18 +492,39 @@ impl<'a> Mission<'a> {
             }
             let seg = &mut self.segments[k];
             seg.candidates.clear();
+            let full = seg.domain.start.energy_wh;
+            // Energy classes already merge labels this close in energy.
+            let energy_step = self.config.resolution.energy_wh.unwrap_or(0.0).max(1e-6);
             for (j, &(t_min, t_max)) in seg.intervals.clone().iter().enumerate() {
                 seg.domain.start.t_min = t_min;
                 seg.domain.start.t_max = t_max;
+                seg.domain.start.energy_wh = full;
                 if j > 0 || k > 0 || start_moved {
                     seg.search.start_moved(&seg.domain);
                 }
-                let plan = seg.search.plan(&seg.domain);
-                add_stats(&mut seg.stats, &plan.stats);
-                if let Some(path) = plan.path {
-                    seg.candidates.push(Candidate { start: path[0].label, cost: plan.cost, path: own_path(path) });
+                loop {
+                    let plan = seg.search.plan(&seg.domain);
+                    add_stats(&mut seg.stats, &plan.stats);
+                    let Some(path) = plan.path else { break };
+                    let start = path[0].label;
+                    seg.candidates.push(Candidate { start, cost: plan.cost, path: own_path(path) });
+                    // An intermediate goal's arrival battery is not known here: the
+                    // cheapest way on may need more than the segment before can bring.
+                    // An exact chain keeps the cheapest way on for each battery it
+                    // could arrive with — the staircase of (cost, energy) — by asking
+                    // again with a start that holds less than the last way needed.
+                    // (One search per step: only the last-resort search does this.)
+                    if k == 0 || !self.last_resort {
+                        break;
+                    }
+                    seg.domain.start.energy_wh = start.e - energy_step;
+                    if seg.domain.start.energy_wh < 0.0 {
+                        break;
+                    }
+                    seg.search.start_moved(&seg.domain);
                 }
             }
+            seg.domain.start.energy_wh = full;
         }
     }
 
@@ -517,6 +604,7 @@ impl<'a> Mission<'a> {
             expansions,
             segments: self.segments.len(),
             energy_classes_wh: self.config.resolution.energy_wh,
+            time_classes_s: self.config.resolution.time_s,
         })
     }
 
@@ -558,6 +646,9 @@ impl<'a> Mission<'a> {
                 segments: Vec::new(),
                 // Another action model: its own drive geometries.
                 geometry: SharedGeometry::default(),
+                last_resort: self.last_resort,
+                given_t_max: self.given_t_max,
+                widened_for_s: self.widened_for_s,
             };
             probe.build_segments();
             probe.solve_from(Some(probe.segments.len() - 1), &[], false);
@@ -585,6 +676,7 @@ impl<'a> Mission<'a> {
     /// again are the first and those up to the latest one the change touched.
     pub fn advance(&mut self, start: Start, changed: &[u32]) -> Result<MissionPlan> {
         self.start = start;
+        self.given_t_max = start.t_max;
         self.widen_start();
         let start = self.start;
         let seg = &mut self.segments[0];
@@ -626,6 +718,9 @@ impl<'a> Mission<'a> {
             goals: self.goals.clone(),
             segments,
             geometry: Rc::clone(&self.geometry),
+            last_resort: self.last_resort,
+            given_t_max: self.given_t_max,
+            widened_for_s: self.widened_for_s,
         };
         fresh.solve_from(Some(n - 1), &[], n > 0);
         fresh.assemble()

@@ -541,6 +541,15 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
             ),
         }
     ));
+    // The last resort for quantised actions: a search exact at the quanta.
+    let at_quanta = plan.time_classes_s < resolution.time_s;
+    o.flag("initial_plan_quanta_fallback", at_quanta);
+    if at_quanta {
+        o.summary.push(format!(
+            "no plan at these classes, so the planner searched again exact at the actions' quanta (fallback:              time classes of {:.0} s, energy exact, every goal instant a coarser goal_times would use)",
+            plan.time_classes_s
+        ));
+    }
 }
 
 /// Facts of a plan off Mars: driving in shadow, Earth contact, the Sun's sweep, the
