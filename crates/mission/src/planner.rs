@@ -168,8 +168,9 @@ pub struct Mission<'a> {
     segments: Vec<Segment<'a>>,
     /// The drive geometries, shared by every segment's domain.
     geometry: SharedGeometry,
-    /// Intermediate goals keep a staircase of candidates per start interval (see
-    /// `solve_from`): set for the last-resort search at the quanta.
+    /// The last-resort search at the quanta (see [`Mission::finer_classes`]): the goal
+    /// instants of every smaller `goal_times`, one start interval per quantum at each
+    /// intermediate goal, and a staircase of candidates in each (see `solve_from`).
     last_resort: bool,
     /// The start window's close as given, before widening, s.
     given_t_max: f64,
@@ -244,10 +245,9 @@ impl<'a> Mission<'a> {
                 });
             }
         }
-        // Each try searches the same problem — the same start window (widened once, by
-        // the configured settings), goal instants and start intervals — at finer classes
-        // than the last, so a coarser setting that finds a plan is never needed for a
-        // finer one to find it too (see `finer_classes`).
+        // Each try searches the same problem — the same goal windows, and a start window
+        // never narrower than the last try's — at finer classes than the last, so that
+        // what a coarser setting finds a finer one finds too (see `finer_classes`).
         let geometry = SharedGeometry::default();
         let (mut config, mut start, mut last_resort) = (config, start, false);
         let (given_t_max, widened_for_s) = (start.t_max, config.resolution.time_s);
@@ -291,8 +291,8 @@ impl<'a> Mission<'a> {
     /// drop the one label a tight battery needs); then, for quantised actions, a search
     /// exact at the quanta that holds every plan a coarser setting could find — time
     /// classes of one quantum (one instant each), the goal instants of every smaller
-    /// `goal_times` (`final_goal_times`), the start window of the widest spacing (see
-    /// `Mission::plan`), and at each intermediate goal one start interval per quantum,
+    /// `goal_times` (`final_goal_times`), the widest start window a coarser setting
+    /// could have had (see `Mission::plan`), and at each intermediate goal one start interval per quantum,
     /// each keeping its staircase of ways on (cost against the battery they need).
     /// `None` after that, or when actions are not quantised (or on a quantum under the
     /// 1 s a class can be). A plan found this way reports the classes it was searched
@@ -493,8 +493,6 @@ impl<'a> Mission<'a> {
             let seg = &mut self.segments[k];
             seg.candidates.clear();
             let full = seg.domain.start.energy_wh;
-            // Energy classes already merge labels this close in energy.
-            let energy_step = self.config.resolution.energy_wh.unwrap_or(0.0).max(1e-6);
             for (j, &(t_min, t_max)) in seg.intervals.clone().iter().enumerate() {
                 seg.domain.start.t_min = t_min;
                 seg.domain.start.t_max = t_max;
@@ -517,7 +515,8 @@ impl<'a> Mission<'a> {
                     if k == 0 || !self.last_resort {
                         break;
                     }
-                    seg.domain.start.energy_wh = start.e - energy_step;
+                    // The last resort has energy exact: any less than the last way needed.
+                    seg.domain.start.energy_wh = start.e - 1e-6;
                     if seg.domain.start.energy_wh < 0.0 {
                         break;
                     }
