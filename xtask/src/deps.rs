@@ -9,15 +9,19 @@ use std::process::Command;
 /// The binary (`areo`) reaches the libraries only through areo-scenario, so it
 /// computes nothing of its own; xtask never links the binary.
 const ALLOWED: &[(&str, &[&str])] = &[
-    ("areo-terrain", &[]),
-    ("areo-ephemeris", &[]),
+    ("areo-body", &[]),
+    ("areo-terrain", &["areo-body"]),
+    ("areo-ephemeris", &["areo-body"]),
     ("areo-ise", &[]),
-    ("areo-rover", &["areo-terrain"]),
-    ("areo-actions", &["areo-rover", "areo-terrain"]),
-    ("areo-mission", &["areo-ise", "areo-terrain", "areo-ephemeris", "areo-rover"]),
-    ("areo-scenario", &["areo-ise", "areo-terrain", "areo-ephemeris", "areo-rover", "areo-actions", "areo-mission"]),
+    ("areo-rover", &["areo-terrain", "areo-body"]),
+    ("areo-actions", &["areo-rover", "areo-terrain", "areo-body"]),
+    ("areo-mission", &["areo-ise", "areo-terrain", "areo-ephemeris", "areo-rover", "areo-body"]),
+    (
+        "areo-scenario",
+        &["areo-ise", "areo-terrain", "areo-ephemeris", "areo-rover", "areo-actions", "areo-mission", "areo-body"],
+    ),
     ("areo", &["areo-scenario"]),
-    ("xtask", &["areo-scenario", "areo-terrain", "areo-ephemeris", "areo-rover", "areo-mission"]),
+    ("xtask", &["areo-scenario", "areo-terrain", "areo-ephemeris", "areo-rover", "areo-mission", "areo-body"]),
 ];
 
 /// The command-line stack: flag parsing, progress bars, log output. Only the binary
@@ -100,6 +104,38 @@ pub(crate) fn printing_in_libraries(root: &Path) -> Result<Vec<String>, String> 
     Ok(found)
 }
 
+/// The bodies' constants are written only in areo-body: every line of another crate's
+/// sources (before its unit tests) that spells a body's radius or WGS84's flattening, as
+/// `path:line`.
+pub(crate) fn body_constants_outside_areo_body(root: &Path) -> Result<Vec<String>, String> {
+    const CONSTANTS: &[&str] =
+        &["3_396_190", "3_376_200", "3_396_000", "3_389_500", "1_737_400", "6_378_137", "6_371_008", "298.257"];
+    let mut found = Vec::new();
+    let mut stack: Vec<_> = [root.join("crates"), root.join("src")].into_iter().filter(|d| d.is_dir()).collect();
+    while let Some(dir) = stack.pop() {
+        let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        for entry in entries {
+            let path = entry.map_err(|e| format!("{}: {e}", dir.display()))?.path();
+            let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+            if path.is_dir() {
+                if !matches!(name, "tests" | "benches" | "examples" | "target" | "body") {
+                    stack.push(path);
+                }
+            } else if name.ends_with(".rs") {
+                let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+                for (i, line) in text.lines().enumerate().take_while(|(_, l)| l.trim() != "#[cfg(test)]") {
+                    let code = line.split("//").next().unwrap_or_default();
+                    if CONSTANTS.iter().any(|c| code.contains(c)) {
+                        found.push(format!("{}:{}", path.strip_prefix(root).unwrap_or(&path).display(), i + 1));
+                    }
+                }
+            }
+        }
+    }
+    found.sort();
+    Ok(found)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -108,6 +144,19 @@ mod tests {
     fn workspace_dependencies_point_down() {
         let v = check(&crate::project_root()).unwrap();
         assert!(v.is_empty(), "{v:#?}");
+    }
+
+    #[test]
+    fn body_constants_live_in_areo_body_alone() {
+        let found = body_constants_outside_areo_body(&crate::project_root()).unwrap();
+        assert!(found.is_empty(), "radii and flattening are areo-body's: {found:#?}");
+        // The scan sees one when it is there.
+        let dir = std::env::temp_dir().join(format!("areo-body-scan-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("crates/x/src")).unwrap();
+        std::fs::write(dir.join("crates/x/src/lib.rs"), "// 3_389_500 in a comment\nconst R: f64 = 1_737_400.0;\n")
+            .unwrap();
+        assert_eq!(body_constants_outside_areo_body(&dir).unwrap(), vec!["crates/x/src/lib.rs:2".to_string()]);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
@@ -133,7 +182,7 @@ mod tests {
         for (name, _) in ALLOWED {
             pkgs.push(serde_json::json!({"name": name, "dependencies": []}));
         }
-        pkgs[2]["dependencies"] = serde_json::json!([{"name": "areo-mission"}, {"name": "serde"}]);
+        pkgs[3]["dependencies"] = serde_json::json!([{"name": "areo-mission"}, {"name": "serde"}]);
         let v = violations(&meta).unwrap();
         assert_eq!(v, vec!["areo-ise must not depend on areo-mission (allowed: [])".to_string()]);
     }

@@ -31,6 +31,8 @@ fn main() -> ExitCode {
             .and_then(|mut violations| {
                 let prints = deps::printing_in_libraries(&project_root())?;
                 violations.extend(prints.into_iter().map(|at| format!("{at}: a library writes to stdout or stderr")));
+                let bodies = deps::body_constants_outside_areo_body(&project_root())?;
+                violations.extend(bodies.into_iter().map(|at| format!("{at}: a body constant outside areo-body")));
                 Ok(violations)
             })
             .map(|violations| {

@@ -121,7 +121,7 @@ pub fn earth_visible_intervals(site: &Site, mask: &HorizonMask, start: Epoch, en
             let t = epoch_from_jd_tt(jd);
             let (az, el) = match site.body() {
                 crate::Body::Mars => site.azimuth_elevation_deg(earth_from_mars(t).direction_body_fixed),
-                other => match other.earth(t) {
+                other => match crate::EarthFrom::earth(other, t) {
                     Some(e) => e.at_site(site),
                     None => return -1.0,
                 },

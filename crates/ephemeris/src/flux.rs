@@ -14,8 +14,6 @@
 
 /// Total solar irradiance at 1 AU, W/m² (Kopp & Lean 2011).
 pub const SOLAR_CONSTANT_W_M2: f64 = 1361.0;
-/// Mean Mars radius, m (IAU 2015).
-const MARS_MEAN_RADIUS_M: f64 = 3_389_500.0;
 /// Atmospheric scale height used for the air mass, m.
 const SCALE_HEIGHT_M: f64 = 11_100.0;
 
@@ -26,7 +24,7 @@ pub fn top_of_atmosphere_w_m2(distance_au: f64) -> f64 {
 
 /// Air mass of a homogeneous spherical shell atmosphere for a Sun at `elevation_deg`.
 pub fn air_mass(elevation_deg: f64) -> f64 {
-    shell_air_mass(elevation_deg, MARS_MEAN_RADIUS_M, SCALE_HEIGHT_M)
+    shell_air_mass(elevation_deg, crate::Body::Mars.mean_radius_m(), SCALE_HEIGHT_M)
 }
 
 /// How the atmosphere turns top-of-atmosphere flux into surface flux.
@@ -69,7 +67,7 @@ impl Atmosphere {
             crate::Body::Moon => Atmosphere::Airless,
             crate::Body::Earth => Atmosphere::Shell {
                 tau,
-                radius_m: crate::Body::Earth.mean_radius_m(),
+                radius_m: crate::Body::Earth.ellipsoid().mean_radius_m(),
                 scale_height_m: EARTH_SCALE_HEIGHT_M,
             },
         }
@@ -173,7 +171,7 @@ mod tests {
         // relative air mass at 10° elevation is 5.60, the shell's 5.6 ± 0.1.
         let earth = Atmosphere::for_body(crate::Body::Earth, 0.1);
         assert!((earth.beam_w_m2(90.0, 1.0) - 1361.0 * (-0.1f64).exp()).abs() < 1e-9);
-        let m10 = shell_air_mass(10.0, crate::Body::Earth.mean_radius_m(), EARTH_SCALE_HEIGHT_M);
+        let m10 = shell_air_mass(10.0, crate::Body::Earth.ellipsoid().mean_radius_m(), EARTH_SCALE_HEIGHT_M);
         assert!((m10 - 5.60).abs() < 0.1, "{m10}");
     }
 

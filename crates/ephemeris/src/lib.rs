@@ -19,8 +19,8 @@
 //! - [`earth`]: the direction from a Mars site to the Earth (Keplerian heliocentric
 //!   orbits of both planets, IAU Mars rotation, light time).
 //! - [`flux`]: top-of-atmosphere and surface solar flux, and panel power.
-//! - [`Body`]: Mars, the Moon or the Earth — shape, gravity, day length, and a
-//!   [`SunModel`] each: [`moon`] (Meeus's truncated ELP-2000/82 and solar theory, the IAU
+//! - [`Body`] (areo-body's, re-exported): Mars, the Moon or the Earth, with a
+//!   [`SunModel`] each and the Earth in their skies ([`EarthFrom`]): [`moon`] (Meeus's truncated ELP-2000/82 and solar theory, the IAU
 //!   lunar rotation; the Earth seen from the Moon; [`moon::SkyTable`], the same sky as
 //!   Chebyshev series a day at a time) and [`terrestrial`] (the Sun at a
 //!   WGS84 site, UTC as UT1), both on [`geocentric`].
@@ -39,8 +39,8 @@
 //! assert!(sun.elevation_deg > 0.0 && sun.elevation_deg < 90.0);
 //! ```
 //!
-//! Architecture invariant: areo-ephemeris depends on no other areo crate and reads no
-//! files.
+//! Architecture invariant: areo-ephemeris depends on no other areo crate but areo-body
+//! (the bodies' constants) and reads no files.
 
 mod body;
 mod error;
@@ -56,7 +56,7 @@ pub mod moon;
 pub mod terrestrial;
 
 pub use crate::{
-    body::{Body, EarthView},
+    body::{Body, EarthFrom, EarthView},
     error::{Error, Result},
     events::HorizonMask,
     site::Site,

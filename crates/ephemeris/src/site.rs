@@ -1,11 +1,6 @@
 use crate::body::Body;
 use crate::error::{Error, Result};
 
-/// Mars IAU 2015 equatorial radius, m.
-pub(crate) const MARS_EQUATORIAL_RADIUS_M: f64 = 3_396_190.0;
-/// Mars IAU 2015 polar radius, m.
-pub(crate) const MARS_POLAR_RADIUS_M: f64 = 3_376_200.0;
-
 /// A place on a [`Body`]: latitude and east longitude, degrees — planetocentric on Mars
 /// and the Moon, geodetic (WGS84, as GPS gives it) on the Earth.
 ///
@@ -115,7 +110,7 @@ pub(crate) fn planetocentric_to_planetographic_deg(lat_c_deg: f64) -> f64 {
     if lat_c_deg.abs() >= 90.0 {
         return lat_c_deg;
     }
-    let k = (MARS_EQUATORIAL_RADIUS_M / MARS_POLAR_RADIUS_M).powi(2);
+    let k = (Body::Mars.equatorial_radius_m() / Body::Mars.polar_radius_m()).powi(2);
     (k * lat_c_deg.to_radians().tan()).atan().to_degrees()
 }
 

@@ -16,9 +16,9 @@ use crate::geocentric::{
 use crate::sun::SunState;
 
 /// WGS84 equatorial radius, m.
-pub const WGS84_A_M: f64 = 6_378_137.0;
+pub const WGS84_A_M: f64 = areo_body::Spheroid::EARTH_WGS84.equatorial_radius_m;
 /// WGS84 flattening.
-pub const WGS84_F: f64 = 1.0 / 298.257_223_563;
+pub const WGS84_F: f64 = 1.0 / areo_body::WGS84_INVERSE_FLATTENING;
 
 /// Greenwich apparent sidereal time, degrees [0, 360), at UT1 Julian date `jd_ut` with
 /// `t_tt` the TT Julian centuries (for nutation).

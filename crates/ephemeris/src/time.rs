@@ -11,9 +11,8 @@ pub(crate) const J2000_JD_TT: f64 = 2_451_545.0;
 /// Length of the mean Mars solar day in Earth days (Mars24, 2018 constants).
 pub(crate) const SOL_IN_DAYS: f64 = 1.027_491_251_7;
 
-/// A mean Mars solar day (sol), seconds: 1.0274912517 Earth days (Allison & McEwen
-/// 2000, as Mars24 uses).
-pub const SOL_S: f64 = SOL_IN_DAYS * 86_400.0;
+/// A mean Mars solar day (sol), s (areo-body's; the same 1.0274912517 Earth days).
+pub use areo_body::SOL_S;
 /// JD (TT) that Mars24 anchors the Mars Sol Date count to.
 const MSD_ANCHOR_JD_TT: f64 = 2_451_549.5;
 /// Mars Sol Date at the anchor, less the 2018 page's small correction.
@@ -164,6 +163,11 @@ pub fn format_utc(epoch: Epoch) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_sol_of_areo_body_is_mars24s() {
+        assert_eq!(SOL_S, SOL_IN_DAYS * 86_400.0);
+    }
 
     #[test]
     fn a_sol_is_24_h_39_min_35_244_s() {

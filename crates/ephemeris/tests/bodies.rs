@@ -1,7 +1,7 @@
 //! The Moon and the Earth: facts about their skies that any ephemeris must reproduce
 //! (the published worked examples are unit tests next to the theories).
 
-use areo_ephemeris::{Body, Site, SunModel, moon, parse_utc};
+use areo_ephemeris::{Body, EarthFrom, Site, SunModel, moon, parse_utc};
 use hifitime::Duration;
 
 fn hours(start: &str, n: usize, step_h: f64) -> impl Iterator<Item = hifitime::Epoch> {

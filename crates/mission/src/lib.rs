@@ -46,5 +46,5 @@ pub use crate::{
     simulate::{
         ExecutedStep, Noise, PlanKind, PlanRecord, SimConfig, SimProgress, SimReport, SimStatus, Simulation, simulate,
     },
-    world::{EarthSky, MARS_CURVATURE, Sun, World, WorldConfig, curvature_of},
+    world::{EarthSky, Sun, World, WorldConfig, curvature_of},
 };

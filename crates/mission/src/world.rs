@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 
 use areo_ephemeris::flux::Atmosphere;
-use areo_ephemeris::{Body, Site, SunModel};
+use areo_ephemeris::{Body, EarthFrom, Site, SunModel};
 use areo_terrain::Dem;
 use areo_terrain::horizon::HorizonMap;
 use areo_terrain::shadow::Curvature;
@@ -22,17 +22,11 @@ use hifitime::{Duration, Epoch};
 
 use crate::error::{Error, Result};
 
-/// Mars's mean sphere for the horizon maps' curvature drop.
-pub const MARS_CURVATURE: Curvature = Curvature::Sphere { radius_m: 3_389_500.0 };
-
-/// The sphere a body's horizon maps drop away on: the IAU mean radius (Mars
-/// 3389.5 km, the Moon 1737.4 km, the Earth 6371.0088 km).
+/// The sphere a body's horizon maps drop away on: its published mean radius
+/// ([`Body::mean_radius_m`]: Mars 3389.5 km, the Moon 1737.4 km, the Earth
+/// 6371.0088 km).
 pub fn curvature_of(body: Body) -> Curvature {
-    match body {
-        Body::Mars => MARS_CURVATURE,
-        Body::Moon => Curvature::Sphere { radius_m: 1_737_400.0 },
-        Body::Earth => Curvature::Sphere { radius_m: 6_371_008.8 },
-    }
+    Curvature::Sphere { radius_m: body.mean_radius_m() }
 }
 
 /// The Earth at one instant in the sky of the reference site.

@@ -3,7 +3,7 @@
 //! that need the Earth in view.
 
 use areo_ephemeris::flux::Atmosphere;
-use areo_ephemeris::{Body, Site, parse_utc};
+use areo_ephemeris::{Body, EarthFrom, Site, parse_utc};
 use areo_mission::{Action, ActionModel, Binding, Mission, PlannerConfig, Start, World, WorldConfig, curvature_of};
 use areo_terrain::Dem;
 use hifitime::{Duration, Epoch};

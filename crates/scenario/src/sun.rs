@@ -5,7 +5,7 @@ use std::path::Path;
 
 use areo_ephemeris::events::solar_day;
 use areo_ephemeris::terrestrial::refraction_deg;
-use areo_ephemeris::{Body, HorizonMask, MarsTime, Site, SolarGeometry, SunModel, format_utc, parse_utc};
+use areo_ephemeris::{Body, EarthFrom, HorizonMask, MarsTime, Site, SolarGeometry, SunModel, format_utc, parse_utc};
 use hifitime::Epoch;
 use serde::Serialize;
 

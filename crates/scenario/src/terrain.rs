@@ -75,8 +75,8 @@ pub fn info(dem: &Dem) -> Vec<String> {
         format!("projection  {:?}", dem.georef().projection),
         format!(
             "body        a = {} m, b = {} m",
-            dem.georef().body.equatorial_radius_m,
-            dem.georef().body.polar_radius_m
+            dem.georef().surface.equatorial_radius_m,
+            dem.georef().surface.polar_radius_m
         ),
     ];
     let (cx, cy) = ((e.x_min + e.x_max) / 2.0, (e.y_min + e.y_max) / 2.0);
@@ -160,7 +160,7 @@ pub fn write_shadow_tiled(
         return Err(Error::Usage(format!("{}: no cell has data", input.display())));
     };
     let curvature =
-        if flat { Curvature::Flat } else { Curvature::Sphere { radius_m: grid.georef.body.mean_radius_m() } };
+        if flat { Curvature::Flat } else { Curvature::Sphere { radius_m: grid.georef.surface.mean_radius_m() } };
     let halo = ShadowHalo::new(relief, &grid, sun.1)?;
     // A low Sun over high relief needs a wide halo: refuse before a window outgrows
     // the machine (the message names the estimate; a higher Sun or a smaller tile help).
@@ -249,7 +249,7 @@ pub fn write_horizon_tiled(
     let Some(relief) = relief(&mut src, tile)? else {
         return Err(Error::Usage(format!("{}: no cell has data", input.display())));
     };
-    let curvature = Curvature::Sphere { radius_m: grid.georef.body.mean_radius_m() };
+    let curvature = Curvature::Sphere { radius_m: grid.georef.surface.mean_radius_m() };
     let halo = ShadowHalo::new(relief, &grid, lowest_deg)?;
     let window = ((tile + 2 * halo.cols).min(grid.cols) as u64) * ((tile + 2 * halo.rows).min(grid.rows) as u64);
     budget.check(&crate::budget::tiled_horizon(

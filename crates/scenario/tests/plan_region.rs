@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use areo_scenario::budget::Budget;
 use areo_scenario::outcome::Fact;
 use areo_scenario::{NoProgress, RunOptions, format::load, run};
-use areo_terrain::Body;
+use areo_terrain::Spheroid;
 use areo_terrain::synth::{Feature, Noise, TerrainSpec};
 
 fn dir() -> PathBuf {
@@ -40,7 +40,7 @@ fn write_map(path: &Path) {
     }
     .build()
     .unwrap()
-    .placed_at(Body::MARS_MOLA_SPHERE, -4.5895, 137.4417)
+    .placed_at(Spheroid::MARS_MOLA_SPHERE, -4.5895, 137.4417)
     .unwrap();
     areo_terrain::geotiff::write(&dem, path).unwrap();
 }

@@ -1,20 +1,21 @@
 //! The digital elevation model and the `Ground` trait.
 
-use crate::body::{Body, Projection};
 use crate::error::{Error, Result};
+use crate::projection::Projection;
+use areo_body::Spheroid;
 
 /// Where a DEM sits: its map projection and reference body.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Georef {
     /// How map metres relate to latitude and longitude.
     pub projection: Projection,
-    /// The reference body (radius for curvature and projections).
-    pub body: Body,
+    /// The reference surface (radius for curvature and projections).
+    pub surface: Spheroid,
 }
 
 impl Default for Georef {
     fn default() -> Georef {
-        Georef { projection: Projection::Local, body: Body::MARS_IAU2015 }
+        Georef { projection: Projection::Local, surface: Spheroid::MARS_IAU2015 }
     }
 }
 
@@ -168,12 +169,12 @@ impl Dem {
     }
 
     /// A map with no georeference (a synthesised one) placed at a site: centred on
-    /// (`lat_deg`, `lon_east_deg`) of `body`, so every cell has a latitude and
+    /// (`lat_deg`, `lon_east_deg`) on `surface`, so every cell has a latitude and
     /// longitude — equirectangular with true scale at the site's latitude, or polar
     /// stereographic (the LOLA polar products' projection, the site's meridian as grid
     /// north) at or beyond [`POLAR_PROJECTION_LAT_DEG`]. A georeferenced map is
     /// returned as it is. Missing cells stay missing.
-    pub fn placed_at(self, body: Body, lat_deg: f64, lon_east_deg: f64) -> Result<Dem> {
+    pub fn placed_at(self, surface: Spheroid, lat_deg: f64, lon_east_deg: f64) -> Result<Dem> {
         if self.georef.projection != Projection::Local {
             return Ok(self);
         }
@@ -192,9 +193,9 @@ impl Dem {
         } else {
             Projection::Equirectangular { lat_ts_deg: lat_deg, lon0_deg: lon_east_deg }
         };
-        let (x_mid, y_mid) = projection.from_geographic(&body, lat_deg, lon_east_deg).unwrap_or((0.0, 0.0));
+        let (x_mid, y_mid) = projection.from_geographic(&surface, lat_deg, lon_east_deg).unwrap_or((0.0, 0.0));
         let z: Vec<f32> = self.z.iter().zip(&self.valid).map(|(z, v)| if *v { *z } else { f32::NAN }).collect();
-        let georef = Georef { projection, body };
+        let georef = Georef { projection, surface };
         Ok(Dem::new(self.cols, self.rows, self.dx, self.dy, x_mid - w / 2.0, y_mid + h / 2.0, z)?.with_georef(georef))
     }
 
@@ -331,7 +332,7 @@ impl Dem {
 
     /// Latitude and east longitude (degrees) of map point (x, y), if georeferenced.
     pub fn geographic(&self, x: f64, y: f64) -> Option<(f64, f64)> {
-        self.georef.projection.to_geographic(&self.georef.body, x, y)
+        self.georef.projection.to_geographic(&self.georef.surface, x, y)
     }
 
     /// A sub-grid: `cols` × `rows` cells starting at (col0, row0).

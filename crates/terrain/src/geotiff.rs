@@ -11,9 +11,10 @@ use tiff::decoder::{Decoder, DecodingResult, ifd::Value};
 use tiff::encoder::{TiffEncoder, colortype};
 use tiff::tags::Tag;
 
-use crate::body::{Body, Projection};
 use crate::dem::{Dem, Georef};
 use crate::error::{Error, Result};
+use crate::projection::Projection;
+use areo_body::Spheroid;
 
 /// GeoKey ids used here (GeoTIFF 1.1, OGC 19-008r4).
 mod key {
@@ -312,9 +313,9 @@ impl GeoKeys {
             Some(a? * (1.0 - if inv_f == 0.0 { 0.0 } else { 1.0 / inv_f }))
         });
         let body = match (a, b) {
-            (Some(a), Some(b)) if a > 0.0 && b > 0.0 => Body { equatorial_radius_m: a, polar_radius_m: b },
-            (Some(a), None) if a > 0.0 => Body { equatorial_radius_m: a, polar_radius_m: a },
-            _ => Body::MARS_IAU2015,
+            (Some(a), Some(b)) if a > 0.0 && b > 0.0 => Spheroid { equatorial_radius_m: a, polar_radius_m: b },
+            (Some(a), None) if a > 0.0 => Spheroid { equatorial_radius_m: a, polar_radius_m: a },
+            _ => Spheroid::MARS_IAU2015,
         };
         let lon0 = self
             .double(key::CENTER_LONG)
@@ -332,13 +333,13 @@ impl GeoKeys {
             }
             _ => Projection::Local,
         };
-        Georef { projection, body }
+        Georef { projection, surface: body }
     }
 }
 
 /// The GeoKey directory and double parameters describing `georef`.
 fn geokeys_for(georef: &Georef) -> (Vec<u16>, Vec<f64>) {
-    let mut doubles = vec![georef.body.equatorial_radius_m, georef.body.polar_radius_m];
+    let mut doubles = vec![georef.surface.equatorial_radius_m, georef.surface.polar_radius_m];
     let mut keys: Vec<[u16; 4]> = vec![
         [key::MODEL_TYPE, 0, 1, 1],  // projected
         [key::RASTER_TYPE, 0, 1, 1], // PixelIsArea

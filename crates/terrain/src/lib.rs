@@ -3,7 +3,7 @@
 //! TEMPEST's world model and the ground the LSR-1 physics stands on:
 //!
 //! - [`Dem`]: elevations (f32) with a nodata mask, cell sizes dx and dy, and a
-//!   [`Georef`] (a [`Projection`] on a reference [`Body`]); bilinear
+//!   [`Georef`] (a [`Projection`] on a reference [`Spheroid`]); bilinear
 //!   [`Dem::height`] and [`Dem::gradient`] that return `None` off the map or on missing
 //!   data. The [`Ground`] trait (height and normal) is implemented by `Dem` and by the
 //!   [`analytic`] test terrains.
@@ -47,12 +47,12 @@
 //! assert!(shadowed[row + 15] && !shadowed[row + 5] && !shadowed[row + 30]);
 //! ```
 //!
-//! Architecture invariant: areo-terrain depends on no other areo crate, so a DEM loader
-//! or a shadow map can be reused alone.
+//! Architecture invariant: areo-terrain depends on no other areo crate but areo-body (the
+//! reference spheroids), so a DEM loader or a shadow map can be reused alone.
 
-mod body;
 mod dem;
 mod error;
+mod projection;
 mod sweep_lines;
 
 pub mod hillshade;
@@ -69,10 +69,12 @@ pub mod slope;
 pub mod synth;
 pub mod tiles;
 
+pub use areo_body::Spheroid;
+
 pub use crate::{
-    body::{Body, Projection},
     dem::{Dem, Extent, Georef, Ground, POLAR_PROJECTION_LAT_DEG, analytic, unit_normal},
     error::{Error, Result},
+    projection::Projection,
 };
 
 /// Reads a DEM by its file's extension: `.tif`/`.tiff` GeoTIFF, `.asc` ESRI ASCII grid,

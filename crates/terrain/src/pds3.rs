@@ -19,9 +19,10 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use crate::body::{Body, Projection};
 use crate::dem::{Dem, Georef};
 use crate::error::{Error, Result};
+use crate::projection::Projection;
+use areo_body::Spheroid;
 
 /// The largest byte count or offset a label may give (1 TiB).
 const MAX_BYTES: f64 = 1_099_511_627_776.0;
@@ -161,9 +162,9 @@ pub fn parse(label_bytes: &[u8], image: Option<&[u8]>, path: &Path, dir: Option<
     let b = km_or_m("B_AXIS_RADIUS")?.or(a);
     let body = match (a, b) {
         (Some(a), Some(b)) if (1e3..=1e8).contains(&a) && (1e3..=1e8).contains(&b) => {
-            Body { equatorial_radius_m: a, polar_radius_m: b }
+            Spheroid { equatorial_radius_m: a, polar_radius_m: b }
         }
-        (None, None) => Body::MARS_IAU2015,
+        (None, None) => Spheroid::MARS_IAU2015,
         (a, b) => {
             return Err(bad(format!(
                 "A_AXIS_RADIUS = {a:?} m, B_AXIS_RADIUS = {b:?} m: allowed 1 km..=100 000 km (a body's radius)"
@@ -211,7 +212,7 @@ pub fn parse(label_bytes: &[u8], image: Option<&[u8]>, path: &Path, dir: Option<
     }
     Dem::new(cols, rows, dx, dx, x0, y_top, z)
         .and_then(|d| d.with_mask(valid))
-        .map(|d| d.with_georef(Georef { projection, body }))
+        .map(|d| d.with_georef(Georef { projection, surface: body }))
         .map_err(|e| bad(e.to_string()))
 }
 

@@ -664,7 +664,7 @@ mod tests {
         valid[flat.index(3, 4)] = false;
         let flat = flat.with_mask(valid).unwrap();
         // Placed at a site its frame moves (x0 = −w/2), but the features must not.
-        let placed = flat.clone().placed_at(crate::Body::MARS_MOLA_SPHERE, -4.6, 137.4).unwrap();
+        let placed = flat.clone().placed_at(crate::Spheroid::MARS_MOLA_SPHERE, -4.6, 137.4).unwrap();
         let with_hill = spec(vec![hill.clone()]).build().unwrap();
         for dem in [&flat, &placed] {
             let added = add_features(dem, std::slice::from_ref(&hill)).unwrap();

@@ -47,7 +47,7 @@ fn native_mola_geotiff_loads_with_its_published_size_cells_and_range() {
     // eqc on the MOLA sphere: the north-west corner is (134.296875°E, 1.8984375°S).
     let georef = dem.georef();
     assert!(matches!(georef.projection, Projection::Equirectangular { .. }), "{georef:?}");
-    assert_eq!(georef.body.equatorial_radius_m, 3_396_000.0);
+    assert_eq!(georef.surface.equatorial_radius_m, 3_396_000.0);
     let (lat, lon) = dem.geographic(dem.x0(), dem.y_top()).unwrap();
     assert!((lat + 1.898_437_5).abs() < 1e-6 && (lon - 134.296_875).abs() < 1e-6, "{lat} {lon}");
 }
@@ -97,7 +97,7 @@ fn sample_dem() -> Dem {
     dem = dem.with_mask(mask).unwrap();
     dem.with_georef(Georef {
         projection: Projection::Equirectangular { lat_ts_deg: -5.4, lon0_deg: 137.0 },
-        body: areo_terrain::Body::MARS_MOLA_SPHERE,
+        surface: areo_terrain::Spheroid::MARS_MOLA_SPHERE,
     })
 }
 
@@ -124,7 +124,7 @@ fn geotiff_round_trip_keeps_values_mask_and_georeference() {
 #[test]
 fn lunar_polar_map_is_lola_polar_stereographic_through_a_geotiff() {
     let flat = Dem::from_fn(50, 40, 20.0, 20.0, |x, y| 0.01 * x - 0.02 * y).unwrap();
-    let dem = flat.clone().placed_at(areo_terrain::Body::MOON, -89.5, 45.0).unwrap();
+    let dem = flat.clone().placed_at(areo_terrain::Spheroid::MOON, -89.5, 45.0).unwrap();
     assert_eq!(dem.georef().projection, Projection::PolarStereographic { north: false, lon0_deg: 45.0 });
     let e = dem.extent();
     let (xc, yc) = ((e.x_min + e.x_max) / 2.0, (e.y_min + e.y_max) / 2.0);
@@ -141,12 +141,9 @@ fn lunar_polar_map_is_lola_polar_stereographic_through_a_geotiff() {
     geotiff::write(&dem, &path).unwrap();
     let back = geotiff::read(&path).unwrap();
     assert_eq!(back.georef(), dem.georef());
-    assert_eq!(back.georef().body.name(), Some("Moon"));
-    assert_eq!(areo_terrain::Body::MARS_IAU2015.name(), Some("Mars"));
-    assert_eq!(areo_terrain::Body::EARTH_WGS84.name(), Some("Earth"));
-    assert_eq!(areo_terrain::Body { equatorial_radius_m: 2e6, polar_radius_m: 2e6 }.name(), None);
+    assert_eq!(back.georef().surface, areo_terrain::Spheroid::MOON);
     // Below 80° the placement stays equirectangular.
-    let low = flat.placed_at(areo_terrain::Body::MOON, -79.0, 45.0).unwrap();
+    let low = flat.placed_at(areo_terrain::Spheroid::MOON, -79.0, 45.0).unwrap();
     assert!(matches!(low.georef().projection, Projection::Equirectangular { .. }));
 }
 
@@ -208,11 +205,11 @@ fn extent_values_and_placement_keep_the_grid() {
     assert_eq!((other.z(5, 0), other.z(6, 0)), (None, Some(6.0)));
     assert!(dem.with_values(vec![0.0; 90]).is_err());
     // A georeferenced map stays where it is.
-    assert_eq!(dem.clone().placed_at(areo_terrain::Body::MARS_MOLA_SPHERE, 10.0, 20.0).unwrap(), dem);
+    assert_eq!(dem.clone().placed_at(areo_terrain::Spheroid::MARS_MOLA_SPHERE, 10.0, 20.0).unwrap(), dem);
     // A local map is centred on the site: its centre cell is at the site's latitude and
     // longitude, and a cell 1 km north is 1 km / R radians further north.
     let local = Dem::from_fn(21, 21, 100.0, 100.0, |x, _| x).unwrap();
-    let body = areo_terrain::Body::MARS_MOLA_SPHERE;
+    let body = areo_terrain::Spheroid::MARS_MOLA_SPHERE;
     let placed = local.placed_at(body, -4.6, 137.4).unwrap();
     let (cx, cy) = placed.cell_center(10, 10);
     let (lat, lon) = placed.geographic(cx, cy).unwrap();
@@ -261,7 +258,7 @@ fn pds3_attached_msb_int16_with_scaling_and_missing_constant() {
     // Origin pixel centre at (line −10.5, sample 20.5), 1-based.
     assert!((dem.x0() - (0.5 - 20.5) * 463.0).abs() < 1e-6 && (dem.y_top() - (-10.5 - 0.5) * 463.0).abs() < 1e-6);
     assert_eq!(dem.georef().projection, Projection::Equirectangular { lat_ts_deg: 0.0, lon0_deg: 90.0 });
-    assert_eq!(dem.georef().body.equatorial_radius_m, 3_396_000.0);
+    assert_eq!(dem.georef().surface.equatorial_radius_m, 3_396_000.0);
 }
 
 #[test]

@@ -12,7 +12,7 @@ use areo_mission::{
     Start, World, WorldConfig, simulate,
 };
 use areo_rover::resources::ResourceModel;
-use areo_terrain::{Body, Dem};
+use areo_terrain::Dem;
 use geojson::FeatureCollection;
 use hifitime::Duration;
 use serde_json::json;
@@ -166,16 +166,6 @@ fn load_terrain(source: &TerrainSource, file: &ScenarioFile, field: &str) -> Res
     })
 }
 
-/// The reference surface synthesised maps are placed on: MOLA's sphere on Mars (as the
-/// MEGDR products), LOLA's on the Moon, WGS84 on the Earth.
-pub(crate) fn reference_surface(body: areo_ephemeris::Body) -> Body {
-    match body {
-        areo_ephemeris::Body::Mars => Body::MARS_MOLA_SPHERE,
-        areo_ephemeris::Body::Moon => Body::MOON,
-        areo_ephemeris::Body::Earth => Body::EARTH_WGS84,
-    }
-}
-
 /// Peak resident memory of this process, MB (Linux), if known.
 fn peak_memory_mb() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -190,7 +180,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let epoch = parse_utc(&job.start_utc)?;
     let clock = Instant::now();
     opts.progress.start(3, "terrain");
-    let place = |d: Dem| d.placed_at(reference_surface(job.body), site.lat_deg(), site.lon_east_deg());
+    let place = |d: Dem| d.placed_at(job.body.reference_surface(), site.lat_deg(), site.lon_east_deg());
     let terrain = match &job.plan_region {
         None => Terrain::Whole(place(load_terrain(&job.terrain, file, "job.terrain")?)?),
         Some(spec) => cut_region(job, spec, file, job.horizon_sectors, place)?,
@@ -231,7 +221,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         (Truth::AddFeatures(features), Ok(map_dem)) => Some(areo_terrain::synth::add_features(map_dem, features)?),
         (Truth::Terrain(source), Ok(map_dem)) => {
             let t = load_terrain(source, file, "job.truth")?.placed_at(
-                reference_surface(job.body),
+                job.body.reference_surface(),
                 site.lat_deg(),
                 site.lon_east_deg(),
             )?;
@@ -1007,7 +997,7 @@ fn route_geojson(ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimRe
     for (i, &g) in ctx.goals.iter().enumerate() {
         features.push(feature(point(at(g)), json!({"kind": "goal", "name": ctx.goal_name(i), "order": i})));
     }
-    collection(features, &ctx.world.dem().georef().body)
+    collection(features, &ctx.world.dem().georef().surface)
 }
 
 /// Night intervals (the Sun's centre below the horizontal) over [0, end_s], hours

@@ -29,7 +29,7 @@ pub(crate) fn run(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<
     let state = job.body.sun(t);
     let sun = state.at_site(&site);
     // A synthesised map lies on the body's reference surface (its curvature).
-    let dem = dem.placed_at(super::tempest::reference_surface(job.body), site.lat_deg(), site.lon_east_deg())?;
+    let dem = dem.placed_at(job.body.reference_surface(), site.lat_deg(), site.lon_east_deg())?;
     let curvature = if job.flat { Curvature::Flat } else { Curvature::of(&dem) };
     let map = shadow_map(&dem, Sun::new(sun.azimuth_deg, sun.elevation_deg), curvature, Method::OwnRay);
     let sa = slope_aspect(&dem);

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use areo_terrain::Body;
+use areo_terrain::Spheroid;
 use geojson::{Feature, FeatureCollection, Geometry, JsonObject, JsonValue};
 
 use crate::error::{Error, Result};
@@ -41,7 +41,7 @@ pub fn line(points: impl IntoIterator<Item = (f64, f64)>) -> Geometry {
 
 /// The features as a collection on `body`: the body's radii and its geographic CRS
 /// (planetocentric latitude, east longitude) as foreign members.
-pub fn collection(features: Vec<Feature>, body: &Body) -> FeatureCollection {
+pub fn collection(features: Vec<Feature>, body: &Spheroid) -> FeatureCollection {
     let mut members = JsonObject::new();
     members.insert(
         "body".into(),
@@ -66,8 +66,8 @@ pub fn collection(features: Vec<Feature>, body: &Body) -> FeatureCollection {
 }
 
 /// The body's name where its radii are a known reference body's.
-fn body_name(body: &Body) -> &'static str {
-    body.name().unwrap_or("unknown")
+fn body_name(body: &Spheroid) -> &'static str {
+    body.body().map_or("unknown", areo_ephemeris::Body::iau_name)
 }
 
 /// Writes the collection as pretty JSON (atomically, see [`super::write_file`]).
@@ -87,7 +87,7 @@ mod tests {
             feature(line([(-4.6, 137.4), (-4.5, 137.5)]), serde_json::json!({"name": "plan, \"initial\""})),
             feature(point((-4.5, 200.0)), serde_json::json!({"kind": "goal"})),
         ];
-        let fc = collection(features, &Body::MARS_MOLA_SPHERE);
+        let fc = collection(features, &Spheroid::MARS_MOLA_SPHERE);
         let text = serde_json::to_string(&fc).unwrap();
         let back: geojson::GeoJson = text.parse().unwrap();
         let geojson::GeoJson::FeatureCollection(back) = back else { panic!("not a collection") };

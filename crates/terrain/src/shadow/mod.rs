@@ -89,7 +89,7 @@ pub enum Curvature {
 impl Curvature {
     /// The curvature of the DEM's reference body (its mean radius).
     pub fn of(dem: &Dem) -> Curvature {
-        Curvature::Sphere { radius_m: dem.georef().body.mean_radius_m() }
+        Curvature::Sphere { radius_m: dem.georef().surface.mean_radius_m() }
     }
 
     /// 1/2R (0 for a flat world): an occluder at distance d sits d²·(1/2R) lower.

@@ -1,0 +1,98 @@
+//! Map projections on a reference spheroid (areo-body's [`Spheroid`]): every DEM cell
+//! knows its latitude and longitude.
+
+use areo_body::Spheroid;
+use serde::{Deserialize, Serialize};
+
+/// How a DEM's metric grid maps to latitude and longitude.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Projection {
+    /// A local metric frame with no geographic reference (synthesised terrain).
+    Local,
+    /// Equirectangular (simple cylindrical) on a sphere of the body's equatorial radius:
+    /// x = R·(λ − λ0)·cos φts, y = R·φ (MOLA MEGDR, many HiRISE/CTX DTMs).
+    Equirectangular {
+        /// Standard parallel φts, degrees.
+        lat_ts_deg: f64,
+        /// Central meridian λ0, degrees east.
+        lon0_deg: f64,
+    },
+    /// Polar stereographic on a sphere of the body's equatorial radius, true scale at
+    /// the pole (scale factor 1 there), north or south.
+    PolarStereographic {
+        /// True for the north pole, false for the south.
+        north: bool,
+        /// Longitude along the grid's negative y axis (north) / positive y axis
+        /// (south), degrees east.
+        lon0_deg: f64,
+    },
+}
+
+impl Projection {
+    /// Planetocentric latitude and east longitude (degrees) of map point (x, y), m.
+    pub fn to_geographic(&self, body: &Spheroid, x: f64, y: f64) -> Option<(f64, f64)> {
+        let r = body.equatorial_radius_m;
+        match *self {
+            Projection::Local => None,
+            Projection::Equirectangular { lat_ts_deg, lon0_deg } => {
+                let lat = (y / r).to_degrees();
+                let lon = lon0_deg + (x / (r * lat_ts_deg.to_radians().cos())).to_degrees();
+                Some((lat, lon.rem_euclid(360.0)))
+            }
+            Projection::PolarStereographic { north, lon0_deg } => {
+                let rho = (x * x + y * y).sqrt();
+                let c = 2.0 * (rho / (2.0 * r)).atan();
+                let lat = if north { 90.0 - c.to_degrees() } else { c.to_degrees() - 90.0 };
+                let lon = if north { lon0_deg + x.atan2(-y).to_degrees() } else { lon0_deg + x.atan2(y).to_degrees() };
+                Some((lat, lon.rem_euclid(360.0)))
+            }
+        }
+    }
+
+    /// Map point (x, y), m, of a planetocentric latitude and east longitude (degrees).
+    pub fn from_geographic(&self, body: &Spheroid, lat_deg: f64, lon_east_deg: f64) -> Option<(f64, f64)> {
+        let r = body.equatorial_radius_m;
+        match *self {
+            Projection::Local => None,
+            Projection::Equirectangular { lat_ts_deg, lon0_deg } => {
+                let dlon = (lon_east_deg - lon0_deg + 180.0).rem_euclid(360.0) - 180.0;
+                Some((r * dlon.to_radians() * lat_ts_deg.to_radians().cos(), r * lat_deg.to_radians()))
+            }
+            Projection::PolarStereographic { north, lon0_deg } => {
+                let c = if north { 90.0 - lat_deg } else { lat_deg + 90.0 };
+                let rho = 2.0 * r * (c.to_radians() / 2.0).tan();
+                let t = (lon_east_deg - lon0_deg).to_radians();
+                Some(if north { (rho * t.sin(), -rho * t.cos()) } else { (rho * t.sin(), rho * t.cos()) })
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn projections_round_trip_and_match_mola_spacing() {
+        let body = Spheroid::MARS_MOLA_SPHERE;
+        let eqc = Projection::Equirectangular { lat_ts_deg: -5.40234375, lon0_deg: 0.0 };
+        // MEGDR: 1/128° of latitude is 463.0577 m on R = 3396 km (README of the data).
+        let (_, y1) = eqc.from_geographic(&body, -1.8984375, 134.296875).unwrap();
+        let (_, y2) = eqc.from_geographic(&body, -1.8984375 - 1.0 / 128.0, 134.296875).unwrap();
+        assert!(((y1 - y2) - 463.0577).abs() < 1e-3);
+        for proj in [
+            eqc,
+            Projection::PolarStereographic { north: true, lon0_deg: 0.0 },
+            Projection::PolarStereographic { north: false, lon0_deg: 90.0 },
+        ] {
+            let lat = match proj {
+                Projection::PolarStereographic { north: true, .. } => 80.0,
+                Projection::PolarStereographic { north: false, .. } => -75.0,
+                _ => -5.0,
+            };
+            let (x, y) = proj.from_geographic(&body, lat, 137.0).unwrap();
+            let (la, lo) = proj.to_geographic(&body, x, y).unwrap();
+            assert!((la - lat).abs() < 1e-9 && (lo - 137.0).abs() < 1e-9, "{proj:?}: {la} {lo}");
+        }
+    }
+}
