@@ -11,7 +11,7 @@ use std::process::ExitCode;
 mod print;
 
 use areo_scenario::budget::Budget;
-use areo_scenario::{Error, Progress};
+use areo_scenario::{Error, Failure, Progress};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
@@ -389,7 +389,11 @@ fn sweep(cmd: SweepCommand, budget: Budget) -> Result<(), Error> {
                     println!("task {index} ({}): finished before; skipped (--force runs it)", t.id)
                 }
                 sweep::TaskRun::Ran(t, outcome) => {
-                    println!("task {index} ({}): {}", t.id, outcome.failure.as_deref().unwrap_or("done"));
+                    println!(
+                        "task {index} ({}): {}",
+                        t.id,
+                        outcome.failure.as_ref().map_or_else(|| "done".to_string(), ToString::to_string)
+                    );
                 }
             }
         }
@@ -407,7 +411,8 @@ fn sweep(cmd: SweepCommand, budget: Budget) -> Result<(), Error> {
             }
         }
         SweepCommand::Slurm { dir, parallel, cpus } => {
-            let areo = std::env::current_exe().map_err(|e| Error::Failed(format!("the areo binary's path: {e}")))?;
+            let areo = std::env::current_exe()
+                .map_err(|source| Error::Read { path: "(the running areo binary's path)".into(), source })?;
             print!("{}", sweep::slurm_script(&dir, &areo, parallel.max(1), cpus.max(1))?);
         }
         SweepCommand::K8s { dir, image, claim, parallel } => {
@@ -465,13 +470,13 @@ fn budget(cli: &Cli) -> Result<Budget, Error> {
     let mut b = Budget::for_this_machine();
     if let Some(gb) = cli.max_memory_gb {
         if !(gb > 0.0 && gb <= 1e6) {
-            return Err(Error::Usage(format!("--max-memory-gb {gb}: allowed 0 (exclusive)..=1000000")));
+            return Err(Error::usage(format!("--max-memory-gb {gb}"), "allowed 0 (exclusive)..=1000000"));
         }
         b.memory_bytes = (gb * f64::from(1u32 << 30)) as u64;
     }
     if let Some(steps) = cli.max_work {
         if !(1.0..=1e18).contains(&steps) {
-            return Err(Error::Usage(format!("--max-work {steps}: allowed 1..=1e18")));
+            return Err(Error::usage(format!("--max-work {steps}"), "allowed 1..=1e18"));
         }
         b.work_steps = steps as u64;
     }
@@ -491,9 +496,20 @@ fn run(scenario: &std::path::Path, out: &std::path::Path, budget: Budget) -> Res
         println!("  wrote {}", f.display());
     }
     match outcome.failure {
-        Some(message) => Err(Error::Unreachable(message)),
+        Some(failure) => Err(Error::Failed(failure)),
         None => Ok(()),
     }
+}
+
+/// A Sun given on the command line: elevation in −90..=90°, a finite azimuth.
+fn check_sun(azimuth_deg: f64, elevation_deg: f64) -> Result<(), Error> {
+    if !(-90.0..=90.0).contains(&elevation_deg) {
+        return Err(Error::usage(format!("--sun-elevation {elevation_deg}"), "allowed -90..=90"));
+    }
+    if !azimuth_deg.is_finite() {
+        return Err(Error::usage(format!("--sun-azimuth {azimuth_deg}"), "must be finite"));
+    }
+    Ok(())
 }
 
 fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
@@ -512,11 +528,7 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
             print::terrain::wrote(&tt::write_slope(&read(file, "slope", 0)?, out)?)
         }
         TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, flat, method, tile: Some(tile), out } => {
-            if !(-90.0..=90.0).contains(sun_elevation) || !sun_azimuth.is_finite() {
-                return Err(Error::Usage(format!(
-                    "--sun-elevation {sun_elevation}: allowed -90..=90; --sun-azimuth {sun_azimuth}: must be finite"
-                )));
-            }
+            check_sun(*sun_azimuth, *sun_elevation)?;
             tt::check_output(file, out)?;
             let bar = progress_bar();
             let run = tt::write_shadow_tiled(
@@ -532,11 +544,7 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
             print::terrain::tiled_shadow(&run)
         }
         TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, flat, method, tile: None, out } => {
-            if !(-90.0..=90.0).contains(sun_elevation) || !sun_azimuth.is_finite() {
-                return Err(Error::Usage(format!(
-                    "--sun-elevation {sun_elevation}: allowed -90..=90; --sun-azimuth {sun_azimuth}: must be finite"
-                )));
-            }
+            check_sun(*sun_azimuth, *sun_elevation)?;
             tt::check_output(file, out)?;
             let (files, lit) = tt::write_shadow(
                 &read(file, "shadow", 0)?,
@@ -592,13 +600,10 @@ fn grid(args: &GridArgs) -> Result<(), Error> {
     let unreachable = rows.iter().filter(|r| r.found.is_infinite() && r.expected.is_finite()).count();
     let mismatched = rows.iter().filter(|r| r.mismatched()).count();
     if unreachable > 0 {
-        return Err(Error::Unreachable(format!(
-            "{unreachable} of {} scenarios: no path to the goal (the published length says there is one)",
-            rows.len()
-        )));
+        return Err(Error::Failed(Failure::NoPath { unreachable, scenarios: rows.len() }));
     }
     if mismatched > 0 {
-        return Err(Error::Failed(format!("{mismatched} of {} scenarios mismatched", rows.len())));
+        return Err(Error::Failed(Failure::Mismatched { mismatched, scenarios: rows.len() }));
     }
     Ok(())
 }
@@ -609,20 +614,23 @@ fn sun(args: &SunArgs) -> Result<(), Error> {
     let body = args.body.body();
     if let Some(date) = &args.day {
         if args.body == BodyArg::Mars {
-            return Err(Error::Usage("--day is for the Moon and the Earth; on Mars give --sol".into()));
+            return Err(Error::usage("--day", "is for the Moon and the Earth; on Mars give --sol"));
         }
-        let (lat, lon) = site.ok_or_else(|| Error::Usage("--day needs --lat and --lon".into()))?;
+        let (lat, lon) = site.ok_or_else(|| Error::usage("--day", "needs --lat and --lon"))?;
         print!("{}", print::sun::day(&day_events(body, date, lat, lon)?, args.format)?);
         return Ok(());
     }
     let text = match (args.sol, &args.time, &args.times_file) {
         (Some(_), _, _) if args.body != BodyArg::Mars => {
-            return Err(Error::Usage(format!(
-                "--sol counts Mars sols; over the {body} give --time or --times-file (a file of instants, one per line)"
-            )));
+            return Err(Error::usage(
+                "--sol",
+                format!(
+                    "counts Mars sols; over the {body} give --time or --times-file (a file of instants, one per line)"
+                ),
+            ));
         }
         (Some(sol), _, _) => {
-            let (lat, lon) = site.ok_or_else(|| Error::Usage("--sol needs --lat and --lon".into()))?;
+            let (lat, lon) = site.ok_or_else(|| Error::usage("--sol", "needs --lat and --lon"))?;
             print::sun::sol(&sol_events(sol, lat, lon)?, args.format)?
         }
         (None, Some(t), _) => print::sun::rows(&body_rows(body, Instants::One(t), site)?, args.format)?,

@@ -12,7 +12,8 @@ use areo_scenario::Error;
 
 /// `value` as pretty JSON for standard output.
 pub(crate) fn json(value: &impl serde::Serialize) -> Result<String, Error> {
-    serde_json::to_string_pretty(value).map_err(|e| Error::Usage(format!("cannot write the JSON output: {e}")))
+    serde_json::to_string_pretty(value)
+        .map_err(|e| Error::Io { path: "(standard output)".into(), source: std::io::Error::other(e) })
 }
 
 /// A CSV table for standard output (quoted as the file writers quote).

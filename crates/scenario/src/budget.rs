@@ -39,23 +39,29 @@ impl Budget {
         Budget { memory_bytes: total / 4 * 3, work_steps: DEFAULT_WORK_STEPS }
     }
 
-    /// Refuses `estimate` if it does not fit, naming what it is for.
+    /// Refuses `estimate` if it does not fit ([`Error::Budget`]).
     pub fn check(&self, estimate: &Estimate) -> Result<()> {
-        if estimate.memory_bytes > self.memory_bytes {
-            return Err(Error::Budget(format!(
-                "{} needs about {} of memory, more than the {} allowed (raise it with --max-memory-gb)",
-                estimate.what,
-                gib(estimate.memory_bytes),
-                gib(self.memory_bytes)
-            )));
-        }
-        if estimate.work_steps > self.work_steps {
-            return Err(Error::Budget(format!(
-                "{} needs about {:.2e} steps of work ({}), more than the {:.2e} allowed (raise it with --max-work)",
-                estimate.what, estimate.work_steps as f64, estimate.work_unit, self.work_steps as f64
-            )));
+        if estimate.memory_bytes > self.memory_bytes || estimate.work_steps > self.work_steps {
+            return Err(Error::Budget { estimate: estimate.clone(), limit: *self });
         }
         Ok(())
+    }
+}
+
+/// The sentence refusing `estimate` under `limit`: memory first, then work.
+pub(crate) fn refusal(estimate: &Estimate, limit: &Budget) -> String {
+    if estimate.memory_bytes > limit.memory_bytes {
+        format!(
+            "{} needs about {} of memory, more than the {} allowed (raise it with --max-memory-gb)",
+            estimate.what,
+            gib(estimate.memory_bytes),
+            gib(limit.memory_bytes)
+        )
+    } else {
+        format!(
+            "{} needs about {:.2e} steps of work ({}), more than the {:.2e} allowed (raise it with --max-work)",
+            estimate.what, estimate.work_steps as f64, estimate.work_unit, limit.work_steps as f64
+        )
     }
 }
 

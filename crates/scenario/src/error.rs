@@ -1,5 +1,7 @@
 use std::path::PathBuf;
 
+use crate::outcome::Failure;
+
 /// Everything that can go wrong running areo, with the file and position it concerns.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -22,12 +24,18 @@ pub enum Error {
         /// What went wrong with the file.
         source: Box<Error>,
     },
-    /// The run finished but its answer is wrong (a benchmark's known optimum missed).
+    /// The run finished but did not achieve its aim (unreachable goals, a benchmark's
+    /// known optimum missed). Outputs written so far are kept.
     #[error("{0}")]
-    Failed(String),
+    Failed(Failure),
     /// A job needs more memory or work than it is allowed (see `budget`).
-    #[error("{0}")]
-    Budget(String),
+    #[error("{}", crate::budget::refusal(estimate, limit))]
+    Budget {
+        /// What the job would need.
+        estimate: crate::budget::Estimate,
+        /// What it is allowed.
+        limit: crate::budget::Budget,
+    },
     /// An output file could not be written (a full disk, no permission): a failure
     /// while running.
     #[error("{path}: {source}")]
@@ -81,9 +89,15 @@ pub enum Error {
     /// A rover parameter file could not be read or is invalid.
     #[error(transparent)]
     Rover(#[from] areo_rover::Error),
-    /// A command-line value is out of range.
-    #[error("{0}")]
-    Usage(String),
+    /// A command-line value (or an environment variable standing for one) is out of
+    /// range or inconsistent with the others.
+    #[error("{what}: {message}")]
+    Usage {
+        /// The flag or variable with its value, e.g. `--mu -1`.
+        what: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
     /// A scenario value is inconsistent with the rest (a goal off the map, …).
     #[error("{path}: field `{field}`: {message}")]
     Scenario {
@@ -97,19 +111,18 @@ pub enum Error {
     /// A planner input is out of range or the planner failed.
     #[error(transparent)]
     Mission(#[from] areo_mission::Error),
-    /// The mission's goals cannot be reached: the binding constraint. Outputs written
-    /// so far are kept.
-    #[error("{0}")]
-    Unreachable(String),
+    /// The GA action planner refused its input.
+    #[error(transparent)]
+    Actions(#[from] areo_actions::Error),
 }
 
 impl Error {
     /// The process exit code for this error: 2 for bad input, 3 for an unreachable
-    /// goal, 1 otherwise.
+    /// goal, 1 otherwise. The only place exit codes are decided.
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Syntax { .. } | Error::Invalid { .. } | Error::Grid { .. } | Error::Ephemeris(_) => 2,
-            Error::Read { .. } | Error::Budget(_) => 2,
+            Error::Read { .. } | Error::Budget { .. } => 2,
             // A referenced file that cannot be read or used is bad input, whatever the
             // cause; only an output that cannot be written is a failure while running.
             Error::Referenced { source, .. } => match source.exit_code() {
@@ -118,12 +131,18 @@ impl Error {
             },
             Error::Terrain(areo_terrain::Error::Io { .. }) => 1,
             Error::Terrain(_) => 2,
-            Error::Io { .. } | Error::Failed(_) => 1,
+            Error::Io { .. } | Error::Failed(Failure::Mismatched { .. }) => 1,
             // areo-rover only reads (its parameter files).
-            Error::Rover(_) | Error::Usage(_) | Error::Scenario { .. } => 2,
-            Error::Mission(areo_mission::Error::Unreachable { .. }) | Error::Unreachable(_) => 3,
+            Error::Rover(_) | Error::Usage { .. } | Error::Scenario { .. } | Error::Actions(_) => 2,
+            Error::Mission(areo_mission::Error::Unreachable { .. })
+            | Error::Failed(Failure::Unreachable { .. } | Failure::NoPath { .. }) => 3,
             Error::Mission(_) => 2,
         }
+    }
+
+    /// A command-line value that is out of range: `what` names the flag and its value.
+    pub fn usage(what: impl Into<String>, message: impl Into<String>) -> Error {
+        Error::Usage { what: what.into(), message: message.into() }
     }
 
     /// This error as the failure to use the file that `field` of scenario `path` names.
@@ -134,3 +153,38 @@ impl Error {
 
 /// `Result` with this crate's [`enum@Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::budget::{Budget, Estimate};
+
+    #[test]
+    fn typed_failures_reach_their_exit_codes_and_read_as_before() {
+        let unreachable = Error::Failed(Failure::Unreachable {
+            binding: areo_mission::Binding::Battery,
+            message: "the battery".into(),
+            after_actions: Some(7),
+        });
+        assert_eq!(unreachable.exit_code(), 3);
+        assert_eq!(unreachable.to_string(), "goal unreachable after 7 actions: binding constraint: the battery");
+        assert_eq!(Error::Failed(Failure::NoPath { unreachable: 1, scenarios: 4 }).exit_code(), 3);
+        let mismatched = Error::Failed(Failure::Mismatched { mismatched: 2, scenarios: 4 });
+        assert_eq!((mismatched.exit_code(), mismatched.to_string().as_str()), (1, "2 of 4 scenarios mismatched"));
+        let usage = Error::usage("--mu -1", "must be positive and finite");
+        assert_eq!((usage.exit_code(), usage.to_string().as_str()), (2, "--mu -1: must be positive and finite"));
+
+        let estimate =
+            Estimate { what: "the job".into(), memory_bytes: 3 << 30, work_steps: 10, work_unit: "cell-sector sweeps" };
+        let memory = Budget { memory_bytes: 1 << 30, work_steps: 100 }.check(&estimate).unwrap_err();
+        assert_eq!(memory.exit_code(), 2);
+        assert_eq!(
+            memory.to_string(),
+            "the job needs about 3.00 GiB of memory, more than the 1.00 GiB allowed (raise it with --max-memory-gb)"
+        );
+        let work = Budget { memory_bytes: 4 << 30, work_steps: 5 }.check(&estimate).unwrap_err();
+        assert!(matches!(&work, Error::Budget { limit, .. } if limit.work_steps == 5));
+        assert!(work.to_string().contains("1.00e1 steps of work (cell-sector sweeps), more than the 5.00e0 allowed"));
+        assert!(Budget { memory_bytes: 4 << 30, work_steps: 10 }.check(&estimate).is_ok());
+    }
+}

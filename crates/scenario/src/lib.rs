@@ -40,6 +40,6 @@ pub use areo_ephemeris::Body;
 pub use crate::{
     error::{Error, Result},
     jobs::{RunOptions, run, run_into},
-    outcome::{Fact, Outcome},
+    outcome::{Fact, Failure, Outcome},
     progress::{NoProgress, Progress},
 };

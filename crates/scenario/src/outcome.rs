@@ -37,9 +37,60 @@ pub struct Outcome {
     pub summary: Vec<String>,
     /// Files the job wrote.
     pub files: Vec<PathBuf>,
-    /// Set when the job ran but did not achieve its aim (an unreachable goal): the
-    /// message; `areo run` exits with code 3 after writing everything.
-    pub failure: Option<String>,
+    /// Set when the job ran but did not achieve its aim (an unreachable goal);
+    /// `areo run` exits with its code after writing everything.
+    pub failure: Option<Failure>,
+}
+
+/// Why a job that ran to its end did not achieve its aim.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Failure {
+    /// No plan reaches the goals (exit 3).
+    Unreachable {
+        /// The binding constraint, found by relaxing constraints one at a time.
+        binding: areo_mission::Binding,
+        /// The planner's description of it.
+        message: String,
+        /// How many actions a simulated rover had executed when it gave up (`None`
+        /// when no plan was found from the start).
+        after_actions: Option<usize>,
+    },
+    /// Grid benchmarks with no path where the published length says there is one
+    /// (exit 3).
+    NoPath {
+        /// How many.
+        unreachable: usize,
+        /// Of how many scenarios.
+        scenarios: usize,
+    },
+    /// Grid benchmarks whose length differs from the published optimum (exit 1).
+    Mismatched {
+        /// How many.
+        mismatched: usize,
+        /// Of how many scenarios.
+        scenarios: usize,
+    },
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Failure::Unreachable { message, after_actions: None, .. } => {
+                write!(f, "no plan reaches the goals: binding constraint: {message}")
+            }
+            Failure::Unreachable { message, after_actions: Some(n), .. } => {
+                write!(f, "goal unreachable after {n} actions: binding constraint: {message}")
+            }
+            Failure::NoPath { unreachable, scenarios } => write!(
+                f,
+                "{unreachable} of {scenarios} scenarios: no path to the goal (the published length says there is one)"
+            ),
+            Failure::Mismatched { mismatched, scenarios } => {
+                write!(f, "{mismatched} of {scenarios} scenarios mismatched")
+            }
+        }
+    }
 }
 
 impl Outcome {

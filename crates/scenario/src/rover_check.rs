@@ -129,7 +129,7 @@ const WHEELS: [&str; 6] = ["left front", "left middle", "left rear", "right fron
 pub fn check(params_path: &Path, terrain: TestTerrain, mu: f64, moving: bool) -> Result<Report> {
     let params = crate::format::rover_files::load_params(params_path)?;
     if !(mu > 0.0 && mu.is_finite()) {
-        return Err(Error::Usage(format!("--mu {mu}: must be positive and finite")));
+        return Err(Error::usage(format!("--mu {mu}"), "must be positive and finite"));
     }
     let ev = Evaluator::new(&params);
     let arm = ArmState::stowed(&params);

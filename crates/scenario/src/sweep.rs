@@ -369,7 +369,7 @@ pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<Task>> {
     }
     let mut manifest = String::new();
     for t in &tasks {
-        manifest += &serde_json::to_string(t).map_err(|e| Error::Failed(e.to_string()))?;
+        manifest += &serde_json::to_string(t).map_err(|e| io(&dir.join("manifest.jsonl"))(e.into()))?;
         manifest.push('\n');
     }
     write_file(&dir.join("manifest.jsonl"), manifest.as_bytes())?;
@@ -385,7 +385,7 @@ pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<Task>> {
         combine: sweep.combine,
         tasks: tasks.len(),
     };
-    let json = serde_json::to_string_pretty(&info).map_err(|e| Error::Failed(e.to_string()))?;
+    let json = serde_json::to_string_pretty(&info).map_err(|e| io(&dir.join("sweep.json"))(e.into()))?;
     write_file(&dir.join("sweep.json"), json.as_bytes())?;
     Ok(tasks)
 }
@@ -427,11 +427,12 @@ pub fn task_index(index: Option<usize>) -> Result<usize> {
     }
     for var in ["SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"] {
         if let Ok(v) = std::env::var(var) {
-            return v.trim().parse().map_err(|_| Error::Usage(format!("{var}={v:?} is not a task index")));
+            return v.trim().parse().map_err(|_| Error::usage(format!("{var}={v:?}"), "is not a task index"));
         }
     }
-    Err(Error::Usage(
-        "no task index: give --index N, or run under a Slurm job array (SLURM_ARRAY_TASK_ID) or a Kubernetes Indexed Job (JOB_COMPLETION_INDEX)".into(),
+    Err(Error::usage(
+        "no task index",
+        "give --index N, or run under a Slurm job array (SLURM_ARRAY_TASK_ID) or a Kubernetes Indexed Job (JOB_COMPLETION_INDEX)",
     ))
 }
 
@@ -464,11 +465,10 @@ pub fn run_task(
     let info = info(dir)?;
     let all = tasks(dir)?;
     let task = all.into_iter().find(|t| t.index == index).ok_or_else(|| {
-        Error::Usage(format!(
-            "task {index}: the sweep in {} has tasks 0..={}",
-            dir.display(),
-            info.tasks.saturating_sub(1)
-        ))
+        Error::usage(
+            format!("task {index}"),
+            format!("the sweep in {} has tasks 0..={}", dir.display(), info.tasks.saturating_sub(1)),
+        )
     })?;
     let out = dir.join("out");
     if !force && out.join(&task.id).join("facts.json").exists() {
@@ -568,10 +568,13 @@ pub fn collect(dir: &Path, plot: Option<(&str, &str)>) -> Result<Collected> {
     table.write(&files[0])?;
     if let Some((fact, axis)) = plot {
         if !info.axes.iter().any(|a| a == axis) {
-            return Err(Error::Usage(format!("--against {axis}: the sweep's axes are {}", info.axes.join(", "))));
+            return Err(Error::usage(
+                format!("--against {axis}"),
+                format!("the sweep's axes are {}", info.axes.join(", ")),
+            ));
         }
         if !names.contains(fact) {
-            return Err(Error::Usage(format!("--plot {fact}: no finished task reported that fact")));
+            return Err(Error::usage(format!("--plot {fact}"), "no finished task reported that fact"));
         }
         let mut points: Vec<(f64, f64)> = all
             .iter()
@@ -589,7 +592,7 @@ pub fn collect(dir: &Path, plot: Option<(&str, &str)>) -> Result<Collected> {
             .collect();
         points.sort_by(|a, b| a.0.total_cmp(&b.0));
         if points.is_empty() {
-            return Err(Error::Usage(format!("--plot {fact} --against {axis}: no numeric values to plot")));
+            return Err(Error::usage(format!("--plot {fact} --against {axis}"), "no numeric values to plot"));
         }
         let (lo, hi) = points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| (l.min(p.0), h.max(p.0)));
         let plot = crate::output::plots::TimePlot {

@@ -26,10 +26,10 @@ pub fn read_dem(path: &Path) -> Result<Dem> {
 pub fn check_output(input: &Path, out: &Path) -> Result<()> {
     let ext = out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if !matches!(ext.as_deref(), Some("tif" | "tiff")) {
-        return Err(Error::Usage(format!(
-            "-o {}: the output is a GeoTIFF, name it NAME.tif (its preview goes to NAME.png)",
-            out.display()
-        )));
+        return Err(Error::usage(
+            format!("-o {}", out.display()),
+            "the output is a GeoTIFF, name it NAME.tif (its preview goes to NAME.png)",
+        ));
     }
     let same = |a: &Path, b: &Path| -> bool {
         // The output may not exist yet: compare its directory's real path and its name.
@@ -41,11 +41,10 @@ pub fn check_output(input: &Path, out: &Path) -> Result<()> {
     };
     for candidate in [out.to_path_buf(), out.with_extension("png")] {
         if same(input, &candidate) {
-            return Err(Error::Usage(format!(
-                "-o {}: writing it would overwrite the input {}",
-                out.display(),
-                input.display()
-            )));
+            return Err(Error::usage(
+                format!("-o {}", out.display()),
+                format!("writing it would overwrite the input {}", input.display()),
+            ));
         }
     }
     Ok(())
@@ -157,7 +156,7 @@ pub fn write_shadow_tiled(
     let (mut src, held_bytes) = Opened::open(input)?;
     let grid = src.grid();
     let Some(relief) = relief(&mut src, tile)? else {
-        return Err(Error::Usage(format!("{}: no cell has data", input.display())));
+        return Err(Error::usage(input.display().to_string(), "no cell has data"));
     };
     let curvature =
         if flat { Curvature::Flat } else { Curvature::Sphere { radius_m: grid.georef.surface.mean_radius_m() } };
@@ -237,17 +236,18 @@ pub fn write_horizon_tiled(
     use areo_terrain::tiles::{HorizonTiles, ShadowHalo, relief, write_horizon_tiled};
     check_tile(tile)?;
     if !(16..=360).contains(&sectors) {
-        return Err(Error::Usage(format!("--sectors {sectors}: allowed 16..=360")));
+        return Err(Error::usage(format!("--sectors {sectors}"), "allowed 16..=360"));
     }
     if !(0.5..=89.0).contains(&lowest_deg) {
-        return Err(Error::Usage(format!(
-            "--lowest-sun {lowest_deg}: allowed 0.5..=89 degrees (the halo grows as 1/tan of it)"
-        )));
+        return Err(Error::usage(
+            format!("--lowest-sun {lowest_deg}"),
+            "allowed 0.5..=89 degrees (the halo grows as 1/tan of it)",
+        ));
     }
     let (mut src, held_bytes) = Opened::open(input)?;
     let grid = src.grid();
     let Some(relief) = relief(&mut src, tile)? else {
-        return Err(Error::Usage(format!("{}: no cell has data", input.display())));
+        return Err(Error::usage(input.display().to_string(), "no cell has data"));
     };
     let curvature = Curvature::Sphere { radius_m: grid.georef.surface.mean_radius_m() };
     let halo = ShadowHalo::new(relief, &grid, lowest_deg)?;
@@ -284,9 +284,10 @@ pub fn write_horizon_tiled(
 /// `--tile`: TIFF tiles are multiples of 16 cells.
 fn check_tile(tile: usize) -> Result<()> {
     if tile < 16 || !tile.is_multiple_of(16) || tile > 65536 {
-        return Err(Error::Usage(format!(
-            "--tile {tile}: allowed a multiple of 16 in 16..=65536 (a TIFF tile's side)"
-        )));
+        return Err(Error::usage(
+            format!("--tile {tile}"),
+            "allowed a multiple of 16 in 16..=65536 (a TIFF tile's side)",
+        ));
     }
     Ok(())
 }
@@ -367,16 +368,17 @@ pub fn horizon_paths(out: &Path, sectors: usize) -> Vec<std::path::PathBuf> {
 /// files and the visible fraction.
 pub fn write_viewshed(dem: &Dem, x: f64, y: f64, height_m: f64, out: &Path) -> Result<(Vec<std::path::PathBuf>, f64)> {
     if !(height_m > 0.0 && height_m <= 1e5) {
-        return Err(Error::Usage(format!(
-            "--from height {height_m} m: allowed 0 (exclusive)..=100000 m above the ground"
-        )));
+        return Err(Error::usage(
+            format!("--from height {height_m} m"),
+            "allowed 0 (exclusive)..=100000 m above the ground",
+        ));
     }
     let e = dem.extent();
     if !(x >= e.x_min && x <= e.x_max && y >= e.y_min && y <= e.y_max) {
-        return Err(Error::Usage(format!(
-            "--from ({x}, {y}): off the map (x {} .. {} m, y {} .. {} m)",
-            e.x_min, e.x_max, e.y_min, e.y_max
-        )));
+        return Err(Error::usage(
+            format!("--from ({x}, {y})"),
+            format!("off the map (x {} .. {} m, y {} .. {} m)", e.x_min, e.x_max, e.y_min, e.y_max),
+        ));
     }
     let seen = areo_terrain::los::viewshed(dem, x, y, height_m, Curvature::of(dem))?;
     let bytes: Vec<u8> =

@@ -21,10 +21,11 @@ use crate::output::csv::Table;
 use crate::output::plots::{HistogramPlot, Marker, ProfilePlot, ProfileRover, RoutePlot, Series, TimePlot};
 use crate::output::{json_for, write_file};
 
-fn mission_error(file: &ScenarioFile, e: areo_actions::Error) -> Error {
+/// A GA setting refused by areo-actions, placed at its field in the scenario.
+fn ga_error(file: &ScenarioFile, e: areo_actions::Error) -> Error {
     match e {
         areo_actions::Error::Config { field, message } => file.error_at(&format!("job.{field}"), message),
-        other => file.error_at("job", other.to_string()),
+        other => Error::Actions(other),
     }
 }
 
@@ -162,8 +163,7 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         }
         let name = &run.name;
         let clock = std::time::Instant::now();
-        let report =
-            evolve(&executor, &run.inventory, &job.weights, &scale, &run.ga).map_err(|e| mission_error(file, e))?;
+        let report = evolve(&executor, &run.inventory, &job.weights, &scale, &run.ga).map_err(|e| ga_error(file, e))?;
         let seconds = clock.elapsed().as_secs_f64();
         opts.progress.advance(1);
         run_facts(&mut o, name, &report, seconds, &task);
@@ -176,8 +176,8 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
                     report.clone()
                 } else {
                     let ga = GaConfig { seed, ..run.ga.clone() };
-                    let r = evolve(&executor, &run.inventory, &job.weights, &scale, &ga)
-                        .map_err(|e| mission_error(file, e))?;
+                    let r =
+                        evolve(&executor, &run.inventory, &job.weights, &scale, &ga).map_err(|e| ga_error(file, e))?;
                     opts.progress.advance(1);
                     r
                 };
@@ -207,7 +207,7 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
             job.ditch_far_edge_y_m,
             |_| opts.progress.advance(1),
         )
-        .map_err(|e| mission_error(file, e))?;
+        .map_err(|e| ga_error(file, e))?;
         let (crossed, completed) = (result.min_mu_crossing, result.min_mu_completing);
         if let Some(mu) = crossed {
             o.number("sweep_min_mu_crossing_ditch", mu);

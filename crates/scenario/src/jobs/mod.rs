@@ -69,10 +69,10 @@ pub fn run(file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
 pub fn run_into(file: &ScenarioFile, out_root: &Path, progress: &dyn Progress, budget: Budget) -> Result<Outcome> {
     let name = &file.name;
     if name.is_empty() || name.starts_with('.') || name.contains(['/', '\\']) {
-        return Err(Error::Usage(format!(
-            "{}: the scenario's file name gives the output directory; {name:?} cannot be one",
-            file.path.display()
-        )));
+        return Err(Error::usage(
+            file.path.display().to_string(),
+            format!("the scenario's file name gives the output directory; {name:?} cannot be one"),
+        ));
     }
     let io = |path: &Path| {
         let path = path.to_path_buf();
@@ -83,12 +83,10 @@ pub fn run_into(file: &ScenarioFile, out_root: &Path, progress: &dyn Progress, b
     if let (Ok(scenario), Ok(target)) = (file.path.canonicalize(), dir.canonicalize())
         && scenario.starts_with(&target)
     {
-        return Err(Error::Usage(format!(
-            "--out {}: the outputs go to {}, which holds the scenario {} itself",
-            out_root.display(),
-            dir.display(),
-            file.path.display()
-        )));
+        return Err(Error::usage(
+            format!("--out {}", out_root.display()),
+            format!("the outputs go to {}, which holds the scenario {} itself", dir.display(), file.path.display()),
+        ));
     }
     let staging = out_root.join(format!(".{name}.partial-{}", std::process::id()));
     if staging.exists() {

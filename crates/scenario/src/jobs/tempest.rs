@@ -20,7 +20,7 @@ use serde_json::json;
 use crate::error::{Error, Result};
 use crate::format::{ScenarioFile, TempestJob, TerrainSource, Truth};
 use crate::jobs::RunOptions;
-use crate::outcome::Outcome;
+use crate::outcome::{Failure, Outcome};
 use crate::output::csv::Table;
 use crate::output::geojson::{collection, feature, line, point};
 use crate::output::plots::{Marker, RoutePlot, Series, TimePlot};
@@ -357,8 +357,8 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         Err(MissionError::Config { field, message }) => {
             return Err(scenario_error(file, planner_field(field), message));
         }
-        Err(MissionError::Unreachable { message, .. }) => {
-            o.failure = Some(format!("no plan reaches the goals: binding constraint: {message}"));
+        Err(MissionError::Unreachable { binding, message }) => {
+            o.failure = Some(Failure::Unreachable { binding, message: message.clone(), after_actions: None });
             o.text("status", "unreachable");
             o.text("binding", message.clone());
             o.number("goals_reached", 0.0);
@@ -410,11 +410,12 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
             o.number("initial_plan_s", initial.wall_s);
             plan_facts(&mut o, &ctx, &initial.plan);
             sim_facts(&mut o, &ctx, report);
-            if let SimStatus::Unreachable { message, .. } = &report.status {
-                o.failure = Some(format!(
-                    "goal unreachable after {} actions: binding constraint: {message}",
-                    report.steps.len()
-                ));
+            if let SimStatus::Unreachable { binding, message } = &report.status {
+                o.failure = Some(Failure::Unreachable {
+                    binding: *binding,
+                    message: message.clone(),
+                    after_actions: Some(report.steps.len()),
+                });
             }
         }
     }

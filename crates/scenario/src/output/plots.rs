@@ -98,8 +98,12 @@ fn colour((r, g, b): (u8, u8, u8)) -> RGBColor {
     RGBColor(r, g, b)
 }
 
-fn draw_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> String {
-    e.to_string()
+/// What a drawing backend or the PNG encoder reported.
+type DrawError = Box<dyn std::error::Error + Send + Sync>;
+type DrawResult<T> = std::result::Result<T, DrawError>;
+
+fn draw_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> DrawError {
+    e.to_string().into()
 }
 
 /// A chart builder with the plots' common title, margin and label areas.
@@ -116,10 +120,7 @@ fn titled<'a, 'b, DB: DrawingBackend>(
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// Draws each series as a line with its legend entry.
-fn draw_lines<'a, DB: DrawingBackend + 'a>(
-    chart: &mut Chart<'a, DB>,
-    series: &[Series],
-) -> std::result::Result<(), String> {
+fn draw_lines<'a, DB: DrawingBackend + 'a>(chart: &mut Chart<'a, DB>, series: &[Series]) -> DrawResult<()> {
     for s in series {
         let style = colour(s.rgb).stroke_width(s.width);
         chart
@@ -135,7 +136,7 @@ fn draw_lines<'a, DB: DrawingBackend + 'a>(
 fn draw_legend<'a, DB: DrawingBackend + 'a>(
     chart: &mut Chart<'a, DB>,
     position: SeriesLabelPosition,
-) -> std::result::Result<(), String> {
+) -> DrawResult<()> {
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.85))
@@ -153,7 +154,7 @@ fn draw_route<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     p: &RoutePlot,
     paint_background: bool,
-) -> std::result::Result<PixelRect, String> {
+) -> DrawResult<PixelRect> {
     // Without the painted background (the SVG), the caller lays the white page and the
     // map image under this drawing.
     if paint_background {
@@ -199,7 +200,7 @@ fn draw_route<DB: DrawingBackend>(
     Ok(rect)
 }
 
-fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) -> std::result::Result<(), String> {
+fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) -> DrawResult<()> {
     root.fill(&WHITE).map_err(draw_err)?;
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for s in &p.series {
@@ -245,8 +246,8 @@ fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) ->
     Ok(())
 }
 
-fn plot_error(path: &Path, message: String) -> Error {
-    Error::Io { path: path.to_path_buf(), source: std::io::Error::other(message) }
+fn plot_error(path: &Path, e: DrawError) -> Error {
+    Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) }
 }
 
 /// Writes the route plot as `dir/NAME.svg` and `dir/NAME.png`.
@@ -257,7 +258,7 @@ pub fn route(dir: &Path, name: &str, p: &RoutePlot) -> Result<Vec<PathBuf>> {
     // The PNG paints the background pixel by pixel. The SVG is a page of three layers:
     // a white rectangle, the background as one embedded PNG image over the plotting
     // area, and plotters' drawing (left unfilled) as a nested <svg> on top.
-    let layers = |drawing: String, rect: PixelRect| -> std::result::Result<String, String> {
+    let layers = |drawing: String, rect: PixelRect| -> DrawResult<String> {
         let mut png = Vec::new();
         crate::output::png::encode_png(&mut png, p.cols, p.rows, &p.background)?;
         Ok(format!(
@@ -312,7 +313,7 @@ pub struct ProfilePlot {
     pub wheel_radius_m: f64,
 }
 
-fn draw_profile<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &ProfilePlot) -> std::result::Result<(), String> {
+fn draw_profile<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &ProfilePlot) -> DrawResult<()> {
     root.fill(&WHITE).map_err(draw_err)?;
     let xs = p.ground.iter().map(|q| q.0).chain(p.rovers.iter().flat_map(|r| r.wheels.iter().map(|w| w.0)));
     let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
@@ -365,10 +366,7 @@ pub struct HistogramPlot {
     pub values: Vec<i64>,
 }
 
-fn draw_histogram<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    p: &HistogramPlot,
-) -> std::result::Result<(), String> {
+fn draw_histogram<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &HistogramPlot) -> DrawResult<()> {
     root.fill(&WHITE).map_err(draw_err)?;
     let lo = p.values.iter().copied().min().unwrap_or(0).min(0);
     let hi = p.values.iter().copied().max().unwrap_or(1).max(1);
@@ -405,8 +403,8 @@ fn both(
     dir: &Path,
     name: &str,
     size: (u32, u32),
-    draw_svg: impl Fn(&DrawingArea<SVGBackend<'_>, Shift>) -> std::result::Result<(), String>,
-    draw_png: impl Fn(&DrawingArea<BitMapBackend<'_>, Shift>) -> std::result::Result<(), String>,
+    draw_svg: impl Fn(&DrawingArea<SVGBackend<'_>, Shift>) -> DrawResult<()>,
+    draw_png: impl Fn(&DrawingArea<BitMapBackend<'_>, Shift>) -> DrawResult<()>,
 ) -> Result<Vec<PathBuf>> {
     both_with(dir, name, size, draw_svg, |svg, ()| Ok(svg), draw_png)
 }
@@ -417,9 +415,9 @@ fn both_with<T>(
     dir: &Path,
     name: &str,
     (width, height): (u32, u32),
-    draw_svg: impl Fn(&DrawingArea<SVGBackend<'_>, Shift>) -> std::result::Result<T, String>,
-    finish_svg: impl FnOnce(String, T) -> std::result::Result<String, String>,
-    draw_png: impl Fn(&DrawingArea<BitMapBackend<'_>, Shift>) -> std::result::Result<(), String>,
+    draw_svg: impl Fn(&DrawingArea<SVGBackend<'_>, Shift>) -> DrawResult<T>,
+    finish_svg: impl FnOnce(String, T) -> DrawResult<String>,
+    draw_png: impl Fn(&DrawingArea<BitMapBackend<'_>, Shift>) -> DrawResult<()>,
 ) -> Result<Vec<PathBuf>> {
     register_font();
     let svg_path = dir.join(format!("{name}.svg"));

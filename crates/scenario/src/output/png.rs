@@ -6,13 +6,18 @@ use std::path::Path;
 use crate::error::{Error, Result};
 
 /// Encodes RGB bytes (`width` × `height`) as PNG into `out`.
-pub fn encode_png(out: &mut Vec<u8>, width: usize, height: usize, rgb: &[u8]) -> std::result::Result<(), String> {
+pub fn encode_png(
+    out: &mut Vec<u8>,
+    width: usize,
+    height: usize,
+    rgb: &[u8],
+) -> std::result::Result<(), png::EncodingError> {
     let mut enc = png::Encoder::new(out, width as u32, height as u32);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
-    let mut w = enc.write_header().map_err(|e| e.to_string())?;
-    w.write_image_data(rgb).map_err(|e| e.to_string())?;
-    w.finish().map_err(|e| e.to_string())
+    let mut w = enc.write_header()?;
+    w.write_image_data(rgb)?;
+    w.finish()
 }
 
 /// Writes RGB bytes (`width` × `height`) as a PNG.
