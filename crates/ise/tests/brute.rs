@@ -1,5 +1,6 @@
 //! Brute-force references: forward Dijkstra over a fully enumerated state graph.
 
+use ordered_float::OrderedFloat;
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
 use std::hash::Hash;
@@ -14,9 +15,9 @@ pub(crate) fn dijkstra<S: Copy + Eq + Hash + Ord>(
     let mut dist: HashMap<S, f64> = HashMap::new();
     let mut heap = BinaryHeap::new();
     dist.insert(start, 0.0);
-    heap.push(Reverse((Ord64(0.0), start)));
+    heap.push(Reverse((OrderedFloat(0.0), start)));
     let mut best: Option<f64> = None;
-    while let Some(Reverse((Ord64(d), s))) = heap.pop() {
+    while let Some(Reverse((OrderedFloat(d), s))) = heap.pop() {
         if d > dist[&s] {
             continue;
         }
@@ -30,23 +31,9 @@ pub(crate) fn dijkstra<S: Copy + Eq + Hash + Ord>(
             let nd = d + c;
             if dist.get(&t).is_none_or(|&old| nd < old) {
                 dist.insert(t, nd);
-                heap.push(Reverse((Ord64(nd), t)));
+                heap.push(Reverse((OrderedFloat(nd), t)));
             }
         }
     }
     best
-}
-
-#[derive(Clone, Copy, PartialEq)]
-pub(crate) struct Ord64(pub(crate) f64);
-impl Eq for Ord64 {}
-impl PartialOrd for Ord64 {
-    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Ord64 {
-    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&o.0)
-    }
 }

@@ -1,6 +1,7 @@
 //! Multi-goal chaining (Figure 3) against a brute-force search of the whole
 //! concatenated problem, and re-planning and plan extension against plans from scratch.
 
+use ordered_float::OrderedFloat;
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
 
@@ -34,10 +35,10 @@ fn brute_force(world: &World, model: &ActionModel, mission: &Mission<'_>, goals:
     let mut m = (start.t_min / 60.0).ceil() as i64;
     while m as f64 * 60.0 <= start.t_max + 1e-9 {
         dist.insert((0, start.cell, m), 0.0);
-        heap.push(Reverse((Ord64(0.0), 0usize, start.cell, m)));
+        heap.push(Reverse((OrderedFloat(0.0), 0usize, start.cell, m)));
         m += 1;
     }
-    while let Some(Reverse((Ord64(d), k, cell, m))) = heap.pop() {
+    while let Some(Reverse((OrderedFloat(d), k, cell, m))) = heap.pop() {
         if dist.get(&(k, cell, m)).is_some_and(|&b| b < d) {
             continue;
         }
@@ -64,7 +65,7 @@ fn brute_force(world: &World, model: &ActionModel, mission: &Mission<'_>, goals:
             let nd = d + w;
             if dist.get(&(k2, c2, m2)).is_none_or(|&b| nd < b - 1e-12) {
                 dist.insert((k2, c2, m2), nd);
-                heap.push(Reverse((Ord64(nd), k2, c2, m2)));
+                heap.push(Reverse((OrderedFloat(nd), k2, c2, m2)));
             }
         }
     }
@@ -206,9 +207,9 @@ fn brute_force_with_battery(
     let mut heap = BinaryHeap::new();
     for (m, battery) in start_minutes(model, &start) {
         dist.insert((0, start.cell, m, battery.to_bits()), 0.0);
-        heap.push(Reverse((Ord64(0.0), 0usize, start.cell, m, battery.to_bits())));
+        heap.push(Reverse((OrderedFloat(0.0), 0usize, start.cell, m, battery.to_bits())));
     }
-    while let Some(Reverse((Ord64(d), k, cell, m, b))) = heap.pop() {
+    while let Some(Reverse((OrderedFloat(d), k, cell, m, b))) = heap.pop() {
         if dist.get(&(k, cell, m, b)).is_some_and(|&best| best < d) {
             continue;
         }
@@ -233,7 +234,7 @@ fn brute_force_with_battery(
             let nd = d + w;
             if dist.get(&key).is_none_or(|&best| nd < best - 1e-12) {
                 dist.insert(key, nd);
-                heap.push(Reverse((Ord64(nd), key.0, key.1, key.2, key.3)));
+                heap.push(Reverse((OrderedFloat(nd), key.0, key.1, key.2, key.3)));
             }
         }
     }

@@ -87,21 +87,6 @@ pub(crate) fn quantised_actions(hibernate_s: f64) -> ActionConfig {
     a
 }
 
-/// An f64 ordered by `total_cmp`, for the brute-force searches' heaps.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Ord64(pub(crate) f64);
-impl Eq for Ord64 {}
-impl PartialOrd for Ord64 {
-    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Ord64 {
-    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&o.0)
-    }
-}
-
 /// Every action from (`cell`, `t`) forward: (action, destination, effect).
 pub(crate) fn moves(world: &World, model: &ActionModel, cell: u32, t: f64) -> Vec<(Action, u32, areo_mission::Effect)> {
     let mut out = Vec::new();

@@ -15,6 +15,7 @@
 //! label per time class (the paper's setting, which areo no longer offers) would lose
 //! them — the tests count those cases, so that they test what they claim.
 
+use ordered_float::OrderedFloat;
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
 
@@ -72,9 +73,9 @@ fn least_cost_from(
     let mut heap = BinaryHeap::new();
     for (m, battery) in start_minutes(model, &start) {
         dist.insert((start.cell, m, battery.to_bits()), 0.0);
-        heap.push(Reverse((Ord64(0.0), start.cell, m, battery.to_bits())));
+        heap.push(Reverse((OrderedFloat(0.0), start.cell, m, battery.to_bits())));
     }
-    while let Some(Reverse((Ord64(d), cell, m, b))) = heap.pop() {
+    while let Some(Reverse((OrderedFloat(d), cell, m, b))) = heap.pop() {
         if dist.get(&(cell, m, b)).is_some_and(|&best| best < d) {
             continue;
         }
@@ -92,7 +93,7 @@ fn least_cost_from(
             let nd = d + step_cost(world, Objective::Energy, e_max, a, t, e);
             if dist.get(&key).is_none_or(|&best| nd < best - 1e-12) {
                 dist.insert(key, nd);
-                heap.push(Reverse((Ord64(nd), key.0, key.1, key.2)));
+                heap.push(Reverse((OrderedFloat(nd), key.0, key.1, key.2)));
             }
         }
     }
@@ -384,10 +385,10 @@ fn heuristic_against_a_forward_search(t0: f64, daylight: bool) -> (usize, f64, f
     let mut heap = BinaryHeap::new();
     for m in (t0 / 60.0).ceil() as i64..=((t0 + 600.0) / 60.0).floor() as i64 {
         dist.insert((start.cell, m), 0.0);
-        heap.push(Reverse((Ord64(0.0), start.cell, m)));
+        heap.push(Reverse((OrderedFloat(0.0), start.cell, m)));
     }
     let (mut checked, mut time_share) = (0, 0.0f64);
-    while let Some(Reverse((Ord64(d), cell, m))) = heap.pop() {
+    while let Some(Reverse((OrderedFloat(d), cell, m))) = heap.pop() {
         if dist.get(&(cell, m)).is_some_and(|&best| best < d) {
             continue;
         }
@@ -405,7 +406,7 @@ fn heuristic_against_a_forward_search(t0: f64, daylight: bool) -> (usize, f64, f
             let nd = d + step_cost(&world, Objective::Energy, e_max, a, t, e);
             if dist.get(&key).is_none_or(|&best| nd < best - 1e-12) {
                 dist.insert(key, nd);
-                heap.push(Reverse((Ord64(nd), key.0, key.1)));
+                heap.push(Reverse((OrderedFloat(nd), key.0, key.1)));
             }
         }
     }

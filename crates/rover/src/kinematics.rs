@@ -138,6 +138,33 @@ impl Pose {
         (self.heading.sin(), self.heading.cos())
     }
 
+    /// A point given in the body frame about the body reference (x forward, y left, z
+    /// up, m) on the map (east, north, up, m): rolled about x, pitched about y, turned
+    /// to the heading and moved to [`Pose::body`]. [`Pose::map_to_body`] undoes it.
+    pub fn body_to_map(&self, rel: [f64; 3]) -> [f64; 3] {
+        let (fx, fy) = self.forward();
+        let (lx, ly) = (-fy, fx);
+        let (sp, cp) = self.pitch.sin_cos();
+        let (sr, cr) = self.roll.sin_cos();
+        let (bx, by, bz) = (rel[0], rel[1] * cr - rel[2] * sr, rel[1] * sr + rel[2] * cr);
+        let (px, pz) = (bx * cp - bz * sp, bx * sp + bz * cp);
+        [self.body[0] + fx * px + lx * by, self.body[1] + fy * px + ly * by, self.body[2] + pz]
+    }
+
+    /// A map point (m) in the body frame about the body reference: the inverse of
+    /// [`Pose::body_to_map`].
+    pub fn map_to_body(&self, world: [f64; 3]) -> [f64; 3] {
+        let (fx, fy) = self.forward();
+        let (lx, ly) = (-fy, fx);
+        let (sp, cp) = self.pitch.sin_cos();
+        let (sr, cr) = self.roll.sin_cos();
+        let d = [world[0] - self.body[0], world[1] - self.body[1], world[2] - self.body[2]];
+        let (px, by, pz) = (d[0] * fx + d[1] * fy, d[0] * lx + d[1] * ly, d[2]);
+        let (bx, bz) = (px * cp + pz * sp, -px * sp + pz * cp);
+        let (ry, rz) = (by * cr + bz * sr, -by * sr + bz * cr);
+        [bx, ry, rz]
+    }
+
     /// The largest wheel contact error, m: for each wheel, |distance from the axle to
     /// the terrain within the wheel's (roll-tilted) plane − r|, found by marching rays
     /// from the axle every 1° over the lower half and bisecting the first crossing —
@@ -783,6 +810,29 @@ mod tests {
 
     fn lsr1() -> RoverParams {
         RoverParams::lsr1()
+    }
+
+    #[test]
+    fn the_body_frame_turns_with_heading_pitch_and_roll() {
+        let g = Plane { z0: 0.0, gx: 0.0, gy: 0.0 };
+        let mut p = pose(&g, &lsr1(), 10.0, 20.0, 0.0).unwrap();
+        (p.body, p.heading) = ([10.0, 20.0, 5.0], std::f64::consts::FRAC_PI_2);
+        let near = |a: [f64; 3], b: [f64; 3]| a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-12);
+        (p.pitch, p.roll) = (0.0, 0.0);
+        // Facing east: forward is east, left is north.
+        assert!(near(p.body_to_map([1.0, 0.0, 0.0]), [11.0, 20.0, 5.0]));
+        assert!(near(p.body_to_map([0.0, 1.0, 0.0]), [10.0, 21.0, 5.0]));
+        // Nose up 90°: forward points up; left side up 90°: left points up.
+        p.pitch = std::f64::consts::FRAC_PI_2;
+        assert!(near(p.body_to_map([1.0, 0.0, 0.0]), [10.0, 20.0, 6.0]));
+        p.pitch = 0.0;
+        p.roll = std::f64::consts::FRAC_PI_2;
+        assert!(near(p.body_to_map([0.0, 1.0, 0.0]), [10.0, 20.0, 6.0]));
+        // Any pose: map_to_body undoes body_to_map.
+        (p.heading, p.pitch, p.roll) = (0.7, -0.3, 0.2);
+        for rel in [[0.3, -0.2, 0.5], [-1.0, 0.4, -0.1]] {
+            assert!(near(p.map_to_body(p.body_to_map(rel)), rel));
+        }
     }
 
     #[test]

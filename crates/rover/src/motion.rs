@@ -808,15 +808,8 @@ impl<'e> Motion<'e> {
     pub fn tool_world(&self, ground: &impl Ground, state: &RoverState) -> Option<[f64; 3]> {
         let p = self.evaluator.params();
         let pose = self.pose_of(ground, state)?;
-        let (fx, fy) = pose.forward();
-        let (lx, ly) = (-fy, fx);
-        let (sp, cp) = pose.pitch.sin_cos();
-        let (sr, cr) = pose.roll.sin_cos();
         let t = state.arm.tool_m;
-        let rel = [t[0] - p.rocker_pivot_m.x, t[1], t[2] - p.rocker_pivot_m.z];
-        let (bx, by, bz) = (rel[0], rel[1] * cr - rel[2] * sr, rel[1] * sr + rel[2] * cr);
-        let (px, pz) = (bx * cp - bz * sp, bx * sp + bz * cp);
-        Some([pose.body[0] + fx * px + lx * by, pose.body[1] + fy * px + ly * by, pose.body[2] + pz])
+        Some(pose.body_to_map([t[0] - p.rocker_pivot_m.x, t[1], t[2] - p.rocker_pivot_m.z]))
     }
 
     /// What a module with nothing to act on costs (see [`Motion::run`]): its time —
@@ -917,14 +910,7 @@ impl<'e> Motion<'e> {
     pub fn body_point(&self, ground: &impl Ground, state: &RoverState, world: [f64; 3]) -> Option<[f64; 3]> {
         let p = self.evaluator.params();
         let pose = self.pose_of(ground, state)?;
-        let (fx, fy) = pose.forward();
-        let (lx, ly) = (-fy, fx);
-        let (sp, cp) = pose.pitch.sin_cos();
-        let (sr, cr) = pose.roll.sin_cos();
-        let d = [world[0] - pose.body[0], world[1] - pose.body[1], world[2] - pose.body[2]];
-        let (px, by, pz) = (d[0] * fx + d[1] * fy, d[0] * lx + d[1] * ly, d[2]);
-        let (bx, bz) = (px * cp + pz * sp, -px * sp + pz * cp);
-        let (ry, rz) = (by * cr + bz * sr, -by * sr + bz * cr);
+        let [bx, ry, rz] = pose.map_to_body(world);
         Some([bx + p.rocker_pivot_m.x, ry, rz + p.rocker_pivot_m.z])
     }
 }

@@ -738,15 +738,11 @@ pub fn parse(path: &Path, text: &str) -> Result<Scenario, Error> {
                 s.line == line && (cols.contains(&col) || (e.span.end.line == line && cols.contains(&e.span.end.col)))
             })
             .map(|s| validate::Violation { path: s.path, message: String::new() }.dotted());
-        Error::Syntax {
-            path: path.to_path_buf(),
-            line,
-            col,
-            message: match field {
-                Some(f) if !f.is_empty() => format!("field `{f}`: {}", e.code),
-                _ => e.code.to_string(),
-            },
+        let mut located = syntax_error(path, &e);
+        if let (Error::Syntax { message, .. }, Some(f)) = (&mut located, field.filter(|f| !f.is_empty())) {
+            *message = format!("field `{f}`: {message}");
         }
+        located
     })?;
     // Every number must be finite, whatever field it is in: NaN and infinity (written,
     // or a literal too large for f64) are refused here once, with their place.
@@ -758,6 +754,23 @@ pub fn parse(path: &Path, text: &str) -> Result<Scenario, Error> {
         return Err(Error::Invalid { path: path.to_path_buf(), line, col, field: v.dotted(), message: v.message });
     }
     Ok(scenario)
+}
+
+/// A RON parse error of `path` as [`Error::Syntax`] at its line and column.
+pub(crate) fn syntax_error(path: &Path, e: &ron::error::SpannedError) -> Error {
+    Error::Syntax {
+        path: path.to_path_buf(),
+        line: e.span.start.line,
+        col: e.span.start.col,
+        message: e.code.to_string(),
+    }
+}
+
+/// Reads and parses a RON file of areo's dialect ([`ron_options`]): unreadable is
+/// [`Error::Read`], unparsable [`Error::Syntax`].
+pub(crate) fn read_ron<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, Error> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    ron_options().from_str(&text).map_err(|e| syntax_error(path, &e))
 }
 
 /// The RON options every areo file is read with (areo-rover's, for one dialect).

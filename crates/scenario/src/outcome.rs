@@ -162,14 +162,7 @@ pub struct Mismatch {
 impl Expected {
     /// Reads an expectation file.
     pub fn load(path: &Path) -> Result<Expected, crate::Error> {
-        let text =
-            std::fs::read_to_string(path).map_err(|source| crate::Error::Io { path: path.to_path_buf(), source })?;
-        crate::format::ron_options().from_str(&text).map_err(|e| crate::Error::Syntax {
-            path: path.to_path_buf(),
-            line: e.span.start.line,
-            col: e.span.start.col,
-            message: e.code.to_string(),
-        })
+        crate::format::read_ron(path)
     }
 
     /// Every expectation the outcome fails.

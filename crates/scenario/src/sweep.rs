@@ -158,13 +158,7 @@ pub struct SweepInfo {
 
 /// Reads a sweep file.
 pub fn load(path: &Path) -> Result<SweepFile> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
-    let sweep: SweepFile = crate::format::ron_options().from_str(&text).map_err(|e| Error::Syntax {
-        path: path.to_path_buf(),
-        line: e.span.start.line,
-        col: e.span.start.col,
-        message: e.code.to_string(),
-    })?;
+    let sweep: SweepFile = crate::format::read_ron(path)?;
     let bad = |field: String, message: String| Error::Scenario { path: path.to_path_buf(), field, message };
     if sweep.version != SWEEP_VERSION {
         return Err(bad("version".into(), format!("{} is not supported: allowed {SWEEP_VERSION}", sweep.version)));

@@ -24,8 +24,7 @@ pub fn read_dem(path: &Path) -> Result<Dem> {
 /// `.tiff`, since a PNG preview is written beside it under the `.png` name), and neither
 /// it nor its preview the input file itself.
 pub fn check_output(input: &Path, out: &Path) -> Result<()> {
-    let ext = out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    if !matches!(ext.as_deref(), Some("tif" | "tiff")) {
+    if areo_terrain::DemFormat::of(out) != Some(areo_terrain::DemFormat::GeoTiff) {
         return Err(Error::usage(
             format!("-o {}", out.display()),
             "the output is a GeoTIFF, name it NAME.tif (its preview goes to NAME.png)",
@@ -302,8 +301,7 @@ enum Opened {
 impl Opened {
     /// The source and the bytes it holds (decoded chunks, or the whole DEM).
     fn open(input: &Path) -> Result<(Opened, usize)> {
-        let ext = input.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
-        if matches!(ext.as_str(), "tif" | "tiff") {
+        if areo_terrain::DemFormat::of(input) == Some(areo_terrain::DemFormat::GeoTiff) {
             let src = areo_terrain::geotiff::Windows::open(input, CHUNK_CACHE_BYTES)?;
             // The cache never holds more than the decoded map.
             let (cols, rows) = src.size();

@@ -77,15 +77,39 @@ pub use crate::{
     projection::Projection,
 };
 
-/// Reads a DEM by its file's extension: `.tif`/`.tiff` GeoTIFF, `.asc` ESRI ASCII grid,
-/// `.img`/`.lbl` PDS3 (case-insensitive). Any other name is [`Error::UnknownFormat`].
+/// A DEM file format, told by the file's extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum DemFormat {
+    /// `.tif`/`.tiff`: GeoTIFF ([`geotiff`]), readable window by window.
+    GeoTiff,
+    /// `.asc`: ESRI ASCII grid ([`ascii`]).
+    EsriAscii,
+    /// `.img`/`.lbl`: PDS3 image with an attached or detached label ([`pds3`]).
+    Pds3,
+}
+
+impl DemFormat {
+    /// The format of `path` by its extension (case-insensitive); `None` for any other.
+    pub fn of(path: &std::path::Path) -> Option<DemFormat> {
+        let ext = path.extension()?.to_string_lossy().to_ascii_lowercase();
+        match ext.as_str() {
+            "tif" | "tiff" => Some(DemFormat::GeoTiff),
+            "asc" => Some(DemFormat::EsriAscii),
+            "img" | "lbl" => Some(DemFormat::Pds3),
+            _ => None,
+        }
+    }
+}
+
+/// Reads a DEM by its file's extension ([`DemFormat::of`]). Any other name is
+/// [`Error::UnknownFormat`].
 pub fn read(path: &std::path::Path) -> Result<Dem> {
-    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
-    match ext.as_str() {
-        "tif" | "tiff" => geotiff::read(path),
-        "asc" => ascii::read(path),
-        "img" | "lbl" => pds3::read(path),
-        _ => Err(Error::UnknownFormat {
+    match DemFormat::of(path) {
+        Some(DemFormat::GeoTiff) => geotiff::read(path),
+        Some(DemFormat::EsriAscii) => ascii::read(path),
+        Some(DemFormat::Pds3) => pds3::read(path),
+        None => Err(Error::UnknownFormat {
             path: path.to_path_buf(),
             message: "unknown DEM format: use .tif/.tiff (GeoTIFF), .asc (ESRI ASCII) or .img/.lbl (PDS3)".into(),
         }),

@@ -82,8 +82,7 @@ fn cut_region(
     let tiff = match &job.terrain {
         TerrainSource::File(rel) => {
             let path = file.path.parent().unwrap_or(Path::new(".")).join(rel);
-            let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
-            if matches!(ext.as_str(), "tif" | "tiff") {
+            if areo_terrain::DemFormat::of(&path) == Some(areo_terrain::DemFormat::GeoTiff) {
                 let w = areo_terrain::geotiff::Windows::open(&path, 256 << 20)
                     .map_err(|e| Error::from(e).referenced_by(&file.path, "job.terrain"))?;
                 // A map without a projection is placed at the site: read it whole.
