@@ -577,7 +577,7 @@ fn lita(root: &Path) -> Result<bool, String> {
 /// memory ≤ 2 GB for the whole run.
 fn bigmap(root: &Path, side: usize) -> Result<bool, String> {
     use areo_terrain::geotiff::{Grid, Windows, write_f32_tiled, write_u8_tiled};
-    use areo_terrain::shadow::{Curvature, Method, Sun};
+    use areo_terrain::shadow::{Curvature, Method, SunDirection};
     use areo_terrain::tiles::{ShadowHalo, ShadowTiles, relief, shadow_band};
     let dir = root.join("target/bigmap");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -619,7 +619,7 @@ fn bigmap(root: &Path, side: usize) -> Result<bool, String> {
     let mut src = Windows::open(&dem_path, 512 << 20).map_err(|e| e.to_string())?;
     let rel = relief(&mut src, tile).map_err(|e| e.to_string())?.ok_or("no data")?;
     let relief_s = started.elapsed().as_secs_f64();
-    let sun = Sun::new(135.0, 8.0);
+    let sun = SunDirection::new(135.0, 8.0);
     let halo = ShadowHalo::new(rel, &grid, sun.elevation_deg).map_err(|e| e.to_string())?;
     let plan = ShadowTiles { sun, curvature: Curvature::Flat, method: Method::OwnRay, halo, tile };
     let out = dir.join(format!("shadow_{side}.tif"));

@@ -123,7 +123,7 @@ pub struct TraceStep {
 /// limit, read at the last admissible pose: the wheel using the largest share of its
 /// normal force as traction there.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Binding {
+pub struct WheelLimit {
     /// "left front", "right middle", …
     pub wheel: String,
     /// Its contact point, map frame, m.
@@ -143,7 +143,7 @@ pub struct Binding {
     pub steepest: (String, f64, bool),
 }
 
-impl std::fmt::Display for Binding {
+impl std::fmt::Display for WheelLimit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
@@ -231,7 +231,7 @@ pub struct Execution {
     pub trace: Vec<TraceStep>,
     /// When the plan stopped on slip, loss of contact or saturation: the wheel that
     /// bound, when asked for (with the trace).
-    pub binding: Option<Binding>,
+    pub binding: Option<WheelLimit>,
     /// The state after each executed module (index k: after k + 1 modules), kept so
     /// plans sharing a prefix can resume (see [`Executor::resume`]); not serialised.
     #[serde(skip)]
@@ -539,7 +539,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
 
     /// The wheel closest to its friction limit at `state` (the last admissible pose of
     /// a module that stopped on a force limit) under `module`'s direction of travel.
-    fn binding(&self, state: &RoverState, module: Module) -> Option<Binding> {
+    fn binding(&self, state: &RoverState, module: Module) -> Option<WheelLimit> {
         // The pose was admissible: the wheel nearest its limit there is the one that
         // gives out a step later.
         let cond = Conditions { mu: self.config.mu, direction: module.direction() };
@@ -557,7 +557,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
         // the ground rises ahead of the wheel.
         let direction = if module.direction() == 0.0 { 1.0 } else { module.direction() };
         let j = (0..6).max_by(|a, b| gammas[*a].abs().total_cmp(&gammas[*b].abs()))?;
-        Some(Binding {
+        Some(WheelLimit {
             wheel: names[k].to_string(),
             contact_m: eval.pose.wheels[k].contact,
             contact_angle_deg: gamma.to_degrees(),

@@ -5,7 +5,7 @@
 //! [A] The paper does not give its weights or normalisations (see
 //! shared/reference/rover_physics.md §7.2); these are areo's, all in the scenario:
 //! D = progress toward the target over the start distance (−1..1); A = samples
-//! collected over those wanted (over 1 if none are wanted); h(S) = 0 for S ≥ `s_free`,
+//! collected over those wanted (over 1 if none are wanted); h(S) ([`stability_penalty`]) = 0 for S ≥ `s_free`,
 //! −((s_free − S)/(s_free − s_floor))² down to the floor, with the plan failing below
 //! it, summed over the executed modules and divided by the start distance in modules
 //! (10 cm) so it stays comparable across tasks; T = time over the time to drive the
@@ -82,8 +82,8 @@ pub struct Scale {
     pub s_floor: f64,
 }
 
-/// h(S): 0 above `s_free`, a quadratic penalty down to the floor.
-pub fn h(s: f64, s_free: f64, s_floor: f64) -> f64 {
+/// The paper's h(S): 0 above `s_free`, a quadratic penalty down to the floor.
+pub fn stability_penalty(s: f64, s_free: f64, s_floor: f64) -> f64 {
     if s >= s_free {
         0.0
     } else {
@@ -98,7 +98,8 @@ pub fn fitness(e: &Execution, w: &Weights, k: &Scale) -> f64 {
     let progress = ((d0 - e.distance_to_target_m) / d0).clamp(-1.0, 1.0);
     let samples = e.samples as f64 / k.samples_wanted.max(1) as f64;
     let modules = (d0 / 0.10).max(1.0);
-    let stability: f64 = e.stabilities.iter().map(|&s| h(s, w.s_free, k.s_floor)).sum::<f64>() / modules;
+    let stability: f64 =
+        e.stabilities.iter().map(|&s| stability_penalty(s, w.s_free, k.s_floor)).sum::<f64>() / modules;
     let time = e.time_s / k.reference_time_s.max(1e-9);
     let energy = e.energy_wh / k.battery_wh.max(1e-9);
     w.progress * progress + w.samples * samples + w.stability * stability - w.time * time - w.energy * energy

@@ -37,18 +37,18 @@ mod climb;
 mod error;
 mod executor;
 mod fitness;
+mod friction;
 mod ga;
 mod inventory;
-mod sweep;
 mod task;
 
 pub use crate::{
     climb::{ArmCase, ClimbPose, ClimbProfile, arm_reached_forward, climb_margins},
     error::{Error, Result},
-    executor::{Binding, Checkpoint, ExecConfig, Execution, Executor, Failure, TraceStep},
-    fitness::{Scale, Weights, fitness, h},
+    executor::{Checkpoint, ExecConfig, Execution, Executor, Failure, TraceStep, WheelLimit},
+    fitness::{Scale, Weights, fitness, stability_penalty},
+    friction::{FrictionSweep, SweepPoint, friction_sweep},
     ga::{CrossoverPoint, GaConfig, GaReport, Generation, Individual, evolve},
     inventory::{Inventory, Overrides, Removal, Surroundings, design_space_log10},
-    sweep::{FrictionSweep, SweepPoint, friction_sweep},
     task::{Rock, Sample, Task},
 };

@@ -165,10 +165,10 @@ fn constraints_stop_a_plan_with_its_successful_prefix() {
 
 #[test]
 fn the_stability_penalty_is_zero_above_eighty_percent_and_full_at_the_floor() {
-    assert_eq!(h(0.9, 0.8, 0.2), 0.0);
-    assert_eq!(h(0.8, 0.8, 0.2), 0.0);
-    assert!((h(0.5, 0.8, 0.2) + 0.25).abs() < 1e-12);
-    assert!((h(0.2, 0.8, 0.2) + 1.0).abs() < 1e-12);
+    assert_eq!(stability_penalty(0.9, 0.8, 0.2), 0.0);
+    assert_eq!(stability_penalty(0.8, 0.8, 0.2), 0.0);
+    assert!((stability_penalty(0.5, 0.8, 0.2) + 0.25).abs() < 1e-12);
+    assert!((stability_penalty(0.2, 0.8, 0.2) + 1.0).abs() < 1e-12);
 }
 
 fn ga_run(threads: usize, seed: u64) -> GaReport {

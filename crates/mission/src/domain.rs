@@ -23,7 +23,7 @@ use std::rc::Rc;
 use areo_ise::{Domain, Step};
 use serde::{Deserialize, Serialize};
 
-use crate::actions::{Action, ActionModel, DriveGeometry, Effect, NEIGHBOURS};
+use crate::action_model::{Action, ActionModel, DriveGeometry, Effect, NEIGHBOURS};
 use crate::landmark::{Edges, Landmark};
 use crate::world::World;
 

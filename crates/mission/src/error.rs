@@ -1,4 +1,4 @@
-use crate::actions::Binding;
+use crate::action_model::Binding;
 
 /// Everything that can go wrong in areo-mission.
 #[derive(Debug, thiserror::Error)]

@@ -25,7 +25,7 @@
 //! Architecture invariant: areo-mission is the only crate that knows all the others;
 //! nothing below it depends on it.
 
-mod actions;
+mod action_model;
 mod domain;
 mod error;
 mod landmark;
@@ -34,8 +34,11 @@ mod planner;
 mod simulate;
 mod world;
 
+pub mod contact;
+pub mod metrics;
+
 pub use crate::{
-    actions::{
+    action_model::{
         Action, ActionConfig, ActionModel, Binding, Constraints, DriveGeometry, Effect, LoadLevel, NEIGHBOURS,
         Perturbation,
     },

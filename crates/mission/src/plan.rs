@@ -5,7 +5,7 @@ use areo_ephemeris::format_utc;
 use hifitime::Duration;
 use serde::{Deserialize, Serialize};
 
-use crate::actions::Action;
+use crate::action_model::Action;
 use crate::domain::{Label, Objective};
 use crate::world::{Sun, World};
 

@@ -21,7 +21,7 @@ use std::rc::Rc;
 use areo_ise::{Goal, PathStep, Search, Stats};
 use serde::{Deserialize, Serialize};
 
-use crate::actions::{Action, ActionConfig, ActionModel, Binding};
+use crate::action_model::{Action, ActionConfig, ActionModel, Binding};
 use crate::domain::{Label, Objective, PathLength, Resolution, SharedGeometry, Start, TempestDomain};
 use crate::error::{Error, Result};
 use crate::plan::{MissionPlan, Waypoint};

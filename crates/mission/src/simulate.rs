@@ -17,7 +17,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
-use crate::actions::{Action, ActionModel, Binding, Perturbation};
+use crate::action_model::{Action, ActionModel, Binding, Perturbation};
 use crate::domain::Start;
 use crate::error::{Error, Result};
 use crate::plan::MissionPlan;

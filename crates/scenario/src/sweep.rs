@@ -128,7 +128,7 @@ fn number_literal(v: f64) -> String {
 
 /// One task of an expanded sweep (a line of `manifest.jsonl`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Task {
+pub struct SweepTask {
     /// 0-based index (the array task id).
     pub index: usize,
     /// Id: the output directory's name.
@@ -265,7 +265,7 @@ fn task_id(pattern: &str, index: usize, values: &BTreeMap<String, String>) -> St
 /// Expands `sweep_path` into `dir`: one validated scenario per task, `manifest.jsonl`
 /// and `sweep.json`. A task whose scenario is invalid is an error naming the task, its
 /// axis values and the field, before anything is written.
-pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<Task>> {
+pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<SweepTask>> {
     let sweep = load(sweep_path)?;
     let here = sweep_path.parent().unwrap_or(Path::new("."));
     let base_path = here.join(&sweep.base);
@@ -348,7 +348,7 @@ pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<Task>> {
             let at: Vec<String> = values.iter().map(|(k, v)| format!("{k} = {v}")).collect();
             bad(format!("task {index} ({})", at.join(", ")), e.to_string())
         })?;
-        tasks.push(Task { index, id: id.clone(), values, scenario: format!("tasks/{id}.ron") });
+        tasks.push(SweepTask { index, id: id.clone(), values, scenario: format!("tasks/{id}.ron") });
         texts.push(text);
     }
     let io = |p: &Path| {
@@ -396,7 +396,7 @@ pub fn info(dir: &Path) -> Result<SweepInfo> {
 }
 
 /// Every task of an expanded sweep.
-pub fn tasks(dir: &Path) -> Result<Vec<Task>> {
+pub fn tasks(dir: &Path) -> Result<Vec<SweepTask>> {
     let path = dir.join("manifest.jsonl");
     let text = std::fs::read_to_string(&path).map_err(|source| Error::Read { path: path.clone(), source })?;
     text.lines()
@@ -441,9 +441,9 @@ pub fn configure_threads() -> Option<usize> {
 #[derive(Debug)]
 pub enum TaskRun {
     /// It had finished before (its `facts.json` exists) and `force` was not given.
-    Skipped(Task),
+    Skipped(SweepTask),
     /// It ran; its outputs are in `DIR/out/ID/`.
-    Ran(Task, crate::Outcome),
+    Ran(SweepTask, crate::Outcome),
 }
 
 /// Runs task `index` of the sweep in `dir` into `DIR/out/ID/` (staged and renamed on

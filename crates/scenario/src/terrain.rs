@@ -7,7 +7,7 @@ use areo_terrain::geotiff;
 use areo_terrain::hillshade::hillshade_rgb;
 use areo_terrain::horizon::HorizonMap;
 pub use areo_terrain::shadow::Method as ShadowMethod;
-use areo_terrain::shadow::{Curvature, Sun, shadow_map};
+use areo_terrain::shadow::{Curvature, SunDirection, shadow_map};
 use areo_terrain::slope::slope_aspect;
 use areo_terrain::tiles::Source as _;
 
@@ -107,7 +107,7 @@ pub fn write_shadow(
     out: &Path,
 ) -> Result<(Vec<std::path::PathBuf>, f64)> {
     let curvature = if flat { Curvature::Flat } else { Curvature::of(dem) };
-    let map = shadow_map(dem, Sun::new(azimuth_deg, elevation_deg), curvature, method);
+    let map = shadow_map(dem, SunDirection::new(azimuth_deg, elevation_deg), curvature, method);
     write_with(out, |tmp| Ok(geotiff::write_u8(dem, &map.to_u8(), Some(255), tmp)?))?;
     let sa = slope_aspect(dem);
     let dark: Vec<bool> = (0..map.cast.len()).map(|i| !map.direct_sun(i)).collect();
@@ -170,7 +170,7 @@ pub fn write_shadow_tiled(
         (tile * grid.cols) as u64,
         held_bytes as u64,
     ))?;
-    let plan = ShadowTiles { sun: Sun::new(sun.0, sun.1), curvature, method, halo, tile };
+    let plan = ShadowTiles { sun: SunDirection::new(sun.0, sun.1), curvature, method, halo, tile };
     progress.start((grid.rows.div_ceil(tile) * grid.cols.div_ceil(tile)) as u64, "tiles");
     let (mut lit, mut valid, mut tiles, mut bigtiff) = (0u64, 0u64, 0usize, false);
     write_with(out, |tmp| {

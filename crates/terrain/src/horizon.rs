@@ -26,9 +26,9 @@ use rayon::prelude::*;
 
 use crate::dem::{Dem, unit_normal};
 use crate::error::{Error, Result};
+use crate::scan_lines::LineGeometry;
 use crate::shadow::Curvature;
 use crate::slope::horn_gradient;
-use crate::sweep_lines::LineGeometry;
 
 /// A sector to sweep, its output, and the opposite sector's output when swept with it.
 type SectorJob<'a> = (usize, &'a mut [u16], Option<&'a mut [u16]>);
@@ -854,7 +854,7 @@ pub fn los_sequence(
 mod tests {
     use super::*;
     use crate::reference::horizon_on_grid_lines;
-    use crate::shadow::{Method, Sun, cast_shadows};
+    use crate::shadow::{Method, SunDirection, cast_shadows};
     use crate::synth::{Feature, Noise, TerrainSpec};
 
     fn terrain() -> Dem {
@@ -888,7 +888,7 @@ mod tests {
             let az = sector as f64 * 360.0 / 32.0;
             let truth = horizon_on_grid_lines(&dem, az, Curvature::Flat);
             let looked_up = map.shadowed(az, el);
-            let swept = cast_shadows(&dem, Sun::new(az, el), Curvature::Flat, Method::OwnRay);
+            let swept = cast_shadows(&dem, SunDirection::new(az, el), Curvature::Flat, Method::OwnRay);
             let (mut differ, mut not_grazing, mut sweep_differ) = (0, 0, 0);
             for i in 0..truth.len() {
                 let shadowed = truth[i] > el;

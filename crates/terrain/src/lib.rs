@@ -38,11 +38,11 @@
 //! from north. Only this crate does index↔metre arithmetic.
 //!
 //! ```
-//! use areo_terrain::{Dem, shadow::{Curvature, Method, Sun, cast_shadows}};
+//! use areo_terrain::{Dem, shadow::{Curvature, Method, SunDirection, cast_shadows}};
 //!
 //! // A 10 m wall on flat ground; the Sun 45° up in the east: a 10 m shadow to the west.
 //! let dem = Dem::from_fn(40, 3, 1.0, 1.0, |x, _| if (20.0..21.0).contains(&x) { 10.0 } else { 0.0 }).unwrap();
-//! let shadowed = cast_shadows(&dem, Sun::new(90.0, 45.0), Curvature::Flat, Method::OwnRay);
+//! let shadowed = cast_shadows(&dem, SunDirection::new(90.0, 45.0), Curvature::Flat, Method::OwnRay);
 //! let row = 1 * 40;
 //! assert!(shadowed[row + 15] && !shadowed[row + 5] && !shadowed[row + 30]);
 //! ```
@@ -53,7 +53,7 @@
 mod dem;
 mod error;
 mod projection;
-mod sweep_lines;
+mod scan_lines;
 
 pub mod hillshade;
 

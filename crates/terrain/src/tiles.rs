@@ -32,7 +32,7 @@ use crate::dem::Dem;
 use crate::error::{Error, Result};
 use crate::geotiff::{Grid, Windows};
 use crate::horizon::HorizonMap;
-use crate::shadow::{Curvature, Method, Sun, shadow_map};
+use crate::shadow::{Curvature, Method, SunDirection, shadow_map};
 use crate::slope::{SlopeAspect, slope_aspect};
 
 /// A DEM read a window at a time.
@@ -131,7 +131,7 @@ impl ShadowHalo {
 fn window_for(
     g: &Grid,
     tile: (usize, usize, usize, usize),
-    sun: Sun,
+    sun: SunDirection,
     halo: &ShadowHalo,
 ) -> (usize, usize, usize, usize) {
     let (c0, r0, w, h) = tile;
@@ -162,7 +162,7 @@ fn window_for(
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShadowTiles {
     /// The Sun's direction.
-    pub sun: Sun,
+    pub sun: SunDirection,
     /// Flat or curved world.
     pub curvature: Curvature,
     /// How cast shadows are decided (only [`Method::OwnRay`] is the whole map's answer
@@ -464,7 +464,7 @@ mod tests {
             (135.0, 9.0, Curvature::Sphere { radius_m: 5.0e4 }),
             (250.0, 20.0, Curvature::Flat),
         ] {
-            let sun = Sun::new(az, el);
+            let sun = SunDirection::new(az, el);
             let halo = ShadowHalo::new(relief, &grid, el).unwrap();
             assert!(halo.cols < 60 && halo.rows < 60, "az {az}: a halo of {halo:?} would hide the tiling");
             let whole = whole_map(&dem, sun, curvature, Method::OwnRay).to_u8();
@@ -623,7 +623,7 @@ mod tests {
         // The same check with the halo cut to the margin: long shadows are lost at the
         // tiles' sun-ward edges — the halo is what the identity rests on.
         let mut dem = terrain();
-        let sun = Sun::new(77.0, 4.0);
+        let sun = SunDirection::new(77.0, 4.0);
         let short = ShadowHalo { metres: 0.0, cols: MARGIN, rows: MARGIN };
         let whole = whole_map(&dem, sun, Curvature::Flat, Method::OwnRay).to_u8();
         let mut tiled = Vec::new();

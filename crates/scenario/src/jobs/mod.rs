@@ -3,7 +3,6 @@
 //! dispatches on the scenario's job.
 
 pub mod actions;
-mod contact;
 pub mod sun_table;
 pub mod tempest;
 pub mod terrain_shadow;

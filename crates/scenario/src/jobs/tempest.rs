@@ -25,6 +25,7 @@ use crate::output::csv::Table;
 use crate::output::geojson::{collection, feature, line, point};
 use crate::output::plots::{Marker, RoutePlot, Series, TimePlot};
 use crate::output::{json_for, write_file};
+use areo_mission::{contact, metrics};
 
 /// The map's south-west corner in map coordinates: scenario positions are relative
 /// to it.
@@ -173,57 +174,72 @@ fn peak_memory_mb() -> Option<f64> {
     Some(kb / 1024.0)
 }
 
-/// Runs a TEMPEST job.
+/// The worlds, rover and places a TEMPEST job plans with, built from its scenario.
+struct Prepared {
+    world: World,
+    /// The true world when it differs from the believed one.
+    truth: Option<World>,
+    model: ActionModel,
+    frame: Frame,
+    start: Start,
+    goals: Vec<u32>,
+    /// Slope, horizon maps and Sun table, s.
+    precalc_s: f64,
+    /// Lines saying what the world approximates (a cut region, one-byte horizons).
+    notes: Vec<String>,
+}
+
+/// What planning (or simulating) gave.
+enum Run {
+    /// No plan reaches the goals from the start.
+    Unreachable { binding: areo_mission::Binding, message: String },
+    /// A plan, its wall time (s) and the search graphs' bytes after it.
+    Plan { plan: MissionPlan, seconds: f64, search_bytes: u64 },
+    /// A simulated run with its re-plans.
+    Simulated(SimReport),
+}
+
+/// A TEMPEST job's result: the prepared worlds, the run, the haven map (off Mars) and
+/// the process's peak memory. Facts, the summary and the files are read off it.
+struct TempestReport {
+    prepared: Prepared,
+    run: Run,
+    havens: Option<contact::Havens>,
+    peak_memory_mb: Option<f64>,
+}
+
+/// Runs a TEMPEST job: prepare, compute, then the facts and files of the report.
 pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
-    let site = Site::on(job.body, job.site.lat_deg, job.site.lon_east_deg)?;
-    let epoch = parse_utc(&job.start_utc)?;
-    let clock = Instant::now();
-    opts.progress.start(3, "terrain");
+    let prepared = prepare(job, file, opts)?;
+    let report = compute(job, file, opts, prepared)?;
+    let ctx = report.context(job);
+    let mut o = outcome(&ctx, &report);
+    if let Some(dir) = opts.out_dir {
+        o.files.extend(write_outputs(dir, &ctx, &report.run)?);
+    }
+    Ok(o)
+}
+
+/// The job's terrain, placed at the site.
+fn prepare_terrain(job: &TempestJob, file: &ScenarioFile, site: &Site) -> Result<Terrain> {
     let place = |d: Dem| d.placed_at(job.body.reference_surface(), site.lat_deg(), site.lon_east_deg());
-    let terrain = match &job.plan_region {
+    Ok(match &job.plan_region {
         None => Terrain::Whole(place(load_terrain(&job.terrain, file, "job.terrain")?)?),
         Some(spec) => cut_region(job, spec, file, job.horizon_sectors, place)?,
-    };
-    let mut rover = match &job.rover {
-        None => ResourceModel::hyperion(),
-        Some(rel) => {
-            crate::format::rover_files::load_resources(&file.path.parent().unwrap_or(Path::new(".")).join(rel))
-                .map_err(|e| e.referenced_by(&file.path, "job.rover"))?
+    })
+}
+
+/// The true terrain when the job simulates on another than its map, placed at the site
+/// on the map's grid.
+fn true_terrain(job: &TempestJob, file: &ScenarioFile, site: &Site, terrain: &Terrain) -> Result<Option<Dem>> {
+    let place = |d: Dem| d.placed_at(job.body.reference_surface(), site.lat_deg(), site.lon_east_deg());
+    Ok(match (&job.truth, terrain) {
+        (Truth::Map, _) | (_, Terrain::Region { .. }) => None,
+        (Truth::AddFeatures(features), Terrain::Whole(map_dem)) => {
+            Some(areo_terrain::synth::add_features(map_dem, features)?)
         }
-    };
-    if let Some(c) = job.battery_capacity_wh {
-        rover.battery.capacity_wh = c;
-    }
-    // The locomotor works against the body's gravity unless its file says otherwise.
-    rover.locomotor.gravity_m_s2.get_or_insert(job.body.surface_gravity_m_s2());
-    let cells = match &terrain {
-        Terrain::Whole(d) => d.cols() * d.rows(),
-        Terrain::Region { region, .. } => region.dem.cols() * region.dem.rows(),
-    };
-    opts.budget.check(&crate::budget::tempest(job, cells as u64))?;
-    let region_note = match (&terrain, &job.plan_region) {
-        (Terrain::Region { region, .. }, Some(spec)) => Some(format!(
-            "planning region of {} x {} cells cut from the map with its slopes and horizons (horizons below {}° stored as {}°)",
-            region.dem.cols(),
-            region.dem.rows(),
-            spec.lowest_sun_deg,
-            spec.lowest_sun_deg
-        )),
-        _ => None,
-    };
-    let (frame, map_dem) = match terrain {
-        Terrain::Whole(d) => (Frame::of(&d), Ok(d)),
-        Terrain::Region { region, frame } => (frame, Err(region)),
-    };
-    let truth_dem = match (&job.truth, &map_dem) {
-        (Truth::Map, _) | (_, Err(_)) => None,
-        (Truth::AddFeatures(features), Ok(map_dem)) => Some(areo_terrain::synth::add_features(map_dem, features)?),
-        (Truth::Terrain(source), Ok(map_dem)) => {
-            let t = load_terrain(source, file, "job.truth")?.placed_at(
-                job.body.reference_surface(),
-                site.lat_deg(),
-                site.lon_east_deg(),
-            )?;
+        (Truth::Terrain(source), Terrain::Whole(map_dem)) => {
+            let t = place(load_terrain(source, file, "job.truth")?)?;
             if (t.cols(), t.rows()) != (map_dem.cols(), map_dem.rows()) {
                 return Err(scenario_error(
                     file,
@@ -239,9 +255,52 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
             }
             Some(t)
         }
-    };
-    opts.progress.advance(1);
+    })
+}
 
+/// The rover's resources: the job's rover file or Hyperion, with the job's battery
+/// and the body's gravity unless the file gives one.
+fn load_rover(job: &TempestJob, file: &ScenarioFile) -> Result<ResourceModel> {
+    let mut rover = match &job.rover {
+        None => ResourceModel::hyperion(),
+        Some(rel) => {
+            crate::format::rover_files::load_resources(&file.path.parent().unwrap_or(Path::new(".")).join(rel))
+                .map_err(|e| e.referenced_by(&file.path, "job.rover"))?
+        }
+    };
+    if let Some(c) = job.battery_capacity_wh {
+        rover.battery.capacity_wh = c;
+    }
+    rover.locomotor.gravity_m_s2.get_or_insert(job.body.surface_gravity_m_s2());
+    Ok(rover)
+}
+
+/// Builds the worlds (after the budget check), the action model and the start and goal
+/// cells.
+fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Prepared> {
+    let site = Site::on(job.body, job.site.lat_deg, job.site.lon_east_deg)?;
+    let epoch = parse_utc(&job.start_utc)?;
+    let clock = Instant::now();
+    opts.progress.start(3, "terrain");
+    let terrain = prepare_terrain(job, file, &site)?;
+    let rover = load_rover(job, file)?;
+    let cells = match &terrain {
+        Terrain::Whole(d) => d.cols() * d.rows(),
+        Terrain::Region { region, .. } => region.dem.cols() * region.dem.rows(),
+    };
+    opts.budget.check(&crate::budget::tempest(job, cells as u64))?;
+    let truth_dem = true_terrain(job, file, &site, &terrain)?;
+    let mut notes = Vec::new();
+    if let (Terrain::Region { region, .. }, Some(spec)) = (&terrain, &job.plan_region) {
+        notes.push(format!(
+            "planning region of {} x {} cells cut from the map with its slopes and horizons (horizons below {}° stored as {}°)",
+            region.dem.cols(),
+            region.dem.rows(),
+            spec.lowest_sun_deg,
+            spec.lowest_sun_deg
+        ));
+    }
+    opts.progress.advance(1);
     let config = WorldConfig {
         epoch,
         span_s: job.horizon_h * 3600.0,
@@ -254,25 +313,42 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         MissionError::Config { field, message } => scenario_error(file, planner_field(field), message),
         other => Error::from(other),
     };
-    let mut world = match map_dem {
-        Ok(dem) => World::new(dem, &config, &job.body),
-        Err(region) => World::for_region(region, &config, &job.body),
-    }
-    .map_err(located)?;
+    let (frame, mut world) = match terrain {
+        Terrain::Whole(dem) => (Frame::of(&dem), World::new(dem, &config, &job.body).map_err(located)?),
+        Terrain::Region { region, frame } => (frame, World::for_region(region, &config, &job.body).map_err(located)?),
+    };
     // One byte per horizon angle where the search's time classes make its error small
     // (before the truth is built: it shares the map's horizons).
-    let narrowed = world.narrow_horizon_within(job.planner.resolution.time_s);
+    if let Some(shift_s) = world.narrow_horizon_within(job.planner.resolution.time_s) {
+        notes.push(format!(
+            "horizon map: one byte per angle (approximate: within {:.2}°, which moves a shadow's edge by at most the Sun's elevation change in {shift_s:.0} s; time classes of {:.0} s)",
+            areo_terrain::horizon::NARROW_ERROR_DEG,
+            job.planner.resolution.time_s
+        ));
+    }
     let truth = match truth_dem {
         Some(d) => Some(World::truth(d, &config, &job.body, &world).map_err(located)?),
         None => None,
     };
     let precalc_s = clock.elapsed().as_secs_f64();
     opts.progress.advance(1);
+    let model = action_model(job, file, &world, rover)?;
+    let (start, goals) = locate(job, file, &world, frame)?;
+    Ok(Prepared { world, truth, model, frame, start, goals, precalc_s, notes })
+}
 
+/// The action model with the job's Communicate sessions, its start battery checked.
+fn action_model(job: &TempestJob, file: &ScenarioFile, world: &World, rover: ResourceModel) -> Result<ActionModel> {
     let mut model = ActionModel::new(rover, job.planner.actions.clone());
     if let Some(com) = &job.communicate {
         let needs_earth = com.earth_in_view.unwrap_or(job.body == areo_ephemeris::Body::Moon);
-        model = model.with_sessions(super::contact::sessions(&world, com)).sessions_need_earth(needs_earth);
+        let schedule = areo_mission::contact::Schedule {
+            duration_min: com.duration_min,
+            min_earth_elevation_deg: com.min_earth_elevation_deg,
+            every_h: com.every_h,
+            deadlines_h: com.deadlines_h.clone(),
+        };
+        model = model.with_sessions(contact::sessions(world, &schedule)).sessions_need_earth(needs_earth);
     }
     if job.start_battery_wh > model.capacity_wh() + 1e-9 {
         return Err(scenario_error(
@@ -285,6 +361,12 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
             ),
         ));
     }
+    Ok(model)
+}
+
+/// The start and goal cells of the job's positions (metres from the map's south-west
+/// corner), each on the map and on passable ground.
+fn locate(job: &TempestJob, file: &ScenarioFile, world: &World, frame: Frame) -> Result<(Start, Vec<u32>)> {
     let cell_of = |field: String, x: f64, y: f64| -> Result<u32> {
         let (mx, my) = frame.to_map(x, y);
         let cell = world.cell_at(mx, my).ok_or_else(|| {
@@ -310,25 +392,16 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         .collect::<Result<_>>()?;
     let start =
         Start { cell: start_cell, t_min: 0.0, t_max: job.start_window_min * 60.0, energy_wh: job.start_battery_wh };
+    Ok((start, goals))
+}
 
-    // Plan, or simulate.
-    let truth_world = truth.as_ref().unwrap_or(&world);
-    let mut o = Outcome::default();
-    o.summary.extend(region_note);
-    if job.horizon_sectors > 0 {
-        o.number("horizon_bytes_per_angle", if world.horizon_is_narrow() { 1.0 } else { 2.0 });
-    }
-    if let Some(shift_s) = narrowed {
-        o.summary.push(format!(
-            "horizon map: one byte per angle (approximate: within {:.2}°, which moves a shadow's edge by at most the Sun's elevation change in {shift_s:.0} s; time classes of {:.0} s)",
-            areo_terrain::horizon::NARROW_ERROR_DEG,
-            job.planner.resolution.time_s
-        ));
-    }
+/// Plans (or simulates) on the prepared worlds, and maps the haven cells off Mars.
+fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared: Prepared) -> Result<TempestReport> {
+    let Prepared { world, truth, model, start, goals, .. } = &prepared;
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
             let clock = Instant::now();
-            Mission::plan(&world, &model, job.planner.clone(), start, &goals).map(|(mission, plan)| Run::Plan {
+            Mission::plan(world, model, job.planner.clone(), *start, goals).map(|(mission, plan)| Run::Plan {
                 plan,
                 seconds: clock.elapsed().as_secs_f64(),
                 search_bytes: mission.search_bytes(),
@@ -338,16 +411,15 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
             let total = sim.max_steps.min(10_000) as u64;
             opts.progress.start(total, "simulating");
             let simulation = Simulation {
-                believed: &world,
-                truth: truth_world,
-                model: &model,
+                believed: world,
+                truth: truth.as_ref().unwrap_or(world),
+                model,
                 planner: job.planner.clone(),
-                start,
-                goals: &goals,
+                start: *start,
+                goals,
                 config: sim.clone(),
             };
-            let report = simulate(&simulation, &mut |_| opts.progress.advance(1));
-            report.map(Run::Simulated)
+            simulate(&simulation, &mut |_| opts.progress.advance(1)).map(Run::Simulated)
         }
     };
     opts.progress.finish();
@@ -356,45 +428,63 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         Err(MissionError::Config { field, message }) => {
             return Err(scenario_error(file, planner_field(field), message));
         }
-        Err(MissionError::Unreachable { binding, message }) => {
-            o.failure = Some(Failure::Unreachable { binding, message: message.clone(), after_actions: None });
-            o.text("status", "unreachable");
-            o.text("binding", message.clone());
-            o.number("goals_reached", 0.0);
-            o.number("precalc_s", precalc_s);
-            o.summary.push(format!("no plan: the goals are unreachable ({message})"));
-            return Ok(o);
-        }
+        Err(MissionError::Unreachable { binding, message }) => Run::Unreachable { binding, message },
         Err(e) => return Err(e.into()),
     };
-
     // Off Mars: where the rover can wait out a shadow or a loss of the Earth.
-    let havens = (job.body != areo_ephemeris::Body::Mars).then(|| {
+    let havens = (job.body != areo_ephemeris::Body::Mars && !matches!(run, Run::Unreachable { .. })).then(|| {
         let every = job.communicate.as_ref().filter(|_| model.needs_earth()).and_then(|c| c.every_h);
-        super::contact::havens(&world, &model, world.span_s(), HAVEN_STEP_S, every)
+        contact::havens(world, model, world.span_s(), HAVEN_STEP_S, every)
     });
-    let ctx = Context {
-        job,
-        world: &world,
-        truth: truth_world,
-        frame,
-        start,
-        goals: &goals,
-        model: &model,
-        precalc_s,
-        havens: havens.as_ref(),
-    };
+    Ok(TempestReport { prepared, run, havens, peak_memory_mb: peak_memory_mb() })
+}
+
+impl TempestReport {
+    fn context<'a>(&'a self, job: &'a TempestJob) -> Context<'a> {
+        let p = &self.prepared;
+        Context {
+            job,
+            world: &p.world,
+            truth: p.truth.as_ref().unwrap_or(&p.world),
+            frame: p.frame,
+            start: p.start,
+            goals: &p.goals,
+            model: &p.model,
+            precalc_s: p.precalc_s,
+            havens: self.havens.as_ref(),
+        }
+    }
+}
+
+/// The report's facts and summary.
+fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
+    let mut o = Outcome::default();
+    let (world, precalc_s) = (ctx.world, ctx.precalc_s);
+    o.summary.extend(report.prepared.notes.iter().cloned());
+    if ctx.job.horizon_sectors > 0 {
+        o.number("horizon_bytes_per_angle", if world.horizon_is_narrow() { 1.0 } else { 2.0 });
+    }
+    if let Run::Unreachable { binding, message } = &report.run {
+        o.failure = Some(Failure::Unreachable { binding: *binding, message: message.clone(), after_actions: None });
+        o.text("status", "unreachable");
+        o.text("binding", message.clone());
+        o.number("goals_reached", 0.0);
+        o.number("precalc_s", precalc_s);
+        o.summary.push(format!("no plan: the goals are unreachable ({message})"));
+        return o;
+    }
     o.number("precalc_s", precalc_s);
-    if let Some(mb) = peak_memory_mb() {
+    if let Some(mb) = report.peak_memory_mb {
         o.number("peak_memory_mb", mb);
     }
     o.number("cells", world.cells() as f64);
-    match &run {
+    match &report.run {
+        Run::Unreachable { .. } => {}
         Run::Plan { plan, seconds, search_bytes } => {
             o.number("initial_plan_s", *seconds);
             // The segments' graphs as the plan leaves them (the most they held).
             o.number("peak_search_mb", *search_bytes as f64 / 1e6);
-            plan_facts(&mut o, &ctx, plan);
+            plan_facts(&mut o, ctx, plan);
             o.text("status", "planned");
             o.number("goals_reached", 0.0);
             o.summary.push(format!(
@@ -404,29 +494,20 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
                 plan.expansions
             ));
         }
-        Run::Simulated(report) => {
-            let initial = &report.plans[0];
-            o.number("initial_plan_s", initial.wall_s);
-            plan_facts(&mut o, &ctx, &initial.plan);
-            sim_facts(&mut o, &ctx, report);
-            if let SimStatus::Unreachable { binding, message } = &report.status {
+        Run::Simulated(r) => {
+            o.number("initial_plan_s", r.plans[0].wall_s);
+            plan_facts(&mut o, ctx, &r.plans[0].plan);
+            sim_facts(&mut o, ctx, r, report.peak_memory_mb);
+            if let SimStatus::Unreachable { binding, message } = &r.status {
                 o.failure = Some(Failure::Unreachable {
                     binding: *binding,
                     message: message.clone(),
-                    after_actions: Some(report.steps.len()),
+                    after_actions: Some(r.steps.len()),
                 });
             }
         }
     }
-    if let Some(dir) = opts.out_dir {
-        o.files.extend(write_outputs(dir, &ctx, &run)?);
-    }
-    Ok(o)
-}
-
-enum Run {
-    Plan { plan: MissionPlan, seconds: f64, search_bytes: u64 },
-    Simulated(SimReport),
+    o
 }
 
 /// Sampling step of the haven map and of the plan's contact and shadow checks, s.
@@ -434,7 +515,7 @@ const HAVEN_STEP_S: f64 = 1800.0;
 const CONTACT_STEP_S: f64 = 300.0;
 
 struct Context<'a> {
-    havens: Option<&'a super::contact::Havens>,
+    havens: Option<&'a contact::Havens>,
     job: &'a TempestJob,
     world: &'a World,
     truth: &'a World,
@@ -546,7 +627,7 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
 /// circuit, and the waits at safe havens — each measured on the plan by sampling, not
 /// taken from the planner's constraints.
 fn body_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
-    use super::contact::{contact_along, shadowed_drive_h, waits};
+    use contact::{contact_along, shadowed_drive_h, waits};
     o.number("initial_plan_shadowed_drive_h", shadowed_drive_h(ctx.world, plan, CONTACT_STEP_S));
     if let Some(com) = &ctx.job.communicate
         && ctx.model.needs_earth()
@@ -561,37 +642,19 @@ fn body_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
             c.max_gap_h
         ));
     }
-    let (t0, t1) = (plan.waypoints.first().map_or(0.0, |w| w.t_s), plan.waypoints.last().map_or(0.0, |w| w.t_s));
-    let n = (((t1 - t0) / CONTACT_STEP_S).ceil() as usize).max(1);
-    let swept: f64 = (0..n)
-        .map(|k| {
-            let a = ctx.world.sun(t0 + (t1 - t0) * k as f64 / n as f64).azimuth_deg;
-            let b = ctx.world.sun(t0 + (t1 - t0) * (k + 1) as f64 / n as f64).azimuth_deg;
-            ((b - a + 180.0).rem_euclid(360.0) - 180.0).abs()
-        })
-        .sum();
-    o.number("initial_plan_sun_azimuth_swept_deg", swept);
-    let sun_lo =
-        (0..=n).map(|k| ctx.world.sun(t0 + (t1 - t0) * k as f64 / n as f64).elevation_deg).fold(90.0, f64::min);
-    o.number("initial_plan_lowest_sun_deg", sun_lo);
+    let sun = metrics::sun_along(ctx.world, plan, CONTACT_STEP_S);
+    o.number("initial_plan_sun_azimuth_swept_deg", sun.azimuth_swept_deg);
+    o.number("initial_plan_lowest_sun_deg", sun.lowest_elevation_deg);
     if let Some(last) = plan.waypoints.last() {
         o.flag("initial_plan_closes_circuit", ctx.world.chebyshev(last.cell, ctx.start.cell) <= 1.0);
     }
     // Sun-synchronous driving: drives whose array faces within 90° of the Sun's
     // azimuth (the heading from the drive's displacement).
     if let Some(array) = ctx.model.rover().solar {
-        let drives: Vec<_> =
-            plan.waypoints.windows(2).filter(|w| matches!(w[0].action, Some(Action::Drive(_)))).collect();
-        let sunward = drives
-            .iter()
-            .filter(|w| {
-                let heading = (w[1].x_m - w[0].x_m).atan2(w[1].y_m - w[0].y_m).to_degrees();
-                let facing = heading + array.facing_deg;
-                let sun = ctx.world.sun(0.5 * (w[0].t_s + w[1].t_s)).azimuth_deg;
-                ((facing - sun + 180.0).rem_euclid(360.0) - 180.0).abs() < 90.0
-            })
-            .count();
-        o.number("initial_plan_panel_sunward_drive_fraction", sunward as f64 / drives.len().max(1) as f64);
+        o.number(
+            "initial_plan_panel_sunward_drive_fraction",
+            metrics::sunward_drive_fraction(ctx.world, plan, array.facing_deg),
+        );
     }
     if let Some(h) = ctx.havens {
         o.number("safe_haven_cells", h.haven.iter().filter(|&&x| x).count() as f64);
@@ -614,7 +677,7 @@ fn body_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
     }
 }
 
-fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
+fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, peak_memory_mb: Option<f64>) {
     let status = match &r.status {
         SimStatus::Completed => "completed",
         SimStatus::Unreachable { .. } => "unreachable",
@@ -624,7 +687,6 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
     };
     o.text("status", status);
     o.number("goals_reached", r.goals_reached.len() as f64);
-    let floor = ctx.model.rover().battery.capacity_wh * ctx.model.rover().battery.min_soc;
     let epoch = ctx.world.epoch();
     for &(g, t) in &r.goals_reached {
         let name = ctx.goal_name(g);
@@ -641,25 +703,7 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
     let hibernate_h = count(&|a| a == Action::Hibernate) / 3600.0;
     let replans: Vec<_> = r.plans.iter().filter(|p| p.kind != PlanKind::Initial).collect();
     let route_changes = replans.iter().filter(|p| p.route_changed).count();
-    let night_drives =
-        r.steps.iter().filter(|s| matches!(s.action, Action::Drive(_)) && s.sun_elevation_deg <= 0.0).count();
-    let shadowed_drives = r
-        .steps
-        .iter()
-        .filter(|s| matches!(s.action, Action::Drive(_)) && !ctx.truth.lit(s.cell, &ctx.truth.sun(s.t_s)))
-        .count();
-    let drives = r.steps.iter().filter(|s| matches!(s.action, Action::Drive(_))).count();
-    // Back-to-back diagonal drives at right angles (NE then NW, …): a zig-zag that one
-    // straight drive of the same net advance would beat when L counts length.
-    let zigzags = r
-        .steps
-        .windows(2)
-        .filter(|w| match (w[0].action, w[1].action) {
-            (Action::Drive(a), Action::Drive(b)) => a % 2 == 1 && b % 2 == 1 && (a + 8 - b) % 8 % 4 == 2,
-            _ => false,
-        })
-        .count();
-    o.number("zigzag_pairs", zigzags as f64);
+    o.number("zigzag_pairs", metrics::zigzag_pairs(&r.steps) as f64);
     let min_battery = r.steps.iter().map(|s| s.battery_wh).fold(r.start.energy_wh, f64::min);
     o.number("actions", r.steps.len() as f64);
     o.number("distance_m", r.distance_m());
@@ -678,6 +722,30 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
     let asked = ctx.job.planner.resolution.energy_wh;
     let fallbacks = r.plans.iter().filter(|p| asked.is_some() && p.plan.energy_classes_wh.is_none()).count();
     o.number("exact_energy_fallbacks", fallbacks as f64);
+    search_facts(o, r);
+    o.number("world_mb", (ctx.world.bytes() + ctx.truth.bytes()) as f64 / 1e6);
+    o.number("refused_actions", r.steps.iter().filter(|s| s.refused.is_some()).count() as f64);
+    o.number("night_drives", metrics::night_drives(&r.steps) as f64);
+    o.number("sunlit_drive_fraction", metrics::sunlit_drive_fraction(ctx.truth, &r.steps));
+    o.number("mission_h", ctx.hours(r.end_t_s()));
+    if let Some(m) = r.median_replan_s() {
+        o.number("median_replan_s", m);
+        let max = replans.iter().map(|p| p.wall_s).fold(0.0, f64::max);
+        o.number("max_replan_s", max);
+        let initial = r.plans[0].wall_s.max(1e-9);
+        o.number("median_replan_fraction", m / initial);
+    }
+    for reg in &ctx.job.regions {
+        let route = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
+        o.flag(&format!("route_enters_{}", reg.name), ctx.enters(route, reg));
+    }
+    sim_summary(o, ctx, r, status, peak_memory_mb);
+}
+
+/// The simulated run's search figures: re-plan expansions against the initial plan's
+/// (restarts included), the search's memory, and with `compare_fresh` the re-plans
+/// against fresh searches of the same problems.
+fn search_facts(o: &mut Outcome, r: &SimReport) {
     // Deterministic search costs: each re-plan's expansions against the initial plan's
     // — restarts included, as the fresh plans they are (counted apart as well) — and
     // the search's memory.
@@ -704,22 +772,24 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
             worst
         ));
     }
-    o.number("world_mb", (ctx.world.bytes() + ctx.truth.bytes()) as f64 / 1e6);
-    o.number("refused_actions", r.steps.iter().filter(|s| s.refused.is_some()).count() as f64);
-    o.number("night_drives", night_drives as f64);
-    o.number("sunlit_drive_fraction", if drives > 0 { 1.0 - shadowed_drives as f64 / drives as f64 } else { 1.0 });
-    o.number("mission_h", ctx.hours(r.end_t_s()));
-    if let Some(m) = r.median_replan_s() {
-        o.number("median_replan_s", m);
-        let max = replans.iter().map(|p| p.wall_s).fold(0.0, f64::max);
-        o.number("max_replan_s", max);
-        let initial = r.plans[0].wall_s.max(1e-9);
-        o.number("median_replan_fraction", m / initial);
-    }
-    for reg in &ctx.job.regions {
-        let route = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
-        o.flag(&format!("route_enters_{}", reg.name), ctx.enters(route, reg));
-    }
+}
+
+/// The simulated run in words: where it got, its battery, its re-plans and memory.
+fn sim_summary(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, status: &str, peak_memory_mb: Option<f64>) {
+    let floor = floor_wh(ctx);
+    let hours_of =
+        |f: &dyn Fn(Action) -> bool| r.steps.iter().filter(|s| f(s.action)).map(|s| s.duration_s).sum::<f64>() / 3600.0;
+    let (drive_h, charge_h, hibernate_h) = (
+        hours_of(&|a| matches!(a, Action::Drive(_))),
+        hours_of(&|a| a == Action::Charge),
+        hours_of(&|a| a == Action::Hibernate),
+    );
+    let replans: Vec<_> = r.plans.iter().filter(|p| p.kind != PlanKind::Initial).collect();
+    let route_changes = replans.iter().filter(|p| p.route_changed).count();
+    let restarts = r.plans.iter().filter(|p| p.kind == PlanKind::Restart).count();
+    let min_battery = r.steps.iter().map(|s| s.battery_wh).fold(r.start.energy_wh, f64::min);
+    let mut fractions: Vec<f64> = r.replan_expansion_fractions();
+    fractions.sort_by(f64::total_cmp);
     o.summary.push(format!(
         "{status}: {} of {} goals; {:.0} m driven in {drive_h:.1} h; charged {charge_h:.1} h, hibernated {hibernate_h:.1} h; \
          {} night(s)",
@@ -760,7 +830,7 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
         ctx.precalc_s,
         r.peak_search_bytes() as f64 / 1e6,
         (ctx.world.bytes() + ctx.truth.bytes()) as f64 / 1e6,
-        peak_memory_mb().map_or("unknown".into(), |mb| format!("{mb:.0} MB"))
+        peak_memory_mb.map_or("unknown".into(), |mb| format!("{mb:.0} MB"))
     ));
     if let SimStatus::Unreachable { message, .. } = &r.status {
         o.summary.push(format!("stopped: the next goal is unreachable ({message})"));
@@ -770,6 +840,8 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport) {
 fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let (initial, report) = match run {
+        // Nothing planned: facts.json (written by the caller) says why.
+        Run::Unreachable { .. } => return Ok(Vec::new()),
         Run::Plan { plan, .. } => (plan, None),
         Run::Simulated(r) => (&r.plans[0].plan, Some(r)),
     };
@@ -795,7 +867,7 @@ fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf
 }
 
 /// The plan's waits with their place, span, lowest charge and whether at a haven.
-fn waits_csv(ctx: &Context<'_>, plan: &MissionPlan, havens: &super::contact::Havens) -> Table {
+fn waits_csv(ctx: &Context<'_>, plan: &MissionPlan, havens: &contact::Havens) -> Table {
     let mut table = Table::new([
         "x_m",
         "y_m",
@@ -807,7 +879,7 @@ fn waits_csv(ctx: &Context<'_>, plan: &MissionPlan, havens: &super::contact::Hav
         "longest_shadow_h",
         "longest_earth_loss_h",
     ]);
-    for w in super::contact::waits(plan, havens, floor_wh(ctx), HAVEN_STEP_S) {
+    for w in contact::waits(plan, havens, floor_wh(ctx), HAVEN_STEP_S) {
         let (x, y) = ctx.local(w.cell);
         let i = w.cell as usize;
         table.push(vec![
@@ -1011,6 +1083,23 @@ fn nights(world: &World, end_s: f64) -> Vec<(f64, f64)> {
 }
 
 fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> Result<Vec<PathBuf>> {
+    let mut files = route_plots(dir, ctx, initial, report)?;
+    let end_s =
+        report.map_or(initial.waypoints.last().map_or(0.0, |w| w.t_s), |r| r.end_t_s().max(initial.duration_s()));
+    let night = nights(ctx.truth, end_s);
+    files.extend(distance_plot(dir, ctx, initial, report, (end_s, &night))?);
+    files.extend(energy_plot(dir, ctx, initial, report, (end_s, &night))?);
+    Ok(files)
+}
+
+/// The routes over the hillshade with shadows at the job's `shadow_utc` (and the
+/// haven map off Mars).
+fn route_plots(
+    dir: &Path,
+    ctx: &Context<'_>,
+    initial: &MissionPlan,
+    report: Option<&SimReport>,
+) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let world = ctx.truth;
     let dem = world.dem();
@@ -1071,7 +1160,18 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
     if let Some(h) = ctx.havens {
         files.extend(haven_plots(dir, ctx, initial, h, series, markers)?);
     }
+    Ok(files)
+}
 
+/// The straight-line distance to the final goal against time, with the nights
+/// (`end_s`, s, and the nights, h).
+fn distance_plot(
+    dir: &Path,
+    ctx: &Context<'_>,
+    initial: &MissionPlan,
+    report: Option<&SimReport>,
+    (end_s, night): (f64, &[(f64, f64)]),
+) -> Result<Vec<PathBuf>> {
     // (b) Distance to the final goal against time.
     let last = *ctx.goals.last().unwrap_or(&ctx.start.cell);
     let goal_xy = ctx.local(last);
@@ -1079,8 +1179,6 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
         let (x, y) = ctx.local(cell);
         (x - goal_xy.0).hypot(y - goal_xy.1)
     };
-    let end_s =
-        report.map_or(initial.waypoints.last().map_or(0.0, |w| w.t_s), |r| r.end_t_s().max(initial.duration_s()));
     let mut dseries = vec![Series {
         label: "initial plan".into(),
         points: initial.waypoints.iter().map(|w| (w.t_s / 3600.0, dist(w.cell))).collect(),
@@ -1103,8 +1201,7 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
         rgb: (90, 90, 90),
         width: 1,
     });
-    let night = nights(world, end_s);
-    files.extend(crate::output::plots::time(
+    crate::output::plots::time(
         dir,
         "distance",
         &TimePlot {
@@ -1112,13 +1209,22 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
             x_label: "hours since the start".into(),
             y_label: "distance, m".into(),
             series: dseries,
-            nights: night.clone(),
+            nights: night.to_vec(),
             x_range: (0.0, end_s / 3600.0),
             windows: Vec::new(),
             windows_label: String::new(),
         },
-    )?);
+    )
+}
 
+/// The energy required to finish and the battery's charge against time.
+fn energy_plot(
+    dir: &Path,
+    ctx: &Context<'_>,
+    initial: &MissionPlan,
+    report: Option<&SimReport>,
+    (end_s, night): (f64, &[(f64, f64)]),
+) -> Result<Vec<PathBuf>> {
     // (c) Required energy and battery charge against time.
     let mut eseries = vec![
         Series {
@@ -1151,7 +1257,7 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
         }
         eseries.push(Series { label: "executed charge above floor".into(), points: pts, rgb: (220, 30, 40), width: 2 });
     }
-    files.extend(crate::output::plots::time(
+    crate::output::plots::time(
         dir,
         "energy",
         &TimePlot {
@@ -1159,13 +1265,12 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
             x_label: "hours since the start".into(),
             y_label: "Wh above the battery floor".into(),
             series: eseries,
-            nights: night,
+            nights: night.to_vec(),
             x_range: (0.0, end_s / 3600.0),
             windows: Vec::new(),
             windows_label: String::new(),
         },
-    )?);
-    Ok(files)
+    )
 }
 
 /// A route plot framed on its routes and markers: their bounding box with a margin, on
@@ -1202,13 +1307,12 @@ fn framed(dem: &Dem, background: &[u8], series: Vec<Series>, markers: Vec<Marker
     }
 }
 
-/// Off Mars: the safe havens under the plan (`havens.png`) and the Sun and the Earth
-/// over the plan with the Communicate sessions shaded (`sky.png`).
+/// Off Mars: the safe havens under the plan (`havens.png`), then [`sky_plot`].
 fn haven_plots(
     dir: &Path,
     ctx: &Context<'_>,
     plan: &MissionPlan,
-    havens: &super::contact::Havens,
+    havens: &contact::Havens,
     series: Vec<Series>,
     mut markers: Vec<Marker>,
 ) -> Result<Vec<PathBuf>> {
@@ -1235,7 +1339,7 @@ fn haven_plots(
             px[2] = ((u16::from(px[2]) + b) / 2) as u8;
         }
     }
-    for w in super::contact::waits(plan, havens, floor_wh(ctx), HAVEN_STEP_S) {
+    for w in contact::waits(plan, havens, floor_wh(ctx), HAVEN_STEP_S) {
         markers.push(Marker {
             label: format!("wait {:.1} h", w.to_h - w.from_h),
             at: ctx.local(w.cell),
@@ -1248,7 +1352,14 @@ fn haven_plots(
         if ctx.model.needs_earth() { ", the Earth never lost longer than the contact interval" } else { "" }
     );
     files.extend(crate::output::plots::route(dir, "havens", &framed(dem, &rgb, series, markers, title))?);
+    files.extend(sky_plot(dir, ctx, plan)?);
+    Ok(files)
+}
 
+/// The Sun and the Earth over the plan, at the site, with the Communicate sessions
+/// shaded (`sky.png`).
+fn sky_plot(dir: &Path, ctx: &Context<'_>, plan: &MissionPlan) -> Result<Vec<PathBuf>> {
+    let world = ctx.world;
     let end_s = plan.waypoints.last().map_or(world.span_s(), |w| w.t_s).max(3600.0);
     let n = ((end_s / CONTACT_STEP_S).ceil() as usize).max(2);
     let hours = |k: usize| end_s * k as f64 / n as f64;
@@ -1273,7 +1384,7 @@ fn haven_plots(
         .map(|&(a, b)| (a / 3600.0, b / 3600.0))
         .filter(|&(a, _)| a <= end_s / 3600.0)
         .collect();
-    files.extend(crate::output::plots::time(
+    crate::output::plots::time(
         dir,
         "sky",
         &TimePlot {
@@ -1289,8 +1400,7 @@ fn haven_plots(
             windows: sessions,
             windows_label: "Communicate session".into(),
         },
-    )?);
-    Ok(files)
+    )
 }
 
 fn floor_wh(ctx: &Context<'_>) -> f64 {

@@ -11,7 +11,7 @@ use crate::outcome::Outcome;
 
 pub(crate) fn run(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
     use areo_ephemeris::SunModel;
-    use areo_terrain::shadow::{Curvature, Method, Sun, shadow_map};
+    use areo_terrain::shadow::{Curvature, Method, SunDirection, shadow_map};
     use areo_terrain::slope::slope_aspect;
 
     opts.progress.start(3, "terrain");
@@ -31,7 +31,7 @@ pub(crate) fn run(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<
     // A synthesised map lies on the body's reference surface (its curvature).
     let dem = dem.placed_at(job.body.reference_surface(), site.lat_deg(), site.lon_east_deg())?;
     let curvature = if job.flat { Curvature::Flat } else { Curvature::of(&dem) };
-    let map = shadow_map(&dem, Sun::new(sun.azimuth_deg, sun.elevation_deg), curvature, Method::OwnRay);
+    let map = shadow_map(&dem, SunDirection::new(sun.azimuth_deg, sun.elevation_deg), curvature, Method::OwnRay);
     let sa = slope_aspect(&dem);
     opts.progress.advance(1);
 

@@ -17,8 +17,8 @@
 //! disagreements are within 1° of grazing (tests below).
 
 use crate::dem::Dem;
+use crate::scan_lines::{LineGeometry, Lines};
 use crate::shadow::Curvature;
-use crate::sweep_lines::{LineGeometry, Lines};
 
 /// Samples per cell along each line (cells plus interpolated points between them).
 const SUB: usize = 2;
@@ -185,7 +185,7 @@ mod tests {
         let curved = cast(&dem, 270.0, 0.3, Curvature::Sphere { radius_m: 3_389_500.0 });
         assert!(flat[target], "flat world: in the peak's shadow");
         assert!(!curved[target], "curved world: the peak is below the horizon");
-        let sun = crate::shadow::Sun { azimuth_deg: 270.0, elevation_deg: 0.3 };
+        let sun = crate::shadow::SunDirection { azimuth_deg: 270.0, elevation_deg: 0.3 };
         let reference =
             crate::reference::cast_shadows_on_grid_lines(&dem, sun, Curvature::Sphere { radius_m: 3_389_500.0 });
         assert!(!reference[target]);

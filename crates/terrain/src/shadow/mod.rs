@@ -31,17 +31,17 @@ use crate::slope::horn_gradient;
 /// The Sun's direction as seen from the map: azimuth clockwise from north and elevation
 /// above the local horizontal, degrees.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sun {
+pub struct SunDirection {
     /// Degrees clockwise from north.
     pub azimuth_deg: f64,
     /// Degrees above the local horizontal; at or below 0 every cell is in shadow.
     pub elevation_deg: f64,
 }
 
-impl Sun {
+impl SunDirection {
     /// The Sun at `azimuth_deg` (clockwise from north), `elevation_deg` up.
-    pub fn new(azimuth_deg: f64, elevation_deg: f64) -> Sun {
-        Sun { azimuth_deg, elevation_deg }
+    pub fn new(azimuth_deg: f64, elevation_deg: f64) -> SunDirection {
+        SunDirection { azimuth_deg, elevation_deg }
     }
 }
 
@@ -61,7 +61,7 @@ pub enum Method {
 }
 
 /// Cast shadow (true = shadowed) of every cell, row-major like the DEM.
-pub fn cast_shadows(dem: &Dem, sun: Sun, curvature: Curvature, method: Method) -> Vec<bool> {
+pub fn cast_shadows(dem: &Dem, sun: SunDirection, curvature: Curvature, method: Method) -> Vec<bool> {
     let (az, el) = (sun.azimuth_deg, sun.elevation_deg);
     if el <= 0.0 {
         // Below the local horizontal the Sun is behind the surface everywhere.
@@ -133,12 +133,12 @@ impl ShadowMap {
 
 /// The shadow map for the Sun at `sun`: cast shadows by `method`, and the cells
 /// facing away.
-pub fn shadow_map(dem: &Dem, sun: Sun, curvature: Curvature, method: Method) -> ShadowMap {
+pub fn shadow_map(dem: &Dem, sun: SunDirection, curvature: Curvature, method: Method) -> ShadowMap {
     shadow_map_from(dem, sun, cast_shadows(dem, sun, curvature, method))
 }
 
 /// [`shadow_map`] around a cast-shadow map already computed for the same Sun.
-pub fn shadow_map_from(dem: &Dem, sun: Sun, cast: Vec<bool>) -> ShadowMap {
+pub fn shadow_map_from(dem: &Dem, sun: SunDirection, cast: Vec<bool>) -> ShadowMap {
     let valid = dem.valid_mask().to_vec();
     let (gx, gy) = horn_gradient(dem);
     let (sa, ca) = sun.azimuth_deg.to_radians().sin_cos();
@@ -165,7 +165,7 @@ mod tests {
         let (h, e) = (20.0, 30.0f64);
         let dem = Dem::from_fn(200, 20, 1.0, 1.0, |x, _| if (50.0..51.0).contains(&x) { h } else { 0.0 }).unwrap();
         for method in [Method::OwnRay, Method::Swept, Method::Interpolated] {
-            let s = cast_shadows(&dem, Sun::new(270.0, e), Curvature::Flat, method);
+            let s = cast_shadows(&dem, SunDirection::new(270.0, e), Curvature::Flat, method);
             let len = (51..200).take_while(|&c| s[10 * 200 + c]).count() as f64;
             assert!((len - h / e.to_radians().tan()).abs() <= 1.0, "{method:?}: shadow {len} m");
             assert!((0..50).all(|c| !s[10 * 200 + c]), "{method:?}: the sun side is lit");
@@ -176,10 +176,10 @@ mod tests {
     fn sun_side_border_is_lit_and_a_sun_below_the_horizon_lights_nothing() {
         let dem = Dem::from_fn(30, 30, 1.0, 1.0, |x, y| (x * 0.7).sin() * 5.0 + (y * 0.3).cos() * 5.0).unwrap();
         for method in [Method::OwnRay, Method::Swept, Method::Interpolated] {
-            let s = cast_shadows(&dem, Sun::new(0.0, 5.0), Curvature::Flat, method);
+            let s = cast_shadows(&dem, SunDirection::new(0.0, 5.0), Curvature::Flat, method);
             assert!((0..30).all(|c| !s[c]), "{method:?}: the northern border faces a northern Sun unobstructed");
         }
-        let m = shadow_map(&dem, Sun::new(0.0, -1.0), Curvature::Flat, Method::OwnRay);
+        let m = shadow_map(&dem, SunDirection::new(0.0, -1.0), Curvature::Flat, Method::OwnRay);
         assert_eq!(m.lit_fraction(), 0.0);
     }
 
@@ -192,8 +192,8 @@ mod tests {
         let target = 2 * 1101 + 1000;
         let mars = Curvature::Sphere { radius_m: 3_389_500.0 };
         for method in [Method::OwnRay, Method::Swept, Method::Interpolated] {
-            assert!(cast_shadows(&dem, Sun::new(270.0, 0.3), Curvature::Flat, method)[target], "{method:?}");
-            assert!(!cast_shadows(&dem, Sun::new(270.0, 0.3), mars, method)[target], "{method:?}");
+            assert!(cast_shadows(&dem, SunDirection::new(270.0, 0.3), Curvature::Flat, method)[target], "{method:?}");
+            assert!(!cast_shadows(&dem, SunDirection::new(270.0, 0.3), mars, method)[target], "{method:?}");
         }
     }
 }

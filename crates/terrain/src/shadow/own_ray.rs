@@ -30,8 +30,8 @@
 //! while the rays apply it exactly.
 
 use crate::dem::Dem;
+use crate::scan_lines::LineGeometry;
 use crate::shadow::Curvature;
-use crate::sweep_lines::LineGeometry;
 
 /// Crossings closer than this (in cells) to a vertex are that vertex, as in the
 /// reference.

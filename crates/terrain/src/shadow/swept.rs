@@ -11,8 +11,8 @@
 //! each cell's own ray is in [`crate::shadow`]'s docs.
 
 use crate::dem::Dem;
+use crate::scan_lines::{LineGeometry, Lines};
 use crate::shadow::Curvature;
-use crate::sweep_lines::{LineGeometry, Lines};
 
 /// Sweep rays per cell width. A cell's envelope beyond its first step comes from the
 /// rays beside it, at most a third of a cell away (agreement with per-cell rays at a

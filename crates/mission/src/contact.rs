@@ -1,18 +1,32 @@
-//! Earth contact and safe havens for TEMPEST jobs: the Communicate sessions of a job
-//! on any body, the Earth in view along a plan (checked independently of the
-//! planner's constraint, by sampling), and where a rover can wait out a shadow or a
-//! loss of the Earth — the haven map and the plan's waits.
+//! Earth contact and safe havens: the Communicate sessions a mission schedules on any
+//! body (they feed [`ActionModel::with_sessions`]), the Earth in view along a plan
+//! (checked independently of the planner's constraint, by sampling), and where a rover
+//! can wait out a shadow or a loss of the Earth — the haven map and a plan's waits.
 
 use areo_ephemeris::events::communication_windows;
-use areo_mission::{Action, ActionModel, MissionPlan, World};
 use hifitime::Duration;
 
-use crate::format::CommunicateSpec;
+use crate::action_model::{Action, ActionModel};
+use crate::plan::MissionPlan;
+use crate::world::World;
+
+/// When the rover must stand and talk to the Earth.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Schedule {
+    /// Session length, minutes.
+    pub duration_min: f64,
+    /// Lowest Earth elevation for a once-a-sol session, degrees.
+    pub min_earth_elevation_deg: f64,
+    /// A session ending every this many hours, instead of once a sol.
+    pub every_h: Option<f64>,
+    /// Contact deadlines, hours after the epoch: a session ends at each.
+    pub deadlines_h: Vec<f64>,
+}
 
 /// Communicate sessions over the world's span, s after the epoch: one ending at every
 /// `every_h` hours and at each deadline when given, else one per sol centred on the
 /// Earth's culmination (Mars's relay-free direct-to-Earth pass).
-pub(crate) fn sessions(world: &World, com: &CommunicateSpec) -> Vec<(f64, f64)> {
+pub fn sessions(world: &World, com: &Schedule) -> Vec<(f64, f64)> {
     let length = com.duration_min * 60.0;
     if com.every_h.is_some() || !com.deadlines_h.is_empty() {
         let periodic = com.every_h.map_or(Vec::new(), |every_h| {
@@ -32,7 +46,7 @@ pub(crate) fn sessions(world: &World, com: &CommunicateSpec) -> Vec<(f64, f64)> 
 
 /// Where the rover is at time `t` on a plan: at a waypoint's cell while its action
 /// runs, switching to the next cell halfway through a drive.
-fn cell_at(plan: &MissionPlan, t: f64) -> u32 {
+pub(crate) fn cell_at(plan: &MissionPlan, t: f64) -> u32 {
     let w = &plan.waypoints;
     let k = w.partition_point(|p| p.t_s <= t).saturating_sub(1);
     match (w[k].action, w.get(k + 1)) {
@@ -43,7 +57,7 @@ fn cell_at(plan: &MissionPlan, t: f64) -> u32 {
 
 /// The Earth in view along a plan.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Contact {
+pub struct Contact {
     /// Longest stretch without `min_contact_s` of continuous Earth view, from the plan's
     /// start to its end, hours.
     pub max_gap_h: f64,
@@ -55,7 +69,7 @@ pub(crate) struct Contact {
 
 /// Samples the plan every `step_s` and finds the contact windows (continuous Earth
 /// view of at least `min_contact_s`) and the longest gap between them.
-pub(crate) fn contact_along(world: &World, plan: &MissionPlan, min_contact_s: f64, step_s: f64) -> Contact {
+pub fn contact_along(world: &World, plan: &MissionPlan, min_contact_s: f64, step_s: f64) -> Contact {
     let (Some(first), Some(last)) = (plan.waypoints.first(), plan.waypoints.last()) else {
         return Contact { max_gap_h: 0.0, in_view_fraction: 0.0, windows_h: Vec::new() };
     };
@@ -93,7 +107,7 @@ pub(crate) fn contact_along(world: &World, plan: &MissionPlan, min_contact_s: f6
 
 /// Hours of driving with the Sun hidden from where the rover is, sampled every
 /// `step_s` along each drive.
-pub(crate) fn shadowed_drive_h(world: &World, plan: &MissionPlan, step_s: f64) -> f64 {
+pub fn shadowed_drive_h(world: &World, plan: &MissionPlan, step_s: f64) -> f64 {
     let mut dark = 0.0;
     for w in plan.waypoints.windows(2) {
         if !matches!(w[0].action, Some(Action::Drive(_))) {
@@ -113,7 +127,7 @@ pub(crate) fn shadowed_drive_h(world: &World, plan: &MissionPlan, step_s: f64) -
 
 /// Per-cell light and Earth over a span: where a rover can wait.
 #[derive(Debug, Clone)]
-pub(crate) struct Havens {
+pub struct Havens {
     /// Longest continuous shadow per cell, hours.
     pub longest_shadow_h: Vec<f32>,
     /// Longest continuous loss of the Earth per cell, hours.
@@ -128,13 +142,7 @@ pub(crate) struct Havens {
 /// it is passable, its longest shadow is shorter than a full battery lasts hibernating
 /// (usable capacity over the low electronics load less any generator), and — when
 /// `contact_every_h` is given — the Earth is never out of its view longer than that.
-pub(crate) fn havens(
-    world: &World,
-    model: &ActionModel,
-    span_s: f64,
-    step_s: f64,
-    contact_every_h: Option<f64>,
-) -> Havens {
+pub fn havens(world: &World, model: &ActionModel, span_s: f64, step_s: f64, contact_every_h: Option<f64>) -> Havens {
     let n = ((span_s / step_s).ceil() as usize).max(1);
     let times: Vec<f64> = (0..=n).map(|k| span_s * k as f64 / n as f64).collect();
     let suns: Vec<_> = times.iter().map(|&t| world.sun(t)).collect();
@@ -166,7 +174,7 @@ pub(crate) fn havens(
 
 /// A stretch of a plan during which the rover stays on one cell.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Wait {
+pub struct Wait {
     /// The cell.
     pub cell: u32,
     /// Start and end, hours since the epoch.
@@ -180,7 +188,7 @@ pub(crate) struct Wait {
 }
 
 /// The plan's waits of at least `min_s`: runs of stationary actions on one cell.
-pub(crate) fn waits(plan: &MissionPlan, havens: &Havens, floor_wh: f64, min_s: f64) -> Vec<Wait> {
+pub fn waits(plan: &MissionPlan, havens: &Havens, floor_wh: f64, min_s: f64) -> Vec<Wait> {
     let w = &plan.waypoints;
     let mut out = Vec::new();
     let mut k = 0;
@@ -213,9 +221,9 @@ pub(crate) fn waits(plan: &MissionPlan, havens: &Havens, floor_wh: f64, min_s: f
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::world::WorldConfig;
     use areo_ephemeris::flux::Atmosphere;
     use areo_ephemeris::{Body, Site, parse_utc};
-    use areo_mission::WorldConfig;
     use areo_terrain::Dem;
 
     fn lunar_world(span_h: f64) -> World {
@@ -234,12 +242,11 @@ mod tests {
     #[test]
     fn sessions_end_every_interval_and_at_each_deadline() {
         let world = lunar_world(24.0);
-        let com = CommunicateSpec {
+        let com = Schedule {
             duration_min: 30.0,
             min_earth_elevation_deg: 10.0,
             every_h: Some(8.0),
             deadlines_h: vec![5.0, 16.0],
-            earth_in_view: None,
         };
         let ends: Vec<f64> = sessions(&world, &com).iter().map(|s| s.1 / 3600.0).collect();
         assert_eq!(ends, vec![5.0, 8.0, 16.0, 24.0]);
@@ -253,7 +260,7 @@ mod tests {
         let world = lunar_world(48.0);
         let mut rover = areo_rover::resources::ResourceModel::hyperion();
         rover.battery.capacity_wh = 100.0;
-        let model = ActionModel::new(rover, areo_mission::ActionConfig::default());
+        let model = ActionModel::new(rover, crate::action_model::ActionConfig::default());
         let h = havens(&world, &model, world.span_s(), 1800.0, Some(8.0));
         assert!(h.haven.iter().all(|&x| x));
         assert!(h.longest_shadow_h.iter().chain(&h.longest_earth_loss_h).all(|&x| x == 0.0));

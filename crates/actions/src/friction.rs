@@ -6,7 +6,7 @@ use areo_rover::evaluation::Evaluator;
 use areo_terrain::Ground;
 
 use crate::error::Result;
-use crate::executor::{Binding, ExecConfig, Executor, Failure};
+use crate::executor::{ExecConfig, Executor, Failure, WheelLimit};
 use crate::fitness::{Scale, Weights};
 use crate::ga::{GaConfig, evolve};
 use crate::inventory::Inventory;
@@ -28,7 +28,7 @@ pub struct SweepPoint {
     /// What stopped the best plan, if anything.
     pub failure: Option<Failure>,
     /// The wheel that bound, when a force limit stopped it.
-    pub binding: Option<Binding>,
+    pub binding: Option<WheelLimit>,
 }
 
 /// A sweep's points in the order given, and its two thresholds.
