@@ -499,29 +499,7 @@ impl Validate for ActionsJob {
 impl Validate for TempestJob {
     fn validate(&self, c: &mut Checks) {
         validate_terrain(c, "terrain", &self.terrain);
-        match &self.truth {
-            Truth::Map => {}
-            Truth::Terrain(t) => c.nested("truth", |c| validate_terrain(c, "Terrain", t)),
-            Truth::AddFeatures(features) => {
-                // Check the landforms as a synthesised map would.
-                let spec = areo_terrain::synth::TerrainSpec {
-                    cols: 2,
-                    rows: 2,
-                    cell_m: 1.0,
-                    base_m: 0.0,
-                    seed: 0,
-                    noise: None,
-                    features: features.clone(),
-                };
-                if let Err(areo_terrain::Error::BadSynth { field, value, allowed }) = spec.validate() {
-                    let mut seg = field_segments(&field);
-                    if seg.first().is_some_and(|s| s == "features") {
-                        seg[0] = "AddFeatures".into();
-                    }
-                    c.nested("truth", |c| c.fail_at(&seg, format!("{value} is out of range: allowed {allowed}")));
-                }
-            }
-        }
+        validate_truth(c, &self.truth);
         c.nested("site", |c| self.site.validate(c));
         if let Err(e) = areo_ephemeris::parse_utc(&self.start_utc) {
             c.fail("start_utc", e.to_string());
@@ -574,56 +552,88 @@ impl Validate for TempestJob {
             c.nested("planner", |c| c.fail_at(&field_segments(field), message));
         }
         if let Some(com) = &self.communicate {
-            c.nested("communicate", |c| {
-                c.range("duration_min", com.duration_min, 1.0, 720.0, "minutes");
-                c.range("min_earth_elevation_deg", com.min_earth_elevation_deg, -90.0, 90.0, "degrees");
-                let lo = com.duration_min / 60.0;
-                if com.deadlines_h.len() > 1000 {
-                    c.fail("deadlines_h", format!("{} deadlines: at most 1000", com.deadlines_h.len()));
-                }
-                c.list("deadlines_h", &com.deadlines_h, |c, d| {
-                    c.range_here(
-                        *d,
-                        lo,
-                        self.horizon_h.max(lo),
-                        "hours after the start, at least one session long and within the horizon",
-                    )
-                });
-                if let Some(every) = com.every_h {
-                    // At least an hour apart: a session costs a scan of the schedule in
-                    // every stationary action, so thousands would slow every search.
-                    let lo = (com.duration_min / 60.0).max(1.0);
-                    if !(every >= lo && every <= self.horizon_h.max(lo)) {
-                        c.fail(
-                            "every_h",
-                            format!(
-                                "{every}: allowed at least an hour and more than the session ({} h), at most the horizon ({} h)",
-                                com.duration_min / 60.0,
-                                self.horizon_h
-                            ),
-                        );
-                    }
-                    if every * 60.0 <= com.duration_min {
-                        c.fail("every_h", format!("{every} h: a session ({} min) must fit between two", com.duration_min));
-                    }
-                }
-            });
-            if self.body == areo_ephemeris::Body::Earth {
-                c.fail("communicate", "on the Earth there is no Earth to talk to: leave communicate out".into());
-            }
-            if self.body == areo_ephemeris::Body::Moon && com.every_h.is_none() && com.deadlines_h.is_empty() {
-                c.fail(
-                    "communicate",
-                    "on the Moon a solar day is a month: give every_h (a session every so many hours) or deadlines_h"
-                        .into(),
-                );
-            }
+            validate_communicate(c, com, self.horizon_h, self.body);
         }
         if let Some(sim) = &self.simulate
             && let Err(areo_mission::Error::Config { field, message }) = sim.validate()
         {
             c.nested("simulate", |c| c.fail_at(&field_segments(field), message));
         }
+    }
+}
+
+/// The true terrain: a terrain source, or landforms checked as a synthesised map would.
+fn validate_truth(c: &mut Checks, truth: &Truth) {
+    match truth {
+        Truth::Map => {}
+        Truth::Terrain(t) => c.nested("truth", |c| validate_terrain(c, "Terrain", t)),
+        Truth::AddFeatures(features) => {
+            // Check the landforms as a synthesised map would.
+            let spec = areo_terrain::synth::TerrainSpec {
+                cols: 2,
+                rows: 2,
+                cell_m: 1.0,
+                base_m: 0.0,
+                seed: 0,
+                noise: None,
+                features: features.clone(),
+            };
+            if let Err(areo_terrain::Error::BadSynth { field, value, allowed }) = spec.validate() {
+                let mut seg = field_segments(&field);
+                if seg.first().is_some_and(|s| s == "features") {
+                    seg[0] = "AddFeatures".into();
+                }
+                c.nested("truth", |c| c.fail_at(&seg, format!("{value} is out of range: allowed {allowed}")));
+            }
+        }
+    }
+}
+
+/// Communicate sessions: their length, elevation, deadlines and interval within the
+/// horizon, and whether the body has an Earth to talk to.
+fn validate_communicate(c: &mut Checks, com: &CommunicateSpec, horizon_h: f64, body: areo_ephemeris::Body) {
+    c.nested("communicate", |c| {
+            c.range("duration_min", com.duration_min, 1.0, 720.0, "minutes");
+            c.range("min_earth_elevation_deg", com.min_earth_elevation_deg, -90.0, 90.0, "degrees");
+            let lo = com.duration_min / 60.0;
+            if com.deadlines_h.len() > 1000 {
+                c.fail("deadlines_h", format!("{} deadlines: at most 1000", com.deadlines_h.len()));
+            }
+            c.list("deadlines_h", &com.deadlines_h, |c, d| {
+                c.range_here(
+                    *d,
+                    lo,
+                    horizon_h.max(lo),
+                    "hours after the start, at least one session long and within the horizon",
+                )
+            });
+            if let Some(every) = com.every_h {
+                // At least an hour apart: a session costs a scan of the schedule in
+                // every stationary action, so thousands would slow every search.
+                let lo = (com.duration_min / 60.0).max(1.0);
+                if !(every >= lo && every <= horizon_h.max(lo)) {
+                    c.fail(
+                        "every_h",
+                        format!(
+                            "{every}: allowed at least an hour and more than the session ({} h), at most the horizon ({} h)",
+                            com.duration_min / 60.0,
+                            horizon_h
+                        ),
+                    );
+                }
+                if every * 60.0 <= com.duration_min {
+                    c.fail("every_h", format!("{every} h: a session ({} min) must fit between two", com.duration_min));
+                }
+            }
+        });
+    if body == areo_ephemeris::Body::Earth {
+        c.fail("communicate", "on the Earth there is no Earth to talk to: leave communicate out".into());
+    }
+    if body == areo_ephemeris::Body::Moon && com.every_h.is_none() && com.deadlines_h.is_empty() {
+        c.fail(
+            "communicate",
+            "on the Moon a solar day is a month: give every_h (a session every so many hours) or deadlines_h".into(),
+        );
     }
 }
 

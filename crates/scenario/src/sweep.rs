@@ -262,33 +262,14 @@ fn task_id(pattern: &str, index: usize, values: &BTreeMap<String, String>) -> St
     if id.starts_with('.') || id.is_empty() { format!("t{id}") } else { id }
 }
 
-/// Expands `sweep_path` into `dir`: one validated scenario per task, `manifest.jsonl`
-/// and `sweep.json`. A task whose scenario is invalid is an error naming the task, its
-/// axis values and the field, before anything is written.
-pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<SweepTask>> {
-    let sweep = load(sweep_path)?;
-    let here = sweep_path.parent().unwrap_or(Path::new("."));
-    let base_path = here.join(&sweep.base);
-    let base_text =
-        std::fs::read_to_string(&base_path).map_err(|source| Error::Read { path: base_path.clone(), source })?;
-    let bad = |field: String, message: String| Error::Scenario { path: sweep_path.to_path_buf(), field, message };
-    crate::format::parse(&base_path, &base_text)?;
-    let mut spans = Vec::new();
-    let mut literals = Vec::new();
-    for (i, a) in sweep.axes.iter().enumerate() {
-        let span = match &a.path {
-            None => None,
-            Some(p) => Some(value_span(&base_text, &segments(p)).ok_or_else(|| {
-                bad(
-                    format!("axes[{i}].path"),
-                    format!("{p:?} is not written in {}: write the field out (any value) to sweep it", sweep.base),
-                )
-            })?),
-        };
-        spans.push(span);
-        literals.push(a.literals().map_err(|m| bad(format!("axes[{i}]"), m))?);
-    }
-    let combos: Vec<Vec<usize>> = match sweep.combine {
+/// The tasks' value indices, one per axis: zipped (the k-th of every axis) or every
+/// combination (the last axis fastest), at most [`MAX_TASKS`].
+fn combinations(
+    sweep: &SweepFile,
+    literals: &[Vec<String>],
+    bad: &dyn Fn(String, String) -> Error,
+) -> Result<Vec<Vec<usize>>> {
+    Ok(match sweep.combine {
         Combine::Zip => {
             let n = literals[0].len();
             if let Some((i, l)) = literals.iter().enumerate().find(|(_, l)| l.len() != n) {
@@ -315,11 +296,83 @@ pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<SweepTask>> {
                 })
                 .collect()
         }
+    })
+}
+
+/// Writes the expanded sweep: each task's scenario under `tasks/`, an empty `logs/`,
+/// `manifest.jsonl` and `sweep.json`.
+fn write_expansion(
+    dir: &Path,
+    sweep_path: &Path,
+    base_path: &Path,
+    sweep: &SweepFile,
+    tasks: &[SweepTask],
+    texts: &[String],
+) -> Result<()> {
+    let base_name = base_path.file_stem().map_or_else(|| "base".into(), |s| s.to_string_lossy().into_owned());
+    let io = |p: &Path| {
+        let p = p.to_path_buf();
+        move |source| Error::Io { path: p, source }
     };
+    std::fs::create_dir_all(dir.join("tasks")).map_err(io(&dir.join("tasks")))?;
+    // Schedulers open a task's log before it starts: the directory must exist.
+    std::fs::create_dir_all(dir.join("logs")).map_err(io(&dir.join("logs")))?;
+    for (t, text) in tasks.iter().zip(texts) {
+        write_file(&dir.join(&t.scenario), text.as_bytes())?;
+    }
+    let mut manifest = String::new();
+    for t in tasks {
+        manifest += &serde_json::to_string(t).map_err(|e| io(&dir.join("manifest.jsonl"))(e.into()))?;
+        manifest.push('\n');
+    }
+    write_file(&dir.join("manifest.jsonl"), manifest.as_bytes())?;
+    let base_parent = base_path.parent().unwrap_or(Path::new("."));
+    let base_dir = base_parent.canonicalize().unwrap_or_else(|_| base_parent.to_path_buf());
+    let info = SweepInfo {
+        name: sweep_path.file_name().map_or_else(String::new, |s| {
+            s.to_string_lossy().trim_end_matches(".sweep.ron").trim_end_matches(".ron").to_string()
+        }),
+        base_dir,
+        base_name,
+        axes: sweep.axes.iter().map(|a| a.name.clone()).collect(),
+        combine: sweep.combine,
+        tasks: tasks.len(),
+    };
+    let json = serde_json::to_string_pretty(&info).map_err(|e| io(&dir.join("sweep.json"))(e.into()))?;
+    write_file(&dir.join("sweep.json"), json.as_bytes())?;
+    Ok(())
+}
+
+/// Expands `sweep_path` into `dir`: one validated scenario per task, `manifest.jsonl`
+/// and `sweep.json`. A task whose scenario is invalid is an error naming the task, its
+/// axis values and the field, before anything is written.
+pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<SweepTask>> {
+    let sweep = load(sweep_path)?;
+    let here = sweep_path.parent().unwrap_or(Path::new("."));
+    let base_path = here.join(&sweep.base);
+    let base_text =
+        std::fs::read_to_string(&base_path).map_err(|source| Error::Read { path: base_path.clone(), source })?;
+    let bad = |field: String, message: String| Error::Scenario { path: sweep_path.to_path_buf(), field, message };
+    crate::format::parse(&base_path, &base_text)?;
+    let mut spans = Vec::new();
+    let mut literals = Vec::new();
+    for (i, a) in sweep.axes.iter().enumerate() {
+        let span = match &a.path {
+            None => None,
+            Some(p) => Some(value_span(&base_text, &segments(p)).ok_or_else(|| {
+                bad(
+                    format!("axes[{i}].path"),
+                    format!("{p:?} is not written in {}: write the field out (any value) to sweep it", sweep.base),
+                )
+            })?),
+        };
+        spans.push(span);
+        literals.push(a.literals().map_err(|m| bad(format!("axes[{i}]"), m))?);
+    }
+    let combos = combinations(&sweep, &literals, &bad)?;
     // Replacements are applied from the end of the text so earlier spans stay valid.
     let mut order: Vec<usize> = (0..spans.len()).filter(|&a| spans[a].is_some()).collect();
     order.sort_by_key(|&a| std::cmp::Reverse(spans[a].as_ref().map_or(0, |s| s.start)));
-    let base_name = base_path.file_stem().map_or_else(|| "base".into(), |s| s.to_string_lossy().into_owned());
     let mut tasks = Vec::with_capacity(combos.len());
     let mut texts = Vec::with_capacity(combos.len());
     let mut ids = BTreeSet::new();
@@ -351,36 +404,7 @@ pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<SweepTask>> {
         tasks.push(SweepTask { index, id: id.clone(), values, scenario: format!("tasks/{id}.ron") });
         texts.push(text);
     }
-    let io = |p: &Path| {
-        let p = p.to_path_buf();
-        move |source| Error::Io { path: p, source }
-    };
-    std::fs::create_dir_all(dir.join("tasks")).map_err(io(&dir.join("tasks")))?;
-    // Schedulers open a task's log before it starts: the directory must exist.
-    std::fs::create_dir_all(dir.join("logs")).map_err(io(&dir.join("logs")))?;
-    for (t, text) in tasks.iter().zip(&texts) {
-        write_file(&dir.join(&t.scenario), text.as_bytes())?;
-    }
-    let mut manifest = String::new();
-    for t in &tasks {
-        manifest += &serde_json::to_string(t).map_err(|e| io(&dir.join("manifest.jsonl"))(e.into()))?;
-        manifest.push('\n');
-    }
-    write_file(&dir.join("manifest.jsonl"), manifest.as_bytes())?;
-    let base_parent = base_path.parent().unwrap_or(Path::new("."));
-    let base_dir = base_parent.canonicalize().unwrap_or_else(|_| base_parent.to_path_buf());
-    let info = SweepInfo {
-        name: sweep_path.file_name().map_or_else(String::new, |s| {
-            s.to_string_lossy().trim_end_matches(".sweep.ron").trim_end_matches(".ron").to_string()
-        }),
-        base_dir,
-        base_name,
-        axes: sweep.axes.iter().map(|a| a.name.clone()).collect(),
-        combine: sweep.combine,
-        tasks: tasks.len(),
-    };
-    let json = serde_json::to_string_pretty(&info).map_err(|e| io(&dir.join("sweep.json"))(e.into()))?;
-    write_file(&dir.join("sweep.json"), json.as_bytes())?;
+    write_expansion(dir, sweep_path, &base_path, &sweep, &tasks, &texts)?;
     Ok(tasks)
 }
 
@@ -507,6 +531,57 @@ pub struct Collected {
     pub files: Vec<PathBuf>,
 }
 
+/// The plot of one fact against one axis over the finished tasks
+/// (`FACT_vs_AXIS.svg`/`.png`).
+fn plot_against(
+    dir: &Path,
+    info: &SweepInfo,
+    all: &[SweepTask],
+    facts: &[Option<serde_json::Map<String, serde_json::Value>>],
+    names: &BTreeSet<String>,
+    (fact, axis): (&str, &str),
+) -> Result<Vec<PathBuf>> {
+    if !info.axes.iter().any(|a| a == axis) {
+        return Err(Error::usage(
+            format!("--against {axis}"),
+            format!("the sweep's axes are {}", info.axes.join(", ")),
+        ));
+    }
+    if !names.contains(fact) {
+        return Err(Error::usage(format!("--plot {fact}"), "no finished task reported that fact"));
+    }
+    let mut points: Vec<(f64, f64)> = all
+        .iter()
+        .zip(facts)
+        .filter_map(|(t, f)| {
+            // Numbers as they are, booleans as 0 and 1.
+            let x: f64 = match t.values.get(axis)?.trim_matches('"') {
+                "true" => 1.0,
+                "false" => 0.0,
+                v => v.parse().ok()?,
+            };
+            let y = f.as_ref()?.get(fact)?.as_f64()?;
+            Some((x, y))
+        })
+        .collect();
+    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if points.is_empty() {
+        return Err(Error::usage(format!("--plot {fact} --against {axis}"), "no numeric values to plot"));
+    }
+    let (lo, hi) = points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| (l.min(p.0), h.max(p.0)));
+    let plot = crate::output::plots::TimePlot {
+        title: format!("{}: {fact} against {axis}", info.name),
+        x_label: axis.to_string(),
+        y_label: fact.to_string(),
+        series: vec![crate::output::plots::Series { label: fact.to_string(), points, rgb: (30, 90, 220), width: 2 }],
+        nights: Vec::new(),
+        x_range: (lo, if hi > lo { hi } else { lo + 1.0 }),
+        windows: Vec::new(),
+        windows_label: String::new(),
+    };
+    crate::output::plots::time(dir, &format!("{fact}_vs_{axis}"), &plot)
+}
+
 /// Merges every finished task's facts into `DIR/results.csv` (one row per task: index,
 /// id, the axis values, status, then every fact any task reported, by name), and with
 /// `plot: Some((fact, axis))` plots that fact against that axis (`DIR/FACT_vs_AXIS`).
@@ -561,50 +636,7 @@ pub fn collect(dir: &Path, plot: Option<(&str, &str)>) -> Result<Collected> {
     let mut files = vec![dir.join("results.csv")];
     table.write(&files[0])?;
     if let Some((fact, axis)) = plot {
-        if !info.axes.iter().any(|a| a == axis) {
-            return Err(Error::usage(
-                format!("--against {axis}"),
-                format!("the sweep's axes are {}", info.axes.join(", ")),
-            ));
-        }
-        if !names.contains(fact) {
-            return Err(Error::usage(format!("--plot {fact}"), "no finished task reported that fact"));
-        }
-        let mut points: Vec<(f64, f64)> = all
-            .iter()
-            .zip(&facts)
-            .filter_map(|(t, f)| {
-                // Numbers as they are, booleans as 0 and 1.
-                let x: f64 = match t.values.get(axis)?.trim_matches('"') {
-                    "true" => 1.0,
-                    "false" => 0.0,
-                    v => v.parse().ok()?,
-                };
-                let y = f.as_ref()?.get(fact)?.as_f64()?;
-                Some((x, y))
-            })
-            .collect();
-        points.sort_by(|a, b| a.0.total_cmp(&b.0));
-        if points.is_empty() {
-            return Err(Error::usage(format!("--plot {fact} --against {axis}"), "no numeric values to plot"));
-        }
-        let (lo, hi) = points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| (l.min(p.0), h.max(p.0)));
-        let plot = crate::output::plots::TimePlot {
-            title: format!("{}: {fact} against {axis}", info.name),
-            x_label: axis.to_string(),
-            y_label: fact.to_string(),
-            series: vec![crate::output::plots::Series {
-                label: fact.to_string(),
-                points,
-                rgb: (30, 90, 220),
-                width: 2,
-            }],
-            nights: Vec::new(),
-            x_range: (lo, if hi > lo { hi } else { lo + 1.0 }),
-            windows: Vec::new(),
-            windows_label: String::new(),
-        };
-        files.extend(crate::output::plots::time(dir, &format!("{fact}_vs_{axis}"), &plot)?);
+        files.extend(plot_against(dir, &info, &all, &facts, &names, (fact, axis))?);
     }
     Ok(Collected { finished: facts.iter().filter(|f| f.is_some()).count(), missing, failed, files })
 }

@@ -89,150 +89,223 @@ enum Event {
 /// Scans RON text once: a light tokenizer that skips strings and comments, tracks which
 /// key opened each bracket and counts list elements. `on` returns false to stop.
 fn walk(text: &str, mut on: impl FnMut(Event) -> bool) {
-    struct Frame {
-        key: Option<String>,
-        list_index: Option<usize>,
+    let mut s = Scanner::new(text);
+    while let Some(c) = s.ch(s.i) {
+        let next = s.ch(s.i + 1);
+        let go_on = if c == '/' && next == Some('/') {
+            s.line_comment();
+            true
+        } else if c == '/' && next == Some('*') {
+            s.block_comment();
+            true
+        } else if c == '"' {
+            s.string();
+            true
+        } else if is_number_start(c, next, s.ch(s.i + 2)) {
+            on(Event::Scalar(s.number()))
+        } else if c.is_alphabetic() || c == '_' {
+            s.ident().is_none_or(&mut on)
+        } else if matches!(c, '(' | '[' | '{') {
+            s.open(c, &mut on)
+        } else if matches!(c, ')' | ']' | '}') {
+            s.frames.pop();
+            s.pending_key = None;
+            s.advance(1);
+            true
+        } else if c == ',' {
+            s.comma(&mut on)
+        } else {
+            s.advance(1);
+            true
+        };
+        if !go_on {
+            return;
+        }
     }
-    let chars: Vec<(usize, char)> = text.char_indices().collect();
-    let ch = |i: usize| chars.get(i).map(|c| c.1);
-    let byte = |i: usize| chars.get(i).map_or(text.len(), |c| c.0);
-    let mut frames: Vec<Frame> = Vec::new();
-    let mut pending_key: Option<String> = None;
-    let (mut line, mut col) = (1usize, 1usize);
-    let mut i = 0;
-    let advance = |i: &mut usize, line: &mut usize, col: &mut usize, n: usize| {
+}
+
+/// A bracket the scanner is inside: the key that opened it (or the list index it is
+/// an element of), and for a list the index of its current element.
+struct Frame {
+    key: Option<String>,
+    list_index: Option<usize>,
+}
+
+/// The scanner's position in the text (char index, 1-based line and column) and the
+/// brackets it is inside.
+struct Scanner<'t> {
+    text: &'t str,
+    chars: Vec<(usize, char)>,
+    i: usize,
+    line: usize,
+    col: usize,
+    frames: Vec<Frame>,
+    pending_key: Option<String>,
+}
+
+impl<'t> Scanner<'t> {
+    fn new(text: &'t str) -> Scanner<'t> {
+        let chars = text.char_indices().collect();
+        Scanner { text, chars, i: 0, line: 1, col: 1, frames: Vec::new(), pending_key: None }
+    }
+
+    fn ch(&self, i: usize) -> Option<char> {
+        self.chars.get(i).map(|c| c.1)
+    }
+
+    fn byte(&self, i: usize) -> usize {
+        self.chars.get(i).map_or(self.text.len(), |c| c.0)
+    }
+
+    fn advance(&mut self, n: usize) {
         for _ in 0..n {
-            if let Some(&(_, c)) = chars.get(*i) {
+            if let Some(&(_, c)) = self.chars.get(self.i) {
                 if c == '\n' {
-                    *line += 1;
-                    *col = 1;
+                    self.line += 1;
+                    self.col = 1;
                 } else {
-                    *col += 1;
+                    self.col += 1;
                 }
-                *i += 1;
+                self.i += 1;
             }
         }
-    };
-    let current_path = |frames: &[Frame]| -> Vec<String> { frames.iter().filter_map(|f| f.key.clone()).collect() };
-    while let Some(c) = ch(i) {
-        let next = ch(i + 1);
-        if c == '/' && next == Some('/') {
-            while ch(i).is_some_and(|c| c != '\n') {
-                advance(&mut i, &mut line, &mut col, 1);
+    }
+
+    fn current_path(&self) -> Vec<String> {
+        self.frames.iter().filter_map(|f| f.key.clone()).collect()
+    }
+
+    /// The path of a value here: under the pending key, or the list element's index.
+    fn value_path(&self) -> Vec<String> {
+        let mut path = self.current_path();
+        if let Some(k) = &self.pending_key {
+            path.push(k.clone());
+        } else if let Some(Frame { list_index: Some(n), .. }) = self.frames.last() {
+            path.push(format!("[{n}]"));
+        }
+        path
+    }
+
+    fn line_comment(&mut self) {
+        while self.ch(self.i).is_some_and(|c| c != '\n') {
+            self.advance(1);
+        }
+    }
+
+    fn block_comment(&mut self) {
+        self.advance(2);
+        while self.ch(self.i).is_some() && !(self.ch(self.i) == Some('*') && self.ch(self.i + 1) == Some('/')) {
+            self.advance(1);
+        }
+        self.advance(2);
+    }
+
+    fn string(&mut self) {
+        self.advance(1);
+        while self.ch(self.i).is_some_and(|c| c != '"') {
+            let n = if self.ch(self.i) == Some('\\') { 2 } else { 1 };
+            self.advance(n);
+        }
+        self.advance(1);
+    }
+
+    fn number(&mut self) -> Scalar {
+        let (start_line, start_col, start) = (self.line, self.col, self.i);
+        self.advance(1);
+        while let Some(d) = self.ch(self.i) {
+            let exponent_sign = matches!(d, '+' | '-') && matches!(self.ch(self.i - 1), Some('e' | 'E'));
+            if !(d.is_ascii_alphanumeric() || d == '_' || d == '.' || exponent_sign) {
+                break;
             }
-        } else if c == '/' && next == Some('*') {
-            advance(&mut i, &mut line, &mut col, 2);
-            while ch(i).is_some() && !(ch(i) == Some('*') && ch(i + 1) == Some('/')) {
-                advance(&mut i, &mut line, &mut col, 1);
-            }
-            advance(&mut i, &mut line, &mut col, 2);
-        } else if c == '"' {
-            advance(&mut i, &mut line, &mut col, 1);
-            while ch(i).is_some_and(|c| c != '"') {
-                let n = if ch(i) == Some('\\') { 2 } else { 1 };
-                advance(&mut i, &mut line, &mut col, n);
-            }
-            advance(&mut i, &mut line, &mut col, 1);
-        } else if is_number_start(c, next, ch(i + 2)) {
-            let (start_line, start_col, start) = (line, col, i);
-            advance(&mut i, &mut line, &mut col, 1);
-            while let Some(d) = ch(i) {
-                let exponent_sign = matches!(d, '+' | '-') && matches!(ch(i - 1), Some('e' | 'E'));
-                if !(d.is_ascii_alphanumeric() || d == '_' || d == '.' || exponent_sign) {
-                    break;
-                }
-                advance(&mut i, &mut line, &mut col, 1);
-            }
-            let mut path = current_path(&frames);
-            if let Some(k) = &pending_key {
-                path.push(k.clone());
-            } else if let Some(Frame { list_index: Some(n), .. }) = frames.last() {
-                path.push(format!("[{n}]"));
-            }
-            let (a, b) = (byte(start), byte(i));
-            let scalar = Scalar { path, line: start_line, col: start_col, span: a..b, text: text[a..b].to_string() };
-            if !on(Event::Scalar(scalar)) {
-                return;
-            }
-        } else if c.is_alphabetic() || c == '_' {
-            let (start_line, start_col) = (line, col);
-            let mut ident = String::new();
-            while let Some(d) = ch(i).filter(|d| d.is_alphanumeric() || *d == '_') {
-                ident.push(d);
-                advance(&mut i, &mut line, &mut col, 1);
-            }
-            let mut j = i;
-            while ch(j).is_some_and(char::is_whitespace) {
-                j += 1;
-            }
-            if ch(j) == Some(':') && ch(j + 1) != Some(':') {
-                let mut p = current_path(&frames);
-                p.push(ident.clone());
-                if !on(Event::Key { path: p, line: start_line, col: start_col }) {
-                    return;
-                }
-                pending_key = Some(ident);
-            } else if ident == "NaN" || ident == "inf" {
-                // RON's non-finite float literals, in a value's place.
-                let mut path = current_path(&frames);
-                if let Some(k) = &pending_key {
-                    path.push(k.clone());
-                } else if let Some(Frame { list_index: Some(n), .. }) = frames.last() {
-                    path.push(format!("[{n}]"));
-                }
-                let (a, b) = (byte(i) - ident.len(), byte(i));
-                let scalar = Scalar { path, line: start_line, col: start_col, span: a..b, text: ident };
-                if !on(Event::Scalar(scalar)) {
-                    return;
-                }
-            }
-        } else if matches!(c, '(' | '[' | '{') {
-            // A bracket directly inside a list is an element: key it by its index.
-            let key = match frames.last_mut() {
-                Some(Frame { list_index: Some(n), .. }) if pending_key.is_none() => {
-                    // The element itself is a field too (`job.goals[1]`): place it here.
-                    let element = format!("[{n}]");
-                    let mut p = current_path(&frames);
-                    p.push(element.clone());
-                    if !on(Event::Element { path: p, line, col }) {
-                        return;
-                    }
-                    Some(element)
-                }
-                _ => pending_key.take(),
-            };
-            frames.push(Frame { key, list_index: (c == '[').then_some(0) });
-            if c == '[' {
-                // A scalar element of a list at index 0 has no bracket of its own.
-                let mut p = current_path(&frames);
-                p.push("[0]".into());
-                if let Some((l, cc)) = scalar_after(&chars, i + 1, line, col + 1)
-                    && !on(Event::Element { path: p, line: l, col: cc })
-                {
-                    return;
-                }
-            }
-            advance(&mut i, &mut line, &mut col, 1);
-        } else if matches!(c, ')' | ']' | '}') {
-            frames.pop();
-            pending_key = None;
-            advance(&mut i, &mut line, &mut col, 1);
-        } else if c == ',' {
-            pending_key = None;
-            if let Some(Frame { list_index: Some(n), .. }) = frames.last_mut() {
-                *n += 1;
-                let n = *n;
-                let mut p = current_path(&frames);
-                p.push(format!("[{n}]"));
-                if let Some((l, cc)) = scalar_after(&chars, i + 1, line, col + 1)
-                    && !on(Event::Element { path: p, line: l, col: cc })
-                {
-                    return;
-                }
-            }
-            advance(&mut i, &mut line, &mut col, 1);
+            self.advance(1);
+        }
+        let (a, b) = (self.byte(start), self.byte(self.i));
+        Scalar {
+            path: self.value_path(),
+            line: start_line,
+            col: start_col,
+            span: a..b,
+            text: self.text[a..b].to_string(),
+        }
+    }
+
+    /// An identifier: a key (`name:`), RON's `NaN`/`inf` in a value's place, or
+    /// anything else (a variant or struct name), which gives no event.
+    fn ident(&mut self) -> Option<Event> {
+        let (start_line, start_col) = (self.line, self.col);
+        let mut ident = String::new();
+        while let Some(d) = self.ch(self.i).filter(|d| d.is_alphanumeric() || *d == '_') {
+            ident.push(d);
+            self.advance(1);
+        }
+        let mut j = self.i;
+        while self.ch(j).is_some_and(char::is_whitespace) {
+            j += 1;
+        }
+        if self.ch(j) == Some(':') && self.ch(j + 1) != Some(':') {
+            let mut path = self.current_path();
+            path.push(ident.clone());
+            self.pending_key = Some(ident);
+            Some(Event::Key { path, line: start_line, col: start_col })
+        } else if ident == "NaN" || ident == "inf" {
+            let (a, b) = (self.byte(self.i) - ident.len(), self.byte(self.i));
+            Some(Event::Scalar(Scalar {
+                path: self.value_path(),
+                line: start_line,
+                col: start_col,
+                span: a..b,
+                text: ident,
+            }))
         } else {
-            advance(&mut i, &mut line, &mut col, 1);
+            None
+        }
+    }
+
+    /// An opening bracket: a new frame, keyed by the pending key or, directly inside a
+    /// list, by its index (the element itself is a field too: `job.goals[1]`).
+    fn open(&mut self, c: char, on: &mut impl FnMut(Event) -> bool) -> bool {
+        let key = match self.frames.last() {
+            Some(Frame { list_index: Some(n), .. }) if self.pending_key.is_none() => {
+                let element = format!("[{n}]");
+                let mut path = self.current_path();
+                path.push(element.clone());
+                if !on(Event::Element { path, line: self.line, col: self.col }) {
+                    return false;
+                }
+                Some(element)
+            }
+            _ => self.pending_key.take(),
+        };
+        self.frames.push(Frame { key, list_index: (c == '[').then_some(0) });
+        // A scalar element of a list at index 0 has no bracket of its own.
+        if c == '[' && !self.scalar_element(0, on) {
+            return false;
+        }
+        self.advance(1);
+        true
+    }
+
+    /// A comma: the pending key is done; in a list, the next element begins.
+    fn comma(&mut self, on: &mut impl FnMut(Event) -> bool) -> bool {
+        self.pending_key = None;
+        if let Some(Frame { list_index: Some(n), .. }) = self.frames.last_mut() {
+            *n += 1;
+            let n = *n;
+            if !self.scalar_element(n, on) {
+                return false;
+            }
+        }
+        self.advance(1);
+        true
+    }
+
+    /// Element `n` of the list just opened or continued here, if it is a scalar.
+    fn scalar_element(&self, n: usize, on: &mut impl FnMut(Event) -> bool) -> bool {
+        let mut path = self.current_path();
+        path.push(format!("[{n}]"));
+        match scalar_after(&self.chars, self.i + 1, self.line, self.col + 1) {
+            Some((line, col)) => on(Event::Element { path, line, col }),
+            None => true,
         }
     }
 }

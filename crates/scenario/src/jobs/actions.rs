@@ -2,11 +2,11 @@
 //! the GA (per run, or per μ of a sweep), and write plan.json, plan.csv, ga.csv and the
 //! plots (top view, side profile, stability, fitness, look-ahead).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use areo_actions::{
-    ClimbProfile, ExecConfig, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Rock, Scale, Surroundings, Task,
-    TraceStep, climb_margins, design_space_log10, evolve, friction_sweep,
+    ClimbProfile, ExecConfig, Execution, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Rock, Scale,
+    Surroundings, Task, TraceStep, climb_margins, design_space_log10, evolve, friction_sweep,
 };
 use areo_rover::RoverParams;
 use areo_rover::evaluation::Evaluator;
@@ -71,22 +71,170 @@ pub fn setup(job: &ActionsJob, file: &ScenarioFile) -> Result<Setup> {
     Ok(Setup { dem, task, params })
 }
 
-/// Runs an actions job.
+/// One GA run's result: its report and wall time (s), the execution settings and
+/// inventory it ran with, its seed study, and its best plan executed with a trace.
+struct RunResult {
+    name: String,
+    report: GaReport,
+    seconds: f64,
+    exec: ExecConfig,
+    inventory: Inventory,
+    generations: usize,
+    study: Option<SeedStudy>,
+    best: Execution,
+}
+
+/// What an actions job computed: the filtered inventory, each run, the friction sweep
+/// (the μ values and their results) and the climb profile.
+struct ActionsReport {
+    filtered: Inventory,
+    runs: Vec<RunResult>,
+    sweep: Option<(Vec<f64>, FrictionSweep)>,
+    climb: Option<ClimbProfile>,
+}
+
+/// Runs an actions job: compute the report, then its facts and files.
 pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
-    let Setup { dem, task, params } = setup(job, file)?;
-    opts.budget.check(&crate::budget::actions(job, (dem.cols() * dem.rows()) as u64))?;
-    let evaluator = Evaluator::new(&params);
-    let scale = Scale {
+    let setup = setup(job, file)?;
+    opts.budget.check(&crate::budget::actions(job, (setup.dem.cols() * setup.dem.rows()) as u64))?;
+    let report = compute(job, file, opts, &setup)?;
+    let mut o = outcome(job, &setup.task, &report);
+    if let Some(dir) = opts.out_dir {
+        o.files = write_report(dir, job, &setup, &report)?;
+    }
+    Ok(o)
+}
+
+/// The GA's scales for the task on this rover.
+fn scale_of(job: &ActionsJob, task: &Task, params: &RoverParams) -> Scale {
+    Scale {
         start_distance_m: task.start_distance_m(),
         samples_wanted: task.samples_wanted,
         reference_time_s: task.start_distance_m() / params.speed_m_s,
         battery_wh: params.battery.capacity_wh * params.battery.usable_fraction,
         s_floor: job.execution.stability_floor,
+    }
+}
+
+/// The runs: the job's list, or one run on the filtered inventory.
+fn run_plans(job: &ActionsJob, file: &ScenarioFile, filtered: &Inventory) -> Result<Vec<RunPlan>> {
+    if job.runs.is_empty() {
+        return Ok(vec![RunPlan {
+            name: "plan".to_string(),
+            inventory: filtered.clone(),
+            mu: job.execution.mu,
+            ga: job.ga.clone(),
+            seeds: None,
+        }]);
+    }
+    job.runs
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let inventory = match &r.inventory {
+                Some(codes) => Inventory::from_codes(codes).map_err(|c| {
+                    file.error_at(&format!("job.runs[{i}].inventory"), format!("{c} is not a Table 1 code"))
+                })?,
+                None => filtered.clone(),
+            };
+            let ga = GaConfig { crossover: r.crossover.unwrap_or(job.ga.crossover), ..job.ga.clone() };
+            Ok(RunPlan { name: r.name.clone(), inventory, mu: r.mu.unwrap_or(job.execution.mu), ga, seeds: r.seeds })
+        })
+        .collect()
+}
+
+/// The friction sweep's μ values (`mu_sweep: (first, last, step)`), rounded to 1e-6.
+fn sweep_values(job: &ActionsJob) -> Vec<f64> {
+    match job.mu_sweep {
+        Some((a, b, step)) => {
+            let n = ((b - a) / step + 1e-9).floor() as usize;
+            (0..=n).map(|k| ((a + step * k as f64) * 1e6).round() / 1e6).collect()
+        }
+        None => Vec::new(),
+    }
+}
+
+/// Evolves every run (and its other seeds), sweeps μ and profiles the climb.
+fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &Setup) -> Result<ActionsReport> {
+    let Setup { dem, task, params } = setup;
+    let evaluator = Evaluator::new(params);
+    let scale = scale_of(job, task, params);
+    let room = Surroundings::new((dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy()), params);
+    let filtered = Inventory::for_task(task, &room, &job.overrides);
+    let plans = run_plans(job, file, &filtered)?;
+    let sweep = sweep_values(job);
+    // The run's own seed, then the study's others.
+    let evolutions: usize = plans
+        .iter()
+        .map(|r| 1 + r.seeds.map_or(0, |(a, b)| (b - a + 1) as usize - usize::from((a..=b).contains(&r.ga.seed))))
+        .sum();
+    opts.progress.start((evolutions + sweep.len()) as u64, "evolving");
+    let mut runs = Vec::with_capacity(plans.len());
+    for plan in &plans {
+        let exec = ExecConfig { mu: plan.mu, ..job.execution };
+        let executor = Executor::new(dem, &evaluator, task, exec);
+        if let Some(problem) = executor.start_problem() {
+            return Err(file.error_at("job.task.start", format!("the start pose is not admissible: {problem}")));
+        }
+        let clock = std::time::Instant::now();
+        let report =
+            evolve(&executor, &plan.inventory, &job.weights, &scale, &plan.ga).map_err(|e| ga_error(file, e))?;
+        let seconds = clock.elapsed().as_secs_f64();
+        opts.progress.advance(1);
+        let study = match plan.seeds {
+            None => None,
+            Some((first, last)) => {
+                let mut study = SeedStudy::default();
+                for seed in first..=last {
+                    let r = if seed == plan.ga.seed {
+                        report.clone()
+                    } else {
+                        let ga = GaConfig { seed, ..plan.ga.clone() };
+                        let r = evolve(&executor, &plan.inventory, &job.weights, &scale, &ga)
+                            .map_err(|e| ga_error(file, e))?;
+                        opts.progress.advance(1);
+                        r
+                    };
+                    study.add(seed, &r, task);
+                }
+                Some(study)
+            }
+        };
+        let best = executor.run(&report.best.plan, true);
+        let (name, inventory, generations) = (plan.name.clone(), plan.inventory.clone(), plan.ga.generations);
+        runs.push(RunResult { name, report, seconds, exec, inventory, generations, study, best });
+    }
+    let sweep = if sweep.is_empty() {
+        None
+    } else {
+        let result = friction_sweep(
+            dem,
+            &evaluator,
+            task,
+            job.execution,
+            &plans[0].inventory,
+            &job.weights,
+            &scale,
+            &job.ga,
+            &sweep,
+            job.ditch_far_edge_y_m,
+            |_| opts.progress.advance(1),
+        )
+        .map_err(|e| ga_error(file, e))?;
+        Some((sweep, result))
     };
-    let room = Surroundings::new((dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy()), &params);
-    let filtered = Inventory::for_task(&task, &room, &job.overrides);
+    opts.progress.finish();
+    let climb = job
+        .climb_profile
+        .map(|(step, length)| climb_margins(dem, &evaluator, task.start, job.execution.mu, step, length));
+    Ok(ActionsReport { filtered, runs, sweep, climb })
+}
+
+/// The report's facts and summary lines.
+fn outcome(job: &ActionsJob, task: &Task, report: &ActionsReport) -> Outcome {
     let mut o = Outcome::default();
     let m = job.ga.initial_length.1;
+    let filtered = &report.filtered;
     o.number("design_space_log10_full", design_space_log10(26, m));
     o.number("design_space_log10_filtered", design_space_log10(filtered.modules.len(), m));
     o.summary.push(format!(
@@ -96,213 +244,139 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         design_space_log10(26, m),
         design_space_log10(filtered.modules.len(), m)
     ));
-
-    if let Some(dir) = opts.out_dir {
-        let mut table = Table::new(["code", "kept", "reason"]);
-        for code in filtered.codes() {
-            table.push(vec![code.to_string(), "1".into(), String::new()]);
-        }
-        for r in &filtered.removed {
-            table.push(vec![r.code.to_string(), "0".into(), r.reason.clone()]);
-        }
-        let path = dir.join("inventory.csv");
-        table.write(&path)?;
-        o.files.push(path);
-    }
-    // The runs: the job's list, or one run on the filtered inventory.
-    let runs: Vec<RunPlan> = if job.runs.is_empty() {
-        vec![RunPlan {
-            name: "plan".to_string(),
-            inventory: filtered.clone(),
-            mu: job.execution.mu,
-            ga: job.ga.clone(),
-            seeds: None,
-        }]
-    } else {
-        job.runs
-            .iter()
-            .enumerate()
-            .map(|(i, r)| {
-                let inventory = match &r.inventory {
-                    Some(codes) => Inventory::from_codes(codes).map_err(|c| {
-                        file.error_at(&format!("job.runs[{i}].inventory"), format!("{c} is not a Table 1 code"))
-                    })?,
-                    None => filtered.clone(),
-                };
-                let ga = GaConfig { crossover: r.crossover.unwrap_or(job.ga.crossover), ..job.ga.clone() };
-                Ok(RunPlan {
-                    name: r.name.clone(),
-                    inventory,
-                    mu: r.mu.unwrap_or(job.execution.mu),
-                    ga,
-                    seeds: r.seeds,
-                })
-            })
-            .collect::<Result<_>>()?
-    };
-    let sweep: Vec<f64> = match job.mu_sweep {
-        Some((a, b, step)) => {
-            let n = ((b - a) / step + 1e-9).floor() as usize;
-            (0..=n).map(|k| ((a + step * k as f64) * 1e6).round() / 1e6).collect()
-        }
-        None => Vec::new(),
-    };
-    // The run's own seed, then the study's others.
-    let evolutions: usize = runs
-        .iter()
-        .map(|r| 1 + r.seeds.map_or(0, |(a, b)| (b - a + 1) as usize - usize::from((a..=b).contains(&r.ga.seed))))
-        .sum();
-    opts.progress.start((evolutions + sweep.len()) as u64, "evolving");
-    let mut reports: Vec<(String, GaReport, ExecConfig, Inventory)> = Vec::new();
-    let mut studies: Vec<(String, SeedStudy)> = Vec::new();
-    for run in &runs {
-        let exec = ExecConfig { mu: run.mu, ..job.execution };
-        let executor = Executor::new(&dem, &evaluator, &task, exec);
-        if let Some(problem) = executor.start_problem() {
-            return Err(file.error_at("job.task.start", format!("the start pose is not admissible: {problem}")));
-        }
+    for run in &report.runs {
         let name = &run.name;
-        let clock = std::time::Instant::now();
-        let report = evolve(&executor, &run.inventory, &job.weights, &scale, &run.ga).map_err(|e| ga_error(file, e))?;
-        let seconds = clock.elapsed().as_secs_f64();
-        opts.progress.advance(1);
-        run_facts(&mut o, name, &report, seconds, &task);
+        run_facts(&mut o, name, &run.report, run.seconds, task);
         o.number(&format!("{name}_modules"), run.inventory.modules.len() as f64);
         o.number(&format!("{name}_design_space_log10"), design_space_log10(run.inventory.modules.len(), m));
-        if let Some((first, last)) = run.seeds {
-            let mut study = SeedStudy::default();
-            for seed in first..=last {
-                let r = if seed == run.ga.seed {
-                    report.clone()
-                } else {
-                    let ga = GaConfig { seed, ..run.ga.clone() };
-                    let r =
-                        evolve(&executor, &run.inventory, &job.weights, &scale, &ga).map_err(|e| ga_error(file, e))?;
-                    opts.progress.advance(1);
-                    r
-                };
-                study.add(seed, &r, &task);
-            }
-            study_facts(&mut o, name, &study, run.ga.generations);
-            studies.push((name.clone(), study));
-        }
-        reports.push((name.clone(), report, exec, run.inventory.clone()));
-    }
-    if let Some(dir) = opts.out_dir
-        && !studies.is_empty()
-    {
-        o.files.extend(write_studies(dir, &studies, job.ga.generations)?);
-    }
-    if !sweep.is_empty() {
-        let result = friction_sweep(
-            &dem,
-            &evaluator,
-            &task,
-            job.execution,
-            &runs[0].inventory,
-            &job.weights,
-            &scale,
-            &job.ga,
-            &sweep,
-            job.ditch_far_edge_y_m,
-            |_| opts.progress.advance(1),
-        )
-        .map_err(|e| ga_error(file, e))?;
-        let (crossed, completed) = (result.min_mu_crossing, result.min_mu_completing);
-        if let Some(mu) = crossed {
-            o.number("sweep_min_mu_crossing_ditch", mu);
-        }
-        if let Some(mu) = completed {
-            o.number("sweep_min_mu_completing", mu);
-        }
-        if let (Some(a), Some(b)) = (crossed, completed) {
-            o.flag("sweep_ditch_needs_less_friction_than_hill", a < b);
-        }
-        // What binds just below each threshold: the best plan at the last μ that fails.
-        for (what, threshold) in [("crossing", crossed), ("completing", completed)] {
-            // (The nearest μ below whose best plan stopped on a force limit: a plan that
-            // merely runs out of modules names no wheel.)
-            let below =
-                threshold.and_then(|t| result.points.iter().rev().find(|p| p.mu < t - 1e-9 && p.binding.is_some()));
-            if let Some(b) = below.and_then(|p| p.binding.as_ref()) {
-                o.text(&format!("sweep_binding_below_{what}_wheel"), b.wheel.clone());
-                o.flag(&format!("sweep_binding_below_{what}_climbing"), b.climbing);
-                o.number(&format!("sweep_binding_below_{what}_y_m"), b.contact_m[1]);
-                o.number(&format!("sweep_binding_below_{what}_mu"), below.map_or(0.0, |p| p.mu));
-                o.text(&format!("sweep_binding_below_{what}_steepest_wheel"), b.steepest.0.clone());
-                o.flag(&format!("sweep_binding_below_{what}_steepest_climbing"), b.steepest.2);
-                o.number(&format!("sweep_binding_below_{what}_steepest_angle_deg"), b.steepest.1);
-                o.summary.push(format!("below the {what} threshold (μ = {}): {b}", below.map_or(0.0, |p| p.mu)));
-            }
-        }
-        o.summary.push(format!(
-            "friction sweep μ = {}..{}: ditch crossed from μ = {}, task completed from μ = {}",
-            sweep[0],
-            sweep[sweep.len() - 1],
-            crossed.map_or("never".into(), |m| format!("{m}")),
-            completed.map_or("never".into(), |m| format!("{m}"))
-        ));
-        if let Some(dir) = opts.out_dir {
-            let path = dir.join("sweep.csv");
-            sweep_table(&result).write(&path)?;
-            o.files.push(path);
+        if let Some(study) = &run.study {
+            study_facts(&mut o, name, study, run.generations);
         }
     }
-    opts.progress.finish();
-    if let Some((step, length)) = job.climb_profile {
-        let profile = climb_margins(&dem, &evaluator, task.start, job.execution.mu, step, length);
-        climb_facts(&mut o, &profile);
-        if let Some(dir) = opts.out_dir {
-            o.files.extend(write_climb(dir, &profile)?);
+    if let Some((values, result)) = &report.sweep {
+        sweep_facts(&mut o, values, result);
+    }
+    if let Some(profile) = &report.climb {
+        climb_facts(&mut o, profile);
+    }
+    for run in &report.runs {
+        best_facts(&mut o, run);
+    }
+    o
+}
+
+/// The friction sweep's thresholds and what binds just below each.
+fn sweep_facts(o: &mut Outcome, values: &[f64], result: &FrictionSweep) {
+    let (crossed, completed) = (result.min_mu_crossing, result.min_mu_completing);
+    if let Some(mu) = crossed {
+        o.number("sweep_min_mu_crossing_ditch", mu);
+    }
+    if let Some(mu) = completed {
+        o.number("sweep_min_mu_completing", mu);
+    }
+    if let (Some(a), Some(b)) = (crossed, completed) {
+        o.flag("sweep_ditch_needs_less_friction_than_hill", a < b);
+    }
+    // What binds just below each threshold: the best plan at the last μ that fails.
+    for (what, threshold) in [("crossing", crossed), ("completing", completed)] {
+        // (The nearest μ below whose best plan stopped on a force limit: a plan that
+        // merely runs out of modules names no wheel.)
+        let below = threshold.and_then(|t| result.points.iter().rev().find(|p| p.mu < t - 1e-9 && p.binding.is_some()));
+        if let Some(b) = below.and_then(|p| p.binding.as_ref()) {
+            o.text(&format!("sweep_binding_below_{what}_wheel"), b.wheel.clone());
+            o.flag(&format!("sweep_binding_below_{what}_climbing"), b.climbing);
+            o.number(&format!("sweep_binding_below_{what}_y_m"), b.contact_m[1]);
+            o.number(&format!("sweep_binding_below_{what}_mu"), below.map_or(0.0, |p| p.mu));
+            o.text(&format!("sweep_binding_below_{what}_steepest_wheel"), b.steepest.0.clone());
+            o.flag(&format!("sweep_binding_below_{what}_steepest_climbing"), b.steepest.2);
+            o.number(&format!("sweep_binding_below_{what}_steepest_angle_deg"), b.steepest.1);
+            o.summary.push(format!("below the {what} threshold (μ = {}): {b}", below.map_or(0.0, |p| p.mu)));
         }
     }
-    for (name, report, exec, _) in &reports {
-        let executor = Executor::new(&dem, &evaluator, &task, *exec);
-        let best = executor.run(&report.best.plan, true);
-        let failure =
-            best.failure.as_ref().map(|(i, f)| format!("module {} ({}): {f}", i + 1, report.best.plan[*i].code()));
-        o.summary.push(format!(
-            "{name}: {} in {} modules; fitness {:.2}; {} samples ({}); stability min {:.0} %, mean {:.0} %; {:.0} s, {:.2} Wh{}",
-            if best.complete { "task complete" } else { "not complete" },
-            best.prefix_len,
-            report.best.fitness,
-            best.samples,
-            taken_label(&best.taken),
-            100.0 * best.min_stability,
-            100.0 * best.mean_stability,
-            best.time_s,
-            best.energy_wh,
-            failure.map_or(String::new(), |f| format!("; stopped at {f}"))
-        ));
-        let executed = &report.best.plan[..best.prefix_len.min(report.best.plan.len())];
-        let count = |m: areo_rover::motion::Module| executed.iter().filter(|&&x| x == m).count() as f64;
-        use areo_rover::motion::Module as M;
-        o.number(&format!("{name}_arm_forward_net"), count(M::ArmForward) - count(M::ArmBack));
-        if let Some(last) = best.trace.last() {
-            o.number(&format!("{name}_last_pitch_deg"), last.pitch_deg);
-            // Left and right front wheels' share of the load where the plan last stood:
-            // near 0 as the rover rotates back over its rear wheels.
-            let l = last.wheel_loads_n;
-            let total: f64 = l.iter().sum();
-            if total > 0.0 {
-                o.number(&format!("{name}_last_front_load_fraction"), (l[0] + l[3]) / total);
-            }
-        }
-        if let Some((_, f)) = &best.failure {
-            o.text(&format!("{name}_failure"), f.kind());
-        }
-        if let Some(b) = &best.binding {
-            o.text(&format!("{name}_binding_wheel"), b.wheel.clone());
-            o.flag(&format!("{name}_binding_climbing"), b.climbing);
-            o.summary.push(format!("{name}: bound by the {b}"));
-        }
-        if let Some(dir) = opts.out_dir {
-            let sub = if reports.len() == 1 { dir.to_path_buf() } else { dir.join(name) };
-            std::fs::create_dir_all(&sub).map_err(|source| Error::Io { path: sub.clone(), source })?;
-            o.files.extend(write_outputs(&sub, &dem, &task, report, &best.trace, &params, exec.mu)?);
+    o.summary.push(format!(
+        "friction sweep μ = {}..{}: ditch crossed from μ = {}, task completed from μ = {}",
+        values[0],
+        values[values.len() - 1],
+        crossed.map_or("never".into(), |m| format!("{m}")),
+        completed.map_or("never".into(), |m| format!("{m}"))
+    ));
+}
+
+/// A run's best plan as executed: its summary line, where it ended and what bound it.
+fn best_facts(o: &mut Outcome, run: &RunResult) {
+    let (name, report, best) = (&run.name, &run.report, &run.best);
+    let failure =
+        best.failure.as_ref().map(|(i, f)| format!("module {} ({}): {f}", i + 1, report.best.plan[*i].code()));
+    o.summary.push(format!(
+        "{name}: {} in {} modules; fitness {:.2}; {} samples ({}); stability min {:.0} %, mean {:.0} %; {:.0} s, {:.2} Wh{}",
+        if best.complete { "task complete" } else { "not complete" },
+        best.prefix_len,
+        report.best.fitness,
+        best.samples,
+        taken_label(&best.taken),
+        100.0 * best.min_stability,
+        100.0 * best.mean_stability,
+        best.time_s,
+        best.energy_wh,
+        failure.map_or(String::new(), |f| format!("; stopped at {f}"))
+    ));
+    let executed = &report.best.plan[..best.prefix_len.min(report.best.plan.len())];
+    let count = |m: areo_rover::motion::Module| executed.iter().filter(|&&x| x == m).count() as f64;
+    use areo_rover::motion::Module as M;
+    o.number(&format!("{name}_arm_forward_net"), count(M::ArmForward) - count(M::ArmBack));
+    if let Some(last) = best.trace.last() {
+        o.number(&format!("{name}_last_pitch_deg"), last.pitch_deg);
+        // Left and right front wheels' share of the load where the plan last stood:
+        // near 0 as the rover rotates back over its rear wheels.
+        let l = last.wheel_loads_n;
+        let total: f64 = l.iter().sum();
+        if total > 0.0 {
+            o.number(&format!("{name}_last_front_load_fraction"), (l[0] + l[3]) / total);
         }
     }
-    Ok(o)
+    if let Some((_, f)) = &best.failure {
+        o.text(&format!("{name}_failure"), f.kind());
+    }
+    if let Some(b) = &best.binding {
+        o.text(&format!("{name}_binding_wheel"), b.wheel.clone());
+        o.flag(&format!("{name}_binding_climbing"), b.climbing);
+        o.summary.push(format!("{name}: bound by the {b}"));
+    }
+}
+
+/// Every file of the report: inventory.csv, the seed studies, sweep.csv, the climb, and
+/// each run's plan files (in a directory per run when there are several).
+fn write_report(dir: &Path, job: &ActionsJob, setup: &Setup, report: &ActionsReport) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let mut table = Table::new(["code", "kept", "reason"]);
+    for code in report.filtered.codes() {
+        table.push(vec![code.to_string(), "1".into(), String::new()]);
+    }
+    for r in &report.filtered.removed {
+        table.push(vec![r.code.to_string(), "0".into(), r.reason.clone()]);
+    }
+    let path = dir.join("inventory.csv");
+    table.write(&path)?;
+    files.push(path);
+    let studies: Vec<(String, &SeedStudy)> =
+        report.runs.iter().filter_map(|r| r.study.as_ref().map(|s| (r.name.clone(), s))).collect();
+    if !studies.is_empty() {
+        files.extend(write_studies(dir, &studies, job.ga.generations)?);
+    }
+    if let Some((_, result)) = &report.sweep {
+        let path = dir.join("sweep.csv");
+        sweep_table(result).write(&path)?;
+        files.push(path);
+    }
+    if let Some(profile) = &report.climb {
+        files.extend(write_climb(dir, profile)?);
+    }
+    for run in &report.runs {
+        let sub = if report.runs.len() == 1 { dir.to_path_buf() } else { dir.join(&run.name) };
+        std::fs::create_dir_all(&sub).map_err(|source| Error::Io { path: sub.clone(), source })?;
+        files.extend(write_outputs(&sub, setup, &run.report, &run.best.trace, run.exec.mu)?);
+    }
+    Ok(files)
 }
 
 /// The climb's facts: what ended it and where, and the margins along it.
@@ -497,7 +571,7 @@ fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usiz
 
 /// `seeds.csv` (one row per run and seed), the success-by-generation plot and each
 /// study's pooled look-ahead histogram.
-fn write_studies(dir: &Path, studies: &[(String, SeedStudy)], generations: usize) -> Result<Vec<std::path::PathBuf>> {
+fn write_studies(dir: &Path, studies: &[(String, &SeedStudy)], generations: usize) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let mut table =
         Table::new(["run", "seed", "first_solved_generation", "best_fitness", "samples", "taken", "min_stability"]);
@@ -650,15 +724,19 @@ fn sweep_table(sweep: &FrictionSweep) -> Table {
     table
 }
 
-fn write_outputs(
-    dir: &Path,
-    dem: &Dem,
-    task: &Task,
-    report: &GaReport,
-    trace: &[TraceStep],
-    params: &RoverParams,
-    mu: f64,
-) -> Result<Vec<std::path::PathBuf>> {
+/// A run's files: plan.json, plan.csv, ga.csv and the plots.
+fn write_outputs(dir: &Path, setup: &Setup, report: &GaReport, trace: &[TraceStep], mu: f64) -> Result<Vec<PathBuf>> {
+    let mut files = plan_files(dir, report, trace)?;
+    files.extend(top_view_plot(dir, setup, trace)?);
+    files.extend(side_profile_plot(dir, setup, trace)?);
+    files.extend(trace_plots(dir, trace, mu)?);
+    files.extend(ga_plots(dir, report)?);
+    Ok(files)
+}
+
+/// plan.json (the best plan with its execution, trace and the GA's history), plan.csv
+/// (the trace) and ga.csv (per generation).
+fn plan_files(dir: &Path, report: &GaReport, trace: &[TraceStep]) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let mut put = |name: &str, text: String| -> Result<()> {
         let path = dir.join(name);
@@ -720,7 +798,12 @@ fn write_outputs(
         ]);
     }
     put("ga.csv", ga.to_csv(&dir.join("ga.csv"))?)?;
+    Ok(files)
+}
 
+/// The best plan's top view over a hillshade, with rocks and samples.
+fn top_view_plot(dir: &Path, setup: &Setup, trace: &[TraceStep]) -> Result<Vec<PathBuf>> {
+    let (dem, task) = (&setup.dem, &setup.task);
     // Top view over a hillshade, with rocks and samples.
     let slope = areo_terrain::slope::slope_aspect(dem);
     let background = areo_terrain::hillshade::hillshade_rgb(dem, &slope, None, 315.0, 45.0);
@@ -747,8 +830,13 @@ fn write_outputs(
         series: vec![Series { label: "reference point".into(), points: path, rgb: (220, 30, 40), width: 2 }],
         markers,
     };
-    files.extend(crate::output::plots::route(dir, "top_view", &top)?);
+    crate::output::plots::route(dir, "top_view", &top)
+}
 
+/// The side profile along the path, with the rover drawn at a few steps: the first,
+/// the lowest, the steepest-pitched ones, and the last.
+fn side_profile_plot(dir: &Path, setup: &Setup, trace: &[TraceStep]) -> Result<Vec<PathBuf>> {
+    let (dem, task, params) = (&setup.dem, &setup.task, &setup.params);
     // Side profile along the path, with the rover drawn at a few steps: the first,
     // the steepest-pitched ones, and the last.
     let mut along = Vec::with_capacity(trace.len() + 1);
@@ -812,7 +900,7 @@ fn write_outputs(
             ProfileRover { wheels, body: (d, t.z_m), label: format!("{} ({:.0}°)", i + 1, t.pitch_deg) }
         })
         .collect();
-    files.extend(crate::output::plots::profile(
+    crate::output::plots::profile(
         dir,
         "side_profile",
         &ProfilePlot {
@@ -821,7 +909,12 @@ fn write_outputs(
             rovers,
             wheel_radius_m: params.wheel_radius_m,
         },
-    )?);
+    )
+}
+
+/// The stability margin and the friction needed along the plan.
+fn trace_plots(dir: &Path, trace: &[TraceStep], mu: f64) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
     let stability: Vec<(f64, f64)> =
         trace.iter().enumerate().filter_map(|(i, t)| t.stability.map(|s| ((i + 1) as f64, 100.0 * s))).collect();
     files.extend(crate::output::plots::time(
@@ -861,6 +954,12 @@ fn write_outputs(
             windows_label: String::new(),
         },
     )?);
+    Ok(files)
+}
+
+/// Fitness per generation and the look-ahead histogram.
+fn ga_plots(dir: &Path, report: &GaReport) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
     let best: Vec<(f64, f64)> = report.generations.iter().map(|g| (g.index as f64, g.best)).collect();
     let mean: Vec<(f64, f64)> = report.generations.iter().map(|g| (g.index as f64, g.mean)).collect();
     files.extend(crate::output::plots::time(
