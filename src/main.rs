@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 mod print;
 
-use areo_scenario::budget::Budget;
+use areo_scenario::budget::{Budget, DemCommand};
 use areo_scenario::{Error, Failure, Progress};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -515,17 +515,16 @@ fn check_sun(azimuth_deg: f64, elevation_deg: f64) -> Result<(), Error> {
 fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
     use areo_scenario::terrain as tt;
     // Each command checks its estimate once the DEM's size is known.
-    let read = |file: &std::path::Path, what: &str, sectors: usize| -> Result<areo_scenario::terrain::Dem, Error> {
+    let read = |file: &std::path::Path, command: DemCommand| -> Result<areo_scenario::terrain::Dem, Error> {
         let dem = tt::read_dem(file)?;
-        let cells = (dem.cols() * dem.rows()) as u64;
-        budget.check(&areo_scenario::budget::terrain_command(what, cells, sectors as u64))?;
+        budget.check(&command.estimate((dem.cols() * dem.rows()) as u64))?;
         Ok(dem)
     };
     let text = match cmd {
-        TerrainCommand::Info { file } => print::terrain::info(file, &tt::info(&read(file, "info", 0)?)),
+        TerrainCommand::Info { file } => print::terrain::info(file, &tt::info(&read(file, DemCommand::Info)?)),
         TerrainCommand::Slope { file, out } => {
             tt::check_output(file, out)?;
-            print::terrain::wrote(&tt::write_slope(&read(file, "slope", 0)?, out)?)
+            print::terrain::wrote(&tt::write_slope(&read(file, DemCommand::Slope)?, out)?)
         }
         TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, flat, method, tile: Some(tile), out } => {
             check_sun(*sun_azimuth, *sun_elevation)?;
@@ -547,7 +546,7 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
             check_sun(*sun_azimuth, *sun_elevation)?;
             tt::check_output(file, out)?;
             let (files, lit) = tt::write_shadow(
-                &read(file, "shadow", 0)?,
+                &read(file, DemCommand::Shadow)?,
                 *sun_azimuth,
                 *sun_elevation,
                 *flat,
@@ -558,7 +557,7 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
         }
         TerrainCommand::Viewshed { file, from, out } => {
             tt::check_output(file, out)?;
-            let (files, seen) = tt::write_viewshed(&read(file, "viewshed", 0)?, from.0, from.1, from.2, out)?;
+            let (files, seen) = tt::write_viewshed(&read(file, DemCommand::Viewshed)?, from.0, from.1, from.2, out)?;
             print::terrain::fraction(seen, "visible") + &print::terrain::wrote(&files)
         }
         TerrainCommand::Horizon { file, sectors, tile: Some(tile), lowest_sun, out } => {
@@ -572,7 +571,7 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
                 tt::check_output(file, &path)?;
             }
             print::terrain::wrote(&tt::write_horizon(
-                &read(file, "horizon", *sectors)?,
+                &read(file, DemCommand::Horizon { sectors: *sectors })?,
                 *sectors,
                 out,
                 &progress_bar(),

@@ -196,6 +196,17 @@ fn own_path(p: Vec<PathStep<TempestDomain<'_>>>) -> Vec<PathStep<TempestDomain<'
 }
 
 impl<'a> Mission<'a> {
+    /// Search-graph bytes per map cell (nodes, state and group tables, open list),
+    /// measured on valley-detour and lita-scale: the share of a mission's searches per
+    /// cell of the map, an upper bound on the shipped scenarios.
+    pub const SEARCH_BYTES_PER_CELL: u64 = 132;
+
+    /// The search graphs' bytes a mission on `cells` cells may hold, for memory
+    /// estimates made before it plans ([`Mission::SEARCH_BYTES_PER_CELL`] a cell).
+    pub fn estimate_search_bytes(cells: u64) -> u64 {
+        cells.saturating_mul(Mission::SEARCH_BYTES_PER_CELL)
+    }
+
     /// Plans from `start` through `goals` (cells, in order).
     pub fn plan(
         world: &'a World,

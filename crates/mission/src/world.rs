@@ -101,6 +101,21 @@ pub struct World {
 }
 
 impl World {
+    /// Bytes a world's own grids hold per cell beyond its DEM and horizon map: slope
+    /// and aspect (f32 each), the normal (two f32) and the sensing flags (see
+    /// [`World::bytes`]).
+    pub const GRID_BYTES_PER_CELL: u64 = 4 + 4 + 8 + 2;
+
+    /// Bytes a world on `cells` cells with `sectors` horizon sectors holds at most, with
+    /// a true world beside it when `with_truth` (its own DEM and grids; it shares the
+    /// map's horizon map), for memory estimates made before either is built.
+    pub fn estimate_bytes(cells: u64, sectors: usize, with_truth: bool) -> u64 {
+        let dem = areo_terrain::Dem::BYTES_PER_CELL;
+        let per_cell = dem + HorizonMap::bytes_per_cell(sectors) + World::GRID_BYTES_PER_CELL;
+        let truth = if with_truth { dem + World::GRID_BYTES_PER_CELL } else { 0 };
+        cells.saturating_mul(per_cell + truth)
+    }
+
     /// Builds the world: slope and normals, the horizon map (in parallel), and the Sun
     /// table from `sun_model`.
     pub fn new(dem: Dem, config: &WorldConfig, sun_model: &impl SunModel) -> Result<World> {

@@ -1,7 +1,8 @@
 //! Single-goal planning: the octile path on easy ground, charging and hibernating when
 //! the battery or the night binds, and clear "unreachable" answers.
 
-use areo_mission::{Action, ActionConfig, Binding, Error, Mission, PlannerConfig, Start};
+use areo_mission::{Action, ActionConfig, Binding, Error, Mission, PlannerConfig, Start, World};
+use areo_terrain::Dem;
 
 use crate::common::*;
 
@@ -495,4 +496,21 @@ fn a_narrowed_horizon_map_changes_light_only_where_the_sun_grazes_the_horizon() 
     .unwrap();
     assert_eq!(polar.narrow_horizon_within(1200.0), None);
     assert!(!polar.horizon_is_narrow());
+}
+
+#[test]
+fn the_world_memory_estimate_bounds_a_built_world() {
+    // 200 × 150 cells with 16 horizon sectors: the estimate made before building holds
+    // the world's grids, its horizon map and its DEM (the Sun table, 12 h at 2 min, is
+    // not per cell: under 64 kB), and is not loose by more than a third.
+    let dem = Dem::from_fn(200, 150, 10.0, 10.0, |x, y| (0.01 * x).sin() * 20.0 + 0.02 * y).unwrap();
+    let world = mars_world(dem, 12.0, Some(16));
+    let cells = world.cells() as u64;
+    let estimate = World::estimate_bytes(cells, 16, false);
+    let held = world.bytes() as u64 + cells * areo_terrain::Dem::BYTES_PER_CELL;
+    assert!(estimate + 64_000 >= held, "estimate {estimate} B, held {held} B");
+    assert!(3 * estimate <= 4 * held, "estimate {estimate} B, held {held} B");
+    // A true world beside it adds its DEM and grids, not another horizon map.
+    let with_truth = World::estimate_bytes(cells, 16, true) - estimate;
+    assert_eq!(with_truth, cells * (areo_terrain::Dem::BYTES_PER_CELL + World::GRID_BYTES_PER_CELL));
 }

@@ -4,9 +4,10 @@
 //! estimate, so a legal-looking but enormous input fails in a millisecond instead of
 //! aborting on allocation or running for days.
 //!
-//! The per-cell figures are upper bounds read off the data structures (f32 heights,
-//! a validity byte, slope and normals, 2 bytes per horizon sector, a share of search
-//! graph per cell measured on the shipped scenarios); they are meant to be within a
+//! The per-cell figures are the libraries' own (`Dem::BYTES_PER_CELL`,
+//! `HorizonMap::bytes_per_cell`, `World::estimate_bytes`,
+//! `Mission::estimate_search_bytes` — upper bounds read off the data structures, the
+//! search's share measured on the shipped scenarios); they are meant to be within a
 //! factor of two of the measured peaks (`docs/benchmarks.md`), and on the safe side.
 
 use crate::error::{Error, Result};
@@ -82,12 +83,8 @@ pub struct Estimate {
     pub work_unit: &'static str,
 }
 
-/// Bytes per DEM cell held by a read or synthesised map: f32 height and a validity byte.
-const DEM_BYTES: u64 = 5;
-/// Bytes per cell of a planning world beyond its DEM and horizon map: slope, normals,
-/// sensed-change flags, and the share of search graph (nodes, state table, open list)
-/// measured on valley-detour and lita-scale.
-const WORLD_BYTES: u64 = 150;
+/// Bytes per DEM cell held by a read or synthesised map (areo-terrain's figure).
+const DEM_BYTES: u64 = areo_terrain::Dem::BYTES_PER_CELL;
 
 /// The cost of `areo terrain shadow --tile`: one tile read with its halo at a time
 /// (`window_cells`; its DEM, the own-ray method's views and bounds, the shadow map and
@@ -127,16 +124,51 @@ pub fn tiled_horizon(map_cells: u64, sectors: u64, tile: u64, window_cells: u64,
     }
 }
 
-/// The cost of a DEM command on `cells` cells (`sectors` horizon sectors for `horizon`,
-/// 0 otherwise).
-pub fn terrain_command(what: &str, cells: u64, sectors: u64) -> Estimate {
-    // Shadow, slope and viewshed keep a few rasters (slope, aspect, map, preview RGB).
-    let per_cell = DEM_BYTES + 20 + 2 * sectors + if sectors > 0 { 4 } else { 0 };
-    Estimate {
-        what: format!("`areo terrain {what}` on {cells} cells"),
-        memory_bytes: cells.saturating_mul(per_cell),
-        work_steps: cells.saturating_mul(sectors.max(1)),
-        work_unit: "cell-sector sweeps",
+/// A DEM command of `areo terrain`, as far as its cost goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DemCommand {
+    /// `info`.
+    Info,
+    /// `slope`.
+    Slope,
+    /// `shadow` (whole map).
+    Shadow,
+    /// `viewshed`.
+    Viewshed,
+    /// `horizon` with this many sectors (whole map).
+    Horizon {
+        /// Horizon sectors.
+        sectors: usize,
+    },
+}
+
+impl DemCommand {
+    /// The command's name after `areo terrain`.
+    pub fn name(self) -> &'static str {
+        match self {
+            DemCommand::Info => "info",
+            DemCommand::Slope => "slope",
+            DemCommand::Shadow => "shadow",
+            DemCommand::Viewshed => "viewshed",
+            DemCommand::Horizon { .. } => "horizon",
+        }
+    }
+
+    /// The command's cost on `cells` cells: the DEM and a few rasters (slope, aspect,
+    /// map, preview RGB: 20 bytes a cell), and for `horizon` the map (2 bytes a sector)
+    /// and its working codes; work is a sweep per cell and sector.
+    pub fn estimate(self, cells: u64) -> Estimate {
+        let sectors = match self {
+            DemCommand::Horizon { sectors } => sectors,
+            _ => 0,
+        };
+        let horizon = if sectors > 0 { areo_terrain::horizon::HorizonMap::bytes_per_cell(sectors) + 4 } else { 0 };
+        Estimate {
+            what: format!("`areo terrain {}` on {cells} cells", self.name()),
+            memory_bytes: cells.saturating_mul(DEM_BYTES + 20 + horizon),
+            work_steps: cells.saturating_mul((sectors as u64).max(1)),
+            work_unit: "cell-sector sweeps",
+        }
     }
 }
 
@@ -150,8 +182,10 @@ pub fn terrain_command(what: &str, cells: u64, sectors: u64) -> Estimate {
 pub fn tempest(job: &TempestJob, cells: u64) -> Estimate {
     let sectors = job.horizon_sectors as u64;
     let truth = !matches!(job.truth, Truth::Map);
-    // The true world shares the map's horizon map and keeps its own DEM and world.
-    let per_cell = DEM_BYTES + 2 * sectors + WORLD_BYTES + if truth { DEM_BYTES + WORLD_BYTES } else { 0 };
+    // The worlds (areo-mission's figure: the true world shares the map's horizon map)
+    // and the searches' graphs (measured per cell).
+    let memory_bytes = areo_mission::World::estimate_bytes(cells, job.horizon_sectors, truth)
+        .saturating_add(areo_mission::Mission::estimate_search_bytes(cells));
     let r = &job.planner.resolution;
     let time_classes = (job.horizon_h * 3600.0 / r.time_s).ceil().max(1.0);
     let labels = cells as f64 * time_classes * job.goals.len().max(1) as f64;
@@ -160,7 +194,7 @@ pub fn tempest(job: &TempestJob, cells: u64) -> Estimate {
             "the TEMPEST job on {cells} cells ({sectors} horizon sectors, {time_classes} time classes, {} goals)",
             job.goals.len()
         ),
-        memory_bytes: cells.saturating_mul(per_cell),
+        memory_bytes,
         work_steps: (cells.saturating_mul(sectors.max(1)) as f64 + labels).min(u64::MAX as f64) as u64,
         work_unit: "cell-sector sweeps and label classes",
     }
@@ -209,7 +243,7 @@ pub fn estimate(scenario: &Scenario) -> Option<Estimate> {
                 work_unit: "table rows",
             })
         }
-        Job::TerrainShadow(job) => synth_cells(&job.terrain).map(|c| terrain_command("shadow", c, 0)),
+        Job::TerrainShadow(job) => synth_cells(&job.terrain).map(|c| DemCommand::Shadow.estimate(c)),
         Job::Tempest(job) => synth_cells(&job.terrain).map(|c| tempest(job, c)),
         Job::Actions(job) => synth_cells(&job.terrain).map(|c| actions(job, c)),
     }
@@ -223,14 +257,14 @@ mod tests {
     fn a_map_too_big_for_the_machine_is_refused_with_its_estimate() {
         // 20 000 × 20 000 cells with 360 sectors: 288 GB of horizon map alone, plus the
         // DEM and the rasters: 4e8 × (5 + 20 + 720 + 4) bytes = 279.02 GiB.
-        let e = terrain_command("horizon", 20_000 * 20_000, 360);
+        let e = DemCommand::Horizon { sectors: 360 }.estimate(20_000 * 20_000);
         assert!(e.memory_bytes > 288_000_000_000, "{}", e.memory_bytes);
         let small = Budget { memory_bytes: 24 << 30, work_steps: 100_000_000_000 };
         let err = small.check(&e).unwrap_err().to_string();
         assert!(err.contains("GiB") && err.contains("--max-memory-gb") && err.contains("horizon"), "{err}");
         assert_eq!(err.split("needs about ").nth(1).map(|s| s.starts_with("279.02 GiB")), Some(true), "{err}");
         // The LITA-size map with 64 sectors fits in 24 GiB.
-        assert!(small.check(&terrain_command("horizon", 2527 * 2356, 64)).is_ok());
+        assert!(small.check(&DemCommand::Horizon { sectors: 64 }.estimate(2527 * 2356)).is_ok());
         assert!(Budget::for_this_machine().memory_bytes > 0);
     }
 }

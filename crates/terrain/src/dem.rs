@@ -104,6 +104,10 @@ pub struct Extent {
 }
 
 impl Dem {
+    /// Bytes a DEM holds per cell: an f32 height and a validity byte (for memory
+    /// estimates made before a map is read).
+    pub const BYTES_PER_CELL: u64 = 5;
+
     /// A DEM from row-major elevations (row 0 north); every cell valid. Cell sizes must
     /// be positive and finite and `z` must hold cols × rows values.
     pub fn new(cols: usize, rows: usize, dx: f64, dy: f64, x0: f64, y_top: f64, z: Vec<f32>) -> Result<Dem> {

@@ -94,6 +94,12 @@ fn decode(v: u16) -> f64 {
 }
 
 impl HorizonMap {
+    /// Bytes a horizon map of `sectors` sectors holds per cell at most (two bytes per
+    /// angle; a narrowed map holds half), for memory estimates made before it is built.
+    pub fn bytes_per_cell(sectors: usize) -> u64 {
+        2 * sectors as u64
+    }
+
     /// Computes the horizon in `sectors` sectors (16..=360) centred on azimuths
     /// k·360°/K, sectors in parallel (the result does not depend on the thread count).
     pub fn compute(dem: &Dem, sectors: usize, curvature: Curvature) -> Result<HorizonMap> {

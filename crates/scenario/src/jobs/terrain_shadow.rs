@@ -48,7 +48,7 @@ fn compute(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) ->
             crate::terrain::read_dem(&base.join(rel)).map_err(|e| e.referenced_by(&file.path, "job.terrain"))?
         }
     };
-    opts.budget.check(&crate::budget::terrain_command("shadow", (dem.cols() * dem.rows()) as u64, 0))?;
+    opts.budget.check(&crate::budget::DemCommand::Shadow.estimate((dem.cols() * dem.rows()) as u64))?;
     opts.progress.advance(1);
     let site = Site::on(job.body, job.site.lat_deg, job.site.lon_east_deg)?;
     let utc = parse_utc(&job.utc)?;
