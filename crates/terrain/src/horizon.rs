@@ -13,7 +13,7 @@
 //! [`crate::tiles::horizon_by_tiles`] gives the whole map's horizons tile by tile.
 //!
 //! **Error against each cell's own ray** (brute force on the triangulated surface,
-//! [`crate::reference::horizon_on_triangles`], every cell of every sector centre, border
+//! `reference::horizon_on_triangles`, every cell of every sector centre, border
 //! cells excluded; `tests/horizon_error.rs`): on the real Gale MOLA crop (463 m cells)
 //! 99 % of cells within 1.83°, 99.9 % within 5.73°, the worst 18.97°; on synthesised
 //! terrain 1.18°, 3.55°, 11.91°. The large errors are cells whose nearest occluder is a

@@ -21,7 +21,7 @@
 //!   surface (the brute force's answer on every cell at every azimuth tested,
 //!   `tests/shadow_methods.rs`), or by one of
 //!   two cheaper, approximate sweeps whose error is stated; shadow maps.
-//! - [`reference`](mod@reference): the brute-force references the tests hold every method to: one ray
+//! - `reference` (with the `reference` feature, and in every test): the brute-force references the tests hold every method to: one ray
 //!   per cell, no sweep, no shortcuts; and parry3d ray casts.
 //! - [`los`]: surface-to-surface line of sight and viewsheds by parry3d ray casts.
 //! - [`tiles`]: shadow, slope and horizon maps of DTMs too large to hold, tile by tile
@@ -63,6 +63,7 @@ pub mod geotiff;
 pub mod horizon;
 pub mod los;
 pub mod pds3;
+#[cfg(any(test, feature = "reference"))]
 pub mod reference;
 pub mod shadow;
 pub mod slope;

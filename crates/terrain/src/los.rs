@@ -1,6 +1,6 @@
 //! Surface-to-surface line of sight and viewsheds, by ray casts against a parry3d
 //! `HeightField` (two triangles per quad of cell centres) — also behind
-//! [`crate::reference::cast_shadows_parry`].
+//! `reference::cast_shadows_parry`.
 //!
 //! parry3d works in f32, so the height field is re-centred on the map's middle and on
 //! the observer's height: projected coordinates of 8e6 m would have 0.5 m steps.

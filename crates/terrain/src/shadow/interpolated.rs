@@ -13,7 +13,7 @@
 //!
 //! Interpolating the envelope between neighbouring rays approximates each cell's own
 //! ray; against the brute force on the same surface
-//! ([`crate::reference::horizon_on_grid_lines`]) 99.5 % or more of cells agree, and the
+//! (`reference::horizon_on_grid_lines`) 99.5 % or more of cells agree, and the
 //! disagreements are within 1° of grazing (tests below).
 
 use crate::dem::Dem;

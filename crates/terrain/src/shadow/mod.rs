@@ -8,18 +8,24 @@
 //! the cell. Terrain beyond the DEM's edge never shadows, so the sun-side border is
 //! lit. The [`Method`]s:
 //!
-//! | method | decides each cell by | against its own ray ([`crate::reference`]) |
+//! | method | decides each cell by | against its own ray (`reference`) |
 //! |---|---|---|
 //! | [`Method::OwnRay`] (default) | its own ray, with certified shortcuts | every cell at every azimuth tested (`tests/shadow_methods.rs`, `own_ray` unit tests: the Gale MOLA map, full and cropped, 75 azimuths, flat and curved; synthesised terrain, 72 azimuths) |
 //! | [`Method::Swept`] | a sweep; beyond the first step, rays up to a third of a cell aside lend their occluders | 0 differ on cardinal azimuths; at most 0.25 % of cells at a Sun ≥ 5° up, 0.5 % at 2° (measured on the full Gale map: ≤ 0.112 % and ≤ 0.196 %) |
-//! | [`Method::Interpolated`] | a sweep on the coarser grid-line surface, envelopes interpolated | ≥ 99.5 % of cells of its own surface ([`crate::reference::horizon_on_grid_lines`]), disagreements within 1° of grazing |
+//! | [`Method::Interpolated`] | a sweep on the coarser grid-line surface, envelopes interpolated | ≥ 99.5 % of cells of its own surface (`reference::horizon_on_grid_lines`), disagreements within 1° of grazing |
 //!
 //! Speeds on the 2527 × 2356 Gale map are in docs/benchmarks.md
 //! (`cargo bench -p areo-terrain`, `cargo xtask bench`).
 //!
-//! A [`ShadowMap`] also darkens cells whose own slope faces away from the Sun
-//! (`facing_away`, from the Horn normal): these are not cast shadows, and at a low Sun
-//! they are many.
+//! A [`ShadowMap`] ([`shadow_map`], the same arguments) also darkens cells whose own
+//! slope faces away from the Sun (`facing_away`, from the Horn normal): these are not
+//! cast shadows, and at a low Sun they are many.
+//!
+//! Where each shadow question is answered: a map in memory here; a map too large to
+//! hold, tile by tile with the same methods, [`crate::tiles::shadow_map_by_tiles`] (one
+//! band at a time: [`crate::tiles::shadow_band`]); many Suns over one map, from its
+//! precomputed horizons, [`crate::horizon::HorizonMap::shadowed`]. The brute-force
+//! oracles are in `reference`, compiled for tests and with the `reference` feature.
 
 mod interpolated;
 mod own_ray;
@@ -138,7 +144,7 @@ pub fn shadow_map(dem: &Dem, sun: SunDirection, curvature: Curvature, method: Me
 }
 
 /// [`shadow_map`] around a cast-shadow map already computed for the same Sun.
-pub fn shadow_map_from(dem: &Dem, sun: SunDirection, cast: Vec<bool>) -> ShadowMap {
+pub(crate) fn shadow_map_from(dem: &Dem, sun: SunDirection, cast: Vec<bool>) -> ShadowMap {
     let valid = dem.valid_mask().to_vec();
     let (gx, gy) = horn_gradient(dem);
     let (sa, ca) = sun.azimuth_deg.to_radians().sin_cos();

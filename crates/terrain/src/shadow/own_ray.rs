@@ -23,7 +23,7 @@
 //!   64 × 64 cells), until one of the two holds or it leaves the map.
 //!
 //! Every decision is made on the cell's own ray: the result is the brute force's
-//! ([`crate::reference::horizon_on_triangles`]) up to the rounding of the last bit,
+//! (`reference::horizon_on_triangles`) up to the rounding of the last bit,
 //! and the tests compare them cell for cell, on the Gale MOLA map and on synthesised
 //! terrain, at every azimuth tried. Curvature lowers a distant occluder by d²/2R; the
 //! bounds are computed for a flat world, which only loosens them (still upper bounds),
