@@ -146,7 +146,7 @@ impl Error {
     }
 
     /// This error as the failure to use the file that `field` of scenario `path` names.
-    pub fn referenced_by(self, path: &std::path::Path, field: &str) -> Error {
+    pub(crate) fn referenced_by(self, path: &std::path::Path, field: &str) -> Error {
         Error::Referenced { path: path.to_path_buf(), field: field.to_string(), source: Box::new(self) }
     }
 }

@@ -31,13 +31,13 @@ use crate::error::Error;
 pub use self::validate::{Checks, Validate};
 
 /// The scenario format version this build reads.
-pub const FORMAT_VERSION: u32 = 1;
+pub(crate) const FORMAT_VERSION: u32 = 1;
 
 /// A scenario file: a versioned job description.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
-    /// Format version; must be [`FORMAT_VERSION`].
+    /// Format version; must be 1 (the version this build reads).
     pub version: u32,
     /// One line on what the scenario shows.
     #[serde(default)]
@@ -701,7 +701,7 @@ pub struct ScenarioFile {
 impl ScenarioFile {
     /// An error about the value of `field` (dotted, e.g. `job.goals[1]`) found while
     /// running: placed at its line:column when the field is written in the file.
-    pub fn error_at(&self, field: &str, message: impl Into<String>) -> Error {
+    pub(crate) fn error_at(&self, field: &str, message: impl Into<String>) -> Error {
         let segments = field_segments(field);
         match locate::field_position(&self.text, &segments) {
             Some((line, col)) => {
@@ -784,6 +784,6 @@ pub(crate) fn read_ron<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T,
 }
 
 /// The RON options every areo file is read with (areo-rover's, for one dialect).
-pub fn ron_options() -> ron::Options {
+pub(crate) fn ron_options() -> ron::Options {
     areo_rover::ron_options()
 }

@@ -14,7 +14,7 @@ use crate::output::csv::Table;
 
 /// CSV header of [`SunRow`], in this order (latitude planetocentric, longitude east;
 /// the last three columns are at the site and empty without one).
-pub const CSV_HEADER: &str = "utc,jd_tt,ls_deg,subsolar_lat_deg,subsolar_lon_east_deg,sun_distance_au,mtc_hours,ltst_hours,azimuth_deg,elevation_deg";
+pub(crate) const CSV_HEADER: &str = "utc,jd_tt,ls_deg,subsolar_lat_deg,subsolar_lon_east_deg,sun_distance_au,mtc_hours,ltst_hours,azimuth_deg,elevation_deg";
 
 /// The Sun at one instant, optionally at a site.
 #[derive(Debug, Clone, Serialize)]
@@ -63,7 +63,7 @@ impl SunRow {
 
     /// The row's CSV fields, columns as [`CSV_HEADER`] (fixed decimals: 8 for dates
     /// and distances, 6 for angles and hours, 4 for the local direction).
-    pub fn csv_fields(&self) -> Vec<String> {
+    pub(crate) fn csv_fields(&self) -> Vec<String> {
         let opt = |x: Option<f64>, p: usize| x.map_or_else(String::new, |v| format!("{v:.p$}"));
         vec![
             self.utc.clone(),
@@ -82,10 +82,10 @@ impl SunRow {
 
 /// CSV header of [`SkyRow`] on the Moon (on the Earth without the `earth_` and
 /// `sub_earth_` columns, with `refracted_elevation_deg`).
-pub const MOON_CSV_HEADER: &str = "utc,jd_tt,subsolar_lat_deg,subsolar_lon_east_deg,sun_distance_au,local_solar_time_hours,azimuth_deg,elevation_deg,earth_azimuth_deg,earth_elevation_deg,earth_distance_km,sub_earth_lat_deg,sub_earth_lon_east_deg";
+pub(crate) const MOON_CSV_HEADER: &str = "utc,jd_tt,subsolar_lat_deg,subsolar_lon_east_deg,sun_distance_au,local_solar_time_hours,azimuth_deg,elevation_deg,earth_azimuth_deg,earth_elevation_deg,earth_distance_km,sub_earth_lat_deg,sub_earth_lon_east_deg";
 
 /// CSV header of [`SkyRow`] on the Earth.
-pub const EARTH_CSV_HEADER: &str = "utc,jd_tt,subsolar_lat_deg,subsolar_lon_east_deg,sun_distance_au,local_solar_time_hours,azimuth_deg,elevation_deg,refracted_elevation_deg";
+pub(crate) const EARTH_CSV_HEADER: &str = "utc,jd_tt,subsolar_lat_deg,subsolar_lon_east_deg,sun_distance_au,local_solar_time_hours,azimuth_deg,elevation_deg,refracted_elevation_deg";
 
 /// Standard air for [`SkyRow::refracted_elevation_deg`]: 1010 hPa, 10 °C.
 const STANDARD_AIR: (f64, f64) = (1010.0, 10.0);
@@ -160,7 +160,7 @@ impl SkyRow {
     }
 
     /// The row's CSV fields for `body`'s header.
-    pub fn csv_fields(&self, body: Body) -> Vec<String> {
+    pub(crate) fn csv_fields(&self, body: Body) -> Vec<String> {
         let opt = |x: Option<f64>, p: usize| x.map_or_else(String::new, |v| format!("{v:.p$}"));
         let mut out = vec![
             self.utc.clone(),
@@ -274,7 +274,7 @@ fn epochs(instants: Instants<'_>) -> Result<Vec<Epoch>> {
     }
 }
 
-/// Rows as a CSV table with the [`CSV_HEADER`] columns.
+/// Rows as a CSV table (UTC, Julian date, Mars time and the Sun's position columns).
 pub fn csv_table(rows: &[SunRow]) -> Table {
     let mut table = Table::new(CSV_HEADER.split(','));
     for r in rows {

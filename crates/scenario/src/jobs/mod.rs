@@ -3,9 +3,9 @@
 //! dispatches on the scenario's job.
 
 pub mod actions;
-pub mod sun_table;
-pub mod tempest;
-pub mod terrain_shadow;
+pub(crate) mod sun_table;
+pub(crate) mod tempest;
+pub(crate) mod terrain_shadow;
 
 use std::path::Path;
 

@@ -15,7 +15,7 @@ use crate::sun::{CSV_HEADER, SunRow};
 
 /// What a Sun table found.
 #[derive(Debug, Clone)]
-pub struct SunTableReport {
+pub(crate) struct SunTableReport {
     /// The site's latitude (planetocentric) and east longitude, degrees.
     pub site_deg: (f64, f64),
     /// The table's first instant, ISO 8601 UTC.
@@ -44,7 +44,7 @@ pub struct SunTableReport {
 
 impl SunTableReport {
     /// The report's facts and summary lines.
-    pub fn outcome(&self) -> Outcome {
+    pub(crate) fn outcome(&self) -> Outcome {
         let mut o = Outcome::default();
         o.number("rows", self.table.len() as f64);
         o.number("ls_start_deg", self.ls_start_deg);

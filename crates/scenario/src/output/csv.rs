@@ -48,7 +48,7 @@ impl Table {
         String::from_utf8(bytes).map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) })
     }
 
-    /// Writes the table to `path` (atomically, see [`super::write_file`]).
+    /// Writes the table to `path` atomically (a `.partial` file renamed into place).
     pub fn write(&self, path: &Path) -> Result<()> {
         super::write_file(path, self.to_csv(path)?.as_bytes())
     }

@@ -11,14 +11,14 @@ use geojson::{Feature, FeatureCollection, Geometry, JsonObject, JsonValue};
 use crate::error::{Error, Result};
 
 /// Longitude in −180..180 (GeoJSON's range).
-pub fn lon180(lon: f64) -> f64 {
+pub(crate) fn lon180(lon: f64) -> f64 {
     let l = lon.rem_euclid(360.0);
     if l > 180.0 { l - 360.0 } else { l }
 }
 
 /// A feature with `geometry` and the properties of a JSON object (`serde_json::json!`);
 /// anything else gives no properties.
-pub fn feature(geometry: Geometry, properties: JsonValue) -> Feature {
+pub(crate) fn feature(geometry: Geometry, properties: JsonValue) -> Feature {
     Feature {
         geometry: Some(geometry),
         properties: match properties {
@@ -30,18 +30,18 @@ pub fn feature(geometry: Geometry, properties: JsonValue) -> Feature {
 }
 
 /// A point at (latitude, longitude east), degrees.
-pub fn point((lat, lon): (f64, f64)) -> Geometry {
+pub(crate) fn point((lat, lon): (f64, f64)) -> Geometry {
     Geometry::new_point([lon180(lon), lat])
 }
 
 /// A line through (latitude, longitude east) points, degrees.
-pub fn line(points: impl IntoIterator<Item = (f64, f64)>) -> Geometry {
+pub(crate) fn line(points: impl IntoIterator<Item = (f64, f64)>) -> Geometry {
     Geometry::new_line_string(points.into_iter().map(|(lat, lon)| [lon180(lon), lat]).collect::<Vec<_>>())
 }
 
 /// The features as a collection on `body`: the body's radii and its geographic CRS
 /// (planetocentric latitude, east longitude) as foreign members.
-pub fn collection(features: Vec<Feature>, body: &Spheroid) -> FeatureCollection {
+pub(crate) fn collection(features: Vec<Feature>, body: &Spheroid) -> FeatureCollection {
     let mut members = JsonObject::new();
     members.insert(
         "body".into(),
@@ -71,7 +71,7 @@ fn body_name(body: &Spheroid) -> &'static str {
 }
 
 /// Writes the collection as pretty JSON (atomically, see [`super::write_file`]).
-pub fn write(path: &Path, fc: &FeatureCollection) -> Result<()> {
+pub(crate) fn write(path: &Path, fc: &FeatureCollection) -> Result<()> {
     let text = serde_json::to_string_pretty(fc)
         .map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) })?;
     super::write_file(path, text.as_bytes())

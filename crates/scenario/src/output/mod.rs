@@ -2,9 +2,9 @@
 //! place once complete, with errors that name the file.
 
 pub mod csv;
-pub mod geojson;
-pub mod plots;
-pub mod png;
+pub(crate) mod geojson;
+pub(crate) mod plots;
+pub(crate) mod png;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 /// Writes `bytes` to `path` through a temporary file beside it, renamed into place
 /// once complete: an interrupted run never leaves a truncated file under the real
 /// name. Errors name the file.
-pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
+pub(crate) fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
     let io = |source| Error::Io { path: path.to_path_buf(), source };
     let partial = partial_name(path);
     let written = std::fs::File::create(&partial).and_then(|mut f| {
@@ -32,7 +32,7 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
 /// Writes `path` through `write`, which is handed a temporary name beside it; the
 /// file is renamed into place only if `write` succeeds (for writers that take a path,
 /// like the GeoTIFF and plot writers).
-pub fn write_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+pub(crate) fn write_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     let partial = partial_name(path);
     match write(&partial)
         .and_then(|()| std::fs::rename(&partial, path).map_err(|source| Error::Io { path: path.to_path_buf(), source }))
@@ -54,7 +54,7 @@ fn partial_name(path: &Path) -> PathBuf {
 }
 
 /// `value` as JSON (pretty), or an error naming the file it was meant for.
-pub fn json_for(path: &Path, value: &impl serde::Serialize, pretty: bool) -> Result<String> {
+pub(crate) fn json_for(path: &Path, value: &impl serde::Serialize, pretty: bool) -> Result<String> {
     let text = if pretty { serde_json::to_string_pretty(value) } else { serde_json::to_string(value) };
     text.map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) })
 }

@@ -20,7 +20,7 @@ use crate::error::{Error, Result};
 
 /// A polyline to draw: local map metres (or hours and values for the time plots).
 #[derive(Debug, Clone)]
-pub struct Series {
+pub(crate) struct Series {
     /// Legend text.
     pub label: String,
     /// Points.
@@ -33,7 +33,7 @@ pub struct Series {
 
 /// A labelled marker.
 #[derive(Debug, Clone)]
-pub struct Marker {
+pub(crate) struct Marker {
     /// Label.
     pub label: String,
     /// Position.
@@ -46,7 +46,7 @@ pub struct Marker {
 /// spanning `extent` = (width, height) m east and north of `origin`, the routes and
 /// the markers (in the same metres).
 #[derive(Debug, Clone)]
-pub struct RoutePlot {
+pub(crate) struct RoutePlot {
     /// Title.
     pub title: String,
     /// Background pixels, RGB row by row, north row first.
@@ -67,7 +67,7 @@ pub struct RoutePlot {
 
 /// A time plot: series against hours, with night intervals shaded.
 #[derive(Debug, Clone)]
-pub struct TimePlot {
+pub(crate) struct TimePlot {
     /// Title.
     pub title: String,
     /// X-axis label.
@@ -251,7 +251,7 @@ fn plot_error(path: &Path, e: DrawError) -> Error {
 }
 
 /// Writes the route plot as `dir/NAME.svg` and `dir/NAME.png`.
-pub fn route(dir: &Path, name: &str, p: &RoutePlot) -> Result<Vec<PathBuf>> {
+pub(crate) fn route(dir: &Path, name: &str, p: &RoutePlot) -> Result<Vec<PathBuf>> {
     let width = 900u32;
     // Square metres: the plot area keeps the map's aspect (within the label margins).
     let height = ((f64::from(width) - 96.0) * p.extent.1 / p.extent.0 + 104.0).clamp(300.0, 1400.0) as u32;
@@ -284,14 +284,14 @@ pub fn route(dir: &Path, name: &str, p: &RoutePlot) -> Result<Vec<PathBuf>> {
 }
 
 /// Writes a time plot as `dir/NAME.svg` and `dir/NAME.png`.
-pub fn time(dir: &Path, name: &str, p: &TimePlot) -> Result<Vec<PathBuf>> {
+pub(crate) fn time(dir: &Path, name: &str, p: &TimePlot) -> Result<Vec<PathBuf>> {
     both(dir, name, (900, 500), |r| draw_time(r, p), |r| draw_time(r, p))
 }
 
 /// The rover drawn in a side profile: six wheel axles (distance, height), the body
 /// reference, and a label.
 #[derive(Debug, Clone)]
-pub struct ProfileRover {
+pub(crate) struct ProfileRover {
     /// Wheel axles (left front, middle, rear, right front, middle, rear), m.
     pub wheels: [(f64, f64); 6],
     /// Body reference, m.
@@ -302,7 +302,7 @@ pub struct ProfileRover {
 
 /// A side profile: the ground along the path and the rover drawn at some steps.
 #[derive(Debug, Clone)]
-pub struct ProfilePlot {
+pub(crate) struct ProfilePlot {
     /// Title.
     pub title: String,
     /// Ground (distance along the path, height), m.
@@ -357,7 +357,7 @@ fn draw_profile<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &ProfilePl
 
 /// A histogram of integers (value, count).
 #[derive(Debug, Clone)]
-pub struct HistogramPlot {
+pub(crate) struct HistogramPlot {
     /// Title.
     pub title: String,
     /// X-axis label.
@@ -439,11 +439,11 @@ fn both_with<T>(
 }
 
 /// Writes a side profile as SVG and PNG.
-pub fn profile(dir: &Path, name: &str, p: &ProfilePlot) -> Result<Vec<PathBuf>> {
+pub(crate) fn profile(dir: &Path, name: &str, p: &ProfilePlot) -> Result<Vec<PathBuf>> {
     both(dir, name, (900, 450), |r| draw_profile(r, p), |r| draw_profile(r, p))
 }
 
 /// Writes a histogram as SVG and PNG.
-pub fn histogram(dir: &Path, name: &str, p: &HistogramPlot) -> Result<Vec<PathBuf>> {
+pub(crate) fn histogram(dir: &Path, name: &str, p: &HistogramPlot) -> Result<Vec<PathBuf>> {
     both(dir, name, (700, 450), |r| draw_histogram(r, p), |r| draw_histogram(r, p))
 }

@@ -6,7 +6,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 
 /// Encodes RGB bytes (`width` × `height`) as PNG into `out`.
-pub fn encode_png(
+pub(crate) fn encode_png(
     out: &mut Vec<u8>,
     width: usize,
     height: usize,
@@ -21,7 +21,7 @@ pub fn encode_png(
 }
 
 /// Writes RGB bytes (`width` × `height`) as a PNG.
-pub fn write_png(path: &Path, width: usize, height: usize, rgb: &[u8]) -> Result<()> {
+pub(crate) fn write_png(path: &Path, width: usize, height: usize, rgb: &[u8]) -> Result<()> {
     let mut bytes = Vec::new();
     encode_png(&mut bytes, width, height, rgb)
         .map_err(|m| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(m) })?;
