@@ -17,9 +17,10 @@ use crate::error::{Error, Result};
 use crate::format::{ActionsJob, ScenarioFile, TerrainSource};
 use crate::jobs::RunOptions;
 use crate::outcome::Outcome;
-use crate::output::csv::Table;
+use crate::output::csv::{Fixed, rows_to_csv, write_rows};
 use crate::output::plots::{HistogramPlot, Marker, ProfilePlot, ProfileRover, RoutePlot, Series, TimePlot};
 use crate::output::{json_for, write_file};
+use serde::Serialize;
 
 /// A GA setting refused by areo-actions, placed at its field in the scenario.
 fn ga_error(file: &ScenarioFile, e: areo_actions::Error) -> Error {
@@ -348,15 +349,11 @@ fn best_facts(o: &mut Outcome, run: &RunResult) {
 /// each run's plan files (in a directory per run when there are several).
 fn write_report(dir: &Path, job: &ActionsJob, setup: &Setup, report: &ActionsReport) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
-    let mut table = Table::new(["code", "kept", "reason"]);
-    for code in report.filtered.codes() {
-        table.push(vec![code.to_string(), "1".into(), String::new()]);
-    }
-    for r in &report.filtered.removed {
-        table.push(vec![r.code.to_string(), "0".into(), r.reason.clone()]);
-    }
+    let kept = report.filtered.codes().into_iter().map(|code| InventoryRow { code, kept: 1, reason: String::new() });
+    let removed =
+        report.filtered.removed.iter().map(|r| InventoryRow { code: r.code, kept: 0, reason: r.reason.clone() });
     let path = dir.join("inventory.csv");
-    table.write(&path)?;
+    write_rows(&path, kept.chain(removed))?;
     files.push(path);
     let studies: Vec<(String, &SeedStudy)> =
         report.runs.iter().filter_map(|r| r.study.as_ref().map(|s| (r.name.clone(), s))).collect();
@@ -365,7 +362,7 @@ fn write_report(dir: &Path, job: &ActionsJob, setup: &Setup, report: &ActionsRep
     }
     if let Some((_, result)) = &report.sweep {
         let path = dir.join("sweep.csv");
-        sweep_table(result).write(&path)?;
+        write_rows(&path, sweep_rows(result))?;
         files.push(path);
     }
     if let Some(profile) = &report.climb {
@@ -418,35 +415,22 @@ fn climb_facts(o: &mut Outcome, profile: &ClimbProfile) {
 
 /// `climb.csv` (one row per pose) and `climb.png` (margins and front load along it).
 fn write_climb(dir: &Path, profile: &ClimbProfile) -> Result<Vec<std::path::PathBuf>> {
-    let mut table = Table::new([
-        "distance_m",
-        "pitch_deg",
-        "margin_stowed",
-        "margin_forward",
-        "front_load_stowed",
-        "front_load_forward",
-        "friction_needed_stowed",
-        "friction_needed_forward",
-        "violation_stowed",
-        "violation_forward",
-    ]);
-    let num = |v: f64| if v.is_finite() { format!("{v:.4}") } else { String::new() };
-    for p in &profile.poses {
-        table.push(vec![
-            format!("{:.3}", p.distance_m),
-            format!("{:.3}", p.pitch_deg),
-            num(p.stowed.margin),
-            num(p.forward.margin),
-            num(p.stowed.front_load_fraction),
-            num(p.forward.front_load_fraction),
-            num(p.stowed.friction_needed),
-            num(p.forward.friction_needed),
-            p.stowed.violation.unwrap_or("").to_string(),
-            p.forward.violation.unwrap_or("").to_string(),
-        ]);
-    }
+    // A margin that cannot be computed (no admissible pose) is an empty field.
+    let num = |v: f64| v.is_finite().then_some(Fixed(v));
+    let rows = profile.poses.iter().map(|p| ClimbRow {
+        distance_m: Fixed(p.distance_m),
+        pitch_deg: Fixed(p.pitch_deg),
+        margin_stowed: num(p.stowed.margin),
+        margin_forward: num(p.forward.margin),
+        front_load_stowed: num(p.stowed.front_load_fraction),
+        front_load_forward: num(p.forward.front_load_fraction),
+        friction_needed_stowed: num(p.stowed.friction_needed),
+        friction_needed_forward: num(p.forward.friction_needed),
+        violation_stowed: p.stowed.violation.unwrap_or(""),
+        violation_forward: p.forward.violation.unwrap_or(""),
+    });
     let path = dir.join("climb.csv");
-    table.write(&path)?;
+    write_rows(&path, rows)?;
     let mut files = vec![path];
     let series = |label: &str, rgb, f: &dyn Fn(&areo_actions::ClimbPose) -> f64| Series {
         label: label.to_string(),
@@ -573,23 +557,19 @@ fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usiz
 /// study's pooled look-ahead histogram.
 fn write_studies(dir: &Path, studies: &[(String, &SeedStudy)], generations: usize) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
-    let mut table =
-        Table::new(["run", "seed", "first_solved_generation", "best_fitness", "samples", "taken", "min_stability"]);
-    for (name, study) in studies {
-        for ((seed, first, fitness, samples, s), taken) in study.seeds.iter().zip(&study.taken) {
-            table.push(vec![
-                name.clone(),
-                seed.to_string(),
-                first.map_or(String::new(), |g| g.to_string()),
-                format!("{fitness:.4}"),
-                samples.to_string(),
-                taken.0.clone(),
-                format!("{s:.4}"),
-            ]);
-        }
-    }
+    let rows = studies.iter().flat_map(|(name, study)| {
+        study.seeds.iter().zip(&study.taken).map(move |(&(seed, first, fitness, samples, s), taken)| SeedRow {
+            run: name.clone(),
+            seed,
+            first_solved_generation: first,
+            best_fitness: Fixed(fitness),
+            samples,
+            taken: taken.0.clone(),
+            min_stability: Fixed(s),
+        })
+    });
     let path = dir.join("seeds.csv");
-    table.write(&path)?;
+    write_rows(&path, rows)?;
     files.push(path);
     let palette = [(220, 30, 40), (30, 90, 220), (40, 160, 60), (150, 60, 200)];
     let series = studies
@@ -682,46 +662,49 @@ fn run_facts(o: &mut Outcome, name: &str, r: &GaReport, seconds: f64, task: &Tas
     );
 }
 
-/// The sweep as a table, one row per μ.
-fn sweep_table(sweep: &FrictionSweep) -> Table {
-    let mut table = Table::new([
-        "mu",
-        "complete",
-        "best_fitness",
-        "prefix",
-        "max_y_m",
-        "failure",
-        "binding_wheel",
-        "climbing",
-        "contact_x_m",
-        "contact_y_m",
-        "contact_angle_deg",
-        "pitch_deg",
-        "steepest_wheel",
-        "steepest_angle_deg",
-        "steepest_climbing",
-    ]);
-    for p in &sweep.points {
+/// A row of sweep.csv: the best plan at one μ and what bound it.
+#[derive(Serialize, Default)]
+struct SweepRow {
+    /// As written in the sweep (shortest form: 0.5, 1).
+    mu: String,
+    complete: u8,
+    best_fitness: Fixed<4>,
+    prefix: usize,
+    max_y_m: Fixed<3>,
+    failure: String,
+    binding_wheel: String,
+    climbing: Option<u8>,
+    contact_x_m: Option<Fixed<3>>,
+    contact_y_m: Option<Fixed<3>>,
+    contact_angle_deg: Option<Fixed<1>>,
+    pitch_deg: Option<Fixed<1>>,
+    steepest_wheel: String,
+    steepest_angle_deg: Option<Fixed<1>>,
+    steepest_climbing: Option<u8>,
+}
+
+/// The sweep as rows, one per μ.
+fn sweep_rows(sweep: &FrictionSweep) -> impl Iterator<Item = SweepRow> + '_ {
+    sweep.points.iter().map(|p| {
         let b = p.binding.as_ref();
-        table.push(vec![
-            p.mu.to_string(),
-            u8::from(p.complete).to_string(),
-            format!("{:.4}", p.best_fitness),
-            p.prefix_len.to_string(),
-            format!("{:.3}", p.max_y_m),
-            p.failure.as_ref().map(ToString::to_string).unwrap_or_default(),
-            b.map(|b| b.wheel.clone()).unwrap_or_default(),
-            b.map(|b| u8::from(b.climbing).to_string()).unwrap_or_default(),
-            b.map(|b| format!("{:.3}", b.contact_m[0])).unwrap_or_default(),
-            b.map(|b| format!("{:.3}", b.contact_m[1])).unwrap_or_default(),
-            b.map(|b| format!("{:.1}", b.contact_angle_deg)).unwrap_or_default(),
-            b.map(|b| format!("{:.1}", b.pitch_deg)).unwrap_or_default(),
-            b.map(|b| b.steepest.0.clone()).unwrap_or_default(),
-            b.map(|b| format!("{:.1}", b.steepest.1)).unwrap_or_default(),
-            b.map(|b| u8::from(b.steepest.2).to_string()).unwrap_or_default(),
-        ]);
-    }
-    table
+        SweepRow {
+            mu: p.mu.to_string(),
+            complete: u8::from(p.complete),
+            best_fitness: Fixed(p.best_fitness),
+            prefix: p.prefix_len,
+            max_y_m: Fixed(p.max_y_m),
+            failure: p.failure.as_ref().map(ToString::to_string).unwrap_or_default(),
+            binding_wheel: b.map(|b| b.wheel.clone()).unwrap_or_default(),
+            climbing: b.map(|b| u8::from(b.climbing)),
+            contact_x_m: b.map(|b| Fixed(b.contact_m[0])),
+            contact_y_m: b.map(|b| Fixed(b.contact_m[1])),
+            contact_angle_deg: b.map(|b| Fixed(b.contact_angle_deg)),
+            pitch_deg: b.map(|b| Fixed(b.pitch_deg)),
+            steepest_wheel: b.map(|b| b.steepest.0.clone()).unwrap_or_default(),
+            steepest_angle_deg: b.map(|b| Fixed(b.steepest.1)),
+            steepest_climbing: b.map(|b| u8::from(b.steepest.2)),
+        }
+    })
 }
 
 /// A run's files: plan.json, plan.csv, ga.csv and the plots.
@@ -754,50 +737,32 @@ fn plan_files(dir: &Path, report: &GaReport, trace: &[TraceStep]) -> Result<Vec<
         "lookahead": report.lookahead,
     });
     put("plan.json", json_for(&dir.join("plan.json"), &plan_json, true)?)?;
-    let mut csv = Table::new([
-        "step",
-        "code",
-        "x_m",
-        "y_m",
-        "z_m",
-        "heading_deg",
-        "pitch_deg",
-        "stability",
-        "load_lf_n",
-        "load_lm_n",
-        "load_lr_n",
-        "load_rf_n",
-        "load_rm_n",
-        "load_rr_n",
-        "energy_wh",
-    ]);
-    for (i, t) in trace.iter().enumerate() {
-        let mut row = vec![
-            (i + 1).to_string(),
-            t.code.to_string(),
-            format!("{:.4}", t.x_m),
-            format!("{:.4}", t.y_m),
-            format!("{:.4}", t.z_m),
-            format!("{:.2}", t.heading_deg),
-            format!("{:.2}", t.pitch_deg),
-            t.stability.map_or(String::new(), |s| format!("{s:.4}")),
-        ];
-        row.extend(t.wheel_loads_n.iter().map(|l| format!("{l:.3}")));
-        row.push(format!("{:.6}", t.energy_wh));
-        csv.push(row);
-    }
-    put("plan.csv", csv.to_csv(&dir.join("plan.csv"))?)?;
-    let mut ga = Table::new(["generation", "best", "mean", "best_prefix", "solved"]);
-    for g in &report.generations {
-        ga.push(vec![
-            g.index.to_string(),
-            format!("{:.5}", g.best),
-            format!("{:.5}", g.mean),
-            g.best_prefix.to_string(),
-            u8::from(g.solved).to_string(),
-        ]);
-    }
-    put("ga.csv", ga.to_csv(&dir.join("ga.csv"))?)?;
+    let trace_rows = trace.iter().enumerate().map(|(i, t)| TraceRow {
+        step: i + 1,
+        code: t.code,
+        x_m: Fixed(t.x_m),
+        y_m: Fixed(t.y_m),
+        z_m: Fixed(t.z_m),
+        heading_deg: Fixed(t.heading_deg),
+        pitch_deg: Fixed(t.pitch_deg),
+        stability: t.stability.map(Fixed),
+        load_lf_n: Fixed(t.wheel_loads_n[0]),
+        load_lm_n: Fixed(t.wheel_loads_n[1]),
+        load_lr_n: Fixed(t.wheel_loads_n[2]),
+        load_rf_n: Fixed(t.wheel_loads_n[3]),
+        load_rm_n: Fixed(t.wheel_loads_n[4]),
+        load_rr_n: Fixed(t.wheel_loads_n[5]),
+        energy_wh: Fixed(t.energy_wh),
+    });
+    put("plan.csv", rows_to_csv(&dir.join("plan.csv"), trace_rows)?)?;
+    let generations = report.generations.iter().map(|g| GenerationRow {
+        generation: g.index,
+        best: Fixed(g.best),
+        mean: Fixed(g.mean),
+        best_prefix: g.best_prefix,
+        solved: u8::from(g.solved),
+    });
+    put("ga.csv", rows_to_csv(&dir.join("ga.csv"), generations)?)?;
     Ok(files)
 }
 
@@ -989,4 +954,70 @@ fn ga_plots(dir: &Path, report: &GaReport) -> Result<Vec<PathBuf>> {
         },
     )?);
     Ok(files)
+}
+
+/// A row of inventory.csv: a Table 1 module kept by the task's filters, or removed and
+/// why.
+#[derive(Serialize, Default)]
+struct InventoryRow {
+    code: u16,
+    kept: u8,
+    reason: String,
+}
+
+/// A row of plan.csv: one module of the best plan as executed.
+#[derive(Serialize, Default)]
+struct TraceRow {
+    step: usize,
+    code: u16,
+    x_m: Fixed<4>,
+    y_m: Fixed<4>,
+    z_m: Fixed<4>,
+    heading_deg: Fixed<2>,
+    pitch_deg: Fixed<2>,
+    stability: Option<Fixed<4>>,
+    load_lf_n: Fixed<3>,
+    load_lm_n: Fixed<3>,
+    load_lr_n: Fixed<3>,
+    load_rf_n: Fixed<3>,
+    load_rm_n: Fixed<3>,
+    load_rr_n: Fixed<3>,
+    energy_wh: Fixed<6>,
+}
+
+/// A row of ga.csv: one generation.
+#[derive(Serialize, Default)]
+struct GenerationRow {
+    generation: usize,
+    best: Fixed<5>,
+    mean: Fixed<5>,
+    best_prefix: usize,
+    solved: u8,
+}
+
+/// A row of seeds.csv: one seed of a run's study.
+#[derive(Serialize, Default)]
+struct SeedRow {
+    run: String,
+    seed: u64,
+    first_solved_generation: Option<usize>,
+    best_fitness: Fixed<4>,
+    samples: usize,
+    taken: String,
+    min_stability: Fixed<4>,
+}
+
+/// A row of climb.csv: one pose of the straight climb, arm stowed and forward.
+#[derive(Serialize, Default)]
+struct ClimbRow {
+    distance_m: Fixed<3>,
+    pitch_deg: Fixed<3>,
+    margin_stowed: Option<Fixed<4>>,
+    margin_forward: Option<Fixed<4>>,
+    front_load_stowed: Option<Fixed<4>>,
+    front_load_forward: Option<Fixed<4>>,
+    friction_needed_stowed: Option<Fixed<4>>,
+    friction_needed_forward: Option<Fixed<4>>,
+    violation_stowed: &'static str,
+    violation_forward: &'static str,
 }

@@ -21,11 +21,12 @@ use crate::error::{Error, Result};
 use crate::format::{ScenarioFile, TempestJob, TerrainSource, Truth};
 use crate::jobs::RunOptions;
 use crate::outcome::{Failure, Outcome};
-use crate::output::csv::Table;
+use crate::output::csv::{Fixed, write_rows};
 use crate::output::geojson::{collection, feature, line, point};
 use crate::output::plots::{Marker, RoutePlot, Series, TimePlot};
 use crate::output::{json_for, write_file};
 use areo_mission::{contact, metrics};
+use serde::Serialize;
 
 /// The map's south-west corner in map coordinates: scenario positions are relative
 /// to it.
@@ -852,185 +853,194 @@ fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf
         Ok(())
     };
     put("plan.json", &|p| write_file(p, json_for(p, initial, true)?.as_bytes()))?;
-    put("plan.csv", &|p| plan_csv(ctx, initial).write(p))?;
+    put("plan.csv", &|p| write_rows(p, plan_rows(ctx, initial)))?;
     if let Some(r) = report {
         put("simulation.json", &|p| write_file(p, json_for(p, r, false)?.as_bytes()))?;
-        put("executed.csv", &|p| executed_csv(ctx, r).write(p))?;
-        put("replans.csv", &|p| replans_csv(ctx, r).write(p))?;
+        put("executed.csv", &|p| write_rows(p, executed_rows(ctx, r)))?;
+        put("replans.csv", &|p| write_rows(p, replan_rows(ctx, r)))?;
     }
     put("route.geojson", &|p| crate::output::geojson::write(p, &route_geojson(ctx, initial, report)))?;
     if let Some(h) = ctx.havens {
-        put("waits.csv", &|p| waits_csv(ctx, initial, h).write(p))?;
+        put("waits.csv", &|p| write_rows(p, wait_rows(ctx, initial, h)))?;
     }
     files.extend(plots(dir, ctx, initial, report)?);
     Ok(files)
 }
 
-/// The plan's waits with their place, span, lowest charge and whether at a haven.
-fn waits_csv(ctx: &Context<'_>, plan: &MissionPlan, havens: &contact::Havens) -> Table {
-    let mut table = Table::new([
-        "x_m",
-        "y_m",
-        "from_h",
-        "to_h",
-        "hours",
-        "lowest_battery_wh",
-        "safe_haven",
-        "longest_shadow_h",
-        "longest_earth_loss_h",
-    ]);
-    for w in contact::waits(plan, havens, floor_wh(ctx), HAVEN_STEP_S) {
-        let (x, y) = ctx.local(w.cell);
-        let i = w.cell as usize;
-        table.push(vec![
-            format!("{x:.1}"),
-            format!("{y:.1}"),
-            format!("{:.3}", w.from_h),
-            format!("{:.3}", w.to_h),
-            format!("{:.3}", w.to_h - w.from_h),
-            format!("{:.1}", w.lowest_battery_wh),
-            w.haven.to_string(),
-            format!("{:.1}", havens.longest_shadow_h[i]),
-            format!("{:.1}", havens.longest_earth_loss_h[i]),
-        ]);
-    }
-    table
+/// A row of waits.csv: one of the plan's waits with its place, span, lowest charge and
+/// whether at a haven.
+#[derive(Serialize, Default)]
+struct WaitRow {
+    x_m: Fixed<1>,
+    y_m: Fixed<1>,
+    from_h: Fixed<3>,
+    to_h: Fixed<3>,
+    hours: Fixed<3>,
+    lowest_battery_wh: Fixed<1>,
+    safe_haven: bool,
+    longest_shadow_h: Fixed<1>,
+    longest_earth_loss_h: Fixed<1>,
+}
+
+fn wait_rows(ctx: &Context<'_>, plan: &MissionPlan, havens: &contact::Havens) -> Vec<WaitRow> {
+    contact::waits(plan, havens, floor_wh(ctx), HAVEN_STEP_S)
+        .into_iter()
+        .map(|w| {
+            let (x, y) = ctx.local(w.cell);
+            let i = w.cell as usize;
+            WaitRow {
+                x_m: Fixed(x),
+                y_m: Fixed(y),
+                from_h: Fixed(w.from_h),
+                to_h: Fixed(w.to_h),
+                hours: Fixed(w.to_h - w.from_h),
+                lowest_battery_wh: Fixed(w.lowest_battery_wh),
+                safe_haven: w.haven,
+                longest_shadow_h: Fixed(f64::from(havens.longest_shadow_h[i])),
+                longest_earth_loss_h: Fixed(f64::from(havens.longest_earth_loss_h[i])),
+            }
+        })
+        .collect()
 }
 
 fn action_name(a: Option<Action>) -> &'static str {
     a.map_or("arrive", Action::name)
 }
 
-fn plan_csv(ctx: &Context<'_>, plan: &MissionPlan) -> Table {
-    let mut table = Table::new([
-        "index",
-        "utc",
-        "t_s",
-        "ltst_h",
-        "col",
-        "row",
-        "x_m",
-        "y_m",
-        "lat_deg",
-        "lon_deg",
-        "action",
-        "required_wh",
-        "battery_wh",
-        "slope_deg",
-        "sun_elevation_deg",
-        "sun_above_ground_deg",
-        "lit",
-        "goal",
-    ]);
-    for (i, w) in plan.waypoints.iter().enumerate() {
+/// A row of plan.csv: one waypoint.
+#[derive(Serialize, Default)]
+struct PlanRow {
+    index: usize,
+    utc: String,
+    t_s: Fixed<1>,
+    ltst_h: Fixed<4>,
+    col: usize,
+    row: usize,
+    x_m: Fixed<2>,
+    y_m: Fixed<2>,
+    lat_deg: Fixed<7>,
+    lon_deg: Fixed<7>,
+    action: &'static str,
+    required_wh: Fixed<3>,
+    battery_wh: Fixed<3>,
+    slope_deg: Fixed<3>,
+    sun_elevation_deg: Fixed<3>,
+    sun_above_ground_deg: Fixed<3>,
+    lit: u8,
+    goal: String,
+}
+
+fn plan_rows<'a>(ctx: &'a Context<'_>, plan: &'a MissionPlan) -> impl Iterator<Item = PlanRow> + 'a {
+    plan.waypoints.iter().enumerate().map(move |(index, w)| {
         let (x, y) = ctx.local(w.cell);
-        table.push(vec![
-            i.to_string(),
-            w.utc.clone(),
-            format!("{:.1}", w.t_s),
-            format!("{:.4}", w.ltst_h),
-            w.col_row.0.to_string(),
-            w.col_row.1.to_string(),
-            format!("{x:.2}"),
-            format!("{y:.2}"),
-            format!("{:.7}", w.lat_deg),
-            format!("{:.7}", w.lon_deg),
-            action_name(w.action).to_string(),
-            format!("{:.3}", w.required_wh),
-            format!("{:.3}", w.battery_wh),
-            format!("{:.3}", w.slope_deg),
-            format!("{:.3}", w.sun_elevation_deg),
-            format!("{:.3}", w.sun_above_ground_deg),
-            u8::from(w.lit).to_string(),
-            w.goal.map(|g| ctx.goal_name(g).to_string()).unwrap_or_default(),
-        ]);
-    }
-    table
+        PlanRow {
+            index,
+            utc: w.utc.clone(),
+            t_s: Fixed(w.t_s),
+            ltst_h: Fixed(w.ltst_h),
+            col: w.col_row.0,
+            row: w.col_row.1,
+            x_m: Fixed(x),
+            y_m: Fixed(y),
+            lat_deg: Fixed(w.lat_deg),
+            lon_deg: Fixed(w.lon_deg),
+            action: action_name(w.action),
+            required_wh: Fixed(w.required_wh),
+            battery_wh: Fixed(w.battery_wh),
+            slope_deg: Fixed(w.slope_deg),
+            sun_elevation_deg: Fixed(w.sun_elevation_deg),
+            sun_above_ground_deg: Fixed(w.sun_above_ground_deg),
+            lit: u8::from(w.lit),
+            goal: w.goal.map(|g| ctx.goal_name(g).to_string()).unwrap_or_default(),
+        }
+    })
 }
 
-fn executed_csv(ctx: &Context<'_>, r: &SimReport) -> Table {
-    let mut table = Table::new([
-        "step",
-        "utc",
-        "t_s",
-        "col",
-        "row",
-        "x_m",
-        "y_m",
-        "action",
-        "duration_s",
-        "energy_wh",
-        "battery_wh",
-        "distance_m",
-        "sun_elevation_deg",
-        "refused",
-    ]);
-    for (i, st) in r.steps.iter().enumerate() {
-        let (c, rw) = ctx.world.col_row(st.cell);
+/// A row of executed.csv: one executed action.
+#[derive(Serialize, Default)]
+struct ExecutedRow {
+    step: usize,
+    utc: String,
+    t_s: Fixed<1>,
+    col: usize,
+    row: usize,
+    x_m: Fixed<2>,
+    y_m: Fixed<2>,
+    action: &'static str,
+    duration_s: Fixed<1>,
+    energy_wh: Fixed<3>,
+    battery_wh: Fixed<3>,
+    distance_m: Fixed<3>,
+    sun_elevation_deg: Fixed<3>,
+    refused: String,
+}
+
+fn executed_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item = ExecutedRow> + 'a {
+    r.steps.iter().enumerate().map(move |(i, st)| {
+        let (col, row) = ctx.world.col_row(st.cell);
         let (x, y) = ctx.local(st.cell);
-        table.push(vec![
-            (i + 1).to_string(),
-            format_utc(ctx.world.epoch() + Duration::from_seconds(st.t_s)),
-            format!("{:.1}", st.t_s),
-            c.to_string(),
-            rw.to_string(),
-            format!("{x:.2}"),
-            format!("{y:.2}"),
-            st.action.name().to_string(),
-            format!("{:.1}", st.duration_s),
-            format!("{:.3}", st.energy_wh),
-            format!("{:.3}", st.battery_wh),
-            format!("{:.3}", st.distance_m),
-            format!("{:.3}", st.sun_elevation_deg),
-            st.refused.map(|(a, b)| format!("{} ({})", a.name(), b.describe())).unwrap_or_default(),
-        ]);
-    }
-    table
+        ExecutedRow {
+            step: i + 1,
+            utc: format_utc(ctx.world.epoch() + Duration::from_seconds(st.t_s)),
+            t_s: Fixed(st.t_s),
+            col,
+            row,
+            x_m: Fixed(x),
+            y_m: Fixed(y),
+            action: st.action.name(),
+            duration_s: Fixed(st.duration_s),
+            energy_wh: Fixed(st.energy_wh),
+            battery_wh: Fixed(st.battery_wh),
+            distance_m: Fixed(st.distance_m),
+            sun_elevation_deg: Fixed(st.sun_elevation_deg),
+            refused: st.refused.map(|(a, b)| format!("{} ({})", a.name(), b.describe())).unwrap_or_default(),
+        }
+    })
 }
 
-fn replans_csv(ctx: &Context<'_>, r: &SimReport) -> Table {
-    let mut table = Table::new([
-        "step",
-        "kind",
-        "utc",
-        "t_s",
-        "wall_ms",
-        "expansions",
-        "changed_cells",
-        "route_changed",
-        "waypoints",
-        "cost",
-        "duration_h",
-        "min_battery_wh",
-        "search_mb",
-        "fresh_expansions",
-        "fresh_cost",
-    ]);
-    for p in &r.plans {
-        table.push(vec![
-            p.step.to_string(),
-            match p.kind {
-                PlanKind::Initial => "initial",
-                PlanKind::Replan => "replan",
-                PlanKind::Restart => "restart",
-            }
-            .to_string(),
-            format_utc(ctx.world.epoch() + Duration::from_seconds(p.t_s)),
-            format!("{:.1}", p.t_s),
-            format!("{:.3}", 1e3 * p.wall_s),
-            p.expansions.to_string(),
-            p.changed_cells.to_string(),
-            u8::from(p.route_changed).to_string(),
-            p.plan.waypoints.len().to_string(),
-            format!("{:.4}", p.plan.cost),
-            format!("{:.3}", p.plan.duration_s() / 3600.0),
-            format!("{:.2}", p.plan.min_battery_wh()),
-            format!("{:.1}", p.search_bytes as f64 / 1e6),
-            p.fresh.map_or(String::new(), |f| f.0.to_string()),
-            p.fresh.map_or(String::new(), |f| format!("{:.4}", f.1)),
-        ]);
-    }
-    table
+/// A row of replans.csv: one plan of a simulated run (the initial plan, a re-plan or
+/// a restart), with its fresh comparison when asked for.
+#[derive(Serialize, Default)]
+struct ReplanRow {
+    step: usize,
+    kind: &'static str,
+    utc: String,
+    t_s: Fixed<1>,
+    wall_ms: Fixed<3>,
+    expansions: u64,
+    changed_cells: usize,
+    route_changed: u8,
+    waypoints: usize,
+    cost: Fixed<4>,
+    duration_h: Fixed<3>,
+    min_battery_wh: Fixed<2>,
+    search_mb: Fixed<1>,
+    fresh_expansions: Option<u64>,
+    fresh_cost: Option<Fixed<4>>,
+}
+
+fn replan_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item = ReplanRow> + 'a {
+    r.plans.iter().map(move |p| ReplanRow {
+        step: p.step,
+        kind: match p.kind {
+            PlanKind::Initial => "initial",
+            PlanKind::Replan => "replan",
+            PlanKind::Restart => "restart",
+        },
+        utc: format_utc(ctx.world.epoch() + Duration::from_seconds(p.t_s)),
+        t_s: Fixed(p.t_s),
+        wall_ms: Fixed(1e3 * p.wall_s),
+        expansions: p.expansions,
+        changed_cells: p.changed_cells,
+        route_changed: u8::from(p.route_changed),
+        waypoints: p.plan.waypoints.len(),
+        cost: Fixed(p.plan.cost),
+        duration_h: Fixed(p.plan.duration_s() / 3600.0),
+        min_battery_wh: Fixed(p.plan.min_battery_wh()),
+        search_mb: Fixed(p.search_bytes as f64 / 1e6),
+        fresh_expansions: p.fresh.map(|f| f.0),
+        fresh_cost: p.fresh.map(|f| Fixed(f.1)),
+    })
 }
 
 fn route_geojson(ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> FeatureCollection {

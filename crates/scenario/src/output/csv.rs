@@ -3,7 +3,51 @@
 
 use std::path::Path;
 
+use serde::Serialize;
+
 use crate::error::{Error, Result};
+
+/// A number written with `N` decimals in a CSV row (the column's precision, chosen by
+/// the row type).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(crate) struct Fixed<const N: usize>(pub(crate) f64);
+
+impl<const N: usize> Serialize for Fixed<N> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.collect_str(&format_args!("{:.*}", N, self.0))
+    }
+}
+
+/// Rows of a serialisable row type as CSV text: the header is the type's field names
+/// (written even when there are no rows), each row its fields in order (`None` an empty
+/// field). `path` names the file in errors.
+pub(crate) fn rows_to_csv<R: Serialize + Default>(path: &Path, rows: impl IntoIterator<Item = R>) -> Result<String> {
+    let fail = |e: csv::Error| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) };
+    let mut header = csv::WriterBuilder::new().from_writer(Vec::new());
+    header.serialize(R::default()).map_err(fail)?;
+    let bytes = header.into_inner().map_err(|e| Error::Io { path: path.to_path_buf(), source: e.into_error() })?;
+    let names = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(bytes.as_slice())
+        .records()
+        .next()
+        .transpose()
+        .map_err(fail)?
+        .unwrap_or_default();
+    let mut w =
+        csv::WriterBuilder::new().has_headers(false).terminator(csv::Terminator::Any(b'\n')).from_writer(Vec::new());
+    w.write_record(&names).map_err(fail)?;
+    for row in rows {
+        w.serialize(row).map_err(fail)?;
+    }
+    let bytes = w.into_inner().map_err(|e| Error::Io { path: path.to_path_buf(), source: e.into_error() })?;
+    String::from_utf8(bytes).map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) })
+}
+
+/// Writes [`rows_to_csv`] to `path` atomically.
+pub(crate) fn write_rows<R: Serialize + Default>(path: &Path, rows: impl IntoIterator<Item = R>) -> Result<()> {
+    super::write_file(path, rows_to_csv(path, rows)?.as_bytes())
+}
 
 /// A CSV table built in memory: a header and rows of already formatted fields (the
 /// caller chooses each column's decimals).
@@ -71,6 +115,25 @@ mod tests {
         assert_eq!(rows.len(), 2);
         assert_eq!(&rows[0][0], "crater rim, north");
         assert_eq!(&rows[1][0], "the \"saddle\"\nnorth");
+    }
+
+    #[test]
+    fn serialised_rows_keep_their_decimals_header_and_empty_fields() {
+        #[derive(Serialize, Default)]
+        struct Row {
+            name: String,
+            x_m: Fixed<2>,
+            lit: u8,
+            fresh_cost: Option<Fixed<4>>,
+        }
+        let rows = [
+            Row { name: "rim, north".into(), x_m: Fixed(1.005), lit: 1, fresh_cost: None },
+            Row { name: "saddle".into(), x_m: Fixed(-2.0), lit: 0, fresh_cost: Some(Fixed(3314.2)) },
+        ];
+        let text = rows_to_csv(Path::new("t.csv"), rows).unwrap();
+        assert_eq!(text, "name,x_m,lit,fresh_cost\n\"rim, north\",1.00,1,\nsaddle,-2.00,0,3314.2000\n");
+        // No rows: the header alone.
+        assert_eq!(rows_to_csv(Path::new("t.csv"), Vec::<Row>::new()).unwrap(), "name,x_m,lit,fresh_cost\n");
     }
 
     #[test]
