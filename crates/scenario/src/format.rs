@@ -18,13 +18,14 @@
 //! Loading checks syntax, then value ranges; either kind of error names the file,
 //! the line:column and the field. `docs/scenarios.md` documents every field.
 
+pub mod ga;
 pub mod locate;
 pub mod rover_files;
 mod validate;
 
 use std::path::{Path, PathBuf};
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use crate::error::Error;
 
@@ -34,7 +35,7 @@ pub use self::validate::{Checks, Validate};
 pub(crate) const FORMAT_VERSION: u32 = 1;
 
 /// A scenario file: a versioned job description.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
     /// Format version; must be 1 (the version this build reads).
@@ -47,7 +48,7 @@ pub struct Scenario {
 }
 
 /// The jobs areo can run. Later planners add variants.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Job {
     /// The Sun over a site at regular steps: position, local time and flux.
     SunTable(SunTableJob),
@@ -64,7 +65,7 @@ pub enum Job {
 
 /// An action-planning job (see `docs/actions.md`). Positions are metres in the
 /// terrain's frame (synthesised terrain: east and north of its south-west corner).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ActionsJob {
     /// The terrain. Rocks of a synthesised terrain are also collision obstacles.
@@ -73,19 +74,19 @@ pub struct ActionsJob {
     #[serde(default)]
     pub rover: Option<String>,
     /// The task.
-    pub task: areo_actions::Task,
+    pub task: ga::TaskSpec,
     /// Execution settings (μ, stability floor, gripper reach, body box).
     #[serde(default)]
-    pub execution: areo_actions::ExecConfig,
+    pub execution: ga::ExecSpec,
     /// Fitness weights.
     #[serde(default)]
-    pub weights: areo_actions::Weights,
+    pub weights: ga::WeightsSpec,
     /// GA settings.
     #[serde(default)]
-    pub ga: areo_actions::GaConfig,
+    pub ga: ga::GaSpec,
     /// Modules forced in or out of the filtered inventory.
     #[serde(default)]
-    pub overrides: areo_actions::Overrides,
+    pub overrides: ga::OverridesSpec,
     /// Runs of the GA, each with its own inventory (Table 1 codes) and optionally μ;
     /// default one run, "plan", on the filtered inventory.
     #[serde(default)]
@@ -106,7 +107,7 @@ pub struct ActionsJob {
 }
 
 /// One GA run of an actions job.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ActionsRun {
     /// Name (facts are `NAME_…`).
@@ -119,7 +120,7 @@ pub struct ActionsRun {
     pub mu: Option<f64>,
     /// Where crossover cuts the first parent, for this run; default the GA's.
     #[serde(default)]
-    pub crossover: Option<areo_actions::CrossoverPoint>,
+    pub crossover: Option<ga::CrossoverSpec>,
     /// A seed study: run the GA once for every seed from `.0` to `.1` (inclusive, at
     /// most 1000 seeds) and report the success fraction, the median first-solved
     /// generation and the pooled look-ahead histogram; default the GA's one seed.
@@ -129,7 +130,7 @@ pub struct ActionsRun {
 
 /// A TEMPEST mission (see `docs/tempest.md`). Positions are metres east and north of
 /// the map's south-west corner.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TempestJob {
     /// The map the rover believes.
@@ -199,7 +200,7 @@ pub struct TempestJob {
 
 /// A rectangle of the map to plan in, metres from the map's south-west corner (as
 /// `start` and `goals`), and the lowest Sun its horizons must answer for.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlanRegionSpec {
     /// West and east edges, m (0 ≤ west < east).
@@ -222,7 +223,7 @@ fn default_lowest_sun_deg() -> f64 {
 /// load). By default one per sol, centred on the Earth's highest point in the site's
 /// sky that sol (Mars); with `every_h`, one ending at every `every_h` hours from the
 /// start — at least `duration_min` minutes of contact every `every_h` hours.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CommunicateSpec {
     /// Session length, minutes (1..=720).
@@ -251,7 +252,7 @@ fn default_earth_elevation() -> f64 {
 }
 
 /// The true terrain of a simulation.
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub enum Truth {
     /// The map is true.
     #[default]
@@ -263,7 +264,7 @@ pub enum Truth {
 }
 
 /// A point, m east and north of the map's south-west corner.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PointSpec {
     /// East, m.
@@ -273,7 +274,7 @@ pub struct PointSpec {
 }
 
 /// A goal.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GoalSpec {
     /// Name for reports and plots.
@@ -285,7 +286,7 @@ pub struct GoalSpec {
 }
 
 /// A named circle.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RegionSpec {
     /// Name (facts are `initial_plan_enters_NAME`, `route_enters_NAME`).
@@ -307,7 +308,7 @@ fn default_sectors() -> usize {
 }
 
 /// Where terrain comes from.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum TerrainSource {
     /// Synthesised from a description (see `docs/scenarios.md`).
     Synth(areo_terrain::synth::TerrainSpec),
@@ -316,7 +317,7 @@ pub enum TerrainSource {
 }
 
 /// Shadows on terrain at one instant.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TerrainShadowJob {
     /// The terrain.
@@ -335,7 +336,7 @@ pub struct TerrainShadowJob {
 }
 
 /// A table of the Sun's position over a site (see [`crate::run`]).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SunTableJob {
     /// Where.
@@ -359,7 +360,7 @@ fn default_tau() -> f64 {
 }
 
 /// A place on the job's body.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SiteSpec {
     /// Latitude, degrees [−90, 90]: planetocentric on Mars and the Moon, geodetic
@@ -437,13 +438,15 @@ fn validate_terrain(c: &mut Checks, name: &str, terrain: &TerrainSource) {
 impl Validate for ActionsJob {
     fn validate(&self, c: &mut Checks) {
         validate_terrain(c, "terrain", &self.terrain);
-        if let Err(areo_actions::Error::Config { field, message }) = self.task.validate() {
+        if let Err(areo_actions::Error::Config { field, message }) = areo_actions::Task::from(&self.task).validate() {
             c.nested("task", |c| c.fail_at(&field_segments(&field), message));
         }
-        if let Err(areo_actions::Error::Config { field, message }) = self.ga.validate() {
+        if let Err(areo_actions::Error::Config { field, message }) = areo_actions::GaConfig::from(&self.ga).validate() {
             c.nested("ga", |c| c.fail_at(&field_segments(&field), message));
         }
-        if let Err(areo_actions::Error::Config { field, message }) = self.weights.validate() {
+        if let Err(areo_actions::Error::Config { field, message }) =
+            areo_actions::Weights::from(&self.weights).validate()
+        {
             c.nested("weights", |c| c.fail_at(&field_segments(&field), message));
         }
         c.nested("execution", |c| {
@@ -466,7 +469,8 @@ impl Validate for ActionsJob {
             }
             if let Some(how) = r.crossover
                 && let Err(areo_actions::Error::Config { message, .. }) =
-                    (areo_actions::GaConfig { crossover: how, ..self.ga.clone() }).validate()
+                    (areo_actions::GaConfig { crossover: how.into(), ..areo_actions::GaConfig::from(&self.ga) })
+                        .validate()
             {
                 c.fail("crossover", message);
             }

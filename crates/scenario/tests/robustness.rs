@@ -260,3 +260,37 @@ fn a_climb_profile_out_of_range_names_its_field_and_rule() {
         assert!(e.contains("at most 10 000 poses"), "{to}: {e}");
     }
 }
+
+/// The format owns its types: every shipped scenario written back out from them and
+/// read again is the same scenario, and an actions job's task and settings convert
+/// into the library's types with every value carried over.
+#[test]
+fn every_shipped_scenario_round_trips_through_the_format_types() {
+    use areo_scenario::format::Job;
+    for (path, text) in shipped() {
+        let scenario = parse(&path, &text).unwrap();
+        // Written in the dialect the files are read in (areo-rover's RON options).
+        let written = areo_rover::ron_options()
+            .to_string_pretty(&scenario, ron::ser::PrettyConfig::default())
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let again = parse(&path, &written).unwrap_or_else(|e| panic!("{}: {e}\n{written}", path.display()));
+        assert_eq!(again, scenario, "{}", path.display());
+        if let Job::Actions(job) = &scenario.job {
+            let task = areo_actions::Task::from(&job.task);
+            assert_eq!(
+                (task.start, task.target, task.samples.len()),
+                (job.task.start, job.task.target, job.task.samples.len())
+            );
+            let ga = areo_actions::GaConfig::from(&job.ga);
+            assert_eq!((ga.population, ga.generations, ga.seed), (job.ga.population, job.ga.generations, job.ga.seed));
+            assert_eq!(areo_actions::ExecConfig::from(&job.execution).mu, job.execution.mu);
+        }
+    }
+    // Defaults are the library's.
+    let d = areo_scenario::format::ga::GaSpec::default();
+    assert_eq!(areo_actions::GaConfig::from(&d), areo_actions::GaConfig::default());
+    let w = areo_scenario::format::ga::WeightsSpec::default();
+    assert_eq!(areo_actions::Weights::from(&w), areo_actions::Weights::default());
+    let e = areo_scenario::format::ga::ExecSpec::default();
+    assert_eq!(areo_actions::ExecConfig::from(&e), areo_actions::ExecConfig::default());
+}

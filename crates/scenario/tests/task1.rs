@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use areo_actions::{ExecConfig, Executor};
+use areo_actions::Executor;
 use areo_rover::evaluation::Evaluator;
 use areo_rover::motion::Module;
 use areo_scenario::format::{ActionsJob, Job, load};
@@ -22,7 +22,7 @@ fn straight_and_single_arc_plans_fail_on_task_1() {
     let (file, job) = task1();
     let s = setup(&job, &file).unwrap();
     let ev = Evaluator::new(&s.params);
-    let ex = Executor::new(&s.dem, &ev, &s.task, ExecConfig { ..job.execution });
+    let ex = Executor::new(&s.dem, &ev, &s.task, s.execution);
     assert!(ex.start_problem().is_none());
     // Straight: 6 m of 101, more than the way.
     let straight = ex.run(&[Module::Forward; 60], false);
@@ -117,7 +117,7 @@ fn straight_driving_with_the_sample_modules_cannot_complete_task_1() {
     let (file, job) = task1();
     let s = setup(&job, &file).unwrap();
     let ev = Evaluator::new(&s.params);
-    let ex = Executor::new(&s.dem, &ev, &s.task, ExecConfig { ..job.execution });
+    let ex = Executor::new(&s.dem, &ev, &s.task, s.execution);
     let reach = straight_with_samples_reachable(&ex, s.task.start);
     assert_eq!(reach.completed, None, "a plan of 101 and 3000–3003 completed the task");
     // Turns to a sample are stances for the arm: every state lies on the straight line

@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use areo_actions::{
-    ClimbProfile, ExecConfig, Execution, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Rock, Scale,
-    Surroundings, Task, TraceStep, climb_margins, design_space_log10, evolve, friction_sweep,
+    ClimbProfile, ExecConfig, Execution, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Overrides, Rock,
+    Scale, Surroundings, Task, TraceStep, Weights, climb_margins, design_space_log10, evolve, friction_sweep,
 };
 use areo_rover::RoverParams;
 use areo_rover::evaluation::Evaluator;
@@ -40,6 +40,14 @@ pub struct Setup {
     pub task: Task,
     /// The rover.
     pub params: RoverParams,
+    /// Execution settings.
+    pub execution: ExecConfig,
+    /// Fitness weights.
+    pub weights: Weights,
+    /// GA settings.
+    pub ga: GaConfig,
+    /// Modules forced in or out of the filtered inventory.
+    pub overrides: Overrides,
 }
 
 /// Builds an actions job's terrain, task and rover (paths relative to `file`).
@@ -67,9 +75,17 @@ pub fn setup(job: &ActionsJob, file: &ScenarioFile) -> Result<Setup> {
             .map_err(|e| e.referenced_by(&file.path, "job.rover"))?,
         None => RoverParams::lsr1(),
     };
-    let mut task: Task = job.task.clone();
+    let mut task = Task::from(&job.task);
     task.rocks.extend(synth_rocks);
-    Ok(Setup { dem, task, params })
+    Ok(Setup {
+        dem,
+        task,
+        params,
+        execution: (&job.execution).into(),
+        weights: (&job.weights).into(),
+        ga: (&job.ga).into(),
+        overrides: (&job.overrides).into(),
+    })
 }
 
 /// One GA run's result: its report and wall time (s), the execution settings and
@@ -99,32 +115,33 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let setup = setup(job, file)?;
     opts.budget.check(&crate::budget::actions(job, (setup.dem.cols() * setup.dem.rows()) as u64))?;
     let report = compute(job, file, opts, &setup)?;
-    let mut o = outcome(job, &setup.task, &report);
+    let mut o = outcome(&setup, &report);
     if let Some(dir) = opts.out_dir {
-        o.files = write_report(dir, job, &setup, &report)?;
+        o.files = write_report(dir, &setup, &report)?;
     }
     Ok(o)
 }
 
 /// The GA's scales for the task on this rover.
-fn scale_of(job: &ActionsJob, task: &Task, params: &RoverParams) -> Scale {
+fn scale_of(setup: &Setup) -> Scale {
+    let (task, params) = (&setup.task, &setup.params);
     Scale {
         start_distance_m: task.start_distance_m(),
         samples_wanted: task.samples_wanted,
         reference_time_s: task.start_distance_m() / params.speed_m_s,
         battery_wh: params.battery.capacity_wh * params.battery.usable_fraction,
-        s_floor: job.execution.stability_floor,
+        s_floor: setup.execution.stability_floor,
     }
 }
 
 /// The runs: the job's list, or one run on the filtered inventory.
-fn run_plans(job: &ActionsJob, file: &ScenarioFile, filtered: &Inventory) -> Result<Vec<RunPlan>> {
+fn run_plans(job: &ActionsJob, file: &ScenarioFile, setup: &Setup, filtered: &Inventory) -> Result<Vec<RunPlan>> {
     if job.runs.is_empty() {
         return Ok(vec![RunPlan {
             name: "plan".to_string(),
             inventory: filtered.clone(),
-            mu: job.execution.mu,
-            ga: job.ga.clone(),
+            mu: setup.execution.mu,
+            ga: setup.ga.clone(),
             seeds: None,
         }]);
     }
@@ -138,8 +155,8 @@ fn run_plans(job: &ActionsJob, file: &ScenarioFile, filtered: &Inventory) -> Res
                 })?,
                 None => filtered.clone(),
             };
-            let ga = GaConfig { crossover: r.crossover.unwrap_or(job.ga.crossover), ..job.ga.clone() };
-            Ok(RunPlan { name: r.name.clone(), inventory, mu: r.mu.unwrap_or(job.execution.mu), ga, seeds: r.seeds })
+            let ga = GaConfig { crossover: r.crossover.map_or(setup.ga.crossover, Into::into), ..setup.ga.clone() };
+            Ok(RunPlan { name: r.name.clone(), inventory, mu: r.mu.unwrap_or(setup.execution.mu), ga, seeds: r.seeds })
         })
         .collect()
 }
@@ -157,12 +174,12 @@ fn sweep_values(job: &ActionsJob) -> Vec<f64> {
 
 /// Evolves every run (and its other seeds), sweeps μ and profiles the climb.
 fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &Setup) -> Result<ActionsReport> {
-    let Setup { dem, task, params } = setup;
+    let Setup { dem, task, params, execution, weights, ga, overrides } = setup;
     let evaluator = Evaluator::new(params);
-    let scale = scale_of(job, task, params);
+    let scale = scale_of(setup);
     let room = Surroundings::new((dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy()), params);
-    let filtered = Inventory::for_task(task, &room, &job.overrides);
-    let plans = run_plans(job, file, &filtered)?;
+    let filtered = Inventory::for_task(task, &room, overrides);
+    let plans = run_plans(job, file, setup, &filtered)?;
     let sweep = sweep_values(job);
     // The run's own seed, then the study's others.
     let evolutions: usize = plans
@@ -172,14 +189,13 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
     opts.progress.start((evolutions + sweep.len()) as u64, "evolving");
     let mut runs = Vec::with_capacity(plans.len());
     for plan in &plans {
-        let exec = ExecConfig { mu: plan.mu, ..job.execution };
+        let exec = ExecConfig { mu: plan.mu, ..*execution };
         let executor = Executor::new(dem, &evaluator, task, exec);
         if let Some(problem) = executor.start_problem() {
             return Err(file.error_at("job.task.start", format!("the start pose is not admissible: {problem}")));
         }
         let clock = std::time::Instant::now();
-        let report =
-            evolve(&executor, &plan.inventory, &job.weights, &scale, &plan.ga).map_err(|e| ga_error(file, e))?;
+        let report = evolve(&executor, &plan.inventory, weights, &scale, &plan.ga).map_err(|e| ga_error(file, e))?;
         let seconds = clock.elapsed().as_secs_f64();
         opts.progress.advance(1);
         let study = match plan.seeds {
@@ -191,8 +207,8 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
                         report.clone()
                     } else {
                         let ga = GaConfig { seed, ..plan.ga.clone() };
-                        let r = evolve(&executor, &plan.inventory, &job.weights, &scale, &ga)
-                            .map_err(|e| ga_error(file, e))?;
+                        let r =
+                            evolve(&executor, &plan.inventory, weights, &scale, &ga).map_err(|e| ga_error(file, e))?;
                         opts.progress.advance(1);
                         r
                     };
@@ -212,11 +228,11 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
             dem,
             &evaluator,
             task,
-            job.execution,
+            *execution,
             &plans[0].inventory,
-            &job.weights,
+            weights,
             &scale,
-            &job.ga,
+            ga,
             &sweep,
             job.ditch_far_edge_y_m,
             |_| opts.progress.advance(1),
@@ -225,16 +241,15 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
         Some((sweep, result))
     };
     opts.progress.finish();
-    let climb = job
-        .climb_profile
-        .map(|(step, length)| climb_margins(dem, &evaluator, task.start, job.execution.mu, step, length));
+    let climb =
+        job.climb_profile.map(|(step, length)| climb_margins(dem, &evaluator, task.start, execution.mu, step, length));
     Ok(ActionsReport { filtered, runs, sweep, climb })
 }
 
 /// The report's facts and summary lines.
-fn outcome(job: &ActionsJob, task: &Task, report: &ActionsReport) -> Outcome {
+fn outcome(setup: &Setup, report: &ActionsReport) -> Outcome {
     let mut o = Outcome::default();
-    let m = job.ga.initial_length.1;
+    let (task, m) = (&setup.task, setup.ga.initial_length.1);
     let filtered = &report.filtered;
     o.number("design_space_log10_full", design_space_log10(26, m));
     o.number("design_space_log10_filtered", design_space_log10(filtered.modules.len(), m));
@@ -347,7 +362,7 @@ fn best_facts(o: &mut Outcome, run: &RunResult) {
 
 /// Every file of the report: inventory.csv, the seed studies, sweep.csv, the climb, and
 /// each run's plan files (in a directory per run when there are several).
-fn write_report(dir: &Path, job: &ActionsJob, setup: &Setup, report: &ActionsReport) -> Result<Vec<PathBuf>> {
+fn write_report(dir: &Path, setup: &Setup, report: &ActionsReport) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let kept = report.filtered.codes().into_iter().map(|code| InventoryRow { code, kept: 1, reason: String::new() });
     let removed =
@@ -358,7 +373,7 @@ fn write_report(dir: &Path, job: &ActionsJob, setup: &Setup, report: &ActionsRep
     let studies: Vec<(String, &SeedStudy)> =
         report.runs.iter().filter_map(|r| r.study.as_ref().map(|s| (r.name.clone(), s))).collect();
     if !studies.is_empty() {
-        files.extend(write_studies(dir, &studies, job.ga.generations)?);
+        files.extend(write_studies(dir, &studies, setup.ga.generations)?);
     }
     if let Some((_, result)) = &report.sweep {
         let path = dir.join("sweep.csv");
