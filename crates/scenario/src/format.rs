@@ -20,7 +20,9 @@
 
 pub mod ga;
 pub mod locate;
+pub mod planner;
 pub mod rover_files;
+pub mod synth;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -177,10 +179,10 @@ pub struct TempestJob {
     pub goals: Vec<GoalSpec>,
     /// Planner settings (areo-mission `PlannerConfig`); every field has a default.
     #[serde(default)]
-    pub planner: areo_mission::PlannerConfig,
+    pub planner: planner::PlannerSpec,
     /// Simulate execution (sensing, noise, re-planning); default: plan only.
     #[serde(default)]
-    pub simulate: Option<areo_mission::SimConfig>,
+    pub simulate: Option<planner::SimSpec>,
     /// Named circular regions; the run reports whether plans and the route enter them.
     #[serde(default)]
     pub regions: Vec<RegionSpec>,
@@ -258,7 +260,7 @@ pub enum Truth {
     #[default]
     Map,
     /// The map plus these landforms (what the map lacks: a higher pass, a boulder).
-    AddFeatures(Vec<areo_terrain::synth::Feature>),
+    AddFeatures(Vec<synth::FeatureSpec>),
     /// Another terrain on the same grid.
     Terrain(TerrainSource),
 }
@@ -311,7 +313,7 @@ fn default_sectors() -> usize {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum TerrainSource {
     /// Synthesised from a description (see `docs/scenarios.md`).
-    Synth(areo_terrain::synth::TerrainSpec),
+    Synth(synth::SynthSpec),
     /// A DEM file (GeoTIFF, ESRI ASCII or PDS3), relative to the scenario file.
     File(String),
 }
@@ -552,14 +554,16 @@ impl Validate for TempestJob {
                 c.fail("plan_region", "a region is planned on the map as true (truth: Map, the default)".into());
             }
         }
-        if let Err(areo_mission::Error::Config { field, message }) = self.planner.validate() {
+        if let Err(areo_mission::Error::Config { field, message }) =
+            areo_mission::PlannerConfig::from(&self.planner).validate()
+        {
             c.nested("planner", |c| c.fail_at(&field_segments(field), message));
         }
         if let Some(com) = &self.communicate {
             validate_communicate(c, com, self.horizon_h, self.body);
         }
         if let Some(sim) = &self.simulate
-            && let Err(areo_mission::Error::Config { field, message }) = sim.validate()
+            && let Err(areo_mission::Error::Config { field, message }) = areo_mission::SimConfig::from(sim).validate()
         {
             c.nested("simulate", |c| c.fail_at(&field_segments(field), message));
         }
@@ -580,7 +584,7 @@ fn validate_truth(c: &mut Checks, truth: &Truth) {
                 base_m: 0.0,
                 seed: 0,
                 noise: None,
-                features: features.clone(),
+                features: features.iter().map(synth::FeatureSpec::to_feature).collect(),
             };
             if let Err(areo_terrain::Error::BadSynth { field, value, allowed }) = spec.validate() {
                 let mut seg = field_segments(&field);

@@ -285,6 +285,28 @@ fn every_shipped_scenario_round_trips_through_the_format_types() {
             assert_eq!((ga.population, ga.generations, ga.seed), (job.ga.population, job.ga.generations, job.ga.seed));
             assert_eq!(areo_actions::ExecConfig::from(&job.execution).mu, job.execution.mu);
         }
+        let terrain = match &scenario.job {
+            Job::Tempest(job) => Some(&job.terrain),
+            Job::Actions(job) => Some(&job.terrain),
+            Job::TerrainShadow(job) => Some(&job.terrain),
+            _ => None,
+        };
+        if let Some(areo_scenario::format::TerrainSource::Synth(spec)) = terrain {
+            let lib = spec.to_spec();
+            assert_eq!(
+                (lib.cols, lib.rows, lib.seed, lib.features.len()),
+                (spec.cols, spec.rows, spec.seed, spec.features.len())
+            );
+            assert_eq!(lib.noise.map(|n| n.octaves), spec.noise.map(|n| n.octaves));
+        }
+        if let Job::Tempest(job) = &scenario.job {
+            let planner = areo_mission::PlannerConfig::from(&job.planner);
+            assert_eq!(
+                (planner.resolution.time_s, planner.goal_times),
+                (job.planner.resolution.time_s, job.planner.goal_times)
+            );
+            assert_eq!(planner.actions.charge_s, job.planner.actions.charge_s);
+        }
     }
     // Defaults are the library's.
     let d = areo_scenario::format::ga::GaSpec::default();
@@ -293,4 +315,8 @@ fn every_shipped_scenario_round_trips_through_the_format_types() {
     assert_eq!(areo_actions::Weights::from(&w), areo_actions::Weights::default());
     let e = areo_scenario::format::ga::ExecSpec::default();
     assert_eq!(areo_actions::ExecConfig::from(&e), areo_actions::ExecConfig::default());
+    let p = areo_scenario::format::planner::PlannerSpec::default();
+    assert_eq!(areo_mission::PlannerConfig::from(&p), areo_mission::PlannerConfig::default());
+    let s = areo_scenario::format::planner::SimSpec::default();
+    assert_eq!(areo_mission::SimConfig::from(&s), areo_mission::SimConfig::default());
 }

@@ -4,6 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::format::synth::FeatureSpec;
 use areo_actions::{
     ClimbProfile, ExecConfig, Execution, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Overrides, Rock,
     Scale, Surroundings, Task, TraceStep, Weights, climb_margins, design_space_log10, evolve, friction_sweep,
@@ -11,7 +12,6 @@ use areo_actions::{
 use areo_rover::RoverParams;
 use areo_rover::evaluation::Evaluator;
 use areo_terrain::Dem;
-use areo_terrain::synth::Feature;
 
 use crate::error::{Error, Result};
 use crate::format::{ActionsJob, ScenarioFile, TerrainSource};
@@ -59,7 +59,7 @@ pub fn setup(job: &ActionsJob, file: &ScenarioFile) -> Result<Setup> {
                 .features
                 .iter()
                 .filter_map(|f| match *f {
-                    Feature::Rock { x_m, y_m, height_m, width_m } => Some(Rock { x_m, y_m, height_m, width_m }),
+                    FeatureSpec::Rock { x_m, y_m, height_m, width_m } => Some(Rock { x_m, y_m, height_m, width_m }),
                     _ => None,
                 })
                 .collect();

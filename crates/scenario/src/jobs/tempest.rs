@@ -237,7 +237,8 @@ fn true_terrain(job: &TempestJob, file: &ScenarioFile, site: &Site, terrain: &Te
     Ok(match (&job.truth, terrain) {
         (Truth::Map, _) | (_, Terrain::Region { .. }) => None,
         (Truth::AddFeatures(features), Terrain::Whole(map_dem)) => {
-            Some(areo_terrain::synth::add_features(map_dem, features)?)
+            let features: Vec<_> = features.iter().map(crate::format::synth::FeatureSpec::to_feature).collect();
+            Some(areo_terrain::synth::add_features(map_dem, &features)?)
         }
         (Truth::Terrain(source), Terrain::Whole(map_dem)) => {
             let t = place(load_terrain(source, file, "job.truth")?)?;
@@ -340,7 +341,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
 
 /// The action model with the job's Communicate sessions, its start battery checked.
 fn action_model(job: &TempestJob, file: &ScenarioFile, world: &World, rover: ResourceModel) -> Result<ActionModel> {
-    let mut model = ActionModel::new(rover, job.planner.actions.clone());
+    let mut model = ActionModel::new(rover, (&job.planner.actions).into());
     if let Some(com) = &job.communicate {
         let needs_earth = com.earth_in_view.unwrap_or(job.body == areo_ephemeris::Body::Moon);
         let schedule = areo_mission::contact::Schedule {
@@ -402,7 +403,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
             let clock = Instant::now();
-            Mission::plan(world, model, job.planner.clone(), *start, goals).map(|(mission, plan)| Run::Plan {
+            Mission::plan(world, model, (&job.planner).into(), *start, goals).map(|(mission, plan)| Run::Plan {
                 plan,
                 seconds: clock.elapsed().as_secs_f64(),
                 search_bytes: mission.search_bytes(),
@@ -415,10 +416,10 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
                 believed: world,
                 truth: truth.as_ref().unwrap_or(world),
                 model,
-                planner: job.planner.clone(),
+                planner: (&job.planner).into(),
                 start: *start,
                 goals,
-                config: sim.clone(),
+                config: sim.into(),
             };
             simulate(&simulation, &mut |_| opts.progress.advance(1)).map(Run::Simulated)
         }

@@ -1,0 +1,299 @@
+//! The scenario format's own types for a TEMPEST job's planner and simulation settings.
+//! They mirror areo-mission's configuration types field for field and convert into
+//! them (defaults are the library's), so renaming a library field cannot change what a
+//! scenario file says.
+
+use areo_mission as m;
+use serde::{Deserialize, Serialize};
+
+/// An electronics level.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum LoadLevelSpec {
+    /// Low.
+    Low,
+    /// Medium.
+    Medium,
+    /// High.
+    High,
+}
+
+impl LoadLevelSpec {
+    fn to_lib(self) -> m::LoadLevel {
+        match self {
+            LoadLevelSpec::Low => m::LoadLevel::Low,
+            LoadLevelSpec::Medium => m::LoadLevel::Medium,
+            LoadLevelSpec::High => m::LoadLevel::High,
+        }
+    }
+    fn of(l: m::LoadLevel) -> LoadLevelSpec {
+        match l {
+            m::LoadLevel::Low => LoadLevelSpec::Low,
+            m::LoadLevel::Medium => LoadLevelSpec::Medium,
+            m::LoadLevel::High => LoadLevelSpec::High,
+        }
+    }
+}
+
+/// Local constraints of one kind of action.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ConstraintsSpec {
+    /// No action on slopes above the maximum.
+    pub max_slope: bool,
+    /// No action while the Sun is below the horizontal.
+    pub daylight: bool,
+    /// No action in shadow or at night.
+    pub direct_sun: bool,
+    /// No drive whose heading puts the Sun in a navigation camera's view.
+    pub sun_in_camera: bool,
+}
+
+impl ConstraintsSpec {
+    fn to_lib(self) -> m::Constraints {
+        m::Constraints {
+            max_slope: self.max_slope,
+            daylight: self.daylight,
+            direct_sun: self.direct_sun,
+            sun_in_camera: self.sun_in_camera,
+        }
+    }
+    fn of(c: m::Constraints) -> ConstraintsSpec {
+        ConstraintsSpec {
+            max_slope: c.max_slope,
+            daylight: c.daylight,
+            direct_sun: c.direct_sun,
+            sun_in_camera: c.sun_in_camera,
+        }
+    }
+}
+
+/// TEMPEST's actions and their constraints.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ActionSpec {
+    /// Duration of one Charge, s.
+    pub charge_s: f64,
+    /// Duration of one Hibernate, s.
+    pub hibernate_s: f64,
+    /// Electronics level while charging.
+    pub charge_load: LoadLevelSpec,
+    /// Constraints on drives.
+    pub drive: ConstraintsSpec,
+    /// Constraints on Charge.
+    pub charge: ConstraintsSpec,
+    /// Constraints on Hibernate.
+    pub hibernate: ConstraintsSpec,
+    /// Steepest slope allowed where `max_slope` applies, degrees (default: the
+    /// locomotor's maximum).
+    pub max_slope_deg: Option<f64>,
+    /// Round every duration up to a multiple of this, s (0: exact).
+    pub time_quantum_s: f64,
+    /// Round every energy change to a multiple of this, Wh (0: exact).
+    pub energy_quantum_wh: f64,
+}
+
+impl Default for ActionSpec {
+    fn default() -> ActionSpec {
+        ActionSpec::of(&m::ActionConfig::default())
+    }
+}
+
+impl ActionSpec {
+    fn of(a: &m::ActionConfig) -> ActionSpec {
+        ActionSpec {
+            charge_s: a.charge_s,
+            hibernate_s: a.hibernate_s,
+            charge_load: LoadLevelSpec::of(a.charge_load),
+            drive: ConstraintsSpec::of(a.drive),
+            charge: ConstraintsSpec::of(a.charge),
+            hibernate: ConstraintsSpec::of(a.hibernate),
+            max_slope_deg: a.max_slope_deg,
+            time_quantum_s: a.time_quantum_s,
+            energy_quantum_wh: a.energy_quantum_wh,
+        }
+    }
+}
+
+impl From<&ActionSpec> for m::ActionConfig {
+    fn from(a: &ActionSpec) -> m::ActionConfig {
+        m::ActionConfig {
+            charge_s: a.charge_s,
+            hibernate_s: a.hibernate_s,
+            charge_load: a.charge_load.to_lib(),
+            drive: a.drive.to_lib(),
+            charge: a.charge.to_lib(),
+            hibernate: a.hibernate.to_lib(),
+            max_slope_deg: a.max_slope_deg,
+            time_quantum_s: a.time_quantum_s,
+            energy_quantum_wh: a.energy_quantum_wh,
+        }
+    }
+}
+
+/// What the planner minimises.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum ObjectiveSpec {
+    /// The composite L + B (BESTPCOST): fewest steps, then least energy.
+    Energy,
+    /// Path duration (BESTDPARMS): the least-energy start among paths no longer than
+    /// `max_duration_s`.
+    Duration {
+        /// The longest acceptable plan, s.
+        max_duration_s: f64,
+    },
+}
+
+/// Label class widths for resolution pruning.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ResolutionSpec {
+    /// Time class width, s.
+    pub time_s: f64,
+    /// Energy class width, Wh (`None`: energy exact).
+    #[serde(default)]
+    pub energy_wh: Option<f64>,
+}
+
+/// How the objective's L counts length.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum PathLengthSpec {
+    /// A drive counts its planar length in cells; a stationary action counts one.
+    #[default]
+    Distance,
+    /// Every action counts one step, whatever its length (the paper's eq. 4).
+    Steps,
+}
+
+/// The TEMPEST planner's settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PlannerSpec {
+    /// Actions and their constraints.
+    pub actions: ActionSpec,
+    /// What to minimise.
+    pub objective: ObjectiveSpec,
+    /// Label class widths for resolution pruning.
+    pub resolution: ResolutionSpec,
+    /// How the objective's L counts length.
+    pub path_length: PathLengthSpec,
+    /// Goal instants spread over the final goal window.
+    pub goal_times: usize,
+    /// Start intervals per intermediate goal (multi-goal chaining).
+    pub segment_starts: usize,
+    /// Worst-case path length as a multiple of the straight-line distance.
+    pub detour_factor: f64,
+    /// Longest total wait the worst case allows, s (default one solar day).
+    pub max_wait_s: Option<f64>,
+    /// Least battery energy on arrival at the last goal, Wh above the floor.
+    pub goal_energy_wh: f64,
+}
+
+impl Default for PlannerSpec {
+    fn default() -> PlannerSpec {
+        let d = m::PlannerConfig::default();
+        PlannerSpec {
+            actions: ActionSpec::of(&d.actions),
+            objective: match d.objective {
+                m::Objective::Energy => ObjectiveSpec::Energy,
+                m::Objective::Duration { max_duration_s } => ObjectiveSpec::Duration { max_duration_s },
+            },
+            resolution: ResolutionSpec { time_s: d.resolution.time_s, energy_wh: d.resolution.energy_wh },
+            path_length: match d.path_length {
+                m::PathLength::Distance => PathLengthSpec::Distance,
+                m::PathLength::Steps => PathLengthSpec::Steps,
+            },
+            goal_times: d.goal_times,
+            segment_starts: d.segment_starts,
+            detour_factor: d.detour_factor,
+            max_wait_s: d.max_wait_s,
+            goal_energy_wh: d.goal_energy_wh,
+        }
+    }
+}
+
+impl From<&PlannerSpec> for m::PlannerConfig {
+    fn from(p: &PlannerSpec) -> m::PlannerConfig {
+        m::PlannerConfig {
+            actions: (&p.actions).into(),
+            objective: match p.objective {
+                ObjectiveSpec::Energy => m::Objective::Energy,
+                ObjectiveSpec::Duration { max_duration_s } => m::Objective::Duration { max_duration_s },
+            },
+            resolution: m::Resolution { time_s: p.resolution.time_s, energy_wh: p.resolution.energy_wh },
+            path_length: match p.path_length {
+                PathLengthSpec::Distance => m::PathLength::Distance,
+                PathLengthSpec::Steps => m::PathLength::Steps,
+            },
+            goal_times: p.goal_times,
+            segment_starts: p.segment_starts,
+            detour_factor: p.detour_factor,
+            max_wait_s: p.max_wait_s,
+            goal_energy_wh: p.goal_energy_wh,
+        }
+    }
+}
+
+/// Execution noise of a simulation.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NoiseSpec {
+    /// Largest fractional drive slowdown (0 ≤ · ≤ 2; 0.2 = up to 20 % slower).
+    pub drive_slowdown: f64,
+    /// Largest fractional loss of solar input (0 ≤ · ≤ 1).
+    pub solar_loss: f64,
+    /// Seed of the ChaCha8 generator.
+    pub seed: u64,
+}
+
+impl Default for NoiseSpec {
+    fn default() -> NoiseSpec {
+        let d = m::Noise::default();
+        NoiseSpec { drive_slowdown: d.drive_slowdown, solar_loss: d.solar_loss, seed: d.seed }
+    }
+}
+
+/// A simulated run's settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SimSpec {
+    /// Sensing radius around the rover, cells (≥ 0).
+    pub sense_radius_cells: f64,
+    /// Execution noise.
+    pub noise: NoiseSpec,
+    /// Most actions to execute before giving up (≥ 1).
+    pub max_steps: usize,
+    /// After every re-plan that sensing changed, also plan the same problem from
+    /// scratch and record its cost and expansions beside the re-plan's (slow).
+    pub compare_fresh: bool,
+}
+
+impl Default for SimSpec {
+    fn default() -> SimSpec {
+        let d = m::SimConfig::default();
+        SimSpec {
+            sense_radius_cells: d.sense_radius_cells,
+            noise: NoiseSpec {
+                drive_slowdown: d.noise.drive_slowdown,
+                solar_loss: d.noise.solar_loss,
+                seed: d.noise.seed,
+            },
+            max_steps: d.max_steps,
+            compare_fresh: d.compare_fresh,
+        }
+    }
+}
+
+impl From<&SimSpec> for m::SimConfig {
+    fn from(s: &SimSpec) -> m::SimConfig {
+        m::SimConfig {
+            sense_radius_cells: s.sense_radius_cells,
+            noise: m::Noise {
+                drive_slowdown: s.noise.drive_slowdown,
+                solar_loss: s.noise.solar_loss,
+                seed: s.noise.seed,
+            },
+            max_steps: s.max_steps,
+            compare_fresh: s.compare_fresh,
+        }
+    }
+}
