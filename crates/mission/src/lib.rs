@@ -10,7 +10,11 @@
 //! objective or duration, windows, dominance), [`Mission`] (single- and multi-goal
 //! planning by chained segments, plan extension and re-planning) and [`MissionPlan`]
 //! (the waypoints). [`simulate`] runs a plan on true terrain the rover only learns by
-//! sensing, re-planning after every action ([`SimReport`]).
+//! sensing, re-planning after every action ([`SimReport`]). [`contact`] schedules
+//! Communicate sessions and measures Earth contact and safe havens along a plan, and
+//! [`metrics`] measures a plan or a run on the world (the Sun's sweep, sunward drives,
+//! zig-zags, night and shadowed drives) — both by sampling, independently of the
+//! planner's constraints.
 //!
 //! ```no_run
 //! # use areo_mission::*;
