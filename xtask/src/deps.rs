@@ -1,7 +1,7 @@
 //! The dependency-direction lint: reads `cargo metadata` and checks every areo crate's
 //! dependencies against the crate map of `docs/ARCHITECTURE.md`.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Which areo crates each package may depend on (normal, build and dev
@@ -73,38 +73,53 @@ fn violations(meta: &serde_json::Value) -> Result<Vec<String>, String> {
     Ok(found)
 }
 
-/// Libraries print nothing: every line of a library crate's sources that writes to
-/// standard output or error, as `path:line`. (Clippy's print lints catch the macros;
-/// this also catches direct handles and an `#[allow]` that would silence the lint.)
-/// A file's unit tests, from its `#[cfg(test)]` on, may print.
-pub(crate) fn printing_in_libraries(root: &Path) -> Result<Vec<String>, String> {
-    const WRITERS: &[&str] = &["print!(", "println!(", "eprint!(", "eprintln!(", "io::stdout(", "io::stderr(", "dbg!("];
-    let mut found = Vec::new();
-    let mut stack = vec![root.join("crates")];
+/// Every `.rs` file under `dirs` (those that exist), skipping directories named in
+/// `skip`, with its text: the one walk the source checks below share.
+fn rust_sources(dirs: &[PathBuf], skip: &[&str]) -> Result<Vec<(PathBuf, String)>, String> {
+    let mut files = Vec::new();
+    let mut stack: Vec<PathBuf> = dirs.iter().filter(|d| d.is_dir()).cloned().collect();
     while let Some(dir) = stack.pop() {
         let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         for entry in entries {
             let path = entry.map_err(|e| format!("{}: {e}", dir.display()))?.path();
             let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
             if path.is_dir() {
-                // Tests and benches may print; only the libraries' sources are held to it.
-                if !matches!(name, "tests" | "benches" | "examples" | "target") {
+                if !skip.contains(&name) {
                     stack.push(path);
                 }
             } else if name.ends_with(".rs") {
                 let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-                // Unit tests sit at the end of a file, after `#[cfg(test)]`: they may print.
-                for (i, line) in text.lines().enumerate().take_while(|(_, l)| l.trim() != "#[cfg(test)]") {
-                    let code = line.split("//").next().unwrap_or_default();
-                    if WRITERS.iter().any(|w| code.contains(w)) {
-                        found.push(format!("{}:{}", path.strip_prefix(root).unwrap_or(&path).display(), i + 1));
-                    }
-                }
+                files.push((path, text));
+            }
+        }
+    }
+    Ok(files)
+}
+
+/// Lines of library sources (before each file's `#[cfg(test)]`, outside `//` comments)
+/// that contain any of `needles`, as sorted `path:line`.
+fn lines_containing(root: &Path, dirs: &[PathBuf], skip: &[&str], needles: &[&str]) -> Result<Vec<String>, String> {
+    let mut found = Vec::new();
+    for (path, text) in rust_sources(dirs, skip)? {
+        // Unit tests sit at the end of a file, after `#[cfg(test)]`: they are exempt.
+        for (i, line) in text.lines().enumerate().take_while(|(_, l)| l.trim() != "#[cfg(test)]") {
+            let code = line.split("//").next().unwrap_or_default();
+            if needles.iter().any(|w| code.contains(w)) {
+                found.push(format!("{}:{}", path.strip_prefix(root).unwrap_or(&path).display(), i + 1));
             }
         }
     }
     found.sort();
     Ok(found)
+}
+
+/// Libraries print nothing: every line of a library crate's sources that writes to
+/// standard output or error, as `path:line`. (Clippy's print lints catch the macros;
+/// this also catches direct handles and an `#[allow]` that would silence the lint.)
+/// Tests, benches and a file's unit tests may print.
+pub(crate) fn printing_in_libraries(root: &Path) -> Result<Vec<String>, String> {
+    const WRITERS: &[&str] = &["print!(", "println!(", "eprint!(", "eprintln!(", "io::stdout(", "io::stderr(", "dbg!("];
+    lines_containing(root, &[root.join("crates")], &["tests", "benches", "examples", "target"], WRITERS)
 }
 
 /// The bodies' constants are written only in areo-body: every line of another crate's
@@ -113,72 +128,37 @@ pub(crate) fn printing_in_libraries(root: &Path) -> Result<Vec<String>, String> 
 pub(crate) fn body_constants_outside_areo_body(root: &Path) -> Result<Vec<String>, String> {
     const CONSTANTS: &[&str] =
         &["3_396_190", "3_376_200", "3_396_000", "3_389_500", "1_737_400", "6_378_137", "6_371_008", "298.257"];
-    let mut found = Vec::new();
-    let mut stack: Vec<_> = [root.join("crates"), root.join("src")].into_iter().filter(|d| d.is_dir()).collect();
-    while let Some(dir) = stack.pop() {
-        let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        for entry in entries {
-            let path = entry.map_err(|e| format!("{}: {e}", dir.display()))?.path();
-            let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
-            if path.is_dir() {
-                if !matches!(name, "tests" | "benches" | "examples" | "target" | "body") {
-                    stack.push(path);
-                }
-            } else if name.ends_with(".rs") {
-                let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-                for (i, line) in text.lines().enumerate().take_while(|(_, l)| l.trim() != "#[cfg(test)]") {
-                    let code = line.split("//").next().unwrap_or_default();
-                    if CONSTANTS.iter().any(|c| code.contains(c)) {
-                        found.push(format!("{}:{}", path.strip_prefix(root).unwrap_or(&path).display(), i + 1));
-                    }
-                }
-            }
-        }
-    }
-    found.sort();
-    Ok(found)
+    let skip = ["tests", "benches", "examples", "target", "body"];
+    lines_containing(root, &[root.join("crates"), root.join("src")], &skip, CONSTANTS)
 }
 
 /// Functions of areo-scenario longer than `max` lines, as `path:line name (n lines)`: the
 /// middle layer stays a set of small steps (a job computes a report; printers read it).
 pub(crate) fn long_functions(root: &Path, max: usize) -> Result<Vec<String>, String> {
     let mut found = Vec::new();
-    let mut stack = vec![root.join("crates/scenario/src")];
-    while let Some(dir) = stack.pop() {
-        let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        for entry in entries {
-            let path = entry.map_err(|e| format!("{}: {e}", dir.display()))?.path();
-            if path.is_dir() {
-                stack.push(path);
-                continue;
-            }
-            if path.extension().is_none_or(|e| e != "rs") {
-                continue;
-            }
-            let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-            let lines: Vec<&str> = text.lines().collect();
-            let mut i = 0;
-            while i < lines.len() {
-                let line = lines[i];
-                let indent = line.len() - line.trim_start().len();
-                let code = line.trim_start();
-                let code = code.strip_prefix("pub(crate) ").or_else(|| code.strip_prefix("pub ")).unwrap_or(code);
-                // A declaration, or a body on one line, is not followed to a closing line.
-                if let Some(rest) = code.strip_prefix("fn ")
-                    && !line.trim_end().ends_with(';')
-                    && !line.trim_end().ends_with('}')
-                {
-                    let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
-                    let close = format!("{}}}", " ".repeat(indent));
-                    let end = (i + 1..lines.len()).find(|&j| lines[j] == close).unwrap_or(lines.len() - 1);
-                    if end - i + 1 > max {
-                        let at = path.strip_prefix(root).unwrap_or(&path).display();
-                        found.push(format!("{at}:{} {name} ({} lines)", i + 1, end - i + 1));
-                    }
-                    i = end;
+    for (path, text) in rust_sources(&[root.join("crates/scenario/src")], &[])? {
+        let lines: Vec<&str> = text.lines().collect();
+        let mut i = 0;
+        while i < lines.len() {
+            let line = lines[i];
+            let indent = line.len() - line.trim_start().len();
+            let code = line.trim_start();
+            let code = code.strip_prefix("pub(crate) ").or_else(|| code.strip_prefix("pub ")).unwrap_or(code);
+            // A declaration, or a body on one line, is not followed to a closing line.
+            if let Some(rest) = code.strip_prefix("fn ")
+                && !line.trim_end().ends_with(';')
+                && !line.trim_end().ends_with('}')
+            {
+                let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+                let close = format!("{}}}", " ".repeat(indent));
+                let end = (i + 1..lines.len()).find(|&j| lines[j] == close).unwrap_or(lines.len() - 1);
+                if end - i + 1 > max {
+                    let at = path.strip_prefix(root).unwrap_or(&path).display();
+                    found.push(format!("{at}:{} {name} ({} lines)", i + 1, end - i + 1));
                 }
-                i += 1;
+                i = end;
             }
+            i += 1;
         }
     }
     found.sort();
