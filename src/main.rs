@@ -12,7 +12,7 @@ mod print;
 
 use areo_scenario::budget::{Budget, DemCommand};
 use areo_scenario::{Error, Failure, Progress};
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// Plans what a planetary rover should do: TEMPEST long-range planning in position,
@@ -45,8 +45,17 @@ enum Command {
         /// The scenario (RON), e.g. scenarios/gale-sol-sun.ron.
         scenario: PathBuf,
         /// Output directory; files go to OUT/NAME/ where NAME is the scenario's file stem.
-        #[arg(long, default_value = "out")]
+        #[arg(short, long, default_value = "out")]
         out: PathBuf,
+        /// Replace a field of the scenario before running, as a sweep's axis does:
+        /// PATH=VALUE with PATH dotted (`job.tau`, `job.goals[1].x_m`) and VALUE in RON
+        /// (0.6, "2012-08-06T22:15:00Z"); the field must be written in the file.
+        /// Repeatable.
+        #[arg(long = "set", value_name = "PATH=VALUE")]
+        set: Vec<String>,
+        /// Print the summary, facts and files as JSON instead of text.
+        #[arg(long)]
+        json: bool,
     },
     /// Solve Moving AI grid benchmark scenarios with the ISE (8-connected, no corner
     /// cutting); prints `index,expected,found,expansions` per scenario and
@@ -66,6 +75,12 @@ enum Command {
     /// or print a Slurm or Kubernetes launch recipe.
     #[command(subcommand)]
     Sweep(SweepCommand),
+    /// Print a shell completion script, e.g. `areo completions bash >
+    /// ~/.local/share/bash-completion/completions/areo`.
+    Completions {
+        /// The shell.
+        shell: clap_complete::Shell,
+    },
 }
 
 #[derive(Debug, Subcommand)]
@@ -231,6 +246,9 @@ enum TerrainCommand {
     Info {
         /// The DEM (.tif, .asc, .img/.lbl).
         file: PathBuf,
+        /// Print JSON (plain names and units) instead of text.
+        #[arg(long)]
+        json: bool,
     },
     /// Slope in degrees (float32 GeoTIFF) by Horn's method, and a hillshade PNG beside it.
     Slope {
@@ -336,8 +354,12 @@ pub(crate) enum Format {
     Csv,
 }
 
+/// `--quiet`: no progress bars either.
+static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
     init_logging(&cli);
     let budget = match budget(&cli) {
         Ok(b) => b,
@@ -347,11 +369,15 @@ fn main() -> ExitCode {
         }
     };
     let result = match cli.command {
-        Command::Run { scenario, out } => run(&scenario, &out, budget),
+        Command::Run { scenario, out, set, json } => run(&scenario, &out, &set, json, budget),
         Command::Sun(args) => sun(&args),
         Command::Grid(args) => grid(&args),
         Command::Terrain(cmd) => terrain(&cmd, budget),
         Command::Sweep(cmd) => sweep(cmd, budget),
+        Command::Completions { shell } => {
+            clap_complete::generate(shell, &mut Cli::command(), "areo", &mut std::io::stdout());
+            Ok(())
+        }
         Command::Rover(RoverCommand::Check { params, terrain, mu, moving, format }) => {
             areo_scenario::rover_check::check(&params, terrain, mu, moving).and_then(|report| {
                 let text = match format {
@@ -437,8 +463,8 @@ fn init_logging(cli: &Cli) {
         .init();
 }
 
-/// An indicatif bar on stderr, drawn only when stdout is a terminal (so piped or
-/// redirected runs stay clean).
+/// An indicatif bar on stderr, drawn when stderr is a terminal (so `areo run … | tee
+/// log` still shows it, and `2> file` or CI logs stay clean) and not `--quiet`.
 struct Bar(ProgressBar);
 
 impl Progress for Bar {
@@ -450,14 +476,17 @@ impl Progress for Bar {
     fn advance(&self, n: u64) {
         self.0.inc(n);
     }
+    fn set(&self, position: u64) {
+        self.0.set_position(position);
+    }
     fn finish(&self) {
         self.0.finish_and_clear();
     }
 }
 
 fn progress_bar() -> Bar {
-    let target =
-        if std::io::stdout().is_terminal() { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
+    let shown = std::io::stderr().is_terminal() && !QUIET.load(std::sync::atomic::Ordering::Relaxed);
+    let target = if shown { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
     let bar = ProgressBar::with_draw_target(None, target);
     if let Ok(style) = ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} ({eta})") {
         bar.set_style(style.progress_chars("=> "));
@@ -483,17 +512,21 @@ fn budget(cli: &Cli) -> Result<Budget, Error> {
     Ok(b)
 }
 
-fn run(scenario: &std::path::Path, out: &std::path::Path, budget: Budget) -> Result<(), Error> {
-    let file = areo_scenario::format::load(scenario)?;
+fn run(
+    scenario: &std::path::Path,
+    out: &std::path::Path,
+    set: &[String],
+    json: bool,
+    budget: Budget,
+) -> Result<(), Error> {
+    let file = areo_scenario::format::load_with(scenario, set)?;
     tracing::info!(scenario = %file.path.display(), "loaded");
     let bar = progress_bar();
     let outcome = areo_scenario::run_into(&file, out, &bar, budget)?;
-    println!("{}: {}", file.name, file.scenario.description);
-    for line in &outcome.summary {
-        println!("  {line}");
-    }
-    for f in &outcome.files {
-        println!("  wrote {}", f.display());
+    if json {
+        println!("{}", print::json(&print::run::RunJson::of(&file, &outcome))?);
+    } else {
+        print!("{}", print::run::text(&file, &outcome));
     }
     match outcome.failure {
         Some(failure) => Err(Error::Failed(failure)),
@@ -521,7 +554,10 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
         Ok(dem)
     };
     let text = match cmd {
-        TerrainCommand::Info { file } => print::terrain::info(file, &tt::info(&read(file, DemCommand::Info)?)),
+        TerrainCommand::Info { file, json } => {
+            let info = tt::info(file, &read(file, DemCommand::Info)?);
+            if *json { print::json(&info)? + "\n" } else { print::terrain::info(&info) }
+        }
         TerrainCommand::Slope { file, out } => {
             tt::check_output(file, out)?;
             print::terrain::wrote(&tt::write_slope(&read(file, DemCommand::Slope)?, out)?)

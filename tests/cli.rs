@@ -345,7 +345,7 @@ fn terrain_info_slope_and_shadow_on_the_real_crop() {
     let out = areo(&["terrain", "info", dem.to_str().unwrap()]);
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("64 x 64 cells") && text.contains("Equirectangular"), "{text}");
+    assert!(text.contains("64 x 64 cells") && text.contains("equirectangular"), "{text}");
     let dir = tmp("terrain");
     let shadow = dir.join("shadow.tif");
     let out = areo(&[
@@ -631,7 +631,29 @@ fn tempest_run_writes_every_output_and_each_parses() {
     for col in ["step", "kind", "wall_ms", "expansions", "changed_cells", "route_changed"] {
         assert!(header.iter().any(|h| h == col), "replans.csv has {col}");
     }
-    csv_header(&dir.join("executed.csv"));
+    // One meaning per name: the run starts 500 Wh above the floor
+    // (`start_battery_above_floor_wh`); battery_wh is absolute in executed.csv as in
+    // plan.json, battery_above_floor_wh is it less the floor.
+    let header = csv_header(&dir.join("executed.csv"));
+    for col in ["sol", "ltst_h", "lat_deg", "lon_deg", "elevation_m", "battery_wh", "battery_above_floor_wh"] {
+        assert!(header.iter().any(|h| h == col), "executed.csv has {col}");
+    }
+    let executed = std::fs::read_to_string(dir.join("executed.csv")).unwrap();
+    let rows: Vec<Vec<f64>> =
+        executed.lines().skip(1).map(|l| l.split(',').map(|c| c.parse().unwrap_or(f64::NAN)).collect()).collect();
+    let at = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (battery, above, energy) = (at("battery_wh"), at("battery_above_floor_wh"), at("energy_wh"));
+    assert!((rows[0][above] - (500.0 - rows[0][energy])).abs() < 2e-3, "{:?}", rows[0]);
+    let floor = rows[0][battery] - rows[0][above];
+    assert!(floor > 0.0, "the mock rover keeps a floor");
+    for r in &rows {
+        assert!((r[battery] - r[above] - floor).abs() < 2e-3, "{r:?}");
+    }
+    let first = plan["waypoints"][0]["battery_wh"].as_f64().unwrap();
+    // The plan's first waypoint follows the night's idle the rover executed first: the
+    // same absolute charge in both files.
+    assert!((first - rows[0][battery]).abs() < 1e-2, "plan.json: absolute, {first} vs {:?}", rows[0]);
+    assert!(plan["waypoints"][0]["easting_m"].is_number(), "plan.json: projected metres by name");
 
     // GeoJSON: a FeatureCollection with the routes as LineStrings of [lon, lat] near
     // the site, and Points for waypoints, start and goal.
@@ -650,6 +672,12 @@ fn tempest_run_writes_every_output_and_each_parses() {
         assert!((lat + 4.59).abs() < 0.1 && (lon - 137.44).abs() < 0.1, "({lon}, {lat}) near the site");
     }
     assert!(features.iter().any(|f| f["properties"]["kind"] == "goal" && f["properties"]["name"] == "east"));
+    for f in features.iter().filter(|f| f["properties"]["kind"] == "executed") {
+        let p = &f["properties"];
+        let (b, a) = (p["battery_wh"].as_f64().unwrap(), p["battery_above_floor_wh"].as_f64().unwrap());
+        assert!((b - a - floor).abs() < 1e-6, "{p}");
+        assert!(p["sol"].is_i64() && p["ltst_h"].is_number() && p["elevation_m"].is_number(), "{p}");
+    }
 
     // Plots: well-formed SVG, and PNG with the right signature and size.
     for name in ["route", "distance", "energy"] {
@@ -750,4 +778,72 @@ fn an_actions_start_the_rover_cannot_stand_on_names_the_field() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("job.task.start") && err.contains("not admissible"), "{err}");
+}
+
+/// `--set` changes a scenario as editing the file would (the same facts), names a
+/// field that is not written and refuses a value out of range as the file would; `--json`
+/// prints the facts with counts as integers; `-o` is `--out`.
+#[test]
+fn run_set_json_and_short_out() {
+    let scenario = root().join("tests/tempest/small.ron");
+    let out_dir = tmp("set");
+    let set = areo(&[
+        "run",
+        scenario.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+        "--set",
+        "job.start_battery_above_floor_wh=450",
+        "--set",
+        "job.goals[0].x_m=1875",
+        "--json",
+    ]);
+    assert!(set.status.success(), "{}", String::from_utf8_lossy(&set.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&set.stdout).unwrap();
+    assert_eq!(json["scenario"], "small");
+    assert!(json["facts"]["actions"].is_u64(), "a count is an integer: {}", json["facts"]["actions"]);
+    assert!(json["facts"]["distance_m"].is_f64());
+    assert!(json["summary"].as_array().is_some_and(|s| !s.is_empty()));
+
+    let edited = std::fs::read_to_string(&scenario)
+        .unwrap()
+        .replace("start_battery_above_floor_wh: 500", "start_battery_above_floor_wh: 450")
+        .replace("(name: \"east\", x_m: 1925", "(name: \"east\", x_m: 1875");
+    let copy = root().join("tests/tempest/small-edited.ron");
+    std::fs::write(&copy, edited).unwrap();
+    let by_hand = areo(&["run", copy.to_str().unwrap(), "-o", out_dir.to_str().unwrap(), "--json"]);
+    let _ = std::fs::remove_file(&copy);
+    let by_hand: serde_json::Value = serde_json::from_slice(&by_hand.stdout).unwrap();
+    for fact in ["actions", "distance_m", "final_battery_wh", "initial_plan_min_battery_wh", "replans"] {
+        assert_eq!(json["facts"][fact], by_hand["facts"][fact], "{fact}");
+    }
+    assert_ne!(json["facts"]["initial_plan_min_battery_wh"], 500.0);
+
+    let missing = areo(&["run", scenario.to_str().unwrap(), "-o", out_dir.to_str().unwrap(), "--set", "job.tau=0.6"]);
+    assert_eq!(missing.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&missing.stderr);
+    assert!(err.contains("--set job.tau=0.6") && err.contains("not written"), "{err}");
+    let range =
+        areo(&["run", scenario.to_str().unwrap(), "-o", out_dir.to_str().unwrap(), "--set", "job.horizon_h=-3"]);
+    assert_eq!(range.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&range.stderr);
+    assert!(err.contains("horizon_h"), "{err}");
+}
+
+#[test]
+fn terrain_info_json_has_plain_names_and_completions_print() {
+    let dem = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");
+    let out = areo(&["terrain", "info", dem.to_str().unwrap(), "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let info: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(info["projection"], "equirectangular");
+    assert_eq!(info["body"], "Mars");
+    assert!(info["cols"].is_u64() && info["radii_m"][0] == 3_396_000.0, "{info}");
+    let text = String::from_utf8_lossy(&areo(&["terrain", "info", dem.to_str().unwrap()]).stdout).into_owned();
+    assert!(
+        text.contains("projection  equirectangular, standard parallel") && !text.contains("Equirectangular {"),
+        "{text}"
+    );
+    let bash = areo(&["completions", "bash"]);
+    assert!(bash.status.success() && String::from_utf8_lossy(&bash.stdout).contains("complete -F _areo"));
 }

@@ -3,6 +3,7 @@
 
 pub(crate) mod grid;
 pub(crate) mod rover;
+pub(crate) mod run;
 pub(crate) mod sun;
 pub(crate) mod terrain;
 

@@ -1,6 +1,8 @@
 //! `areo terrain …`: what was computed and which files were written.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+
+use areo_scenario::terrain::DemInfo;
 
 /// `wrote FILE` lines.
 pub(crate) fn wrote(files: &[PathBuf]) -> String {
@@ -8,8 +10,38 @@ pub(crate) fn wrote(files: &[PathBuf]) -> String {
 }
 
 /// The DEM's summary, one fact a line under its path.
-pub(crate) fn info(path: &Path, lines: &[String]) -> String {
-    let mut s = format!("{}\n", path.display());
+pub(crate) fn info(i: &DemInfo) -> String {
+    let [west, east, south, north] = i.extent_m;
+    let mut lines = vec![
+        format!("size        {} x {} cells ({} valid, {} missing)", i.cols, i.rows, i.valid_cells, i.missing_cells),
+        format!("cell size   {} m x {} m", i.cell_m[0], i.cell_m[1]),
+        format!("extent      x {west} .. {east} m, y {south} .. {north} m"),
+        match i.elevation_m {
+            Some([lo, hi, mean]) => format!("elevation   {lo} .. {hi} m (mean {mean:.2} m)"),
+            None => "elevation   none: every cell is missing".to_string(),
+        },
+    ];
+    let mut projection = format!("projection  {}", i.projection);
+    if let Some(lat) = i.lat_ts_deg {
+        projection += &format!(", standard parallel {lat}°");
+    }
+    if let Some(pole) = i.pole {
+        projection += &format!(", {pole} pole");
+    }
+    if let Some(lon) = i.lon0_deg {
+        projection += &format!(", central meridian {lon}°E");
+    }
+    lines.push(projection);
+    lines.push(format!(
+        "body        {}a = {} m, b = {} m",
+        i.body.map_or(String::new(), |b| format!("{b}, ")),
+        i.radii_m[0],
+        i.radii_m[1]
+    ));
+    if let Some([lat, lon]) = i.centre_deg {
+        lines.push(format!("centre      {lat:.6}°, {lon:.6}°E"));
+    }
+    let mut s = format!("{}\n", i.file.display());
     for line in lines {
         s += &format!("  {line}\n");
     }

@@ -399,10 +399,7 @@ fn run_scenario_with(
 }
 
 fn number(outcome: &areo_scenario::Outcome, name: &str) -> f64 {
-    match outcome.facts.get(name) {
-        Some(areo_scenario::Fact::Number(x)) => *x,
-        _ => f64::NAN,
-    }
+    outcome.facts.get(name).and_then(areo_scenario::Fact::as_number).unwrap_or(f64::NAN)
 }
 
 /// Prints each (what, value, limit) check and whether all hold.

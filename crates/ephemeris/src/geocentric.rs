@@ -26,18 +26,103 @@ pub struct Ecliptic {
 pub fn sun_ecliptic(t: f64) -> Ecliptic {
     let l0 = 280.466_46 + 36_000.769_83 * t + 0.000_303_2 * t * t;
     let m = 357.529_11 + 35_999.050_29 * t - 0.000_153_7 * t * t;
-    let e = 0.016_708_634 - 0.000_042_037 * t - 0.000_000_126_7 * t * t;
     let mr = m.to_radians();
     let c = (1.914_602 - 0.004_817 * t - 0.000_014 * t * t) * mr.sin()
         + (0.019_993 - 0.000_101 * t) * (2.0 * mr).sin()
         + 0.000_289 * (3.0 * mr).sin();
     let true_lon = l0 + c;
-    let v = (m + c).to_radians();
-    let r = 1.000_001_018 * (1.0 - e * e) / (1.0 + e * v.cos());
+    let r = sun_distance_au(t);
     // Annual aberration, −20.4898″ / R.
     let aberration = -20.4898 / 3600.0 / r;
     Ecliptic { lon_deg: (true_lon + aberration).rem_euclid(360.0), lat_deg: 0.0, distance: r }
 }
+
+/// The Earth's heliocentric radius vector (the Sun's distance from the Earth's centre),
+/// AU, from the VSOP87 series truncated as in Meeus's appendix III and NREL's SPA
+/// (Reda & Andreas 2004, table A4.2): terms (A × 1e-8 AU, B rad, C rad per Julian
+/// millennium), summed as R0 + R1 τ + R2 τ² + R3 τ³ + R4 τ⁴. The Keplerian ellipse of
+/// chapter 25 misses the Moon's pull on the Earth (±3e-5 AU over a month) and the
+/// planets' (about as much); these terms hold them, to about 1e-7 AU of VSOP87.
+/// `t` in TT Julian centuries since J2000.
+pub fn sun_distance_au(t: f64) -> f64 {
+    let tau = t / 10.0;
+    let series = |terms: &[(f64, f64, f64)]| terms.iter().map(|(a, b, c)| a * (b + c * tau).cos()).sum::<f64>();
+    let mut r = 0.0;
+    for terms in EARTH_R.iter().rev() {
+        r = r * tau + series(terms);
+    }
+    r * 1e-8
+}
+
+/// VSOP87 R0..R4 for the Earth, as truncated by Meeus (appendix III) and NREL's SPA.
+// The phases are the table's printed values (3.142, 3.14), not π.
+#[allow(clippy::approx_constant)]
+const EARTH_R: [&[(f64, f64, f64)]; 5] = [
+    &[
+        (100_013_989.0, 0.0, 0.0),
+        (1_670_700.0, 3.098_463_5, 6_283.075_85),
+        (13_956.0, 3.055_25, 12_566.151_7),
+        (3_084.0, 5.198_5, 77_713.771_5),
+        (1_628.0, 1.173_9, 5_753.384_9),
+        (1_576.0, 2.846_9, 7_860.419_4),
+        (925.0, 5.453, 11_506.77),
+        (542.0, 4.564, 3_930.21),
+        (472.0, 3.661, 5_884.927),
+        (346.0, 0.964, 5_507.553),
+        (329.0, 5.9, 5_223.694),
+        (307.0, 0.299, 5_573.143),
+        (243.0, 4.273, 11_790.629),
+        (212.0, 5.847, 1_577.344),
+        (186.0, 5.022, 10_977.079),
+        (175.0, 3.012, 18_849.228),
+        (110.0, 5.055, 5_486.778),
+        (98.0, 0.89, 6_069.78),
+        (86.0, 5.69, 15_720.84),
+        (86.0, 1.27, 161_000.69),
+        (65.0, 0.27, 17_260.15),
+        (63.0, 0.92, 529.69),
+        (57.0, 2.01, 83_996.85),
+        (56.0, 5.24, 71_430.7),
+        (49.0, 3.25, 2_544.31),
+        (47.0, 2.58, 775.52),
+        (45.0, 5.54, 9_437.76),
+        (43.0, 6.01, 6_275.96),
+        (39.0, 5.36, 4_694.0),
+        (38.0, 2.39, 8_827.39),
+        (37.0, 0.83, 19_651.05),
+        (37.0, 4.9, 12_139.55),
+        (36.0, 1.67, 12_036.46),
+        (35.0, 1.84, 2_942.46),
+        (33.0, 0.24, 7_084.9),
+        (32.0, 0.18, 5_088.63),
+        (32.0, 1.78, 398.15),
+        (28.0, 1.21, 6_286.6),
+        (28.0, 1.9, 6_279.55),
+        (26.0, 4.59, 10_447.39),
+    ],
+    &[
+        (103_019.0, 1.107_49, 6_283.075_85),
+        (1_721.0, 1.064_4, 12_566.151_7),
+        (702.0, 3.142, 0.0),
+        (32.0, 1.02, 18_849.23),
+        (31.0, 2.84, 5_507.55),
+        (25.0, 1.32, 5_223.69),
+        (18.0, 1.42, 1_577.34),
+        (10.0, 5.91, 10_977.08),
+        (9.0, 1.42, 6_275.96),
+        (9.0, 0.27, 5_486.78),
+    ],
+    &[
+        (4_359.0, 5.784_6, 6_283.075_8),
+        (124.0, 5.579, 12_566.152),
+        (12.0, 3.14, 0.0),
+        (9.0, 3.63, 77_713.77),
+        (6.0, 1.87, 5_573.14),
+        (3.0, 5.47, 18_849.23),
+    ],
+    &[(145.0, 4.273, 6_283.076), (7.0, 3.92, 12_566.15)],
+    &[(4.0, 2.56, 6_283.08)],
+];
 
 /// Meeus table 47.A: multiples of D, M, M′, F; Σl (1e-6°) and Σr (1e-3 km).
 const MOON_LON_DIST: [(i8, i8, i8, i8, i32, i32); 60] = [
@@ -375,7 +460,8 @@ mod tests {
     fn sun_matches_vsop87_in_meeus_example_25a() {
         let t = centuries(2_448_908.5);
         let p = sun_ecliptic(t);
-        assert!((p.distance - 0.997_607_75).abs() < 1e-4, "{}", p.distance);
+        // The truncated VSOP87 radius series (chapter 25's ellipse was 5.4e-5 AU off).
+        assert!((p.distance - 0.997_607_75).abs() < 2e-7, "{}", p.distance);
         let (dpsi, deps) = nutation_deg(t);
         let app = Ecliptic { lon_deg: p.lon_deg + dpsi, ..p };
         let (ra, dec) = ra_dec_deg(ecliptic_to_equatorial(&app, mean_obliquity_deg(t) + deps));

@@ -182,7 +182,7 @@ pub struct Wait {
     /// End, hours since the epoch.
     pub to_h: f64,
     /// Lowest predicted charge during it, Wh above the floor.
-    pub lowest_battery_wh: f64,
+    pub lowest_battery_above_floor_wh: f64,
     /// Whether the cell is a safe haven.
     pub haven: bool,
 }
@@ -207,7 +207,7 @@ pub fn waits(plan: &MissionPlan, havens: &Havens, floor_wh: f64, min_s: f64) -> 
                 cell: w[a].cell,
                 from_h: w[a].t_s / 3600.0,
                 to_h: w[k].t_s / 3600.0,
-                lowest_battery_wh: lowest,
+                lowest_battery_above_floor_wh: lowest,
                 haven: havens.haven[w[a].cell as usize],
             });
         }

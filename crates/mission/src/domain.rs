@@ -157,6 +157,8 @@ pub struct TempestDomain<'a> {
     drive_source_w: f64,
     /// The cost of the time a plan must spend standing in the dark (see [`DarkCost`]).
     dark: Option<DarkCost>,
+    /// Counts expansions for a progress display.
+    meter: crate::planner::ExpansionMeter,
     /// The start window's close when the engine's keys were last brought up to date
     /// ([`Domain::heuristic_drop`]): the dark-time bound falls as it moves later.
     keyed_t_max: std::cell::Cell<f64>,
@@ -286,6 +288,12 @@ type Into = Option<[Option<(u32, DriveGeometry)>; 8]>;
 const GEOMETRY_PAGE: usize = 256;
 
 impl<'a> TempestDomain<'a> {
+    /// The domain counting its expansions into `meter`.
+    pub fn metered(mut self, meter: crate::planner::ExpansionMeter) -> TempestDomain<'a> {
+        self.meter = meter;
+        self
+    }
+
     /// The domain.
     pub fn new(
         world: &'a World,
@@ -327,6 +335,7 @@ impl<'a> TempestDomain<'a> {
                 model.drive_source_bound_w(world),
             ),
             keyed_t_max: std::cell::Cell::new(start.t_max),
+            meter: crate::planner::ExpansionMeter::default(),
         }
     }
 
@@ -560,6 +569,7 @@ impl Domain for TempestDomain<'_> {
         wanted: impl Fn(Action) -> bool,
         mut visit: impl FnMut(Action, Step<Self>),
     ) {
+        self.meter.add(1);
         if (0..8).any(|k| wanted(Action::Drive(k)))
             && let Some(arrival) = self.model.arrival(self.world, state, label.t)
         {

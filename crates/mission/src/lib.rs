@@ -49,7 +49,7 @@ pub use crate::{
     domain::{Label, Objective, PathLength, Resolution, Start, TempestDomain},
     error::{Error, Result},
     plan::{MissionPlan, Waypoint},
-    planner::{Mission, PlannerConfig},
+    planner::{ExpansionMeter, Mission, PlannerConfig},
     simulate::{
         ExecutedStep, Noise, PlanKind, PlanRecord, SimConfig, SimProgress, SimReport, SimStatus, Simulation, simulate,
     },

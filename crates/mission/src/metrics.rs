@@ -42,7 +42,7 @@ pub fn sunward_drive_fraction(world: &World, plan: &MissionPlan, facing_deg: f64
     let sunward = drives
         .iter()
         .filter(|w| {
-            let heading = (w[1].x_m - w[0].x_m).atan2(w[1].y_m - w[0].y_m).to_degrees();
+            let heading = (w[1].easting_m - w[0].easting_m).atan2(w[1].northing_m - w[0].northing_m).to_degrees();
             let facing = heading + facing_deg;
             let sun = world.sun(0.5 * (w[0].t_s + w[1].t_s)).azimuth_deg;
             ((facing - sun + 180.0).rem_euclid(360.0) - 180.0).abs() < 90.0
@@ -89,7 +89,7 @@ mod tests {
             action,
             duration_s: 60.0,
             energy_wh: 0.0,
-            battery_wh: 0.0,
+            battery_above_floor_wh: 0.0,
             distance_m: 0.0,
             sun_elevation_deg,
             refused: None,

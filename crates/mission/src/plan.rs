@@ -16,10 +16,11 @@ pub struct Waypoint {
     pub cell: u32,
     /// Column and row.
     pub col_row: (usize, usize),
-    /// Cell centre, map frame, m.
-    pub x_m: f64,
-    /// Cell centre, map frame, m.
-    pub y_m: f64,
+    /// Cell centre, easting in the DEM's projected CRS, m (a scenario's map metres are
+    /// measured from the map's south-west corner instead).
+    pub easting_m: f64,
+    /// Cell centre, northing in the DEM's projected CRS, m.
+    pub northing_m: f64,
     /// Latitude, degrees (planetocentric, from the DEM's georeference).
     pub lat_deg: f64,
     /// East longitude, degrees.
@@ -68,8 +69,8 @@ impl Waypoint {
         Waypoint {
             cell,
             col_row: world.col_row(cell),
-            x_m: x,
-            y_m: y,
+            easting_m: x,
+            northing_m: y,
             lat_deg: lat,
             lon_deg: lon,
             t_s: label.t,

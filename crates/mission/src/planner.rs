@@ -51,6 +51,41 @@ pub struct PlannerConfig {
     pub max_wait_s: Option<f64>,
     /// Least battery energy on arrival at the last goal, Wh above the floor.
     pub goal_energy_wh: f64,
+    /// Counts the searches' expansions as they happen, for a progress display (not a
+    /// scenario field; no effect on the plan).
+    #[serde(skip)]
+    pub meter: ExpansionMeter,
+}
+
+/// A count of label expansions shared with whoever watches a search run (another
+/// thread may read it while the planner works). Clones count into the same total;
+/// every meter equals every other, so it never changes what a configuration compares
+/// as.
+#[derive(Debug, Clone, Default)]
+pub struct ExpansionMeter(Option<std::sync::Arc<std::sync::atomic::AtomicU64>>);
+
+impl ExpansionMeter {
+    /// A meter that counts (the default one counts nothing).
+    pub fn counting() -> ExpansionMeter {
+        ExpansionMeter(Some(std::sync::Arc::default()))
+    }
+
+    /// Expansions counted so far.
+    pub fn expansions(&self) -> u64 {
+        self.0.as_ref().map_or(0, |n| n.load(std::sync::atomic::Ordering::Relaxed))
+    }
+
+    pub(crate) fn add(&self, n: u64) {
+        if let Some(count) = &self.0 {
+            count.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+}
+
+impl PartialEq for ExpansionMeter {
+    fn eq(&self, _: &ExpansionMeter) -> bool {
+        true
+    }
 }
 
 impl Default for PlannerConfig {
@@ -65,6 +100,7 @@ impl Default for PlannerConfig {
             detour_factor: 1.5,
             max_wait_s: None,
             goal_energy_wh: 0.0,
+            meter: ExpansionMeter::default(),
         }
     }
 }
@@ -460,7 +496,8 @@ impl<'a> Mission<'a> {
             self.config.resolution,
             self.config.path_length,
         )
-        .sharing_geometry(&self.geometry);
+        .sharing_geometry(&self.geometry)
+        .metered(self.config.meter.clone());
         let search = Search::new(&domain, relabel_goals(goal_list(&goals, to)), domain.mode());
         Segment { from, to, domain, search, goals, intervals, candidates: Vec::new(), stats: Stats::default() }
     }

@@ -138,8 +138,9 @@ pub struct ExecutedStep {
     pub duration_s: f64,
     /// Battery energy used (negative: gained), Wh.
     pub energy_wh: f64,
-    /// Battery charge after it, Wh above the floor.
-    pub battery_wh: f64,
+    /// Battery charge after it, Wh above the floor (the search's E; the absolute charge
+    /// adds the battery's floor).
+    pub battery_above_floor_wh: f64,
     /// Drive length (3-D), m; 0 for stationary actions.
     pub distance_m: f64,
     /// Sun elevation at the start, degrees.
@@ -241,8 +242,8 @@ impl SimReport {
     }
 
     /// Battery charge at the end, Wh above the floor.
-    pub fn final_battery_wh(&self) -> f64 {
-        self.steps.last().map_or(self.start.energy_wh, |s| s.battery_wh)
+    pub fn final_battery_above_floor_wh(&self) -> f64 {
+        self.steps.last().map_or(self.start.energy_wh, |s| s.battery_above_floor_wh)
     }
 
     /// Time at the end, s after the epoch.
@@ -340,7 +341,7 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
                 action: Action::Hibernate,
                 duration_s: t_plan - t,
                 energy_wh,
-                battery_wh: battery,
+                battery_above_floor_wh: battery,
                 distance_m: 0.0,
                 sun_elevation_deg: truth.sun(t).elevation_deg,
                 refused: None,
@@ -378,7 +379,7 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
             action: executed,
             duration_s: effect.duration_s,
             energy_wh: effect.energy_wh,
-            battery_wh: battery,
+            battery_above_floor_wh: battery,
             distance_m,
             sun_elevation_deg,
             refused,

@@ -509,6 +509,16 @@ impl World {
         }
     }
 
+    /// The local solar day at east longitude `lon_east_deg` at `t` s after the epoch,
+    /// counted from the epoch's (0: the day the world starts; on the Moon a lunar day):
+    /// the number of local midnights passed, consistent with
+    /// [`World::local_solar_time_h`] however the equation of time moves it.
+    pub fn local_sol(&self, t: f64, lon_east_deg: f64) -> i64 {
+        let days = t / self.body.solar_day_s();
+        let turned = (self.local_solar_time_h(0.0, lon_east_deg) - self.local_solar_time_h(t, lon_east_deg)) / 24.0;
+        (days + turned).round() as i64
+    }
+
     /// The body the world is on.
     pub fn body(&self) -> Body {
         self.body

@@ -229,3 +229,23 @@ fn earth_visibility_on_the_gale_mola_crop_matches_a_ray_march() {
     // 3576 visible, 212 hidden, 308 skipped.
     assert!(visible > 3000 && hidden > 150 && close < 400, "visible {visible}, hidden {hidden}, skipped {close}");
 }
+
+/// The local sol counts local midnights: over four sols sampled every 10 minutes it
+/// steps by one exactly where the local solar time wraps past 24 h, and nowhere else.
+#[test]
+fn local_sol_steps_where_local_solar_time_wraps() {
+    let world = crate::common::mars_world(crate::common::flat(4, 4, 10.0), 100.0, None);
+    let lon = 137.4;
+    assert_eq!(world.local_sol(0.0, lon), 0);
+    let (mut sol, mut ltst) = (0, world.local_solar_time_h(0.0, lon));
+    let mut wraps = 0;
+    for k in 1..=(4.0 * areo_ephemeris::Body::Mars.solar_day_s() / 600.0) as usize {
+        let t = 600.0 * k as f64;
+        let (s, l) = (world.local_sol(t, lon), world.local_solar_time_h(t, lon));
+        let wrapped = l < ltst;
+        wraps += usize::from(wrapped);
+        assert_eq!(s, sol + i64::from(wrapped), "t = {t} s: LTST {ltst} → {l} h, sol {sol} → {s}");
+        (sol, ltst) = (s, l);
+    }
+    assert_eq!((wraps, sol), (4, 4));
+}

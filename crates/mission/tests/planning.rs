@@ -23,7 +23,7 @@ fn flat_lit_ground_with_a_large_battery_gives_the_octile_shortest_path() {
     assert_eq!(drives, 31, "Chebyshev steps");
     let mut length = 0.0;
     for w in plan.waypoints.windows(2) {
-        length += (w[1].x_m - w[0].x_m).hypot(w[1].y_m - w[0].y_m);
+        length += (w[1].easting_m - w[0].easting_m).hypot(w[1].northing_m - w[0].northing_m);
     }
     assert!((length - octile(31.0, 17.0, 10.0)).abs() < 1e-6, "{length}");
     assert_eq!(plan.waypoints.last().unwrap().cell, goal);
@@ -446,7 +446,7 @@ fn the_cached_bound_guides_a_detour_so_a_wider_world_adds_little_work() {
         let start = Start { cell: cell(300.0, 150.0), t_min: 0.0, t_max: 600.0, energy_wh: 1500.0 };
         let (_m, plan) = Mission::plan(&world, &model, config.clone(), start, &[cell(300.0, 550.0)]).unwrap();
         // The route goes round the wall's end.
-        assert!(plan.waypoints.iter().any(|w| w.x_m > 640.0 && (330.0..370.0).contains(&w.y_m)));
+        assert!(plan.waypoints.iter().any(|w| w.easting_m > 640.0 && (330.0..370.0).contains(&w.northing_m)));
         answers.push((plan.cost, plan.expansions));
     }
     let ((small_cost, small), (large_cost, large)) = (answers[0], answers[1]);

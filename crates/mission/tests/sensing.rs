@@ -208,7 +208,9 @@ fn a_rover_that_finds_a_wall_replans_with_no_more_work_than_a_fresh_plan() {
     // What the rover sees before it sets off (the horizon there shows the closed gap).
     map.sense(&truth, &disc(&map, start.cell, 2)).unwrap();
     let (mut mission, mut plan) = Mission::plan(&map, &model, planner_config(), start, &goals).unwrap();
-    assert!(plan.waypoints.iter().any(|w| (250.0..330.0).contains(&w.x_m) && (230.0..270.0).contains(&w.y_m)));
+    assert!(
+        plan.waypoints.iter().any(|w| (250.0..330.0).contains(&w.easting_m) && (230.0..270.0).contains(&w.northing_m))
+    );
     let (mut cell, mut t, mut battery) = (start.cell, plan.waypoints[0].t_s, start.energy_wh);
     let (mut walls, mut steps, mut replanned, mut searched) = (0, 0, 0, 0);
     while let Some(action) = plan.waypoints.first().and_then(|w| w.action) {

@@ -171,7 +171,7 @@ pub struct TempestJob {
     pub start: PointSpec,
     /// Battery charge at the start, Wh above the battery's floor (≥ 0, at most the
     /// usable capacity).
-    pub start_battery_wh: f64,
+    pub start_battery_above_floor_wh: f64,
     /// How long after `start_utc` the rover may set off, minutes (≥ 0); default 0.
     #[serde(default)]
     pub start_window_min: f64,
@@ -524,7 +524,13 @@ impl Validate for TempestJob {
         if let Some(b) = self.battery_capacity_wh {
             c.range("battery_capacity_wh", b, 1e-3, 1e7, "Wh");
         }
-        c.range("start_battery_wh", self.start_battery_wh, 0.0, 1e7, "Wh above the battery floor");
+        c.range(
+            "start_battery_above_floor_wh",
+            self.start_battery_above_floor_wh,
+            0.0,
+            1e7,
+            "Wh above the battery floor",
+        );
         c.range("start_window_min", self.start_window_min, 0.0, 1e5, "minutes");
         if self.goals.is_empty() {
             c.fail("goals", "is empty: give at least one goal".into());
@@ -726,6 +732,36 @@ pub fn load(path: &Path) -> Result<ScenarioFile, Error> {
     let scenario = parse(path, &text)?;
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scenario".into());
     Ok(ScenarioFile { path: path.to_path_buf(), name, scenario, text })
+}
+
+/// Loads the scenario at `path` with fields replaced as `areo run --set PATH=VALUE`
+/// gives them: PATH addresses a field as a sweep's axis does (`job.tau`,
+/// `job.goals[1].x_m`), VALUE is RON (`0.6`, `"2012-08-06T22:15:00Z"`, `Mars`). The
+/// field must be written in the file (any value), as for a sweep; the result is
+/// validated as the file would be, and errors name the setting.
+pub fn load_with(path: &Path, sets: &[String]) -> Result<ScenarioFile, Error> {
+    let mut file = load(path)?;
+    if sets.is_empty() {
+        return Ok(file);
+    }
+    let mut text = file.text.clone();
+    for set in sets {
+        let Some((field, value)) = set.split_once('=') else {
+            return Err(Error::usage(format!("--set {set}"), "write PATH=VALUE, e.g. job.tau=0.6"));
+        };
+        let (field, value) = (field.trim(), value.trim());
+        let span = crate::sweep::value_span(&text, &crate::sweep::segments(field)).ok_or_else(|| {
+            Error::usage(
+                format!("--set {set}"),
+                format!("{field:?} is not written in {}: write the field out (any value) to set it", path.display()),
+            )
+        })?;
+        text.replace_range(span, value);
+    }
+    file.scenario =
+        parse(path, &text).map_err(|e| Error::usage(format!("--set {}", sets.join(" --set ")), e.to_string()))?;
+    file.text = text;
+    Ok(file)
 }
 
 /// Refuses the first number in `text` (a file of `kind`, e.g. "a scenario") that is not

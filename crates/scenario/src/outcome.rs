@@ -12,6 +12,8 @@ use serde::{Deserialize, Serialize};
 pub enum Fact {
     /// A number, in the unit the fact's name gives.
     Number(f64),
+    /// A count (actions, waypoints, expansions): written as a JSON integer.
+    Count(u64),
     /// A yes/no fact (goal reached, feasible, …).
     Flag(bool),
     /// Text (an instant in ISO 8601 UTC, a status word, …).
@@ -22,6 +24,7 @@ impl std::fmt::Display for Fact {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Fact::Number(x) => write!(f, "{x:.6}"),
+            Fact::Count(n) => write!(f, "{n}"),
             Fact::Flag(b) => write!(f, "{b}"),
             Fact::Text(s) => write!(f, "{s}"),
         }
@@ -93,7 +96,23 @@ impl std::fmt::Display for Failure {
     }
 }
 
+impl Fact {
+    /// The fact's value as a number, for a number or a count.
+    pub fn as_number(&self) -> Option<f64> {
+        match *self {
+            Fact::Number(x) => Some(x),
+            Fact::Count(n) => Some(n as f64),
+            Fact::Flag(_) | Fact::Text(_) => None,
+        }
+    }
+}
+
 impl Outcome {
+    /// Records a count.
+    pub fn count(&mut self, name: &str, value: u64) {
+        self.facts.insert(name.to_string(), Fact::Count(value));
+    }
+
     /// Records a numeric fact.
     pub fn number(&mut self, name: &str, value: f64) {
         self.facts.insert(name.to_string(), Fact::Number(value));
@@ -171,8 +190,12 @@ impl Expected {
         for (name, expect) in &self.facts {
             let found = outcome.facts.get(name);
             let ok = match (expect, found) {
-                (Expect::Near { value, tol }, Some(Fact::Number(x))) => (x - value).abs() <= *tol,
-                (Expect::Between { min, max }, Some(Fact::Number(x))) => x >= min && x <= max,
+                (Expect::Near { value, tol }, Some(f)) if f.as_number().is_some() => {
+                    f.as_number().is_some_and(|x| (x - value).abs() <= *tol)
+                }
+                (Expect::Between { min, max }, Some(f)) if f.as_number().is_some() => {
+                    f.as_number().is_some_and(|x| x >= *min && x <= *max)
+                }
                 (Expect::Is(b), Some(Fact::Flag(x))) => x == b,
                 (Expect::Equals(s), Some(Fact::Text(x))) => x == s,
                 (Expect::OneOf(v), Some(Fact::Text(x))) => v.contains(x),

@@ -2,11 +2,15 @@
 
 /// Receives progress from a long job. The CLI shows a bar; tests and the regression
 /// runner pass [`NoProgress`].
-pub trait Progress {
+/// Implementations are shared with a watcher thread while a search runs, hence `Sync`.
+pub trait Progress: Sync {
     /// A new phase of `total` steps begins.
     fn start(&self, total: u64, message: &str);
     /// `n` more steps are done.
     fn advance(&self, n: u64);
+    /// `position` steps are done in all (for work measured, not counted step by step:
+    /// expansions, simulated time).
+    fn set(&self, position: u64);
     /// The phase is over.
     fn finish(&self);
 }
@@ -18,5 +22,6 @@ pub struct NoProgress;
 impl Progress for NoProgress {
     fn start(&self, _total: u64, _message: &str) {}
     fn advance(&self, _n: u64) {}
+    fn set(&self, _position: u64) {}
     fn finish(&self) {}
 }

@@ -133,8 +133,9 @@ pub struct SweepTask {
     pub index: usize,
     /// Id: the output directory's name.
     pub id: String,
-    /// Axis name → the value's RON text.
-    pub values: BTreeMap<String, String>,
+    /// Axis name → the value as JSON: numbers and booleans as themselves, a RON string
+    /// as its text, any other RON value (`Mars`, a tuple) as its RON text.
+    pub values: BTreeMap<String, serde_json::Value>,
     /// The task's scenario, relative to the sweep directory.
     pub scenario: String,
 }
@@ -192,7 +193,7 @@ pub fn load(path: &Path) -> Result<SweepFile> {
 }
 
 /// The byte range of the value written for `path` in RON `text`, if written.
-fn value_span(text: &str, path: &[String]) -> Option<std::ops::Range<usize>> {
+pub(crate) fn value_span(text: &str, path: &[String]) -> Option<std::ops::Range<usize>> {
     let (line, col) = crate::format::locate::field_position(text, path)?;
     let line_start: usize = text.split_inclusive('\n').take(line - 1).map(str::len).sum();
     let at = line_start + text[line_start..].char_indices().nth(col - 1)?.0;
@@ -234,8 +235,29 @@ fn value_span(text: &str, path: &[String]) -> Option<std::ops::Range<usize>> {
     (end > start).then_some(start..end)
 }
 
+/// A RON literal as the JSON value a script reads: numbers and booleans as such, a
+/// string as its text, anything else (`Mars`, a tuple) as its RON text.
+fn json_value(literal: &str) -> serde_json::Value {
+    let t = literal.trim();
+    match t {
+        "true" => return serde_json::Value::Bool(true),
+        "false" => return serde_json::Value::Bool(false),
+        _ => {}
+    }
+    if let Ok(n) = t.parse::<i64>() {
+        return n.into();
+    }
+    if let Some(n) = t.parse::<f64>().ok().and_then(serde_json::Number::from_f64) {
+        return serde_json::Value::Number(n);
+    }
+    match ron::from_str::<String>(t) {
+        Ok(text) if t.starts_with('"') => serde_json::Value::String(text),
+        _ => serde_json::Value::String(t.to_string()),
+    }
+}
+
 /// Dotted path → segments (`a.b[2].c` → `a`, `b`, `[2]`, `c`).
-fn segments(path: &str) -> Vec<String> {
+pub(crate) fn segments(path: &str) -> Vec<String> {
     let mut out = Vec::new();
     for part in path.split('.') {
         match part.split_once('[') {
@@ -401,6 +423,7 @@ pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<SweepTask>> {
             let at: Vec<String> = values.iter().map(|(k, v)| format!("{k} = {v}")).collect();
             bad(format!("task {index} ({})", at.join(", ")), e.to_string())
         })?;
+        let values = values.into_iter().map(|(k, v)| (k, json_value(&v))).collect();
         tasks.push(SweepTask { index, id: id.clone(), values, scenario: format!("tasks/{id}.ron") });
         texts.push(text);
     }
@@ -555,10 +578,9 @@ fn plot_against(
         .zip(facts)
         .filter_map(|(t, f)| {
             // Numbers as they are, booleans as 0 and 1.
-            let x: f64 = match t.values.get(axis)?.trim_matches('"') {
-                "true" => 1.0,
-                "false" => 0.0,
-                v => v.parse().ok()?,
+            let x: f64 = match t.values.get(axis)? {
+                serde_json::Value::Bool(b) => f64::from(u8::from(*b)),
+                v => v.as_f64()?,
             };
             let y = f.as_ref()?.get(fact)?.as_f64()?;
             Some((x, y))
@@ -622,9 +644,7 @@ pub fn collect(dir: &Path, plot: Option<(&str, &str)>) -> Result<Collected> {
     };
     for (t, f) in all.iter().zip(&facts) {
         let mut row = vec![t.index.to_string(), t.id.clone()];
-        row.extend(
-            info.axes.iter().map(|a| t.values.get(a).map_or(String::new(), |v| v.trim_matches('"').to_string())),
-        );
+        row.extend(info.axes.iter().map(|a| t.values.get(a).map_or(String::new(), cell)));
         row.push(match f {
             Some(_) => "done".into(),
             None if failed_ids.contains(t.id.as_str()) => "failed".into(),

@@ -3,16 +3,16 @@
 use std::path::Path;
 
 pub use areo_terrain::Dem;
-use areo_terrain::geotiff;
 use areo_terrain::hillshade::hillshade_rgb;
 use areo_terrain::horizon::HorizonMap;
 pub use areo_terrain::shadow::Method as ShadowMethod;
 use areo_terrain::shadow::{Curvature, SunDirection, shadow_map};
 use areo_terrain::slope::slope_aspect;
 use areo_terrain::tiles::Source as _;
+use areo_terrain::{Projection, geotiff};
 
 use crate::error::{Error, Result};
-use crate::output::png::write_png;
+use crate::output::png::write_map_png;
 use crate::output::write_with;
 
 /// Reads a DEM by its extension (see [`areo_terrain::read`]).
@@ -49,39 +49,76 @@ pub fn check_output(input: &Path, out: &Path) -> Result<()> {
     Ok(())
 }
 
-/// A summary of a DEM, one fact a line.
-pub fn info(dem: &Dem) -> Vec<String> {
+/// What `areo terrain info` reports of a DEM: plain names and units, for text or JSON.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct DemInfo {
+    /// The file read.
+    pub file: std::path::PathBuf,
+    /// Columns and rows.
+    pub cols: usize,
+    /// Rows.
+    pub rows: usize,
+    /// Cells with an elevation.
+    pub valid_cells: usize,
+    /// Cells without one.
+    pub missing_cells: usize,
+    /// Cell size east–west and north–south, m.
+    pub cell_m: [f64; 2],
+    /// Extent in the DEM's projected metres: west, east, south, north.
+    pub extent_m: [f64; 4],
+    /// Lowest, highest and mean elevation, m (`None` when every cell is missing).
+    pub elevation_m: Option<[f64; 3]>,
+    /// The projection by name (`local`, `equirectangular`, `polar stereographic`).
+    pub projection: &'static str,
+    /// Standard parallel (equirectangular), degrees.
+    pub lat_ts_deg: Option<f64>,
+    /// Central meridian, degrees east.
+    pub lon0_deg: Option<f64>,
+    /// North or south (polar stereographic).
+    pub pole: Option<&'static str>,
+    /// The body the radii are (`Mars`, `Moon`, `Earth`), if any.
+    pub body: Option<&'static str>,
+    /// Equatorial and polar radius, m.
+    pub radii_m: [f64; 2],
+    /// Latitude and east longitude of the map's centre, degrees (`None` for a local
+    /// frame).
+    pub centre_deg: Option<[f64; 2]>,
+}
+
+/// A summary of the DEM read from `file`.
+pub fn info(file: &Path, dem: &Dem) -> DemInfo {
     let valid: Vec<f32> = dem.elevations().iter().zip(dem.valid_mask()).filter(|(_, v)| **v).map(|(z, _)| *z).collect();
     let (lo, hi) = valid.iter().fold((f32::MAX, f32::MIN), |(a, b), z| (a.min(*z), b.max(*z)));
     let mean = valid.iter().map(|z| f64::from(*z)).sum::<f64>() / valid.len().max(1) as f64;
     let e = dem.extent();
-    let mut out = vec![
-        format!(
-            "size        {} x {} cells ({} valid, {} missing)",
-            dem.cols(),
-            dem.rows(),
-            valid.len(),
-            dem.cols() * dem.rows() - valid.len()
-        ),
-        format!("cell size   {} m x {} m", dem.dx(), dem.dy()),
-        format!("extent      x {} .. {} m, y {} .. {} m", e.x_min, e.x_max, e.y_min, e.y_max),
-        if valid.is_empty() {
-            "elevation   none: every cell is missing".to_string()
-        } else {
-            format!("elevation   {lo} .. {hi} m (mean {mean:.2} m)")
-        },
-        format!("projection  {:?}", dem.georef().projection),
-        format!(
-            "body        a = {} m, b = {} m",
-            dem.georef().surface.equatorial_radius_m,
-            dem.georef().surface.polar_radius_m
-        ),
-    ];
+    let g = dem.georef();
+    let (projection, lat_ts_deg, lon0_deg, pole) = match g.projection {
+        Projection::Local => ("local", None, None, None),
+        Projection::Equirectangular { lat_ts_deg, lon0_deg } => {
+            ("equirectangular", Some(lat_ts_deg), Some(lon0_deg), None)
+        }
+        Projection::PolarStereographic { north, lon0_deg } => {
+            ("polar stereographic", None, Some(lon0_deg), Some(if north { "north" } else { "south" }))
+        }
+    };
     let (cx, cy) = ((e.x_min + e.x_max) / 2.0, (e.y_min + e.y_max) / 2.0);
-    if let Some((lat, lon)) = dem.geographic(cx, cy) {
-        out.push(format!("centre      {lat:.6}°, {lon:.6}°E"));
+    DemInfo {
+        file: file.to_path_buf(),
+        cols: dem.cols(),
+        rows: dem.rows(),
+        valid_cells: valid.len(),
+        missing_cells: dem.cols() * dem.rows() - valid.len(),
+        cell_m: [dem.dx(), dem.dy()],
+        extent_m: [e.x_min, e.x_max, e.y_min, e.y_max],
+        elevation_m: (!valid.is_empty()).then_some([f64::from(lo), f64::from(hi), mean]),
+        projection,
+        lat_ts_deg,
+        lon0_deg,
+        pole,
+        body: g.surface.body().map(areo_ephemeris::Body::iau_name),
+        radii_m: [g.surface.equatorial_radius_m, g.surface.polar_radius_m],
+        centre_deg: dem.geographic(cx, cy).map(|(lat, lon)| [lat, lon]),
     }
-    out
 }
 
 /// Writes the slope (degrees, float32 GeoTIFF) of a DEM, and a hillshade preview PNG
@@ -90,9 +127,9 @@ pub fn write_slope(dem: &Dem, out: &Path) -> Result<Vec<std::path::PathBuf>> {
     let sa = slope_aspect(dem);
     let slope_dem = dem.with_values(sa.slope_deg.clone())?;
     write_with(out, |tmp| Ok(geotiff::write(&slope_dem, tmp)?))?;
-    let png = out.with_extension("png");
-    write_png(&png, dem.cols(), dem.rows(), &hillshade_rgb(dem, &sa, None, 315.0, 45.0))?;
-    Ok(vec![out.to_path_buf(), png])
+    let mut files = vec![out.to_path_buf()];
+    files.extend(write_map_png(&out.with_extension("png"), dem, &hillshade_rgb(dem, &sa, None, 315.0, 45.0))?);
+    Ok(files)
 }
 
 /// Writes the direct-sun map (uint8 GeoTIFF: 1 lit, 0 shadowed, 255 no data) for a Sun
@@ -111,9 +148,10 @@ pub fn write_shadow(
     write_with(out, |tmp| Ok(geotiff::write_u8(dem, &map.to_u8(), Some(255), tmp)?))?;
     let sa = slope_aspect(dem);
     let dark: Vec<bool> = (0..map.cast.len()).map(|i| !map.direct_sun(i)).collect();
-    let png = out.with_extension("png");
-    write_png(&png, dem.cols(), dem.rows(), &hillshade_rgb(dem, &sa, Some(&dark), azimuth_deg, elevation_deg))?;
-    Ok((vec![out.to_path_buf(), png], map.lit_fraction()))
+    let mut files = vec![out.to_path_buf()];
+    let rgb = hillshade_rgb(dem, &sa, Some(&dark), azimuth_deg, elevation_deg);
+    files.extend(write_map_png(&out.with_extension("png"), dem, &rgb)?);
+    Ok((files, map.lit_fraction()))
 }
 
 /// What a tiled shadow run did.
@@ -384,8 +422,8 @@ pub fn write_viewshed(dem: &Dem, x: f64, y: f64, height_m: f64, out: &Path) -> R
     write_with(out, |tmp| Ok(geotiff::write_u8(dem, &bytes, Some(255), tmp)?))?;
     let sa = slope_aspect(dem);
     let hidden: Vec<bool> = seen.iter().map(|s| !s).collect();
-    let png = out.with_extension("png");
-    write_png(&png, dem.cols(), dem.rows(), &hillshade_rgb(dem, &sa, Some(&hidden), 315.0, 45.0))?;
+    let mut files = vec![out.to_path_buf()];
+    files.extend(write_map_png(&out.with_extension("png"), dem, &hillshade_rgb(dem, &sa, Some(&hidden), 315.0, 45.0))?);
     let valid = dem.valid_mask().iter().filter(|v| **v).count().max(1);
-    Ok((vec![out.to_path_buf(), png], seen.iter().filter(|s| **s).count() as f64 / valid as f64))
+    Ok((files, seen.iter().filter(|s| **s).count() as f64 / valid as f64))
 }

@@ -4,7 +4,6 @@
 use std::path::{Path, PathBuf};
 
 use areo_scenario::budget::Budget;
-use areo_scenario::outcome::Fact;
 use areo_scenario::{NoProgress, RunOptions, format::load, run};
 use areo_terrain::Spheroid;
 use areo_terrain::synth::{Feature, Noise, TerrainSpec};
@@ -58,7 +57,7 @@ fn scenario(region: &str, start: (f64, f64)) -> String {
         horizon_sectors: 32,
         rover: "mock-solar-rover.ron",
         start: (x_m: {}, y_m: {}),
-        start_battery_wh: 150,
+        start_battery_above_floor_wh: 150,
         goals: [(name: "goal", x_m: 3300, y_m: 2900)],
         planner: (goal_energy_wh: 50, resolution: (time_s: 1200, energy_wh: 25)),
         {region}
@@ -78,7 +77,7 @@ fn run_text(name: &str, text: &str) -> Result<areo_scenario::outcome::Outcome, a
 
 fn number(o: &areo_scenario::outcome::Outcome, name: &str) -> f64 {
     match o.facts.get(name) {
-        Some(Fact::Number(v)) => *v,
+        Some(f) if f.as_number().is_some() => f.as_number().unwrap_or(f64::NAN),
         other => panic!("{name}: {other:?}"),
     }
 }

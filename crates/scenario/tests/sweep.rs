@@ -57,8 +57,9 @@ fn eight_tasks_expand_run_and_collect_to_the_facts_of_direct_runs() {
     let tasks = sweep::expand(&file, &out).unwrap();
     assert_eq!(tasks.len(), 8);
     // Product order: the last axis fastest.
-    assert_eq!(tasks[3].values["utc"], format!("{:?}", UTCS[1]));
-    assert_eq!(tasks[3].values["flat"], "true");
+    // Manifest values are JSON values: the string's text, a boolean.
+    assert_eq!(tasks[3].values["utc"], UTCS[1]);
+    assert_eq!(tasks[3].values["flat"], true);
     assert_eq!(tasks[3].id, "3-2012-08-06T21_00_00Z-flat-true");
     let manifest = std::fs::read_to_string(out.join("manifest.jsonl")).unwrap();
     assert_eq!(manifest.lines().count(), 8);
@@ -102,8 +103,8 @@ fn eight_tasks_expand_run_and_collect_to_the_facts_of_direct_runs() {
         let row: Vec<&str> = line.split(',').collect();
         assert_eq!(row[col("status")], "done");
         // The same scenario run directly, without the sweep: the same facts.
-        let utc = t.values["utc"].trim_matches('"');
-        let flat = t.values["flat"] == "true";
+        let utc = t.values["utc"].as_str().unwrap();
+        let flat = t.values["flat"] == true;
         let text = base(utc, flat);
         let scenario = areo_scenario::format::parse(&dir.join("direct.ron"), &text).unwrap();
         let file =
@@ -121,6 +122,7 @@ fn eight_tasks_expand_run_and_collect_to_the_facts_of_direct_runs() {
                 areo_scenario::Fact::Number(v) => {
                     assert_eq!(cell.parse::<f64>().unwrap(), *v, "task {} {name}", t.index)
                 }
+                areo_scenario::Fact::Count(n) => assert_eq!(cell, n.to_string(), "task {} {name}", t.index),
                 areo_scenario::Fact::Flag(b) => assert_eq!(cell, b.to_string(), "task {} {name}", t.index),
                 areo_scenario::Fact::Text(s) => assert_eq!(cell, s, "task {} {name}", t.index),
             }
@@ -138,8 +140,8 @@ fn a_zip_sweep_a_range_and_a_label_axis() {
     let tasks = sweep::expand(&file, &dir.join("run")).unwrap();
     assert_eq!(tasks.len(), 3);
     assert_eq!(tasks.iter().map(|t| t.id.as_str()).collect::<Vec<_>>(), ["0", "1", "2"]);
-    assert_eq!(tasks[2].values["lat"], "-5");
-    assert_eq!(tasks[1].values["lat"], "-5.5");
+    assert_eq!(tasks[2].values["lat"], -5);
+    assert_eq!(tasks[1].values["lat"], -5.5);
     let text = std::fs::read_to_string(dir.join("run").join(&tasks[1].scenario)).unwrap();
     assert!(text.contains("lat_deg: -5.5,") && text.contains("utc: \"2012-08-06T21:00:00Z\""), "{text}");
     // Raw RON text for what RON values cannot carry (here a tuple-free bool as text).

@@ -20,10 +20,18 @@ use areo_body::Spheroid;
 mod key {
     pub(super) const MODEL_TYPE: u16 = 1024;
     pub(super) const RASTER_TYPE: u16 = 1025;
+    pub(super) const GT_CITATION: u16 = 1026;
+    pub(super) const GEOGRAPHIC_TYPE: u16 = 2048;
+    pub(super) const GEOG_CITATION: u16 = 2049;
+    pub(super) const GEODETIC_DATUM: u16 = 2050;
+    pub(super) const GEOG_ANGULAR_UNITS: u16 = 2054;
+    pub(super) const ELLIPSOID: u16 = 2056;
     pub(super) const SEMI_MAJOR: u16 = 2057;
     pub(super) const SEMI_MINOR: u16 = 2058;
     pub(super) const INV_FLATTENING: u16 = 2059;
     pub(super) const PROJECTED_CS: u16 = 3072;
+    pub(super) const PROJECTION: u16 = 3074;
+    pub(super) const PROJ_LINEAR_UNITS: u16 = 3076;
     pub(super) const COORD_TRANS: u16 = 3075;
     pub(super) const STD_PARALLEL_1: u16 = 3078;
     pub(super) const NAT_ORIGIN_LONG: u16 = 3080;
@@ -33,6 +41,9 @@ mod key {
     pub(super) const CT_EQUIRECTANGULAR: u16 = 17;
     pub(super) const CT_POLAR_STEREOGRAPHIC: u16 = 15;
     pub(super) const USER_DEFINED: u16 = 32767;
+    /// EPSG unit codes: the metre and the degree.
+    pub(super) const METRE: u16 = 9001;
+    pub(super) const DEGREE: u16 = 9102;
 }
 
 /// Reads a GeoTIFF DEM.
@@ -337,16 +348,106 @@ impl GeoKeys {
     }
 }
 
-/// The GeoKey directory and double parameters describing `georef`.
-fn geokeys_for(georef: &Georef) -> (Vec<u16>, Vec<f64>) {
-    let mut doubles = vec![georef.surface.equatorial_radius_m, georef.surface.polar_radius_m];
+/// What a GeoTIFF says of its coordinate system: the GeoKey directory, its double
+/// parameters and its ASCII parameters (the citations, each ended by `|`).
+struct GeoTags {
+    keys: Vec<u16>,
+    doubles: Vec<f64>,
+    ascii: String,
+}
+
+impl GeoTags {
+    fn write<W: Write + Seek, K: tiff::encoder::TiffKind>(
+        &self,
+        dir: &mut tiff::encoder::DirectoryEncoder<'_, W, K>,
+    ) -> tiff::TiffResult<()> {
+        dir.write_tag(Tag::GeoKeyDirectoryTag, &self.keys[..])?;
+        dir.write_tag(Tag::GeoDoubleParamsTag, &self.doubles[..])?;
+        dir.write_tag(Tag::GeoAsciiParamsTag, &self.ascii[..])
+    }
+}
+
+/// The names GDAL and PROJ give the parts of a projected CRS on `surface`, in the style
+/// of the IAU 2015 CRS database (`Mars (2015) - Sphere / Ocentric`): areo's projections
+/// are spherical on the equatorial radius, so the ellipsoid named is that sphere.
+struct CrsNames {
+    geographic: String,
+    datum: String,
+    ellipsoid: String,
+}
+
+impl CrsNames {
+    fn of(surface: &Spheroid) -> CrsNames {
+        let a = surface.equatorial_radius_m;
+        let ellipsoid = match surface.body() {
+            // The IAU 2015 spheres of Mars and the Moon are their equatorial radii.
+            Some(b @ (areo_body::Body::Mars | areo_body::Body::Moon)) if (a - b.equatorial_radius_m()).abs() < 0.5 => {
+                format!("{} (2015) - Sphere", b.iau_name())
+            }
+            Some(b) => format!("{} - Sphere, R = {a} m", b.iau_name()),
+            None => format!("Sphere, R = {a} m"),
+        };
+        CrsNames { geographic: format!("{ellipsoid} / Ocentric"), datum: ellipsoid.clone(), ellipsoid }
+    }
+}
+
+/// The GeoTIFF keys describing `georef`: a user-defined projected CRS in metres whose
+/// citations name the body (GDAL reads them into the CRS's WKT names), on the sphere of
+/// the equatorial radius that areo's projections use. A local frame keeps the body's
+/// radii and cites itself as local.
+fn geokeys_for(georef: &Georef) -> GeoTags {
+    let surface = georef.surface;
+    let names = CrsNames::of(&surface);
+    let mut ascii = String::new();
+    let mut cite = |text: &str| -> [u16; 2] {
+        let at = ascii.len() as u16;
+        ascii.push_str(text);
+        ascii.push('|');
+        [(text.len() + 1) as u16, at]
+    };
+    let a = surface.equatorial_radius_m;
+    let (projected, minor) = match georef.projection {
+        Projection::Local => {
+            let body = surface.body().map_or("an unnamed body", areo_body::Body::iau_name);
+            (format!("areo local frame on {body}, metres"), surface.polar_radius_m)
+        }
+        Projection::Equirectangular { lat_ts_deg, lon0_deg } => {
+            (format!("{} / Equirectangular, lat_ts = {lat_ts_deg}, clon = {lon0_deg}", names.geographic), a)
+        }
+        Projection::PolarStereographic { north, lon0_deg } => (
+            format!(
+                "{} / {} Polar Stereographic, clon = {lon0_deg}",
+                names.geographic,
+                if north { "North" } else { "South" }
+            ),
+            a,
+        ),
+    };
+    let mut doubles = vec![a, minor];
+    let pcs = cite(&projected);
     let mut keys: Vec<[u16; 4]> = vec![
         [key::MODEL_TYPE, 0, 1, 1],  // projected
         [key::RASTER_TYPE, 0, 1, 1], // PixelIsArea
+        [key::GT_CITATION, 34737, pcs[0], pcs[1]],
         [key::SEMI_MAJOR, 34736, 1, 0],
         [key::SEMI_MINOR, 34736, 1, 1],
         [key::PROJECTED_CS, 0, 1, key::USER_DEFINED],
+        [key::PROJ_LINEAR_UNITS, 0, 1, key::METRE],
     ];
+    if georef.projection != Projection::Local {
+        let gcs = cite(&format!(
+            "GCS Name = {}|Datum = {}|Ellipsoid = {}|Primem = Reference Meridian|",
+            names.geographic, names.datum, names.ellipsoid
+        ));
+        keys.extend([
+            [key::GEOGRAPHIC_TYPE, 0, 1, key::USER_DEFINED],
+            [key::GEOG_CITATION, 34737, gcs[0], gcs[1]],
+            [key::GEODETIC_DATUM, 0, 1, key::USER_DEFINED],
+            [key::GEOG_ANGULAR_UNITS, 0, 1, key::DEGREE],
+            [key::ELLIPSOID, 0, 1, key::USER_DEFINED],
+            [key::PROJECTION, 0, 1, key::USER_DEFINED],
+        ]);
+    }
     match georef.projection {
         Projection::Local => {}
         Projection::Equirectangular { lat_ts_deg, lon0_deg } => {
@@ -369,7 +470,7 @@ fn geokeys_for(georef: &Georef) -> (Vec<u16>, Vec<f64>) {
     for k in keys {
         dir.extend_from_slice(&k);
     }
-    (dir, doubles)
+    GeoTags { keys: dir, doubles, ascii }
 }
 
 /// Writes a DEM as a float32 GeoTIFF (missing cells as NaN, GDAL_NODATA "nan").
@@ -404,12 +505,10 @@ where
     {
         let mut enc = TiffEncoder::new(&mut out).map_err(tiff_err)?;
         let mut img = enc.new_image::<C>(dem.cols() as u32, dem.rows() as u32).map_err(tiff_err)?;
-        let (dir, doubles) = geokeys_for(dem.georef());
         let e = img.encoder();
         e.write_tag(Tag::ModelPixelScaleTag, &[dem.dx(), dem.dy(), 0.0][..]).map_err(tiff_err)?;
         e.write_tag(Tag::ModelTiepointTag, &[0.0, 0.0, 0.0, dem.x0(), dem.y_top(), 0.0][..]).map_err(tiff_err)?;
-        e.write_tag(Tag::GeoKeyDirectoryTag, &dir[..]).map_err(tiff_err)?;
-        e.write_tag(Tag::GeoDoubleParamsTag, &doubles[..]).map_err(tiff_err)?;
+        geokeys_for(dem.georef()).write(e).map_err(tiff_err)?;
         if let Some(nd) = nodata {
             e.write_tag(Tag::GdalNodata, nd).map_err(tiff_err)?;
         }
@@ -677,11 +776,9 @@ where
     dir.write_tag(Tag::TileLength, tile as u32).map_err(tiff_err)?;
     dir.write_tag(Tag::TileOffsets, K::convert_slice(&offsets)).map_err(tiff_err)?;
     dir.write_tag(Tag::TileByteCounts, K::convert_slice(&counts)).map_err(tiff_err)?;
-    let (keys, doubles) = geokeys_for(&grid.georef);
     dir.write_tag(Tag::ModelPixelScaleTag, &[grid.dx, grid.dy, 0.0][..]).map_err(tiff_err)?;
     dir.write_tag(Tag::ModelTiepointTag, &[0.0, 0.0, 0.0, grid.x0, grid.y_top, 0.0][..]).map_err(tiff_err)?;
-    dir.write_tag(Tag::GeoKeyDirectoryTag, &keys[..]).map_err(tiff_err)?;
-    dir.write_tag(Tag::GeoDoubleParamsTag, &doubles[..]).map_err(tiff_err)?;
+    geokeys_for(&grid.georef).write(&mut dir).map_err(tiff_err)?;
     if let Some(nd) = layout.nodata {
         dir.write_tag(Tag::GdalNodata, nd).map_err(tiff_err)?;
     }

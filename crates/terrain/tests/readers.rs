@@ -583,3 +583,55 @@ fn tiled_writes_read_back_as_tiff_and_bigtiff() {
     let err = geotiff::write_u8_tiled(&grid, None, 20, false, &path, |_, _| Ok(())).unwrap_err().to_string();
     assert!(err.contains("multiple of 16"), "{err}");
 }
+
+/// The GeoTIFF's ASCII parameters (the citations GDAL turns into the CRS's names).
+fn citations(path: &Path) -> String {
+    let mut dec = tiff::decoder::Decoder::new(std::fs::File::open(path).unwrap()).unwrap();
+    match dec.find_tag(tiff::tags::Tag::GeoAsciiParamsTag).unwrap() {
+        Some(tiff::decoder::ifd::Value::Ascii(s)) => s,
+        other => panic!("no GeoAsciiParams in {}: {other:?}", path.display()),
+    }
+}
+
+/// A map placed on Mars's IAU 2015 ellipsoid is projected on the sphere of its
+/// equatorial radius, so the GeoTIFF says that sphere and names it as the IAU 2015 CRS
+/// database does ("Mars (2015) - Sphere / Ocentric"), in metres; other radii are named
+/// by body and radius. Read back, the projection is the same and the surface the sphere
+/// the projection used; a local frame keeps the body's two radii.
+#[test]
+fn geotiff_names_the_body_sphere_and_metres_it_was_projected_on() {
+    let flat = Dem::from_fn(20, 10, 30.0, 30.0, |x, y| 0.01 * x - 0.02 * y).unwrap();
+    let mars = flat.clone().placed_at(areo_terrain::Spheroid::MARS_IAU2015, -4.59, 137.44).unwrap();
+    let path = tmp("mars-iau.tif");
+    geotiff::write(&mars, &path).unwrap();
+    let text = citations(&path);
+    assert!(
+        text.starts_with("Mars (2015) - Sphere / Ocentric / Equirectangular, lat_ts = -4.59, clon = 137.44|"),
+        "{text}"
+    );
+    assert!(text.contains("|GCS Name = Mars (2015) - Sphere / Ocentric|Datum = Mars (2015) - Sphere|"), "{text}");
+    let back = geotiff::read(&path).unwrap();
+    assert_eq!(back.georef().projection, mars.georef().projection);
+    assert_eq!(back.georef().surface.polar_radius_m, 3_396_190.0);
+    // Same cells at the same places: the geographic position of a corner is unchanged.
+    let (lat, lon) = mars.geographic(mars.x0(), mars.y_top()).unwrap();
+    let (lat2, lon2) = back.geographic(back.x0(), back.y_top()).unwrap();
+    assert!((lat - lat2).abs() < 1e-12 && (lon - lon2).abs() < 1e-12);
+
+    let mola = sample_dem();
+    let path = tmp("mola.tif");
+    geotiff::write(&mola, &path).unwrap();
+    assert!(citations(&path).contains("GCS Name = Mars - Sphere, R = 3396000 m / Ocentric|"), "{}", citations(&path));
+
+    let moon = flat.clone().placed_at(areo_terrain::Spheroid::MOON, -89.5, 45.0).unwrap();
+    let path = tmp("moon-pole.tif");
+    geotiff::write(&moon, &path).unwrap();
+    assert!(citations(&path).starts_with("Moon (2015) - Sphere / Ocentric / South Polar Stereographic, clon = 45|"));
+
+    let local =
+        flat.with_georef(Georef { projection: Projection::Local, surface: areo_terrain::Spheroid::MARS_IAU2015 });
+    let path = tmp("local.tif");
+    geotiff::write(&local, &path).unwrap();
+    assert!(citations(&path).starts_with("areo local frame on Mars, metres|"), "{}", citations(&path));
+    assert_eq!(geotiff::read(&path).unwrap().georef(), local.georef());
+}

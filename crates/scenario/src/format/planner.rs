@@ -229,6 +229,7 @@ impl From<&PlannerSpec> for m::PlannerConfig {
             detour_factor: p.detour_factor,
             max_wait_s: p.max_wait_s,
             goal_energy_wh: p.goal_energy_wh,
+            meter: m::ExpansionMeter::default(),
         }
     }
 }

@@ -263,7 +263,7 @@ fn outcome(setup: &Setup, report: &ActionsReport) -> Outcome {
     for run in &report.runs {
         let name = &run.name;
         run_facts(&mut o, name, &run.report, run.seconds, task);
-        o.number(&format!("{name}_modules"), run.inventory.modules.len() as f64);
+        o.count(&format!("{name}_modules"), run.inventory.modules.len() as u64);
         o.number(&format!("{name}_design_space_log10"), design_space_log10(run.inventory.modules.len(), m));
         if let Some(study) = &run.study {
             study_facts(&mut o, name, study, run.generations);
@@ -534,7 +534,7 @@ impl SeedStudy {
 
 fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usize) {
     let n = study.seeds.len();
-    o.number(&format!("{name}_seeds"), n as f64);
+    o.count(&format!("{name}_seeds"), n as u64);
     let last = generations.saturating_sub(1);
     o.number(&format!("{name}_success_fraction"), study.solved_by(last));
     if let Some(m) = study.median_first_solved() {
@@ -546,7 +546,7 @@ fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usiz
         &format!("{name}_pooled_lookahead_1_to_4_fraction"),
         if la.is_empty() { 0.0 } else { small as f64 / la.len() as f64 },
     );
-    o.number(&format!("{name}_pooled_improving_crossovers"), la.len() as f64);
+    o.count(&format!("{name}_pooled_improving_crossovers"), la.len() as u64);
     // The paper's plan took the samples on the left of the way and left the others.
     if study.has_samples {
         let left_only = study.taken.iter().filter(|t| t.1 > 0 && t.2 == 0).count();
@@ -652,23 +652,23 @@ fn run_facts(o: &mut Outcome, name: &str, r: &GaReport, seconds: f64, task: &Tas
     let e = &r.best.execution;
     o.flag(&format!("{name}_complete"), e.complete);
     o.number(&format!("{name}_best_fitness"), r.best.fitness);
-    o.number(&format!("{name}_samples"), e.samples as f64);
+    o.count(&format!("{name}_samples"), e.samples as u64);
     if !task.samples.is_empty() {
         o.text(&format!("{name}_samples_taken"), taken_label(&e.taken));
         let (left, right) = sides(task, &e.taken);
-        o.number(&format!("{name}_samples_left"), left as f64);
-        o.number(&format!("{name}_samples_right"), right as f64);
+        o.count(&format!("{name}_samples_left"), left as u64);
+        o.count(&format!("{name}_samples_right"), right as u64);
     }
     o.number(&format!("{name}_min_stability"), e.min_stability);
     o.number(&format!("{name}_peak_saturation"), e.peak_saturation);
     o.number(&format!("{name}_peak_friction_ratio"), e.peak_friction_ratio);
-    o.number(&format!("{name}_prefix"), e.prefix_len as f64);
+    o.count(&format!("{name}_prefix"), e.prefix_len as u64);
     o.number(&format!("{name}_distance_to_target_m"), e.distance_to_target_m);
-    o.number(&format!("{name}_evaluations"), r.evaluations as f64);
-    o.number(&format!("{name}_modules_executed"), r.modules_executed as f64);
+    o.count(&format!("{name}_evaluations"), r.evaluations as u64);
+    o.count(&format!("{name}_modules_executed"), r.modules_executed as u64);
     o.number(&format!("{name}_seconds"), seconds);
     if let Some(g) = r.first_solved {
-        o.number(&format!("{name}_first_solved_generation"), g as f64);
+        o.count(&format!("{name}_first_solved_generation"), g as u64);
     }
     let small = r.lookahead.iter().filter(|d| (1..=4).contains(*d)).count();
     o.number(

@@ -46,13 +46,13 @@ impl SunTableReport {
     /// The report's facts and summary lines.
     pub(crate) fn outcome(&self) -> Outcome {
         let mut o = Outcome::default();
-        o.number("rows", self.table.len() as f64);
+        o.count("rows", self.table.len() as u64);
         o.number("ls_start_deg", self.ls_start_deg);
         o.number("ltst_start_hours", self.ltst_start_hours);
         o.number("max_elevation_deg", self.elevation_range_deg.1);
         o.number("min_elevation_deg", self.elevation_range_deg.0);
         o.number("daylight_hours", self.daylight_hours);
-        o.number("daylight_periods", self.daylight_periods as f64);
+        o.count("daylight_periods", self.daylight_periods as u64);
         o.number("insolation_wh_m2", self.insolation_wh_m2);
         if let Some((utc, ltst)) = &self.first_sunrise {
             o.text("first_sunrise_utc", utc.clone());

@@ -17,6 +17,8 @@ use geojson::FeatureCollection;
 use hifitime::Duration;
 use serde_json::json;
 
+mod layers;
+
 use crate::error::{Error, Result};
 use crate::format::{ScenarioFile, TempestJob, TerrainSource, Truth};
 use crate::jobs::RunOptions;
@@ -352,13 +354,13 @@ fn action_model(job: &TempestJob, file: &ScenarioFile, world: &World, rover: Res
         };
         model = model.with_sessions(contact::sessions(world, &schedule)).sessions_need_earth(needs_earth);
     }
-    if job.start_battery_wh > model.capacity_wh() + 1e-9 {
+    if job.start_battery_above_floor_wh > model.capacity_wh() + 1e-9 {
         return Err(scenario_error(
             file,
-            "job.start_battery_wh",
+            "job.start_battery_above_floor_wh",
             format!(
                 "{} Wh: the battery holds at most {:.1} Wh above its floor",
-                job.start_battery_wh,
+                job.start_battery_above_floor_wh,
                 model.capacity_wh()
             ),
         ));
@@ -392,36 +394,69 @@ fn locate(job: &TempestJob, file: &ScenarioFile, world: &World, frame: Frame) ->
         .enumerate()
         .map(|(i, g)| cell_of(format!("job.goals[{i}]"), g.x_m, g.y_m))
         .collect::<Result<_>>()?;
-    let start =
-        Start { cell: start_cell, t_min: 0.0, t_max: job.start_window_min * 60.0, energy_wh: job.start_battery_wh };
+    let start = Start {
+        cell: start_cell,
+        t_min: 0.0,
+        t_max: job.start_window_min * 60.0,
+        energy_wh: job.start_battery_above_floor_wh,
+    };
     Ok((start, goals))
+}
+
+/// Runs `work` while a watcher thread shows `meter`'s expansions on `progress` (about
+/// every fifth of a second; it notices the end within 20 ms).
+fn watching<T>(progress: &dyn crate::Progress, meter: &areo_mission::ExpansionMeter, work: impl FnOnce() -> T) -> T {
+    let done = std::sync::atomic::AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        scope.spawn(|| {
+            let mut ticks = 0u32;
+            while !done.load(std::sync::atomic::Ordering::Relaxed) {
+                if ticks.is_multiple_of(10) {
+                    progress.set(meter.expansions());
+                }
+                ticks += 1;
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+        });
+        let out = work();
+        done.store(true, std::sync::atomic::Ordering::Relaxed);
+        out
+    })
 }
 
 /// Plans (or simulates) on the prepared worlds, and maps the haven cells off Mars.
 fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared: Prepared) -> Result<TempestReport> {
     let Prepared { world, truth, model, start, goals, .. } = &prepared;
+    // The searches count their expansions into a meter that a watcher shows while the
+    // planner works: against the budget's estimate (an upper bound: every cell in every
+    // label class) when planning, simulated minutes against the horizon when simulating.
+    let meter = areo_mission::ExpansionMeter::counting();
+    let planner = areo_mission::PlannerConfig { meter: meter.clone(), ..(&job.planner).into() };
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
-            let clock = Instant::now();
-            Mission::plan(world, model, (&job.planner).into(), *start, goals).map(|(mission, plan)| Run::Plan {
-                plan,
-                seconds: clock.elapsed().as_secs_f64(),
-                search_bytes: mission.search_bytes(),
+            let bound = crate::budget::estimate(&file.scenario).map_or(0, |e| e.work_steps);
+            opts.progress.start(bound, "planning");
+            watching(opts.progress, &meter, || {
+                let clock = Instant::now();
+                Mission::plan(world, model, planner, *start, goals).map(|(mission, plan)| Run::Plan {
+                    plan,
+                    seconds: clock.elapsed().as_secs_f64(),
+                    search_bytes: mission.search_bytes(),
+                })
             })
         }
         Some(sim) => {
-            let total = sim.max_steps.min(10_000) as u64;
-            opts.progress.start(total, "simulating");
+            opts.progress.start((job.horizon_h * 60.0).ceil() as u64, "simulated min");
             let simulation = Simulation {
                 believed: world,
                 truth: truth.as_ref().unwrap_or(world),
                 model,
-                planner: (&job.planner).into(),
+                planner,
                 start: *start,
                 goals,
                 config: sim.into(),
             };
-            simulate(&simulation, &mut |_| opts.progress.advance(1)).map(Run::Simulated)
+            simulate(&simulation, &mut |p| opts.progress.set((p.t_s / 60.0) as u64)).map(Run::Simulated)
         }
     };
     opts.progress.finish();
@@ -479,7 +514,7 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
     if let Some(mb) = report.peak_memory_mb {
         o.number("peak_memory_mb", mb);
     }
-    o.number("cells", world.cells() as f64);
+    o.count("cells", world.cells() as u64);
     match &report.run {
         Run::Unreachable { .. } => {}
         Run::Plan { plan, seconds, search_bytes } => {
@@ -516,6 +551,17 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
 const HAVEN_STEP_S: f64 = 1800.0;
 const CONTACT_STEP_S: f64 = 300.0;
 
+/// A cell at an instant: planetocentric latitude and east longitude (degrees),
+/// elevation (m), the local sol since the start's (see [`World::local_sol`]) and local
+/// true solar time (hours).
+struct Place {
+    lat_deg: f64,
+    lon_deg: f64,
+    elevation_m: f64,
+    sol: i64,
+    ltst_h: f64,
+}
+
 struct Context<'a> {
     havens: Option<&'a contact::Havens>,
     job: &'a TempestJob,
@@ -541,25 +587,57 @@ impl Context<'_> {
             (x - region.x_m).hypot(y - region.y_m) <= region.radius_m
         })
     }
+    /// Where and when `cell` is at `t_s`, as a mission counts it.
+    fn place(&self, cell: u32, t_s: f64) -> Place {
+        let (lat_deg, lon_deg) = self.world.lat_lon(cell);
+        Place {
+            lat_deg,
+            lon_deg,
+            elevation_m: self.world.elevation(cell).unwrap_or(f64::NAN),
+            sol: self.world.local_sol(t_s, lon_deg),
+            ltst_h: self.world.local_solar_time_h(t_s, lon_deg),
+        }
+    }
     fn hours(&self, t_s: f64) -> f64 {
         t_s / 3600.0
     }
 }
 
+/// Communicate sessions the plan covers, and drives that would overlap one (none may).
+fn session_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
+    let sessions = ctx.model.sessions();
+    if !sessions.is_empty() {
+        o.count("communicate_sessions", sessions.len() as u64);
+        let (t0, t1) = (plan.waypoints.first().map_or(0.0, |w| w.t_s), plan.waypoints.last().map_or(0.0, |w| w.t_s));
+        o.count("plan_sessions", sessions.iter().filter(|(a, b)| *a < t1 && *b > t0).count() as u64);
+        let overlapping = plan
+            .waypoints
+            .windows(2)
+            .filter(|w| matches!(w[0].action, Some(Action::Drive(_))))
+            .filter(|w| sessions.iter().any(|&(a, b)| w[0].t_s < b && w[1].t_s > a))
+            .count();
+        o.count("plan_drives_during_sessions", overlapping as u64);
+    }
+}
+
 fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
     let (drives, charges, hibernations) = plan.action_counts();
-    o.number("initial_plan_waypoints", plan.waypoints.len() as f64);
-    o.number("initial_plan_drives", drives as f64);
-    o.number("initial_plan_charges", charges as f64);
-    o.number("initial_plan_hibernations", hibernations as f64);
+    o.count("initial_plan_waypoints", plan.waypoints.len() as u64);
+    o.count("initial_plan_drives", drives as u64);
+    o.count("initial_plan_charges", charges as u64);
+    o.count("initial_plan_hibernations", hibernations as u64);
     o.number("initial_plan_duration_h", plan.duration_s() / 3600.0);
     o.number("initial_plan_min_battery_wh", plan.min_battery_wh());
-    o.number("initial_plan_expansions", plan.expansions as f64);
+    o.count("initial_plan_expansions", plan.expansions);
     o.number("e_max_wh", plan.e_max_wh);
     let drive_wps: Vec<_> = plan.waypoints.iter().filter(|w| matches!(w.action, Some(Action::Drive(_)))).collect();
-    let length: f64 = plan.waypoints.windows(2).map(|w| (w[1].x_m - w[0].x_m).hypot(w[1].y_m - w[0].y_m)).sum();
+    let length: f64 = plan
+        .waypoints
+        .windows(2)
+        .map(|w| (w[1].easting_m - w[0].easting_m).hypot(w[1].northing_m - w[0].northing_m))
+        .sum();
     o.number("initial_plan_distance_m", length);
-    o.number("initial_plan_goals", plan.waypoints.iter().filter(|w| w.goal.is_some()).count() as f64);
+    o.count("initial_plan_goals", plan.waypoints.iter().filter(|w| w.goal.is_some()).count() as u64);
     o.number(
         "initial_plan_sunlit_drive_fraction",
         if drive_wps.is_empty() {
@@ -568,21 +646,8 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
             drive_wps.iter().filter(|w| w.lit).count() as f64 / drive_wps.len() as f64
         },
     );
-    o.number("initial_plan_night_drives", drive_wps.iter().filter(|w| w.sun_elevation_deg <= 0.0).count() as f64);
-    let sessions = ctx.model.sessions();
-    if !sessions.is_empty() {
-        o.number("communicate_sessions", sessions.len() as f64);
-        // Sessions the plan covers, and drives that would overlap one (none may).
-        let (t0, t1) = (plan.waypoints.first().map_or(0.0, |w| w.t_s), plan.waypoints.last().map_or(0.0, |w| w.t_s));
-        o.number("plan_sessions", sessions.iter().filter(|(a, b)| *a < t1 && *b > t0).count() as f64);
-        let overlapping = plan
-            .waypoints
-            .windows(2)
-            .filter(|w| matches!(w[0].action, Some(Action::Drive(_))))
-            .filter(|w| sessions.iter().any(|&(a, b)| w[0].t_s < b && w[1].t_s > a))
-            .count();
-        o.number("plan_drives_during_sessions", overlapping as f64);
-    }
+    o.count("initial_plan_night_drives", drive_wps.iter().filter(|w| w.sun_elevation_deg <= 0.0).count() as u64);
+    session_facts(o, ctx, plan);
     for r in &ctx.job.regions {
         o.flag(&format!("initial_plan_enters_{}", r.name), ctx.enters(plan.waypoints.iter().map(|w| w.cell), r));
     }
@@ -591,7 +656,7 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
     }
     o.summary.push(format!(
         "initial plan: {} waypoints ({drives} drives, {charges} charges, {hibernations} hibernations) over {:.1} h; \
-         lowest predicted battery {:.0} Wh; E_max {:.2} Wh",
+         lowest predicted battery {:.0} Wh (absolute); E_max {:.2} Wh",
         plan.waypoints.len(),
         plan.duration_s() / 3600.0,
         plan.min_battery_wh(),
@@ -659,11 +724,11 @@ fn body_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
         );
     }
     if let Some(h) = ctx.havens {
-        o.number("safe_haven_cells", h.haven.iter().filter(|&&x| x).count() as f64);
+        o.count("safe_haven_cells", h.haven.iter().filter(|&&x| x).count() as u64);
         o.number("safe_haven_survive_h", h.survive_h.min(1e6));
         let ws = waits(plan, h, floor_wh(ctx), HAVEN_STEP_S);
-        o.number("initial_plan_waits", ws.len() as f64);
-        o.number("initial_plan_waits_at_havens", ws.iter().filter(|w| w.haven).count() as f64);
+        o.count("initial_plan_waits", ws.len() as u64);
+        o.count("initial_plan_waits_at_havens", ws.iter().filter(|w| w.haven).count() as u64);
         let longest = ws.iter().max_by(|a, b| (a.to_h - a.from_h).total_cmp(&(b.to_h - b.from_h)));
         o.number("initial_plan_longest_wait_h", longest.map_or(0.0, |w| w.to_h - w.from_h));
         o.flag("initial_plan_longest_wait_at_haven", longest.is_some_and(|w| w.haven));
@@ -688,7 +753,7 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, peak_memory_mb: 
         SimStatus::StepLimit => "step_limit",
     };
     o.text("status", status);
-    o.number("goals_reached", r.goals_reached.len() as f64);
+    o.count("goals_reached", r.goals_reached.len() as u64);
     let epoch = ctx.world.epoch();
     for &(g, t) in &r.goals_reached {
         let name = ctx.goal_name(g);
@@ -705,29 +770,32 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, peak_memory_mb: 
     let hibernate_h = count(&|a| a == Action::Hibernate) / 3600.0;
     let replans: Vec<_> = r.plans.iter().filter(|p| p.kind != PlanKind::Initial).collect();
     let route_changes = replans.iter().filter(|p| p.route_changed).count();
-    o.number("zigzag_pairs", metrics::zigzag_pairs(&r.steps) as f64);
-    let min_battery = r.steps.iter().map(|s| s.battery_wh).fold(r.start.energy_wh, f64::min);
-    o.number("actions", r.steps.len() as f64);
+    o.count("zigzag_pairs", metrics::zigzag_pairs(&r.steps) as u64);
+    let min_battery = r.steps.iter().map(|s| s.battery_above_floor_wh).fold(r.start.energy_wh, f64::min);
+    let floor = floor_wh(ctx);
+    o.count("actions", r.steps.len() as u64);
     o.number("distance_m", r.distance_m());
     o.number("energy_used_wh", r.energy_used_wh());
     o.number("energy_gained_wh", r.energy_gained_wh());
-    o.number("final_battery_wh", r.final_battery_wh());
-    o.number("min_battery_wh", min_battery);
-    o.number("nights", r.nights() as f64);
+    // Absolute charges, as everywhere a name says `battery_wh`; the search's E beside.
+    o.number("final_battery_wh", r.final_battery_above_floor_wh() + floor);
+    o.number("final_battery_above_floor_wh", r.final_battery_above_floor_wh());
+    o.number("min_battery_wh", min_battery + floor);
+    o.count("nights", r.nights() as u64);
     o.number("drive_h", drive_h);
     o.number("charge_h", charge_h);
     o.number("hibernate_h", hibernate_h);
-    o.number("replans", replans.len() as f64);
-    o.number("route_changes", route_changes as f64);
+    o.count("replans", replans.len() as u64);
+    o.count("route_changes", route_changes as u64);
     let restarts = r.plans.iter().filter(|p| p.kind == PlanKind::Restart).count();
-    o.number("restarts", restarts as f64);
+    o.count("restarts", restarts as u64);
     let asked = ctx.job.planner.resolution.energy_wh;
     let fallbacks = r.plans.iter().filter(|p| asked.is_some() && p.plan.energy_classes_wh.is_none()).count();
-    o.number("exact_energy_fallbacks", fallbacks as f64);
+    o.count("exact_energy_fallbacks", fallbacks as u64);
     search_facts(o, r);
     o.number("world_mb", (ctx.world.bytes() + ctx.truth.bytes()) as f64 / 1e6);
-    o.number("refused_actions", r.steps.iter().filter(|s| s.refused.is_some()).count() as f64);
-    o.number("night_drives", metrics::night_drives(&r.steps) as f64);
+    o.count("refused_actions", r.steps.iter().filter(|s| s.refused.is_some()).count() as u64);
+    o.count("night_drives", metrics::night_drives(&r.steps) as u64);
     o.number("sunlit_drive_fraction", metrics::sunlit_drive_fraction(ctx.truth, &r.steps));
     o.number("mission_h", ctx.hours(r.end_t_s()));
     if let Some(m) = r.median_replan_s() {
@@ -763,8 +831,8 @@ fn search_facts(o: &mut Outcome, r: &SimReport) {
     let compared: Vec<(&areo_mission::PlanRecord, (u64, f64))> =
         r.plans.iter().filter_map(|p| p.fresh.map(|f| (p, f))).collect();
     if !compared.is_empty() {
-        o.number("fresh_compared", compared.len() as f64);
-        o.number("replans_above_fresh", compared.iter().filter(|(p, (e, _))| p.expansions > *e).count() as f64);
+        o.count("fresh_compared", compared.len() as u64);
+        o.count("replans_above_fresh", compared.iter().filter(|(p, (e, _))| p.expansions > *e).count() as u64);
         let worst = compared.iter().map(|(p, (_, c))| (p.plan.cost - c).abs() / c.abs().max(1.0)).fold(0.0, f64::max);
         o.number("replan_fresh_cost_difference", worst);
         o.summary.push(format!(
@@ -789,7 +857,7 @@ fn sim_summary(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, status: &str, 
     let replans: Vec<_> = r.plans.iter().filter(|p| p.kind != PlanKind::Initial).collect();
     let route_changes = replans.iter().filter(|p| p.route_changed).count();
     let restarts = r.plans.iter().filter(|p| p.kind == PlanKind::Restart).count();
-    let min_battery = r.steps.iter().map(|s| s.battery_wh).fold(r.start.energy_wh, f64::min);
+    let min_battery = r.steps.iter().map(|s| s.battery_above_floor_wh).fold(r.start.energy_wh, f64::min);
     let mut fractions: Vec<f64> = r.replan_expansion_fractions();
     fractions.sort_by(f64::total_cmp);
     o.summary.push(format!(
@@ -801,11 +869,13 @@ fn sim_summary(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, status: &str, 
         r.nights()
     ));
     o.summary.push(format!(
-        "battery: used {:.0} Wh, gained {:.0} Wh, ends at {:.0} Wh above the floor ({:.0} Wh absolute), lowest {:.0} Wh",
+        "battery: used {:.0} Wh, gained {:.0} Wh, ends at {:.0} Wh ({:.0} Wh above the {floor:.0} Wh floor), \
+         lowest {:.0} Wh ({:.0} Wh above the floor)",
         r.energy_used_wh(),
         r.energy_gained_wh(),
-        r.final_battery_wh(),
-        r.final_battery_wh() + floor,
+        r.final_battery_above_floor_wh() + floor,
+        r.final_battery_above_floor_wh(),
+        min_battery + floor,
         min_battery
     ));
     o.summary.push(format!(
@@ -861,9 +931,11 @@ fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf
         put("replans.csv", &|p| write_rows(p, replan_rows(ctx, r)))?;
     }
     put("route.geojson", &|p| crate::output::geojson::write(p, &route_geojson(ctx, initial, report)))?;
+    put("route.kml", &|p| route_kml(ctx, initial, report).write(p))?;
     if let Some(h) = ctx.havens {
         put("waits.csv", &|p| write_rows(p, wait_rows(ctx, initial, h)))?;
     }
+    files.extend(layers::write(dir, ctx.world, ctx.truth, shadow_time_s(ctx)?)?);
     files.extend(plots(dir, ctx, initial, report)?);
     Ok(files)
 }
@@ -877,7 +949,7 @@ struct WaitRow {
     from_h: Fixed<3>,
     to_h: Fixed<3>,
     hours: Fixed<3>,
-    lowest_battery_wh: Fixed<1>,
+    lowest_battery_above_floor_wh: Fixed<1>,
     safe_haven: bool,
     longest_shadow_h: Fixed<1>,
     longest_earth_loss_h: Fixed<1>,
@@ -895,7 +967,7 @@ fn wait_rows(ctx: &Context<'_>, plan: &MissionPlan, havens: &contact::Havens) ->
                 from_h: Fixed(w.from_h),
                 to_h: Fixed(w.to_h),
                 hours: Fixed(w.to_h - w.from_h),
-                lowest_battery_wh: Fixed(w.lowest_battery_wh),
+                lowest_battery_above_floor_wh: Fixed(w.lowest_battery_above_floor_wh),
                 safe_haven: w.haven,
                 longest_shadow_h: Fixed(f64::from(havens.longest_shadow_h[i])),
                 longest_earth_loss_h: Fixed(f64::from(havens.longest_earth_loss_h[i])),
@@ -914,6 +986,7 @@ struct PlanRow {
     index: usize,
     utc: String,
     t_s: Fixed<1>,
+    sol: i64,
     ltst_h: Fixed<4>,
     col: usize,
     row: usize,
@@ -921,6 +994,7 @@ struct PlanRow {
     y_m: Fixed<2>,
     lat_deg: Fixed<7>,
     lon_deg: Fixed<7>,
+    elevation_m: Fixed<2>,
     action: &'static str,
     required_wh: Fixed<3>,
     battery_wh: Fixed<3>,
@@ -938,6 +1012,7 @@ fn plan_rows<'a>(ctx: &'a Context<'_>, plan: &'a MissionPlan) -> impl Iterator<I
             index,
             utc: w.utc.clone(),
             t_s: Fixed(w.t_s),
+            sol: ctx.world.local_sol(w.t_s, w.lon_deg),
             ltst_h: Fixed(w.ltst_h),
             col: w.col_row.0,
             row: w.col_row.1,
@@ -945,6 +1020,7 @@ fn plan_rows<'a>(ctx: &'a Context<'_>, plan: &'a MissionPlan) -> impl Iterator<I
             y_m: Fixed(y),
             lat_deg: Fixed(w.lat_deg),
             lon_deg: Fixed(w.lon_deg),
+            elevation_m: Fixed(ctx.world.elevation(w.cell).unwrap_or(f64::NAN)),
             action: action_name(w.action),
             required_wh: Fixed(w.required_wh),
             battery_wh: Fixed(w.battery_wh),
@@ -963,14 +1039,20 @@ struct ExecutedRow {
     step: usize,
     utc: String,
     t_s: Fixed<1>,
+    sol: i64,
+    ltst_h: Fixed<4>,
     col: usize,
     row: usize,
     x_m: Fixed<2>,
     y_m: Fixed<2>,
+    lat_deg: Fixed<7>,
+    lon_deg: Fixed<7>,
+    elevation_m: Fixed<2>,
     action: &'static str,
     duration_s: Fixed<1>,
     energy_wh: Fixed<3>,
     battery_wh: Fixed<3>,
+    battery_above_floor_wh: Fixed<3>,
     distance_m: Fixed<3>,
     sun_elevation_deg: Fixed<3>,
     refused: String,
@@ -980,18 +1062,25 @@ fn executed_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<It
     r.steps.iter().enumerate().map(move |(i, st)| {
         let (col, row) = ctx.world.col_row(st.cell);
         let (x, y) = ctx.local(st.cell);
+        let p = ctx.place(st.cell, st.t_s);
         ExecutedRow {
             step: i + 1,
             utc: format_utc(ctx.world.epoch() + Duration::from_seconds(st.t_s)),
             t_s: Fixed(st.t_s),
+            sol: p.sol,
+            ltst_h: Fixed(p.ltst_h),
             col,
             row,
             x_m: Fixed(x),
             y_m: Fixed(y),
+            lat_deg: Fixed(p.lat_deg),
+            lon_deg: Fixed(p.lon_deg),
+            elevation_m: Fixed(p.elevation_m),
             action: st.action.name(),
             duration_s: Fixed(st.duration_s),
             energy_wh: Fixed(st.energy_wh),
-            battery_wh: Fixed(st.battery_wh),
+            battery_wh: Fixed(st.battery_above_floor_wh + floor_wh(ctx)),
+            battery_above_floor_wh: Fixed(st.battery_above_floor_wh),
             distance_m: Fixed(st.distance_m),
             sun_elevation_deg: Fixed(st.sun_elevation_deg),
             refused: st.refused.map(|(a, b)| format!("{} ({})", a.name(), b.describe())).unwrap_or_default(),
@@ -1044,35 +1133,63 @@ fn replan_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item
     })
 }
 
+/// The routes, start and goals as KML for Google Earth (with the body's hint).
+fn route_kml(ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> crate::output::kml::Kml {
+    let at = |cell: u32| ctx.world.lat_lon(cell);
+    let mut kml = crate::output::kml::Kml::new("areo TEMPEST route", ctx.world.dem().georef().surface.body());
+    kml.line("initial plan", "ffdc5a1e", initial.waypoints.iter().map(|w| at(w.cell)));
+    if let Some(r) = report {
+        let cells = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
+        kml.line("executed route", "ff281edc", cells.map(at));
+    }
+    let utc = |t_s: f64| format_utc(ctx.world.epoch() + Duration::from_seconds(t_s));
+    kml.point("start", &format!("start at {}", utc(ctx.start.t_min)), at(ctx.start.cell));
+    for (i, &g) in ctx.goals.iter().enumerate() {
+        let reached = initial.waypoints.iter().find(|w| w.goal == Some(i)).map(|w| w.utc.clone());
+        let description = match reached {
+            Some(t) => format!("goal {} of the plan, reached at {t}", i + 1),
+            None => format!("goal {} of the plan", i + 1),
+        };
+        kml.point(ctx.goal_name(i), &description, at(g));
+    }
+    kml
+}
+
 fn route_geojson(ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> FeatureCollection {
     let at = |cell: u32| ctx.world.lat_lon(cell);
+    let floor = floor_wh(ctx);
     let mut features =
         vec![feature(line(initial.waypoints.iter().map(|w| at(w.cell))), json!({"name": "initial plan"}))];
+    // Every point says where and when it is as a mission counts it, beside its charge
+    // (absolute, and above the floor: the search's E).
+    let located = |cell: u32, t_s: f64, mut properties: serde_json::Value, above_floor_wh: f64| {
+        let p = ctx.place(cell, t_s);
+        let extra = json!({
+            "utc": format_utc(ctx.world.epoch() + Duration::from_seconds(t_s)), "t_h": t_s / 3600.0,
+            "sol": p.sol, "ltst_h": p.ltst_h, "elevation_m": p.elevation_m,
+            "battery_wh": above_floor_wh + floor, "battery_above_floor_wh": above_floor_wh,
+        });
+        if let (Some(o), serde_json::Value::Object(e)) = (properties.as_object_mut(), extra) {
+            o.extend(e);
+        }
+        feature(point(at(cell)), properties)
+    };
     match report {
         None => {
             for (i, w) in initial.waypoints.iter().enumerate() {
-                features.push(feature(
-                    point(at(w.cell)),
-                    json!({
-                        "kind": "waypoint", "index": i, "utc": w.utc, "t_h": w.t_s / 3600.0,
-                        "action": action_name(w.action), "required_wh": w.required_wh, "battery_wh": w.battery_wh,
-                    }),
-                ));
+                let props = json!({
+                    "kind": "waypoint", "index": i, "action": action_name(w.action), "required_wh": w.required_wh,
+                });
+                features.push(located(w.cell, w.t_s, props, w.battery_wh - floor));
             }
         }
         Some(r) => {
             let cells = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
             features.push(feature(line(cells.map(at)), json!({"name": "executed route"})));
             for (i, s) in r.steps.iter().enumerate() {
-                features.push(feature(
-                    point(at(s.cell)),
-                    json!({
-                        "kind": "executed", "step": i + 1,
-                        "utc": format_utc(ctx.world.epoch() + Duration::from_seconds(s.t_s)),
-                        "t_h": s.t_s / 3600.0, "action": s.action.name(), "energy_wh": s.energy_wh,
-                        "battery_wh": s.battery_wh,
-                    }),
-                ));
+                let props =
+                    json!({"kind": "executed", "step": i + 1, "action": s.action.name(), "energy_wh": s.energy_wh});
+                features.push(located(s.cell, s.t_s, props, s.battery_above_floor_wh));
             }
         }
     }
@@ -1103,6 +1220,14 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
     Ok(files)
 }
 
+/// The job's `shadow_utc` (default its start), s after the world's epoch.
+fn shadow_time_s(ctx: &Context<'_>) -> Result<f64> {
+    Ok(match &ctx.job.shadow_utc {
+        Some(s) => (parse_utc(s)? - ctx.truth.epoch()).to_seconds(),
+        None => 0.0,
+    })
+}
+
 /// The routes over the hillshade with shadows at the job's `shadow_utc` (and the
 /// haven map off Mars).
 fn route_plots(
@@ -1115,10 +1240,7 @@ fn route_plots(
     let world = ctx.truth;
     let dem = world.dem();
     // (a) Routes over the hillshade with shadows at the chosen time.
-    let t_shadow = match &ctx.job.shadow_utc {
-        Some(s) => (parse_utc(s)? - world.epoch()).to_seconds(),
-        None => 0.0,
-    };
+    let t_shadow = shadow_time_s(ctx)?;
     let sun = world.sun(t_shadow.clamp(0.0, world.span_s()));
     let shadowed: Vec<bool> = (0..world.cells() as u32).map(|c| !world.lit(c, &sun)).collect();
     let slope = areo_terrain::slope::slope_aspect(dem);
@@ -1264,7 +1386,7 @@ fn energy_plot(
     if let Some(r) = report {
         let mut pts = vec![(r.start.t_min / 3600.0, r.start.energy_wh)];
         for s in &r.steps {
-            pts.push(((s.t_s + s.duration_s) / 3600.0, s.battery_wh));
+            pts.push(((s.t_s + s.duration_s) / 3600.0, s.battery_above_floor_wh));
         }
         eseries.push(Series { label: "executed charge above floor".into(), points: pts, rgb: (220, 30, 40), width: 2 });
     }

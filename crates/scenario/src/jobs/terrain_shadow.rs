@@ -86,7 +86,7 @@ fn compute(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) ->
 fn outcome(r: &ShadowReport) -> Outcome {
     let mut o = Outcome::default();
     let dem = &r.dem;
-    o.number("cells", (dem.cols() * dem.rows()) as f64);
+    o.count("cells", (dem.cols() * dem.rows()) as u64);
     o.number("relief_m", r.relief_m);
     o.number("max_slope_deg", r.max_slope_deg);
     o.number("mean_slope_deg", r.mean_slope_deg);

@@ -1,7 +1,9 @@
 //! GeoJSON through the `geojson` crate. Coordinates are [longitude east in −180..180,
-//! latitude] in degrees on the map's body; since GeoJSON (RFC 7946) assumes WGS 84,
-//! every collection records its body and coordinate reference system as foreign
-//! members (`body`, `crs`) so a GIS does not take Mars for the Earth.
+//! latitude] in degrees on the map's body. GeoJSON (RFC 7946) assumes WGS 84, so every
+//! collection names its body's CRS in the 2008 GeoJSON `crs` member —
+//! `{"type": "name", "properties": {"name": "IAU_2015:49900"}}` on Mars — which GDAL
+//! and QGIS read (GDAL 3.6 reports "Mars (2015) - Sphere / Ocentric"; JSON-FG's
+//! `coordRefSys` is not read by the GeoJSON driver); a `body` member adds its radii.
 
 use std::path::Path;
 
@@ -39,8 +41,9 @@ pub(crate) fn line(points: impl IntoIterator<Item = (f64, f64)>) -> Geometry {
     Geometry::new_line_string(points.into_iter().map(|(lat, lon)| [lon180(lon), lat]).collect::<Vec<_>>())
 }
 
-/// The features as a collection on `body`: the body's radii and its geographic CRS
-/// (planetocentric latitude, east longitude) as foreign members.
+/// The features as a collection on `body`: its geographic CRS by name
+/// ([`areo_ephemeris::Body::geographic_crs`]; left out for radii of no known body) and
+/// the body's radii and axes as foreign members.
 pub(crate) fn collection(features: Vec<Feature>, body: &Spheroid) -> FeatureCollection {
     let mut members = JsonObject::new();
     members.insert(
@@ -49,17 +52,14 @@ pub(crate) fn collection(features: Vec<Feature>, body: &Spheroid) -> FeatureColl
             "name": body_name(body),
             "equatorial_radius_m": body.equatorial_radius_m,
             "polar_radius_m": body.polar_radius_m,
-        }),
-    );
-    members.insert(
-        "crs".into(),
-        serde_json::json!({
-            "type": "geographic",
-            "latitude": "planetocentric",
+            "latitude": if body.body() == Some(areo_ephemeris::Body::Earth) { "geodetic" } else { "planetocentric" },
             "longitude": "east, -180..180",
-            "units": "degrees",
         }),
     );
+    if let Some(b) = body.body() {
+        members
+            .insert("crs".into(), serde_json::json!({ "type": "name", "properties": { "name": b.geographic_crs() } }));
+    }
     let mut fc = FeatureCollection::new(features);
     fc.foreign_members = Some(members);
     fc
@@ -98,6 +98,13 @@ mod tests {
         assert_eq!(v["features"][1]["geometry"]["coordinates"], serde_json::json!([-160.0, -4.5]));
         assert_eq!(v["body"]["name"], "Mars");
         assert_eq!(v["body"]["equatorial_radius_m"], 3_396_000.0);
-        assert_eq!(v["crs"]["latitude"], "planetocentric");
+        assert_eq!(v["body"]["latitude"], "planetocentric");
+        assert_eq!(v["crs"], serde_json::json!({"type": "name", "properties": {"name": "IAU_2015:49900"}}));
+        let moon: serde_json::Value = serde_json::to_value(collection(Vec::new(), &Spheroid::MOON)).unwrap();
+        assert_eq!(moon["crs"]["properties"]["name"], "IAU_2015:30100");
+        let earth: serde_json::Value = serde_json::to_value(collection(Vec::new(), &Spheroid::EARTH_WGS84)).unwrap();
+        assert_eq!(earth["crs"]["properties"]["name"], "urn:ogc:def:crs:OGC:1.3:CRS84");
+        let odd = Spheroid { equatorial_radius_m: 2e6, polar_radius_m: 2e6 };
+        assert!(serde_json::to_value(collection(Vec::new(), &odd)).unwrap().get("crs").is_none());
     }
 }

@@ -3,6 +3,7 @@
 
 pub mod csv;
 pub(crate) mod geojson;
+pub(crate) mod kml;
 pub(crate) mod plots;
 pub(crate) mod png;
 

@@ -27,3 +27,31 @@ pub(crate) fn write_png(path: &Path, width: usize, height: usize, rgb: &[u8]) ->
         .map_err(|m| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(m) })?;
     super::write_file(path, &bytes)
 }
+
+/// Writes a picture of `dem`'s grid (one pixel a cell, RGB bytes) as a PNG with its
+/// ESRI world file beside it (`.pgw`: pixel size, rotations, and the centre of the
+/// upper-left pixel, in the DEM's map metres), so GDAL and QGIS place it over the map.
+/// Returns both paths.
+pub(crate) fn write_map_png(path: &Path, dem: &areo_terrain::Dem, rgb: &[u8]) -> Result<Vec<std::path::PathBuf>> {
+    write_png(path, dem.cols(), dem.rows(), rgb)?;
+    let pgw = path.with_extension("pgw");
+    super::write_file(&pgw, world_file(dem).as_bytes())?;
+    Ok(vec![path.to_path_buf(), pgw])
+}
+
+/// The six lines of a world file for `dem`'s grid (north up, no rotation).
+fn world_file(dem: &areo_terrain::Dem) -> String {
+    let (dx, dy) = (dem.dx(), dem.dy());
+    format!("{dx}\n0\n0\n{}\n{}\n{}\n", -dy, dem.x0() + dx / 2.0, dem.y_top() - dy / 2.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn world_file_puts_the_first_pixel_centre_half_a_cell_in() {
+        let dem = areo_terrain::Dem::new(3, 2, 20.0, 25.0, 1000.0, 500.0, vec![0.0; 6]).unwrap();
+        assert_eq!(world_file(&dem), "20\n0\n0\n-25\n1010\n487.5\n");
+    }
+}

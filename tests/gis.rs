@@ -1,0 +1,153 @@
+//! A GIS reads areo's routes and map layers as lying on the right body. GDAL's tools
+//! (Debian's `gdal-bin`, which `.ci/run` installs) name the CRS of a Mars, a Moon and an
+//! Earth route.geojson; the initial plan's length that OGR measures in a metric
+//! projection on that body equals areo's own within 0.5 % (on the Earth's CRS a route
+//! on Mars would measure about twice as long); the DEM, slope and shadow GeoTIFFs name
+//! the body's sphere and metres, and GDAL places the start cell where the route starts.
+//! Without GDAL the test fails where `AREO_REQUIRE_GDAL` is set (CI) and says it did not
+//! run otherwise.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use areo_scenario::Body;
+
+fn areo(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_areo")).args(args).output().expect("run areo")
+}
+
+fn tool(name: &str, args: &[&str]) -> String {
+    let out = Command::new(name).args(args).output().unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert!(out.status.success(), "{name} {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// A plan of about 1.5 km across a small synthesised map at `site` on `body`.
+fn scenario(body: &str, (lat, lon): (f64, f64), utc: &str) -> String {
+    format!(
+        r#"Scenario(version: 1, description: "gis", job: Tempest(
+            body: {body},
+            terrain: Synth(cols: 60, rows: 40, cell_m: 30.0, seed: 4,
+                noise: (amplitude_m: 3.0, wavelength_m: 400.0, octaves: 2),
+                features: [Hill(x_m: 900, y_m: 600, radius_m: 150, slope_deg: 25)]),
+            site: (lat_deg: {lat}, lon_east_deg: {lon}),
+            start_utc: "{utc}",
+            horizon_h: 12,
+            horizon_sectors: 0,
+            start: (x_m: 105, y_m: 405),
+            start_battery_above_floor_wh: 600,
+            goals: [(name: "east", x_m: 1665, y_m: 825)],
+            planner: (actions: (drive: (max_slope: true, daylight: false)), resolution: (time_s: 600)),
+        ))"#
+    )
+}
+
+fn number(facts: &serde_json::Value, name: &str) -> f64 {
+    facts[name].as_f64().unwrap_or_else(|| panic!("fact {name}: {}", facts[name]))
+}
+
+#[test]
+// Saying that the test did not run is the point of its one message.
+#[allow(clippy::print_stderr)]
+fn gdal_reads_each_route_on_its_own_body_at_its_own_length() {
+    if let Err(e) = Command::new("ogrinfo").arg("--version").output() {
+        if std::env::var_os("AREO_REQUIRE_GDAL").is_some() {
+            panic!("AREO_REQUIRE_GDAL is set but ogrinfo cannot run: {e}");
+        }
+        eprintln!("not run: no GDAL here ({e}); .ci/run installs gdal-bin and requires it");
+        return;
+    }
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target").join("gis-test");
+    let _ = std::fs::remove_dir_all(&root);
+    std::fs::create_dir_all(&root).unwrap();
+    let cases = [
+        ("Mars", Body::Mars, (-4.5895, 137.4417), "2012-08-06T16:00:00Z", "Mars (2015) - Sphere / Ocentric"),
+        ("Moon", Body::Moon, (-20.0, 10.0), "2025-01-10T00:00:00Z", "Moon (2015) - Sphere / Ocentric"),
+        ("Earth", Body::Earth, (75.43, -89.87), "2025-06-21T12:00:00Z", "WGS 84"),
+    ];
+    // The GeoTIFF layers' geographic CRS: the sphere areo projected the map on (the
+    // synthesised Mars map sits on the MOLA sphere) and where GDAL takes their
+    // coordinates to (GeoJSON's CRS on Mars and the Moon; lon, lat on WGS 84 on the Earth).
+    let rasters = [
+        ("Mars - Sphere, R = 3396000 m / Ocentric", "IAU_2015:49900"),
+        ("Moon (2015) - Sphere / Ocentric", "IAU_2015:30100"),
+        ("Earth - Sphere, R = 6378137 m / Ocentric", "+proj=longlat +datum=WGS84 +no_defs"),
+    ];
+    for ((name, body, site, utc, crs), raster) in cases.into_iter().zip(rasters) {
+        let path = root.join(format!("{}.ron", name.to_lowercase()));
+        std::fs::write(&path, scenario(name, site, utc)).unwrap();
+        let out = areo(&["run", path.to_str().unwrap(), "--out", root.to_str().unwrap()]);
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        let dir = root.join(name.to_lowercase());
+        let route = dir.join("route.geojson");
+        let info = tool("ogrinfo", &["-so", "-al", route.to_str().unwrap()]);
+        assert!(info.contains(&format!("GEOGCRS[\"{crs}\"")), "{name}: {info}");
+
+        // OGR's length of the initial plan in an equidistant projection on the body's
+        // sphere, centred at the site.
+        let metric = dir.join("route-metric.geojson");
+        let radius = body.ellipsoid().equatorial_radius_m;
+        let projection = format!("+proj=eqc +lat_ts={} +lon_0={} +R={radius} +units=m +no_defs", site.0, site.1);
+        tool("ogr2ogr", &["-t_srs", &projection, metric.to_str().unwrap(), route.to_str().unwrap()]);
+        let sql = "SELECT ST_Length(geometry) AS len FROM route WHERE name = 'initial plan'";
+        let lengths = tool("ogrinfo", &["-dialect", "SQLite", "-sql", sql, metric.to_str().unwrap()]);
+        let ogr: f64 = lengths
+            .lines()
+            .find_map(|l| l.trim().strip_prefix("len (Real) = "))
+            .and_then(|v| v.trim().parse().ok())
+            .unwrap_or_else(|| panic!("{name}: no length in {lengths}"));
+        layers_lie_under_the_route(name, &dir, &route, raster);
+        // The KML (always WGS 84 to GDAL, as KML is; Google Earth reads the hint) holds
+        // the plan's line, the start and the goal.
+        let kml = tool("ogrinfo", &["-so", "-al", dir.join("route.kml").to_str().unwrap()]);
+        assert!(kml.contains("Feature Count: 3"), "{name}: {kml}");
+
+        let facts: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("facts.json")).unwrap()).unwrap();
+        let own = number(&facts, "initial_plan_distance_m");
+        assert!(own > 1000.0, "{name}: a plan of {own} m");
+        assert!((ogr - own).abs() <= 0.005 * own, "{name}: OGR measures {ogr} m, areo {own} m");
+    }
+}
+
+/// The DEM, slope and shadow GeoTIFFs name the body's sphere and metres, their grid is
+/// the scenario's (30 m cells), and GDAL puts the start cell's centre (map metres
+/// (105, 405) on a 40-row map: pixel (3.5, 26.5)) where the route's first point is.
+fn layers_lie_under_the_route(
+    name: &str,
+    dir: &std::path::Path,
+    route: &std::path::Path,
+    (gcs, geographic): (&str, &str),
+) {
+    for layer in ["dem.tif", "slope.tif", "shadow.tif"] {
+        let path = dir.join(layer);
+        let info: serde_json::Value =
+            serde_json::from_str(&tool("gdalinfo", &["-json", path.to_str().unwrap()])).unwrap();
+        let wkt = info["coordinateSystem"]["wkt"].as_str().unwrap_or_default();
+        assert!(wkt.contains(&format!("BASEGEOGCRS[\"{gcs}\"")), "{name} {layer}: {wkt}");
+        assert!(wkt.contains("LENGTHUNIT[\"metre\",1"), "{name} {layer}: {wkt}");
+        let gt: Vec<f64> = serde_json::from_value(info["geoTransform"].clone()).unwrap();
+        assert_eq!((gt[1], gt[2], gt[4], gt[5]), (30.0, 0.0, 0.0, -30.0), "{name} {layer}");
+        assert_eq!(info["size"], serde_json::json!([60, 40]), "{name} {layer}");
+    }
+    let shadow: serde_json::Value =
+        serde_json::from_str(&tool("gdalinfo", &["-json", dir.join("shadow.tif").to_str().unwrap()])).unwrap();
+    assert_eq!(shadow["bands"][0]["noDataValue"], 255.0, "{name}");
+
+    let mut transform = Command::new("gdaltransform")
+        .args(["-t_srs", geographic, dir.join("dem.tif").to_str().unwrap()])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("gdaltransform");
+    std::io::Write::write_all(&mut transform.stdin.take().unwrap(), b"3.5 26.5\n").unwrap();
+    let out = String::from_utf8(transform.wait_with_output().unwrap().stdout).unwrap();
+    let lon_lat: Vec<f64> = out.split_whitespace().take(2).map(|v| v.parse().unwrap()).collect();
+    let geojson: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(route).unwrap()).unwrap();
+    let first = &geojson["features"][0]["geometry"]["coordinates"][0];
+    let (lon, lat) = (first[0].as_f64().unwrap(), first[1].as_f64().unwrap());
+    assert!(
+        (lon_lat[0] - lon).abs() < 1e-9 && (lon_lat[1] - lat).abs() < 1e-9,
+        "{name}: GDAL {out}, route ({lon}, {lat})"
+    );
+}
