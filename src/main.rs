@@ -208,18 +208,38 @@ impl BodyArg {
 }
 
 #[derive(Debug, Args)]
-#[command(group = clap::ArgGroup::new("when").required(true).args(["time", "times_file", "sol", "day"]))]
+#[command(group = clap::ArgGroup::new("when").required(true).args(["time", "times_file", "sol", "mission_sol", "day", "from"]))]
 struct SunArgs {
-    /// An instant, ISO 8601 UTC (e.g. 2012-08-06T05:17:57Z).
+    /// An instant, UTC: ISO 8601 (2012-08-06T05:17:57Z), day of year
+    /// (2012-219T05:17:57) or SPICE's form ("2012 AUG 06 05:17:57").
     #[arg(long)]
     time: Option<String>,
-    /// A file of ISO 8601 UTC instants, one per line.
+    /// A file of UTC instants, one per line (`-`: standard input).
     #[arg(long)]
     times_file: Option<PathBuf>,
-    /// A local sol number at the site (Mars Sol Date counted in local mean time):
-    /// prints sunrise, noon and sunset. Needs --lat and --lon.
+    /// Every --step from this instant (UTC) to --to.
+    #[arg(long, requires_all = ["to", "step"])]
+    from: Option<String>,
+    /// The last instant of a --from range (UTC).
+    #[arg(long, requires = "from")]
+    to: Option<String>,
+    /// The step of a --from range: a number and a unit (30s, 10min, 1h, 1d, 1sol).
+    #[arg(long, requires = "from")]
+    step: Option<String>,
+    /// A local sol number at the site (the Mars Sol Date counted in local mean time,
+    /// e.g. 49269 for the sol Curiosity landed in): prints sunrise, noon and sunset.
+    /// For a mission's own count give --landing and --mission-sol. Needs --lat and
+    /// --lon.
     #[arg(long, requires_all = ["lat", "lon"])]
     sol: Option<i64>,
+    /// A mission sol: sol 0 is the local sol of --landing at the site (so
+    /// `--landing 2012-08-06T05:17:57Z --mission-sol 100` is Curiosity's sol 100).
+    /// Needs --landing, --lat and --lon.
+    #[arg(long, requires_all = ["landing", "lat", "lon"], allow_hyphen_values = true)]
+    mission_sol: Option<i64>,
+    /// The landing instant (UTC) that --mission-sol counts from.
+    #[arg(long, requires = "mission_sol")]
+    landing: Option<String>,
     /// On the Moon or the Earth: the solar day from this date (YYYY-MM-DD, 00:00 UTC;
     /// a synodic month on the Moon): sunrises, sunsets, the Sun's highest point,
     /// daylight hours (and on the Moon the Earth's). Needs --lat and --lon.
@@ -653,6 +673,18 @@ fn sun(args: &SunArgs) -> Result<(), Error> {
         }
         let (lat, lon) = site.ok_or_else(|| Error::usage("--day", "needs --lat and --lon"))?;
         print!("{}", print::sun::day(&day_events(body, date, lat, lon)?, args.format)?);
+        return Ok(());
+    }
+    if let (Some(n), Some(landing)) = (args.mission_sol, &args.landing) {
+        if args.body != BodyArg::Mars {
+            return Err(Error::usage("--mission-sol", "counts Mars sols; on the Moon and the Earth give --day"));
+        }
+        let (lat, lon) = site.ok_or_else(|| Error::usage("--mission-sol", "needs --lat and --lon"))?;
+        print!("{}", print::sun::sol(&areo_scenario::sun::mission_sol_events(landing, n, lat, lon)?, args.format)?);
+        return Ok(());
+    }
+    if let (Some(from), Some(to), Some(step)) = (&args.from, &args.to, &args.step) {
+        print!("{}", print::sun::rows(&body_rows(body, Instants::Range { from, to, step }, site)?, args.format)?);
         return Ok(());
     }
     let text = match (args.sol, &args.time, &args.times_file) {

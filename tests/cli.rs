@@ -847,3 +847,42 @@ fn terrain_info_json_has_plain_names_and_completions_print() {
     let bash = areo(&["completions", "bash"]);
     assert!(bash.status.success() && String::from_utf8_lossy(&bash.stdout).contains("complete -F _areo"));
 }
+
+/// Mission time: Curiosity's sol 0 is the local sol 49269 its landing fell in at Gale,
+/// and its sol 100 fell on 2012-11-16 (JPL's sol-100 release); the landing may be
+/// written as SPICE does. A --from/--to/--step range and instants on standard input.
+#[test]
+fn sun_mission_sols_ranges_and_stdin() {
+    let gale = ["--lat", "-4.5895", "--lon", "137.4417", "--format", "json"];
+    let run = |args: &[&str]| -> serde_json::Value {
+        let out = areo(&[&["sun"], args, &gale[..]].concat());
+        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let sol0 = run(&["--landing", "2012-08-06T05:17:57Z", "--mission-sol", "0"]);
+    let local = run(&["--sol", "49269"]);
+    assert_eq!(sol0["sol"], 49269);
+    assert_eq!(sol0["noon_utc"], local["noon_utc"]);
+    let sol100 = run(&["--landing", "2012 AUG 06 05:17:57", "--mission-sol", "100"]);
+    assert_eq!(sol100["mission_sol"], 100);
+    assert!(sol100["noon_utc"].as_str().unwrap().starts_with("2012-11-16"), "{sol100}");
+
+    let out = areo(&["sun", "--from", "2012-219T05:00:00", "--to", "2012-08-06T06:00:00Z", "--step", "20min", "--format", "csv"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(text.lines().count(), 1 + 4, "{text}");
+    assert!(text.lines().nth(2).unwrap().starts_with("2012-08-06T05:20:00.000Z"), "{text}");
+    let bad = areo(&["sun", "--from", "2012-219T05:00:00", "--to", "2012-219T06:00:00", "--step", "20 parsecs"]);
+    assert_eq!(bad.status.code(), Some(2));
+
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_areo"))
+        .args(["sun", "--times-file", "-", "--format", "csv"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::io::Write::write_all(&mut child.stdin.take().unwrap(), b"2012-08-06T05:17:57Z\n# a comment\n2012-220T00:00:00\n").unwrap();
+    let out = child.wait_with_output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(text.lines().count(), 3, "{text}");
+    assert!(text.contains("2012-08-07T00:00:00.000Z"), "{text}");
+}

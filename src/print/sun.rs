@@ -74,8 +74,12 @@ pub(crate) fn sol(day: &SolEvents, format: Format) -> Result<String, Error> {
         Format::Csv => super::csv(&day.csv_table())?,
         Format::Json => super::json(day)? + "\n",
         Format::Text => format!(
-            "sol {} at ({:.4}°, {:.4}°E)\n  sunrise  {}\n  noon     {}  (Sun {:.2}° high)\n  sunset   {}\n  daylight {:.3} h\n",
+            "sol {}{} at ({:.4}°, {:.4}°E)\n  sunrise  {}\n  noon     {}  (Sun {:.2}° high)\n  sunset   {}\n  daylight {:.3} h\n",
             day.sol,
+            match (day.mission_sol, &day.landing_utc) {
+                (Some(n), Some(at)) => format!(" (mission sol {n} of the landing at {at})"),
+                _ => String::new(),
+            },
             day.lat_deg,
             day.lon_east_deg,
             t(&day.sunrise_utc),

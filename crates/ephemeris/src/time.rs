@@ -133,12 +133,16 @@ pub const VALID_SOLS: std::ops::RangeInclusive<i64> = -97_000..=258_000;
 /// Parses an ISO 8601 UTC instant such as `2012-08-06T05:17:57Z` or
 /// `2012-08-06T05:17:57.250 UTC`.
 pub fn parse_utc(text: &str) -> Result<Epoch> {
-    let trimmed = text.trim();
     let bad = |reason: String| Error::BadTime { text: text.to_string(), reason };
+    let iso = calendar_form(text.trim()).map_err(bad)?;
+    let trimmed = iso.as_str();
     // hifitime reads a bare date-time in UTC; it does not take the `Z` designator.
     let body = trimmed.strip_suffix('Z').unwrap_or(trimmed);
     if body.len() < 10 || !body.as_bytes()[..4].iter().all(u8::is_ascii_digit) {
-        return Err(bad("not of the form YYYY-MM-DDTHH:MM:SS".into()));
+        return Err(bad(
+            "not a UTC instant: write YYYY-MM-DDTHH:MM:SS[Z], YYYY-DDDTHH:MM:SS (day of year) or YYYY MON DD HH:MM:SS"
+                .into(),
+        ));
     }
     let epoch = Epoch::from_gregorian_str(body).map_err(|e| match e {
         hifitime::HifitimeError::InvalidGregorianDate => bad("no such calendar date or time of day".into()),
@@ -152,6 +156,53 @@ pub fn parse_utc(text: &str) -> Result<Epoch> {
         return Err(bad(format!("year {year} is outside the ephemeris' validity, 1600..=2600")));
     }
     Ok(epoch)
+}
+
+/// The ISO 8601 calendar form (`2012-08-06T05:17:57`) of a UTC instant written in one
+/// of the forms missions use: that form itself (a trailing `Z` allowed), ISO 8601
+/// day-of-year (`2012-219T05:17:57`, as PDS labels and mission logs write it) or
+/// SPICE's (`2012 AUG 06 05:17:57`, a trailing `UTC` allowed).
+fn calendar_form(text: &str) -> std::result::Result<String, String> {
+    let text = text.strip_suffix("UTC").map_or(text, str::trim_end);
+    let b = text.as_bytes();
+    let digits = |r: std::ops::Range<usize>| b.get(r.clone()).is_some_and(|s| s.iter().all(u8::is_ascii_digit));
+    // Day of year: YYYY-DDD, then T or the end.
+    if digits(0..4) && b.get(4) == Some(&b'-') && digits(5..8) && matches!(b.get(8), None | Some(b'T')) {
+        let year: i32 = text[..4].parse().map_err(|_| "bad year".to_string())?;
+        let doy: u32 = text[5..8].parse().map_err(|_| "bad day of year".to_string())?;
+        let leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
+        let lengths = [31, if leap { 29 } else { 28 }, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31];
+        let days: u32 = lengths.iter().sum();
+        if !(1..=days).contains(&doy) {
+            return Err(format!("day of year {doy} is outside 1..={days} in {year}"));
+        }
+        let (mut month, mut day) = (1, doy);
+        for len in lengths {
+            if day <= len {
+                break;
+            }
+            day -= len;
+            month += 1;
+        }
+        let rest = if text.len() > 8 { &text[8..] } else { "T00:00:00" };
+        return Ok(format!("{year:04}-{month:02}-{day:02}{rest}"));
+    }
+    // SPICE: YYYY MON DD HH:MM:SS[.fff]
+    let parts: Vec<&str> = text.split_whitespace().collect();
+    if parts.len() >= 3 && digits(0..4) && parts[0].len() == 4 && parts[1].chars().all(|c| c.is_ascii_alphabetic()) {
+        const MONTHS: [&str; 12] = ["JAN", "FEB", "MAR", "APR", "MAY", "JUN", "JUL", "AUG", "SEP", "OCT", "NOV", "DEC"];
+        let month = MONTHS
+            .iter()
+            .position(|m| parts[1].len() >= 3 && parts[1][..3].eq_ignore_ascii_case(m))
+            .ok_or_else(|| format!("{:?} is not a month (JAN..DEC)", parts[1]))?;
+        let day: u32 = parts[2].parse().map_err(|_| format!("{:?} is not a day of the month", parts[2]))?;
+        let time = parts.get(3).copied().unwrap_or("00:00:00");
+        if parts.len() > 4 {
+            return Err("write YYYY MON DD HH:MM:SS".into());
+        }
+        return Ok(format!("{}-{:02}-{day:02}T{time}", parts[0], month + 1));
+    }
+    Ok(text.to_string())
 }
 
 /// Formats an instant as ISO 8601 UTC with milliseconds, e.g. `2012-08-06T05:17:57.000Z`.
@@ -178,6 +229,23 @@ mod tests {
         let msd0 = MarsTime::from_epoch(t).msd;
         let msd1 = MarsTime::from_epoch(t + hifitime::Duration::from_seconds(SOL_S)).msd;
         assert!((msd1 - msd0 - 1.0).abs() < 1e-9, "{}", msd1 - msd0);
+    }
+
+    /// Curiosity's landing as PDS labels (day of year) and SPICE write it is the same
+    /// instant as in ISO 8601; 2012 is a leap year (day 219 is August 6; day 366 exists),
+    /// 2013 is not.
+    #[test]
+    fn parse_accepts_day_of_year_and_spice_forms() {
+        let iso = parse_utc("2012-08-06T05:17:57Z").unwrap();
+        for same in ["2012-219T05:17:57", "2012-219T05:17:57Z", "2012 AUG 06 05:17:57", "2012 aug 06 05:17:57 UTC"] {
+            assert_eq!(parse_utc(same).unwrap(), iso, "{same}");
+        }
+        assert_eq!(format_utc(parse_utc("2012-366T12:00:00").unwrap()), "2012-12-31T12:00:00.000Z");
+        assert_eq!(format_utc(parse_utc("2013-060").unwrap()), "2013-03-01T00:00:00.000Z");
+        assert_eq!(format_utc(parse_utc("2012 FEB 29").unwrap()), "2012-02-29T00:00:00.000Z");
+        for bad in ["2013-366T00:00:00", "2012-000T00:00:00", "2012 FOO 06 05:17:57", "2013 FEB 29 00:00:00"] {
+            assert!(parse_utc(bad).is_err(), "{bad:?} parsed");
+        }
     }
 
     #[test]

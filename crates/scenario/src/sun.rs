@@ -219,8 +219,40 @@ impl SunRows {
 pub enum Instants<'a> {
     /// One ISO 8601 UTC instant.
     One(&'a str),
-    /// A file of instants, one per line; blank lines and `#` comments are skipped.
+    /// A file of instants, one per line; blank lines and `#` comments are skipped. The
+    /// path `-` is standard input.
     File(&'a Path),
+    /// Every `step` from `from` to `to` (both UTC, `to` included when on a step).
+    Range {
+        /// The first instant.
+        from: &'a str,
+        /// The last instant.
+        to: &'a str,
+        /// The step, e.g. `10min`, `1h`, `30s`, `1sol`, `1d`.
+        step: &'a str,
+    },
+}
+
+/// The most rows a `--from/--to/--step` range may give.
+const MAX_RANGE_ROWS: f64 = 1e6;
+
+/// A duration written with its unit (`30s`, `10min`, `1.5h`, `1d`, `1sol`), s.
+pub fn parse_step(text: &str) -> Result<f64> {
+    let t = text.trim();
+    let split = t.find(|c: char| c.is_ascii_alphabetic()).unwrap_or(t.len());
+    let (number, unit) = t.split_at(split);
+    let scale = match unit {
+        "s" => 1.0,
+        "min" => 60.0,
+        "h" => 3600.0,
+        "d" => 86_400.0,
+        "sol" => areo_ephemeris::SOL_S,
+        _ => return Err(Error::usage(format!("--step {text}"), "give a number and a unit: s, min, h, d or sol (e.g. 10min)")),
+    };
+    match number.trim().parse::<f64>() {
+        Ok(n) if n > 0.0 && n.is_finite() => Ok(n * scale),
+        _ => Err(Error::usage(format!("--step {text}"), "the step must be a positive number with its unit")),
+    }
 }
 
 /// A site on `body` given as latitude and east longitude, degrees.
@@ -252,9 +284,28 @@ pub fn rows(instants: Instants<'_>, lat_lon: Option<(f64, f64)>) -> Result<Vec<S
 fn epochs(instants: Instants<'_>) -> Result<Vec<Epoch>> {
     match instants {
         Instants::One(t) => Ok(vec![parse_utc(t)?]),
+        Instants::Range { from, to, step } => {
+            let (t0, t1, dt) = (parse_utc(from)?, parse_utc(to)?, parse_step(step)?);
+            let span = (t1 - t0).to_seconds();
+            if span < 0.0 {
+                return Err(Error::usage(format!("--from {from} --to {to}"), "--to must not be before --from"));
+            }
+            let n = (span / dt + 1e-9).floor() + 1.0;
+            if n > MAX_RANGE_ROWS {
+                return Err(Error::usage(
+                    format!("--from {from} --to {to} --step {step}"),
+                    format!("{n:.0} rows; at most {MAX_RANGE_ROWS:.0} (a longer step or a shorter span)"),
+                ));
+            }
+            Ok((0..n as usize).map(|k| t0 + hifitime::Duration::from_seconds(k as f64 * dt)).collect())
+        }
         Instants::File(path) => {
-            let text =
-                std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+            let text = if path == Path::new("-") {
+                std::io::read_to_string(std::io::stdin())
+            } else {
+                std::fs::read_to_string(path)
+            }
+            .map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
             let mut rows = Vec::new();
             for (i, line) in text.lines().enumerate() {
                 let t = line.trim();
@@ -288,6 +339,13 @@ pub fn csv_table(rows: &[SunRow]) -> Table {
 pub struct SolEvents {
     /// The local sol number (Mars Sol Date in local mean time).
     pub sol: i64,
+    /// The mission sol, counted from the landing's local sol (0), when a landing was
+    /// given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mission_sol: Option<i64>,
+    /// The landing, ISO 8601 UTC, when given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub landing_utc: Option<String>,
     /// Site latitude, planetocentric degrees.
     #[serde(skip)]
     pub lat_deg: f64,
@@ -307,13 +365,14 @@ pub struct SolEvents {
 }
 
 impl SolEvents {
-    /// The sol's CSV table (one row).
+    /// The CSV table of the sol (one row; `mission_sol` empty without a landing).
     pub fn csv_table(&self) -> Table {
         let mut table =
-            Table::new(["sol", "sunrise_utc", "noon_utc", "sunset_utc", "noon_elevation_deg", "daylight_hours"]);
+            Table::new(["sol", "mission_sol", "sunrise_utc", "noon_utc", "sunset_utc", "noon_elevation_deg", "daylight_hours"]);
         let none = || "none".to_string();
         table.push(vec![
             self.sol.to_string(),
+            self.mission_sol.map_or_else(String::new, |s| s.to_string()),
             self.sunrise_utc.clone().unwrap_or_else(none),
             self.noon_utc.clone(),
             self.sunset_utc.clone().unwrap_or_else(none),
@@ -398,12 +457,27 @@ pub fn day_events(body: Body, date: &str, lat_deg: f64, lon_east_deg: f64) -> Re
     })
 }
 
-/// Sunrise, noon and sunset of local sol `sol` at (`lat_deg`, `lon_east_deg`).
+/// The sol events of mission sol `mission_sol` of a landing at `landing` (UTC, any
+/// form [`parse_utc`] reads) at the site: sol 0 is the local sol the landing fell in,
+/// as missions count (Curiosity landed in local sol 49269 at Gale, its sol 0).
+pub fn mission_sol_events(landing: &str, mission_sol: i64, lat_deg: f64, lon_east_deg: f64) -> Result<SolEvents> {
+    let site = Site::new(lat_deg, lon_east_deg)?;
+    let at = parse_utc(landing)?;
+    let mut events = sol_events(areo_ephemeris::local_sol(at, &site) + mission_sol, lat_deg, lon_east_deg)?;
+    events.mission_sol = Some(mission_sol);
+    events.landing_utc = Some(format_utc(at));
+    Ok(events)
+}
+
+/// Sunrise, noon and sunset of local sol `sol` (Mars Sol Date in local mean time) at a
+/// site, flat horizon.
 pub fn sol_events(sol: i64, lat_deg: f64, lon_east_deg: f64) -> Result<SolEvents> {
     let site = Site::new(lat_deg, lon_east_deg)?;
     let day = solar_day(sol, &site, &HorizonMask::flat())?;
     Ok(SolEvents {
         sol,
+        mission_sol: None,
+        landing_utc: None,
         lat_deg: site.lat_deg(),
         lon_east_deg: site.lon_east_deg(),
         sunrise_utc: day.sunrise.map(format_utc),
