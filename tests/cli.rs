@@ -867,7 +867,17 @@ fn sun_mission_sols_ranges_and_stdin() {
     assert_eq!(sol100["mission_sol"], 100);
     assert!(sol100["noon_utc"].as_str().unwrap().starts_with("2012-11-16"), "{sol100}");
 
-    let out = areo(&["sun", "--from", "2012-219T05:00:00", "--to", "2012-08-06T06:00:00Z", "--step", "20min", "--format", "csv"]);
+    let out = areo(&[
+        "sun",
+        "--from",
+        "2012-219T05:00:00",
+        "--to",
+        "2012-08-06T06:00:00Z",
+        "--step",
+        "20min",
+        "--format",
+        "csv",
+    ]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(text.lines().count(), 1 + 4, "{text}");
     assert!(text.lines().nth(2).unwrap().starts_with("2012-08-06T05:20:00.000Z"), "{text}");
@@ -880,7 +890,11 @@ fn sun_mission_sols_ranges_and_stdin() {
         .stdout(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    std::io::Write::write_all(&mut child.stdin.take().unwrap(), b"2012-08-06T05:17:57Z\n# a comment\n2012-220T00:00:00\n").unwrap();
+    std::io::Write::write_all(
+        &mut child.stdin.take().unwrap(),
+        b"2012-08-06T05:17:57Z\n# a comment\n2012-220T00:00:00\n",
+    )
+    .unwrap();
     let out = child.wait_with_output().unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(text.lines().count(), 3, "{text}");

@@ -15,6 +15,8 @@
 mod bench;
 mod deps;
 mod fuzz;
+#[cfg(test)]
+mod plot_layout;
 mod scenarios;
 
 use std::path::PathBuf;

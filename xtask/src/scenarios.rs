@@ -163,6 +163,10 @@ mod tests {
             Ok((checked, mismatches)) => {
                 assert!(checked > 0, "{name}: no facts checked");
                 assert!(mismatches.is_empty(), "{name}: {mismatches:#?}");
+                // Every plot it drew: no legend over a label or (off the map) the data,
+                // no label over another.
+                let hidden = crate::plot_layout::problems(&out);
+                assert!(hidden.is_empty(), "{name}: {hidden:#?}");
             }
             Err(None) => panic!("{name}: no expected file {}", expected.display()),
             Err(Some(e)) => panic!("{name}: {e}"),

@@ -247,7 +247,12 @@ pub fn parse_step(text: &str) -> Result<f64> {
         "h" => 3600.0,
         "d" => 86_400.0,
         "sol" => areo_ephemeris::SOL_S,
-        _ => return Err(Error::usage(format!("--step {text}"), "give a number and a unit: s, min, h, d or sol (e.g. 10min)")),
+        _ => {
+            return Err(Error::usage(
+                format!("--step {text}"),
+                "give a number and a unit: s, min, h, d or sol (e.g. 10min)",
+            ));
+        }
     };
     match number.trim().parse::<f64>() {
         Ok(n) if n > 0.0 && n.is_finite() => Ok(n * scale),
@@ -367,8 +372,15 @@ pub struct SolEvents {
 impl SolEvents {
     /// The CSV table of the sol (one row; `mission_sol` empty without a landing).
     pub fn csv_table(&self) -> Table {
-        let mut table =
-            Table::new(["sol", "mission_sol", "sunrise_utc", "noon_utc", "sunset_utc", "noon_elevation_deg", "daylight_hours"]);
+        let mut table = Table::new([
+            "sol",
+            "mission_sol",
+            "sunrise_utc",
+            "noon_utc",
+            "sunset_utc",
+            "noon_elevation_deg",
+            "daylight_hours",
+        ]);
         let none = || "none".to_string();
         table.push(vec![
             self.sol.to_string(),

@@ -600,6 +600,7 @@ fn plot_against(
         x_range: (lo, if hi > lo { hi } else { lo + 1.0 }),
         windows: Vec::new(),
         windows_label: String::new(),
+        dots: true,
     };
     crate::output::plots::time(dir, &format!("{fact}_vs_{axis}"), &plot)
 }

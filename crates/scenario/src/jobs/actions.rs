@@ -471,6 +471,7 @@ fn write_climb(dir: &Path, profile: &ClimbProfile) -> Result<Vec<std::path::Path
             x_range: (0.0, end),
             windows: Vec::new(),
             windows_label: String::new(),
+            dots: false,
         },
     )?);
     Ok(files)
@@ -609,6 +610,7 @@ fn write_studies(dir: &Path, studies: &[(String, &SeedStudy)], generations: usiz
             x_range: (0.0, generations.saturating_sub(1).max(1) as f64),
             windows: Vec::new(),
             windows_label: String::new(),
+            dots: false,
         },
     )?);
     for (name, study) in studies {
@@ -909,6 +911,7 @@ fn trace_plots(dir: &Path, trace: &[TraceStep], mu: f64) -> Result<Vec<PathBuf>>
             x_range: (0.0, trace.len().max(1) as f64),
             windows: Vec::new(),
             windows_label: String::new(),
+            dots: false,
         },
     )?);
     let friction: Vec<(f64, f64)> = trace.iter().enumerate().map(|(i, t)| (i as f64 + 1.0, t.friction_used)).collect();
@@ -932,6 +935,7 @@ fn trace_plots(dir: &Path, trace: &[TraceStep], mu: f64) -> Result<Vec<PathBuf>>
             x_range: (0.0, trace.len().max(1) as f64),
             windows: Vec::new(),
             windows_label: String::new(),
+            dots: false,
         },
     )?);
     Ok(files)
@@ -957,6 +961,7 @@ fn ga_plots(dir: &Path, report: &GaReport) -> Result<Vec<PathBuf>> {
             x_range: (0.0, report.generations.len().saturating_sub(1).max(1) as f64),
             windows: Vec::new(),
             windows_label: String::new(),
+            dots: false,
         },
     )?);
     files.extend(crate::output::plots::histogram(

@@ -1346,6 +1346,7 @@ fn distance_plot(
             x_range: (0.0, end_s / 3600.0),
             windows: Vec::new(),
             windows_label: String::new(),
+            dots: false,
         },
     )
 }
@@ -1402,6 +1403,7 @@ fn energy_plot(
             x_range: (0.0, end_s / 3600.0),
             windows: Vec::new(),
             windows_label: String::new(),
+            dots: false,
         },
     )
 }
@@ -1532,6 +1534,7 @@ fn sky_plot(dir: &Path, ctx: &Context<'_>, plan: &MissionPlan) -> Result<Vec<Pat
             x_range: (0.0, end_s / 3600.0),
             windows: sessions,
             windows_label: "Communicate session".into(),
+            dots: false,
         },
     )
 }

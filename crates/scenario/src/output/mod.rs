@@ -4,6 +4,7 @@
 pub mod csv;
 pub(crate) mod geojson;
 pub(crate) mod kml;
+pub(crate) mod layout;
 pub(crate) mod plots;
 pub(crate) mod png;
 

@@ -16,6 +16,7 @@ use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
+use super::layout::{Bounds, legend_place, place_labels};
 use crate::error::{Error, Result};
 
 /// A polyline to draw: local map metres (or hours and values for the time plots).
@@ -84,6 +85,8 @@ pub(crate) struct TimePlot {
     pub windows_label: String,
     /// X range, hours.
     pub x_range: (f64, f64),
+    /// Draw the series as dots (separate runs), not lines.
+    pub dots: bool,
 }
 
 fn register_font() {
@@ -132,17 +135,42 @@ fn draw_lines<'a, DB: DrawingBackend + 'a>(chart: &mut Chart<'a, DB>, series: &[
     Ok(())
 }
 
-/// Draws the legend box at `position`.
-fn draw_legend<'a, DB: DrawingBackend + 'a>(
-    chart: &mut Chart<'a, DB>,
-    position: SeriesLabelPosition,
-) -> DrawResult<()> {
+/// The legend's font, and plotters' legend margin and sample width, px.
+const LEGEND_FONT: (&str, u32) = ("sans-serif", 13);
+const LEGEND_MARGIN: i32 = 10;
+const LEGEND_SAMPLE: i32 = 30;
+/// Marker labels' font size and the markers' radius, px.
+const MARKER_FONT: u32 = 15;
+const MARKER_RADIUS: i32 = 6;
+
+/// The size of the legend box of `labels`, px, as plotters lays it out.
+fn legend_size(labels: &[&str]) -> DrawResult<(i32, i32)> {
+    let font: TextStyle<'_> = LEGEND_FONT.into_font().into();
+    let mut text = MultiLineText::<_, &str>::new((0, 0), &font);
+    for l in labels {
+        text.push_line(*l);
+    }
+    let (w, h) = text.estimate_dimension().map_err(|e| e.to_string())?;
+    Ok((w + LEGEND_SAMPLE + 2 * LEGEND_MARGIN, h + 2 * LEGEND_MARGIN))
+}
+
+/// The plotting area of `chart`, px.
+fn area_of<DB: DrawingBackend>(chart: &Chart<'_, DB>) -> Bounds {
+    let (xr, yr) = chart.plotting_area().get_pixel_range();
+    Bounds { x: xr.start, y: yr.start, w: xr.end - xr.start, h: yr.end - yr.start }
+}
+
+/// Draws the legend box at `at` (page px).
+fn draw_legend<'a, DB: DrawingBackend + 'a>(chart: &mut Chart<'a, DB>, at: Bounds) -> DrawResult<()> {
+    let area = area_of(chart);
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
-        .label_font(("sans-serif", 13))
-        .position(position)
+        .label_font(LEGEND_FONT)
+        .margin(LEGEND_MARGIN as u32)
+        .legend_area_size(LEGEND_SAMPLE as u32)
+        .position(SeriesLabelPosition::Coordinate(at.x - area.x, at.y - area.y))
         .draw()
         .map_err(draw_err)
 }
@@ -185,17 +213,41 @@ fn draw_route<DB: DrawingBackend>(
         .draw()
         .map_err(draw_err)?;
     draw_lines(&mut chart, &p.series)?;
+    // The legend goes where it hides no marker's label and the least of the routes;
+    // each label then beside its marker, clear of the legend and of the other labels.
+    let area = area_of(&chart);
+    let font: TextStyle<'_> = ("sans-serif", MARKER_FONT).into_font().into();
+    let mut anchors = Vec::with_capacity(p.markers.len());
     for m in &p.markers {
+        let (w, h) = root.estimate_text_size(&m.label, &font).map_err(draw_err)?;
+        // plotters' estimate runs a little short of the drawn text: keep a margin.
+        anchors.push((chart.backend_coord(&m.at), ((w as f64 * 1.2) as i32 + 4, h as i32 + 2)));
+    }
+    let halos: Vec<Bounds> = anchors
+        .iter()
+        .map(|&((x, y), (w, h))| Bounds {
+            x: x - w - 2 * MARKER_RADIUS,
+            y: y - h - 2 * MARKER_RADIUS,
+            w: 2 * w + 4 * MARKER_RADIUS,
+            h: 2 * h + 4 * MARKER_RADIUS,
+        })
+        .collect();
+    let points: Vec<(i32, i32)> =
+        p.series.iter().flat_map(|s| s.points.iter().map(|q| chart.backend_coord(q))).collect();
+    let labels: Vec<&str> = p.series.iter().map(|s| s.label.as_str()).collect();
+    let legend = legend_place(&area, legend_size(&labels)?, &halos, &points);
+    let boxes = place_labels(&area, &anchors, MARKER_RADIUS, &[legend]);
+    for (m, b) in p.markers.iter().zip(&boxes) {
         let c = colour(m.rgb);
         chart
             .draw_series([
-                Circle::new(m.at, 6, c.filled()).into_dyn(),
-                Circle::new(m.at, 6, BLACK.stroke_width(1)).into_dyn(),
-                Text::new(m.label.clone(), (m.at.0, m.at.1), ("sans-serif", 15).into_font().color(&BLACK)).into_dyn(),
+                Circle::new(m.at, MARKER_RADIUS as u32, c.filled()).into_dyn(),
+                Circle::new(m.at, MARKER_RADIUS as u32, BLACK.stroke_width(1)).into_dyn(),
             ])
             .map_err(draw_err)?;
+        root.draw(&Text::new(m.label.clone(), (b.x, b.y), font.clone())).map_err(draw_err)?;
     }
-    draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
+    draw_legend(&mut chart, legend)?;
     root.present().map_err(draw_err)?;
     Ok(rect)
 }
@@ -214,6 +266,22 @@ fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) ->
     }
     let pad = ((hi - lo) * 0.05).max(1e-6);
     let (y0, y1) = (lo.min(0.0) - pad, hi + pad);
+    // Headroom above the data for the legend: the plotting area's height is the page's
+    // less the margins, the title and the x labels.
+    let mut labels: Vec<&str> = Vec::new();
+    if !p.nights.is_empty() {
+        labels.push("night");
+    }
+    if !p.windows.is_empty() {
+        labels.push(p.windows_label.as_str());
+    }
+    labels.extend(p.series.iter().map(|s| s.label.as_str()));
+    let legend = legend_size(&labels)?;
+    let (_, page_h) = root.dim_in_pixel();
+    let title_h = root.estimate_text_size(&p.title, &("sans-serif", 20).into_font().into()).map_err(draw_err)?.1;
+    let area_h = (f64::from(page_h) - 2.0 * 12.0 - f64::from(title_h) - 40.0 - 10.0).max(100.0);
+    let free = (f64::from(legend.1 + 12) / area_h).min(0.6);
+    let y1 = y0 + (y1 - y0) / (1.0 - free);
     let (x0, x1) = (p.x_range.0, p.x_range.1.max(p.x_range.0 + 1e-6));
     let mut chart = titled(root, &p.title, 70).build_cartesian_2d(x0..x1, y0..y1).map_err(draw_err)?;
     chart
@@ -240,8 +308,22 @@ fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) ->
             .label(p.windows_label.as_str())
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], shade));
     }
-    draw_lines(&mut chart, &p.series)?;
-    draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+    if p.dots {
+        for s in &p.series {
+            let c = colour(s.rgb);
+            chart
+                .draw_series(s.points.iter().map(|&q| Circle::new(q, 4, c.filled())))
+                .map_err(draw_err)?
+                .label(&s.label)
+                .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.filled()));
+        }
+    } else {
+        draw_lines(&mut chart, &p.series)?;
+    }
+    let points: Vec<(i32, i32)> =
+        p.series.iter().flat_map(|s| s.points.iter().map(|q| chart.backend_coord(q))).collect();
+    let at = legend_place(&area_of(&chart), legend, &[], &points);
+    draw_legend(&mut chart, at)?;
     root.present().map_err(draw_err)?;
     Ok(())
 }
