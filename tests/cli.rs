@@ -900,3 +900,20 @@ fn sun_mission_sols_ranges_and_stdin() {
     assert_eq!(text.lines().count(), 3, "{text}");
     assert!(text.contains("2012-08-07T00:00:00.000Z"), "{text}");
 }
+
+/// `plot_time: LocalSolar` labels the time plots' axis in local solar time with sols.
+#[test]
+fn time_plots_can_read_in_local_solar_time() {
+    let text = std::fs::read_to_string(root().join("tests/tempest/small.ron"))
+        .unwrap()
+        .replace("horizon_h: 40,", "horizon_h: 40,\n        plot_time: LocalSolar,");
+    let dir = tmp("plot-time");
+    let path = dir.join("small_ltst.ron");
+    std::fs::write(&path, text.replace("\"../../scenarios/", &format!("\"{}/scenarios/", root().display()))).unwrap();
+    let out = areo(&["run", path.to_str().unwrap(), "-o", dir.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let svg = std::fs::read_to_string(dir.join("small_ltst/energy.svg")).unwrap();
+    assert!(svg.contains("local true solar time at the start"), "axis name");
+    // The run starts in the morning of sol 0 (08:50) and ends on sol 1.
+    assert!(svg.contains("sol 0 08:50") && svg.contains("sol 1 "), "tick labels");
+}

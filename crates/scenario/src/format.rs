@@ -189,6 +189,10 @@ pub struct TempestJob {
     /// When the route plot's shadows are drawn, ISO 8601 UTC; default `start_utc`.
     #[serde(default)]
     pub shadow_utc: Option<String>,
+    /// How the time plots label their time axis: `Hours` since the start (default),
+    /// `Utc`, or `LocalSolar` (local true solar time at the start, with the sol).
+    #[serde(default)]
+    pub plot_time: PlotTime,
     /// A Communicate session with Earth each sol; default none.
     #[serde(default)]
     pub communicate: Option<CommunicateSpec>,
@@ -285,6 +289,18 @@ pub struct GoalSpec {
     pub x_m: f64,
     /// North, m.
     pub y_m: f64,
+}
+
+/// The time axis of a TEMPEST run's time plots.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum PlotTime {
+    /// Hours since the start.
+    #[default]
+    Hours,
+    /// UTC, month-day hour:minute.
+    Utc,
+    /// Local true solar time at the start's longitude, with the local sol.
+    LocalSolar,
 }
 
 /// A named circle.

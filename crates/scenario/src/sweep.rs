@@ -601,6 +601,7 @@ fn plot_against(
         windows: Vec::new(),
         windows_label: String::new(),
         dots: true,
+        x_ticks: Default::default(),
     };
     crate::output::plots::time(dir, &format!("{fact}_vs_{axis}"), &plot)
 }

@@ -472,6 +472,7 @@ fn write_climb(dir: &Path, profile: &ClimbProfile) -> Result<Vec<std::path::Path
             windows: Vec::new(),
             windows_label: String::new(),
             dots: false,
+            x_ticks: Default::default(),
         },
     )?);
     Ok(files)
@@ -611,6 +612,7 @@ fn write_studies(dir: &Path, studies: &[(String, &SeedStudy)], generations: usiz
             windows: Vec::new(),
             windows_label: String::new(),
             dots: false,
+            x_ticks: Default::default(),
         },
     )?);
     for (name, study) in studies {
@@ -912,6 +914,7 @@ fn trace_plots(dir: &Path, trace: &[TraceStep], mu: f64) -> Result<Vec<PathBuf>>
             windows: Vec::new(),
             windows_label: String::new(),
             dots: false,
+            x_ticks: Default::default(),
         },
     )?);
     let friction: Vec<(f64, f64)> = trace.iter().enumerate().map(|(i, t)| (i as f64 + 1.0, t.friction_used)).collect();
@@ -936,6 +939,7 @@ fn trace_plots(dir: &Path, trace: &[TraceStep], mu: f64) -> Result<Vec<PathBuf>>
             windows: Vec::new(),
             windows_label: String::new(),
             dots: false,
+            x_ticks: Default::default(),
         },
     )?);
     Ok(files)
@@ -962,6 +966,7 @@ fn ga_plots(dir: &Path, report: &GaReport) -> Result<Vec<PathBuf>> {
             windows: Vec::new(),
             windows_label: String::new(),
             dots: false,
+            x_ticks: Default::default(),
         },
     )?);
     files.extend(crate::output::plots::histogram(

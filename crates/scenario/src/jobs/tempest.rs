@@ -1220,6 +1220,28 @@ fn plots(dir: &Path, ctx: &Context<'_>, initial: &MissionPlan, report: Option<&S
     Ok(files)
 }
 
+/// The time plots' tick labels as the job's `plot_time` asks.
+fn time_ticks(ctx: &Context<'_>) -> crate::output::plots::TimeTicks {
+    use crate::output::plots::TimeTicks;
+    match ctx.job.plot_time {
+        crate::format::PlotTime::Hours => TimeTicks::Numbers,
+        crate::format::PlotTime::Utc => TimeTicks::Utc { epoch: ctx.truth.epoch() },
+        crate::format::PlotTime::LocalSolar => TimeTicks::LocalSolar {
+            ltst0_h: ctx.truth.local_solar_time_h(0.0, ctx.truth.lat_lon(ctx.start.cell).1),
+            day_h: ctx.job.body.solar_day_s() / 3600.0,
+        },
+    }
+}
+
+/// The x axis's name for the job's `plot_time`.
+fn time_axis_name(ctx: &Context<'_>) -> String {
+    match ctx.job.plot_time {
+        crate::format::PlotTime::Hours => "hours since the start".into(),
+        crate::format::PlotTime::Utc => "UTC".into(),
+        crate::format::PlotTime::LocalSolar => "local true solar time at the start".into(),
+    }
+}
+
 /// The job's `shadow_utc` (default its start), s after the world's epoch.
 fn shadow_time_s(ctx: &Context<'_>) -> Result<f64> {
     Ok(match &ctx.job.shadow_utc {
@@ -1339,7 +1361,7 @@ fn distance_plot(
         "distance",
         &TimePlot {
             title: "Straight-line distance to the final goal".into(),
-            x_label: "hours since the start".into(),
+            x_label: time_axis_name(ctx),
             y_label: "distance, m".into(),
             series: dseries,
             nights: night.to_vec(),
@@ -1347,6 +1369,7 @@ fn distance_plot(
             windows: Vec::new(),
             windows_label: String::new(),
             dots: false,
+            x_ticks: time_ticks(ctx),
         },
     )
 }
@@ -1396,7 +1419,7 @@ fn energy_plot(
         "energy",
         &TimePlot {
             title: "Battery: energy required to finish and charge".into(),
-            x_label: "hours since the start".into(),
+            x_label: time_axis_name(ctx),
             y_label: "Wh above the battery floor".into(),
             series: eseries,
             nights: night.to_vec(),
@@ -1404,6 +1427,7 @@ fn energy_plot(
             windows: Vec::new(),
             windows_label: String::new(),
             dots: false,
+            x_ticks: time_ticks(ctx),
         },
     )
 }
@@ -1527,7 +1551,7 @@ fn sky_plot(dir: &Path, ctx: &Context<'_>, plan: &MissionPlan) -> Result<Vec<Pat
                 "The Sun{} over the plan, at the site",
                 if world.earth(0.0).is_some() { " and the Earth" } else { "" }
             ),
-            x_label: "hours since the start".into(),
+            x_label: time_axis_name(ctx),
             y_label: "elevation, degrees".into(),
             series: sky,
             nights: nights(world, end_s),
@@ -1535,6 +1559,7 @@ fn sky_plot(dir: &Path, ctx: &Context<'_>, plan: &MissionPlan) -> Result<Vec<Pat
             windows: sessions,
             windows_label: "Communicate session".into(),
             dots: false,
+            x_ticks: time_ticks(ctx),
         },
     )
 }

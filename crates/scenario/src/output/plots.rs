@@ -87,6 +87,49 @@ pub(crate) struct TimePlot {
     pub x_range: (f64, f64),
     /// Draw the series as dots (separate runs), not lines.
     pub dots: bool,
+    /// How x values (hours) are labelled.
+    pub x_ticks: TimeTicks,
+}
+
+/// How a time plot labels its hours.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(crate) enum TimeTicks {
+    /// As numbers (hours since the start, or whatever the axis holds).
+    #[default]
+    Numbers,
+    /// As UTC `MM-DD HH:MM`, hour 0 being `epoch`.
+    Utc {
+        /// The instant of hour 0.
+        epoch: hifitime::Epoch,
+    },
+    /// As local solar time `sol N HH:MM`: hour 0 at `ltst0_h` of sol 0, `day_h` hours
+    /// a solar day (the equation of time's drift over a plot, under a minute a sol, is
+    /// left out).
+    LocalSolar {
+        /// Local solar time at hour 0, h.
+        ltst0_h: f64,
+        /// The solar day, h.
+        day_h: f64,
+    },
+}
+
+impl TimeTicks {
+    fn label(&self, hours: f64) -> String {
+        match *self {
+            TimeTicks::Numbers => format!("{hours}"),
+            TimeTicks::Utc { epoch } => {
+                let (_, mo, d, h, mi, _, _) =
+                    (epoch + hifitime::Duration::from_seconds(hours * 3600.0)).to_gregorian_utc();
+                format!("{mo:02}-{d:02} {h:02}:{mi:02}")
+            }
+            TimeTicks::LocalSolar { ltst0_h, day_h } => {
+                let local = ltst0_h + hours * 24.0 / day_h;
+                let sol = (local / 24.0).floor();
+                let minutes = ((local - 24.0 * sol) * 60.0).round() as i64;
+                format!("sol {sol:.0} {:02}:{:02}", (minutes / 60) % 24, minutes % 60)
+            }
+        }
+    }
 }
 
 fn register_font() {
@@ -284,9 +327,13 @@ fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) ->
     let y1 = y0 + (y1 - y0) / (1.0 - free);
     let (x0, x1) = (p.x_range.0, p.x_range.1.max(p.x_range.0 + 1e-6));
     let mut chart = titled(root, &p.title, 70).build_cartesian_2d(x0..x1, y0..y1).map_err(draw_err)?;
+    let ticks = p.x_ticks;
+    let tick_label = move |h: &f64| ticks.label(*h);
     chart
         .configure_mesh()
         .light_line_style(RGBColor(235, 235, 235))
+        .x_label_formatter(&tick_label)
+        .x_labels(if ticks == TimeTicks::Numbers { 10 } else { 7 })
         .x_desc(&p.x_label)
         .y_desc(&p.y_label)
         .label_style(("sans-serif", 13))
@@ -528,4 +575,21 @@ pub(crate) fn profile(dir: &Path, name: &str, p: &ProfilePlot) -> Result<Vec<Pat
 /// Writes a histogram as SVG and PNG.
 pub(crate) fn histogram(dir: &Path, name: &str, p: &HistogramPlot) -> Result<Vec<PathBuf>> {
     both(dir, name, (700, 450), |r| draw_histogram(r, p), |r| draw_histogram(r, p))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn time_ticks_read_as_utc_and_local_solar_time() {
+        let epoch = areo_ephemeris::parse_utc("2012-08-06T05:17:57Z").unwrap();
+        assert_eq!(TimeTicks::Utc { epoch }.label(20.0), "08-07 01:17");
+        // A Mars sol of 24.6597 h: 14:00 at the start, one sol and 6 h later 20:00 of sol 1.
+        let sol_h = areo_ephemeris::SOL_S / 3600.0;
+        let ticks = TimeTicks::LocalSolar { ltst0_h: 14.0, day_h: sol_h };
+        assert_eq!(ticks.label(0.0), "sol 0 14:00");
+        assert_eq!(ticks.label(sol_h + 6.0 * sol_h / 24.0), "sol 1 20:00");
+        assert_eq!(TimeTicks::Numbers.label(2.5), "2.5");
+    }
 }
