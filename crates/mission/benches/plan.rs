@@ -52,6 +52,11 @@ fn plan(c: &mut Criterion) {
     g.bench_function("initial_plan_40_cells", |b| {
         b.iter(|| Mission::plan(&world, &model, config.clone(), start, &goal).expect("a plan").1.waypoints.len())
     });
+    // The same plan counted for a progress display: the meter's cost per expansion.
+    let metered = PlannerConfig { meter: areo_mission::ExpansionMeter::counting(), ..config.clone() };
+    g.bench_function("initial_plan_40_cells_metered", |b| {
+        b.iter(|| Mission::plan(&world, &model, metered.clone(), start, &goal).expect("a plan").1.waypoints.len())
+    });
     let (mut mission, first) = Mission::plan(&world, &model, config.clone(), start, &goal).expect("a plan");
     let (c0, r0) = first.waypoints[2].col_row;
     let cells = [world.cell(c0, r0 + 1), world.cell(c0 + 1, r0 + 1)];

@@ -63,6 +63,11 @@ fn terrain(c: &mut Criterion) {
         b.iter(|| cast_shadows(&dem, SunDirection::new(250.0, 2.0), Curvature::Flat, Method::OwnRay))
     });
     g.bench_function("slope_aspect", |b| b.iter(|| slope_aspect(&dem)));
+    // What a TEMPEST run spends writing its DEM layer (the slope layer is the same size;
+    // the shadow layer a quarter).
+    let path = std::env::temp_dir().join(format!("areo-bench-{}.tif", std::process::id()));
+    g.bench_function("geotiff_write_f32", |b| b.iter(|| areo_terrain::geotiff::write(&dem, &path).expect("written")));
+    let _ = std::fs::remove_file(&path);
     // One sector of a horizon map (a 64-sector map is 64 of these, split over cores).
     g.bench_function("horizon_one_sector_az101", |b| {
         b.iter(|| horizon_sweep(&dem, 101.25, Curvature::Sphere { radius_m: 3_389_500.0 }))
