@@ -151,3 +151,34 @@ fn layers_lie_under_the_route(
         "{name}: GDAL {out}, route ({lon}, {lat})"
     );
 }
+
+/// A terrain preview PNG lies where its GeoTIFF does: GDAL reads its world file (.pgw)
+/// into the same geotransform.
+#[test]
+// Saying that the test did not run is the point of its one message.
+#[allow(clippy::print_stderr)]
+fn gdal_places_a_preview_png_over_its_geotiff() {
+    if let Err(e) = Command::new("gdalinfo").arg("--version").output() {
+        if std::env::var_os("AREO_REQUIRE_GDAL").is_some() {
+            panic!("AREO_REQUIRE_GDAL is set but gdalinfo cannot run: {e}");
+        }
+        eprintln!("not run: no GDAL here ({e})");
+        return;
+    }
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let dir = root.join("target").join("gis-test-pgw");
+    std::fs::create_dir_all(&dir).unwrap();
+    let dem = root.join("crates/terrain/tests/data/gale_mola_crop_64.tif");
+    let tif = dir.join("slope.tif");
+    let out = areo(&["terrain", "slope", dem.to_str().unwrap(), "-o", tif.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let transform = |path: &std::path::Path| -> Vec<f64> {
+        let info: serde_json::Value =
+            serde_json::from_str(&tool("gdalinfo", &["-json", path.to_str().unwrap()])).unwrap();
+        serde_json::from_value(info["geoTransform"].clone()).unwrap_or_else(|_| panic!("{}: {info}", path.display()))
+    };
+    let (from_tif, from_png) = (transform(&tif), transform(&dir.join("slope.png")));
+    for (a, b) in from_tif.iter().zip(&from_png) {
+        assert!((a - b).abs() < 1e-6, "{from_tif:?} vs {from_png:?}");
+    }
+}

@@ -33,6 +33,23 @@ fn flat_lit_ground_with_a_large_battery_gives_the_octile_shortest_path() {
     assert!(plan.e_max_wh > 0.0);
 }
 
+/// The progress meter counts what the plan reports as its expansions, and changes
+/// nothing about the plan.
+#[test]
+fn the_expansion_meter_counts_the_plans_expansions() {
+    let world = fixed_sun_world(flat(40, 30, 10.0), 120.0, 60.0, 30.0);
+    let model = model(1e5, ActionConfig::default());
+    let start = Start { cell: world.cell(2, 3), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let goal = world.cell(33, 20);
+    let meter = areo_mission::ExpansionMeter::counting();
+    let config = PlannerConfig { meter: meter.clone(), ..PlannerConfig::default() };
+    let (_m, plan) = Mission::plan(&world, &model, config, start, &[goal]).unwrap();
+    let (_m, plain) = Mission::plan(&world, &model, PlannerConfig::default(), start, &[goal]).unwrap();
+    assert!(plan.expansions > 100, "{}", plan.expansions);
+    assert_eq!(meter.expansions(), plan.expansions);
+    assert_eq!(plan, plain);
+}
+
 #[test]
 fn a_small_battery_before_night_makes_the_plan_wait() {
     // Late afternoon near the equator, 1.8 km to go at ≤ 0.3 m/s with drives allowed
