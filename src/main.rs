@@ -92,6 +92,9 @@ enum SweepCommand {
         /// The sweep directory.
         #[arg(short = 'o', long)]
         out: PathBuf,
+        /// Replace another sweep's expansion (and its outputs) in the directory.
+        #[arg(long)]
+        force: bool,
     },
     /// Run one task into DIR/out/ID/ (skipped if finished, unless --force).
     Run {
@@ -329,8 +332,8 @@ enum TerrainCommand {
         /// The DEM.
         file: PathBuf,
         /// Number of sectors, 16..=360.
-        #[arg(long, default_value_t = 64)]
-        sectors: usize,
+        #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u16).range(16..=360))]
+        sectors: u16,
         /// For DEMs too large to hold: compute the map tile by tile (TILE × TILE cells,
         /// a multiple of 16), each read with the halo its lowest Sun needs (stated), and
         /// write ONE tiled GeoTIFF to OUT: uint16 codes, a plane per sector (degrees =
@@ -391,7 +394,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run { scenario, out, set, json } => run(&scenario, &out, &set, json, budget),
         Command::Sun(args) => sun(&args),
-        Command::Grid(args) => grid(&args),
+        Command::Grid(args) => grid(&args, budget),
         Command::Terrain(cmd) => terrain(&cmd, budget),
         Command::Sweep(cmd) => sweep(cmd, budget),
         Command::Completions { shell } => {
@@ -421,13 +424,16 @@ fn main() -> ExitCode {
 fn sweep(cmd: SweepCommand, budget: Budget) -> Result<(), Error> {
     use areo_scenario::sweep;
     match cmd {
-        SweepCommand::Expand { sweep: file, out } => {
-            let tasks = sweep::expand(&file, &out)?;
+        SweepCommand::Expand { sweep: file, out, force } => {
+            let tasks = sweep::expand_within(&file, &out, budget, force)?;
             println!("{} tasks in {} (manifest.jsonl, tasks/)", tasks.len(), out.display());
         }
         SweepCommand::Run { dir, index, force } => {
             let index = sweep::task_index(index)?;
-            if let Some(n) = sweep::configure_threads() {
+            if let Some((n, capped)) = sweep::configure_threads() {
+                if let Some(why) = capped {
+                    tracing::warn!("{why}: using {n} threads");
+                }
                 tracing::info!("{n} threads (SLURM_CPUS_PER_TASK)");
             }
             match sweep::run_task(&dir, index, force, &progress_bar(), budget)? {
@@ -618,11 +624,19 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
         }
         TerrainCommand::Horizon { file, sectors, tile: Some(tile), lowest_sun, out } => {
             tt::check_output(file, out)?;
-            let run =
-                tt::write_horizon_tiled(file, *sectors, *lowest_sun, *tile as usize, out, &budget, &progress_bar())?;
+            let run = tt::write_horizon_tiled(
+                file,
+                usize::from(*sectors),
+                *lowest_sun,
+                *tile as usize,
+                out,
+                &budget,
+                &progress_bar(),
+            )?;
             print::terrain::tiled_horizon(&run)
         }
         TerrainCommand::Horizon { file, sectors, tile: None, lowest_sun: _, out } => {
+            let sectors = &usize::from(*sectors);
             for path in tt::horizon_paths(out, *sectors) {
                 tt::check_output(file, &path)?;
             }
@@ -647,9 +661,9 @@ fn parse_xyz(s: &str) -> Result<(f64, f64, f64), String> {
     }
 }
 
-fn grid(args: &GridArgs) -> Result<(), Error> {
+fn grid(args: &GridArgs, budget: Budget) -> Result<(), Error> {
     let opts = areo_scenario::grid::GridOptions { replan: args.replan, seed: args.seed };
-    let rows = areo_scenario::grid::solve_file(&args.map, &args.scen, opts, &progress_bar())?;
+    let rows = areo_scenario::grid::solve_file(&args.map, &args.scen, opts, &progress_bar(), budget)?;
     print!("{}", print::grid::rows(&rows, args.replan.is_some(), args.format)?);
     // Exit 3 when a goal was not reached, 1 when a length differs from the published one.
     let unreachable = rows.iter().filter(|r| r.found.is_infinite() && r.expected.is_finite()).count();

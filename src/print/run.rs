@@ -31,9 +31,21 @@ impl<'a> RunJson<'a> {
     }
 }
 
+/// `text` with control characters (NUL, ESC: a description could hold terminal
+/// escapes) shown as `\u{…}`, tabs and newlines as spaces.
+pub(crate) fn printable(text: &str) -> String {
+    text.chars()
+        .map(|c| match c {
+            '\t' | '\n' | '\r' => " ".to_string(),
+            c if c.is_control() => c.escape_unicode().to_string(),
+            c => c.to_string(),
+        })
+        .collect()
+}
+
 /// The summary under the scenario's name and description, then `wrote FILE` lines.
 pub(crate) fn text(file: &ScenarioFile, outcome: &Outcome) -> String {
-    let mut s = format!("{}: {}\n", file.name, file.scenario.description);
+    let mut s = format!("{}: {}\n", printable(&file.name), printable(&file.scenario.description));
     for line in &outcome.summary {
         s += &format!("  {line}\n");
     }

@@ -217,8 +217,14 @@ fn movingai(root: &Path) -> Result<bool, String> {
         let scen = map.with_extension("map.scen");
         let started = std::time::Instant::now();
         let opts = areo_scenario::grid::GridOptions { replan: Some(3), seed: 1 };
-        let rows = areo_scenario::grid::solve_file(&map, &scen, opts, &areo_scenario::NoProgress)
-            .map_err(|e| e.to_string())?;
+        let rows = areo_scenario::grid::solve_file(
+            &map,
+            &scen,
+            opts,
+            &areo_scenario::NoProgress,
+            areo_scenario::budget::Budget::for_this_machine(),
+        )
+        .map_err(|e| e.to_string())?;
         let bad = rows.iter().filter(|r| r.mismatched()).count();
         let solved = rows.iter().filter(|r| r.found.is_finite()).count();
         ok &= bad == 0;

@@ -144,6 +144,10 @@ pub fn parse_utc(text: &str) -> Result<Epoch> {
                 .into(),
         ));
     }
+    // hifitime reads a leap second's :60 as :59; refuse it rather than move the instant.
+    if body.get(17..19) == Some("60") && body.as_bytes().get(16) == Some(&b':') {
+        return Err(bad("second 60 (a leap second) is not read: give :59.999 or the next minute".into()));
+    }
     let epoch = Epoch::from_gregorian_str(body).map_err(|e| match e {
         hifitime::HifitimeError::InvalidGregorianDate => bad("no such calendar date or time of day".into()),
         other => bad(other.to_string()),
@@ -243,7 +247,15 @@ mod tests {
         assert_eq!(format_utc(parse_utc("2012-366T12:00:00").unwrap()), "2012-12-31T12:00:00.000Z");
         assert_eq!(format_utc(parse_utc("2013-060").unwrap()), "2013-03-01T00:00:00.000Z");
         assert_eq!(format_utc(parse_utc("2012 FEB 29").unwrap()), "2012-02-29T00:00:00.000Z");
-        for bad in ["2013-366T00:00:00", "2012-000T00:00:00", "2012 FOO 06 05:17:57", "2013 FEB 29 00:00:00"] {
+        for bad in [
+            "2013-366T00:00:00",
+            "2012-000T00:00:00",
+            "2012 FOO 06 05:17:57",
+            "2013 FEB 29 00:00:00",
+            // A leap second is refused, not read as :59.
+            "2016-12-31T23:59:60Z",
+            "2016-366T23:59:60",
+        ] {
             assert!(parse_utc(bad).is_err(), "{bad:?} parsed");
         }
     }

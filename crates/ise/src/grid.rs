@@ -366,7 +366,12 @@ pub fn parse_scenarios(text: &str) -> Result<Vec<Scenario>, GridError> {
             return Err(bad("expected 9 tab-separated fields"));
         }
         let u = |s: &str| s.trim().parse::<u32>().map_err(|_| bad("not a non-negative integer"));
-        let optimal = f[8].trim().parse::<f64>().map_err(|_| bad("bad optimal length"))?;
+        let optimal = f[8]
+            .trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite() && *v >= 0.0)
+            .ok_or_else(|| bad("bad optimal length: need a finite number ≥ 0"))?;
         out.push(Scenario {
             bucket: u(f[0])?,
             start_x: u(f[4])?,

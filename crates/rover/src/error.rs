@@ -43,7 +43,8 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// Reads a parameter file's text, naming the file on failure.
 pub(crate) fn read_text(path: &std::path::Path) -> Result<String> {
-    std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })
+    areo_terrain::input::read_text(path, areo_terrain::input::TEXT_LIMIT)
+        .map_err(|source| Error::Io { path: path.to_path_buf(), source })
 }
 
 /// The RON dialect every areo file is read with — parameter files here, scenarios and
@@ -55,9 +56,75 @@ pub fn ron_options() -> ron::Options {
     )
 }
 
+/// The deepest bracket nesting areo reads in a RON file: far beyond any real file (the
+/// shipped ones nest under 10) and low enough that neither the parser nor the error
+/// locator works hard on a hostile one.
+pub const MAX_NESTING: usize = 64;
+
+/// The line and column (1-based) of the first bracket in `text` nested deeper than
+/// [`MAX_NESTING`], outside strings and comments; one pass over the text.
+pub fn too_deep(text: &str) -> Option<(usize, usize)> {
+    let (mut depth, mut line, mut col) = (0usize, 1usize, 0usize);
+    let mut chars = text.chars().peekable();
+    let (mut string, mut escaped, mut line_comment, mut block_comment) = (false, false, false, 0usize);
+    while let Some(c) = chars.next() {
+        col += 1;
+        if c == '\n' {
+            (line, col, line_comment) = (line + 1, 0, false);
+            continue;
+        }
+        if line_comment {
+            continue;
+        }
+        if string {
+            match (escaped, c) {
+                (true, _) => escaped = false,
+                (false, '\\') => escaped = true,
+                (false, '"') => string = false,
+                _ => {}
+            }
+            continue;
+        }
+        let next = chars.peek().copied();
+        match (c, next) {
+            ('*', Some('/')) if block_comment > 0 => {
+                block_comment -= 1;
+                chars.next();
+                col += 1;
+            }
+            ('/', Some('*')) => {
+                block_comment += 1;
+                chars.next();
+                col += 1;
+            }
+            _ if block_comment > 0 => {}
+            ('/', Some('/')) => line_comment = true,
+            ('"', _) => string = true,
+            ('(' | '[' | '{', _) => {
+                depth += 1;
+                if depth > MAX_NESTING {
+                    return Some((line, col));
+                }
+            }
+            (')' | ']' | '}', _) => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    None
+}
+
 /// Parses RON in areo's dialect ([`ron_options`]), turning errors into
-/// [`Error::Syntax`] with `origin` and the position.
+/// [`Error::Syntax`] with `origin` and the position; nesting past [`MAX_NESTING`] is
+/// refused before parsing.
 pub(crate) fn parse_ron<T: serde::de::DeserializeOwned>(text: &str, origin: &str) -> Result<T> {
+    if let Some((line, col)) = too_deep(text) {
+        return Err(Error::Syntax {
+            path: origin.into(),
+            line,
+            col,
+            message: format!("brackets nested deeper than {MAX_NESTING}"),
+        });
+    }
     ron_options().from_str(text).map_err(|e| Error::Syntax {
         path: origin.into(),
         line: e.span.start.line,

@@ -40,6 +40,6 @@ pub mod resources;
 pub mod stability;
 
 pub use crate::{
-    error::{Error, Result, ron_options},
+    error::{Error, MAX_NESTING, Result, ron_options, too_deep},
     params::{Activities, Arm, Axles, Battery, BodyPoint, Drive, Geometry, LSR1_RON, RoverParams, SidePoint, Solar},
 };

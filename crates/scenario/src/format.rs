@@ -414,6 +414,9 @@ impl Validate for SunTableJob {
         if let Some(h) = &self.horizon_deg {
             if h.is_empty() {
                 c.fail("horizon_deg", "is empty: give at least one sector elevation, or leave it out".into());
+            } else if h.len() > 3600 {
+                // One sector per tenth of a degree is finer than any horizon mask.
+                c.fail("horizon_deg", format!("{} sectors: allowed 1..=3600", h.len()));
             }
             c.list("horizon_deg", h, |c, v| c.range_here(*v, -90.0, 90.0, "degrees"));
         }
@@ -422,7 +425,7 @@ impl Validate for SunTableJob {
 
 impl Validate for TerrainShadowJob {
     fn validate(&self, c: &mut Checks) {
-        c.nested("site", |c| self.site.validate(c));
+        c.nested("site", |c| self.site.validate_mapped(c));
         if let Err(e) = areo_ephemeris::parse_utc(&self.utc) {
             c.fail("utc", e.to_string());
         }
@@ -522,7 +525,7 @@ impl Validate for TempestJob {
     fn validate(&self, c: &mut Checks) {
         validate_terrain(c, "terrain", &self.terrain);
         validate_truth(c, &self.truth);
-        c.nested("site", |c| self.site.validate(c));
+        c.nested("site", |c| self.site.validate_mapped(c));
         if let Err(e) = areo_ephemeris::parse_utc(&self.start_utc) {
             c.fail("start_utc", e.to_string());
         }
@@ -715,6 +718,21 @@ impl Validate for SiteSpec {
     }
 }
 
+impl SiteSpec {
+    /// A site a map is placed around: not the pole itself, where the map's north is
+    /// undefined.
+    fn validate_mapped(&self, c: &mut Checks) {
+        c.range(
+            "lat_deg",
+            self.lat_deg,
+            -89.999,
+            89.999,
+            "planetocentric degrees; a map is placed around its site, which cannot be the pole itself",
+        );
+        c.range("lon_east_deg", self.lon_east_deg, -360.0, 360.0, "degrees east");
+    }
+}
+
 /// A scenario read from disk, with its name (the file stem) and path.
 #[derive(Debug, Clone)]
 pub struct ScenarioFile {
@@ -744,7 +762,7 @@ impl ScenarioFile {
 
 /// Reads, parses and validates a scenario file.
 pub fn load(path: &Path) -> Result<ScenarioFile, Error> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    let text = crate::read_text(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
     let scenario = parse(path, &text)?;
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scenario".into());
     Ok(ScenarioFile { path: path.to_path_buf(), name, scenario, text })
@@ -797,6 +815,7 @@ pub(crate) fn refuse_non_finite(path: &Path, text: &str, kind: &str) -> Result<(
 
 /// Parses and validates scenario text; `path` only labels errors.
 pub fn parse(path: &Path, text: &str) -> Result<Scenario, Error> {
+    refuse_deep_nesting(path, text)?;
     let scenario: Scenario = ron_options().from_str(text).map_err(|e| {
         // A number of the wrong type (−1 for a count, 2^64 for an index) is a syntax
         // error to RON; name the field it was written for.
@@ -839,8 +858,22 @@ pub(crate) fn syntax_error(path: &Path, e: &ron::error::SpannedError) -> Error {
 /// Reads and parses a RON file of areo's dialect ([`ron_options`]): unreadable is
 /// [`Error::Read`], unparsable [`Error::Syntax`].
 pub(crate) fn read_ron<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, Error> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    let text = crate::read_text(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    refuse_deep_nesting(path, &text)?;
     ron_options().from_str(&text).map_err(|e| syntax_error(path, &e))
+}
+
+/// Refuses brackets nested past areo-rover's limit, at the first one too deep.
+fn refuse_deep_nesting(path: &Path, text: &str) -> Result<(), Error> {
+    match areo_rover::too_deep(text) {
+        None => Ok(()),
+        Some((line, col)) => Err(Error::Syntax {
+            path: path.to_path_buf(),
+            line,
+            col,
+            message: format!("brackets nested deeper than {}", areo_rover::MAX_NESTING),
+        }),
+    }
 }
 
 /// The RON options every areo file is read with (areo-rover's, for one dialect).

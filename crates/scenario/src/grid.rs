@@ -47,8 +47,14 @@ impl GridRow {
 }
 
 /// Reads a `.map` and its `.scen` and solves every scenario.
-pub fn solve_file(map: &Path, scen: &Path, opts: GridOptions, progress: &dyn Progress) -> Result<Vec<GridRow>> {
-    let read = |p: &Path| std::fs::read_to_string(p).map_err(|source| Error::Read { path: p.to_path_buf(), source });
+pub fn solve_file(
+    map: &Path,
+    scen: &Path,
+    opts: GridOptions,
+    progress: &dyn Progress,
+    budget: crate::budget::Budget,
+) -> Result<Vec<GridRow>> {
+    let read = |p: &Path| crate::read_text(p).map_err(|source| Error::Read { path: p.to_path_buf(), source });
     let grid_err =
         |p: &Path, e: areo_ise::grid::GridError| Error::Grid { path: p.to_path_buf(), message: e.to_string() };
     let mut grid = Grid::parse_movingai(&read(map)?).map_err(|e| grid_err(map, e))?;
@@ -67,6 +73,16 @@ pub fn solve_file(map: &Path, scen: &Path, opts: GridOptions, progress: &dyn Pro
             }
         }
     }
+    // Each search may expand every cell once (twice more with re-planning): refuse a
+    // file set whose worst case is past the budget before searching.
+    let cells = (grid.width() * grid.height()) as u64;
+    let searches = scenarios.len() as u64 * if opts.replan.is_some() { 3 } else { 1 };
+    budget.check(&crate::budget::Estimate {
+        what: format!("{} searches on the {}x{} map", searches, grid.width(), grid.height()),
+        memory_bytes: cells * 64,
+        work_steps: searches.saturating_mul(cells),
+        work_unit: "cell expansions",
+    })?;
     progress.start(scenarios.len() as u64, "scenarios");
     let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
     let mut rows = Vec::with_capacity(scenarios.len());

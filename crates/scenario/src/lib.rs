@@ -43,3 +43,9 @@ pub use crate::{
     outcome::{Fact, Failure, Outcome},
     progress::{NoProgress, Progress},
 };
+
+/// Reads a text file a user gave (scenario, rover, sweep, list of instants, grid map,
+/// or one of areo's own records): a regular file within areo-terrain's text limit.
+pub(crate) fn read_text(path: &std::path::Path) -> std::io::Result<String> {
+    areo_terrain::input::read_text(path, areo_terrain::input::TEXT_LIMIT)
+}

@@ -306,9 +306,9 @@ fn epochs(instants: Instants<'_>) -> Result<Vec<Epoch>> {
         }
         Instants::File(path) => {
             let text = if path == Path::new("-") {
-                std::io::read_to_string(std::io::stdin())
+                areo_terrain::input::read_stream(std::io::stdin(), areo_terrain::input::TEXT_LIMIT)
             } else {
-                std::fs::read_to_string(path)
+                crate::read_text(path)
             }
             .map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
             let mut rows = Vec::new();
@@ -446,6 +446,9 @@ pub fn day_events(body: Body, date: &str, lat_deg: f64, lon_east_deg: f64) -> Re
     let start = parse_utc(&format!("{}T00:00:00Z", date.trim()))?;
     let site = Site::on(body, lat_deg, lon_east_deg)?;
     let end = start + hifitime::Duration::from_seconds(body.solar_day_s());
+    // The day must end inside the ephemeris' validity too.
+    parse_utc(&format_utc(end))
+        .map_err(|e| Error::usage(format!("--day {date}"), format!("the solar day runs past the ephemeris: {e}")))?;
     let flat = HorizonMask::flat();
     let days = daylight_intervals(&site, &flat, start, end);
     let hours = |iv: &[(Epoch, Epoch)]| iv.iter().map(|(a, b)| (*b - *a).to_seconds()).sum::<f64>() / 3600.0;

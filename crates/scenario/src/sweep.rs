@@ -26,8 +26,9 @@ use crate::output::write_file;
 
 /// The sweep file format version this build reads.
 pub const SWEEP_VERSION: u32 = 1;
-/// The most tasks one sweep may expand to.
-pub const MAX_TASKS: usize = 1_000_000;
+/// The most tasks one sweep may expand to (a hundred times Slurm's default largest
+/// job array).
+pub const MAX_TASKS: usize = 100_000;
 
 /// A sweep file (`*.sweep.ron`).
 #[derive(Debug, Clone, Deserialize)]
@@ -111,11 +112,13 @@ impl Axis {
         if !(from.is_finite() && to.is_finite() && step > 0.0 && to >= from) {
             return Err(format!("range ({from}, {to}, {step}): need finite from ≤ to and step > 0"));
         }
-        let n = ((to - from) / step + 1e-9).floor() as usize + 1;
-        if n > MAX_TASKS {
-            return Err(format!("range ({from}, {to}, {step}) has {n} values: at most {MAX_TASKS}"));
+        // Counted in floating point first: a tiny step gives an infinite count, which
+        // must not wrap to a small one on the way to an integer.
+        let n = ((to - from) / step + 1e-9).floor() + 1.0;
+        if !(n <= MAX_TASKS as f64) {
+            return Err(format!("range ({from}, {to}, {step}) has {n:.3e} values: at most {MAX_TASKS}"));
         }
-        Ok((0..n).map(|k| number_literal(from + step * k as f64)).collect())
+        Ok((0..n as usize).map(|k| number_literal(from + step * k as f64)).collect())
     }
 }
 
@@ -155,6 +158,10 @@ pub struct SweepInfo {
     pub combine: Combine,
     /// Number of tasks.
     pub tasks: usize,
+    /// A hash of the sweep file's and the base scenario's texts: the directory belongs
+    /// to this sweep (empty in directories expanded before it was recorded).
+    #[serde(default)]
+    pub fingerprint: String,
 }
 
 /// Reads a sweep file.
@@ -330,6 +337,7 @@ fn write_expansion(
     sweep: &SweepFile,
     tasks: &[SweepTask],
     texts: &[String],
+    fingerprint: &str,
 ) -> Result<()> {
     let base_name = base_path.file_stem().map_or_else(|| "base".into(), |s| s.to_string_lossy().into_owned());
     let io = |p: &Path| {
@@ -359,6 +367,7 @@ fn write_expansion(
         axes: sweep.axes.iter().map(|a| a.name.clone()).collect(),
         combine: sweep.combine,
         tasks: tasks.len(),
+        fingerprint: fingerprint.to_string(),
     };
     let json = serde_json::to_string_pretty(&info).map_err(|e| io(&dir.join("sweep.json"))(e.into()))?;
     write_file(&dir.join("sweep.json"), json.as_bytes())?;
@@ -369,11 +378,22 @@ fn write_expansion(
 /// and `sweep.json`. A task whose scenario is invalid is an error naming the task, its
 /// axis values and the field, before anything is written.
 pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<SweepTask>> {
+    expand_within(sweep_path, dir, crate::budget::Budget::for_this_machine(), false)
+}
+
+/// [`expand`] under a budget: the tasks' scenario texts are held and parsed before
+/// anything is written, so their count times the base scenario's size is checked
+/// first. A directory holding another sweep's expansion is refused unless `force`.
+pub fn expand_within(
+    sweep_path: &Path,
+    dir: &Path,
+    budget: crate::budget::Budget,
+    force: bool,
+) -> Result<Vec<SweepTask>> {
     let sweep = load(sweep_path)?;
     let here = sweep_path.parent().unwrap_or(Path::new("."));
     let base_path = here.join(&sweep.base);
-    let base_text =
-        std::fs::read_to_string(&base_path).map_err(|source| Error::Read { path: base_path.clone(), source })?;
+    let base_text = crate::read_text(&base_path).map_err(|source| Error::Read { path: base_path.clone(), source })?;
     let bad = |field: String, message: String| Error::Scenario { path: sweep_path.to_path_buf(), field, message };
     crate::format::parse(&base_path, &base_text)?;
     let mut spans = Vec::new();
@@ -392,6 +412,7 @@ pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<SweepTask>> {
         literals.push(a.literals().map_err(|m| bad(format!("axes[{i}]"), m))?);
     }
     let combos = combinations(&sweep, &literals, &bad)?;
+    let fingerprint = admit(sweep_path, dir, &base_text, combos.len(), (budget, force))?;
     // Replacements are applied from the end of the text so earlier spans stay valid.
     let mut order: Vec<usize> = (0..spans.len()).filter(|&a| spans[a].is_some()).collect();
     order.sort_by_key(|&a| std::cmp::Reverse(spans[a].as_ref().map_or(0, |s| s.start)));
@@ -413,6 +434,12 @@ pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<SweepTask>> {
             .map(|(a, (axis, &k))| (axis.name.clone(), literals[a][k].clone()))
             .collect();
         let id = task_id(&sweep.name, index, &values);
+        if !is_task_id(&id) {
+            return Err(bad(
+                "name".into(),
+                format!("{:?} gives the id {id:?}: ids are at most 200 characters", sweep.name),
+            ));
+        }
         if !ids.insert(id.clone()) {
             return Err(bad(
                 "name".into(),
@@ -427,14 +454,14 @@ pub fn expand(sweep_path: &Path, dir: &Path) -> Result<Vec<SweepTask>> {
         tasks.push(SweepTask { index, id: id.clone(), values, scenario: format!("tasks/{id}.ron") });
         texts.push(text);
     }
-    write_expansion(dir, sweep_path, &base_path, &sweep, &tasks, &texts)?;
+    write_expansion(dir, sweep_path, &base_path, &sweep, &tasks, &texts, &fingerprint)?;
     Ok(tasks)
 }
 
 /// The sweep directory's description.
 pub fn info(dir: &Path) -> Result<SweepInfo> {
     let path = dir.join("sweep.json");
-    let text = std::fs::read_to_string(&path).map_err(|source| Error::Read { path: path.clone(), source })?;
+    let text = crate::read_text(&path).map_err(|source| Error::Read { path: path.clone(), source })?;
     serde_json::from_str(&text).map_err(|e| Error::Scenario {
         path,
         field: "sweep.json".into(),
@@ -445,19 +472,128 @@ pub fn info(dir: &Path) -> Result<SweepInfo> {
 /// Every task of an expanded sweep.
 pub fn tasks(dir: &Path) -> Result<Vec<SweepTask>> {
     let path = dir.join("manifest.jsonl");
-    let text = std::fs::read_to_string(&path).map_err(|source| Error::Read { path: path.clone(), source })?;
+    let text = crate::read_text(&path).map_err(|source| Error::Read { path: path.clone(), source })?;
     text.lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty())
         .map(|(i, l)| {
-            serde_json::from_str(l).map_err(|e| Error::Syntax {
-                path: path.clone(),
-                line: i + 1,
-                col: e.column(),
-                message: e.to_string(),
-            })
+            let syntax = |col: usize, message: String| Error::Syntax { path: path.clone(), line: i + 1, col, message };
+            let task: SweepTask = serde_json::from_str(l).map_err(|e| syntax(e.column(), e.to_string()))?;
+            // Ids name directories and files under the sweep: plain names only, so no
+            // id reaches outside it or over another task's files.
+            if !is_task_id(&task.id) {
+                return Err(syntax(
+                    1,
+                    format!("task id {:?}: allowed 1 to 200 of A–Z a–z 0–9 . _ -, not starting with .", task.id),
+                ));
+            }
+            let scenario = format!("tasks/{}.ron", task.id);
+            if task.scenario != scenario {
+                return Err(syntax(
+                    1,
+                    format!("task {:?}: its scenario must be {scenario:?}, not {:?}", task.id, task.scenario),
+                ));
+            }
+            Ok(task)
         })
         .collect()
+}
+
+/// A task's facts if it finished: its `facts.json` reads as a JSON object. `run` and
+/// `collect` both ask this, so they agree on what is finished.
+fn finished(dir: &Path, id: &str) -> Option<serde_json::Map<String, serde_json::Value>> {
+    let text = crate::read_text(&dir.join("out").join(id).join("facts.json")).ok()?;
+    serde_json::from_str(&text).ok()
+}
+
+/// Refuses a manifest that disagrees with `sweep.json` on the number of tasks or their
+/// indices.
+fn agree(dir: &Path, info: &SweepInfo, all: &[SweepTask]) -> Result<()> {
+    let in_order = all.iter().enumerate().all(|(i, t)| t.index == i);
+    if all.len() != info.tasks || !in_order {
+        return Err(Error::Scenario {
+            path: dir.join("manifest.jsonl"),
+            field: "manifest.jsonl".into(),
+            message: format!(
+                "{} tasks{}, while sweep.json says {}: the directory is damaged; expand the sweep again",
+                all.len(),
+                if in_order { "" } else { " out of order" },
+                info.tasks
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// Admits an expansion of `tasks` tasks of `base_text` into `dir`: within the budget
+/// (the tasks' texts are held and parsed before anything is written) and into a
+/// directory that is this sweep's or new (see [`claim`]). Returns the fingerprint.
+fn admit(
+    sweep_path: &Path,
+    dir: &Path,
+    base_text: &str,
+    tasks: usize,
+    (budget, force): (crate::budget::Budget, bool),
+) -> Result<String> {
+    let per_task = base_text.len() as u64 + 512;
+    budget.check(&crate::budget::Estimate {
+        what: format!("expanding {tasks} tasks of a {}-byte scenario", base_text.len()),
+        memory_bytes: tasks as u64 * per_task * 4,
+        work_steps: tasks as u64 * per_task,
+        work_unit: "scenario bytes parsed",
+    })?;
+    let fingerprint = fingerprint(&sweep_text(sweep_path)?, base_text);
+    claim(dir, &fingerprint, force)?;
+    Ok(fingerprint)
+}
+
+/// The sweep file's text (for its fingerprint).
+fn sweep_text(path: &Path) -> Result<String> {
+    crate::read_text(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })
+}
+
+/// A 64-bit FNV-1a hash of the sweep's and the base scenario's texts, as hex.
+fn fingerprint(sweep: &str, base: &str) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in sweep.bytes().chain([0u8]).chain(base.bytes()) {
+        h = (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+/// Claims `dir` for the sweep of `fingerprint`: a directory holding another sweep's
+/// expansion (or one from before fingerprints) is refused unless `force`, which clears
+/// its tasks, outputs and records.
+fn claim(dir: &Path, fingerprint: &str, force: bool) -> Result<()> {
+    let Ok(old) = info(dir) else { return Ok(()) };
+    if old.fingerprint == fingerprint {
+        return Ok(());
+    }
+    if !force {
+        return Err(Error::usage(
+            format!("sweep expand … -o {}", dir.display()),
+            format!(
+                "the directory holds the expansion of another sweep ({}): expand into a new directory, or give --force to replace it and its outputs",
+                printable(&old.name)
+            ),
+        ));
+    }
+    for sub in ["tasks", "out", "failed", "logs"] {
+        match std::fs::remove_dir_all(dir.join(sub)) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(Error::Io { path: dir.join(sub), source: e });
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Whether `id` is a task id as [`expand`] makes them.
+fn is_task_id(id: &str) -> bool {
+    (1..=200).contains(&id.len())
+        && !id.starts_with('.')
+        && id.bytes().all(|b| b.is_ascii_alphanumeric() || matches!(b, b'.' | b'_' | b'-'))
 }
 
 /// The array index of this task: `index` if given, else `SLURM_ARRAY_TASK_ID`, else
@@ -477,11 +613,17 @@ pub fn task_index(index: Option<usize>) -> Result<usize> {
     ))
 }
 
-/// Threads for a task: `SLURM_CPUS_PER_TASK` when set (the allocation), else every
-/// core. Sets rayon's global pool once; later calls change nothing.
-pub fn configure_threads() -> Option<usize> {
-    let n: usize = std::env::var("SLURM_CPUS_PER_TASK").ok()?.trim().parse().ok().filter(|&n| n > 0)?;
-    rayon::ThreadPoolBuilder::new().num_threads(n).build_global().ok().map(|_| n)
+/// Threads for a task: `SLURM_CPUS_PER_TASK` when set (the allocation), capped at this
+/// machine's cores (a larger figure is a mistake, not a reason to start 100 000
+/// threads), else every core. Sets rayon's global pool once; later calls change
+/// nothing. Returns the threads and, when capped, what the environment asked for.
+pub fn configure_threads() -> Option<(usize, Option<String>)> {
+    let asked = std::env::var("SLURM_CPUS_PER_TASK").ok()?;
+    let n: usize = asked.trim().parse().ok().filter(|&n| n > 0)?;
+    let cores = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
+    let used = n.min(cores);
+    let capped = (used < n).then(|| format!("SLURM_CPUS_PER_TASK={n} is more than this machine's {cores} cores"));
+    rayon::ThreadPoolBuilder::new().num_threads(used).build_global().ok().map(|_| (used, capped))
 }
 
 /// What running a task did.
@@ -505,6 +647,7 @@ pub fn run_task(
 ) -> Result<TaskRun> {
     let info = info(dir)?;
     let all = tasks(dir)?;
+    agree(dir, &info, &all)?;
     let task = all.into_iter().find(|t| t.index == index).ok_or_else(|| {
         Error::usage(
             format!("task {index}"),
@@ -512,7 +655,7 @@ pub fn run_task(
         )
     })?;
     let out = dir.join("out");
-    if !force && out.join(&task.id).join("facts.json").exists() {
+    if !force && finished(dir, &task.id).is_some() {
         return Ok(TaskRun::Skipped(task));
     }
     let path = dir.join(&task.scenario);
@@ -520,7 +663,7 @@ pub fn run_task(
     let as_if = info.base_dir.join(format!("{}.ron", task.id));
     let failed = dir.join("failed").join(format!("{}.txt", task.id));
     let result =
-        std::fs::read_to_string(&path).map_err(|source| Error::Read { path: path.clone(), source }).and_then(|text| {
+        crate::read_text(&path).map_err(|source| Error::Read { path: path.clone(), source }).and_then(|text| {
             let scenario = crate::format::parse(&as_if, &text)?;
             let file = ScenarioFile { path: as_if.clone(), name: task.id.clone(), scenario, text };
             crate::run_into(&file, &out, progress, budget)
@@ -591,6 +734,13 @@ fn plot_against(
         return Err(Error::usage(format!("--plot {fact} --against {axis}"), "no numeric values to plot"));
     }
     let (lo, hi) = points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| (l.min(p.0), h.max(p.0)));
+    let (ylo, yhi) = points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| (l.min(p.1), h.max(p.1)));
+    // A span past ~1e300 overflows the axis's arithmetic (and its ticks never end).
+    for (what, a, b) in [(format!("--against {axis}"), lo, hi), (format!("--plot {fact}"), ylo, yhi)] {
+        if !((b - a).is_finite() && a.abs() < 1e300 && b.abs() < 1e300) {
+            return Err(Error::usage(what, format!("values from {a:e} to {b:e} cannot be plotted: |value| < 1e300")));
+        }
+    }
     let plot = crate::output::plots::TimePlot {
         title: format!("{}: {fact} against {axis}", info.name),
         x_label: axis.to_string(),
@@ -615,19 +765,16 @@ pub fn collect(dir: &Path, plot: Option<(&str, &str)>) -> Result<Collected> {
     let mut facts: Vec<Option<serde_json::Map<String, serde_json::Value>>> = Vec::with_capacity(all.len());
     let (mut missing, mut failed) = (Vec::new(), Vec::new());
     let mut names = BTreeSet::new();
+    agree(dir, &info, &all)?;
     for t in &all {
-        let path = dir.join("out").join(&t.id).join("facts.json");
-        match std::fs::read_to_string(&path) {
-            Ok(text) => {
-                let map: serde_json::Map<String, serde_json::Value> = serde_json::from_str(&text).map_err(|e| {
-                    Error::Syntax { path: path.clone(), line: e.line(), col: e.column(), message: e.to_string() }
-                })?;
+        match finished(dir, &t.id) {
+            Some(map) => {
                 names.extend(map.keys().cloned());
                 facts.push(Some(map));
             }
-            Err(_) => {
+            None => {
                 facts.push(None);
-                match std::fs::read_to_string(dir.join("failed").join(format!("{}.txt", t.id))) {
+                match crate::read_text(&dir.join("failed").join(format!("{}.txt", t.id))) {
                     Ok(err) => failed.push((t.id.clone(), err.trim().to_string())),
                     Err(_) => missing.push(t.id.clone()),
                 }
@@ -668,31 +815,79 @@ pub fn collect(dir: &Path, plot: Option<(&str, &str)>) -> Result<Collected> {
 pub fn slurm_script(dir: &Path, areo: &Path, parallel: usize, cpus: usize) -> Result<String> {
     let info = info(dir)?;
     let dir = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
-    let last = info.tasks.saturating_sub(1);
+    if info.tasks == 0 {
+        return Err(Error::usage(format!("sweep slurm {}", dir.display()), "the sweep has no tasks"));
+    }
+    let last = info.tasks - 1;
+    let logs = dir.join("logs");
+    let (logs, areo, dir) = (directive_path(&logs)?, shell_path(areo)?, shell_path(&dir)?);
     Ok(format!(
         "#!/bin/bash\n\
          # areo sweep {name}: {n} tasks as a Slurm job array ({parallel} at a time).\n\
-         #SBATCH --job-name=areo-{name}\n\
+         #SBATCH --job-name=areo-{job}\n\
          #SBATCH --array=0-{last}%{parallel}\n\
          #SBATCH --cpus-per-task={cpus}\n\
-         #SBATCH --output={logs}/%A_%a.out\n\
+         #SBATCH --output={logs}\n\
          set -euo pipefail\n\
          exec {areo} -v sweep run {dir}\n",
-        name = info.name,
+        name = printable(&info.name),
+        job = info
+            .name
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '-' })
+            .collect::<String>(),
         n = info.tasks,
-        logs = dir.join("logs").display(),
-        areo = areo.display(),
-        dir = dir.display(),
     ))
+}
+
+/// `text` with control characters (a newline would end a comment line and start a
+/// command) shown as `?`.
+fn printable(text: &str) -> String {
+    text.chars().map(|c| if c.is_control() { '?' } else { c }).collect()
+}
+
+/// A path as one shell word: single-quoted, `'` written `'\''`. A path with a control
+/// character is refused: no script line should hold one.
+fn shell_path(path: &Path) -> Result<String> {
+    let text = path.to_str().filter(|t| !t.chars().any(char::is_control)).ok_or_else(|| {
+        Error::usage(path.display().to_string(), "a path with control characters or not UTF-8 cannot go in a script")
+    })?;
+    Ok(format!("'{}'", text.replace('\'', "'\\''")))
+}
+
+/// The logs path for an `#SBATCH --output` line, double-quoted as sbatch reads its
+/// directives; a path with a double quote or a control character is refused.
+fn directive_path(logs: &Path) -> Result<String> {
+    let text = logs.join("%A_%a.out").to_str().map(str::to_string).unwrap_or_default();
+    if text.is_empty() || text.contains('"') || text.chars().any(char::is_control) {
+        return Err(Error::usage(
+            logs.display().to_string(),
+            "a sweep directory whose path holds a double quote, a control character or is not UTF-8 cannot go in an #SBATCH line",
+        ));
+    }
+    Ok(format!("\"{text}\""))
+}
+
+/// A string as a YAML double-quoted scalar (JSON's escapes are YAML's).
+fn yaml_string(text: &str) -> String {
+    serde_json::Value::String(text.to_string()).to_string()
 }
 
 /// A Kubernetes Indexed Job running the sweep in `dir` (mounted at the same path in
 /// the container from a volume claim `claim`), `parallel` pods at a time.
 pub fn k8s_job(dir: &Path, image: &str, claim: &str, parallel: usize) -> Result<String> {
     let info = info(dir)?;
+    if info.tasks == 0 {
+        return Err(Error::usage(format!("sweep k8s {}", dir.display()), "the sweep has no tasks"));
+    }
     let dir = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
     let name: String =
         info.name.to_ascii_lowercase().chars().map(|c| if c.is_ascii_alphanumeric() { c } else { '-' }).collect();
+    let text = |p: &Path| -> Result<String> {
+        p.to_str()
+            .map(yaml_string)
+            .ok_or_else(|| Error::usage(p.display().to_string(), "a path that is not UTF-8 cannot go in YAML"))
+    };
     Ok(format!(
         "# areo sweep {sweep}: {n} tasks as a Kubernetes Indexed Job ({parallel} at a time).\n\
          apiVersion: batch/v1\n\
@@ -700,11 +895,13 @@ pub fn k8s_job(dir: &Path, image: &str, claim: &str, parallel: usize) -> Result<
          metadata:\n  name: areo-{name}\n\
          spec:\n  completions: {n}\n  parallelism: {parallel}\n  completionMode: Indexed\n  backoffLimitPerIndex: 2\n  maxFailedIndexes: {n}\n\
          \x20 template:\n    spec:\n      restartPolicy: Never\n      containers:\n      - name: areo\n        image: {image}\n        \
-         command: [\"areo\", \"sweep\", \"run\", \"{dir}\"]\n        volumeMounts:\n        - name: sweep\n          mountPath: {mount}\n      \
+         command: [\"areo\", \"sweep\", \"run\", {dir}]\n        volumeMounts:\n        - name: sweep\n          mountPath: {mount}\n      \
          volumes:\n      - name: sweep\n        persistentVolumeClaim:\n          claimName: {claim}\n",
-        sweep = info.name,
+        sweep = printable(&info.name),
         n = info.tasks,
-        dir = dir.display(),
-        mount = dir.parent().unwrap_or(&dir).display(),
+        image = yaml_string(image),
+        claim = yaml_string(claim),
+        dir = text(&dir)?,
+        mount = text(dir.parent().unwrap_or(&dir))?,
     ))
 }

@@ -31,18 +31,21 @@ pub fn check_output(input: &Path, out: &Path) -> Result<()> {
         ));
     }
     let same = |a: &Path, b: &Path| -> bool {
-        // The output may not exist yet: compare its directory's real path and its name.
+        // The output may not exist yet: compare its directory's real path and its name;
+        // if it does, compare the files themselves (a link to the input is the input).
         let real = |p: &Path| {
             let dir = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
             dir.canonicalize().ok().map(|d| d.join(p.file_name().unwrap_or_default()))
         };
-        matches!((real(a), real(b)), (Some(x), Some(y)) if x == y)
+        areo_terrain::input::same_file(a, b) || matches!((real(a), real(b)), (Some(x), Some(y)) if x == y)
     };
-    for candidate in [out.to_path_buf(), out.with_extension("png")] {
-        if same(input, &candidate) {
+    // A PDS3 input reads its label and the image its label names too.
+    let inputs = areo_terrain::pds3::files_of(input);
+    for candidate in [out.to_path_buf(), out.with_extension("png"), out.with_extension("pgw")] {
+        if let Some(hit) = inputs.iter().find(|i| same(i, &candidate)) {
             return Err(Error::usage(
                 format!("-o {}", out.display()),
-                format!("writing it would overwrite the input {}", input.display()),
+                format!("writing {} would overwrite the input {}", candidate.display(), hit.display()),
             ));
         }
     }
@@ -407,6 +410,12 @@ pub fn write_viewshed(dem: &Dem, x: f64, y: f64, height_m: f64, out: &Path) -> R
         return Err(Error::usage(
             format!("--from height {height_m} m"),
             "allowed 0 (exclusive)..=100000 m above the ground",
+        ));
+    }
+    if dem.cols() < 2 || dem.rows() < 2 {
+        return Err(Error::usage(
+            format!("terrain viewshed on {} x {} cells", dem.cols(), dem.rows()),
+            "a viewshed needs a DEM of at least 2 x 2 cells",
         ));
     }
     let e = dem.extent();

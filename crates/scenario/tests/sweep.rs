@@ -163,7 +163,10 @@ fn bad_sweeps_are_located_errors_and_write_nothing() {
     // A value the scenario format refuses: named with the task's values and the field.
     let file = write_sweep(&dir, r#"(name: "lat", path: "job.site.lat_deg", values: [-4.5, 95.0])"#, "");
     let e = sweep::expand(&file, &dir.join("run")).unwrap_err().to_string();
-    assert!(e.contains("task 1 (lat = 95.0)") && e.contains("job.site.lat_deg") && e.contains("-90..=90"), "{e}");
+    assert!(
+        e.contains("task 1 (lat = 95.0)") && e.contains("job.site.lat_deg") && e.contains("-89.999..=89.999"),
+        "{e}"
+    );
     assert!(!dir.join("run").exists());
     // Zipped axes of different lengths; ids that collide.
     let file = write_sweep(&dir, AXES, "combine: Zip,");
@@ -207,13 +210,54 @@ fn launch_recipes_name_every_task() {
     sweep::expand(&file, &out).unwrap();
     let script = sweep::slurm_script(&out, Path::new("/opt/areo/bin/areo"), 4, 2).unwrap();
     assert!(script.contains("#SBATCH --array=0-7%4") && script.contains("#SBATCH --cpus-per-task=2"), "{script}");
-    assert!(script.contains("exec /opt/areo/bin/areo -v sweep run "), "{script}");
+    assert!(script.contains("exec '/opt/areo/bin/areo' -v sweep run '"), "{script}");
     let job = sweep::k8s_job(&out, "ghcr.io/x/areo:1", "sweeps", 3).unwrap();
-    for needle in
-        ["completions: 8", "parallelism: 3", "completionMode: Indexed", "image: ghcr.io/x/areo:1", "claimName: sweeps"]
-    {
+    for needle in [
+        "completions: 8",
+        "parallelism: 3",
+        "completionMode: Indexed",
+        "image: \"ghcr.io/x/areo:1\"",
+        "claimName: \"sweeps\"",
+    ] {
         assert!(job.contains(needle), "{needle}: {job}");
     }
+}
+
+/// Hostile names cannot inject: a sweep file named with a newline and a command, in a
+/// directory with a space and a quote. The Slurm script keeps its lines (comments,
+/// directives, `set`, `exec`), and bash reads the exec line as exactly the five words
+/// meant; the Kubernetes job holds the values as quoted scalars.
+#[test]
+fn launch_recipes_quote_hostile_names() {
+    let dir = scratch("hostile").join("it's a dir");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("shadow.ron"), base(UTCS[0], false)).unwrap();
+    let evil = dir.join("x\ntouch pwned; $(touch pwned2).sweep.ron");
+    std::fs::write(&evil, format!("Sweep(version: 1, base: \"shadow.ron\", axes: [{AXES}])")).unwrap();
+    let out = dir.join("run 1");
+    sweep::expand(&evil, &out).unwrap();
+    let areo = dir.join("bin").join("are'o");
+    let script = sweep::slurm_script(&out, &areo, 4, 2).unwrap();
+    for line in script.lines() {
+        assert!(
+            line.starts_with('#') || line.starts_with("set ") || line.starts_with("exec "),
+            "an injected line: {line:?}\n{script}"
+        );
+    }
+    let exec = script.lines().find(|l| l.starts_with("exec ")).unwrap();
+    let words = std::process::Command::new("bash")
+        .arg("-c")
+        .arg(exec.replacen("exec ", "printf '%s\\n' ", 1))
+        .output()
+        .unwrap();
+    let words = String::from_utf8(words.stdout).unwrap();
+    let canonical = out.canonicalize().unwrap();
+    let expected = format!("{}\n-v\nsweep\nrun\n{}\n", areo.display(), canonical.display());
+    assert_eq!(words, expected);
+    let job = sweep::k8s_job(&out, "img\"\nevil: 1", "claim", 3).unwrap();
+    assert_eq!(job.lines().count(), sweep::k8s_job(&out, "img", "claim", 3).unwrap().lines().count());
+    assert!(job.contains("image: \"img\\\"\\nevil: 1\""), "{job}");
+    assert!(!dir.join("pwned").exists() && !dir.join("pwned2").exists());
 }
 
 /// The shipped sweeps expand, every task validated.

@@ -9,7 +9,8 @@ use crate::error::{Error, Result};
 
 /// Reads an ESRI ASCII grid.
 pub fn read(path: &Path) -> Result<Dem> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    let text = crate::input::read_text(path, crate::input::RASTER_LIMIT)
+        .map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
     parse(&text, path)
 }
 

@@ -48,7 +48,8 @@ mod key {
 
 /// Reads a GeoTIFF DEM.
 pub fn read(path: &Path) -> Result<Dem> {
-    let file = File::open(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    let file = crate::input::open(path, crate::input::RASTER_LIMIT)
+        .map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
     read_from(BufReader::new(file), path)
 }
 
@@ -84,8 +85,46 @@ impl Header {
         if samples != 1 {
             return Err(bad(format!("{samples} samples per pixel; a DEM has one band")));
         }
+        // Sample types areo reads, refused here so the whole-map and the window readers
+        // refuse the same files.
+        let bits = dec.find_tag_unsigned_vec::<u16>(Tag::BitsPerSample).map_err(tiff_err)?.unwrap_or_else(|| vec![1]);
+        let format = dec.find_tag_unsigned_vec::<u16>(Tag::SampleFormat).map_err(tiff_err)?.unwrap_or_else(|| vec![1]);
+        let (b, f) = (bits.first().copied().unwrap_or(1), format.first().copied().unwrap_or(1));
+        let readable = matches!((f, b), (1 | 2, 8 | 16 | 32) | (3, 32 | 64));
+        if !readable {
+            let kind = match f {
+                1 => "unsigned integer",
+                2 => "signed integer",
+                3 => "floating point",
+                _ => "unknown",
+            };
+            return Err(bad(format!(
+                "{b}-bit {kind} samples (BitsPerSample {b}, SampleFormat {f}): areo reads 8-, 16- and 32-bit integers and 32- and 64-bit floats"
+            )));
+        }
+        if dec.find_tag(Tag::Unknown(MODEL_TRANSFORMATION)).map_err(tiff_err)?.is_some() {
+            return Err(bad(
+                "ModelTransformationTag (a rotated or sheared grid) is not read: warp the DEM to a north-up grid first (gdalwarp)"
+                    .into(),
+            ));
+        }
         let scale = f64_vec(dec, Tag::ModelPixelScaleTag).map_err(tiff_err)?;
         let tie = f64_vec(dec, Tag::ModelTiepointTag).map_err(tiff_err)?;
+        match (&scale, &tie) {
+            (None, None) => {}
+            (Some(s), Some(t)) if s.len() >= 2 && t.len() >= 6 => {
+                if let Some(v) = s[..2].iter().chain(&t[..6]).find(|v| !v.is_finite()) {
+                    return Err(bad(format!("ModelPixelScale / ModelTiepoint value {v}: must be finite")));
+                }
+            }
+            (s, t) => {
+                return Err(bad(format!(
+                    "ModelPixelScale of {} values and ModelTiepoint of {} values: need 2+ and 6+ (or neither, for 1 m cells)",
+                    s.as_ref().map_or(0, Vec::len),
+                    t.as_ref().map_or(0, Vec::len)
+                )));
+            }
+        }
         let keys = dec.find_tag_unsigned_vec::<u16>(Tag::GeoKeyDirectoryTag).map_err(tiff_err)?.unwrap_or_default();
         let doubles = f64_vec(dec, Tag::GeoDoubleParamsTag).map_err(tiff_err)?.unwrap_or_default();
         let geokeys = GeoKeys::parse(&keys, &doubles);
@@ -109,7 +148,8 @@ impl Header {
             }
             _ => None,
         };
-        Ok(Header { cols: w as usize, rows: h as usize, dx, dy, x0, y_top, nodata, georef: geokeys.georef() })
+        let georef = geokeys.georef().map_err(bad)?;
+        Ok(Header { cols: w as usize, rows: h as usize, dx, dy, x0, y_top, nodata, georef })
     }
 
     /// The DEM of the window (`col0`, `row0`, `cols` × `rows`) from its samples.
@@ -121,7 +161,11 @@ impl Header {
         let nodata = self.nodata;
         let valid: Vec<bool> = z
             .iter()
-            .map(|&v| v.is_finite() && nodata.is_none_or(|nd| !(f64::from(v) == nd || (nd.is_nan() && v.is_nan()))))
+            .map(|&v| {
+                v.is_finite()
+                    && v.abs() <= MAX_ABS_ELEVATION_M
+                    && nodata.is_none_or(|nd| !(f64::from(v) == nd || (nd.is_nan() && v.is_nan())))
+            })
             .collect();
         let z = z.into_iter().zip(&valid).map(|(v, ok)| if *ok { v } else { f32::NAN }).collect();
         let (x0, y_top) = (self.x0 + col0 as f64 * self.dx, self.y_top - row0 as f64 * self.dy);
@@ -132,17 +176,29 @@ impl Header {
     }
 }
 
+/// ModelTransformationTag, which areo refuses (it only reads north-up grids).
+const MODEL_TRANSFORMATION: u16 = 34264;
+
+/// Elevations beyond this many metres are fill values (HiRISE's −3.4028227e38, say),
+/// not heights: no body has relief of 10 000 km.
+const MAX_ABS_ELEVATION_M: f32 = 1e7;
+
 /// Decoded samples as f32 elevations.
 fn samples(image: DecodingResult, path: &Path) -> Result<Vec<f32>> {
     Ok(match image {
         DecodingResult::I16(v) => v.into_iter().map(f32::from).collect(),
         DecodingResult::U16(v) => v.into_iter().map(f32::from).collect(),
         DecodingResult::I32(v) => v.into_iter().map(|x| x as f32).collect(),
+        DecodingResult::U32(v) => v.into_iter().map(|x| x as f32).collect(),
+        DecodingResult::I8(v) => v.into_iter().map(f32::from).collect(),
         DecodingResult::U8(v) => v.into_iter().map(f32::from).collect(),
         DecodingResult::F32(v) => v,
         DecodingResult::F64(v) => v.into_iter().map(|x| x as f32).collect(),
-        other => {
-            return Err(Error::format(path, format!("unsupported sample type {:?}", std::mem::discriminant(&other))));
+        _ => {
+            return Err(Error::format(
+                path,
+                "64-bit integer or other unusual samples: areo reads 8-, 16- and 32-bit integers and 32- and 64-bit floats",
+            ));
         }
     })
 }
@@ -177,7 +233,8 @@ pub struct Windows {
 impl Windows {
     /// Opens `path`, keeping at most `budget_bytes` of decoded chunks.
     pub fn open(path: &Path, budget_bytes: usize) -> Result<Windows> {
-        let file = File::open(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+        let file = crate::input::open(path, crate::input::RASTER_LIMIT)
+            .map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
         let tiff_err = |e: tiff::TiffError| Error::format(path, format!("not a readable TIFF: {e}"));
         let mut dec = Decoder::new(BufReader::new(file)).map_err(tiff_err)?;
         let header = Header::parse(&mut dec, path)?;
@@ -317,7 +374,26 @@ impl GeoKeys {
         self.doubles.get(e.2 as usize).copied()
     }
 
-    fn georef(&self) -> Georef {
+    /// The georeference the keys describe, every value checked (finite, in range) with
+    /// its key named.
+    fn georef(&self) -> std::result::Result<Georef, String> {
+        let check = |name: &str, key: u16, lo: f64, hi: f64| -> std::result::Result<Option<f64>, String> {
+            match self.double(key) {
+                Some(v) if !(v.is_finite() && (lo..=hi).contains(&v)) => {
+                    Err(format!("{name} (GeoKey {key}) = {v}: allowed {lo}..={hi}"))
+                }
+                v => Ok(v),
+            }
+        };
+        check("GeogSemiMajorAxisGeoKey", key::SEMI_MAJOR, 1e3, 1e8)?;
+        check("GeogSemiMinorAxisGeoKey", key::SEMI_MINOR, 1e3, 1e8)?;
+        check("GeogInvFlatteningGeoKey", key::INV_FLATTENING, 0.0, 1e9)?;
+        check("ProjCenterLongGeoKey", key::CENTER_LONG, -360.0, 360.0)?;
+        check("ProjNatOriginLongGeoKey", key::NAT_ORIGIN_LONG, -360.0, 360.0)?;
+        check("ProjStraightVertPoleLongGeoKey", key::STRAIGHT_VERT_POLE_LONG, -360.0, 360.0)?;
+        check("ProjNatOriginLatGeoKey", key::NAT_ORIGIN_LAT, -90.0, 90.0)?;
+        // The standard parallel of an equirectangular map divides by its cosine.
+        check("ProjStdParallel1GeoKey", key::STD_PARALLEL_1, -89.9, 89.9)?;
         let a = self.double(key::SEMI_MAJOR);
         let b = self.double(key::SEMI_MINOR).or_else(|| {
             let inv_f = self.double(key::INV_FLATTENING)?;
@@ -344,7 +420,7 @@ impl GeoKeys {
             }
             _ => Projection::Local,
         };
-        Georef { projection, surface: body }
+        Ok(Georef { projection, surface: body })
     }
 }
 
@@ -805,7 +881,7 @@ fn gdal_scale_offset(planes: usize, scale: f64, offset: f64) -> String {
 /// The GDAL band scale and offset of a file written with them, if any (first band).
 pub fn gdal_scale_offset_of(path: &Path) -> Result<Option<(f64, f64)>> {
     let io = |e: std::io::Error| Error::Io { path: path.to_path_buf(), source: e };
-    let mut dec = Decoder::new(BufReader::new(File::open(path).map_err(io)?))
+    let mut dec = Decoder::new(BufReader::new(crate::input::open(path, crate::input::RASTER_LIMIT).map_err(io)?))
         .map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) })?;
     let Ok(Some(xml)) = dec.find_tag(Tag::Unknown(GDAL_METADATA)).map(|v| v.and_then(|v| v.into_string().ok())) else {
         return Ok(None);

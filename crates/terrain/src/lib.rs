@@ -61,11 +61,13 @@ pub mod ascii;
 pub mod fill;
 pub mod geotiff;
 pub mod horizon;
+pub mod input;
 pub mod los;
 pub mod pds3;
 #[cfg(any(test, feature = "reference"))]
 pub mod reference;
 pub mod shadow;
+pub mod size;
 pub mod slope;
 pub mod synth;
 pub mod tiles;
@@ -76,6 +78,7 @@ pub use crate::{
     dem::{Dem, Extent, Georef, Ground, POLAR_PROJECTION_LAT_DEG, analytic, unit_normal},
     error::{Error, Result},
     projection::Projection,
+    size::Size,
 };
 
 /// A DEM file format, told by the file's extension.
@@ -106,6 +109,9 @@ impl DemFormat {
 /// Reads a DEM by its file's extension ([`DemFormat::of`]). Any other name is
 /// [`Error::UnknownFormat`].
 pub fn read(path: &std::path::Path) -> Result<Dem> {
+    // What the file is comes before what its name says: a FIFO or a device is refused
+    // as such, whatever it is called.
+    input::check(path, input::RASTER_LIMIT).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
     match DemFormat::of(path) {
         Some(DemFormat::GeoTiff) => geotiff::read(path),
         Some(DemFormat::EsriAscii) => ascii::read(path),

@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 use crate::dem::{Dem, Georef};
 use crate::error::{Error, Result};
 use crate::projection::Projection;
+use crate::size::Size;
 use areo_body::Spheroid;
 
 /// The largest byte count or offset a label may give (1 TiB).
@@ -30,7 +31,7 @@ const MAX_BYTES: f64 = 1_099_511_627_776.0;
 /// Reads a PDS3 image, its label attached or in a sibling `.LBL` (pass either file).
 pub fn read(path: &Path) -> Result<Dem> {
     let io = |p: &Path, source| Error::Read { path: p.to_path_buf(), source };
-    let bytes = std::fs::read(path).map_err(|e| io(path, e))?;
+    let bytes = crate::input::read(path, crate::input::RASTER_LIMIT).map_err(|e| io(path, e))?;
     let is_label = |b: &[u8]| {
         let head = String::from_utf8_lossy(&b[..b.len().min(4096)]).to_ascii_uppercase();
         head.trim_start().starts_with("PDS_VERSION_ID") || head.contains("^IMAGE")
@@ -40,13 +41,39 @@ pub fn read(path: &Path) -> Result<Dem> {
         for ext in ["LBL", "lbl"] {
             let lbl = path.with_extension(ext);
             if lbl.exists() {
-                let text = std::fs::read(&lbl).map_err(|e| io(&lbl, e))?;
+                let text = crate::input::read(&lbl, crate::input::TEXT_LIMIT).map_err(|e| io(&lbl, e))?;
                 return parse(&text, Some(&bytes), &lbl, path.parent());
             }
         }
         return Err(Error::format(path, "no PDS3 label: neither attached nor a sibling .LBL"));
     }
     parse(&bytes, None, path, path.parent())
+}
+
+/// Every file reading `path` as a PDS3 image touches: the file itself, a sibling
+/// detached label or image, and the file a label's `^IMAGE` names (so that no output
+/// is written over any of them).
+pub fn files_of(path: &Path) -> Vec<PathBuf> {
+    let mut files = vec![path.to_path_buf()];
+    for ext in ["LBL", "lbl", "IMG", "img"] {
+        let sibling = path.with_extension(ext);
+        if sibling.exists() {
+            files.push(sibling);
+        }
+    }
+    let labels: Vec<PathBuf> = files.clone();
+    for label in labels {
+        let Ok(bytes) = crate::input::read(&label, crate::input::TEXT_LIMIT) else { continue };
+        let head = &bytes[..bytes.len().min(1 << 20)];
+        if let Some(pointer) = Label::parse(head).get("", "^IMAGE")
+            && let Some((Some(name), _)) = parse_pointer(pointer, 1)
+        {
+            let dir = label.parent().unwrap_or(Path::new("."));
+            files.push(dir.join(&name));
+            files.push(dir.join(name.to_lowercase()));
+        }
+    }
+    files
 }
 
 /// Parses a label (and its attached data, or the `image` bytes if detached); `path`
@@ -112,19 +139,23 @@ pub fn parse(label_bytes: &[u8], image: Option<&[u8]>, path: &Path, dir: Option<
             } else {
                 dir.map_or_else(|| PathBuf::from(name.to_lowercase()), |d| d.join(name.to_lowercase()))
             };
-            owned = std::fs::read(&p).map_err(|source| Error::Read { path: p.clone(), source })?;
+            owned = crate::input::read(&p, crate::input::RASTER_LIMIT)
+                .map_err(|source| Error::Read { path: p.clone(), source })?;
             &owned
         }
         (None, Some(img)) => img,
         (None, None) => label_bytes,
     };
     let width = kind.bytes();
-    // At most 4e9 samples of 8 bytes and counts below 2^40: no overflow in u64.
-    let line_bytes = prefix + cols as u64 * width as u64 + suffix;
-    let needed = offset + rows as u64 * line_bytes;
-    if (data.len() as u64) < needed {
+    let line_bytes = Size::new(prefix) + Size::from(cols) * Size::from(width) + Size::new(suffix);
+    let needed = Size::new(offset) + Size::from(rows) * line_bytes;
+    if !needed.at_most(data.len() as u64) {
         return Err(bad(format!("image truncated: {} bytes, {needed} needed for {cols} x {rows} samples", data.len())));
     }
+    // Both fit in the data's length, so in usize.
+    let (Some(line_bytes), Some(offset)) = (line_bytes.as_usize(), Size::new(offset).as_usize()) else {
+        return Err(bad(format!("^IMAGE offset {offset} and lines of {line_bytes} bytes: too large here")));
+    };
     let scale = num("IMAGE", "SCALING_FACTOR")?.unwrap_or(1.0);
     let add = num("IMAGE", "OFFSET")?.unwrap_or(0.0);
     if !(scale.is_finite() && scale != 0.0 && add.is_finite()) {
@@ -136,7 +167,7 @@ pub fn parse(label_bytes: &[u8], image: Option<&[u8]>, path: &Path, dir: Option<
     let (valid_min, valid_max) = (num("IMAGE", "VALID_MINIMUM")?, num("IMAGE", "VALID_MAXIMUM")?);
     let mut z = Vec::with_capacity(rows * cols);
     let mut valid = Vec::with_capacity(rows * cols);
-    let (offset, line_bytes, prefix) = (offset as usize, line_bytes as usize, prefix as usize);
+    let prefix = prefix as usize;
     for r in 0..rows {
         let start = offset + r * line_bytes + prefix;
         for c in 0..cols {
@@ -345,14 +376,17 @@ impl Label {
             let Some((key, value)) = line.split_once('=') else { continue };
             let key = key.trim().to_ascii_uppercase();
             let mut value = value.trim().to_string();
-            // Values in parentheses or quotes may run over several lines.
-            while (value.starts_with('(') && !value.ends_with(')'))
-                || (value.starts_with('"') && value.matches('"').count() % 2 == 1)
-            {
+            // Values in parentheses or quotes may run over several lines. The quotes are
+            // counted as lines are added (not recounted), so an unclosed quote costs one
+            // pass over the label, not one per line.
+            let mut quotes = value.matches('"').count();
+            while (value.starts_with('(') && !value.ends_with(')')) || (value.starts_with('"') && quotes % 2 == 1) {
                 match lines.next() {
                     Some(more) => {
+                        let more = more.trim();
+                        quotes += more.matches('"').count();
                         value.push(' ');
-                        value.push_str(more.trim());
+                        value.push_str(more);
                     }
                     None => break,
                 }

@@ -19,7 +19,7 @@ use crate::error::{Error, Result};
 pub(crate) fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
     let io = |source| Error::Io { path: path.to_path_buf(), source };
     let partial = partial_name(path);
-    let written = std::fs::File::create(&partial).and_then(|mut f| {
+    let written = fresh(&partial).and_then(|mut f| {
         f.write_all(bytes)?;
         f.sync_all()
     });
@@ -36,6 +36,8 @@ pub(crate) fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
 /// like the GeoTIFF and plot writers).
 pub(crate) fn write_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     let partial = partial_name(path);
+    // The writer opens the name itself: reserve it as a new, empty file of ours first.
+    fresh(&partial).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     match write(&partial)
         .and_then(|()| std::fs::rename(&partial, path).map_err(|source| Error::Io { path: path.to_path_buf(), source }))
     {
@@ -46,6 +48,18 @@ pub(crate) fn write_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -
             Err(e)
         }
     }
+}
+
+/// Creates `partial` as a new file: whatever was there (a file left by an interrupted
+/// run, or a planted link to something to overwrite) is removed — the name, never what a
+/// link points at — and the file is created exclusively, so a link made in between
+/// makes the write fail rather than follow it.
+fn fresh(partial: &Path) -> std::io::Result<std::fs::File> {
+    match std::fs::remove_file(partial) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
+        _ => {}
+    }
+    std::fs::OpenOptions::new().write(true).create_new(true).open(partial)
 }
 
 /// `NAME.partial` beside `path`.
@@ -64,6 +78,30 @@ pub(crate) fn json_for(path: &Path, value: &impl serde::Serialize, pretty: bool)
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A link planted at the staging name is replaced, not followed: the file it points
+    /// at keeps its contents.
+    #[cfg(unix)]
+    #[test]
+    fn a_planted_link_at_the_staging_name_is_not_followed() {
+        let dir = std::env::temp_dir().join(format!("areo-link-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let victim = dir.join("victim.txt");
+        std::fs::write(&victim, "precious").unwrap();
+        let path = dir.join("plan.csv");
+        let _ = std::fs::remove_file(partial_name(&path));
+        std::os::unix::fs::symlink(&victim, partial_name(&path)).unwrap();
+        write_file(&path, b"a,b\n").unwrap();
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "a,b\n");
+        let tif = dir.join("map.tif");
+        let _ = std::fs::remove_file(partial_name(&tif));
+        std::os::unix::fs::symlink(&victim, partial_name(&tif)).unwrap();
+        write_with(&tif, |p| std::fs::write(p, "tiff").map_err(|source| Error::Io { path: p.to_path_buf(), source }))
+            .unwrap();
+        assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     #[test]
     fn files_are_written_whole_or_not_at_all() {
