@@ -111,7 +111,9 @@ impl DemFormat {
 pub fn read(path: &std::path::Path) -> Result<Dem> {
     // What the file is comes before what its name says: a FIFO or a device is refused
     // as such, whatever it is called.
-    input::check(path, input::RASTER_LIMIT).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    if path.exists() {
+        input::check(path, input::RASTER_LIMIT).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    }
     match DemFormat::of(path) {
         Some(DemFormat::GeoTiff) => geotiff::read(path),
         Some(DemFormat::EsriAscii) => ascii::read(path),
