@@ -476,3 +476,39 @@ fn terminal_output_is_escaped_and_times_out_of_range_refused() {
     let o = areo(&["sun", "--body", "moon", "--day", "2600-12-31", "--lat", "0", "--lon", "0"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
+
+/// Twelve runs into one `--out` at once all end in place (exit 0), leaving one set of
+/// outputs and no staging or set-aside directories; an `OUT/NAME` that is a file is
+/// refused, not moved aside.
+#[test]
+fn concurrent_runs_into_one_out_all_land_and_a_file_in_the_way_is_refused() {
+    let dir = tmp("concurrent");
+    let path = write_variant(&dir, "gale-sol-sun.ron", "description: \"", "description: \"concurrent: ");
+    let out = dir.join("out");
+    let children: Vec<_> = (0..12)
+        .map(|_| {
+            Command::new(env!("CARGO_BIN_EXE_areo"))
+                .args(["-q", "run", path.to_str().unwrap(), "-o", out.to_str().unwrap()])
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::piped())
+                .spawn()
+                .unwrap()
+        })
+        .collect();
+    for child in children {
+        let o = child.wait_with_output().unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    }
+    let names: Vec<String> =
+        std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert_eq!(names, ["gale-sol-sun"], "nothing left beside the outputs");
+    assert!(out.join("gale-sol-sun/facts.json").exists());
+
+    let blocked = dir.join("blocked");
+    std::fs::create_dir_all(&blocked).unwrap();
+    std::fs::write(blocked.join("gale-sol-sun"), "a file in the way").unwrap();
+    let o = areo(&["-q", "run", path.to_str().unwrap(), "-o", blocked.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("not an output directory"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(blocked.join("gale-sol-sun")).unwrap(), "a file in the way");
+}

@@ -8,7 +8,9 @@
 //! replaced by a hostile value (NaN, ±inf, 0, −1, ±1e308, a subnormal, a huge integer,
 //! random bits), a number of a shipped rover file likewise, a shipped scenario cut short,
 //! DEM files (GeoTIFF, ESRI ASCII, PDS3) with bytes flipped or cut, and hostile flags
-//! for `areo terrain` and `areo sun`.
+//! for `areo terrain` and `areo sun`, and files that are not what they seem (a FIFO or a
+//! device as an input, nesting thousands deep, a sweep with a hostile name or count, an
+//! output that is a link to the input).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -376,6 +378,8 @@ impl Corpus {
             };
             std::fs::create_dir_all(dir.join("out")).map_err(|e| e.to_string())?;
             Case { kind: "dem bytes", what: format!("{what}: {}", args[1]), args }
+        } else if pick < 96 {
+            self.file_case(rng, dir)?
         } else {
             let values: Vec<String> = (0..3).map(|_| HOSTILE[rng.random_range(0..HOSTILE.len())].to_string()).collect();
             let v = |i: usize| values[i].clone();
@@ -413,6 +417,80 @@ impl Corpus {
                 }
             };
             Case { kind: "flags", what: args.join(" "), args }
+        })
+    }
+}
+
+impl Corpus {
+    /// Files that are not what they seem (issue 37): a FIFO or a device as an input, a
+    /// scenario nested deep, a sweep with a hostile name or count, an output that is a
+    /// link to the input.
+    fn file_case(&self, rng: &mut ChaCha8Rng, dir: &Path) -> Result<Case, String> {
+        let write = |name: &str, bytes: &[u8]| {
+            std::fs::write(dir.join(name), bytes).map_err(|e| format!("{}: {e}", dir.join(name).display()))
+        };
+        std::fs::create_dir_all(dir.join("out")).map_err(|e| e.to_string())?;
+        let strings = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<String>>();
+        Ok(match rng.random_range(0..5u32) {
+            0 => {
+                let status = Command::new("mkfifo").arg(dir.join("pipe.tif")).status().map_err(|e| e.to_string())?;
+                if !status.success() {
+                    return Err("mkfifo failed".into());
+                }
+                Case {
+                    kind: "special file",
+                    what: "a FIFO as the DEM".into(),
+                    args: strings(&["terrain", "info", "pipe.tif"]),
+                }
+            }
+            1 => {
+                let device = ["/dev/zero", "/dev/null", "/dev/urandom"][rng.random_range(0..3)];
+                Case {
+                    kind: "special file",
+                    what: format!("{device} as the instants"),
+                    args: strings(&["sun", "--times-file", device]),
+                }
+            }
+            2 => {
+                let depth = rng.random_range(60..20_000usize);
+                let text = format!(
+                    "Scenario(version: 1, description: \"deep\", job: SunTable(site: {}1{}))",
+                    "(".repeat(depth),
+                    ")".repeat(depth)
+                );
+                write("deep.ron", text.as_bytes())?;
+                Case {
+                    kind: "special file",
+                    what: format!("nesting {depth} deep"),
+                    args: strings(&["-q", "run", "deep.ron", "--out", "out"]),
+                }
+            }
+            3 => {
+                let (name, text) =
+                    self.scenarios.iter().find(|(n, _)| n == "gale-sol-sun.ron").ok_or("no gale-sol-sun.ron")?;
+                write(name, text.as_bytes())?;
+                let step = ["1e-320", "1e-9", "0.5", "-1", "inf"][rng.random_range(0..5)];
+                let sweep = format!(
+                    "Sweep(version: 1, base: \"{name}\", name: \"x{{index}}\\n$(touch pwned)\", axes: [(name: \"t\", path: \"job.tau\", range: (0.1, 0.9, {step}))])"
+                );
+                write("s.sweep.ron", sweep.as_bytes())?;
+                Case {
+                    kind: "special file",
+                    what: format!("a sweep of step {step} with a hostile name"),
+                    args: strings(&["sweep", "expand", "s.sweep.ron", "-o", "out/sweep"]),
+                }
+            }
+            _ => {
+                let (tif_name, tif) = &self.dems[0];
+                write(tif_name, tif)?;
+                #[cfg(unix)]
+                std::os::unix::fs::symlink(tif_name, dir.join("out/link.tif")).map_err(|e| e.to_string())?;
+                Case {
+                    kind: "special file",
+                    what: "an output that is a link to the input".into(),
+                    args: strings(&["terrain", "slope", tif_name, "-o", "out/link.tif"]),
+                }
+            }
         })
     }
 }

@@ -59,6 +59,38 @@ pub fn run(file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
     Ok(outcome)
 }
 
+/// Puts the finished `staging` directory in place of `dir`, the previous outputs moved
+/// aside and removed. Runs into the same `--out` at once race for the name: one that
+/// finds another's outputs arrived in between (the rename onto a non-empty directory
+/// fails) moves those aside too and tries again, so every run ends in place or with an
+/// error, the last one's outputs staying.
+fn replace_dir(staging: &Path, dir: &Path, out_root: &Path, name: &str) -> Result<()> {
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| Error::Io { path, source }
+    };
+    let mut last = None;
+    for attempt in 0..64 {
+        let old = out_root.join(format!(".{name}.old-{}-{attempt}", std::process::id()));
+        match std::fs::rename(dir, &old) {
+            Ok(()) => {}
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+            Err(e) => return Err(io(dir)(e)),
+        }
+        let placed = std::fs::rename(staging, dir);
+        if old.exists() {
+            std::fs::remove_dir_all(&old).map_err(io(&old))?;
+        }
+        match placed {
+            Ok(()) => return Ok(()),
+            // Another run's outputs took the name in between: again.
+            Err(e) if dir.exists() => last = Some(e),
+            Err(e) => return Err(io(dir)(e)),
+        }
+    }
+    Err(io(dir)(last.unwrap_or_else(|| std::io::Error::other("the output directory kept being replaced"))))
+}
+
 /// Runs the scenario into `out_root/NAME/` (NAME the scenario's file stem), replacing
 /// that directory's previous contents as a set: the job writes into a staging directory
 /// beside it, renamed into place only when the job has finished (an unreachable goal
@@ -87,6 +119,14 @@ pub fn run_into(file: &ScenarioFile, out_root: &Path, progress: &dyn Progress, b
             format!("the outputs go to {}, which holds the scenario {} itself", dir.display(), file.path.display()),
         ));
     }
+    if let Ok(meta) = std::fs::symlink_metadata(&dir)
+        && !meta.is_dir()
+    {
+        return Err(Error::usage(
+            format!("--out {}", out_root.display()),
+            format!("{} is a file or a link, not an output directory: move it or choose another --out", dir.display()),
+        ));
+    }
     let staging = out_root.join(format!(".{name}.partial-{}", std::process::id()));
     if staging.exists() {
         std::fs::remove_dir_all(&staging).map_err(io(&staging))?;
@@ -100,14 +140,10 @@ pub fn run_into(file: &ScenarioFile, out_root: &Path, progress: &dyn Progress, b
             return Err(e);
         }
     };
-    let old = out_root.join(format!(".{name}.old-{}", std::process::id()));
-    if dir.exists() {
-        std::fs::rename(&dir, &old).map_err(io(&dir))?;
-    }
-    std::fs::rename(&staging, &dir).map_err(io(&dir))?;
-    if old.exists() {
-        std::fs::remove_dir_all(&old).map_err(io(&old))?;
-    }
+    replace_dir(&staging, &dir, out_root, name).inspect_err(|_| {
+        // Best effort: the finished outputs could not be put in place.
+        let _ = std::fs::remove_dir_all(&staging);
+    })?;
     for f in &mut outcome.files {
         if let Ok(rest) = f.strip_prefix(&staging) {
             *f = dir.join(rest);
