@@ -512,3 +512,69 @@ fn concurrent_runs_into_one_out_all_land_and_a_file_in_the_way_is_refused() {
     assert!(stderr(&o).contains("not an output directory"), "{}", stderr(&o));
     assert_eq!(std::fs::read_to_string(blocked.join("gale-sol-sun")).unwrap(), "a file in the way");
 }
+
+/// The smaller exit-code cases: a map's site at the pole is a located range error, a
+/// viewshed on one cell is exit 2, a sweep plot of overflowing values and a facts.json
+/// that is not text agree between `run` and `collect`, and a thread count past the cores
+/// is capped with a warning.
+#[test]
+fn small_cases_exit_as_documented() {
+    let dir = tmp("small-cases");
+    let o = run_variant(&dir, "crater-morning-shadows.ron", "lat_deg: -4.5895", "lat_deg: -90");
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("job.site.lat_deg") && stderr(&o).contains("pole"), "{}", stderr(&o));
+
+    let one = dir.join("one.asc");
+    std::fs::write(&one, "ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n5\n").unwrap();
+    let o = areo(&[
+        "terrain",
+        "viewshed",
+        one.to_str().unwrap(),
+        "--from",
+        "0.5,0.5,2",
+        "-o",
+        dir.join("v.tif").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+
+    // A sweep with a label axis of ±1.7e308, two tasks run; then one task's facts.json
+    // replaced by bytes that are not text.
+    std::fs::write(dir.join("base.ron"), std::fs::read_to_string(root().join("scenarios/gale-sol-sun.ron")).unwrap())
+        .unwrap();
+    let sweep = dir.join("huge.sweep.ron");
+    std::fs::write(
+        &sweep,
+        "Sweep(version: 1, base: \"base.ron\", combine: Zip, axes: [(name: \"t\", path: \"job.tau\", values: [0.5, 0.9]), (name: \"x\", values: [-1.7e308, 1.7e308])])",
+    )
+    .unwrap();
+    let s = dir.join("s");
+    assert!(areo(&["sweep", "expand", sweep.to_str().unwrap(), "-o", s.to_str().unwrap()]).status.success());
+    for i in ["0", "1"] {
+        let o = Command::new(env!("CARGO_BIN_EXE_areo"))
+            .args(["-v", "sweep", "run", s.to_str().unwrap(), "--index", i])
+            .env("SLURM_CPUS_PER_TASK", "100000")
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(stderr(&o).contains("more than this machine's"), "the cap is said: {}", stderr(&o));
+    }
+    let o = areo(&["sweep", "collect", s.to_str().unwrap(), "--plot", "rows", "--against", "x"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("cannot be plotted"), "{}", stderr(&o));
+    let facts = s.join("out/1/facts.json");
+    std::fs::write(&facts, [0xff, 0xfe, 0x00]).unwrap();
+    let collected = areo(&["sweep", "collect", s.to_str().unwrap()]);
+    assert!(
+        String::from_utf8_lossy(&collected.stdout).contains("1 finished"),
+        "{}",
+        String::from_utf8_lossy(&collected.stdout)
+    );
+    // run agrees: the task is not finished, so it runs again (and is then finished).
+    let o = areo(&["sweep", "run", s.to_str().unwrap(), "--index", "1"]);
+    assert!(
+        o.status.success() && String::from_utf8_lossy(&o.stdout).contains("task 1 (1):"),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("skipped"));
+}

@@ -635,3 +635,47 @@ fn geotiff_names_the_body_sphere_and_metres_it_was_projected_on() {
     assert!(citations(&path).starts_with("areo local frame on Mars, metres|"), "{}", citations(&path));
     assert_eq!(geotiff::read(&path).unwrap().georef(), local.georef());
 }
+
+/// A 3 × 2 TIFF of `C` samples with a 10 m grid, plus `extra` tags, at `name`.
+fn small_tiff<C: tiff::encoder::colortype::ColorType>(
+    name: &str,
+    data: &[C::Inner],
+    extra: &[(u16, Vec<f64>)],
+) -> PathBuf
+where
+    [C::Inner]: tiff::encoder::TiffValue,
+{
+    let path = tmp(name);
+    let mut file = std::fs::File::create(&path).unwrap();
+    let mut enc = tiff::encoder::TiffEncoder::new(&mut file).unwrap();
+    let mut img = enc.new_image::<C>(3, 2).unwrap();
+    let e = img.encoder();
+    e.write_tag(tiff::tags::Tag::ModelPixelScaleTag, &[10.0, 10.0, 0.0][..]).unwrap();
+    e.write_tag(tiff::tags::Tag::ModelTiepointTag, &[0.0, 0.0, 0.0, 100.0, 200.0, 0.0][..]).unwrap();
+    for (tag, values) in extra {
+        e.write_tag(tiff::tags::Tag::Unknown(*tag), &values[..]).unwrap();
+    }
+    img.write_data(data).unwrap();
+    path
+}
+
+/// Unsigned 32-bit heights are read; a rotated grid (ModelTransformationTag) and 64-bit
+/// integers are refused by name — by the whole-map reader and the window reader alike.
+#[test]
+fn tiff_sample_types_and_transformations_are_read_or_refused_by_name() {
+    let heights = small_tiff::<tiff::encoder::colortype::Gray32>("u32.tif", &[1, 2, 3, 4, 5, 4_000_000], &[]);
+    let dem = geotiff::read(&heights).unwrap();
+    assert_eq!((dem.z(0, 0), dem.z(2, 1), dem.dx(), dem.x0()), (Some(1.0), Some(4_000_000.0), 10.0, 100.0));
+    let rotated = small_tiff::<tiff::encoder::colortype::Gray32>(
+        "rotated.tif",
+        &[1, 2, 3, 4, 5, 6],
+        &[(34264, vec![10.0, 1.0, 0.0, 100.0, 1.0, -10.0, 0.0, 200.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])],
+    );
+    for e in [geotiff::read(&rotated).unwrap_err(), geotiff::Windows::open(&rotated, 1 << 20).unwrap_err()] {
+        assert!(e.to_string().contains("ModelTransformationTag"), "{e}");
+    }
+    let wide = small_tiff::<tiff::encoder::colortype::Gray64>("u64.tif", &[1, 2, 3, 4, 5, 6], &[]);
+    for e in [geotiff::read(&wide).unwrap_err(), geotiff::Windows::open(&wide, 1 << 20).unwrap_err()] {
+        assert!(e.to_string().contains("64-bit unsigned integer samples"), "{e}");
+    }
+}
