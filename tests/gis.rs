@@ -46,15 +46,26 @@ fn number(facts: &serde_json::Value, name: &str) -> f64 {
     facts[name].as_f64().unwrap_or_else(|| panic!("fact {name}: {}", facts[name]))
 }
 
-#[test]
+/// Whether GDAL's `tool` runs here; without it the test fails where `AREO_REQUIRE_GDAL`
+/// is set (CI) and says it did not run otherwise.
 // Saying that the test did not run is the point of its one message.
 #[allow(clippy::print_stderr)]
-fn gdal_reads_each_route_on_its_own_body_at_its_own_length() {
-    if let Err(e) = Command::new("ogrinfo").arg("--version").output() {
-        if std::env::var_os("AREO_REQUIRE_GDAL").is_some() {
-            panic!("AREO_REQUIRE_GDAL is set but ogrinfo cannot run: {e}");
+fn gdal_here(tool: &str) -> bool {
+    match Command::new(tool).arg("--version").output() {
+        Ok(_) => true,
+        Err(e) if std::env::var_os("AREO_REQUIRE_GDAL").is_some() => {
+            panic!("AREO_REQUIRE_GDAL is set but {tool} cannot run: {e}")
         }
-        eprintln!("not run: no GDAL here ({e}); .ci/run installs gdal-bin and requires it");
+        Err(e) => {
+            eprintln!("not run: no GDAL here ({e}); .ci/run installs gdal-bin and requires it");
+            false
+        }
+    }
+}
+
+#[test]
+fn gdal_reads_each_route_on_its_own_body_at_its_own_length() {
+    if !gdal_here("ogrinfo") {
         return;
     }
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target").join("gis-test");
@@ -155,14 +166,8 @@ fn layers_lie_under_the_route(
 /// A terrain preview PNG lies where its GeoTIFF does: GDAL reads its world file (.pgw)
 /// into the same geotransform.
 #[test]
-// Saying that the test did not run is the point of its one message.
-#[allow(clippy::print_stderr)]
 fn gdal_places_a_preview_png_over_its_geotiff() {
-    if let Err(e) = Command::new("gdalinfo").arg("--version").output() {
-        if std::env::var_os("AREO_REQUIRE_GDAL").is_some() {
-            panic!("AREO_REQUIRE_GDAL is set but gdalinfo cannot run: {e}");
-        }
-        eprintln!("not run: no GDAL here ({e})");
+    if !gdal_here("gdalinfo") {
         return;
     }
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
