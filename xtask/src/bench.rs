@@ -580,8 +580,8 @@ fn lita(root: &Path) -> Result<bool, String> {
 /// memory ≤ 2 GB for the whole run.
 fn bigmap(root: &Path, side: usize) -> Result<bool, String> {
     use areo_terrain::geotiff::{Grid, Windows, write_f32_tiled, write_u8_tiled};
-    use areo_terrain::shadow::{Curvature, Method, SunDirection};
-    use areo_terrain::tiles::{ShadowHalo, ShadowTiles, relief, shadow_band};
+    use areo_terrain::shadow::{Curvature, Shadows, SunDirection};
+    use areo_terrain::tiles::{ShadowHalo, Tiling, relief};
     let dir = root.join("target/bigmap");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let dem_path = dir.join(format!("dem_{side}.tif"));
@@ -624,12 +624,12 @@ fn bigmap(root: &Path, side: usize) -> Result<bool, String> {
     let relief_s = started.elapsed().as_secs_f64();
     let sun = SunDirection::new(135.0, 8.0);
     let halo = ShadowHalo::new(rel, &grid, sun.elevation_deg).map_err(|e| e.to_string())?;
-    let plan = ShadowTiles { sun, curvature: Curvature::Flat, method: Method::OwnRay, halo, tile };
+    let shadows = Shadows::new(sun, Curvature::Flat);
     let out = dir.join(format!("shadow_{side}.tif"));
     let (mut lit, mut tiles) = (0u64, 0usize);
     let started = std::time::Instant::now();
     let big = write_u8_tiled(&grid, Some(255), tile, false, &out, |row0, band| {
-        shadow_band(&mut src, &plan, row0, band, |done, _| tiles = done)?;
+        shadows.band(&mut src, Tiling { tile, halo }, row0, band, |done, _| tiles = done)?;
         lit += band.iter().filter(|v| **v == 1).count() as u64;
         Ok(())
     })

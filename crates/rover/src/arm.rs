@@ -36,7 +36,7 @@ impl ArmState {
     /// The stowed, empty arm of `params`.
     pub fn stowed(params: &RoverParams) -> ArmState {
         let t = params.arm.stowed_tool_m;
-        ArmState { tool_m: [t.x, t.y, t.z], payload_kg: 0.0 }
+        ArmState { tool_m: t.into(), payload_kg: 0.0 }
     }
 
     /// The joint angles, or why the tool position is out of reach.
@@ -75,7 +75,7 @@ impl ArmState {
     pub fn arm_cg(&self, params: &RoverParams) -> Result<Vector3<f64>, String> {
         let j = self.joints(params)?;
         let a = &params.arm;
-        let s = Vector3::new(a.shoulder_m.x, a.shoulder_m.y, a.shoulder_m.z);
+        let s = Vector3::from(a.shoulder_m);
         let (sy, cy) = j.yaw.sin_cos();
         let dir = |pitch: f64| Vector3::new(pitch.cos() * cy, pitch.cos() * sy, pitch.sin());
         let elbow = s + dir(j.shoulder) * a.upper_link_m;
@@ -99,9 +99,9 @@ impl ArmState {
     ) -> Result<(f64, Vector3<f64>), String> {
         // Most poses of a plan are driven with the arm stowed: no arm solve then.
         let t = params.arm.stowed_tool_m;
-        let now = if self.tool_m == [t.x, t.y, t.z] { stowed } else { self.arm_cg(params)? };
+        let now = if self.tool_m == <[f64; 3]>::from(t) { stowed } else { self.arm_cg(params)? };
         let c = params.cg_m;
-        let base = Vector3::new(c.x, c.y, c.z) + (now - stowed) * (params.arm.mass_kg / params.mass_kg);
+        let base = Vector3::from(c) + (now - stowed) * (params.arm.mass_kg / params.mass_kg);
         let total = params.mass_kg + self.payload_kg;
         Ok((total, (base * params.mass_kg + Vector3::from(self.tool_m) * self.payload_kg) / total))
     }

@@ -166,7 +166,7 @@ impl Evaluator {
         }
         let c = params.cg_m;
         let down = Vector3::new(0.0, 0.0, -1.0);
-        let fa = force_angle(&pts, Vector3::new(c.x, c.y, c.z), down, Vector3::zeros());
+        let fa = force_angle(&pts, Vector3::from(c), down, Vector3::zeros());
         let mut by_class = [f64::INFINITY; 4];
         let mut smallest = f64::INFINITY;
         if let Some(fa) = fa {
@@ -178,7 +178,7 @@ impl Evaluator {
             }
         }
         // Validated parameters have a reachable stowed tool.
-        let stowed_arm_cg = ArmState::stowed(params).arm_cg(params).unwrap_or_else(|_| Vector3::new(c.x, c.y, c.z));
+        let stowed_arm_cg = ArmState::stowed(params).arm_cg(params).unwrap_or_else(|_| Vector3::from(c));
         Evaluator {
             params: params.clone(),
             kinematics,

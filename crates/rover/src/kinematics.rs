@@ -26,6 +26,7 @@
 use areo_terrain::Ground;
 use nalgebra::{Matrix3, Vector3};
 
+use crate::math::Attitude;
 use crate::params::RoverParams;
 
 /// Samples across a wheel's diameter for the dilated terrain: 25 samples, 8 mm apart
@@ -135,34 +136,25 @@ impl Pose {
 
     /// Horizontal unit vector along the heading (east, north).
     pub fn forward(&self) -> (f64, f64) {
-        (self.heading.sin(), self.heading.cos())
+        self.attitude().forward()
+    }
+
+    /// The body's heading, pitch and roll ([`crate::math::Attitude`]).
+    pub fn attitude(&self) -> Attitude {
+        Attitude { heading: self.heading, pitch: self.pitch, roll: self.roll }
     }
 
     /// A point given in the body frame about the body reference (x forward, y left, z
     /// up, m) on the map (east, north, up, m): rolled about x, pitched about y, turned
     /// to the heading and moved to [`Pose::body`]. [`Pose::map_to_body`] undoes it.
     pub fn body_to_map(&self, rel: [f64; 3]) -> [f64; 3] {
-        let (fx, fy) = self.forward();
-        let (lx, ly) = (-fy, fx);
-        let (sp, cp) = self.pitch.sin_cos();
-        let (sr, cr) = self.roll.sin_cos();
-        let (bx, by, bz) = (rel[0], rel[1] * cr - rel[2] * sr, rel[1] * sr + rel[2] * cr);
-        let (px, pz) = (bx * cp - bz * sp, bx * sp + bz * cp);
-        [self.body[0] + fx * px + lx * by, self.body[1] + fy * px + ly * by, self.body[2] + pz]
+        self.attitude().body_to_map(self.body, rel)
     }
 
     /// A map point (m) in the body frame about the body reference: the inverse of
     /// [`Pose::body_to_map`].
     pub fn map_to_body(&self, world: [f64; 3]) -> [f64; 3] {
-        let (fx, fy) = self.forward();
-        let (lx, ly) = (-fy, fx);
-        let (sp, cp) = self.pitch.sin_cos();
-        let (sr, cr) = self.roll.sin_cos();
-        let d = [world[0] - self.body[0], world[1] - self.body[1], world[2] - self.body[2]];
-        let (px, by, pz) = (d[0] * fx + d[1] * fy, d[0] * lx + d[1] * ly, d[2]);
-        let (bx, bz) = (px * cp + pz * sp, -px * sp + pz * cp);
-        let (ry, rz) = (by * cr + bz * sr, -by * sr + bz * cr);
-        [bx, ry, rz]
+        self.attitude().map_to_body(self.body, world)
     }
 
     /// The largest wheel contact error, m: for each wheel, |distance from the axle to

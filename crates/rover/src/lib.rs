@@ -15,6 +15,8 @@
 //! contact and torque limits); [`stability`] (force-angle tip-over margins);
 //! [`arm::ArmState`] (tool position, payload, centre of mass);
 //! [`evaluation::Evaluator`] (one full pose evaluation, allocation-free);
+//! [`math`] (the map and body frames, [`math::Attitude`], and the parameter types'
+//! nalgebra conversions);
 //! [`motion::Motion`] (the paper's Table 1 modules with duration and energy); and
 //! [`resources`] (TEMPEST's locomotor, solar, battery, electronics and camera models,
 //! with a Hyperion-class parameter file).
@@ -35,6 +37,7 @@ pub mod arm;
 pub mod evaluation;
 pub mod forces;
 pub mod kinematics;
+pub mod math;
 pub mod motion;
 pub mod resources;
 pub mod stability;

@@ -6,7 +6,7 @@ pub use areo_terrain::Dem;
 use areo_terrain::hillshade::hillshade_rgb;
 use areo_terrain::horizon::HorizonMap;
 pub use areo_terrain::shadow::Method as ShadowMethod;
-use areo_terrain::shadow::{Curvature, SunDirection, shadow_map};
+use areo_terrain::shadow::{Curvature, Shadows, SunDirection};
 use areo_terrain::slope::slope_aspect;
 use areo_terrain::tiles::Source as _;
 use areo_terrain::{Projection, geotiff};
@@ -147,7 +147,7 @@ pub fn write_shadow(
     out: &Path,
 ) -> Result<(Vec<std::path::PathBuf>, f64)> {
     let curvature = if flat { Curvature::Flat } else { Curvature::of(dem) };
-    let map = shadow_map(dem, SunDirection::new(azimuth_deg, elevation_deg), curvature, method);
+    let map = Shadows::new(SunDirection::new(azimuth_deg, elevation_deg), curvature).method(method).map(dem);
     write_with(out, |tmp| Ok(geotiff::write_u8(dem, &map.to_u8(), Some(255), tmp)?))?;
     let sa = slope_aspect(dem);
     let dark: Vec<bool> = (0..map.cast.len()).map(|i| !map.direct_sun(i)).collect();
@@ -191,7 +191,7 @@ pub fn write_shadow_tiled(
     budget: &crate::budget::Budget,
     progress: &dyn crate::Progress,
 ) -> Result<TiledShadow> {
-    use areo_terrain::tiles::{ShadowHalo, ShadowTiles, relief, shadow_band};
+    use areo_terrain::tiles::{ShadowHalo, Tiling, relief};
     check_tile(tile)?;
     let (mut src, held_bytes) = Opened::open(input)?;
     let grid = src.grid();
@@ -211,12 +211,12 @@ pub fn write_shadow_tiled(
         (tile * grid.cols) as u64,
         held_bytes as u64,
     ))?;
-    let plan = ShadowTiles { sun: SunDirection::new(sun.0, sun.1), curvature, method, halo, tile };
+    let shadows = Shadows::new(SunDirection::new(sun.0, sun.1), curvature).method(method);
     progress.start((grid.rows.div_ceil(tile) * grid.cols.div_ceil(tile)) as u64, "tiles");
     let (mut lit, mut valid, mut tiles, mut bigtiff) = (0u64, 0u64, 0usize, false);
     write_with(out, |tmp| {
         bigtiff = areo_terrain::geotiff::write_u8_tiled(&grid, Some(255), tile, false, tmp, |row0, band| {
-            shadow_band(&mut src, &plan, row0, band, |done, _| {
+            shadows.band(&mut src, Tiling { tile, halo }, row0, band, |done, _| {
                 tiles = done;
                 progress.advance(1);
             })?;

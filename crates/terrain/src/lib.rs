@@ -15,8 +15,9 @@
 //! - [`fill`]: nodata holes filled by a sparse Laplace solve (faer), with a mask of
 //!   the filled cells.
 //! - [`slope`]: Horn slope, aspect and normals with separate dx and dy.
-//! - [`shadow`]: cast shadows from the Sun through one door,
-//!   [`shadow::cast_shadows`]`(&dem, sun, curvature, method)`, with planetary
+//! - [`shadow`]: cast shadows from the Sun through one door, a
+//!   [`shadow::Shadows`] question (Sun, curvature, method) asked of a map in memory or
+//!   of one read tile by tile, with planetary
 //!   curvature: by default every cell decided by its own ray on the triangulated
 //!   surface (the brute force's answer on every cell at every azimuth tested,
 //!   `tests/shadow_methods.rs`), or by one of
@@ -38,11 +39,11 @@
 //! from north. Only this crate does index↔metre arithmetic.
 //!
 //! ```
-//! use areo_terrain::{Dem, shadow::{Curvature, Method, SunDirection, cast_shadows}};
+//! use areo_terrain::{Dem, shadow::{Curvature, Shadows, SunDirection}};
 //!
 //! // A 10 m wall on flat ground; the Sun 45° up in the east: a 10 m shadow to the west.
 //! let dem = Dem::from_fn(40, 3, 1.0, 1.0, |x, _| if (20.0..21.0).contains(&x) { 10.0 } else { 0.0 }).unwrap();
-//! let shadowed = cast_shadows(&dem, SunDirection::new(90.0, 45.0), Curvature::Flat, Method::OwnRay);
+//! let shadowed = Shadows::new(SunDirection::new(90.0, 45.0), Curvature::Flat).cast(&dem);
 //! let row = 1 * 40;
 //! assert!(shadowed[row + 15] && !shadowed[row + 5] && !shadowed[row + 30]);
 //! ```

@@ -10,10 +10,10 @@
 //!   elevation: terrain further than (highest − lowest)/tan e toward the Sun cannot
 //!   rise above a cell's ray. A tile read with that much terrain sun-ward (and two
 //!   cells around, for the triangles and the Horn normal at its edge) sees every
-//!   crossing of its cells' rays that can shadow them; with [`Method::OwnRay`], which
+//!   crossing of its cells' rays that can shadow them; with [`Method::OwnRay`](crate::shadow::Method::OwnRay), which
 //!   decides each cell on its own ray alone, the tile's cells come out exactly as on
 //!   the whole map (`tests::tiles_give_the_whole_maps_answer`).
-//! - [`shadow_map_by_tiles`], [`slope_by_tiles`]: row bands of results, north to south,
+//! - [`Shadows::by_tiles`] (cut by a [`Tiling`]), [`slope_by_tiles`]: row bands of results, north to south,
 //!   handed to a sink as each band of tiles finishes (for
 //!   [`crate::geotiff::write_u8_tiled`]).
 //! - [`horizon_by_tiles`]: each tile's horizons as it finishes, read with the halo on
@@ -32,7 +32,7 @@ use crate::dem::Dem;
 use crate::error::{Error, Result};
 use crate::geotiff::{Grid, Windows};
 use crate::horizon::HorizonMap;
-use crate::shadow::{Curvature, Method, SunDirection, shadow_map};
+use crate::shadow::{Curvature, Shadows, SunDirection};
 use crate::slope::{SlopeAspect, slope_aspect};
 
 /// A DEM read a window at a time.
@@ -158,78 +158,77 @@ fn window_for(
     (a, top, b - a, bottom - top)
 }
 
-/// What [`shadow_map_by_tiles`] computes, and in what pieces.
+/// How a map read tile by tile is cut: the tile side and the halo each tile is read
+/// with toward the Sun.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ShadowTiles {
-    /// The Sun's direction.
-    pub sun: SunDirection,
-    /// Flat or curved world.
-    pub curvature: Curvature,
-    /// How cast shadows are decided (only [`Method::OwnRay`] is the whole map's answer
-    /// tile for tile).
-    pub method: Method,
-    /// The halo each tile is read with (at least for this Sun's elevation).
-    pub halo: ShadowHalo,
+pub struct Tiling {
     /// Tile side, cells.
     pub tile: usize,
+    /// The halo each tile is read with (at least for the Sun's elevation asked).
+    pub halo: ShadowHalo,
 }
 
-/// The direct-sun map (1 lit, 0 shadowed, 255 no data, as [`crate::shadow::ShadowMap::to_u8`])
-/// tile by tile: `band(row0, values)` receives rows `row0..` of the whole map's width,
-/// `tile` rows at a time (fewer at the end), north to south; `progress(done, total)`
-/// counts tiles. With [`Method::OwnRay`] every value is the whole-map one.
-pub fn shadow_map_by_tiles(
-    src: &mut impl Source,
-    plan: &ShadowTiles,
-    mut band: impl FnMut(usize, &[u8]) -> Result<()>,
-    mut progress: impl FnMut(usize, usize),
-) -> Result<()> {
-    let g = src.grid();
-    let tile = plan.tile.max(1);
-    let mut out = vec![255u8; tile * g.cols];
-    for row0 in (0..g.rows).step_by(tile) {
-        let n = tile.min(g.rows - row0) * g.cols;
-        shadow_band(src, plan, row0, &mut out[..n], &mut progress)?;
-        band(row0, &out[..n])?;
-    }
-    Ok(())
-}
-
-/// One band of [`shadow_map_by_tiles`]: the tiles of rows `row0..` into `out` (the
-/// band's rows × the map's width), for a writer that asks for bands in turn.
-pub fn shadow_band(
-    src: &mut impl Source,
-    plan: &ShadowTiles,
-    row0: usize,
-    out: &mut [u8],
-    mut progress: impl FnMut(usize, usize),
-) -> Result<()> {
-    let ShadowTiles { sun, curvature, method, halo, tile } = *plan;
-    let g = src.grid();
-    let tile = tile.max(1);
-    let h = out.len() / g.cols.max(1);
-    if row0 + h > g.rows || h * g.cols != out.len() {
-        return Err(Error::BadGrid(format!(
-            "band of {} values at row {row0} of a {} x {} map",
-            out.len(),
-            g.cols,
-            g.rows
-        )));
-    }
-    let per_band = g.cols.div_ceil(tile);
-    let total = g.rows.div_ceil(tile) * per_band;
-    for (k, col0) in (0..g.cols).step_by(tile).enumerate() {
-        let w = tile.min(g.cols - col0);
-        let (wc, wr, ww, wh) = window_for(&g, (col0, row0, w, h), sun, &halo);
-        let dem = src.window(wc, wr, ww, wh)?;
-        let map = shadow_map(&dem, sun, curvature, method).to_u8();
-        for r in 0..h {
-            let from = &map[(row0 + r - wr) * ww + (col0 - wc)..][..w];
-            out[r * g.cols + col0..][..w].copy_from_slice(from);
+impl Shadows {
+    /// The direct-sun map (1 lit, 0 shadowed, 255 no data, as
+    /// [`crate::shadow::ShadowMap::to_u8`]) of a map read tile by tile: `band(row0,
+    /// values)` receives rows `row0..` of the whole map's width, `tiling.tile` rows at a
+    /// time (fewer at the end), north to south; `progress(done, total)` counts tiles.
+    /// With [`Method::OwnRay`](crate::shadow::Method::OwnRay) every value is the whole map's ([`Shadows::map`]).
+    pub fn by_tiles(
+        &self,
+        src: &mut impl Source,
+        tiling: Tiling,
+        mut band: impl FnMut(usize, &[u8]) -> Result<()>,
+        mut progress: impl FnMut(usize, usize),
+    ) -> Result<()> {
+        let g = src.grid();
+        let tile = tiling.tile.max(1);
+        let mut out = vec![255u8; tile * g.cols];
+        for row0 in (0..g.rows).step_by(tile) {
+            let n = tile.min(g.rows - row0) * g.cols;
+            self.band(src, tiling, row0, &mut out[..n], &mut progress)?;
+            band(row0, &out[..n])?;
         }
-        progress((row0 / tile) * per_band + k + 1, total);
+        Ok(())
     }
-    Ok(())
+
+    /// One band of [`Shadows::by_tiles`]: the tiles of rows `row0..` into `out` (the
+    /// band's rows × the map's width), for a writer that asks for bands in turn.
+    pub fn band(
+        &self,
+        src: &mut impl Source,
+        tiling: Tiling,
+        row0: usize,
+        out: &mut [u8],
+        mut progress: impl FnMut(usize, usize),
+    ) -> Result<()> {
+        let Tiling { tile, halo } = tiling;
+        let g = src.grid();
+        let tile = tile.max(1);
+        let h = out.len() / g.cols.max(1);
+        if row0 + h > g.rows || h * g.cols != out.len() {
+            return Err(Error::BadGrid(format!(
+                "band of {} values at row {row0} of a {} x {} map",
+                out.len(),
+                g.cols,
+                g.rows
+            )));
+        }
+        let per_band = g.cols.div_ceil(tile);
+        let total = g.rows.div_ceil(tile) * per_band;
+        for (k, col0) in (0..g.cols).step_by(tile).enumerate() {
+            let w = tile.min(g.cols - col0);
+            let (wc, wr, ww, wh) = window_for(&g, (col0, row0, w, h), self.sun, &halo);
+            let dem = src.window(wc, wr, ww, wh)?;
+            let map = self.map(&dem).to_u8();
+            for r in 0..h {
+                let from = &map[(row0 + r - wr) * ww + (col0 - wc)..][..w];
+                out[r * g.cols + col0..][..w].copy_from_slice(from);
+            }
+            progress((row0 / tile) * per_band + k + 1, total);
+        }
+        Ok(())
+    }
 }
 
 /// What [`horizon_by_tiles`] computes, and in what pieces.
@@ -396,7 +395,7 @@ pub fn region(
     Ok(Region { dem, slope, horizon })
 }
 
-/// Horn slope in degrees tile by tile, bands as in [`shadow_map_by_tiles`]; each tile is
+/// Horn slope in degrees tile by tile, bands as in [`Shadows::by_tiles`]; each tile is
 /// read with the one-cell ring the Horn kernel needs, so every value is the whole
 /// map's.
 pub fn slope_by_tiles(
@@ -428,7 +427,10 @@ pub fn slope_by_tiles(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shadow::shadow_map as whole_map;
+    use crate::shadow::Method;
+    fn whole_map(dem: &Dem, sun: SunDirection, curvature: Curvature, method: Method) -> crate::shadow::ShadowMap {
+        Shadows::new(sun, curvature).method(method).map(dem)
+    }
 
     /// 161 × 119 cells of 10 m: noise and two small hills (relief about 70 m).
     fn terrain() -> Dem {
@@ -470,21 +472,21 @@ mod tests {
             let whole = whole_map(&dem, sun, curvature, Method::OwnRay).to_u8();
             let mut tiled = Vec::new();
             let mut tiles = 0;
-            let plan = ShadowTiles { sun, curvature, method: Method::OwnRay, halo, tile: 16 };
-            shadow_map_by_tiles(
-                &mut dem,
-                &plan,
-                |row0, band| {
-                    assert_eq!(row0 * 161, tiled.len(), "bands arrive in order");
-                    tiled.extend_from_slice(band);
-                    Ok(())
-                },
-                |done, total| {
-                    tiles = done;
-                    assert_eq!(total, 88);
-                },
-            )
-            .unwrap();
+            Shadows::new(sun, curvature)
+                .by_tiles(
+                    &mut dem,
+                    Tiling { tile: 16, halo },
+                    |row0, band| {
+                        assert_eq!(row0 * 161, tiled.len(), "bands arrive in order");
+                        tiled.extend_from_slice(band);
+                        Ok(())
+                    },
+                    |done, total| {
+                        tiles = done;
+                        assert_eq!(total, 88);
+                    },
+                )
+                .unwrap();
             assert_eq!(tiles, 88);
             let differ = whole.iter().zip(&tiled).filter(|(a, b)| a != b).count();
             assert_eq!(differ, 0, "az {az} el {el}: the tiles must give the whole map's answer");
@@ -627,17 +629,17 @@ mod tests {
         let short = ShadowHalo { metres: 0.0, cols: MARGIN, rows: MARGIN };
         let whole = whole_map(&dem, sun, Curvature::Flat, Method::OwnRay).to_u8();
         let mut tiled = Vec::new();
-        let plan = ShadowTiles { sun, curvature: Curvature::Flat, method: Method::OwnRay, halo: short, tile: 16 };
-        shadow_map_by_tiles(
-            &mut dem,
-            &plan,
-            |_, band| {
-                tiled.extend_from_slice(band);
-                Ok(())
-            },
-            |_, _| {},
-        )
-        .unwrap();
+        Shadows::new(sun, Curvature::Flat)
+            .by_tiles(
+                &mut dem,
+                Tiling { tile: 16, halo: short },
+                |_, band| {
+                    tiled.extend_from_slice(band);
+                    Ok(())
+                },
+                |_, _| {},
+            )
+            .unwrap();
         assert!(whole.iter().zip(&tiled).filter(|(a, b)| a != b).count() > 10);
     }
 }

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use areo_ephemeris::{Site, SolarGeometry, SunModel, format_utc, parse_utc};
 use areo_terrain::Dem;
-use areo_terrain::shadow::{Curvature, Method, SunDirection, shadow_map};
+use areo_terrain::shadow::{Curvature, Method, Shadows, SunDirection};
 use areo_terrain::slope::slope_aspect;
 use hifitime::Epoch;
 
@@ -58,7 +58,7 @@ fn compute(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) ->
     // A synthesised map lies on the body's reference surface (its curvature).
     let dem = dem.placed_at(job.body.reference_surface(), site.lat_deg(), site.lon_east_deg())?;
     let curvature = if job.flat { Curvature::Flat } else { Curvature::of(&dem) };
-    let map = shadow_map(&dem, sun, curvature, Method::OwnRay);
+    let map = Shadows::new(sun, curvature).map(&dem);
     let sa = slope_aspect(&dem);
     opts.progress.advance(1);
 

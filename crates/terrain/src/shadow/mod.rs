@@ -1,6 +1,9 @@
 //! Cast shadows from the Sun, and shadow maps (cast shadow plus slopes facing away).
 //!
-//! One door: [`cast_shadows`]`(&dem, sun, curvature, method)`. The surface is the DEM's
+//! One door: a [`Shadows`] question — the Sun, the world's curvature and a [`Method`] —
+//! asked of a source: [`Shadows::cast`] and [`Shadows::map`] for a map in memory,
+//! [`Shadows::by_tiles`] and [`Shadows::band`] for one read tile by tile
+//! ([`crate::tiles`]). The surface is the DEM's
 //! triangulated surface — cell centres joined by the grid lines and by each quad's
 //! south-west–north-east diagonal, the split parry3d's `HeightField` uses — and a cell
 //! is in cast shadow when terrain stands above the ray from its centre toward the Sun.
@@ -17,15 +20,18 @@
 //! Speeds on the 2527 × 2356 Gale map are in docs/benchmarks.md
 //! (`cargo bench -p areo-terrain`, `cargo xtask bench`).
 //!
-//! A [`ShadowMap`] ([`shadow_map`], the same arguments) also darkens cells whose own
-//! slope faces away from the Sun (`facing_away`, from the Horn normal): these are not
-//! cast shadows, and at a low Sun they are many.
+//! A [`ShadowMap`] ([`Shadows::map`]) also darkens cells whose own slope faces away
+//! from the Sun (`facing_away`, from the Horn normal): these are not cast shadows, and
+//! at a low Sun they are many.
 //!
-//! Where each shadow question is answered: a map in memory here; a map too large to
-//! hold, tile by tile with the same methods, [`crate::tiles::shadow_map_by_tiles`] (one
-//! band at a time: [`crate::tiles::shadow_band`]); many Suns over one map, from its
-//! precomputed horizons, [`crate::horizon::HorizonMap::shadowed`]. The brute-force
-//! oracles are in `reference`, compiled for tests and with the `reference` feature.
+//! | source | how | tiling |
+//! |---|---|---|
+//! | a [`Dem`] in memory | [`Shadows::cast`], [`Shadows::map`] | whole map |
+//! | a [`crate::tiles::Source`] too large to hold (a GeoTIFF read by windows) | [`Shadows::by_tiles`], [`Shadows::band`] | [`crate::tiles::Tiling`]: tile side and halo; with [`Method::OwnRay`] the whole map's answer |
+//! | many Suns over one map's precomputed horizons | [`crate::horizon::HorizonMap::shadowed`] | whole map |
+//!
+//! The brute-force oracles are in `reference`, compiled for tests and with the
+//! `reference` feature.
 
 mod interpolated;
 mod own_ray;
@@ -51,8 +57,7 @@ impl SunDirection {
     }
 }
 
-/// How [`cast_shadows`] decides each cell; see the module docs for what each agrees
-/// with.
+/// How [`Shadows`] decides each cell; see the module docs for what each agrees with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Method {
     /// Each cell by its own ray, as the brute force does.
@@ -66,8 +71,43 @@ pub enum Method {
     Interpolated,
 }
 
+/// A shadow question: where the Sun stands, whether the world curves, and how each
+/// cell is decided. Ask it of a source with [`Shadows::cast`], [`Shadows::map`] (a map
+/// in memory) or [`Shadows::by_tiles`] (a map read tile by tile).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shadows {
+    /// The Sun's direction.
+    pub sun: SunDirection,
+    /// Flat or curved world.
+    pub curvature: Curvature,
+    /// How each cell is decided ([`Method::OwnRay`] unless set).
+    pub method: Method,
+}
+
+impl Shadows {
+    /// Shadows of the Sun at `sun` on a world of `curvature`, each cell by its own ray.
+    pub fn new(sun: SunDirection, curvature: Curvature) -> Shadows {
+        Shadows { sun, curvature, method: Method::default() }
+    }
+
+    /// The same question decided by `method`.
+    pub fn method(self, method: Method) -> Shadows {
+        Shadows { method, ..self }
+    }
+
+    /// Cast shadow (true = shadowed) of every cell of `dem`, row-major like the DEM.
+    pub fn cast(&self, dem: &Dem) -> Vec<bool> {
+        cast_shadows(dem, self.sun, self.curvature, self.method)
+    }
+
+    /// The shadow map of `dem`: cast shadows, and the cells facing away from the Sun.
+    pub fn map(&self, dem: &Dem) -> ShadowMap {
+        shadow_map_from(dem, self.sun, self.cast(dem))
+    }
+}
+
 /// Cast shadow (true = shadowed) of every cell, row-major like the DEM.
-pub fn cast_shadows(dem: &Dem, sun: SunDirection, curvature: Curvature, method: Method) -> Vec<bool> {
+pub(crate) fn cast_shadows(dem: &Dem, sun: SunDirection, curvature: Curvature, method: Method) -> Vec<bool> {
     let (az, el) = (sun.azimuth_deg, sun.elevation_deg);
     if el <= 0.0 {
         // Below the local horizontal the Sun is behind the surface everywhere.
@@ -137,13 +177,7 @@ impl ShadowMap {
     }
 }
 
-/// The shadow map for the Sun at `sun`: cast shadows by `method`, and the cells
-/// facing away.
-pub fn shadow_map(dem: &Dem, sun: SunDirection, curvature: Curvature, method: Method) -> ShadowMap {
-    shadow_map_from(dem, sun, cast_shadows(dem, sun, curvature, method))
-}
-
-/// [`shadow_map`] around a cast-shadow map already computed for the same Sun.
+/// [`Shadows::map`] around a cast-shadow map already computed for the same Sun.
 pub(crate) fn shadow_map_from(dem: &Dem, sun: SunDirection, cast: Vec<bool>) -> ShadowMap {
     let valid = dem.valid_mask().to_vec();
     let (gx, gy) = horn_gradient(dem);
@@ -185,7 +219,7 @@ mod tests {
             let s = cast_shadows(&dem, SunDirection::new(0.0, 5.0), Curvature::Flat, method);
             assert!((0..30).all(|c| !s[c]), "{method:?}: the northern border faces a northern Sun unobstructed");
         }
-        let m = shadow_map(&dem, SunDirection::new(0.0, -1.0), Curvature::Flat, Method::OwnRay);
+        let m = Shadows::new(SunDirection::new(0.0, -1.0), Curvature::Flat).map(&dem);
         assert_eq!(m.lit_fraction(), 0.0);
     }
 
