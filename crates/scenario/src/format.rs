@@ -33,6 +33,36 @@ use crate::error::Error;
 
 pub use self::validate::{Checks, Validate};
 
+/// The body a scenario is set on, as the file names it (`Mars`, `Moon`, `Earth`): the
+/// format's own name, so renaming areo-body's enum cannot change what files say.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Body {
+    /// Mars (default).
+    #[default]
+    Mars,
+    /// The Moon.
+    Moon,
+    /// The Earth.
+    Earth,
+}
+
+impl Body {
+    /// The libraries' body of this name.
+    pub fn model(self) -> areo_ephemeris::Body {
+        self.into()
+    }
+}
+
+impl From<Body> for areo_ephemeris::Body {
+    fn from(b: Body) -> areo_ephemeris::Body {
+        match b {
+            Body::Mars => areo_ephemeris::Body::Mars,
+            Body::Moon => areo_ephemeris::Body::Moon,
+            Body::Earth => areo_ephemeris::Body::Earth,
+        }
+    }
+}
+
 /// The scenario format version this build reads.
 pub(crate) const FORMAT_VERSION: u32 = 1;
 
@@ -143,7 +173,7 @@ pub struct TempestJob {
     /// The body: `Mars` (default), `Moon` or `Earth` — its Sun (and Earth) ephemeris,
     /// radius and curvature, gravity, atmosphere and day length.
     #[serde(default)]
-    pub body: areo_ephemeris::Body,
+    pub body: Body,
     /// Where on the body the map lies; synthesised maps are placed with their centre
     /// here (polar stereographic at or beyond 80° of latitude).
     pub site: SiteSpec,
@@ -342,7 +372,7 @@ pub struct TerrainShadowJob {
     pub terrain: TerrainSource,
     /// The body: `Mars` (default), `Moon` or `Earth`.
     #[serde(default)]
-    pub body: areo_ephemeris::Body,
+    pub body: Body,
     /// Where on the body the map lies (for the Sun's direction; a synthesised map is
     /// placed with its centre here).
     pub site: SiteSpec,
@@ -585,7 +615,7 @@ impl Validate for TempestJob {
             c.nested("planner", |c| c.fail_at(&field_segments(field), message));
         }
         if let Some(com) = &self.communicate {
-            validate_communicate(c, com, self.horizon_h, self.body);
+            validate_communicate(c, com, self.horizon_h, self.body.model());
         }
         if let Some(sim) = &self.simulate
             && let Err(areo_mission::Error::Config { field, message }) = areo_mission::SimConfig::from(sim).validate()
@@ -879,4 +909,24 @@ fn refuse_deep_nesting(path: &Path, text: &str) -> Result<(), Error> {
 /// The RON options every areo file is read with (areo-rover's, for one dialect).
 pub(crate) fn ron_options() -> ron::Options {
     areo_rover::ron_options()
+}
+
+#[cfg(test)]
+mod body_tests {
+    use super::Body;
+
+    #[test]
+    fn each_body_the_file_names_is_the_librarys_body_of_that_name() {
+        for (text, model) in [
+            ("Mars", areo_ephemeris::Body::Mars),
+            ("Moon", areo_ephemeris::Body::Moon),
+            ("Earth", areo_ephemeris::Body::Earth),
+        ] {
+            let body: Body = ron::from_str(text).unwrap();
+            assert_eq!(body.model(), model);
+            assert_eq!(ron::to_string(&body).unwrap(), text, "written back as read");
+        }
+        assert_eq!(Body::default().model(), areo_ephemeris::Body::default());
+        assert!(ron::from_str::<Body>("Venus").is_err());
+    }
 }

@@ -133,7 +133,7 @@ fn cut_region(
         Some(RegionHorizon {
             sectors,
             // The planner's curvature, so that the horizons are the whole map world's.
-            curvature: areo_mission::curvature_of(job.body),
+            curvature: areo_mission::curvature_of(job.body.model()),
             lowest_deg: spec.lowest_sun_deg,
             halo,
         })
@@ -225,7 +225,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
 
 /// The job's terrain, placed at the site.
 fn prepare_terrain(job: &TempestJob, file: &ScenarioFile, site: &Site) -> Result<Terrain> {
-    let place = |d: Dem| d.placed_at(job.body.reference_surface(), site.lat_deg(), site.lon_east_deg());
+    let place = |d: Dem| d.placed_at(job.body.model().reference_surface(), site.lat_deg(), site.lon_east_deg());
     Ok(match &job.plan_region {
         None => Terrain::Whole(place(load_terrain(&job.terrain, file, "job.terrain")?)?),
         Some(spec) => cut_region(job, spec, file, job.horizon_sectors, place)?,
@@ -235,7 +235,7 @@ fn prepare_terrain(job: &TempestJob, file: &ScenarioFile, site: &Site) -> Result
 /// The true terrain when the job simulates on another than its map, placed at the site
 /// on the map's grid.
 fn true_terrain(job: &TempestJob, file: &ScenarioFile, site: &Site, terrain: &Terrain) -> Result<Option<Dem>> {
-    let place = |d: Dem| d.placed_at(job.body.reference_surface(), site.lat_deg(), site.lon_east_deg());
+    let place = |d: Dem| d.placed_at(job.body.model().reference_surface(), site.lat_deg(), site.lon_east_deg());
     Ok(match (&job.truth, terrain) {
         (Truth::Map, _) | (_, Terrain::Region { .. }) => None,
         (Truth::AddFeatures(features), Terrain::Whole(map_dem)) => {
@@ -275,14 +275,14 @@ fn load_rover(job: &TempestJob, file: &ScenarioFile) -> Result<ResourceModel> {
     if let Some(c) = job.battery_capacity_wh {
         rover.battery.capacity_wh = c;
     }
-    rover.locomotor.gravity_m_s2.get_or_insert(job.body.surface_gravity_m_s2());
+    rover.locomotor.gravity_m_s2.get_or_insert(job.body.model().surface_gravity_m_s2());
     Ok(rover)
 }
 
 /// Builds the worlds (after the budget check), the action model and the start and goal
 /// cells.
 fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Prepared> {
-    let site = Site::on(job.body, job.site.lat_deg, job.site.lon_east_deg)?;
+    let site = Site::on(job.body.model(), job.site.lat_deg, job.site.lon_east_deg)?;
     let epoch = parse_utc(&job.start_utc)?;
     let clock = Instant::now();
     opts.progress.start(3, "terrain");
@@ -310,7 +310,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
         span_s: job.horizon_h * 3600.0,
         sun_step_s: job.sun_step_min * 60.0,
         horizon_sectors: (job.horizon_sectors > 0).then_some(job.horizon_sectors),
-        atmosphere: Atmosphere::for_body(job.body, job.tau),
+        atmosphere: Atmosphere::for_body(job.body.model(), job.tau),
         site: Some(site),
     };
     let located = |e: MissionError| match e {
@@ -318,8 +318,10 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
         other => Error::from(other),
     };
     let (frame, mut world) = match terrain {
-        Terrain::Whole(dem) => (Frame::of(&dem), World::new(dem, &config, &job.body).map_err(located)?),
-        Terrain::Region { region, frame } => (frame, World::for_region(region, &config, &job.body).map_err(located)?),
+        Terrain::Whole(dem) => (Frame::of(&dem), World::new(dem, &config, &job.body.model()).map_err(located)?),
+        Terrain::Region { region, frame } => {
+            (frame, World::for_region(region, &config, &job.body.model()).map_err(located)?)
+        }
     };
     // One byte per horizon angle where the search's time classes make its error small
     // (before the truth is built: it shares the map's horizons).
@@ -331,7 +333,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
         ));
     }
     let truth = match truth_dem {
-        Some(d) => Some(World::truth(d, &config, &job.body, &world).map_err(located)?),
+        Some(d) => Some(World::truth(d, &config, &job.body.model(), &world).map_err(located)?),
         None => None,
     };
     let precalc_s = clock.elapsed().as_secs_f64();
@@ -345,7 +347,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
 fn action_model(job: &TempestJob, file: &ScenarioFile, world: &World, rover: ResourceModel) -> Result<ActionModel> {
     let mut model = ActionModel::new(rover, (&job.planner.actions).into());
     if let Some(com) = &job.communicate {
-        let needs_earth = com.earth_in_view.unwrap_or(job.body == areo_ephemeris::Body::Moon);
+        let needs_earth = com.earth_in_view.unwrap_or(job.body.model() == areo_ephemeris::Body::Moon);
         let schedule = areo_mission::contact::Schedule {
             duration_min: com.duration_min,
             min_earth_elevation_deg: com.min_earth_elevation_deg,
@@ -469,10 +471,11 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
         Err(e) => return Err(e.into()),
     };
     // Off Mars: where the rover can wait out a shadow or a loss of the Earth.
-    let havens = (job.body != areo_ephemeris::Body::Mars && !matches!(run, Run::Unreachable { .. })).then(|| {
-        let every = job.communicate.as_ref().filter(|_| model.needs_earth()).and_then(|c| c.every_h);
-        contact::havens(world, model, world.span_s(), HAVEN_STEP_S, every)
-    });
+    let havens =
+        (job.body.model() != areo_ephemeris::Body::Mars && !matches!(run, Run::Unreachable { .. })).then(|| {
+            let every = job.communicate.as_ref().filter(|_| model.needs_earth()).and_then(|c| c.every_h);
+            contact::havens(world, model, world.span_s(), HAVEN_STEP_S, every)
+        });
     Ok(TempestReport { prepared, run, havens, peak_memory_mb: peak_memory_mb() })
 }
 
@@ -651,7 +654,7 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
     for r in &ctx.job.regions {
         o.flag(&format!("initial_plan_enters_{}", r.name), ctx.enters(plan.waypoints.iter().map(|w| w.cell), r));
     }
-    if ctx.job.body != areo_ephemeris::Body::Mars {
+    if ctx.job.body.model() != areo_ephemeris::Body::Mars {
         body_facts(o, ctx, plan);
     }
     o.summary.push(format!(
@@ -1228,7 +1231,7 @@ fn time_ticks(ctx: &Context<'_>) -> crate::output::plots::TimeTicks {
         crate::format::PlotTime::Utc => TimeTicks::Utc { epoch: ctx.truth.epoch() },
         crate::format::PlotTime::LocalSolar => TimeTicks::LocalSolar {
             ltst0_h: ctx.truth.local_solar_time_h(0.0, ctx.truth.lat_lon(ctx.start.cell).1),
-            day_h: ctx.job.body.solar_day_s() / 3600.0,
+            day_h: ctx.job.body.model().solar_day_s() / 3600.0,
         },
     }
 }

@@ -50,13 +50,13 @@ fn compute(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) ->
     };
     opts.budget.check(&crate::budget::DemCommand::Shadow.estimate((dem.cols() * dem.rows()) as u64))?;
     opts.progress.advance(1);
-    let site = Site::on(job.body, job.site.lat_deg, job.site.lon_east_deg)?;
+    let site = Site::on(job.body.model(), job.site.lat_deg, job.site.lon_east_deg)?;
     let utc = parse_utc(&job.utc)?;
-    let state = job.body.sun(utc);
+    let state = job.body.model().sun(utc);
     let at_site = state.at_site(&site);
     let sun = SunDirection::new(at_site.azimuth_deg, at_site.elevation_deg);
     // A synthesised map lies on the body's reference surface (its curvature).
-    let dem = dem.placed_at(job.body.reference_surface(), site.lat_deg(), site.lon_east_deg())?;
+    let dem = dem.placed_at(job.body.model().reference_surface(), site.lat_deg(), site.lon_east_deg())?;
     let curvature = if job.flat { Curvature::Flat } else { Curvature::of(&dem) };
     let map = Shadows::new(sun, curvature).map(&dem);
     let sa = slope_aspect(&dem);
@@ -66,7 +66,7 @@ fn compute(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) ->
     let (lo, hi) = valid.iter().fold((f32::MAX, f32::MIN), |(a, b), z| (a.min(*z), b.max(*z)));
     let slopes: Vec<f64> = sa.slope_deg.iter().filter(|s| s.is_finite()).map(|s| f64::from(*s)).collect();
     let cast = map.cast.iter().zip(&map.valid).filter(|(c, v)| **c && **v).count() as f64 / valid.len().max(1) as f64;
-    let ltst_hours = match job.body {
+    let ltst_hours = match job.body.model() {
         areo_ephemeris::Body::Mars => SolarGeometry::at(utc).ltst_hours(site.lon_east_deg()),
         _ => state.local_solar_time_hours(site.lon_east_deg()),
     };
