@@ -112,6 +112,10 @@ pub struct TraceStep {
     pub wheel_loads_n: [f64; 6],
     /// Battery energy used by the module, Wh.
     pub energy_wh: f64,
+    /// How long the module took, s.
+    pub duration_s: f64,
+    /// The arm's tool (wrist) after the module, body frame (x forward, y left, z up), m.
+    pub tool_m: [f64; 3],
     /// Wheel axle positions after the module (x, y, z), m — for the side profile.
     pub wheels: [[f64; 3]; 6],
     /// Largest friction any wheel used over the module's poses (|T|/N, in-plane and
@@ -446,6 +450,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             if trace {
                 let mut t = self.trace_step(module, &step.state, step.min_stability, energy, &motion);
                 t.friction_used = step.max_friction;
+                t.duration_s = step.duration_s;
                 out.trace.push(t);
             }
             state = step.state;
@@ -532,6 +537,8 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             stability,
             wheel_loads_n: loads,
             energy_wh,
+            duration_s: 0.0,
+            tool_m: state.arm.tool_m,
             wheels,
             friction_used: 0.0,
         }

@@ -1,8 +1,14 @@
-//! Friction sweeps: the same task planned afresh at each wheel–ground friction
-//! coefficient, to find the least friction that crosses an obstacle and the least that
-//! completes the task (the paper's Figure 8 study).
+//! Friction studies: how much wheel–ground friction a task needs.
+//!
+//! Two questions. [`friction_replay`] is the paper's study (section 4: "the robustness
+//! of the plans obtained were studied with regard to the sensitivity to the coefficient
+//! of friction"): one plan, found at one μ, executed unchanged at others — from which
+//! μ up it still crosses the obstacle and completes the task, and what stops it below.
+//! [`friction_sweep`] plans afresh at each μ: the least friction *some* plan the GA
+//! finds can do it with.
 
 use areo_rover::evaluation::Evaluator;
+use areo_rover::motion::Module;
 use areo_terrain::Ground;
 
 use crate::error::Result;
@@ -61,6 +67,8 @@ pub fn friction_sweep<G: Ground + Sync>(
 ) -> Result<FrictionSweep> {
     let mut sweep =
         FrictionSweep { points: Vec::with_capacity(mus.len()), min_mu_crossing: None, min_mu_completing: None };
+    // The first μ that does it: each μ has its own plan, so a higher μ's plan may
+    // well do worse; the sweep answers "the least friction a found plan needs".
     for &mu in mus {
         let executor = Executor::new(ground, evaluator, task, ExecConfig { mu, ..base });
         let report = evolve(&executor, inventory, weights, scale, ga)?;
@@ -85,4 +93,87 @@ pub fn friction_sweep<G: Ground + Sync>(
         sweep.points.push(point);
     }
     Ok(sweep)
+}
+
+/// One friction coefficient's execution of a fixed plan.
+#[derive(Debug, Clone)]
+pub struct ReplayPoint {
+    /// The friction coefficient.
+    pub mu: f64,
+    /// Whether the plan completes the task at this μ.
+    pub complete: bool,
+    /// How many of its modules execute before the first failure (all if none).
+    pub prefix_len: usize,
+    /// The furthest north the rover got, m.
+    pub max_y_m: f64,
+    /// The module (index into the plan) and the reason the plan stopped, if it did.
+    pub failure: Option<(usize, Failure)>,
+    /// The wheel that bound, when a force limit stopped it.
+    pub binding: Option<WheelLimit>,
+}
+
+/// A plan executed at each μ of a list (ascending), and the thresholds above which it
+/// always succeeds.
+#[derive(Debug, Clone)]
+pub struct FrictionReplay {
+    /// One point per friction coefficient, in the order given.
+    pub points: Vec<ReplayPoint>,
+    /// The least μ of the list from which the plan takes the rover past the obstacle's
+    /// far edge at this and every larger μ listed ("any coefficient above … moved the
+    /// rover across the ditch").
+    pub min_mu_crossing: Option<f64>,
+    /// The least μ from which it completes the task at this and every larger μ listed.
+    pub min_mu_completing: Option<f64>,
+}
+
+impl FrictionReplay {
+    /// The largest μ listed at which the plan does not complete: where it first fails
+    /// as friction falls.
+    pub fn highest_failing(&self) -> Option<&ReplayPoint> {
+        self.points.iter().filter(|p| !p.complete).max_by(|a, b| a.mu.total_cmp(&b.mu))
+    }
+}
+
+/// Executes `plan` unchanged at each μ in `mus` (the same modules, the same start,
+/// `base`'s stability floor and body box); `far_edge_y_m` is the northing past which
+/// the obstacle counts as crossed.
+pub fn friction_replay<G: Ground + Sync>(
+    ground: &G,
+    evaluator: &Evaluator,
+    task: &Task,
+    base: ExecConfig,
+    plan: &[Module],
+    mus: &[f64],
+    far_edge_y_m: Option<f64>,
+) -> FrictionReplay {
+    let points: Vec<ReplayPoint> = mus
+        .iter()
+        .map(|&mu| {
+            let run = Executor::new(ground, evaluator, task, ExecConfig { mu, ..base }).run(plan, true);
+            ReplayPoint {
+                mu,
+                complete: run.complete,
+                prefix_len: run.prefix_len,
+                max_y_m: run.trace.iter().map(|t| t.y_m).fold(task.start.1, f64::max),
+                failure: run.failure,
+                binding: run.binding,
+            }
+        })
+        .collect();
+    // The least μ from which every larger one listed passes.
+    let from_up = |ok: &dyn Fn(&ReplayPoint) -> bool| {
+        let mut sorted: Vec<&ReplayPoint> = points.iter().collect();
+        sorted.sort_by(|a, b| a.mu.total_cmp(&b.mu));
+        let mut least = None;
+        for p in sorted.iter().rev() {
+            if !ok(p) {
+                break;
+            }
+            least = Some(p.mu);
+        }
+        least
+    };
+    let min_mu_crossing = far_edge_y_m.and_then(|y| from_up(&|p| p.max_y_m > y));
+    let min_mu_completing = from_up(&|p| p.complete);
+    FrictionReplay { points, min_mu_crossing, min_mu_completing }
 }

@@ -11,9 +11,12 @@
 //! constraint is violated: slip, contact, saturation, stability floor, a rock hitting
 //! the body, leaving the map), [`fitness()`] (eq. 17) and [`evolve`] (the GA:
 //! crossover at the failure point, mutation, tournament selection, elitism, seeded and
-//! identical for any thread count), [`friction_sweep`] (the task at each of a
-//! list of friction coefficients) and [`climb_margins`] (the stability margin along a
-//! straight climb with the arm stowed and reached forward).
+//! identical for any thread count), [`friction_replay`] (one found plan executed at
+//! each of a list of friction coefficients, the paper's study), [`friction_sweep`]
+//! (the task planned afresh at each) and [`climb_margins`] (the stability margin along a
+//! straight climb with the arm stowed and reached forward); [`commands`] exports an
+//! executed plan as the commands a rover would run (arc, distance, steering angles,
+//! arm joints, duration, energy).
 //!
 //! ```no_run
 //! # use areo_actions::*;
@@ -34,6 +37,7 @@
 //! every random process takes an explicit seed.
 
 mod climb;
+mod command;
 mod error;
 mod executor;
 mod fitness;
@@ -44,10 +48,11 @@ mod task;
 
 pub use crate::{
     climb::{ArmCase, ClimbPose, ClimbProfile, arm_reached_forward, climb_margins},
+    command::{Command, commands, steering},
     error::{Error, Result},
     executor::{Checkpoint, ExecConfig, Execution, Executor, Failure, TraceStep, WheelLimit},
     fitness::{Scale, Weights, fitness, stability_penalty},
-    friction::{FrictionSweep, SweepPoint, friction_sweep},
+    friction::{FrictionReplay, FrictionSweep, ReplayPoint, SweepPoint, friction_replay, friction_sweep},
     ga::{CrossoverPoint, GaConfig, GaReport, Generation, Individual, evolve},
     inventory::{Inventory, Overrides, Removal, Surroundings, design_space_log10},
     task::{Rock, Sample, Task},

@@ -325,3 +325,91 @@ fn climb_margins_on_a_uniform_slope_follow_the_rear_tip_angle() {
     assert!(f.margin > 0.0 && f.margin < (a1 - a0) / a0, "{:?}", climb.poses[0]);
     assert_eq!(f.violation, None);
 }
+
+#[test]
+fn a_plan_replayed_over_friction_needs_tan_of_the_slope_and_never_fails_above() {
+    // Twelve modules straight up a uniform 20° plane. Quasi-statically the ground's
+    // tangential forces hold the weight's component along the slope with traction
+    // ≤ μN at every wheel, so the least μ is tan 20° = 0.364 whatever the load
+    // sharing (rolling resistance is a loss in the wheel's torque, not a ground force,
+    // in areo-rover's model). The plan is the same at every μ; only the limit changes.
+    let p = RoverParams::lsr1();
+    let ev = Evaluator::new(&p);
+    let slope = Plane { z0: 0.0, gx: 0.0, gy: 20f64.to_radians().tan() };
+    let t = task((0.0, 1.0));
+    let plan = [Module::Forward; 12];
+    let mus: Vec<f64> = (20..=80).map(|k| f64::from(k) / 100.0).collect();
+    let replay = friction_replay(&slope, &ev, &t, ExecConfig::default(), &plan, &mus, Some(0.5));
+    let least = replay.min_mu_completing.expect("completes at μ = 0.8");
+    assert!((least - 0.37).abs() < 1e-9, "needs {least}: tan 20° rounded up to the list's 0.01");
+    // More friction never stops a plan that went through with less.
+    let mut seen_complete = false;
+    for point in &replay.points {
+        assert!(point.complete || !seen_complete, "completes below μ = {} and not at it", point.mu);
+        seen_complete |= point.complete;
+        if !point.complete {
+            // Below the threshold the plan stops on the slope at the first module, on
+            // a friction limit.
+            let (at, why) = point.failure.clone().expect("a failing point names its failure");
+            assert_eq!(at, 0, "μ {}", point.mu);
+            assert!(["slip", "start_pose"].contains(&why.kind()), "μ {}: {}", point.mu, why.kind());
+        }
+    }
+    let worst = replay.highest_failing().expect("fails at μ = 0.2");
+    assert!((worst.mu - (least - 0.01)).abs() < 1e-9, "the highest failing μ is just below the threshold");
+    // Crossing 0.5 m needs the same friction as completing here.
+    assert_eq!(replay.min_mu_crossing, replay.min_mu_completing);
+}
+
+#[test]
+fn exported_steering_angles_are_the_directions_the_wheels_actually_roll() {
+    // Two tight left arcs, a straight module and a right turn in place on flat ground.
+    // Each corner wheel's chord over a module must point along the body's heading at
+    // the module's middle turned by the wheel's exported steering angle: the wheels'
+    // positions come from the kinematics, the angles from the arc's geometry.
+    let p = RoverParams::lsr1();
+    let ev = Evaluator::new(&p);
+    let mut t = task((3.0, 3.0));
+    t.start = (1.0, 1.0, 30.0);
+    let plan = [Module::ArcLeftTight, Module::ArcLeftTight, Module::Forward, Module::TurnRight, Module::ArmForward];
+    let run = Executor::new(&FLAT, &ev, &t, ExecConfig::default()).run(&plan, true);
+    assert_eq!(run.prefix_len, plan.len(), "{:?}", run.failure);
+    let cmds = commands(&plan, &run, &p, t.start.2);
+    assert_eq!(cmds.len(), plan.len());
+    // 10 cm on a 50 cm radius turns the rover 0.2 rad to the left.
+    assert!((cmds[1].turn_deg - 0.2f64.to_degrees()).abs() < 0.05, "{}", cmds[1].turn_deg);
+    assert!((cmds[3].turn_deg + 5.0).abs() < 0.05, "{}", cmds[3].turn_deg);
+    assert_eq!((cmds[1].arc_radius_m, cmds[2].arc_radius_m, cmds[3].arc_radius_m), (Some(0.5), None, Some(0.0)));
+    // Wheels in the trace: left front, middle, rear, right front, middle, rear.
+    let corner = [0, 3, 2, 5];
+    for k in [1, 3] {
+        let (before, after) = (&run.trace[k - 1], &run.trace[k]);
+        let steer = cmds[k].steering_deg.expect("a drive steers");
+        let mid_heading = before.heading_deg - cmds[k].turn_deg / 2.0;
+        for (s, &w) in steer.iter().zip(&corner) {
+            let (dx, dy) = (after.wheels[w][0] - before.wheels[w][0], after.wheels[w][1] - before.wheels[w][1]);
+            let mut chord = dx.atan2(dy).to_degrees();
+            // A wheel rolling backward (the rear-right wheel of a right turn in place
+            // rolls forward, the front-right backward): compare directions, not senses.
+            let expected = mid_heading - s;
+            let mut diff = (chord - expected + 540.0).rem_euclid(360.0) - 180.0;
+            if diff.abs() > 90.0 {
+                chord += 180.0;
+                diff = (chord - expected + 540.0).rem_euclid(360.0) - 180.0;
+            }
+            assert!(diff.abs() < 0.5, "module {k} wheel {w}: rolls at {chord:.2}°, steered to {expected:.2}°");
+        }
+    }
+    // The tight arc's inner front wheel turns atan(0.4 / (0.5 − 0.3)) = 63.4°.
+    assert!((cmds[0].steering_deg.unwrap()[0] - 63.435).abs() < 0.01);
+    // Non-driving modules do not steer; the arm module moves the tool 2 cm forward and
+    // its joints are a solution for that tool.
+    assert!(cmds[4].steering_deg.is_none());
+    assert!((cmds[4].tool_m[0] - cmds[3].tool_m[0] - 0.02).abs() < 1e-9);
+    assert!(cmds[4].arm_joints_deg.is_some());
+    // The commands account for the whole execution's time and energy.
+    let time: f64 = cmds.iter().map(|c| c.duration_s).sum();
+    let energy: f64 = cmds.iter().map(|c| c.energy_wh).sum();
+    assert!((time - run.time_s).abs() < 1e-9 && time > 0.0);
+    assert!((energy - run.energy_wh).abs() < 1e-12 && energy > 0.0);
+}

@@ -173,7 +173,7 @@ impl Module {
     /// A driving path: (distance of the reference point along the path, m; turn
     /// radius, m, positive left, infinite straight; in-place rotation, rad, positive
     /// left).
-    fn path(self) -> Option<(f64, f64, f64)> {
+    pub fn path(self) -> Option<(f64, f64, f64)> {
         Some(match self {
             Module::Forward => (0.10, f64::INFINITY, 0.0),
             Module::Backward => (-0.10, f64::INFINITY, 0.0),

@@ -136,6 +136,16 @@ pub struct ActionsJob {
     /// the arm stowed and reached forward (`climb.csv`, `climb.png`, `climb_…` facts).
     #[serde(default)]
     pub climb_profile: Option<(f64, f64)>,
+    /// The paper's friction study: the first run's best plan executed unchanged at each
+    /// μ, (from, to, step) — from which μ up it still crosses and completes, and what
+    /// stops it below (`replay.csv`, `replay_…` facts).
+    #[serde(default)]
+    pub mu_replay: Option<(f64, f64, f64)>,
+    /// The friction sweep repeated for each GA seed (first, last), at most 100: the
+    /// thresholds' median and spread over seeds (`sweep_seeds.csv`, `sweep_seeds_…`
+    /// facts). Needs `mu_sweep`.
+    #[serde(default)]
+    pub mu_sweep_seeds: Option<(u64, u64)>,
 }
 
 /// One GA run of an actions job.
@@ -535,10 +545,22 @@ impl Validate for ActionsJob {
         if let Some(y) = self.ditch_far_edge_y_m {
             c.range("ditch_far_edge_y_m", y, -1e4, 1e4, "m");
         }
-        if let Some((a, b, step)) = self.mu_sweep
-            && !(a >= 0.01 && b >= a && b <= 2.0 && step > 0.0 && (b - a) / step <= 100.0)
-        {
-            c.fail("mu_sweep", format!("({a}, {b}, {step}): need 0.01 ≤ from ≤ to ≤ 2, step > 0, at most 100 steps"));
+        for (field, range) in [("mu_sweep", self.mu_sweep), ("mu_replay", self.mu_replay)] {
+            if let Some((a, b, step)) = range
+                && !(a >= 0.01 && b >= a && b <= 2.0 && step > 0.0 && (b - a) / step <= 100.0)
+            {
+                c.fail(field, format!("({a}, {b}, {step}): need 0.01 ≤ from ≤ to ≤ 2, step > 0, at most 100 steps"));
+            }
+        }
+        if let Some((a, b)) = self.mu_sweep_seeds {
+            if !(a <= b && b - a < 100) {
+                c.fail(
+                    "mu_sweep_seeds",
+                    format!("({a}, {b}): allowed (first, last) with first ≤ last and at most 100 seeds"),
+                );
+            } else if self.mu_sweep.is_none() {
+                c.fail("mu_sweep_seeds", "needs a mu_sweep to repeat".to_string());
+            }
         }
         if let Some((step, length)) = self.climb_profile
             && !((0.001..=1.0).contains(&step) && length > 0.0 && length <= 100.0 && length / step <= 10_000.0)

@@ -261,6 +261,27 @@ fn a_climb_profile_out_of_range_names_its_field_and_rule() {
     }
 }
 
+/// The friction replay and the sweep's seeds are checked with their rules, located.
+#[test]
+fn a_friction_replay_or_sweep_seeds_out_of_range_names_its_field_and_rule() {
+    let path = root().join("scenarios/friction-sweep.ron");
+    let base = std::fs::read_to_string(&path).unwrap();
+    let (replay, seeds, sweep) =
+        ("mu_replay: (0.30, 0.90, 0.05),", "mu_sweep_seeds: (1, 8),", "mu_sweep: (0.30, 0.90, 0.05),");
+    assert!(base.contains(replay) && base.contains(seeds) && base.contains(sweep));
+    assert!(areo_scenario::format::parse(&path, &base).is_ok());
+    for (from, to, field, rule) in [
+        (replay, "mu_replay: (0.005, 0.9, 0.05),", "mu_replay", "0.01 ≤ from ≤ to ≤ 2"),
+        (replay, "mu_replay: (0.3, 0.9, 0.001),", "mu_replay", "at most 100 steps"),
+        (seeds, "mu_sweep_seeds: (8, 1),", "mu_sweep_seeds", "first ≤ last"),
+        (seeds, "mu_sweep_seeds: (1, 200),", "mu_sweep_seeds", "at most 100 seeds"),
+        (sweep, "", "mu_sweep_seeds", "needs a mu_sweep"),
+    ] {
+        let e = areo_scenario::format::parse(&path, &base.replace(from, to)).unwrap_err().to_string();
+        assert!(e.contains("friction-sweep.ron:") && e.contains(field) && e.contains(rule), "{to}: {e}");
+    }
+}
+
 /// The format owns its types: every shipped scenario written back out from them and
 /// read again is the same scenario, and an actions job's task and settings convert
 /// into the library's types with every value carried over.

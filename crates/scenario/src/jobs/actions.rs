@@ -6,8 +6,9 @@ use std::path::{Path, PathBuf};
 
 use crate::format::synth::FeatureSpec;
 use areo_actions::{
-    ClimbProfile, ExecConfig, Execution, Executor, FrictionSweep, GaConfig, GaReport, Inventory, Overrides, Rock,
-    Scale, Surroundings, Task, TraceStep, Weights, climb_margins, design_space_log10, evolve, friction_sweep,
+    ClimbProfile, ExecConfig, Execution, Executor, FrictionReplay, FrictionSweep, GaConfig, GaReport, Inventory,
+    Overrides, Rock, Scale, Surroundings, Task, TraceStep, Weights, climb_margins, design_space_log10, evolve,
+    friction_replay, friction_sweep,
 };
 use areo_rover::RoverParams;
 use areo_rover::evaluation::Evaluator;
@@ -102,11 +103,14 @@ struct RunResult {
 }
 
 /// What an actions job computed: the filtered inventory, each run, the friction sweep
-/// (the μ values and their results) and the climb profile.
+/// (the μ values and their results, and the sweep for each further seed), the first
+/// run's best plan replayed over friction, and the climb profile.
 struct ActionsReport {
     filtered: Inventory,
     runs: Vec<RunResult>,
     sweep: Option<(Vec<f64>, FrictionSweep)>,
+    sweep_seeds: Vec<(u64, FrictionSweep)>,
+    replay: Option<FrictionReplay>,
     climb: Option<ClimbProfile>,
 }
 
@@ -161,9 +165,10 @@ fn run_plans(job: &ActionsJob, file: &ScenarioFile, setup: &Setup, filtered: &In
         .collect()
 }
 
-/// The friction sweep's μ values (`mu_sweep: (first, last, step)`), rounded to 1e-6.
-fn sweep_values(job: &ActionsJob) -> Vec<f64> {
-    match job.mu_sweep {
+/// The μ values of a `(first, last, step)` range (`mu_sweep`, `mu_replay`), rounded to
+/// 1e-6.
+fn mu_values(range: Option<(f64, f64, f64)>) -> Vec<f64> {
+    match range {
         Some((a, b, step)) => {
             let n = ((b - a) / step + 1e-9).floor() as usize;
             (0..=n).map(|k| ((a + step * k as f64) * 1e6).round() / 1e6).collect()
@@ -180,13 +185,15 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
     let room = Surroundings::new((dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy()), params);
     let filtered = Inventory::for_task(task, &room, overrides);
     let plans = run_plans(job, file, setup, &filtered)?;
-    let sweep = sweep_values(job);
+    let sweep = mu_values(job.mu_sweep);
+    let sweep_seeds: Vec<u64> =
+        job.mu_sweep_seeds.map_or(Vec::new(), |(a, b)| (a..=b).filter(|&seed| seed != ga.seed).collect());
     // The run's own seed, then the study's others.
     let evolutions: usize = plans
         .iter()
         .map(|r| 1 + r.seeds.map_or(0, |(a, b)| (b - a + 1) as usize - usize::from((a..=b).contains(&r.ga.seed))))
         .sum();
-    opts.progress.start((evolutions + sweep.len()) as u64, "evolving");
+    opts.progress.start((evolutions + sweep.len() * (1 + sweep_seeds.len())) as u64, "evolving");
     let mut runs = Vec::with_capacity(plans.len());
     for plan in &plans {
         let exec = ExecConfig { mu: plan.mu, ..*execution };
@@ -221,10 +228,8 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
         let (name, inventory, generations) = (plan.name.clone(), plan.inventory.clone(), plan.ga.generations);
         runs.push(RunResult { name, report, seconds, exec, inventory, generations, study, best });
     }
-    let sweep = if sweep.is_empty() {
-        None
-    } else {
-        let result = friction_sweep(
+    let sweep_with = |ga: &GaConfig| {
+        friction_sweep(
             dem,
             &evaluator,
             task,
@@ -237,13 +242,38 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
             job.ditch_far_edge_y_m,
             |_| opts.progress.advance(1),
         )
-        .map_err(|e| ga_error(file, e))?;
-        Some((sweep, result))
+        .map_err(|e| ga_error(file, e))
+    };
+    let (sweep, sweep_seeds) = if sweep.is_empty() {
+        (None, Vec::new())
+    } else {
+        let result = sweep_with(ga)?;
+        let mut seeds = vec![(ga.seed, result.clone())];
+        for &seed in &sweep_seeds {
+            seeds.push((seed, sweep_with(&GaConfig { seed, ..ga.clone() })?));
+        }
+        seeds.sort_by_key(|(seed, _)| *seed);
+        if job.mu_sweep_seeds.is_none() {
+            seeds.clear();
+        }
+        (Some((sweep, result)), seeds)
     };
     opts.progress.finish();
+    let replay = job.mu_replay.map(|range| {
+        let first = &runs[0];
+        friction_replay(
+            dem,
+            &evaluator,
+            task,
+            first.exec,
+            &first.report.best.plan,
+            &mu_values(Some(range)),
+            job.ditch_far_edge_y_m,
+        )
+    });
     let climb =
         job.climb_profile.map(|(step, length)| climb_margins(dem, &evaluator, task.start, execution.mu, step, length));
-    Ok(ActionsReport { filtered, runs, sweep, climb })
+    Ok(ActionsReport { filtered, runs, sweep, sweep_seeds, replay, climb })
 }
 
 /// The report's facts and summary lines.
@@ -271,6 +301,12 @@ fn outcome(setup: &Setup, report: &ActionsReport) -> Outcome {
     }
     if let Some((values, result)) = &report.sweep {
         sweep_facts(&mut o, values, result);
+    }
+    if !report.sweep_seeds.is_empty() {
+        sweep_seed_facts(&mut o, &report.sweep_seeds);
+    }
+    if let Some(replay) = &report.replay {
+        replay_facts(&mut o, &report.runs[0], replay);
     }
     if let Some(profile) = &report.climb {
         climb_facts(&mut o, profile);
@@ -315,6 +351,79 @@ fn sweep_facts(o: &mut Outcome, values: &[f64], result: &FrictionSweep) {
         values[values.len() - 1],
         crossed.map_or("never".into(), |m| format!("{m}")),
         completed.map_or("never".into(), |m| format!("{m}"))
+    ));
+}
+
+/// The friction sweep's thresholds over seeds: median, least and greatest, and how many
+/// seeds never got there.
+fn sweep_seed_facts(o: &mut Outcome, seeds: &[(u64, FrictionSweep)]) {
+    let n = seeds.len();
+    o.count("sweep_seeds", n as u64);
+    for (what, pick) in [
+        ("crossing_ditch", (|s: &FrictionSweep| s.min_mu_crossing) as fn(&FrictionSweep) -> Option<f64>),
+        ("completing", |s: &FrictionSweep| s.min_mu_completing),
+    ] {
+        let mut found: Vec<f64> = seeds.iter().filter_map(|(_, s)| pick(s)).collect();
+        found.sort_by(f64::total_cmp);
+        let never = n - found.len();
+        o.count(&format!("sweep_seeds_never_{what}"), never as u64);
+        let (Some(&lo), Some(&hi)) = (found.first(), found.last()) else { continue };
+        o.number(&format!("sweep_seeds_min_mu_{what}_least"), lo);
+        o.number(&format!("sweep_seeds_min_mu_{what}_greatest"), hi);
+        // A seed that never gets there counts as above every μ: the median exists while
+        // fewer than half never do.
+        let median = (2 * never < n).then(|| found[(n - 1) / 2]);
+        if let Some(m) = median {
+            o.number(&format!("sweep_seeds_min_mu_{what}_median"), m);
+        }
+        o.summary.push(format!(
+            "friction sweep over {n} seeds, least μ {what}: median {}, range {lo}–{hi}{}",
+            median.map_or("above the sweep".into(), |m| m.to_string()),
+            if never > 0 { format!(", {never} never") } else { String::new() }
+        ));
+    }
+}
+
+/// The replayed plan: from which μ up it crosses and completes, and what stops it at
+/// the highest μ where it fails.
+fn replay_facts(o: &mut Outcome, run: &RunResult, replay: &FrictionReplay) {
+    if let Some(mu) = replay.min_mu_crossing {
+        o.number("replay_min_mu_crossing_ditch", mu);
+    }
+    if let Some(mu) = replay.min_mu_completing {
+        o.number("replay_min_mu_completing", mu);
+    }
+    let failing = replay.highest_failing();
+    if let Some(p) = failing {
+        o.number("replay_highest_failing_mu", p.mu);
+        o.number("replay_highest_failing_max_y_m", p.max_y_m);
+        if let Some((i, f)) = &p.failure {
+            o.text("replay_failure", f.kind());
+            o.count("replay_failure_module", *i as u64 + 1);
+            o.count("replay_failure_code", u64::from(run.report.best.plan[*i].code()));
+        }
+        if let Some(b) = &p.binding {
+            o.text("replay_binding_wheel", b.wheel.clone());
+            o.flag("replay_binding_climbing", b.climbing);
+            o.number("replay_binding_y_m", b.contact_m[1]);
+            o.text("replay_binding_steepest_wheel", b.steepest.0.clone());
+            o.flag("replay_binding_steepest_climbing", b.steepest.2);
+            o.number("replay_binding_steepest_angle_deg", b.steepest.1);
+        }
+    }
+    let at = |m: Option<f64>| m.map_or("no μ listed".into(), |m| format!("μ = {m}"));
+    o.summary.push(format!(
+        "{}'s best plan (found at μ = {}) replayed: crosses the ditch from {}, completes from {}{}",
+        run.name,
+        run.exec.mu,
+        at(replay.min_mu_crossing),
+        at(replay.min_mu_completing),
+        failing.map_or(String::new(), |p| format!(
+            "; at μ = {} it stops at module {}{}",
+            p.mu,
+            p.failure.as_ref().map_or(p.prefix_len + 1, |(i, _)| i + 1),
+            p.failure.as_ref().map_or(String::new(), |(_, f)| format!(" ({f})"))
+        ))
     ));
 }
 
@@ -380,6 +489,16 @@ fn write_report(dir: &Path, setup: &Setup, report: &ActionsReport) -> Result<Vec
         write_rows(&path, sweep_rows(result))?;
         files.push(path);
     }
+    if !report.sweep_seeds.is_empty() {
+        let path = dir.join("sweep_seeds.csv");
+        write_rows(&path, report.sweep_seeds.iter().map(|(seed, s)| SeedSweepRow::of(*seed, s)))?;
+        files.push(path);
+    }
+    if let Some(replay) = &report.replay {
+        let path = dir.join("replay.csv");
+        write_rows(&path, replay_rows(replay, &report.runs[0].report.best.plan))?;
+        files.push(path);
+    }
     if let Some(profile) = &report.climb {
         files.extend(write_climb(dir, profile)?);
     }
@@ -387,6 +506,7 @@ fn write_report(dir: &Path, setup: &Setup, report: &ActionsReport) -> Result<Vec
         let sub = if report.runs.len() == 1 { dir.to_path_buf() } else { dir.join(&run.name) };
         std::fs::create_dir_all(&sub).map_err(|source| Error::Io { path: sub.clone(), source })?;
         files.extend(write_outputs(&sub, setup, &run.report, &run.best.trace, run.exec.mu)?);
+        files.extend(write_commands(&sub, setup, run)?);
     }
     Ok(files)
 }
@@ -702,6 +822,70 @@ struct SweepRow {
     steepest_climbing: Option<u8>,
 }
 
+/// A row of sweep_seeds.csv: one seed's sweep — its thresholds, and the μ values at
+/// which its best plan crossed and completed.
+#[derive(Serialize, Default)]
+struct SeedSweepRow {
+    seed: u64,
+    min_mu_crossing_ditch: Option<f64>,
+    min_mu_completing: Option<f64>,
+    /// μ values (space-separated) whose best plan completed.
+    completed_at: String,
+}
+
+impl SeedSweepRow {
+    fn of(seed: u64, sweep: &FrictionSweep) -> SeedSweepRow {
+        let completed = sweep.points.iter().filter(|p| p.complete).map(|p| p.mu.to_string());
+        SeedSweepRow {
+            seed,
+            min_mu_crossing_ditch: sweep.min_mu_crossing,
+            min_mu_completing: sweep.min_mu_completing,
+            completed_at: completed.collect::<Vec<_>>().join(" "),
+        }
+    }
+}
+
+/// A row of replay.csv: the replayed plan at one μ and what stopped it.
+#[derive(Serialize, Default)]
+struct ReplayRow {
+    mu: String,
+    complete: u8,
+    modules_executed: usize,
+    max_y_m: Fixed<3>,
+    failure_module: Option<usize>,
+    failure_code: Option<u16>,
+    failure: String,
+    binding_wheel: String,
+    climbing: Option<u8>,
+    contact_y_m: Option<Fixed<3>>,
+    contact_angle_deg: Option<Fixed<1>>,
+    pitch_deg: Option<Fixed<1>>,
+}
+
+/// The replay as rows, one per μ.
+fn replay_rows<'a>(
+    replay: &'a FrictionReplay,
+    plan: &'a [areo_rover::motion::Module],
+) -> impl Iterator<Item = ReplayRow> + 'a {
+    replay.points.iter().map(move |p| {
+        let b = p.binding.as_ref();
+        ReplayRow {
+            mu: p.mu.to_string(),
+            complete: u8::from(p.complete),
+            modules_executed: p.prefix_len,
+            max_y_m: Fixed(p.max_y_m),
+            failure_module: p.failure.as_ref().map(|(i, _)| i + 1),
+            failure_code: p.failure.as_ref().map(|(i, _)| plan[*i].code()),
+            failure: p.failure.as_ref().map(|(_, f)| f.to_string()).unwrap_or_default(),
+            binding_wheel: b.map(|b| b.wheel.clone()).unwrap_or_default(),
+            climbing: b.map(|b| u8::from(b.climbing)),
+            contact_y_m: b.map(|b| Fixed(b.contact_m[1])),
+            contact_angle_deg: b.map(|b| Fixed(b.contact_angle_deg)),
+            pitch_deg: b.map(|b| Fixed(b.pitch_deg)),
+        }
+    })
+}
+
 /// The sweep as rows, one per μ.
 fn sweep_rows(sweep: &FrictionSweep) -> impl Iterator<Item = SweepRow> + '_ {
     sweep.points.iter().map(|p| {
@@ -724,6 +908,79 @@ fn sweep_rows(sweep: &FrictionSweep) -> impl Iterator<Item = SweepRow> + '_ {
             steepest_climbing: b.map(|b| u8::from(b.steepest.2)),
         }
     })
+}
+
+/// A row of commands.csv: one command of the best plan as the rover would run it.
+#[derive(Serialize, Default)]
+struct CommandRow {
+    step: usize,
+    code: u16,
+    action: String,
+    distance_m: Fixed<3>,
+    arc_radius_m: Option<Fixed<3>>,
+    turn_deg: Fixed<3>,
+    steer_left_front_deg: Option<Fixed<2>>,
+    steer_right_front_deg: Option<Fixed<2>>,
+    steer_left_rear_deg: Option<Fixed<2>>,
+    steer_right_rear_deg: Option<Fixed<2>>,
+    arm_yaw_deg: Option<Fixed<2>>,
+    arm_shoulder_deg: Option<Fixed<2>>,
+    arm_elbow_deg: Option<Fixed<2>>,
+    tool_x_m: Fixed<3>,
+    tool_y_m: Fixed<3>,
+    tool_z_m: Fixed<3>,
+    duration_s: Fixed<2>,
+    energy_wh: Fixed<5>,
+    end_x_m: Fixed<3>,
+    end_y_m: Fixed<3>,
+    end_heading_deg: Fixed<2>,
+    stability: Option<Fixed<4>>,
+}
+
+/// commands.json and commands.csv: the best plan's executed modules as commands (arc,
+/// distance, steering, arm joints, duration, energy; `areo_actions::commands`).
+fn write_commands(dir: &Path, setup: &Setup, run: &RunResult) -> Result<Vec<PathBuf>> {
+    let cmds = areo_actions::commands(&run.report.best.plan, &run.best, &setup.params, setup.task.start.2);
+    let json_path = dir.join("commands.json");
+    let doc = serde_json::json!({
+        "rover": setup.params.name,
+        "start": { "x_m": setup.task.start.0, "y_m": setup.task.start.1, "heading_deg": setup.task.start.2 },
+        "mu": run.exec.mu,
+        "complete": run.best.complete,
+        "commands": cmds,
+    });
+    write_file(&json_path, json_for(&json_path, &doc, true)?.as_bytes())?;
+    let csv_path = dir.join("commands.csv");
+    let pick = |a: Option<[f64; 4]>, i: usize| a.map(|a| Fixed(a[i]));
+    let joint = |a: Option<[f64; 3]>, i: usize| a.map(|a| Fixed(a[i]));
+    write_rows(
+        &csv_path,
+        cmds.iter().map(|c| CommandRow {
+            step: c.step,
+            code: c.code,
+            action: c.action.to_string(),
+            distance_m: Fixed(c.distance_m),
+            arc_radius_m: c.arc_radius_m.map(Fixed),
+            turn_deg: Fixed(c.turn_deg),
+            steer_left_front_deg: pick(c.steering_deg, 0),
+            steer_right_front_deg: pick(c.steering_deg, 1),
+            steer_left_rear_deg: pick(c.steering_deg, 2),
+            steer_right_rear_deg: pick(c.steering_deg, 3),
+            arm_yaw_deg: joint(c.arm_joints_deg, 0),
+            arm_shoulder_deg: joint(c.arm_joints_deg, 1),
+            arm_elbow_deg: joint(c.arm_joints_deg, 2),
+            tool_x_m: Fixed(c.tool_m[0]),
+            tool_y_m: Fixed(c.tool_m[1]),
+            tool_z_m: Fixed(c.tool_m[2]),
+            duration_s: Fixed(c.duration_s),
+            energy_wh: Fixed(c.energy_wh),
+            end_x_m: Fixed(c.end[0]),
+            end_y_m: Fixed(c.end[1]),
+            end_heading_deg: Fixed(c.end[2]),
+            stability: c.stability.map(Fixed),
+        }),
+    )?;
+    Ok(vec![json_path, csv_path])
 }
 
 /// A run's files: plan.json, plan.csv, ga.csv and the plots.
