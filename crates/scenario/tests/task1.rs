@@ -113,18 +113,41 @@ fn straight_with_samples_reachable(ex: &Executor<'_, areo_terrain::Dem>, start: 
 }
 
 #[test]
-fn straight_driving_with_the_sample_modules_cannot_complete_task_1() {
-    let (file, job) = task1();
+fn straight_driving_with_the_sample_modules_is_stopped_by_the_rock_not_by_where_the_target_is() {
+    // Task 1's map and rocks with the target moved onto the start line, 0.75 m ahead
+    // (the reference point must get within 0.10 m of it): a straight plan reaches it
+    // geometrically, past the 20 cm rock in the left wheel track. No samples are wanted,
+    // so only driving decides.
+    let (file, mut job) = task1();
+    job.task.target = (job.task.start.0, job.task.start.1 + 0.75);
+    job.task.target_radius_m = 0.10;
+    job.task.samples_wanted = 0;
     let s = setup(&job, &file).unwrap();
     let ev = Evaluator::new(&s.params);
     let ex = Executor::new(&s.dem, &ev, &s.task, s.execution);
     let reach = straight_with_samples_reachable(&ex, s.task.start);
     assert_eq!(reach.completed, None, "a plan of 101 and 3000–3003 completed the task");
-    // Turns to a sample are stances for the arm: every state lies on the straight line
-    // (to rounding), and the search met the same rock as straight driving, short of
-    // the ditch (0.85 m ahead of the start's front wheels).
+    // Stopped short of the target by the rock: the front-left wheel cannot climb a
+    // rock as tall as itself (slip), 0.45 m ahead of the start's front wheels.
+    assert!(reach.farthest_m > 0.2 && reach.farthest_m < 0.65, "{reach:?}");
+    let straight = ex.run(&[Module::Forward; 20], false);
+    assert_eq!(straight.failure.as_ref().map(|(_, f)| f.kind()), Some("slip"), "{:?}", straight.failure);
+    // Turns to a sample are stances for the arm: every state lies on the straight line.
     assert!(reach.off_line_m < 1e-6, "{reach:?}");
-    assert!(reach.farthest_m > 0.4 && reach.farthest_m < 1.0, "{reach:?}");
-    // Turning, grasping and releasing where it stands multiply the states.
     assert!(reach.states > 10, "{reach:?}");
+
+    // The same map without that rock: the same search completes, straight ahead — it
+    // was the rock's physics that stopped it.
+    let areo_scenario::format::TerrainSource::Synth(spec) = &mut job.terrain else { panic!("task 1 is synthesised") };
+    let before = spec.features.len();
+    spec.features.retain(|f| {
+        !matches!(f, areo_scenario::format::synth::FeatureSpec::Rock { x_m, y_m, .. } if (*x_m - 1.70).abs() < 1e-9 && (*y_m - 1.45).abs() < 1e-9)
+    });
+    assert_eq!(spec.features.len(), before - 1, "the rock in the left wheel track");
+    let s = setup(&job, &file).unwrap();
+    let ex = Executor::new(&s.dem, &ev, &s.task, s.execution);
+    let reach = straight_with_samples_reachable(&ex, s.task.start);
+    let plan = reach.completed.expect("without the rock straight driving reaches the target");
+    assert!(plan.iter().all(|&c| c == 101), "{plan:?}");
+    assert!(ex.run(&[Module::Forward; 20], false).complete);
 }

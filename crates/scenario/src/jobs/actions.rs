@@ -669,6 +669,17 @@ fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usiz
         if la.is_empty() { 0.0 } else { small as f64 / la.len() as f64 },
     );
     o.count(&format!("{name}_pooled_improving_crossovers"), la.len() as u64);
+    // Over the seeds that solved it: the range of first-solved generations and of their
+    // best plans' least stability margins (the paper's "S ≥ 40 %").
+    let solved: Vec<&(u64, Option<usize>, f64, usize, f64)> = study.seeds.iter().filter(|s| s.1.is_some()).collect();
+    if !solved.is_empty() {
+        let gens = solved.iter().filter_map(|s| s.1);
+        o.count(&format!("{name}_first_solved_earliest"), gens.clone().min().unwrap_or(0) as u64);
+        o.count(&format!("{name}_first_solved_latest"), gens.max().unwrap_or(0) as u64);
+        let margins = solved.iter().map(|s| s.4);
+        o.number(&format!("{name}_solved_least_margin_min"), margins.clone().fold(f64::INFINITY, f64::min));
+        o.number(&format!("{name}_solved_least_margin_max"), margins.fold(f64::NEG_INFINITY, f64::max));
+    }
     // The paper's plan took the samples on the left of the way and left the others.
     if study.has_samples {
         let left_only = study.taken.iter().filter(|t| t.1 > 0 && t.2 == 0).count();
@@ -679,6 +690,12 @@ fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usiz
     };
     o.number(&format!("{name}_pooled_lookahead_none_fraction"), share(&|d| d <= 0));
     o.number(&format!("{name}_pooled_lookahead_5_plus_fraction"), share(&|d| d >= 5));
+    // Of the crossovers that extended the successful prefix, the share adding fewer than
+    // five modules (the paper's Figure 3 counts these).
+    let extending = la.iter().filter(|d| **d >= 1).count();
+    if extending > 0 {
+        o.number(&format!("{name}_pooled_extending_under_5_fraction"), small as f64 / extending as f64);
+    }
     o.summary.push(format!(
         "{name}: seeds {}..{}: solved by generation {last} in {} of {n}; median first-solved generation {}; {} improving crossovers, {:.0} % adding 1–4 successful modules",
         study.seeds.first().map_or(0, |s| s.0),
