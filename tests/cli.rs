@@ -579,6 +579,8 @@ fn rover_check_reports_loads_margin_and_needed_friction() {
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("slip") && text.contains("smallest μ that holds here: 0.57"), "{text}");
+    // And the climb over it, pose by pose.
+    assert!(text.contains("climb over the step (101 poses") && text.contains("stopped at 0.00 m (slip)"), "{text}");
 }
 
 #[test]

@@ -120,6 +120,38 @@ pub struct Report {
     pub weight_n: f64,
     /// The smallest μ (to 1e-4) at which the rover holds here, if any μ ≤ 5 does.
     pub mu_needed: Option<f64>,
+    /// On a step: the climb over it, pose by pose.
+    pub climb: Option<StepClimb>,
+}
+
+/// A step climbed pose by pose: the rover driven forward from its front wheels
+/// against the step until every wheel stands on top, holding still at each pose.
+#[derive(Debug, Clone, Serialize)]
+pub struct StepClimb {
+    /// Distance between poses, m.
+    pub step_m: f64,
+    /// Poses evaluated.
+    pub poses: usize,
+    /// How far the reference point gets at the checked μ (to the first pose that fails
+    /// there), m.
+    pub distance_m: f64,
+    /// Every wheel on top of the step at the end.
+    pub over: bool,
+    /// Why the climb ended before every wheel was over: `kinematics` (no pose: a joint
+    /// limit), or the first limit violated at the checked μ (`slip`, `loss_of_contact`,
+    /// `saturation`, `tip_over`).
+    pub stop: Option<String>,
+    /// The smallest μ (to 1e-3) that holds every pose of the climb, if any μ ≤ 5 does.
+    pub mu_needed: Option<f64>,
+    /// Where that μ is needed: the reference point's distance from the start, m.
+    pub mu_needed_at_m: f64,
+    /// Which wheels touch the step's top there (e.g. "front", "front middle").
+    pub wheels_on_top_there: String,
+    /// The least stability margin over the poses that hold at the checked μ, % of flat
+    /// ground.
+    pub min_stability_pct: f64,
+    /// The largest body pitch, degrees.
+    pub max_pitch_deg: f64,
 }
 
 /// The wheels in report order.
@@ -161,7 +193,11 @@ pub fn check(params_path: &Path, terrain: TestTerrain, mu: f64, moving: bool) ->
         stability_pct: None,
         weight_n: params.mass_kg * params.gravity_m_s2,
         mu_needed,
+        climb: None,
     };
+    if let TestTerrain::Step(h) = terrain {
+        report.climb = Some(step_climb(&ev, &arm, h, mu, direction));
+    }
     match result {
         Ok(e) => {
             report.pose = Some(pose_report(&e.pose, ground_z));
@@ -202,6 +238,99 @@ fn at(ev: &Evaluator, ground: &impl Ground, heading_deg: f64, arm: &ArmState, mu
         None
     };
     (result, ground.height(0.0, 0.0).unwrap_or(0.0), mu_needed)
+}
+
+/// The step climb: from the front wheels against a step of height `h` (m), heading
+/// east, a pose every centimetre until the rear wheels are a wheel radius past the edge.
+fn step_climb(ev: &Evaluator, arm: &ArmState, h: f64, mu: f64, direction: f64) -> StepClimb {
+    let p = ev.params();
+    let (a, r) = (p.axle_x_m, p.wheel_radius_m);
+    let x_step = (a.front - a.middle) + r - 1e-6;
+    let ground = Step { x_step, low_m: 0.0, high_m: h };
+    // The rear wheel's axle crosses the edge when the reference point is at
+    // x_step − (rear − middle); a radius beyond, the wheel stands on top.
+    let length = x_step - (a.rear - a.middle) + r;
+    let step_m = 0.01;
+    let n = (length / step_m).ceil() as usize;
+    let mut climb = StepClimb {
+        step_m,
+        poses: 0,
+        distance_m: 0.0,
+        over: false,
+        stop: None,
+        mu_needed: Some(0.0),
+        mu_needed_at_m: 0.0,
+        wheels_on_top_there: String::new(),
+        min_stability_pct: f64::INFINITY,
+        max_pitch_deg: f64::NEG_INFINITY,
+    };
+    let mut warm: Option<Pose> = None;
+    for k in 0..=n {
+        let d = k as f64 * step_m;
+        let Ok(pose) = ev.kinematics().solve(&ground, d, 0.0, std::f64::consts::FRAC_PI_2, warm.as_ref()) else {
+            if climb.stop.is_none() {
+                climb.distance_m = d;
+            }
+            climb.stop.get_or_insert_with(|| "kinematics".into());
+            climb.mu_needed = None;
+            return climb;
+        };
+        warm = Some(pose);
+        climb.poses += 1;
+        if climb.stop.is_none() {
+            // How far it gets at the checked μ: up to the first pose that fails there
+            // (the poses beyond still count toward the μ the whole climb needs).
+            climb.distance_m = d;
+        }
+        climb.max_pitch_deg = climb.max_pitch_deg.max(pose.pitch.to_degrees());
+        let hold = |mu: f64| ev.evaluate_pose(&ground, &pose, arm, &Conditions { mu, direction });
+        match hold(mu) {
+            Ok(e) => climb.min_stability_pct = climb.min_stability_pct.min(100.0 * e.stability),
+            Err(v) => {
+                let kind = match v {
+                    Violation::TipOver => "tip_over".to_string(),
+                    Violation::Kinematics(_) => "kinematics".to_string(),
+                    Violation::Forces { .. } => {
+                        areo_actions::Failure::Motion(areo_rover::motion::MotionFailure::Violation(v))
+                            .kind()
+                            .to_string()
+                    }
+                };
+                climb.stop.get_or_insert(kind);
+            }
+        }
+        // The least μ that holds this pose, by bisection (holding is monotone in μ).
+        let least = if hold(0.0).is_ok() {
+            Some(0.0)
+        } else if hold(5.0).is_ok() {
+            let (mut lo, mut hi) = (0.0, 5.0);
+            while hi - lo > 1e-3 {
+                let mid = 0.5 * (lo + hi);
+                if hold(mid).is_ok() { hi = mid } else { lo = mid }
+            }
+            Some(hi)
+        } else {
+            None
+        };
+        match (least, climb.mu_needed) {
+            (None, _) => {
+                climb.mu_needed = None;
+                climb.stop.get_or_insert_with(|| "no μ ≤ 5 holds".into());
+                return climb;
+            }
+            (Some(m), Some(worst)) if m > worst || k == 0 => {
+                climb.mu_needed = Some(m);
+                climb.mu_needed_at_m = d;
+                // A wheel is up once its axle has passed the edge.
+                let top = |i: usize| pose.wheels[i].axle[0] >= x_step;
+                let names = ["front", "middle", "rear"];
+                climb.wheels_on_top_there = (0..3).filter(|&i| top(i)).map(|i| names[i]).collect::<Vec<_>>().join(" ");
+            }
+            _ => {}
+        }
+    }
+    climb.over = climb.stop.is_none();
+    climb
 }
 
 fn pose_report(p: &Pose, ground_z: f64) -> PoseReport {
@@ -256,5 +385,38 @@ mod tests {
             let e = bad.parse::<TestTerrain>().unwrap_err();
             assert!(e.contains("allowed: flat"), "{bad}: {e}");
         }
+    }
+
+    fn lsr1() -> std::path::PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../rover/params/lsr1.ron")
+    }
+
+    #[test]
+    fn a_low_step_is_hardest_where_the_middle_wheel_meets_it_not_at_the_first_instant() {
+        // An 8 cm step (below the 10 cm wheel radius): at the first instant the front
+        // wheel can rest on the edge carrying nothing, so holding needs no friction;
+        // lifting it onto the step loads the edge, and the middle wheel meets the step
+        // when the reference point has come 0.4 m (the axle spacing) — that pose, with
+        // the front wheel already up, is the one that needs the most.
+        let report = check(&lsr1(), TestTerrain::Step(0.08), 0.8, false).unwrap();
+        let climb = report.climb.expect("a step is climbed");
+        assert!(climb.over, "{climb:?}");
+        let first = report.mu_needed.expect("the first instant holds");
+        let whole = climb.mu_needed.expect("the climb holds at some μ");
+        assert!(first < 0.01 && whole > 0.3, "first instant {first}, climb {whole}");
+        assert!((0.35..=0.45).contains(&climb.mu_needed_at_m), "{climb:?}");
+        assert_eq!(climb.wheels_on_top_there, "front");
+        // Below that μ the first instant still holds but the climb stops on slip.
+        let short = check(&lsr1(), TestTerrain::Step(0.08), whole - 0.05, false).unwrap();
+        assert_eq!(short.verdict, "ok");
+        let c = short.climb.unwrap();
+        assert!(!c.over && c.stop.as_deref() == Some("slip"), "{c:?}");
+        // A vertical wall above the axle: the front wheel must be lifted by friction on
+        // the wall at once, so the first instant is the hardest pose, and the climb
+        // needs exactly what it needs.
+        let wall = check(&lsr1(), TestTerrain::Step(0.2), 0.8, false).unwrap();
+        let (first, c) = (wall.mu_needed.unwrap(), wall.climb.unwrap());
+        assert!(c.over && (c.mu_needed.unwrap() - first).abs() < 2e-3, "{first} {c:?}");
+        assert!(c.max_pitch_deg > 15.0 && c.min_stability_pct < 80.0, "{c:?}");
     }
 }
