@@ -267,7 +267,10 @@ fn step_climb(ev: &Evaluator, arm: &ArmState, h: f64, mu: f64, direction: f64) -
     let mut warm: Option<Pose> = None;
     for k in 0..=n {
         let d = k as f64 * step_m;
-        let Ok(pose) = ev.kinematics().solve(&ground, d, 0.0, std::f64::consts::FRAC_PI_2, warm.as_ref()) else {
+        // Warm-started from the last pose, and cold if that fails: a wheel on the edge of
+        // a step exactly one radius high can lose the warm start's pinned rim sample.
+        let solve = |warm: Option<&Pose>| ev.kinematics().solve(&ground, d, 0.0, std::f64::consts::FRAC_PI_2, warm);
+        let Ok(pose) = solve(warm.as_ref()).or_else(|_| solve(None)) else {
             if climb.stop.is_none() {
                 climb.distance_m = d;
             }
@@ -418,5 +421,9 @@ mod tests {
         let (first, c) = (wall.mu_needed.unwrap(), wall.climb.unwrap());
         assert!(c.over && (c.mu_needed.unwrap() - first).abs() < 2e-3, "{first} {c:?}");
         assert!(c.max_pitch_deg > 15.0 && c.min_stability_pct < 80.0, "{c:?}");
+        // A step exactly one wheel radius high: the warm-started pose loses the edge at
+        // 4 cm; the climb then solves cold and goes over.
+        let edge = check(&lsr1(), TestTerrain::Step(0.1), 0.8, false).unwrap().climb.unwrap();
+        assert!(edge.over && edge.poses == c.poses, "{edge:?}");
     }
 }
