@@ -147,6 +147,7 @@ mod tests {
         lunar_south_pole => "lunar-south-pole",
         lunar_south_pole_10m => "lunar-south-pole-10m",
         steep_face => "steep-face",
+        sojourner_task1 => "sojourner-task1",
         steep_hill => "steep-hill",
         sun_synchronous_traverse => "sun-synchronous-traverse",
         valley_detour => "valley-detour",

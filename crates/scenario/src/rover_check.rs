@@ -426,4 +426,20 @@ mod tests {
         let edge = check(&lsr1(), TestTerrain::Step(0.1), 0.8, false).unwrap().climb.unwrap();
         assert!(edge.over && edge.poses == c.poses, "{edge:?}");
     }
+
+    #[test]
+    fn both_rocker_bogies_climb_a_step_one_and_a_half_wheels_high_and_not_two() {
+        // The rocker-bogie's published reach: obstacles about 1.5 wheel diameters high
+        // (Curiosity 75 cm on 50 cm wheels; shared/reference/rover_physics.md). With the
+        // LSR-1's and the Sojourner-class file's geometry a step of 1.5 D is climbed
+        // with μ ≤ 0.6 and one of 2 D is not (the bogie reaches its joint limit).
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../rover/params");
+        for (file, d) in [("lsr1.ron", 0.20), ("sojourner.ron", 0.13)] {
+            let path = dir.join(file);
+            let up = check(&path, TestTerrain::Step(1.5 * d), 0.8, false).unwrap().climb.unwrap();
+            assert!(up.over && up.mu_needed.is_some_and(|m| m < 0.6), "{file}: {up:?}");
+            let not = check(&path, TestTerrain::Step(2.0 * d), 0.8, false).unwrap().climb.unwrap();
+            assert!(!not.over && not.stop.as_deref() == Some("kinematics"), "{file}: {not:?}");
+        }
+    }
 }

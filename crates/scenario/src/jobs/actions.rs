@@ -1126,20 +1126,24 @@ fn side_profile_plot(dir: &Path, setup: &Setup, trace: &[TraceStep]) -> Result<V
     if !trace.is_empty() {
         let mut by_pitch: Vec<usize> = (0..trace.len()).collect();
         by_pitch.sort_by(|&a, &b| trace[b].pitch_deg.abs().total_cmp(&trace[a].pitch_deg.abs()));
+        let last = trace.len() - 1;
         picks.push(0);
-        // The lowest body (in a ditch), then the steepest pitches.
+        picks.push(last);
+        // The lowest body (in a ditch), then the steepest pitches — each an eighth of
+        // the way from every pose already drawn, so their labels stay apart (turns and
+        // arm moves do not advance along the path, so steps alone do not space them).
         if let Some(low) = (0..trace.len()).min_by(|&a, &b| trace[a].z_m.total_cmp(&trace[b].z_m)) {
             by_pitch.insert(0, low);
         }
+        let spacing = along[last + 1] / 8.0;
         for i in by_pitch {
-            if picks.iter().all(|&p| (p as i64 - i as i64).abs() > (trace.len() as i64 / 12).max(2)) {
+            if picks.iter().all(|&p| (along[p + 1] - along[i + 1]).abs() > spacing) {
                 picks.push(i);
             }
-            if picks.len() >= 4 {
+            if picks.len() >= 5 {
                 break;
             }
         }
-        picks.push(trace.len() - 1);
         picks.sort_unstable();
         picks.dedup();
     }
