@@ -150,6 +150,8 @@ mod tests {
         sojourner_task1 => "sojourner-task1",
         steep_hill => "steep-hill",
         sun_synchronous_traverse => "sun-synchronous-traverse",
+        task2_scarp => "task2-scarp",
+        task2_scarp_long_bogie => "task2-scarp-long-bogie",
         valley_detour => "valley-detour",
     }
 

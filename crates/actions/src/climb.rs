@@ -139,3 +139,41 @@ pub fn climb_margins(
     }
     profile
 }
+
+/// One value of an assumed parameter and the straight climb the rover makes with it
+/// (or why the parameters are refused).
+#[derive(Debug, Clone)]
+pub struct SensitivityRow {
+    /// The parameter varied.
+    pub parameter: areo_rover::Assumed,
+    /// Its value.
+    pub value: f64,
+    /// The climb with it, or the validation error.
+    pub profile: Result<ClimbProfile, String>,
+}
+
+/// The straight climb of [`climb_margins`] repeated with `parameter` set to each of
+/// `values` on `base`'s rover: how what stops the climb, and the margins with the arm
+/// stowed and forward, move with a parameter no source gives.
+#[allow(clippy::too_many_arguments)]
+pub fn climb_sensitivity(
+    ground: &impl Ground,
+    base: &areo_rover::RoverParams,
+    start: (f64, f64, f64),
+    mu: f64,
+    step_m: f64,
+    length_m: f64,
+    parameter: areo_rover::Assumed,
+    values: &[f64],
+) -> Vec<SensitivityRow> {
+    values
+        .iter()
+        .map(|&value| {
+            let profile = base
+                .with_assumed(parameter, value)
+                .map_err(|e| e.to_string())
+                .map(|params| climb_margins(ground, &Evaluator::new(&params), start, mu, step_m, length_m));
+            SensitivityRow { parameter, value, profile }
+        })
+        .collect()
+}

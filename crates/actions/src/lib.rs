@@ -47,7 +47,7 @@ mod inventory;
 mod task;
 
 pub use crate::{
-    climb::{ArmCase, ClimbPose, ClimbProfile, arm_reached_forward, climb_margins},
+    climb::{ArmCase, ClimbPose, ClimbProfile, SensitivityRow, arm_reached_forward, climb_margins, climb_sensitivity},
     command::{Command, commands, steering},
     error::{Error, Result},
     executor::{Checkpoint, ExecConfig, Execution, Executor, Failure, TraceStep, WheelLimit},

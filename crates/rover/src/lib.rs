@@ -44,5 +44,7 @@ pub mod stability;
 
 pub use crate::{
     error::{Error, MAX_NESTING, Result, ron_options, too_deep},
-    params::{Activities, Arm, Axles, Battery, BodyPoint, Drive, Geometry, LSR1_RON, RoverParams, SidePoint, Solar},
+    params::{
+        Activities, Arm, Assumed, Axles, Battery, BodyPoint, Drive, Geometry, LSR1_RON, RoverParams, SidePoint, Solar,
+    },
 };

@@ -19,6 +19,38 @@ pub struct SidePoint {
     pub z: f64,
 }
 
+/// A parameter of a rover file that no source gives, varied by a sensitivity study
+/// ([`RoverParams::with_assumed`]). Scenario files name them as written here.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, serde::Serialize)]
+pub enum Assumed {
+    /// `bogie_limit_deg`: the bogie joint's range either way, degrees.
+    BogieLimitDeg,
+    /// `rocker_limit_deg`: the rocker's range relative to the body, degrees.
+    RockerLimitDeg,
+    /// `cg_m.z`: the centre of mass's height above the ground, arm stowed, m.
+    CgHeightM,
+    /// `cg_m.x`: the centre of mass ahead of the middle axles, arm stowed, m.
+    CgForwardM,
+    /// `arm.mass_kg`: the arm's mass (part of the rover's), kg.
+    ArmMassKg,
+    /// `bogie_pivot_m.z`: the bogie pivot's height above the ground, m.
+    BogiePivotHeightM,
+}
+
+impl Assumed {
+    /// The parameter file's name for it.
+    pub fn field(self) -> &'static str {
+        match self {
+            Assumed::BogieLimitDeg => "bogie_limit_deg",
+            Assumed::RockerLimitDeg => "rocker_limit_deg",
+            Assumed::CgHeightM => "cg_m.z",
+            Assumed::CgForwardM => "cg_m.x",
+            Assumed::ArmMassKg => "arm.mass_kg",
+            Assumed::BogiePivotHeightM => "bogie_pivot_m.z",
+        }
+    }
+}
+
 /// A point in the body frame, m.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -208,6 +240,22 @@ impl RoverParams {
     pub fn lsr1() -> RoverParams {
         // The shipped file is checked by the tests; failing here is a build defect.
         RoverParams::parse(LSR1_RON, "params/lsr1.ron").expect("the shipped LSR-1 parameters are valid")
+    }
+
+    /// These parameters with `which` set to `value`, validated as a file would be (the
+    /// error names the field and what is allowed).
+    pub fn with_assumed(&self, which: Assumed, value: f64) -> Result<RoverParams> {
+        let mut p = self.clone();
+        match which {
+            Assumed::BogieLimitDeg => p.bogie_limit_deg = value,
+            Assumed::RockerLimitDeg => p.rocker_limit_deg = value,
+            Assumed::CgHeightM => p.cg_m.z = value,
+            Assumed::CgForwardM => p.cg_m.x = value,
+            Assumed::ArmMassKg => p.arm.mass_kg = value,
+            Assumed::BogiePivotHeightM => p.bogie_pivot_m.z = value,
+        }
+        p.validate(&format!("{} with {} = {value}", self.name, which.field()))?;
+        Ok(p)
     }
 
     /// Reads and validates a parameter file.

@@ -76,3 +76,18 @@ fn bad_parameters_are_rejected_naming_the_field() {
     assert!(matches!(err, Error::Syntax { line, .. } if line > 1), "{err}");
     assert!(err.to_string().contains("hotel_powr_w"));
 }
+
+#[test]
+fn an_assumed_parameter_is_set_and_validated_like_a_file() {
+    use areo_rover::{Assumed, RoverParams};
+    let lsr1 = RoverParams::lsr1();
+    let higher = lsr1.with_assumed(Assumed::CgHeightM, 0.31).unwrap();
+    assert_eq!(higher.cg_m.z, 0.31);
+    assert_eq!(higher.bogie_limit_deg, lsr1.bogie_limit_deg);
+    assert_eq!(lsr1.with_assumed(Assumed::BogieLimitDeg, 75.0).unwrap().bogie_limit_deg, 75.0);
+    // Out of range: refused with the field's name, as in a file.
+    let e = lsr1.with_assumed(Assumed::BogiePivotHeightM, 0.05).unwrap_err().to_string();
+    assert!(e.contains("bogie_pivot_m.z") && e.contains("bogie_pivot_m.z = 0.05"), "{e}");
+    let e = lsr1.with_assumed(Assumed::ArmMassKg, -1.0).unwrap_err().to_string();
+    assert!(e.contains("arm.mass_kg"), "{e}");
+}

@@ -202,8 +202,12 @@ pub fn tempest(job: &TempestJob, cells: u64) -> Estimate {
 
 /// The cost of an actions job on a map of `cells` cells.
 pub fn actions(job: &ActionsJob, cells: u64) -> Estimate {
-    let runs = job.runs.len().max(1) as u64
-        + job.mu_sweep.map_or(0, |(a, b, step)| ((b - a) / step).floor().max(0.0) as u64 + 1);
+    // Every run once per seed of its study, and the sweep once per μ per seed.
+    let seeds = |s: Option<(u64, u64)>| s.map_or(1, |(a, b)| b.saturating_sub(a).saturating_add(1));
+    let run_evolutions =
+        if job.runs.is_empty() { 1 } else { job.runs.iter().map(|r| seeds(r.seeds)).fold(0u64, u64::saturating_add) };
+    let sweep_points = job.mu_sweep.map_or(0, |(a, b, step)| ((b - a) / step).floor().max(0.0) as u64 + 1);
+    let runs = run_evolutions.saturating_add(sweep_points.saturating_mul(seeds(job.mu_sweep_seeds)));
     let ga = &job.ga;
     let evaluations = (ga.population as u64).saturating_mul(ga.generations as u64 + 1);
     let modules = evaluations.saturating_mul(ga.max_length as u64).saturating_mul(runs);

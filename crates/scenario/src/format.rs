@@ -146,6 +146,11 @@ pub struct ActionsJob {
     /// facts). Needs `mu_sweep`.
     #[serde(default)]
     pub mu_sweep_seeds: Option<(u64, u64)>,
+    /// The straight climb (`climb_profile`) repeated with each assumed rover parameter
+    /// set to each of its values: `[(BogieLimitDeg, [35, 45, 55]), (CgHeightM, [0.25,
+    /// 0.28])]` (`sensitivity.csv`, `sensitivity_…` facts). Needs `climb_profile`.
+    #[serde(default)]
+    pub sensitivity: Vec<(areo_rover::Assumed, Vec<f64>)>,
 }
 
 /// One GA run of an actions job.
@@ -551,6 +556,13 @@ impl Validate for ActionsJob {
             {
                 c.fail(field, format!("({a}, {b}, {step}): need 0.01 ≤ from ≤ to ≤ 2, step > 0, at most 100 steps"));
             }
+        }
+        if !self.sensitivity.is_empty() && self.climb_profile.is_none() {
+            c.fail("sensitivity", "needs a climb_profile to repeat".to_string());
+        }
+        let values: usize = self.sensitivity.iter().map(|(_, v)| v.len()).sum();
+        if values > 200 {
+            c.fail("sensitivity", format!("{values} values: allowed at most 200 in all"));
         }
         if let Some((a, b)) = self.mu_sweep_seeds {
             if !(a <= b && b - a < 100) {

@@ -261,9 +261,10 @@ fn a_climb_profile_out_of_range_names_its_field_and_rule() {
     }
 }
 
-/// The friction replay and the sweep's seeds are checked with their rules, located.
+/// The friction replay, the sweep's seeds and the sensitivity study are checked with
+/// their rules, located.
 #[test]
-fn a_friction_replay_or_sweep_seeds_out_of_range_names_its_field_and_rule() {
+fn a_friction_replay_sweep_seeds_or_sensitivity_out_of_range_names_its_field_and_rule() {
     let path = root().join("scenarios/friction-sweep.ron");
     let base = std::fs::read_to_string(&path).unwrap();
     let (replay, seeds, sweep) =
@@ -276,6 +277,7 @@ fn a_friction_replay_or_sweep_seeds_out_of_range_names_its_field_and_rule() {
         (seeds, "mu_sweep_seeds: (8, 1),", "mu_sweep_seeds", "first ≤ last"),
         (seeds, "mu_sweep_seeds: (1, 200),", "mu_sweep_seeds", "at most 100 seeds"),
         (sweep, "", "mu_sweep_seeds", "needs a mu_sweep"),
+        (replay, "sensitivity: [(CgHeightM, [0.3])],", "sensitivity", "needs a climb_profile"),
     ] {
         let e = areo_scenario::format::parse(&path, &base.replace(from, to)).unwrap_err().to_string();
         assert!(e.contains("friction-sweep.ron:") && e.contains(field) && e.contains(rule), "{to}: {e}");

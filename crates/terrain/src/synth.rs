@@ -146,6 +146,20 @@ pub enum Feature {
         #[serde(default)]
         passes: Vec<Pass>,
     },
+    /// A straight scarp: the ground rises across the line from `from_m` to `to_m`, on its
+    /// left (looking from `from_m` to `to_m`), at `slope_deg` from 0 to `height_m`, and
+    /// stays at that height beyond (a plateau). Drawn across a map, its face cannot be
+    /// gone around.
+    Scarp {
+        /// One end (x, y), m.
+        from_m: (f64, f64),
+        /// Other end (x, y), m; the face rises to the left of from → to.
+        to_m: (f64, f64),
+        /// Height of the plateau above the foot, m (> 0).
+        height_m: f64,
+        /// Face slope, degrees (0 exclusive..90).
+        slope_deg: f64,
+    },
     /// A straight ditch with a trapezoidal cross-section.
     Ditch {
         /// One end (x, y), m.
@@ -301,6 +315,19 @@ impl TerrainSpec {
                         }
                     }
                 }
+                Feature::Scarp { from_m, to_m, height_m, slope_deg } => {
+                    for (name, v) in [("from_m", from_m.0), ("from_m", from_m.1), ("to_m", to_m.0), ("to_m", to_m.1)] {
+                        at(name, v)?;
+                    }
+                    if from_m == to_m {
+                        return bad(p("to_m"), to_m.0, "a point different from from_m");
+                    }
+                    positive("height_m", height_m)?;
+                    slope("slope_deg", slope_deg)?;
+                    if !(slope_deg > 0.0) {
+                        return bad(p("slope_deg"), slope_deg, "0 (exclusive)..90");
+                    }
+                }
                 Feature::Ditch { from_m, to_m, width_m, depth_m, wall_deg } => {
                     for (name, v) in [("from_m", from_m.0), ("from_m", from_m.1), ("to_m", to_m.0), ("to_m", to_m.1)] {
                         at(name, v)?;
@@ -408,6 +435,12 @@ impl Feature {
                     crest = crest.min(height_m - (height_m - p.height_m) * dip);
                 }
                 crest * bell(d, width_m / 2.0)
+            }
+            Feature::Scarp { from_m, to_m, height_m, slope_deg } => {
+                // Signed distance to the left of the line from → to.
+                let (dx, dy) = (to_m.0 - from_m.0, to_m.1 - from_m.1);
+                let left = (dx * (y - from_m.1) - dy * (x - from_m.0)) / dx.hypot(dy);
+                (left.max(0.0) * slope_deg.to_radians().tan()).min(height_m)
             }
             Feature::Ditch { from_m, to_m, width_m, depth_m, wall_deg } => {
                 let d = segment_distance(x, y, from_m, to_m);
@@ -520,6 +553,26 @@ mod tests {
 
     fn spec(features: Vec<Feature>) -> TerrainSpec {
         TerrainSpec { cols: 101, rows: 101, cell_m: 1.0, base_m: 10.0, seed: 0, noise: None, features }
+    }
+
+    #[test]
+    fn a_scarp_rises_on_the_left_of_its_line_at_its_slope_to_a_plateau() {
+        // West to east along y = 30.5: the face rises to the north at 35° to 12 m.
+        let scarp = Feature::Scarp { from_m: (0.0, 30.5), to_m: (101.0, 30.5), height_m: 12.0, slope_deg: 35.0 };
+        let dem = spec(vec![scarp]).build().unwrap();
+        let sa = slope_aspect(&dem);
+        // Rows run north to south: y = 100.5 − row. The foot at row 70, the face
+        // between, the plateau from 12/tan 35° = 17.1 m north of the foot.
+        let z = |row: usize| f64::from(dem.z(50, row).unwrap());
+        assert!((z(80) - 10.0).abs() < 1e-5 && (z(20) - 22.0).abs() < 1e-5);
+        assert!((z(65) - (10.0 + 5.0 * 35f64.to_radians().tan())).abs() < 1e-5);
+        let face = dem.index(50, 62);
+        assert!((sa.slope_deg[face] - 35.0).abs() < 0.1, "{}", sa.slope_deg[face]);
+        // Every column alike: the face cannot be gone around.
+        assert!((0..101).all(|c| (f64::from(dem.z(c, 65).unwrap()) - z(65)).abs() < 1e-9));
+        // A line of no length is refused, with its field.
+        let bad = Feature::Scarp { from_m: (1.0, 1.0), to_m: (1.0, 1.0), height_m: 1.0, slope_deg: 30.0 };
+        assert!(spec(vec![bad]).build().unwrap_err().to_string().contains("features[0].to_m"));
     }
 
     #[test]

@@ -134,6 +134,20 @@ pub enum FeatureSpec {
         #[serde(default)]
         passes: Vec<PassSpec>,
     },
+    /// A straight scarp: the ground rises across the line from `from_m` to `to_m`, on its
+    /// left (looking from `from_m` to `to_m`), at `slope_deg` from 0 to `height_m`, and
+    /// stays at that height beyond (a plateau). Drawn across a map, its face cannot be
+    /// gone around.
+    Scarp {
+        /// One end (x, y), m.
+        from_m: (f64, f64),
+        /// Other end (x, y), m; the face rises to the left of from → to.
+        to_m: (f64, f64),
+        /// Height of the plateau above the foot, m (> 0).
+        height_m: f64,
+        /// Face slope, degrees (0 exclusive..90).
+        slope_deg: f64,
+    },
     /// A straight ditch with a trapezoidal cross-section.
     Ditch {
         /// One end (x, y), m.
@@ -223,6 +237,9 @@ impl FeatureSpec {
                         .map(|p| lib::Pass { y_m: p.y_m, height_m: p.height_m, width_m: p.width_m })
                         .collect(),
                 }
+            }
+            FeatureSpec::Scarp { from_m, to_m, height_m, slope_deg } => {
+                lib::Feature::Scarp { from_m: *from_m, to_m: *to_m, height_m: *height_m, slope_deg: *slope_deg }
             }
             FeatureSpec::Ditch { from_m, to_m, width_m, depth_m, wall_deg } => lib::Feature::Ditch {
                 from_m: *from_m,

@@ -112,6 +112,7 @@ struct ActionsReport {
     sweep_seeds: Vec<(u64, FrictionSweep)>,
     replay: Option<FrictionReplay>,
     climb: Option<ClimbProfile>,
+    sensitivity: Vec<areo_actions::SensitivityRow>,
 }
 
 /// Runs an actions job: compute the report, then its facts and files.
@@ -273,7 +274,17 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
     });
     let climb =
         job.climb_profile.map(|(step, length)| climb_margins(dem, &evaluator, task.start, execution.mu, step, length));
-    Ok(ActionsReport { filtered, runs, sweep, sweep_seeds, replay, climb })
+    let sensitivity = match job.climb_profile {
+        Some((step, length)) => job
+            .sensitivity
+            .iter()
+            .flat_map(|(which, values)| {
+                areo_actions::climb_sensitivity(dem, params, task.start, execution.mu, step, length, *which, values)
+            })
+            .collect(),
+        None => Vec::new(),
+    };
+    Ok(ActionsReport { filtered, runs, sweep, sweep_seeds, replay, climb, sensitivity })
 }
 
 /// The report's facts and summary lines.
@@ -311,6 +322,7 @@ fn outcome(setup: &Setup, report: &ActionsReport) -> Outcome {
     if let Some(profile) = &report.climb {
         climb_facts(&mut o, profile);
     }
+    sensitivity_facts(&mut o, &report.sensitivity);
     for run in &report.runs {
         best_facts(&mut o, run);
     }
@@ -502,6 +514,11 @@ fn write_report(dir: &Path, setup: &Setup, report: &ActionsReport) -> Result<Vec
     if let Some(profile) = &report.climb {
         files.extend(write_climb(dir, profile)?);
     }
+    if !report.sensitivity.is_empty() {
+        let path = dir.join("sensitivity.csv");
+        write_rows(&path, report.sensitivity.iter().map(SensitivityCsvRow::of))?;
+        files.push(path);
+    }
     for run in &report.runs {
         let sub = if report.runs.len() == 1 { dir.to_path_buf() } else { dir.join(&run.name) };
         std::fs::create_dir_all(&sub).map_err(|source| Error::Io { path: sub.clone(), source })?;
@@ -509,6 +526,96 @@ fn write_report(dir: &Path, setup: &Setup, report: &ActionsReport) -> Result<Vec
         files.extend(write_commands(&sub, setup, run)?);
     }
     Ok(files)
+}
+
+/// A fact name's part for a parameter value: `0.27` → `0p27`, `-5` → `m5`.
+fn value_key(v: f64) -> String {
+    format!("{v}").replace('.', "p").replace('-', "m")
+}
+
+/// Each assumed value's climb: what stopped it, where, and the margins at its end.
+fn sensitivity_facts(o: &mut Outcome, rows: &[areo_actions::SensitivityRow]) {
+    for row in rows {
+        let key = format!("sensitivity_{}_{}", row.parameter.field().replace('.', "_"), value_key(row.value));
+        match &row.profile {
+            Ok(p) => {
+                o.text(&format!("{key}_stop"), p.stop.unwrap_or("none"));
+                o.number(&format!("{key}_stop_distance_m"), p.stop_distance_m);
+                if let Some(last) = p.poses.last() {
+                    o.number(&format!("{key}_last_pitch_deg"), last.pitch_deg);
+                    o.number(&format!("{key}_last_margin_stowed"), last.stowed.margin);
+                    o.number(&format!("{key}_last_margin_forward"), last.forward.margin);
+                    let least = |f: &dyn Fn(&areo_actions::ClimbPose) -> f64| {
+                        p.poses.iter().map(f).filter(|v| v.is_finite()).fold(f64::INFINITY, f64::min)
+                    };
+                    o.number(&format!("{key}_min_margin_stowed"), least(&|q| q.stowed.margin));
+                    o.number(&format!("{key}_min_margin_forward"), least(&|q| q.forward.margin));
+                    o.number(&format!("{key}_max_pitch_deg"), -least(&|q| -q.pitch_deg));
+                }
+                o.summary.push(format!(
+                    "{} = {}: straight climb {} after {:.2} m{}",
+                    row.parameter.field(),
+                    row.value,
+                    match p.stop {
+                        Some("kinematics") => "has no pose (a joint limit)",
+                        Some("tip_over") => "tips over with the arm stowed",
+                        _ => "goes its length",
+                    },
+                    p.stop_distance_m,
+                    p.poses.last().map_or(String::new(), |l| format!(
+                        " at {:.1}° of pitch; margin stowed {:.3}, arm forward {:.3}",
+                        l.pitch_deg, l.stowed.margin, l.forward.margin
+                    ))
+                ));
+            }
+            Err(e) => {
+                o.text(&format!("{key}_stop"), "refused");
+                o.summary.push(format!("{} = {}: refused ({e})", row.parameter.field(), row.value));
+            }
+        }
+    }
+}
+
+/// A row of sensitivity.csv: one assumed value and the straight climb with it.
+#[derive(Serialize, Default)]
+struct SensitivityCsvRow {
+    parameter: String,
+    value: f64,
+    stop: String,
+    stop_distance_m: Option<Fixed<3>>,
+    last_pitch_deg: Option<Fixed<2>>,
+    last_margin_stowed: Option<Fixed<4>>,
+    last_margin_forward: Option<Fixed<4>>,
+    min_margin_stowed: Option<Fixed<4>>,
+    min_margin_forward: Option<Fixed<4>>,
+    /// Where the stowed rover tips over, the margin with the arm forward stays above 0.
+    arm_keeps_it_standing: Option<u8>,
+}
+
+impl SensitivityCsvRow {
+    fn of(row: &areo_actions::SensitivityRow) -> SensitivityCsvRow {
+        let mut out =
+            SensitivityCsvRow { parameter: row.parameter.field().to_string(), value: row.value, ..Default::default() };
+        match &row.profile {
+            Ok(p) => {
+                let min = |f: &dyn Fn(&areo_actions::ClimbPose) -> f64| {
+                    p.poses.iter().map(f).filter(|v| v.is_finite()).fold(f64::INFINITY, f64::min)
+                };
+                out.stop = p.stop.unwrap_or("none").to_string();
+                out.stop_distance_m = Some(Fixed(p.stop_distance_m));
+                if let Some(last) = p.poses.last() {
+                    out.last_pitch_deg = Some(Fixed(last.pitch_deg));
+                    out.last_margin_stowed = Some(Fixed(last.stowed.margin));
+                    out.last_margin_forward = Some(Fixed(last.forward.margin));
+                    out.arm_keeps_it_standing = Some(u8::from(p.stop == Some("tip_over") && last.forward.margin > 0.0));
+                }
+                out.min_margin_stowed = Some(Fixed(min(&|q| q.stowed.margin)));
+                out.min_margin_forward = Some(Fixed(min(&|q| q.forward.margin)));
+            }
+            Err(e) => out.stop = format!("refused: {e}"),
+        }
+        out
+    }
 }
 
 /// The climb's facts: what ended it and where, and the margins along it.
