@@ -150,6 +150,7 @@ mod tests {
         sojourner_task1 => "sojourner-task1",
         steep_hill => "steep-hill",
         sun_synchronous_traverse => "sun-synchronous-traverse",
+        task1_paper_budget => "task1-paper-budget",
         task2_scarp => "task2-scarp",
         task2_scarp_long_bogie => "task2-scarp-long-bogie",
         valley_detour => "valley-detour",
