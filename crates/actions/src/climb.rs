@@ -7,8 +7,10 @@
 
 use areo_rover::arm::ArmState;
 use areo_rover::evaluation::{Conditions, Evaluation, Evaluator, Place, Violation};
+use areo_rover::kinematics::Pose;
 use areo_rover::motion::MotionFailure;
 use areo_terrain::Ground;
+use areo_terrain::analytic::Step;
 use serde::Serialize;
 
 use crate::executor::Failure;
@@ -176,4 +178,134 @@ pub fn climb_sensitivity(
             SensitivityRow { parameter, value, profile }
         })
         .collect()
+}
+
+/// A step climbed pose by pose: the rover driven forward from its front wheels
+/// against the step until every wheel stands on top, holding still at each pose.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StepClimb {
+    /// Distance between poses, m.
+    pub step_m: f64,
+    /// Poses evaluated.
+    pub poses: usize,
+    /// How far the reference point gets at the checked μ (to the first pose that fails
+    /// there), m.
+    pub distance_m: f64,
+    /// Every wheel on top of the step at the end.
+    pub over: bool,
+    /// Why the climb ended before every wheel was over: `kinematics` (no pose: a joint
+    /// limit), or the first limit violated at the checked μ (`slip`, `loss_of_contact`,
+    /// `saturation`, `tip_over`).
+    pub stop: Option<String>,
+    /// The smallest μ (to 1e-3) that holds every pose of the climb, if any μ ≤ 5 does.
+    pub mu_needed: Option<f64>,
+    /// Where that μ is needed: the reference point's distance from the start, m.
+    pub mu_needed_at_m: f64,
+    /// Which wheels touch the step's top there (e.g. "front", "front middle").
+    pub wheels_on_top_there: String,
+    /// The least stability margin over the poses that hold at the checked μ, % of flat
+    /// ground.
+    pub min_stability_pct: f64,
+    /// The largest body pitch, degrees.
+    pub max_pitch_deg: f64,
+}
+
+/// A step of height `h` (m) climbed pose by pose: from the front wheels against it,
+/// heading east, a pose every centimetre until the rear wheels are a wheel radius past
+/// the edge, each held still under friction `mu` (`direction` 1 counts rolling
+/// resistance as when driving). `areo rover check --terrain step:H` reports it.
+pub fn step_climb(ev: &Evaluator, arm: &ArmState, h: f64, mu: f64, direction: f64) -> StepClimb {
+    let p = ev.params();
+    let (a, r) = (p.axle_x_m, p.wheel_radius_m);
+    let x_step = (a.front - a.middle) + r - 1e-6;
+    let ground = Step { x_step, low_m: 0.0, high_m: h };
+    // The rear wheel's axle crosses the edge when the reference point is at
+    // x_step − (rear − middle); a radius beyond, the wheel stands on top.
+    let length = x_step - (a.rear - a.middle) + r;
+    let step_m = 0.01;
+    let n = (length / step_m).ceil() as usize;
+    let mut climb = StepClimb {
+        step_m,
+        poses: 0,
+        distance_m: 0.0,
+        over: false,
+        stop: None,
+        mu_needed: Some(0.0),
+        mu_needed_at_m: 0.0,
+        wheels_on_top_there: String::new(),
+        min_stability_pct: f64::INFINITY,
+        max_pitch_deg: f64::NEG_INFINITY,
+    };
+    let mut warm: Option<Pose> = None;
+    for k in 0..=n {
+        let d = k as f64 * step_m;
+        // Warm-started from the last pose, and cold if that fails: a wheel on the edge of
+        // a step exactly one radius high can lose the warm start's pinned rim sample.
+        let solve = |warm: Option<&Pose>| ev.kinematics().solve(&ground, d, 0.0, std::f64::consts::FRAC_PI_2, warm);
+        let Ok(pose) = solve(warm.as_ref()).or_else(|_| solve(None)) else {
+            if climb.stop.is_none() {
+                climb.distance_m = d;
+            }
+            climb.stop.get_or_insert_with(|| "kinematics".into());
+            climb.mu_needed = None;
+            return climb;
+        };
+        warm = Some(pose);
+        climb.poses += 1;
+        if climb.stop.is_none() {
+            // How far it gets at the checked μ: up to the first pose that fails there
+            // (the poses beyond still count toward the μ the whole climb needs).
+            climb.distance_m = d;
+        }
+        climb.max_pitch_deg = climb.max_pitch_deg.max(pose.pitch.to_degrees());
+        let hold = |mu: f64| ev.evaluate_pose(&ground, &pose, arm, &Conditions { mu, direction });
+        match hold(mu) {
+            Ok(e) => climb.min_stability_pct = climb.min_stability_pct.min(100.0 * e.stability),
+            Err(v) => {
+                let kind = match v {
+                    Violation::TipOver => "tip_over".to_string(),
+                    Violation::Kinematics(_) => "kinematics".to_string(),
+                    Violation::Forces { .. } => Failure::Motion(MotionFailure::Violation(v)).kind().to_string(),
+                };
+                climb.stop.get_or_insert(kind);
+            }
+        }
+        let least = least_mu(|mu| hold(mu).is_ok(), 1e-3);
+        match (least, climb.mu_needed) {
+            (None, _) => {
+                climb.mu_needed = None;
+                climb.stop.get_or_insert_with(|| "no μ ≤ 5 holds".into());
+                return climb;
+            }
+            (Some(m), Some(worst)) if m > worst || k == 0 => {
+                climb.mu_needed = Some(m);
+                climb.mu_needed_at_m = d;
+                // A wheel is up once its axle has passed the edge.
+                let top = |i: usize| pose.wheels[i].axle[0] >= x_step;
+                let names = ["front", "middle", "rear"];
+                climb.wheels_on_top_there = (0..3).filter(|&i| top(i)).map(|i| names[i]).collect::<Vec<_>>().join(" ");
+            }
+            _ => {}
+        }
+    }
+    climb.over = climb.stop.is_none();
+    climb
+}
+
+/// The least friction coefficient (to `tolerance`) at which `holds` is true: 0 if it
+/// holds without friction, `None` if no μ ≤ 5 does. Holding is monotone in μ (a larger
+/// μ only widens every friction cone), so a bisection finds it.
+pub fn least_mu(holds: impl Fn(f64) -> bool, tolerance: f64) -> Option<f64> {
+    if holds(0.0) {
+        return Some(0.0);
+    }
+    if !holds(5.0) {
+        return None;
+    }
+    let (mut lo, mut hi) = (0.0, 5.0);
+    while hi - lo > tolerance {
+        let mid = 0.5 * (lo + hi);
+        if holds(mid) { hi = mid } else { lo = mid }
+    }
+    Some(hi)
 }

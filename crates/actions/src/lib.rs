@@ -47,7 +47,10 @@ mod inventory;
 mod task;
 
 pub use crate::{
-    climb::{ArmCase, ClimbPose, ClimbProfile, SensitivityRow, arm_reached_forward, climb_margins, climb_sensitivity},
+    climb::{
+        ArmCase, ClimbPose, ClimbProfile, SensitivityRow, StepClimb, arm_reached_forward, climb_margins,
+        climb_sensitivity, least_mu, step_climb,
+    },
     command::{Command, commands, steering},
     error::{Error, Result},
     executor::{Checkpoint, ExecConfig, Execution, Executor, Failure, TraceStep, WheelLimit},

@@ -230,15 +230,12 @@ impl Evaluator {
             .system_mass_cg_from(p, self.stowed_arm_cg)
             .map_err(|_| Violation::Kinematics(KinematicsFailure::JointLimit))?;
         let weight = mass * p.gravity_m_s2;
-        // Body frame → map: yaw, then pitch (nose up), then roll (left up).
+        // The CG on the map: the body frame turned by the pose's attitude about the body
+        // reference (the rocker pivots' midpoint).
         let (fx, fy) = pose.forward();
         let (lx, ly) = (-fy, fx);
-        let (sp, cp) = pose.pitch.sin_cos();
-        let (sr, cr) = pose.roll.sin_cos();
         let rel = cg_body - Vector3::new(p.rocker_pivot_m.x, 0.0, p.rocker_pivot_m.z);
-        let (bx, by, bz) = (rel.x, rel.y * cr - rel.z * sr, rel.y * sr + rel.z * cr);
-        let (px, pz) = (bx * cp - bz * sp, bx * sp + bz * cp);
-        let g = [pose.body[0] + fx * px + lx * by, pose.body[1] + fy * px + ly * by, pose.body[2] + pz];
+        let g = pose.body_to_map(rel.into());
         // Pivot loads by the lever rule along the (horizontal) pivot line.
         let [bl, br] = pose.pivots;
         let line = (bl[0] - br[0], bl[1] - br[1]);

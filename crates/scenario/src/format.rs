@@ -557,6 +557,21 @@ impl Validate for ActionsJob {
                 c.fail(field, format!("({a}, {b}, {step}): need 0.01 ≤ from ≤ to ≤ 2, step > 0, at most 100 steps"));
             }
         }
+        self.validate_studies(c);
+        if let Some((step, length)) = self.climb_profile
+            && !((0.001..=1.0).contains(&step) && length > 0.0 && length <= 100.0 && length / step <= 10_000.0)
+        {
+            c.fail(
+                "climb_profile",
+                format!("({step}, {length}): need a step of 0.001..=1 m, a length of 0 (exclusive)..=100 m and at most 10 000 poses"),
+            );
+        }
+    }
+}
+
+impl ActionsJob {
+    /// The studies around the GA's runs: the sweep's seeds, the sensitivity study.
+    fn validate_studies(&self, c: &mut Checks) {
         if !self.sensitivity.is_empty() && self.climb_profile.is_none() {
             c.fail("sensitivity", "needs a climb_profile to repeat".to_string());
         }
@@ -573,14 +588,6 @@ impl Validate for ActionsJob {
             } else if self.mu_sweep.is_none() {
                 c.fail("mu_sweep_seeds", "needs a mu_sweep to repeat".to_string());
             }
-        }
-        if let Some((step, length)) = self.climb_profile
-            && !((0.001..=1.0).contains(&step) && length > 0.0 && length <= 100.0 && length / step <= 10_000.0)
-        {
-            c.fail(
-                "climb_profile",
-                format!("({step}, {length}): need a step of 0.001..=1 m, a length of 0 (exclusive)..=100 m and at most 10 000 poses"),
-            );
         }
     }
 }

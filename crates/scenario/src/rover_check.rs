@@ -121,37 +121,7 @@ pub struct Report {
     /// The smallest μ (to 1e-4) at which the rover holds here, if any μ ≤ 5 does.
     pub mu_needed: Option<f64>,
     /// On a step: the climb over it, pose by pose.
-    pub climb: Option<StepClimb>,
-}
-
-/// A step climbed pose by pose: the rover driven forward from its front wheels
-/// against the step until every wheel stands on top, holding still at each pose.
-#[derive(Debug, Clone, Serialize)]
-pub struct StepClimb {
-    /// Distance between poses, m.
-    pub step_m: f64,
-    /// Poses evaluated.
-    pub poses: usize,
-    /// How far the reference point gets at the checked μ (to the first pose that fails
-    /// there), m.
-    pub distance_m: f64,
-    /// Every wheel on top of the step at the end.
-    pub over: bool,
-    /// Why the climb ended before every wheel was over: `kinematics` (no pose: a joint
-    /// limit), or the first limit violated at the checked μ (`slip`, `loss_of_contact`,
-    /// `saturation`, `tip_over`).
-    pub stop: Option<String>,
-    /// The smallest μ (to 1e-3) that holds every pose of the climb, if any μ ≤ 5 does.
-    pub mu_needed: Option<f64>,
-    /// Where that μ is needed: the reference point's distance from the start, m.
-    pub mu_needed_at_m: f64,
-    /// Which wheels touch the step's top there (e.g. "front", "front middle").
-    pub wheels_on_top_there: String,
-    /// The least stability margin over the poses that hold at the checked μ, % of flat
-    /// ground.
-    pub min_stability_pct: f64,
-    /// The largest body pitch, degrees.
-    pub max_pitch_deg: f64,
+    pub climb: Option<areo_actions::StepClimb>,
 }
 
 /// The wheels in report order.
@@ -196,7 +166,7 @@ pub fn check(params_path: &Path, terrain: TestTerrain, mu: f64, moving: bool) ->
         climb: None,
     };
     if let TestTerrain::Step(h) = terrain {
-        report.climb = Some(step_climb(&ev, &arm, h, mu, direction));
+        report.climb = Some(areo_actions::step_climb(&ev, &arm, h, mu, direction));
     }
     match result {
         Ok(e) => {
@@ -225,115 +195,8 @@ fn at(ev: &Evaluator, ground: &impl Ground, heading_deg: f64, arm: &ArmState, mu
         let pose = ev.kinematics().solve(ground, place.x, place.y, place.heading, None).ok();
         (v, pose)
     });
-    let mu_needed = if eval(0.0).is_ok() {
-        Some(0.0)
-    } else if eval(5.0).is_ok() {
-        let (mut lo, mut hi) = (0.0, 5.0);
-        while hi - lo > 1e-4 {
-            let mid = 0.5 * (lo + hi);
-            if eval(mid).is_ok() { hi = mid } else { lo = mid }
-        }
-        Some(hi)
-    } else {
-        None
-    };
+    let mu_needed = areo_actions::least_mu(|mu| eval(mu).is_ok(), 1e-4);
     (result, ground.height(0.0, 0.0).unwrap_or(0.0), mu_needed)
-}
-
-/// The step climb: from the front wheels against a step of height `h` (m), heading
-/// east, a pose every centimetre until the rear wheels are a wheel radius past the edge.
-fn step_climb(ev: &Evaluator, arm: &ArmState, h: f64, mu: f64, direction: f64) -> StepClimb {
-    let p = ev.params();
-    let (a, r) = (p.axle_x_m, p.wheel_radius_m);
-    let x_step = (a.front - a.middle) + r - 1e-6;
-    let ground = Step { x_step, low_m: 0.0, high_m: h };
-    // The rear wheel's axle crosses the edge when the reference point is at
-    // x_step − (rear − middle); a radius beyond, the wheel stands on top.
-    let length = x_step - (a.rear - a.middle) + r;
-    let step_m = 0.01;
-    let n = (length / step_m).ceil() as usize;
-    let mut climb = StepClimb {
-        step_m,
-        poses: 0,
-        distance_m: 0.0,
-        over: false,
-        stop: None,
-        mu_needed: Some(0.0),
-        mu_needed_at_m: 0.0,
-        wheels_on_top_there: String::new(),
-        min_stability_pct: f64::INFINITY,
-        max_pitch_deg: f64::NEG_INFINITY,
-    };
-    let mut warm: Option<Pose> = None;
-    for k in 0..=n {
-        let d = k as f64 * step_m;
-        // Warm-started from the last pose, and cold if that fails: a wheel on the edge of
-        // a step exactly one radius high can lose the warm start's pinned rim sample.
-        let solve = |warm: Option<&Pose>| ev.kinematics().solve(&ground, d, 0.0, std::f64::consts::FRAC_PI_2, warm);
-        let Ok(pose) = solve(warm.as_ref()).or_else(|_| solve(None)) else {
-            if climb.stop.is_none() {
-                climb.distance_m = d;
-            }
-            climb.stop.get_or_insert_with(|| "kinematics".into());
-            climb.mu_needed = None;
-            return climb;
-        };
-        warm = Some(pose);
-        climb.poses += 1;
-        if climb.stop.is_none() {
-            // How far it gets at the checked μ: up to the first pose that fails there
-            // (the poses beyond still count toward the μ the whole climb needs).
-            climb.distance_m = d;
-        }
-        climb.max_pitch_deg = climb.max_pitch_deg.max(pose.pitch.to_degrees());
-        let hold = |mu: f64| ev.evaluate_pose(&ground, &pose, arm, &Conditions { mu, direction });
-        match hold(mu) {
-            Ok(e) => climb.min_stability_pct = climb.min_stability_pct.min(100.0 * e.stability),
-            Err(v) => {
-                let kind = match v {
-                    Violation::TipOver => "tip_over".to_string(),
-                    Violation::Kinematics(_) => "kinematics".to_string(),
-                    Violation::Forces { .. } => {
-                        areo_actions::Failure::Motion(areo_rover::motion::MotionFailure::Violation(v))
-                            .kind()
-                            .to_string()
-                    }
-                };
-                climb.stop.get_or_insert(kind);
-            }
-        }
-        // The least μ that holds this pose, by bisection (holding is monotone in μ).
-        let least = if hold(0.0).is_ok() {
-            Some(0.0)
-        } else if hold(5.0).is_ok() {
-            let (mut lo, mut hi) = (0.0, 5.0);
-            while hi - lo > 1e-3 {
-                let mid = 0.5 * (lo + hi);
-                if hold(mid).is_ok() { hi = mid } else { lo = mid }
-            }
-            Some(hi)
-        } else {
-            None
-        };
-        match (least, climb.mu_needed) {
-            (None, _) => {
-                climb.mu_needed = None;
-                climb.stop.get_or_insert_with(|| "no μ ≤ 5 holds".into());
-                return climb;
-            }
-            (Some(m), Some(worst)) if m > worst || k == 0 => {
-                climb.mu_needed = Some(m);
-                climb.mu_needed_at_m = d;
-                // A wheel is up once its axle has passed the edge.
-                let top = |i: usize| pose.wheels[i].axle[0] >= x_step;
-                let names = ["front", "middle", "rear"];
-                climb.wheels_on_top_there = (0..3).filter(|&i| top(i)).map(|i| names[i]).collect::<Vec<_>>().join(" ");
-            }
-            _ => {}
-        }
-    }
-    climb.over = climb.stop.is_none();
-    climb
 }
 
 fn pose_report(p: &Pose, ground_z: f64) -> PoseReport {

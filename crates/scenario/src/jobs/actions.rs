@@ -229,39 +229,69 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
         let (name, inventory, generations) = (plan.name.clone(), plan.inventory.clone(), plan.ga.generations);
         runs.push(RunResult { name, report, seconds, exec, inventory, generations, study, best });
     }
+    let (sweep, sweep_seeds) = friction_sweeps(job, file, opts, setup, &plans[0].inventory, &sweep, &sweep_seeds)?;
+    opts.progress.finish();
+    let (replay, climb, sensitivity) = studies_without_the_ga(job, setup, &runs[0]);
+    Ok(ActionsReport { filtered, runs, sweep, sweep_seeds, replay, climb, sensitivity })
+}
+
+/// The friction sweep at the GA's seed (`mu_sweep`), and at each seed of
+/// `mu_sweep_seeds` (all of them, the GA's own included, in seed order; empty without).
+#[allow(clippy::type_complexity)]
+fn friction_sweeps(
+    job: &ActionsJob,
+    file: &ScenarioFile,
+    opts: RunOptions<'_>,
+    setup: &Setup,
+    inventory: &Inventory,
+    mus: &[f64],
+    other_seeds: &[u64],
+) -> Result<(Option<(Vec<f64>, FrictionSweep)>, Vec<(u64, FrictionSweep)>)> {
+    if mus.is_empty() {
+        return Ok((None, Vec::new()));
+    }
+    let evaluator = Evaluator::new(&setup.params);
+    let scale = scale_of(setup);
     let sweep_with = |ga: &GaConfig| {
         friction_sweep(
-            dem,
+            &setup.dem,
             &evaluator,
-            task,
-            *execution,
-            &plans[0].inventory,
-            weights,
+            &setup.task,
+            setup.execution,
+            inventory,
+            &setup.weights,
             &scale,
             ga,
-            &sweep,
+            mus,
             job.ditch_far_edge_y_m,
             |_| opts.progress.advance(1),
         )
         .map_err(|e| ga_error(file, e))
     };
-    let (sweep, sweep_seeds) = if sweep.is_empty() {
-        (None, Vec::new())
-    } else {
-        let result = sweep_with(ga)?;
-        let mut seeds = vec![(ga.seed, result.clone())];
-        for &seed in &sweep_seeds {
-            seeds.push((seed, sweep_with(&GaConfig { seed, ..ga.clone() })?));
+    let result = sweep_with(&setup.ga)?;
+    let mut seeds = Vec::new();
+    if let Some((a, b)) = job.mu_sweep_seeds {
+        if (a..=b).contains(&setup.ga.seed) {
+            seeds.push((setup.ga.seed, result.clone()));
+        }
+        for &seed in other_seeds {
+            seeds.push((seed, sweep_with(&GaConfig { seed, ..setup.ga.clone() })?));
         }
         seeds.sort_by_key(|(seed, _)| *seed);
-        if job.mu_sweep_seeds.is_none() {
-            seeds.clear();
-        }
-        (Some((sweep, result)), seeds)
-    };
-    opts.progress.finish();
+    }
+    Ok((Some((mus.to_vec(), result)), seeds))
+}
+
+/// What needs no GA: the first run's best plan replayed over friction, the straight
+/// climb, and the climb with each assumed parameter changed.
+fn studies_without_the_ga(
+    job: &ActionsJob,
+    setup: &Setup,
+    first: &RunResult,
+) -> (Option<FrictionReplay>, Option<ClimbProfile>, Vec<areo_actions::SensitivityRow>) {
+    let Setup { dem, task, params, execution, .. } = setup;
+    let evaluator = Evaluator::new(params);
     let replay = job.mu_replay.map(|range| {
-        let first = &runs[0];
         friction_replay(
             dem,
             &evaluator,
@@ -284,7 +314,7 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
             .collect(),
         None => Vec::new(),
     };
-    Ok(ActionsReport { filtered, runs, sweep, sweep_seeds, replay, climb, sensitivity })
+    (replay, climb, sensitivity)
 }
 
 /// The report's facts and summary lines.
