@@ -268,7 +268,7 @@ fn a_friction_replay_sweep_seeds_or_sensitivity_out_of_range_names_its_field_and
     let path = root().join("scenarios/friction-sweep.ron");
     let base = std::fs::read_to_string(&path).unwrap();
     let (replay, seeds, sweep) =
-        ("mu_replay: (0.30, 0.90, 0.05),", "mu_sweep_seeds: (1, 8),", "mu_sweep: (0.30, 0.90, 0.05),");
+        ("mu_replay: (0.30, 0.90, 0.05),", "mu_sweep_seeds: (1, 8),", "mu_sweep: (0.50, 0.80, 0.05),");
     assert!(base.contains(replay) && base.contains(seeds) && base.contains(sweep));
     assert!(areo_scenario::format::parse(&path, &base).is_ok());
     for (from, to, field, rule) in [
