@@ -57,6 +57,14 @@ pub struct ClimbProfile {
     pub stop_distance_m: f64,
 }
 
+impl ClimbProfile {
+    /// The least of `f` over the poses (those where it is a number; +∞ with none):
+    /// the least margin, or with `f` negated the largest pitch.
+    pub fn least(&self, f: impl Fn(&ClimbPose) -> f64) -> f64 {
+        self.poses.iter().map(f).filter(|v| v.is_finite()).fold(f64::INFINITY, f64::min)
+    }
+}
+
 /// The tool position that repeated 2 cm moves forward (module 1001) reach from the
 /// stowed arm of `evaluator`'s rover.
 pub fn arm_reached_forward(evaluator: &Evaluator) -> ArmState {

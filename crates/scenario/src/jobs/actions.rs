@@ -575,12 +575,9 @@ fn sensitivity_facts(o: &mut Outcome, rows: &[areo_actions::SensitivityRow]) {
                     o.number(&format!("{key}_last_pitch_deg"), last.pitch_deg);
                     o.number(&format!("{key}_last_margin_stowed"), last.stowed.margin);
                     o.number(&format!("{key}_last_margin_forward"), last.forward.margin);
-                    let least = |f: &dyn Fn(&areo_actions::ClimbPose) -> f64| {
-                        p.poses.iter().map(f).filter(|v| v.is_finite()).fold(f64::INFINITY, f64::min)
-                    };
-                    o.number(&format!("{key}_min_margin_stowed"), least(&|q| q.stowed.margin));
-                    o.number(&format!("{key}_min_margin_forward"), least(&|q| q.forward.margin));
-                    o.number(&format!("{key}_max_pitch_deg"), -least(&|q| -q.pitch_deg));
+                    o.number(&format!("{key}_min_margin_stowed"), p.least(|q| q.stowed.margin));
+                    o.number(&format!("{key}_min_margin_forward"), p.least(|q| q.forward.margin));
+                    o.number(&format!("{key}_max_pitch_deg"), -p.least(|q| -q.pitch_deg));
                 }
                 o.summary.push(format!(
                     "{} = {}: straight climb {} after {:.2} m{}",
@@ -628,9 +625,6 @@ impl SensitivityCsvRow {
             SensitivityCsvRow { parameter: row.parameter.field().to_string(), value: row.value, ..Default::default() };
         match &row.profile {
             Ok(p) => {
-                let min = |f: &dyn Fn(&areo_actions::ClimbPose) -> f64| {
-                    p.poses.iter().map(f).filter(|v| v.is_finite()).fold(f64::INFINITY, f64::min)
-                };
                 out.stop = p.stop.unwrap_or("none").to_string();
                 out.stop_distance_m = Some(Fixed(p.stop_distance_m));
                 if let Some(last) = p.poses.last() {
@@ -639,8 +633,8 @@ impl SensitivityCsvRow {
                     out.last_margin_forward = Some(Fixed(last.forward.margin));
                     out.arm_keeps_it_standing = Some(u8::from(p.stop == Some("tip_over") && last.forward.margin > 0.0));
                 }
-                out.min_margin_stowed = Some(Fixed(min(&|q| q.stowed.margin)));
-                out.min_margin_forward = Some(Fixed(min(&|q| q.forward.margin)));
+                out.min_margin_stowed = Some(Fixed(p.least(|q| q.stowed.margin)));
+                out.min_margin_forward = Some(Fixed(p.least(|q| q.forward.margin)));
             }
             Err(e) => out.stop = format!("refused: {e}"),
         }
@@ -659,12 +653,11 @@ fn climb_facts(o: &mut Outcome, profile: &ClimbProfile) {
     o.number("climb_last_pitch_deg", last.pitch_deg);
     o.number("climb_last_margin_stowed", last.stowed.margin);
     o.number("climb_last_margin_forward", last.forward.margin);
-    let min = |f: &dyn Fn(&areo_actions::ClimbPose) -> f64| profile.poses.iter().map(f).fold(f64::INFINITY, f64::min);
     let max =
         |f: &dyn Fn(&areo_actions::ClimbPose) -> f64| profile.poses.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
     o.number("climb_max_pitch_deg", max(&|p| p.pitch_deg));
-    o.number("climb_min_margin_stowed", min(&|p| p.stowed.margin));
-    o.number("climb_min_margin_forward", min(&|p| p.forward.margin));
+    o.number("climb_min_margin_stowed", profile.least(|p| p.stowed.margin));
+    o.number("climb_min_margin_forward", profile.least(|p| p.forward.margin));
     o.number("climb_max_margin_gain", max(&|p| p.forward.margin - p.stowed.margin));
     let front = profile.poses.iter().map(|p| p.stowed.front_load_fraction).filter(|f| f.is_finite());
     o.number("climb_min_front_load_stowed", front.fold(f64::INFINITY, f64::min));
@@ -680,8 +673,8 @@ fn climb_facts(o: &mut Outcome, profile: &ClimbProfile) {
         last.stowed.margin,
         last.forward.margin,
         profile.forward_tool_m[0],
-        min(&|p| p.stowed.margin),
-        min(&|p| p.forward.margin),
+        profile.least(|p| p.stowed.margin),
+        profile.least(|p| p.forward.margin),
     ));
 }
 
