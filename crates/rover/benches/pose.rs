@@ -77,6 +77,25 @@ fn pose(c: &mut Criterion) {
             places.iter().map(|p| ev.evaluate(&dem, *p, &arm, &cond, None).expect("admissible").stability).sum::<f64>()
         })
     });
+    // The same move by the same rover with its bogie turned behind (the MER/MSL
+    // layout), solved as the mirror image: what the two flips and the turned force
+    // balance cost.
+    let mut turned = params.clone();
+    turned.bogie_pivot_m.x = -turned.bogie_pivot_m.x;
+    let ev_turned = Evaluator::new(&turned);
+    let start_turned = ev_turned.evaluate(&dem, before, &arm, &cond, None).expect("admissible").pose;
+    g.bench_function("evaluate_warm_rough_dem_bogie_behind", |b| {
+        b.iter(|| {
+            let mut warm = Some(start_turned);
+            let mut s = 0.0;
+            for p in &places {
+                let e = ev_turned.evaluate(&dem, *p, &arm, &cond, warm.as_ref()).expect("admissible");
+                s += e.stability;
+                warm = Some(e.pose);
+            }
+            s
+        })
+    });
     g.finish();
 }
 

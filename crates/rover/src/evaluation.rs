@@ -290,13 +290,19 @@ impl Evaluator {
             if worst_lateral >= cond.mu {
                 return Err(Violation::Forces { side: k, failure: ForceFailure::Slip, stability });
             }
+            // The force balance knows the bogie-in-front chain: a bogie-behind rover's
+            // side is solved as its mirror image (driving the other way, the couple's
+            // nose at the other end) and its forces turned back.
+            let mirror = self.kinematics.mirrored();
+            let sign = if mirror { -1.0 } else { 1.0 };
+            let chain = if mirror { side.mirrored() } else { *side };
             let contacts = SideContacts {
-                axles: side.axles,
-                gamma_sin_cos: side.gamma_sin_cos(),
-                bogie_pivot: side.bogie_pivot,
-                rocker_pivot: side.rocker_pivot,
+                axles: chain.axles,
+                gamma_sin_cos: chain.gamma_sin_cos(),
+                bogie_pivot: chain.bogie_pivot,
+                rocker_pivot: chain.rocker_pivot,
                 load_n: loads[k],
-                couple_nm: couple,
+                couple_nm: sign * couple,
                 wheel_radius_m: p.wheel_radius_m,
             };
             let limits = Limits {
@@ -304,13 +310,14 @@ impl Evaluator {
                 torque_max_nm: p.wheel_torque_max_nm,
                 n_min: 0.0,
                 rolling_resistance: p.rolling_resistance,
-                direction: cond.direction,
+                direction: sign * cond.direction,
             };
             let f = forces::solve(&contacts, &limits).map_err(|failure| Violation::Forces {
                 side: k,
                 failure,
                 stability,
             })?;
+            let f = if mirror { f.mirrored() } else { f };
             friction_used = friction_used.max(f.friction_used.hypot(worst_lateral));
             sides[k] = Some(f);
         }

@@ -84,6 +84,21 @@ pub struct SideForces {
     pub friction_used: f64,
 }
 
+impl SideForces {
+    /// The same forces described for the rover turned end for end: front and rear
+    /// swap, tractive forces and torques (signed along the direction of travel) change
+    /// sign.
+    pub fn mirrored(&self) -> SideForces {
+        let turn = |a: [f64; 3], k: f64| [k * a[2], k * a[1], k * a[0]];
+        SideForces {
+            normal_n: turn(self.normal_n, 1.0),
+            traction_n: turn(self.traction_n, -1.0),
+            torque_nm: turn(self.torque_nm, -1.0),
+            ..*self
+        }
+    }
+}
+
 /// Why no admissible forces exist.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum ForceFailure {

@@ -20,6 +20,10 @@
 //! safeguarded Newton iteration that lands on such a segment when the closure circle
 //! crosses it (the axle is then on the wall face, contact normal horizontal).
 //!
+//! A bogie-behind rover ([`Layout::BogieRear`], MER) is the same chain turned end for
+//! end: [`Kinematics::solve`] solves it heading the other way with left and right
+//! swapped and hands back the pose in the rover's own frame ([`SidePose::mirrored`]).
+//!
 //! Frames: map x east, y north, z up (m); heading is an azimuth clockwise from north.
 //! In each side plane, s runs forward from the reference point and z up.
 
@@ -27,7 +31,7 @@ use areo_terrain::Ground;
 use nalgebra::{Matrix3, Vector3};
 
 use crate::math::Attitude;
-use crate::params::RoverParams;
+use crate::params::{Axles, Layout, RoverParams};
 
 /// Samples across a wheel's diameter for the dilated terrain: 25 samples, 8 mm apart
 /// for a 20 cm wheel.
@@ -41,6 +45,19 @@ pub enum Anchor {
     MiddleMidpoint,
     /// The middle-right axle, as in the paper.
     MiddleRight,
+    /// The middle-left axle.
+    MiddleLeft,
+}
+
+impl Anchor {
+    /// The same point seen from the rover turned end for end (left and right swap).
+    fn mirrored(self) -> Anchor {
+        match self {
+            Anchor::MiddleMidpoint => Anchor::MiddleMidpoint,
+            Anchor::MiddleRight => Anchor::MiddleLeft,
+            Anchor::MiddleLeft => Anchor::MiddleRight,
+        }
+    }
 }
 
 /// One side's planar solution in its wheel plane (s forward from the reference point,
@@ -59,7 +76,8 @@ pub struct SidePose {
     pub rocker_pivot: (f64, f64),
     /// Rocker pitch relative to its flat-ground orientation, rad (nose up positive).
     pub rocker_pitch: f64,
-    /// Bogie pitch relative to the rocker's, rad (front wheel up positive).
+    /// Bogie pitch relative to the rocker's, rad (the bogie's forward end up positive:
+    /// its front wheel on the paper's rover, its middle wheel on a bogie-behind one).
     pub bogie_angle: f64,
     /// Angle of bogie pivot → rocker pivot above the rearward horizontal, rad (the
     /// paper's α1 on the right side, α3 on the left).
@@ -85,6 +103,33 @@ impl SidePose {
     /// (sin γ, cos γ) of the contact angles, front to rear.
     pub fn gamma_sin_cos(&self) -> [(f64, f64); 3] {
         self.gamma_sc
+    }
+
+    /// The same side seen from the rover turned end for end: s runs the other way, the
+    /// front and rear wheels swap, angles measured from ahead change sign. Applying it
+    /// twice gives the side back exactly.
+    pub fn mirrored(&self) -> SidePose {
+        let flip = |p: (f64, f64)| (-p.0, p.1);
+        let turn3 = |a: [(f64, f64); 3]| [flip(a[2]), flip(a[1]), flip(a[0])];
+        SidePose {
+            axles: turn3(self.axles),
+            contacts: turn3(self.contacts),
+            gamma: [-self.gamma[2], -self.gamma[1], -self.gamma[0]],
+            bogie_pivot: flip(self.bogie_pivot),
+            rocker_pivot: flip(self.rocker_pivot),
+            rocker_pitch: -self.rocker_pitch,
+            bogie_angle: -self.bogie_angle,
+            // The paper's angles belong to its bogie-in-front chain; they stay as the
+            // mirror image measures them.
+            rocker_alpha: self.rocker_alpha,
+            bogie_alpha: self.bogie_alpha,
+            origin: self.origin,
+            shift: -self.shift,
+            plane_z: self.plane_z,
+            // Rim samples run from −r to +r along s: sample k becomes sample N − k.
+            pins: [WHEEL_SAMPLES - self.pins[2], WHEEL_SAMPLES - self.pins[1], WHEEL_SAMPLES - self.pins[0]],
+            gamma_sc: [2, 1, 0].map(|i| (-self.gamma_sc[i].0, self.gamma_sc[i].1)),
+        }
     }
 }
 
@@ -129,6 +174,28 @@ pub struct Pose {
 }
 
 impl Pose {
+    /// The same pose described for the rover turned end for end: heading turned by π,
+    /// pitch and roll negated, left and right and front and rear swapped (the map-frame
+    /// geometry is unchanged). Applying it twice gives the pose back exactly, except the
+    /// heading, which comes back turned by 2π.
+    fn mirrored(&self) -> Pose {
+        let w = self.wheels;
+        Pose {
+            left: self.right.mirrored(),
+            right: self.left.mirrored(),
+            heading: self.heading + std::f64::consts::PI,
+            pitch: -self.pitch,
+            roll: -self.roll,
+            body: self.body,
+            pivots: [self.pivots[1], self.pivots[0]],
+            alpha: [self.alpha[2], self.alpha[3], self.alpha[0], self.alpha[1]],
+            wheels: [w[5], w[4], w[3], w[2], w[1], w[0]],
+            at: (self.at.0, self.at.1, self.at.2 + std::f64::consts::PI),
+            // Only the bogie-in-front solver reads it, always in its own description.
+            inverse_jacobian: self.inverse_jacobian,
+        }
+    }
+
     /// The anchor position (m, map frame) and heading (rad) this pose was solved for.
     pub fn solved_at(&self) -> (f64, f64, f64) {
         self.at
@@ -250,6 +317,9 @@ pub struct Kinematics {
     rear_chord_angle: f64,
     /// Which point the input names.
     pub anchor: Anchor,
+    /// A bogie-behind rover ([`Layout::BogieRear`]), solved as the mirror image: the
+    /// fields above describe the rover turned end for end.
+    mirror: bool,
 }
 
 mod newton;
@@ -281,10 +351,14 @@ impl Kinematics {
     pub fn new(params: &RoverParams) -> Kinematics {
         let r = params.wheel_radius_m;
         let a = params.axle_x_m;
+        // A bogie-behind rover turned end for end (x → −x) has its bogie in front.
+        let mirror = params.layout() == Layout::BogieRear;
+        let (k, a) =
+            if mirror { (-1.0, Axles { front: -a.rear, middle: -a.middle, rear: -a.front }) } else { (1.0, a) };
         let front = (a.front - a.middle, 0.0);
-        let pivot = (params.bogie_pivot_m.x - a.middle, params.bogie_pivot_m.z - r);
+        let pivot = (k * params.bogie_pivot_m.x - a.middle, params.bogie_pivot_m.z - r);
         let rear = (a.rear - a.middle, 0.0);
-        let rocker = (params.rocker_pivot_m.x - a.middle, params.rocker_pivot_m.z - r);
+        let rocker = (k * params.rocker_pivot_m.x - a.middle, params.rocker_pivot_m.z - r);
         let mut u = [0.0; WHEEL_SAMPLES + 1];
         let mut rise = [0.0; WHEEL_SAMPLES + 1];
         for k in 0..=WHEEL_SAMPLES {
@@ -316,7 +390,13 @@ impl Kinematics {
             front_angle: front.1.atan2(front.0),
             rear_chord_angle: (rear.1 - pivot.1).atan2(rear.0 - pivot.0),
             anchor: Anchor::default(),
+            mirror,
         }
+    }
+
+    /// Whether this rover is solved as its mirror image (bogie behind, [`Layout::BogieRear`]).
+    pub fn mirrored(&self) -> bool {
+        self.mirror
     }
 
     /// The pose with the anchor at (x, y) (m, map frame) and heading `heading` (rad,
@@ -330,6 +410,27 @@ impl Kinematics {
         y: f64,
         heading: f64,
         warm: Option<&Pose>,
+    ) -> Result<Pose, KinematicsFailure> {
+        if !self.mirror {
+            return self.solve_bogie_front(ground, x, y, heading, warm, self.anchor);
+        }
+        // The rover turned end for end faces the other way; its left is our right.
+        let warm = warm.map(Pose::mirrored);
+        let turned = heading + std::f64::consts::PI;
+        let mut pose = self.solve_bogie_front(ground, x, y, turned, warm.as_ref(), self.anchor.mirrored())?.mirrored();
+        (pose.heading, pose.at) = (heading, (x, y, heading));
+        Ok(pose)
+    }
+
+    /// [`Kinematics::solve`] for the bogie-in-front chain this model holds.
+    fn solve_bogie_front(
+        &self,
+        ground: &impl Ground,
+        x: f64,
+        y: f64,
+        heading: f64,
+        warm: Option<&Pose>,
+        anchor: Anchor,
     ) -> Result<Pose, KinematicsFailure> {
         let (fx, fy) = (heading.sin(), heading.cos());
         let (lx, ly) = (-heading.cos(), heading.sin());
@@ -364,9 +465,10 @@ impl Kinematics {
         const PASSES: usize = 24;
         for pass in 0..PASSES {
             let (c, t) = (roll.cos(), roll.tan());
-            let (ol, or) = match self.anchor {
+            let (ol, or) = match anchor {
                 Anchor::MiddleMidpoint => (0.5 * self.track * c, -0.5 * self.track * c),
                 Anchor::MiddleRight => (self.track * c, 0.0),
+                Anchor::MiddleLeft => (0.0, -self.track * c),
             };
             let origin_l = (x + lx * ol + fx * shift.0, y + ly * ol + fy * shift.0);
             let origin_r = (x + lx * or + fx * shift.1, y + ly * or + fy * shift.1);
@@ -411,9 +513,10 @@ impl Kinematics {
             let sin_roll = ((left.rocker_pivot.1 - right.rocker_pivot.1) / self.track).clamp(-1.0, 1.0);
             let g = sin_roll.asin();
             let (pl, pr) = (left.rocker_pivot.0, right.rocker_pivot.0);
-            let new_shift = match self.anchor {
+            let new_shift = match anchor {
                 Anchor::MiddleMidpoint => (0.5 * (pr - pl), 0.5 * (pl - pr)),
                 Anchor::MiddleRight => (pr - pl, 0.0),
+                Anchor::MiddleLeft => (0.0, pl - pr),
             };
             // Settled: the shifts to 10 µm and the roll to 5e-5 rad (0.003°; the sides
             // then sit within ~3 µm of where the reported roll puts them), far below the
@@ -460,9 +563,10 @@ impl Kinematics {
             }
             guess = Some((axle_s(&left), axle_s(&right)));
             roll += step.x;
-            shift = match self.anchor {
+            shift = match anchor {
                 Anchor::MiddleMidpoint => (shift.0 + step.y, shift.1 + step.z),
                 Anchor::MiddleRight => (shift.0 + step.y, 0.0),
+                Anchor::MiddleLeft => (0.0, shift.1 + step.z),
             };
         }
         let (left, right) = sides.ok_or(KinematicsFailure::NoClosure)?;

@@ -7,8 +7,10 @@
 //! battery, electronics loads) used by areo-mission.
 //!
 //! Main types: [`RoverParams`] (the LSR-1 parameter set shipped as `params/lsr1.ron`,
-//! every value with its source or assumption, loaded with range and geometry
-//! validation) and [`Geometry`] (the paper's loop-closure form, l1..l4, α1, α2);
+//! with Sojourner-class and MER-class files beside it, every value with its source or
+//! assumption, loaded with range and geometry validation; [`Layout`]: the bogie in front
+//! as on the LSR-1, or behind as on MER, solved as the mirror image) and [`Geometry`]
+//! (the paper's loop-closure form, l1..l4, α1, α2);
 //! [`kinematics::Kinematics`] (pose on any `Ground`: planar decomposition with the
 //! footprint correction, plus [`kinematics::newton_pose`] as a cross-check);
 //! [`forces`] (per-side quasi-static forces, power-optimal torques under friction,
@@ -45,6 +47,7 @@ pub mod stability;
 pub use crate::{
     error::{Error, MAX_NESTING, Result, ron_options, too_deep},
     params::{
-        Activities, Arm, Assumed, Axles, Battery, BodyPoint, Drive, Geometry, LSR1_RON, RoverParams, SidePoint, Solar,
+        Activities, Arm, Assumed, Axles, Battery, BodyPoint, Drive, Geometry, LSR1_RON, Layout, RoverParams, SidePoint,
+        Solar,
     },
 };

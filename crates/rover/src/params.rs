@@ -384,14 +384,26 @@ impl RoverParams {
             );
         }
         let (p, b) = (self.bogie_pivot_m, self.rocker_pivot_m);
-        if !(p.x > a.middle && p.x < a.front) {
-            return fail("bogie_pivot_m.x", p.x, "must lie between the middle and front axles".into());
+        if !((p.x > a.middle && p.x < a.front) || (p.x > a.rear && p.x < a.middle)) {
+            return fail(
+                "bogie_pivot_m.x",
+                p.x,
+                "must lie between the middle and front axles (bogie in front, as on LSR-1 and Sojourner) \
+                 or between the rear and middle axles (bogie behind, as on MER and MSL)"
+                    .into(),
+            );
         }
         if !(p.z > r) {
             return fail("bogie_pivot_m.z", p.z, format!("must be above the axles (z > r = {r})"));
         }
-        if !(b.x > a.rear && b.x < p.x) {
-            return fail("rocker_pivot_m.x", b.x, "must lie between the rear axle and the bogie pivot".into());
+        match self.layout() {
+            Layout::BogieFront if !(b.x > a.rear && b.x < p.x) => {
+                return fail("rocker_pivot_m.x", b.x, "must lie between the rear axle and the bogie pivot".into());
+            }
+            Layout::BogieRear if !(b.x > p.x && b.x < a.front) => {
+                return fail("rocker_pivot_m.x", b.x, "must lie between the bogie pivot and the front axle".into());
+            }
+            _ => {}
         }
         if !(b.z > p.z) {
             return fail("rocker_pivot_m.z", b.z, "must be above the bogie pivot".into());
@@ -430,13 +442,36 @@ impl RoverParams {
     pub fn geometry(&self) -> Geometry {
         Geometry::of(self)
     }
+
+    /// Which pair of wheels rides the bogie: the front and middle ones (LSR-1, Sojourner)
+    /// when the bogie pivot is ahead of the middle axles, else the middle and rear ones
+    /// (MER, MSL).
+    pub fn layout(&self) -> Layout {
+        if self.bogie_pivot_m.x > self.axle_x_m.middle { Layout::BogieFront } else { Layout::BogieRear }
+    }
+}
+
+/// Where a rocker-bogie's bogie sits. The two layouts are one mechanism turned end for
+/// end: a bogie-behind rover driving forward is the mirror image of a bogie-in-front
+/// rover driving backward, which is how [`crate::kinematics`] and
+/// [`crate::evaluation`] solve it (the results come back in the rover's own frame).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Layout {
+    /// The bogie carries the front and middle wheels, the rocker the rear ones (the
+    /// paper's LSR-1; Sojourner).
+    BogieFront,
+    /// The bogie carries the middle and rear wheels, the rocker the front ones (MER,
+    /// MSL, Mars 2020).
+    BogieRear,
 }
 
 /// The side-view rocker-bogie geometry in Farritor et al.'s form (their eqs. 2–7):
 /// l3, l4 place the middle axle relative to the front one in the frame of the bogie
 /// line (front axle → bogie pivot, angle α2 above the rearward horizontal); l1, l2 place
 /// the rear axle relative to the bogie pivot in the frame of the rocker line (bogie
-/// pivot → rocker pivot, angle α1). Lengths in m, angles in radians.
+/// pivot → rocker pivot, angle α1). Lengths in m, angles in radians. On a bogie-behind rover (MER)
+/// the same names describe the mirror image: "front" is the rear wheel, at the bogie's free
+/// end, and "rear" the front wheel, on the rocker.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Geometry {
     /// Rocker loop-closure lengths, m.
@@ -462,12 +497,20 @@ pub struct Geometry {
 impl Geometry {
     fn of(p: &RoverParams) -> Geometry {
         let r = p.wheel_radius_m;
-        // Side view with the rearward coordinate s = −x.
-        let f = (-p.axle_x_m.front, r);
-        let m = (-p.axle_x_m.middle, r);
-        let rear = (-p.axle_x_m.rear, r);
-        let piv = (-p.bogie_pivot_m.x, p.bogie_pivot_m.z);
-        let b = (-p.rocker_pivot_m.x, p.rocker_pivot_m.z);
+        // Side view with s running from the bogie's end to the rocker's end (s = −x on
+        // the paper's rover; a bogie-behind rover is its mirror image, s = x): "front"
+        // below is the wheel at the bogie's free end.
+        let (k, a) = match p.layout() {
+            Layout::BogieFront => (-1.0, p.axle_x_m),
+            Layout::BogieRear => {
+                (1.0, Axles { front: p.axle_x_m.rear, middle: p.axle_x_m.middle, rear: p.axle_x_m.front })
+            }
+        };
+        let f = (k * a.front, r);
+        let m = (k * a.middle, r);
+        let rear = (k * a.rear, r);
+        let piv = (k * p.bogie_pivot_m.x, p.bogie_pivot_m.z);
+        let b = (k * p.rocker_pivot_m.x, p.rocker_pivot_m.z);
         let sub = |a: (f64, f64), b: (f64, f64)| (a.0 - b.0, a.1 - b.1);
         let dot = |a: (f64, f64), b: (f64, f64)| a.0 * b.0 + a.1 * b.1;
         let norm = |a: (f64, f64)| a.0.hypot(a.1);

@@ -1,4 +1,5 @@
 //! areo-rover integration tests.
 
+mod bogie_behind;
 mod params;
 mod physics;

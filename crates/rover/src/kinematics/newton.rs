@@ -5,7 +5,7 @@ use areo_terrain::Ground;
 use nalgebra::{SMatrix, SVector};
 
 use super::{Anchor, Kinematics, Pose, WHEEL_SAMPLES};
-use crate::params::RoverParams;
+use crate::params::{Layout, RoverParams};
 
 /// The full 3-D solution of a damped Newton iteration, for cross-checking.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -18,7 +18,8 @@ pub struct NewtonPose {
     pub roll: f64,
     /// Rocker angle relative to the body (left +ρ, right −ρ), rad.
     pub rocker: f64,
-    /// Bogie angles relative to their rockers, left and right, rad.
+    /// Bogie angles relative to their rockers, left and right, rad (the bogie's forward
+    /// end up positive).
     pub bogie: [f64; 2],
     /// Axle centres, left front, middle, rear, right front, middle, rear, map frame, m.
     pub axles: [[f64; 3]; 6],
@@ -54,6 +55,7 @@ pub fn newton_pose(
     let f0 = rel(a.front, r);
     let m0 = rel(a.middle, r);
     let r0 = rel(a.rear, r);
+    let bogie_front = params.layout() == Layout::BogieFront;
     let (fx, fy) = (heading.sin(), heading.cos());
     let (lx, ly) = (-heading.cos(), heading.sin());
     let half = params.track_m / 2.0;
@@ -72,7 +74,11 @@ pub fn newton_pose(
                 let d = rot((v.0 - p0.0, v.1 - p0.1), a_s + beta);
                 (piv.0 + d.0, piv.1 + d.1)
             };
-            for (i, v) in [bogie(f0), bogie(m0), rot(r0, a_s)].into_iter().enumerate() {
+            // The chain as built, in the rover's own frame (no mirror image here, so the
+            // planar solver's handling of a bogie-behind rover is checked independently).
+            let wheels =
+                if bogie_front { [bogie(f0), bogie(m0), rot(r0, a_s)] } else { [rot(f0, a_s), bogie(m0), bogie(r0)] };
+            for (i, v) in wheels.into_iter().enumerate() {
                 // Body frame (v.0, y_s, v.1): roll about x, then pitch (nose up), then yaw.
                 let (bx, by, bz) = (v.0, y_s * cr - v.1 * sr, y_s * sr + v.1 * cr);
                 let (px, pz) = (bx * cp - bz * sp, bx * sp + bz * cp);
@@ -108,6 +114,7 @@ pub fn newton_pose(
         let (ax_x, ax_y) = match k.anchor {
             Anchor::MiddleMidpoint => (0.5 * (ml.0 + mr.0), 0.5 * (ml.1 + mr.1)),
             Anchor::MiddleRight => mr,
+            Anchor::MiddleLeft => ml,
         };
         f[6] = ax_x - x;
         f[7] = ax_y - y;
