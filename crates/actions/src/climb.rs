@@ -247,10 +247,9 @@ pub fn step_climb(ev: &Evaluator, arm: &ArmState, h: f64, mu: f64, direction: f6
     let mut warm: Option<Pose> = None;
     for k in 0..=n {
         let d = k as f64 * step_m;
-        // Warm-started from the last pose, and cold if that fails: a wheel on the edge of
-        // a step exactly one radius high can lose the warm start's pinned rim sample.
-        let solve = |warm: Option<&Pose>| ev.kinematics().solve(&ground, d, 0.0, std::f64::consts::FRAC_PI_2, warm);
-        let Ok(pose) = solve(warm.as_ref()).or_else(|_| solve(None)) else {
+        // Warm-started from the last pose (the solver falls back to cold by itself).
+        let solved = ev.kinematics().solve(&ground, d, 0.0, std::f64::consts::FRAC_PI_2, warm.as_ref());
+        let Ok(pose) = solved else {
             if climb.stop.is_none() {
                 climb.distance_m = d;
             }
