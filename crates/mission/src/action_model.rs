@@ -63,18 +63,28 @@ impl Action {
     }
 }
 
-/// How an executed action departs from the model: the simulation's execution noise.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// How an action departs from the nominal model: the simulation's execution noise, or
+/// (as [`ActionModel::with_margins`]) the pessimistic model a chance-constrained plan
+/// is made with.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Perturbation {
     /// Drive durations are multiplied by this (≥ 1: slower than planned).
     pub duration_factor: f64,
     /// Solar input is multiplied by this (≤ 1: dust, haze, a poorly pointed array).
     pub solar_factor: f64,
+    /// Electrical loads (locomotion and electronics) are multiplied by this (≥ 1:
+    /// hungrier than modelled).
+    pub draw_factor: f64,
 }
 
 impl Perturbation {
     /// Execution exactly as modelled.
-    pub const NONE: Perturbation = Perturbation { duration_factor: 1.0, solar_factor: 1.0 };
+    pub const NONE: Perturbation = Perturbation { duration_factor: 1.0, solar_factor: 1.0, draw_factor: 1.0 };
+
+    /// Slower drives and less sunlight only (the simulation's noise).
+    pub fn drive_and_solar(duration_factor: f64, solar_factor: f64) -> Perturbation {
+        Perturbation { duration_factor, solar_factor, draw_factor: 1.0 }
+    }
 }
 
 /// Local constraints of one action (Table 4), each on or off.
@@ -230,6 +240,8 @@ pub struct ActionModel {
     sessions: Vec<(f64, f64)>,
     /// Whether a session needs the Earth in view from where the rover stands.
     sessions_need_earth: bool,
+    /// The planning margins every modelled action carries ([`ActionModel::with_margins`]).
+    margins: Perturbation,
 }
 
 /// A drive's time-independent part: where it ends, how long it takes, its slope and
@@ -263,7 +275,37 @@ impl ActionModel {
             tilt_sin_cos,
             sessions: Vec::new(),
             sessions_need_earth: false,
+            margins: Perturbation::NONE,
         }
+    }
+
+    /// The same model with every action made worse by `margins` (drives slower, loads
+    /// hungrier, sunlight weaker), so that a plan made with it holds for executions
+    /// that depart from the nominal model by no more than that: how a chance-constrained
+    /// plan is made ([`crate::uncertainty`]). Only worsening margins are accepted
+    /// (duration and draw factors ≥ 1, solar factor in 0..=1), so every lower bound the
+    /// search uses on the nominal model stays a lower bound.
+    pub fn with_margins(mut self, margins: Perturbation) -> ActionModel {
+        let ok = margins.duration_factor >= 1.0
+            && margins.draw_factor >= 1.0
+            && (0.0..=1.0).contains(&margins.solar_factor)
+            && margins.duration_factor.is_finite()
+            && margins.draw_factor.is_finite();
+        debug_assert!(ok, "margins must worsen the model: {margins:?}");
+        if ok {
+            self.margins = margins;
+        }
+        self
+    }
+
+    /// The planning margins (none unless [`ActionModel::with_margins`] set them).
+    pub fn margins(&self) -> Perturbation {
+        self.margins
+    }
+
+    /// This model without planning margins: how actions are executed.
+    pub fn nominal(&self) -> ActionModel {
+        ActionModel { margins: Perturbation::NONE, ..self.clone() }
     }
 
     /// Schedules Communicate sessions (start, end), s after the epoch: during each the
@@ -361,8 +403,10 @@ impl ActionModel {
         let loco = &self.rover.locomotor;
         let speed = loco.speed_on_slope_m_s(slope);
         let length = (run * run + rise * rise).sqrt();
-        let load_w = loco.power_on_w(speed, rise / length, run / length) + self.rover.electronics.power_w(Load::High);
-        Ok(DriveGeometry { to, duration_s: self.quantise_time(length / speed), slope_deg: slope, load_w })
+        let load_w = (loco.power_on_w(speed, rise / length, run / length) + self.rover.electronics.power_w(Load::High))
+            * self.margins.draw_factor;
+        let duration_s = self.quantise_time(length / speed * self.margins.duration_factor);
+        Ok(DriveGeometry { to, duration_s, slope_deg: slope, load_w })
     }
 
     /// The drive from `from` to neighbour `k` starting at `t0`.
@@ -443,6 +487,7 @@ impl ActionModel {
         p: Perturbation,
     ) -> Result<(u32, Effect), Binding> {
         let duration = duration_s * p.duration_factor;
+        let load = load * p.draw_factor;
         let t1 = t0 + duration;
         // The same slack as the backward transition (`drive_into`), so that a planned
         // drive replays forward.
@@ -459,8 +504,11 @@ impl ActionModel {
             self.check(world, rules, cell, sun, Some(heading))?;
         }
         let lit = |cell: u32, sun: &Sun| self.rover.solar.is_some() && world.lit(cell, sun);
-        let p0 = load - p.solar_factor * self.drive_source_lit_w(world, from, &s0, k, lit(from, &s0));
-        let p1 = load - p.solar_factor * self.drive_source_lit_w(world, to, &s1, k, lit(to, &s1));
+        // The noise dims the array, not a generator.
+        let nuclear = self.rover.nuclear_w;
+        let source = |w: f64| nuclear + p.solar_factor * (w - nuclear);
+        let p0 = load - source(self.drive_source_lit_w(world, from, &s0, k, lit(from, &s0)));
+        let p1 = load - source(self.drive_source_lit_w(world, to, &s1, k, lit(to, &s1)));
         let e = self.battery_wh(p0, duration / 2.0) + self.battery_wh(p1, duration / 2.0);
         Ok((to, Effect { duration_s: duration, energy_wh: self.quantise_energy(e) }))
     }
@@ -518,7 +566,8 @@ impl ActionModel {
         if !world.passable(cell) {
             return Err(Binding::Blocked);
         }
-        let load_w = self.rover.electronics.power_w(load);
+        let draw = self.margins.draw_factor * perturbation.draw_factor;
+        let load_w = self.rover.electronics.power_w(load) * draw;
         if self.sessions_need_earth {
             // Each overlapping session's part inside the action, at its ends and every
             // ten minutes between (the Earth moves 0.5°/h at most in the lunar sky).
@@ -539,12 +588,15 @@ impl ActionModel {
             self.check(world, rules, cell, &sun, None)?;
             // A hibernating rover sleeps with its array off-line (Table 3 lists no power
             // source for Hibernate): only a generator feeds it.
+            let nuclear = self.rover.nuclear_w;
             let source = match action {
-                Action::Charge => perturbation.solar_factor * self.source_w(world, cell, &sun, None),
-                _ => self.rover.nuclear_w,
+                Action::Charge => {
+                    nuclear + perturbation.solar_factor * (self.source_w(world, cell, &sun, None) - nuclear)
+                }
+                _ => nuclear,
             };
             let load_w =
-                if self.in_session(t) { load_w.max(self.rover.electronics.power_w(Load::High)) } else { load_w };
+                if self.in_session(t) { load_w.max(self.rover.electronics.power_w(Load::High) * draw) } else { load_w };
             let p = load_w - source;
             if let Some(q) = prev {
                 e += self.battery_wh(0.5 * (p + q), duration / n as f64);
@@ -593,13 +645,13 @@ impl ActionModel {
                 self.level_normals[k as usize % 8],
                 world.normal(cell),
             );
-            p += array.power_w(sun.beam_w_m2, sun.enu, n, false);
+            p += self.margins.solar_factor * array.power_w(sun.beam_w_m2, sun.enu, n, false);
         }
         p
     }
 
-    /// Power from the array (if lit) and any generator, W. With no heading the array
-    /// is turned to face the Sun.
+    /// Power from the array (if lit, times the planning margin's solar factor) and any
+    /// generator, W. With no heading the array is turned to face the Sun.
     pub fn source_w(&self, world: &World, cell: u32, sun: &Sun, heading: Option<f64>) -> f64 {
         let mut p = self.rover.nuclear_w;
         if let Some(array) = &self.rover.solar
@@ -616,7 +668,7 @@ impl ActionModel {
                 }
             };
             let n = areo_rover::resources::SolarArray::tipped_normal_enu(level, world.normal(cell));
-            p += array.power_w(sun.beam_w_m2, sun.enu, n, false);
+            p += self.margins.solar_factor * array.power_w(sun.beam_w_m2, sun.enu, n, false);
         }
         p
     }
@@ -624,7 +676,8 @@ impl ActionModel {
     /// Battery energy drawn by idling for `duration_s` (asleep at the hibernation load,
     /// array off-line): how a rover waits for its plan's start, Wh.
     pub fn idle_wh(&self, duration_s: f64) -> f64 {
-        self.battery_wh(self.rover.electronics.power_w(Load::Low) - self.rover.nuclear_w, duration_s.max(0.0))
+        let load = self.rover.electronics.power_w(Load::Low) * self.margins.draw_factor;
+        self.battery_wh(load - self.rover.nuclear_w, duration_s.max(0.0))
     }
 
     /// Battery energy for a net bus load `net_w` (W, positive drains) over `dt_s`, Wh.
@@ -734,7 +787,8 @@ impl ActionModel {
         let dem = world.dem();
         let slowest = self.rover.locomotor.speed_m_s / 3.0;
         let run = dem.dx().hypot(dem.dy());
-        self.quantise_time(run / slowest / self.max_slope_deg.to_radians().cos().max(0.05)) + 1.0
+        let longest = run / slowest / self.max_slope_deg.to_radians().cos().max(0.05) * self.margins.duration_factor;
+        self.quantise_time(longest) + 1.0
     }
 
     /// A lower bound on the cost per second (Wh/s), in the Energy objective (energy

@@ -14,7 +14,9 @@
 //! Communicate sessions and measures Earth contact and safe havens along a plan, and
 //! [`metrics`] measures a plan or a run on the world (the Sun's sweep, sunward drives,
 //! zig-zags, night and shadowed drives) — both by sampling, independently of the
-//! planner's constraints.
+//! planner's constraints. [`uncertainty`] makes chance-constrained plans (the model
+//! worsened to a confidence level) and executes a plan open-loop on sampled factors
+//! (Monte Carlo).
 //!
 //! ```no_run
 //! # use areo_mission::*;
@@ -40,6 +42,7 @@ mod world;
 
 pub mod contact;
 pub mod metrics;
+pub mod uncertainty;
 
 pub use crate::{
     action_model::{

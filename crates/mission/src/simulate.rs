@@ -317,6 +317,8 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
     });
 
     let mut rng = ChaCha8Rng::seed_from_u64(sim.noise.seed);
+    // The rover executes on the nominal model; planning margins are the planner's.
+    let executor = model.nominal();
     let (mut cell, mut t, mut battery) = (start.cell, start.t_min, start.energy_wh);
     let capacity = model.capacity_wh();
     let mut next_goal = 0usize;
@@ -332,7 +334,7 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         // The plan may start a little after now (its start window): idle until then.
         let t_plan = plan.waypoints.first().map_or(t, |w| w.t_s);
         if t_plan > t + 1e-6 {
-            let energy_wh = model.idle_wh(t_plan - t);
+            let energy_wh = executor.idle_wh(t_plan - t);
             battery = (battery - energy_wh).min(capacity);
             report.steps.push(ExecutedStep {
                 t_s: t,
@@ -348,14 +350,14 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
             });
             t = t_plan;
         }
-        let perturbation = Perturbation {
-            duration_factor: 1.0 + sim.noise.drive_slowdown * rng.random::<f64>(),
-            solar_factor: 1.0 - sim.noise.solar_loss * rng.random::<f64>(),
-        };
+        let perturbation = Perturbation::drive_and_solar(
+            1.0 + sim.noise.drive_slowdown * rng.random::<f64>(),
+            1.0 - sim.noise.solar_loss * rng.random::<f64>(),
+        );
         let sun_elevation_deg = truth.sun(t).elevation_deg;
-        let (executed, refused, outcome) = match model.execute(truth, action, cell, t, perturbation) {
+        let (executed, refused, outcome) = match executor.execute(truth, action, cell, t, perturbation) {
             Ok(o) => (action, None, o),
-            Err(why) => match model.execute(truth, Action::Hibernate, cell, t, perturbation) {
+            Err(why) => match executor.execute(truth, Action::Hibernate, cell, t, perturbation) {
                 Ok(o) => (Action::Hibernate, Some((action, why)), o),
                 Err(b) => {
                     report.status = SimStatus::Stuck(b);

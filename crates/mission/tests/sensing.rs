@@ -215,7 +215,7 @@ fn a_rover_that_finds_a_wall_replans_with_no_more_work_than_a_fresh_plan() {
     let (mut walls, mut steps, mut replanned, mut searched) = (0, 0, 0, 0);
     while let Some(action) = plan.waypoints.first().and_then(|w| w.action) {
         t = t.max(plan.waypoints[0].t_s);
-        let exact = areo_mission::Perturbation { duration_factor: 1.0, solar_factor: 1.0 };
+        let exact = areo_mission::Perturbation::NONE;
         let (to, effect) = model.execute(&truth, action, cell, t, exact).unwrap();
         (cell, t, battery) = (to, t + effect.duration_s, (battery - effect.energy_wh).min(model.capacity_wh()));
         let changed = map.sense(&truth, &disc(&map, cell, 2)).unwrap();
@@ -279,7 +279,7 @@ fn walk_with_coarse_classes(energy_wh: Option<f64>) -> usize {
     let (mut steps, mut next_goal) = (0, 0);
     while let Some(action) = plan.waypoints.first().and_then(|w| w.action) {
         t = t.max(plan.waypoints[0].t_s);
-        let exact = areo_mission::Perturbation { duration_factor: 1.0, solar_factor: 1.0 };
+        let exact = areo_mission::Perturbation::NONE;
         let (to, effect) = model.execute(&truth, action, cell, t, exact).unwrap();
         (cell, t, battery) = (to, t + effect.duration_s, (battery - effect.energy_wh).min(model.capacity_wh()));
         // As the simulation does: the first goal is reached when the rover stands on it.

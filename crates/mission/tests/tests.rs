@@ -7,3 +7,4 @@ mod pareto;
 mod planning;
 mod sensing;
 mod simulation;
+mod uncertainty;

@@ -1,0 +1,409 @@
+//! Plans under uncertainty: what TEMPEST's section 8 proposes — "constraints defined by
+//! confidence intervals on arrival time and battery energy within ISE" — and a Monte
+//! Carlo check of what such a plan buys.
+//!
+//! [`Uncertainty`] describes how execution departs from the model: each drive's
+//! duration, each electrical load and each solar input multiplied by an independent
+//! normal factor of mean 1 and a stated σ, and the confidence wanted. A
+//! **chance-constrained plan** is made with the model worsened by each factor's
+//! quantile at that confidence ([`Uncertainty::margins`], [`ActionModel::with_margins`]):
+//! every action is planned as if it were that slow and that hungry, under that little
+//! sunlight, and every constraint — the battery floor, darkness, shadows, sessions, the
+//! horizon — is checked there. What that guarantees, under the model's normal factors:
+//! any sum of the actions' durations or energies along the plan, `Σ dᵢ·fᵢ`, has mean
+//! `Σ dᵢ` and standard deviation `σ·√Σdᵢ² ≤ σ·Σdᵢ`, so the margin `Σ dᵢ·(1 + zσ)` is at
+//! least its mean plus z standard deviations — exceeded with probability at most
+//! 1 − confidence, whether the factors are independent or the same for every action
+//! (then equality). The bound is per quantity and conservative; constraints that read a
+//! time (darkness, shadows) are met early rather than late because the rover executes
+//! each action no earlier than planned. [`open_loop`] measures what it buys.
+//!
+//! The search itself is unchanged: it runs over a model whose every action is worse,
+//! so dominance, re-planning and `compare_fresh` work as in deterministic mode, and a
+//! confidence of 0.5 (z = 0) or zero σ gives the deterministic plan exactly.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use statrs::distribution::{ContinuousCDF, Normal as StdNormal};
+
+use crate::action_model::{ActionModel, Binding, Perturbation};
+use crate::domain::Start;
+use crate::error::{Error, Result};
+use crate::plan::MissionPlan;
+use crate::world::World;
+
+/// How execution departs from the model, and the confidence a plan must hold at
+/// (scenario field `uncertainty:`). Every σ is a fraction of the nominal value.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Uncertainty {
+    /// Probability each planned quantity must hold with, 0.5..=0.999 (0.5: the
+    /// deterministic plan).
+    pub confidence: f64,
+    /// σ of each drive's duration factor (slip, detours around rocks), 0..=0.5.
+    pub drive_time_sigma: f64,
+    /// σ of each action's electrical load factor (heaters, motor wear), 0..=0.5.
+    pub power_draw_sigma: f64,
+    /// σ of each action's solar input factor (dust, optical depth), 0..=0.5.
+    pub solar_sigma: f64,
+}
+
+impl Default for Uncertainty {
+    fn default() -> Uncertainty {
+        Uncertainty { confidence: 0.95, drive_time_sigma: 0.0, power_draw_sigma: 0.0, solar_sigma: 0.0 }
+    }
+}
+
+impl Uncertainty {
+    /// Checks ranges, naming the first bad field.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field: &'static str, message: String| Err(Error::Config { field, message });
+        if !(0.5..=0.999).contains(&self.confidence) {
+            return bad("uncertainty.confidence", format!("{}: allowed 0.5..=0.999", self.confidence));
+        }
+        for (field, v) in [
+            ("uncertainty.drive_time_sigma", self.drive_time_sigma),
+            ("uncertainty.power_draw_sigma", self.power_draw_sigma),
+            ("uncertainty.solar_sigma", self.solar_sigma),
+        ] {
+            if !(0.0..=0.5).contains(&v) {
+                return bad(field, format!("{v}: allowed 0..=0.5 (a fraction of the nominal value)"));
+            }
+        }
+        Ok(())
+    }
+
+    /// The standard normal quantile of the confidence (0 at 0.5, 1.645 at 0.95).
+    pub fn z(&self) -> f64 {
+        if self.confidence <= 0.5 {
+            return 0.0;
+        }
+        StdNormal::standard().inverse_cdf(self.confidence)
+    }
+
+    /// The planning margins: each factor at its quantile (the solar one at its lower
+    /// quantile, never below 0).
+    pub fn margins(&self) -> Perturbation {
+        let z = self.z();
+        Perturbation {
+            duration_factor: 1.0 + z * self.drive_time_sigma,
+            solar_factor: (1.0 - z * self.solar_sigma).max(0.0),
+            draw_factor: 1.0 + z * self.power_draw_sigma,
+        }
+    }
+
+    /// One action's factors, drawn independently (normal, mean 1, the σ above; a factor
+    /// is kept at 0.05 or more, and solar input at 0 or more).
+    fn sample(&self, rng: &mut ChaCha8Rng) -> Perturbation {
+        let mut draw = |sigma: f64| -> f64 {
+            if sigma == 0.0 {
+                return 1.0;
+            }
+            // σ ≤ 0.5 is validated: the distribution exists.
+            Normal::new(1.0, sigma).map_or(1.0, |n| n.sample(rng))
+        };
+        Perturbation {
+            duration_factor: draw(self.drive_time_sigma).max(0.05),
+            solar_factor: draw(self.solar_sigma).max(0.0),
+            draw_factor: draw(self.power_draw_sigma).max(0.05),
+        }
+    }
+}
+
+/// How many executions, and the seed they are drawn from (scenario field
+/// `monte_carlo:`). Run `i` draws from the ChaCha8 stream `i` of the seed, so the
+/// results do not depend on how many threads run them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MonteCarlo {
+    /// Executions, 1..=100 000.
+    pub runs: usize,
+    /// Seed.
+    pub seed: u64,
+}
+
+impl Default for MonteCarlo {
+    fn default() -> MonteCarlo {
+        MonteCarlo { runs: 1000, seed: 1 }
+    }
+}
+
+impl MonteCarlo {
+    /// Checks ranges, naming the first bad field.
+    pub fn validate(&self) -> Result<()> {
+        if !(1..=100_000).contains(&self.runs) {
+            return Err(Error::Config {
+                field: "monte_carlo.runs",
+                message: format!("{}: allowed 1..=100000", self.runs),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Why an open-loop execution failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Failure {
+    /// The world refused a planned action (a drive ending after dark, a charge in
+    /// shadow, past the horizon, …).
+    Refused(Binding),
+    /// The battery fell below its floor.
+    BatteryDepleted,
+}
+
+impl Failure {
+    /// A short name for tables and facts.
+    pub fn name(self) -> String {
+        match self {
+            Failure::Refused(b) => format!("refused_{}", format!("{b:?}").to_lowercase()),
+            Failure::BatteryDepleted => "battery_depleted".into(),
+        }
+    }
+}
+
+/// One execution of a plan on sampled factors.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Execution {
+    /// The run's index (its random stream).
+    pub run: usize,
+    /// Why it failed, at which step of the plan; `None`: every goal reached.
+    pub failure: Option<(usize, Failure)>,
+    /// Arrival time at each goal reached, s after the epoch, in goal order.
+    pub arrivals_s: Vec<f64>,
+    /// The lowest battery charge along the way, Wh above the floor (negative when it
+    /// fell below).
+    pub lowest_battery_wh: f64,
+    /// Battery charge after each executed action, Wh above the floor, with the time
+    /// the action ended, s.
+    pub battery_wh: Vec<(f64, f64)>,
+}
+
+impl Execution {
+    /// Whether every goal was reached with the battery never below its floor.
+    pub fn succeeded(&self) -> bool {
+        self.failure.is_none()
+    }
+}
+
+/// Executes `plan` open-loop — each action as planned, none earlier than its planned
+/// start, with no re-planning — on `world` with `model` (its nominal form), `mc.runs`
+/// times, each action's factors drawn from `uncertainty`. Runs in parallel; the result
+/// is in run order and the same whatever the thread count.
+pub fn open_loop(
+    plan: &MissionPlan,
+    model: &ActionModel,
+    world: &World,
+    start: Start,
+    uncertainty: &Uncertainty,
+    mc: &MonteCarlo,
+) -> Result<Vec<Execution>> {
+    uncertainty.validate()?;
+    mc.validate()?;
+    let nominal = model.nominal();
+    Ok((0..mc.runs)
+        .into_par_iter()
+        .map(|run| {
+            let mut rng = ChaCha8Rng::seed_from_u64(mc.seed);
+            rng.set_stream(run as u64);
+            execute_once(plan, &nominal, world, start, run, |_| uncertainty.sample(&mut rng))
+        })
+        .collect())
+}
+
+/// One open-loop execution, each action's factors from `factors(step)`.
+fn execute_once(
+    plan: &MissionPlan,
+    model: &ActionModel,
+    world: &World,
+    start: Start,
+    run: usize,
+    mut factors: impl FnMut(usize) -> Perturbation,
+) -> Execution {
+    let capacity = model.capacity_wh();
+    let (mut cell, mut t, mut battery) = (start.cell, start.t_min, start.energy_wh);
+    let mut out =
+        Execution { run, failure: None, arrivals_s: Vec::new(), lowest_battery_wh: battery, battery_wh: Vec::new() };
+    for (step, w) in plan.waypoints.iter().enumerate() {
+        // A goal's first waypoint is the arrival (the plan may charge there after).
+        if w.goal == Some(out.arrivals_s.len()) {
+            out.arrivals_s.push(t);
+        }
+        let Some(action) = w.action else { break };
+        let p = factors(step);
+        // Not before its planned start: an early rover sleeps until then.
+        if w.t_s > t {
+            let e = model.idle_wh(w.t_s - t) * p.draw_factor;
+            battery = (battery - e).min(capacity);
+            t = w.t_s;
+        }
+        match model.execute(world, action, cell, t, p) {
+            Ok((to, effect)) => {
+                cell = to;
+                t += effect.duration_s;
+                battery = (battery - effect.energy_wh).min(capacity);
+            }
+            Err(binding) => {
+                out.failure = Some((step, Failure::Refused(binding)));
+                return out;
+            }
+        }
+        out.battery_wh.push((t, battery));
+        out.lowest_battery_wh = out.lowest_battery_wh.min(battery);
+        if battery < 0.0 {
+            out.failure = Some((step, Failure::BatteryDepleted));
+            return out;
+        }
+    }
+    out
+}
+
+/// What a set of executions shows.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// Executions.
+    pub runs: usize,
+    /// Executions that reached every goal with the battery never below its floor.
+    pub succeeded: usize,
+    /// `succeeded / runs`.
+    pub success_probability: f64,
+    /// Wilson score interval of the success probability at 95 %.
+    pub success_interval: (f64, f64),
+    /// Executions whose battery never fell below its floor (whether or not every action
+    /// was allowed).
+    pub battery_ok_probability: f64,
+    /// The fraction of executions that reached each goal.
+    pub goal_probability: Vec<f64>,
+    /// The last goal's arrival time over the executions that reached it, s: 5th, 50th
+    /// and 95th percentiles.
+    pub last_arrival_s: Option<(f64, f64, f64)>,
+    /// The lowest battery charge, Wh above the floor: 5th and 50th percentiles.
+    pub lowest_battery_wh: (f64, f64),
+    /// How many executions failed each way, by [`Failure::name`], sorted by name.
+    pub failures: Vec<(String, usize)>,
+}
+
+/// Summarises executions of a plan to `goals` goals.
+pub fn summarise(executions: &[Execution], goals: usize) -> Summary {
+    let n = executions.len().max(1);
+    let succeeded = executions.iter().filter(|e| e.succeeded()).count();
+    let battery_ok = executions.iter().filter(|e| e.lowest_battery_wh >= 0.0).count();
+    let goal_probability =
+        (0..goals).map(|g| executions.iter().filter(|e| e.arrivals_s.len() > g).count() as f64 / n as f64).collect();
+    let mut last: Vec<f64> = executions
+        .iter()
+        .filter(|e| e.arrivals_s.len() >= goals)
+        .filter_map(|e| e.arrivals_s.last().copied())
+        .collect();
+    last.sort_by(f64::total_cmp);
+    let mut lowest: Vec<f64> = executions.iter().map(|e| e.lowest_battery_wh).collect();
+    lowest.sort_by(f64::total_cmp);
+    let mut failures: Vec<(String, usize)> = Vec::new();
+    for e in executions {
+        if let Some((_, f)) = e.failure {
+            let name = f.name();
+            match failures.iter_mut().find(|(k, _)| *k == name) {
+                Some(entry) => entry.1 += 1,
+                None => failures.push((name, 1)),
+            }
+        }
+    }
+    failures.sort();
+    Summary {
+        runs: executions.len(),
+        succeeded,
+        success_probability: succeeded as f64 / n as f64,
+        success_interval: wilson(succeeded, executions.len()),
+        battery_ok_probability: battery_ok as f64 / n as f64,
+        goal_probability,
+        last_arrival_s: (!last.is_empty())
+            .then(|| (percentile(&last, 0.05), percentile(&last, 0.5), percentile(&last, 0.95))),
+        lowest_battery_wh: (percentile(&lowest, 0.05), percentile(&lowest, 0.5)),
+        failures,
+    }
+}
+
+/// The `q` quantile of sorted values (nearest rank).
+pub fn percentile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let k = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
+    sorted[k - 1]
+}
+
+/// The Wilson score interval for `k` successes in `n` trials at 95 %.
+pub fn wilson(k: usize, n: usize) -> (f64, f64) {
+    if n == 0 {
+        return (0.0, 1.0);
+    }
+    let z = 1.959_963_984_540_054;
+    let (n, p) = (n as f64, k as f64 / n as f64);
+    let centre = p + z * z / (2.0 * n);
+    let half = z * (p * (1.0 - p) / n + z * z / (4.0 * n * n)).sqrt();
+    let d = 1.0 + z * z / n;
+    (((centre - half) / d).max(0.0), ((centre + half) / d).min(1.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_quantile_and_the_margins_follow_the_confidence() {
+        let mut u = Uncertainty { confidence: 0.95, drive_time_sigma: 0.1, power_draw_sigma: 0.05, solar_sigma: 0.2 };
+        // Φ⁻¹(0.95) = 1.644854 (tables).
+        assert!((u.z() - 1.644_853_6).abs() < 1e-6);
+        let m = u.margins();
+        assert!((m.duration_factor - 1.164_485_4).abs() < 1e-6);
+        assert!((m.draw_factor - 1.082_242_7).abs() < 1e-6);
+        assert!((m.solar_factor - (1.0 - 0.328_970_7)).abs() < 1e-6);
+        u.confidence = 0.5;
+        assert_eq!(u.margins(), Perturbation::NONE);
+        u.confidence = 0.99;
+        assert!((u.z() - 2.326_347_9).abs() < 1e-6);
+        u.confidence = 1.0;
+        assert!(u.validate().unwrap_err().to_string().contains("uncertainty.confidence"));
+        u.confidence = 0.9;
+        u.solar_sigma = 0.7;
+        assert!(u.validate().unwrap_err().to_string().contains("uncertainty.solar_sigma"));
+    }
+
+    #[test]
+    fn wilson_intervals_match_published_values() {
+        // Wilson (1927) interval for 81 of 263 at 95 %: (0.2553, 0.3662) (Newcombe 1998,
+        // Statistics in Medicine 17, table I, example).
+        let (lo, hi) = wilson(81, 263);
+        assert!((lo - 0.2553).abs() < 1e-4 && (hi - 0.3662).abs() < 1e-4, "{lo} {hi}");
+        // 15 of 148: (0.0624, 0.1605).
+        let (lo, hi) = wilson(15, 148);
+        assert!((lo - 0.0624).abs() < 1e-4 && (hi - 0.1605).abs() < 1e-4, "{lo} {hi}");
+        // All successes: the upper end is 1.
+        assert_eq!(wilson(1000, 1000).1, 1.0);
+        assert!((wilson(1000, 1000).0 - 0.99617).abs() < 1e-4);
+    }
+
+    #[test]
+    fn sampled_factors_have_the_stated_mean_and_spread() {
+        let u = Uncertainty { confidence: 0.9, drive_time_sigma: 0.1, power_draw_sigma: 0.2, solar_sigma: 0.05 };
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let n = 20_000;
+        let draws: Vec<Perturbation> = (0..n).map(|_| u.sample(&mut rng)).collect();
+        for (get, sigma) in [
+            (&(|p: &Perturbation| p.duration_factor) as &dyn Fn(&Perturbation) -> f64, 0.1),
+            (&|p: &Perturbation| p.draw_factor, 0.2),
+            (&|p: &Perturbation| p.solar_factor, 0.05),
+        ] {
+            let v: Vec<f64> = draws.iter().map(get).collect();
+            let mean = v.iter().sum::<f64>() / n as f64;
+            let sd = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n as f64).sqrt();
+            // Standard errors: σ/√n ≤ 0.0015 for the mean.
+            assert!((mean - 1.0).abs() < 0.006 && (sd - sigma).abs() < 0.05 * sigma, "{mean} {sd} vs {sigma}");
+            // The margin's quantile is exceeded by about 1 − confidence of the draws.
+            let above = v.iter().filter(|&&x| x > 1.0 + u.z() * sigma).count() as f64 / n as f64;
+            assert!((above - 0.1).abs() < 0.01, "{above}");
+        }
+    }
+}
