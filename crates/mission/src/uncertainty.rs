@@ -3,18 +3,19 @@
 //! Carlo check of what such a plan buys.
 //!
 //! [`Uncertainty`] describes how execution departs from the model: each drive's
-//! duration, each electrical load and each solar input multiplied by an independent
-//! normal factor of mean 1 and a stated σ, and the confidence wanted. A
+//! duration, each electrical load and each solar input multiplied by a normal factor
+//! of mean 1 and a stated σ — drawn once per execution (a systematic departure, the
+//! default) or for every action ([`Correlation`]) — and the confidence wanted. A
 //! **chance-constrained plan** is made with the model worsened by each factor's
 //! quantile at that confidence ([`Uncertainty::margins`], [`ActionModel::with_margins`]):
 //! every action is planned as if it were that slow and that hungry, under that little
 //! sunlight, and every constraint — the battery floor, darkness, shadows, sessions, the
 //! horizon — is checked there. What that guarantees, under the model's normal factors:
 //! any sum of the actions' durations or energies along the plan, `Σ dᵢ·fᵢ`, has mean
-//! `Σ dᵢ` and standard deviation `σ·√Σdᵢ² ≤ σ·Σdᵢ`, so the margin `Σ dᵢ·(1 + zσ)` is at
-//! least its mean plus z standard deviations — exceeded with probability at most
-//! 1 − confidence, whether the factors are independent or the same for every action
-//! (then equality). The bound is per quantity and conservative; constraints that read a
+//! `Σ dᵢ` and standard deviation `σ·Σdᵢ` when one factor holds for the whole execution
+//! (the margin `Σ dᵢ·(1 + zσ)` is then exactly its quantile) and `σ·√Σdᵢ² ≤ σ·Σdᵢ`
+//! when every action draws its own (the margin is then conservative): exceeded with
+//! probability at most 1 − confidence either way. The bound is per quantity and conservative; constraints that read a
 //! time (darkness, shadows) are met early rather than late because the rover executes
 //! each action no earlier than planned. [`open_loop`] measures what it buys.
 //!
@@ -35,6 +36,19 @@ use crate::error::{Error, Result};
 use crate::plan::MissionPlan;
 use crate::world::World;
 
+/// Whether the factors are drawn once per execution or for every action.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Correlation {
+    /// Once per execution: a systematic departure that holds all traverse long (a
+    /// slip regime, dust on the array, a heater's draw). The margins are then exactly
+    /// each quantity's quantile.
+    #[default]
+    Execution,
+    /// Independently for every action: the margins are then conservative (a sum of
+    /// independent factors spreads less than their sum of spreads).
+    Action,
+}
+
 /// How execution departs from the model, and the confidence a plan must hold at
 /// (scenario field `uncertainty:`). Every σ is a fraction of the nominal value.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -49,11 +63,19 @@ pub struct Uncertainty {
     pub power_draw_sigma: f64,
     /// σ of each action's solar input factor (dust, optical depth), 0..=0.5.
     pub solar_sigma: f64,
+    /// Whether an execution draws its factors once or for every action.
+    pub correlation: Correlation,
 }
 
 impl Default for Uncertainty {
     fn default() -> Uncertainty {
-        Uncertainty { confidence: 0.95, drive_time_sigma: 0.0, power_draw_sigma: 0.0, solar_sigma: 0.0 }
+        Uncertainty {
+            confidence: 0.95,
+            drive_time_sigma: 0.0,
+            power_draw_sigma: 0.0,
+            solar_sigma: 0.0,
+            correlation: Correlation::Execution,
+        }
     }
 }
 
@@ -208,7 +230,11 @@ pub fn open_loop(
         .map(|run| {
             let mut rng = ChaCha8Rng::seed_from_u64(mc.seed);
             rng.set_stream(run as u64);
-            execute_once(plan, &nominal, world, start, run, |_| uncertainty.sample(&mut rng))
+            let once = uncertainty.sample(&mut rng);
+            execute_once(plan, &nominal, world, start, run, |_| match uncertainty.correlation {
+                Correlation::Execution => once,
+                Correlation::Action => uncertainty.sample(&mut rng),
+            })
         })
         .collect())
 }
@@ -353,7 +379,13 @@ mod tests {
 
     #[test]
     fn the_quantile_and_the_margins_follow_the_confidence() {
-        let mut u = Uncertainty { confidence: 0.95, drive_time_sigma: 0.1, power_draw_sigma: 0.05, solar_sigma: 0.2 };
+        let mut u = Uncertainty {
+            confidence: 0.95,
+            drive_time_sigma: 0.1,
+            power_draw_sigma: 0.05,
+            solar_sigma: 0.2,
+            correlation: Correlation::Execution,
+        };
         // Φ⁻¹(0.95) = 1.644854 (tables).
         assert!((u.z() - 1.644_853_6).abs() < 1e-6);
         let m = u.margins();
@@ -387,7 +419,13 @@ mod tests {
 
     #[test]
     fn sampled_factors_have_the_stated_mean_and_spread() {
-        let u = Uncertainty { confidence: 0.9, drive_time_sigma: 0.1, power_draw_sigma: 0.2, solar_sigma: 0.05 };
+        let u = Uncertainty {
+            confidence: 0.9,
+            drive_time_sigma: 0.1,
+            power_draw_sigma: 0.2,
+            solar_sigma: 0.05,
+            correlation: Correlation::Action,
+        };
         let mut rng = ChaCha8Rng::seed_from_u64(7);
         let n = 20_000;
         let draws: Vec<Perturbation> = (0..n).map(|_| u.sample(&mut rng)).collect();

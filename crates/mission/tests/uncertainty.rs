@@ -1,6 +1,6 @@
 //! Chance-constrained plans and open-loop Monte Carlo (areo_mission::uncertainty).
 
-use areo_mission::uncertainty::{MonteCarlo, Uncertainty, open_loop, summarise};
+use areo_mission::uncertainty::{Correlation, MonteCarlo, Uncertainty, open_loop, summarise};
 use areo_mission::{ActionConfig, Mission, MissionPlan, PlannerConfig, Start};
 
 use crate::common::*;
@@ -21,7 +21,13 @@ fn a_confidence_of_one_half_or_no_spread_gives_the_deterministic_plan_exactly() 
     let start = Start { cell: world.cell(2, 8), t_min: 0.0, t_max: 0.0, energy_wh: 120.0 };
     let goals = [world.cell(21, 3), world.cell(20, 13)];
     let (_, det) = Mission::plan(&world, &model, PlannerConfig::default(), start, &goals).unwrap();
-    let spread = Uncertainty { confidence: 0.5, drive_time_sigma: 0.2, power_draw_sigma: 0.1, solar_sigma: 0.2 };
+    let spread = Uncertainty {
+        confidence: 0.5,
+        drive_time_sigma: 0.2,
+        power_draw_sigma: 0.1,
+        solar_sigma: 0.2,
+        ..Uncertainty::default()
+    };
     let none = Uncertainty { confidence: 0.95, ..Uncertainty::default() };
     for u in [spread, none] {
         let m = model.clone().with_margins(u.margins());
@@ -64,7 +70,13 @@ fn executed_without_spread_a_plan_does_what_it_predicted() {
             assert!((a - b).abs() < 1e-6, "{a} vs {b}");
         }
     }
-    let u = Uncertainty { confidence: 0.95, drive_time_sigma: 0.2, power_draw_sigma: 0.1, solar_sigma: 0.2 };
+    let u = Uncertainty {
+        confidence: 0.95,
+        drive_time_sigma: 0.2,
+        power_draw_sigma: 0.1,
+        solar_sigma: 0.2,
+        ..Uncertainty::default()
+    };
     let (_, chance) =
         Mission::plan(&world, &model.clone().with_margins(u.margins()), PlannerConfig::default(), start, &goals)
             .unwrap();
@@ -89,7 +101,13 @@ fn the_chance_constrained_plan_holds_at_its_confidence_where_the_deterministic_o
     let model = model(600.0, ActionConfig::default());
     let start = Start { cell: world.cell(2, 8), t_min: 0.0, t_max: 0.0, energy_wh: 120.0 };
     let goals = [world.cell(21, 3), world.cell(20, 13)];
-    let u = Uncertainty { confidence: 0.95, drive_time_sigma: 0.15, power_draw_sigma: 0.1, solar_sigma: 0.15 };
+    let u = Uncertainty {
+        confidence: 0.95,
+        drive_time_sigma: 0.15,
+        power_draw_sigma: 0.1,
+        solar_sigma: 0.15,
+        correlation: Correlation::Action,
+    };
     let mc = MonteCarlo { runs: 1000, seed: 3 };
     let (_, det) = Mission::plan(&world, &model, PlannerConfig::default(), start, &goals).unwrap();
     let (_, chance) =

@@ -247,6 +247,17 @@ pub struct TempestJob {
     /// the region, not the map. Default: the whole map.
     #[serde(default)]
     pub plan_region: Option<PlanRegionSpec>,
+    /// How execution departs from the model and the confidence the plan must hold at:
+    /// the plan is made chance-constrained (docs/tempest.md, "Plans under
+    /// uncertainty"); default none (the deterministic plan).
+    #[serde(default)]
+    pub uncertainty: Option<planner::UncertaintySpec>,
+    /// Execute the initial plan open-loop this many times on factors drawn from
+    /// `uncertainty` (with `uncertainty` only): `monte_carlo.csv`, `mc_…` facts and
+    /// plots; with a confidence above 0.5 the deterministic plan is executed the same
+    /// way for comparison.
+    #[serde(default)]
+    pub monte_carlo: Option<planner::MonteCarloSpec>,
 }
 
 /// A rectangle of the map to plan in, metres from the map's south-west corner (as
@@ -592,6 +603,30 @@ impl ActionsJob {
     }
 }
 
+/// The `uncertainty` and `monte_carlo` fields of a TEMPEST job.
+fn validate_uncertainty(c: &mut Checks, job: &TempestJob) {
+    if let Some(u) = &job.uncertainty {
+        c.nested("uncertainty", |c| {
+            c.range("confidence", u.confidence, 0.5, 0.999, "probability");
+            for (name, v) in [
+                ("drive_time_sigma", u.drive_time_sigma),
+                ("power_draw_sigma", u.power_draw_sigma),
+                ("solar_sigma", u.solar_sigma),
+            ] {
+                c.range(name, v, 0.0, 0.5, "a fraction of the nominal value");
+            }
+        });
+    }
+    if let Some(mc) = &job.monte_carlo {
+        if job.uncertainty.is_none() {
+            c.fail("monte_carlo", "needs `uncertainty` (what the executions draw from)".into());
+        }
+        if !(1..=100_000).contains(&mc.runs) {
+            c.fail("monte_carlo.runs", format!("{}: allowed 1..=100000", mc.runs));
+        }
+    }
+}
+
 impl Validate for TempestJob {
     fn validate(&self, c: &mut Checks) {
         validate_terrain(c, "terrain", &self.terrain);
@@ -622,6 +657,7 @@ impl Validate for TempestJob {
             "Wh above the battery floor",
         );
         c.range("start_window_min", self.start_window_min, 0.0, 1e5, "minutes");
+        validate_uncertainty(c, self);
         if self.goals.is_empty() {
             c.fail("goals", "is empty: give at least one goal".into());
         }

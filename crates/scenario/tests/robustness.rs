@@ -343,3 +343,33 @@ fn every_shipped_scenario_round_trips_through_the_format_types() {
     let s = areo_scenario::format::planner::SimSpec::default();
     assert_eq!(areo_mission::SimConfig::from(&s), areo_mission::SimConfig::default());
 }
+
+#[test]
+fn uncertainty_out_of_range_names_its_field_and_rule() {
+    let text = std::fs::read_to_string(root().join("scenarios/uncertain-dawn.ron")).unwrap();
+    let path = Path::new("uncertain-dawn.ron");
+    parse(path, &text).expect("the shipped scenario is valid");
+    let line = "uncertainty: (confidence: 0.95, drive_time_sigma: 0.10, power_draw_sigma: 0.10, solar_sigma: 0.10),";
+    assert!(text.contains(line));
+    for (bad, field, rule) in [
+        ("confidence: 1.2,", "job.uncertainty.confidence", "0.5"),
+        ("confidence: 0.95, drive_time_sigma: 0.8,", "job.uncertainty.drive_time_sigma", "fraction"),
+    ] {
+        let mutated = text.replacen(
+            line,
+            &line
+                .replace("confidence: 0.95,", bad)
+                .replace("drive_time_sigma: 0.10,", if bad.contains("drive") { "" } else { "drive_time_sigma: 0.10," }),
+            1,
+        );
+        let err = parse(path, &mutated).unwrap_err();
+        let Error::Invalid { field: f, message, .. } = &err else { panic!("{err}") };
+        assert_eq!(f, field, "{err}");
+        assert!(message.contains(rule), "{message}");
+    }
+    // Monte Carlo needs something to draw from.
+    let err = parse(path, &text.replacen(line, "", 1)).unwrap_err();
+    let Error::Invalid { field, message, .. } = &err else { panic!("{err}") };
+    assert_eq!(field, "job.monte_carlo");
+    assert!(message.contains("uncertainty"), "{message}");
+}

@@ -298,3 +298,71 @@ impl From<&SimSpec> for m::SimConfig {
         }
     }
 }
+
+/// How execution departs from the model, and the confidence a plan must hold at
+/// (`areo_mission::uncertainty::Uncertainty`). Every σ is a fraction of the nominal
+/// value; the factors are normal with mean 1.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct UncertaintySpec {
+    /// Probability each planned quantity must hold with, 0.5..=0.999 (0.5: the
+    /// deterministic plan); default 0.95.
+    pub confidence: f64,
+    /// σ of each drive's duration factor (slip, detours), 0..=0.5.
+    pub drive_time_sigma: f64,
+    /// σ of each action's electrical load factor, 0..=0.5.
+    pub power_draw_sigma: f64,
+    /// σ of each action's solar input factor (dust, optical depth), 0..=0.5.
+    pub solar_sigma: f64,
+    /// `Execution` (default): an execution draws its factors once (a systematic
+    /// departure, all traverse long); `Action`: every action draws its own.
+    pub correlation: m::uncertainty::Correlation,
+}
+
+impl Default for UncertaintySpec {
+    fn default() -> UncertaintySpec {
+        let d = m::uncertainty::Uncertainty::default();
+        UncertaintySpec {
+            confidence: d.confidence,
+            drive_time_sigma: d.drive_time_sigma,
+            power_draw_sigma: d.power_draw_sigma,
+            solar_sigma: d.solar_sigma,
+            correlation: d.correlation,
+        }
+    }
+}
+
+impl From<&UncertaintySpec> for m::uncertainty::Uncertainty {
+    fn from(u: &UncertaintySpec) -> m::uncertainty::Uncertainty {
+        m::uncertainty::Uncertainty {
+            confidence: u.confidence,
+            drive_time_sigma: u.drive_time_sigma,
+            power_draw_sigma: u.power_draw_sigma,
+            solar_sigma: u.solar_sigma,
+            correlation: u.correlation,
+        }
+    }
+}
+
+/// Open-loop executions of the initial plan (`areo_mission::uncertainty::MonteCarlo`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MonteCarloSpec {
+    /// Executions, 1..=100 000; default 1000.
+    pub runs: usize,
+    /// Seed; run i draws from the seed's ChaCha8 stream i; default 1.
+    pub seed: u64,
+}
+
+impl Default for MonteCarloSpec {
+    fn default() -> MonteCarloSpec {
+        let d = m::uncertainty::MonteCarlo::default();
+        MonteCarloSpec { runs: d.runs, seed: d.seed }
+    }
+}
+
+impl From<&MonteCarloSpec> for m::uncertainty::MonteCarlo {
+    fn from(s: &MonteCarloSpec) -> m::uncertainty::MonteCarlo {
+        m::uncertainty::MonteCarlo { runs: s.runs, seed: s.seed }
+    }
+}

@@ -17,6 +17,7 @@ use geojson::FeatureCollection;
 use hifitime::Duration;
 use serde_json::json;
 
+mod chance;
 mod layers;
 
 use crate::error::{Error, Result};
@@ -207,6 +208,8 @@ enum Run {
 struct TempestReport {
     prepared: Prepared,
     run: Run,
+    /// The chance-constrained plan's comparison and Monte Carlo, with `uncertainty`.
+    chance: Option<chance::Chance>,
     havens: Option<contact::Havens>,
     peak_memory_mb: Option<f64>,
 }
@@ -219,6 +222,9 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let mut o = outcome(&ctx, &report);
     if let Some(dir) = opts.out_dir {
         o.files.extend(write_outputs(dir, &ctx, &report.run)?);
+        if let Some(c) = &report.chance {
+            o.files.extend(chance::write(dir, &ctx, c)?);
+        }
     }
     Ok(o)
 }
@@ -339,6 +345,11 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
     let precalc_s = clock.elapsed().as_secs_f64();
     opts.progress.advance(1);
     let model = action_model(job, file, &world, rover)?;
+    // A chance-constrained plan is made on the model worsened to the confidence.
+    let model = match chance::uncertainty(job) {
+        Some(u) => model.with_margins(u.margins()),
+        None => model,
+    };
     let (start, goals) = locate(job, file, &world, frame)?;
     Ok(Prepared { world, truth, model, frame, start, goals, precalc_s, notes })
 }
@@ -470,13 +481,25 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
         Err(MissionError::Unreachable { binding, message }) => Run::Unreachable { binding, message },
         Err(e) => return Err(e.into()),
     };
+    let initial = match &run {
+        Run::Plan { plan, .. } => Some(plan),
+        Run::Simulated(r) => Some(&r.plans[0].plan),
+        Run::Unreachable { .. } => None,
+    };
+    let chance = match initial {
+        Some(plan) => {
+            let worlds = (world, truth.as_ref().unwrap_or(world));
+            chance::evaluate(job, worlds, model, (&job.planner).into(), (*start, goals), plan)?
+        }
+        None => None,
+    };
     // Off Mars: where the rover can wait out a shadow or a loss of the Earth.
     let havens =
         (job.body.model() != areo_ephemeris::Body::Mars && !matches!(run, Run::Unreachable { .. })).then(|| {
             let every = job.communicate.as_ref().filter(|_| model.needs_earth()).and_then(|c| c.every_h);
             contact::havens(world, model, world.span_s(), HAVEN_STEP_S, every)
         });
-    Ok(TempestReport { prepared, run, havens, peak_memory_mb: peak_memory_mb() })
+    Ok(TempestReport { prepared, run, chance, havens, peak_memory_mb: peak_memory_mb() })
 }
 
 impl TempestReport {
@@ -525,6 +548,9 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
             // The segments' graphs as the plan leaves them (the most they held).
             o.number("peak_search_mb", *search_bytes as f64 / 1e6);
             plan_facts(&mut o, ctx, plan);
+            if let Some(c) = &report.chance {
+                chance::facts(&mut o, ctx, plan, c);
+            }
             o.text("status", "planned");
             o.number("goals_reached", 0.0);
             o.summary.push(format!(
@@ -537,6 +563,9 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
         Run::Simulated(r) => {
             o.number("initial_plan_s", r.plans[0].wall_s);
             plan_facts(&mut o, ctx, &r.plans[0].plan);
+            if let Some(c) = &report.chance {
+                chance::facts(&mut o, ctx, &r.plans[0].plan, c);
+            }
             sim_facts(&mut o, ctx, r, report.peak_memory_mb);
             if let SimStatus::Unreachable { binding, message } = &r.status {
                 o.failure = Some(Failure::Unreachable {

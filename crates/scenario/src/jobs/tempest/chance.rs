@@ -1,0 +1,293 @@
+//! A TEMPEST job under uncertainty: the chance-constrained plan's margins, the
+//! deterministic plan it is compared with, and the open-loop Monte Carlo of both —
+//! facts, `monte_carlo.csv` and two plots (the last goal's arrival as a cumulative
+//! distribution, and the battery's spread against time).
+
+use std::path::{Path, PathBuf};
+
+use areo_mission::uncertainty::{
+    Correlation, Execution, MonteCarlo, Summary, Uncertainty, open_loop, percentile, summarise,
+};
+use areo_mission::{Mission, MissionPlan, PlannerConfig, Start, World};
+use serde::Serialize;
+
+use super::{Context, nights, time_axis_name, time_ticks};
+use crate::error::Result;
+use crate::format::TempestJob;
+use crate::outcome::Outcome;
+use crate::output::csv::{Fixed, write_rows};
+use crate::output::plots::{Series, TimePlot};
+
+/// One plan's open-loop executions.
+pub(super) struct Executed {
+    pub executions: Vec<Execution>,
+    pub summary: Summary,
+}
+
+/// What the job's `uncertainty` (and `monte_carlo`) gave.
+pub(super) struct Chance {
+    pub uncertainty: Uncertainty,
+    /// The plan made on the nominal model, when the confidence adds a margin
+    /// (`Err`: no deterministic plan either, with the reason).
+    pub deterministic: Option<std::result::Result<MissionPlan, String>>,
+    /// The chance-constrained plan's executions.
+    pub chance_runs: Option<Executed>,
+    /// The deterministic plan's executions.
+    pub deterministic_runs: Option<Executed>,
+}
+
+/// The uncertainty the job states, if any (validated with the scenario).
+pub(super) fn uncertainty(job: &TempestJob) -> Option<Uncertainty> {
+    job.uncertainty.as_ref().map(Uncertainty::from)
+}
+
+/// Plans deterministically for comparison and runs the Monte Carlo the job asks for.
+/// `plan` is the chance-constrained initial plan (made on `model`, which carries the
+/// margins); executions run on `truth` with the nominal model.
+pub(super) fn evaluate(
+    job: &TempestJob,
+    (world, truth): (&World, &World),
+    model: &areo_mission::ActionModel,
+    planner: PlannerConfig,
+    (start, goals): (Start, &[u32]),
+    plan: &MissionPlan,
+) -> Result<Option<Chance>> {
+    let Some(u) = uncertainty(job) else { return Ok(None) };
+    let margined = u.margins() != areo_mission::Perturbation::NONE;
+    let deterministic = margined.then(|| {
+        Mission::plan(world, &model.nominal(), planner, start, goals).map(|(_, p)| p).map_err(|e| e.to_string())
+    });
+    let mut chance = Chance { uncertainty: u, deterministic, chance_runs: None, deterministic_runs: None };
+    if let Some(spec) = &job.monte_carlo {
+        let mc = MonteCarlo::from(spec);
+        let run = |p: &MissionPlan| -> Result<Executed> {
+            let executions = open_loop(p, model, truth, start, &u, &mc)?;
+            let summary = summarise(&executions, goals.len());
+            Ok(Executed { executions, summary })
+        };
+        chance.chance_runs = Some(run(plan)?);
+        if let Some(Ok(d)) = &chance.deterministic {
+            chance.deterministic_runs = Some(run(d)?);
+        }
+    }
+    Ok(Some(chance))
+}
+
+/// The facts and summary lines.
+pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chance: &Chance) {
+    let u = &chance.uncertainty;
+    let m = u.margins();
+    o.number("chance_confidence", u.confidence);
+    o.number("chance_z", u.z());
+    o.number("chance_drive_time_factor", m.duration_factor);
+    o.number("chance_draw_factor", m.draw_factor);
+    o.number("chance_solar_factor", m.solar_factor);
+    let bound = match u.correlation {
+        Correlation::Execution => "one draw per execution: each quantity at its quantile",
+        Correlation::Action => "a draw per action: a conservative bound",
+    };
+    o.text("chance_correlation", format!("{:?}", u.correlation));
+    o.summary.push(format!(
+        "plan under uncertainty ({bound}): confidence {} (z = {:.3}); planned with drives ×{:.3}, loads ×{:.3}, sunlight ×{:.3}",
+        u.confidence,
+        u.z(),
+        m.duration_factor,
+        m.draw_factor,
+        m.solar_factor
+    ));
+    match &chance.deterministic {
+        Some(Ok(d)) => {
+            let (extra_h, extra_wh) =
+                ((plan.duration_s() - d.duration_s()) / 3600.0, energy_used_wh(plan) - energy_used_wh(d));
+            o.number("deterministic_plan_duration_h", d.duration_s() / 3600.0);
+            o.number("deterministic_plan_min_battery_wh", d.min_battery_wh() - super::floor_wh(ctx));
+            o.number("chance_extra_duration_h", extra_h);
+            o.number("chance_extra_energy_used_wh", extra_wh);
+            o.number("chance_cost_ratio", plan.cost / d.cost);
+            o.summary.push(format!(
+                "the margins cost {extra_h:+.2} h and {extra_wh:+.1} Wh drawn against the deterministic plan (cost ×{:.3})",
+                plan.cost / d.cost
+            ));
+        }
+        Some(Err(why)) => o.text("deterministic_plan", format!("none: {why}")),
+        None => {}
+    }
+    for (prefix, runs) in [("mc", &chance.chance_runs), ("mc_deterministic", &chance.deterministic_runs)] {
+        if let Some(r) = runs {
+            summary_facts(o, ctx, prefix, &r.summary);
+        }
+    }
+    if let Some(c) = &chance.chance_runs {
+        let s = &c.summary;
+        let det = chance.deterministic_runs.as_ref().map_or(String::new(), |d| {
+            let (lo, hi) = d.summary.success_interval;
+            format!("; the deterministic plan {:.3} [{lo:.3}, {hi:.3}]", d.summary.success_probability)
+        });
+        let (lo, hi) = s.success_interval;
+        o.summary.push(format!(
+            "open-loop Monte Carlo, {} runs: the plan reaches every goal with the battery above its floor in {:.3} [{lo:.3}, {hi:.3}] (95 % Wilson){det}",
+            s.runs, s.success_probability
+        ));
+    }
+}
+
+/// Energy drawn along a plan (the sum of its battery's falls), Wh.
+fn energy_used_wh(plan: &MissionPlan) -> f64 {
+    plan.waypoints.windows(2).map(|w| (w[0].battery_wh - w[1].battery_wh).max(0.0)).sum()
+}
+
+fn summary_facts(o: &mut Outcome, ctx: &Context<'_>, prefix: &str, s: &Summary) {
+    o.count(&format!("{prefix}_runs"), s.runs as u64);
+    o.number(&format!("{prefix}_success_probability"), s.success_probability);
+    o.number(&format!("{prefix}_success_ci_low"), s.success_interval.0);
+    o.number(&format!("{prefix}_success_ci_high"), s.success_interval.1);
+    o.number(&format!("{prefix}_battery_ok_probability"), s.battery_ok_probability);
+    for (i, p) in s.goal_probability.iter().enumerate() {
+        o.number(&format!("{prefix}_goal_{}_probability", ctx.goal_name(i)), *p);
+    }
+    if let Some((a, b, c)) = s.last_arrival_s {
+        o.number(&format!("{prefix}_last_arrival_h_p05"), ctx.hours(a));
+        o.number(&format!("{prefix}_last_arrival_h_p50"), ctx.hours(b));
+        o.number(&format!("{prefix}_last_arrival_h_p95"), ctx.hours(c));
+    }
+    o.number(&format!("{prefix}_lowest_battery_wh_p05"), s.lowest_battery_wh.0);
+    o.number(&format!("{prefix}_lowest_battery_wh_p50"), s.lowest_battery_wh.1);
+    for (name, n) in &s.failures {
+        o.count(&format!("{prefix}_failed_{name}"), *n as u64);
+    }
+}
+
+/// A row of monte_carlo.csv: one execution (the header is written from a default row).
+#[derive(Serialize, Default)]
+struct RunRow {
+    plan: &'static str,
+    run: usize,
+    succeeded: bool,
+    failure: String,
+    failed_at_action: String,
+    goals_reached: usize,
+    last_arrival_h: String,
+    lowest_battery_wh: Fixed<2>,
+}
+
+/// `monte_carlo.csv` and the two plots.
+pub(super) fn write(dir: &Path, ctx: &Context<'_>, chance: &Chance) -> Result<Vec<PathBuf>> {
+    let Some(c) = &chance.chance_runs else { return Ok(Vec::new()) };
+    let plans: Vec<(&'static str, &Executed)> = std::iter::once(("chance_constrained", c))
+        .chain(chance.deterministic_runs.as_ref().map(|d| ("deterministic", d)))
+        .collect();
+    let rows = plans.iter().flat_map(|&(plan, r)| {
+        r.executions.iter().map(move |e| RunRow {
+            plan,
+            run: e.run,
+            succeeded: e.succeeded(),
+            failure: e.failure.map_or(String::new(), |(_, f)| f.name()),
+            failed_at_action: e.failure.map_or(String::new(), |(k, _)| k.to_string()),
+            goals_reached: e.arrivals_s.len(),
+            last_arrival_h: (e.arrivals_s.len() == ctx.goals.len())
+                .then(|| e.arrivals_s.last().map(|t| format!("{:.3}", ctx.hours(*t))))
+                .flatten()
+                .unwrap_or_default(),
+            lowest_battery_wh: Fixed(e.lowest_battery_wh),
+        })
+    });
+    let path = dir.join("monte_carlo.csv");
+    write_rows(&path, rows)?;
+    let mut files = vec![path];
+    let end_s = plans
+        .iter()
+        .flat_map(|(_, r)| r.executions.iter().filter_map(|e| e.battery_wh.last().map(|b| b.0)))
+        .fold(0.0, f64::max);
+    let night = nights(ctx.truth, end_s);
+    files.extend(arrival_plot(dir, ctx, &plans, (end_s, &night))?);
+    files.extend(battery_fan(dir, ctx, &plans, (end_s, &night))?);
+    Ok(files)
+}
+
+const COLOURS: [(u8, u8, u8); 2] = [(30, 90, 220), (220, 30, 40)];
+
+/// The fraction of executions that have reached the last goal, against time.
+fn arrival_plot(
+    dir: &Path,
+    ctx: &Context<'_>,
+    plans: &[(&'static str, &Executed)],
+    (end_s, night): (f64, &[(f64, f64)]),
+) -> Result<Vec<PathBuf>> {
+    let series = plans
+        .iter()
+        .zip(COLOURS)
+        .map(|(&(name, r), rgb)| {
+            let mut t: Vec<f64> = r
+                .executions
+                .iter()
+                .filter(|e| e.arrivals_s.len() == ctx.goals.len())
+                .filter_map(|e| e.arrivals_s.last().copied())
+                .collect();
+            t.sort_by(f64::total_cmp);
+            let n = r.executions.len().max(1) as f64;
+            let points = t.iter().enumerate().map(|(i, &s)| (ctx.hours(s), (i + 1) as f64 / n)).collect();
+            Series { label: format!("{} plan", name.replace('_', "-")), points, rgb, width: 2 }
+        })
+        .collect();
+    crate::output::plots::time(
+        dir,
+        "mc_arrival",
+        &TimePlot {
+            title: "Open-loop executions: share at the last goal by each time".into(),
+            x_label: time_axis_name(ctx),
+            y_label: "fraction of executions".into(),
+            series,
+            nights: night.to_vec(),
+            windows: Vec::new(),
+            windows_label: String::new(),
+            x_range: (0.0, end_s / 3600.0),
+            dots: false,
+            x_ticks: time_ticks(ctx),
+        },
+    )
+}
+
+/// The battery's 5th, 50th and 95th percentiles after each action of each plan (at the
+/// action's median end time), over the executions still going.
+fn battery_fan(
+    dir: &Path,
+    ctx: &Context<'_>,
+    plans: &[(&'static str, &Executed)],
+    (end_s, night): (f64, &[(f64, f64)]),
+) -> Result<Vec<PathBuf>> {
+    let mut series = Vec::new();
+    for (&(name, r), rgb) in plans.iter().zip(COLOURS) {
+        let steps = r.executions.iter().map(|e| e.battery_wh.len()).max().unwrap_or(0);
+        let mut bands = [Vec::new(), Vec::new(), Vec::new()];
+        for k in 0..steps {
+            let (mut t, mut e): (Vec<f64>, Vec<f64>) =
+                r.executions.iter().filter_map(|x| x.battery_wh.get(k).copied()).unzip();
+            t.sort_by(f64::total_cmp);
+            e.sort_by(f64::total_cmp);
+            let at = ctx.hours(percentile(&t, 0.5));
+            for (band, q) in bands.iter_mut().zip([0.05, 0.5, 0.95]) {
+                band.push((at, percentile(&e, q)));
+            }
+        }
+        let name = name.replace('_', "-");
+        for (band, (q, width)) in bands.into_iter().zip([("5th", 1), ("median", 2), ("95th", 1)]) {
+            series.push(Series { label: format!("{name} plan, {q}"), points: band, rgb, width });
+        }
+    }
+    crate::output::plots::time(
+        dir,
+        "mc_battery",
+        &TimePlot {
+            title: "Open-loop executions: battery above its floor (percentiles)".into(),
+            x_label: time_axis_name(ctx),
+            y_label: "Wh above the battery floor".into(),
+            series,
+            nights: night.to_vec(),
+            windows: Vec::new(),
+            windows_label: String::new(),
+            x_range: (0.0, end_s / 3600.0),
+            dots: false,
+            x_ticks: time_ticks(ctx),
+        },
+    )
+}
