@@ -71,5 +71,43 @@ fn plan(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, plan);
+/// Plans under uncertainty on the same world: the chance-constrained plan (0.95, 10 %
+/// systematic departures) beside the deterministic one, and 1000 open-loop executions
+/// of it (target ≤ 10 s on 2 cores; the chance-constrained plan ≤ 3× the deterministic
+/// plan's time).
+fn uncertainty(c: &mut Criterion) {
+    use areo_mission::uncertainty::{MonteCarlo, Uncertainty, open_loop};
+    let world = world();
+    let mut t0 = 0.0;
+    while !(world.sun(t0).elevation_deg > 10.0 && world.sun(t0 - 600.0).elevation_deg <= 10.0) {
+        t0 += 600.0;
+    }
+    let model = ActionModel::new(ResourceModel::hyperion(), ActionConfig::default());
+    let u = Uncertainty { drive_time_sigma: 0.1, power_draw_sigma: 0.1, solar_sigma: 0.1, ..Uncertainty::default() };
+    let chance = model.clone().with_margins(u.margins());
+    let start = Start { cell: world.cell(20, 50), t_min: t0, t_max: t0 + 600.0, energy_wh: 800.0 };
+    let goal = [world.cell(60, 70)];
+    let config = PlannerConfig {
+        resolution: Resolution { time_s: 300.0, energy_wh: None },
+        goal_times: 8,
+        max_wait_s: Some(6.0 * 3600.0),
+        ..PlannerConfig::default()
+    };
+    let mut g = c.benchmark_group("tempest_uncertainty");
+    g.sample_size(10);
+    g.bench_function("deterministic_plan", |b| {
+        b.iter(|| Mission::plan(&world, &model, config.clone(), start, &goal).expect("a plan").1.waypoints.len())
+    });
+    g.bench_function("chance_constrained_plan_0p95", |b| {
+        b.iter(|| Mission::plan(&world, &chance, config.clone(), start, &goal).expect("a plan").1.waypoints.len())
+    });
+    let (_, plan) = Mission::plan(&world, &chance, config.clone(), start, &goal).expect("a plan");
+    let mc = MonteCarlo { runs: 1000, seed: 1 };
+    g.bench_function("open_loop_1000_runs", |b| {
+        b.iter(|| open_loop(&plan, &model, &world, start, &u, &mc).expect("valid").len())
+    });
+    g.finish();
+}
+
+criterion_group!(benches, plan, uncertainty);
 criterion_main!(benches);
