@@ -22,6 +22,7 @@ use crate::domain::Start;
 use crate::error::{Error, Result};
 use crate::plan::MissionPlan;
 use crate::planner::{Mission, PlannerConfig};
+use crate::uncertainty::Correlation;
 use crate::world::World;
 
 /// Simulation parameters (scenario fields).
@@ -38,11 +39,26 @@ pub struct SimConfig {
     /// the same problem from scratch ([`Mission::fresh`]) and record its cost and
     /// expansions beside the re-plan's (slow: a whole search per re-plan).
     pub compare_fresh: bool,
+    /// Draw the execution's departures from this model instead of `noise`'s uniform
+    /// ones (a closed-loop Monte Carlo run, [`crate::uncertainty::closed_loop`]).
+    #[serde(default)]
+    pub uncertainty: Option<crate::uncertainty::Uncertainty>,
+    /// The ChaCha8 stream of `noise.seed` the departures are drawn from (0: the seed's
+    /// first stream, as before streams existed).
+    #[serde(default)]
+    pub stream: u64,
 }
 
 impl Default for SimConfig {
     fn default() -> SimConfig {
-        SimConfig { sense_radius_cells: 2.0, noise: Noise::default(), max_steps: 20_000, compare_fresh: false }
+        SimConfig {
+            sense_radius_cells: 2.0,
+            noise: Noise::default(),
+            max_steps: 20_000,
+            compare_fresh: false,
+            uncertainty: None,
+            stream: 0,
+        }
     }
 }
 
@@ -77,6 +93,9 @@ impl SimConfig {
         }
         if !(0.0..=1.0).contains(&self.noise.solar_loss) {
             return bad("noise.solar_loss", format!("{}: allowed 0..=1", self.noise.solar_loss));
+        }
+        if let Some(u) = &self.uncertainty {
+            u.validate()?;
         }
         if !(1..=1_000_000).contains(&self.max_steps) {
             return bad("max_steps", format!("{}: allowed 1..=1000000", self.max_steps));
@@ -317,6 +336,9 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
     });
 
     let mut rng = ChaCha8Rng::seed_from_u64(sim.noise.seed);
+    rng.set_stream(sim.stream);
+    // A systematic departure is drawn once, before the first action.
+    let once = sim.uncertainty.map(|u| u.sample(&mut rng));
     // The rover executes on the nominal model; planning margins are the planner's.
     let executor = model.nominal();
     let (mut cell, mut t, mut battery) = (start.cell, start.t_min, start.energy_wh);
@@ -350,10 +372,14 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
             });
             t = t_plan;
         }
-        let perturbation = Perturbation::drive_and_solar(
-            1.0 + sim.noise.drive_slowdown * rng.random::<f64>(),
-            1.0 - sim.noise.solar_loss * rng.random::<f64>(),
-        );
+        let perturbation = match (&sim.uncertainty, once) {
+            (Some(u), Some(p)) if u.correlation == Correlation::Execution => p,
+            (Some(u), _) => u.sample(&mut rng),
+            (None, _) => Perturbation::drive_and_solar(
+                1.0 + sim.noise.drive_slowdown * rng.random::<f64>(),
+                1.0 - sim.noise.solar_loss * rng.random::<f64>(),
+            ),
+        };
         let sun_elevation_deg = truth.sun(t).elevation_deg;
         let (executed, refused, outcome) = match executor.execute(truth, action, cell, t, perturbation) {
             Ok(o) => (action, None, o),

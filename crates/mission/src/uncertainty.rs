@@ -34,6 +34,7 @@ use crate::action_model::{ActionModel, Binding, Perturbation};
 use crate::domain::Start;
 use crate::error::{Error, Result};
 use crate::plan::MissionPlan;
+use crate::simulate::{SimReport, SimStatus, Simulation, simulate};
 use crate::world::World;
 
 /// Whether the factors are drawn once per execution or for every action.
@@ -119,7 +120,7 @@ impl Uncertainty {
 
     /// One action's factors, drawn independently (normal, mean 1, the σ above; a factor
     /// is kept at 0.05 or more, and solar input at 0 or more).
-    fn sample(&self, rng: &mut ChaCha8Rng) -> Perturbation {
+    pub(crate) fn sample(&self, rng: &mut ChaCha8Rng) -> Perturbation {
         let mut draw = |sigma: f64| -> f64 {
             if sigma == 0.0 {
                 return 1.0;
@@ -174,6 +175,10 @@ pub enum Failure {
     Refused(Binding),
     /// The battery fell below its floor.
     BatteryDepleted,
+    /// Closed loop: a re-plan found no way on (the binding constraint).
+    Unreachable(Binding),
+    /// Closed loop: the simulation's step limit ran out.
+    StepLimit,
 }
 
 impl Failure {
@@ -182,6 +187,8 @@ impl Failure {
         match self {
             Failure::Refused(b) => format!("refused_{}", format!("{b:?}").to_lowercase()),
             Failure::BatteryDepleted => "battery_depleted".into(),
+            Failure::Unreachable(b) => format!("unreachable_{}", format!("{b:?}").to_lowercase()),
+            Failure::StepLimit => "step_limit".into(),
         }
     }
 }
@@ -237,6 +244,48 @@ pub fn open_loop(
             })
         })
         .collect())
+}
+
+/// Executes a mission closed-loop — planning, executing each action on the truth with
+/// factors drawn from `uncertainty`, sensing and re-planning after every action, as
+/// [`simulate`] does — `mc.runs` times, run i on the ChaCha8 stream i of `mc.seed`.
+/// Runs in parallel; the result is in run order and the same whatever the thread
+/// count. The simulation's own noise is replaced by the draws.
+pub fn closed_loop(simulation: &Simulation<'_>, uncertainty: &Uncertainty, mc: &MonteCarlo) -> Result<Vec<Execution>> {
+    uncertainty.validate()?;
+    mc.validate()?;
+    (0..mc.runs)
+        .into_par_iter()
+        .map(|run| {
+            let mut s = simulation.clone();
+            s.config.uncertainty = Some(*uncertainty);
+            s.config.noise.seed = mc.seed;
+            s.config.stream = run as u64;
+            let report = simulate(&s, &mut |_| {})?;
+            Ok(execution_of(run, &report))
+        })
+        .collect()
+}
+
+/// A simulated run as an [`Execution`].
+fn execution_of(run: usize, r: &SimReport) -> Execution {
+    let n = r.steps.len();
+    let failure = match &r.status {
+        SimStatus::Completed => None,
+        SimStatus::BatteryDepleted => Some((n, Failure::BatteryDepleted)),
+        SimStatus::Unreachable { binding, .. } => Some((n, Failure::Unreachable(*binding))),
+        SimStatus::Stuck(b) => Some((n, Failure::Refused(*b))),
+        SimStatus::StepLimit => Some((n, Failure::StepLimit)),
+    };
+    let battery_wh: Vec<(f64, f64)> =
+        r.steps.iter().map(|s| (s.t_s + s.duration_s, s.battery_above_floor_wh)).collect();
+    Execution {
+        run,
+        failure,
+        arrivals_s: r.goals_reached.iter().map(|g| g.1).collect(),
+        lowest_battery_wh: battery_wh.iter().map(|b| b.1).fold(r.start.energy_wh, f64::min),
+        battery_wh,
+    }
 }
 
 /// One open-loop execution, each action's factors from `factors(step)`.

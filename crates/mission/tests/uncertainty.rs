@@ -130,3 +130,41 @@ fn the_chance_constrained_plan_holds_at_its_confidence_where_the_deterministic_o
         .install(|| open_loop(&chance, &model, &world, start, &u, &mc).unwrap());
     assert_eq!(again, open_loop(&chance, &model, &world, start, &u, &mc).unwrap());
 }
+
+#[test]
+fn closed_loop_runs_are_simulations_with_drawn_departures() {
+    use areo_mission::uncertainty::closed_loop;
+    use areo_mission::{SimConfig, Simulation, simulate};
+    let world = mars_world(flat(24, 16, 20.0), 30.0, None);
+    let model = model(600.0, ActionConfig::default());
+    let start = Start { cell: world.cell(2, 8), t_min: 0.0, t_max: 0.0, energy_wh: 120.0 };
+    let goals = [world.cell(21, 3), world.cell(20, 13)];
+    let sim = Simulation {
+        believed: &world,
+        truth: &world,
+        model: &model,
+        planner: PlannerConfig::default(),
+        start,
+        goals: &goals,
+        config: SimConfig::default(),
+    };
+    // No spread: every run is the noiseless simulation.
+    let plain = simulate(&sim, &mut |_| {}).unwrap();
+    let none = Uncertainty { confidence: 0.95, ..Uncertainty::default() };
+    let runs = closed_loop(&sim, &none, &MonteCarlo { runs: 2, seed: 5 }).unwrap();
+    let arrivals: Vec<f64> = plain.goals_reached.iter().map(|g| g.1).collect();
+    for r in &runs {
+        assert!(r.succeeded());
+        assert_eq!(r.arrivals_s, arrivals);
+        assert_eq!(r.battery_wh.len(), plain.steps.len());
+    }
+    // With spread: the same seed gives the same runs on one thread as on many, and the
+    // draws differ between runs.
+    let u = Uncertainty { confidence: 0.95, drive_time_sigma: 0.1, power_draw_sigma: 0.1, solar_sigma: 0.1, ..none };
+    let mc = MonteCarlo { runs: 4, seed: 5 };
+    let many = closed_loop(&sim, &u, &mc).unwrap();
+    let one =
+        rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| closed_loop(&sim, &u, &mc).unwrap());
+    assert_eq!(many, one);
+    assert!(many.windows(2).any(|w| w[0].lowest_battery_wh != w[1].lowest_battery_wh), "{many:?}");
+}

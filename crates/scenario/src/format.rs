@@ -624,6 +624,9 @@ fn validate_uncertainty(c: &mut Checks, job: &TempestJob) {
         if !(1..=100_000).contains(&mc.runs) {
             c.fail("monte_carlo.runs", format!("{}: allowed 1..=100000", mc.runs));
         }
+        if mc.closed_loop_runs > 10_000 {
+            c.fail("monte_carlo.closed_loop_runs", format!("{}: allowed 0..=10000", mc.closed_loop_runs));
+        }
     }
 }
 

@@ -295,6 +295,8 @@ impl From<&SimSpec> for m::SimConfig {
             },
             max_steps: s.max_steps,
             compare_fresh: s.compare_fresh,
+            uncertainty: None,
+            stream: 0,
         }
     }
 }
@@ -352,12 +354,15 @@ pub struct MonteCarloSpec {
     pub runs: usize,
     /// Seed; run i draws from the seed's ChaCha8 stream i; default 1.
     pub seed: u64,
+    /// Closed-loop executions besides (re-planning after every action, as `simulate:`
+    /// does with its settings), 0..=10 000; default 0. Each costs a whole simulation.
+    pub closed_loop_runs: usize,
 }
 
 impl Default for MonteCarloSpec {
     fn default() -> MonteCarloSpec {
         let d = m::uncertainty::MonteCarlo::default();
-        MonteCarloSpec { runs: d.runs, seed: d.seed }
+        MonteCarloSpec { runs: d.runs, seed: d.seed, closed_loop_runs: 0 }
     }
 }
 

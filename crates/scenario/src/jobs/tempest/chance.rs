@@ -5,10 +5,11 @@
 
 use std::path::{Path, PathBuf};
 
+use areo_mission::uncertainty::closed_loop;
 use areo_mission::uncertainty::{
     Correlation, Execution, MonteCarlo, Summary, Uncertainty, open_loop, percentile, summarise,
 };
-use areo_mission::{Mission, MissionPlan, PlannerConfig, Start, World};
+use areo_mission::{Mission, MissionPlan, PlannerConfig, Simulation, Start, World};
 use serde::Serialize;
 
 use super::{Context, nights, time_axis_name, time_ticks};
@@ -34,6 +35,9 @@ pub(super) struct Chance {
     pub chance_runs: Option<Executed>,
     /// The deterministic plan's executions.
     pub deterministic_runs: Option<Executed>,
+    /// Closed-loop executions planning at the confidence, and deterministically.
+    pub chance_closed: Option<Executed>,
+    pub deterministic_closed: Option<Executed>,
 }
 
 /// The uncertainty the job states, if any (validated with the scenario).
@@ -55,19 +59,41 @@ pub(super) fn evaluate(
     let Some(u) = uncertainty(job) else { return Ok(None) };
     let margined = u.margins() != areo_mission::Perturbation::NONE;
     let deterministic = margined.then(|| {
-        Mission::plan(world, &model.nominal(), planner, start, goals).map(|(_, p)| p).map_err(|e| e.to_string())
+        Mission::plan(world, &model.nominal(), planner.clone(), start, goals).map(|(_, p)| p).map_err(|e| e.to_string())
     });
-    let mut chance = Chance { uncertainty: u, deterministic, chance_runs: None, deterministic_runs: None };
-    if let Some(spec) = &job.monte_carlo {
-        let mc = MonteCarlo::from(spec);
-        let run = |p: &MissionPlan| -> Result<Executed> {
-            let executions = open_loop(p, model, truth, start, &u, &mc)?;
-            let summary = summarise(&executions, goals.len());
-            Ok(Executed { executions, summary })
+    let mut chance = Chance {
+        uncertainty: u,
+        deterministic,
+        chance_runs: None,
+        deterministic_runs: None,
+        chance_closed: None,
+        deterministic_closed: None,
+    };
+    let Some(spec) = &job.monte_carlo else { return Ok(Some(chance)) };
+    let mc = MonteCarlo::from(spec);
+    let executed = |executions: Vec<Execution>| {
+        let summary = summarise(&executions, goals.len());
+        Executed { executions, summary }
+    };
+    chance.chance_runs = Some(executed(open_loop(plan, model, truth, start, &u, &mc)?));
+    if let Some(Ok(d)) = &chance.deterministic {
+        chance.deterministic_runs = Some(executed(open_loop(d, model, truth, start, &u, &mc)?));
+    }
+    if spec.closed_loop_runs > 0 {
+        let mc = MonteCarlo { runs: spec.closed_loop_runs, ..mc };
+        let nominal = model.nominal();
+        let simulation = |model| Simulation {
+            believed: world,
+            truth,
+            model,
+            planner: planner.clone(),
+            start,
+            goals,
+            config: job.simulate.as_ref().map(Into::into).unwrap_or_default(),
         };
-        chance.chance_runs = Some(run(plan)?);
-        if let Some(Ok(d)) = &chance.deterministic {
-            chance.deterministic_runs = Some(run(d)?);
+        chance.chance_closed = Some(executed(closed_loop(&simulation(model), &u, &mc)?));
+        if margined {
+            chance.deterministic_closed = Some(executed(closed_loop(&simulation(&nominal), &u, &mc)?));
         }
     }
     Ok(Some(chance))
@@ -112,7 +138,12 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chan
         Some(Err(why)) => o.text("deterministic_plan", format!("none: {why}")),
         None => {}
     }
-    for (prefix, runs) in [("mc", &chance.chance_runs), ("mc_deterministic", &chance.deterministic_runs)] {
+    for (prefix, runs) in [
+        ("mc", &chance.chance_runs),
+        ("mc_deterministic", &chance.deterministic_runs),
+        ("mc_closed", &chance.chance_closed),
+        ("mc_closed_deterministic", &chance.deterministic_closed),
+    ] {
         if let Some(r) = runs {
             summary_facts(o, ctx, prefix, &r.summary);
         }
@@ -127,6 +158,16 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chan
         o.summary.push(format!(
             "open-loop Monte Carlo, {} runs: the plan reaches every goal with the battery above its floor in {:.3} [{lo:.3}, {hi:.3}] (95 % Wilson){det}",
             s.runs, s.success_probability
+        ));
+    }
+    if let Some(c) = &chance.chance_closed {
+        let det = chance
+            .deterministic_closed
+            .as_ref()
+            .map_or(String::new(), |d| format!("; planning deterministically {:.3}", d.summary.success_probability));
+        o.summary.push(format!(
+            "closed-loop Monte Carlo (re-planning after every action), {} runs: every goal reached with the battery above its floor in {:.3}{det}",
+            c.summary.runs, c.summary.success_probability
         ));
     }
 }
@@ -176,7 +217,14 @@ pub(super) fn write(dir: &Path, ctx: &Context<'_>, chance: &Chance) -> Result<Ve
     let plans: Vec<(&'static str, &Executed)> = std::iter::once(("chance_constrained", c))
         .chain(chance.deterministic_runs.as_ref().map(|d| ("deterministic", d)))
         .collect();
-    let rows = plans.iter().flat_map(|&(plan, r)| {
+    let closed: Vec<(&'static str, &Executed)> = [
+        ("chance_constrained_closed_loop", &chance.chance_closed),
+        ("deterministic_closed_loop", &chance.deterministic_closed),
+    ]
+    .into_iter()
+    .filter_map(|(name, r)| r.as_ref().map(|r| (name, r)))
+    .collect();
+    let rows = plans.iter().chain(&closed).flat_map(|&(plan, r)| {
         r.executions.iter().map(move |e| RunRow {
             plan,
             run: e.run,
