@@ -64,6 +64,9 @@ pub struct Uncertainty {
     pub power_draw_sigma: f64,
     /// σ of each action's solar input factor (dust, optical depth), 0..=0.5.
     pub solar_sigma: f64,
+    /// σ of the start's delay, s, 0..=86 400: the rover is ready |N(0, σ)| after the
+    /// start window opens (a late uplink, a slow wake-up), with the stated charge.
+    pub start_delay_sigma_s: f64,
     /// Whether an execution draws its factors once or for every action.
     pub correlation: Correlation,
 }
@@ -75,6 +78,7 @@ impl Default for Uncertainty {
             drive_time_sigma: 0.0,
             power_draw_sigma: 0.0,
             solar_sigma: 0.0,
+            start_delay_sigma_s: 0.0,
             correlation: Correlation::Execution,
         }
     }
@@ -96,7 +100,41 @@ impl Uncertainty {
                 return bad(field, format!("{v}: allowed 0..=0.5 (a fraction of the nominal value)"));
             }
         }
+        if !(0.0..=86_400.0).contains(&self.start_delay_sigma_s) {
+            return bad(
+                "uncertainty.start_delay_sigma_s",
+                format!("{} s: allowed 0..=86400", self.start_delay_sigma_s),
+            );
+        }
         Ok(())
+    }
+
+    /// The start delay the plan allows for, s: the confidence's quantile of the
+    /// half-normal delay, σ·Φ⁻¹((1 + confidence)/2) (a delay is never negative, so its
+    /// median is 0.674 σ: only σ = 0 gives no margin).
+    pub fn start_delay_margin_s(&self) -> f64 {
+        if self.start_delay_sigma_s == 0.0 {
+            return 0.0;
+        }
+        self.start_delay_sigma_s * StdNormal::standard().inverse_cdf(0.5 * (1.0 + self.confidence))
+    }
+
+    /// The start a chance-constrained plan is made from: the window moved later by
+    /// [`Uncertainty::start_delay_margin_s`].
+    pub fn planning_start(&self, start: Start) -> Start {
+        let m = self.start_delay_margin_s();
+        Start { t_min: start.t_min + m, t_max: start.t_max + m, ..start }
+    }
+
+    /// One execution's start delay, s (0 without a σ; drawn from its own generator so
+    /// the factors' draws do not depend on it).
+    fn sample_start_delay(&self, seed: u64, run: usize) -> f64 {
+        if self.start_delay_sigma_s == 0.0 {
+            return 0.0;
+        }
+        let mut rng = ChaCha8Rng::seed_from_u64(seed ^ START_DELAY_SALT);
+        rng.set_stream(run as u64);
+        Normal::new(0.0, self.start_delay_sigma_s).map_or(0.0, |n| n.sample(&mut rng).abs())
     }
 
     /// The standard normal quantile of the confidence (0 at 0.5, 1.645 at 0.95).
@@ -135,6 +173,9 @@ impl Uncertainty {
         }
     }
 }
+
+/// Separates the start delays' generator from the factors' (same seed).
+const START_DELAY_SALT: u64 = 0x5354_4152_545f_444c;
 
 /// How many executions, and the seed they are drawn from (scenario field
 /// `monte_carlo:`). Run `i` draws from the ChaCha8 stream `i` of the seed, so the
@@ -238,7 +279,9 @@ pub fn open_loop(
             let mut rng = ChaCha8Rng::seed_from_u64(mc.seed);
             rng.set_stream(run as u64);
             let once = uncertainty.sample(&mut rng);
-            execute_once(plan, &nominal, world, start, run, |_| match uncertainty.correlation {
+            let delay = uncertainty.sample_start_delay(mc.seed, run);
+            let ready = Start { t_min: start.t_min + delay, ..start };
+            execute_once(plan, &nominal, world, ready, run, |_| match uncertainty.correlation {
                 Correlation::Execution => once,
                 Correlation::Action => uncertainty.sample(&mut rng),
             })
@@ -258,6 +301,10 @@ pub fn closed_loop(simulation: &Simulation<'_>, uncertainty: &Uncertainty, mc: &
         .into_par_iter()
         .map(|run| {
             let mut s = simulation.clone();
+            // A late start is known when the rover wakes: it plans from then.
+            let delay = uncertainty.sample_start_delay(mc.seed, run);
+            s.start =
+                Start { t_min: s.start.t_min + delay, t_max: s.start.t_max.max(s.start.t_min + delay), ..s.start };
             s.config.uncertainty = Some(*uncertainty);
             s.config.noise.seed = mc.seed;
             s.config.stream = run as u64;
@@ -433,7 +480,7 @@ mod tests {
             drive_time_sigma: 0.1,
             power_draw_sigma: 0.05,
             solar_sigma: 0.2,
-            correlation: Correlation::Execution,
+            ..Uncertainty::default()
         };
         // Φ⁻¹(0.95) = 1.644854 (tables).
         assert!((u.z() - 1.644_853_6).abs() < 1e-6);
@@ -450,6 +497,27 @@ mod tests {
         u.confidence = 0.9;
         u.solar_sigma = 0.7;
         assert!(u.validate().unwrap_err().to_string().contains("uncertainty.solar_sigma"));
+    }
+
+    #[test]
+    fn start_delays_are_half_normal_and_the_margin_is_their_quantile() {
+        let u = Uncertainty { confidence: 0.95, start_delay_sigma_s: 600.0, ..Uncertainty::default() };
+        // Φ⁻¹(0.975) = 1.959964 (tables).
+        assert!((u.start_delay_margin_s() - 600.0 * 1.959_964).abs() < 1e-3);
+        let start = Start { cell: 3, t_min: 100.0, t_max: 160.0, energy_wh: 5.0 };
+        let s = u.planning_start(start);
+        assert!((s.t_min - 100.0 - 1175.978).abs() < 1e-2 && (s.t_max - s.t_min - 60.0).abs() < 1e-9);
+        let n = 20_000;
+        let d: Vec<f64> = (0..n).map(|i| u.sample_start_delay(9, i)).collect();
+        assert!(d.iter().all(|&x| x >= 0.0));
+        // The half-normal's mean is σ·√(2/π) = 478.7 s; 5 % of delays exceed the margin.
+        let mean = d.iter().sum::<f64>() / n as f64;
+        assert!((mean - 478.73).abs() < 10.0, "{mean}");
+        let above = d.iter().filter(|&&x| x > u.start_delay_margin_s()).count() as f64 / n as f64;
+        assert!((above - 0.05).abs() < 0.006, "{above}");
+        let none = Uncertainty::default();
+        assert_eq!((none.start_delay_margin_s(), none.sample_start_delay(9, 3)), (0.0, 0.0));
+        assert!(Uncertainty { start_delay_sigma_s: -1.0, ..none }.validate().is_err());
     }
 
     #[test]
@@ -474,6 +542,7 @@ mod tests {
             power_draw_sigma: 0.2,
             solar_sigma: 0.05,
             correlation: Correlation::Action,
+            ..Uncertainty::default()
         };
         let mut rng = ChaCha8Rng::seed_from_u64(7);
         let n = 20_000;

@@ -107,6 +107,7 @@ fn the_chance_constrained_plan_holds_at_its_confidence_where_the_deterministic_o
         power_draw_sigma: 0.1,
         solar_sigma: 0.15,
         correlation: Correlation::Action,
+        ..Uncertainty::default()
     };
     let mc = MonteCarlo { runs: 1000, seed: 3 };
     let (_, det) = Mission::plan(&world, &model, PlannerConfig::default(), start, &goals).unwrap();

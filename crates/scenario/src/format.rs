@@ -615,6 +615,7 @@ fn validate_uncertainty(c: &mut Checks, job: &TempestJob) {
             ] {
                 c.range(name, v, 0.0, 0.5, "a fraction of the nominal value");
             }
+            c.range("start_delay_sigma_s", u.start_delay_sigma_s, 0.0, 86_400.0, "s");
         });
     }
     if let Some(mc) = &job.monte_carlo {

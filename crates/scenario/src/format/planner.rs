@@ -316,6 +316,9 @@ pub struct UncertaintySpec {
     pub power_draw_sigma: f64,
     /// σ of each action's solar input factor (dust, optical depth), 0..=0.5.
     pub solar_sigma: f64,
+    /// σ of the start's delay, s, 0..=86 400 (half-normal: the rover is ready late,
+    /// never early); the plan starts later by the delay's quantile.
+    pub start_delay_sigma_s: f64,
     /// `Execution` (default): an execution draws its factors once (a systematic
     /// departure, all traverse long); `Action`: every action draws its own.
     pub correlation: m::uncertainty::Correlation,
@@ -329,6 +332,7 @@ impl Default for UncertaintySpec {
             drive_time_sigma: d.drive_time_sigma,
             power_draw_sigma: d.power_draw_sigma,
             solar_sigma: d.solar_sigma,
+            start_delay_sigma_s: d.start_delay_sigma_s,
             correlation: d.correlation,
         }
     }
@@ -341,6 +345,7 @@ impl From<&UncertaintySpec> for m::uncertainty::Uncertainty {
             drive_time_sigma: u.drive_time_sigma,
             power_draw_sigma: u.power_draw_sigma,
             solar_sigma: u.solar_sigma,
+            start_delay_sigma_s: u.start_delay_sigma_s,
             correlation: u.correlation,
         }
     }

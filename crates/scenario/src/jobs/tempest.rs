@@ -440,6 +440,8 @@ fn watching<T>(progress: &dyn crate::Progress, meter: &areo_mission::ExpansionMe
 /// Plans (or simulates) on the prepared worlds, and maps the haven cells off Mars.
 fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared: Prepared) -> Result<TempestReport> {
     let Prepared { world, truth, model, start, goals, .. } = &prepared;
+    // A chance-constrained plan allows for a late start.
+    let plan_start = chance::uncertainty(job).map_or(*start, |u| u.planning_start(*start));
     // The searches count their expansions into a meter that a watcher shows while the
     // planner works: against the budget's estimate (an upper bound: every cell in every
     // label class) when planning, simulated minutes against the horizon when simulating.
@@ -451,7 +453,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
             opts.progress.start(bound, "planning");
             watching(opts.progress, &meter, || {
                 let clock = Instant::now();
-                Mission::plan(world, model, planner, *start, goals).map(|(mission, plan)| Run::Plan {
+                Mission::plan(world, model, planner, plan_start, goals).map(|(mission, plan)| Run::Plan {
                     plan,
                     seconds: clock.elapsed().as_secs_f64(),
                     search_bytes: mission.search_bytes(),
@@ -465,7 +467,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
                 truth: truth.as_ref().unwrap_or(world),
                 model,
                 planner,
-                start: *start,
+                start: plan_start,
                 goals,
                 config: sim.into(),
             };
