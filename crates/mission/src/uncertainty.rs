@@ -67,6 +67,15 @@ pub struct Uncertainty {
     /// σ of the start's delay, s, 0..=86 400: the rover is ready |N(0, σ)| after the
     /// start window opens (a late uplink, a slow wake-up), with the stated charge.
     pub start_delay_sigma_s: f64,
+    /// RMS error of the map's heights, m, 0..=100 (LOLA's polar DEMs: 0.3–0.5 m): the
+    /// Monte Carlo executes on `terrain_clones` error clones of the map instead of the
+    /// truth ([`dem_clone`]).
+    pub terrain_sigma_m: f64,
+    /// Correlation length of the height error, m (at least two cells of the map).
+    pub terrain_correlation_m: f64,
+    /// How many error clones the executions share (run i drives on clone i mod n),
+    /// 0..=100; 0: the executions drive on the truth.
+    pub terrain_clones: usize,
     /// Whether an execution draws its factors once or for every action.
     pub correlation: Correlation,
 }
@@ -79,6 +88,9 @@ impl Default for Uncertainty {
             power_draw_sigma: 0.0,
             solar_sigma: 0.0,
             start_delay_sigma_s: 0.0,
+            terrain_sigma_m: 0.0,
+            terrain_correlation_m: 100.0,
+            terrain_clones: 0,
             correlation: Correlation::Execution,
         }
     }
@@ -99,6 +111,18 @@ impl Uncertainty {
             if !(0.0..=0.5).contains(&v) {
                 return bad(field, format!("{v}: allowed 0..=0.5 (a fraction of the nominal value)"));
             }
+        }
+        if !(0.0..=100.0).contains(&self.terrain_sigma_m) {
+            return bad("uncertainty.terrain_sigma_m", format!("{} m: allowed 0..=100", self.terrain_sigma_m));
+        }
+        if !(self.terrain_correlation_m > 0.0 && self.terrain_correlation_m <= 1e6) {
+            return bad(
+                "uncertainty.terrain_correlation_m",
+                format!("{} m: allowed > 0 and ≤ 1e6", self.terrain_correlation_m),
+            );
+        }
+        if self.terrain_clones > 100 {
+            return bad("uncertainty.terrain_clones", format!("{}: allowed 0..=100", self.terrain_clones));
         }
         if !(0.0..=86_400.0).contains(&self.start_delay_sigma_s) {
             return bad(
@@ -172,6 +196,37 @@ impl Uncertainty {
             draw_factor: draw(self.power_draw_sigma).max(0.05),
         }
     }
+}
+
+/// An error clone of `dem`: its heights plus a smooth random field of RMS exactly
+/// `sigma_m` whose features are about `correlation_m` across (value noise of that
+/// wavelength, rescaled to the RMS), from `seed` — one of the equally likely maps a DEM
+/// with that error could stand for. Cells without data stay without.
+pub fn dem_clone(dem: &areo_terrain::Dem, sigma_m: f64, correlation_m: f64, seed: u64) -> Result<areo_terrain::Dem> {
+    use areo_terrain::synth::{Noise, TerrainSpec};
+    let cell = dem.dx().max(dem.dy());
+    if !(correlation_m >= 2.0 * cell) {
+        return Err(Error::Config {
+            field: "uncertainty.terrain_correlation_m",
+            message: format!("{correlation_m} m: allowed at least two cells ({} m)", 2.0 * cell),
+        });
+    }
+    let field = TerrainSpec {
+        cols: dem.cols(),
+        rows: dem.rows(),
+        cell_m: cell,
+        base_m: 0.0,
+        seed,
+        noise: Some(Noise { amplitude_m: 1.0, wavelength_m: correlation_m, octaves: 1, persistence: 0.5 }),
+        features: Vec::new(),
+    }
+    .build()?;
+    let e = field.elevations();
+    let mean = e.iter().map(|&v| f64::from(v)).sum::<f64>() / e.len().max(1) as f64;
+    let rms = (e.iter().map(|&v| (f64::from(v) - mean).powi(2)).sum::<f64>() / e.len().max(1) as f64).sqrt();
+    let scale = if rms > 0.0 { sigma_m / rms } else { 0.0 };
+    let heights = dem.elevations().iter().zip(e).map(|(&z, &v)| z + ((f64::from(v) - mean) * scale) as f32).collect();
+    Ok(dem.with_values(heights)?)
 }
 
 /// Separates the start delays' generator from the factors' (same seed).
@@ -270,6 +325,22 @@ pub fn open_loop(
     uncertainty: &Uncertainty,
     mc: &MonteCarlo,
 ) -> Result<Vec<Execution>> {
+    open_loop_on(plan, model, std::slice::from_ref(world), start, uncertainty, mc)
+}
+
+/// [`open_loop`] on several worlds — error clones of the map ([`dem_clone`]): run i
+/// drives on `worlds[i mod n]`.
+pub fn open_loop_on(
+    plan: &MissionPlan,
+    model: &ActionModel,
+    worlds: &[World],
+    start: Start,
+    uncertainty: &Uncertainty,
+    mc: &MonteCarlo,
+) -> Result<Vec<Execution>> {
+    if worlds.is_empty() {
+        return Err(Error::Config { field: "uncertainty.terrain_clones", message: "no world to execute on".into() });
+    }
     uncertainty.validate()?;
     mc.validate()?;
     let nominal = model.nominal();
@@ -281,6 +352,7 @@ pub fn open_loop(
             let once = uncertainty.sample(&mut rng);
             let delay = uncertainty.sample_start_delay(mc.seed, run);
             let ready = Start { t_min: start.t_min + delay, ..start };
+            let world = &worlds[run % worlds.len()];
             execute_once(plan, &nominal, world, ready, run, |_| match uncertainty.correlation {
                 Correlation::Execution => once,
                 Correlation::Action => uncertainty.sample(&mut rng),
@@ -518,6 +590,31 @@ mod tests {
         let none = Uncertainty::default();
         assert_eq!((none.start_delay_margin_s(), none.sample_start_delay(9, 3)), (0.0, 0.0));
         assert!(Uncertainty { start_delay_sigma_s: -1.0, ..none }.validate().is_err());
+    }
+
+    #[test]
+    fn an_error_clone_has_the_stated_rms_and_is_smooth_at_its_correlation_length() {
+        let dem = areo_terrain::Dem::from_fn(120, 90, 10.0, 10.0, |x, y| 0.01 * x - 0.02 * y).unwrap();
+        let a = dem_clone(&dem, 0.4, 200.0, 1).unwrap();
+        let b = dem_clone(&dem, 0.4, 200.0, 2).unwrap();
+        let diff = |c: &areo_terrain::Dem| -> Vec<f64> {
+            c.elevations().iter().zip(dem.elevations()).map(|(p, q)| f64::from(p - q)).collect()
+        };
+        let (da, db) = (diff(&a), diff(&b));
+        let rms = |d: &[f64]| (d.iter().map(|v| v * v).sum::<f64>() / d.len() as f64).sqrt();
+        assert!((rms(&da) - 0.4).abs() < 1e-4, "{}", rms(&da));
+        // Different seeds, different maps; the same seed, the same map.
+        assert!(da.iter().zip(&db).any(|(p, q)| (p - q).abs() > 0.1));
+        assert_eq!(dem_clone(&dem, 0.4, 200.0, 1).unwrap().elevations(), a.elevations());
+        // Correlated over 200 m = 20 cells: neighbouring cells' errors differ by far less
+        // than independent errors would (√2·σ ≈ 0.57 m RMS).
+        let step: Vec<f64> = (0..90)
+            .flat_map(|r| (0..119).map(move |c| (r, c)))
+            .map(|(r, c)| da[r * 120 + c + 1] - da[r * 120 + c])
+            .collect();
+        assert!(rms(&step) < 0.15 * 0.57, "{}", rms(&step));
+        // A correlation shorter than two cells is refused by name.
+        assert!(dem_clone(&dem, 0.4, 15.0, 1).unwrap_err().to_string().contains("terrain_correlation_m"));
     }
 
     #[test]

@@ -616,6 +616,11 @@ fn validate_uncertainty(c: &mut Checks, job: &TempestJob) {
                 c.range(name, v, 0.0, 0.5, "a fraction of the nominal value");
             }
             c.range("start_delay_sigma_s", u.start_delay_sigma_s, 0.0, 86_400.0, "s");
+            c.range("terrain_sigma_m", u.terrain_sigma_m, 0.0, 100.0, "m");
+            c.range("terrain_correlation_m", u.terrain_correlation_m, f64::MIN_POSITIVE, 1e6, "m, > 0");
+            if u.terrain_clones > 100 {
+                c.fail("terrain_clones", format!("{}: allowed 0..=100", u.terrain_clones));
+            }
         });
     }
     if let Some(mc) = &job.monte_carlo {

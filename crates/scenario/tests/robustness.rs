@@ -349,11 +349,11 @@ fn uncertainty_out_of_range_names_its_field_and_rule() {
     let text = std::fs::read_to_string(root().join("scenarios/uncertain-dawn.ron")).unwrap();
     let path = Path::new("uncertain-dawn.ron");
     parse(path, &text).expect("the shipped scenario is valid");
-    let line = "uncertainty: (confidence: 0.95, drive_time_sigma: 0.10, power_draw_sigma: 0.10, solar_sigma: 0.10),";
+    let line = "confidence: 0.95,\n            drive_time_sigma: 0.10,";
     assert!(text.contains(line));
     for (bad, field, rule) in [
         ("confidence: 1.2,", "job.uncertainty.confidence", "0.5"),
-        ("confidence: 0.95, drive_time_sigma: 0.8,", "job.uncertainty.drive_time_sigma", "fraction"),
+        ("confidence: 0.95,\n            drive_time_sigma: 0.8,", "job.uncertainty.drive_time_sigma", "fraction"),
     ] {
         let mutated = text.replacen(
             line,
@@ -368,7 +368,9 @@ fn uncertainty_out_of_range_names_its_field_and_rule() {
         assert!(message.contains(rule), "{message}");
     }
     // Monte Carlo needs something to draw from.
-    let err = parse(path, &text.replacen(line, "", 1)).unwrap_err();
+    let start = text.find("        uncertainty: (").unwrap();
+    let end = start + text[start..].find("        ),\n").unwrap() + "        ),\n".len();
+    let err = parse(path, &format!("{}{}", &text[..start], &text[end..])).unwrap_err();
     let Error::Invalid { field, message, .. } = &err else { panic!("{err}") };
     assert_eq!(field, "job.monte_carlo");
     assert!(message.contains("uncertainty"), "{message}");

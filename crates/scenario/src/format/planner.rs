@@ -319,6 +319,13 @@ pub struct UncertaintySpec {
     /// σ of the start's delay, s, 0..=86 400 (half-normal: the rover is ready late,
     /// never early); the plan starts later by the delay's quantile.
     pub start_delay_sigma_s: f64,
+    /// RMS error of the map's heights, m, 0..=100: the open-loop executions drive on
+    /// `terrain_clones` error clones of the map instead of the truth.
+    pub terrain_sigma_m: f64,
+    /// Correlation length of the height error, m (at least two cells); default 100.
+    pub terrain_correlation_m: f64,
+    /// Error clones the executions share, 0..=100; default 0 (drive on the truth).
+    pub terrain_clones: usize,
     /// `Execution` (default): an execution draws its factors once (a systematic
     /// departure, all traverse long); `Action`: every action draws its own.
     pub correlation: m::uncertainty::Correlation,
@@ -333,6 +340,9 @@ impl Default for UncertaintySpec {
             power_draw_sigma: d.power_draw_sigma,
             solar_sigma: d.solar_sigma,
             start_delay_sigma_s: d.start_delay_sigma_s,
+            terrain_sigma_m: d.terrain_sigma_m,
+            terrain_correlation_m: d.terrain_correlation_m,
+            terrain_clones: d.terrain_clones,
             correlation: d.correlation,
         }
     }
@@ -346,6 +356,9 @@ impl From<&UncertaintySpec> for m::uncertainty::Uncertainty {
             power_draw_sigma: u.power_draw_sigma,
             solar_sigma: u.solar_sigma,
             start_delay_sigma_s: u.start_delay_sigma_s,
+            terrain_sigma_m: u.terrain_sigma_m,
+            terrain_correlation_m: u.terrain_correlation_m,
+            terrain_clones: u.terrain_clones,
             correlation: u.correlation,
         }
     }

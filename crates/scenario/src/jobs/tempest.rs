@@ -183,6 +183,8 @@ struct Prepared {
     world: World,
     /// The true world when it differs from the believed one.
     truth: Option<World>,
+    /// How the worlds were built (for the Monte Carlo's terrain clones).
+    config: WorldConfig,
     model: ActionModel,
     frame: Frame,
     start: Start,
@@ -351,7 +353,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
         None => model,
     };
     let (start, goals) = locate(job, file, &world, frame)?;
-    Ok(Prepared { world, truth, model, frame, start, goals, precalc_s, notes })
+    Ok(Prepared { world, truth, config, model, frame, start, goals, precalc_s, notes })
 }
 
 /// The action model with the job's Communicate sessions, its start battery checked.
@@ -439,7 +441,7 @@ fn watching<T>(progress: &dyn crate::Progress, meter: &areo_mission::ExpansionMe
 
 /// Plans (or simulates) on the prepared worlds, and maps the haven cells off Mars.
 fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared: Prepared) -> Result<TempestReport> {
-    let Prepared { world, truth, model, start, goals, .. } = &prepared;
+    let Prepared { world, truth, config, model, start, goals, .. } = &prepared;
     // A chance-constrained plan allows for a late start.
     let plan_start = chance::uncertainty(job).map_or(*start, |u| u.planning_start(*start));
     // The searches count their expansions into a meter that a watcher shows while the
@@ -491,7 +493,14 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     let chance = match initial {
         Some(plan) => {
             let worlds = (world, truth.as_ref().unwrap_or(world));
-            chance::evaluate(job, worlds, model, (&job.planner).into(), (*start, goals), plan)?
+            chance::evaluate(job, (worlds, config), model, (&job.planner).into(), (*start, goals), plan).map_err(
+                |e| match e {
+                    Error::Mission(MissionError::Config { field, message }) if field.starts_with("uncertainty.") => {
+                        scenario_error(file, format!("job.{field}"), message)
+                    }
+                    other => other,
+                },
+            )?
         }
         None => None,
     };

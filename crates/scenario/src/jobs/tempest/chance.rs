@@ -5,11 +5,9 @@
 
 use std::path::{Path, PathBuf};
 
-use areo_mission::uncertainty::closed_loop;
-use areo_mission::uncertainty::{
-    Correlation, Execution, MonteCarlo, Summary, Uncertainty, open_loop, percentile, summarise,
-};
-use areo_mission::{Mission, MissionPlan, PlannerConfig, Simulation, Start, World};
+use areo_mission::uncertainty::{Correlation, Execution, MonteCarlo, Summary, Uncertainty, percentile, summarise};
+use areo_mission::uncertainty::{closed_loop, dem_clone, open_loop_on};
+use areo_mission::{Mission, MissionPlan, PlannerConfig, Simulation, Start, World, WorldConfig};
 use serde::Serialize;
 
 use super::{Context, nights, time_axis_name, time_ticks};
@@ -50,7 +48,7 @@ pub(super) fn uncertainty(job: &TempestJob) -> Option<Uncertainty> {
 /// margins); executions run on `truth` with the nominal model.
 pub(super) fn evaluate(
     job: &TempestJob,
-    (world, truth): (&World, &World),
+    ((world, truth), config): ((&World, &World), &WorldConfig),
     model: &areo_mission::ActionModel,
     planner: PlannerConfig,
     (start, goals): (Start, &[u32]),
@@ -75,9 +73,12 @@ pub(super) fn evaluate(
         let summary = summarise(&executions, goals.len());
         Executed { executions, summary }
     };
-    chance.chance_runs = Some(executed(open_loop(plan, model, truth, start, &u, &mc)?));
+    // The executions drive on error clones of the map, or on the truth.
+    let clones = terrain_clones(job, &u, world, config, mc.seed)?;
+    let worlds = if clones.is_empty() { std::slice::from_ref(truth) } else { &clones[..] };
+    chance.chance_runs = Some(executed(open_loop_on(plan, model, worlds, start, &u, &mc)?));
     if let Some(Ok(d)) = &chance.deterministic {
-        chance.deterministic_runs = Some(executed(open_loop(d, model, truth, start, &u, &mc)?));
+        chance.deterministic_runs = Some(executed(open_loop_on(d, model, worlds, start, &u, &mc)?));
     }
     if spec.closed_loop_runs > 0 {
         let mc = MonteCarlo { runs: spec.closed_loop_runs, ..mc };
@@ -99,6 +100,26 @@ pub(super) fn evaluate(
     Ok(Some(chance))
 }
 
+/// `uncertainty.terrain_clones` error clones of the believed map, each a world (clone i
+/// from seed `seed + i`); none without a height error.
+fn terrain_clones(
+    job: &TempestJob,
+    u: &Uncertainty,
+    world: &World,
+    config: &WorldConfig,
+    seed: u64,
+) -> Result<Vec<World>> {
+    if u.terrain_clones == 0 || u.terrain_sigma_m == 0.0 {
+        return Ok(Vec::new());
+    }
+    (0..u.terrain_clones as u64)
+        .map(|i| {
+            let dem = dem_clone(world.dem(), u.terrain_sigma_m, u.terrain_correlation_m, seed.wrapping_add(i))?;
+            Ok(World::truth(dem, config, &job.body.model(), world)?)
+        })
+        .collect()
+}
+
 /// The facts and summary lines.
 pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chance: &Chance) {
     let u = &chance.uncertainty;
@@ -108,6 +129,13 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chan
     o.number("chance_drive_time_factor", m.duration_factor);
     o.number("chance_draw_factor", m.draw_factor);
     o.number("chance_solar_factor", m.solar_factor);
+    if u.terrain_clones > 0 && u.terrain_sigma_m > 0.0 {
+        o.count("mc_terrain_clones", u.terrain_clones as u64);
+        o.summary.push(format!(
+            "the open-loop executions drive on {} error clones of the map (height RMS {} m, correlated over {} m)",
+            u.terrain_clones, u.terrain_sigma_m, u.terrain_correlation_m
+        ));
+    }
     let bound = match u.correlation {
         Correlation::Execution => "one draw per execution: each quantity at its quantile",
         Correlation::Action => "a draw per action: a conservative bound",
