@@ -6,7 +6,7 @@
 
 use areo_rover::arm::ArmState;
 use areo_rover::evaluation::{Conditions, Evaluator, Place};
-use areo_rover::kinematics::{Kinematics, newton_pose};
+use areo_rover::kinematics::Kinematics;
 use areo_rover::{Layout, RoverParams};
 use areo_terrain::Ground;
 use areo_terrain::analytic::{Plane, Step};
@@ -149,27 +149,7 @@ fn newton_on_the_chain_built_as_it_is_agrees_with_the_mirrored_planar_solve() {
     let k = Kinematics::new(&p);
     assert!(k.mirrored());
     let g = F(|x: f64, y: f64| 0.09 * (1.1 * x).sin() * (0.9 * y).cos() + 0.12 * y);
-    for (x, y, h) in [(0.0, 0.0, 0.0), (0.7, -0.4, 0.9), (-1.1, 0.5, 2.2), (2.0, 1.0, 4.0)] {
-        let planar = k.solve(&g, x, y, h, None).unwrap();
-        let newton = newton_pose(&g, &p, x, y, h, Some(&planar)).expect("Newton converges");
-        let cold = newton_pose(&g, &p, x, y, h, None).expect("Newton converges cold");
-        assert!((newton.pitch - cold.pitch).abs() < 1e-6 && (newton.roll - cold.roll).abs() < 1e-6);
-        assert!(
-            (newton.pitch - planar.pitch).abs() < 0.5f64.to_radians(),
-            "pitch {} vs {}",
-            newton.pitch,
-            planar.pitch
-        );
-        assert!((newton.roll - planar.roll).abs() < 0.5f64.to_radians(), "roll {} vs {}", newton.roll, planar.roll);
-        for (s, side) in [&planar.left, &planar.right].into_iter().enumerate() {
-            assert!((newton.bogie[s] - side.bogie_angle).abs() < 0.5f64.to_radians(), "bogie {s}");
-        }
-        for i in 0..6 {
-            let (a, b) = (newton.axles[i], planar.wheels[i].axle);
-            let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
-            assert!(d < 0.01, "axle {i}: {a:?} vs {b:?}");
-        }
-    }
+    crate::physics::assert_newton_agrees(&p, &g);
 }
 
 #[test]

@@ -263,24 +263,7 @@ fn newton_on_the_full_chain_agrees_with_the_planar_decomposition() {
         }
     }
     let g = F(rough);
-    for (x, y, h) in [(0.0, 0.0, 0.0), (0.7, -0.4, 0.9), (-1.1, 0.5, 2.2), (2.0, 1.0, 4.0)] {
-        let planar = k.solve(&g, x, y, h, None).unwrap();
-        let newton = newton_pose(&g, &p, x, y, h, Some(&planar)).expect("Newton converges");
-        let cold = newton_pose(&g, &p, x, y, h, None).expect("Newton converges cold");
-        assert!((newton.pitch - cold.pitch).abs() < 1e-6 && (newton.roll - cold.roll).abs() < 1e-6);
-        assert!(
-            (newton.pitch - planar.pitch).abs() < 0.5f64.to_radians(),
-            "pitch {} vs {}",
-            newton.pitch,
-            planar.pitch
-        );
-        assert!((newton.roll - planar.roll).abs() < 0.5f64.to_radians(), "roll {} vs {}", newton.roll, planar.roll);
-        for i in 0..6 {
-            let (a, b) = (newton.axles[i], planar.wheels[i].axle);
-            let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
-            assert!(d < 0.01, "axle {i}: {a:?} vs {b:?}");
-        }
-    }
+    assert_newton_agrees(&p, &g);
     // On a plane crossed diagonally the two differ only by the planar model's
     // convention: its wheel planes tilt about the heading line, so its body axis is
     // yawed by ≈ tan(pitch)·sin(roll) (0.4° here) and its pitch differs by < 0.2°.
@@ -639,5 +622,34 @@ fn a_grasp_reaches_down_by_inverse_kinematics_and_pays_for_lifting() {
     let back = motion.body_point(&tilted, &s, tool).unwrap();
     for k in 0..3 {
         assert!((back[k] - s.arm.tool_m[k]).abs() < 1e-9, "{back:?} vs {:?}", s.arm.tool_m);
+    }
+}
+
+/// The 3-D Newton chain and the planar decomposition agree at four places on `g`:
+/// Newton from the planar pose and cold reach the same pose, pitch, roll and bogie
+/// angles within 0.5°, every axle within 1 cm.
+pub(crate) fn assert_newton_agrees(p: &RoverParams, g: &impl Ground) {
+    let k = Kinematics::new(p);
+    for (x, y, h) in [(0.0, 0.0, 0.0), (0.7, -0.4, 0.9), (-1.1, 0.5, 2.2), (2.0, 1.0, 4.0)] {
+        let planar = k.solve(g, x, y, h, None).unwrap();
+        let newton = newton_pose(g, p, x, y, h, Some(&planar)).expect("Newton converges");
+        let cold = newton_pose(g, p, x, y, h, None).expect("Newton converges cold");
+        assert!((newton.pitch - cold.pitch).abs() < 1e-6 && (newton.roll - cold.roll).abs() < 1e-6);
+        let tol = 0.5f64.to_radians();
+        assert!((newton.pitch - planar.pitch).abs() < tol, "pitch {} vs {}", newton.pitch, planar.pitch);
+        assert!((newton.roll - planar.roll).abs() < tol, "roll {} vs {}", newton.roll, planar.roll);
+        for (s, side) in [&planar.left, &planar.right].into_iter().enumerate() {
+            assert!(
+                (newton.bogie[s] - side.bogie_angle).abs() < tol,
+                "bogie {s}: {} vs {}",
+                newton.bogie[s],
+                side.bogie_angle
+            );
+        }
+        for i in 0..6 {
+            let (a, b) = (newton.axles[i], planar.wheels[i].axle);
+            let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+            assert!(d < 0.01, "axle {i}: {a:?} vs {b:?}");
+        }
     }
 }
