@@ -169,3 +169,37 @@ fn closed_loop_runs_are_simulations_with_drawn_departures() {
     assert_eq!(many, one);
     assert!(many.windows(2).any(|w| w[0].lowest_battery_wh != w[1].lowest_battery_wh), "{many:?}");
 }
+
+#[test]
+fn re_plans_at_a_confidence_equal_fresh_searches() {
+    // The chance-constrained search is the ordinary search on a worse model: the kept
+    // graphs must answer every re-plan as a fresh search of the same problem does.
+    use areo_mission::{SimConfig, Simulation, simulate};
+    let world = mars_world(flat(24, 16, 20.0), 30.0, None);
+    let u = Uncertainty {
+        confidence: 0.95,
+        drive_time_sigma: 0.1,
+        power_draw_sigma: 0.1,
+        solar_sigma: 0.1,
+        ..Uncertainty::default()
+    };
+    let model = model(600.0, ActionConfig::default()).with_margins(u.margins());
+    let start = Start { cell: world.cell(2, 8), t_min: 0.0, t_max: 0.0, energy_wh: 160.0 };
+    let goals = [world.cell(21, 3), world.cell(20, 13)];
+    let config = SimConfig { compare_fresh: true, uncertainty: Some(u), stream: 3, ..SimConfig::default() };
+    let sim = Simulation {
+        believed: &world,
+        truth: &world,
+        model: &model,
+        planner: PlannerConfig::default(),
+        start,
+        goals: &goals,
+        config,
+    };
+    let report = simulate(&sim, &mut |_| {}).unwrap();
+    let compared: Vec<_> = report.plans.iter().filter_map(|p| p.fresh.map(|f| (p.step, p.plan.cost, f.1))).collect();
+    assert!(compared.len() >= 10, "{} re-plans compared", compared.len());
+    for (step, replan, fresh) in compared {
+        assert!((replan - fresh).abs() < 1e-6, "step {step}: re-plan {replan} vs fresh {fresh}");
+    }
+}

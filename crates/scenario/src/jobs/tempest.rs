@@ -545,6 +545,12 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
         o.number("goals_reached", 0.0);
         o.number("precalc_s", precalc_s);
         o.summary.push(format!("no plan: the goals are unreachable ({message})"));
+        if let Some(u) = chance::uncertainty(ctx.job).filter(|u| u.margins() != areo_mission::Perturbation::NONE) {
+            o.summary.push(format!(
+                "(planned at confidence {}: every action made worse by its margins; a deterministic plan may still exist)",
+                u.confidence
+            ));
+        }
         return o;
     }
     o.number("precalc_s", precalc_s);
