@@ -75,15 +75,19 @@ pub struct Perturbation {
     /// Electrical loads (locomotion and electronics) are multiplied by this (≥ 1:
     /// hungrier than modelled).
     pub draw_factor: f64,
+    /// A delay before the action, s (≥ 0: a late command, a wait for data), spent at
+    /// the action's load with the array off-line (a conservative way to spend it).
+    pub delay_s: f64,
 }
 
 impl Perturbation {
     /// Execution exactly as modelled.
-    pub const NONE: Perturbation = Perturbation { duration_factor: 1.0, solar_factor: 1.0, draw_factor: 1.0 };
+    pub const NONE: Perturbation =
+        Perturbation { duration_factor: 1.0, solar_factor: 1.0, draw_factor: 1.0, delay_s: 0.0 };
 
     /// Slower drives and less sunlight only (the simulation's noise).
     pub fn drive_and_solar(duration_factor: f64, solar_factor: f64) -> Perturbation {
-        Perturbation { duration_factor, solar_factor, draw_factor: 1.0 }
+        Perturbation { duration_factor, solar_factor, draw_factor: 1.0, delay_s: 0.0 }
     }
 }
 
@@ -250,8 +254,10 @@ pub struct ActionModel {
 pub struct DriveGeometry {
     /// Destination cell.
     pub to: u32,
-    /// Duration, s (quantised).
+    /// Duration, s (quantised), the planning margin's delay included.
     pub duration_s: f64,
+    /// The planning margin's delay before the drive moves, s (part of `duration_s`).
+    pub delay_s: f64,
     /// Slope along the drive, degrees (positive uphill).
     pub slope_deg: f64,
     /// Locomotion plus the high electronics load, W.
@@ -288,6 +294,7 @@ impl ActionModel {
     pub fn with_margins(mut self, margins: Perturbation) -> ActionModel {
         let ok = margins.duration_factor >= 1.0
             && margins.draw_factor >= 1.0
+            && (0.0..=1e6).contains(&margins.delay_s)
             && (0.0..=1.0).contains(&margins.solar_factor)
             && margins.duration_factor.is_finite()
             && margins.draw_factor.is_finite();
@@ -405,8 +412,9 @@ impl ActionModel {
         let length = (run * run + rise * rise).sqrt();
         let load_w = (loco.power_on_w(speed, rise / length, run / length) + self.rover.electronics.power_w(Load::High))
             * self.margins.draw_factor;
-        let duration_s = self.quantise_time(length / speed * self.margins.duration_factor);
-        Ok(DriveGeometry { to, duration_s, slope_deg: slope, load_w })
+        let delay_s = self.margins.delay_s;
+        let duration_s = self.quantise_time(length / speed * self.margins.duration_factor + delay_s);
+        Ok(DriveGeometry { to, duration_s, delay_s, slope_deg: slope, load_w })
     }
 
     /// The drive from `from` to neighbour `k` starting at `t0`.
@@ -450,7 +458,7 @@ impl ActionModel {
         arrival: &Arrival,
         k: u8,
         from: u32,
-        DriveGeometry { duration_s: duration, load_w: load, .. }: DriveGeometry,
+        DriveGeometry { duration_s: duration, delay_s: delay, load_w: load, .. }: DriveGeometry,
     ) -> Option<(u32, Effect)> {
         let (t1, s1) = (arrival.t1, &arrival.sun);
         let t0 = t1 - duration;
@@ -473,7 +481,7 @@ impl ActionModel {
         let lit0 = self.rover.solar.is_some() && world.lit(from, &s0);
         let p0 = load - self.drive_source_lit_w(world, from, &s0, k, lit0);
         let p1 = load - self.drive_source_lit_w(world, arrival.to, s1, k, arrival.lit);
-        let e = self.battery_wh(p0, duration / 2.0) + self.battery_wh(p1, duration / 2.0);
+        let e = self.drive_energy_wh(load, (p0, p1), duration, delay);
         Some((from, Effect { duration_s: duration, energy_wh: self.quantise_energy(e) }))
     }
 
@@ -482,11 +490,13 @@ impl ActionModel {
         world: &World,
         from: u32,
         k: u8,
-        DriveGeometry { to, duration_s, load_w: load, .. }: DriveGeometry,
+        DriveGeometry { to, duration_s, delay_s, load_w: load, .. }: DriveGeometry,
         t0: f64,
         p: Perturbation,
     ) -> Result<(u32, Effect), Binding> {
-        let duration = duration_s * p.duration_factor;
+        // The margin's delay stays as planned; execution adds its own and moves slower.
+        let delay = delay_s + p.delay_s;
+        let duration = (duration_s - delay_s) * p.duration_factor + delay;
         let load = load * p.draw_factor;
         let t1 = t0 + duration;
         // The same slack as the backward transition (`drive_into`), so that a planned
@@ -509,8 +519,16 @@ impl ActionModel {
         let source = |w: f64| nuclear + p.solar_factor * (w - nuclear);
         let p0 = load - source(self.drive_source_lit_w(world, from, &s0, k, lit(from, &s0)));
         let p1 = load - source(self.drive_source_lit_w(world, to, &s1, k, lit(to, &s1)));
-        let e = self.battery_wh(p0, duration / 2.0) + self.battery_wh(p1, duration / 2.0);
+        let e = self.drive_energy_wh(load, (p0, p1), duration, delay);
         Ok((to, Effect { duration_s: duration, energy_wh: self.quantise_energy(e) }))
+    }
+
+    /// A drive's battery energy, Wh: `delay` s at its load with only a generator, then
+    /// the move, half at each end's net load (`net_w`).
+    fn drive_energy_wh(&self, load_w: f64, net_w: (f64, f64), duration: f64, delay: f64) -> f64 {
+        let moving = (duration - delay).max(0.0);
+        let waiting = if delay > 0.0 { self.battery_wh(load_w - self.rover.nuclear_w, delay) } else { 0.0 };
+        waiting + self.battery_wh(net_w.0, moving / 2.0) + self.battery_wh(net_w.1, moving / 2.0)
     }
 
     /// Executes `action` from `cell` at `t0` as the rover would in the field, with
@@ -538,7 +556,7 @@ impl ActionModel {
     /// quantised.
     pub fn stay_duration_s(&self, action: Action) -> f64 {
         let d = if action == Action::Charge { self.config.charge_s } else { self.config.hibernate_s };
-        self.quantise_time(d)
+        self.quantise_time(d + self.margins.delay_s)
     }
 
     /// A stationary action (Charge or Hibernate) at `cell` starting at `t0`.
@@ -558,7 +576,9 @@ impl ActionModel {
             Action::Charge => (&self.config.charge, self.config.charge_load.load()),
             _ => (&self.config.hibernate, Load::Low),
         };
-        let duration = self.stay_duration_s(action);
+        let duration = self.stay_duration_s(action) + perturbation.delay_s;
+        // The delays come first, with the array off-line.
+        let delay = self.margins.delay_s + perturbation.delay_s;
         let t1 = t0 + duration;
         if t0 < -EPOCH_SLACK_S || t1 > world.span_s() {
             return Err(Binding::Horizon);
@@ -590,7 +610,7 @@ impl ActionModel {
             // source for Hibernate): only a generator feeds it.
             let nuclear = self.rover.nuclear_w;
             let source = match action {
-                Action::Charge => {
+                Action::Charge if t - t0 >= delay => {
                     nuclear + perturbation.solar_factor * (self.source_w(world, cell, &sun, None) - nuclear)
                 }
                 _ => nuclear,
@@ -787,7 +807,8 @@ impl ActionModel {
         let dem = world.dem();
         let slowest = self.rover.locomotor.speed_m_s / 3.0;
         let run = dem.dx().hypot(dem.dy());
-        let longest = run / slowest / self.max_slope_deg.to_radians().cos().max(0.05) * self.margins.duration_factor;
+        let longest = run / slowest / self.max_slope_deg.to_radians().cos().max(0.05) * self.margins.duration_factor
+            + self.margins.delay_s;
         self.quantise_time(longest) + 1.0
     }
 

@@ -22,7 +22,6 @@ use crate::domain::Start;
 use crate::error::{Error, Result};
 use crate::plan::MissionPlan;
 use crate::planner::{Mission, PlannerConfig};
-use crate::uncertainty::Correlation;
 use crate::world::World;
 
 /// Simulation parameters (scenario fields).
@@ -373,8 +372,8 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
             t = t_plan;
         }
         let perturbation = match (&sim.uncertainty, once) {
-            (Some(u), Some(p)) if u.correlation == Correlation::Execution => p,
-            (Some(u), _) => u.sample(&mut rng),
+            (Some(u), Some(p)) => u.next(p, &mut rng),
+            (Some(u), None) => u.sample(&mut rng),
             (None, _) => Perturbation::drive_and_solar(
                 1.0 + sim.noise.drive_slowdown * rng.random::<f64>(),
                 1.0 - sim.noise.solar_loss * rng.random::<f64>(),

@@ -64,6 +64,10 @@ pub struct Uncertainty {
     pub power_draw_sigma: f64,
     /// σ of each action's solar input factor (dust, optical depth), 0..=0.5.
     pub solar_sigma: f64,
+    /// σ of the delay before each action, s, 0..=3600: the rover waits |N(0, σ)| before
+    /// every action (a late command, a wait for data), at the action's load with the
+    /// array off-line.
+    pub action_delay_sigma_s: f64,
     /// σ of the start's delay, s, 0..=86 400: the rover is ready |N(0, σ)| after the
     /// start window opens (a late uplink, a slow wake-up), with the stated charge.
     pub start_delay_sigma_s: f64,
@@ -87,6 +91,7 @@ impl Default for Uncertainty {
             drive_time_sigma: 0.0,
             power_draw_sigma: 0.0,
             solar_sigma: 0.0,
+            action_delay_sigma_s: 0.0,
             start_delay_sigma_s: 0.0,
             terrain_sigma_m: 0.0,
             terrain_correlation_m: 100.0,
@@ -123,6 +128,12 @@ impl Uncertainty {
         }
         if self.terrain_clones > 100 {
             return bad("uncertainty.terrain_clones", format!("{}: allowed 0..=100", self.terrain_clones));
+        }
+        if !(0.0..=3600.0).contains(&self.action_delay_sigma_s) {
+            return bad(
+                "uncertainty.action_delay_sigma_s",
+                format!("{} s: allowed 0..=3600", self.action_delay_sigma_s),
+            );
         }
         if !(0.0..=86_400.0).contains(&self.start_delay_sigma_s) {
             return bad(
@@ -177,7 +188,36 @@ impl Uncertainty {
             duration_factor: 1.0 + z * self.drive_time_sigma,
             solar_factor: (1.0 - z * self.solar_sigma).max(0.0),
             draw_factor: 1.0 + z * self.power_draw_sigma,
+            delay_s: self.action_delay_margin_s(),
         }
+    }
+
+    /// The delay before each action the plan allows for, s: the confidence's quantile of
+    /// the half-normal delay, σ·Φ⁻¹((1 + confidence)/2) (0 without a σ).
+    pub fn action_delay_margin_s(&self) -> f64 {
+        if self.action_delay_sigma_s == 0.0 {
+            return 0.0;
+        }
+        self.action_delay_sigma_s * StdNormal::standard().inverse_cdf(0.5 * (1.0 + self.confidence))
+    }
+
+    /// One action's delay, s, |N(0, σ)|; nothing is drawn without a σ (so the other
+    /// draws do not move).
+    pub(crate) fn sample_delay(&self, rng: &mut ChaCha8Rng) -> f64 {
+        if self.action_delay_sigma_s == 0.0 {
+            return 0.0;
+        }
+        Normal::new(0.0, self.action_delay_sigma_s).map_or(0.0, |n| n.sample(rng).abs())
+    }
+
+    /// One action's departures: the factors (`once` for a systematic departure, else
+    /// drawn now) and a delay drawn for the action.
+    pub(crate) fn next(&self, once: Perturbation, rng: &mut ChaCha8Rng) -> Perturbation {
+        let base = match self.correlation {
+            Correlation::Execution => once,
+            Correlation::Action => self.sample(rng),
+        };
+        Perturbation { delay_s: self.sample_delay(rng), ..base }
     }
 
     /// One action's factors, drawn independently (normal, mean 1, the σ above; a factor
@@ -194,6 +234,7 @@ impl Uncertainty {
             duration_factor: draw(self.drive_time_sigma).max(0.05),
             solar_factor: draw(self.solar_sigma).max(0.0),
             draw_factor: draw(self.power_draw_sigma).max(0.05),
+            delay_s: 0.0,
         }
     }
 }
@@ -353,10 +394,7 @@ pub fn open_loop_on(
             let delay = uncertainty.sample_start_delay(mc.seed, run);
             let ready = Start { t_min: start.t_min + delay, ..start };
             let world = &worlds[run % worlds.len()];
-            execute_once(plan, &nominal, world, ready, run, |_| match uncertainty.correlation {
-                Correlation::Execution => once,
-                Correlation::Action => uncertainty.sample(&mut rng),
-            })
+            execute_once(plan, &nominal, world, ready, run, |_| uncertainty.next(once, &mut rng))
         })
         .collect())
 }

@@ -203,3 +203,33 @@ fn re_plans_at_a_confidence_equal_fresh_searches() {
         assert!((replan - fresh).abs() < 1e-6, "step {step}: re-plan {replan} vs fresh {fresh}");
     }
 }
+
+#[test]
+fn a_delay_margin_lengthens_every_action_and_is_spent_without_sunlight() {
+    use areo_mission::{Action, Perturbation};
+    let world = mars_world(flat(24, 16, 20.0), 30.0, None);
+    let nominal = model(600.0, ActionConfig::default());
+    let u = Uncertainty { confidence: 0.95, action_delay_sigma_s: 300.0, ..Uncertainty::default() };
+    // Φ⁻¹(0.975) = 1.959964: the half-normal delay's 95th percentile.
+    let q = u.action_delay_margin_s();
+    assert!((q - 587.989).abs() < 1e-2, "{q}");
+    assert_eq!(u.margins(), Perturbation { delay_s: q, ..Perturbation::NONE });
+    let delayed = nominal.clone().with_margins(u.margins());
+    let from = world.cell(5, 8);
+    // At midday: a drive, the same drive after the delay at its own load and no sun.
+    let t0 = (0..200).map(|i| i as f64 * 600.0).find(|&t| world.sun(t).elevation_deg > 45.0).unwrap();
+    let (_, a) = nominal.drive(&world, from, 2, t0).unwrap();
+    let (_, b) = delayed.drive(&world, from, 2, t0).unwrap();
+    let g = nominal.drive_geometry(&world, from, 2).unwrap();
+    let eff = nominal.rover().battery.discharge_efficiency;
+    assert!((b.duration_s - a.duration_s - q).abs() < 1e-9);
+    // The move itself starts later, so its solar part differs a little; the wait costs
+    // its load over q exactly.
+    let wait = g.load_w * q / 3600.0 / eff;
+    assert!((b.energy_wh - a.energy_wh - wait).abs() < 0.02 * wait, "{} vs {} + {wait}", b.energy_wh, a.energy_wh);
+    // A charge: q longer, and no more gained than without the delay.
+    let c0 = nominal.stay(&world, Action::Charge, from, t0).unwrap();
+    let c1 = delayed.stay(&world, Action::Charge, from, t0).unwrap();
+    assert!((c1.duration_s - c0.duration_s - q).abs() < 1e-9);
+    assert!(c1.energy_wh > c0.energy_wh, "{} vs {}", c1.energy_wh, c0.energy_wh);
+}

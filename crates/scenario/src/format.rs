@@ -615,6 +615,7 @@ fn validate_uncertainty(c: &mut Checks, job: &TempestJob) {
             ] {
                 c.range(name, v, 0.0, 0.5, "a fraction of the nominal value");
             }
+            c.range("action_delay_sigma_s", u.action_delay_sigma_s, 0.0, 3600.0, "s");
             c.range("start_delay_sigma_s", u.start_delay_sigma_s, 0.0, 86_400.0, "s");
             c.range("terrain_sigma_m", u.terrain_sigma_m, 0.0, 100.0, "m");
             c.range("terrain_correlation_m", u.terrain_correlation_m, f64::MIN_POSITIVE, 1e6, "m, > 0");

@@ -316,6 +316,10 @@ pub struct UncertaintySpec {
     pub power_draw_sigma: f64,
     /// σ of each action's solar input factor (dust, optical depth), 0..=0.5.
     pub solar_sigma: f64,
+    /// σ of the delay before each action, s, 0..=3600 (half-normal, spent at the
+    /// action's load with the array off-line); every action is planned that much longer
+    /// by the delay's quantile.
+    pub action_delay_sigma_s: f64,
     /// σ of the start's delay, s, 0..=86 400 (half-normal: the rover is ready late,
     /// never early); the plan starts later by the delay's quantile.
     pub start_delay_sigma_s: f64,
@@ -339,6 +343,7 @@ impl Default for UncertaintySpec {
             drive_time_sigma: d.drive_time_sigma,
             power_draw_sigma: d.power_draw_sigma,
             solar_sigma: d.solar_sigma,
+            action_delay_sigma_s: d.action_delay_sigma_s,
             start_delay_sigma_s: d.start_delay_sigma_s,
             terrain_sigma_m: d.terrain_sigma_m,
             terrain_correlation_m: d.terrain_correlation_m,
@@ -355,6 +360,7 @@ impl From<&UncertaintySpec> for m::uncertainty::Uncertainty {
             drive_time_sigma: u.drive_time_sigma,
             power_draw_sigma: u.power_draw_sigma,
             solar_sigma: u.solar_sigma,
+            action_delay_sigma_s: u.action_delay_sigma_s,
             start_delay_sigma_s: u.start_delay_sigma_s,
             terrain_sigma_m: u.terrain_sigma_m,
             terrain_correlation_m: u.terrain_correlation_m,

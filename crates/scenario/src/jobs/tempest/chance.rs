@@ -129,6 +129,8 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chan
     o.number("chance_drive_time_factor", m.duration_factor);
     o.number("chance_draw_factor", m.draw_factor);
     o.number("chance_solar_factor", m.solar_factor);
+    o.number("chance_action_delay_s", m.delay_s);
+    o.number("chance_start_delay_s", u.start_delay_margin_s());
     if u.terrain_clones > 0 && u.terrain_sigma_m > 0.0 {
         o.count("mc_terrain_clones", u.terrain_clones as u64);
         o.summary.push(format!(
@@ -142,12 +144,14 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chan
     };
     o.text("chance_correlation", format!("{:?}", u.correlation));
     o.summary.push(format!(
-        "plan under uncertainty ({bound}): confidence {} (z = {:.3}); planned with drives ×{:.3}, loads ×{:.3}, sunlight ×{:.3}",
+        "plan under uncertainty ({bound}): confidence {} (z = {:.3}); planned with drives ×{:.3}, loads ×{:.3}, sunlight ×{:.3}, {:.0} s before each action, a start {:.0} s late",
         u.confidence,
         u.z(),
         m.duration_factor,
         m.draw_factor,
-        m.solar_factor
+        m.solar_factor,
+        m.delay_s,
+        u.start_delay_margin_s()
     ));
     match &chance.deterministic {
         Some(Ok(d)) => {
