@@ -189,15 +189,37 @@ pub fn tempest(job: &TempestJob, cells: u64) -> Estimate {
     let r = &job.planner.resolution;
     let time_classes = (job.horizon_h * 3600.0 / r.time_s).ceil().max(1.0);
     let labels = cells as f64 * time_classes * job.goals.len().max(1) as f64;
+    // Under uncertainty: a second (deterministic) plan, a whole mission per closed-loop
+    // run of each, a world per terrain clone (its slopes and horizon changes) and a walk
+    // along the plan per open-loop execution.
+    let (searches, clones, executions) = chance_work(job);
+    let memory_bytes = memory_bytes.saturating_add(clones.saturating_mul(areo_mission::World::estimate_bytes(
+        cells,
+        job.horizon_sectors,
+        false,
+    )));
+    let sweeps = cells.saturating_mul(sectors.max(1)).saturating_mul(clones.saturating_add(1)) as f64;
+    let work = sweeps + labels * searches as f64 + executions as f64 * time_classes;
     Estimate {
         what: format!(
-            "the TEMPEST job on {cells} cells ({sectors} horizon sectors, {time_classes} time classes, {} goals)",
+            "the TEMPEST job on {cells} cells ({sectors} horizon sectors, {time_classes} time classes, {} goals, {searches} searches)",
             job.goals.len()
         ),
         memory_bytes,
-        work_steps: (cells.saturating_mul(sectors.max(1)) as f64 + labels).min(u64::MAX as f64) as u64,
+        work_steps: work.min(u64::MAX as f64) as u64,
         work_unit: "cell-sector sweeps and label classes",
     }
+}
+
+/// A TEMPEST job's searches (the plan, the deterministic plan beside a
+/// chance-constrained one, a mission per closed-loop run of each), its terrain clones
+/// and its open-loop executions.
+fn chance_work(job: &TempestJob) -> (u64, u64, u64) {
+    let Some(u) = &job.uncertainty else { return (1, 0, 0) };
+    let plans = 2u64;
+    let (runs, closed) = job.monte_carlo.as_ref().map_or((0, 0), |m| (m.runs as u64, m.closed_loop_runs as u64));
+    let clones = if u.terrain_sigma_m > 0.0 { u.terrain_clones as u64 } else { 0 };
+    (plans.saturating_add(closed.saturating_mul(plans)), clones, runs.saturating_mul(plans))
 }
 
 /// The cost of an actions job on a map of `cells` cells.
@@ -270,5 +292,33 @@ mod tests {
         // The LITA-size map with 64 sectors fits in 24 GiB.
         assert!(small.check(&DemCommand::Horizon { sectors: 64 }.estimate(2527 * 2356)).is_ok());
         assert!(Budget::for_this_machine().memory_bytes > 0);
+    }
+
+    #[test]
+    fn monte_carlo_work_counts_against_the_budget() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/uncertain-dawn.ron");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let job = |t: &str| match crate::format::parse(&path, t).unwrap().job {
+            Job::Tempest(j) => j,
+            _ => unreachable!("a TEMPEST scenario"),
+        };
+        let shipped = job(&text);
+        let cells = 24 * 16;
+        let base = tempest(&shipped, cells);
+        assert!(Budget { memory_bytes: 1 << 40, work_steps: DEFAULT_WORK_STEPS }.check(&base).is_ok());
+        // 10 000 closed-loop runs are 20 000 more missions: refused by default, naming
+        // the searches.
+        let many = job(&text.replace("closed_loop_runs: 20", "closed_loop_runs: 10000"));
+        let e = tempest(&many, cells);
+        let (b0, b1) = (base.work_steps as f64, e.work_steps as f64);
+        assert!(b1 / b0 > 400.0, "{b0} → {b1}");
+        let err = Budget { memory_bytes: 1 << 40, work_steps: DEFAULT_WORK_STEPS }.check(&e).unwrap_err().to_string();
+        assert!(err.contains("20002 searches") && err.contains("--max-work"), "{err}");
+        // Without uncertainty, one search.
+        assert!(
+            tempest(&TempestJob { uncertainty: None, monte_carlo: None, ..*shipped }, cells)
+                .what
+                .contains(" 1 searches")
+        );
     }
 }
