@@ -32,21 +32,32 @@ fn world() -> World {
     World::new(dem, &config, &Mars24).expect("valid world")
 }
 
-fn plan(c: &mut Criterion) {
-    let world = world();
+/// The first instant the Sun climbs past 10°, s.
+fn morning(world: &World) -> f64 {
     let mut t0 = 0.0;
     while !(world.sun(t0).elevation_deg > 10.0 && world.sun(t0 - 600.0).elevation_deg <= 10.0) {
         t0 += 600.0;
     }
-    let model = ActionModel::new(ResourceModel::hyperion(), ActionConfig::default());
-    let start = Start { cell: world.cell(20, 50), t_min: t0, t_max: t0 + 600.0, energy_wh: 800.0 };
-    let goal = [world.cell(60, 70)];
-    let config = PlannerConfig {
+    t0
+}
+
+/// The planner settings the benches use.
+fn config() -> PlannerConfig {
+    PlannerConfig {
         resolution: Resolution { time_s: 300.0, energy_wh: None },
         goal_times: 8,
         max_wait_s: Some(6.0 * 3600.0),
         ..PlannerConfig::default()
-    };
+    }
+}
+
+fn plan(c: &mut Criterion) {
+    let world = world();
+    let t0 = morning(&world);
+    let model = ActionModel::new(ResourceModel::hyperion(), ActionConfig::default());
+    let start = Start { cell: world.cell(20, 50), t_min: t0, t_max: t0 + 600.0, energy_wh: 800.0 };
+    let goal = [world.cell(60, 70)];
+    let config = config();
     let mut g = c.benchmark_group("tempest_200x150");
     g.sample_size(10);
     g.bench_function("initial_plan_40_cells", |b| {
@@ -78,21 +89,13 @@ fn plan(c: &mut Criterion) {
 fn uncertainty(c: &mut Criterion) {
     use areo_mission::uncertainty::{MonteCarlo, Uncertainty, open_loop};
     let world = world();
-    let mut t0 = 0.0;
-    while !(world.sun(t0).elevation_deg > 10.0 && world.sun(t0 - 600.0).elevation_deg <= 10.0) {
-        t0 += 600.0;
-    }
+    let t0 = morning(&world);
     let model = ActionModel::new(ResourceModel::hyperion(), ActionConfig::default());
     let u = Uncertainty { drive_time_sigma: 0.1, power_draw_sigma: 0.1, solar_sigma: 0.1, ..Uncertainty::default() };
     let chance = model.clone().with_margins(u.margins());
     let start = Start { cell: world.cell(20, 50), t_min: t0, t_max: t0 + 600.0, energy_wh: 800.0 };
     let goal = [world.cell(60, 70)];
-    let config = PlannerConfig {
-        resolution: Resolution { time_s: 300.0, energy_wh: None },
-        goal_times: 8,
-        max_wait_s: Some(6.0 * 3600.0),
-        ..PlannerConfig::default()
-    };
+    let config = config();
     let mut g = c.benchmark_group("tempest_uncertainty");
     g.sample_size(10);
     g.bench_function("deterministic_plan", |b| {

@@ -5,6 +5,12 @@ use areo_mission::{ActionConfig, Mission, MissionPlan, PlannerConfig, Start};
 
 use crate::common::*;
 
+/// A flat Mars world of 24 × 16 cells of 20 m and a Hyperion-class rover with a 600 Wh
+/// battery: the worlds of these tests.
+fn dawn() -> (areo_mission::World, areo_mission::ActionModel) {
+    (mars_world(flat(24, 16, 20.0), 30.0, None), model(600.0, ActionConfig::default()))
+}
+
 fn same_plan(a: &MissionPlan, b: &MissionPlan) -> bool {
     a.cost == b.cost
         && a.waypoints.len() == b.waypoints.len()
@@ -16,8 +22,7 @@ fn same_plan(a: &MissionPlan, b: &MissionPlan) -> bool {
 
 #[test]
 fn a_confidence_of_one_half_or_no_spread_gives_the_deterministic_plan_exactly() {
-    let world = mars_world(flat(24, 16, 20.0), 30.0, None);
-    let model = model(600.0, ActionConfig::default());
+    let (world, model) = dawn();
     let start = Start { cell: world.cell(2, 8), t_min: 0.0, t_max: 0.0, energy_wh: 120.0 };
     let goals = [world.cell(21, 3), world.cell(20, 13)];
     let (_, det) = Mission::plan(&world, &model, PlannerConfig::default(), start, &goals).unwrap();
@@ -46,8 +51,7 @@ fn executed_without_spread_a_plan_does_what_it_predicted() {
     // Zero σ: every execution is the nominal model. The deterministic plan's open-loop
     // run must reproduce its predicted battery and arrival times; the chance-
     // constrained plan (made on a worse model) must do at least as well as it predicted.
-    let world = mars_world(flat(24, 16, 20.0), 30.0, None);
-    let model = model(600.0, ActionConfig::default());
+    let (world, model) = dawn();
     let start = Start { cell: world.cell(2, 8), t_min: 0.0, t_max: 0.0, energy_wh: 120.0 };
     let goals = [world.cell(21, 3), world.cell(20, 13)];
     let (_, det) = Mission::plan(&world, &model, PlannerConfig::default(), start, &goals).unwrap();
@@ -97,8 +101,7 @@ fn the_chance_constrained_plan_holds_at_its_confidence_where_the_deterministic_o
     // reaches that point with 1.5 Wh in hand; executions a little hungrier or dimmer than the model
     // run it below the floor about 40 % of the time. Planned at 0.95, the plan keeps
     // enough in hand for ≥ 0.95 of executions.
-    let world = mars_world(flat(24, 16, 20.0), 30.0, None);
-    let model = model(600.0, ActionConfig::default());
+    let (world, model) = dawn();
     let start = Start { cell: world.cell(2, 8), t_min: 0.0, t_max: 0.0, energy_wh: 120.0 };
     let goals = [world.cell(21, 3), world.cell(20, 13)];
     let u = Uncertainty {
@@ -136,8 +139,7 @@ fn the_chance_constrained_plan_holds_at_its_confidence_where_the_deterministic_o
 fn closed_loop_runs_are_simulations_with_drawn_departures() {
     use areo_mission::uncertainty::closed_loop;
     use areo_mission::{SimConfig, Simulation, simulate};
-    let world = mars_world(flat(24, 16, 20.0), 30.0, None);
-    let model = model(600.0, ActionConfig::default());
+    let (world, model) = dawn();
     let start = Start { cell: world.cell(2, 8), t_min: 0.0, t_max: 0.0, energy_wh: 120.0 };
     let goals = [world.cell(21, 3), world.cell(20, 13)];
     let sim = Simulation {
@@ -175,7 +177,7 @@ fn re_plans_at_a_confidence_equal_fresh_searches() {
     // The chance-constrained search is the ordinary search on a worse model: the kept
     // graphs must answer every re-plan as a fresh search of the same problem does.
     use areo_mission::{SimConfig, Simulation, simulate};
-    let world = mars_world(flat(24, 16, 20.0), 30.0, None);
+    let (world, nominal) = dawn();
     let u = Uncertainty {
         confidence: 0.95,
         drive_time_sigma: 0.1,
@@ -183,7 +185,7 @@ fn re_plans_at_a_confidence_equal_fresh_searches() {
         solar_sigma: 0.1,
         ..Uncertainty::default()
     };
-    let model = model(600.0, ActionConfig::default()).with_margins(u.margins());
+    let model = nominal.with_margins(u.margins());
     let start = Start { cell: world.cell(2, 8), t_min: 0.0, t_max: 0.0, energy_wh: 160.0 };
     let goals = [world.cell(21, 3), world.cell(20, 13)];
     let config = SimConfig { compare_fresh: true, uncertainty: Some(u), stream: 3, ..SimConfig::default() };
@@ -207,8 +209,7 @@ fn re_plans_at_a_confidence_equal_fresh_searches() {
 #[test]
 fn a_delay_margin_lengthens_every_action_and_is_spent_without_sunlight() {
     use areo_mission::{Action, Perturbation};
-    let world = mars_world(flat(24, 16, 20.0), 30.0, None);
-    let nominal = model(600.0, ActionConfig::default());
+    let (world, nominal) = dawn();
     let u = Uncertainty { confidence: 0.95, action_delay_sigma_s: 300.0, ..Uncertainty::default() };
     // Φ⁻¹(0.975) = 1.959964: the half-normal delay's 95th percentile.
     let q = u.action_delay_margin_s();

@@ -309,21 +309,12 @@ fn arrival_plot(
             Series { label: format!("{} plan", name.replace('_', "-")), points, rgb, width: 2 }
         })
         .collect();
-    crate::output::plots::time(
+    plot(
         dir,
-        "mc_arrival",
-        &TimePlot {
-            title: "Open-loop executions: share at the last goal by each time".into(),
-            x_label: time_axis_name(ctx),
-            y_label: "fraction of executions".into(),
-            series,
-            nights: night.to_vec(),
-            windows: Vec::new(),
-            windows_label: String::new(),
-            x_range: (0.0, end_s / 3600.0),
-            dots: false,
-            x_ticks: time_ticks(ctx),
-        },
+        ctx,
+        ("mc_arrival", "Open-loop executions: share at the last goal by each time", "fraction of executions"),
+        series,
+        (end_s, night),
     )
 }
 
@@ -354,13 +345,30 @@ fn battery_fan(
             series.push(Series { label: format!("{name} plan, {q}"), points: band, rgb, width });
         }
     }
+    plot(
+        dir,
+        ctx,
+        ("mc_battery", "Open-loop executions: battery above its floor (percentiles)", "Wh above the battery floor"),
+        series,
+        (end_s, night),
+    )
+}
+
+/// A time plot of `series` named `name`, with its title and y label, over the nights.
+fn plot(
+    dir: &Path,
+    ctx: &Context<'_>,
+    (name, title, y_label): (&str, &str, &str),
+    series: Vec<Series>,
+    (end_s, night): (f64, &[(f64, f64)]),
+) -> Result<Vec<PathBuf>> {
     crate::output::plots::time(
         dir,
-        "mc_battery",
+        name,
         &TimePlot {
-            title: "Open-loop executions: battery above its floor (percentiles)".into(),
+            title: title.into(),
             x_label: time_axis_name(ctx),
-            y_label: "Wh above the battery floor".into(),
+            y_label: y_label.into(),
             series,
             nights: night.to_vec(),
             windows: Vec::new(),
