@@ -10,9 +10,14 @@ use areo_terrain::synth::{Noise, TerrainSpec};
 use criterion::{Criterion, criterion_group, criterion_main};
 
 fn world() -> World {
+    world_of(200, 150)
+}
+
+/// The bench terrain's first `cols` × `rows` cells.
+fn world_of(cols: usize, rows: usize) -> World {
     let dem = TerrainSpec {
-        cols: 200,
-        rows: 150,
+        cols,
+        rows,
         cell_m: 100.0,
         base_m: 0.0,
         seed: 7,
@@ -112,5 +117,24 @@ fn uncertainty(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, plan, uncertainty);
+/// The Pareto front in (arrival, energy used, margin) against the plan it goes with, on a
+/// 40 × 30 corner of the bench world (a 1.1 km drive, 4 goal instants).
+fn front(c: &mut Criterion) {
+    let world = world_of(40, 30);
+    let t0 = morning(&world);
+    let model = ActionModel::new(ResourceModel::hyperion(), ActionConfig::default());
+    let start = Start { cell: world.cell(5, 10), t_min: t0, t_max: t0 + 600.0, energy_wh: 300.0 };
+    let goal = [world.cell(15, 14)];
+    let config = PlannerConfig { goal_times: 4, ..config() };
+    let mut g = c.benchmark_group("tempest_front");
+    g.sample_size(10);
+    g.bench_function("plan", |b| {
+        b.iter(|| Mission::plan(&world, &model, config.clone(), start, &goal).expect("a plan").1.waypoints.len())
+    });
+    let (mission, _) = Mission::plan(&world, &model, config.clone(), start, &goal).expect("a plan");
+    g.bench_function("pareto_front_1wh", |b| b.iter(|| mission.pareto_front(1.0).expect("a front").plans.len()));
+    g.finish();
+}
+
+criterion_group!(benches, plan, uncertainty, front);
 criterion_main!(benches);

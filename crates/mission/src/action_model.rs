@@ -215,6 +215,10 @@ pub struct Effect {
     pub duration_s: f64,
     /// Battery energy used, Wh (negative: gained).
     pub energy_wh: f64,
+    /// Energy the rover's loads drew, Wh (≥ 0, whatever the sources gave meanwhile):
+    /// the "energy used" objective's measure, rounded *up* to the energy quantum so
+    /// that a bound from the least load power never exceeds it.
+    pub load_wh: f64,
 }
 
 /// The shared arrival side of the drives into one cell at one time (see
@@ -380,6 +384,28 @@ impl ActionModel {
         if q > 0.0 { ((e / q + MAGIC) - MAGIC) * q } else { e }
     }
 
+    /// A load energy rounded up to the energy quantum (see [`Effect::load_wh`]).
+    fn quantise_load(&self, wh: f64) -> f64 {
+        let q = self.config.energy_quantum_wh;
+        if q > 0.0 { (wh / q - 1e-9).ceil().max(0.0) * q } else { wh }
+    }
+
+    /// The least power the loads draw in any action, W: the hibernation load, the
+    /// charge load or the high electronics load a drive adds its locomotion to (no
+    /// sessions: they only add the radio's).
+    pub(crate) fn least_load_w(&self) -> f64 {
+        let e = &self.rover.electronics;
+        let charge = e.power_w(self.config.charge_load.load());
+        e.power_w(Load::Low).min(charge).min(e.power_w(Load::High)) * self.margins.draw_factor
+    }
+
+    /// The least energy the loads draw on the drive with `geometry`, Wh (the load at
+    /// its duration, before rounding up).
+    pub(crate) fn drive_load_floor_wh(&self, geometry: &DriveGeometry) -> f64 {
+        let wh = geometry.load_w * geometry.duration_s / 3600.0;
+        wh - 1e-9 * wh.abs()
+    }
+
     /// The drive from `from` to its neighbour `k`, or why it is not possible
     /// (independent of time).
     pub fn drive_geometry(&self, world: &World, from: u32, k: u8) -> Result<DriveGeometry, Binding> {
@@ -482,7 +508,8 @@ impl ActionModel {
         let p0 = load - self.drive_source_lit_w(world, from, &s0, k, lit0);
         let p1 = load - self.drive_source_lit_w(world, arrival.to, s1, k, arrival.lit);
         let e = self.drive_energy_wh(load, (p0, p1), duration, delay);
-        Some((from, Effect { duration_s: duration, energy_wh: self.quantise_energy(e) }))
+        let load_wh = self.quantise_load(load * duration / 3600.0);
+        Some((from, Effect { duration_s: duration, energy_wh: self.quantise_energy(e), load_wh }))
     }
 
     fn drive_perturbed(
@@ -520,7 +547,8 @@ impl ActionModel {
         let p0 = load - source(self.drive_source_lit_w(world, from, &s0, k, lit(from, &s0)));
         let p1 = load - source(self.drive_source_lit_w(world, to, &s1, k, lit(to, &s1)));
         let e = self.drive_energy_wh(load, (p0, p1), duration, delay);
-        Ok((to, Effect { duration_s: duration, energy_wh: self.quantise_energy(e) }))
+        let load_wh = self.quantise_load(load * duration / 3600.0);
+        Ok((to, Effect { duration_s: duration, energy_wh: self.quantise_energy(e), load_wh }))
     }
 
     /// A drive's battery energy, Wh: `delay` s at its load with only a generator, then
@@ -601,7 +629,8 @@ impl ActionModel {
         }
         let n = ((duration / STATIONARY_SAMPLE_S).ceil() as usize).max(2);
         let mut e = 0.0;
-        let mut prev: Option<f64> = None;
+        let mut drawn = 0.0;
+        let mut prev: Option<(f64, f64)> = None;
         for k in 0..=n {
             let t = t0 + duration * k as f64 / n as f64;
             let sun = world.sun(t);
@@ -618,12 +647,13 @@ impl ActionModel {
             let load_w =
                 if self.in_session(t) { load_w.max(self.rover.electronics.power_w(Load::High) * draw) } else { load_w };
             let p = load_w - source;
-            if let Some(q) = prev {
+            if let Some((q, l)) = prev {
                 e += self.battery_wh(0.5 * (p + q), duration / n as f64);
+                drawn += 0.5 * (load_w + l) * duration / n as f64 / 3600.0;
             }
-            prev = Some(p);
+            prev = Some((p, load_w));
         }
-        Ok(Effect { duration_s: duration, energy_wh: self.quantise_energy(e) })
+        Ok(Effect { duration_s: duration, energy_wh: self.quantise_energy(e), load_wh: self.quantise_load(drawn) })
     }
 
     fn check(

@@ -37,17 +37,42 @@ pub struct Label {
 }
 
 /// What the search minimises.
+///
+/// Every objective's step cost is ≥ 0 and additive, and none depends on E, so Pareto
+/// labels in (cost, E) stay sound under each.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum Objective {
     /// The composite L + B of Tompkins et al. (BESTPCOST): fewest steps, then least
     /// energy.
     Energy,
-    /// Path duration (BESTDPARMS): the least-energy start among paths no longer than
-    /// `max_duration_s`.
-    Duration {
+    /// Time to the last goal (BESTPCOST on duration): the plan from its departure in
+    /// the start window to its arrival at the last goal that takes least time, waits
+    /// included.
+    Time,
+    /// Energy used (BESTPCOST on the loads' energy, [`crate::Effect::load_wh`]): the
+    /// plan whose drives, charges and hibernations draw least, whatever the array gives
+    /// back.
+    EnergyUsed,
+    /// Risk margin (BESTDPARMS, the paper's Arctic setting): among plans no longer than
+    /// `max_duration_s`, the one that needs least battery at its start — the largest
+    /// margin between the battery the rover has and the battery the plan needs.
+    #[serde(alias = "Duration")]
+    Margin {
         /// The longest acceptable plan, s.
         max_duration_s: f64,
     },
+}
+
+impl Objective {
+    /// The objective's name in scenarios and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Objective::Energy => "Energy",
+            Objective::Time => "Time",
+            Objective::EnergyUsed => "EnergyUsed",
+            Objective::Margin { .. } => "Margin",
+        }
+    }
 }
 
 /// How the L term of the L + B objective counts a plan's length (eq. 4).
@@ -351,7 +376,8 @@ impl<'a> TempestDomain<'a> {
                         let e = self.model.drive_energy_floor_wh(&g, self.drive_source_w);
                         (e + self.e_max * self.drive_units[k as usize]).max(0.0)
                     }
-                    Objective::Duration { .. } => g.duration_s,
+                    Objective::Time | Objective::Margin { .. } => g.duration_s,
+                    Objective::EnergyUsed => self.model.drive_load_floor_wh(&g),
                 };
                 out.push((g.to, cost));
             }
@@ -380,7 +406,30 @@ impl<'a> TempestDomain<'a> {
                 let [wx, wy, wd] = self.step_floors;
                 a * wx + b * wy + a.min(b) * (wd - wx - wy).min(0.0)
             }
-            Objective::Duration { .. } => self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s(),
+            Objective::Time | Objective::Margin { .. } => {
+                self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s()
+            }
+            // Any drive draws at least the least load over its time at top speed.
+            Objective::EnergyUsed => {
+                let wh = self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s()
+                    * self.model.least_load_w()
+                    / 3600.0;
+                wh - 1e-9 * wh
+            }
+        }
+    }
+
+    /// What any plan costs between the start window's close and a label at `t`, where
+    /// the objective counts time: its duration, or the least load over it.
+    fn elapsed_bound(&self, t: f64) -> f64 {
+        let elapsed = (t - self.start.t_max).max(0.0);
+        match self.objective {
+            Objective::Time => elapsed,
+            Objective::EnergyUsed => {
+                let wh = elapsed * self.model.least_load_w() / 3600.0;
+                wh - 1e-9 * wh
+            }
+            Objective::Energy | Objective::Margin { .. } => 0.0,
         }
     }
 
@@ -508,7 +557,8 @@ impl<'a> TempestDomain<'a> {
 
     /// The cost of `action` when it used `energy_wh` over `duration_s`: Δe + E_max × its
     /// share of L (eqs. 3–5), or its duration.
-    pub fn step_cost(&self, action: Action, energy_wh: f64, duration_s: f64) -> f64 {
+    pub fn step_cost(&self, action: Action, effect: Effect) -> f64 {
+        let Effect { energy_wh, duration_s, load_wh } = effect;
         match self.objective {
             Objective::Energy => {
                 let units = match action {
@@ -517,15 +567,16 @@ impl<'a> TempestDomain<'a> {
                 };
                 (energy_wh + self.e_max * units).max(0.0)
             }
-            Objective::Duration { .. } => duration_s,
+            Objective::Time | Objective::Margin { .. } => duration_s,
+            Objective::EnergyUsed => load_wh,
         }
     }
 
     /// The search mode for this objective.
     pub fn mode(&self) -> areo_ise::Mode {
         match self.objective {
-            Objective::Energy => areo_ise::Mode::BestPathCost,
-            Objective::Duration { max_duration_s } => areo_ise::Mode::BestDparms { max_cost: max_duration_s },
+            Objective::Energy | Objective::Time | Objective::EnergyUsed => areo_ise::Mode::BestPathCost,
+            Objective::Margin { max_duration_s } => areo_ise::Mode::BestDparms { max_cost: max_duration_s },
         }
     }
 
@@ -534,14 +585,15 @@ impl<'a> TempestDomain<'a> {
     fn step(&self, from: u32, label: &Label, action: Action, effect: Effect) -> Step<Self> {
         let e = (label.e + effect.energy_wh).max(0.0);
         let t = label.t - effect.duration_s;
-        let mut cost = self.step_cost(action, effect.energy_wh, effect.duration_s);
+        let mut cost = self.step_cost(action, effect);
         if !matches!(action, Action::Drive(_)) {
             // Among plans of equal cost, wait as late as possible: a rover that re-plans
             // after every action and always finds the wait first would never set off.
             // The bias is a millionth of a step and shrinks to zero over the horizon.
             let scale = match self.objective {
                 Objective::Energy => self.e_max,
-                Objective::Duration { .. } => effect.duration_s,
+                Objective::Time | Objective::Margin { .. } => effect.duration_s,
+                Objective::EnergyUsed => effect.load_wh,
             };
             cost += 1e-6 * scale * (1.0 - t / self.world.span_s()).clamp(0.0, 1.0);
         }
@@ -713,7 +765,7 @@ impl Domain for TempestDomain<'_> {
         // least), where that is larger.
         let octile = self.octile_bound(state);
         let drives = self.landmark_bound(state).map_or(octile, |l| octile.max(l));
-        (drives + self.dark_bound(label.t)).max(self.time_bound(label.t))
+        (drives + self.dark_bound(label.t)).max(self.time_bound(label.t)).max(self.elapsed_bound(label.t))
     }
 
     fn heuristic_drop(&self, previous: u32) -> Option<f64> {
@@ -731,12 +783,14 @@ impl Domain for TempestDomain<'_> {
         let mut landmark = self.landmark.borrow_mut();
         let edges = |c: u32, out: Edges<'_>| self.floor_edges(c, out);
         let (before, now) = (landmark.distance(previous, edges), landmark.distance(self.start.cell, edges));
-        // The heuristic is max(drives + dark, time): it falls by at most the larger of
-        // the two falls.
+        // The elapsed-time bound counts from the window's close too.
+        let elapsed = self.elapsed_bound(self.start.t_max + (self.start.t_max - keyed).max(0.0));
+        // The heuristic is max(drives + dark, time, elapsed): it falls by at most the
+        // largest of the falls.
         match (before, now) {
-            (Some(b), Some(n)) => Some((octile.max(n - b) + dark).max(time)),
+            (Some(b), Some(n)) => Some((octile.max(n - b) + dark).max(time).max(elapsed)),
             (Some(_), None) => None,
-            (None, _) => Some((octile + dark).max(time)),
+            (None, _) => Some((octile + dark).max(time).max(elapsed)),
         }
     }
 

@@ -52,7 +52,7 @@ pub use crate::{
     domain::{Label, Objective, PathLength, Resolution, Start, TempestDomain},
     error::{Error, Result},
     plan::{MissionPlan, Waypoint},
-    planner::{ExpansionMeter, Mission, PlannerConfig},
+    planner::{ExpansionMeter, FrontPlan, Mission, ParetoFront, PlannerConfig, non_dominated},
     simulate::{
         ExecutedStep, Noise, PlanKind, PlanRecord, SimConfig, SimProgress, SimReport, SimStatus, Simulation, simulate,
     },

@@ -16,6 +16,10 @@
 //! the change touched, backward, and a segment whose goals (the next segment's
 //! candidates) changed has its graph repaired around the changed goals.
 
+mod front;
+
+pub use front::{FrontPlan, ParetoFront, non_dominated};
+
 use std::rc::Rc;
 
 use areo_ise::{Goal, PathStep, Search, Stats};
@@ -151,7 +155,7 @@ impl PlannerConfig {
         {
             return bad("max_wait_s", format!("{w}: allowed 0..=1e7 s"));
         }
-        if let Objective::Duration { max_duration_s } = self.objective
+        if let Objective::Margin { max_duration_s } = self.objective
             && !(max_duration_s > 0.0 && max_duration_s <= 1e8)
         {
             return bad("objective.max_duration_s", format!("{max_duration_s}: allowed 0 (exclusive)..=1e8 s"));

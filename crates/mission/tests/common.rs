@@ -115,7 +115,8 @@ pub(crate) fn step_cost(
     let units = PathLength::Distance.units(a, world.dem().dx(), world.dem().dy());
     let (base, scale) = match objective {
         Objective::Energy => ((e.energy_wh + e_max * units).max(0.0), e_max),
-        Objective::Duration { .. } => (e.duration_s, e.duration_s),
+        Objective::Time | Objective::Margin { .. } => (e.duration_s, e.duration_s),
+        Objective::EnergyUsed => (e.load_wh, e.load_wh),
     };
     let bias =
         if matches!(a, Action::Drive(_)) { 0.0 } else { 1e-6 * scale * (1.0 - t0 / world.span_s()).clamp(0.0, 1.0) };

@@ -30,14 +30,14 @@ fn hills(cols: usize, rows: usize) -> areo_terrain::Dem {
     areo_terrain::Dem::from_fn(cols, rows, 20.0, 20.0, |x, y| 4.0 * (x / 29.0).sin() + 3.0 * (y / 17.0).cos()).unwrap()
 }
 
-fn quantised() -> ActionConfig {
+pub(crate) fn quantised() -> ActionConfig {
     let mut a = quantised_actions(600.0);
     // Drives at any heading too: the battery, not the light, is what binds.
     a.drive.sun_in_camera = false;
     a
 }
 
-fn config(objective: Objective) -> PlannerConfig {
+pub(crate) fn config(objective: Objective) -> PlannerConfig {
     PlannerConfig {
         actions: quantised(),
         objective,
@@ -158,12 +158,12 @@ fn least_energy(
 
 /// A morning world: the Sun rises over the first hours, so a charge early gains less
 /// than E_max and the cheapest plan is not the one that needs the least battery.
-fn world() -> World {
+pub(crate) fn world() -> World {
     mars_world(hills(7, 5), 30.0, None)
 }
 
 /// The first instant after the Sun rises above 10°, s.
-fn morning(world: &World) -> f64 {
+pub(crate) fn morning(world: &World) -> f64 {
     let mut t = 0.0;
     while world.sun(t).elevation_deg < 10.0 || world.sun(t + 600.0).elevation_deg < world.sun(t).elevation_deg {
         t += 60.0;
@@ -249,7 +249,7 @@ fn bestdparms_is_energy_optimal_under_its_duration_cap() {
     for (from, to) in [((0, 0), (6, 4)), ((6, 0), (0, 4)), ((0, 2), (6, 2))] {
         let mut least_by_cap = Vec::new();
         for cap_min in [12.5, 20.5, 30.5] {
-            let objective = Objective::Duration { max_duration_s: cap_min * 60.0 };
+            let objective = Objective::Margin { max_duration_s: cap_min * 60.0 };
             let start = Start { cell: world.cell(from.0, from.1), t_min: t0, t_max: t0, energy_wh: 300.0 };
             let goal = world.cell(to.0, to.1);
             let pareto = Mission::plan(&world, &model, config(objective), start, &[goal]);

@@ -198,14 +198,14 @@ fn the_duration_objective_keeps_under_its_maximum_and_prefers_less_energy() {
     };
     let (_m, energy_plan) = Mission::plan(&world, &model, base.clone(), start, &goal).unwrap();
     let max = energy_plan.duration_s() + 3600.0;
-    let cfg = PlannerConfig { objective: areo_mission::Objective::Duration { max_duration_s: max }, ..base.clone() };
+    let cfg = PlannerConfig { objective: areo_mission::Objective::Margin { max_duration_s: max }, ..base.clone() };
     let (_m, duration_plan) = Mission::plan(&world, &model, cfg, start, &goal).unwrap();
     assert!(duration_plan.cost <= max + 1e-6, "{} > {max}", duration_plan.cost);
     assert!((duration_plan.cost - duration_plan.duration_s()).abs() < 1e-6, "the cost is the duration");
     let (e_d, e_e) = (duration_plan.waypoints[0].required_wh, energy_plan.waypoints[0].required_wh);
     assert!(e_d <= e_e + 1e-9, "BESTDPARMS start energy {e_d} Wh vs L+B {e_e} Wh");
     // Too short a maximum: no plan, and the answer says so.
-    let tight = PlannerConfig { objective: areo_mission::Objective::Duration { max_duration_s: 60.0 }, ..base };
+    let tight = PlannerConfig { objective: areo_mission::Objective::Margin { max_duration_s: 60.0 }, ..base };
     assert!(matches!(Mission::plan(&world, &model, tight, start, &goal), Err(Error::Unreachable { .. })));
 }
 

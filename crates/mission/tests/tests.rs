@@ -3,6 +3,7 @@
 mod bodies;
 mod chaining;
 mod common;
+mod front;
 mod pareto;
 mod planning;
 mod sensing;

@@ -212,9 +212,22 @@ pub fn tempest(job: &TempestJob, cells: u64) -> Estimate {
 }
 
 /// A TEMPEST job's searches (the plan, the deterministic plan beside a
-/// chance-constrained one, a mission per closed-loop run of each), its terrain clones
-/// and its open-loop executions.
+/// chance-constrained one, a mission per closed-loop run of each, the Pareto front's),
+/// its terrain clones and its open-loop executions.
 fn chance_work(job: &TempestJob) -> (u64, u64, u64) {
+    // The Pareto front plans once more, then walks each goal instant's front: at most
+    // one search per margin step of the starting battery (one per plan found, in
+    // practice).
+    let front = job.pareto_front.as_ref().map_or(0, |f| {
+        let steps = (job.start_battery_above_floor_wh / f.margin_step_wh).floor().min(1e9) as u64 + 1;
+        1u64.saturating_add((job.planner.goal_times as u64).saturating_mul(steps))
+    });
+    let (searches, clones, executions) = uncertainty_work(job);
+    (searches.saturating_add(front), clones, executions)
+}
+
+/// [`chance_work`] for `uncertainty` and `monte_carlo`.
+fn uncertainty_work(job: &TempestJob) -> (u64, u64, u64) {
     let Some(u) = &job.uncertainty else { return (1, 0, 0) };
     let plans = 2u64;
     let (runs, closed) = job.monte_carlo.as_ref().map_or((0, 0), |m| (m.runs as u64, m.closed_loop_runs as u64));

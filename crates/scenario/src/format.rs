@@ -258,6 +258,11 @@ pub struct TempestJob {
     /// way for comparison.
     #[serde(default)]
     pub monte_carlo: Option<planner::MonteCarloSpec>,
+    /// Also search the Pareto front of the plans to the goal in (arrival time, energy
+    /// used, battery margin) — one goal only: `pareto_front.csv`, `pareto_front.json`,
+    /// `front_…` facts and two plots, so an operator can pick a plan. Default none.
+    #[serde(default)]
+    pub pareto_front: Option<planner::FrontSpec>,
 }
 
 /// A rectangle of the map to plan in, metres from the map's south-west corner (as
@@ -634,6 +639,15 @@ fn validate_uncertainty(c: &mut Checks, job: &TempestJob) {
         if mc.closed_loop_runs > 10_000 {
             c.fail("monte_carlo.closed_loop_runs", format!("{}: allowed 0..=10000", mc.closed_loop_runs));
         }
+    }
+    if let Some(f) = &job.pareto_front {
+        if job.goals.len() != 1 {
+            c.fail(
+                "pareto_front",
+                format!("the front is searched for a single goal; this job has {}: allowed with one", job.goals.len()),
+            );
+        }
+        c.range("pareto_front.margin_step_wh", f.margin_step_wh, 0.001, 1000.0, "Wh");
     }
 }
 

@@ -375,3 +375,20 @@ fn uncertainty_out_of_range_names_its_field_and_rule() {
     assert_eq!(field, "job.monte_carlo");
     assert!(message.contains("uncertainty"), "{message}");
 }
+
+#[test]
+fn a_pareto_front_needs_one_goal_and_a_step_in_range() {
+    let text = std::fs::read_to_string(root().join("scenarios/pareto-front.ron")).unwrap();
+    let path = Path::new("pareto-front.ron");
+    let goal = r#"(name: "outcrop", x_m: 250, y_m: 230),"#;
+    assert!(text.contains(goal));
+    let two = text.replace(goal, &format!("{goal}\n            (name: \"cache\", x_m: 100, y_m: 50),"));
+    let err = parse(path, &two).unwrap_err();
+    let Error::Invalid { field, message, .. } = &err else { panic!("{err}") };
+    assert_eq!(field, "job.pareto_front");
+    assert!(message.contains("single goal") && message.contains('2'), "{message}");
+    let err = parse(path, &text.replace("margin_step_wh: 1", "margin_step_wh: 0")).unwrap_err();
+    let Error::Invalid { field, message, .. } = &err else { panic!("{err}") };
+    assert_eq!(field, "job.pareto_front.margin_step_wh");
+    assert!(message.contains("0.001"), "{message}");
+}

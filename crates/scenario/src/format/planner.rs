@@ -135,12 +135,39 @@ impl From<&ActionSpec> for m::ActionConfig {
 pub enum ObjectiveSpec {
     /// The composite L + B (BESTPCOST): fewest steps, then least energy.
     Energy,
-    /// Path duration (BESTDPARMS): the least-energy start among paths no longer than
-    /// `max_duration_s`.
-    Duration {
+    /// Time to the last goal (BESTPCOST on duration).
+    Time,
+    /// Energy the loads draw (BESTPCOST), whatever the array gives back.
+    EnergyUsed,
+    /// Risk margin (BESTDPARMS): the plan needing least battery at its start among
+    /// plans no longer than `max_duration_s` (`Duration(…)` is the older name).
+    #[serde(alias = "Duration")]
+    Margin {
         /// The longest acceptable plan, s.
         max_duration_s: f64,
     },
+}
+
+impl From<ObjectiveSpec> for m::Objective {
+    fn from(o: ObjectiveSpec) -> m::Objective {
+        match o {
+            ObjectiveSpec::Energy => m::Objective::Energy,
+            ObjectiveSpec::Time => m::Objective::Time,
+            ObjectiveSpec::EnergyUsed => m::Objective::EnergyUsed,
+            ObjectiveSpec::Margin { max_duration_s } => m::Objective::Margin { max_duration_s },
+        }
+    }
+}
+
+impl From<m::Objective> for ObjectiveSpec {
+    fn from(o: m::Objective) -> ObjectiveSpec {
+        match o {
+            m::Objective::Energy => ObjectiveSpec::Energy,
+            m::Objective::Time => ObjectiveSpec::Time,
+            m::Objective::EnergyUsed => ObjectiveSpec::EnergyUsed,
+            m::Objective::Margin { max_duration_s } => ObjectiveSpec::Margin { max_duration_s },
+        }
+    }
 }
 
 /// Label class widths for resolution pruning.
@@ -193,10 +220,7 @@ impl Default for PlannerSpec {
         let d = m::PlannerConfig::default();
         PlannerSpec {
             actions: ActionSpec::of(&d.actions),
-            objective: match d.objective {
-                m::Objective::Energy => ObjectiveSpec::Energy,
-                m::Objective::Duration { max_duration_s } => ObjectiveSpec::Duration { max_duration_s },
-            },
+            objective: d.objective.into(),
             resolution: ResolutionSpec { time_s: d.resolution.time_s, energy_wh: d.resolution.energy_wh },
             path_length: match d.path_length {
                 m::PathLength::Distance => PathLengthSpec::Distance,
@@ -215,10 +239,7 @@ impl From<&PlannerSpec> for m::PlannerConfig {
     fn from(p: &PlannerSpec) -> m::PlannerConfig {
         m::PlannerConfig {
             actions: (&p.actions).into(),
-            objective: match p.objective {
-                ObjectiveSpec::Energy => m::Objective::Energy,
-                ObjectiveSpec::Duration { max_duration_s } => m::Objective::Duration { max_duration_s },
-            },
+            objective: p.objective.into(),
             resolution: m::Resolution { time_s: p.resolution.time_s, energy_wh: p.resolution.energy_wh },
             path_length: match p.path_length {
                 PathLengthSpec::Distance => m::PathLength::Distance,
@@ -367,6 +388,21 @@ impl From<&UncertaintySpec> for m::uncertainty::Uncertainty {
             terrain_clones: u.terrain_clones,
             correlation: u.correlation,
         }
+    }
+}
+
+/// The Pareto front's settings (`areo_mission::Mission::pareto_front`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FrontSpec {
+    /// How far apart the walk along the front takes margins, Wh (0.001..=1000; default
+    /// 1): a plan within this above a found one's margin may be missed.
+    pub margin_step_wh: f64,
+}
+
+impl Default for FrontSpec {
+    fn default() -> FrontSpec {
+        FrontSpec { margin_step_wh: 1.0 }
     }
 }
 

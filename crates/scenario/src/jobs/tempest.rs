@@ -18,6 +18,7 @@ use hifitime::Duration;
 use serde_json::json;
 
 mod chance;
+mod front;
 mod layers;
 
 use crate::error::{Error, Result};
@@ -60,6 +61,7 @@ fn scenario_error(file: &ScenarioFile, field: impl Into<String>, message: impl I
 fn planner_field(field: &str) -> String {
     match field {
         "start" | "goals" | "site" | "truth" => format!("job.{field}"),
+        f if f.starts_with("pareto_front") => format!("job.{f}"),
         "span_s" => "job.horizon_h".into(),
         "sun_step_s" => "job.sun_step_min".into(),
         other => format!("job.planner.{other}"),
@@ -212,6 +214,8 @@ struct TempestReport {
     run: Run,
     /// The chance-constrained plan's comparison and Monte Carlo, with `uncertainty`.
     chance: Option<chance::Chance>,
+    /// The Pareto front, with `pareto_front`.
+    front: Option<areo_mission::ParetoFront>,
     havens: Option<contact::Havens>,
     peak_memory_mb: Option<f64>,
 }
@@ -226,6 +230,9 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
         o.files.extend(write_outputs(dir, &ctx, &report.run)?);
         if let Some(c) = &report.chance {
             o.files.extend(chance::write(dir, &ctx, c)?);
+        }
+        if let Some(f) = &report.front {
+            o.files.extend(front::write(dir, &ctx, f)?);
         }
     }
     Ok(o)
@@ -504,13 +511,17 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
         }
         None => None,
     };
+    let front = match initial {
+        Some(_) => front::evaluate(job, file, (world, model), (plan_start, goals))?,
+        None => None,
+    };
     // Off Mars: where the rover can wait out a shadow or a loss of the Earth.
     let havens =
         (job.body.model() != areo_ephemeris::Body::Mars && !matches!(run, Run::Unreachable { .. })).then(|| {
             let every = job.communicate.as_ref().filter(|_| model.needs_earth()).and_then(|c| c.every_h);
             contact::havens(world, model, world.span_s(), HAVEN_STEP_S, every)
         });
-    Ok(TempestReport { prepared, run, chance, havens, peak_memory_mb: peak_memory_mb() })
+    Ok(TempestReport { prepared, run, chance, front, havens, peak_memory_mb: peak_memory_mb() })
 }
 
 impl TempestReport {
@@ -568,6 +579,9 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
             if let Some(c) = &report.chance {
                 chance::facts(&mut o, ctx, plan, c);
             }
+            if let Some(f) = &report.front {
+                front::facts(&mut o, ctx, plan, f);
+            }
             o.text("status", "planned");
             o.number("goals_reached", 0.0);
             o.summary.push(format!(
@@ -582,6 +596,9 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
             plan_facts(&mut o, ctx, &r.plans[0].plan);
             if let Some(c) = &report.chance {
                 chance::facts(&mut o, ctx, &r.plans[0].plan, c);
+            }
+            if let Some(f) = &report.front {
+                front::facts(&mut o, ctx, &r.plans[0].plan, f);
             }
             sim_facts(&mut o, ctx, r, report.peak_memory_mb);
             if let SimStatus::Unreachable { binding, message } = &r.status {

@@ -354,13 +354,27 @@ fn battery_fan(
     )
 }
 
-/// A time plot of `series` named `name`, with its title and y label, over the nights.
+/// A time plot of `series` named `name`, with its title and y label, over the nights,
+/// as lines.
 fn plot(
+    dir: &Path,
+    ctx: &Context<'_>,
+    labels: (&str, &str, &str),
+    series: Vec<Series>,
+    span: (f64, &[(f64, f64)]),
+) -> Result<Vec<PathBuf>> {
+    time_plot(dir, ctx, labels, series, span, false)
+}
+
+/// A time plot of `series` named `name`, with its title and y label, over the nights
+/// until `end_s`: lines, or `dots` (one point per plan or run).
+pub(super) fn time_plot(
     dir: &Path,
     ctx: &Context<'_>,
     (name, title, y_label): (&str, &str, &str),
     series: Vec<Series>,
     (end_s, night): (f64, &[(f64, f64)]),
+    dots: bool,
 ) -> Result<Vec<PathBuf>> {
     crate::output::plots::time(
         dir,
@@ -374,7 +388,7 @@ fn plot(
             windows: Vec::new(),
             windows_label: String::new(),
             x_range: (0.0, end_s / 3600.0),
-            dots: false,
+            dots,
             x_ticks: time_ticks(ctx),
         },
     )

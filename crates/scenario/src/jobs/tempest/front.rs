@@ -1,0 +1,178 @@
+//! A TEMPEST job's Pareto front (`pareto_front: true`): the non-dominated plans to its
+//! goal in (arrival time, energy used, battery margin) — facts, `pareto_front.csv`,
+//! `pareto_front.json` (every plan's waypoints, so an operator can take one) and two
+//! plots (energy used and margin against arrival).
+
+use std::path::{Path, PathBuf};
+
+use areo_mission::{Action, ActionModel, Mission, MissionPlan, ParetoFront, Start, World};
+use serde::Serialize;
+
+use super::chance::time_plot;
+use super::{Context, nights};
+use crate::error::Result;
+use crate::format::{ScenarioFile, TempestJob};
+use crate::outcome::Outcome;
+use crate::output::csv::{Fixed, write_rows};
+use crate::output::plots::Series;
+
+/// Plans the job again and searches its front, when the job asks for one.
+pub(super) fn evaluate(
+    job: &TempestJob,
+    file: &ScenarioFile,
+    (world, model): (&World, &ActionModel),
+    (start, goals): (Start, &[u32]),
+) -> Result<Option<ParetoFront>> {
+    let Some(spec) = &job.pareto_front else { return Ok(None) };
+    let front = Mission::plan(world, model, (&job.planner).into(), start, goals)
+        .and_then(|(mission, _)| mission.pareto_front(spec.margin_step_wh));
+    match front {
+        Ok(front) => Ok(Some(front)),
+        Err(areo_mission::Error::Config { field, message }) => {
+            Err(super::scenario_error(file, super::planner_field(field), message))
+        }
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// The `front_…` facts and a summary line; `plan` (the job's own plan, by its
+/// objective) is placed against the front.
+pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, front: &ParetoFront) {
+    let plans = &front.plans;
+    o.count("front_plans", plans.len() as u64);
+    o.count("front_searches", front.searches as u64);
+    o.count("front_candidates", front.candidates as u64);
+    let range = |f: fn(&areo_mission::FrontPlan) -> f64| {
+        plans.iter().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)))
+    };
+    let arrival = range(|p| p.arrival_s);
+    let used = range(|p| p.energy_used_wh);
+    let margin = range(|p| p.margin_wh);
+    if plans.is_empty() {
+        o.summary.push("Pareto front: no plan".into());
+        return;
+    }
+    o.number("front_earliest_arrival_h", ctx.hours(arrival.0));
+    o.number("front_latest_arrival_h", ctx.hours(arrival.1));
+    o.number("front_least_energy_used_wh", used.0);
+    o.number("front_most_energy_used_wh", used.1);
+    o.number("front_least_margin_wh", margin.0);
+    o.number("front_largest_margin_wh", margin.1);
+    // The job's plan in the front's measures: dominated when a front plan arrives no
+    // later, draws no more and holds no less, and is better in one.
+    if let Some(own) = measures(ctx, plan) {
+        let beaten = plans.iter().any(|p| {
+            let q = (p.arrival_s, p.energy_used_wh, p.margin_wh);
+            areo_mission::non_dominated(&[own, q]) == vec![1]
+        });
+        o.number("plan_energy_used_wh", own.1);
+        o.number("plan_margin_wh", own.2);
+        o.flag("plan_dominated_by_front", beaten);
+    }
+    o.summary.push(format!(
+        "Pareto front: {} plans in (arrival, energy used, margin) — arrival {:.2}–{:.2} h, energy used {:.1}–{:.1} \
+         Wh, margin {:.1}–{:.1} Wh ({} searches, {} plans before the filter; margins walked {} Wh apart, so a plan \
+         within that above a found one's margin may be missing)",
+        plans.len(),
+        ctx.hours(arrival.0),
+        ctx.hours(arrival.1),
+        used.0,
+        used.1,
+        margin.0,
+        margin.1,
+        front.searches,
+        front.candidates,
+        front.margin_step_wh
+    ));
+}
+
+/// A plan's (arrival s, energy used Wh, margin Wh), replayed on the job's model.
+fn measures(ctx: &Context<'_>, plan: &MissionPlan) -> Option<(f64, f64, f64)> {
+    let (first, last) = (plan.waypoints.first()?, plan.waypoints.last()?);
+    let mut used = 0.0;
+    for w in &plan.waypoints {
+        let effect = match w.action {
+            None => continue,
+            Some(Action::Drive(k)) => ctx.model.drive(ctx.world, w.cell, k, w.t_s).map(|(_, e)| e),
+            Some(stay) => ctx.model.stay(ctx.world, stay, w.cell, w.t_s),
+        };
+        used += effect.ok()?.load_wh;
+    }
+    let start = ctx.start;
+    let margin = start.energy_wh - ctx.model.idle_wh(first.t_s - start.t_min) - first.required_wh;
+    Some((last.t_s, used, margin))
+}
+
+/// A row of pareto_front.csv: one plan of the front.
+#[derive(Serialize, Default)]
+struct FrontRow {
+    plan: usize,
+    departure_utc: String,
+    departure_h: Fixed<3>,
+    arrival_utc: String,
+    arrival_h: Fixed<3>,
+    duration_h: Fixed<3>,
+    energy_used_wh: Fixed<2>,
+    margin_wh: Fixed<2>,
+    lowest_battery_wh: Fixed<2>,
+    drives: usize,
+    charges: usize,
+    hibernations: usize,
+}
+
+/// `pareto_front.csv`, `pareto_front.json` and the two plots.
+pub(super) fn write(dir: &Path, ctx: &Context<'_>, front: &ParetoFront) -> Result<Vec<PathBuf>> {
+    let rows = front.plans.iter().enumerate().map(|(i, p)| {
+        let (drives, charges, hibernations) = p.plan.action_counts();
+        let utc = |k: usize| p.plan.waypoints.get(k).map_or(String::new(), |w| w.utc.clone());
+        FrontRow {
+            plan: i,
+            departure_utc: utc(0),
+            departure_h: Fixed(ctx.hours(p.departure_s)),
+            arrival_utc: utc(p.plan.waypoints.len().saturating_sub(1)),
+            arrival_h: Fixed(ctx.hours(p.arrival_s)),
+            duration_h: Fixed(p.plan.duration_s() / 3600.0),
+            energy_used_wh: Fixed(p.energy_used_wh),
+            margin_wh: Fixed(p.margin_wh),
+            lowest_battery_wh: Fixed(p.plan.min_battery_wh()),
+            drives,
+            charges,
+            hibernations,
+        }
+    });
+    let csv = dir.join("pareto_front.csv");
+    write_rows(&csv, rows)?;
+    let json = dir.join("pareto_front.json");
+    let plans: Vec<&areo_mission::MissionPlan> = front.plans.iter().map(|p| &p.plan).collect();
+    let text = serde_json::to_string_pretty(&plans)
+        .map_err(|e| crate::error::Error::Io { path: json.clone(), source: e.into() })?;
+    crate::output::write_file(&json, text.as_bytes())?;
+    let mut files = vec![csv, json];
+    let end_s = front.plans.iter().map(|p| p.arrival_s).fold(0.0, f64::max) * 1.05;
+    let night = nights(ctx.truth, end_s);
+    let dots = |f: fn(&areo_mission::FrontPlan) -> f64, label: &str| {
+        vec![Series {
+            label: label.into(),
+            points: front.plans.iter().map(|p| (ctx.hours(p.arrival_s), f(p))).collect(),
+            rgb: (30, 90, 220),
+            width: 4,
+        }]
+    };
+    files.extend(time_plot(
+        dir,
+        ctx,
+        ("front_energy", "Pareto front: energy used against arrival", "energy used, Wh"),
+        dots(|p| p.energy_used_wh, "front plan"),
+        (end_s, &night),
+        true,
+    )?);
+    files.extend(time_plot(
+        dir,
+        ctx,
+        ("front_margin", "Pareto front: battery margin against arrival", "margin above the battery floor, Wh"),
+        dots(|p| p.margin_wh, "front plan"),
+        (end_s, &night),
+        true,
+    )?);
+    Ok(files)
+}
