@@ -118,14 +118,14 @@ fn uncertainty(c: &mut Criterion) {
 }
 
 /// The Pareto front in (arrival, energy used, margin) against the plan it goes with, on a
-/// 40 × 30 corner of the bench world (a 1.1 km drive, 4 goal instants).
+/// 24 × 16 corner of the bench world (a 450 m drive, 4 goal instants, 1 h waits).
 fn front(c: &mut Criterion) {
-    let world = world_of(40, 30);
+    let world = world_of(24, 16);
     let t0 = morning(&world);
     let model = ActionModel::new(ResourceModel::hyperion(), ActionConfig::default());
-    let start = Start { cell: world.cell(5, 10), t_min: t0, t_max: t0 + 600.0, energy_wh: 300.0 };
-    let goal = [world.cell(15, 14)];
-    let config = PlannerConfig { goal_times: 4, ..config() };
+    let start = Start { cell: world.cell(5, 8), t_min: t0, t_max: t0 + 600.0, energy_wh: 300.0 };
+    let goal = [world.cell(9, 10)];
+    let config = PlannerConfig { goal_times: 4, max_wait_s: Some(3600.0), ..config() };
     let mut g = c.benchmark_group("tempest_front");
     g.sample_size(10);
     g.bench_function("plan", |b| {

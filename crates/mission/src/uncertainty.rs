@@ -403,14 +403,18 @@ pub fn open_loop_on(
 /// factors drawn from `uncertainty`, sensing and re-planning after every action, as
 /// [`simulate`] does — `mc.runs` times, run i on the ChaCha8 stream i of `mc.seed`.
 /// Runs in parallel; the result is in run order and the same whatever the thread
-/// count. The simulation's own noise is replaced by the draws.
+/// count, and leaves `simulation.believed` as it was. The simulation's own noise is
+/// replaced by the draws.
 pub fn closed_loop(simulation: &Simulation<'_>, uncertainty: &Uncertainty, mc: &MonteCarlo) -> Result<Vec<Execution>> {
     uncertainty.validate()?;
     mc.validate()?;
     (0..mc.runs)
         .into_par_iter()
         .map(|run| {
-            let mut s = simulation.clone();
+            // Each run believes the map as the call found it: sensing writes into the
+            // world a simulation believes, and one run must not learn from another.
+            let believed = simulation.believed.snapshot();
+            let mut s = Simulation { believed: &believed, ..simulation.clone() };
             // A late start is known when the rover wakes: it plans from then.
             let delay = uncertainty.sample_start_delay(mc.seed, run);
             s.start =

@@ -243,6 +243,37 @@ impl World {
         })
     }
 
+    /// A copy of the world as it is now, sensed values included, that senses on its own
+    /// from here: a simulation mutates the world it believes ([`World::sense`]), so
+    /// runs that must not learn from one another each take a snapshot of the belief.
+    /// Shares the horizon map (read-only); copies the grids, flags and sensed profiles.
+    pub fn snapshot(&self) -> World {
+        let u32s = |v: &[AtomicU32]| v.iter().map(|a| AtomicU32::new(a.load(Ordering::Relaxed))).collect();
+        let flags = |v: &[AtomicBool]| v.iter().map(|a| AtomicBool::new(a.load(Ordering::Relaxed))).collect();
+        let sensed = self.sensed_horizon.lock().unwrap_or_else(std::sync::PoisonError::into_inner).clone();
+        World {
+            dem: self.dem.clone(),
+            elevation: u32s(&self.elevation),
+            slope_deg: u32s(&self.slope_deg),
+            normal: self
+                .normal
+                .iter()
+                .map(|[e, n]| [AtomicU32::new(e.load(Ordering::Relaxed)), AtomicU32::new(n.load(Ordering::Relaxed))])
+                .collect(),
+            blocked: flags(&self.blocked),
+            horizon: self.horizon.clone(),
+            shares_horizon: true,
+            horizon_sensed: flags(&self.horizon_sensed),
+            sensed_horizon: Mutex::new(sensed),
+            sun: self.sun.clone(),
+            earth: self.earth.clone(),
+            sun_step_s: self.sun_step_s,
+            epoch: self.epoch,
+            site: self.site,
+            body: self.body,
+        }
+    }
+
     /// The DEM.
     pub fn dem(&self) -> &Dem {
         &self.dem

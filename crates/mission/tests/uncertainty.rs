@@ -170,6 +170,21 @@ fn closed_loop_runs_are_simulations_with_drawn_departures() {
         rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| closed_loop(&sim, &u, &mc).unwrap());
     assert_eq!(many, one);
     assert!(many.windows(2).any(|w| w[0].lowest_battery_wh != w[1].lowest_battery_wh), "{many:?}");
+    // On a truth the map does not show (rolling ground, ±3 m), the runs sense and
+    // re-plan: each believes the map as given (sensing writes into the believed world,
+    // so shared belief made runs learn from one another and a second call differ from
+    // the first), and the believed map is left as it was.
+    let rolling = mars_world(
+        areo_terrain::Dem::from_fn(24, 16, 20.0, 20.0, |x, y| 3.0 * (x / 37.0).sin() * (y / 23.0).cos()).unwrap(),
+        30.0,
+        None,
+    );
+    let sensing = Simulation { truth: &rolling, ..sim.clone() };
+    let first = closed_loop(&sensing, &u, &mc).unwrap();
+    let second = closed_loop(&sensing, &u, &mc).unwrap();
+    assert_eq!(first, second);
+    assert!(first.iter().zip(&many).all(|(a, b)| a != b), "the rolling truth changes every run");
+    assert!((0..world.cells() as u32).all(|c| world.elevation(c) == Some(0.0)));
 }
 
 #[test]

@@ -447,6 +447,13 @@ fn watching<T>(progress: &dyn crate::Progress, meter: &areo_mission::ExpansionMe
 }
 
 /// Plans (or simulates) on the prepared worlds, and maps the haven cells off Mars.
+/// A simulation writes what it senses into the map it believes: a copy of the map as
+/// given, for the comparisons made after it (the deterministic plan, the Monte Carlo,
+/// the front), when the job makes any.
+fn pristine_belief(job: &TempestJob, world: &World) -> Option<World> {
+    (job.simulate.is_some() && (job.uncertainty.is_some() || job.pareto_front.is_some())).then(|| world.snapshot())
+}
+
 fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared: Prepared) -> Result<TempestReport> {
     let Prepared { world, truth, config, model, start, goals, .. } = &prepared;
     // A chance-constrained plan allows for a late start.
@@ -455,6 +462,8 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     // planner works: against the budget's estimate (an upper bound: every cell in every
     // label class) when planning, simulated minutes against the horizon when simulating.
     let meter = areo_mission::ExpansionMeter::counting();
+    let pristine = pristine_belief(job, world);
+    let belief = pristine.as_ref().unwrap_or(world);
     let planner = areo_mission::PlannerConfig { meter: meter.clone(), ..(&job.planner).into() };
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
@@ -499,7 +508,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     };
     let chance = match initial {
         Some(plan) => {
-            let worlds = (world, truth.as_ref().unwrap_or(world));
+            let worlds = (belief, truth.as_ref().unwrap_or(belief));
             chance::evaluate(job, (worlds, config), model, (&job.planner).into(), (*start, goals), plan).map_err(
                 |e| match e {
                     Error::Mission(MissionError::Config { field, message }) if field.starts_with("uncertainty.") => {
@@ -512,7 +521,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
         None => None,
     };
     let front = match initial {
-        Some(_) => front::evaluate(job, file, (world, model), (plan_start, goals))?,
+        Some(_) => front::evaluate(job, file, (belief, model), (plan_start, goals))?,
         None => None,
     };
     // Off Mars: where the rover can wait out a shadow or a loss of the Earth.
