@@ -406,6 +406,19 @@ pub fn open_loop_on(
 /// count, and leaves `simulation.believed` as it was. The simulation's own noise is
 /// replaced by the draws.
 pub fn closed_loop(simulation: &Simulation<'_>, uncertainty: &Uncertainty, mc: &MonteCarlo) -> Result<Vec<Execution>> {
+    closed_loop_on(simulation, &[], uncertainty, mc)
+}
+
+/// [`closed_loop`] with run i driving on `truths[i % truths.len()]` (error clones of the
+/// true terrain, [`dem_clone`]) in place of the simulation's truth, which it drives on
+/// when `truths` is empty. The rover believes the simulation's map and learns the
+/// clone's heights by sensing.
+pub fn closed_loop_on(
+    simulation: &Simulation<'_>,
+    truths: &[World],
+    uncertainty: &Uncertainty,
+    mc: &MonteCarlo,
+) -> Result<Vec<Execution>> {
     uncertainty.validate()?;
     mc.validate()?;
     (0..mc.runs)
@@ -414,7 +427,8 @@ pub fn closed_loop(simulation: &Simulation<'_>, uncertainty: &Uncertainty, mc: &
             // Each run believes the map as the call found it: sensing writes into the
             // world a simulation believes, and one run must not learn from another.
             let believed = simulation.believed.snapshot();
-            let mut s = Simulation { believed: &believed, ..simulation.clone() };
+            let truth = if truths.is_empty() { simulation.truth } else { &truths[run % truths.len()] };
+            let mut s = Simulation { believed: &believed, truth, ..simulation.clone() };
             // A late start is known when the rover wakes: it plans from then.
             let delay = uncertainty.sample_start_delay(mc.seed, run);
             s.start =

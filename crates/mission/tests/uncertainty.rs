@@ -185,6 +185,15 @@ fn closed_loop_runs_are_simulations_with_drawn_departures() {
     assert_eq!(first, second);
     assert!(first.iter().zip(&many).all(|(a, b)| a != b), "the rolling truth changes every run");
     assert!((0..world.cells() as u32).all(|c| world.elevation(c) == Some(0.0)));
+    // On error clones of the truth, run i drives on clone i mod n.
+    let truths = [rolling, mars_world(flat(24, 16, 20.0), 30.0, None)];
+    let on = |t: &[areo_mission::World]| areo_mission::uncertainty::closed_loop_on(&sim, t, &u, &mc).unwrap();
+    let (mixed, rolling_only, flat_only) = (on(&truths), on(&truths[..1]), on(&truths[1..]));
+    for (i, r) in mixed.iter().enumerate() {
+        assert_eq!(r, if i % 2 == 0 { &rolling_only[i] } else { &flat_only[i] }, "run {i}");
+    }
+    assert_eq!(rolling_only, first);
+    assert_eq!(flat_only, many);
 }
 
 #[test]

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use areo_mission::uncertainty::{Correlation, Execution, MonteCarlo, Summary, Uncertainty, percentile, summarise};
-use areo_mission::uncertainty::{closed_loop, dem_clone, open_loop_on};
+use areo_mission::uncertainty::{closed_loop_on, dem_clone, open_loop_on};
 use areo_mission::{Mission, MissionPlan, PlannerConfig, Simulation, Start, World, WorldConfig};
 use serde::Serialize;
 
@@ -82,6 +82,11 @@ pub(super) fn evaluate(
     }
     if spec.closed_loop_runs > 0 {
         let mc = MonteCarlo { runs: spec.closed_loop_runs, ..mc };
+        // The closed-loop runs drive on error clones of the true terrain: the map's own
+        // clones when the map is true, else clones of the truth.
+        let truth_clones =
+            if std::ptr::eq(truth, world) { Vec::new() } else { terrain_clones(job, &u, truth, config, mc.seed)? };
+        let truths = if std::ptr::eq(truth, world) { &clones[..] } else { &truth_clones[..] };
         let nominal = model.nominal();
         let simulation = |model| Simulation {
             believed: world,
@@ -92,9 +97,9 @@ pub(super) fn evaluate(
             goals,
             config: job.simulate.as_ref().map(Into::into).unwrap_or_default(),
         };
-        chance.chance_closed = Some(executed(closed_loop(&simulation(model), &u, &mc)?));
+        chance.chance_closed = Some(executed(closed_loop_on(&simulation(model), truths, &u, &mc)?));
         if margined {
-            chance.deterministic_closed = Some(executed(closed_loop(&simulation(&nominal), &u, &mc)?));
+            chance.deterministic_closed = Some(executed(closed_loop_on(&simulation(&nominal), truths, &u, &mc)?));
         }
     }
     Ok(Some(chance))
@@ -134,7 +139,7 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chan
     if u.terrain_clones > 0 && u.terrain_sigma_m > 0.0 {
         o.count("mc_terrain_clones", u.terrain_clones as u64);
         o.summary.push(format!(
-            "the open-loop executions drive on {} error clones of the map (height RMS {} m, correlated over {} m)",
+            "the open-loop and closed-loop executions drive on {} error clones of the terrain (height RMS {} m, correlated over {} m)",
             u.terrain_clones, u.terrain_sigma_m, u.terrain_correlation_m
         ));
     }
