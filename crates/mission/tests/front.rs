@@ -179,3 +179,53 @@ fn the_time_and_energy_used_objectives_equal_the_exhaustive_optima() {
     // around it draws less): each is tested on its own.
     assert!(differ >= 2, "the fastest plans draw least on every route");
 }
+
+/// The Time and EnergyUsed heuristics obey the triangle inequality over every step the
+/// search takes (what keeps re-plans on kept graphs exact) and vanish at the start: on
+/// the ridge world, at every cell and minute of three hours, no step from a label costs
+/// less than the fall of the heuristic across it.
+#[test]
+fn the_time_and_energy_used_heuristics_are_consistent() {
+    use areo_ise::Domain;
+    use areo_mission::{Label, PathLength, Resolution, TempestDomain};
+    let world = ridge();
+    let t0 = morning(&world);
+    let model = model(400.0, quantised());
+    let start = Start { cell: world.cell(1, 2), t_min: t0, t_max: t0 + 600.0, energy_wh: 30.0 };
+    let resolution = Resolution { time_s: 60.0, energy_wh: None };
+    for objective in [Objective::Time, Objective::EnergyUsed] {
+        let domain = TempestDomain::new(&world, &model, start, objective, resolution, PathLength::Distance);
+        assert_eq!(domain.heuristic(start.cell, &Label { t: t0 + 300.0, e: 0.0 }), 0.0);
+        let (mut steps, mut tight) = (0, 0);
+        for cell in 0..world.cells() as u32 {
+            for m in 0..180 {
+                let label = Label { t: t0 + 600.0 + 60.0 * f64::from(m), e: 5.0 };
+                let h = domain.heuristic(cell, &label);
+                domain.expand(
+                    cell,
+                    &label,
+                    |_| true,
+                    |a, step| {
+                        let fall = h - domain.heuristic(step.state, &step.label);
+                        assert!(
+                            fall <= step.cost + 1e-9,
+                            "{objective:?} {a:?} into cell {cell} at {} s: heuristic falls {fall}, step costs {}",
+                            label.t,
+                            step.cost
+                        );
+                        steps += 1;
+                        if fall > 0.5 * step.cost {
+                            tight += 1;
+                        }
+                    },
+                );
+            }
+        }
+        // How well each guides: Time's bound falls by more than half the cost across most
+        // steps; EnergyUsed's across about 15 % (7 842 of 50 760) — the weak bound that
+        // makes the Pareto front slow (docs/benchmarks.md).
+        let share = tight as f64 / steps as f64;
+        let least = if objective == Objective::Time { 0.5 } else { 0.1 };
+        assert!(steps > 10_000 && share > least, "{objective:?}: {tight} of {steps} steps tight");
+    }
+}
