@@ -140,6 +140,24 @@ impl MissionPlan {
         c
     }
 
+    /// The energy the plan's actions' loads draw, replayed forward on `model` in
+    /// `world` (see [`crate::Effect::load_wh`]), Wh; or the first action the replay
+    /// refuses (its index and why).
+    pub fn energy_used_wh(
+        &self,
+        world: &World,
+        model: &crate::ActionModel,
+    ) -> Result<f64, (usize, Action, crate::Binding)> {
+        let mut used = 0.0;
+        for (i, w) in self.waypoints.iter().enumerate() {
+            let Some(a) = w.action else { continue };
+            let (_, effect) =
+                model.execute(world, a, w.cell, w.t_s, crate::Perturbation::NONE).map_err(|b| (i, a, b))?;
+            used += effect.load_wh;
+        }
+        Ok(used)
+    }
+
     /// The lowest predicted battery charge along the plan, Wh.
     pub fn min_battery_wh(&self) -> f64 {
         self.waypoints.iter().map(|w| w.battery_wh).fold(f64::INFINITY, f64::min)

@@ -24,7 +24,6 @@
 use areo_ise::{Goal, Mode, Search};
 
 use super::Mission;
-use crate::action_model::Action;
 use crate::domain::{Label, Objective, TempestDomain};
 use crate::error::{Error, Result};
 use crate::plan::MissionPlan;
@@ -138,8 +137,14 @@ impl Mission<'_> {
                 let first = path[0].label;
                 let margin = self.start.energy_wh - self.model.idle_wh(first.t - self.start.t_min) - first.e;
                 let steps: Vec<_> = super::own_path(path).into_iter().map(|s| (s, 0)).collect();
-                let used = self.energy_used_wh(&steps)?;
-                let mut plan = self.waypoints(&steps, used)?;
+                let mut plan = self.waypoints(&steps, 0.0)?;
+                let used = plan.energy_used_wh(self.world, self.model).map_err(|(step, a, b)| Error::Replay {
+                    step,
+                    action: format!("{a:?}"),
+                    cell: plan.waypoints[step].cell,
+                    binding: b.describe().to_string(),
+                })?;
+                plan.cost = used;
                 // What this plan is: the least energy used at its margin and arrival.
                 plan.objective = Objective::EnergyUsed;
                 plan.expansions = found.stats.expansions;
@@ -157,26 +162,5 @@ impl Mission<'_> {
             .collect();
         plans.sort_by(|a, b| a.arrival_s.total_cmp(&b.arrival_s).then(a.energy_used_wh.total_cmp(&b.energy_used_wh)));
         Ok(ParetoFront { plans, searches, expansions, candidates: candidates.len(), margin_step_wh })
-    }
-
-    /// The energy the actions of a path's steps draw, Wh, replayed forward.
-    fn energy_used_wh(&self, steps: &[(areo_ise::PathStep<TempestDomain<'static>>, usize)]) -> Result<f64> {
-        let mut used = 0.0;
-        for (i, (step, _)) in steps.iter().enumerate() {
-            let Some(a) = step.action else { continue };
-            let effect = match a {
-                Action::Drive(k) => self.model.drive(self.world, step.state, k, step.label.t).map(|(_, e)| e),
-                stay => self.model.stay(self.world, stay, step.state, step.label.t),
-            };
-            used += effect
-                .map_err(|b| Error::Replay {
-                    step: i,
-                    action: format!("{a:?}"),
-                    cell: step.state,
-                    binding: b.describe().to_string(),
-                })?
-                .load_wh;
-        }
-        Ok(used)
     }
 }

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use areo_mission::{Action, ActionModel, Mission, MissionPlan, ParetoFront, Start, World};
+use areo_mission::{ActionModel, Mission, MissionPlan, ParetoFront, Start, World};
 use serde::Serialize;
 
 use super::chance::time_plot;
@@ -89,15 +89,7 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, fron
 /// A plan's (arrival s, energy used Wh, margin Wh), replayed on the job's model.
 fn measures(ctx: &Context<'_>, plan: &MissionPlan) -> Option<(f64, f64, f64)> {
     let (first, last) = (plan.waypoints.first()?, plan.waypoints.last()?);
-    let mut used = 0.0;
-    for w in &plan.waypoints {
-        let effect = match w.action {
-            None => continue,
-            Some(Action::Drive(k)) => ctx.model.drive(ctx.world, w.cell, k, w.t_s).map(|(_, e)| e),
-            Some(stay) => ctx.model.stay(ctx.world, stay, w.cell, w.t_s),
-        };
-        used += effect.ok()?.load_wh;
-    }
+    let used = plan.energy_used_wh(ctx.world, ctx.model).ok()?;
     let start = ctx.start;
     let margin = start.energy_wh - ctx.model.idle_wh(first.t_s - start.t_min) - first.required_wh;
     Some((last.t_s, used, margin))
