@@ -266,6 +266,10 @@ pub struct DriveGeometry {
     pub slope_deg: f64,
     /// Locomotion plus the high electronics load, W.
     pub load_w: f64,
+    /// The share of the moving time the array is credited for: 1, or on an envelope of
+    /// terrains ([`World::envelope`]) the fastest member's moving time over the
+    /// slowest's (the fastest rover charges only that long, then waits asleep).
+    pub solar_share: f64,
 }
 
 impl ActionModel {
@@ -423,14 +427,50 @@ impl ActionModel {
         let dem = world.dem();
         let (ex, ny) = (f64::from(dc) * dem.dx(), f64::from(dr) * dem.dy());
         let run = (ex * ex + ny * ny).sqrt();
-        let rise = h1 - h0;
+        if self.config.drive.max_slope
+            && (world.slope_deg(from) > self.max_slope_deg || world.slope_deg(to) > self.max_slope_deg)
+        {
+            return Err(Binding::Slope);
+        }
+        let (slope, moving_s, load_w, solar_share) = match (world.member_heights(from), world.member_heights(to)) {
+            (None, None) => {
+                let (slope, moving_s, load_w) = self.drive_over(run, h1 - h0)?;
+                (slope, moving_s, load_w, 1.0)
+            }
+            // An envelope of terrains: the drive as slow, as steep and as hungry as on
+            // its worst member, credited with sunlight for its fastest member's time.
+            (a, b) => {
+                let n = world.terrain_members();
+                let height = |m: Option<&[f32]>, own: f64, i: usize| m.map_or(own, |m| f64::from(m[i]));
+                let (mut worst, mut fastest) = ((0.0f64, 0.0f64, 0.0f64), f64::INFINITY);
+                for i in 0..n {
+                    let rise = height(b, h1, i) - height(a, h0, i);
+                    if rise.is_nan() {
+                        return Err(Binding::Blocked);
+                    }
+                    let (slope, moving, load) = self.drive_over(run, rise)?;
+                    if slope.abs() > worst.0.abs() {
+                        worst.0 = slope;
+                    }
+                    worst.1 = worst.1.max(moving);
+                    worst.2 = worst.2.max(load);
+                    fastest = fastest.min(moving);
+                }
+                (worst.0, worst.1, worst.2, if worst.1 > 0.0 { fastest / worst.1 } else { 1.0 })
+            }
+        };
+        let delay_s = self.margins.delay_s;
+        let duration_s = self.quantise_time(moving_s * self.margins.duration_factor + delay_s);
+        Ok(DriveGeometry { to, duration_s, delay_s, slope_deg: slope, load_w, solar_share })
+    }
+
+    /// A drive over `run` m of ground rising `rise` m: its slope (degrees), its moving
+    /// time at the nominal speed there (s) and its load with the planning margin (W);
+    /// `Slope` when the slope exceeds the rover's limit.
+    fn drive_over(&self, run: f64, rise: f64) -> Result<(f64, f64, f64), Binding> {
         // run > 0: one-argument arctangent.
         let slope = (rise / run).atan().to_degrees();
-        if self.config.drive.max_slope
-            && (slope.abs() > self.max_slope_deg
-                || world.slope_deg(from) > self.max_slope_deg
-                || world.slope_deg(to) > self.max_slope_deg)
-        {
+        if self.config.drive.max_slope && slope.abs() > self.max_slope_deg {
             return Err(Binding::Slope);
         }
         let loco = &self.rover.locomotor;
@@ -438,9 +478,7 @@ impl ActionModel {
         let length = (run * run + rise * rise).sqrt();
         let load_w = (loco.power_on_w(speed, rise / length, run / length) + self.rover.electronics.power_w(Load::High))
             * self.margins.draw_factor;
-        let delay_s = self.margins.delay_s;
-        let duration_s = self.quantise_time(length / speed * self.margins.duration_factor + delay_s);
-        Ok(DriveGeometry { to, duration_s, delay_s, slope_deg: slope, load_w })
+        Ok((slope, length / speed, load_w))
     }
 
     /// The drive from `from` to neighbour `k` starting at `t0`.
@@ -484,7 +522,7 @@ impl ActionModel {
         arrival: &Arrival,
         k: u8,
         from: u32,
-        DriveGeometry { duration_s: duration, delay_s: delay, load_w: load, .. }: DriveGeometry,
+        DriveGeometry { duration_s: duration, delay_s: delay, load_w: load, solar_share: share, .. }: DriveGeometry,
     ) -> Option<(u32, Effect)> {
         let (t1, s1) = (arrival.t1, &arrival.sun);
         let t0 = t1 - duration;
@@ -505,8 +543,8 @@ impl ActionModel {
         let s0 = world.sun(t0);
         self.check(world, rules, from, &s0, Some(heading)).ok()?;
         let lit0 = self.rover.solar.is_some() && world.lit(from, &s0);
-        let p0 = load - self.drive_source_lit_w(world, from, &s0, k, lit0);
-        let p1 = load - self.drive_source_lit_w(world, arrival.to, s1, k, arrival.lit);
+        let p0 = load - self.drive_source_lit_w(world, from, &s0, k, lit0, share);
+        let p1 = load - self.drive_source_lit_w(world, arrival.to, s1, k, arrival.lit, share);
         let e = self.drive_energy_wh(load, (p0, p1), duration, delay);
         let load_wh = self.quantise_load(load * duration / 3600.0);
         Some((from, Effect { duration_s: duration, energy_wh: self.quantise_energy(e), load_wh }))
@@ -517,7 +555,7 @@ impl ActionModel {
         world: &World,
         from: u32,
         k: u8,
-        DriveGeometry { to, duration_s, delay_s, load_w: load, .. }: DriveGeometry,
+        DriveGeometry { to, duration_s, delay_s, load_w: load, solar_share: share, .. }: DriveGeometry,
         t0: f64,
         p: Perturbation,
     ) -> Result<(u32, Effect), Binding> {
@@ -544,8 +582,8 @@ impl ActionModel {
         // The noise dims the array, not a generator.
         let nuclear = self.rover.nuclear_w;
         let source = |w: f64| nuclear + p.solar_factor * (w - nuclear);
-        let p0 = load - source(self.drive_source_lit_w(world, from, &s0, k, lit(from, &s0)));
-        let p1 = load - source(self.drive_source_lit_w(world, to, &s1, k, lit(to, &s1)));
+        let p0 = load - source(self.drive_source_lit_w(world, from, &s0, k, lit(from, &s0), share));
+        let p1 = load - source(self.drive_source_lit_w(world, to, &s1, k, lit(to, &s1), share));
         let e = self.drive_energy_wh(load, (p0, p1), duration, delay);
         let load_wh = self.quantise_load(load * duration / 3600.0);
         Ok((to, Effect { duration_s: duration, energy_wh: self.quantise_energy(e), load_wh }))
@@ -685,17 +723,12 @@ impl ActionModel {
     }
 
     /// [`ActionModel::source_w`] for drive heading `k`, from the precomputed level
-    /// normal, given whether the Sun lights the cell (so callers test it once).
-    fn drive_source_lit_w(&self, world: &World, cell: u32, sun: &Sun, k: u8, lit: bool) -> f64 {
+    /// normal, given whether the Sun lights the cell (so callers test it once), with
+    /// the array credited for `share` of the time (see [`DriveGeometry::solar_share`]).
+    fn drive_source_lit_w(&self, world: &World, cell: u32, sun: &Sun, k: u8, lit: bool, share: f64) -> f64 {
         let mut p = self.rover.nuclear_w;
-        if let Some(array) = &self.rover.solar
-            && lit
-        {
-            let n = areo_rover::resources::SolarArray::tipped_normal_enu(
-                self.level_normals[k as usize % 8],
-                world.normal(cell),
-            );
-            p += self.margins.solar_factor * array.power_w(sun.beam_w_m2, sun.enu, n, false);
+        if lit {
+            p += share * self.array_w(world, cell, sun, self.level_normals[k as usize % 8]);
         }
         p
     }
@@ -717,10 +750,31 @@ impl ActionModel {
                     [st * sun.enu[0] / h, st * sun.enu[1] / h, ct]
                 }
             };
-            let n = areo_rover::resources::SolarArray::tipped_normal_enu(level, world.normal(cell));
-            p += self.margins.solar_factor * array.power_w(sun.beam_w_m2, sun.enu, n, false);
+            p += self.array_w(world, cell, sun, level);
         }
         p
+    }
+
+    /// The array's power on a lit cell with its normal `level` on level ground, W,
+    /// times the planning margin's solar factor: tipped by the cell's ground normal,
+    /// or on an envelope of terrains the least over its members' normals.
+    fn array_w(&self, world: &World, cell: u32, sun: &Sun, level: [f64; 3]) -> f64 {
+        let Some(array) = &self.rover.solar else { return 0.0 };
+        let on = |ground: [f64; 3]| {
+            let n = areo_rover::resources::SolarArray::tipped_normal_enu(level, ground);
+            array.power_w(sun.beam_w_m2, sun.enu, n, false)
+        };
+        let w = match world.member_normals(cell) {
+            None => on(world.normal(cell)),
+            Some(normals) => normals
+                .iter()
+                .map(|&[e, n]| {
+                    let (e, n) = (f64::from(e), f64::from(n));
+                    on([e, n, (1.0 - e * e - n * n).max(0.0).sqrt()])
+                })
+                .fold(f64::INFINITY, f64::min),
+        };
+        self.margins.solar_factor * w
     }
 
     /// Battery energy drawn by idling for `duration_s` (asleep at the hibernation load,

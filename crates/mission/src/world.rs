@@ -98,6 +98,20 @@ pub struct World {
     epoch: Epoch,
     site: Site,
     body: Body,
+    /// The terrains a plan must hold on ([`World::envelope`]), if any.
+    members: Option<Arc<Members>>,
+    /// Cells sensed since the envelope was made: there the world's own values hold,
+    /// not the members' (empty without members).
+    members_off: Vec<AtomicBool>,
+}
+
+/// The heights and ground normals of the terrains an envelope world stands for (the
+/// map and its error clones), cell-major: cell c's values for member i at `c * n + i`.
+#[derive(Debug)]
+struct Members {
+    n: usize,
+    heights: Vec<f32>,
+    normals: Vec<[f32; 2]>,
 }
 
 impl World {
@@ -240,6 +254,8 @@ impl World {
             epoch: config.epoch,
             site,
             body,
+            members: None,
+            members_off: Vec::new(),
         })
     }
 
@@ -271,7 +287,85 @@ impl World {
             epoch: self.epoch,
             site: self.site,
             body: self.body,
+            members: self.members.clone(),
+            members_off: flags(&self.members_off),
         }
+    }
+
+    /// The world a plan that must hold on every one of several terrains is made on:
+    /// `map` (its Sun, its sensing state) with each cell's slope the steepest of the
+    /// members', its horizon in every sector the highest (so a cell is lit only when
+    /// it is lit on every member, and the Earth in view only when it is on every
+    /// member), and the members' heights and ground normals kept, so that a drive costs
+    /// its worst over the members ([`crate::ActionModel::drive_geometry`]) and the
+    /// array earns its least ([`crate::ActionModel::source_w`]). The members are `map`
+    /// itself and `clones` — error clones of it ([`crate::uncertainty::dem_clone`]) on
+    /// its grid with its horizon sectors. Sensing a cell ([`World::sense`]) ends the
+    /// uncertainty there: the sensed values hold.
+    pub fn envelope(map: &World, clones: &[World]) -> Result<World> {
+        let mut world = map.snapshot();
+        let cells = world.cells();
+        for c in clones {
+            if c.cols() != map.cols() || c.rows() != map.rows() {
+                return Err(Error::Config {
+                    field: "uncertainty.terrain_plan_clones",
+                    message: format!("a clone of {}×{} cells for a map of {}×{}", c.cols(), c.rows(), map.cols(), map.rows()),
+                });
+            }
+        }
+        let n = clones.len() + 1;
+        let members: Vec<&World> = std::iter::once(map).chain(clones).collect();
+        let mut heights = Vec::with_capacity(cells * n);
+        let mut normals = Vec::with_capacity(cells * n);
+        for i in 0..cells {
+            let mut steepest = world.slope_deg(i as u32);
+            for m in &members {
+                heights.push(f32::from_bits(m.elevation[i].load(Ordering::Relaxed)));
+                let nrm = &m.normal[i];
+                normals.push([f32::from_bits(nrm[0].load(Ordering::Relaxed)), f32::from_bits(nrm[1].load(Ordering::Relaxed))]);
+                // NaN (missing data) on any member stays NaN: the cell is impassable.
+                let s = m.slope_deg(i as u32);
+                steepest = if s.is_nan() || steepest.is_nan() { f64::NAN } else { steepest.max(s) };
+            }
+            world.slope_deg[i].store((steepest as f32).to_bits(), Ordering::Relaxed);
+            if world.horizon.is_some() && clones.iter().any(|c| c.horizon_sensed[i].load(Ordering::Relaxed)) {
+                let mut highest = world.horizon_profile(i).unwrap_or_default();
+                for c in clones {
+                    if let Some(p) = c.horizon_profile(i) {
+                        for (h, v) in highest.iter_mut().zip(p) {
+                            *h = h.max(v);
+                        }
+                    }
+                }
+                let mut table = world.sensed_horizon.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+                table.insert(i as u32, highest.into_boxed_slice());
+                world.horizon_sensed[i].store(true, Ordering::Relaxed);
+            }
+        }
+        world.members = Some(Arc::new(Members { n, heights, normals }));
+        world.members_off = (0..cells).map(|_| AtomicBool::new(false)).collect();
+        Ok(world)
+    }
+
+    /// How many terrains the world stands for: 1, or the members of an envelope
+    /// ([`World::envelope`]).
+    pub fn terrain_members(&self) -> usize {
+        self.members.as_ref().map_or(1, |m| m.n)
+    }
+
+    /// The members' heights at a cell, m (NaN: missing), when the world is an envelope
+    /// and the cell has not been sensed since.
+    pub(crate) fn member_heights(&self, cell: u32) -> Option<&[f32]> {
+        let m = self.members.as_ref()?;
+        let i = cell as usize;
+        (!self.members_off[i].load(Ordering::Relaxed)).then(|| &m.heights[i * m.n..(i + 1) * m.n])
+    }
+
+    /// The members' ground normals (east, north) at a cell, as [`World::member_heights`].
+    pub(crate) fn member_normals(&self, cell: u32) -> Option<&[[f32; 2]]> {
+        let m = self.members.as_ref()?;
+        let i = cell as usize;
+        (!self.members_off[i].load(Ordering::Relaxed)).then(|| &m.normals[i * m.n..(i + 1) * m.n])
     }
 
     /// The DEM.
@@ -431,6 +525,10 @@ impl World {
             };
             copy(&self.elevation[i], &truth.elevation[i], &mut differs);
             copy(&self.slope_deg[i], &truth.slope_deg[i], &mut differs);
+            if let Some(off) = self.members_off.get(i) {
+                // The members' spread ends where the rover has seen the ground.
+                differs |= !off.swap(true, Ordering::Relaxed);
+            }
             for k in 0..2 {
                 copy(&self.normal[i][k], &truth.normal[i][k], &mut differs);
             }
@@ -638,7 +736,8 @@ impl World {
         let sectors = self.horizon.as_ref().map_or(0, |h| h.sectors());
         let sensed = self.sensed_horizon.lock().map_or(0, |t| t.len() * (sectors * 4 + 24));
         let map = if self.shares_horizon { 0 } else { self.horizon.as_ref().map_or(0, |h| h.bytes()) };
-        cells * (4 + 4 + 8 + 2) + map + sensed + self.sun.len() * 48 + self.earth.len() * 16
+        let members = self.members.as_ref().map_or(0, |m| m.heights.len() * 12 + self.members_off.len());
+        cells * (4 + 4 + 8 + 2) + map + sensed + self.sun.len() * 48 + self.earth.len() * 16 + members
     }
 
     /// Holds the horizon map in one byte per angle ([`HorizonMap::narrowed`]: half the

@@ -8,4 +8,5 @@ mod pareto;
 mod planning;
 mod sensing;
 mod simulation;
+mod terrain_error;
 mod uncertainty;
