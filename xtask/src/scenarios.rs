@@ -157,6 +157,7 @@ mod tests {
         task2_scarp_long_bogie => "task2-scarp-long-bogie",
         pareto_front => "pareto-front",
         uncertain_dawn => "uncertain-dawn",
+        uncertain_ridge => "uncertain-ridge",
         valley_detour => "valley-detour",
     }
 

@@ -80,6 +80,11 @@ pub struct Uncertainty {
     /// How many error clones the executions share (run i drives on clone i mod n),
     /// 0..=100; 0: the executions drive on the truth.
     pub terrain_clones: usize,
+    /// How many error clones the plan must hold on, 0..=100 (0: it is made on the map
+    /// alone): it is made on the envelope of the map and that many clones
+    /// ([`World::envelope`], [`planning_clones`]), from seeds the Monte Carlo's never
+    /// reach ([`PLANNING_CLONE_SEED`]).
+    pub terrain_plan_clones: usize,
     /// Whether an execution draws its factors once or for every action.
     pub correlation: Correlation,
 }
@@ -96,6 +101,7 @@ impl Default for Uncertainty {
             terrain_sigma_m: 0.0,
             terrain_correlation_m: 100.0,
             terrain_clones: 0,
+            terrain_plan_clones: 0,
             correlation: Correlation::Execution,
         }
     }
@@ -128,6 +134,15 @@ impl Uncertainty {
         }
         if self.terrain_clones > 100 {
             return bad("uncertainty.terrain_clones", format!("{}: allowed 0..=100", self.terrain_clones));
+        }
+        if self.terrain_plan_clones > 100 {
+            return bad("uncertainty.terrain_plan_clones", format!("{}: allowed 0..=100", self.terrain_plan_clones));
+        }
+        if self.terrain_plan_clones > 0 && self.terrain_sigma_m == 0.0 {
+            return bad(
+                "uncertainty.terrain_plan_clones",
+                format!("{}: needs a height error (terrain_sigma_m > 0)", self.terrain_plan_clones),
+            );
         }
         if !(0.0..=3600.0).contains(&self.action_delay_sigma_s) {
             return bad(
@@ -367,6 +382,39 @@ pub fn open_loop(
     mc: &MonteCarlo,
 ) -> Result<Vec<Execution>> {
     open_loop_on(plan, model, std::slice::from_ref(world), start, uncertainty, mc)
+}
+
+/// The first seed of the error clones a plan is made to hold on: clone i of
+/// [`planning_clones`] is drawn from seed `PLANNING_CLONE_SEED + i`, far from the seeds
+/// the Monte Carlo draws its clones from (its own seed + i), so a plan is never checked
+/// on the clones it was made for.
+pub const PLANNING_CLONE_SEED: u64 = 1 << 63;
+
+/// `uncertainty.terrain_plan_clones` error clones of the believed map `world`, each a
+/// world built with `config` and `sun_model` ([`World::truth`]); none without a height
+/// error. Planning on [`World::envelope`] of the map and these makes a plan that holds
+/// on every one of them.
+pub fn planning_clones(
+    uncertainty: &Uncertainty,
+    world: &World,
+    config: &crate::WorldConfig,
+    sun_model: &(impl areo_ephemeris::SunModel + Sync),
+) -> Result<Vec<World>> {
+    if uncertainty.terrain_plan_clones == 0 || uncertainty.terrain_sigma_m == 0.0 {
+        return Ok(Vec::new());
+    }
+    (0..uncertainty.terrain_plan_clones as u64)
+        .into_par_iter()
+        .map(|i| {
+            let dem = dem_clone(
+                world.dem(),
+                uncertainty.terrain_sigma_m,
+                uncertainty.terrain_correlation_m,
+                PLANNING_CLONE_SEED + i,
+            )?;
+            World::truth(dem, config, sun_model, world)
+        })
+        .collect()
 }
 
 /// [`open_loop`] on several worlds — error clones of the map ([`dem_clone`]): run i

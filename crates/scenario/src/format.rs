@@ -627,6 +627,14 @@ fn validate_uncertainty(c: &mut Checks, job: &TempestJob) {
             if u.terrain_clones > 100 {
                 c.fail("terrain_clones", format!("{}: allowed 0..=100", u.terrain_clones));
             }
+            if u.terrain_plan_clones > 100 {
+                c.fail("terrain_plan_clones", format!("{}: allowed 0..=100", u.terrain_plan_clones));
+            } else if u.terrain_plan_clones > 0 && u.terrain_sigma_m == 0.0 {
+                c.fail(
+                    "terrain_plan_clones",
+                    format!("{}: needs a height error (terrain_sigma_m > 0)", u.terrain_plan_clones),
+                );
+            }
         });
     }
     if let Some(mc) = &job.monte_carlo {

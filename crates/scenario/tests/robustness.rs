@@ -392,3 +392,18 @@ fn a_pareto_front_needs_one_goal_and_a_step_in_range() {
     assert_eq!(field, "job.pareto_front.margin_step_wh");
     assert!(message.contains("0.001"), "{message}");
 }
+
+#[test]
+fn plan_clones_need_a_height_error_and_a_count_in_range() {
+    let text = std::fs::read_to_string(root().join("scenarios/uncertain-ridge.ron")).unwrap();
+    let path = Path::new("uncertain-ridge.ron");
+    assert!(text.contains("terrain_sigma_m: 0.5") && text.contains("terrain_plan_clones: 20"));
+    let err = parse(path, &text.replace("terrain_sigma_m: 0.5", "terrain_sigma_m: 0")).unwrap_err();
+    let Error::Invalid { field, message, .. } = &err else { panic!("{err}") };
+    assert_eq!(field, "job.uncertainty.terrain_plan_clones");
+    assert!(message.contains("terrain_sigma_m > 0"), "{message}");
+    let err = parse(path, &text.replace("terrain_plan_clones: 20", "terrain_plan_clones: 101")).unwrap_err();
+    let Error::Invalid { field, message, .. } = &err else { panic!("{err}") };
+    assert_eq!(field, "job.uncertainty.terrain_plan_clones");
+    assert!(message.contains("0..=100"), "{message}");
+}

@@ -351,6 +351,9 @@ pub struct UncertaintySpec {
     pub terrain_correlation_m: f64,
     /// Error clones the executions share, 0..=100; default 0 (drive on the truth).
     pub terrain_clones: usize,
+    /// Error clones the plan must hold on, 0..=100 (needs `terrain_sigma_m` > 0);
+    /// default 0 (the plan is made on the map alone).
+    pub terrain_plan_clones: usize,
     /// `Execution` (default): an execution draws its factors once (a systematic
     /// departure, all traverse long); `Action`: every action draws its own.
     pub correlation: m::uncertainty::Correlation,
@@ -369,6 +372,7 @@ impl Default for UncertaintySpec {
             terrain_sigma_m: d.terrain_sigma_m,
             terrain_correlation_m: d.terrain_correlation_m,
             terrain_clones: d.terrain_clones,
+            terrain_plan_clones: d.terrain_plan_clones,
             correlation: d.correlation,
         }
     }
@@ -386,6 +390,7 @@ impl From<&UncertaintySpec> for m::uncertainty::Uncertainty {
             terrain_sigma_m: u.terrain_sigma_m,
             terrain_correlation_m: u.terrain_correlation_m,
             terrain_clones: u.terrain_clones,
+            terrain_plan_clones: u.terrain_plan_clones,
             correlation: u.correlation,
         }
     }

@@ -450,6 +450,16 @@ fn watching<T>(progress: &dyn crate::Progress, meter: &areo_mission::ExpansionMe
 /// A simulation writes what it senses into the map it believes: a copy of the map as
 /// given, for the comparisons made after it (the deterministic plan, the Monte Carlo,
 /// the front), when the job makes any.
+/// An error of the uncertainty model, located at its scenario field.
+fn located_uncertainty(file: &ScenarioFile, e: Error) -> Error {
+    match e {
+        Error::Mission(MissionError::Config { field, message }) if field.starts_with("uncertainty.") => {
+            scenario_error(file, format!("job.{field}"), message)
+        }
+        other => other,
+    }
+}
+
 fn pristine_belief(job: &TempestJob, world: &World) -> Option<World> {
     (job.simulate.is_some() && (job.uncertainty.is_some() || job.pareto_front.is_some())).then(|| world.snapshot())
 }
@@ -462,8 +472,14 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     // planner works: against the budget's estimate (an upper bound: every cell in every
     // label class) when planning, simulated minutes against the horizon when simulating.
     let meter = areo_mission::ExpansionMeter::counting();
-    let pristine = pristine_belief(job, world);
-    let belief = pristine.as_ref().unwrap_or(world);
+    // Planning for the terrain's height error: on the envelope of the map and its clones.
+    let envelope = chance::planning_envelope(job, world, config).map_err(|e| located_uncertainty(file, e))?;
+    let plan_world = envelope.as_ref().unwrap_or(world);
+    // A simulation senses into the world it believes: keep that world as given for the
+    // comparisons after it (the map stays as given when the envelope is believed).
+    let pristine = pristine_belief(job, plan_world);
+    let belief = if envelope.is_some() { world } else { pristine.as_ref().unwrap_or(world) };
+    let plan_belief = pristine.as_ref().unwrap_or(plan_world);
     let planner = areo_mission::PlannerConfig { meter: meter.clone(), ..(&job.planner).into() };
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
@@ -471,7 +487,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
             opts.progress.start(bound, "planning");
             watching(opts.progress, &meter, || {
                 let clock = Instant::now();
-                Mission::plan(world, model, planner, plan_start, goals).map(|(mission, plan)| Run::Plan {
+                Mission::plan(plan_world, model, planner, plan_start, goals).map(|(mission, plan)| Run::Plan {
                     plan,
                     seconds: clock.elapsed().as_secs_f64(),
                     search_bytes: mission.search_bytes(),
@@ -481,7 +497,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
         Some(sim) => {
             opts.progress.start((job.horizon_h * 60.0).ceil() as u64, "simulated min");
             let simulation = Simulation {
-                believed: world,
+                believed: plan_world,
                 truth: truth.as_ref().unwrap_or(world),
                 model,
                 planner,
@@ -508,15 +524,9 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     };
     let chance = match initial {
         Some(plan) => {
-            let worlds = (belief, truth.as_ref().unwrap_or(belief));
-            chance::evaluate(job, (worlds, config), model, (&job.planner).into(), (*start, goals), plan).map_err(
-                |e| match e {
-                    Error::Mission(MissionError::Config { field, message }) if field.starts_with("uncertainty.") => {
-                        scenario_error(file, format!("job.{field}"), message)
-                    }
-                    other => other,
-                },
-            )?
+            let worlds = ((belief, plan_belief), truth.as_ref().unwrap_or(belief));
+            chance::evaluate(job, (worlds, config), model, (&job.planner).into(), (*start, goals), plan)
+                .map_err(|e| located_uncertainty(file, e))?
         }
         None => None,
     };

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use areo_mission::uncertainty::{Correlation, Execution, MonteCarlo, Summary, Uncertainty, percentile, summarise};
-use areo_mission::uncertainty::{closed_loop_on, dem_clone, open_loop_on};
+use areo_mission::uncertainty::{closed_loop_on, dem_clone, open_loop_on, planning_clones};
 use areo_mission::{Mission, MissionPlan, PlannerConfig, Simulation, Start, World, WorldConfig};
 use serde::Serialize;
 
@@ -43,19 +43,32 @@ pub(super) fn uncertainty(job: &TempestJob) -> Option<Uncertainty> {
     job.uncertainty.as_ref().map(Uncertainty::from)
 }
 
+/// The world a plan that must hold on the terrain's height error is made on: the
+/// envelope of the map and `uncertainty.terrain_plan_clones` error clones of it
+/// ([`World::envelope`]); `None` when the job plans on the map alone.
+pub(super) fn planning_envelope(job: &TempestJob, world: &World, config: &WorldConfig) -> Result<Option<World>> {
+    let Some(u) = uncertainty(job) else { return Ok(None) };
+    let clones = planning_clones(&u, world, config, &job.body.model())?;
+    if clones.is_empty() {
+        return Ok(None);
+    }
+    Ok(Some(World::envelope(world, &clones)?))
+}
+
 /// Plans deterministically for comparison and runs the Monte Carlo the job asks for.
 /// `plan` is the chance-constrained initial plan (made on `model`, which carries the
-/// margins); executions run on `truth` with the nominal model.
+/// margins, and on `plan_world`: the map, or its envelope with error clones);
+/// executions run on `truth` with the nominal model.
 pub(super) fn evaluate(
     job: &TempestJob,
-    ((world, truth), config): ((&World, &World), &WorldConfig),
+    (((world, plan_world), truth), config): (((&World, &World), &World), &WorldConfig),
     model: &areo_mission::ActionModel,
     planner: PlannerConfig,
     (start, goals): (Start, &[u32]),
     plan: &MissionPlan,
 ) -> Result<Option<Chance>> {
     let Some(u) = uncertainty(job) else { return Ok(None) };
-    let margined = u.margins() != areo_mission::Perturbation::NONE;
+    let margined = u.margins() != areo_mission::Perturbation::NONE || !std::ptr::eq(world, plan_world);
     let deterministic = margined.then(|| {
         Mission::plan(world, &model.nominal(), planner.clone(), start, goals).map(|(_, p)| p).map_err(|e| e.to_string())
     });
@@ -88,8 +101,8 @@ pub(super) fn evaluate(
             if std::ptr::eq(truth, world) { Vec::new() } else { terrain_clones(job, &u, truth, config, mc.seed)? };
         let truths = if std::ptr::eq(truth, world) { &clones[..] } else { &truth_clones[..] };
         let nominal = model.nominal();
-        let simulation = |model| Simulation {
-            believed: world,
+        let simulation = |model, believed| Simulation {
+            believed,
             truth,
             model,
             planner: planner.clone(),
@@ -97,9 +110,10 @@ pub(super) fn evaluate(
             goals,
             config: job.simulate.as_ref().map(Into::into).unwrap_or_default(),
         };
-        chance.chance_closed = Some(executed(closed_loop_on(&simulation(model), truths, &u, &mc)?));
+        chance.chance_closed = Some(executed(closed_loop_on(&simulation(model, plan_world), truths, &u, &mc)?));
         if margined {
-            chance.deterministic_closed = Some(executed(closed_loop_on(&simulation(&nominal), truths, &u, &mc)?));
+            chance.deterministic_closed =
+                Some(executed(closed_loop_on(&simulation(&nominal, world), truths, &u, &mc)?));
         }
     }
     Ok(Some(chance))
@@ -141,6 +155,13 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chan
         o.summary.push(format!(
             "the open-loop and closed-loop executions drive on {} error clones of the terrain (height RMS {} m, correlated over {} m)",
             u.terrain_clones, u.terrain_sigma_m, u.terrain_correlation_m
+        ));
+    }
+    if u.terrain_plan_clones > 0 && u.terrain_sigma_m > 0.0 {
+        o.count("chance_terrain_plan_clones", u.terrain_plan_clones as u64);
+        o.summary.push(format!(
+            "the plan is made to hold on the map and {} error clones of it (seeds from 2^63, never the Monte Carlo's): each drive as slow and as hungry as on its worst, sunlight only where every one is lit, at the least any gives",
+            u.terrain_plan_clones
         ));
     }
     let bound = match u.correlation {
