@@ -26,15 +26,19 @@ fn world_of(cols: usize, rows: usize) -> World {
     }
     .build()
     .expect("valid terrain");
-    let config = WorldConfig {
+    World::new(dem, &world_config(), &Mars24).expect("valid world")
+}
+
+/// The bench world's settings: three sols from a March 2025 midnight at Gale.
+fn world_config() -> WorldConfig {
+    WorldConfig {
         epoch: parse_utc("2025-03-01T00:00:00Z").expect("valid time"),
         span_s: 3.0 * areo_ephemeris::SOL_S,
         sun_step_s: 120.0,
         horizon_sectors: Some(32),
         atmosphere: Atmosphere::BeerLambert { tau: 0.5 },
         site: Some(Site::new(-4.6, 137.4).expect("valid site")),
-    };
-    World::new(dem, &config, &Mars24).expect("valid world")
+    }
 }
 
 /// The first instant the Sun climbs past 10°, s.
@@ -108,6 +112,18 @@ fn uncertainty(c: &mut Criterion) {
     });
     g.bench_function("chance_constrained_plan_0p95", |b| {
         b.iter(|| Mission::plan(&world, &chance, config.clone(), start, &goal).expect("a plan").1.waypoints.len())
+    });
+    // The terrain's height error in the plan: 10 error clones (1 m RMS over 1 km, as a
+    // MOLA-class map might be wrong), built, and the plan made on their envelope.
+    let uncertain = Uncertainty { terrain_sigma_m: 1.0, terrain_correlation_m: 1000.0, terrain_plan_clones: 10, ..u };
+    let clones =
+        || areo_mission::uncertainty::planning_clones(&uncertain, &world, &world_config(), &Mars24).expect("clones");
+    g.bench_function("envelope_of_10_clones_built", |b| {
+        b.iter(|| World::envelope(&world, &clones()).expect("an envelope").terrain_members())
+    });
+    let envelope = World::envelope(&world, &clones()).expect("an envelope");
+    g.bench_function("chance_constrained_plan_0p95_on_10_clones", |b| {
+        b.iter(|| Mission::plan(&envelope, &chance, config.clone(), start, &goal).expect("a plan").1.waypoints.len())
     });
     let (_, plan) = Mission::plan(&world, &chance, config.clone(), start, &goal).expect("a plan");
     let mc = MonteCarlo { runs: 1000, seed: 1 };

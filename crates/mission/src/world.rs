@@ -309,7 +309,13 @@ impl World {
             if c.cols() != map.cols() || c.rows() != map.rows() {
                 return Err(Error::Config {
                     field: "uncertainty.terrain_plan_clones",
-                    message: format!("a clone of {}×{} cells for a map of {}×{}", c.cols(), c.rows(), map.cols(), map.rows()),
+                    message: format!(
+                        "a clone of {}×{} cells for a map of {}×{}",
+                        c.cols(),
+                        c.rows(),
+                        map.cols(),
+                        map.rows()
+                    ),
                 });
             }
         }
@@ -322,7 +328,10 @@ impl World {
             for m in &members {
                 heights.push(f32::from_bits(m.elevation[i].load(Ordering::Relaxed)));
                 let nrm = &m.normal[i];
-                normals.push([f32::from_bits(nrm[0].load(Ordering::Relaxed)), f32::from_bits(nrm[1].load(Ordering::Relaxed))]);
+                normals.push([
+                    f32::from_bits(nrm[0].load(Ordering::Relaxed)),
+                    f32::from_bits(nrm[1].load(Ordering::Relaxed)),
+                ]);
                 // NaN (missing data) on any member stays NaN: the cell is impassable.
                 let s = m.slope_deg(i as u32);
                 steepest = if s.is_nan() || steepest.is_nan() { f64::NAN } else { steepest.max(s) };

@@ -34,7 +34,10 @@ fn clones(dem: &Dem, map: &World, first: u64, n: u64) -> Vec<World> {
 }
 
 fn problem(world: &World) -> (Start, [u32; 2]) {
-    (Start { cell: world.cell(2, 8), t_min: 0.0, t_max: 0.0, energy_wh: 120.0 }, [world.cell(21, 8), world.cell(20, 13)])
+    (
+        Start { cell: world.cell(2, 8), t_min: 0.0, t_max: 0.0, energy_wh: 120.0 },
+        [world.cell(21, 8), world.cell(20, 13)],
+    )
 }
 
 /// A plan executed open-loop on each of `worlds` in turn, exactly as modelled (no
@@ -126,7 +129,10 @@ fn re_plans_on_an_envelope_equal_fresh_searches_as_sensing_ends_the_error() {
     // Sensed cells left the envelope: what the rover saw is the clone's, and a drive
     // between two of them costs what it does on the clone.
     let seen = report.steps.iter().map(|s| s.cell).collect::<Vec<_>>();
-    assert!(seen.iter().all(|&c| envelope.elevation(c) == truth.elevation(c) && envelope.slope_deg(c) == truth.slope_deg(c)));
+    assert!(
+        seen.iter()
+            .all(|&c| envelope.elevation(c) == truth.elevation(c) && envelope.slope_deg(c) == truth.slope_deg(c))
+    );
     let drives: Vec<_> = report.steps.iter().filter(|s| s.cell != s.to).collect();
     assert!(drives.len() > 10);
     for s in drives {
