@@ -337,18 +337,27 @@ impl World {
                 steepest = if s.is_nan() || steepest.is_nan() { f64::NAN } else { steepest.max(s) };
             }
             world.slope_deg[i].store((steepest as f32).to_bits(), Ordering::Relaxed);
-            if world.horizon.is_some() && clones.iter().any(|c| c.horizon_sensed[i].load(Ordering::Relaxed)) {
-                let mut highest = world.horizon_profile(i).unwrap_or_default();
+        }
+        // The highest horizon of every member, held as the envelope's own map (a
+        // lookup per `lit` as fast as the map's) where any member's differs.
+        if let Some(map_horizon) = &world.horizon {
+            let sensed = |w: &World, i: usize| w.horizon_sensed[i].load(Ordering::Relaxed);
+            let raised = (0..cells).filter(|&i| sensed(&world, i) || clones.iter().any(|c| sensed(c, i)));
+            let profiles = raised.filter_map(|i| {
+                let mut highest = world.horizon_profile(i)?;
                 for c in clones {
-                    if let Some(p) = c.horizon_profile(i) {
-                        for (h, v) in highest.iter_mut().zip(p) {
-                            *h = h.max(v);
-                        }
+                    for (h, v) in highest.iter_mut().zip(c.horizon_profile(i)?) {
+                        *h = h.max(v);
                     }
                 }
-                let mut table = world.sensed_horizon.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-                table.insert(i as u32, highest.into_boxed_slice());
-                world.horizon_sensed[i].store(true, Ordering::Relaxed);
+                Some((i, highest))
+            });
+            let own = map_horizon.raised(profiles.collect::<Vec<_>>());
+            world.horizon = Some(Arc::new(own));
+            world.shares_horizon = false;
+            world.sensed_horizon.lock().unwrap_or_else(std::sync::PoisonError::into_inner).clear();
+            for flag in &world.horizon_sensed {
+                flag.store(false, Ordering::Relaxed);
             }
         }
         world.members = Some(Arc::new(Members { n, heights, normals }));

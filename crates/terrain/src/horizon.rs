@@ -155,6 +155,31 @@ impl HorizonMap {
         HorizonMap { cols: self.cols, rows: self.rows, sectors: self.sectors, angles }
     }
 
+    /// This map raised, cell by cell and sector by sector, to the profiles given for
+    /// some cells (degrees per sector, as [`HorizonMap::cell_profile`]): the upper
+    /// envelope of several terrains' horizons, for a planner that must find a cell lit
+    /// only when it is lit on each of them. A raised angle is rounded up to the map's
+    /// encoding, so no angle ends below any profile's; a profile of the wrong length
+    /// is skipped.
+    pub fn raised(&self, profiles: impl IntoIterator<Item = (usize, Vec<f32>)>) -> HorizonMap {
+        let cells = self.cols * self.rows;
+        let mut map = self.clone();
+        for (i, profile) in profiles {
+            if i >= cells || profile.len() != self.sectors {
+                continue;
+            }
+            for (s, &deg) in profile.iter().enumerate() {
+                let k = s * cells + i;
+                let up = (f64::from(deg).clamp(-90.0, 90.0) + 90.0) / 180.0;
+                match &mut map.angles {
+                    Codes::Wide(a) => a[k] = a[k].max((up * 65535.0).ceil().min(65535.0) as u16),
+                    Codes::Narrow(a) => a[k] = a[k].max((up * 255.0).ceil().min(255.0) as u8),
+                }
+            }
+        }
+        map
+    }
+
     /// Whether the map holds one byte per angle ([`HorizonMap::narrowed`]).
     pub fn is_narrow(&self) -> bool {
         matches!(self.angles, Codes::Narrow(_))
@@ -1026,5 +1051,29 @@ mod tests {
         let seq = los_sequence(&dem, &map, 0.0, 3.0, 1.0, |t| (90.0, 10.0 + 10.0 * t));
         assert_eq!(seq.len(), 3);
         assert!((seq[2].1[15 * 30 + 15] - 50.0).abs() < 0.01);
+    }
+
+    #[test]
+    fn a_raised_map_is_the_upper_envelope_of_its_profiles() {
+        let wall = Dem::from_fn(40, 5, 1.0, 1.0, |x, _| if (30.0..31.0).contains(&x) { 10.0 } else { 0.0 }).unwrap();
+        for map in [HorizonMap::compute(&wall, 16, Curvature::Flat).unwrap(), {
+            let m = HorizonMap::compute(&wall, 16, Curvature::Flat).unwrap();
+            m.narrowed()
+        }] {
+            let i = 2 * 40 + 20;
+            let mut higher = map.cell_profile(i);
+            // East (sector 4) raised well above the wall's 45°, north (sector 0) by a
+            // fraction of a code step; west lowered, which must not lower the map.
+            higher[4] = 60.123;
+            higher[0] += 0.001;
+            higher[12] -= 5.0;
+            let raised = map.raised([(i, higher.clone()), (9999, higher.clone()), (1, vec![1.0; 3])]);
+            let got = raised.cell_profile(i);
+            assert!(f64::from(got[4]) >= 60.123 && f64::from(got[4]) < 60.123 + NARROW_STEP_DEG + 1e-9, "{}", got[4]);
+            assert!(got[0] >= higher[0] && got[0] > map.cell_profile(i)[0], "rounded up: {} vs {}", got[0], higher[0]);
+            assert_eq!(got[12], map.cell_profile(i)[12]);
+            // Every other cell as it was.
+            assert!((0..200).filter(|&c| c != i).all(|c| raised.cell_profile(c) == map.cell_profile(c)));
+        }
     }
 }
