@@ -756,24 +756,17 @@ impl ActionModel {
     }
 
     /// The array's power on a lit cell with its normal `level` on level ground, W,
-    /// times the planning margin's solar factor: tipped by the cell's ground normal,
-    /// or on an envelope of terrains the least over its members' normals.
+    /// times the planning margin's solar factor: tipped by the cell's ground normal;
+    /// on an envelope of terrains at most the least over its members — the cosine with
+    /// the Sun lowered by how far the members tip the array from the map's attitude
+    /// ([`World::attitude_spread`]), one evaluation instead of one per member.
     fn array_w(&self, world: &World, cell: u32, sun: &Sun, level: [f64; 3]) -> f64 {
         let Some(array) = &self.rover.solar else { return 0.0 };
-        let on = |ground: [f64; 3]| {
-            let n = areo_rover::resources::SolarArray::tipped_normal_enu(level, ground);
-            array.power_w(sun.beam_w_m2, sun.enu, n, false)
-        };
-        let w = match world.member_normals(cell) {
-            None => on(world.normal(cell)),
-            Some(normals) => normals
-                .iter()
-                .map(|&[e, n]| {
-                    let (e, n) = (f64::from(e), f64::from(n));
-                    on([e, n, (1.0 - e * e - n * n).max(0.0).sqrt()])
-                })
-                .fold(f64::INFINITY, f64::min),
-        };
+        let n = areo_rover::resources::SolarArray::tipped_normal_enu(level, world.normal(cell));
+        let mut w = array.power_w(sun.beam_w_m2, sun.enu, n, false);
+        if let Some(spread) = world.attitude_spread(cell) {
+            w = (w - sun.beam_w_m2 * array.area_m2 * array.efficiency * spread).max(0.0);
+        }
         self.margins.solar_factor * w
     }
 

@@ -13,6 +13,7 @@ use std::sync::{Arc, Mutex};
 
 use areo_ephemeris::flux::Atmosphere;
 use areo_ephemeris::{Body, EarthFrom, Site, SunModel};
+use areo_rover::resources::SolarArray;
 use areo_terrain::Dem;
 use areo_terrain::horizon::HorizonMap;
 use areo_terrain::shadow::Curvature;
@@ -21,6 +22,22 @@ use areo_terrain::tiles::Region;
 use hifitime::{Duration, Epoch};
 
 use crate::error::{Error, Result};
+
+/// ‖R(b) − R(a)‖ for the rotations R that take straight up to ground normals `a` and
+/// `b` (as a rover's attitude on the ground, [`SolarArray::tipped_normal_enu`]): with
+/// Q = R(b)·R(a)ᵀ a rotation by φ, ‖(R(b) − R(a))v‖ = ‖(Q − I)R(a)v‖ ≤ 2 sin(φ/2) =
+/// √(3 − tr Q), and tr Q is the sum of the dot products of the two rotations' columns.
+fn attitude_change(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let trace: f64 = axes
+        .iter()
+        .map(|&e| {
+            let (ra, rb) = (SolarArray::tipped_normal_enu(e, a), SolarArray::tipped_normal_enu(e, b));
+            ra[0] * rb[0] + ra[1] * rb[1] + ra[2] * rb[2]
+        })
+        .sum();
+    (3.0 - trace).max(0.0).sqrt()
+}
 
 /// The sphere a body's horizon maps drop away on: its published mean radius
 /// ([`Body::mean_radius_m`]: Mars 3389.5 km, the Moon 1737.4 km, the Earth
@@ -105,13 +122,15 @@ pub struct World {
     members_off: Vec<AtomicBool>,
 }
 
-/// The heights and ground normals of the terrains an envelope world stands for (the
-/// map and its error clones), cell-major: cell c's values for member i at `c * n + i`.
+/// What an envelope world keeps of the terrains it stands for (the map and its error
+/// clones): their heights, cell-major (cell c's for member i at `c * n + i`), and at
+/// each cell how far their ground normals tip a body away from the map's
+/// ([`World::attitude_spread`]).
 #[derive(Debug)]
 struct Members {
     n: usize,
     heights: Vec<f32>,
-    normals: Vec<[f32; 2]>,
+    spread: Vec<f32>,
 }
 
 impl World {
@@ -322,21 +341,21 @@ impl World {
         let n = clones.len() + 1;
         let members: Vec<&World> = std::iter::once(map).chain(clones).collect();
         let mut heights = Vec::with_capacity(cells * n);
-        let mut normals = Vec::with_capacity(cells * n);
+        let mut spread = Vec::with_capacity(cells);
         for i in 0..cells {
             let mut steepest = world.slope_deg(i as u32);
+            let mut widest = 0.0f64;
             for m in &members {
                 heights.push(f32::from_bits(m.elevation[i].load(Ordering::Relaxed)));
-                let nrm = &m.normal[i];
-                normals.push([
-                    f32::from_bits(nrm[0].load(Ordering::Relaxed)),
-                    f32::from_bits(nrm[1].load(Ordering::Relaxed)),
-                ]);
+                widest = widest.max(attitude_change(map.normal(i as u32), m.normal(i as u32)));
                 // NaN (missing data) on any member stays NaN: the cell is impassable.
                 let s = m.slope_deg(i as u32);
                 steepest = if s.is_nan() || steepest.is_nan() { f64::NAN } else { steepest.max(s) };
             }
             world.slope_deg[i].store((steepest as f32).to_bits(), Ordering::Relaxed);
+            // Rounded up past single precision's rounding (zero stays zero: members
+            // that agree leave the map's sunlight as it is).
+            spread.push((widest * (1.0 + 1e-6)) as f32);
         }
         // The highest horizon of every member, held as the envelope's own map (a
         // lookup per `lit` as fast as the map's) where any member's differs.
@@ -360,7 +379,7 @@ impl World {
                 flag.store(false, Ordering::Relaxed);
             }
         }
-        world.members = Some(Arc::new(Members { n, heights, normals }));
+        world.members = Some(Arc::new(Members { n, heights, spread }));
         world.members_off = (0..cells).map(|_| AtomicBool::new(false)).collect();
         Ok(world)
     }
@@ -379,11 +398,16 @@ impl World {
         (!self.members_off[i].load(Ordering::Relaxed)).then(|| &m.heights[i * m.n..(i + 1) * m.n])
     }
 
-    /// The members' ground normals (east, north) at a cell, as [`World::member_heights`].
-    pub(crate) fn member_normals(&self, cell: u32) -> Option<&[[f32; 2]]> {
+    /// How far the members' ground normals tip anything on the ground away from where
+    /// the map's normal tips it, at a cell of an envelope not sensed since: the largest
+    /// ‖(R_i − R_map)·v‖ over members i and unit vectors v, R the rotation that takes
+    /// straight up to a ground normal. A unit vector on the rover (its array's normal)
+    /// then points within this chord of where it points on the map, so its cosine with
+    /// any unit direction (the Sun's) is within this of the map's.
+    pub(crate) fn attitude_spread(&self, cell: u32) -> Option<f64> {
         let m = self.members.as_ref()?;
         let i = cell as usize;
-        (!self.members_off[i].load(Ordering::Relaxed)).then(|| &m.normals[i * m.n..(i + 1) * m.n])
+        (!self.members_off[i].load(Ordering::Relaxed)).then(|| f64::from(m.spread[i]))
     }
 
     /// The DEM.
@@ -754,7 +778,8 @@ impl World {
         let sectors = self.horizon.as_ref().map_or(0, |h| h.sectors());
         let sensed = self.sensed_horizon.lock().map_or(0, |t| t.len() * (sectors * 4 + 24));
         let map = if self.shares_horizon { 0 } else { self.horizon.as_ref().map_or(0, |h| h.bytes()) };
-        let members = self.members.as_ref().map_or(0, |m| m.heights.len() * 12 + self.members_off.len());
+        let members =
+            self.members.as_ref().map_or(0, |m| m.heights.len() * 4 + m.spread.len() * 4 + self.members_off.len());
         cells * (4 + 4 + 8 + 2) + map + sensed + self.sun.len() * 48 + self.earth.len() * 16 + members
     }
 
@@ -818,5 +843,50 @@ impl World {
         }
         drop(table);
         Ok(world)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit(v: [f64; 3]) -> [f64; 3] {
+        let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        [v[0] / n, v[1] / n, v[2] / n]
+    }
+
+    #[test]
+    fn the_attitude_change_bounds_how_far_any_vector_on_the_rover_moves_and_is_reached() {
+        // Ground normals up to ~30° from vertical, in every direction; vectors on the
+        // rover on a fine sphere grid.
+        let normals: Vec<[f64; 3]> = (0..12)
+            .flat_map(|k| {
+                let az = f64::from(k) * 0.52;
+                [0.02, 0.2, 0.55].map(|t: f64| unit([t * az.cos(), t * az.sin(), 1.0]))
+            })
+            .collect();
+        let vectors: Vec<[f64; 3]> = (0..36)
+            .flat_map(|i| {
+                (1..18).map(move |j| {
+                    let (az, po) = (f64::from(i) * 10f64.to_radians(), f64::from(j) * 10f64.to_radians());
+                    [po.sin() * az.cos(), po.sin() * az.sin(), po.cos()]
+                })
+            })
+            .collect();
+        for &a in &normals {
+            for &b in &normals {
+                let bound = attitude_change(a, b);
+                let mut largest = 0.0f64;
+                for &v in &vectors {
+                    let (ra, rb) = (SolarArray::tipped_normal_enu(v, a), SolarArray::tipped_normal_enu(v, b));
+                    largest = largest
+                        .max(((ra[0] - rb[0]).powi(2) + (ra[1] - rb[1]).powi(2) + (ra[2] - rb[2]).powi(2)).sqrt());
+                }
+                assert!(largest <= bound + 1e-12, "{a:?} {b:?}: {largest} > {bound}");
+                // Reached to within the grid's spacing (10°): the bound is not loose.
+                assert!(largest >= bound * 0.98 - 1e-12, "{a:?} {b:?}: {largest} vs {bound}");
+            }
+        }
+        assert_eq!(attitude_change(normals[3], normals[3]), 0.0);
     }
 }

@@ -94,8 +94,9 @@ fn a_plan_on_the_envelope_of_error_clones_holds_on_each_of_them() {
             assert!(*t <= w.t_s + 1e-6 && wh + floor >= w.battery_wh - 1e-6, "run {}: {t} s {wh} Wh vs {w:?}", e.run);
         }
     }
-    // It goes round by the pass, later (measured: 8.4 h against 6.2 h).
-    assert!(held.duration_s() > on_map.duration_s() + 3600.0, "{} vs {}", held.duration_s(), on_map.duration_s());
+    // It avoids the crossing's steepest drives, at a price (measured: L + B 4062
+    // against 3640).
+    assert!(held.cost > on_map.cost * 1.05, "{} vs {}", held.cost, on_map.cost);
     // On 40 fresh clones (seeds the plan never saw): the map's plan is refused on the
     // slope in some (measured: 10), the envelope's never.
     let fresh = clones(&dem, &map, 1000, 40);

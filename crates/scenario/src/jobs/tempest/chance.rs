@@ -160,7 +160,7 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chan
     if u.terrain_plan_clones > 0 && u.terrain_sigma_m > 0.0 {
         o.count("chance_terrain_plan_clones", u.terrain_plan_clones as u64);
         o.summary.push(format!(
-            "the plan is made to hold on the map and {} error clones of it (seeds from 2^63, never the Monte Carlo's): each drive as slow and as hungry as on its worst, sunlight only where every one is lit, at the least any gives",
+            "the plan is made to hold on the map and {} error clones of it (seeds from 2^63, never the Monte Carlo's): each drive as slow and as hungry as on its worst, sunlight only where every one is lit and at most the least any gives",
             u.terrain_plan_clones
         ));
     }
