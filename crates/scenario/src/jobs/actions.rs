@@ -889,7 +889,9 @@ fn write_studies(dir: &Path, studies: &[(String, &SeedStudy)], generations: usiz
             &HistogramPlot {
                 title: format!("Look-ahead of improving crossovers, {name}, all seeds"),
                 x_label: "change in successful-prefix length, modules".into(),
-                values: study.lookahead.clone(),
+                y_label: "crossovers".into(),
+                bin_width: None,
+                series: vec![(study.lookahead.clone(), (30, 90, 220))],
             },
         )?);
     }
@@ -1383,7 +1385,9 @@ fn ga_plots(dir: &Path, report: &GaReport) -> Result<Vec<PathBuf>> {
         &HistogramPlot {
             title: "Look-ahead of improving crossovers".into(),
             x_label: "change in successful-prefix length, modules".into(),
-            values: report.lookahead.clone(),
+            y_label: "crossovers".into(),
+            bin_width: None,
+            series: vec![(report.lookahead.clone(), (30, 90, 220))],
         },
     )?);
     Ok(files)

@@ -484,45 +484,68 @@ fn draw_profile<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &ProfilePl
     Ok(())
 }
 
-/// A histogram of integers (value, count).
+/// A histogram of counted bins: each series' values are bin numbers, bin k covering
+/// [k·w, (k + 1)·w) of the x axis with w the bin width (1 and integer values: one bar
+/// per integer, centred on it). Several series stand side by side in each bin, each in
+/// its colour (named in the title).
 #[derive(Debug, Clone)]
 pub(crate) struct HistogramPlot {
     /// Title.
     pub title: String,
     /// X-axis label.
     pub x_label: String,
-    /// The values.
-    pub values: Vec<i64>,
+    /// Y-axis label (what is counted).
+    pub y_label: String,
+    /// Bin width in x units; `None`: integer values, one bar centred on each.
+    pub bin_width: Option<f64>,
+    /// The values, as bin numbers, and each series' colour.
+    pub series: Vec<(Vec<i64>, (u8, u8, u8))>,
 }
 
 fn draw_histogram<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &HistogramPlot) -> DrawResult<()> {
     root.fill(&WHITE).map_err(draw_err)?;
-    let lo = p.values.iter().copied().min().unwrap_or(0).min(0);
-    let hi = p.values.iter().copied().max().unwrap_or(1).max(1);
-    let mut counts = std::collections::BTreeMap::new();
-    for v in &p.values {
-        *counts.entry(*v).or_insert(0u32) += 1;
-    }
-    let top = counts.values().copied().max().unwrap_or(1);
+    let all = || p.series.iter().flat_map(|(v, _)| v.iter().copied());
+    let (w, centred) = p.bin_width.map_or((1.0, true), |w| (w, false));
+    let lo = all().min().unwrap_or(0).min(if centred { 0 } else { i64::MAX });
+    let hi = all().max().unwrap_or(1).max(if centred { 1 } else { i64::MIN });
+    let counts: Vec<std::collections::BTreeMap<i64, u32>> = p
+        .series
+        .iter()
+        .map(|(values, _)| {
+            let mut c = std::collections::BTreeMap::new();
+            for v in values {
+                *c.entry(*v).or_insert(0u32) += 1;
+            }
+            c
+        })
+        .collect();
+    let top = counts.iter().flat_map(|c| c.values().copied()).max().unwrap_or(1);
+    // Bin k spans [left(k), left(k) + w).
+    let left = |k: i64| if centred { k as f64 - 0.5 } else { k as f64 * w };
     let mut chart = titled(root, &p.title, 60)
-        .build_cartesian_2d((lo as f64 - 0.5)..(hi as f64 + 0.5), 0.0..(f64::from(top) * 1.1))
+        .build_cartesian_2d(left(lo)..(left(hi) + w), 0.0..(f64::from(top) * 1.1))
         .map_err(draw_err)?;
     chart
         .configure_mesh()
         .disable_x_mesh()
         .x_desc(&p.x_label)
-        .y_desc("crossovers")
+        .y_desc(&p.y_label)
         .label_style(("sans-serif", 13))
         .draw()
         .map_err(draw_err)?;
-    let blue = RGBColor(30, 90, 220);
-    chart
-        .draw_series(
-            counts
-                .iter()
-                .map(|(&v, &c)| Rectangle::new([(v as f64 - 0.4, 0.0), (v as f64 + 0.4, f64::from(c))], blue.filled())),
-        )
-        .map_err(draw_err)?;
+    let n = p.series.len().max(1) as f64;
+    let bar = 0.8 * w / n;
+    for (j, (c, (_, (r, g, b)))) in counts.iter().zip(&p.series).enumerate() {
+        let colour = RGBColor(*r, *g, *b);
+        let x0 = |k: i64| left(k) + 0.1 * w + j as f64 * bar;
+        chart
+            .draw_series(
+                c.iter().map(|(&k, &count)| {
+                    Rectangle::new([(x0(k), 0.0), (x0(k) + bar, f64::from(count))], colour.filled())
+                }),
+            )
+            .map_err(draw_err)?;
+    }
     root.present().map_err(draw_err)?;
     Ok(())
 }

@@ -307,7 +307,47 @@ pub(super) fn write(dir: &Path, ctx: &Context<'_>, chance: &Chance) -> Result<Ve
     let night = nights(ctx.truth, end_s);
     files.extend(arrival_plot(dir, ctx, &plans, (end_s, &night))?);
     files.extend(battery_fan(dir, ctx, &plans, (end_s, &night))?);
+    files.extend(lowest_battery_histogram(dir, &plans)?);
     Ok(files)
+}
+
+/// The lowest battery of every execution, above its floor, binned: a histogram per
+/// plan (the chance-constrained plan blue, the deterministic red), about 30 bins of a
+/// round width over the range.
+fn lowest_battery_histogram(dir: &Path, plans: &[(&'static str, &Executed)]) -> Result<Vec<PathBuf>> {
+    let lowest = || plans.iter().flat_map(|(_, r)| r.executions.iter().map(|e| e.lowest_battery_wh));
+    let (lo, hi) = lowest().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Ok(Vec::new());
+    }
+    let width = round_width((hi - lo).max(1e-3) / 30.0);
+    let series = plans
+        .iter()
+        .zip(COLOURS)
+        .map(|((_, r), rgb)| (r.executions.iter().map(|e| (e.lowest_battery_wh / width).floor() as i64).collect(), rgb))
+        .collect();
+    let names: Vec<String> = plans
+        .iter()
+        .zip(["blue", "red"])
+        .map(|((name, _), colour)| format!("{} {colour}", name.replace('_', "-")))
+        .collect();
+    crate::output::plots::histogram(
+        dir,
+        "mc_lowest_battery",
+        &crate::output::plots::HistogramPlot {
+            title: format!("Open-loop executions: lowest battery ({})", names.join(", ")),
+            x_label: format!("lowest battery above its floor, Wh (bins of {width} Wh; below 0: depleted)"),
+            y_label: "executions".into(),
+            bin_width: Some(width),
+            series,
+        },
+    )
+}
+
+/// The smallest of 1, 2 and 5 times a power of ten at or above `w`.
+fn round_width(w: f64) -> f64 {
+    let p = 10f64.powf(w.log10().floor());
+    [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * p).find(|&c| c >= w).unwrap_or(10.0 * p)
 }
 
 const COLOURS: [(u8, u8, u8); 2] = [(30, 90, 220), (220, 30, 40)];
@@ -418,4 +458,15 @@ pub(super) fn time_plot(
             x_ticks: time_ticks(ctx),
         },
     )
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn histogram_bins_are_round_widths_at_or_above_the_asked() {
+        for (asked, width) in [(0.37, 0.5), (3.1, 5.0), (1.0, 1.0), (0.0012, 0.002), (7.0, 10.0), (12.0, 20.0)] {
+            let got = super::round_width(asked);
+            assert!((got - width).abs() < 1e-12 * width, "{asked}: {got}");
+        }
+    }
 }
