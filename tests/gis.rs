@@ -3,7 +3,9 @@
 //! Earth route.geojson; the initial plan's length that OGR measures in a metric
 //! projection on that body equals areo's own within 0.5 % (on the Earth's CRS a route
 //! on Mars would measure about twice as long); the DEM, slope and shadow GeoTIFFs name
-//! the body's sphere and metres, and GDAL places the start cell where the route starts.
+//! the body's sphere and metres, and GDAL places the start cell where the route starts;
+//! the WKT a map's CRS is given as (`Georef::wkt`, Python's `Dem.crs`) reads as its
+//! projection on its body.
 //! Without GDAL the test fails where `AREO_REQUIRE_GDAL` is set (CI) and says it did not
 //! run otherwise.
 
@@ -186,4 +188,53 @@ fn gdal_places_a_preview_png_over_its_geotiff() {
     for (a, b) in from_tif.iter().zip(&from_png) {
         assert!((a - b).abs() < 1e-6, "{from_tif:?} vs {from_png:?}");
     }
+}
+
+#[test]
+fn gdal_reads_each_maps_wkt_as_its_projection_on_its_body() {
+    // `Georef::wkt` (what areo's Python `Dem.crs` gives): GDAL must read each as the
+    // projection, sphere and parameters areo projects with.
+    use areo_scenario::terrain::{Georef, Projection, Spheroid};
+    if !gdal_here("gdalsrsinfo") {
+        return;
+    }
+    let cases = [
+        (
+            Georef {
+                projection: Projection::Equirectangular { lat_ts_deg: -5.40234375, lon0_deg: 0.0 },
+                surface: Spheroid::MARS_MOLA_SPHERE,
+            },
+            vec!["+proj=eqc", "+lat_ts=-5.40234375", "+lon_0=0", "+R=3396000"],
+        ),
+        (
+            Georef {
+                projection: Projection::PolarStereographic { north: false, lon0_deg: 0.0 },
+                surface: Spheroid::MOON,
+            },
+            vec!["+proj=stere", "+lat_0=-90", "+k=1", "+R=1737400"],
+        ),
+        (
+            Georef {
+                projection: Projection::PolarStereographic { north: true, lon0_deg: -45.0 },
+                surface: Spheroid::MARS_IAU2015,
+            },
+            vec!["+proj=stere", "+lat_0=90", "+lon_0=-45", "+R=3396190"],
+        ),
+        (
+            Georef {
+                projection: Projection::Equirectangular { lat_ts_deg: 75.4, lon0_deg: -89.8 },
+                surface: Spheroid::EARTH_WGS84,
+            },
+            vec!["+proj=eqc", "+lat_ts=75.4", "+lon_0=-89.8", "+R=6378137"],
+        ),
+    ];
+    for (georef, expect) in cases {
+        let proj = tool("gdalsrsinfo", &["-o", "proj4", &georef.wkt()]);
+        for e in expect {
+            assert!(proj.split_whitespace().any(|w| w == e), "{e} not in {proj} for {georef:?}");
+        }
+    }
+    let local = Georef { projection: Projection::Local, surface: Spheroid::MARS_IAU2015 };
+    let wkt = tool("gdalsrsinfo", &["-o", "wkt2", &local.wkt()]);
+    assert!(wkt.contains("ENGCRS") && wkt.contains("metre"), "{wkt}");
 }

@@ -913,26 +913,38 @@ pub fn load(path: &Path) -> Result<ScenarioFile, Error> {
 /// field must be written in the file (any value), as for a sweep; the result is
 /// validated as the file would be, and errors name the setting.
 pub fn load_with(path: &Path, sets: &[String]) -> Result<ScenarioFile, Error> {
-    let mut file = load(path)?;
+    load_setting(path, sets).map_err(|(e, from_sets)| {
+        if from_sets { Error::usage(format!("--set {}", sets.join(" --set ")), e.to_string()) } else { e }
+    })
+}
+
+/// [`load_with`] for a library caller: an error the settings cause is the scenario's
+/// own (`Invalid` names the field, its line and column in the file), not a usage error
+/// of the command line.
+pub fn load_set(path: &Path, sets: &[String]) -> Result<ScenarioFile, Error> {
+    load_setting(path, sets).map_err(|(e, _)| e)
+}
+
+/// [`load_with`]'s work; an error says whether the settings caused it (the file
+/// parsed as written).
+fn load_setting(path: &Path, sets: &[String]) -> Result<ScenarioFile, (Error, bool)> {
+    let mut file = load(path).map_err(|e| (e, false))?;
     if sets.is_empty() {
         return Ok(file);
     }
     let mut text = file.text.clone();
     for set in sets {
         let Some((field, value)) = set.split_once('=') else {
-            return Err(Error::usage(format!("--set {set}"), "write PATH=VALUE, e.g. job.tau=0.6"));
+            return Err((Error::usage(format!("--set {set}"), "write PATH=VALUE, e.g. job.tau=0.6"), false));
         };
         let (field, value) = (field.trim(), value.trim());
         let span = crate::sweep::value_span(&text, &crate::sweep::segments(field)).ok_or_else(|| {
-            Error::usage(
-                format!("--set {set}"),
-                format!("{field:?} is not written in {}: write the field out (any value) to set it", path.display()),
-            )
+            let message = "is not written in the file: write the field out (any value) to set it".to_string();
+            (Error::Scenario { path: path.to_path_buf(), field: field.to_string(), message }, true)
         })?;
         text.replace_range(span, value);
     }
-    file.scenario =
-        parse(path, &text).map_err(|e| Error::usage(format!("--set {}", sets.join(" --set ")), e.to_string()))?;
+    file.scenario = parse(path, &text).map_err(|e| (e, true))?;
     file.text = text;
     Ok(file)
 }

@@ -2,14 +2,15 @@
 
 use std::path::Path;
 
-pub use areo_terrain::Dem;
+use areo_terrain::geotiff;
 use areo_terrain::hillshade::hillshade_rgb;
 use areo_terrain::horizon::HorizonMap;
 pub use areo_terrain::shadow::Method as ShadowMethod;
 use areo_terrain::shadow::{Curvature, Shadows, SunDirection};
 use areo_terrain::slope::slope_aspect;
 use areo_terrain::tiles::Source as _;
-use areo_terrain::{Projection, geotiff};
+/// A DEM, and how its map metres relate to its body (for the binary and its tests).
+pub use areo_terrain::{Dem, Georef, Projection, Spheroid};
 
 use crate::error::{Error, Result};
 use crate::output::png::write_map_png;

@@ -13,6 +13,51 @@ pub struct Georef {
     pub surface: Spheroid,
 }
 
+impl Georef {
+    /// The map's coordinate reference system as OGC WKT2 (ISO 19162:2019), for GIS
+    /// tools and Python users: the projection on a sphere of the body's equatorial
+    /// radius (as areo projects), its geographic base planetocentric with east
+    /// longitude; a local engineering frame in metres for a map with none. The body is
+    /// named from the radius (Mars, the Moon, the Earth).
+    pub fn wkt(&self) -> String {
+        let deg = r#"ANGLEUNIT["degree",0.0174532925199433]"#;
+        let m = r#"LENGTHUNIT["metre",1]"#;
+        let axes =
+            format!(r#"CS[Cartesian,2],AXIS["easting (E)",east,ORDER[1],{m}],AXIS["northing (N)",north,ORDER[2],{m}]"#);
+        let r = self.surface.equatorial_radius_m;
+        let body = match r {
+            r if (3_390_000.0..3_400_000.0).contains(&r) => "Mars",
+            r if (1_730_000.0..1_740_000.0).contains(&r) => "Moon",
+            r if (6_370_000.0..6_380_000.0).contains(&r) => "Earth",
+            _ => "Body",
+        };
+        let sphere = format!("{body} sphere R={r} m");
+        let base = format!(
+            r#"BASEGEOGCRS["{sphere}",DATUM["{sphere}",ELLIPSOID["{sphere}",{r},0,{m}]],PRIMEM["Reference meridian",0,{deg}]]"#
+        );
+        let param =
+            |name: &str, v: f64, unit: &str, id: u32| format!(r#"PARAMETER["{name}",{v},{unit},ID["EPSG",{id}]]"#);
+        let origin = [param("False easting", 0.0, m, 8806), param("False northing", 0.0, m, 8807)].join(",");
+        match self.projection {
+            Projection::Local => {
+                format!(r#"ENGCRS["local metric frame",EDATUM["local"],{axes}]"#)
+            }
+            Projection::Equirectangular { lat_ts_deg, lon0_deg } => format!(
+                r#"PROJCRS["{body} equirectangular",{base},CONVERSION["Equirectangular",METHOD["Equidistant Cylindrical",ID["EPSG",1028]],{},{},{origin}],{axes}]"#,
+                param("Latitude of 1st standard parallel", lat_ts_deg, deg, 8823),
+                param("Longitude of natural origin", lon0_deg, deg, 8802),
+            ),
+            Projection::PolarStereographic { north, lon0_deg } => format!(
+                r#"PROJCRS["{body} polar stereographic {}",{base},CONVERSION["Polar stereographic",METHOD["Polar Stereographic (variant A)",ID["EPSG",9810]],{},{},{},{origin}],{axes}]"#,
+                if north { "north" } else { "south" },
+                param("Latitude of natural origin", if north { 90.0 } else { -90.0 }, deg, 8801),
+                param("Longitude of natural origin", lon0_deg, deg, 8802),
+                param("Scale factor at natural origin", 1.0, r#"SCALEUNIT["unity",1]"#, 8805),
+            ),
+        }
+    }
+}
+
 impl Default for Georef {
     fn default() -> Georef {
         Georef { projection: Projection::Local, surface: Spheroid::MARS_IAU2015 }

@@ -57,6 +57,17 @@ pub enum Error {
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 impl Error {
+    /// The file the error is about, if it is about one.
+    pub fn path(&self) -> Option<&std::path::Path> {
+        match self {
+            Error::Read { path, .. }
+            | Error::Io { path, .. }
+            | Error::Format { path, .. }
+            | Error::UnknownFormat { path, .. } => Some(path),
+            Error::BadGrid(_) | Error::BadSynth { .. } => None,
+        }
+    }
+
     pub(crate) fn format(path: &std::path::Path, message: impl Into<String>) -> Error {
         Error::Format { path: path.to_path_buf(), message: message.into() }
     }

@@ -1,0 +1,101 @@
+"""Type stubs for the `areo` extension module (PyO3). Units are in the names: _deg
+degrees, _m metres, _s seconds, _h hours, _wh watt-hours, _au astronomical units."""
+
+from os import PathLike
+from typing import Any, Literal, Optional, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+Body = Literal["mars", "moon", "earth"]
+StrPath = Union[str, PathLike[str]]
+
+class AreoError(Exception):
+    """An areo error: bad input or a failed run. `file`, `line`, `column` and `field`
+    are set where the library knows them (else None)."""
+    file: Optional[str]
+    line: Optional[int]
+    column: Optional[int]
+    field: Optional[str]
+
+class ScenarioError(AreoError):
+    """A scenario file's mistake: bad RON, a value out of range, an inconsistent field."""
+
+class Unreachable(AreoError):
+    """The run ended without a plan that reaches every goal."""
+    binding: str
+    """The binding constraint (`Battery`, `Darkness`, `Slope`, …)."""
+    message: str
+    result: RunResult
+    """What the run wrote before it gave up."""
+
+def sun(time: Union[str, float], lat_deg: float, lon_east_deg: float, body: Body = "mars") -> dict[str, Any]:
+    """The Sun over a site at one instant (ISO 8601 UTC text or Unix seconds):
+    azimuth_deg (clockwise from north), elevation_deg (geometric), distance_au,
+    subsolar_lat_deg, subsolar_lon_east_deg, local_solar_time_h, utc."""
+
+def sun_series(
+    unix_s: npt.NDArray[np.float64], lat_deg: float, lon_east_deg: float, body: Body = "mars"
+) -> dict[str, npt.NDArray[np.float64]]:
+    """`sun` over an array of Unix seconds: a dict of float64 arrays (no `utc`)."""
+
+class Dem:
+    """A digital elevation model (GeoTIFF, PDS3, ESRI ASCII grid)."""
+    @property
+    def heights(self) -> npt.NDArray[np.float32]:
+        """(rows, cols) heights, m, row 0 northernmost; NaN where no data (a copy)."""
+    @property
+    def cols(self) -> int: ...
+    @property
+    def rows(self) -> int: ...
+    @property
+    def cell_size(self) -> tuple[float, float]:
+        """(dx, dy), m."""
+    @property
+    def geotransform(self) -> tuple[float, float, float, float, float, float]:
+        """GDAL's (x0, dx, 0, y_top, 0, -dy), map metres."""
+    @property
+    def crs(self) -> str:
+        """The coordinate reference system, OGC WKT2."""
+
+def read_dem(path: StrPath) -> Dem: ...
+def shadow(dem: Dem, azimuth_deg: float, elevation_deg: float, curved: bool = True) -> npt.NDArray[np.uint8]:
+    """(rows, cols): 1 lit, 0 in shadow, 255 no data; `curved`: on the body's sphere."""
+def horizon(dem: Dem, sectors: int, curved: bool = True) -> npt.NDArray[np.float32]:
+    """(sectors, rows, cols) horizon elevation, degrees; sector k centred on k·360°/K."""
+
+class RunResult:
+    """What a scenario run produced."""
+    @property
+    def facts(self) -> dict[str, Any]:
+        """Named facts (numbers in the unit their name gives, counts, flags, text)."""
+    @property
+    def summary(self) -> list[str]: ...
+    @property
+    def files(self) -> list[PathLike[str]]: ...
+    @property
+    def out(self) -> PathLike[str]: ...
+    @property
+    def tables(self) -> dict[str, list[dict[str, Any]]]:
+        """Every CSV table the run wrote (plan, executed, replans, monte_carlo, …)."""
+    def table(self, name: str) -> list[dict[str, Any]]: ...
+
+class Scenario:
+    """A scenario file and the fields set on it."""
+    @staticmethod
+    def load(path: StrPath) -> Scenario: ...
+    def set(self, field: str, value: Union[float, int, bool, str]) -> Scenario:
+        """Set a field as `areo run --set` does (`job.tau`, `job.goals[0].x_m`); text is
+        RON (`'"words"'` for a string). Raises ScenarioError naming a bad field."""
+    @property
+    def sets(self) -> list[str]: ...
+    def run(self, out: Optional[StrPath] = None) -> RunResult:
+        """Run with the GIL released (Ctrl-C interrupts); raises Unreachable."""
+
+def rover_check(
+    params_path: StrPath, terrain: str = "flat", mu: float = 0.6, moving: bool = False
+) -> dict[str, Any]:
+    """A rover parameter file on a test terrain (flat, slope:DEG, side-slope:DEG,
+    step:HEIGHT_M): the report `areo rover check --format json` prints."""

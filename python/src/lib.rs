@@ -1,0 +1,511 @@
+//! `areo` for Python: the library crates' answers as Python values and NumPy arrays,
+//! with no logic of their own beyond the conversion.
+//!
+//! - `sun`, `sun_series`: where the Sun stands over a site on Mars, the Moon or the
+//!   Earth (areo-ephemeris), at one instant or an array of them;
+//! - `read_dem` → `PyDem` (heights as a NumPy array, cell size, geotransform, CRS),
+//!   `shadow` and `horizon` (areo-terrain) as arrays;
+//! - `PyScenario`: a scenario loaded, its fields set as a sweep sets them, run, and
+//!   its facts and tables read back (`PyRunResult`); an unreachable goal raises
+//!   `areo.Unreachable`;
+//! - `rover_check`: a rover parameter file on a test terrain (areo-scenario).
+//!
+//! Errors are Python exceptions — `areo.AreoError`, and `areo.ScenarioError` for a
+//! scenario's own mistakes — carrying `file`, `line`, `column` and `field` where the
+//! library knows them. Long work runs with the GIL released; a scenario run polls for
+//! Ctrl-C while it works.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use areo_ephemeris::{Body, Site, SunModel};
+use areo_scenario::{Error, Failure, NoProgress, Outcome, RunOptions};
+use areo_terrain::Dem;
+use areo_terrain::horizon::HorizonMap;
+use areo_terrain::shadow::{Curvature, Shadows, SunDirection};
+use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyException, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+create_exception!(areo, AreoError, PyException, "An areo library error: bad input or a failed run.");
+create_exception!(
+    areo,
+    ScenarioError,
+    AreoError,
+    "A scenario file's mistake: bad RON, a value out of range, an inconsistent field."
+);
+create_exception!(areo, Unreachable, AreoError, "The run ended without a plan that reaches every goal.");
+
+/// The exception for a library error, with `file`, `line`, `column` and `field` set
+/// (None where the error does not say).
+fn to_py(py: Python<'_>, e: &Error) -> PyErr {
+    let (file, line, col, field): (Option<&Path>, Option<usize>, Option<usize>, Option<&str>) = match e {
+        Error::Syntax { path, line, col, .. } => (Some(path), Some(*line), Some(*col), None),
+        Error::Invalid { path, line, col, field, .. } => (Some(path), Some(*line), Some(*col), Some(field)),
+        Error::Scenario { path, field, .. } | Error::Referenced { path, field, .. } => {
+            (Some(path), None, None, Some(field))
+        }
+        Error::Read { path, .. } | Error::Grid { path, .. } | Error::Io { path, .. } => (Some(path), None, None, None),
+        Error::Terrain(t) => (t.path(), None, None, None),
+        _ => (None, None, None, None),
+    };
+    let scenario = matches!(e, Error::Syntax { .. } | Error::Invalid { .. } | Error::Scenario { .. });
+    let err = if scenario { ScenarioError::new_err(e.to_string()) } else { AreoError::new_err(e.to_string()) };
+    let value = err.value(py);
+    // Setting an attribute on a fresh exception cannot fail.
+    let _ = value.setattr("file", file.map(|p| p.display().to_string()));
+    let _ = value.setattr("field", field);
+    let _ = value.setattr("line", line);
+    let _ = value.setattr("column", col);
+    err
+}
+
+fn body_of(name: &str) -> PyResult<Body> {
+    Body::from_name(name).ok_or_else(|| PyValueError::new_err(format!("body {name:?}: allowed mars, moon, earth")))
+}
+
+fn site_of(body: Body, lat_deg: f64, lon_east_deg: f64) -> PyResult<Site> {
+    Site::on(body, lat_deg, lon_east_deg).map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+/// An instant: ISO 8601 UTC text, or seconds since 1970-01-01T00:00:00 UTC.
+fn epoch_of(time: &Bound<'_, PyAny>) -> PyResult<hifitime::Epoch> {
+    if let Ok(text) = time.extract::<String>() {
+        return areo_ephemeris::parse_utc(&text).map_err(|e| PyValueError::new_err(e.to_string()));
+    }
+    let s: f64 =
+        time.extract().map_err(|_| PyValueError::new_err("time: ISO 8601 UTC text or Unix seconds (a number)"))?;
+    Ok(hifitime::Epoch::from_unix_seconds(s))
+}
+
+/// The Sun's place for one instant: (azimuth °, elevation °, distance AU, sub-solar
+/// latitude °, sub-solar longitude ° east, local solar time h).
+fn sun_at(body: Body, site: &Site, at: hifitime::Epoch) -> [f64; 6] {
+    let state = body.sun(at);
+    let p = state.at_site(site);
+    let (lat, lon) = state.subsolar_deg();
+    [p.azimuth_deg, p.elevation_deg, state.distance_au, lat, lon, state.local_solar_time_hours(site.lon_east_deg())]
+}
+
+const SUN_KEYS: [&str; 6] =
+    ["azimuth_deg", "elevation_deg", "distance_au", "subsolar_lat_deg", "subsolar_lon_east_deg", "local_solar_time_h"];
+
+/// The Sun over a site at one instant: a dict of `azimuth_deg` (clockwise from north),
+/// `elevation_deg` (above the site's horizontal, geometric), `distance_au`,
+/// `subsolar_lat_deg`, `subsolar_lon_east_deg`, `local_solar_time_h` and `utc`.
+/// `time` is ISO 8601 UTC text or Unix seconds; latitude and east longitude in
+/// degrees (planetocentric); `body` is "mars", "moon" or "earth".
+#[pyfunction]
+#[pyo3(signature = (time, lat_deg, lon_east_deg, body = "mars"))]
+fn sun<'py>(
+    py: Python<'py>,
+    time: &Bound<'py, PyAny>,
+    lat_deg: f64,
+    lon_east_deg: f64,
+    body: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let body = body_of(body)?;
+    let site = site_of(body, lat_deg, lon_east_deg)?;
+    let at = epoch_of(time)?;
+    let d = PyDict::new(py);
+    for (k, v) in SUN_KEYS.iter().zip(sun_at(body, &site, at)) {
+        d.set_item(k, v)?;
+    }
+    d.set_item("utc", areo_ephemeris::format_utc(at))?;
+    Ok(d)
+}
+
+/// [`sun`] over an array of instants (Unix seconds, float64): a dict of float64
+/// arrays with the same keys (no `utc`).
+#[pyfunction]
+#[pyo3(signature = (unix_s, lat_deg, lon_east_deg, body = "mars"))]
+fn sun_series<'py>(
+    py: Python<'py>,
+    unix_s: PyReadonlyArray1<'py, f64>,
+    lat_deg: f64,
+    lon_east_deg: f64,
+    body: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let body = body_of(body)?;
+    let site = site_of(body, lat_deg, lon_east_deg)?;
+    let times = unix_s.as_slice()?.to_vec();
+    let rows: Vec<[f64; 6]> =
+        py.detach(|| times.iter().map(|&s| sun_at(body, &site, hifitime::Epoch::from_unix_seconds(s))).collect());
+    let d = PyDict::new(py);
+    for (j, k) in SUN_KEYS.iter().enumerate() {
+        d.set_item(k, PyArray1::from_vec(py, rows.iter().map(|r| r[j]).collect()))?;
+    }
+    Ok(d)
+}
+
+/// A digital elevation model read by areo (GeoTIFF, PDS3, ASCII grid).
+#[pyclass(name = "Dem", frozen, module = "areo")]
+struct PyDem {
+    dem: Dem,
+}
+
+#[pymethods]
+impl PyDem {
+    /// Heights, m, as a (rows, cols) float32 array, row 0 the northernmost; NaN where
+    /// the file has no data. A copy: the Dem keeps its own.
+    #[getter]
+    fn heights<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let d = &self.dem;
+        let z: Vec<f32> =
+            d.elevations().iter().zip(d.valid_mask()).map(|(&z, &ok)| if ok { z } else { f32::NAN }).collect();
+        PyArray1::from_vec(py, z).reshape([d.rows(), d.cols()])
+    }
+
+    /// Columns (west to east).
+    #[getter]
+    fn cols(&self) -> usize {
+        self.dem.cols()
+    }
+
+    /// Rows (north to south).
+    #[getter]
+    fn rows(&self) -> usize {
+        self.dem.rows()
+    }
+
+    /// Cell size (dx, dy), m.
+    #[getter]
+    fn cell_size(&self) -> (f64, f64) {
+        (self.dem.dx(), self.dem.dy())
+    }
+
+    /// The GDAL geotransform (x0, dx, 0, y_top, 0, −dy): map metres of cell corners.
+    #[getter]
+    fn geotransform(&self) -> (f64, f64, f64, f64, f64, f64) {
+        let d = &self.dem;
+        (d.x0(), d.dx(), 0.0, d.y_top(), 0.0, -d.dy())
+    }
+
+    /// The map's coordinate reference system as OGC WKT2 (the body's sphere or
+    /// ellipsoid and the projection the file declared; a local engineering frame for a
+    /// map with none).
+    #[getter]
+    fn crs(&self) -> String {
+        self.dem.georef().wkt()
+    }
+
+    fn __repr__(&self) -> String {
+        let d = &self.dem;
+        format!("Dem({} × {} cells of {} × {} m)", d.cols(), d.rows(), d.dx(), d.dy())
+    }
+}
+
+/// Reads a DEM (GeoTIFF, PDS3 `.img`/`.lbl`, ESRI ASCII grid).
+#[pyfunction]
+fn read_dem(py: Python<'_>, path: PathBuf) -> PyResult<PyDem> {
+    let read = py.detach(|| areo_scenario::terrain::read_dem(&path));
+    read.map(|dem| PyDem { dem }).map_err(|e| to_py(py, &e))
+}
+
+fn curvature(dem: &Dem, curved: bool) -> Curvature {
+    if curved { Curvature::of(dem) } else { Curvature::Flat }
+}
+
+/// The direct-sun map for a Sun at (azimuth °, clockwise from north; elevation °):
+/// a (rows, cols) uint8 array, 1 lit, 0 in shadow (cast or self), 255 no data — the
+/// values `areo terrain shadow` writes. `curved`: the ground drops away on the body's
+/// sphere (else a flat world).
+#[pyfunction]
+#[pyo3(signature = (dem, azimuth_deg, elevation_deg, curved = true))]
+fn shadow<'py>(
+    py: Python<'py>,
+    dem: &PyDem,
+    azimuth_deg: f64,
+    elevation_deg: f64,
+    curved: bool,
+) -> PyResult<Bound<'py, PyArray2<u8>>> {
+    if !(azimuth_deg.is_finite() && (-90.0..=90.0).contains(&elevation_deg)) {
+        return Err(PyValueError::new_err(format!(
+            "Sun at azimuth {azimuth_deg}°, elevation {elevation_deg}°: allowed a finite azimuth and −90..=90°"
+        )));
+    }
+    let d = &dem.dem;
+    let map =
+        py.detach(|| Shadows::new(SunDirection::new(azimuth_deg, elevation_deg), curvature(d, curved)).map(d).to_u8());
+    PyArray1::from_vec(py, map).reshape([d.rows(), d.cols()])
+}
+
+/// The horizon in `sectors` azimuth sectors (16..=360; sector k centred on k·360°/K):
+/// a (sectors, rows, cols) float32 array of the terrain's horizon elevation, degrees.
+#[pyfunction]
+#[pyo3(signature = (dem, sectors, curved = true))]
+fn horizon<'py>(py: Python<'py>, dem: &PyDem, sectors: usize, curved: bool) -> PyResult<Bound<'py, PyArray3<f32>>> {
+    let d = &dem.dem;
+    let map = py
+        .detach(|| HorizonMap::compute(d, sectors, curvature(d, curved)))
+        .map_err(|e| to_py(py, &Error::Terrain(e)))?;
+    let cells = d.cols() * d.rows();
+    let mut out = vec![0f32; sectors * cells];
+    for i in 0..cells {
+        for (s, v) in map.cell_profile(i).into_iter().enumerate() {
+            out[s * cells + i] = v;
+        }
+    }
+    PyArray1::from_vec(py, out).reshape([sectors, d.rows(), d.cols()])
+}
+
+/// A scenario file, with the fields set on it so far.
+#[pyclass(name = "Scenario", module = "areo")]
+struct PyScenario {
+    path: PathBuf,
+    sets: Vec<String>,
+}
+
+/// A RON literal for a Python value: numbers and booleans as such; text as given (RON
+/// text: `"\"words\""` for a string, `Moon` for a variant).
+fn ron_literal(value: &Bound<'_, PyAny>) -> PyResult<String> {
+    if let Ok(b) = value.extract::<bool>() {
+        return Ok(b.to_string());
+    }
+    if let Ok(i) = value.extract::<i64>() {
+        return Ok(i.to_string());
+    }
+    if let Ok(x) = value.extract::<f64>() {
+        if !x.is_finite() {
+            return Err(PyValueError::new_err(format!("{x}: a field's value must be finite")));
+        }
+        // `{:?}` keeps a decimal point, so RON reads a float.
+        return Ok(format!("{x:?}"));
+    }
+    value.extract::<String>().map_err(|_| PyValueError::new_err("a value: a number, a bool or RON text"))
+}
+
+#[pymethods]
+impl PyScenario {
+    /// Loads and validates a scenario file.
+    #[staticmethod]
+    fn load(py: Python<'_>, path: PathBuf) -> PyResult<PyScenario> {
+        let loaded = py.detach(|| areo_scenario::format::load(&path));
+        loaded.map_err(|e| to_py(py, &e))?;
+        Ok(PyScenario { path, sets: Vec::new() })
+    }
+
+    /// Sets a field, as `areo run --set` and a sweep's axis do (`job.tau`,
+    /// `job.goals[0].x_m`), and validates the scenario with it: a bad path or value
+    /// raises `ScenarioError` naming the field. Returns the scenario, so calls chain.
+    fn set<'py>(slf: Bound<'py, Self>, field: &str, value: &Bound<'py, PyAny>) -> PyResult<Bound<'py, Self>> {
+        let py = slf.py();
+        let literal = ron_literal(value)?;
+        let (path, mut sets) = {
+            let me = slf.borrow();
+            (me.path.clone(), me.sets.clone())
+        };
+        sets.push(format!("{field}={literal}"));
+        areo_scenario::format::load_set(&path, &sets).map_err(|e| to_py(py, &e))?;
+        slf.borrow_mut().sets = sets;
+        Ok(slf)
+    }
+
+    /// The fields set so far, as `PATH=VALUE`.
+    #[getter]
+    fn sets(&self) -> Vec<String> {
+        self.sets.clone()
+    }
+
+    /// Runs the scenario, writing its outputs into `out` (a new temporary directory
+    /// when None), with the GIL released; Ctrl-C raises KeyboardInterrupt at once (the
+    /// run's thread finishes its current job in the background; its outputs are not
+    /// read). Returns a `RunResult`; a run that ends without reaching every goal
+    /// raises `Unreachable` (its `.binding`, `.message` and `.result`).
+    #[pyo3(signature = (out = None))]
+    fn run(&self, py: Python<'_>, out: Option<PathBuf>) -> PyResult<PyRunResult> {
+        let file = areo_scenario::format::load_set(&self.path, &self.sets).map_err(|e| to_py(py, &e))?;
+        let out = match out {
+            Some(o) => o,
+            None => temp_out(&file.name).map_err(|e| AreoError::new_err(e.to_string()))?,
+        };
+        let dir = out.clone();
+        let worker = std::thread::spawn(move || {
+            let options = RunOptions {
+                out_dir: Some(&dir),
+                progress: &NoProgress,
+                budget: areo_scenario::budget::Budget::for_this_machine(),
+            };
+            areo_scenario::run(&file, options)
+        });
+        while !worker.is_finished() {
+            py.detach(|| std::thread::sleep(Duration::from_millis(20)));
+            // Ctrl-C (KeyboardInterrupt) or any other signal handler's exception.
+            py.check_signals()?;
+        }
+        let outcome = worker.join().map_err(|_| AreoError::new_err("the run panicked"))?;
+        let outcome = outcome.map_err(|e| to_py(py, &e))?;
+        let result = PyRunResult::from_outcome(outcome, out)?;
+        if let Some(failure @ Failure::Unreachable { binding, message, .. }) = &result.failure {
+            let err = Unreachable::new_err(failure.to_string());
+            let v = err.value(py);
+            v.setattr("binding", format!("{binding:?}"))?;
+            v.setattr("message", message.clone())?;
+            v.setattr("result", Py::new(py, result.clone())?)?;
+            return Err(err);
+        }
+        Ok(result)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Scenario({:?}, sets={:?})", self.path.display().to_string(), self.sets)
+    }
+}
+
+/// A fresh directory for a run's outputs under the system's temporary directory.
+fn temp_out(name: &str) -> std::io::Result<PathBuf> {
+    let base = std::env::temp_dir();
+    for k in 0u32.. {
+        let dir = base.join(format!("areo-{name}-{}-{k}", std::process::id()));
+        match std::fs::create_dir(&dir) {
+            Ok(()) => return Ok(dir),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+            Err(e) => return Err(e),
+        }
+    }
+    unreachable!("an unbounded range ends only by returning")
+}
+
+/// What a run produced.
+#[pyclass(name = "RunResult", frozen, module = "areo")]
+#[derive(Clone)]
+struct PyRunResult {
+    facts_json: String,
+    summary: Vec<String>,
+    files: Vec<PathBuf>,
+    out: PathBuf,
+    failure: Option<Failure>,
+}
+
+impl PyRunResult {
+    fn from_outcome(o: Outcome, out: PathBuf) -> PyResult<PyRunResult> {
+        let facts_json = serde_json::to_string(&o.facts).map_err(|e| AreoError::new_err(e.to_string()))?;
+        Ok(PyRunResult { facts_json, summary: o.summary, files: o.files, out, failure: o.failure })
+    }
+}
+
+/// A CSV table as a list of dicts, numbers as floats (an empty cell: None).
+fn read_table<'py>(py: Python<'py>, path: &Path) -> PyResult<Bound<'py, PyList>> {
+    let mut reader =
+        csv::Reader::from_path(path).map_err(|e| AreoError::new_err(format!("{}: {e}", path.display())))?;
+    let headers = reader.headers().map_err(|e| AreoError::new_err(format!("{}: {e}", path.display())))?.clone();
+    let rows = PyList::empty(py);
+    for record in reader.records() {
+        let record = record.map_err(|e| AreoError::new_err(format!("{}: {e}", path.display())))?;
+        let row = PyDict::new(py);
+        for (h, v) in headers.iter().zip(record.iter()) {
+            if v.is_empty() {
+                row.set_item(h, py.None())?;
+            } else if let Ok(x) = v.parse::<f64>() {
+                row.set_item(h, x)?;
+            } else {
+                row.set_item(h, v)?;
+            }
+        }
+        rows.append(row)?;
+    }
+    Ok(rows)
+}
+
+#[pymethods]
+impl PyRunResult {
+    /// The job's facts by name (numbers in the unit their name gives, counts, flags,
+    /// text) — what `facts.json` holds.
+    #[getter]
+    fn facts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        py.import("json")?.call_method1("loads", (&self.facts_json,))
+    }
+
+    /// The summary lines `areo run` prints.
+    #[getter]
+    fn summary(&self) -> Vec<String> {
+        self.summary.clone()
+    }
+
+    /// Every file the run wrote.
+    #[getter]
+    fn files(&self) -> Vec<PathBuf> {
+        self.files.clone()
+    }
+
+    /// The directory the outputs are in.
+    #[getter]
+    fn out(&self) -> PathBuf {
+        self.out.clone()
+    }
+
+    /// The CSV tables the run wrote (`plan`, `executed`, `replans`, `monte_carlo`, …),
+    /// each a list of dicts, by name.
+    #[getter]
+    fn tables<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for f in self.files.iter().filter(|f| f.extension().is_some_and(|e| e == "csv")) {
+            let name = f.file_stem().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+            d.set_item(name, read_table(py, f)?)?;
+        }
+        Ok(d)
+    }
+
+    /// One table by name (`plan`, `executed`, `replans`, …); KeyError if the run wrote
+    /// none.
+    fn table<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyList>> {
+        let f = self
+            .files
+            .iter()
+            .find(|f| f.extension().is_some_and(|e| e == "csv") && f.file_stem().is_some_and(|s| s == name))
+            .ok_or_else(|| pyo3::exceptions::PyKeyError::new_err(name.to_string()))?;
+        read_table(py, f)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "RunResult({} facts, {} files in {})",
+            self.facts_json.matches("\":").count(),
+            self.files.len(),
+            self.out.display()
+        )
+    }
+}
+
+/// Checks a rover parameter file (RON) on a test terrain — `flat`, `slope:DEG`,
+/// `side-slope:DEG` or `step:HEIGHT_M` — with wheel–ground friction `mu`, standing or
+/// `moving`: the report `areo rover check --format json` prints, as a dict.
+#[pyfunction]
+#[pyo3(signature = (params_path, terrain = "flat", mu = 0.6, moving = false))]
+fn rover_check<'py>(
+    py: Python<'py>,
+    params_path: PathBuf,
+    terrain: &str,
+    mu: f64,
+    moving: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let terrain: areo_scenario::rover_check::TestTerrain =
+        terrain.parse().map_err(|m: String| PyValueError::new_err(format!("terrain: {m}")))?;
+    let report = py
+        .detach(|| areo_scenario::rover_check::check(&params_path, terrain, mu, moving))
+        .map_err(|e| to_py(py, &e))?;
+    let json = serde_json::to_string(&report).map_err(|e| AreoError::new_err(e.to_string()))?;
+    py.import("json")?.call_method1("loads", (json,))
+}
+
+/// The `areo` module.
+#[pymodule]
+fn areo(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("AreoError", py.get_type::<AreoError>())?;
+    m.add("ScenarioError", py.get_type::<ScenarioError>())?;
+    m.add("Unreachable", py.get_type::<Unreachable>())?;
+    m.add_class::<PyDem>()?;
+    m.add_class::<PyScenario>()?;
+    m.add_class::<PyRunResult>()?;
+    m.add_function(wrap_pyfunction!(sun, m)?)?;
+    m.add_function(wrap_pyfunction!(sun_series, m)?)?;
+    m.add_function(wrap_pyfunction!(read_dem, m)?)?;
+    m.add_function(wrap_pyfunction!(shadow, m)?)?;
+    m.add_function(wrap_pyfunction!(horizon, m)?)?;
+    m.add_function(wrap_pyfunction!(rover_check, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,212 @@
+"""The Python package against the references the Rust tests use and against the
+`areo` binary's own outputs (AREO_BIN, default target/debug/areo)."""
+
+import json
+import math
+import os
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import areo
+
+ROOT = Path(__file__).resolve().parents[2]
+GALE = ROOT / "crates/terrain/tests/data/gale_mola_crop_64.tif"
+RIDGE = ROOT / "scenarios/uncertain-ridge.ron"
+LSR1 = ROOT / "crates/rover/params/lsr1.ron"
+
+
+def areo_bin():
+    path = Path(os.environ.get("AREO_BIN", ROOT / "target/debug/areo"))
+    if not path.exists():
+        pytest.fail(f"the areo binary is not at {path}: build it (cargo build) or set AREO_BIN")
+    return str(path)
+
+
+def cli(*args):
+    subprocess.run([areo_bin(), "-q", *map(str, args)], check=True)
+
+
+# The GISS Mars24 worked examples (Allison & McEwen 2000, 2018 constants), as
+# crates/ephemeris/tests/worked_examples.rs checks them.
+def test_sun_matches_the_mars24_worked_example_a():
+    s = areo.sun("2000-01-06T00:00:00Z", 0.0, 0.0)
+    assert s["distance_au"] == pytest.approx(1.393584, abs=1e-6)  # D-2
+    assert s["subsolar_lon_east_deg"] == pytest.approx(185.274004, abs=1e-5)  # C-5
+    assert s["local_solar_time_h"] == pytest.approx(23.64840, abs=1e-5)  # C-4
+    # D-5, D-6 are the page's spherical formulas; areo's geometric ones on the
+    # ellipsoid differ by up to a quarter degree.
+    assert s["azimuth_deg"] == pytest.approx(191.039051, abs=0.3)
+    assert s["elevation_deg"] == pytest.approx(90.0 - 154.261757, abs=0.3)
+    assert s["utc"] == "2000-01-06T00:00:00.000Z"
+
+
+def test_sun_matches_the_mars24_worked_example_b_at_spirits_site():
+    s = areo.sun("2004-01-03T13:46:31Z", -14.640, 360.0 - 184.702)
+    assert s["distance_au"] == pytest.approx(1.477672, abs=1e-6)  # D-2
+    assert 360.0 - s["subsolar_lon_east_deg"] == pytest.approx(4.705, abs=1e-3)  # C-5
+    # Local true midnight (C-4: 0.00020 h).
+    lt = s["local_solar_time_h"]
+    assert min(lt, 24.0 - lt) == pytest.approx(0.0002, abs=1e-5)
+
+
+def test_sun_series_equals_the_sun_at_each_instant():
+    t0 = 947116800.0  # 2000-01-06T00:00:00Z
+    times = t0 + np.arange(0.0, 88775.0, 3600.0)
+    series = areo.sun_series(times, -4.6, 137.4)
+    assert set(series) == {"azimuth_deg", "elevation_deg", "distance_au", "subsolar_lat_deg",
+                           "subsolar_lon_east_deg", "local_solar_time_h"}
+    for k, t in enumerate(times):
+        one = areo.sun(float(t), -4.6, 137.4)
+        for key, values in series.items():
+            assert values.dtype == np.float64 and values[k] == one[key]
+    # A sol at Gale: the Sun rises and sets once.
+    up = series["elevation_deg"] > 0
+    assert 0 < up.sum() < len(times)
+
+
+def test_the_moon_and_the_earth_have_suns_too_and_a_bad_body_is_refused():
+    moon = areo.sun("2024-06-01T00:00:00Z", -89.5, 0.0, body="moon")
+    assert abs(moon["elevation_deg"]) < 2.0  # a polar Sun skims the horizon
+    earth = areo.sun("2024-06-21T12:00:00Z", 0.0, 0.0, body="earth")
+    assert earth["elevation_deg"] > 60.0
+    with pytest.raises(ValueError, match="mars, moon, earth"):
+        areo.sun("2024-06-21T12:00:00Z", 0.0, 0.0, body="pluto")
+    with pytest.raises(ValueError):
+        areo.sun("not a time", 0.0, 0.0)
+
+
+def test_read_dem_gives_heights_cell_size_and_crs():
+    dem = areo.read_dem(GALE)
+    z = dem.heights
+    assert z.shape == (dem.rows, dem.cols) == (64, 64) and z.dtype == np.float32
+    dx, dy = dem.cell_size
+    assert dx > 0 and dy > 0
+    gt = dem.geotransform
+    assert gt[1] == dx and gt[5] == -dy
+    assert "Equidistant Cylindrical" in dem.crs and "Mars" in dem.crs
+    # The binary reads the same grid (its info report: cell size, elevation range).
+    info = subprocess.run([areo_bin(), "terrain", "info", str(GALE)], check=True, capture_output=True,
+                          text=True).stdout
+    fields = dict(line.strip().split(None, 1) if " " in line.strip() else (line.strip(), "")
+                  for line in info.splitlines()[1:] if line.strip())
+    cell = fields["cell"].split()  # "size 461.0008… m x 463.0576… m"
+    assert (dx, dy) == (float(cell[1]), float(cell[4]))
+    lo, hi = fields["elevation"].split()[0], fields["elevation"].split()[2]
+    assert (float(np.nanmin(z)), float(np.nanmax(z))) == (float(lo), float(hi))
+    assert "R=3396000 m" in dem.crs  # the MOLA sphere the file declares
+
+
+def test_shadow_equals_the_binarys_map_bit_for_bit(tmp_path):
+    dem = areo.read_dem(GALE)
+    for az, el, curved in [(90.0, 5.0, True), (217.0, 12.5, True), (300.0, 3.0, False)]:
+        ours = areo.shadow(dem, az, el, curved=curved)
+        assert ours.dtype == np.uint8 and ours.shape == (64, 64)
+        out = tmp_path / f"shadow_{az}.tif"
+        cli("terrain", "shadow", GALE, "--sun-azimuth", az, "--sun-elevation", el, "-o", out,
+            *([] if curved else ["--flat"]))
+        theirs = areo.read_dem(out).heights  # uint8 read as heights; 255 (no data) as NaN
+        expect = np.where(np.isnan(theirs), 255, theirs).astype(np.uint8)
+        assert np.array_equal(ours, expect), (az, el)
+        assert 0 < (ours == 0).sum() < ours.size  # some shadow, not all
+    with pytest.raises(ValueError):
+        areo.shadow(dem, 90.0, 95.0)
+
+
+def test_horizon_equals_the_binarys_maps(tmp_path):
+    dem = areo.read_dem(GALE)
+    h = areo.horizon(dem, 16)
+    assert h.shape == (16, 64, 64) and h.dtype == np.float32
+    stem = tmp_path / "h"
+    cli("terrain", "horizon", GALE, "--sectors", 16, "-o", stem)
+    for s in range(16):
+        theirs = areo.read_dem(tmp_path / f"h_s{s:03d}.tif").heights
+        assert np.array_equal(h[s], theirs), s
+    # The horizon decides the cast shadow: where the Sun stands a degree above it a
+    # cell is not in cast shadow (self-shadow aside), a degree below it always is.
+    sun = areo.shadow(dem, 0.0, 10.0)
+    assert np.all(sun[h[0] > 11.0] == 0)
+
+
+def test_a_scenario_run_gives_the_binarys_facts_and_tables(tmp_path):
+    result = areo.Scenario.load(RIDGE).run(out=tmp_path / "py")
+    cli("run", RIDGE, "-o", tmp_path / "cli")
+    with open(tmp_path / "cli" / "uncertain-ridge" / "facts.json") as f:
+        facts = json.load(f)
+    ours = result.facts
+    timing = {k for k in facts if k.endswith("_s") and ("plan" in k or "precalc" in k) or "memory" in k}
+    assert set(ours) == set(facts)
+    for k in set(facts) - timing:
+        assert ours[k] == facts[k], k
+    plan = result.table("plan")
+    assert len(plan) == ours["initial_plan_waypoints"]
+    assert plan[0]["action"] in {"hibernate", "drive", "charge", "start"}
+    assert "monte_carlo" in result.tables and len(result.tables["monte_carlo"]) == 2000
+    assert any(p.name == "facts.json" for p in result.files)
+
+
+def test_set_changes_a_field_and_refuses_a_bad_one():
+    sc = areo.Scenario.load(RIDGE)
+    assert sc.set("job.uncertainty.terrain_plan_clones", 0) is sc
+    assert sc.sets == ["job.uncertainty.terrain_plan_clones=0"]
+    with pytest.raises(areo.ScenarioError) as e:
+        sc.set("job.tau", -1.0)
+    err = e.value
+    assert err.field == "job.tau" and err.file.endswith("uncertain-ridge.ron")
+    assert err.line > 0 and err.column > 0
+    assert sc.sets == ["job.uncertainty.terrain_plan_clones=0"]  # the bad value not kept
+    with pytest.raises(areo.ScenarioError):
+        sc.set("job.no_such_field", 1)
+
+
+def test_an_unreachable_goal_raises_unreachable_with_its_binding(tmp_path):
+    sc = areo.Scenario.load(RIDGE).set("job.start_battery_above_floor_wh", 1)
+    with pytest.raises(areo.Unreachable) as e:
+        sc.run(out=tmp_path)
+    assert e.value.binding == "Battery"
+    assert isinstance(e.value.result, areo.RunResult) and "initial_plan_waypoints" not in e.value.result.facts
+
+
+def test_bad_files_raise_with_the_file_named(tmp_path):
+    with pytest.raises(areo.AreoError) as e:
+        areo.read_dem(tmp_path / "missing.tif")
+    assert e.value.file.endswith("missing.tif")
+    bad = tmp_path / "bad.ron"
+    bad.write_text("Scenario(version: 1, job: Tempest(tau: )")
+    with pytest.raises(areo.ScenarioError) as e:
+        areo.Scenario.load(bad)
+    assert e.value.file.endswith("bad.ron") and e.value.line == 1
+
+
+def test_rover_check_equals_the_binarys_report():
+    ours = areo.rover_check(LSR1, terrain="slope:20", mu=0.6)
+    out = subprocess.run([areo_bin(), "rover", "check", str(LSR1), "--terrain", "slope:20", "--mu", "0.6",
+                          "--format", "json"], check=True, capture_output=True, text=True).stdout
+    assert ours == json.loads(out)
+    assert ours["verdict"] == "ok" and math.isclose(ours["pose"]["pitch_deg"], 20.0, abs_tol=1e-6)
+    with pytest.raises(ValueError, match="terrain"):
+        areo.rover_check(LSR1, terrain="cliff:3")
+
+
+def test_ctrl_c_interrupts_a_long_run(tmp_path):
+    # lunar-south-pole-10m plans four days on 10 m cells: about a minute. Interrupted
+    # after 3 s, Python must raise KeyboardInterrupt at once.
+    import signal
+    import sys
+    import time
+
+    script = (
+        "import areo, sys\n"
+        f"areo.Scenario.load({str(ROOT / 'scenarios/lunar-south-pole-10m.ron')!r}).run(out={str(tmp_path)!r})\n"
+        "print('finished')\n"
+    )
+    started = time.monotonic()
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(3.0)
+    assert proc.poll() is None, "the run ended before it could be interrupted"
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=30)
+    assert "KeyboardInterrupt" in err and "finished" not in out, err
+    assert time.monotonic() - started < 15.0
