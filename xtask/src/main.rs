@@ -5,6 +5,9 @@
 //! - `cargo xtask deps`: check that crate dependencies point down the design's crate map;
 //! - `cargo xtask bench`: run the criterion benches and print the figures and ratios
 //!   that `docs/benchmarks.md` records;
+//! - `cargo xtask downstream`: scratch crates outside the workspace, each on one areo
+//!   crate (the ephemeris alone; the terrain without default features), built, run and
+//!   their dependency trees counted;
 //! - `cargo xtask fuzz`: the long, seeded robustness run against the release binary
 //!   (`docs/robustness.md`).
 //!
@@ -14,6 +17,7 @@
 
 mod bench;
 mod deps;
+mod downstream;
 mod fuzz;
 #[cfg(test)]
 mod plot_layout;
@@ -50,9 +54,19 @@ fn main() -> ExitCode {
                 violations.is_empty()
             }),
         Some("bench") => bench::run(&project_root(), &args[1..]),
+        Some("downstream") => downstream::check(&project_root()).map(|built| {
+            for b in &built {
+                let unwanted =
+                    if b.unwanted.is_empty() { String::new() } else { format!("; pulls in {:?}", b.unwanted) };
+                println!("{}: builds and runs; {} packages in its dependency tree{unwanted}", b.name, b.dependencies);
+            }
+            built.iter().all(|b| b.unwanted.is_empty())
+        }),
         Some("fuzz") => fuzz::Options::parse(&args[1..]).and_then(|o| fuzz::run(&project_root(), &o)),
         _ => {
-            eprintln!("usage: cargo xtask <scenarios|deps|bench [FILTER]|fuzz [--cases N] [--seed S] [--timeout-s T]>");
+            eprintln!(
+                "usage: cargo xtask <scenarios|deps|downstream|bench [FILTER]|fuzz [--cases N] [--seed S] [--timeout-s T]>"
+            );
             return ExitCode::from(2);
         }
     };

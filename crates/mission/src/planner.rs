@@ -619,8 +619,14 @@ impl<'a> Mission<'a> {
             let sun = self.world.sun(step.label.t);
             let (x, y) = self.world.center(step.state);
             let (lat, lon) = self.world.lat_lon(step.state);
-            let arrived_goal =
-                (i + 1 == steps.len() || steps.get(i + 1).is_some_and(|(_, s)| *s != *segment)).then_some(*segment);
+            // A goal is reached where its segment ends: the last step, or the first step
+            // of the next segment (which stands on the goal; `assemble` dropped the
+            // segment's own last step, which repeated it).
+            let arrived_goal = if i + 1 == steps.len() {
+                Some(*segment)
+            } else {
+                i.checked_sub(1).map(|p| steps[p].1).filter(|previous| previous != segment)
+            };
             waypoints.push(Waypoint::new(
                 self.world,
                 step.state,

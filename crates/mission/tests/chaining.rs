@@ -100,6 +100,11 @@ fn chained_segments_equal_a_brute_force_search_of_the_whole_problem() {
         assert!((plan.cost - brute).abs() < 1e-6, "case {i}: chained {} vs brute force {brute}", plan.cost);
         assert_eq!(plan.waypoints.iter().filter(|w| w.goal.is_some()).count(), 2);
         assert_eq!(plan.waypoints.last().unwrap().cell, goals[1]);
+        // Each goal is marked where the rover stands on it (it was once marked on the
+        // waypoint before, a drive short of an intermediate goal).
+        for w in plan.waypoints.iter().filter(|w| w.goal.is_some()) {
+            assert_eq!(w.cell, goals[w.goal.unwrap()], "case {i}: goal {:?} marked at {:?}", w.goal, w.col_row);
+        }
     }
 }
 

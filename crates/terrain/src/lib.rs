@@ -59,10 +59,12 @@ mod scan_lines;
 pub mod hillshade;
 
 pub mod ascii;
+#[cfg(feature = "fill")]
 pub mod fill;
 pub mod geotiff;
 pub mod horizon;
 pub mod input;
+#[cfg(feature = "line-of-sight")]
 pub mod los;
 pub mod pds3;
 #[cfg(any(test, feature = "reference"))]
