@@ -66,8 +66,11 @@ fn body_of(name: &str) -> PyResult<Body> {
     Body::from_name(name).ok_or_else(|| PyValueError::new_err(format!("body {name:?}: allowed mars, moon, earth")))
 }
 
-fn site_of(body: Body, lat_deg: f64, lon_east_deg: f64) -> PyResult<Site> {
-    Site::on(body, lat_deg, lon_east_deg).map_err(|e| PyValueError::new_err(e.to_string()))
+/// The body named and the site on it (planetocentric latitude, east longitude, °).
+fn place(body: &str, lat_deg: f64, lon_east_deg: f64) -> PyResult<(Body, Site)> {
+    let body = body_of(body)?;
+    let site = Site::on(body, lat_deg, lon_east_deg).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok((body, site))
 }
 
 /// An instant: ISO 8601 UTC text, or seconds since 1970-01-01T00:00:00 UTC.
@@ -106,8 +109,7 @@ fn sun<'py>(
     lon_east_deg: f64,
     body: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let body = body_of(body)?;
-    let site = site_of(body, lat_deg, lon_east_deg)?;
+    let (body, site) = place(body, lat_deg, lon_east_deg)?;
     let at = epoch_of(time)?;
     let d = PyDict::new(py);
     for (k, v) in SUN_KEYS.iter().zip(sun_at(body, &site, at)) {
@@ -128,8 +130,7 @@ fn sun_series<'py>(
     lon_east_deg: f64,
     body: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let body = body_of(body)?;
-    let site = site_of(body, lat_deg, lon_east_deg)?;
+    let (body, site) = place(body, lat_deg, lon_east_deg)?;
     let times = unix_s.as_slice()?.to_vec();
     let rows: Vec<[f64; 6]> =
         py.detach(|| times.iter().map(|&s| sun_at(body, &site, hifitime::Epoch::from_unix_seconds(s))).collect());
