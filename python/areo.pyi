@@ -45,7 +45,8 @@ class Dem:
     """A digital elevation model (GeoTIFF, PDS3, ESRI ASCII grid)."""
     @property
     def heights(self) -> npt.NDArray[np.float32]:
-        """(rows, cols) heights, m, row 0 northernmost; NaN where no data (a copy)."""
+        """(rows, cols) heights, m, row 0 northernmost; NaN where no data. Read-only,
+        the same array at every access (`.copy()` for one to change)."""
     @property
     def cols(self) -> int: ...
     @property
@@ -81,6 +82,9 @@ class RunResult:
     def tables(self) -> dict[str, list[dict[str, Any]]]:
         """Every CSV table the run wrote (plan, executed, replans, monte_carlo, …)."""
     def table(self, name: str) -> list[dict[str, Any]]: ...
+    def table_array(self, name: str) -> np.recarray:
+        """One table as a NumPy record array: float64 columns where every cell is a
+        number (empty: NaN), text columns otherwise."""
 
 class Scenario:
     """A scenario file and the fields set on it."""

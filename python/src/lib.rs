@@ -27,7 +27,7 @@ use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{IntoPyDict, PyDict, PyList};
 
 create_exception!(areo, AreoError, PyException, "An areo library error: bad input or a failed run.");
 create_exception!(
@@ -145,18 +145,30 @@ fn sun_series<'py>(
 #[pyclass(name = "Dem", frozen, module = "areo")]
 struct PyDem {
     dem: Dem,
+    /// The heights as NumPy holds them: made once when read, handed out as is.
+    heights: Py<PyArray2<f32>>,
+}
+
+impl PyDem {
+    fn new(py: Python<'_>, dem: Dem) -> PyResult<PyDem> {
+        let z: Vec<f32> =
+            dem.elevations().iter().zip(dem.valid_mask()).map(|(&z, &ok)| if ok { z } else { f32::NAN }).collect();
+        // The vector becomes the array's buffer (no copy); read-only, as the shadows and
+        // horizons computed from this Dem use the heights as read.
+        let heights = PyArray1::from_vec(py, z).reshape([dem.rows(), dem.cols()])?;
+        heights.call_method("setflags", (), Some(&[("write", false)].into_py_dict(py)?))?;
+        Ok(PyDem { dem, heights: heights.unbind() })
+    }
 }
 
 #[pymethods]
 impl PyDem {
-    /// Heights, m, as a (rows, cols) float32 array, row 0 the northernmost; NaN where
-    /// the file has no data. A copy: the Dem keeps its own.
+    /// Heights, m, as a read-only (rows, cols) float32 array, row 0 the northernmost;
+    /// NaN where the file has no data. The same array at every access (made once when
+    /// the DEM was read); `heights.copy()` for one to change.
     #[getter]
-    fn heights<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
-        let d = &self.dem;
-        let z: Vec<f32> =
-            d.elevations().iter().zip(d.valid_mask()).map(|(&z, &ok)| if ok { z } else { f32::NAN }).collect();
-        PyArray1::from_vec(py, z).reshape([d.rows(), d.cols()])
+    fn heights<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f32>> {
+        self.heights.bind(py).clone()
     }
 
     /// Columns (west to east).
@@ -202,7 +214,7 @@ impl PyDem {
 #[pyfunction]
 fn read_dem(py: Python<'_>, path: PathBuf) -> PyResult<PyDem> {
     let read = py.detach(|| areo_scenario::terrain::read_dem(&path));
-    read.map(|dem| PyDem { dem }).map_err(|e| to_py(py, &e))
+    PyDem::new(py, read.map_err(|e| to_py(py, &e))?)
 }
 
 fn curvature(dem: &Dem, curved: bool) -> Curvature {
@@ -458,6 +470,35 @@ impl PyRunResult {
             .find(|f| f.extension().is_some_and(|e| e == "csv") && f.file_stem().is_some_and(|s| s == name))
             .ok_or_else(|| pyo3::exceptions::PyKeyError::new_err(name.to_string()))?;
         read_table(py, f)
+    }
+
+    /// One table as a NumPy record array (`numpy.rec.fromarrays`): a float64 column
+    /// where every cell is a number (an empty cell NaN), a text column otherwise.
+    fn table_array<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+        let rows = self.table(py, name)?;
+        let np = py.import("numpy")?;
+        let names: Vec<String> = match rows.iter().next() {
+            Some(first) => first.cast_into::<PyDict>()?.keys().iter().map(|k| k.extract()).collect::<PyResult<_>>()?,
+            None => Vec::new(),
+        };
+        let columns = PyList::empty(py);
+        for n in &names {
+            let values: Vec<Bound<'py, PyAny>> = rows.iter().map(|r| r.get_item(n)).collect::<PyResult<_>>()?;
+            let numeric = values.iter().all(|v| v.is_none() || v.extract::<f64>().is_ok());
+            let column = if numeric {
+                let xs: Vec<f64> = values.iter().map(|v| v.extract::<f64>().unwrap_or(f64::NAN)).collect();
+                PyArray1::from_vec(py, xs).into_any()
+            } else {
+                let texts: Vec<String> = values
+                    .iter()
+                    .map(|v| if v.is_none() { Ok(String::new()) } else { v.str()?.extract() })
+                    .collect::<PyResult<_>>()?;
+                np.call_method1("array", (texts,))?
+            };
+            columns.append(column)?;
+        }
+        let kwargs = [("names", names.join(","))].into_py_dict(py)?;
+        np.getattr("rec")?.call_method("fromarrays", (columns,), Some(&kwargs))
     }
 
     fn __repr__(&self) -> String {

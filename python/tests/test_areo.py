@@ -82,6 +82,10 @@ def test_read_dem_gives_heights_cell_size_and_crs():
     dem = areo.read_dem(GALE)
     z = dem.heights
     assert z.shape == (dem.rows, dem.cols) == (64, 64) and z.dtype == np.float32
+    # One array, read-only, handed out at every access.
+    assert dem.heights is z and not z.flags.writeable
+    with pytest.raises(ValueError):
+        z[0, 0] = 0.0
     dx, dy = dem.cell_size
     assert dx > 0 and dy > 0
     gt = dem.geotransform
@@ -144,6 +148,11 @@ def test_a_scenario_run_gives_the_binarys_facts_and_tables(tmp_path):
     assert len(plan) == ours["initial_plan_waypoints"]
     assert plan[0]["action"] in {"hibernate", "drive", "charge", "start"}
     assert "monte_carlo" in result.tables and len(result.tables["monte_carlo"]) == 2000
+    # The same table as a NumPy record array: numbers as float64, text as text.
+    arr = result.table_array("plan")
+    assert len(arr) == len(plan) and arr["t_s"].dtype == np.float64 and arr["action"].dtype.kind == "U"
+    assert np.array_equal(arr["t_s"], [row["t_s"] for row in plan])
+    assert list(arr["action"]) == [row["action"] or "" for row in plan]
     assert any(p.name == "facts.json" for p in result.files)
 
 
