@@ -22,6 +22,14 @@
 //! The search itself is unchanged: it runs over a model whose every action is worse,
 //! so dominance, re-planning and `compare_fresh` work as in deterministic mode, and a
 //! confidence of 0.5 (z = 0) or zero σ gives the deterministic plan exactly.
+//!
+//! The map's height error is a different kind of uncertainty — it moves slopes and
+//! shadows cell by cell — so it is planned for on a different world:
+//! [`planning_clones`] draws error clones of the map ([`dem_clone`]) and
+//! [`World::envelope`] makes the world on which every drive costs its worst over them,
+//! a cell is lit only where every one is lit and the array earns no more than the least
+//! any gives; a plan made there holds on each clone (tests/terrain_error.rs), and
+//! [`open_loop_on`] measures how it does on clones it never saw.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
