@@ -231,7 +231,10 @@ fn uncertainty_work(job: &TempestJob) -> (u64, u64, u64) {
     let Some(u) = &job.uncertainty else { return (1, 0, 0) };
     let plans = 2u64;
     let (runs, closed) = job.monte_carlo.as_ref().map_or((0, 0), |m| (m.runs as u64, m.closed_loop_runs as u64));
-    let clones = if u.terrain_sigma_m > 0.0 { (u.terrain_clones + u.terrain_plan_clones) as u64 } else { 0 };
+    // Planning on error clones adds their envelope: a world of its own (a raised horizon
+    // map, the members' heights), counted as one more clone.
+    let planning = u.terrain_plan_clones + usize::from(u.terrain_plan_clones > 0);
+    let clones = if u.terrain_sigma_m > 0.0 { (u.terrain_clones + planning) as u64 } else { 0 };
     (plans.saturating_add(closed.saturating_mul(plans)), clones, runs.saturating_mul(plans))
 }
 
