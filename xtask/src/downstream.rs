@@ -106,6 +106,46 @@ pub(crate) fn check(root: &Path) -> Result<Vec<Built>, String> {
     Ok(out)
 }
 
+/// The library crates a downstream project may depend on.
+pub(crate) const LIBRARY_CRATES: &[&str] = &[
+    "areo-body",
+    "areo-ephemeris",
+    "areo-terrain",
+    "areo-rover",
+    "areo-ise",
+    "areo-actions",
+    "areo-mission",
+    "areo-scenario",
+];
+
+/// `cargo package --list` for each library crate: the warnings cargo prints about its
+/// manifest (missing description, licence, documentation, readme …), one entry per
+/// crate that has any. `--list` checks the metadata and the file list without needing
+/// the areo crates it depends on to be on a registry (they are `publish = false`).
+pub(crate) fn package_warnings(root: &Path) -> Result<Vec<(String, Vec<String>)>, String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut out = Vec::new();
+    for name in LIBRARY_CRATES {
+        let run = Command::new(&cargo)
+            .args(["package", "--list", "--offline", "--allow-dirty", "-p", name])
+            .current_dir(root)
+            .output()
+            .map_err(|e| format!("{name}: cargo package: {e}"))?;
+        if !run.status.success() {
+            return Err(format!("{name}: cargo package --list failed:\n{}", String::from_utf8_lossy(&run.stderr)));
+        }
+        let warnings: Vec<String> = String::from_utf8_lossy(&run.stderr)
+            .lines()
+            .filter(|l| l.trim_start().starts_with("warning"))
+            .map(str::to_string)
+            .collect();
+        if !warnings.is_empty() {
+            out.push((name.to_string(), warnings));
+        }
+    }
+    Ok(out)
+}
+
 /// Writes the scratch crate `s` into `dir`, with the workspace's lock file so that it
 /// resolves to the versions the workspace builds (offline).
 fn write_scratch(root: &Path, dir: &Path, s: &Scratch) -> Result<(), String> {
@@ -135,5 +175,11 @@ mod tests {
         // with its default features has 103.)
         let count = |name: &str| built.iter().find(|b| b.name == name).map_or(0, |b| b.dependencies);
         assert!(count("ephemeris-only") < 40 && count("terrain-core") < 80, "{built:?}");
+    }
+
+    #[test]
+    fn every_library_crate_packages_without_a_metadata_warning() {
+        let warned = super::package_warnings(&crate::project_root()).unwrap_or_else(|e| panic!("{e}"));
+        assert!(warned.is_empty(), "cargo package warns: {warned:?}");
     }
 }

@@ -54,13 +54,23 @@ fn main() -> ExitCode {
                 violations.is_empty()
             }),
         Some("bench") => bench::run(&project_root(), &args[1..]),
-        Some("downstream") => downstream::check(&project_root()).map(|built| {
+        Some("downstream") => downstream::check(&project_root()).and_then(|built| {
             for b in &built {
                 let unwanted =
                     if b.unwanted.is_empty() { String::new() } else { format!("; pulls in {:?}", b.unwanted) };
                 println!("{}: builds and runs; {} packages in its dependency tree{unwanted}", b.name, b.dependencies);
             }
-            built.iter().all(|b| b.unwanted.is_empty())
+            let warned = downstream::package_warnings(&project_root())?;
+            for (name, warnings) in &warned {
+                println!("{name}: cargo package warns: {}", warnings.join("; "));
+            }
+            if warned.is_empty() {
+                println!(
+                    "cargo package --list: no metadata warning in {} library crates",
+                    downstream::LIBRARY_CRATES.len()
+                );
+            }
+            Ok(built.iter().all(|b| b.unwanted.is_empty()) && warned.is_empty())
         }),
         Some("fuzz") => fuzz::Options::parse(&args[1..]).and_then(|o| fuzz::run(&project_root(), &o)),
         _ => {
