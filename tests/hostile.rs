@@ -578,3 +578,47 @@ fn small_cases_exit_as_documented() {
     );
     assert!(!String::from_utf8_lossy(&o.stdout).contains("skipped"));
 }
+
+/// The work budget holds during the run, not only in the estimate before it: on
+/// devon-island with a battery too low to move (fuzz seed 7's finding: 4.8 M expansions
+/// against an estimate of 3.04 M label classes, minutes of search) the searches stop
+/// where the budget ends, and the run says so — bad input's exit code, the file, the
+/// flag — instead of running on or calling the goal unreachable.
+#[test]
+fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
+    let dir = tmp("work-spent");
+    let scenario = root().join("scenarios/devon-island.ron");
+    // Admitted: the estimate is 10 000 cells × 64 sectors of sweeps plus 3.04 M label
+    // classes; the searches may use what the budget leaves after the sweeps.
+    let sweeps = 10_000 * 64;
+    let budget = sweeps + 500_000;
+    let out = areo(&[
+        "-q",
+        "run",
+        scenario.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+        "--set",
+        "job.start_battery_above_floor_wh=0.001",
+        "--max-work",
+        &budget.to_string(),
+    ]);
+    let err = stderr(&out);
+    assert!(err.contains("needs about 3.04e6 steps"), "refused by the estimate first: {err}");
+    let out = areo(&[
+        "-q",
+        "run",
+        scenario.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+        "--set",
+        "job.start_battery_above_floor_wh=0.001",
+        "--max-work",
+        "3.04e6",
+    ]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("devon-island.ron") && err.contains("--max-work"), "{err}");
+    assert!(err.contains(&format!("stopped after {} label expansions", 3_040_000 - sweeps)), "{err}");
+    assert!(!err.contains("unreachable"), "stopping is not a proof that no plan exists: {err}");
+}

@@ -47,7 +47,10 @@ fn to_py(py: Python<'_>, e: &Error) -> PyErr {
         Error::Scenario { path, field, .. } | Error::Referenced { path, field, .. } => {
             (Some(path), None, None, Some(field))
         }
-        Error::Read { path, .. } | Error::Grid { path, .. } | Error::Io { path, .. } => (Some(path), None, None, None),
+        Error::Read { path, .. }
+        | Error::Grid { path, .. }
+        | Error::Io { path, .. }
+        | Error::WorkSpent { path, .. } => (Some(path), None, None, None),
         Error::Terrain(t) => (t.path(), None, None, None),
         _ => (None, None, None, None),
     };

@@ -135,6 +135,14 @@ pub trait Domain {
         true
     }
 
+    /// Whether the work the caller allows is spent: the engine then stops a search
+    /// before its next expansion, leaves the graph as it stands (the least entry back on
+    /// the open list, so a later [`crate::Search::plan`] goes on from there) and reports
+    /// [`crate::Plan::stopped`]. The default never stops.
+    fn exhausted(&self) -> bool {
+        false
+    }
+
     /// The start test: whether a path may begin at (`state`, `label`) (start cell, start
     /// window, start energy).
     fn is_start(&self, state: Self::State, label: &Self::Label) -> bool;

@@ -104,6 +104,9 @@ pub struct Plan<D: Domain> {
     pub cost: f64,
     /// What the call did.
     pub stats: Stats,
+    /// The search stopped because [`Domain::exhausted`] said so: `path` is then not
+    /// known to be optimal, and `None` does not mean that no path exists.
+    pub stopped: bool,
 }
 
 /// A label in the graph: 48 bytes in TEMPEST, 32 on a grid. Its resolution class is
@@ -724,6 +727,7 @@ impl<D: Domain> Search<D> {
         self.stats = Stats::default();
         // A start label may already be in the graph (the rover moved along the plan).
         let mut best = self.best_known_start(domain, f64::INFINITY, |a, b| a.g < b.g);
+        let mut stopped = false;
         while let Some(top) = self.pop_valid(domain) {
             if best.is_some_and(|b| self.nodes[b].g + self.key_offset <= top.f()) {
                 self.open.push(top);
@@ -742,6 +746,12 @@ impl<D: Domain> Search<D> {
                 }
                 break;
             }
+            // Checked last: a search whose answer is on the open list needs no more work.
+            if domain.exhausted() {
+                self.open.push(top);
+                stopped = true;
+                break;
+            }
             self.expand(domain, id);
             if best.is_some_and(|b| !self.nodes[b].live()) {
                 // The expansion beat a label on the known start's path.
@@ -749,14 +759,20 @@ impl<D: Domain> Search<D> {
             }
         }
         self.finish_stats();
-        self.extract(best)
+        Plan { stopped, ..self.extract(best) }
     }
 
     fn plan_best_dparms(&mut self, domain: &D, max_cost: f64) -> Plan<D> {
         self.stats = Stats::default();
+        let mut stopped = false;
         while let Some(top) = self.pop_valid(domain) {
             if top.f() - self.key_offset > max_cost {
                 self.open.push(top);
+                break;
+            }
+            if domain.exhausted() {
+                self.open.push(top);
+                stopped = true;
                 break;
             }
             self.expand(domain, top.id());
@@ -765,7 +781,7 @@ impl<D: Domain> Search<D> {
             domain.better(&a.label, &b.label) || (!domain.better(&b.label, &a.label) && a.g < b.g)
         });
         self.finish_stats();
-        self.extract(best)
+        Plan { stopped, ..self.extract(best) }
     }
 
     /// The best live start label already in the graph with cost ≤ `max_cost`.
@@ -1243,7 +1259,7 @@ impl<D: Domain> Search<D> {
 
     fn extract(&self, best: Option<u32>) -> Plan<D> {
         let Some(start) = best else {
-            return Plan { path: None, cost: f64::INFINITY, stats: self.stats };
+            return Plan { path: None, cost: f64::INFINITY, stats: self.stats, stopped: false };
         };
         let total = self.nodes[start].g;
         let mut path = Vec::new();
@@ -1253,6 +1269,6 @@ impl<D: Domain> Search<D> {
             path.push(PathStep { state: n.state, label: n.label.clone(), action: n.action, cost_so_far: total - n.g });
             id = n.parent;
         }
-        Plan { path: Some(path), cost: total, stats: self.stats }
+        Plan { path: Some(path), cost: total, stats: self.stats, stopped: false }
     }
 }

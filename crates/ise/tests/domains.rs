@@ -28,6 +28,9 @@ struct TimeGrid {
     blocked: Vec<bool>, // [t][cell]
     cost: Vec<f64>,     // [t][cell], cost of being in the cell at t (paid on arrival)
     start: u32,
+    /// Expansions made, and how many the caller allows ([`Domain::exhausted`]).
+    spent: std::cell::Cell<u64>,
+    allowed: u64,
 }
 
 impl TimeGrid {
@@ -36,7 +39,7 @@ impl TimeGrid {
         let n = (w * h) as usize * (horizon as usize + 1);
         let blocked = (0..n).map(|_| r.below(100) < block_pct).collect();
         let cost = (0..n).map(|_| 1.0 + r.below(4) as f64).collect();
-        TimeGrid { w, h, horizon, blocked, cost, start: 0 }
+        TimeGrid { w, h, horizon, blocked, cost, start: 0, spent: Default::default(), allowed: u64::MAX }
     }
     fn idx(&self, cell: u32, t: u32) -> usize {
         t as usize * (self.w * self.h) as usize + cell as usize
@@ -85,6 +88,7 @@ impl Domain for TimeGrid {
     type Action = u8;
 
     fn expand(&self, s: u32, t: &u32, wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Step<Self>)) {
+        self.spent.set(self.spent.get() + 1);
         for a in (0..5u8).filter(|&a| wanted(a)) {
             if let Some(step) = self.predecessor(s, *t, a) {
                 visit(a, step);
@@ -107,6 +111,52 @@ impl Domain for TimeGrid {
         // One move per step at cost ≥ 1; and at least t steps remain before reaching t.
         self.manhattan(s, self.start).max(f64::from(t))
     }
+    fn exhausted(&self) -> bool {
+        self.spent.get() >= self.allowed
+    }
+}
+
+/// A search the domain stops ([`Domain::exhausted`]) makes no more expansions than
+/// allowed, says it stopped, and — allowed more — goes on from where it stood to the
+/// answer an unstopped search gives (a path, or none).
+#[test]
+fn a_stopped_search_says_so_and_resumes_to_the_unstopped_answer() {
+    let (mut stopped_without_answer, mut stopped_with_none) = (0, 0);
+    for seed in 0..60u64 {
+        let mut d = TimeGrid::random(seed, 6, 5, 12, if seed % 3 == 0 { 55 } else { 25 });
+        d.start = (seed % 30) as u32;
+        let goal = ((seed * 7 + 13) % 30) as u32;
+        let goals = || -> Vec<Goal<TimeGrid>> {
+            (0..=12).filter(|&t| d.free(goal, t)).map(|t| Goal { state: goal, label: t, cost: 0.0 }).collect()
+        };
+        let whole = Search::new(&d, goals(), Mode::BestPathCost).plan(&d);
+        let full_work = d.spent.get();
+        assert!(!whole.stopped);
+        if full_work < 4 {
+            continue;
+        }
+        let mut cut = d.clone();
+        cut.spent.set(0);
+        cut.allowed = full_work / 2;
+        let mut search = Search::new(&cut, goals(), Mode::BestPathCost);
+        let first = search.plan(&cut);
+        assert!(first.stopped, "seed {seed}: stopped at {} of {full_work}", cut.spent.get());
+        assert_eq!(cut.spent.get(), full_work / 2, "seed {seed}: no expansion past the allowance");
+        if first.path.is_none() {
+            stopped_without_answer += 1;
+            stopped_with_none += usize::from(whole.path.is_none());
+        }
+        cut.allowed = u64::MAX;
+        let rest = search.plan(&cut);
+        assert!(!rest.stopped);
+        assert_eq!(rest.path.is_some(), whole.path.is_some(), "seed {seed}");
+        if whole.path.is_some() {
+            assert!((rest.cost - whole.cost).abs() < 1e-9, "seed {seed}: {} vs {}", rest.cost, whole.cost);
+        }
+    }
+    // Stopping early is not "no path": both kinds of instance were stopped unanswered.
+    assert!(stopped_without_answer > 10, "{stopped_without_answer}");
+    assert!(stopped_with_none > 0 && stopped_with_none < stopped_without_answer, "{stopped_with_none}");
 }
 
 #[test]

@@ -184,6 +184,8 @@ pub struct TempestDomain<'a> {
     dark: Option<DarkCost>,
     /// Counts expansions for a progress display.
     meter: crate::planner::ExpansionMeter,
+    /// The expansions the planning call may still make ([`Domain::exhausted`]).
+    allowance: crate::planner::Allowance,
     /// The start window's close when the engine's keys were last brought up to date
     /// ([`Domain::heuristic_drop`]): the dark-time bound falls as it moves later.
     keyed_t_max: std::cell::Cell<f64>,
@@ -319,6 +321,13 @@ impl<'a> TempestDomain<'a> {
         self
     }
 
+    /// The domain spending its expansions from `allowance` (shared by the searches of one
+    /// planning call): it stops the search when that is spent.
+    pub(crate) fn allowing(mut self, allowance: crate::planner::Allowance) -> TempestDomain<'a> {
+        self.allowance = allowance;
+        self
+    }
+
     /// The domain.
     pub fn new(
         world: &'a World,
@@ -361,6 +370,7 @@ impl<'a> TempestDomain<'a> {
             ),
             keyed_t_max: std::cell::Cell::new(start.t_max),
             meter: crate::planner::ExpansionMeter::default(),
+            allowance: crate::planner::Allowance::default(),
         }
     }
 
@@ -622,6 +632,7 @@ impl Domain for TempestDomain<'_> {
         mut visit: impl FnMut(Action, Step<Self>),
     ) {
         self.meter.add(1);
+        self.allowance.spend();
         if (0..8).any(|k| wanted(Action::Drive(k)))
             && let Some(arrival) = self.model.arrival(self.world, state, label.t)
         {
@@ -738,6 +749,10 @@ impl Domain for TempestDomain<'_> {
     fn class_within_global(&self, state: u32, key: i64) -> bool {
         // The time class [kΔ, (k+1)Δ) holds a reachable instant.
         ((key >> 24) + 1) as f64 * self.resolution.time_s > self.earliest(state) - 1e-6
+    }
+
+    fn exhausted(&self) -> bool {
+        self.allowance.exhausted()
     }
 
     fn is_start(&self, state: u32, label: &Label) -> bool {

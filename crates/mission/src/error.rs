@@ -35,6 +35,17 @@ pub enum Error {
         /// What refused it.
         binding: String,
     },
+    /// A planning call reached [`crate::PlannerConfig::max_expansions`] before it had an
+    /// answer: neither a plan nor a proof that none exists.
+    #[error(
+        "the searches stopped after {expansions} label expansions, the most one planning call may make ({limit}): no plan, and no proof that none exists"
+    )]
+    WorkLimit {
+        /// Expansions made by the call.
+        expansions: u64,
+        /// The limit.
+        limit: u64,
+    },
     /// The terrain could not be processed.
     #[error(transparent)]
     Terrain(#[from] areo_terrain::Error),

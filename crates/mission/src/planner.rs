@@ -59,6 +59,62 @@ pub struct PlannerConfig {
     /// scenario field; no effect on the plan).
     #[serde(skip)]
     pub meter: ExpansionMeter,
+    /// The most label expansions one planning call ([`Mission::plan`],
+    /// [`Mission::advance`], [`Mission::replan`], …) may make over all its searches —
+    /// the finer-class retries and the binding-constraint probes included. A call that
+    /// reaches it stops with [`Error::WorkLimit`]: no plan, and no proof that none
+    /// exists. `None`: no limit. Not a scenario field: the run's work budget sets it.
+    #[serde(skip)]
+    pub max_expansions: Option<u64>,
+}
+
+/// The label expansions one planning call may still make, shared by the domains of its
+/// searches (see [`PlannerConfig::max_expansions`]). One mission's searches run one
+/// after another, so where a call stops does not depend on threads.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Allowance(Rc<AllowanceState>);
+
+#[derive(Debug, Default)]
+struct AllowanceState {
+    spent: std::cell::Cell<u64>,
+    limit: std::cell::Cell<Option<u64>>,
+    /// A search was stopped since the call began.
+    stopped: std::cell::Cell<bool>,
+}
+
+impl Allowance {
+    fn new(limit: Option<u64>) -> Allowance {
+        let a = Allowance::default();
+        a.0.limit.set(limit);
+        a
+    }
+
+    /// A new planning call: nothing spent, nothing stopped.
+    fn begin(&self) {
+        self.0.spent.set(0);
+        self.0.stopped.set(false);
+    }
+
+    pub(crate) fn spend(&self) {
+        self.0.spent.set(self.0.spent.get() + 1);
+    }
+
+    /// Whether the next expansion would go past the limit (the search asking stops).
+    pub(crate) fn exhausted(&self) -> bool {
+        let out = self.0.limit.get().is_some_and(|l| self.0.spent.get() >= l);
+        if out {
+            self.0.stopped.set(true);
+        }
+        out
+    }
+
+    /// [`Error::WorkLimit`] if a search of this call was stopped.
+    fn check(&self) -> Result<()> {
+        match self.0.limit.get() {
+            Some(limit) if self.0.stopped.get() => Err(Error::WorkLimit { expansions: self.0.spent.get(), limit }),
+            _ => Ok(()),
+        }
+    }
 }
 
 /// A count of label expansions shared with whoever watches a search run (another
@@ -105,6 +161,7 @@ impl Default for PlannerConfig {
             max_wait_s: None,
             goal_energy_wh: 0.0,
             meter: ExpansionMeter::default(),
+            max_expansions: None,
         }
     }
 }
@@ -217,6 +274,8 @@ pub struct Mission<'a> {
     /// The time class width the start window was widened for, s (the configured one:
     /// the last resort keeps it).
     widened_for_s: f64,
+    /// The expansions the current planning call may still make.
+    allowance: Allowance,
 }
 
 fn goal_list(goals: &[(Label, f64)], cell: u32) -> Vec<Goal<TempestDomain<'static>>> {
@@ -300,6 +359,7 @@ impl<'a> Mission<'a> {
         // never narrower than the last try's — at finer classes than the last, so that
         // what a coarser setting finds a finer one finds too (see `finer_classes`).
         let geometry = SharedGeometry::default();
+        let allowance = Allowance::new(config.max_expansions);
         let (mut config, mut start, mut last_resort) = (config, start, false);
         let (given_t_max, widened_for_s) = (start.t_max, config.resolution.time_s);
         loop {
@@ -314,10 +374,12 @@ impl<'a> Mission<'a> {
                 last_resort,
                 given_t_max,
                 widened_for_s,
+                allowance: allowance.clone(),
             };
             mission.widen_start();
             mission.build_segments();
             mission.solve_from(Some(mission.segments.len() - 1), &[], false);
+            allowance.check()?;
             if let Some(plan) = mission.assemble()? {
                 return Ok((mission, plan));
             }
@@ -501,7 +563,8 @@ impl<'a> Mission<'a> {
             self.config.path_length,
         )
         .sharing_geometry(&self.geometry)
-        .metered(self.config.meter.clone());
+        .metered(self.config.meter.clone())
+        .allowing(self.allowance.clone());
         let search = Search::new(&domain, relabel_goals(goal_list(&goals, to)), domain.mode());
         Segment { from, to, domain, search, goals, intervals, candidates: Vec::new(), stats: Stats::default() }
     }
@@ -706,9 +769,13 @@ impl<'a> Mission<'a> {
                 last_resort: self.last_resort,
                 given_t_max: self.given_t_max,
                 widened_for_s: self.widened_for_s,
+                allowance: self.allowance.clone(),
             };
             probe.build_segments();
             probe.solve_from(Some(probe.segments.len() - 1), &[], false);
+            if let Err(e) = self.allowance.check() {
+                return e;
+            }
             if !probe.segments[0].candidates.is_empty() {
                 return Error::Unreachable { binding, message: binding.describe().to_string() };
             }
@@ -723,7 +790,9 @@ impl<'a> Mission<'a> {
     /// Re-plans after the world changed in `changed` cells (from [`World::set_blocked`]
     /// or [`World::set_slope`]).
     pub fn replan(&mut self, changed: &[u32]) -> Result<MissionPlan> {
+        self.allowance.begin();
         self.solve_from(None, changed, false);
+        self.allowance.check()?;
         self.assemble()?.ok_or_else(|| self.explain_unreachable())
     }
 
@@ -732,6 +801,7 @@ impl<'a> Mission<'a> {
     /// change in `changed` cells. Every segment's graph is kept; the segments searched
     /// again are the first and those up to the latest one the change touched.
     pub fn advance(&mut self, start: Start, changed: &[u32]) -> Result<MissionPlan> {
+        self.allowance.begin();
         self.start = start;
         self.given_t_max = start.t_max;
         self.widen_start();
@@ -743,6 +813,7 @@ impl<'a> Mission<'a> {
         let restricted = seg.search.restrict(&seg.domain);
         self.solve_from(None, changed, true);
         add_stats(&mut self.segments[0].stats, &restricted);
+        self.allowance.check()?;
         self.assemble()?.ok_or_else(|| self.explain_unreachable())
     }
 
@@ -751,6 +822,7 @@ impl<'a> Mission<'a> {
     /// new graphs — for checking what re-planning on the kept graphs gives (its cost,
     /// its expansions) against. `None` when no plan exists.
     pub fn fresh(&self) -> Result<Option<MissionPlan>> {
+        self.allowance.begin();
         let n = self.segments.len();
         let segments = self
             .segments
@@ -778,8 +850,10 @@ impl<'a> Mission<'a> {
             last_resort: self.last_resort,
             given_t_max: self.given_t_max,
             widened_for_s: self.widened_for_s,
+            allowance: self.allowance.clone(),
         };
         fresh.solve_from(Some(n - 1), &[], n > 0);
+        self.allowance.check()?;
         fresh.assemble()
     }
 

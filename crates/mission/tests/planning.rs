@@ -531,3 +531,59 @@ fn the_world_memory_estimate_bounds_a_built_world() {
     let with_truth = World::estimate_bytes(cells, 16, true) - estimate;
     assert_eq!(with_truth, cells * (areo_terrain::Dem::BYTES_PER_CELL + World::GRID_BYTES_PER_CELL));
 }
+
+/// `max_expansions` bounds a planning call's work, the finer-class retries and the
+/// binding-constraint probes included: a call that reaches it stops with
+/// `WorkLimit` — not "unreachable" — and a limit the call does not reach changes
+/// nothing.
+#[test]
+fn a_planning_call_stops_at_its_expansion_limit_and_says_so() {
+    let counted = |world: &World, model: &areo_mission::ActionModel, config: PlannerConfig, start, goal| {
+        let meter = areo_mission::ExpansionMeter::counting();
+        let out = Mission::plan(world, model, PlannerConfig { meter: meter.clone(), ..config }, start, &[goal]);
+        (out.map(|(_, plan)| plan), meter.expansions())
+    };
+    // A plan: found in n expansions; n allowed gives the same plan, fewer stop.
+    let world = fixed_sun_world(flat(40, 30, 10.0), 120.0, 60.0, 30.0);
+    let model = model(1e5, ActionConfig::default());
+    let start = Start { cell: world.cell(2, 3), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let goal = world.cell(33, 20);
+    let (free, n) = counted(&world, &model, PlannerConfig::default(), start, goal);
+    let free = free.unwrap();
+    assert!(n > 100, "{n}");
+    let just = PlannerConfig { max_expansions: Some(n), ..PlannerConfig::default() };
+    assert_eq!(counted(&world, &model, just, start, goal).0.unwrap(), free);
+    let short = PlannerConfig { max_expansions: Some(n - 1), ..PlannerConfig::default() };
+    match counted(&world, &model, short, start, goal) {
+        (Err(Error::WorkLimit { expansions, limit }), spent) => {
+            assert_eq!((expansions, limit, spent), (n - 1, n - 1, n - 1), "no expansion past the limit");
+        }
+        other => panic!("{other:?}"),
+    }
+
+    // No plan: the answer "unreachable (battery)" needs the probes' work too; a limit
+    // that stops any of it is reported as the limit, never as "unreachable".
+    let mut actions = ActionConfig::default();
+    actions.drive.daylight = false;
+    let small = crate::common::model(50.0, actions);
+    let long = fixed_sun_world(flat(80, 3, 20.0), 90.0, -30.0, 12.0);
+    let start = Start { cell: long.cell(2, 1), t_min: 0.0, t_max: 0.0, energy_wh: 45.0 };
+    let quick = PlannerConfig { max_wait_s: Some(3600.0), ..PlannerConfig::default() };
+    let goal = long.cell(77, 1);
+    let (refused, m) = counted(&long, &small, quick.clone(), start, goal);
+    assert!(matches!(refused, Err(Error::Unreachable { binding: Binding::Battery, .. })), "{refused:?}");
+    let just = PlannerConfig { max_expansions: Some(m), ..quick.clone() };
+    assert!(matches!(
+        counted(&long, &small, just, start, goal).0,
+        Err(Error::Unreachable { binding: Binding::Battery, .. })
+    ));
+    // Stopped in the search itself and among the probes (the search is about 85 % of
+    // the work here).
+    for limit in [m / 10, m * 9 / 10, m - 1] {
+        let capped = PlannerConfig { max_expansions: Some(limit), ..quick.clone() };
+        match counted(&long, &small, capped, start, goal) {
+            (Err(Error::WorkLimit { expansions, .. }), spent) => assert_eq!((expansions, spent), (limit, limit)),
+            other => panic!("limit {limit} of {m}: {other:?}"),
+        }
+    }
+}

@@ -175,10 +175,12 @@ impl DemCommand {
 /// The cost of a TEMPEST job on a map of `cells` cells.
 ///
 /// Work is the horizon map's cell-sector sweeps plus the label classes the searches may
-/// fill: cells × time classes (horizon / `resolution.time_s`) × goals. Each class holds
-/// a Pareto front in (cost, battery energy), a few labels in practice; energy is never
-/// bucketed, so it adds no factor. An upper bound that the shipped scenarios fill to a
-/// few per cent, and the figure that grows without limit when classes are made fine.
+/// fill: cells × time classes (horizon / `resolution.time_s`) × goals, per search. Each
+/// class holds a Pareto front in (cost, battery energy), a few labels in practice;
+/// energy is never bucketed, so it adds no factor. The shipped scenarios fill it to a
+/// few per cent, but it is an estimate, not a bound: a search with a battery too low to
+/// move (fuzz seed 7 on devon-island) expanded 4.8 M labels against 3.04 M classes. What
+/// bounds the run is [`search_allowance`]: the searches stop where the budget ends.
 pub fn tempest(job: &TempestJob, cells: u64) -> Estimate {
     let sectors = job.horizon_sectors as u64;
     let truth = !matches!(job.truth, Truth::Map);
@@ -186,28 +188,63 @@ pub fn tempest(job: &TempestJob, cells: u64) -> Estimate {
     // and the searches' graphs (measured per cell).
     let memory_bytes = areo_mission::World::estimate_bytes(cells, job.horizon_sectors, truth)
         .saturating_add(areo_mission::Mission::estimate_search_bytes(cells));
-    let r = &job.planner.resolution;
-    let time_classes = (job.horizon_h * 3600.0 / r.time_s).ceil().max(1.0);
-    let labels = cells as f64 * time_classes * job.goals.len().max(1) as f64;
-    // Under uncertainty: a second (deterministic) plan, a whole mission per closed-loop
-    // run of each, a world per terrain clone (its slopes and horizon changes) and a walk
-    // along the plan per open-loop execution.
-    let (searches, clones, executions) = chance_work(job);
+    let (_, clones, _) = chance_work(job);
     let memory_bytes = memory_bytes.saturating_add(clones.saturating_mul(areo_mission::World::estimate_bytes(
         cells,
         job.horizon_sectors,
         false,
     )));
-    let sweeps = cells.saturating_mul(sectors.max(1)).saturating_mul(clones.saturating_add(1)) as f64;
-    let work = sweeps + labels * searches as f64 + executions as f64 * time_classes;
+    let work = TempestWork::of(job, cells);
     Estimate {
         what: format!(
-            "the TEMPEST job on {cells} cells ({sectors} horizon sectors, {time_classes} time classes, {} goals, {searches} searches)",
-            job.goals.len()
+            "the TEMPEST job on {cells} cells ({sectors} horizon sectors, {} time classes, {} goals, {} searches)",
+            work.time_classes,
+            job.goals.len(),
+            work.searches
         ),
         memory_bytes,
-        work_steps: work.min(u64::MAX as f64) as u64,
+        work_steps: (work.other + work.labels).min(u64::MAX as f64) as u64,
         work_unit: "cell-sector sweeps and label classes",
+    }
+}
+
+/// The label expansions one planning call of a TEMPEST job on `cells` cells may make
+/// under `budget` (`areo_mission::PlannerConfig::max_expansions`): the work the budget
+/// leaves after the job's horizon sweeps and executions — as if that one call were all
+/// the search the job does. A job admitted by its estimate stops here only where its
+/// searches do more than the estimate's label classes.
+pub fn search_allowance(job: &TempestJob, cells: u64, budget: &Budget) -> u64 {
+    let other = TempestWork::of(job, cells).other.min(u64::MAX as f64) as u64;
+    budget.work_steps.saturating_sub(other).max(1)
+}
+
+/// A TEMPEST job's work, in the estimate's steps.
+struct TempestWork {
+    time_classes: f64,
+    searches: u64,
+    /// Label classes over all searches.
+    labels: f64,
+    /// Horizon sweeps (the map's and the clones') and open-loop executions.
+    other: f64,
+}
+
+impl TempestWork {
+    fn of(job: &TempestJob, cells: u64) -> TempestWork {
+        let sectors = job.horizon_sectors as u64;
+        let r = &job.planner.resolution;
+        let time_classes = (job.horizon_h * 3600.0 / r.time_s).ceil().max(1.0);
+        let labels = cells as f64 * time_classes * job.goals.len().max(1) as f64;
+        // Under uncertainty: a second (deterministic) plan, a whole mission per
+        // closed-loop run of each, a world per terrain clone (its slopes and horizon
+        // changes) and a walk along the plan per open-loop execution.
+        let (searches, clones, executions) = chance_work(job);
+        let sweeps = cells.saturating_mul(sectors.max(1)).saturating_mul(clones.saturating_add(1)) as f64;
+        TempestWork {
+            time_classes,
+            searches,
+            labels: labels * searches as f64,
+            other: sweeps + executions as f64 * time_classes,
+        }
     }
 }
 

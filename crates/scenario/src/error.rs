@@ -36,6 +36,18 @@ pub enum Error {
         /// What it is allowed.
         limit: crate::budget::Budget,
     },
+    /// A planning call of the job reached the work budget before it had an answer
+    /// (the searches stop there; see `areo_mission::PlannerConfig::max_expansions`).
+    #[error(
+        "{}: the TEMPEST searches stopped after {expansions} label expansions, as many as the work budget allows one planning call (raise it with --max-work): no plan, and no proof that none exists",
+        path.display()
+    )]
+    WorkSpent {
+        /// The scenario.
+        path: PathBuf,
+        /// Expansions the call made.
+        expansions: u64,
+    },
     /// An output file could not be written (a full disk, no permission): a failure
     /// while running.
     #[error("{path}: {source}")]
@@ -122,7 +134,7 @@ impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Syntax { .. } | Error::Invalid { .. } | Error::Grid { .. } | Error::Ephemeris(_) => 2,
-            Error::Read { .. } | Error::Budget { .. } => 2,
+            Error::Read { .. } | Error::Budget { .. } | Error::WorkSpent { .. } => 2,
             // A referenced file that cannot be read or used is bad input, whatever the
             // cause; only an output that cannot be written is a failure while running.
             Error::Referenced { source, .. } => match source.exit_code() {

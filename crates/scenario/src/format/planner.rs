@@ -251,6 +251,8 @@ impl From<&PlannerSpec> for m::PlannerConfig {
             max_wait_s: p.max_wait_s,
             goal_energy_wh: p.goal_energy_wh,
             meter: m::ExpansionMeter::default(),
+            // Set by the run from its work budget, not by the file.
+            max_expansions: None,
         }
     }
 }

@@ -456,7 +456,26 @@ fn located_uncertainty(file: &ScenarioFile, e: Error) -> Error {
         Error::Mission(MissionError::Config { field, message }) if field.starts_with("uncertainty.") => {
             scenario_error(file, format!("job.{field}"), message)
         }
+        Error::Mission(e @ MissionError::WorkLimit { .. }) => located(file, e),
         other => other,
+    }
+}
+
+/// The job's planner settings as every search of the run uses them: no planning call
+/// may expand more labels than the work budget leaves for searching (an expansion is
+/// one of the estimate's label-class steps; `budget::search_allowance`) — the
+/// estimate is checked before the run, this holds during it.
+fn planner_config(job: &TempestJob, opts: &RunOptions<'_>, world: &World) -> areo_mission::PlannerConfig {
+    let allowance = crate::budget::search_allowance(job, world.cells() as u64, &opts.budget);
+    areo_mission::PlannerConfig { max_expansions: Some(allowance), ..(&job.planner).into() }
+}
+
+/// A planner error as the scenario's: a planning call stopped by its work limit names
+/// the file and the flag that raises it.
+fn located(file: &ScenarioFile, e: MissionError) -> Error {
+    match e {
+        MissionError::WorkLimit { expansions, .. } => Error::WorkSpent { path: file.path.clone(), expansions },
+        e => e.into(),
     }
 }
 
@@ -469,8 +488,8 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     // A chance-constrained plan allows for a late start.
     let plan_start = chance::uncertainty(job).map_or(*start, |u| u.planning_start(*start));
     // The searches count their expansions into a meter that a watcher shows while the
-    // planner works: against the budget's estimate (an upper bound: every cell in every
-    // label class) when planning, simulated minutes against the horizon when simulating.
+    // planner works: against the budget's estimate (every cell in every label class; the
+    // searches stop at the budget) when planning, simulated minutes against the horizon when simulating.
     let meter = areo_mission::ExpansionMeter::counting();
     // Planning for the terrain's height error: on the envelope of the map and its clones.
     let envelope = chance::planning_envelope(job, world, config).map_err(|e| located_uncertainty(file, e))?;
@@ -480,7 +499,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     let pristine = pristine_belief(job, plan_world);
     let belief = if envelope.is_some() { world } else { pristine.as_ref().unwrap_or(world) };
     let plan_belief = pristine.as_ref().unwrap_or(plan_world);
-    let planner = areo_mission::PlannerConfig { meter: meter.clone(), ..(&job.planner).into() };
+    let planner = areo_mission::PlannerConfig { meter: meter.clone(), ..planner_config(job, &opts, world) };
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
             let bound = crate::budget::estimate(&file.scenario).map_or(0, |e| e.work_steps);
@@ -515,7 +534,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
             return Err(scenario_error(file, planner_field(field), message));
         }
         Err(MissionError::Unreachable { binding, message }) => Run::Unreachable { binding, message },
-        Err(e) => return Err(e.into()),
+        Err(e) => return Err(located(file, e)),
     };
     let initial = match &run {
         Run::Plan { plan, .. } => Some(plan),
@@ -525,13 +544,13 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     let chance = match initial {
         Some(plan) => {
             let worlds = ((belief, plan_belief), truth.as_ref().unwrap_or(belief));
-            chance::evaluate(job, (worlds, config), model, (&job.planner).into(), (*start, goals), plan)
+            chance::evaluate(job, (worlds, config), model, planner_config(job, &opts, world), (*start, goals), plan)
                 .map_err(|e| located_uncertainty(file, e))?
         }
         None => None,
     };
     let front = match initial {
-        Some(_) => front::evaluate(job, file, (belief, model), (plan_start, goals))?,
+        Some(_) => front::evaluate(job, file, (belief, model), (plan_start, goals), planner_config(job, &opts, world))?,
         None => None,
     };
     // Off Mars: where the rover can wait out a shadow or a loss of the Earth.

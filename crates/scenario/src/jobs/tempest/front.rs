@@ -22,16 +22,17 @@ pub(super) fn evaluate(
     file: &ScenarioFile,
     (world, model): (&World, &ActionModel),
     (start, goals): (Start, &[u32]),
+    planner: areo_mission::PlannerConfig,
 ) -> Result<Option<ParetoFront>> {
     let Some(spec) = &job.pareto_front else { return Ok(None) };
-    let front = Mission::plan(world, model, (&job.planner).into(), start, goals)
+    let front = Mission::plan(world, model, planner, start, goals)
         .and_then(|(mission, _)| mission.pareto_front(spec.margin_step_wh));
     match front {
         Ok(front) => Ok(Some(front)),
         Err(areo_mission::Error::Config { field, message }) => {
             Err(super::scenario_error(file, super::planner_field(field), message))
         }
-        Err(e) => Err(e.into()),
+        Err(e) => Err(super::located(file, e)),
     }
 }
 
