@@ -28,6 +28,8 @@ class Unreachable(AreoError):
     binding: str
     """The binding constraint (`Battery`, `Darkness`, `Slope`, …)."""
     message: str
+    """The planner's words, with "(not a proof: …)" where the verdict holds only at the
+    scenario's classes (`result.facts["unreachable_proven"]` is False)."""
     result: RunResult
     """What the run wrote before it gave up."""
 

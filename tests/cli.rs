@@ -720,6 +720,9 @@ fn an_unreachable_goal_exits_3_with_the_binding_constraint_and_keeps_its_outputs
     assert!(err.contains("slopes above the rover's maximum"), "{err}");
     let facts: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&facts).unwrap()).unwrap();
     assert_eq!(facts["status"], "unreachable");
+    // A slope does not depend on time: the verdict holds at every setting.
+    assert_eq!(facts["unreachable_proven"], true);
+    assert!(!err.contains("not a proof"), "{err}");
 }
 
 #[test]

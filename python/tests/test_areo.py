@@ -176,6 +176,9 @@ def test_an_unreachable_goal_raises_unreachable_with_its_binding(tmp_path):
         sc.run(out=tmp_path)
     assert e.value.binding == "Battery"
     assert isinstance(e.value.result, areo.RunResult) and "initial_plan_waypoints" not in e.value.result.facts
+    # Unquantised actions: a verdict at the scenario's classes, and said to be one.
+    assert e.value.result.facts["unreachable_proven"] is False
+    assert "not a proof" in e.value.message
 
 
 def test_bad_files_raise_with_the_file_named(tmp_path):

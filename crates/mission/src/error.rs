@@ -12,14 +12,21 @@ pub enum Error {
         /// What is wrong and what is allowed.
         message: String,
     },
-    /// No plan exists; `binding` names the constraint that prevents one (found by
+    /// No plan was found; `binding` names the constraint that prevents one (found by
     /// relaxing constraints one at a time).
     #[error("unreachable: no plan reaches the goal; binding constraint: {message}")]
     Unreachable {
         /// The binding constraint.
         binding: Binding,
-        /// A description.
+        /// A description (saying so when the verdict is not `proven`).
         message: String,
+        /// Whether the verdict is exact: the cause does not depend on time (slope,
+        /// blocked ground, a goal window past the horizon), or the search that found no
+        /// plan was exact at the actions' quanta — every class one instant, energy
+        /// exact, for arrival at the goal instants of every `goal_times` up to the
+        /// configured one. False when the actions are unquantised: time classes then
+        /// merge instants, and a finer setting may find a plan.
+        proven: bool,
     },
     /// A planned action could not be predicted forward (the plan's battery and times
     /// are computed by replaying it): the search and the forward model disagree, and

@@ -338,7 +338,7 @@ impl<'a> Mission<'a> {
         for &g in goals {
             if !connected(world, model, at, g, true) {
                 let binding = if connected(world, model, at, g, false) { Binding::Slope } else { Binding::Blocked };
-                return Err(Error::Unreachable { binding, message: binding.describe().into() });
+                return Err(Error::Unreachable { binding, message: binding.describe().into(), proven: true });
             }
             at = g;
         }
@@ -777,14 +777,41 @@ impl<'a> Mission<'a> {
                 return e;
             }
             if !probe.segments[0].candidates.is_empty() {
-                return Error::Unreachable { binding, message: binding.describe().to_string() };
+                return self.unreachable(binding);
             }
         }
         let windows = self.windows();
         if windows.last().is_some_and(|w| w.0 >= self.world.span_s()) {
-            return Error::Unreachable { binding: Binding::Horizon, message: Binding::Horizon.describe().into() };
+            return Error::Unreachable {
+                binding: Binding::Horizon,
+                message: Binding::Horizon.describe().into(),
+                proven: true,
+            };
         }
-        Error::Unreachable { binding: Binding::Blocked, message: Binding::Blocked.describe().into() }
+        self.unreachable(Binding::Blocked)
+    }
+
+    /// "Unreachable" for `binding` after this mission's searches found no plan: proven
+    /// when they were exact at the quanta (the last resort), otherwise said to be a
+    /// verdict at these classes only.
+    fn unreachable(&self, binding: Binding) -> Error {
+        let proven = self.last_resort;
+        let mut message = binding.describe().to_string();
+        if !proven {
+            let q = self.model.config().time_quantum_s;
+            let why = if q == 0.0 {
+                "the actions' times are continuous (`time_quantum_s: 0`), so no search is exact"
+            } else if q < 1.0 {
+                "quanta under 1 s are not searched exactly"
+            } else {
+                "the search exact at the quanta was not run"
+            };
+            message.push_str(&format!(
+                " (not a proof: searched at time classes of {} s, which merge instants, and {why}; a finer setting may find a plan)",
+                self.config.resolution.time_s
+            ));
+        }
+        Error::Unreachable { binding, message, proven }
     }
 
     /// Re-plans after the world changed in `changed` cells (from [`World::set_blocked`]

@@ -179,6 +179,8 @@ pub enum SimStatus {
         binding: Binding,
         /// The planner's message.
         message: String,
+        /// Whether no plan exists at all (see [`crate::Error::Unreachable`]).
+        proven: bool,
     },
     /// The battery fell below its floor (the plan was too optimistic for the noise).
     BatteryDepleted,
@@ -467,8 +469,8 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
                 });
                 plan = p;
             }
-            Err(Error::Unreachable { binding, message }) => {
-                report.status = SimStatus::Unreachable { binding, message };
+            Err(Error::Unreachable { binding, message, proven }) => {
+                report.status = SimStatus::Unreachable { binding, message, proven };
                 break;
             }
             Err(e) => return Err(e),

@@ -318,7 +318,7 @@ fn finer_resolution_never_loses_a_plan() {
     finer.extend([5, 8, 13].map(|goal_times| PlannerConfig { goal_times, ..coarse.clone() }));
     const CASES: usize = 200;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-    let (mut found, mut lost, mut fell_back) = (0, Vec::new(), 0);
+    let (mut found, mut lost, mut fell_back, mut proven_unreachable) = (0, Vec::new(), 0, 0);
     for case in 0..CASES {
         let cell = |rng: &mut rand_chacha::ChaCha8Rng| world.cell(rng.random_range(0..7), rng.random_range(0..5));
         let from = cell(&mut rng);
@@ -328,8 +328,23 @@ fn finer_resolution_never_loses_a_plan() {
         }
         let start_wh = rng.random_range(0.0..2.0);
         let start = Start { cell: from, t_min: t0, t_max: t0, energy_wh: start_wh };
-        let Ok((_, coarse_plan)) = Mission::plan(&world, &model, coarse.clone(), start, &goals) else {
-            continue;
+        let coarse_plan = match Mission::plan(&world, &model, coarse.clone(), start, &goals) {
+            Ok((_, plan)) => plan,
+            Err(areo_mission::Error::Unreachable { proven, message, .. }) => {
+                // Quantised actions: "unreachable" comes from the search exact at the
+                // quanta, so it is a proof — no setting with the same goal instants
+                // finds a plan.
+                assert!(proven, "case {case}: {message}");
+                for config in finer.iter().filter(|c| c.goal_times == coarse.goal_times) {
+                    assert!(
+                        Mission::plan(&world, &model, config.clone(), start, &goals).is_err(),
+                        "case {case}: proven unreachable, yet {config:?} finds a plan"
+                    );
+                }
+                proven_unreachable += 1;
+                continue;
+            }
+            Err(e) => panic!("case {case}: {e}"),
         };
         found += 1;
         for (i, config) in finer.iter().enumerate() {
@@ -354,6 +369,7 @@ fn finer_resolution_never_loses_a_plan() {
     assert!(lost.is_empty(), "finer settings lost plans (case, setting): {lost:?}");
     // Some finer setting needed the search at the quanta: the fallback is exercised.
     assert!(fell_back >= 1, "no finer setting fell back to the quanta: the cases do not test it");
+    assert!(proven_unreachable >= 5, "{proven_unreachable} cases proven unreachable: the proofs are not tested");
 }
 
 /// The first instant after the Sun sets, s (after `morning`).

@@ -107,9 +107,11 @@ fn unreachable_goals_name_the_binding_constraint() {
     let model = model(1e5, ActionConfig::default());
     let start = Start { cell: world.cell(2, 2), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
     match Mission::plan(&world, &model, PlannerConfig::default(), start, &[world.cell(20, 20)]) {
-        Err(Error::Unreachable { binding, message }) => {
+        Err(Error::Unreachable { binding, message, proven }) => {
             assert_eq!(binding, Binding::Slope, "{message}");
             assert!(message.contains("slope"));
+            // Slopes do not depend on time: no setting can find a plan.
+            assert!(proven && !message.contains("not a proof"), "{message}");
         }
         other => panic!("{other:?}"),
     }
@@ -128,8 +130,11 @@ fn unreachable_goals_name_the_binding_constraint() {
     let start = Start { cell: long.cell(2, 1), t_min: 0.0, t_max: 0.0, energy_wh: 45.0 };
     let quick = PlannerConfig { max_wait_s: Some(3600.0), ..PlannerConfig::default() };
     match Mission::plan(&long, &small, quick, start, &[long.cell(77, 1)]) {
-        Err(Error::Unreachable { binding, message }) => {
+        Err(Error::Unreachable { binding, message, proven }) => {
             assert_eq!(binding, Binding::Battery, "{message}");
+            // Unquantised actions: a verdict at these classes, said to be one.
+            assert!(!proven, "{message}");
+            assert!(message.contains("not a proof") && message.contains("time_quantum_s: 0"), "{message}");
         }
         other => panic!("{other:?}"),
     }

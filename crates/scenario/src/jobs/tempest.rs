@@ -200,7 +200,7 @@ struct Prepared {
 /// What planning (or simulating) gave.
 enum Run {
     /// No plan reaches the goals from the start.
-    Unreachable { binding: areo_mission::Binding, message: String },
+    Unreachable { binding: areo_mission::Binding, message: String, proven: bool },
     /// A plan, its wall time (s) and the search graphs' bytes after it.
     Plan { plan: MissionPlan, seconds: f64, search_bytes: u64 },
     /// A simulated run with its re-plans.
@@ -533,7 +533,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
         Err(MissionError::Config { field, message }) => {
             return Err(scenario_error(file, planner_field(field), message));
         }
-        Err(MissionError::Unreachable { binding, message }) => Run::Unreachable { binding, message },
+        Err(MissionError::Unreachable { binding, message, proven }) => Run::Unreachable { binding, message, proven },
         Err(e) => return Err(located(file, e)),
     };
     let initial = match &run {
@@ -587,10 +587,11 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
     if ctx.job.horizon_sectors > 0 {
         o.number("horizon_bytes_per_angle", if world.horizon_is_narrow() { 1.0 } else { 2.0 });
     }
-    if let Run::Unreachable { binding, message } = &report.run {
+    if let Run::Unreachable { binding, message, proven } = &report.run {
         o.failure = Some(Failure::Unreachable { binding: *binding, message: message.clone(), after_actions: None });
         o.text("status", "unreachable");
         o.text("binding", message.clone());
+        o.flag("unreachable_proven", *proven);
         o.number("goals_reached", 0.0);
         o.number("precalc_s", precalc_s);
         o.summary.push(format!("no plan: the goals are unreachable ({message})"));
@@ -639,7 +640,8 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
                 front::facts(&mut o, ctx, &r.plans[0].plan, f);
             }
             sim_facts(&mut o, ctx, r, report.peak_memory_mb);
-            if let SimStatus::Unreachable { binding, message } = &r.status {
+            if let SimStatus::Unreachable { binding, message, proven } = &r.status {
+                o.flag("unreachable_proven", *proven);
                 o.failure = Some(Failure::Unreachable {
                     binding: *binding,
                     message: message.clone(),
