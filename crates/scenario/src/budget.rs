@@ -323,7 +323,20 @@ pub fn estimate(scenario: &Scenario) -> Option<Estimate> {
             })
         }
         Job::TerrainShadow(job) => synth_cells(&job.terrain).map(|c| DemCommand::Shadow.estimate(c)),
-        Job::Tempest(job) => synth_cells(&job.terrain).map(|c| tempest(job, c)),
+        Job::Tempest(job) => synth_cells(&job.terrain).map(|c| match (&job.plan_region, &job.terrain) {
+            // A region of a synthesised map: the searches and horizons are the region's;
+            // the map itself is made whole.
+            (Some(r), TerrainSource::Synth(spec)) => {
+                let span = |(lo, hi): (f64, f64), n: usize| {
+                    ((hi.min(n as f64 * spec.cell_m) - lo.max(0.0)) / spec.cell_m).ceil().max(1.0) as u64
+                };
+                let region = span(r.x_m, spec.cols) * span(r.y_m, spec.rows);
+                let mut e = tempest(job, region.min(c));
+                e.memory_bytes = e.memory_bytes.saturating_add(c.saturating_mul(DEM_BYTES));
+                e
+            }
+            _ => tempest(job, c),
+        }),
         Job::Actions(job) => synth_cells(&job.terrain).map(|c| actions(job, c)),
     }
 }

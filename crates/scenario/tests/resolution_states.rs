@@ -1,0 +1,79 @@
+//! Issue 34's states, rebuilt from the shipped scenarios' own runs
+//! (`tests/tempest/lita-step20.ron`, `tests/tempest/valley-step77.ron`), planned at the
+//! scenarios' settings and at finer ones: where the settings as shipped find a plan, the
+//! finer ones checked here must too. Actions there are unquantised, so no search is exact
+//! and this is not guaranteed by construction (docs/tempest.md, "Monotone in
+//! resolution"); these are the states where it once failed, kept as regressions. The
+//! one dimension found to lose plans at these states — more `goal_times` at
+//! valley-detour's, at 62–72 Wh — is measured in docs/tempest.md and not asserted here.
+
+use std::path::{Path, PathBuf};
+
+use areo_scenario::budget::Budget;
+use areo_scenario::outcome::Outcome;
+use areo_scenario::{NoProgress, RunOptions, format::load_set, run};
+
+fn state(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/tempest").join(name)
+}
+
+fn plan(path: &Path, sets: &[&str]) -> Outcome {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let file = load_set(path, &sets).unwrap_or_else(|e| panic!("{sets:?}: {e}"));
+    run(&file, RunOptions { out_dir: None, progress: &NoProgress, budget: Budget::for_this_machine() })
+        .unwrap_or_else(|e| panic!("{sets:?}: {e}"))
+}
+
+fn number(o: &Outcome, name: &str) -> f64 {
+    o.facts.get(name).and_then(|f| f.as_number()).unwrap_or_else(|| panic!("{name}: {:?}", o.facts.get(name)))
+}
+
+/// A plan that is one: found, reaching the goal, never below the battery's floor.
+fn assert_planned(o: &Outcome, what: &str) {
+    assert_eq!(o.failure, None, "{what}: {:?}", o.summary);
+    assert!(number(o, "initial_plan_waypoints") > 1.0, "{what}");
+    // The mock solar rover's floor: 10 % of 1000 Wh.
+    assert!(number(o, "initial_plan_min_battery_wh") >= 100.0 - 1e-6, "{what}");
+}
+
+#[test]
+fn lita_step20_keeps_its_plan_at_finer_settings() {
+    let path = state("lita-step20.ron");
+    let shipped = plan(&path, &[]);
+    assert_planned(&shipped, "as shipped (300 s, 25 Wh, 8 goal instants)");
+    for sets in [
+        &["job.planner.resolution.time_s=150"][..],
+        &["job.planner.resolution.energy_wh=10"],
+        &["job.planner.resolution.energy_wh=None"],
+        &["job.planner.goal_times=12"],
+        &["job.planner.goal_times=50"],
+        // The issue's case: 200 goal instants found no plan where 8 did.
+        &["job.planner.goal_times=200"],
+        &["job.planner.resolution.time_s=150", "job.planner.resolution.energy_wh=10", "job.planner.goal_times=200"],
+    ] {
+        assert_planned(&plan(&path, sets), &format!("{sets:?}"));
+    }
+}
+
+#[test]
+fn valley_step77_keeps_its_plan_at_finer_classes_down_to_a_tight_battery() {
+    let path = state("valley-step77.ron");
+    // From 80 Wh above the floor down to 64 Wh (the shipped settings plan the detour
+    // from 62 Wh, not from 60; 100 goal instants instead of 72 find none at 62–72 Wh).
+    for battery in [80, 72, 68, 64] {
+        let b = format!("job.start_battery_above_floor_wh={battery}");
+        assert_planned(&plan(&path, &[&b]), &format!("{battery} Wh as shipped"));
+        for finer in [
+            "job.planner.resolution.time_s=600",
+            "job.planner.resolution.energy_wh=10",
+            // The issue's case: E collapsed lost this plan; E exact must find it.
+            "job.planner.resolution.energy_wh=None",
+        ] {
+            assert_planned(&plan(&path, &[&b, finer]), &format!("{battery} Wh, {finer}"));
+        }
+    }
+    // Below what any setting plans with: "unreachable (battery)", and not called a proof.
+    let low = plan(&path, &["job.start_battery_above_floor_wh=40"]);
+    assert!(matches!(low.failure, Some(areo_scenario::outcome::Failure::Unreachable { .. })), "{:?}", low.failure);
+    assert_eq!(low.facts.get("unreachable_proven"), Some(&areo_scenario::outcome::Fact::Flag(false)));
+}
