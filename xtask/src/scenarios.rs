@@ -155,6 +155,7 @@ mod tests {
         task1_paper_budget => "task1-paper-budget",
         task2_scarp => "task2-scarp",
         task2_scarp_long_bogie => "task2-scarp-long-bogie",
+        task2_scarp_cg31 => "task2-scarp-cg31",
         pareto_front => "pareto-front",
         uncertain_dawn => "uncertain-dawn",
         uncertain_ridge => "uncertain-ridge",

@@ -749,6 +749,9 @@ struct SeedStudy {
     has_samples: bool,
     /// Every seed's look-ahead values, pooled.
     lookahead: Vec<i64>,
+    /// How each seed's best plan ended: "none" (it ran to its end) or the failure's
+    /// kind (`tip_over`, `slip`, …) — the paper's task 2 turns on which.
+    stopped_by: Vec<&'static str>,
 }
 
 impl SeedStudy {
@@ -759,6 +762,7 @@ impl SeedStudy {
         self.taken.push((taken_label(&e.taken), left, right));
         self.has_samples = !task.samples.is_empty();
         self.lookahead.extend_from_slice(&r.lookahead);
+        self.stopped_by.push(e.failure.as_ref().map_or("none", |(_, f)| f.kind()));
     }
 
     /// Fraction of seeds solved by generation `g` (0-based, inclusive).
@@ -810,6 +814,14 @@ fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usiz
         o.number(&format!("{name}_solved_least_margin_min"), margins.clone().fold(f64::INFINITY, f64::min));
         o.number(&format!("{name}_solved_least_margin_max"), margins.fold(f64::NEG_INFINITY, f64::max));
     }
+    // How the seeds' best plans ended: a count per kind, every kind that occurred.
+    let mut kinds: Vec<&str> = study.stopped_by.clone();
+    kinds.sort_unstable();
+    kinds.dedup();
+    for kind in kinds {
+        let count = study.stopped_by.iter().filter(|k| **k == kind).count();
+        o.count(&format!("{name}_seeds_stopped_by_{kind}"), count as u64);
+    }
     // The paper's plan took the samples on the left of the way and left the others.
     if study.has_samples {
         let left_only = study.taken.iter().filter(|t| t.1 > 0 && t.2 == 0).count();
@@ -842,15 +854,18 @@ fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usiz
 fn write_studies(dir: &Path, studies: &[(String, &SeedStudy)], generations: usize) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let rows = studies.iter().flat_map(|(name, study)| {
-        study.seeds.iter().zip(&study.taken).map(move |(&(seed, first, fitness, samples, s), taken)| SeedRow {
-            run: name.clone(),
-            seed,
-            first_solved_generation: first,
-            best_fitness: Fixed(fitness),
-            samples,
-            taken: taken.0.clone(),
-            min_stability: Fixed(s),
-        })
+        study.seeds.iter().zip(&study.taken).zip(&study.stopped_by).map(
+            move |((&(seed, first, fitness, samples, s), taken), stopped_by)| SeedRow {
+                run: name.clone(),
+                seed,
+                first_solved_generation: first,
+                best_fitness: Fixed(fitness),
+                samples,
+                taken: taken.0.clone(),
+                min_stability: Fixed(s),
+                stopped_by: stopped_by.to_string(),
+            },
+        )
     });
     let path = dir.join("seeds.csv");
     write_rows(&path, rows)?;
@@ -1442,6 +1457,8 @@ struct SeedRow {
     samples: usize,
     taken: String,
     min_stability: Fixed<4>,
+    /// How the seed's best plan ended: `none` (it ran to its end) or a failure's kind.
+    stopped_by: String,
 }
 
 /// A row of climb.csv: one pose of the straight climb, arm stowed and forward.
