@@ -27,8 +27,11 @@ pub struct Budget {
 
 impl Budget {
     /// Three quarters of this machine's memory (`/proc/meminfo`; 8 GiB where it cannot
-    /// be read) and 2·10¹⁰ steps (the largest shipped scenario, lita-scale, is 5·10⁹;
-    /// minutes to an hour of work, not days).
+    /// be read) and 2·10¹⁰ steps (the largest shipped scenario, lita-scale, is
+    /// estimated at 5·10⁹). As horizon sweeps (tens of nanoseconds each) that is under an
+    /// hour; as label expansions (1–12 µs each), which a run may spend up to it
+    /// ([`search_allowance`]), it is many hours: a lower `--max-work` bounds a search's
+    /// time.
     pub fn for_this_machine() -> Budget {
         let total = std::fs::read_to_string("/proc/meminfo")
             .ok()
