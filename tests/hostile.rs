@@ -588,34 +588,26 @@ fn small_cases_exit_as_documented() {
 fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
     let dir = tmp("work-spent");
     let scenario = root().join("scenarios/devon-island.ron");
-    // Admitted: the estimate is 10 000 cells × 64 sectors of sweeps plus 3.04 M label
-    // classes; the searches may use what the budget leaves after the sweeps.
+    let run = |max_work: &str| {
+        areo(&[
+            "-q",
+            "run",
+            scenario.to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+            "--set",
+            "job.start_battery_above_floor_wh=0.001",
+            "--max-work",
+            max_work,
+        ])
+    };
+    // The estimate is 10 000 cells × 64 sectors of sweeps plus 3.04 M label classes: a
+    // smaller budget refuses the job before it starts; one that admits it leaves the
+    // searches what the sweeps do not use.
     let sweeps = 10_000 * 64;
-    let budget = sweeps + 500_000;
-    let out = areo(&[
-        "-q",
-        "run",
-        scenario.to_str().unwrap(),
-        "--out",
-        dir.to_str().unwrap(),
-        "--set",
-        "job.start_battery_above_floor_wh=0.001",
-        "--max-work",
-        &budget.to_string(),
-    ]);
-    let err = stderr(&out);
+    let err = stderr(&run(&(sweeps + 500_000).to_string()));
     assert!(err.contains("needs about 3.04e6 steps"), "refused by the estimate first: {err}");
-    let out = areo(&[
-        "-q",
-        "run",
-        scenario.to_str().unwrap(),
-        "--out",
-        dir.to_str().unwrap(),
-        "--set",
-        "job.start_battery_above_floor_wh=0.001",
-        "--max-work",
-        "3.04e6",
-    ]);
+    let out = run("3.04e6");
     let err = stderr(&out);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("devon-island.ron") && err.contains("--max-work"), "{err}");

@@ -89,6 +89,20 @@ fn a_small_battery_before_night_makes_the_plan_wait() {
     }
 }
 
+/// Night driving allowed, but a 50 Wh battery cannot pay for 1.5 km of it: the world,
+/// the model, the start, the planner settings and the goal of a case where the battery
+/// binds.
+fn battery_bound() -> (World, areo_mission::ActionModel, Start, PlannerConfig, u32) {
+    let mut actions = ActionConfig::default();
+    actions.drive.daylight = false;
+    let small = crate::common::model(50.0, actions);
+    let long = fixed_sun_world(flat(80, 3, 20.0), 90.0, -30.0, 12.0);
+    let start = Start { cell: long.cell(2, 1), t_min: 0.0, t_max: 0.0, energy_wh: 45.0 };
+    let quick = PlannerConfig { max_wait_s: Some(3600.0), ..PlannerConfig::default() };
+    let goal = long.cell(77, 1);
+    (long, small, start, quick, goal)
+}
+
 #[test]
 fn unreachable_goals_name_the_binding_constraint() {
     // A plateau with 40° walls: the rover (20° maximum) cannot climb it.
@@ -122,14 +136,8 @@ fn unreachable_goals_name_the_binding_constraint() {
         Err(Error::Unreachable { binding, .. }) => assert_eq!(binding, Binding::Darkness),
         other => panic!("{other:?}"),
     }
-    // Night driving allowed, but a 50 Wh battery cannot pay for 1.5 km of it.
-    let mut actions = ActionConfig::default();
-    actions.drive.daylight = false;
-    let small = crate::common::model(50.0, actions);
-    let long = fixed_sun_world(flat(80, 3, 20.0), 90.0, -30.0, 12.0);
-    let start = Start { cell: long.cell(2, 1), t_min: 0.0, t_max: 0.0, energy_wh: 45.0 };
-    let quick = PlannerConfig { max_wait_s: Some(3600.0), ..PlannerConfig::default() };
-    match Mission::plan(&long, &small, quick, start, &[long.cell(77, 1)]) {
+    let (long, small, start, quick, goal) = battery_bound();
+    match Mission::plan(&long, &small, quick, start, &[goal]) {
         Err(Error::Unreachable { binding, message, proven }) => {
             assert_eq!(binding, Binding::Battery, "{message}");
             // Unquantised actions: a verdict at these classes, said to be one.
@@ -568,13 +576,7 @@ fn a_planning_call_stops_at_its_expansion_limit_and_says_so() {
 
     // No plan: the answer "unreachable (battery)" needs the probes' work too; a limit
     // that stops any of it is reported as the limit, never as "unreachable".
-    let mut actions = ActionConfig::default();
-    actions.drive.daylight = false;
-    let small = crate::common::model(50.0, actions);
-    let long = fixed_sun_world(flat(80, 3, 20.0), 90.0, -30.0, 12.0);
-    let start = Start { cell: long.cell(2, 1), t_min: 0.0, t_max: 0.0, energy_wh: 45.0 };
-    let quick = PlannerConfig { max_wait_s: Some(3600.0), ..PlannerConfig::default() };
-    let goal = long.cell(77, 1);
+    let (long, small, start, quick, goal) = battery_bound();
     let (refused, m) = counted(&long, &small, quick.clone(), start, goal);
     assert!(matches!(refused, Err(Error::Unreachable { binding: Binding::Battery, .. })), "{refused:?}");
     let just = PlannerConfig { max_expansions: Some(m), ..quick.clone() };
