@@ -790,7 +790,7 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
     o.flag("initial_plan_quanta_fallback", at_quanta);
     if at_quanta {
         o.summary.push(format!(
-            "no plan at these classes, so the planner searched again exact at the actions' quanta (fallback:              time classes of {:.0} s, energy exact, every goal instant a coarser goal_times would use)",
+            "no plan at these classes, so the planner searched again exact at the actions' quanta (fallback: time classes of {:.0} s, energy exact, every goal instant a coarser goal_times would use)",
             plan.time_classes_s
         ));
     }
