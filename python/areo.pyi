@@ -97,8 +97,16 @@ class Scenario:
         RON (`'"words"'` for a string). Raises ScenarioError naming a bad field."""
     @property
     def sets(self) -> list[str]: ...
-    def run(self, out: Optional[StrPath] = None) -> RunResult:
-        """Run with the GIL released (Ctrl-C interrupts); raises Unreachable."""
+    def run(
+        self,
+        out: Optional[StrPath] = None,
+        max_work: Optional[float] = None,
+        max_memory_gb: Optional[float] = None,
+    ) -> RunResult:
+        """Run with the GIL released (Ctrl-C interrupts); raises Unreachable.
+        `max_work` (elementary steps, 1..1e18) and `max_memory_gb` (GiB) are the CLI's
+        --max-work and --max-memory-gb: over them a job is refused before it starts,
+        and its searches stop where the work budget ends (AreoError)."""
 
 def rover_check(
     params_path: StrPath, terrain: str = "flat", mu: float = 0.6, moving: bool = False

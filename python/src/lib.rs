@@ -329,9 +329,31 @@ impl PyScenario {
     /// when None), with the GIL released; Ctrl-C raises KeyboardInterrupt at once (the
     /// run's thread finishes its current job in the background; its outputs are not
     /// read). Returns a `RunResult`; a run that ends without reaching every goal
-    /// raises `Unreachable` (its `.binding`, `.message` and `.result`).
-    #[pyo3(signature = (out = None))]
-    fn run(&self, py: Python<'_>, out: Option<PathBuf>) -> PyResult<PyRunResult> {
+    /// raises `Unreachable` (its `.binding`, `.message` and `.result`). `max_work`
+    /// (elementary steps) and `max_memory_gb` (GiB) are the CLI's `--max-work` and
+    /// `--max-memory-gb`: a job estimated over them is refused before it starts, and
+    /// its searches stop where the work budget ends (AreoError).
+    #[pyo3(signature = (out = None, max_work = None, max_memory_gb = None))]
+    fn run(
+        &self,
+        py: Python<'_>,
+        out: Option<PathBuf>,
+        max_work: Option<f64>,
+        max_memory_gb: Option<f64>,
+    ) -> PyResult<PyRunResult> {
+        let mut budget = areo_scenario::budget::Budget::for_this_machine();
+        if let Some(steps) = max_work {
+            if !(1.0..=1e18).contains(&steps) {
+                return Err(PyValueError::new_err(format!("max_work {steps}: allowed 1..=1e18 steps")));
+            }
+            budget.work_steps = steps as u64;
+        }
+        if let Some(gb) = max_memory_gb {
+            if !(gb > 0.0 && gb <= 1e6) {
+                return Err(PyValueError::new_err(format!("max_memory_gb {gb}: allowed 0 (exclusive)..=1000000")));
+            }
+            budget.memory_bytes = (gb * f64::from(1u32 << 30)) as u64;
+        }
         let file = areo_scenario::format::load_set(&self.path, &self.sets).map_err(|e| to_py(py, &e))?;
         let out = match out {
             Some(o) => o,
@@ -339,11 +361,7 @@ impl PyScenario {
         };
         let dir = out.clone();
         let worker = std::thread::spawn(move || {
-            let options = RunOptions {
-                out_dir: Some(&dir),
-                progress: &NoProgress,
-                budget: areo_scenario::budget::Budget::for_this_machine(),
-            };
+            let options = RunOptions { out_dir: Some(&dir), progress: &NoProgress, budget };
             areo_scenario::run(&file, options)
         });
         while !worker.is_finished() {

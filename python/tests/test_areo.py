@@ -181,6 +181,20 @@ def test_an_unreachable_goal_raises_unreachable_with_its_binding(tmp_path):
     assert "not a proof" in e.value.message
 
 
+def test_a_run_keeps_to_its_work_budget(tmp_path):
+    devon = ROOT / "scenarios" / "devon-island.ron"
+    sc = areo.Scenario.load(devon).set("job.start_battery_above_floor_wh", 0.001)
+    # Admitted (estimate 3.04e6 steps), then stopped where the budget ends: the
+    # budget less the 640 000 horizon sweeps, as `areo run --max-work 3.04e6` does.
+    with pytest.raises(areo.AreoError) as e:
+        sc.run(out=tmp_path, max_work=3.04e6)
+    assert not isinstance(e.value, areo.Unreachable)
+    assert e.value.file.endswith("devon-island.ron")
+    assert "stopped after 2400000 label expansions" in str(e.value)
+    with pytest.raises(ValueError):
+        sc.run(out=tmp_path, max_work=0)
+
+
 def test_bad_files_raise_with_the_file_named(tmp_path):
     with pytest.raises(areo.AreoError) as e:
         areo.read_dem(tmp_path / "missing.tif")
