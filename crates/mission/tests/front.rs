@@ -123,6 +123,29 @@ fn the_pareto_front_equals_the_non_dominated_plans_of_an_exhaustive_enumeration(
     assert!(largest >= 3, "the largest front has {largest} plans: the cases do not trade");
 }
 
+/// The front's searches spend the mission's expansion allowance: a front that would
+/// need more stops with `WorkLimit` — never a shorter front passed off as whole.
+#[test]
+fn the_front_stops_at_the_expansion_limit_rather_than_end_short() {
+    let world = world();
+    let t0 = morning(&world);
+    let model = model(400.0, quantised());
+    let (from, to) = ROUTES[0];
+    let start = Start { cell: world.cell(from.0, from.1), t_min: t0, t_max: t0, energy_wh: 30.0 };
+    let goal = world.cell(to.0, to.1);
+    let cfg = areo_mission::PlannerConfig { goal_times: 6, ..config(Objective::Energy) };
+    let (mission, _) = Mission::plan(&world, &model, cfg.clone(), start, &[goal]).unwrap();
+    let whole = mission.pareto_front(1e-6).unwrap();
+    assert!(whole.expansions > 10 && whole.plans.len() >= 2, "{} expansions", whole.expansions);
+    // Enough for the plan, not for the front: the limit stops the walk.
+    let capped = areo_mission::PlannerConfig { max_expansions: Some(whole.expansions / 2), ..cfg };
+    let (mission, _) = Mission::plan(&world, &model, capped, start, &[goal]).unwrap();
+    match mission.pareto_front(1e-6) {
+        Err(areo_mission::Error::WorkLimit { expansions, limit }) => assert_eq!(expansions, limit),
+        other => panic!("{other:?}"),
+    }
+}
+
 /// A ridge across the middle columns with a pass at the bottom row: over it is shorter,
 /// around it flatter.
 fn ridge() -> World {

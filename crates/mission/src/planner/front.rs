@@ -107,6 +107,8 @@ impl Mission<'_> {
             });
         }
         let goal = self.goals[0];
+        // One planning call: its searches share the call's expansion allowance.
+        self.allowance.begin();
         let mut candidates: Vec<((f64, f64, f64), MissionPlan, f64)> = Vec::new();
         let (mut searches, mut expansions) = (0, 0);
         for t in self.final_goal_times() {
@@ -119,7 +121,8 @@ impl Mission<'_> {
                 self.config.path_length,
             )
             .sharing_geometry(&self.geometry)
-            .metered(self.config.meter.clone());
+            .metered(self.config.meter.clone())
+            .allowing(self.allowance.clone());
             let seed = Goal { state: goal, label: Label { t, e: self.config.goal_energy_wh }, cost: 0.0 };
             let mut search = Search::new(&domain, [seed], Mode::BestPathCost);
             searches += 1;
@@ -133,6 +136,8 @@ impl Mission<'_> {
                 search.start_moved(&domain);
                 let found = search.plan(&domain);
                 expansions += found.stats.expansions;
+                // A stopped search's "no plan" is no answer: not the front's end.
+                self.allowance.check()?;
                 let Some(path) = found.path else { break };
                 let first = path[0].label;
                 let margin = self.start.energy_wh - self.model.idle_wh(first.t - self.start.t_min) - first.e;
