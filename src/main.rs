@@ -31,7 +31,8 @@ struct Cli {
     #[arg(long, global = true, value_name = "GIB")]
     max_memory_gb: Option<f64>,
     /// Refuse a job whose estimated work exceeds this many elementary steps (module
-    /// executions, cell-sector sweeps, search label classes; default 2e10).
+    /// executions, cell-sector sweeps; a search's label expansion counts 50), and stop
+    /// its searches there (default 2e10, 10–40 minutes of work).
     #[arg(long, global = true, value_name = "STEPS")]
     max_work: Option<f64>,
     #[command(subcommand)]

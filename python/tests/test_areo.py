@@ -184,10 +184,11 @@ def test_an_unreachable_goal_raises_unreachable_with_its_binding(tmp_path):
 def test_a_run_keeps_to_its_work_budget(tmp_path):
     devon = ROOT / "scenarios" / "devon-island.ron"
     sc = areo.Scenario.load(devon).set("job.start_battery_above_floor_wh", 0.001)
-    # Admitted (estimate 3.04e6 steps), then stopped where the budget ends: the
-    # budget less the 640 000 horizon sweeps, as `areo run --max-work 3.04e6` does.
+    # Admitted (estimate 1.2064e8 steps), then stopped where the budget ends: the
+    # budget less the 640 000 horizon sweeps, 50 steps an expansion, as
+    # `areo run --max-work 1.2064e8` does.
     with pytest.raises(areo.AreoError) as e:
-        sc.run(out=tmp_path, max_work=3.04e6)
+        sc.run(out=tmp_path, max_work=1.2064e8)
     assert not isinstance(e.value, areo.Unreachable)
     assert e.value.file.endswith("devon-island.ron")
     assert "stopped after 2400000 label expansions" in str(e.value)

@@ -77,7 +77,7 @@ const RATIOS: &[(&str, &str, &str, f64)] = &[
 /// Runs `cargo bench` (optionally only benches matching `filter`) and prints the table;
 /// `movingai` as the filter runs only the full Moving AI check.
 pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
-    let in_process = ["movingai", "horizon", "mission", "lita", "valley", "lunar", "bigmap"];
+    let in_process = ["movingai", "horizon", "mission", "lita", "valley", "lunar", "bigmap", "budget"];
     if cfg!(debug_assertions) && args.first().is_some_and(|a| in_process.contains(&a.as_str())) {
         // `cargo xtask` builds the dev profile (shared with the tests); timings are only
         // meaningful optimised, so these run again from a release build of xtask.
@@ -107,6 +107,9 @@ pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
     }
     if args.first().is_some_and(|a| a == "lunar") {
         return lunar(root);
+    }
+    if args.first().is_some_and(|a| a == "budget") {
+        return budget(root);
     }
     if args.first().is_some_and(|a| a == "bigmap") {
         let side = args.get(1).map_or(Ok(30_000), |s| s.parse::<usize>()).map_err(|e| format!("bigmap SIDE: {e}"))?;
@@ -417,6 +420,52 @@ fn check_all(checks: &[(&str, f64, f64)]) -> bool {
         println!("  target {what}: {value:.4} (≤ {limit}) {}", if pass { "ok" } else { "MISSED" });
     }
     ok
+}
+
+/// The work budget's units against the clock (issue 34): on the shipped TEMPEST
+/// scenarios, the time of one counted sweep step (the pre-calculation over cells ×
+/// sectors) and of one label expansion (the initial plan over its expansions), their
+/// ratio beside `budget::EXPANSION_STEPS`, and the expansions the estimate expects
+/// beside those the initial plan made.
+fn budget(root: &Path) -> Result<bool, String> {
+    use areo_scenario::budget::{EXPANSION_STEPS, SearchMap, expected_expansions};
+    println!(
+        "{:<26} {:>10} {:>12} {:>8} {:>12} {:>12} {:>9}",
+        "scenario", "ns/sweep", "ns/expansion", "ratio", "expected", "expanded", "exp/expd"
+    );
+    let mut ratios = Vec::new();
+    for name in
+        ["valley-detour", "lunar-south-pole", "lunar-south-pole-10m", "sun-synchronous-traverse", "devon-island", "lita-scale"]
+    {
+        let path = root.join("scenarios").join(format!("{name}.ron"));
+        let file = areo_scenario::format::load(&path).map_err(|e| e.to_string())?;
+        let areo_scenario::format::Job::Tempest(job) = &file.scenario.job else {
+            return Err(format!("{name}: not a TEMPEST scenario"));
+        };
+        let areo_scenario::format::TerrainSource::Synth(spec) = &job.terrain else {
+            return Err(format!("{name}: not a synthesised map"));
+        };
+        let map = SearchMap { cells: spec.cols as u64 * spec.rows as u64, cell_m2: spec.cell_m * spec.cell_m };
+        let expected = expected_expansions(job, map);
+        let (outcome, _) = run_scenario(root, name, false)?;
+        let fact = |n: &str| number(&outcome, n);
+        let sweep_ns = 1e9 * fact("precalc_s") / (fact("cells") * job.horizon_sectors as f64);
+        let expansion_ns = 1e9 * fact("initial_plan_s") / fact("initial_plan_expansions");
+        let ratio = expansion_ns / sweep_ns;
+        ratios.push(ratio);
+        println!(
+            "{name:<26} {sweep_ns:>10.1} {expansion_ns:>12.1} {ratio:>8.1} {expected:>12} {:>12} {:>9.2}",
+            fact("initial_plan_expansions"),
+            expected as f64 / fact("initial_plan_expansions")
+        );
+    }
+    ratios.sort_by(f64::total_cmp);
+    let median = ratios[ratios.len() / 2];
+    println!("median ratio {median:.1}; budget::EXPANSION_STEPS = {EXPANSION_STEPS}");
+    // The constant is a unit, not a bound: within a factor of 2.5 of the median keeps
+    // `--max-work` one clock whichever work spends it.
+    let off = median / EXPANSION_STEPS as f64;
+    Ok(check_all(&[("median ratio / EXPANSION_STEPS (or its inverse)", off.max(1.0 / off), 2.5)]))
 }
 
 /// The valley-detour scenario end to end: re-plans that stay incremental when the

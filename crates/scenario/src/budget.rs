@@ -1,5 +1,6 @@
 //! What a job will cost, estimated before it starts: peak memory in bytes and work in
-//! elementary steps (cell-sector sweeps, module executions, table rows). A job whose
+//! elementary steps (cell-sector sweeps, module executions, table rows; a TEMPEST
+//! label expansion counts [`EXPANSION_STEPS`]). A job whose
 //! estimate exceeds its [`Budget`] is refused ([`Error::Budget`], exit 2) with the
 //! estimate, so a legal-looking but enormous input fails in a millisecond instead of
 //! aborting on allocation or running for days.
@@ -27,11 +28,11 @@ pub struct Budget {
 
 impl Budget {
     /// Three quarters of this machine's memory (`/proc/meminfo`; 8 GiB where it cannot
-    /// be read) and 2·10¹⁰ steps (the largest shipped scenario, lita-scale, is
-    /// estimated at 5·10⁹). As horizon sweeps (tens of nanoseconds each) that is under an
-    /// hour; as label expansions (1–12 µs each), which a run may spend up to it
-    /// ([`search_allowance`]), it is many hours: a lower `--max-work` bounds a search's
-    /// time.
+    /// be read) and 2·10¹⁰ steps (the largest shipped estimate, lunar-south-pole-10m's,
+    /// is 1.6·10⁹). A step is about one horizon sweep of a cell and sector (30–120 ns
+    /// measured) and a label expansion counts [`EXPANSION_STEPS`], so the default is
+    /// 10–40 minutes of work whichever kind spends it; the searches stop there
+    /// ([`search_allowance`]).
     pub fn for_this_machine() -> Budget {
         let total = std::fs::read_to_string("/proc/meminfo")
             .ok()
@@ -175,16 +176,45 @@ impl DemCommand {
     }
 }
 
-/// The cost of a TEMPEST job on a map of `cells` cells.
+/// Work steps one label expansion counts for, so that a work budget bounds time
+/// whichever kind of work spends it: an expansion (the Sun at the label's time, the
+/// light and slope checks, up to ten transitions) takes about as long as this many
+/// horizon sweeps of a cell and sector. `cargo xtask bench` measures the ratio on
+/// valley-detour and lita-scale and prints it beside this figure (`docs/benchmarks.md`).
+pub const EXPANSION_STEPS: u64 = 50;
+
+/// How far a guided search spreads around the straight line between a leg's ends: the
+/// cells inside the ellipse whose foci are the leg's ends and whose major axis is this
+/// many times the leg's length (plus [`CORRIDOR_CELLS`] on each side). The 2-D cost
+/// bound keeps the search near routes no dearer than the plan; measured footprints
+/// are in `docs/benchmarks.md`.
+pub const DETOUR: f64 = 2.0;
+
+/// Cells added around each leg's ellipse, so a short leg still counts a corridor.
+pub const CORRIDOR_CELLS: f64 = 10.0;
+
+/// The map a TEMPEST job searches, as far as its cost goes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SearchMap {
+    /// Cells of the map (or of the planning region).
+    pub cells: u64,
+    /// Area of one cell, m².
+    pub cell_m2: f64,
+}
+
+/// The cost of a TEMPEST job on `map`.
 ///
-/// Work is the horizon map's cell-sector sweeps plus the label classes the searches may
-/// fill: cells × time classes (horizon / `resolution.time_s`) × goals, per search. Each
-/// class holds a Pareto front in (cost, battery energy), a few labels in practice;
-/// energy is never bucketed, so it adds no factor. The shipped scenarios fill it to a
-/// few per cent, but it is an estimate, not a bound: a search with a battery too low to
-/// move (fuzz seed 7 on devon-island) expanded 4.8 M labels against 3.04 M classes. What
-/// bounds the run is [`search_allowance`]: the searches stop where the budget ends.
-pub fn tempest(job: &TempestJob, cells: u64) -> Estimate {
+/// Work is the horizon map's cell-sector sweeps plus the labels the guided searches are
+/// expected to expand, [`EXPANSION_STEPS`] steps each: for each leg (start to the first
+/// goal, then goal to goal), the cells within its detour ellipse ([`DETOUR`]; never more
+/// than the map) × time classes (horizon / `resolution.time_s`), per search. Each class
+/// holds a Pareto front in (cost, battery energy), a few labels in practice; energy is
+/// never bucketed, so it adds no factor. It is an estimate, not a bound: a search whose
+/// battery is too low to move floods the map (fuzz seed 7 on devon-island expanded
+/// 4.8 M labels). What bounds the run is [`search_allowance`]: the searches stop where
+/// the budget ends.
+pub fn tempest(job: &TempestJob, map: SearchMap) -> Estimate {
+    let cells = map.cells;
     let sectors = job.horizon_sectors as u64;
     let truth = !matches!(job.truth, Truth::Map);
     // The worlds (areo-mission's figure: the true world shares the map's horizon map)
@@ -197,54 +227,76 @@ pub fn tempest(job: &TempestJob, cells: u64) -> Estimate {
         job.horizon_sectors,
         false,
     )));
-    let work = TempestWork::of(job, cells);
+    let work = TempestWork::of(job, map);
     Estimate {
         what: format!(
-            "the TEMPEST job on {cells} cells ({sectors} horizon sectors, {} time classes, {} goals, {} searches)",
+            "the TEMPEST job on {cells} cells ({sectors} horizon sectors, {} time classes, {} goals, {} searches \
+             over about {:.0} cells each)",
             work.time_classes,
             job.goals.len(),
-            work.searches
+            work.searches,
+            work.footprint
         ),
         memory_bytes,
-        work_steps: (work.other + work.labels).min(u64::MAX as f64) as u64,
-        work_unit: "cell-sector sweeps and label classes",
+        work_steps: (work.other.min(u64::MAX as f64) as u64)
+            .saturating_add((work.labels.min(u64::MAX as f64) as u64).saturating_mul(EXPANSION_STEPS)),
+        work_unit: "cell-sector sweeps, and label expansions at 50 steps each",
     }
+}
+
+/// The labels the searches of a TEMPEST job on `map` are expected to expand (see
+/// [`tempest`]): what a progress bar counts them against.
+pub fn expected_expansions(job: &TempestJob, map: SearchMap) -> u64 {
+    TempestWork::of(job, map).labels.min(u64::MAX as f64) as u64
 }
 
 /// The label expansions one planning call of a TEMPEST job on `cells` cells may make
 /// under `budget` (`areo_mission::PlannerConfig::max_expansions`): the work the budget
-/// leaves after the job's horizon sweeps and executions — as if that one call were all
-/// the search the job does. A job admitted by its estimate stops here only where its
-/// searches do more than the estimate's label classes.
+/// leaves after the job's horizon sweeps and executions, at [`EXPANSION_STEPS`] steps
+/// an expansion — as if that one call were all the search the job does.
 pub fn search_allowance(job: &TempestJob, cells: u64, budget: &Budget) -> u64 {
-    let other = TempestWork::of(job, cells).other.min(u64::MAX as f64) as u64;
-    budget.work_steps.saturating_sub(other).max(1)
+    let other = TempestWork::of(job, SearchMap { cells, cell_m2: 1.0 }).other.min(u64::MAX as f64) as u64;
+    (budget.work_steps.saturating_sub(other) / EXPANSION_STEPS).max(1)
+}
+
+/// The cells a guided search from `from` to `to` (m) is expected to reach on `map`:
+/// the detour ellipse between them, with a corridor, at most the whole map.
+fn leg_footprint(from: (f64, f64), to: (f64, f64), map: SearchMap) -> f64 {
+    let half = (to.0 - from.0).hypot(to.1 - from.1) / 2.0;
+    let a = DETOUR * half + CORRIDOR_CELLS * map.cell_m2.sqrt();
+    let b = (a * a - half * half).max(0.0).sqrt();
+    (std::f64::consts::PI * a * b / map.cell_m2).min(map.cells as f64)
 }
 
 /// A TEMPEST job's work, in the estimate's steps.
 struct TempestWork {
     time_classes: f64,
     searches: u64,
-    /// Label classes over all searches.
+    /// Cells one search is expected to reach (over all its legs).
+    footprint: f64,
+    /// Label expansions over all searches.
     labels: f64,
     /// Horizon sweeps (the map's and the clones') and open-loop executions.
     other: f64,
 }
 
 impl TempestWork {
-    fn of(job: &TempestJob, cells: u64) -> TempestWork {
+    fn of(job: &TempestJob, map: SearchMap) -> TempestWork {
         let sectors = job.horizon_sectors as u64;
         let r = &job.planner.resolution;
         let time_classes = (job.horizon_h * 3600.0 / r.time_s).ceil().max(1.0);
-        let labels = cells as f64 * time_classes * job.goals.len().max(1) as f64;
+        let stops = std::iter::once((job.start.x_m, job.start.y_m)).chain(job.goals.iter().map(|g| (g.x_m, g.y_m)));
+        let footprint: f64 = stops.clone().zip(stops.skip(1)).map(|(a, b)| leg_footprint(a, b, map)).sum();
+        let labels = footprint.max(1.0) * time_classes;
         // Under uncertainty: a second (deterministic) plan, a whole mission per
         // closed-loop run of each, a world per terrain clone (its slopes and horizon
         // changes) and a walk along the plan per open-loop execution.
         let (searches, clones, executions) = chance_work(job);
-        let sweeps = cells.saturating_mul(sectors.max(1)).saturating_mul(clones.saturating_add(1)) as f64;
+        let sweeps = map.cells.saturating_mul(sectors.max(1)).saturating_mul(clones.saturating_add(1)) as f64;
         TempestWork {
             time_classes,
             searches,
+            footprint,
             labels: labels * searches as f64,
             other: sweeps + executions as f64 * time_classes,
         }
@@ -326,20 +378,27 @@ pub fn estimate(scenario: &Scenario) -> Option<Estimate> {
             })
         }
         Job::TerrainShadow(job) => synth_cells(&job.terrain).map(|c| DemCommand::Shadow.estimate(c)),
-        Job::Tempest(job) => synth_cells(&job.terrain).map(|c| match (&job.plan_region, &job.terrain) {
-            // A region of a synthesised map: the searches and horizons are the region's;
-            // the map itself is made whole.
-            (Some(r), TerrainSource::Synth(spec)) => {
-                let span = |(lo, hi): (f64, f64), n: usize| {
-                    ((hi.min(n as f64 * spec.cell_m) - lo.max(0.0)) / spec.cell_m).ceil().max(1.0) as u64
-                };
-                let region = span(r.x_m, spec.cols) * span(r.y_m, spec.rows);
-                let mut e = tempest(job, region.min(c));
-                e.memory_bytes = e.memory_bytes.saturating_add(c.saturating_mul(DEM_BYTES));
-                e
+        Job::Tempest(job) => match &job.terrain {
+            TerrainSource::Synth(spec) => {
+                let cells = spec.cols as u64 * spec.rows as u64;
+                let cell_m2 = spec.cell_m * spec.cell_m;
+                Some(match &job.plan_region {
+                    // A region of a synthesised map: the searches and horizons are the
+                    // region's; the map itself is made whole.
+                    Some(r) => {
+                        let span = |(lo, hi): (f64, f64), n: usize| {
+                            ((hi.min(n as f64 * spec.cell_m) - lo.max(0.0)) / spec.cell_m).ceil().max(1.0) as u64
+                        };
+                        let region = span(r.x_m, spec.cols) * span(r.y_m, spec.rows);
+                        let mut e = tempest(job, SearchMap { cells: region.min(cells), cell_m2 });
+                        e.memory_bytes = e.memory_bytes.saturating_add(cells.saturating_mul(DEM_BYTES));
+                        e
+                    }
+                    None => tempest(job, SearchMap { cells, cell_m2 }),
+                })
             }
-            _ => tempest(job, c),
-        }),
+            TerrainSource::File(_) => None,
+        },
         Job::Actions(job) => synth_cells(&job.terrain).map(|c| actions(job, c)),
     }
 }
@@ -373,21 +432,76 @@ mod tests {
         };
         let shipped = job(&text);
         let cells = 24 * 16;
-        let base = tempest(&shipped, cells);
+        let map = |cells| SearchMap { cells, cell_m2: 400.0 };
+        let base = tempest(&shipped, map(cells));
         assert!(Budget { memory_bytes: 1 << 40, work_steps: DEFAULT_WORK_STEPS }.check(&base).is_ok());
         // 10 000 closed-loop runs are 20 000 more missions: refused by default, naming
         // the searches.
         let many = job(&text.replace("closed_loop_runs: 20", "closed_loop_runs: 10000"));
-        let e = tempest(&many, cells);
+        let e = tempest(&many, map(cells));
         let (b0, b1) = (base.work_steps as f64, e.work_steps as f64);
         assert!(b1 / b0 > 400.0, "{b0} → {b1}");
         let err = Budget { memory_bytes: 1 << 40, work_steps: DEFAULT_WORK_STEPS }.check(&e).unwrap_err().to_string();
         assert!(err.contains("20002 searches") && err.contains("--max-work"), "{err}");
         // Without uncertainty, one search.
         assert!(
-            tempest(&TempestJob { uncertainty: None, monte_carlo: None, ..*shipped }, cells)
+            tempest(&TempestJob { uncertainty: None, monte_carlo: None, ..*shipped }, map(cells))
                 .what
                 .contains(" 1 searches")
         );
+    }
+
+    fn shipped(name: &str) -> TempestJob {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../scenarios/{name}.ron"));
+        match crate::format::load(&path).unwrap().scenario.job {
+            Job::Tempest(j) => *j,
+            _ => unreachable!("a TEMPEST scenario"),
+        }
+    }
+
+    /// The label work counts the cells around the route, not the map: lita-scale's one
+    /// 6978 m leg on 100 m cells spreads over its detour ellipse (a = 2 · 3489 m + 10
+    /// cells, b = √(a² − 3489²)), 0.3 % of the 2527 × 2356 map. So the energy-aware run
+    /// at 60 s time classes — 4320 classes, 2.6·10¹⁰ label classes over the whole map —
+    /// is admitted by the default budget (it plans in 36 s, docs/benchmarks.md), while
+    /// sun-synchronous-traverse at 1 s classes (4·10⁵ classes over a map the route's
+    /// ellipses cover) is still refused at once.
+    #[test]
+    fn the_label_estimate_counts_the_route_not_the_whole_map() {
+        let lita = shipped("lita-scale");
+        let map = SearchMap { cells: 2527 * 2356, cell_m2: 1e4 };
+        let half = 6300f64.hypot(3000.0) / 2.0;
+        let a = 2.0 * half + 1000.0;
+        let ellipse = std::f64::consts::PI * a * (a * a - half * half).sqrt() / 1e4;
+        let e = tempest(&lita, map);
+        assert!(e.what.contains(&format!("over about {ellipse:.0} cells")), "{}", e.what);
+        assert!(e.work_unit.contains(&format!("{EXPANSION_STEPS} steps")), "{}", e.work_unit);
+        let budget = Budget { memory_bytes: 1 << 40, work_steps: DEFAULT_WORK_STEPS };
+        let mut fine = lita.clone();
+        fine.planner.resolution = crate::format::planner::ResolutionSpec { time_s: 60.0, energy_wh: None };
+        let expected = expected_expansions(&fine, map) as f64;
+        assert!((expected - ellipse * 4320.0).abs() <= 1.0, "{expected}");
+        let e = tempest(&fine, map);
+        let steps = (2527 * 2356 * 32) as f64 + expected * EXPANSION_STEPS as f64;
+        assert!((e.work_steps as f64 - steps).abs() <= EXPANSION_STEPS as f64, "{} against {steps}", e.work_steps);
+        assert!(budget.check(&e).is_ok(), "{e:?}");
+        // The whole map's label classes would have been refused.
+        assert!(2527.0 * 2356.0 * 4320.0 > DEFAULT_WORK_STEPS as f64);
+        let mut sun_sync = shipped("sun-synchronous-traverse");
+        sun_sync.planner.resolution.time_s = 1.0;
+        let err = budget.check(&tempest(&sun_sync, SearchMap { cells: 160 * 120, cell_m2: 2500.0 })).unwrap_err();
+        assert!(err.to_string().contains("396000 time classes"), "{err}");
+    }
+
+    /// A planning call may expand what the budget leaves after the sweeps, at
+    /// [`EXPANSION_STEPS`] steps an expansion, and at least one.
+    #[test]
+    fn the_search_allowance_is_the_budget_left_in_expansions() {
+        let devon = shipped("devon-island");
+        let cells = 100 * 100;
+        let budget = |work_steps| Budget { memory_bytes: 1 << 40, work_steps };
+        let sweeps = cells * 64;
+        assert_eq!(search_allowance(&devon, cells, &budget(sweeps + 7 * EXPANSION_STEPS + 3)), 7);
+        assert_eq!(search_allowance(&devon, cells, &budget(sweeps / 2)), 1);
     }
 }

@@ -120,7 +120,7 @@ fn every_truncation_of_every_scenario_is_a_located_error() {
 
 #[test]
 fn the_shipped_scenarios_fit_the_default_budget_and_fine_classes_do_not() {
-    use areo_scenario::budget::{Budget, DEFAULT_WORK_STEPS, tempest};
+    use areo_scenario::budget::{Budget, DEFAULT_WORK_STEPS, EXPANSION_STEPS, SearchMap, expected_expansions, tempest};
     use areo_scenario::format::Job;
     let budget = Budget { memory_bytes: 16 << 30, work_steps: DEFAULT_WORK_STEPS };
     for (path, text) in shipped() {
@@ -129,9 +129,10 @@ fn the_shipped_scenarios_fit_the_default_budget_and_fine_classes_do_not() {
             budget.check(&e).unwrap_or_else(|err| panic!("{}: {err}", path.display()));
         }
         if let Job::Tempest(job) = &scenario.job
-            && let Some(cells) = areo_scenario::budget::synth_cells(&job.terrain)
+            && let areo_scenario::format::TerrainSource::Synth(spec) = &job.terrain
         {
-            budget.check(&tempest(job, cells)).unwrap_or_else(|err| panic!("{}: {err}", path.display()));
+            let map = SearchMap { cells: (spec.cols * spec.rows) as u64, cell_m2: spec.cell_m * spec.cell_m };
+            budget.check(&tempest(job, map)).unwrap_or_else(|err| panic!("{}: {err}", path.display()));
         }
     }
     // Time classes of a second over sun-synchronous-traverse's 110 h are refused with
@@ -140,10 +141,13 @@ fn the_shipped_scenarios_fit_the_default_budget_and_fine_classes_do_not() {
     let text = text.replacen("time_s: 1200", "time_s: 1", 1);
     let scenario = parse(Path::new("s.ron"), &text).unwrap();
     let Job::Tempest(job) = &scenario.job else { panic!("a TEMPEST job") };
-    let cells = areo_scenario::budget::synth_cells(&job.terrain).unwrap();
-    let e = tempest(job, cells);
-    // 160 × 120 cells × 396 000 time classes × 3 goals.
-    assert_eq!(e.work_steps, 160 * 120 * 64 + 160 * 120 * 396_000 * 3);
+    let map = SearchMap { cells: 160 * 120, cell_m2: 50.0 * 50.0 };
+    let e = tempest(job, map);
+    // The sweeps, and 396 000 time classes over the three legs' ellipses (each at most
+    // the map) at 50 steps an expansion.
+    let labels = expected_expansions(job, map);
+    assert!(labels > 160 * 120 * 396_000 && labels <= 160 * 120 * 396_000 * 3, "{labels}");
+    assert_eq!(e.work_steps, 160 * 120 * 64 + labels * EXPANSION_STEPS);
     let err = budget.check(&e).unwrap_err().to_string();
     assert!(err.contains("--max-work") && err.contains("396000 time classes"), "{err}");
 }

@@ -303,11 +303,15 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
     opts.progress.start(3, "terrain");
     let terrain = prepare_terrain(job, file, &site)?;
     let rover = load_rover(job, file)?;
-    let cells = match &terrain {
-        Terrain::Whole(d) => d.cols() * d.rows(),
-        Terrain::Region { region, .. } => region.dem.cols() * region.dem.rows(),
+    let searched = match &terrain {
+        Terrain::Whole(d) => d,
+        Terrain::Region { region, .. } => &region.dem,
     };
-    opts.budget.check(&crate::budget::tempest(job, cells as u64))?;
+    let map = crate::budget::SearchMap {
+        cells: (searched.cols() * searched.rows()) as u64,
+        cell_m2: searched.dx().abs() * searched.dy().abs(),
+    };
+    opts.budget.check(&crate::budget::tempest(job, map))?;
     let truth_dem = true_terrain(job, file, &site, &terrain)?;
     let mut notes = Vec::new();
     if let (Terrain::Region { region, .. }, Some(spec)) = (&terrain, &job.plan_region) {
@@ -463,7 +467,7 @@ fn located_uncertainty(file: &ScenarioFile, e: Error) -> Error {
 
 /// The job's planner settings as every search of the run uses them: no planning call
 /// may expand more labels than the work budget leaves for searching (an expansion is
-/// one of the estimate's label-class steps; `budget::search_allowance`) — the
+/// `budget::EXPANSION_STEPS` of the estimate's steps; `budget::search_allowance`) — the
 /// estimate is checked before the run, this holds during it.
 fn planner_config(job: &TempestJob, opts: &RunOptions<'_>, world: &World) -> areo_mission::PlannerConfig {
     let allowance = crate::budget::search_allowance(job, world.cells() as u64, &opts.budget);
@@ -488,8 +492,8 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     // A chance-constrained plan allows for a late start.
     let plan_start = chance::uncertainty(job).map_or(*start, |u| u.planning_start(*start));
     // The searches count their expansions into a meter that a watcher shows while the
-    // planner works: against the budget's estimate (every cell in every label class; the
-    // searches stop at the budget) when planning, simulated minutes against the horizon when simulating.
+    // planner works: against the budget's estimate (the labels the guided searches are
+    // expected to expand; the searches stop at the budget) when planning, simulated minutes against the horizon when simulating.
     let meter = areo_mission::ExpansionMeter::counting();
     // Planning for the terrain's height error: on the envelope of the map and its clones.
     let envelope = chance::planning_envelope(job, world, config).map_err(|e| located_uncertainty(file, e))?;
@@ -502,8 +506,12 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     let planner = areo_mission::PlannerConfig { meter: meter.clone(), ..planner_config(job, &opts, world) };
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
-            let bound = crate::budget::estimate(&file.scenario).map_or(0, |e| e.work_steps);
-            opts.progress.start(bound, "planning");
+            let dem = world.dem();
+            let map = crate::budget::SearchMap {
+                cells: world.cells() as u64,
+                cell_m2: dem.dx().abs() * dem.dy().abs(),
+            };
+            opts.progress.start(crate::budget::expected_expansions(job, map), "planning");
             watching(opts.progress, &meter, || {
                 let clock = Instant::now();
                 Mission::plan(plan_world, model, planner, plan_start, goals).map(|(mission, plan)| Run::Plan {
