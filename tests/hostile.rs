@@ -613,6 +613,6 @@ fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
     let err = stderr(&out);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("devon-island.ron") && err.contains("--max-work"), "{err}");
-    assert!(err.contains("stopped after 2400000 label expansions"), "{err}");
+    assert!(err.contains("stopped after the work of 2400000 label expansions"), "{err}");
     assert!(!err.contains("unreachable"), "stopping is not a proof that no plan exists: {err}");
 }

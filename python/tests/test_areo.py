@@ -191,7 +191,7 @@ def test_a_run_keeps_to_its_work_budget(tmp_path):
         sc.run(out=tmp_path, max_work=1.2064e8)
     assert not isinstance(e.value, areo.Unreachable)
     assert e.value.file.endswith("devon-island.ron")
-    assert "stopped after 2400000 label expansions" in str(e.value)
+    assert "stopped after the work of 2400000 label expansions" in str(e.value)
     with pytest.raises(ValueError):
         sc.run(out=tmp_path, max_work=0)
 

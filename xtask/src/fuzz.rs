@@ -303,7 +303,12 @@ impl Corpus {
             write(&format!("rovers/{name}"), text.as_bytes())?;
         }
         let _ = &self.rover_dir;
-        let run = |name: &str| -> Vec<String> { ["-q", "run", name, "--out", "out"].map(String::from).to_vec() };
+        // The work budget a minute allows (2·10⁹ steps; every shipped scenario fits):
+        // it is what makes a mutated search that floods its map end, with exit 2,
+        // within the time bound — the default budget is minutes of work.
+        let run = |name: &str| -> Vec<String> {
+            ["-q", "run", name, "--out", "out", "--max-work", "2e9"].map(String::from).to_vec()
+        };
         let pick = rng.random_range(0..100u32);
         Ok(if pick < 45 {
             let (name, text) = &self.scenarios[rng.random_range(0..self.scenarios.len())];

@@ -143,6 +143,12 @@ pub trait Domain {
         false
     }
 
+    /// The engine compared a new label at a state with `labels` live ones of its
+    /// dominance group (with [`Domain::MANY_LABELS`] and [`Domain::DOMINANCE`]): work that
+    /// grows with the Pareto fronts rather than with the expansions, so a domain that
+    /// bounds its work ([`Domain::exhausted`]) counts it too. The default ignores it.
+    fn compared(&self, _labels: u64) {}
+
     /// The start test: whether a path may begin at (`state`, `label`) (start cell, start
     /// window, start energy).
     fn is_start(&self, state: Self::State, label: &Self::Label) -> bool;

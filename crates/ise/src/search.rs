@@ -60,6 +60,9 @@ pub struct Stats {
     pub generated: u64,
     /// Labels discarded because another label dominated them.
     pub pruned_dominance: u64,
+    /// Live labels a new one was compared with in its dominance group (see
+    /// [`crate::Domain::compared`]).
+    pub compared: u64,
     /// Labels discarded in favour of a better one of their resolution class.
     pub pruned_resolution: u64,
     /// Labels discarded by the global constraint or the cost bound.
@@ -1058,19 +1061,26 @@ impl<D: Domain> Search<D> {
         let group = domain.dominance_group(state, key);
         let head = self.groups.get(domain, state, group);
         let mut id = head;
+        let mut compared = 0u64;
         while id != NONE {
+            compared += 1;
             let n = &self.nodes[id];
-            if !domain.pareto_classes() && domain.key(state, &n.label) == key {
-                if n.g < g || (n.g == g && !domain.better(&label, &n.label)) {
-                    self.stats.pruned_resolution += 1;
-                    return;
-                }
-            } else if domain.dominates(state, &n.label, n.g, &label, g) {
-                self.stats.pruned_dominance += 1;
+            let beaten = if !domain.pareto_classes() && domain.key(state, &n.label) == key {
+                (n.g < g || (n.g == g && !domain.better(&label, &n.label))).then_some(&mut self.stats.pruned_resolution)
+            } else {
+                domain.dominates(state, &n.label, n.g, &label, g).then_some(&mut self.stats.pruned_dominance)
+            };
+            if let Some(count) = beaten {
+                *count += 1;
+                self.stats.compared += compared;
+                domain.compared(compared);
                 return;
             }
             id = self.group_next[id as usize];
         }
+        // The second walk below tests the same labels again.
+        self.stats.compared += 2 * compared;
+        domain.compared(2 * compared);
         // It survives: drop what it beats. The first dropped label that was never
         // expanded gives the new one its node (A*'s decrease-key): most labels are
         // beaten before they are expanded, and each left a dead node behind.

@@ -755,6 +755,10 @@ impl Domain for TempestDomain<'_> {
         self.allowance.exhausted()
     }
 
+    fn compared(&self, labels: u64) {
+        self.meter.add_work(self.allowance.compared(labels));
+    }
+
     fn is_start(&self, state: u32, label: &Label) -> bool {
         state == self.start.cell
             && label.t >= self.start.t_min - 1e-9

@@ -45,10 +45,10 @@ pub enum Error {
     /// A planning call reached [`crate::PlannerConfig::max_expansions`] before it had an
     /// answer: neither a plan nor a proof that none exists.
     #[error(
-        "the searches stopped after {expansions} label expansions, the most one planning call may make ({limit}): no plan, and no proof that none exists"
+        "the searches stopped after the work of {expansions} label expansions (long Pareto fronts' comparisons included), the most one planning call may do ({limit}): no plan, and no proof that none exists"
     )]
     WorkLimit {
-        /// Expansions made by the call.
+        /// Work done by the call, in expansions ([`crate::ExpansionMeter::work`]).
         expansions: u64,
         /// The limit.
         limit: u64,

@@ -59,30 +59,44 @@ pub struct PlannerConfig {
     /// scenario field; no effect on the plan).
     #[serde(skip)]
     pub meter: ExpansionMeter,
-    /// The most label expansions one planning call ([`Mission::plan`],
-    /// [`Mission::advance`], [`Mission::replan`], …) may make over all its searches —
-    /// the finer-class retries and the binding-constraint probes included. A call that
+    /// The most work one planning call ([`Mission::plan`], [`Mission::advance`],
+    /// [`Mission::replan`], …) may do over all its searches — the finer-class retries
+    /// and the binding-constraint probes included — in label expansions, every hundred
+    /// labels a new one is compared with in its Pareto front counting one more
+    /// ([`ExpansionMeter::work`]). A call that
     /// reaches it stops with [`Error::WorkLimit`]: no plan, and no proof that none
     /// exists. `None`: no limit. Not a scenario field: the run's work budget sets it.
     #[serde(skip)]
     pub max_expansions: Option<u64>,
 }
 
-/// The label expansions one planning call may still make, shared by the domains of its
-/// searches (see [`PlannerConfig::max_expansions`]). One mission's searches run one
-/// after another, so where a call stops does not depend on threads.
+/// The work one planning call may still do, in label expansions, shared by the domains
+/// of its searches (see [`PlannerConfig::max_expansions`]): each expansion counts one,
+/// and every [`Allowance::COMPARISONS_PER_EXPANSION`] labels a new one was compared with
+/// in its dominance group count one more — where the Pareto fronts grow long, that
+/// work outgrows the expansions. One mission's searches run one after another, so
+/// where a call stops does not depend on threads.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Allowance(Rc<AllowanceState>);
 
 #[derive(Debug, Default)]
 struct AllowanceState {
+    /// Work spent, expansions.
     spent: std::cell::Cell<u64>,
+    /// Dominance comparisons not yet counted in `spent`.
+    compared: std::cell::Cell<u64>,
     limit: std::cell::Cell<Option<u64>>,
     /// A search was stopped since the call began.
     stopped: std::cell::Cell<bool>,
 }
 
 impl Allowance {
+    /// Dominance comparisons that cost as long as one expansion: a comparison reads one
+    /// label from a list and compares three numbers (about 10–40 ns), an expansion
+    /// evaluates the Sun, the light and up to ten transitions (1–5 µs;
+    /// `cargo xtask bench budget`).
+    pub(crate) const COMPARISONS_PER_EXPANSION: u64 = 100;
+
     fn new(limit: Option<u64>) -> Allowance {
         let a = Allowance::default();
         a.0.limit.set(limit);
@@ -92,11 +106,22 @@ impl Allowance {
     /// A new planning call: nothing spent, nothing stopped.
     fn begin(&self) {
         self.0.spent.set(0);
+        self.0.compared.set(0);
         self.0.stopped.set(false);
     }
 
     pub(crate) fn spend(&self) {
         self.0.spent.set(self.0.spent.get() + 1);
+    }
+
+    /// `labels` dominance comparisons, counted in expansions as they add up; returns the
+    /// expansions' worth they completed.
+    pub(crate) fn compared(&self, labels: u64) -> u64 {
+        let c = self.0.compared.get() + labels;
+        let whole = c / Allowance::COMPARISONS_PER_EXPANSION;
+        self.0.compared.set(c - whole * Allowance::COMPARISONS_PER_EXPANSION);
+        self.0.spent.set(self.0.spent.get() + whole);
+        whole
     }
 
     /// Whether the next expansion would go past the limit (the search asking stops).
@@ -122,7 +147,7 @@ impl Allowance {
 /// every meter equals every other, so it never changes what a configuration compares
 /// as.
 #[derive(Debug, Clone, Default)]
-pub struct ExpansionMeter(Option<std::sync::Arc<std::sync::atomic::AtomicU64>>);
+pub struct ExpansionMeter(Option<std::sync::Arc<[std::sync::atomic::AtomicU64; 2]>>);
 
 impl ExpansionMeter {
     /// A meter that counts (the default one counts nothing).
@@ -132,12 +157,26 @@ impl ExpansionMeter {
 
     /// Expansions counted so far.
     pub fn expansions(&self) -> u64 {
-        self.0.as_ref().map_or(0, |n| n.load(std::sync::atomic::Ordering::Relaxed))
+        self.0.as_ref().map_or(0, |n| n[0].load(std::sync::atomic::Ordering::Relaxed))
+    }
+
+    /// Work counted so far, in expansions: the expansions, and one more for every
+    /// hundred labels new ones were compared with (what the work limit,
+    /// [`PlannerConfig::max_expansions`], counts).
+    pub fn work(&self) -> u64 {
+        self.0.as_ref().map_or(0, |n| n[1].load(std::sync::atomic::Ordering::Relaxed))
     }
 
     pub(crate) fn add(&self, n: u64) {
         if let Some(count) = &self.0 {
-            count.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+            count[0].fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+            count[1].fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+
+    pub(crate) fn add_work(&self, n: u64) {
+        if let Some(count) = &self.0 {
+            count[1].fetch_add(n, std::sync::atomic::Ordering::Relaxed);
         }
     }
 }
@@ -930,6 +969,7 @@ fn add_stats(total: &mut Stats, s: &Stats) {
     total.expansions += s.expansions;
     total.generated += s.generated;
     total.pruned_dominance += s.pruned_dominance;
+    total.compared += s.compared;
     total.pruned_resolution += s.pruned_resolution;
     total.pruned_constraint += s.pruned_constraint;
     total.invalidated += s.invalidated;

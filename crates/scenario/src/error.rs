@@ -39,13 +39,13 @@ pub enum Error {
     /// A planning call of the job reached the work budget before it had an answer
     /// (the searches stop there; see `areo_mission::PlannerConfig::max_expansions`).
     #[error(
-        "{}: the TEMPEST searches stopped after {expansions} label expansions, as many as the work budget allows one planning call (raise it with --max-work): no plan, and no proof that none exists",
+        "{}: the TEMPEST searches stopped after the work of {expansions} label expansions (long Pareto fronts' comparisons included), as much as the work budget allows one planning call (raise it with --max-work): no plan, and no proof that none exists",
         path.display()
     )]
     WorkSpent {
         /// The scenario.
         path: PathBuf,
-        /// Expansions the call made.
+        /// Work the call did, in expansions (`areo_mission::ExpansionMeter::work`).
         expansions: u64,
     },
     /// An output file could not be written (a full disk, no permission): a failure
