@@ -587,6 +587,12 @@ fn a_planning_call_stops_at_its_expansion_limit_and_says_so() {
         counted(&long, &small, just, start, goal).0,
         Err(Error::Unreachable { binding: Binding::Battery, .. })
     ));
+    // The work counts the comparisons in the Pareto fronts beside the expansions: one
+    // more expansion's worth for every hundred labels a new one was compared with.
+    let meter = areo_mission::ExpansionMeter::counting();
+    let _ = Mission::plan(&long, &small, PlannerConfig { meter: meter.clone(), ..quick.clone() }, start, &[goal]);
+    assert_eq!(meter.work(), m);
+    assert!(meter.work() > meter.expansions(), "{} against {}", meter.work(), meter.expansions());
     // Stopped in the search itself and among the probes (the search is about 85 % of
     // the work here).
     for limit in [m / 10, m * 9 / 10, m - 1] {
