@@ -434,9 +434,14 @@ fn budget(root: &Path) -> Result<bool, String> {
         "scenario", "ns/sweep", "ns/expansion", "ratio", "expected", "expanded", "exp/expd"
     );
     let mut ratios = Vec::new();
-    for name in
-        ["valley-detour", "lunar-south-pole", "lunar-south-pole-10m", "sun-synchronous-traverse", "devon-island", "lita-scale"]
-    {
+    for name in [
+        "valley-detour",
+        "lunar-south-pole",
+        "lunar-south-pole-10m",
+        "sun-synchronous-traverse",
+        "devon-island",
+        "lita-scale",
+    ] {
         let path = root.join("scenarios").join(format!("{name}.ron"));
         let file = areo_scenario::format::load(&path).map_err(|e| e.to_string())?;
         let areo_scenario::format::Job::Tempest(job) = &file.scenario.job else {

@@ -72,7 +72,9 @@ impl Outcome {
                 && rest[line..].starts_with(':')
                 && rest[line + 1..].bytes().next().is_some_and(|b| b.is_ascii_digit())
         });
-        has_line_col || self.stderr.contains("field `")
+        // A job over its budget, or stopped by it, names the flag that governs it.
+        let budget = self.stderr.contains("--max-work") || self.stderr.contains("--max-memory-gb");
+        has_line_col || self.stderr.contains("field `") || budget
     }
 
     /// Scenario and rover file cases whose exit-2 error must be located.
@@ -303,9 +305,10 @@ impl Corpus {
             write(&format!("rovers/{name}"), text.as_bytes())?;
         }
         let _ = &self.rover_dir;
-        // The work budget a minute allows (2·10⁹ steps; every shipped scenario fits):
-        // it is what makes a mutated search that floods its map end, with exit 2,
-        // within the time bound — the default budget is minutes of work.
+        // The work budget a minute allows (2·10⁹ steps; lunar-south-pole-10m, 4·10⁹, is
+        // refused, its rover checked on lunar-south-pole): it is what makes a mutated
+        // search that floods its map end, with exit 2, within the time bound — the
+        // default budget is minutes of work.
         let run = |name: &str| -> Vec<String> {
             ["-q", "run", name, "--out", "out", "--max-work", "2e9"].map(String::from).to_vec()
         };
@@ -332,7 +335,14 @@ impl Corpus {
                 .scenarios
                 .iter()
                 .filter(|(_, t)| t.contains(rover.as_str()))
-                .min_by_key(|(n, _)| n.contains("lita"))
+                // The cheapest user, so that the rover's numbers are checked by a run
+                // the fuzz's work budget admits.
+                .min_by_key(|(n, t)| {
+                    areo_scenario::format::parse(Path::new(n), t)
+                        .ok()
+                        .and_then(|s| areo_scenario::budget::estimate(&s))
+                        .map_or(u64::MAX, |e| e.work_steps)
+                })
                 .ok_or_else(|| format!("no scenario uses rovers/{rover}"))?;
             write(&user.0, user.1.as_bytes())?;
             Case { kind: "rover number", what: format!("rovers/{rover}: {what}"), args: run(&user.0) }

@@ -507,10 +507,8 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
             let dem = world.dem();
-            let map = crate::budget::SearchMap {
-                cells: world.cells() as u64,
-                cell_m2: dem.dx().abs() * dem.dy().abs(),
-            };
+            let map =
+                crate::budget::SearchMap { cells: world.cells() as u64, cell_m2: dem.dx().abs() * dem.dy().abs() };
             opts.progress.start(crate::budget::expected_expansions(job, map), "planning");
             watching(opts.progress, &meter, || {
                 let clock = Instant::now();
