@@ -92,9 +92,10 @@ struct AllowanceState {
 
 impl Allowance {
     /// Dominance comparisons that cost as long as one expansion: a comparison reads one
-    /// label from a list and compares three numbers (about 10–40 ns), an expansion
-    /// evaluates the Sun, the light and up to ten transitions (1–5 µs;
-    /// `cargo xtask bench budget`).
+    /// label from a list and compares three numbers (about 12 ns where the fronts are
+    /// long: devon-island with a moved hill, docs/robustness.md), an expansion evaluates
+    /// the Sun, the light and up to ten transitions (1.3–5 µs; `cargo xtask bench
+    /// budget`).
     pub(crate) const COMPARISONS_PER_EXPANSION: u64 = 100;
 
     fn new(limit: Option<u64>) -> Allowance {
