@@ -202,6 +202,13 @@ pub struct SearchMap {
     pub cell_m2: f64,
 }
 
+impl SearchMap {
+    /// The map of `dem`'s cells.
+    pub fn of(dem: &areo_terrain::Dem) -> SearchMap {
+        SearchMap { cells: (dem.cols() * dem.rows()) as u64, cell_m2: dem.dx().abs() * dem.dy().abs() }
+    }
+}
+
 /// The cost of a TEMPEST job on `map`.
 ///
 /// Work is the horizon map's cell-sector sweeps plus the labels the guided searches are
@@ -255,7 +262,7 @@ pub fn expected_expansions(job: &TempestJob, map: SearchMap) -> u64 {
 /// leaves after the job's horizon sweeps and executions, at [`EXPANSION_STEPS`] steps
 /// an expansion — as if that one call were all the search the job does.
 pub fn search_allowance(job: &TempestJob, cells: u64, budget: &Budget) -> u64 {
-    let other = TempestWork::of(job, SearchMap { cells, cell_m2: 1.0 }).other.min(u64::MAX as f64) as u64;
+    let other = TempestWork::other(job, cells).min(u64::MAX as f64) as u64;
     (budget.work_steps.saturating_sub(other) / EXPANSION_STEPS).max(1)
 }
 
@@ -282,24 +289,32 @@ struct TempestWork {
 
 impl TempestWork {
     fn of(job: &TempestJob, map: SearchMap) -> TempestWork {
-        let sectors = job.horizon_sectors as u64;
         let r = &job.planner.resolution;
         let time_classes = (job.horizon_h * 3600.0 / r.time_s).ceil().max(1.0);
         let stops = std::iter::once((job.start.x_m, job.start.y_m)).chain(job.goals.iter().map(|g| (g.x_m, g.y_m)));
         let footprint: f64 = stops.clone().zip(stops.skip(1)).map(|(a, b)| leg_footprint(a, b, map)).sum();
         let labels = footprint.max(1.0) * time_classes;
-        // Under uncertainty: a second (deterministic) plan, a whole mission per
-        // closed-loop run of each, a world per terrain clone (its slopes and horizon
-        // changes) and a walk along the plan per open-loop execution.
-        let (searches, clones, executions) = chance_work(job);
-        let sweeps = map.cells.saturating_mul(sectors.max(1)).saturating_mul(clones.saturating_add(1)) as f64;
+        let (searches, _, _) = chance_work(job);
         TempestWork {
             time_classes,
             searches,
             footprint,
             labels: labels * searches as f64,
-            other: sweeps + executions as f64 * time_classes,
+            other: TempestWork::other(job, map.cells),
         }
+    }
+
+    /// The work besides the searches: horizon sweeps (the map's and the clones') and
+    /// open-loop executions.
+    fn other(job: &TempestJob, cells: u64) -> f64 {
+        // Under uncertainty: a second (deterministic) plan, a whole mission per
+        // closed-loop run of each, a world per terrain clone (its slopes and horizon
+        // changes) and a walk along the plan per open-loop execution.
+        let (_, clones, executions) = chance_work(job);
+        let sectors = job.horizon_sectors as u64;
+        let time_classes = (job.horizon_h * 3600.0 / job.planner.resolution.time_s).ceil().max(1.0);
+        let sweeps = cells.saturating_mul(sectors.max(1)).saturating_mul(clones.saturating_add(1)) as f64;
+        sweeps + executions as f64 * time_classes
     }
 }
 

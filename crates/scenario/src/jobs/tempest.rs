@@ -307,11 +307,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
         Terrain::Whole(d) => d,
         Terrain::Region { region, .. } => &region.dem,
     };
-    let map = crate::budget::SearchMap {
-        cells: (searched.cols() * searched.rows()) as u64,
-        cell_m2: searched.dx().abs() * searched.dy().abs(),
-    };
-    opts.budget.check(&crate::budget::tempest(job, map))?;
+    opts.budget.check(&crate::budget::tempest(job, crate::budget::SearchMap::of(searched)))?;
     let truth_dem = true_terrain(job, file, &site, &terrain)?;
     let mut notes = Vec::new();
     if let (Terrain::Region { region, .. }, Some(spec)) = (&terrain, &job.plan_region) {
@@ -506,9 +502,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     let planner = areo_mission::PlannerConfig { meter: meter.clone(), ..planner_config(job, &opts, world) };
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
-            let dem = world.dem();
-            let map =
-                crate::budget::SearchMap { cells: world.cells() as u64, cell_m2: dem.dx().abs() * dem.dy().abs() };
+            let map = crate::budget::SearchMap::of(world.dem());
             opts.progress.start(crate::budget::expected_expansions(job, map), "planning");
             watching(opts.progress, &meter, || {
                 let clock = Instant::now();
