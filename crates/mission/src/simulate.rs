@@ -34,10 +34,16 @@ pub struct SimConfig {
     pub noise: Noise,
     /// Most actions to execute before giving up (≥ 1).
     pub max_steps: usize,
-    /// For checking the planner: after every re-plan that sensing changed, also plan
-    /// the same problem from scratch ([`Mission::fresh`]) and record its cost and
-    /// expansions beside the re-plan's (slow: a whole search per re-plan).
+    /// For checking the planner: after re-plans (see `fresh_every`), also plan the same
+    /// problem from scratch ([`Mission::fresh`]) and record its cost and expansions
+    /// beside the re-plan's (slow: a whole search per re-plan compared).
     pub compare_fresh: bool,
+    /// With `compare_fresh`, which re-plans are compared: 1 (the default) every one;
+    /// n > 1 every n-th, and every one after sensing changed the map or a goal was
+    /// reached (where the kept graphs are repaired or re-seeded) — for worlds whose
+    /// fresh search is too slow to repeat after each of hundreds of actions.
+    #[serde(default = "every_replan")]
+    pub fresh_every: usize,
     /// Draw the execution's departures from this model instead of `noise`'s uniform
     /// ones (a closed-loop Monte Carlo run, [`crate::uncertainty::closed_loop`]).
     #[serde(default)]
@@ -48,6 +54,10 @@ pub struct SimConfig {
     pub stream: u64,
 }
 
+fn every_replan() -> usize {
+    1
+}
+
 impl Default for SimConfig {
     fn default() -> SimConfig {
         SimConfig {
@@ -55,6 +65,7 @@ impl Default for SimConfig {
             noise: Noise::default(),
             max_steps: 20_000,
             compare_fresh: false,
+            fresh_every: 1,
             uncertainty: None,
             stream: 0,
         }
@@ -98,6 +109,9 @@ impl SimConfig {
         }
         if !(1..=1_000_000).contains(&self.max_steps) {
             return bad("max_steps", format!("{}: allowed 1..=1000000", self.max_steps));
+        }
+        if self.fresh_every == 0 {
+            return bad("fresh_every", "0: allowed 1 (every re-plan) or more".to_string());
         }
         Ok(())
     }
@@ -420,7 +434,8 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
             report.status = SimStatus::BatteryDepleted;
             break;
         }
-        if next_goal < goals.len() && cell == goals[next_goal] {
+        let goal_reached = next_goal < goals.len() && cell == goals[next_goal];
+        if goal_reached {
             report.goals_reached.push((next_goal, t));
             next_goal += 1;
             // At the last goal the plan may still charge to the goal energy: it ends
@@ -450,7 +465,8 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
                 let route_changed = !same_route(&plan, &p, cell);
                 // Every re-plan, sensed change or not: plan extension alone moves the
                 // start, and the kept graph must still answer as a fresh one.
-                let fresh = if sim.compare_fresh && kind == PlanKind::Replan {
+                let compared = step % sim.fresh_every == 0 || !changed.is_empty() || goal_reached;
+                let fresh = if sim.compare_fresh && kind == PlanKind::Replan && compared {
                     mission.fresh()?.map(|f| (f.expansions, f.cost))
                 } else {
                     None

@@ -128,4 +128,36 @@ fn bad_simulation_settings_name_the_field() {
     let sim = SimConfig { noise: Noise { solar_loss: 1.5, ..Noise::default() }, ..SimConfig::default() };
     let err = simulate(&sim_of(&map, &map, &model, start, &[map.cell(8, 8)], sim), &mut |_| {}).unwrap_err();
     assert!(matches!(err, Error::Config { field: "noise.solar_loss", .. }), "{err}");
+    let sim = SimConfig { compare_fresh: true, fresh_every: 0, ..SimConfig::default() };
+    let err = simulate(&sim_of(&map, &map, &model, start, &[map.cell(8, 8)], sim), &mut |_| {}).unwrap_err();
+    assert!(matches!(err, Error::Config { field: "fresh_every", .. }), "{err}");
+}
+
+#[test]
+fn fresh_every_compares_every_nth_replan_and_every_one_after_sensing_or_a_goal() {
+    // Two goals past a block the map lacks: some re-plans repair the graphs for sensed
+    // cells, one follows each goal, the rest only extend the plan.
+    let map = fixed_sun_world(flat(30, 20, 10.0), 120.0, 60.0, 10.0);
+    let truth = fixed_sun_world(block(3..=16), 120.0, 60.0, 10.0);
+    let model = model(1e5, ActionConfig::default());
+    let start = Start { cell: map.cell(3, 10), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let goals = [map.cell(22, 10), map.cell(27, 4)];
+    let config = SimConfig { compare_fresh: true, fresh_every: 4, ..SimConfig::default() };
+    let report = simulate(&sim_of(&map, &truth, &model, start, &goals, config), &mut |_| {}).unwrap();
+    assert_eq!(report.goals_reached.len(), 2, "{:?}", report.status);
+    let replans: Vec<_> = report.plans.iter().filter(|p| p.kind == PlanKind::Replan).collect();
+    let mut kinds = [0; 3];
+    for p in &replans {
+        let sensed = p.changed_cells > 0;
+        let at_goal = report.goals_reached.iter().any(|&(_, t)| t == p.t_s);
+        let wanted = p.step % 4 == 0 || sensed || at_goal;
+        assert_eq!(p.fresh.is_some(), wanted, "step {}: sensed {sensed}, at a goal {at_goal}", p.step);
+        if let Some((_, cost)) = p.fresh {
+            assert!((p.plan.cost - cost).abs() <= 1e-9 * cost.abs().max(1.0), "step {}", p.step);
+        }
+        kinds[usize::from(sensed) + 2 * usize::from(!sensed && at_goal)] += usize::from(wanted);
+    }
+    // All three reasons occurred, and some re-plans were left out.
+    assert!(kinds.iter().all(|&k| k > 0), "{kinds:?}");
+    assert!(replans.iter().any(|p| p.fresh.is_none()));
 }

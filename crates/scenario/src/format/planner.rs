@@ -286,9 +286,12 @@ pub struct SimSpec {
     pub noise: NoiseSpec,
     /// Most actions to execute before giving up (≥ 1).
     pub max_steps: usize,
-    /// After every re-plan that sensing changed, also plan the same problem from
-    /// scratch and record its cost and expansions beside the re-plan's (slow).
+    /// After re-plans, also plan the same problem from scratch and record its cost and
+    /// expansions beside the re-plan's (slow).
     pub compare_fresh: bool,
+    /// Which re-plans `compare_fresh` compares: 1 every one; n every n-th, and every
+    /// one after sensing changed the map or a goal was reached (≥ 1).
+    pub fresh_every: usize,
 }
 
 impl Default for SimSpec {
@@ -303,6 +306,7 @@ impl Default for SimSpec {
             },
             max_steps: d.max_steps,
             compare_fresh: d.compare_fresh,
+            fresh_every: d.fresh_every,
         }
     }
 }
@@ -318,6 +322,7 @@ impl From<&SimSpec> for m::SimConfig {
             },
             max_steps: s.max_steps,
             compare_fresh: s.compare_fresh,
+            fresh_every: s.fresh_every,
             uncertainty: None,
             stream: 0,
         }

@@ -933,6 +933,11 @@ fn search_facts(o: &mut Outcome, r: &SimReport) {
         o.number("replan_expansions_max", max);
     }
     o.number("peak_search_mb", r.peak_search_bytes() as f64 / 1e6);
+    // Re-plans that repaired the kept graphs for cells sensing changed.
+    o.count(
+        "replans_after_sensing",
+        r.plans.iter().filter(|p| p.kind != PlanKind::Initial && p.changed_cells > 0).count() as u64,
+    );
     // With `compare_fresh`: re-plans against the same problem searched from scratch.
     let compared: Vec<(&areo_mission::PlanRecord, (u64, f64))> =
         r.plans.iter().filter_map(|p| p.fresh.map(|f| (p, f))).collect();
