@@ -30,12 +30,19 @@ fn block(rows: std::ops::RangeInclusive<usize>) -> Dem {
     .unwrap()
 }
 
-#[test]
-fn an_obstacle_missing_from_the_map_is_sensed_and_detoured() {
+/// The flat map, the truth with the block across rows 3–16, an unconstrained rover and
+/// its start on the west side, at noon under a fixed Sun.
+fn block_problem() -> (World, World, ActionModel, Start) {
     let map = fixed_sun_world(flat(30, 20, 10.0), 120.0, 60.0, 10.0);
     let truth = fixed_sun_world(block(3..=16), 120.0, 60.0, 10.0);
     let model = model(1e5, ActionConfig::default());
     let start = Start { cell: map.cell(3, 10), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    (map, truth, model, start)
+}
+
+#[test]
+fn an_obstacle_missing_from_the_map_is_sensed_and_detoured() {
+    let (map, truth, model, start) = block_problem();
     let goal = map.cell(27, 10);
     let report = simulate(&sim_of(&map, &truth, &model, start, &[goal], SimConfig::default()), &mut |_| {}).unwrap();
     assert_eq!(report.status, SimStatus::Completed);
@@ -137,10 +144,7 @@ fn bad_simulation_settings_name_the_field() {
 fn fresh_every_compares_every_nth_replan_and_every_one_after_sensing_or_a_goal() {
     // Two goals past a block the map lacks: some re-plans repair the graphs for sensed
     // cells, one follows each goal, the rest only extend the plan.
-    let map = fixed_sun_world(flat(30, 20, 10.0), 120.0, 60.0, 10.0);
-    let truth = fixed_sun_world(block(3..=16), 120.0, 60.0, 10.0);
-    let model = model(1e5, ActionConfig::default());
-    let start = Start { cell: map.cell(3, 10), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let (map, truth, model, start) = block_problem();
     let goals = [map.cell(22, 10), map.cell(27, 4)];
     let config = SimConfig { compare_fresh: true, fresh_every: 4, ..SimConfig::default() };
     let report = simulate(&sim_of(&map, &truth, &model, start, &goals, config), &mut |_| {}).unwrap();
