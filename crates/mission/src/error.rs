@@ -25,7 +25,7 @@ pub enum Error {
         /// plan was exact at the actions' quanta — every class one instant, energy
         /// exact, for arrival at the goal instants of every `goal_times` up to the
         /// configured one. False when the actions are unquantised: time classes then
-        /// merge instants, and a finer setting may find a plan.
+        /// merge instants, and other settings may find a plan.
         proven: bool,
     },
     /// A planned action could not be predicted forward (the plan's battery and times

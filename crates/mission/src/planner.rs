@@ -846,8 +846,12 @@ impl<'a> Mission<'a> {
             } else {
                 "the search exact at the quanta was not run"
             };
+            // What may still find one: more goal instants are not a superset of fewer
+            // (even sets are not nested), so "finer" alone would mislead.
             message.push_str(&format!(
-                " (not a proof: searched at time classes of {} s, which merge instants, and {why}; a finer setting may find a plan)",
+                " (not a proof: searched at time classes of {} s, which merge instants, and {why}; other settings may \
+                 find a plan: finer `time_s`, another `goal_times` (sets of goal instants are not nested), or \
+                 quantised actions (`time_quantum_s` ≥ 1), whose last resort is exact)",
                 self.config.resolution.time_s
             ));
         }

@@ -143,6 +143,8 @@ fn unreachable_goals_name_the_binding_constraint() {
             // Unquantised actions: a verdict at these classes, said to be one.
             assert!(!proven, "{message}");
             assert!(message.contains("not a proof") && message.contains("time_quantum_s: 0"), "{message}");
+            // What may still find a plan, without promising that more goal instants do.
+            assert!(message.contains("another `goal_times`") && !message.contains("a finer setting"), "{message}");
         }
         other => panic!("{other:?}"),
     }
