@@ -463,8 +463,10 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         match outcome {
             Ok((p, kind)) => {
                 let route_changed = !same_route(&plan, &p, cell);
-                // Every re-plan, sensed change or not: plan extension alone moves the
-                // start, and the kept graph must still answer as a fresh one.
+                // Plan extension alone moves the start, and the kept graph must still
+                // answer as a fresh one: with `fresh_every: 1` every re-plan is compared,
+                // sensed change or not; thinned out, never those that repaired or
+                // re-seeded the graphs.
                 let compared = step % sim.fresh_every == 0 || !changed.is_empty() || goal_reached;
                 let fresh = if sim.compare_fresh && kind == PlanKind::Replan && compared {
                     mission.fresh()?.map(|f| (f.expansions, f.cost))
