@@ -68,6 +68,20 @@ pub trait Domain {
     ) where
         Self: Sized;
 
+    /// [`Domain::expand`] with every action wanted, telling besides whether no step
+    /// from *another* state can lead to (`state`, `label`) for a reason that depends on
+    /// `state` alone (TEMPEST: the rover could not be at this cell at this time — in
+    /// the dark, in shadow, on ground too steep), which stays true until `state` itself
+    /// changes. A repair then never reopens such a label to remake steps from changed
+    /// neighbours: it would make none. The default tells nothing (`false`).
+    fn expand_all(&self, state: Self::State, label: &Self::Label, visit: impl FnMut(Self::Action, Step<Self>)) -> bool
+    where
+        Self: Sized,
+    {
+        self.expand(state, label, |_| true, visit);
+        false
+    }
+
     /// The predecessor state `action` comes from into `state`, when it can be told
     /// without evaluating the transition (`None`: unknown). Repairs use it to skip the
     /// steps that cannot land on a changed state.

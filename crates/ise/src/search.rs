@@ -37,6 +37,9 @@ const REMOVED: u8 = 8;
 /// With OPEN: reopened by a repair; its expansion makes only the steps into the states
 /// that repair touched.
 const PARTIAL: u8 = 16;
+/// With CLOSED: its expansion found that no step from another state can lead to it
+/// ([`Domain::expand_all`]); repairs reopen it only for steps within its own state.
+const ISOLATED: u8 = 32;
 
 /// What the search optimises.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -441,7 +444,7 @@ impl<D: Domain> Search<D> {
                 .iter()
                 .map(|t| {
                     let (all, keys) = &touch[t];
-                    (*all, keys.as_slice(), domain.lands_in(s, *t))
+                    (*t, *all, keys.as_slice(), domain.lands_in(s, *t))
                 })
                 .collect();
             let head = self.by_state.get(domain, s);
@@ -459,8 +462,11 @@ impl<D: Domain> Search<D> {
                     id = next;
                     continue;
                 }
-                if n.flags == CLOSED
-                    && targets.iter().any(|(all, keys, lands)| *all || keys.iter().any(|&k| lands(&n.label, k)))
+                let isolated = n.flags & ISOLATED != 0;
+                if n.flags & !ISOLATED == CLOSED
+                    && targets.iter().any(|(t, all, keys, lands)| {
+                        (!isolated || *t == s) && (*all || keys.iter().any(|&k| lands(&n.label, k)))
+                    })
                 {
                     closed.push(id);
                 }
@@ -881,15 +887,15 @@ impl<D: Domain> Search<D> {
             self.expand_partially(domain, id, state, label, g);
             return;
         }
-        domain.expand(
-            state,
-            &label,
-            |_| true,
-            |a, step| {
-                debug_assert!(step.cost >= 0.0, "step costs must be non-negative");
-                self.insert(domain, step.state, step.label, g + step.cost, id, Some(a));
-            },
-        );
+        let isolated = domain.expand_all(state, &label, |a, step| {
+            debug_assert!(step.cost >= 0.0, "step costs must be non-negative");
+            self.insert(domain, step.state, step.label, g + step.cost, id, Some(a));
+        });
+        // The node may have been beaten while expanding (a step back into its own
+        // class): only a node still closed keeps the mark.
+        if isolated && self.nodes[id].flags == CLOSED {
+            self.nodes[id].flags |= ISOLATED;
+        }
     }
 
     /// A reopened node's expansion: only the steps into the states the last repair

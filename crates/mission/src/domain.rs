@@ -611,6 +611,44 @@ impl<'a> TempestDomain<'a> {
     }
 }
 
+impl TempestDomain<'_> {
+    /// [`Domain::expand`], returning whether a drive could arrive at (`state`,
+    /// `label.t`) — `None` when no drive was wanted, so it was not asked.
+    fn expand_arriving(
+        &self,
+        state: u32,
+        label: &Label,
+        wanted: impl Fn(Action) -> bool,
+        mut visit: impl FnMut(Action, Step<Self>),
+    ) -> Option<bool> {
+        self.meter.add(1);
+        self.allowance.spend();
+        let mut arrives = None;
+        if (0..8).any(|k| wanted(Action::Drive(k))) {
+            let arrival = self.model.arrival(self.world, state, label.t);
+            arrives = Some(arrival.is_some());
+            if let Some(arrival) = arrival {
+                for (k, drive) in (0..8).zip(self.drives_into(state)) {
+                    if wanted(Action::Drive(k))
+                        && let Some((from, geometry)) = drive
+                        && let Some((from, effect)) = self.model.drive_into(self.world, &arrival, k, from, geometry)
+                    {
+                        visit(Action::Drive(k), self.step(from, label, Action::Drive(k), effect));
+                    }
+                }
+            }
+        }
+        for stay in [Action::Charge, Action::Hibernate] {
+            if wanted(stay)
+                && let Ok(effect) = self.model.stay(self.world, stay, state, label.t - self.model.stay_duration_s(stay))
+            {
+                visit(stay, self.step(state, label, stay, effect));
+            }
+        }
+        arrives
+    }
+}
+
 impl Domain for TempestDomain<'_> {
     type State = u32;
     type Label = Label;
@@ -629,29 +667,15 @@ impl Domain for TempestDomain<'_> {
         state: u32,
         label: &Label,
         wanted: impl Fn(Action) -> bool,
-        mut visit: impl FnMut(Action, Step<Self>),
+        visit: impl FnMut(Action, Step<Self>),
     ) {
-        self.meter.add(1);
-        self.allowance.spend();
-        if (0..8).any(|k| wanted(Action::Drive(k)))
-            && let Some(arrival) = self.model.arrival(self.world, state, label.t)
-        {
-            for (k, drive) in (0..8).zip(self.drives_into(state)) {
-                if wanted(Action::Drive(k))
-                    && let Some((from, geometry)) = drive
-                    && let Some((from, effect)) = self.model.drive_into(self.world, &arrival, k, from, geometry)
-                {
-                    visit(Action::Drive(k), self.step(from, label, Action::Drive(k), effect));
-                }
-            }
-        }
-        for stay in [Action::Charge, Action::Hibernate] {
-            if wanted(stay)
-                && let Ok(effect) = self.model.stay(self.world, stay, state, label.t - self.model.stay_duration_s(stay))
-            {
-                visit(stay, self.step(state, label, stay, effect));
-            }
-        }
+        self.expand_arriving(state, label, wanted, visit);
+    }
+
+    /// Whether no drive can arrive: the arrival's checks are this cell's alone (its
+    /// slope, its light at this time), so they stand until sensing changes the cell.
+    fn expand_all(&self, state: u32, label: &Label, visit: impl FnMut(Action, Step<Self>)) -> bool {
+        self.expand_arriving(state, label, |_| true, visit) == Some(false)
     }
 
     fn predecessor_state(&self, state: u32, action: Action) -> Option<u32> {
