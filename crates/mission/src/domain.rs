@@ -609,9 +609,7 @@ impl<'a> TempestDomain<'a> {
         }
         Step { state: from, label: Label { t, e }, cost }
     }
-}
 
-impl TempestDomain<'_> {
     /// [`Domain::expand`], returning whether a drive could arrive at (`state`,
     /// `label.t`) — `None` when no drive was wanted, so it was not asked.
     fn expand_arriving(
