@@ -55,6 +55,14 @@ pub struct PlannerConfig {
     pub max_wait_s: Option<f64>,
     /// Least battery energy on arrival at the last goal, Wh above the floor.
     pub goal_energy_wh: f64,
+    /// With continuous action times (`time_quantum_s` 0 or under 1 s), how many times to search
+    /// again with the time classes halved (after the energy-exact search) before
+    /// reporting a goal "unreachable" (0..=6; default 0). Narrower classes merge fewer
+    /// instants, so they find plans wider ones miss — but no width is exact, so this is
+    /// not a guarantee that a finer setting keeps a plan (docs/tempest.md); a plan
+    /// found so is at the narrower classes ([`MissionPlan::time_classes_s`]). No effect
+    /// on quantised actions, whose last resort is exact.
+    pub unreachable_retries: u32,
     /// Counts the searches' expansions as they happen, for a progress display (not a
     /// scenario field; no effect on the plan).
     #[serde(skip)]
@@ -200,6 +208,7 @@ impl Default for PlannerConfig {
             detour_factor: 1.5,
             max_wait_s: None,
             goal_energy_wh: 0.0,
+            unreachable_retries: 0,
             meter: ExpansionMeter::default(),
             max_expansions: None,
         }
@@ -251,6 +260,18 @@ impl PlannerConfig {
             && !(0.0..=1e7).contains(&w)
         {
             return bad("max_wait_s", format!("{w}: allowed 0..=1e7 s"));
+        }
+        if self.unreachable_retries > 6 {
+            return bad("unreachable_retries", format!("{}: allowed 0..=6", self.unreachable_retries));
+        }
+        if self.resolution.time_s / 2f64.powi(self.unreachable_retries as i32) < 1.0 {
+            return bad(
+                "unreachable_retries",
+                format!(
+                    "{}: time classes of {} s halved that often are under 1 s (allowed: at least 1 s)",
+                    self.unreachable_retries, self.resolution.time_s
+                ),
+            );
         }
         if let Objective::Margin { max_duration_s } = self.objective
             && !(max_duration_s > 0.0 && max_duration_s <= 1e8)
@@ -447,8 +468,9 @@ impl<'a> Mission<'a> {
     /// `goal_times` (`final_goal_times`), the widest start window a coarser setting
     /// could have had (see `Mission::plan`), and at each intermediate goal one start interval per quantum,
     /// each keeping its staircase of ways on (cost against the battery they need).
-    /// `None` after that, or when actions are not quantised (or on a quantum under the
-    /// 1 s a class can be). A plan found this way reports the classes it was searched
+    /// `None` after that. When actions are not quantised (or on a quantum under the 1 s
+    /// a class can be), the time classes halved, up to
+    /// [`PlannerConfig::unreachable_retries`] times, then `None`. A plan found this way reports the classes it was searched
     /// with ([`MissionPlan::energy_classes_wh`], [`MissionPlan::time_classes_s`]).
     fn finer_classes(&self) -> Option<(PlannerConfig, bool)> {
         let mut finer = self.config.clone();
@@ -457,7 +479,17 @@ impl<'a> Mission<'a> {
             return Some((finer, false));
         }
         let q = self.model.config().time_quantum_s;
-        if q < 1.0 || self.last_resort {
+        if q < 1.0 {
+            // Continuous times (or quanta under a class's 1 s): no search is exact, so
+            // only the retries the settings ask for, each at half the last one's classes.
+            let narrowest = self.widened_for_s / 2f64.powi(self.config.unreachable_retries as i32);
+            if self.config.resolution.time_s > narrowest * (1.0 + 1e-9) {
+                finer.resolution.time_s = self.config.resolution.time_s / 2.0;
+                return Some((finer, false));
+            }
+            return None;
+        }
+        if self.last_resort {
             return None;
         }
         finer.resolution.time_s = finer.resolution.time_s.min(q);
@@ -848,10 +880,15 @@ impl<'a> Mission<'a> {
             };
             // What may still find one: more goal instants are not a superset of fewer
             // (even sets are not nested), so "finer" alone would mislead.
+            let halved = (self.widened_for_s / self.config.resolution.time_s).log2().round() as u32;
+            let retried = match halved {
+                0 => String::new(),
+                n => format!(" (the configured {} s halved {n} time(s): `unreachable_retries`)", self.widened_for_s),
+            };
             message.push_str(&format!(
-                " (not a proof: searched at time classes of {} s, which merge instants, and {why}; other settings may \
-                 find a plan: finer `time_s`, another `goal_times` (sets of goal instants are not nested), or \
-                 quantised actions (`time_quantum_s` ≥ 1), whose last resort is exact)",
+                " (not a proof: searched at time classes of {} s{retried}, which merge instants, and {why}; other \
+                 settings may find a plan: finer `time_s`, another `goal_times` (sets of goal instants are not \
+                 nested), or quantised actions (`time_quantum_s` ≥ 1), whose last resort is exact)",
                 self.config.resolution.time_s
             ));
         }

@@ -108,3 +108,39 @@ fn valley_detour_keeps_its_two_goal_plan_at_finer_settings() {
         }
     }
 }
+
+/// The dimension that loses plans at valley-detour's state: from 64 Wh above the floor,
+/// 100 goal instants instead of 72 find no plan at the shipped 1200 s classes ("not a
+/// proof", said so). `planner.unreachable_retries: 2` searches again at 600 s and then
+/// 300 s, and 300 s finds the detour: the plan reports the classes it was found at and
+/// says it is a fallback; one retry (600 s) is not enough, and its message names the
+/// classes it searched. (No retry count is a guarantee: docs/tempest.md.)
+#[test]
+fn valley_step77_at_100_goal_instants_needs_the_retries_at_halved_classes() {
+    use areo_scenario::outcome::{Fact, Failure};
+    let path = state("valley-step77.ron");
+    let sets = ["job.start_battery_above_floor_wh=64", "job.planner.goal_times=100"];
+    let once = plan(&path, &[sets[0], sets[1], "job.planner.unreachable_retries=1"]);
+    match &once.failure {
+        Some(Failure::Unreachable { message, .. }) => {
+            assert!(message.contains("not a proof: searched at time classes of 600 s"), "{message}");
+            assert!(message.contains("the configured 1200 s halved 1 time(s)"), "{message}");
+        }
+        other => panic!("one retry: {other:?}"),
+    }
+    let twice = plan(&path, &[sets[0], sets[1], "job.planner.unreachable_retries=2"]);
+    assert_planned(&twice, "100 goal instants, two retries");
+    assert_eq!(twice.facts.get("initial_plan_halved_classes_fallback"), Some(&Fact::Flag(true)));
+    assert_eq!(twice.facts.get("initial_plan_quanta_fallback"), Some(&Fact::Flag(false)));
+    assert!(twice.summary.iter().any(|l| l.contains("searched again at time classes of 300 s")), "{:?}", twice.summary);
+    // The 26–28 h detour through the night, as at 72 instants.
+    let hours = number(&twice, "initial_plan_duration_h");
+    assert!((25.0..30.0).contains(&hours), "{hours} h");
+    // Retries run only where the settings found nothing: at 72 instants the shipped
+    // classes plan, and the retries change nothing.
+    let shipped = plan(&path, &[sets[0]]);
+    let with_retries = plan(&path, &[sets[0], "job.planner.unreachable_retries=2"]);
+    assert_eq!(shipped.facts.get("initial_plan_halved_classes_fallback"), Some(&Fact::Flag(false)));
+    assert_eq!(number(&shipped, "initial_plan_duration_h"), number(&with_retries, "initial_plan_duration_h"));
+    assert_eq!(number(&shipped, "initial_plan_expansions"), number(&with_retries, "initial_plan_expansions"));
+}

@@ -213,6 +213,9 @@ pub struct PlannerSpec {
     pub max_wait_s: Option<f64>,
     /// Least battery energy on arrival at the last goal, Wh above the floor.
     pub goal_energy_wh: f64,
+    /// With continuous action times, searches again with the time classes halved up
+    /// to this many times before "unreachable" (0..=6; see docs/tempest.md).
+    pub unreachable_retries: u32,
 }
 
 impl Default for PlannerSpec {
@@ -231,6 +234,7 @@ impl Default for PlannerSpec {
             detour_factor: d.detour_factor,
             max_wait_s: d.max_wait_s,
             goal_energy_wh: d.goal_energy_wh,
+            unreachable_retries: d.unreachable_retries,
         }
     }
 }
@@ -250,6 +254,7 @@ impl From<&PlannerSpec> for m::PlannerConfig {
             detour_factor: p.detour_factor,
             max_wait_s: p.max_wait_s,
             goal_energy_wh: p.goal_energy_wh,
+            unreachable_retries: p.unreachable_retries,
             meter: m::ExpansionMeter::default(),
             // Set by the run from its work budget, not by the file.
             max_expansions: None,

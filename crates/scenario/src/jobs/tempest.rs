@@ -339,12 +339,18 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
         }
     };
     // One byte per horizon angle where the search's time classes make its error small
-    // (before the truth is built: it shares the map's horizons).
-    if let Some(shift_s) = world.narrow_horizon_within(job.planner.resolution.time_s) {
+    // (before the truth is built: it shares the map's horizons) — the narrowest classes
+    // it may search, its retries at halved classes included.
+    let p = &job.planner;
+    let narrowest_s = if p.actions.time_quantum_s < 1.0 {
+        p.resolution.time_s / 2f64.powi(p.unreachable_retries.min(6) as i32)
+    } else {
+        p.resolution.time_s
+    };
+    if let Some(shift_s) = world.narrow_horizon_within(narrowest_s) {
         notes.push(format!(
-            "horizon map: one byte per angle (approximate: within {:.2}°, which moves a shadow's edge by at most the Sun's elevation change in {shift_s:.0} s; time classes of {:.0} s)",
+            "horizon map: one byte per angle (approximate: within {:.2}°, which moves a shadow's edge by at most the Sun's elevation change in {shift_s:.0} s; time classes of {narrowest_s:.0} s)",
             areo_terrain::horizon::NARROW_ERROR_DEG,
-            job.planner.resolution.time_s
         ));
     }
     let truth = match truth_dem {
@@ -785,9 +791,20 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
             ),
         }
     ));
-    // The last resort for quantised actions: a search exact at the quanta.
-    let at_quanta = plan.time_classes_s < resolution.time_s;
+    // The last resort for quantised actions: a search exact at the quanta; for
+    // continuous ones, the retries at halved classes the settings asked for.
+    let finer = plan.time_classes_s < resolution.time_s;
+    let quantised = ctx.job.planner.actions.time_quantum_s >= 1.0;
+    let at_quanta = finer && quantised;
     o.flag("initial_plan_quanta_fallback", at_quanta);
+    o.flag("initial_plan_halved_classes_fallback", finer && !quantised);
+    if finer && !quantised {
+        o.summary.push(format!(
+            "no plan at these classes, so the planner searched again at time classes of {:.0} s (fallback: \
+             `unreachable_retries`; still approximate: no class width is exact for continuous action times)",
+            plan.time_classes_s
+        ));
+    }
     if at_quanta {
         o.summary.push(format!(
             "no plan at these classes, so the planner searched again exact at the actions' quanta (fallback: time classes of {:.0} s, energy exact, every goal instant a coarser goal_times would use)",
