@@ -55,9 +55,9 @@ pub struct PlannerConfig {
     pub max_wait_s: Option<f64>,
     /// Least battery energy on arrival at the last goal, Wh above the floor.
     pub goal_energy_wh: f64,
-    /// With continuous action times (`time_quantum_s` 0 or under 1 s), how many times to search
-    /// again with the time classes halved (after the energy-exact search) before
-    /// reporting a goal "unreachable" (0..=6; default 0). Narrower classes merge fewer
+    /// With continuous action times (`time_quantum_s` 0 or under 1 s), how many times
+    /// to search again with the time classes halved (after the energy-exact search)
+    /// before reporting a goal "unreachable" (0..=6; default 0). Narrower classes merge fewer
     /// instants, so they find plans wider ones miss — but no width is exact, so this is
     /// not a guarantee that a finer setting keeps a plan (docs/tempest.md); a plan
     /// found so is at the narrower classes ([`MissionPlan::time_classes_s`]). No effect
@@ -466,12 +466,13 @@ impl<'a> Mission<'a> {
     /// exact at the quanta that holds every plan a coarser setting could find — time
     /// classes of one quantum (one instant each), the goal instants of every smaller
     /// `goal_times` (`final_goal_times`), the widest start window a coarser setting
-    /// could have had (see `Mission::plan`), and at each intermediate goal one start interval per quantum,
-    /// each keeping its staircase of ways on (cost against the battery they need).
-    /// `None` after that. When actions are not quantised (or on a quantum under the 1 s
-    /// a class can be), the time classes halved, up to
-    /// [`PlannerConfig::unreachable_retries`] times, then `None`. A plan found this way reports the classes it was searched
-    /// with ([`MissionPlan::energy_classes_wh`], [`MissionPlan::time_classes_s`]).
+    /// could have had (see `Mission::plan`), and at each intermediate goal one start
+    /// interval per quantum, each keeping its staircase of ways on (cost against the
+    /// battery they need). `None` after that. When actions are not quantised (or on a
+    /// quantum under the 1 s a class can be): the time classes halved, up to
+    /// [`PlannerConfig::unreachable_retries`] times, then `None`. A plan found this way
+    /// reports the classes it was searched with ([`MissionPlan::energy_classes_wh`],
+    /// [`MissionPlan::time_classes_s`]).
     fn finer_classes(&self) -> Option<(PlannerConfig, bool)> {
         let mut finer = self.config.clone();
         if finer.resolution.energy_wh.is_some() {
