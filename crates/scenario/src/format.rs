@@ -1002,7 +1002,16 @@ pub(crate) fn syntax_error(path: &Path, e: &ron::error::SpannedError) -> Error {
         path: path.to_path_buf(),
         line: e.span.start.line,
         col: e.span.start.col,
-        message: e.code.to_string(),
+        message: match e.code {
+            // Said with what is allowed: a count, a seed or an index is a whole number
+            // of 0 or more, and fits its field.
+            ron::Error::IntegerOutOfBounds => {
+                "integer out of bounds: allowed a whole number of 0 or more that fits the field (counts, seeds \
+                 and indices)"
+                    .to_string()
+            }
+            ref code => code.to_string(),
+        },
     }
 }
 

@@ -144,3 +144,31 @@ fn valley_step77_at_100_goal_instants_needs_the_retries_at_halved_classes() {
     assert_eq!(number(&shipped, "initial_plan_duration_h"), number(&with_retries, "initial_plan_duration_h"));
     assert_eq!(number(&shipped, "initial_plan_expansions"), number(&with_retries, "initial_plan_expansions"));
 }
+
+/// A retry count out of range is refused before any search, naming the file, the field
+/// and what is allowed.
+#[test]
+fn unreachable_retries_out_of_range_name_the_file_and_the_field() {
+    let path = state("valley-step77.ron");
+    for (sets, allowed) in [
+        (&["job.planner.unreachable_retries=7"][..], "allowed 0..=6"),
+        // 3 s halved twice is under the 1 s a class can be.
+        (&["job.planner.unreachable_retries=2", "job.planner.resolution.time_s=3"], "allowed: at least 1 s"),
+        (&["job.planner.unreachable_retries=-1"], "allowed a whole number of 0 or more"),
+    ] {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let error = match load_set(&path, &sets) {
+            Err(e) => e.to_string(),
+            Ok(file) => match run(
+                &file,
+                RunOptions { out_dir: None, progress: &NoProgress, budget: Budget::for_this_machine() },
+            ) {
+                Err(e) => e.to_string(),
+                Ok(o) => panic!("{sets:?}: ran ({:?})", o.failure),
+            },
+        };
+        assert!(error.contains("valley-step77.ron"), "{sets:?}: {error}");
+        assert!(error.contains("unreachable_retries"), "{sets:?}: {error}");
+        assert!(error.contains(allowed), "{sets:?}: {error}");
+    }
+}
