@@ -343,7 +343,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
     // it may search, its retries at halved classes included.
     let p = &job.planner;
     let narrowest_s = if p.actions.time_quantum_s < 1.0 {
-        p.resolution.time_s / 2f64.powi(p.unreachable_retries.min(6) as i32)
+        p.resolution.time_s / 2f64.powi(p.unreachable_retries as i32)
     } else {
         p.resolution.time_s
     };
