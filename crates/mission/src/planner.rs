@@ -55,13 +55,16 @@ pub struct PlannerConfig {
     pub max_wait_s: Option<f64>,
     /// Least battery energy on arrival at the last goal, Wh above the floor.
     pub goal_energy_wh: f64,
-    /// With continuous action times (`time_quantum_s` 0 or under 1 s), how many times
-    /// to search again with the time classes halved (after the energy-exact search)
-    /// before reporting a goal "unreachable" (0..=6; default 0). Narrower classes merge fewer
-    /// instants, so they find plans wider ones miss — but no width is exact, so this is
-    /// not a guarantee that a finer setting keeps a plan (docs/tempest.md); a plan
-    /// found so is at the narrower classes ([`MissionPlan::time_classes_s`]). No effect
-    /// on quantised actions, whose last resort is exact.
+    /// How many times to search again with the time classes halved (after the
+    /// energy-exact search) when the settings find no plan (0..=6; default 0).
+    /// Narrower classes merge fewer instants, so they find plans wider ones miss. With
+    /// continuous action times (`time_quantum_s` 0 or under 1 s) that is all there is
+    /// before "unreachable", and no width is exact, so it is not a guarantee that a
+    /// finer setting keeps a plan (docs/tempest.md). With quantised actions the
+    /// retries (never at classes of one quantum or narrower) come before the last
+    /// resort exact at the quanta, which then runs only if they too find nothing: the
+    /// guarantee is the last resort's, the retries make a plan cheaper to find. A plan
+    /// found so is at the narrower classes ([`MissionPlan::time_classes_s`]).
     pub unreachable_retries: u32,
     /// Counts the searches' expansions as they happen, for a progress display (not a
     /// scenario field; no effect on the plan).
@@ -462,15 +465,16 @@ impl<'a> Mission<'a> {
 
     /// The next, finer settings to search this problem at when its own found no plan,
     /// and whether they are the last resort: energy exact first (energy classes can
-    /// drop the one label a tight battery needs); then, for quantised actions, a search
+    /// drop the one label a tight battery needs); then the time classes halved, up to
+    /// [`PlannerConfig::unreachable_retries`] times (for quantised actions never down to
+    /// one quantum); then, for quantised actions, a search
     /// exact at the quanta that holds every plan a coarser setting could find — time
     /// classes of one quantum (one instant each), the goal instants of every smaller
     /// `goal_times` (`final_goal_times`), the widest start window a coarser setting
     /// could have had (see `Mission::plan`), and at each intermediate goal one start
     /// interval per quantum, each keeping its staircase of ways on (cost against the
-    /// battery they need). `None` after that. When actions are not quantised (or on a
-    /// quantum under the 1 s a class can be): the time classes halved, up to
-    /// [`PlannerConfig::unreachable_retries`] times, then `None`. A plan found this way
+    /// battery they need). `None` after that (after the retries when actions are not
+    /// quantised, or on a quantum under the 1 s a class can be). A plan found this way
     /// reports the classes it was searched with ([`MissionPlan::energy_classes_wh`],
     /// [`MissionPlan::time_classes_s`]).
     fn finer_classes(&self) -> Option<(PlannerConfig, bool)> {
@@ -480,17 +484,20 @@ impl<'a> Mission<'a> {
             return Some((finer, false));
         }
         let q = self.model.config().time_quantum_s;
-        if q < 1.0 {
-            // Continuous times (or quanta under a class's 1 s): no search is exact, so
-            // only the retries the settings ask for, each at half the last one's classes.
-            let narrowest = self.widened_for_s / 2f64.powi(self.config.unreachable_retries as i32);
-            if self.config.resolution.time_s > narrowest * (1.0 + 1e-9) {
-                finer.resolution.time_s = self.config.resolution.time_s / 2.0;
-                return Some((finer, false));
-            }
+        if self.last_resort {
             return None;
         }
-        if self.last_resort {
+        // The retries the settings ask for, each at half the last one's classes: for
+        // continuous times (or quanta under a class's 1 s) all there is, since no search
+        // is exact; for quantised actions a cheaper try before the exact one, and never
+        // at classes as narrow as a quantum (which is the last resort's).
+        let narrowest = self.widened_for_s / 2f64.powi(self.config.unreachable_retries as i32);
+        let half = self.config.resolution.time_s / 2.0;
+        if self.config.resolution.time_s > narrowest * (1.0 + 1e-9) && (q < 1.0 || half > q * (1.0 + 1e-9)) {
+            finer.resolution.time_s = half;
+            return Some((finer, false));
+        }
+        if q < 1.0 {
             return None;
         }
         finer.resolution.time_s = finer.resolution.time_s.min(q);

@@ -451,7 +451,7 @@ pub fn day_events(body: Body, date: &str, lat_deg: f64, lon_east_deg: f64) -> Re
         .map_err(|e| Error::usage(format!("--day {date}"), format!("the solar day runs past the ephemeris: {e}")))?;
     let flat = HorizonMask::flat();
     let days = daylight_intervals(&site, &flat, start, end);
-    let hours = |iv: &[(Epoch, Epoch)]| iv.iter().map(|(a, b)| (*b - *a).to_seconds()).sum::<f64>() / 3600.0;
+    let hours = |iv: &[(Epoch, Epoch)]| iv.iter().map(|(a, b)| (*b - *a).to_seconds()).fold(0.0, |a, b| a + b) / 3600.0;
     let (noon, el) = culmination(&site, start, end);
     Ok(DayEvents {
         body: body.name().into(),

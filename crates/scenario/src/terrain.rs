@@ -93,7 +93,7 @@ pub struct DemInfo {
 pub fn info(file: &Path, dem: &Dem) -> DemInfo {
     let valid: Vec<f32> = dem.elevations().iter().zip(dem.valid_mask()).filter(|(_, v)| **v).map(|(z, _)| *z).collect();
     let (lo, hi) = valid.iter().fold((f32::MAX, f32::MIN), |(a, b), z| (a.min(*z), b.max(*z)));
-    let mean = valid.iter().map(|z| f64::from(*z)).sum::<f64>() / valid.len().max(1) as f64;
+    let mean = valid.iter().map(|z| f64::from(*z)).fold(0.0, |a, b| a + b) / valid.len().max(1) as f64;
     let e = dem.extent();
     let g = dem.georef();
     let (projection, lat_ts_deg, lon0_deg, pole) = match g.projection {

@@ -173,3 +173,39 @@ fn unreachable_retries_out_of_range_name_the_file_and_the_field() {
         assert!(error.contains(allowed), "{sets:?}: {error}");
     }
 }
+
+/// With quantised actions `unreachable_retries` searches at halved classes before the
+/// last resort exact at the quanta. On `small-quantised.ron` (3 Wh, two goal instants,
+/// 40-minute classes) the settings find nothing: without retries the exact search
+/// finds the 32.4 h plan; with one retry the 20-minute classes find it, for an eighth
+/// of the expansions, and the plan and the summary say which fallback it is.
+#[test]
+fn quantised_actions_retry_at_halved_classes_before_the_exact_search() {
+    use areo_scenario::outcome::Fact;
+    let path = state("small-quantised.ron");
+    let exact = plan(&path, &[]);
+    let retried = plan(&path, &["job.planner.unreachable_retries=1"]);
+    for (o, what) in [(&exact, "the last resort"), (&retried, "one retry")] {
+        assert_planned(o, what);
+        let hours = number(o, "initial_plan_duration_h");
+        assert!((30.0..35.0).contains(&hours), "{what}: {hours} h");
+    }
+    assert_eq!(exact.facts.get("initial_plan_quanta_fallback"), Some(&Fact::Flag(true)));
+    assert_eq!(exact.facts.get("initial_plan_halved_classes_fallback"), Some(&Fact::Flag(false)));
+    assert_eq!(retried.facts.get("initial_plan_quanta_fallback"), Some(&Fact::Flag(false)));
+    assert_eq!(retried.facts.get("initial_plan_halved_classes_fallback"), Some(&Fact::Flag(true)));
+    assert!(
+        retried.summary.iter().any(|l| l.contains("searched again at time classes of 1200 s")
+            && l.contains("before the last resort exact at the quanta")),
+        "{:?}",
+        retried.summary
+    );
+    assert!(exact.summary.iter().any(|l| l.contains("exact at the actions' quanta")), "{:?}", exact.summary);
+    // Its one simulated step charges: no drive, and no "-0.0 h" of driving (a sum of
+    // no f64 is -0).
+    assert!(retried.summary.iter().any(|l| l.contains("0 m driven in 0.0 h")), "{:?}", retried.summary);
+    // Measured: 1 030 713 expansions at the quanta, 126 690 with the retry.
+    let (at_quanta, by_retry) =
+        (number(&exact, "initial_plan_expansions"), number(&retried, "initial_plan_expansions"));
+    assert!(by_retry * 5.0 < at_quanta, "{by_retry} expansions with the retry, {at_quanta} at the quanta");
+}

@@ -213,8 +213,10 @@ pub struct PlannerSpec {
     pub max_wait_s: Option<f64>,
     /// Least battery energy on arrival at the last goal, Wh above the floor.
     pub goal_energy_wh: f64,
-    /// With continuous action times, searches again with the time classes halved up
-    /// to this many times before "unreachable" (0..=6; see docs/tempest.md).
+    /// Searches again with the time classes halved up to this many times when the
+    /// settings find no plan (0..=6): with continuous action times before
+    /// "unreachable", with quantised ones before the last resort exact at the quanta
+    /// (see docs/tempest.md).
     pub unreachable_retries: u32,
 }
 

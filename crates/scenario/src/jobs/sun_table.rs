@@ -129,7 +129,7 @@ pub(crate) fn compute(job: &SunTableJob, progress: &dyn Progress) -> Result<SunT
         ls_start_deg: g0.ls_deg,
         ltst_start_hours: g0.ltst_hours(site.lon_east_deg()),
         elevation_range_deg: (min_el, max_el),
-        daylight_hours: daylight.iter().map(|(a, b)| (*b - *a).to_seconds()).sum::<f64>() / 3600.0,
+        daylight_hours: daylight.iter().map(|(a, b)| (*b - *a).to_seconds()).fold(0.0, |a, b| a + b) / 3600.0,
         daylight_periods: daylight.len(),
         insolation_wh_m2: insolation_j_m2 / 3600.0,
         first_sunrise,

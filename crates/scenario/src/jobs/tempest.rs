@@ -342,11 +342,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
     // (before the truth is built: it shares the map's horizons) — the narrowest classes
     // it may search, its retries at halved classes included.
     let p = &job.planner;
-    let narrowest_s = if p.actions.time_quantum_s < 1.0 {
-        p.resolution.time_s / 2f64.powi(p.unreachable_retries as i32)
-    } else {
-        p.resolution.time_s
-    };
+    let narrowest_s = p.resolution.time_s / 2f64.powi(p.unreachable_retries as i32);
     if let Some(shift_s) = world.narrow_horizon_within(narrowest_s) {
         notes.push(format!(
             "horizon map: one byte per angle (approximate: within {:.2}°, which moves a shadow's edge by at most the Sun's elevation change in {shift_s:.0} s; time classes of {narrowest_s:.0} s)",
@@ -793,15 +789,24 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
     ));
     // The last resort for quantised actions: a search exact at the quanta; for
     // continuous ones, the retries at halved classes the settings asked for.
+    // (Retries with quantised actions stop above one quantum: classes that narrow are
+    // the last resort's.)
     let finer = plan.time_classes_s < resolution.time_s;
-    let quantised = ctx.job.planner.actions.time_quantum_s >= 1.0;
-    let at_quanta = finer && quantised;
+    let q = ctx.job.planner.actions.time_quantum_s;
+    let quantised = q >= 1.0;
+    let at_quanta = finer && quantised && plan.time_classes_s <= q * (1.0 + 1e-9);
+    let halved = finer && !at_quanta;
     o.flag("initial_plan_quanta_fallback", at_quanta);
-    o.flag("initial_plan_halved_classes_fallback", finer && !quantised);
-    if finer && !quantised {
+    o.flag("initial_plan_halved_classes_fallback", halved);
+    if halved {
+        let exactness = if quantised {
+            "before the last resort exact at the quanta, which it made unnecessary"
+        } else {
+            "still approximate: no class width is exact for continuous action times"
+        };
         o.summary.push(format!(
             "no plan at these classes, so the planner searched again at time classes of {:.0} s (fallback: \
-             `unreachable_retries`; still approximate: no class width is exact for continuous action times)",
+             `unreachable_retries`; {exactness})",
             plan.time_classes_s
         ));
     }
@@ -887,7 +892,9 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, peak_memory_mb: 
         o.number(&format!("goal_{name}_arrival_ltst_h"), ltst);
         o.summary.push(format!("reached {name} at {} (after {:.1} h, LTST {ltst:.2} h)", format_utc(at), ctx.hours(t)));
     }
-    let count = |f: &dyn Fn(Action) -> bool| r.steps.iter().filter(|s| f(s.action)).map(|s| s.duration_s).sum::<f64>();
+    let count = |f: &dyn Fn(Action) -> bool| {
+        r.steps.iter().filter(|s| f(s.action)).map(|s| s.duration_s).fold(0.0, |a, b| a + b)
+    };
     let drive_h = count(&|a| matches!(a, Action::Drive(_))) / 3600.0;
     let charge_h = count(&|a| a == Action::Charge) / 3600.0;
     let hibernate_h = count(&|a| a == Action::Hibernate) / 3600.0;
@@ -975,8 +982,10 @@ fn search_facts(o: &mut Outcome, r: &SimReport) {
 /// The simulated run in words: where it got, its battery, its re-plans and memory.
 fn sim_summary(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, status: &str, peak_memory_mb: Option<f64>) {
     let floor = floor_wh(ctx);
-    let hours_of =
-        |f: &dyn Fn(Action) -> bool| r.steps.iter().filter(|s| f(s.action)).map(|s| s.duration_s).sum::<f64>() / 3600.0;
+    // A fold from +0: `sum` of no f64 is -0, which prints as "-0.0 h".
+    let hours_of = |f: &dyn Fn(Action) -> bool| {
+        r.steps.iter().filter(|s| f(s.action)).map(|s| s.duration_s).fold(0.0, |a, d| a + d) / 3600.0
+    };
     let (drive_h, charge_h, hibernate_h) = (
         hours_of(&|a| matches!(a, Action::Drive(_))),
         hours_of(&|a| a == Action::Charge),

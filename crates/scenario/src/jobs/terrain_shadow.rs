@@ -78,7 +78,7 @@ fn compute(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) ->
         cast_shadow_fraction: cast,
         relief_m: f64::from(hi - lo),
         max_slope_deg: slopes.iter().copied().fold(0.0, f64::max),
-        mean_slope_deg: slopes.iter().sum::<f64>() / slopes.len().max(1) as f64,
+        mean_slope_deg: slopes.iter().fold(0.0, |a, b| a + b) / slopes.len().max(1) as f64,
         dem,
     })
 }
