@@ -204,6 +204,7 @@ fn quantised_actions_retry_at_halved_classes_before_the_exact_search() {
     // Its one simulated step charges: no drive, and no "-0.0 h" of driving (a sum of
     // no f64 is -0).
     assert!(retried.summary.iter().any(|l| l.contains("0 m driven in 0.0 h")), "{:?}", retried.summary);
+    assert!(retried.summary.iter().any(|l| l.starts_with("1 re-plan (")), "{:?}", retried.summary);
     // Measured: 1 030 713 expansions at the quanta, 126 690 with the retry.
     let (at_quanta, by_retry) =
         (number(&exact, "initial_plan_expansions"), number(&retried, "initial_plan_expansions"));

@@ -1016,8 +1016,9 @@ fn sim_summary(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, status: &str, 
         min_battery
     ));
     o.summary.push(format!(
-        "{} re-plans ({route_changes} changed the route), median {:.2} ms, initial plan {:.1} ms",
+        "{} re-plan{} ({route_changes} changed the route), median {:.2} ms, initial plan {:.1} ms",
         replans.len(),
+        if replans.len() == 1 { "" } else { "s" },
         1e3 * r.median_replan_s().unwrap_or(0.0),
         1e3 * r.plans[0].wall_s
     ));

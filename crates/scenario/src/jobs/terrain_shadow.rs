@@ -96,7 +96,7 @@ fn outcome(r: &ShadowReport) -> Outcome {
     o.number("lit_fraction", r.lit_fraction);
     o.number("cast_shadow_fraction", r.cast_shadow_fraction);
     o.summary.push(format!(
-        "{} x {} cells of {} m x {} m, relief {:.1} m, slopes up to {:.1}°",
+        "{} × {} cells of {} m × {} m, relief {:.1} m, slopes up to {:.1}°",
         dem.cols(),
         dem.rows(),
         dem.dx(),
