@@ -475,12 +475,11 @@ fn best_facts(o: &mut Outcome, run: &RunResult) {
     let failure =
         best.failure.as_ref().map(|(i, f)| format!("module {} ({}): {f}", i + 1, report.best.plan[*i].code()));
     o.summary.push(format!(
-        "{name}: {} in {} modules; fitness {:.2}; {} sample{} ({}); stability min {:.0} %, mean {:.0} %; {:.0} s, {:.2} Wh{}",
+        "{name}: {} in {}; fitness {:.2}; {} ({}); stability min {:.0} %, mean {:.0} %; {:.0} s, {:.2} Wh{}",
         if best.complete { "task complete" } else { "not complete" },
-        best.prefix_len,
+        super::counted(best.prefix_len, "module"),
         report.best.fitness,
-        best.samples,
-        if best.samples == 1 { "" } else { "s" },
+        super::counted(best.samples, "sample"),
         taken_label(&best.taken),
         100.0 * best.min_stability,
         100.0 * best.mean_stability,

@@ -763,9 +763,12 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
         body_facts(o, ctx, plan);
     }
     o.summary.push(format!(
-        "initial plan: {} waypoints ({drives} drives, {charges} charges, {hibernations} hibernations) over {:.1} h; \
-         lowest predicted battery {:.0} Wh (absolute); E_max {:.2} Wh",
+        "initial plan: {} waypoints ({}, {}, {}) over {:.1} h; lowest predicted battery {:.0} Wh (absolute); \
+         E_max {:.2} Wh",
         plan.waypoints.len(),
+        super::counted(drives, "drive"),
+        super::counted(charges, "charge"),
+        super::counted(hibernations, "hibernation"),
         plan.duration_s() / 3600.0,
         plan.min_battery_wh(),
         plan.e_max_wh
@@ -1016,9 +1019,8 @@ fn sim_summary(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, status: &str, 
         min_battery
     ));
     o.summary.push(format!(
-        "{} re-plan{} ({route_changes} changed the route), median {:.2} ms, initial plan {:.1} ms",
-        replans.len(),
-        if replans.len() == 1 { "" } else { "s" },
+        "{} ({route_changes} changed the route), median {:.2} ms, initial plan {:.1} ms",
+        super::counted(replans.len(), "re-plan"),
         1e3 * r.median_replan_s().unwrap_or(0.0),
         1e3 * r.plans[0].wall_s
     ));
