@@ -14,7 +14,13 @@ pub(crate) struct Fixed<const N: usize>(pub(crate) f64);
 
 impl<const N: usize> Serialize for Fixed<N> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        s.collect_str(&format_args!("{:.*}", N, self.0))
+        let text = format!("{:.*}", N, self.0);
+        // A value that rounds to zero is written without a sign: "-0.00" would read as
+        // a negative in a spreadsheet and in a diff.
+        match text.strip_prefix('-') {
+            Some(unsigned) if unsigned.bytes().all(|b| b == b'0' || b == b'.') => s.collect_str(unsigned),
+            _ => s.collect_str(&text),
+        }
     }
 }
 
@@ -142,5 +148,21 @@ mod tests {
         t.push(vec!["1".into()]);
         let err = t.to_csv(Path::new("out/x/plan.csv")).unwrap_err();
         assert!(err.to_string().contains("out/x/plan.csv"), "{err}");
+    }
+
+    #[test]
+    fn values_that_round_to_zero_have_no_sign() {
+        #[derive(Serialize, Default)]
+        struct Row {
+            a: Fixed<2>,
+            b: Fixed<2>,
+            c: Fixed<0>,
+        }
+        let rows = [
+            Row { a: Fixed(-1e-15), b: Fixed(-0.004), c: Fixed(-0.4) },
+            Row { a: Fixed(-0.005001), b: Fixed(-2.5), c: Fixed(-0.0) },
+        ];
+        let text = rows_to_csv(Path::new("t.csv"), rows).unwrap();
+        assert_eq!(text, "a,b,c\n0.00,0.00,0\n-0.01,-2.50,0\n");
     }
 }
