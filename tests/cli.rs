@@ -223,6 +223,13 @@ fn sun_day_over_the_earth_and_the_moon() {
     let e = run(&["sun", "--body", "moon", "--day", "2025-01-05", "--lat", "0", "--lon", "0", "--format", "json"]);
     assert!((e["daylight_hours"].as_f64().unwrap() - 0.5 * month_h).abs() < 4.0, "{}", e["daylight_hours"]);
     assert!(m["earth_up_hours"].as_f64().unwrap() > 0.0);
+    // At the pole in June 2024 the Sun never rises and is highest as the day opens: the
+    // "noon" printed is the window's first instant, not a millisecond before it.
+    let p = run(&["sun", "--body", "moon", "--day", "2024-06-10", "--lat", "-90", "--lon", "0", "--format", "json"]);
+    let (noon, from, to) =
+        (p["noon_utc"].as_str().unwrap(), p["from_utc"].as_str().unwrap(), p["to_utc"].as_str().unwrap());
+    assert!(from <= noon && noon <= to, "noon {noon} outside {from}..{to}");
+    assert!(p["noon_elevation_deg"].as_f64().unwrap() < 0.0 && p["daylight_hours"].as_f64().unwrap() == 0.0);
     let out = areo(&["sun", "--day", "2025-01-05", "--lat", "0", "--lon", "0"]);
     assert_eq!(out.status.code(), Some(2));
 }

@@ -192,7 +192,11 @@ pub fn culmination(site: &Site, start: Epoch, end: Epoch) -> (Epoch, f64) {
     let flat = HorizonMask::flat();
     let (t0, t1) = (MarsTime::from_epoch(start).jd_tt, MarsTime::from_epoch(end).jd_tt);
     let (jd, el) = maximum(&|jd| sun_margin(site, &flat, jd), t0, t1);
-    (epoch_from_jd_tt(jd), el)
+    // Where the highest point is an end of the window (a polar Sun still climbing or
+    // sinking), the round trip through the Julian date can land a millisecond
+    // outside it.
+    let at = epoch_from_jd_tt(jd);
+    (at.max(start).min(end), el)
 }
 
 /// The largest value of `f` on [a, b] and where: the best scan sample, refined by
