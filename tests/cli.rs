@@ -626,6 +626,8 @@ fn tempest_run_writes_every_output_and_each_parses() {
     assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains("completed: 1 of 1 goals"), "{stdout}");
     assert!(stdout.contains("re-plans"), "{stdout}");
+    // The re-plans' spread, as the targets state it (median, p95, largest).
+    assert!(stdout.contains("re-plan expansions: median ") && stdout.contains(" %, 95th percentile "), "{stdout}");
     let dir = out_dir.join("small");
 
     let plan: serde_json::Value =

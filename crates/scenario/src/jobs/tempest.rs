@@ -947,6 +947,11 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, peak_memory_mb: 
 
 /// The simulated run's search figures: re-plan expansions against the initial plan's
 /// (restarts included), the search's memory, and with `compare_fresh` the re-plans
+/// The 95th percentile of sorted, non-empty `values` (nearest rank).
+fn p95(values: &[f64]) -> f64 {
+    values[(values.len() * 95).div_ceil(100).saturating_sub(1)]
+}
+
 /// against fresh searches of the same problems.
 fn search_facts(o: &mut Outcome, r: &SimReport) {
     // Deterministic search costs: each re-plan's expansions against the initial plan's
@@ -956,7 +961,7 @@ fn search_facts(o: &mut Outcome, r: &SimReport) {
     fractions.sort_by(f64::total_cmp);
     if let Some(&max) = fractions.last() {
         o.number("replan_expansions_median", fractions[fractions.len() / 2]);
-        o.number("replan_expansions_p95", fractions[(fractions.len() * 95).div_ceil(100).saturating_sub(1)]);
+        o.number("replan_expansions_p95", p95(&fractions));
         o.number("replan_expansions_max", max);
     }
     o.number("peak_search_mb", r.peak_search_bytes() as f64 / 1e6);
@@ -1026,8 +1031,9 @@ fn sim_summary(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, status: &str, 
     ));
     if !fractions.is_empty() {
         o.summary.push(format!(
-            "re-plan expansions: median {:.3} %, largest {:.1} % of the initial plan's{}",
+            "re-plan expansions: median {:.3} %, 95th percentile {:.2} %, largest {:.1} % of the initial plan's{}",
             100.0 * fractions[fractions.len() / 2],
+            100.0 * p95(&fractions),
             100.0 * fractions[fractions.len() - 1],
             if restarts > 0 { format!(" ({restarts} restart(s) included)") } else { String::new() }
         ));
