@@ -945,13 +945,13 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, peak_memory_mb: 
     sim_summary(o, ctx, r, status, peak_memory_mb);
 }
 
-/// The simulated run's search figures: re-plan expansions against the initial plan's
-/// (restarts included), the search's memory, and with `compare_fresh` the re-plans
 /// The 95th percentile of sorted, non-empty `values` (nearest rank).
 fn p95(values: &[f64]) -> f64 {
     values[(values.len() * 95).div_ceil(100).saturating_sub(1)]
 }
 
+/// The simulated run's search figures: re-plan expansions against the initial plan's
+/// (restarts included), the search's memory, and with `compare_fresh` the re-plans
 /// against fresh searches of the same problems.
 fn search_facts(o: &mut Outcome, r: &SimReport) {
     // Deterministic search costs: each re-plan's expansions against the initial plan's
