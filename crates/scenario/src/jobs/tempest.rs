@@ -895,12 +895,9 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, peak_memory_mb: 
         o.number(&format!("goal_{name}_arrival_ltst_h"), ltst);
         o.summary.push(format!("reached {name} at {} (after {:.1} h, LTST {ltst:.2} h)", format_utc(at), ctx.hours(t)));
     }
-    let count = |f: &dyn Fn(Action) -> bool| {
-        r.steps.iter().filter(|s| f(s.action)).map(|s| s.duration_s).fold(0.0, |a, b| a + b)
-    };
-    let drive_h = count(&|a| matches!(a, Action::Drive(_))) / 3600.0;
-    let charge_h = count(&|a| a == Action::Charge) / 3600.0;
-    let hibernate_h = count(&|a| a == Action::Hibernate) / 3600.0;
+    let drive_h = hours_in(r, |a| matches!(a, Action::Drive(_)));
+    let charge_h = hours_in(r, |a| a == Action::Charge);
+    let hibernate_h = hours_in(r, |a| a == Action::Hibernate);
     let replans: Vec<_> = r.plans.iter().filter(|p| p.kind != PlanKind::Initial).collect();
     let route_changes = replans.iter().filter(|p| p.route_changed).count();
     o.count("zigzag_pairs", metrics::zigzag_pairs(&r.steps) as u64);
@@ -987,17 +984,19 @@ fn search_facts(o: &mut Outcome, r: &SimReport) {
     }
 }
 
+/// Hours the executed run spent in the actions `which` accepts.
+fn hours_in(r: &SimReport, which: impl Fn(Action) -> bool) -> f64 {
+    // A fold from +0: `sum` of no f64 is -0, which prints as "-0.0 h".
+    r.steps.iter().filter(|s| which(s.action)).map(|s| s.duration_s).fold(0.0, |a, d| a + d) / 3600.0
+}
+
 /// The simulated run in words: where it got, its battery, its re-plans and memory.
 fn sim_summary(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, status: &str, peak_memory_mb: Option<f64>) {
     let floor = floor_wh(ctx);
-    // A fold from +0: `sum` of no f64 is -0, which prints as "-0.0 h".
-    let hours_of = |f: &dyn Fn(Action) -> bool| {
-        r.steps.iter().filter(|s| f(s.action)).map(|s| s.duration_s).fold(0.0, |a, d| a + d) / 3600.0
-    };
     let (drive_h, charge_h, hibernate_h) = (
-        hours_of(&|a| matches!(a, Action::Drive(_))),
-        hours_of(&|a| a == Action::Charge),
-        hours_of(&|a| a == Action::Hibernate),
+        hours_in(r, |a| matches!(a, Action::Drive(_))),
+        hours_in(r, |a| a == Action::Charge),
+        hours_in(r, |a| a == Action::Hibernate),
     );
     let replans: Vec<_> = r.plans.iter().filter(|p| p.kind != PlanKind::Initial).collect();
     let route_changes = replans.iter().filter(|p| p.route_changed).count();
