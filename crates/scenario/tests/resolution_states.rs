@@ -210,3 +210,35 @@ fn quantised_actions_retry_at_halved_classes_before_the_exact_search() {
         (number(&exact, "initial_plan_expansions"), number(&retried, "initial_plan_expansions"));
     assert!(by_retry * 5.0 < at_quanta, "{by_retry} expansions with the retry, {at_quanta} at the quanta");
 }
+
+/// The guaranteed mode on a whole mission: `sweeps/valley-detour-resolution.sweep.ron`
+/// runs valley-detour with its actions quantised to a minute at its own settings and
+/// at five finer ones (100 and 144 goal instants, 600 s classes, 48 start intervals,
+/// energy exact), and every task completes both goals in daylight with the 100 Wh the
+/// mission asks for — through the wall's discovery, the detour and the night.
+#[test]
+fn valley_detour_at_quanta_completes_at_its_settings_and_five_finer_ones() {
+    use areo_scenario::outcome::Fact;
+    let sweep_path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/sweeps/valley-detour-resolution.sweep.ron");
+    let dir = std::env::temp_dir().join(format!("areo-valley-resolution-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let tasks = areo_scenario::sweep::expand(&sweep_path, &dir).unwrap();
+    assert_eq!(tasks.len(), 6);
+    for task in &tasks {
+        // As `areo sweep run` does: the base's relative paths (its rover file) resolve
+        // from the base's directory, and the outputs go under the sweep directory.
+        let o = match areo_scenario::sweep::run_task(&dir, task.index, false, &NoProgress, Budget::for_this_machine()) {
+            Ok(areo_scenario::sweep::TaskRun::Ran(_, o)) => o,
+            other => panic!("{}: {other:?}", task.id),
+        };
+        assert_eq!(o.facts.get("status"), Some(&Fact::Text("completed".into())), "{}: {:?}", task.id, o.summary);
+        assert_eq!(number(&o, "goals_reached"), 2.0, "{}", task.id);
+        assert_eq!(number(&o, "night_drives"), 0.0, "{}", task.id);
+        assert!(number(&o, "final_battery_above_floor_wh") >= 100.0 - 1e-6, "{}", task.id);
+        // The detour waits out one night and reaches goal 2 the next day.
+        let arrival = number(&o, "goal_goal2_arrival_h");
+        assert!((28.0..34.0).contains(&arrival), "{}: goal 2 after {arrival} h", task.id);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -773,7 +773,12 @@ fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
         plan.min_battery_wh(),
         plan.e_max_wh
     ));
-    // What the search approximated, said as what it is.
+    resolution_facts(o, ctx, plan);
+}
+
+/// What the search that found the plan approximated, said as what it is: its classes,
+/// and which fallback (energy exact, halved classes, exact at the quanta) found it.
+fn resolution_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
     let resolution = ctx.job.planner.resolution;
     let fallback = resolution.energy_wh.is_some() && plan.energy_classes_wh.is_none();
     o.flag("initial_plan_exact_energy_fallback", fallback);
