@@ -115,6 +115,12 @@ pub struct MissionPlan {
     /// unreachable.
     #[serde(default)]
     pub time_classes_s: f64,
+    /// Whether the last resort found the plan: the search exact at the actions' quanta
+    /// (one-quantum classes, the goal instants of every smaller `goal_times`, the
+    /// widest start window and start times), run when the settings found nothing — a
+    /// fallback, even where the settings' classes were one quantum already.
+    #[serde(default)]
+    pub exact_at_quanta: bool,
 }
 
 impl MissionPlan {

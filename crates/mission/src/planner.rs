@@ -805,6 +805,7 @@ impl<'a> Mission<'a> {
             segments: self.segments.len(),
             energy_classes_wh: self.config.resolution.energy_wh,
             time_classes_s: self.config.resolution.time_s,
+            exact_at_quanta: self.last_resort,
         })
     }
 

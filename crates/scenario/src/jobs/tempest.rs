@@ -795,15 +795,13 @@ fn resolution_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
             ),
         }
     ));
-    // The last resort for quantised actions: a search exact at the quanta; for
-    // continuous ones, the retries at halved classes the settings asked for.
-    // (Retries with quantised actions stop above one quantum: classes that narrow are
-    // the last resort's.)
-    let finer = plan.time_classes_s < resolution.time_s;
-    let q = ctx.job.planner.actions.time_quantum_s;
-    let quantised = q >= 1.0;
-    let at_quanta = finer && quantised && plan.time_classes_s <= q * (1.0 + 1e-9);
-    let halved = finer && !at_quanta;
+    // The last resort for quantised actions: a search exact at the quanta (reported
+    // even where the classes were one quantum already: its goal instants and start
+    // times are not the settings'); before it, and for continuous actions instead of
+    // it, the retries at halved classes the settings asked for.
+    let quantised = ctx.job.planner.actions.time_quantum_s >= 1.0;
+    let at_quanta = plan.exact_at_quanta;
+    let halved = plan.time_classes_s < resolution.time_s && !at_quanta;
     o.flag("initial_plan_quanta_fallback", at_quanta);
     o.flag("initial_plan_halved_classes_fallback", halved);
     if halved {
