@@ -352,7 +352,7 @@ fn terrain_info_slope_and_shadow_on_the_real_crop() {
     let out = areo(&["terrain", "info", dem.to_str().unwrap()]);
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("64 x 64 cells") && text.contains("equirectangular"), "{text}");
+    assert!(text.contains("64 × 64 cells") && text.contains("equirectangular"), "{text}");
     let dir = tmp("terrain");
     let shadow = dir.join("shadow.tif");
     let out = areo(&[

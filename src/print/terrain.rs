@@ -13,7 +13,7 @@ pub(crate) fn wrote(files: &[PathBuf]) -> String {
 pub(crate) fn info(i: &DemInfo) -> String {
     let [west, east, south, north] = i.extent_m;
     let mut lines = vec![
-        format!("size        {} x {} cells ({} valid, {} missing)", i.cols, i.rows, i.valid_cells, i.missing_cells),
+        format!("size        {} × {} cells ({} valid, {} missing)", i.cols, i.rows, i.valid_cells, i.missing_cells),
         format!("cell size   {} m x {} m", i.cell_m[0], i.cell_m[1]),
         format!("extent      x {west} .. {east} m, y {south} .. {north} m"),
         match i.elevation_m {
@@ -56,7 +56,7 @@ pub(crate) fn fraction(fraction: f64, what: &str) -> String {
 /// A tiled shadow run: the lit fraction, the halo it rested on, what was written.
 pub(crate) fn tiled_horizon(run: &areo_scenario::terrain::TiledHorizon) -> String {
     format!(
-        "{} sectors, horizons below {}° stored as {}° (degrees = code x 180/65535 - 90)\n{} tiles, each read with a halo of {} x {} cells on every side ({:.0} m){}\n",
+        "{} sectors, horizons below {}° stored as {}° (degrees = code x 180/65535 - 90)\n{} tiles, each read with a halo of {} × {} cells on every side ({:.0} m){}\n",
         run.sectors,
         run.lowest_deg,
         run.lowest_deg,
@@ -71,7 +71,7 @@ pub(crate) fn tiled_horizon(run: &areo_scenario::terrain::TiledHorizon) -> Strin
 pub(crate) fn tiled_shadow(run: &areo_scenario::terrain::TiledShadow) -> String {
     fraction(run.lit_fraction, "in direct sun")
         + &format!(
-            "{} tiles, each read with a halo of {} x {} cells toward the Sun (the longest possible shadow: {:.0} m){}\n",
+            "{} tiles, each read with a halo of {} × {} cells toward the Sun (the longest possible shadow: {:.0} m){}\n",
             run.tiles,
             run.halo_cells.0,
             run.halo_cells.1,

@@ -126,6 +126,9 @@ pub enum Binding {
     Communicate,
     /// A scheduled Communicate session: the rover must stand where the Earth is in view.
     EarthHidden,
+    /// Battery, darkness, shadow, camera and session constraints together: no one of
+    /// them relaxed alone makes a plan, all relaxed at once do.
+    Together,
 }
 
 impl Binding {
@@ -141,6 +144,10 @@ impl Binding {
             Binding::Battery => "battery energy",
             Binding::Communicate => "a scheduled Communicate session (the rover stands still)",
             Binding::EarthHidden => "a scheduled Communicate session (the Earth must be in view)",
+            Binding::Together => {
+                "several constraints together (battery, darkness, shadow, the Sun in the cameras, sessions: \
+                 none relaxed alone makes a plan, all relaxed at once do)"
+            }
         }
     }
 }

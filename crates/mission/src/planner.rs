@@ -809,32 +809,44 @@ impl<'a> Mission<'a> {
         })
     }
 
-    /// Why no plan exists: the first relaxation (battery, darkness, shadow, slope, Sun
-    /// in camera) that makes one.
+    /// Why no plan exists: the first relaxation (battery, darkness, shadow, Sun in
+    /// camera, Communicate sessions) that makes one alone; failing that, all of them
+    /// at once — a plan then means the constraints bind together
+    /// ([`Binding::Together`]), none means time does ([`Binding::Horizon`]).
     fn explain_unreachable(&self) -> Error {
-        let mut relaxations: Vec<(Binding, ActionConfig, bool)> = Vec::new();
+        // (binding, action constraints, unlimited battery, keep the sessions)
+        let mut relaxations: Vec<(Binding, ActionConfig, bool, bool)> = Vec::new();
         let base = self.model.config().clone();
-        relaxations.push((Binding::Battery, base.clone(), true));
+        relaxations.push((Binding::Battery, base.clone(), true, true));
         let mut c = base.clone();
         for r in [&mut c.drive, &mut c.charge, &mut c.hibernate] {
             r.daylight = false;
         }
-        relaxations.push((Binding::Darkness, c.clone(), false));
+        relaxations.push((Binding::Darkness, c.clone(), false, true));
         for r in [&mut c.drive, &mut c.charge, &mut c.hibernate] {
             r.direct_sun = false;
         }
-        relaxations.push((Binding::Shadow, c.clone(), false));
+        relaxations.push((Binding::Shadow, c.clone(), false, true));
         let mut cam = base.clone();
         cam.drive.sun_in_camera = false;
-        relaxations.push((Binding::SunInCamera, cam, false));
-        for (binding, actions, big_battery) in relaxations {
+        relaxations.push((Binding::SunInCamera, cam, false, true));
+        if !self.model.sessions().is_empty() {
+            relaxations.push((Binding::Communicate, base.clone(), false, false));
+        }
+        c.drive.sun_in_camera = false;
+        relaxations.push((Binding::Together, c, true, false));
+        for (binding, actions, big_battery, sessions) in relaxations {
             let mut rover = self.model.rover().clone();
             let mut start = self.start;
             if big_battery {
                 rover.battery.capacity_wh *= 1e6;
                 start.energy_wh = rover.battery.capacity_wh;
             }
-            let model = ActionModel::new(rover, actions).with_sessions(self.model.sessions().to_vec());
+            let mut model = ActionModel::new(rover, actions);
+            if sessions {
+                model =
+                    model.with_sessions(self.model.sessions().to_vec()).sessions_need_earth(self.model.needs_earth());
+            }
             // The same settings as the plan: a coarser probe could lose the very plan
             // the relaxation makes possible, and name the wrong constraint.
             let config = self.config.clone();
@@ -869,7 +881,9 @@ impl<'a> Mission<'a> {
                 proven: true,
             };
         }
-        self.unreachable(Binding::Blocked)
+        // Start and goals are connected (checked before any search) and no relaxation
+        // made a plan: only time is left — the horizon, the goal instants, the waits.
+        self.unreachable(Binding::Horizon)
     }
 
     /// "Unreachable" for `binding` after this mission's searches found no plan: proven

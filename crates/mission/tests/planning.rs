@@ -150,6 +150,58 @@ fn unreachable_goals_name_the_binding_constraint() {
     }
 }
 
+/// When no one relaxation makes a plan, the answer says whether all of them at once do
+/// (the constraints bind together) or not (only time is left): before, both read "no
+/// passable cells connect start and goal", though start and goal were connected.
+#[test]
+fn constraints_that_bind_only_together_and_time_are_named_as_such() {
+    // Permanent night, drives only in daylight, a 50 Wh battery for 1.5 km: unlimited
+    // battery alone still cannot drive in the dark, driving in the dark alone runs the
+    // battery flat.
+    let night = fixed_sun_world(flat(80, 3, 20.0), 90.0, -30.0, 12.0);
+    let small = model(50.0, ActionConfig::default());
+    let start = Start { cell: night.cell(2, 1), t_min: 0.0, t_max: 0.0, energy_wh: 45.0 };
+    let quick = PlannerConfig { max_wait_s: Some(3600.0), ..PlannerConfig::default() };
+    match Mission::plan(&night, &small, quick.clone(), start, &[night.cell(77, 1)]) {
+        Err(Error::Unreachable { binding, message, proven }) => {
+            assert_eq!(binding, Binding::Together, "{message}");
+            assert!(message.contains("none relaxed alone") && !message.contains("passable"), "{message}");
+            assert!(!proven, "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // The same night with a battery that can pay for the drive: darkness alone binds.
+    let big = model(1e5, ActionConfig::default());
+    let full = Start { energy_wh: 5e4, ..start };
+    match Mission::plan(&night, &big, quick.clone(), full, &[night.cell(77, 1)]) {
+        Err(Error::Unreachable { binding, .. }) => assert_eq!(binding, Binding::Darkness),
+        other => panic!("{other:?}"),
+    }
+    // Daylight and a large battery, but a wall with one gap at the far end: the detour
+    // is 1.1 km, 1 h at 0.3 m/s, the straight line 200 m, and the world spans 45 min.
+    let walled =
+        Dem::from_fn(30, 40, 10.0, 10.0, |x, y| if (140.0..160.0).contains(&x) && y < 370.0 { 500.0 } else { 0.0 })
+            .unwrap();
+    let short = fixed_sun_world(walled, 90.0, 50.0, 0.75);
+    let start = Start { cell: short.cell(5, 38), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let goal = short.cell(25, 38);
+    match Mission::plan(&short, &big, quick.clone(), start, &[goal]) {
+        Err(Error::Unreachable { binding, message, .. }) => {
+            assert_eq!(binding, Binding::Horizon, "{message}");
+            assert!(!message.contains("passable"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // The same wall in a world spanning 2 h: the detour is planned, so the wall is no
+    // block and the horizon was the binding constraint.
+    let walled =
+        Dem::from_fn(30, 40, 10.0, 10.0, |x, y| if (140.0..160.0).contains(&x) && y < 370.0 { 500.0 } else { 0.0 })
+            .unwrap();
+    let long = fixed_sun_world(walled, 90.0, 50.0, 2.0);
+    let (_m, plan) = Mission::plan(&long, &big, quick, start, &[goal]).unwrap();
+    assert!(plan.duration_s() > 2700.0, "{}", plan.duration_s());
+}
+
 #[test]
 fn bad_inputs_are_errors_naming_the_field() {
     let world = fixed_sun_world(flat(10, 10, 10.0), 90.0, 50.0, 10.0);

@@ -415,7 +415,7 @@ pub fn write_viewshed(dem: &Dem, x: f64, y: f64, height_m: f64, out: &Path) -> R
     }
     if dem.cols() < 2 || dem.rows() < 2 {
         return Err(Error::usage(
-            format!("terrain viewshed on {} x {} cells", dem.cols(), dem.rows()),
+            format!("terrain viewshed on {} × {} cells", dem.cols(), dem.rows()),
             "a viewshed needs a DEM of at least 2 x 2 cells",
         ));
     }

@@ -107,7 +107,7 @@ fn a_region_plans_what_the_whole_map_plans() {
         assert_eq!(number(&cut, fact), number(&whole, fact), "{fact}");
     }
     assert!(number(&whole, "initial_plan_charges") > 0.0, "a plan that charges: the horizons matter");
-    assert!(cut.summary.iter().any(|l| l.contains("planning region of 72 x 62 cells")), "{:?}", cut.summary);
+    assert!(cut.summary.iter().any(|l| l.contains("planning region of 72 × 62 cells")), "{:?}", cut.summary);
     let (a, b) = (number(&cut, "initial_plan_min_battery_wh"), number(&whole, "initial_plan_min_battery_wh"));
     assert!((a - b).abs() <= 1e-6 * b.abs().max(1.0), "min battery {a} vs {b}");
 

@@ -312,7 +312,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
     let mut notes = Vec::new();
     if let (Terrain::Region { region, .. }, Some(spec)) = (&terrain, &job.plan_region) {
         notes.push(format!(
-            "planning region of {} x {} cells cut from the map with its slopes and horizons (horizons below {}° stored as {}°)",
+            "planning region of {} × {} cells cut from the map with its slopes and horizons (horizons below {}° stored as {}°)",
             region.dem.cols(),
             region.dem.rows(),
             spec.lowest_sun_deg,
