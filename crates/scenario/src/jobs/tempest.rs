@@ -1453,9 +1453,15 @@ fn route_plots(
     for (i, &g) in ctx.goals.iter().enumerate() {
         markers.push(Marker { label: ctx.goal_name(i).to_string(), at: ctx.local(g), rgb: (250, 220, 40) });
     }
+    // Every goal in visiting order: the last goal's name alone read as the plot's subject.
+    let n = ctx.goals.len();
+    let visits = if n <= 4 {
+        (0..n).map(|i| ctx.goal_name(i)).collect::<Vec<_>>().join(" → ")
+    } else {
+        format!("{} goals ending at {}", n, ctx.goal_name(n - 1))
+    };
     let title = format!(
-        "{}: routes over the terrain (shadows at {})",
-        ctx.job.goals.last().map_or("", |g| g.name.as_str()),
+        "Routes to {visits} over the terrain (shadows at {})",
         format_utc(world.epoch() + Duration::from_seconds(t_shadow))
     );
     let route = framed(dem, &background, series.clone(), markers.clone(), title);
@@ -1654,7 +1660,7 @@ fn haven_plots(
         });
     }
     let title = format!(
-        "safe havens (green): shadows under {:.0} h{}",
+        "Safe havens (green): shadows under {:.0} h{}",
         havens.survive_h.min(1e6),
         if ctx.model.needs_earth() { ", the Earth never lost longer than the contact interval" } else { "" }
     );

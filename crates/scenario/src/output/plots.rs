@@ -148,6 +148,14 @@ fn colour((r, g, b): (u8, u8, u8)) -> RGBColor {
 type DrawError = Box<dyn std::error::Error + Send + Sync>;
 type DrawResult<T> = std::result::Result<T, DrawError>;
 
+/// An axis tick as a reader writes it: "3000", "0.25", "-1.5" — not plotters' "3000.0"
+/// nor a float's "0.30000000000000004".
+fn axis_number(v: &f64) -> String {
+    let r = (v * 1e6).round() / 1e6;
+    // From +0: "-0" on an axis reads as a sign that is not there.
+    format!("{}", r + 0.0)
+}
+
 fn draw_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> DrawError {
     e.to_string().into()
 }
@@ -250,6 +258,8 @@ fn draw_route<DB: DrawingBackend>(
     chart
         .configure_mesh()
         .disable_mesh()
+        .x_label_formatter(&axis_number)
+        .y_label_formatter(&axis_number)
         .x_desc("east, m")
         .y_desc("north, m")
         .label_style(("sans-serif", 13))
@@ -333,6 +343,7 @@ fn draw_time<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &TimePlot) ->
         .configure_mesh()
         .light_line_style(RGBColor(235, 235, 235))
         .x_label_formatter(&tick_label)
+        .y_label_formatter(&axis_number)
         .x_labels(if ticks == TimeTicks::Numbers { 10 } else { 7 })
         .x_desc(&p.x_label)
         .y_desc(&p.y_label)
@@ -455,6 +466,8 @@ fn draw_profile<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &ProfilePl
     chart
         .configure_mesh()
         .disable_mesh()
+        .x_label_formatter(&axis_number)
+        .y_label_formatter(&axis_number)
         .x_desc("distance along the path, m")
         .y_desc("height, m")
         .label_style(("sans-serif", 13))
@@ -528,6 +541,8 @@ fn draw_histogram<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &Histogr
     chart
         .configure_mesh()
         .disable_x_mesh()
+        .x_label_formatter(&axis_number)
+        .y_label_formatter(&axis_number)
         .x_desc(&p.x_label)
         .y_desc(&p.y_label)
         .label_style(("sans-serif", 13))
@@ -614,5 +629,15 @@ mod tests {
         assert_eq!(ticks.label(0.0), "sol 0 14:00");
         assert_eq!(ticks.label(sol_h + 6.0 * sol_h / 24.0), "sol 1 20:00");
         assert_eq!(TimeTicks::Numbers.label(2.5), "2.5");
+    }
+
+    #[test]
+    fn axis_numbers_carry_no_spurious_decimals_or_signs() {
+        assert_eq!(axis_number(&3000.0), "3000");
+        assert_eq!(axis_number(&(0.1 + 0.2)), "0.3");
+        assert_eq!(axis_number(&-1.5), "-1.5");
+        assert_eq!(axis_number(&-0.0), "0");
+        assert_eq!(axis_number(&-1e-9), "0");
+        assert_eq!(axis_number(&0.125), "0.125");
     }
 }
