@@ -1,5 +1,6 @@
 //! GeoTIFF DEMs through the `tiff` crate: int16, uint16, int32, float32 and float64
-//! samples, strips or tiles; georeference from ModelPixelScale, ModelTiepoint and the
+//! samples, strips or tiles, uncompressed or compressed as GDAL writes them (LZW,
+//! deflate with either predictor, PackBits, Zstandard); georeference from ModelPixelScale, ModelTiepoint and the
 //! GeoKey directory; nodata from the GDAL_NODATA tag. Writes float32 elevation and
 //! uint8 mask/shadow GeoTIFFs with the same georeference tags.
 

@@ -357,7 +357,8 @@ fn tiled_uint16_tiff(cols: u32, rows: u32, value: impl Fn(u32, u32) -> u16, noda
 }
 
 /// [`tiled_uint16_tiff`] with each tile compressed: 1 none, 5 LZW (MSB-first codes,
-/// as TIFF 6.0 specifies), 8 deflate (zlib stream, Adobe's code).
+/// as TIFF 6.0 specifies), 8 deflate (zlib stream, Adobe's code), 50000 Zstandard
+/// (GDAL's `COMPRESS=ZSTD`).
 fn tiled_uint16_tiff_compressed(
     cols: u32,
     rows: u32,
@@ -387,6 +388,7 @@ fn tiled_uint16_tiff_compressed(
                     z.write_all(&raw).unwrap();
                     z.finish().unwrap()
                 }
+                50000 => zstd::encode_all(&raw[..], 3).unwrap(),
                 _ => raw,
             };
             sizes.push(packed.len());
@@ -502,9 +504,11 @@ fn windows_of_tiled_and_stripped_geotiffs_equal_crops_of_the_whole() {
 }
 
 #[test]
-fn deflate_and_lzw_tiles_read_whole_and_through_windows() {
+fn deflate_lzw_and_zstd_tiles_read_whole_and_through_windows() {
     let value = |c: u32, r: u32| if (c, r) == (30, 3) { 65535 } else { (c * 37 + r * 11) as u16 };
-    for (compression, name) in [(8, "deflate"), (5, "lzw")] {
+    // Zstandard: GDAL writes it for `COMPRESS=ZSTD`, common on recent DTMs; before
+    // session 31 such a file was refused ("compression method ZSTD is unsupported").
+    for (compression, name) in [(8, "deflate"), (5, "lzw"), (50000, "zstd")] {
         let path = tmp(&format!("tiled_{name}.tif"));
         let bytes = tiled_uint16_tiff_compressed(37, 21, value, "65535", compression);
         assert!(bytes.len() < tiled_uint16_tiff(37, 21, value, "65535").len(), "{name}: the tiles are compressed");
@@ -521,6 +525,33 @@ fn deflate_and_lzw_tiles_read_whole_and_through_windows() {
         assert_eq!(win.elevations().len(), 20 * 17);
         assert_eq!(win.z(0, 0), dem.z(14, 2));
         assert_eq!(win.z(16, 1), None, "{name}: nodata inside a window");
+    }
+}
+
+/// GDAL's own compressed outputs of the 64-cell Gale crop (tests/data/README.md):
+/// floating-point and horizontal predictors, int16 samples, Zstandard tiles — each
+/// reads back as the uncompressed file, cell for cell, with its georeference.
+#[test]
+fn gdal_compressed_geotiffs_read_as_the_uncompressed_one() {
+    let plain = geotiff::read(&data("gale_mola_crop_64.tif")).unwrap();
+    for name in
+        ["gale_mola_crop_64_deflate_fp.tif", "gale_mola_crop_64_lzw_int16.tif", "gale_mola_crop_64_zstd_tiled.tif"]
+    {
+        let dem = geotiff::read(&data(name)).unwrap();
+        assert_eq!((dem.cols(), dem.rows()), (64, 64), "{name}");
+        assert_eq!(
+            (dem.x0(), dem.y_top(), dem.dx(), dem.georef()),
+            (plain.x0(), plain.y_top(), plain.dx(), plain.georef())
+        );
+        for r in 0..64 {
+            for c in 0..64 {
+                assert_eq!(dem.z(c, r), plain.z(c, r), "{name} ({c}, {r})");
+            }
+        }
+        // Windows decode the same chunks.
+        let mut w = geotiff::Windows::open(&data(name), 1 << 20).unwrap();
+        let win = w.read(10, 20, 30, 25).unwrap();
+        assert_eq!((win.z(0, 0), win.z(29, 24)), (plain.z(10, 20), plain.z(39, 44)), "{name}");
     }
 }
 
