@@ -103,6 +103,26 @@ impl Header {
                 "{b}-bit {kind} samples (BitsPerSample {b}, SampleFormat {f}): areo reads 8-, 16- and 32-bit integers and 32- and 64-bit floats"
             )));
         }
+        // The schemes the decoder has, named before decoding: its own message for the
+        // rest ("Unknown(34887) is unsupported", or "corrupt" for JPEG) says neither what
+        // the file is nor what to do.
+        let compression = dec.find_tag_unsigned::<u16>(Tag::Compression).map_err(tiff_err)?.unwrap_or(1);
+        if !matches!(compression, 1 | 5 | 8 | 32946 | 32773 | 50000) {
+            let name = match compression {
+                2..=4 => "CCITT fax",
+                6 | 7 => "JPEG",
+                34712 => "JPEG 2000",
+                34887 => "LERC",
+                34925 => "LZMA",
+                50001 => "WebP",
+                50002 => "JPEG XL",
+                _ => "an unknown scheme",
+            };
+            return Err(bad(format!(
+                "compression {compression} ({name}): areo reads uncompressed, LZW, deflate, PackBits and Zstandard \
+                 GeoTIFFs; rewrite it, e.g. `gdal_translate -co COMPRESS=DEFLATE in.tif out.tif`"
+            )));
+        }
         if dec.find_tag(Tag::Unknown(MODEL_TRANSFORMATION)).map_err(tiff_err)?.is_some() {
             return Err(bad(
                 "ModelTransformationTag (a rotated or sheared grid) is not read: warp the DEM to a north-up grid first (gdalwarp)"

@@ -528,6 +528,24 @@ fn deflate_lzw_and_zstd_tiles_read_whole_and_through_windows() {
     }
 }
 
+/// A scheme areo does not decode is named, with what to do, by both readers (the
+/// decoder alone said "Unknown(34887) is unsupported").
+#[test]
+fn an_unread_compression_is_named_with_a_remedy() {
+    let value = |c: u32, r: u32| (c + r) as u16;
+    for (compression, name) in [(34887, "LERC"), (34925, "LZMA"), (7, "JPEG")] {
+        let path = tmp(&format!("tiled_{name}.tif"));
+        std::fs::write(&path, tiled_uint16_tiff_compressed(20, 20, value, "65535", compression)).unwrap();
+        let whole = geotiff::read(&path).unwrap_err().to_string();
+        let windows = geotiff::Windows::open(&path, 1).err().expect("refused").to_string();
+        for message in [whole, windows] {
+            assert!(message.contains(&format!("compression {compression} ({name})")), "{message}");
+            assert!(message.contains("gdal_translate -co COMPRESS=DEFLATE"), "{message}");
+            assert!(message.contains(&path.display().to_string()), "{message}");
+        }
+    }
+}
+
 /// GDAL's own compressed outputs of the 64-cell Gale crop (tests/data/README.md):
 /// floating-point and horizontal predictors, int16 samples, Zstandard tiles — each
 /// reads back as the uncompressed file, cell for cell, with its georeference.
