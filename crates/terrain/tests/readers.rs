@@ -528,6 +528,45 @@ fn deflate_lzw_and_zstd_tiles_read_whole_and_through_windows() {
     }
 }
 
+/// A grid in longitude and latitude (GDAL: `+proj=longlat`, as MOLA and LOLA products
+/// come) is the same cells in metres on the equirectangular grid at its middle latitude:
+/// every cell centre at the latitude and longitude of the projected crop's, 1/128° of
+/// latitude 463.0577 m (the MEGDR's README), east–west true at the middle. Before,
+/// degrees were read as metres (cells of 0.0078 m).
+#[test]
+fn a_longitude_latitude_grid_reads_as_metres_at_its_middle_latitude() {
+    let plain = geotiff::read(&data("gale_mola_crop_64.tif")).unwrap();
+    let lonlat = geotiff::read(&data("gale_mola_crop_64_lonlat.tif")).unwrap();
+    assert!((lonlat.dy() - 463.0577).abs() < 1e-3, "{}", lonlat.dy());
+    let middle: f64 = -5.0234375 - 32.0 / 128.0;
+    assert!((lonlat.dx() - 463.0577 * middle.to_radians().cos()).abs() < 1e-3, "{}", lonlat.dx());
+    for (c, r) in [(0, 0), (63, 0), (0, 63), (63, 63), (17, 40)] {
+        let (x, y) = plain.cell_center(c, r);
+        let (lat, lon) = plain.geographic(x, y).unwrap();
+        let (x, y) = lonlat.cell_center(c, r);
+        let (lat2, lon2) = lonlat.geographic(x, y).unwrap();
+        assert!((lat - lat2).abs() < 1e-9 && (lon - lon2).abs() < 1e-9, "({c}, {r}): {lat}, {lon} vs {lat2}, {lon2}");
+        assert_eq!(plain.z(c, r), lonlat.z(c, r));
+    }
+    // The corner the file ties, by the MEGDR's own numbers: column 400, row 400 of the
+    // window that starts at 134.296875° E, 1.8984375° S, 1/128° per cell.
+    let (lat, lon) = lonlat.geographic(lonlat.x0(), lonlat.y_top()).unwrap();
+    assert!((lat - (-1.8984375 - 400.0 / 128.0)).abs() < 1e-9 && (lon - (134.296875 + 400.0 / 128.0)).abs() < 1e-9);
+    // Windows read it the same way.
+    let mut w = geotiff::Windows::open(&data("gale_mola_crop_64_lonlat.tif"), 1 << 20).unwrap();
+    let win = w.read(5, 6, 10, 10).unwrap();
+    assert_eq!((win.dx(), win.dy()), (lonlat.dx(), lonlat.dy()));
+    let (a, b) = (win.cell_center(0, 0), lonlat.cell_center(5, 6));
+    assert!((a.0 - b.0).abs() < 1e-6 && (a.1 - b.1).abs() < 1e-6, "{a:?} vs {b:?}");
+    assert_eq!(win.z(3, 4), lonlat.z(8, 10));
+    // A polar grid in degrees would be 98 % off at its edge: refused, with what to do;
+    // so is a projected grid in kilometres.
+    let polar = geotiff::read(&data("lonlat_polar_64.tif")).unwrap_err().to_string();
+    assert!(polar.contains("off by up to 98.0 %") && polar.contains("+proj=stere"), "{polar}");
+    let km = geotiff::read(&data("eqc_km_64.tif")).unwrap_err().to_string();
+    assert!(km.contains("linear unit 9036") && km.contains("metres"), "{km}");
+}
+
 /// A scheme areo does not decode is named, with what to do, by both readers (the
 /// decoder alone said "Unknown(34887) is unsupported").
 #[test]
@@ -537,7 +576,7 @@ fn an_unread_compression_is_named_with_a_remedy() {
         let path = tmp(&format!("tiled_{name}.tif"));
         std::fs::write(&path, tiled_uint16_tiff_compressed(20, 20, value, "65535", compression)).unwrap();
         let whole = geotiff::read(&path).unwrap_err().to_string();
-        let windows = geotiff::Windows::open(&path, 1).err().expect("refused").to_string();
+        let windows = geotiff::Windows::open(&path, 1).expect_err("refused").to_string();
         for message in [whole, windows] {
             assert!(message.contains(&format!("compression {compression} ({name})")), "{message}");
             assert!(message.contains("gdal_translate -co COMPRESS=DEFLATE"), "{message}");
