@@ -149,9 +149,13 @@ enum SweepCommand {
 #[derive(Debug, Subcommand)]
 enum RoverCommand {
     /// Pose, wheel loads and torques, binding limits, stability margin and the smallest
-    /// friction that holds, for a parameter file on a test terrain.
+    /// friction that holds, for a parameter file on a test terrain; for a TEMPEST
+    /// resource model, drive power and Wh per km on flat ground and slopes, the array's
+    /// output per W/m², and how long a full battery lasts.
     Check {
-        /// Rover parameters (RON), e.g. crates/rover/params/lsr1.ron.
+        /// Rover parameters (RON), e.g. crates/rover/params/lsr1.ron, or a resource
+        /// model, e.g. scenarios/rovers/mock-solar-rover.ron (only --terrain flat or
+        /// slope:DEG and --format apply to it).
         params: PathBuf,
         /// flat, slope:DEG (rising ahead), side-slope:DEG (rising to the left), or
         /// step:HEIGHT_M (front wheels against a vertical step).
@@ -166,6 +170,9 @@ enum RoverCommand {
         /// Output format.
         #[arg(long, value_enum, default_value_t = ReportFormat::Text)]
         format: ReportFormat,
+        /// For a resource model without `gravity_m_s2`: whose gravity it drives in.
+        #[arg(long, value_enum, default_value_t = BodyArg::Mars)]
+        body: BodyArg,
     },
 }
 
@@ -402,7 +409,22 @@ fn main() -> ExitCode {
             clap_complete::generate(shell, &mut Cli::command(), "areo", &mut std::io::stdout());
             Ok(())
         }
-        Command::Rover(RoverCommand::Check { params, terrain, mu, moving, format }) => {
+        Command::Rover(RoverCommand::Check { params, terrain, format, body, .. })
+            if matches!(
+                areo_scenario::rover_check::file_kind(&params),
+                Ok(areo_scenario::rover_check::RoverFile::Resources)
+            ) =>
+        {
+            areo_scenario::rover_check::check_resources(&params, terrain, body.body()).and_then(|report| {
+                let text = match format {
+                    ReportFormat::Text => print::rover::resources_text(&report),
+                    ReportFormat::Json => print::json(&report)? + "\n",
+                };
+                print!("{text}");
+                Ok(())
+            })
+        }
+        Command::Rover(RoverCommand::Check { params, terrain, mu, moving, format, .. }) => {
             areo_scenario::rover_check::check(&params, terrain, mu, moving).and_then(|report| {
                 let text = match format {
                     ReportFormat::Text => print::rover::text(&report),

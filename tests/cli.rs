@@ -590,6 +590,58 @@ fn rover_check_reports_loads_margin_and_needed_friction() {
     assert!(text.contains("climb over the step (101 poses") && text.contains("stopped at 0.00 m (slip)"), "{text}");
 }
 
+/// A TEMPEST resource model checked: its drive figures are the locomotor's formula
+/// worked by hand (m·g·v·(c_rr·cos θ + sin θ)/η plus the high electronics level, the
+/// speed falling linearly to a third at the maximum slope), its battery's the
+/// state-of-charge window times the discharge efficiency. Before, `rover check` knew
+/// only LSR-1 parameter files and refused these ("Expected struct `RoverParams`").
+#[test]
+fn rover_check_works_a_resource_model_by_hand() {
+    let model = root().join("scenarios/rovers/mock-solar-rover.ron");
+    let out = areo(&["rover", "check", model.to_str().unwrap(), "--terrain", "slope:10", "--format", "json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    // The file: 156 kg, 0.3 m/s, c_rr 0.15, η 0.5, 20° maximum, 3.711 m/s²; electronics
+    // 20 / 80 / 150 W; 1000 Wh between 10 % and 100 %, 95 % delivered; 3.45 m² at 20 %.
+    let weight = 156.0 * 3.711;
+    let loco = |v: f64, deg: f64| {
+        (weight * v * (0.15 * f64::cos(deg.to_radians()) + f64::sin(deg.to_radians())) / 0.5).max(0.0)
+    };
+    let rows = v["drives"].as_array().unwrap();
+    let want = [("flat", 0.3, 0.0), ("up 10°", 0.2, 10.0), ("down 10°", 0.2, -10.0), ("up 20° (maximum)", 0.1, 20.0)];
+    assert_eq!(rows.len(), want.len(), "{v}");
+    for (row, (ground, speed, deg)) in rows.iter().zip(want) {
+        assert_eq!(row["ground"], ground);
+        let close = |key: &str, x: f64| assert!((row[key].as_f64().unwrap() - x).abs() < 1e-9, "{key} {row} vs {x}");
+        close("speed_m_s", speed);
+        close("locomotion_w", loco(speed, deg));
+        close("battery_w", loco(speed, deg) + 150.0);
+        close("wh_per_km", (loco(speed, deg) + 150.0) / speed / 3.6);
+    }
+    // Downhill at 10° the slope pays more than rolling costs: no locomotion power.
+    assert_eq!(rows[2]["locomotion_w"].as_f64(), Some(0.0));
+    assert!((v["array_w_per_w_m2"].as_f64().unwrap() - 0.69).abs() < 1e-12);
+    assert_eq!((v["usable_wh"].as_f64(), v["deliverable_wh"].as_f64()), (Some(900.0), Some(855.0)));
+    assert!((v["hibernate_h"].as_f64().unwrap() - 855.0 / 20.0).abs() < 1e-9);
+    assert!((v["idle_h"].as_f64().unwrap() - 855.0 / 80.0).abs() < 1e-9);
+    let flat_wh_km = (loco(0.3, 0.0) + 150.0) / 0.3 / 3.6;
+    assert!((v["range_flat_km"].as_f64().unwrap() - 855.0 / flat_wh_km).abs() < 1e-9);
+    assert_eq!(v["gravity_from"], "the file");
+    // A model without gravity drives in the body's: the lunar rover on the Moon.
+    let lunar = root().join("scenarios/rovers/lunar-polar-rover.ron");
+    let out = areo(&["rover", "check", lunar.to_str().unwrap(), "--body", "moon"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success() && text.contains("gravity 1.622 m/s² (Moon)"), "{text}");
+    assert!(text.contains("a full battery with no sunlight lasts"), "{text}");
+    // What does not apply to a resource model is refused, and so is a slope it cannot drive.
+    for terrain in ["step:0.2", "side-slope:5", "slope:25"] {
+        let out = areo(&["rover", "check", model.to_str().unwrap(), "--terrain", terrain]);
+        assert_eq!(out.status.code(), Some(2), "{terrain}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(&format!("--terrain {terrain}")), "{err}");
+    }
+}
+
 #[test]
 fn rover_check_rejects_bad_terrain_and_bad_parameters_with_exit_2() {
     let params = root().join("crates/rover/params/lsr1.ron");

@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use areo_scenario::rover_check::Report;
+use areo_scenario::rover_check::{Report, ResourceReport};
 
 /// The report as aligned text.
 pub(crate) fn text(report: &Report) -> String {
@@ -84,5 +84,50 @@ pub(crate) fn text(report: &Report) -> String {
             );
         }
     }
+    s
+}
+
+/// A resource model's figures as aligned text.
+pub(crate) fn resources_text(r: &ResourceReport) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "{} (TEMPEST resource model), gravity {} m/s² ({})", r.rover, r.gravity_m_s2, r.gravity_from);
+    let _ = writeln!(
+        s,
+        "{:<22} {:>8} {:>13} {:>14} {:>12} {:>9}",
+        "driving", "m/s", "locomotion W", "electronics W", "battery W", "Wh/km"
+    );
+    for d in &r.drives {
+        let _ = writeln!(
+            s,
+            "{:<22} {:>8.3} {:>13.1} {:>14.1} {:>12.1} {:>9.1}",
+            d.ground, d.speed_m_s, d.locomotion_w, d.electronics_w, d.battery_w, d.wh_per_km
+        );
+    }
+    let _ = writeln!(s, "  (battery W: the load less the generator, with no sunlight; Wh/km likewise)");
+    if r.array_w_per_w_m2 > 0.0 {
+        let _ =
+            writeln!(s, "array: {:.3} W per W/m² of beam at normal incidence (area × efficiency)", r.array_w_per_w_m2);
+    } else {
+        let _ = writeln!(s, "array: none");
+    }
+    if r.nuclear_w > 0.0 {
+        let _ = writeln!(s, "generator: {} W", r.nuclear_w);
+    }
+    let [low, medium, high] = r.electronics_w;
+    let _ = writeln!(s, "electronics: {low} W hibernating, {medium} W idle or charging, {high} W driving");
+    let _ = writeln!(
+        s,
+        "battery: {} Wh, {:.1} Wh between its charge limits, {:.1} Wh delivered",
+        r.capacity_wh, r.usable_wh, r.deliverable_wh
+    );
+    let hours =
+        |h: Option<f64>| h.map_or("indefinitely (the generator covers it)".to_string(), |h| format!("{h:.1} h"));
+    let _ = writeln!(
+        s,
+        "a full battery with no sunlight lasts {} hibernating, {} idle; drives {} on flat ground",
+        hours(r.hibernate_h),
+        hours(r.idle_h),
+        r.range_flat_km.map_or("indefinitely".to_string(), |k| format!("{k:.2} km"))
+    );
     s
 }

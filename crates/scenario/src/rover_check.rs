@@ -332,3 +332,159 @@ mod tests {
         assert!(front.unwrap().climb.unwrap().mu_needed.is_some_and(|m| m < 0.6));
     }
 }
+
+/// What a rover file describes: the LSR-1-style geometry and mass properties the
+/// quasi-static model reads ([`check`]), or a TEMPEST resource model — locomotor,
+/// array, battery, loads ([`check_resources`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RoverFile {
+    /// `RoverParams(…)`.
+    Physics,
+    /// `ResourceModel(…)`.
+    Resources,
+}
+
+/// The kind of rover file at `path`, from the struct name it opens with (after
+/// comments and RON's `#![enable(…)]` lines); a file that opens with neither is read
+/// as parameters, whose parser then names what it found.
+pub fn file_kind(path: &Path) -> Result<RoverFile> {
+    let text = crate::read_text(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    let mut rest = text.as_str();
+    loop {
+        rest = rest.trim_start();
+        if let Some(after) = rest.strip_prefix("//") {
+            rest = after.split_once('\n').map_or("", |(_, r)| r);
+        } else if let Some(after) = rest.strip_prefix("/*") {
+            rest = after.split_once("*/").map_or("", |(_, r)| r);
+        } else if rest.starts_with("#!") {
+            rest = rest.split_once('\n').map_or("", |(_, r)| r);
+        } else {
+            break;
+        }
+    }
+    let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+    Ok(if name == "ResourceModel" { RoverFile::Resources } else { RoverFile::Physics })
+}
+
+/// One driving condition of a resource model.
+#[derive(Debug, Clone, Serialize)]
+pub struct DriveFigures {
+    /// What the row is: "flat", "up 10°", "down 10°", "up 20° (maximum)".
+    pub ground: String,
+    /// Slope, degrees (negative downhill).
+    pub slope_deg: f64,
+    /// Speed there (the model slows on slopes), m/s.
+    pub speed_m_s: f64,
+    /// Locomotion power m·g·v·(c_rr·cos θ + sin θ)/η, never below 0, W.
+    pub locomotion_w: f64,
+    /// Electronics while driving (the high level), W.
+    pub electronics_w: f64,
+    /// Drawn from the battery with no sunlight: load less the generator, W.
+    pub battery_w: f64,
+    /// Energy drawn from the battery per kilometre with no sunlight, Wh/km.
+    pub wh_per_km: f64,
+}
+
+/// `areo rover check` on a TEMPEST resource model: what its numbers imply, to set
+/// against an engineer's own.
+#[derive(Debug, Clone, Serialize)]
+pub struct ResourceReport {
+    /// The model's name.
+    pub rover: String,
+    /// Gravity the locomotor works against, m/s².
+    pub gravity_m_s2: f64,
+    /// Whose gravity: "the file" or the body's name (the file gives none).
+    pub gravity_from: String,
+    /// Flat, the asked slope up and down, and the model's maximum slope up.
+    pub drives: Vec<DriveFigures>,
+    /// Array output per unit of beam irradiance at normal incidence (area ×
+    /// efficiency), W per W/m²; 0 without an array.
+    pub array_w_per_w_m2: f64,
+    /// Generator output, W.
+    pub nuclear_w: f64,
+    /// Capacity, Wh.
+    pub capacity_wh: f64,
+    /// Stored energy between the state-of-charge limits, Wh.
+    pub usable_wh: f64,
+    /// What the usable energy delivers to the bus (× discharge efficiency), Wh.
+    pub deliverable_wh: f64,
+    /// Electronics at the low (hibernation), medium (idle, charging) and high levels, W.
+    pub electronics_w: [f64; 3],
+    /// Hours a full battery lasts hibernating / idle with no sunlight (∞ as `None`
+    /// where the generator covers the load).
+    pub hibernate_h: Option<f64>,
+    /// Hours idle on a full battery with no sunlight.
+    pub idle_h: Option<f64>,
+    /// Kilometres on flat ground on a full battery with no sunlight.
+    pub range_flat_km: Option<f64>,
+}
+
+/// Checks a resource model: drive power and energy per kilometre on flat ground, up
+/// and down `terrain`'s slope and up the model's maximum, the array's output per unit
+/// irradiance, and how long a full battery lasts. Only `flat` and `slope:DEG` apply.
+/// A locomotor without `gravity_m_s2` gets `body`'s, as in a scenario on that body.
+pub fn check_resources(path: &Path, terrain: TestTerrain, body: areo_ephemeris::Body) -> Result<ResourceReport> {
+    let mut model = crate::format::rover_files::load_resources(path)?;
+    let gravity_from = if model.locomotor.gravity_m_s2.is_some() { "the file" } else { body.iau_name() };
+    model.locomotor.gravity_m_s2.get_or_insert(body.surface_gravity_m_s2());
+    let slope = match terrain {
+        TestTerrain::Flat => 0.0,
+        TestTerrain::Slope(d) => d,
+        other => {
+            return Err(Error::usage(
+                format!("--terrain {other}"),
+                "a resource model is checked on flat or slope:DEG (its locomotor has no wheels to place on a side slope or a step)",
+            ));
+        }
+    };
+    let l = &model.locomotor;
+    let high = model.electronics.power_w(areo_rover::resources::Load::High);
+    let row = |ground: String, slope_deg: f64| {
+        let speed = l.speed_on_slope_m_s(slope_deg);
+        let locomotion = l.power_w(speed, slope_deg);
+        let battery = (locomotion + high - model.nuclear_w).max(0.0);
+        DriveFigures {
+            ground,
+            slope_deg,
+            speed_m_s: speed,
+            locomotion_w: locomotion,
+            electronics_w: high,
+            battery_w: battery,
+            wh_per_km: battery / speed / 3.6,
+        }
+    };
+    let mut drives = vec![row("flat".into(), 0.0)];
+    if slope > 0.0 {
+        if slope <= l.max_slope_deg {
+            drives.push(row(format!("up {slope}°"), slope));
+            drives.push(row(format!("down {slope}°"), -slope));
+        } else {
+            return Err(Error::usage(
+                format!("--terrain slope:{slope}"),
+                format!("steeper than the model's maximum slope ({}°): it does not drive there", l.max_slope_deg),
+            ));
+        }
+    }
+    drives.push(row(format!("up {}° (maximum)", l.max_slope_deg), l.max_slope_deg));
+    let b = &model.battery;
+    let usable_wh = b.usable_j() / 3600.0;
+    let deliverable_wh = usable_wh * b.discharge_efficiency;
+    let lasts = |load_w: f64| (load_w > model.nuclear_w).then(|| deliverable_wh / (load_w - model.nuclear_w));
+    let e = &model.electronics;
+    let flat = &drives[0];
+    Ok(ResourceReport {
+        rover: model.name.clone(),
+        gravity_m_s2: l.gravity(),
+        gravity_from: gravity_from.to_string(),
+        array_w_per_w_m2: model.solar.map_or(0.0, |s| s.area_m2 * s.efficiency),
+        nuclear_w: model.nuclear_w,
+        capacity_wh: b.capacity_wh,
+        usable_wh,
+        deliverable_wh,
+        electronics_w: [e.low_w, e.medium_w, e.high_w],
+        hibernate_h: lasts(e.low_w),
+        idle_h: lasts(e.medium_w),
+        range_flat_km: (flat.battery_w > 0.0).then(|| deliverable_wh / flat.wh_per_km),
+        drives,
+    })
+}
