@@ -295,11 +295,16 @@ enum TerrainCommand {
         /// The DEM.
         file: PathBuf,
         /// Sun azimuth, degrees clockwise from north.
-        #[arg(long, allow_hyphen_values = true)]
-        sun_azimuth: f64,
+        #[arg(long, allow_hyphen_values = true, required_unless_present = "utc", requires = "sun_elevation")]
+        sun_azimuth: Option<f64>,
         /// Sun elevation above the local horizontal, degrees.
-        #[arg(long, allow_hyphen_values = true)]
-        sun_elevation: f64,
+        #[arg(long, allow_hyphen_values = true, required_unless_present = "utc", requires = "sun_azimuth")]
+        sun_elevation: Option<f64>,
+        /// Instead of a direction: the Sun of this instant (UTC) over the map's middle,
+        /// on the body its georeference names (Mars24, the lunar or the terrestrial
+        /// ephemeris).
+        #[arg(long, conflicts_with_all = ["sun_azimuth", "sun_elevation"])]
+        utc: Option<String>,
         /// Ignore planetary curvature (otherwise the radius of the DEM's body is used).
         #[arg(long)]
         flat: bool,
@@ -594,6 +599,30 @@ fn check_sun(azimuth_deg: f64, elevation_deg: f64) -> Result<(), Error> {
     Ok(())
 }
 
+/// The Sun direction of `areo terrain shadow`: as given, or that of `--utc` over the
+/// map's middle (then also the line that says where it stands).
+fn sun_for_shadow(
+    file: &std::path::Path,
+    azimuth: Option<f64>,
+    elevation: Option<f64>,
+    utc: Option<&str>,
+    grid: impl FnOnce() -> Result<areo_scenario::terrain::Grid, Error>,
+) -> Result<((f64, f64), String), Error> {
+    match (utc, azimuth, elevation) {
+        (Some(utc), _, _) => {
+            let sun = areo_scenario::terrain::sun_over(file, &grid()?, utc)?;
+            let said = print::terrain::sun_over(&sun);
+            Ok(((sun.azimuth_deg, sun.elevation_deg), said))
+        }
+        (None, Some(a), Some(e)) => {
+            check_sun(a, e)?;
+            Ok(((a, e), String::new()))
+        }
+        // clap requires both or --utc.
+        _ => Err(Error::usage("--sun-azimuth, --sun-elevation", "give both, or --utc")),
+    }
+}
+
 fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
     use areo_scenario::terrain as tt;
     // Each command checks its estimate once the DEM's size is known.
@@ -611,34 +640,22 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
             tt::check_output(file, out)?;
             print::terrain::wrote(&tt::write_slope(&read(file, DemCommand::Slope)?, out)?)
         }
-        TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, flat, method, tile: Some(tile), out } => {
-            check_sun(*sun_azimuth, *sun_elevation)?;
+        TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, utc, flat, method, tile: Some(tile), out } => {
             tt::check_output(file, out)?;
+            let grid = || areo_scenario::terrain::geotiff_grid(file);
+            let (sun, said) = sun_for_shadow(file, *sun_azimuth, *sun_elevation, utc.as_deref(), grid)?;
             let bar = progress_bar();
-            let run = tt::write_shadow_tiled(
-                file,
-                (*sun_azimuth, *sun_elevation),
-                *flat,
-                (*method).into(),
-                *tile as usize,
-                out,
-                &budget,
-                &bar,
-            )?;
-            print::terrain::tiled_shadow(&run)
+            let run = tt::write_shadow_tiled(file, sun, *flat, (*method).into(), *tile as usize, out, &budget, &bar)?;
+            said + &print::terrain::tiled_shadow(&run)
         }
-        TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, flat, method, tile: None, out } => {
-            check_sun(*sun_azimuth, *sun_elevation)?;
+        TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, utc, flat, method, tile: None, out } => {
             tt::check_output(file, out)?;
-            let (files, lit) = tt::write_shadow(
-                &read(file, DemCommand::Shadow)?,
-                *sun_azimuth,
-                *sun_elevation,
-                *flat,
-                (*method).into(),
-                out,
-            )?;
-            print::terrain::fraction(lit, "in direct sun") + &print::terrain::wrote(&files)
+            let dem = read(file, DemCommand::Shadow)?;
+            let grid = || Ok(areo_scenario::terrain::Grid::of(&dem));
+            let ((azimuth, elevation), said) =
+                sun_for_shadow(file, *sun_azimuth, *sun_elevation, utc.as_deref(), grid)?;
+            let (files, lit) = tt::write_shadow(&dem, azimuth, elevation, *flat, (*method).into(), out)?;
+            said + &print::terrain::fraction(lit, "in direct sun") + &print::terrain::wrote(&files)
         }
         TerrainCommand::Viewshed { file, from, out } => {
             tt::check_output(file, out)?;

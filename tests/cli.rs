@@ -983,3 +983,53 @@ fn time_plots_can_read_in_local_solar_time() {
     // The run starts in the morning of sol 0 (08:50) and ends on sol 1.
     assert!(svg.contains("sol 0 08:50") && svg.contains("sol 1 "), "tick labels");
 }
+
+/// `terrain shadow --utc`: the Sun of an instant over the map's middle on the body its
+/// georeference names — the direction `areo sun` gives at that place and instant
+/// (another path: Mars24's solar geometry there), and the same map as that direction
+/// given by hand; at night the map is dark and says why; a map with no place on a body
+/// is refused.
+#[test]
+fn terrain_shadow_at_an_instant_uses_the_sun_over_the_maps_middle() {
+    let dem = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");
+    let dem = dem.to_str().unwrap();
+    let info: serde_json::Value = serde_json::from_slice(&areo(&["terrain", "info", dem, "--json"]).stdout).unwrap();
+    let (lat, lon) = (info["centre_deg"][0].as_f64().unwrap(), info["centre_deg"][1].as_f64().unwrap());
+    let t = "2012-08-06T22:00:00Z";
+    let sun = areo(&["sun", "--time", t, "--lat", &lat.to_string(), "--lon", &lon.to_string(), "--format", "json"]);
+    let sun: serde_json::Value = serde_json::from_slice(&sun.stdout).unwrap();
+    let (az, el) = (sun[0]["azimuth_deg"].as_f64().unwrap(), sun[0]["elevation_deg"].as_f64().unwrap());
+    let dir = tmp("shadow-utc");
+    let (at, by_hand) = (dir.join("at.tif"), dir.join("by_hand.tif"));
+    let out = areo(&["terrain", "shadow", dem, "--utc", t, "-o", at.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains(&format!("azimuth {az:.2}°, elevation {el:.2}°")) && text.contains("on Mars"), "{text}");
+    let out = areo(&[
+        "terrain",
+        "shadow",
+        dem,
+        "--sun-azimuth",
+        &az.to_string(),
+        "--sun-elevation",
+        &el.to_string(),
+        "-o",
+        by_hand.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    assert_eq!(std::fs::read(&at).unwrap(), std::fs::read(&by_hand).unwrap(), "the same map");
+    // Ten hours earlier it is night at Gale (LTST about 22 h): dark, and said so.
+    let out = areo(&["terrain", "shadow", dem, "--utc", "2012-08-06T12:00:00Z", "-o", at.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && text.contains("below the horizon") && text.contains("0.00 % of the valid cells"),
+        "{text}"
+    );
+    // An ESRI ASCII grid without a .prj is a local frame: no place, no Sun.
+    let local = dir.join("local.asc");
+    std::fs::write(&local, "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 10\n1 2 3\n4 5 6\n7 8 9\n").unwrap();
+    let out = areo(&["terrain", "shadow", local.to_str().unwrap(), "--utc", t, "-o", at.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no georeference") && err.contains("--sun-azimuth and --sun-elevation"), "{err}");
+}

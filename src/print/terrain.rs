@@ -80,3 +80,17 @@ pub(crate) fn tiled_shadow(run: &areo_scenario::terrain::TiledShadow) -> String 
         )
         + &wrote(std::slice::from_ref(&run.file))
 }
+
+/// Where `--utc` put the Sun.
+pub(crate) fn sun_over(sun: &areo_scenario::terrain::SunOver) -> String {
+    format!(
+        "Sun at {} over the map's middle ({:.4}°, {:.4}°E on {}): azimuth {:.2}°, elevation {:.2}°{}\n",
+        sun.utc,
+        sun.lat_deg,
+        sun.lon_east_deg,
+        sun.body,
+        sun.azimuth_deg,
+        sun.elevation_deg,
+        if sun.elevation_deg <= 0.0 { " (below the horizon: the map is dark)" } else { "" }
+    )
+}

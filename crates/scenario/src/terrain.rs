@@ -3,13 +3,14 @@
 use std::path::Path;
 
 use areo_terrain::geotiff;
+/// A DEM, and how its map metres relate to its body (for the binary and its tests).
+pub use areo_terrain::geotiff::Grid;
 use areo_terrain::hillshade::hillshade_rgb;
 use areo_terrain::horizon::HorizonMap;
 pub use areo_terrain::shadow::Method as ShadowMethod;
 use areo_terrain::shadow::{Curvature, Shadows, SunDirection};
 use areo_terrain::slope::slope_aspect;
 use areo_terrain::tiles::Source as _;
-/// A DEM, and how its map metres relate to its body (for the binary and its tests).
 pub use areo_terrain::{Dem, Georef, Projection, Spheroid};
 
 use crate::error::{Error, Result};
@@ -19,6 +20,69 @@ use crate::output::write_with;
 /// Reads a DEM by its extension (see [`areo_terrain::read`]).
 pub fn read_dem(path: &Path) -> Result<Dem> {
     Ok(areo_terrain::read(path)?)
+}
+
+/// The grid of a GeoTIFF from its header alone (a DTM too large to read whole).
+pub fn geotiff_grid(path: &Path) -> Result<Grid> {
+    Ok(geotiff::Windows::open(path, 1)?.grid())
+}
+
+/// Where the Sun stands over the middle of a DEM at an instant (`areo terrain shadow
+/// --utc`).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SunOver {
+    /// The instant, UTC.
+    pub utc: String,
+    /// The body, from the DEM's reference sphere.
+    pub body: String,
+    /// The map's middle, degrees (planetocentric; geodetic on the Earth).
+    pub lat_deg: f64,
+    /// The map's middle, degrees east.
+    pub lon_east_deg: f64,
+    /// Sun azimuth there, degrees clockwise from north.
+    pub azimuth_deg: f64,
+    /// Sun elevation there above the local horizontal, degrees.
+    pub elevation_deg: f64,
+}
+
+/// The Sun over the middle of `grid` (the DEM `file`'s) at `utc`: the body is the one
+/// whose reference sphere the DEM's georeference names, the Sun that body's model
+/// (Mars24, the lunar or the terrestrial ephemeris). One direction for the whole map,
+/// as `--sun-azimuth` and `--sun-elevation` give. A map without a georeference or on
+/// an unknown sphere is refused, naming what to give instead.
+pub fn sun_over(file: &Path, grid: &Grid, utc: &str) -> Result<SunOver> {
+    let unusable = |why: String| {
+        Error::usage(
+            format!("--utc {utc}"),
+            format!("{}: {why}; give --sun-azimuth and --sun-elevation", file.display()),
+        )
+    };
+    let g = grid.georef;
+    if g.projection == Projection::Local {
+        return Err(unusable("the DEM has no georeference (a local frame), so no place on a body".into()));
+    }
+    let body = g.surface.body().ok_or_else(|| {
+        unusable(format!(
+            "its sphere (a = {} m, b = {} m) is none of Mars, the Moon or the Earth",
+            g.surface.equatorial_radius_m, g.surface.polar_radius_m
+        ))
+    })?;
+    let (x, y) = (grid.x0 + 0.5 * grid.cols as f64 * grid.dx, grid.y_top - 0.5 * grid.rows as f64 * grid.dy);
+    let (lat, lon) = g
+        .projection
+        .to_geographic(&g.surface, x, y)
+        .ok_or_else(|| unusable("its middle has no latitude and longitude".into()))?;
+    let epoch = areo_ephemeris::parse_utc(utc)?;
+    let site = areo_ephemeris::Site::on(body, lat, lon)?;
+    let at = areo_ephemeris::SunModel::sun(&body, epoch).at_site(&site);
+    Ok(SunOver {
+        utc: areo_ephemeris::format_utc(epoch),
+        body: body.iau_name().to_string(),
+        lat_deg: site.lat_deg(),
+        lon_east_deg: site.lon_east_deg(),
+        azimuth_deg: at.azimuth_deg,
+        elevation_deg: at.elevation_deg,
+    })
 }
 
 /// Checks an output path before anything is computed: a GeoTIFF name (`.tif` or
