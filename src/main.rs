@@ -614,10 +614,7 @@ fn sun_for_shadow(
             let said = print::terrain::sun_over(&sun);
             Ok(((sun.azimuth_deg, sun.elevation_deg), said))
         }
-        (None, Some(a), Some(e)) => {
-            check_sun(a, e)?;
-            Ok(((a, e), String::new()))
-        }
+        (None, Some(a), Some(e)) => Ok(((a, e), String::new())),
         // clap requires both or --utc.
         _ => Err(Error::usage("--sun-azimuth, --sun-elevation", "give both, or --utc")),
     }
@@ -641,6 +638,10 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
             print::terrain::wrote(&tt::write_slope(&read(file, DemCommand::Slope)?, out)?)
         }
         TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, utc, flat, method, tile: Some(tile), out } => {
+            // A direction given by hand is checked before the DEM is touched.
+            if let (Some(a), Some(e)) = (sun_azimuth, sun_elevation) {
+                check_sun(*a, *e)?;
+            }
             tt::check_output(file, out)?;
             let grid = || areo_scenario::terrain::geotiff_grid(file);
             let (sun, said) = sun_for_shadow(file, *sun_azimuth, *sun_elevation, utc.as_deref(), grid)?;
@@ -649,6 +650,9 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
             said + &print::terrain::tiled_shadow(&run)
         }
         TerrainCommand::Shadow { file, sun_azimuth, sun_elevation, utc, flat, method, tile: None, out } => {
+            if let (Some(a), Some(e)) = (sun_azimuth, sun_elevation) {
+                check_sun(*a, *e)?;
+            }
             tt::check_output(file, out)?;
             let dem = read(file, DemCommand::Shadow)?;
             let grid = || Ok(areo_scenario::terrain::Grid::of(&dem));
