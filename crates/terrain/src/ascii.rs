@@ -7,11 +7,48 @@ use std::path::Path;
 use crate::dem::Dem;
 use crate::error::{Error, Result};
 
-/// Reads an ESRI ASCII grid.
+/// Reads an ESRI ASCII grid, and the `.prj` beside it where that says the grid is in
+/// longitude and latitude (a WKT `GEOGCS`, as GDAL writes one): then the grid is read
+/// as the equirectangular grid it is, on the `.prj`'s sphere, like a geographic
+/// GeoTIFF — before, its degrees were read as metres. Another `.prj` (a projected CRS)
+/// leaves the grid in its own metres, with no place on a body.
 pub fn read(path: &Path) -> Result<Dem> {
     let text = crate::input::read_text(path, crate::input::RASTER_LIMIT)
         .map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
-    parse(&text, path)
+    let dem = parse(&text, path)?;
+    let prj = path.with_extension("prj");
+    match crate::input::read_text(&prj, 1 << 20) {
+        Ok(wkt) if wkt.trim_start().starts_with("GEOGCS[") => geographic(dem, &wkt, &prj),
+        _ => Ok(dem),
+    }
+}
+
+/// `dem`, in degrees, as metres on the sphere the WKT's `SPHEROID["name", a, 1/f]`
+/// gives (its equatorial radius, as areo's projections use).
+fn geographic(dem: Dem, wkt: &str, prj: &Path) -> Result<Dem> {
+    let bad = |m: String| Error::format(prj, m);
+    let numbers: Vec<f64> = wkt
+        .split_once("SPHEROID[")
+        .map(|(_, rest)| rest.split(']').next().unwrap_or(""))
+        .map(|inside| inside.split(',').skip(1).filter_map(|v| v.trim().parse().ok()).collect())
+        .unwrap_or_default();
+    let (a, inv_f) = match numbers[..] {
+        [a, inv_f, ..] if (1e3..=1e8).contains(&a) && (0.0..1e9).contains(&inv_f) => (a, inv_f),
+        _ => return Err(bad("a GEOGCS without a SPHEROID[name, semi-major axis 1 km..100 000 km, 1/f]".into())),
+    };
+    let b = if inv_f == 0.0 { a } else { a * (1.0 - 1.0 / inv_f) };
+    let surface = crate::Spheroid { equatorial_radius_m: a, polar_radius_m: b };
+    let ([dx, dy, x0, y_top], projection) = crate::projection::equirectangular_from_degrees(
+        (dem.cols(), dem.rows()),
+        (dem.x0(), dem.y_top()),
+        (dem.dx(), dem.dy()),
+        &surface,
+    )
+    .map_err(bad)?;
+    Dem::new(dem.cols(), dem.rows(), dx, dy, x0, y_top, dem.elevations().to_vec())
+        .and_then(|d| d.with_mask(dem.valid_mask().to_vec()))
+        .map(|d| d.with_georef(crate::Georef { projection, surface }))
+        .map_err(|e| bad(e.to_string()))
 }
 
 /// Parses ESRI ASCII grid text; `path` labels errors.

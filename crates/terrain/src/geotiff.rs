@@ -186,56 +186,22 @@ impl Header {
     }
 
     /// A grid in longitude and latitude (GTModelTypeGeoKey 2: MOLA and LOLA products,
-    /// many global mosaics) as the equirectangular grid it is — x = R·(λ − λ0)·cos φts,
-    /// y = R·φ, linear in λ and φ — with the standard parallel at the map's middle
-    /// latitude and λ0 at its middle longitude: the same cells relabelled in metres,
-    /// not resampled. East–west distances are then true at φts only; a map whose rows'
-    /// scale would be off by more than [`GEOGRAPHIC_MAX_SCALE_ERROR`] is refused with
-    /// what to do (before, its degrees were read as metres: cells of 0.008 m).
+    /// many global mosaics) as the equirectangular grid it is
+    /// ([`crate::projection::equirectangular_from_degrees`]); before, its degrees were
+    /// read as metres (cells of 0.008 m).
     fn geographic_as_equirectangular(self, units: Option<u16>) -> std::result::Result<Header, String> {
-        if units.is_some_and(|u| u != key::DEGREE && u != key::USER_DEFINED) {
+        if let Some(u) = units.filter(|&u| u != key::DEGREE && u != key::USER_DEFINED) {
             return Err(format!(
-                "geographic coordinates in angular unit {} (GeogAngularUnitsGeoKey): areo reads degrees (9102)",
-                units.unwrap_or_default()
+                "geographic coordinates in angular unit {u} (GeogAngularUnitsGeoKey): areo reads degrees (9102)"
             ));
         }
-        let (lon_w, lat_n) = (self.x0, self.y_top);
-        let (lon_e, lat_s) = (self.x0 + self.cols as f64 * self.dx, self.y_top - self.rows as f64 * self.dy);
-        if !(lat_n <= 90.0 + 1e-9 && lat_s >= -90.0 - 1e-9 && lon_e - lon_w <= 360.0 + 1e-9) {
-            return Err(format!(
-                "geographic grid from {lat_s}° to {lat_n}° latitude and {lon_w}° to {lon_e}° longitude: \
-                 latitudes must lie within ±90° and longitudes span at most 360°"
-            ));
-        }
-        let lat_ts = 0.5 * (lat_n + lat_s);
-        let widest = if lat_s <= 0.0 && lat_n >= 0.0 { 1.0 } else { lat_n.abs().min(lat_s.abs()).to_radians().cos() };
-        let narrowest = lat_n.abs().max(lat_s.abs()).min(90.0).to_radians().cos();
-        let scale = lat_ts.to_radians().cos();
-        let error = (widest / scale - 1.0).max(1.0 - narrowest / scale);
-        if error > GEOGRAPHIC_MAX_SCALE_ERROR {
-            return Err(format!(
-                "geographic grid from {lat_s:.4}° to {lat_n:.4}° latitude: read as equirectangular at {lat_ts:.4}° its \
-                 east–west scale would be off by up to {:.1} % (allowed {:.0} %); reproject it first, e.g. \
-                 `gdalwarp -t_srs '+proj=stere +lat_0=-90 +R=<radius>' in.tif out.tif` near a pole or \
-                 `+proj=eqc +lat_ts=<middle latitude> +R=<radius>` for a long north–south strip",
-                100.0 * error,
-                100.0 * GEOGRAPHIC_MAX_SCALE_ERROR
-            ));
-        }
-        let r = self.georef.surface.equatorial_radius_m;
-        let lon0 = 0.5 * (lon_w + lon_e);
-        let metres_per_degree = r * 1f64.to_radians();
-        Ok(Header {
-            dx: self.dx * metres_per_degree * scale,
-            dy: self.dy * metres_per_degree,
-            x0: (lon_w - lon0) * metres_per_degree * scale,
-            y_top: lat_n * metres_per_degree,
-            georef: Georef {
-                projection: Projection::Equirectangular { lat_ts_deg: lat_ts, lon0_deg: lon0 },
-                surface: self.georef.surface,
-            },
-            ..self
-        })
+        let ([dx, dy, x0, y_top], projection) = crate::projection::equirectangular_from_degrees(
+            (self.cols, self.rows),
+            (self.x0, self.y_top),
+            (self.dx, self.dy),
+            &self.georef.surface,
+        )?;
+        Ok(Header { dx, dy, x0, y_top, georef: Georef { projection, surface: self.georef.surface }, ..self })
     }
 
     /// The DEM of the window (`col0`, `row0`, `cols` × `rows`) from its samples.
@@ -262,10 +228,7 @@ impl Header {
     }
 }
 
-/// How far a geographic grid's east–west scale may stray from true, over its rows, when
-/// it is read as equirectangular at its middle latitude: 1 % (the MOLA MEGDR window of
-/// Gale crater, 7° tall, strays 0.8 %; a polar map strays without bound).
-pub const GEOGRAPHIC_MAX_SCALE_ERROR: f64 = 0.01;
+pub use crate::projection::GEOGRAPHIC_MAX_SCALE_ERROR;
 
 /// ModelTransformationTag, which areo refuses (it only reads north-up grids).
 const MODEL_TRANSFORMATION: u16 = 34264;

@@ -28,6 +28,59 @@ pub enum Projection {
     },
 }
 
+/// How far a grid in longitude and latitude may stray from true east–west scale, over
+/// its rows, when it is read as equirectangular at its middle latitude: 1 % (the MOLA
+/// MEGDR window of Gale crater, 7° tall, strays 0.8 %; a polar map strays without bound).
+pub const GEOGRAPHIC_MAX_SCALE_ERROR: f64 = 0.01;
+
+/// A grid in longitude and latitude — `cols` × `rows` cells of `dlon_deg` × `dlat_deg`
+/// from its north-west corner (`lon_w_deg`, `lat_n_deg`) — as the equirectangular grid
+/// it is (x = R·(λ − λ0)·cos φts, y = R·φ, linear in λ and φ), with φts its middle
+/// latitude and λ0 its middle longitude: the same cells in metres, not resampled.
+/// Returns (dx, dy, x0, y_top) in metres and the projection; a grid whose rows' scale
+/// would stray more than [`GEOGRAPHIC_MAX_SCALE_ERROR`] is refused with what to do.
+pub(crate) fn equirectangular_from_degrees(
+    (cols, rows): (usize, usize),
+    (lon_w_deg, lat_n_deg): (f64, f64),
+    (dlon_deg, dlat_deg): (f64, f64),
+    surface: &Spheroid,
+) -> std::result::Result<([f64; 4], Projection), String> {
+    let (lon_w, lat_n) = (lon_w_deg, lat_n_deg);
+    let (lon_e, lat_s) = (lon_w + cols as f64 * dlon_deg, lat_n - rows as f64 * dlat_deg);
+    if !(lat_n <= 90.0 + 1e-9 && lat_s >= -90.0 - 1e-9 && lon_e - lon_w <= 360.0 + 1e-9) {
+        return Err(format!(
+            "geographic grid from {lat_s}° to {lat_n}° latitude and {lon_w}° to {lon_e}° longitude: \
+             latitudes must lie within ±90° and longitudes span at most 360°"
+        ));
+    }
+    let lat_ts = 0.5 * (lat_n + lat_s);
+    let widest = if lat_s <= 0.0 && lat_n >= 0.0 { 1.0 } else { lat_n.abs().min(lat_s.abs()).to_radians().cos() };
+    let narrowest = lat_n.abs().max(lat_s.abs()).min(90.0).to_radians().cos();
+    let scale = lat_ts.to_radians().cos();
+    let error = (widest / scale - 1.0).max(1.0 - narrowest / scale);
+    if error > GEOGRAPHIC_MAX_SCALE_ERROR {
+        return Err(format!(
+            "geographic grid from {lat_s:.4}° to {lat_n:.4}° latitude: read as equirectangular at {lat_ts:.4}° its \
+             east–west scale would be off by up to {:.1} % (allowed {:.0} %); reproject it first, e.g. \
+             `gdalwarp -t_srs '+proj=stere +lat_0=-90 +R=<radius>' in.tif out.tif` near a pole or \
+             `+proj=eqc +lat_ts=<middle latitude> +R=<radius>` for a long north–south strip",
+            100.0 * error,
+            100.0 * GEOGRAPHIC_MAX_SCALE_ERROR
+        ));
+    }
+    let lon0 = 0.5 * (lon_w + lon_e);
+    let metres_per_degree = surface.equatorial_radius_m * 1f64.to_radians();
+    Ok((
+        [
+            dlon_deg * metres_per_degree * scale,
+            dlat_deg * metres_per_degree,
+            (lon_w - lon0) * metres_per_degree * scale,
+            lat_n * metres_per_degree,
+        ],
+        Projection::Equirectangular { lat_ts_deg: lat_ts, lon0_deg: lon0 },
+    ))
+}
+
 impl Projection {
     /// Planetocentric latitude and east longitude (degrees) of map point (x, y), m.
     pub fn to_geographic(&self, body: &Spheroid, x: f64, y: f64) -> Option<(f64, f64)> {

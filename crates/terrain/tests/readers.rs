@@ -567,6 +567,43 @@ fn a_longitude_latitude_grid_reads_as_metres_at_its_middle_latitude() {
     assert!(km.contains("linear unit 9036") && km.contains("metres"), "{km}");
 }
 
+/// An ESRI ASCII grid in degrees with GDAL's `.prj` beside it (a WKT GEOGCS) reads as
+/// the geographic GeoTIFF of the same cells does; without the `.prj` it stays in its
+/// own units with no place on a body, and a GEOGCS with no sphere is refused by name.
+#[test]
+fn an_ascii_grid_in_degrees_with_its_prj_reads_as_the_geographic_geotiff() {
+    let lonlat = geotiff::read(&data("gale_mola_crop_64_lonlat.tif")).unwrap();
+    let mut text = String::from("ncols 64\nnrows 64\nxllcorner 137.421875\nyllcorner -5.5234375\ncellsize 0.0078125\n");
+    for r in 0..64 {
+        let row: Vec<String> = (0..64).map(|c| lonlat.z(c, r).unwrap().to_string()).collect();
+        text.push_str(&row.join(" "));
+        text.push('\n');
+    }
+    let asc = tmp("lonlat_64.asc");
+    std::fs::write(&asc, &text).unwrap();
+    let prj = asc.with_extension("prj");
+    let _ = std::fs::remove_file(&prj);
+    let bare = ascii::read(&asc).unwrap();
+    assert_eq!((bare.dx(), bare.georef().projection), (0.0078125, Projection::Local));
+    std::fs::write(
+        &prj,
+        r#"GEOGCS["GCS_unknown",DATUM["D_unknown",SPHEROID["unknown",3396000.0,0.0]],PRIMEM["Reference_meridian",0.0],UNIT["Degree",0.0174532925199433]]"#,
+    )
+    .unwrap();
+    let dem = ascii::read(&asc).unwrap();
+    assert_eq!(dem.georef(), lonlat.georef());
+    for (a, b) in
+        [(dem.dx(), lonlat.dx()), (dem.dy(), lonlat.dy()), (dem.x0(), lonlat.x0()), (dem.y_top(), lonlat.y_top())]
+    {
+        assert!((a - b).abs() < 1e-6, "{a} vs {b}");
+    }
+    assert_eq!(dem.elevations(), lonlat.elevations());
+    std::fs::write(&prj, r#"GEOGCS["GCS_unknown",DATUM["D_unknown"],UNIT["Degree",0.0174532925199433]]"#).unwrap();
+    let err = ascii::read(&asc).unwrap_err().to_string();
+    assert!(err.contains("lonlat_64.prj") && err.contains("SPHEROID"), "{err}");
+    std::fs::remove_file(&prj).unwrap();
+}
+
 /// A scheme areo does not decode is named, with what to do, by both readers (the
 /// decoder alone said "Unknown(34887) is unsupported").
 #[test]
