@@ -237,102 +237,6 @@ fn wheels(e: &Evaluation, mu: f64, torque_max: f64) -> Vec<WheelReport> {
     out
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn terrain_specs_parse_and_bad_ones_say_what_is_allowed() {
-        assert_eq!("flat".parse::<TestTerrain>(), Ok(TestTerrain::Flat));
-        assert_eq!("slope:20".parse::<TestTerrain>(), Ok(TestTerrain::Slope(20.0)));
-        assert_eq!("side-slope:12.5".parse::<TestTerrain>(), Ok(TestTerrain::SideSlope(12.5)));
-        assert_eq!("step:0.15".parse::<TestTerrain>(), Ok(TestTerrain::Step(0.15)));
-        for bad in ["hill", "slope:95", "slope:x", "step:-1", "flat:3"] {
-            let e = bad.parse::<TestTerrain>().unwrap_err();
-            assert!(e.contains("allowed: flat"), "{bad}: {e}");
-        }
-    }
-
-    fn lsr1() -> std::path::PathBuf {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../rover/params/lsr1.ron")
-    }
-
-    #[test]
-    fn a_low_step_is_hardest_where_the_middle_wheel_meets_it_not_at_the_first_instant() {
-        // An 8 cm step (below the 10 cm wheel radius): at the first instant the front
-        // wheel can rest on the edge carrying nothing, so holding needs no friction;
-        // lifting it onto the step loads the edge, and the middle wheel meets the step
-        // when the reference point has come 0.4 m (the axle spacing) — that pose, with
-        // the front wheel already up, is the one that needs the most.
-        let report = check(&lsr1(), TestTerrain::Step(0.08), 0.8, false).unwrap();
-        let climb = report.climb.expect("a step is climbed");
-        assert!(climb.over, "{climb:?}");
-        let first = report.mu_needed.expect("the first instant holds");
-        let whole = climb.mu_needed.expect("the climb holds at some μ");
-        assert!(first < 0.01 && whole > 0.3, "first instant {first}, climb {whole}");
-        assert!((0.35..=0.45).contains(&climb.mu_needed_at_m), "{climb:?}");
-        assert_eq!(climb.wheels_on_top_there, "front");
-        // Below that μ the first instant still holds but the climb stops on slip.
-        let short = check(&lsr1(), TestTerrain::Step(0.08), whole - 0.05, false).unwrap();
-        assert_eq!(short.verdict, "ok");
-        let c = short.climb.unwrap();
-        assert!(!c.over && c.stop.as_deref() == Some("slip"), "{c:?}");
-        // A vertical wall above the axle: the front wheel must be lifted by friction on
-        // the wall at once, so the first instant is the hardest pose, and the climb
-        // needs exactly what it needs.
-        let wall = check(&lsr1(), TestTerrain::Step(0.2), 0.8, false).unwrap();
-        let (first, c) = (wall.mu_needed.unwrap(), wall.climb.unwrap());
-        assert!(c.over && (c.mu_needed.unwrap() - first).abs() < 2e-3, "{first} {c:?}");
-        assert!(c.max_pitch_deg > 15.0 && c.min_stability_pct < 80.0, "{c:?}");
-        // A step exactly one wheel radius high: the warm-started pose loses the edge at
-        // 4 cm; the climb then solves cold and goes over.
-        let edge = check(&lsr1(), TestTerrain::Step(0.1), 0.8, false).unwrap().climb.unwrap();
-        assert!(edge.over && edge.poses == c.poses, "{edge:?}");
-    }
-
-    #[test]
-    fn both_rocker_bogies_climb_a_step_one_and_a_half_wheels_high_and_not_two() {
-        // The rocker-bogie's published reach: obstacles about 1.5 wheel diameters high
-        // (Curiosity 75 cm on 50 cm wheels; shared/reference/rover_physics.md). With the
-        // LSR-1's and the Sojourner-class file's geometry a step of 1.5 D is climbed
-        // with μ ≤ 0.6 and one of 2 D is not (the bogie reaches its joint limit).
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../rover/params");
-        for (file, d) in [("lsr1.ron", 0.20), ("sojourner.ron", 0.13)] {
-            let path = dir.join(file);
-            let up = check(&path, TestTerrain::Step(1.5 * d), 0.8, false).unwrap().climb.unwrap();
-            assert!(up.over && up.mu_needed.is_some_and(|m| m < 0.6), "{file}: {up:?}");
-            let not = check(&path, TestTerrain::Step(2.0 * d), 0.8, false).unwrap().climb.unwrap();
-            assert!(!not.over && not.stop.as_deref() == Some("kinematics"), "{file}: {not:?}");
-        }
-    }
-
-    #[test]
-    fn a_bogie_behind_climbs_a_step_forward_worse_its_rear_wheel_meets_the_wall_on_the_bogie() {
-        // The LSR-1 with its bogie turned behind (the MER/MSL layout) climbs a step of
-        // 1.5 D forward only with μ ≈ 0.89, where the paper's layout needs < 0.6: the hard
-        // pose is the rear wheel, on the bogie, against the wall with the front and
-        // middle wheels on top; for any step taller than a wheel radius that first
-        // contact is the same, so the μ it needs is too. A step under a radius is
-        // climbed. The MER-class file (its wheels 1.42 D apart) needs μ ≈ 1.28 there at
-        // 1 D; at 1.5 D its front wheel, on the rocker, finds no friction that holds.
-        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-        let turned = root.join("scenarios/rovers/lsr1-bogie-behind.ron");
-        let mer = root.join("crates/rover/params/mer.ron");
-        for (path, d, want, heights) in [(&turned, 0.20, 0.891, &[1.0, 1.5][..]), (&mer, 0.26, 1.279, &[1.0][..])] {
-            for &k in heights {
-                let c = check(path, TestTerrain::Step(k * d), 0.8, false).unwrap().climb.unwrap();
-                assert!(!c.over && c.stop.as_deref() == Some("slip"), "{path:?} {k} D: {c:?}");
-                assert!((c.mu_needed.unwrap() - want).abs() < 0.01, "{path:?} {k} D: {c:?}");
-                assert_eq!(c.wheels_on_top_there, "front middle", "{path:?}");
-            }
-            let low = check(path, TestTerrain::Step(0.4 * d), 0.8, false).unwrap().climb.unwrap();
-            assert!(low.over && low.mu_needed.is_some_and(|m| m < 0.6), "{path:?}: {low:?}");
-        }
-        let front = check(&root.join("crates/rover/params/lsr1.ron"), TestTerrain::Step(0.30), 0.8, false);
-        assert!(front.unwrap().climb.unwrap().mu_needed.is_some_and(|m| m < 0.6));
-    }
-}
-
 /// What a rover file describes: the LSR-1-style geometry and mass properties the
 /// quasi-static model reads ([`check`]), or a TEMPEST resource model — locomotor,
 /// array, battery, loads ([`check_resources`]).
@@ -487,4 +391,100 @@ pub fn check_resources(path: &Path, terrain: TestTerrain, body: areo_ephemeris::
         range_flat_km: (flat.battery_w > 0.0).then(|| deliverable_wh / flat.wh_per_km),
         drives,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn terrain_specs_parse_and_bad_ones_say_what_is_allowed() {
+        assert_eq!("flat".parse::<TestTerrain>(), Ok(TestTerrain::Flat));
+        assert_eq!("slope:20".parse::<TestTerrain>(), Ok(TestTerrain::Slope(20.0)));
+        assert_eq!("side-slope:12.5".parse::<TestTerrain>(), Ok(TestTerrain::SideSlope(12.5)));
+        assert_eq!("step:0.15".parse::<TestTerrain>(), Ok(TestTerrain::Step(0.15)));
+        for bad in ["hill", "slope:95", "slope:x", "step:-1", "flat:3"] {
+            let e = bad.parse::<TestTerrain>().unwrap_err();
+            assert!(e.contains("allowed: flat"), "{bad}: {e}");
+        }
+    }
+
+    fn lsr1() -> std::path::PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../rover/params/lsr1.ron")
+    }
+
+    #[test]
+    fn a_low_step_is_hardest_where_the_middle_wheel_meets_it_not_at_the_first_instant() {
+        // An 8 cm step (below the 10 cm wheel radius): at the first instant the front
+        // wheel can rest on the edge carrying nothing, so holding needs no friction;
+        // lifting it onto the step loads the edge, and the middle wheel meets the step
+        // when the reference point has come 0.4 m (the axle spacing) — that pose, with
+        // the front wheel already up, is the one that needs the most.
+        let report = check(&lsr1(), TestTerrain::Step(0.08), 0.8, false).unwrap();
+        let climb = report.climb.expect("a step is climbed");
+        assert!(climb.over, "{climb:?}");
+        let first = report.mu_needed.expect("the first instant holds");
+        let whole = climb.mu_needed.expect("the climb holds at some μ");
+        assert!(first < 0.01 && whole > 0.3, "first instant {first}, climb {whole}");
+        assert!((0.35..=0.45).contains(&climb.mu_needed_at_m), "{climb:?}");
+        assert_eq!(climb.wheels_on_top_there, "front");
+        // Below that μ the first instant still holds but the climb stops on slip.
+        let short = check(&lsr1(), TestTerrain::Step(0.08), whole - 0.05, false).unwrap();
+        assert_eq!(short.verdict, "ok");
+        let c = short.climb.unwrap();
+        assert!(!c.over && c.stop.as_deref() == Some("slip"), "{c:?}");
+        // A vertical wall above the axle: the front wheel must be lifted by friction on
+        // the wall at once, so the first instant is the hardest pose, and the climb
+        // needs exactly what it needs.
+        let wall = check(&lsr1(), TestTerrain::Step(0.2), 0.8, false).unwrap();
+        let (first, c) = (wall.mu_needed.unwrap(), wall.climb.unwrap());
+        assert!(c.over && (c.mu_needed.unwrap() - first).abs() < 2e-3, "{first} {c:?}");
+        assert!(c.max_pitch_deg > 15.0 && c.min_stability_pct < 80.0, "{c:?}");
+        // A step exactly one wheel radius high: the warm-started pose loses the edge at
+        // 4 cm; the climb then solves cold and goes over.
+        let edge = check(&lsr1(), TestTerrain::Step(0.1), 0.8, false).unwrap().climb.unwrap();
+        assert!(edge.over && edge.poses == c.poses, "{edge:?}");
+    }
+
+    #[test]
+    fn both_rocker_bogies_climb_a_step_one_and_a_half_wheels_high_and_not_two() {
+        // The rocker-bogie's published reach: obstacles about 1.5 wheel diameters high
+        // (Curiosity 75 cm on 50 cm wheels; shared/reference/rover_physics.md). With the
+        // LSR-1's and the Sojourner-class file's geometry a step of 1.5 D is climbed
+        // with μ ≤ 0.6 and one of 2 D is not (the bogie reaches its joint limit).
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../rover/params");
+        for (file, d) in [("lsr1.ron", 0.20), ("sojourner.ron", 0.13)] {
+            let path = dir.join(file);
+            let up = check(&path, TestTerrain::Step(1.5 * d), 0.8, false).unwrap().climb.unwrap();
+            assert!(up.over && up.mu_needed.is_some_and(|m| m < 0.6), "{file}: {up:?}");
+            let not = check(&path, TestTerrain::Step(2.0 * d), 0.8, false).unwrap().climb.unwrap();
+            assert!(!not.over && not.stop.as_deref() == Some("kinematics"), "{file}: {not:?}");
+        }
+    }
+
+    #[test]
+    fn a_bogie_behind_climbs_a_step_forward_worse_its_rear_wheel_meets_the_wall_on_the_bogie() {
+        // The LSR-1 with its bogie turned behind (the MER/MSL layout) climbs a step of
+        // 1.5 D forward only with μ ≈ 0.89, where the paper's layout needs < 0.6: the hard
+        // pose is the rear wheel, on the bogie, against the wall with the front and
+        // middle wheels on top; for any step taller than a wheel radius that first
+        // contact is the same, so the μ it needs is too. A step under a radius is
+        // climbed. The MER-class file (its wheels 1.42 D apart) needs μ ≈ 1.28 there at
+        // 1 D; at 1.5 D its front wheel, on the rocker, finds no friction that holds.
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let turned = root.join("scenarios/rovers/lsr1-bogie-behind.ron");
+        let mer = root.join("crates/rover/params/mer.ron");
+        for (path, d, want, heights) in [(&turned, 0.20, 0.891, &[1.0, 1.5][..]), (&mer, 0.26, 1.279, &[1.0][..])] {
+            for &k in heights {
+                let c = check(path, TestTerrain::Step(k * d), 0.8, false).unwrap().climb.unwrap();
+                assert!(!c.over && c.stop.as_deref() == Some("slip"), "{path:?} {k} D: {c:?}");
+                assert!((c.mu_needed.unwrap() - want).abs() < 0.01, "{path:?} {k} D: {c:?}");
+                assert_eq!(c.wheels_on_top_there, "front middle", "{path:?}");
+            }
+            let low = check(path, TestTerrain::Step(0.4 * d), 0.8, false).unwrap().climb.unwrap();
+            assert!(low.over && low.mu_needed.is_some_and(|m| m < 0.6), "{path:?}: {low:?}");
+        }
+        let front = check(&root.join("crates/rover/params/lsr1.ron"), TestTerrain::Step(0.30), 0.8, false);
+        assert!(front.unwrap().climb.unwrap().mu_needed.is_some_and(|m| m < 0.6));
+    }
 }

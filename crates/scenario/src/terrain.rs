@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use areo_terrain::geotiff;
-/// A DEM, and how its map metres relate to its body (for the binary and its tests).
+/// A DEM's size, cells and georeference without its heights (read from a header).
 pub use areo_terrain::geotiff::Grid;
 use areo_terrain::hillshade::hillshade_rgb;
 use areo_terrain::horizon::HorizonMap;
@@ -11,6 +11,7 @@ pub use areo_terrain::shadow::Method as ShadowMethod;
 use areo_terrain::shadow::{Curvature, Shadows, SunDirection};
 use areo_terrain::slope::slope_aspect;
 use areo_terrain::tiles::Source as _;
+/// A DEM, and how its map metres relate to its body (for the binary and its tests).
 pub use areo_terrain::{Dem, Georef, Projection, Spheroid};
 
 use crate::error::{Error, Result};
