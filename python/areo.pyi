@@ -109,7 +109,14 @@ class Scenario:
         and its searches stop where the work budget ends (AreoError)."""
 
 def rover_check(
-    params_path: StrPath, terrain: str = "flat", mu: float = 0.6, moving: bool = False
+    params_path: StrPath,
+    terrain: str = "flat",
+    mu: float = 0.6,
+    moving: bool = False,
+    body: Body = "mars",
 ) -> dict[str, Any]:
-    """A rover parameter file on a test terrain (flat, slope:DEG, side-slope:DEG,
-    step:HEIGHT_M): the report `areo rover check --format json` prints."""
+    """A rover file on a test terrain (flat, slope:DEG, side-slope:DEG, step:HEIGHT_M):
+    the report `areo rover check --format json` prints. A parameter file gets wheel
+    loads and the friction that holds (mu, moving); a TEMPEST resource model (flat or
+    a slope) its drive power and Wh/km, array and battery figures, in `body`'s
+    gravity where the file gives none."""

@@ -414,26 +414,13 @@ fn main() -> ExitCode {
             clap_complete::generate(shell, &mut Cli::command(), "areo", &mut std::io::stdout());
             Ok(())
         }
-        Command::Rover(RoverCommand::Check { params, terrain, format, body, .. })
-            if matches!(
-                areo_scenario::rover_check::file_kind(&params),
-                Ok(areo_scenario::rover_check::RoverFile::Resources)
-            ) =>
-        {
-            areo_scenario::rover_check::check_resources(&params, terrain, body.body()).and_then(|report| {
-                let text = match format {
-                    ReportFormat::Text => print::rover::resources_text(&report),
-                    ReportFormat::Json => print::json(&report)? + "\n",
-                };
-                print!("{text}");
-                Ok(())
-            })
-        }
-        Command::Rover(RoverCommand::Check { params, terrain, mu, moving, format, .. }) => {
-            areo_scenario::rover_check::check(&params, terrain, mu, moving).and_then(|report| {
-                let text = match format {
-                    ReportFormat::Text => print::rover::text(&report),
-                    ReportFormat::Json => print::json(&report)? + "\n",
+        Command::Rover(RoverCommand::Check { params, terrain, mu, moving, format, body }) => {
+            use areo_scenario::rover_check::{Checked, check_file};
+            check_file(&params, terrain, mu, moving, body.body()).and_then(|report| {
+                let text = match (format, &report) {
+                    (ReportFormat::Json, _) => print::json(&report)? + "\n",
+                    (ReportFormat::Text, Checked::Physics(r)) => print::rover::text(r),
+                    (ReportFormat::Text, Checked::Resources(r)) => print::rover::resources_text(r),
                 };
                 print!("{text}");
                 Ok(())

@@ -532,22 +532,25 @@ impl PyRunResult {
     }
 }
 
-/// Checks a rover parameter file (RON) on a test terrain — `flat`, `slope:DEG`,
-/// `side-slope:DEG` or `step:HEIGHT_M` — with wheel–ground friction `mu`, standing or
-/// `moving`: the report `areo rover check --format json` prints, as a dict.
+/// Checks a rover file (RON) on a test terrain — `flat`, `slope:DEG`, `side-slope:DEG`
+/// or `step:HEIGHT_M` — the report `areo rover check --format json` prints, as a dict:
+/// a parameter file with wheel–ground friction `mu`, standing or `moving`; a TEMPEST
+/// resource model (flat or a slope) in `body`'s gravity where it gives none.
 #[pyfunction]
-#[pyo3(signature = (params_path, terrain = "flat", mu = 0.6, moving = false))]
+#[pyo3(signature = (params_path, terrain = "flat", mu = 0.6, moving = false, body = "mars"))]
 fn rover_check<'py>(
     py: Python<'py>,
     params_path: PathBuf,
     terrain: &str,
     mu: f64,
     moving: bool,
+    body: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let terrain: areo_scenario::rover_check::TestTerrain =
         terrain.parse().map_err(|m: String| PyValueError::new_err(format!("terrain: {m}")))?;
+    let body = body_of(body)?;
     let report = py
-        .detach(|| areo_scenario::rover_check::check(&params_path, terrain, mu, moving))
+        .detach(|| areo_scenario::rover_check::check_file(&params_path, terrain, mu, moving, body))
         .map_err(|e| to_py(py, &e))?;
     let json = serde_json::to_string(&report).map_err(|e| AreoError::new_err(e.to_string()))?;
     py.import("json")?.call_method1("loads", (json,))

@@ -217,6 +217,19 @@ def test_rover_check_equals_the_binarys_report():
         areo.rover_check(LSR1, terrain="cliff:3")
 
 
+def test_rover_check_of_a_resource_model_equals_the_binarys_report():
+    model = ROOT / "scenarios/rovers/lunar-polar-rover.ron"
+    ours = areo.rover_check(model, terrain="slope:10", body="moon")
+    out = subprocess.run([areo_bin(), "rover", "check", str(model), "--terrain", "slope:10", "--body", "moon",
+                          "--format", "json"], check=True, capture_output=True, text=True).stdout
+    assert ours == json.loads(out)
+    # The file gives no gravity: the Moon's, and the usable battery is its SoC window.
+    assert ours["gravity_from"] == "Moon" and math.isclose(ours["gravity_m_s2"], 1.622)
+    assert [d["ground"] for d in ours["drives"]] == ["flat", "up 10°", "down 10°", "up 15° (maximum)"]
+    with pytest.raises(ValueError, match="body"):
+        areo.rover_check(model, body="venus")
+
+
 def test_ctrl_c_interrupts_a_long_run(tmp_path):
     # lunar-south-pole-10m plans four days on 10 m cells: about a minute. Interrupted
     # after 3 s, Python must raise KeyboardInterrupt at once.

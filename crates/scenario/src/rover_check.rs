@@ -393,6 +393,34 @@ pub fn check_resources(path: &Path, terrain: TestTerrain, body: areo_ephemeris::
     })
 }
 
+/// The report on either kind of rover file, as `areo rover check --format json` prints
+/// it (untagged: the fields tell which).
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub enum Checked {
+    /// An LSR-1-style parameter file on a test terrain.
+    Physics(Report),
+    /// A TEMPEST resource model.
+    Resources(ResourceReport),
+}
+
+/// Checks the rover file at `path`, whichever kind it is ([`file_kind`]): parameters
+/// with [`check`] (`terrain`, `mu`, `moving`), a resource model with
+/// [`check_resources`] (`terrain`, `body`).
+pub fn check_file(
+    path: &Path,
+    terrain: TestTerrain,
+    mu: f64,
+    moving: bool,
+    body: areo_ephemeris::Body,
+) -> Result<Checked> {
+    match file_kind(path) {
+        Ok(RoverFile::Resources) => check_resources(path, terrain, body).map(Checked::Resources),
+        // An unreadable file too: `check` names it.
+        _ => check(path, terrain, mu, moving).map(Checked::Physics),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
