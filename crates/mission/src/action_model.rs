@@ -126,8 +126,9 @@ pub enum Binding {
     Communicate,
     /// A scheduled Communicate session: the rover must stand where the Earth is in view.
     EarthHidden,
-    /// Battery, darkness, shadow, camera and session constraints together: no one of
-    /// them relaxed alone makes a plan, all relaxed at once do.
+    /// Battery, darkness, shadow, camera and session constraints together (those the
+    /// rover and its actions have): no one of them relaxed alone makes a plan, all
+    /// relaxed at once do. The error's message names the ones relaxed.
     Together,
 }
 

@@ -809,89 +809,126 @@ impl<'a> Mission<'a> {
         })
     }
 
-    /// Why no plan exists: the first relaxation (battery, darkness, shadow, Sun in
-    /// camera, Communicate sessions) that makes one alone; failing that, all of them
-    /// at once — a plan then means the constraints bind together
-    /// ([`Binding::Together`]), none means time does ([`Binding::Horizon`]).
+    /// Why no plan exists. All constraints that can bind are relaxed at once first
+    /// (battery, darkness, shadow, Sun in camera, Communicate sessions — those this
+    /// rover and these actions have): no plan then means time binds
+    /// ([`Binding::Horizon`]) and nothing more is searched. Otherwise the first of them
+    /// that makes a plan relaxed alone is named; none alone means they bind together
+    /// ([`Binding::Together`], its message naming the ones relaxed).
     fn explain_unreachable(&self) -> Error {
-        // (binding, action constraints, unlimited battery, keep the sessions)
-        let mut relaxations: Vec<(Binding, ActionConfig, bool, bool)> = Vec::new();
         let base = self.model.config().clone();
-        relaxations.push((Binding::Battery, base.clone(), true, true));
+        let rules = [&base.drive, &base.charge, &base.hibernate];
+        let dark = rules.iter().any(|r| r.daylight);
+        let shade = rules.iter().any(|r| r.direct_sun);
+        // Without cameras the rule reads nothing: relaxing it cannot change a search.
+        let camera = base.drive.sun_in_camera && !self.model.rover().cameras.is_empty();
+        let sessions = !self.model.sessions().is_empty();
+        let mut all = base.clone();
+        for r in [&mut all.drive, &mut all.charge, &mut all.hibernate] {
+            (r.daylight, r.direct_sun) = (false, false);
+        }
+        all.drive.sun_in_camera = false;
+        if !self.probe_plans(all, true, false) {
+            if let Err(e) = self.allowance.check() {
+                return e;
+            }
+            let windows = self.windows();
+            let proven = windows.last().is_some_and(|w| w.0 >= self.world.span_s());
+            if proven {
+                let message = Binding::Horizon.describe().into();
+                return Error::Unreachable { binding: Binding::Horizon, message, proven };
+            }
+            // Start and goals are connected (checked before any search) and nothing
+            // relaxed made a plan: only time is left — the horizon, the goal instants,
+            // the waits.
+            return self.unreachable(Binding::Horizon, Binding::Horizon.describe());
+        }
+        // (binding, action constraints, unlimited battery, keep the sessions), each
+        // relaxing one constraint; shadow with darkness, as direct sun implies daylight.
+        let mut singles: Vec<(Binding, ActionConfig, bool, bool)> = vec![(Binding::Battery, base.clone(), true, true)];
         let mut c = base.clone();
         for r in [&mut c.drive, &mut c.charge, &mut c.hibernate] {
             r.daylight = false;
         }
-        relaxations.push((Binding::Darkness, c.clone(), false, true));
+        if dark {
+            singles.push((Binding::Darkness, c.clone(), false, true));
+        }
         for r in [&mut c.drive, &mut c.charge, &mut c.hibernate] {
             r.direct_sun = false;
         }
-        relaxations.push((Binding::Shadow, c.clone(), false, true));
-        let mut cam = base.clone();
-        cam.drive.sun_in_camera = false;
-        relaxations.push((Binding::SunInCamera, cam, false, true));
-        if !self.model.sessions().is_empty() {
-            relaxations.push((Binding::Communicate, base.clone(), false, false));
+        if shade {
+            singles.push((Binding::Shadow, c, false, true));
         }
-        c.drive.sun_in_camera = false;
-        relaxations.push((Binding::Together, c, true, false));
-        for (binding, actions, big_battery, sessions) in relaxations {
-            let mut rover = self.model.rover().clone();
-            let mut start = self.start;
-            if big_battery {
-                rover.battery.capacity_wh *= 1e6;
-                start.energy_wh = rover.battery.capacity_wh;
-            }
-            let mut model = ActionModel::new(rover, actions);
-            if sessions {
-                model =
-                    model.with_sessions(self.model.sessions().to_vec()).sessions_need_earth(self.model.needs_earth());
-            }
-            // The same settings as the plan: a coarser probe could lose the very plan
-            // the relaxation makes possible, and name the wrong constraint.
-            let config = self.config.clone();
-            let mut probe = Mission {
-                world: self.world,
-                model: &model,
-                config,
-                start,
-                goals: self.goals.clone(),
-                segments: Vec::new(),
-                // Another action model: its own drive geometries.
-                geometry: SharedGeometry::default(),
-                last_resort: self.last_resort,
-                given_t_max: self.given_t_max,
-                widened_for_s: self.widened_for_s,
-                allowance: self.allowance.clone(),
-            };
-            probe.build_segments();
-            probe.solve_from(Some(probe.segments.len() - 1), &[], false);
+        if camera {
+            let mut cam = base.clone();
+            cam.drive.sun_in_camera = false;
+            singles.push((Binding::SunInCamera, cam, false, true));
+        }
+        if sessions {
+            singles.push((Binding::Communicate, base, false, false));
+        }
+        for (binding, actions, big_battery, sessions) in singles {
+            let found = self.probe_plans(actions, big_battery, sessions);
             if let Err(e) = self.allowance.check() {
                 return e;
             }
-            if !probe.segments[0].candidates.is_empty() {
-                return self.unreachable(binding);
+            if found {
+                return self.unreachable(binding, binding.describe());
             }
         }
-        let windows = self.windows();
-        if windows.last().is_some_and(|w| w.0 >= self.world.span_s()) {
-            return Error::Unreachable {
-                binding: Binding::Horizon,
-                message: Binding::Horizon.describe().into(),
-                proven: true,
-            };
+        let names = [(true, "battery"), (dark, "darkness"), (shade, "shadow"), (camera, "the Sun in the cameras")];
+        let mut relaxed: Vec<&str> = names.iter().filter(|n| n.0).map(|n| n.1).collect();
+        if sessions {
+            relaxed.push("sessions");
         }
-        // Start and goals are connected (checked before any search) and no relaxation
-        // made a plan: only time is left — the horizon, the goal instants, the waits.
-        self.unreachable(Binding::Horizon)
+        let message = format!(
+            "several constraints together ({}: none relaxed alone makes a plan, all relaxed at once do)",
+            relaxed.join(", ")
+        );
+        self.unreachable(Binding::Together, &message)
+    }
+
+    /// Whether this mission finds a plan with `actions` for constraints, the battery
+    /// unlimited if `big_battery`, the Communicate sessions kept if `sessions`: a probe
+    /// of [`Mission::explain_unreachable`].
+    fn probe_plans(&self, actions: ActionConfig, big_battery: bool, sessions: bool) -> bool {
+        let mut rover = self.model.rover().clone();
+        let mut start = self.start;
+        if big_battery {
+            rover.battery.capacity_wh *= 1e6;
+            start.energy_wh = rover.battery.capacity_wh;
+        }
+        let mut model = ActionModel::new(rover, actions);
+        if sessions {
+            model = model.with_sessions(self.model.sessions().to_vec()).sessions_need_earth(self.model.needs_earth());
+        }
+        // The same settings as the plan: a coarser probe could lose the very plan the
+        // relaxation makes possible, and name the wrong constraint.
+        let mut probe = Mission {
+            world: self.world,
+            model: &model,
+            config: self.config.clone(),
+            start,
+            goals: self.goals.clone(),
+            segments: Vec::new(),
+            // Another action model: its own drive geometries.
+            geometry: SharedGeometry::default(),
+            last_resort: self.last_resort,
+            given_t_max: self.given_t_max,
+            widened_for_s: self.widened_for_s,
+            allowance: self.allowance.clone(),
+        };
+        probe.build_segments();
+        probe.solve_from(Some(probe.segments.len() - 1), &[], false);
+        !probe.segments[0].candidates.is_empty()
     }
 
     /// "Unreachable" for `binding` after this mission's searches found no plan: proven
     /// when they were exact at the quanta (the last resort), otherwise said to be a
     /// verdict at these classes only.
-    fn unreachable(&self, binding: Binding) -> Error {
+    fn unreachable(&self, binding: Binding, description: &str) -> Error {
         let proven = self.last_resort;
-        let mut message = binding.describe().to_string();
+        let mut message = description.to_string();
         if !proven {
             let q = self.model.config().time_quantum_s;
             let why = if q == 0.0 {

@@ -166,7 +166,22 @@ fn constraints_that_bind_only_together_and_time_are_named_as_such() {
         Err(Error::Unreachable { binding, message, proven }) => {
             assert_eq!(binding, Binding::Together, "{message}");
             assert!(message.contains("none relaxed alone") && !message.contains("passable"), "{message}");
+            // Only the constraints this rover, its actions and the mission have are
+            // named: no sessions here (they were listed whatever the case).
+            let named = "several constraints together (battery, darkness, shadow, the Sun in the cameras: ";
+            assert!(message.starts_with(named), "{message}");
             assert!(!proven, "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // Charging without direct sun and no camera rule: battery and darkness are all
+    // there is to relax, and all the message names.
+    let mut fewer = ActionConfig::default();
+    (fewer.charge.direct_sun, fewer.drive.sun_in_camera) = (false, false);
+    match Mission::plan(&night, &model(50.0, fewer), quick.clone(), start, &[night.cell(77, 1)]) {
+        Err(Error::Unreachable { binding, message, .. }) => {
+            assert_eq!(binding, Binding::Together, "{message}");
+            assert!(message.starts_with("several constraints together (battery, darkness: none"), "{message}");
         }
         other => panic!("{other:?}"),
     }
