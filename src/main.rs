@@ -520,6 +520,9 @@ impl Progress for Bar {
     fn set(&self, position: u64) {
         self.0.set_position(position);
     }
+    fn rename(&self, message: &str) {
+        self.0.set_message(message.to_string());
+    }
     fn finish(&self) {
         self.0.finish_and_clear();
     }

@@ -159,7 +159,32 @@ impl Allowance {
 /// every meter equals every other, so it never changes what a configuration compares
 /// as.
 #[derive(Debug, Clone, Default)]
-pub struct ExpansionMeter(Option<std::sync::Arc<[std::sync::atomic::AtomicU64; 2]>>);
+pub struct ExpansionMeter(Option<std::sync::Arc<[std::sync::atomic::AtomicU64; 4]>>);
+
+/// What the searches are for, as a watcher shows it: planning, or — when no plan was
+/// found — the relaxed searches that name the binding constraint
+/// ([`ExpansionMeter::phase`]).
+const PHASES: [&str; 7] = [
+    "planning",
+    "no plan: every constraint relaxed",
+    "no plan: battery relaxed",
+    "no plan: darkness relaxed",
+    "no plan: shadow relaxed",
+    "no plan: Sun in the cameras relaxed",
+    "no plan: sessions relaxed",
+];
+
+/// The phase of the relaxed search for `binding` (`None`: all at once).
+fn phase_of(binding: Option<Binding>) -> usize {
+    match binding {
+        None => 1,
+        Some(Binding::Battery) => 2,
+        Some(Binding::Darkness) => 3,
+        Some(Binding::Shadow) => 4,
+        Some(Binding::SunInCamera) => 5,
+        Some(_) => 6,
+    }
+}
 
 impl ExpansionMeter {
     /// A meter that counts (the default one counts nothing).
@@ -177,6 +202,26 @@ impl ExpansionMeter {
     /// [`PlannerConfig::max_expansions`], counts).
     pub fn work(&self) -> u64 {
         self.0.as_ref().map_or(0, |n| n[1].load(std::sync::atomic::Ordering::Relaxed))
+    }
+
+    /// What the searches are doing now: "planning", or "no plan: battery relaxed" and
+    /// the like while the planner looks for the constraint that binds.
+    pub fn phase(&self) -> &'static str {
+        self.0.as_ref().map_or(PHASES[0], |n| PHASES[n[2].load(std::sync::atomic::Ordering::Relaxed) as usize])
+    }
+
+    /// Every phase the searches have been in since the meter was made, in the order of
+    /// [`ExpansionMeter::phase`]'s list (not the order they ran in).
+    pub fn phases_seen(&self) -> Vec<&'static str> {
+        let seen = self.0.as_ref().map_or(1, |n| n[3].load(std::sync::atomic::Ordering::Relaxed) | 1);
+        PHASES.iter().enumerate().filter(|(i, _)| seen >> i & 1 == 1).map(|(_, p)| *p).collect()
+    }
+
+    fn set_phase(&self, phase: usize) {
+        if let Some(n) = &self.0 {
+            n[2].store(phase as u64, std::sync::atomic::Ordering::Relaxed);
+            n[3].fetch_or(1 << phase, std::sync::atomic::Ordering::Relaxed);
+        }
     }
 
     pub(crate) fn add(&self, n: u64) {
@@ -816,6 +861,12 @@ impl<'a> Mission<'a> {
     /// that makes a plan relaxed alone is named; none alone means they bind together
     /// ([`Binding::Together`], its message naming the ones relaxed).
     fn explain_unreachable(&self) -> Error {
+        let error = self.relax_to_explain();
+        self.config.meter.set_phase(0);
+        error
+    }
+
+    fn relax_to_explain(&self) -> Error {
         let base = self.model.config().clone();
         let rules = [&base.drive, &base.charge, &base.hibernate];
         let dark = rules.iter().any(|r| r.daylight);
@@ -828,7 +879,7 @@ impl<'a> Mission<'a> {
             (r.daylight, r.direct_sun) = (false, false);
         }
         all.drive.sun_in_camera = false;
-        if !self.probe_plans(all, true, false) {
+        if !self.probe_plans(None, all, true, false) {
             if let Err(e) = self.allowance.check() {
                 return e;
             }
@@ -868,7 +919,7 @@ impl<'a> Mission<'a> {
             singles.push((Binding::Communicate, base, false, false));
         }
         for (binding, actions, big_battery, sessions) in singles {
-            let found = self.probe_plans(actions, big_battery, sessions);
+            let found = self.probe_plans(Some(binding), actions, big_battery, sessions);
             if let Err(e) = self.allowance.check() {
                 return e;
             }
@@ -889,9 +940,10 @@ impl<'a> Mission<'a> {
     }
 
     /// Whether this mission finds a plan with `actions` for constraints, the battery
-    /// unlimited if `big_battery`, the Communicate sessions kept if `sessions`: a probe
-    /// of [`Mission::explain_unreachable`].
-    fn probe_plans(&self, actions: ActionConfig, big_battery: bool, sessions: bool) -> bool {
+    /// unlimited if `big_battery`, the Communicate sessions kept if `sessions`: the
+    /// probe of [`Mission::explain_unreachable`] relaxing `binding` (`None`: all).
+    fn probe_plans(&self, binding: Option<Binding>, actions: ActionConfig, big_battery: bool, sessions: bool) -> bool {
+        self.config.meter.set_phase(phase_of(binding));
         let mut rover = self.model.rover().clone();
         let mut start = self.start;
         if big_battery {

@@ -1,7 +1,7 @@
 //! Single-goal planning: the octile path on easy ground, charging and hibernating when
 //! the battery or the night binds, and clear "unreachable" answers.
 
-use areo_mission::{Action, ActionConfig, Binding, Error, Mission, PlannerConfig, Start, World};
+use areo_mission::{Action, ActionConfig, Binding, Error, ExpansionMeter, Mission, PlannerConfig, Start, World};
 use areo_terrain::Dem;
 
 use crate::common::*;
@@ -162,8 +162,22 @@ fn constraints_that_bind_only_together_and_time_are_named_as_such() {
     let small = model(50.0, ActionConfig::default());
     let start = Start { cell: night.cell(2, 1), t_min: 0.0, t_max: 0.0, energy_wh: 45.0 };
     let quick = PlannerConfig { max_wait_s: Some(3600.0), ..PlannerConfig::default() };
-    match Mission::plan(&night, &small, quick.clone(), start, &[night.cell(77, 1)]) {
+    let meter = ExpansionMeter::counting();
+    let watched = PlannerConfig { meter: meter.clone(), ..quick.clone() };
+    match Mission::plan(&night, &small, watched, start, &[night.cell(77, 1)]) {
         Err(Error::Unreachable { binding, message, proven }) => {
+            // All at once made a plan, then each one alone was searched, and a watcher
+            // was told which; sessions were never searched (there are none).
+            let phases = [
+                "planning",
+                "no plan: every constraint relaxed",
+                "no plan: battery relaxed",
+                "no plan: darkness relaxed",
+                "no plan: shadow relaxed",
+                "no plan: Sun in the cameras relaxed",
+            ];
+            assert_eq!(meter.phases_seen(), phases);
+            assert_eq!(meter.phase(), "planning");
             assert_eq!(binding, Binding::Together, "{message}");
             assert!(message.contains("none relaxed alone") && !message.contains("passable"), "{message}");
             // Only the constraints this rover, its actions and the mission have are
@@ -200,9 +214,14 @@ fn constraints_that_bind_only_together_and_time_are_named_as_such() {
     let short = fixed_sun_world(walled, 90.0, 50.0, 0.75);
     let start = Start { cell: short.cell(5, 38), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
     let goal = short.cell(25, 38);
-    match Mission::plan(&short, &big, quick.clone(), start, &[goal]) {
+    let meter = ExpansionMeter::counting();
+    let watched = PlannerConfig { meter: meter.clone(), ..quick.clone() };
+    match Mission::plan(&short, &big, watched, start, &[goal]) {
         Err(Error::Unreachable { binding, message, .. }) => {
             assert_eq!(binding, Binding::Horizon, "{message}");
+            // Nothing relaxed at once made a plan, so nothing alone was searched (five
+            // searches were, before session 32).
+            assert_eq!(meter.phases_seen(), ["planning", "no plan: every constraint relaxed"]);
             assert!(!message.contains("passable"), "{message}");
         }
         other => panic!("{other:?}"),

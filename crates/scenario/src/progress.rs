@@ -11,6 +11,9 @@ pub trait Progress: Sync {
     /// `position` steps are done in all (for work measured, not counted step by step:
     /// expansions, simulated time).
     fn set(&self, position: u64);
+    /// The phase goes on under another name (a search that found no plan, looking for
+    /// why).
+    fn rename(&self, _message: &str) {}
     /// The phase is over.
     fn finish(&self);
 }

@@ -427,16 +427,23 @@ fn locate(job: &TempestJob, file: &ScenarioFile, world: &World, frame: Frame) ->
     Ok((start, goals))
 }
 
-/// Runs `work` while a watcher thread shows `meter`'s expansions on `progress` (about
-/// every fifth of a second; it notices the end within 20 ms).
+/// Runs `work` while a watcher thread shows `meter`'s expansions and phase on
+/// `progress` (about every fifth of a second; it notices the end within 20 ms).
 fn watching<T>(progress: &dyn crate::Progress, meter: &areo_mission::ExpansionMeter, work: impl FnOnce() -> T) -> T {
     let done = std::sync::atomic::AtomicBool::new(false);
     std::thread::scope(|scope| {
         scope.spawn(|| {
             let mut ticks = 0u32;
+            // Each relaxed search after "no plan" is shown from zero against the same
+            // estimate: it is a search of the same problem.
+            let (mut phase, mut before) = (meter.phase(), 0);
             while !done.load(std::sync::atomic::Ordering::Relaxed) {
                 if ticks.is_multiple_of(10) {
-                    progress.set(meter.expansions());
+                    if meter.phase() != phase {
+                        (phase, before) = (meter.phase(), meter.expansions());
+                        progress.rename(phase);
+                    }
+                    progress.set(meter.expansions() - before);
                 }
                 ticks += 1;
                 std::thread::sleep(std::time::Duration::from_millis(20));
