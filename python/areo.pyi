@@ -62,10 +62,17 @@ class Dem:
     @property
     def crs(self) -> str:
         """The coordinate reference system, OGC WKT2."""
+    def sun_over(self, utc: str) -> dict[str, Any]:
+        """The Sun over the map's middle at `utc` on the body the map names (`areo terrain
+        shadow --utc`): `utc`, `body`, `lat_deg`, `lon_east_deg`, `azimuth_deg` (from true
+        north), `grid_azimuth_deg` (from the grid's north: what `shadow` takes; it
+        differs on a polar map whose central meridian is not the middle's),
+        `elevation_deg`. Raises `AreoError` for a map with no place on a known body."""
 
 def read_dem(path: StrPath) -> Dem: ...
 def shadow(dem: Dem, azimuth_deg: float, elevation_deg: float, curved: bool = True) -> npt.NDArray[np.uint8]:
-    """(rows, cols): 1 lit, 0 in shadow, 255 no data; `curved`: on the body's sphere."""
+    """(rows, cols): 1 lit, 0 in shadow, 255 no data; `curved`: on the body's sphere.
+    `azimuth_deg` is clockwise from the grid's north (`Dem.sun_over(...)["grid_azimuth_deg"]`)."""
 def horizon(dem: Dem, sectors: int, curved: bool = True) -> npt.NDArray[np.float32]:
     """(sectors, rows, cols) horizon elevation, degrees; sector k centred on k·360°/K."""
 

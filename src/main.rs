@@ -602,7 +602,7 @@ fn sun_for_shadow(
         (Some(utc), _, _) => {
             let sun = areo_scenario::terrain::sun_over(file, &grid()?, utc)?;
             let said = print::terrain::sun_over(&sun);
-            Ok(((sun.azimuth_deg, sun.elevation_deg), said))
+            Ok(((sun.grid_azimuth_deg, sun.elevation_deg), said))
         }
         (None, Some(a), Some(e)) => Ok(((a, e), String::new())),
         // clap requires both or --utc.

@@ -1025,6 +1025,32 @@ fn terrain_shadow_at_an_instant_uses_the_sun_over_the_maps_middle() {
         out.status.success() && text.contains("below the horizon") && text.contains("0.00 % of the valid cells"),
         "{text}"
     );
+    // On a south polar map with λ0 = 0 (a LOLA product's grid) near the pole, the Sun
+    // lies toward the subsolar meridian: its grid azimuth is the subsolar longitude,
+    // whatever the site's — not the true azimuth at a site at 90°E (a quarter turn off
+    // before session 32).
+    let polar = root().join("crates/terrain/tests/data/polar_lon0_64.tif");
+    let polar = polar.to_str().unwrap();
+    let t = "2025-01-01T00:00:00Z";
+    let sun = areo(&["sun", "--time", t, "--lat", "-89", "--lon", "90", "--body", "moon", "--format", "json"]);
+    let sun: serde_json::Value = serde_json::from_slice(&sun.stdout).unwrap();
+    let subsolar = sun[0]["subsolar_lon_east_deg"].as_f64().unwrap();
+    let (az, el) = (sun[0]["azimuth_deg"].as_f64().unwrap(), sun[0]["elevation_deg"].as_f64().unwrap());
+    let out = areo(&["terrain", "shadow", polar, "--utc", t, "-o", at.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && text.contains("on Moon") && text.contains(&format!("azimuth {az:.2}° (")),
+        "{text}"
+    );
+    let grid_az: f64 = text.split("° (").nth(1).and_then(|s| s.split('°').next()).unwrap().parse().unwrap();
+    assert!((grid_az - subsolar).abs() < 0.1 && (grid_az - az - 90.0).abs() < 0.01, "{grid_az} vs {subsolar}, {az}");
+    let hand = ["--sun-azimuth", &format!("{grid_az:.2}"), "--sun-elevation", &format!("{el:.2}")];
+    let out = areo(&[&["terrain", "shadow", polar][..], &hand, &["-o", by_hand.to_str().unwrap()]].concat());
+    assert!(out.status.success());
+    let (a, b) = (std::fs::read(&at).unwrap(), std::fs::read(&by_hand).unwrap());
+    let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    // The printed direction is rounded to 0.01°: a few cells on a shadow's edge may flip.
+    assert!(a.len() == b.len() && differ < 20, "{differ} bytes differ");
     // An ESRI ASCII grid without a .prj is a local frame: no place, no Sun.
     let local = dir.join("local.asc");
     std::fs::write(&local, "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 10\n1 2 3\n4 5 6\n7 8 9\n").unwrap();

@@ -148,19 +148,21 @@ fn sun_series<'py>(
 #[pyclass(name = "Dem", frozen, module = "areo")]
 struct PyDem {
     dem: Dem,
+    /// The file it was read from (named in errors).
+    path: PathBuf,
     /// The heights as NumPy holds them: made once when read, handed out as is.
     heights: Py<PyArray2<f32>>,
 }
 
 impl PyDem {
-    fn new(py: Python<'_>, dem: Dem) -> PyResult<PyDem> {
+    fn new(py: Python<'_>, dem: Dem, path: PathBuf) -> PyResult<PyDem> {
         let z: Vec<f32> =
             dem.elevations().iter().zip(dem.valid_mask()).map(|(&z, &ok)| if ok { z } else { f32::NAN }).collect();
         // The vector becomes the array's buffer (no copy); read-only, as the shadows and
         // horizons computed from this Dem use the heights as read.
         let heights = PyArray1::from_vec(py, z).reshape([dem.rows(), dem.cols()])?;
         heights.call_method("setflags", (), Some(&[("write", false)].into_py_dict(py)?))?;
-        Ok(PyDem { dem, heights: heights.unbind() })
+        Ok(PyDem { dem, path, heights: heights.unbind() })
     }
 }
 
@@ -207,6 +209,26 @@ impl PyDem {
         self.dem.georef().wkt()
     }
 
+    /// Where the Sun stands over the map's middle at `utc` (ISO 8601), on the body the
+    /// map's georeference names — what `areo terrain shadow --utc` uses: a dict of
+    /// `utc`, `body`, `lat_deg`, `lon_east_deg`, `azimuth_deg` (clockwise from true
+    /// north), `grid_azimuth_deg` (clockwise from the grid's north, up in the image:
+    /// the azimuth `shadow` takes; it differs on a polar map whose central meridian is
+    /// not the middle's) and `elevation_deg`.
+    fn sun_over<'py>(&self, py: Python<'py>, utc: &str) -> PyResult<Bound<'py, PyDict>> {
+        let grid = areo_scenario::terrain::Grid::of(&self.dem);
+        let sun = areo_scenario::terrain::sun_over(&self.path, &grid, utc).map_err(|e| to_py(py, &e))?;
+        let out = PyDict::new(py);
+        out.set_item("utc", sun.utc)?;
+        out.set_item("body", sun.body)?;
+        out.set_item("lat_deg", sun.lat_deg)?;
+        out.set_item("lon_east_deg", sun.lon_east_deg)?;
+        out.set_item("azimuth_deg", sun.azimuth_deg)?;
+        out.set_item("grid_azimuth_deg", sun.grid_azimuth_deg)?;
+        out.set_item("elevation_deg", sun.elevation_deg)?;
+        Ok(out)
+    }
+
     fn __repr__(&self) -> String {
         let d = &self.dem;
         format!("Dem({} × {} cells of {} × {} m)", d.cols(), d.rows(), d.dx(), d.dy())
@@ -217,14 +239,16 @@ impl PyDem {
 #[pyfunction]
 fn read_dem(py: Python<'_>, path: PathBuf) -> PyResult<PyDem> {
     let read = py.detach(|| areo_scenario::terrain::read_dem(&path));
-    PyDem::new(py, read.map_err(|e| to_py(py, &e))?)
+    PyDem::new(py, read.map_err(|e| to_py(py, &e))?, path)
 }
 
 fn curvature(dem: &Dem, curved: bool) -> Curvature {
     if curved { Curvature::of(dem) } else { Curvature::Flat }
 }
 
-/// The direct-sun map for a Sun at (azimuth °, clockwise from north; elevation °):
+/// The direct-sun map for a Sun at (azimuth °, clockwise from the grid's north — up in
+/// the image, true north unless the map is polar with another central meridian
+/// (`Dem.sun_over` gives both); elevation °):
 /// a (rows, cols) uint8 array, 1 lit, 0 in shadow (cast or self), 255 no data — the
 /// values `areo terrain shadow` writes. `curved`: the ground drops away on the body's
 /// sphere (else a flat world).

@@ -119,6 +119,30 @@ def test_shadow_equals_the_binarys_map_bit_for_bit(tmp_path):
         areo.shadow(dem, 90.0, 95.0)
 
 
+def test_sun_over_a_polar_map_is_turned_onto_its_grid(tmp_path):
+    # A south polar grid with central meridian 0 whose middle is at 90°E: near the pole
+    # the Sun lies toward the subsolar meridian, so its grid azimuth is the subsolar
+    # longitude; the shadow at that azimuth is the binary's `--utc` map bit for bit.
+    polar_path = ROOT / "crates/terrain/tests/data/polar_lon0_64.tif"
+    polar = areo.read_dem(polar_path)
+    t = "2025-01-01T00:00:00Z"
+    sun = polar.sun_over(t)
+    assert sun["body"] == "Moon" and abs(sun["lon_east_deg"] - 90.0) < 1e-6
+    subsolar = areo.sun(t, sun["lat_deg"], sun["lon_east_deg"], body="moon")["subsolar_lon_east_deg"]
+    assert abs(sun["grid_azimuth_deg"] - subsolar) < 0.1
+    assert abs(sun["grid_azimuth_deg"] - sun["azimuth_deg"] - 90.0) < 1e-6
+    out = tmp_path / "polar.tif"
+    cli("terrain", "shadow", polar_path, "--utc", t, "-o", out)
+    theirs = areo.read_dem(out).heights
+    ours = areo.shadow(polar, sun["grid_azimuth_deg"], sun["elevation_deg"])
+    assert np.array_equal(ours, np.where(np.isnan(theirs), 255, theirs).astype(np.uint8))
+    # On Gale's equirectangular crop the grid's north is true north.
+    gale = areo.read_dem(GALE).sun_over("2012-08-06T22:00:00Z")
+    assert gale["grid_azimuth_deg"] == gale["azimuth_deg"]
+    with pytest.raises(areo.AreoError):
+        areo.read_dem(GALE).sun_over("not a time")
+
+
 def test_horizon_equals_the_binarys_maps(tmp_path):
     dem = areo.read_dem(GALE)
     h = areo.horizon(dem, 16)

@@ -84,12 +84,13 @@ pub(crate) fn tiled_shadow(run: &areo_scenario::terrain::TiledShadow) -> String 
 /// Where `--utc` put the Sun.
 pub(crate) fn sun_over(sun: &areo_scenario::terrain::SunOver) -> String {
     format!(
-        "Sun at {} over the map's middle ({:.4}°, {:.4}°E on {}): azimuth {:.2}°, elevation {:.2}°{}\n",
+        "Sun at {} over the map's middle ({:.4}°, {:.4}°E on {}): azimuth {:.2}°{}, elevation {:.2}°{}\n",
         sun.utc,
         sun.lat_deg,
         sun.lon_east_deg,
         sun.body,
         sun.azimuth_deg,
+        areo_scenario::terrain::grid_azimuth_said(sun.azimuth_deg, sun.grid_azimuth_deg),
         sun.elevation_deg,
         if sun.elevation_deg <= 0.0 { " (below the horizon: the map is dark)" } else { "" }
     )

@@ -49,7 +49,7 @@ pub fn curvature_of(body: Body) -> Curvature {
 /// The Earth at one instant in the sky of the reference site.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EarthSky {
-    /// Azimuth, degrees clockwise from north.
+    /// Azimuth, degrees clockwise from the grid's north (as [`Sun::azimuth_deg`]).
     pub azimuth_deg: f64,
     /// Elevation above the horizontal, degrees (topocentric).
     pub elevation_deg: f64,
@@ -74,14 +74,15 @@ pub struct WorldConfig {
     pub site: Option<Site>,
 }
 
-/// The Sun at one instant, at the reference site.
+/// The Sun at one instant, at the reference site, on the map's axes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sun {
-    /// Azimuth, degrees clockwise from north.
+    /// Azimuth, degrees clockwise from the grid's north (true north wherever the map's
+    /// meridians are its columns; see [`areo_terrain::Projection::true_north_on_grid_deg`]).
     pub azimuth_deg: f64,
     /// Elevation above the horizontal, degrees.
     pub elevation_deg: f64,
-    /// Unit vector toward the Sun, east-north-up.
+    /// Unit vector toward the Sun on the grid's axes: (grid east, grid north, up).
     pub enu: [f64; 3],
     /// Direct-beam flux at the surface, W/m² normal to the beam (0 below the horizon).
     pub beam_w_m2: f64,
@@ -237,15 +238,23 @@ impl World {
             .collect();
         let horizon = horizon.map(Arc::new);
         let n = (config.span_s / config.sun_step_s).ceil() as usize + 2;
+        // Every direction in the sky is kept on the grid's axes, as slopes, headings
+        // and horizon sectors are: where the map's meridians are not its columns (a
+        // polar map whose central meridian is not the site's) true azimuths turn by
+        // the grid's convergence at the site.
+        let north = dem.georef().projection.true_north_on_grid_deg(site.lon_east_deg());
+        let (sin_n, cos_n) = north.to_radians().sin_cos();
+        let on_grid = |azimuth_deg: f64| (azimuth_deg + north).rem_euclid(360.0);
         let sun = (0..n)
             .map(|k| {
                 let at = config.epoch + Duration::from_seconds(k as f64 * config.sun_step_s);
                 let state = sun_model.sun(at);
                 let p = state.at_site(&site);
+                let [e, nn, u] = p.direction_enu;
                 Sun {
-                    azimuth_deg: p.azimuth_deg,
+                    azimuth_deg: on_grid(p.azimuth_deg),
                     elevation_deg: p.elevation_deg,
-                    enu: p.direction_enu,
+                    enu: [e * cos_n + nn * sin_n, nn * cos_n - e * sin_n, u],
                     beam_w_m2: config.atmosphere.beam_w_m2(p.elevation_deg, state.distance_au),
                 }
             })
@@ -254,7 +263,7 @@ impl World {
             .map_while(|k| {
                 let at = config.epoch + Duration::from_seconds(k as f64 * config.sun_step_s);
                 let (azimuth_deg, elevation_deg) = body.earth(at)?.at_site(&site);
-                Some(EarthSky { azimuth_deg, elevation_deg })
+                Some(EarthSky { azimuth_deg: on_grid(azimuth_deg), elevation_deg })
             })
             .collect();
         Ok(World {
@@ -423,6 +432,12 @@ impl World {
     /// The reference site.
     pub fn site(&self) -> Site {
         self.site
+    }
+
+    /// Where true north points on the grid at the site, degrees clockwise from the
+    /// grid's north: what the Sun's and the Earth's true azimuths were turned by.
+    pub fn true_north_on_grid_deg(&self) -> f64 {
+        self.dem.georef().projection.true_north_on_grid_deg(self.site.lon_east_deg())
     }
 
     /// The tabulated span, s.

@@ -4,6 +4,7 @@ mod bodies;
 mod chaining;
 mod common;
 mod front;
+mod grid_north;
 mod pareto;
 mod planning;
 mod sensing;

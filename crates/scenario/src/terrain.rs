@@ -42,6 +42,11 @@ pub struct SunOver {
     pub lon_east_deg: f64,
     /// Sun azimuth there, degrees clockwise from north.
     pub azimuth_deg: f64,
+    /// The same direction on the grid, degrees clockwise from the grid's north (up in
+    /// the image): what shadows are cast along. It differs from `azimuth_deg` where the
+    /// map's meridians are not its columns (a polar map whose central meridian is not
+    /// the middle's).
+    pub grid_azimuth_deg: f64,
     /// Sun elevation there above the local horizontal, degrees.
     pub elevation_deg: f64,
 }
@@ -82,8 +87,20 @@ pub fn sun_over(file: &Path, grid: &Grid, utc: &str) -> Result<SunOver> {
         lat_deg: site.lat_deg(),
         lon_east_deg: site.lon_east_deg(),
         azimuth_deg: at.azimuth_deg,
+        grid_azimuth_deg: (at.azimuth_deg + g.projection.true_north_on_grid_deg(site.lon_east_deg())).rem_euclid(360.0),
         elevation_deg: at.elevation_deg,
     })
+}
+
+/// " (137.20° on the grid, …)" where the map's north is not true north there (a polar map
+/// whose central meridian is not the site's), else nothing.
+pub fn grid_azimuth_said(true_deg: f64, grid_deg: f64) -> String {
+    let turn = (grid_deg - true_deg + 540.0).rem_euclid(360.0) - 180.0;
+    if turn.abs() < 5e-3 {
+        String::new()
+    } else {
+        format!(" ({grid_deg:.2}° on the grid, whose north is not true north here)")
+    }
 }
 
 /// Checks an output path before anything is computed: a GeoTIFF name (`.tif` or

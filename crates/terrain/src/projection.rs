@@ -82,6 +82,22 @@ pub(crate) fn equirectangular_from_degrees(
 }
 
 impl Projection {
+    /// Where true north points on the grid at east longitude `lon_east_deg`: the
+    /// clockwise angle from the grid's north (its +y axis, up in the image) to the
+    /// meridian's north, degrees in (−180, 180]. A direction of true azimuth A has grid
+    /// azimuth A + this. Zero on a local frame and on an equirectangular map, whose
+    /// meridians are its columns; on a polar stereographic map the meridians fan out
+    /// from the pole, so it is λ − λ0 in the south and λ0 − λ in the north — a LOLA
+    /// polar map (λ0 = 0) turns the Sun of a site at 90°E by a quarter turn.
+    pub fn true_north_on_grid_deg(&self, lon_east_deg: f64) -> f64 {
+        let turn = match *self {
+            Projection::Local | Projection::Equirectangular { .. } => return 0.0,
+            Projection::PolarStereographic { north: false, lon0_deg } => lon_east_deg - lon0_deg,
+            Projection::PolarStereographic { north: true, lon0_deg } => lon0_deg - lon_east_deg,
+        };
+        180.0 - (180.0 - turn).rem_euclid(360.0)
+    }
+
     /// Planetocentric latitude and east longitude (degrees) of map point (x, y), m.
     pub fn to_geographic(&self, body: &Spheroid, x: f64, y: f64) -> Option<(f64, f64)> {
         let r = body.equatorial_radius_m;
@@ -124,6 +140,29 @@ impl Projection {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn true_north_on_a_polar_grid_is_the_meridian_through_the_point() {
+        // Against the projection itself: a small step north along the meridian, read
+        // as a grid direction, points where the offset says.
+        let body = Spheroid::MOON;
+        for (proj, lat) in [
+            (Projection::PolarStereographic { north: false, lon0_deg: 0.0 }, -89.3),
+            (Projection::PolarStereographic { north: true, lon0_deg: 40.0 }, 85.0),
+            (Projection::Equirectangular { lat_ts_deg: -5.0, lon0_deg: 137.0 }, -5.0),
+        ] {
+            for lon in [0.0, 45.0, 90.0, 137.5, 180.0, 222.7, 300.0] {
+                let (x0, y0) = proj.from_geographic(&body, lat, lon).unwrap();
+                let (x1, y1) = proj.from_geographic(&body, lat + 1e-4, lon).unwrap();
+                let grid_az = (x1 - x0).atan2(y1 - y0).to_degrees();
+                let offset = proj.true_north_on_grid_deg(lon);
+                let gap = (grid_az - offset + 540.0).rem_euclid(360.0) - 180.0;
+                assert!(gap.abs() < 1e-6, "{proj:?} at {lon}°E: grid azimuth {grid_az}, offset {offset}");
+                assert!(offset > -180.0 && offset <= 180.0);
+            }
+        }
+        assert_eq!(Projection::Local.true_north_on_grid_deg(90.0), 0.0);
+    }
 
     #[test]
     fn projections_round_trip_and_match_mola_spacing() {

@@ -338,6 +338,15 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
             (frame, World::for_region(region, &config, &job.body.model()).map_err(located)?)
         }
     };
+    // A polar map whose central meridian is not the site's: said, as what the Sun's and
+    // the Earth's azimuths on the map were turned by.
+    let north = world.true_north_on_grid_deg();
+    if north.abs() >= 0.005 {
+        notes.push(format!(
+            "map grid: true north at the site is {north:.2}° clockwise of the grid's north (its central meridian is \
+             not the site's); the Sun's and the Earth's azimuths are turned onto the grid"
+        ));
+    }
     // One byte per horizon angle where the search's time classes make its error small
     // (before the truth is built: it shares the map's horizons) — the narrowest classes
     // it may search, its retries at halved classes included.

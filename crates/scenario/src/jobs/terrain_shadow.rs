@@ -18,7 +18,10 @@ use crate::outcome::Outcome;
 struct ShadowReport {
     dem: Dem,
     utc: Epoch,
+    /// The Sun's direction on the grid's axes.
     sun: SunDirection,
+    /// Its true azimuth at the site, degrees clockwise from north.
+    true_azimuth_deg: f64,
     ltst_hours: f64,
     lit_fraction: f64,
     cast_shadow_fraction: f64,
@@ -54,9 +57,11 @@ fn compute(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) ->
     let utc = parse_utc(&job.utc)?;
     let state = job.body.model().sun(utc);
     let at_site = state.at_site(&site);
-    let sun = SunDirection::new(at_site.azimuth_deg, at_site.elevation_deg);
     // A synthesised map lies on the body's reference surface (its curvature).
     let dem = dem.placed_at(job.body.model().reference_surface(), site.lat_deg(), site.lon_east_deg())?;
+    // Shadows are cast along the grid: a polar map's north is not the site's.
+    let north = dem.georef().projection.true_north_on_grid_deg(site.lon_east_deg());
+    let sun = SunDirection::new((at_site.azimuth_deg + north).rem_euclid(360.0), at_site.elevation_deg);
     let curvature = if job.flat { Curvature::Flat } else { Curvature::of(&dem) };
     let map = Shadows::new(sun, curvature).map(&dem);
     let sa = slope_aspect(&dem);
@@ -73,6 +78,7 @@ fn compute(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) ->
     Ok(ShadowReport {
         utc,
         sun,
+        true_azimuth_deg: at_site.azimuth_deg,
         ltst_hours,
         lit_fraction: map.lit_fraction(),
         cast_shadow_fraction: cast,
@@ -90,7 +96,8 @@ fn outcome(r: &ShadowReport) -> Outcome {
     o.number("relief_m", r.relief_m);
     o.number("max_slope_deg", r.max_slope_deg);
     o.number("mean_slope_deg", r.mean_slope_deg);
-    o.number("sun_azimuth_deg", r.sun.azimuth_deg);
+    o.number("sun_azimuth_deg", r.true_azimuth_deg);
+    o.number("sun_grid_azimuth_deg", r.sun.azimuth_deg);
     o.number("sun_elevation_deg", r.sun.elevation_deg);
     o.number("ltst_hours", r.ltst_hours);
     o.number("lit_fraction", r.lit_fraction);
@@ -105,8 +112,9 @@ fn outcome(r: &ShadowReport) -> Outcome {
         r.max_slope_deg
     ));
     o.summary.push(format!(
-        "Sun at azimuth {:.2}°, elevation {:.2}° ({}): {:.1} % of the ground in direct sun, {:.1} % in cast shadow",
-        r.sun.azimuth_deg,
+        "Sun at azimuth {:.2}°{}, elevation {:.2}° ({}): {:.1} % of the ground in direct sun, {:.1} % in cast shadow",
+        r.true_azimuth_deg,
+        crate::terrain::grid_azimuth_said(r.true_azimuth_deg, r.sun.azimuth_deg),
         r.sun.elevation_deg,
         format_utc(r.utc),
         100.0 * r.lit_fraction,
