@@ -14,7 +14,7 @@ pub(crate) fn info(i: &DemInfo) -> String {
     let [west, east, south, north] = i.extent_m;
     let mut lines = vec![
         format!("size        {} × {} cells ({} valid, {} missing)", i.cols, i.rows, i.valid_cells, i.missing_cells),
-        format!("cell size   {} m x {} m", i.cell_m[0], i.cell_m[1]),
+        format!("cell size   {} m × {} m", i.cell_m[0], i.cell_m[1]),
         format!("extent      x {west} .. {east} m, y {south} .. {north} m"),
         match i.elevation_m {
             Some([lo, hi, mean]) => format!("elevation   {lo} .. {hi} m (mean {mean:.2} m)"),

@@ -182,7 +182,20 @@ impl Header {
         if geokeys.short(key::MODEL_TYPE) == Some(key::MODEL_GEOGRAPHIC) {
             return header.geographic_as_equirectangular(geokeys.short(key::GEOG_ANGULAR_UNITS)).map_err(bad);
         }
-        Ok(header)
+        header.at_true_scale().map_err(bad)
+    }
+
+    /// An equirectangular map at true scale where its standard parallel is far from it
+    /// ([`crate::projection::equirectangular_at_true_scale`]); any other as it is.
+    fn at_true_scale(self) -> std::result::Result<Header, String> {
+        let Projection::Equirectangular { lat_ts_deg, lon0_deg } = self.georef.projection else { return Ok(self) };
+        let ([dx, dy, x0, y_top], projection) = crate::projection::equirectangular_at_true_scale(
+            self.rows,
+            [self.dx, self.dy, self.x0, self.y_top],
+            (lat_ts_deg, lon0_deg),
+            &self.georef.surface,
+        )?;
+        Ok(Header { dx, dy, x0, y_top, georef: Georef { projection, surface: self.georef.surface }, ..self })
     }
 
     /// A grid in longitude and latitude (GTModelTypeGeoKey 2: MOLA and LOLA products,

@@ -241,7 +241,16 @@ pub fn parse(label_bytes: &[u8], image: Option<&[u8]>, path: &Path, dir: Option<
     if !(x0.abs() <= 1e12 && y_top.abs() <= 1e12) {
         return Err(bad("LINE_PROJECTION_OFFSET, SAMPLE_PROJECTION_OFFSET: the map's corner is beyond 1e12 m".into()));
     }
-    Dem::new(cols, rows, dx, dx, x0, y_top, z)
+    // A simple cylindrical map's MAP_SCALE holds at CENTER_LATITUDE (the equator for
+    // MEGDR tiles): at true scale where that is far from the map.
+    let ([dx, dy, x0, y_top], projection) = match projection {
+        Projection::Equirectangular { lat_ts_deg, lon0_deg } => {
+            crate::projection::equirectangular_at_true_scale(rows, [dx, dx, x0, y_top], (lat_ts_deg, lon0_deg), &body)
+                .map_err(bad)?
+        }
+        other => ([dx, dx, x0, y_top], other),
+    };
+    Dem::new(cols, rows, dx, dy, x0, y_top, z)
         .and_then(|d| d.with_mask(valid))
         .map(|d| d.with_georef(Georef { projection, surface: body }))
         .map_err(|e| bad(e.to_string()))

@@ -54,20 +54,7 @@ pub(crate) fn equirectangular_from_degrees(
         ));
     }
     let lat_ts = 0.5 * (lat_n + lat_s);
-    let widest = if lat_s <= 0.0 && lat_n >= 0.0 { 1.0 } else { lat_n.abs().min(lat_s.abs()).to_radians().cos() };
-    let narrowest = lat_n.abs().max(lat_s.abs()).min(90.0).to_radians().cos();
-    let scale = lat_ts.to_radians().cos();
-    let error = (widest / scale - 1.0).max(1.0 - narrowest / scale);
-    if error > GEOGRAPHIC_MAX_SCALE_ERROR {
-        return Err(format!(
-            "geographic grid from {lat_s:.4}° to {lat_n:.4}° latitude: read as equirectangular at {lat_ts:.4}° its \
-             east–west scale would be off by up to {:.1} % (allowed {:.0} %); reproject it first, e.g. \
-             `gdalwarp -t_srs '+proj=stere +lat_0=-90 +R=<radius>' in.tif out.tif` near a pole or \
-             `+proj=eqc +lat_ts=<middle latitude> +R=<radius>` for a long north–south strip",
-            100.0 * error,
-            100.0 * GEOGRAPHIC_MAX_SCALE_ERROR
-        ));
-    }
+    let scale = rows_at_one_scale("geographic grid", lat_n, lat_s)?;
     let lon0 = 0.5 * (lon_w + lon_e);
     let metres_per_degree = surface.equatorial_radius_m * 1f64.to_radians();
     Ok((
@@ -79,6 +66,62 @@ pub(crate) fn equirectangular_from_degrees(
         ],
         Projection::Equirectangular { lat_ts_deg: lat_ts, lon0_deg: lon0 },
     ))
+}
+
+/// The east–west scale, cos φ, at the middle of the latitudes `lat_n`..`lat_s`
+/// (degrees), if every row's true scale lies within [`GEOGRAPHIC_MAX_SCALE_ERROR`] of
+/// it; else what to do, naming `what`.
+fn rows_at_one_scale(what: &str, lat_n: f64, lat_s: f64) -> std::result::Result<f64, String> {
+    let lat_ts = 0.5 * (lat_n + lat_s);
+    let widest = if lat_s <= 0.0 && lat_n >= 0.0 { 1.0 } else { lat_n.abs().min(lat_s.abs()).to_radians().cos() };
+    let narrowest = lat_n.abs().max(lat_s.abs()).min(90.0).to_radians().cos();
+    let scale = lat_ts.to_radians().cos();
+    let error = (widest / scale - 1.0).max(1.0 - narrowest / scale);
+    if error > GEOGRAPHIC_MAX_SCALE_ERROR {
+        return Err(format!(
+            "{what} from {lat_s:.4}° to {lat_n:.4}° latitude: read as equirectangular at {lat_ts:.4}° its \
+             east–west scale would be off by up to {:.1} % (allowed {:.0} %); reproject it first, e.g. \
+             `gdalwarp -t_srs '+proj=stere +lat_0=-90 +R=<radius>' in.tif out.tif` near a pole or \
+             `+proj=eqc +lat_ts=<middle latitude> +R=<radius>` for a long north–south strip",
+            100.0 * error,
+            100.0 * GEOGRAPHIC_MAX_SCALE_ERROR
+        ));
+    }
+    Ok(scale)
+}
+
+/// An equirectangular grid — `cols` × `rows` cells of `dx` × `dy` map metres from its
+/// north-west corner (`x0`, `y_top`), standard parallel `lat_ts_deg` — at true scale.
+/// Its map metres are ground metres east–west only at the standard parallel: a global
+/// mosaic's (φts = 0, as MOLA MEGDR tiles and the HRSC–MOLA blend come) stretches a
+/// map at 40° by 31 % and at 68° (Phoenix) by 2.7×, and slopes, shadows and drives
+/// would follow. Where that stretch exceeds [`GEOGRAPHIC_MAX_SCALE_ERROR`], the same
+/// cells are relabelled at the grid's middle latitude (x scaled by cos φmid / cos φts:
+/// the same projection with another standard parallel, not resampled); within it the
+/// grid stays as written, so outputs keep the input's CRS. A grid too tall for one
+/// scale is refused with what to do. Returns (dx, dy, x0, y_top) and the projection.
+pub(crate) fn equirectangular_at_true_scale(
+    rows: usize,
+    [dx, dy, x0, y_top]: [f64; 4],
+    (lat_ts_deg, lon0_deg): (f64, f64),
+    surface: &Spheroid,
+) -> std::result::Result<([f64; 4], Projection), String> {
+    let as_written = ([dx, dy, x0, y_top], Projection::Equirectangular { lat_ts_deg, lon0_deg });
+    let r = surface.equatorial_radius_m;
+    let (lat_n, lat_s) = ((y_top / r).to_degrees(), ((y_top - rows as f64 * dy) / r).to_degrees());
+    if !(lat_n <= 90.0 + 1e-9 && lat_s >= -90.0 - 1e-9) {
+        return Err(format!(
+            "equirectangular grid from {lat_s}° to {lat_n}° latitude (y / R): latitudes must lie within ±90°"
+        ));
+    }
+    let stretch = (0.5 * (lat_n + lat_s)).to_radians().cos() / lat_ts_deg.to_radians().cos();
+    if (stretch - 1.0).abs() <= GEOGRAPHIC_MAX_SCALE_ERROR {
+        return Ok(as_written);
+    }
+    let what = format!("equirectangular grid with its standard parallel at {lat_ts_deg}°");
+    rows_at_one_scale(&what, lat_n, lat_s)?;
+    let lat_mid = 0.5 * (lat_n + lat_s);
+    Ok(([dx * stretch, dy, x0 * stretch, y_top], Projection::Equirectangular { lat_ts_deg: lat_mid, lon0_deg }))
 }
 
 impl Projection {

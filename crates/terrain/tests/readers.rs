@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use areo_terrain::{Dem, Georef, Projection, ascii, geotiff, pds3};
+use areo_terrain::{Dem, Georef, Projection, Spheroid, ascii, geotiff, pds3};
 use proptest::prelude::*;
 
 /// A DEM of `../shared/data/dem` (beside the repository), if it is there. Where the
@@ -565,6 +565,74 @@ fn a_longitude_latitude_grid_reads_as_metres_at_its_middle_latitude() {
     assert!(polar.contains("off by up to 98.0 %") && polar.contains("+proj=stere"), "{polar}");
     let km = geotiff::read(&data("eqc_km_64.tif")).unwrap_err().to_string();
     assert!(km.contains("linear unit 9036") && km.contains("metres"), "{km}");
+}
+
+/// An equirectangular map whose standard parallel is the equator (a global mosaic's,
+/// a MEGDR tile's) cropped at 40° N: its map metres are 1/cos 40° = 1.31 ground metres
+/// east–west. It reads as the same cells at true scale, relabelled at its middle
+/// latitude (before session 32 slopes, shadows and drives were 31 % stretched); a map
+/// within 1 % of its standard parallel stays as written; one too tall for one scale is
+/// refused with what to do; a PDS3 label reads alike.
+#[test]
+fn an_equirectangular_map_far_from_its_standard_parallel_reads_at_true_scale() {
+    let plain = geotiff::read(&data("gale_mola_crop_64.tif")).unwrap();
+    let far = geotiff::read(&data("eqc_lat_ts0_at40n_64.tif")).unwrap();
+    // Relabelled at its middle latitude, 40° (to the millimetres GDAL was given).
+    let Projection::Equirectangular { lat_ts_deg, lon0_deg } = far.georef().projection else { panic!() };
+    assert!((lat_ts_deg - 40.0).abs() < 1e-7 && lon0_deg == 0.0, "{lat_ts_deg}");
+    assert!((far.dx() - 463.0577 * 40f64.to_radians().cos()).abs() < 1e-3, "{}", far.dx());
+    assert!((far.dy() - 463.0577).abs() < 1e-3);
+    // GDAL's own numbers (gdalinfo, and gdalwarp to lat_ts = 40): the corner at
+    // 137.4° E, 40.25° N, which is x = 6 238 579.998 m at true scale at 40°.
+    assert!((far.x0() - 6_238_579.998).abs() < 0.01, "{}", far.x0());
+    let (lat, lon) = far.geographic(far.x0(), far.y_top()).unwrap();
+    assert!((lat - 40.25).abs() < 1e-7 && (lon - 137.4).abs() < 1e-7, "{lat}, {lon}");
+    let (lat, lon) = far.geographic(far.x0() + 64.0 * far.dx(), far.y_top() - 64.0 * far.dy()).unwrap();
+    assert!((lat - 39.75).abs() < 1e-7 && (lon - 137.9).abs() < 1e-7, "{lat}, {lon}");
+    for (c, r) in [(0, 0), (63, 63), (17, 40)] {
+        assert_eq!(far.z(c, r), plain.z(c, r));
+    }
+    // Windows read it the same way.
+    let mut w = geotiff::Windows::open(&data("eqc_lat_ts0_at40n_64.tif"), 1 << 20).unwrap();
+    let win = w.read(5, 6, 10, 10).unwrap();
+    let (a, b) = (win.cell_center(0, 0), far.cell_center(5, 6));
+    assert!((win.dx() - far.dx()).abs() < 1e-9 && (a.0 - b.0).abs() < 1e-6 && (a.1 - b.1).abs() < 1e-6);
+    // Gale's crop: its standard parallel (−5.40°) is 0.02 % from its middle: as written.
+    assert_eq!(plain.georef().projection, Projection::Equirectangular { lat_ts_deg: -5.40234375, lon0_deg: 0.0 });
+    // 20° to 60° N on one standard parallel: no one scale holds it.
+    let tall = tmp("eqc_tall.tif");
+    let r = 3_396_000.0f64;
+    let dem = Dem::new(64, 64, 40_000.0, (r * 40f64.to_radians()) / 64.0, 0.0, r * 60f64.to_radians(), vec![0.0; 4096])
+        .unwrap()
+        .with_georef(Georef {
+            projection: Projection::Equirectangular { lat_ts_deg: 0.0, lon0_deg: 0.0 },
+            surface: Spheroid::MARS_MOLA_SPHERE,
+        });
+    geotiff::write(&dem, &tall).unwrap();
+    let e = geotiff::read(&tall).unwrap_err().to_string();
+    assert!(e.contains("standard parallel at 0°") && e.contains("reproject it first"), "{e}");
+    // A MEGDR-style PDS3 label (CENTER_LATITUDE = 0) placed at 40° N.
+    let label = pds_label("2", "MSB_INTEGER", 16, "").replace(
+        "LINE_PROJECTION_OFFSET = -10.5",
+        &format!("LINE_PROJECTION_OFFSET = {}", r * 40f64.to_radians() / 463.0 + 0.5),
+    );
+    let mut bytes = label.into_bytes();
+    bytes.resize(1024, b' ');
+    for v in [10i16, 20, 30, 40, 50, 60] {
+        bytes.extend_from_slice(&v.to_be_bytes());
+    }
+    let path = tmp("megdr_40n.IMG");
+    std::fs::write(&path, &bytes).unwrap();
+    let pds = pds3::read(&path).unwrap();
+    let Projection::Equirectangular { lat_ts_deg, lon0_deg } = pds.georef().projection else { panic!() };
+    // Its middle latitude: 40° less one row of 463 m.
+    assert!((lat_ts_deg - (40.0 - (463.0 / r).to_degrees())).abs() < 1e-9 && lon0_deg == 90.0, "{lat_ts_deg}");
+    assert!((pds.dx() - 463.0 * lat_ts_deg.to_radians().cos()).abs() < 1e-6 && pds.dy() == 463.0, "{}", pds.dx());
+    let (lat, lon) = pds.geographic(pds.x0(), pds.y_top()).unwrap();
+    assert!(
+        (lat - 40.0).abs() < 1e-9
+            && (lon - (90.0 + (0.5 - 20.5) * 463.0 / r * 180.0 / std::f64::consts::PI)).abs() < 1e-9
+    );
 }
 
 /// An ESRI ASCII grid in degrees with GDAL's `.prj` beside it (a WKT GEOGCS) reads as
