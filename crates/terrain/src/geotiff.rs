@@ -466,9 +466,16 @@ impl GeoKeys {
             let inv_f = self.double(key::INV_FLATTENING)?;
             Some(a? * (1.0 - if inv_f == 0.0 { 0.0 } else { 1.0 / inv_f }))
         });
+        // A CRS named only by its EPSG code (a UTM zone, WGS84 itself — what GDAL
+        // writes for terrestrial data) is the Earth's: every EPSG code is. Planetary
+        // CRSs come user-defined, with their axes given.
+        let epsg = [key::GEOGRAPHIC_TYPE, key::PROJECTED_CS]
+            .iter()
+            .any(|&k| self.short(k).is_some_and(|code| (1..key::USER_DEFINED).contains(&code)));
         let body = match (a, b) {
             (Some(a), Some(b)) if a > 0.0 && b > 0.0 => Spheroid { equatorial_radius_m: a, polar_radius_m: b },
             (Some(a), None) if a > 0.0 => Spheroid { equatorial_radius_m: a, polar_radius_m: a },
+            _ if epsg => Spheroid::EARTH_WGS84,
             _ => Spheroid::MARS_IAU2015,
         };
         let lon0 = self

@@ -635,6 +635,21 @@ fn an_equirectangular_map_far_from_its_standard_parallel_reads_at_true_scale() {
     );
 }
 
+/// A terrestrial CRS named only by its EPSG code (UTM zone 16 N, EPSG:32616, as GDAL
+/// writes it) is the Earth's WGS84: before session 32 it was taken for Mars (the
+/// default for a map with no axes), so `terrain info` said "Mars" and shadows dropped
+/// away on Mars's sphere. Its transverse Mercator is not read: a local frame.
+#[test]
+fn an_epsg_coded_map_is_on_the_earth() {
+    let utm = geotiff::read(&data("utm16n_epsg_64.tif")).unwrap();
+    assert_eq!(utm.georef().surface, Spheroid::EARTH_WGS84);
+    assert_eq!(utm.georef().projection, Projection::Local);
+    assert_eq!((utm.dx(), utm.x0(), utm.y_top()), (100.0, 400_000.0, 8_370_000.0));
+    // A user-defined CRS with no axes stays on the default body, Mars.
+    let plain = geotiff::read(&data("gale_mola_crop_64.tif")).unwrap();
+    assert_eq!(plain.georef().surface.body(), Some(areo_body::Body::Mars));
+}
+
 /// An ESRI ASCII grid in degrees with GDAL's `.prj` beside it (a WKT GEOGCS) reads as
 /// the geographic GeoTIFF of the same cells does; without the `.prj` it stays in its
 /// own units with no place on a body, and a GEOGCS with no sphere is refused by name.
