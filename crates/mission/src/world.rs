@@ -242,9 +242,9 @@ impl World {
         // and horizon sectors are: where the map's meridians are not its columns (a
         // polar map whose central meridian is not the site's) true azimuths turn by
         // the grid's convergence at the site.
-        let north = dem.georef().projection.true_north_on_grid_deg(site.lon_east_deg());
-        let (sin_n, cos_n) = north.to_radians().sin_cos();
-        let on_grid = |azimuth_deg: f64| (azimuth_deg + north).rem_euclid(360.0);
+        let projection = dem.georef().projection;
+        let (sin_n, cos_n) = projection.true_north_on_grid_deg(site.lon_east_deg()).to_radians().sin_cos();
+        let on_grid = |azimuth_deg: f64| projection.grid_azimuth_deg(azimuth_deg, site.lon_east_deg());
         let sun = (0..n)
             .map(|k| {
                 let at = config.epoch + Duration::from_seconds(k as f64 * config.sun_step_s);

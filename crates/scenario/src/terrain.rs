@@ -87,7 +87,7 @@ pub fn sun_over(file: &Path, grid: &Grid, utc: &str) -> Result<SunOver> {
         lat_deg: site.lat_deg(),
         lon_east_deg: site.lon_east_deg(),
         azimuth_deg: at.azimuth_deg,
-        grid_azimuth_deg: (at.azimuth_deg + g.projection.true_north_on_grid_deg(site.lon_east_deg())).rem_euclid(360.0),
+        grid_azimuth_deg: g.projection.grid_azimuth_deg(at.azimuth_deg, site.lon_east_deg()),
         elevation_deg: at.elevation_deg,
     })
 }

@@ -141,6 +141,13 @@ impl Projection {
         180.0 - (180.0 - turn).rem_euclid(360.0)
     }
 
+    /// The grid azimuth (degrees clockwise from the grid's north, in [0, 360)) of a
+    /// direction of true azimuth `true_azimuth_deg` seen from east longitude
+    /// `lon_east_deg` ([`Projection::true_north_on_grid_deg`]).
+    pub fn grid_azimuth_deg(&self, true_azimuth_deg: f64, lon_east_deg: f64) -> f64 {
+        (true_azimuth_deg + self.true_north_on_grid_deg(lon_east_deg)).rem_euclid(360.0)
+    }
+
     /// Planetocentric latitude and east longitude (degrees) of map point (x, y), m.
     pub fn to_geographic(&self, body: &Spheroid, x: f64, y: f64) -> Option<(f64, f64)> {
         let r = body.equatorial_radius_m;
@@ -205,6 +212,10 @@ mod tests {
             }
         }
         assert_eq!(Projection::Local.true_north_on_grid_deg(90.0), 0.0);
+        // Azimuths wrap into [0, 360): 350° true at 30° E on a λ0 = 0 south polar grid.
+        let south = Projection::PolarStereographic { north: false, lon0_deg: 0.0 };
+        assert!((south.grid_azimuth_deg(350.0, 30.0) - 20.0).abs() < 1e-12);
+        assert!((south.grid_azimuth_deg(10.0, 330.0) - 340.0).abs() < 1e-12);
     }
 
     #[test]

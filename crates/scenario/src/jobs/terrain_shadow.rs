@@ -60,8 +60,8 @@ fn compute(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) ->
     // A synthesised map lies on the body's reference surface (its curvature).
     let dem = dem.placed_at(job.body.model().reference_surface(), site.lat_deg(), site.lon_east_deg())?;
     // Shadows are cast along the grid: a polar map's north is not the site's.
-    let north = dem.georef().projection.true_north_on_grid_deg(site.lon_east_deg());
-    let sun = SunDirection::new((at_site.azimuth_deg + north).rem_euclid(360.0), at_site.elevation_deg);
+    let grid_azimuth = dem.georef().projection.grid_azimuth_deg(at_site.azimuth_deg, site.lon_east_deg());
+    let sun = SunDirection::new(grid_azimuth, at_site.elevation_deg);
     let curvature = if job.flat { Curvature::Flat } else { Curvature::of(&dem) };
     let map = Shadows::new(sun, curvature).map(&dem);
     let sa = slope_aspect(&dem);
