@@ -1059,3 +1059,41 @@ fn terrain_shadow_at_an_instant_uses_the_sun_over_the_maps_middle() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("no georeference") && err.contains("--sun-azimuth and --sun-elevation"), "{err}");
 }
+
+/// A map in a CRS areo does not read (UTM, as GDAL writes terrestrial data) is a local
+/// frame, and every report says so: `terrain info` (text and JSON, on the Earth), and a
+/// TEMPEST run on it (a summary line and the fact `map_crs_not_read`).
+#[test]
+fn a_map_in_a_crs_areo_does_not_read_is_said_to_be_a_local_frame() {
+    let utm = root().join("crates/terrain/tests/data/utm16n_epsg_64.tif");
+    let utm = utm.to_str().unwrap();
+    let out = areo(&["terrain", "info", utm]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("projection  local (the file's CRS, EPSG:32616, UTM zone 16 N, is a projection"), "{text}");
+    assert!(text.contains("body        Earth"), "{text}");
+    let json: serde_json::Value = serde_json::from_slice(&areo(&["terrain", "info", utm, "--json"]).stdout).unwrap();
+    assert_eq!(json["crs_not_read"], "EPSG:32616, UTM zone 16 N");
+    let gale = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");
+    let json: serde_json::Value =
+        serde_json::from_slice(&areo(&["terrain", "info", gale.to_str().unwrap(), "--json"]).stdout).unwrap();
+    assert!(json.get("crs_not_read").is_none(), "{json}");
+    let dir = tmp("crs-not-read");
+    let rover = root().join("scenarios/rovers/hyperion-devon.ron");
+    let scenario = dir.join("utm.ron");
+    std::fs::write(
+        &scenario,
+        format!(
+            r#"Scenario(version: 1, description: "UTM map", job: Tempest(body: Earth, terrain: File({utm:?}),
+                site: (lat_deg: 75.4, lon_east_deg: -89.7), start_utc: "2025-06-01T00:00:00Z", horizon_h: 6,
+                rover: {rover:?}, planner: (resolution: (time_s: 1800)), start: (x_m: 3000, y_m: 3000),
+                start_battery_above_floor_wh: 300, goals: [(name: "a", x_m: 3200, y_m: 3100)]))"#,
+            rover = rover.to_str().unwrap()
+        ),
+    )
+    .unwrap();
+    let out = areo(&["run", scenario.to_str().unwrap(), "-o", dir.to_str().unwrap(), "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["facts"]["map_crs_not_read"], "EPSG:32616, UTM zone 16 N", "{json}");
+    let summary = json["summary"].to_string();
+    assert!(summary.contains("map CRS: EPSG:32616, UTM zone 16 N, a projection areo does not read"), "{summary}");
+}

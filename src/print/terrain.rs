@@ -22,6 +22,9 @@ pub(crate) fn info(i: &DemInfo) -> String {
         },
     ];
     let mut projection = format!("projection  {}", i.projection);
+    if let Some(crs) = &i.crs_not_read {
+        projection += &format!(" (the file's CRS, {crs}, is a projection areo does not read)");
+    }
     if let Some(lat) = i.lat_ts_deg {
         projection += &format!(", standard parallel {lat}°");
     }

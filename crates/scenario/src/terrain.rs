@@ -169,6 +169,20 @@ pub struct DemInfo {
     /// Latitude and east longitude of the map's centre, degrees (`None` for a local
     /// frame).
     pub centre_deg: Option<[f64; 2]>,
+    /// The file's projected CRS when areo does not read its projection (the map is
+    /// then `local`), e.g. "EPSG:32616, UTM zone 16 N".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crs_not_read: Option<String>,
+}
+
+/// A GeoTIFF's projected CRS in words when areo does not read its projection (then the
+/// map is a local frame); `None` for other files, CRSs areo reads, and files it cannot
+/// open (their reader says why).
+pub fn crs_not_read(file: &Path) -> Option<String> {
+    if areo_terrain::DemFormat::of(file) != Some(areo_terrain::DemFormat::GeoTiff) {
+        return None;
+    }
+    geotiff::Windows::open(file, 1).ok()?.crs_not_read().map(String::from)
 }
 
 /// A summary of the DEM read from `file`.
@@ -204,6 +218,7 @@ pub fn info(file: &Path, dem: &Dem) -> DemInfo {
         body: g.surface.body().map(areo_ephemeris::Body::iau_name),
         radii_m: [g.surface.equatorial_radius_m, g.surface.polar_radius_m],
         centre_deg: dem.geographic(cx, cy).map(|(lat, lon)| [lat, lon]),
+        crs_not_read: crs_not_read(file),
     }
 }
 

@@ -21,6 +21,7 @@ use areo_body::Spheroid;
 mod key {
     pub(super) const MODEL_TYPE: u16 = 1024;
     /// GTModelTypeGeoKey's value for a grid in longitude and latitude.
+    pub(super) const MODEL_PROJECTED: u16 = 1;
     pub(super) const MODEL_GEOGRAPHIC: u16 = 2;
     pub(super) const RASTER_TYPE: u16 = 1025;
     pub(super) const GT_CITATION: u16 = 1026;
@@ -77,6 +78,34 @@ struct Header {
     y_top: f64,
     nodata: Option<f64>,
     georef: Georef,
+    /// A projected CRS areo does not read (the map is then a local frame), described.
+    crs_not_read: Option<String>,
+}
+
+/// A projected CRS whose projection areo does not read, in words: its EPSG code if it
+/// has one and the coordinate transformation's name.
+fn describe_unread(geokeys: &GeoKeys) -> String {
+    let name = match geokeys.short(key::COORD_TRANS) {
+        Some(1) => "transverse Mercator".to_string(),
+        Some(7) => "Mercator".to_string(),
+        Some(8) => "Lambert conformal conic".to_string(),
+        Some(10) => "Lambert azimuthal equal-area".to_string(),
+        Some(11) => "Albers equal-area".to_string(),
+        Some(12) => "azimuthal equidistant".to_string(),
+        Some(14) => "stereographic".to_string(),
+        Some(16) => "oblique stereographic".to_string(),
+        Some(24) => "sinusoidal".to_string(),
+        Some(ct) => format!("coordinate transformation {ct}"),
+        None => match geokeys.short(key::PROJECTED_CS) {
+            Some(code) if (32601..=32660).contains(&code) => format!("UTM zone {} N", code - 32600),
+            Some(code) if (32701..=32760).contains(&code) => format!("UTM zone {} S", code - 32700),
+            _ => "a projection".to_string(),
+        },
+    };
+    match geokeys.short(key::PROJECTED_CS).filter(|&c| (1..key::USER_DEFINED).contains(&c)) {
+        Some(code) => format!("EPSG:{code}, {name}"),
+        None => name,
+    }
 }
 
 impl Header {
@@ -172,7 +201,10 @@ impl Header {
             _ => None,
         };
         let georef = geokeys.georef().map_err(bad)?;
-        let header = Header { cols: w as usize, rows: h as usize, dx, dy, x0, y_top, nodata, georef };
+        let crs_not_read = (geokeys.short(key::MODEL_TYPE) == Some(key::MODEL_PROJECTED)
+            && georef.projection == Projection::Local)
+            .then(|| describe_unread(&geokeys));
+        let header = Header { cols: w as usize, rows: h as usize, dx, dy, x0, y_top, nodata, georef, crs_not_read };
         if let Some(u) = geokeys.short(key::PROJ_LINEAR_UNITS).filter(|&u| u != key::METRE && u != key::USER_DEFINED) {
             return Err(bad(format!(
                 "projected coordinates in linear unit {u} (ProjLinearUnitsGeoKey): areo reads metres (9001); \
@@ -322,6 +354,13 @@ impl Windows {
             budget_bytes,
             clock: 0,
         })
+    }
+
+    /// The map's projected CRS in words when areo does not read its projection
+    /// (transverse Mercator, Lambert, …): the map is then a local frame, which a scenario
+    /// places at its site. `None` for every CRS areo reads, and for maps with none.
+    pub fn crs_not_read(&self) -> Option<&str> {
+        self.header.crs_not_read.as_deref()
     }
 
     /// Columns and rows of the whole map.

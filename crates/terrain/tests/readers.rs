@@ -638,13 +638,19 @@ fn an_equirectangular_map_far_from_its_standard_parallel_reads_at_true_scale() {
 /// A terrestrial CRS named only by its EPSG code (UTM zone 16 N, EPSG:32616, as GDAL
 /// writes it) is the Earth's WGS84: before session 32 it was taken for Mars (the
 /// default for a map with no axes), so `terrain info` said "Mars" and shadows dropped
-/// away on Mars's sphere. Its transverse Mercator is not read: a local frame.
+/// away on Mars's sphere. Its transverse Mercator is not read: a local frame, and
+/// the reader says so.
 #[test]
 fn an_epsg_coded_map_is_on_the_earth() {
     let utm = geotiff::read(&data("utm16n_epsg_64.tif")).unwrap();
     assert_eq!(utm.georef().surface, Spheroid::EARTH_WGS84);
     assert_eq!(utm.georef().projection, Projection::Local);
     assert_eq!((utm.dx(), utm.x0(), utm.y_top()), (100.0, 400_000.0, 8_370_000.0));
+    // What was not read is said, for reports to pass on.
+    let w = geotiff::Windows::open(&data("utm16n_epsg_64.tif"), 1 << 20).unwrap();
+    assert_eq!(w.crs_not_read(), Some("EPSG:32616, UTM zone 16 N"));
+    let w = geotiff::Windows::open(&data("gale_mola_crop_64.tif"), 1 << 20).unwrap();
+    assert_eq!(w.crs_not_read(), None);
     // A user-defined CRS with no axes stays on the default body, Mars.
     let plain = geotiff::read(&data("gale_mola_crop_64.tif")).unwrap();
     assert_eq!(plain.georef().surface.body(), Some(areo_body::Body::Mars));

@@ -195,6 +195,8 @@ struct Prepared {
     precalc_s: f64,
     /// Lines saying what the world approximates (a cut region, one-byte horizons).
     notes: Vec<String>,
+    /// The map file's CRS when areo does not read its projection (a local frame).
+    crs_not_read: Option<String>,
 }
 
 /// What planning (or simulating) gave.
@@ -294,6 +296,46 @@ fn load_rover(job: &TempestJob, file: &ScenarioFile) -> Result<ResourceModel> {
     Ok(rover)
 }
 
+/// What the map approximates, said before its world is built: a CRS whose projection
+/// areo does not read (returned too, for the facts) and a region cut from it.
+fn map_notes(job: &TempestJob, file: &ScenarioFile, terrain: &Terrain) -> (Vec<String>, Option<String>) {
+    let mut notes = Vec::new();
+    let crs_not_read = match &job.terrain {
+        TerrainSource::File(rel) => {
+            crate::terrain::crs_not_read(&file.path.parent().unwrap_or(Path::new(".")).join(rel))
+        }
+        TerrainSource::Synth(_) => None,
+    };
+    if let Some(crs) = &crs_not_read {
+        notes.push(format!(
+            "map CRS: {crs}, a projection areo does not read; the map is a local frame placed at the site \
+             (equirectangular there), so outputs are not in its CRS"
+        ));
+    }
+    if let (Terrain::Region { region, .. }, Some(spec)) = (terrain, &job.plan_region) {
+        notes.push(format!(
+            "planning region of {} × {} cells cut from the map with its slopes and horizons (horizons below {}° stored as {}°)",
+            region.dem.cols(),
+            region.dem.rows(),
+            spec.lowest_sun_deg,
+            spec.lowest_sun_deg
+        ));
+    }
+    (notes, crs_not_read)
+}
+
+/// A polar map whose central meridian is not the site's, said as what the Sun's and the
+/// Earth's azimuths on the map were turned by.
+fn grid_north_note(world: &World) -> Option<String> {
+    let north = world.true_north_on_grid_deg();
+    (north.abs() >= 0.005).then(|| {
+        format!(
+            "map grid: true north at the site is {north:.2}° clockwise of the grid's north (its central meridian is \
+             not the site's); the Sun's and the Earth's azimuths are turned onto the grid"
+        )
+    })
+}
+
 /// Builds the worlds (after the budget check), the action model and the start and goal
 /// cells.
 fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Prepared> {
@@ -309,16 +351,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
     };
     opts.budget.check(&crate::budget::tempest(job, crate::budget::SearchMap::of(searched)))?;
     let truth_dem = true_terrain(job, file, &site, &terrain)?;
-    let mut notes = Vec::new();
-    if let (Terrain::Region { region, .. }, Some(spec)) = (&terrain, &job.plan_region) {
-        notes.push(format!(
-            "planning region of {} × {} cells cut from the map with its slopes and horizons (horizons below {}° stored as {}°)",
-            region.dem.cols(),
-            region.dem.rows(),
-            spec.lowest_sun_deg,
-            spec.lowest_sun_deg
-        ));
-    }
+    let (mut notes, crs_not_read) = map_notes(job, file, &terrain);
     opts.progress.advance(1);
     let config = WorldConfig {
         epoch,
@@ -338,15 +371,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
             (frame, World::for_region(region, &config, &job.body.model()).map_err(located)?)
         }
     };
-    // A polar map whose central meridian is not the site's: said, as what the Sun's and
-    // the Earth's azimuths on the map were turned by.
-    let north = world.true_north_on_grid_deg();
-    if north.abs() >= 0.005 {
-        notes.push(format!(
-            "map grid: true north at the site is {north:.2}° clockwise of the grid's north (its central meridian is \
-             not the site's); the Sun's and the Earth's azimuths are turned onto the grid"
-        ));
-    }
+    notes.extend(grid_north_note(&world));
     // One byte per horizon angle where the search's time classes make its error small
     // (before the truth is built: it shares the map's horizons) — the narrowest classes
     // it may search, its retries at halved classes included.
@@ -371,7 +396,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
         None => model,
     };
     let (start, goals) = locate(job, file, &world, frame)?;
-    Ok(Prepared { world, truth, config, model, frame, start, goals, precalc_s, notes })
+    Ok(Prepared { world, truth, config, model, frame, start, goals, precalc_s, notes, crs_not_read })
 }
 
 /// The action model with the job's Communicate sessions, its start battery checked.
@@ -602,6 +627,9 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
     let mut o = Outcome::default();
     let (world, precalc_s) = (ctx.world, ctx.precalc_s);
     o.summary.extend(report.prepared.notes.iter().cloned());
+    if let Some(crs) = &report.prepared.crs_not_read {
+        o.text("map_crs_not_read", crs.clone());
+    }
     if ctx.job.horizon_sectors > 0 {
         o.number("horizon_bytes_per_angle", if world.horizon_is_narrow() { 1.0 } else { 2.0 });
     }
