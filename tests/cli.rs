@@ -1097,3 +1097,38 @@ fn a_map_in_a_crs_areo_does_not_read_is_said_to_be_a_local_frame() {
     let summary = json["summary"].to_string();
     assert!(summary.contains("map CRS: EPSG:32616, UTM zone 16 N, a projection areo does not read"), "{summary}");
 }
+
+/// A site off a georeferenced map is refused by field: the Sun and the Earth are computed
+/// at the site, so a longitude's sign mistyped lit Gale with a sky 5000 km away (before
+/// session 32, silently). The same scenario with the site on the map runs.
+#[test]
+fn a_site_off_a_georeferenced_map_is_refused() {
+    let gale = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");
+    let rover = root().join("scenarios/rovers/mock-solar-rover.ron");
+    let dir = tmp("site-off-map");
+    let write = |lon: f64| {
+        let path = dir.join(format!("site_{lon}.ron"));
+        std::fs::write(
+            &path,
+            format!(
+                r#"Scenario(version: 1, description: "site check", job: Tempest(terrain: File({gale:?}),
+                    site: (lat_deg: -5.26, lon_east_deg: {lon}), start_utc: "2025-03-01T17:45:00Z", horizon_h: 6,
+                    rover: {rover:?}, planner: (resolution: (time_s: 1800)), start: (x_m: 5000, y_m: 5000),
+                    start_battery_above_floor_wh: 600, goals: [(name: "a", x_m: 6000, y_m: 5000)]))"#,
+                gale = gale.to_str().unwrap(),
+                rover = rover.to_str().unwrap()
+            ),
+        )
+        .unwrap();
+        areo(&["run", path.to_str().unwrap(), "-o", dir.to_str().unwrap()])
+    };
+    let out = write(-137.66);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("field `job.site`") && err.contains("off the map") && err.contains("4992.3 km from its middle"),
+        "{err}"
+    );
+    let out = write(137.66);
+    assert!(out.status.code() != Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+}

@@ -81,8 +81,9 @@ fn cut_region(
     job: &TempestJob,
     spec: &crate::format::PlanRegionSpec,
     file: &ScenarioFile,
+    site: &Site,
     sectors: usize,
-    place: impl Fn(Dem) -> areo_terrain::Result<Dem>,
+    place: impl Fn(Dem) -> Result<Dem>,
 ) -> Result<Terrain> {
     use areo_terrain::tiles::{RegionHorizon, ShadowHalo, Source, region, relief};
     let at = |message: String| scenario_error(file, "job.plan_region", message);
@@ -105,6 +106,8 @@ fn cut_region(
     match tiff {
         Some(mut w) => {
             grid = w.grid();
+            let [x_min, x_max] = [grid.x0, grid.x0 + grid.cols as f64 * grid.dx];
+            site_on_map(file, site, &grid.georef, [x_min, x_max, grid.y_top - grid.rows as f64 * grid.dy, grid.y_top])?;
             src = Box::new(move |c, r, cols, rows| w.window(c, r, cols, rows));
         }
         None => {
@@ -240,12 +243,52 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     Ok(o)
 }
 
-/// The job's terrain, placed at the site.
+/// Refuses a site off a georeferenced map: the Sun and the Earth are computed at the
+/// site, so a mistyped one (a longitude's sign, a swapped latitude) would light the map
+/// with another place's sky. The map's own extent, widened by a tenth of its size each
+/// way, is allowed.
+fn site_on_map(file: &ScenarioFile, site: &Site, georef: &areo_terrain::Georef, extent: [f64; 4]) -> Result<()> {
+    let [x_min, x_max, y_min, y_max] = extent;
+    let Some((x, y)) = georef.projection.from_geographic(&georef.surface, site.lat_deg(), site.lon_east_deg()) else {
+        return Ok(());
+    };
+    let (mx, my) = (0.1 * (x_max - x_min), 0.1 * (y_max - y_min));
+    let (dx, dy) = ((x_min - mx - x).max(x - x_max - mx).max(0.0), (y_min - my - y).max(y - y_max - my).max(0.0));
+    if dx == 0.0 && dy == 0.0 {
+        return Ok(());
+    }
+    let middle = georef.projection.to_geographic(&georef.surface, 0.5 * (x_min + x_max), 0.5 * (y_min + y_max));
+    let (lat, lon) = middle.unwrap_or((f64::NAN, f64::NAN));
+    // How far, along the sphere, from the map's middle.
+    let (p1, p2) = (site.lat_deg().to_radians(), lat.to_radians());
+    let h = ((p2 - p1) / 2.0).sin().powi(2)
+        + p1.cos() * p2.cos() * ((lon - site.lon_east_deg()).to_radians() / 2.0).sin().powi(2);
+    let km = 2.0 * georef.surface.equatorial_radius_m * h.sqrt().min(1.0).asin() / 1000.0;
+    Err(scenario_error(
+        file,
+        "job.site",
+        format!(
+            "({:.4}°, {:.4}°E) is off the map, {km:.1} km from its middle at ({lat:.4}°, {lon:.4}°E): the Sun and \
+             the Earth are computed at the site, so it must be on the map (allowed: within its extent and a tenth \
+             of its size around it)",
+            site.lat_deg(),
+            site.lon_east_deg(),
+        ),
+    ))
+}
+
+/// The job's terrain, placed at the site (a georeferenced map must hold the site).
 fn prepare_terrain(job: &TempestJob, file: &ScenarioFile, site: &Site) -> Result<Terrain> {
-    let place = |d: Dem| d.placed_at(job.body.model().reference_surface(), site.lat_deg(), site.lon_east_deg());
+    let place = |d: Dem| -> Result<Dem> {
+        if d.georef().projection != areo_terrain::Projection::Local {
+            let e = d.extent();
+            site_on_map(file, site, d.georef(), [e.x_min, e.x_max, e.y_min, e.y_max])?;
+        }
+        Ok(d.placed_at(job.body.model().reference_surface(), site.lat_deg(), site.lon_east_deg())?)
+    };
     Ok(match &job.plan_region {
         None => Terrain::Whole(place(load_terrain(&job.terrain, file, "job.terrain")?)?),
-        Some(spec) => cut_region(job, spec, file, job.horizon_sectors, place)?,
+        Some(spec) => cut_region(job, spec, file, site, job.horizon_sectors, place)?,
     })
 }
 
