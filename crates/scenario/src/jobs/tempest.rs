@@ -175,12 +175,20 @@ fn load_terrain(source: &TerrainSource, file: &ScenarioFile, field: &str) -> Res
     })
 }
 
-/// Peak resident memory of this process, MB (Linux), if known.
+/// Peak resident memory of this process, MB of 10⁶ bytes like every other memory
+/// figure (Linux), if known. VmHWM is in KiB.
 fn peak_memory_mb() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb / 1024.0)
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0 / 1e6)
+}
+
+/// Bytes the believed and the true worlds hold, MB: the truth counted only where it is
+/// a world of its own (it is the map itself when `truth` is `Map`).
+fn worlds_mb(ctx: &Context<'_>) -> f64 {
+    let truth = if std::ptr::eq(ctx.world, ctx.truth) { 0 } else { ctx.truth.bytes() };
+    (ctx.world.bytes() + truth) as f64 / 1e6
 }
 
 /// The worlds, rover and places a TEMPEST job plans with, built from its scenario.
@@ -1013,7 +1021,7 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, peak_memory_mb: 
     let fallbacks = r.plans.iter().filter(|p| asked.is_some() && p.plan.energy_classes_wh.is_none()).count();
     o.count("exact_energy_fallbacks", fallbacks as u64);
     search_facts(o, r);
-    o.number("world_mb", (ctx.world.bytes() + ctx.truth.bytes()) as f64 / 1e6);
+    o.number("world_mb", worlds_mb(ctx));
     o.count("refused_actions", r.steps.iter().filter(|s| s.refused.is_some()).count() as u64);
     o.count("night_drives", metrics::night_drives(&r.steps) as u64);
     o.number("sunlit_drive_fraction", metrics::sunlit_drive_fraction(ctx.truth, &r.steps));
@@ -1136,7 +1144,7 @@ fn sim_summary(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, status: &str, 
         "pre-calculation {:.2} s (slope, horizon maps, Sun table); memory: search graphs {:.0} MB at most, worlds {:.0} MB, process peak {}",
         ctx.precalc_s,
         r.peak_search_bytes() as f64 / 1e6,
-        (ctx.world.bytes() + ctx.truth.bytes()) as f64 / 1e6,
+        worlds_mb(ctx),
         peak_memory_mb.map_or("unknown".into(), |mb| format!("{mb:.0} MB"))
     ));
     if let SimStatus::Unreachable { message, .. } = &r.status {
