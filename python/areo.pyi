@@ -113,7 +113,7 @@ class Scenario:
         """Run with the GIL released (Ctrl-C interrupts); raises Unreachable.
         `max_work` (elementary steps, 1..1e18) and `max_memory_gb` (GiB) are the CLI's
         --max-work and --max-memory-gb: over them a job is refused before it starts,
-        and its searches stop where the work budget ends (AreoError)."""
+        and its searches stop where the work or the memory budget ends (AreoError)."""
 
 def rover_check(
     params_path: StrPath,

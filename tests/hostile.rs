@@ -616,3 +616,29 @@ fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
     assert!(err.contains("stopped after the work of 2400000 label expansions"), "{err}");
     assert!(!err.contains("unreachable"), "stopping is not a proof that no plan exists: {err}");
 }
+
+/// The same flooding search under a memory budget its estimate fits in (10 000 cells,
+/// a few MB of worlds and graphs by the estimate): the graphs outgrow it within seconds,
+/// and the searches stop where the budget leaves the graphs no more room — bad input's
+/// exit code, the file, the flag — instead of growing until the machine kills the run.
+#[test]
+fn a_search_that_outgrows_its_memory_estimate_stops_at_the_memory_budget() {
+    let dir = tmp("memory-spent");
+    let scenario = root().join("scenarios/devon-island.ron");
+    let out = areo(&[
+        "-q",
+        "run",
+        scenario.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+        "--set",
+        "job.start_battery_above_floor_wh=0.001",
+        "--max-memory-gb",
+        "0.1",
+    ]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("devon-island.ron") && err.contains("--max-memory-gb"), "{err}");
+    assert!(err.contains("stopped when their graphs held 0.1"), "{err}");
+    assert!(!err.contains("unreachable"), "stopping is not a proof that no plan exists: {err}");
+}

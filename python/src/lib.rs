@@ -50,7 +50,8 @@ fn to_py(py: Python<'_>, e: &Error) -> PyErr {
         Error::Read { path, .. }
         | Error::Grid { path, .. }
         | Error::Io { path, .. }
-        | Error::WorkSpent { path, .. } => (Some(path), None, None, None),
+        | Error::WorkSpent { path, .. }
+        | Error::MemorySpent { path, .. } => (Some(path), None, None, None),
         Error::Terrain(t) => (t.path(), None, None, None),
         _ => (None, None, None, None),
     };

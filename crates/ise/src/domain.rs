@@ -157,6 +157,13 @@ pub trait Domain {
         false
     }
 
+    /// Whether a graph of `graph_bytes` ([`crate::Search::bytes`]) has outgrown the
+    /// memory the caller allows: the engine asks every [`crate::MEMORY_CHECK_EVERY`]
+    /// expansions and then stops as for [`Domain::exhausted`]. The default never stops.
+    fn outgrown(&self, _graph_bytes: u64) -> bool {
+        false
+    }
+
     /// The engine compared a new label at a state with `labels` live ones of its
     /// dominance group (with [`Domain::MANY_LABELS`] and [`Domain::DOMINANCE`]): work that
     /// grows with the Pareto fronts rather than with the expansions, so a domain that

@@ -54,5 +54,5 @@ pub mod grid;
 
 pub use crate::{
     domain::{Domain, Goal, Step},
-    search::{Mode, PathStep, Plan, Search, Stats},
+    search::{MEMORY_CHECK_EVERY, Mode, PathStep, Plan, Search, Stats},
 };

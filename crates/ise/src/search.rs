@@ -27,6 +27,9 @@ use crate::state_table::StateTable;
 pub(crate) const NONE: u32 = u32::MAX;
 /// The open list's length below which stale entries are never purged.
 const OPEN_PURGE_MIN: usize = 1 << 16;
+/// Expansions between two asks of [`Domain::outgrown`]: [`Search::bytes`] walks the
+/// state table's pages, and a graph grows by well under a megabyte in this many.
+pub const MEMORY_CHECK_EVERY: u64 = 4096;
 const OPEN: u8 = 1;
 const CLOSED: u8 = 2;
 /// Replaced by a better label of its class or dominated: no longer a search node, but
@@ -732,6 +735,12 @@ impl<D: Domain> Search<D> {
         self.open_purge_at = (3 * self.open.len() / 2).max(OPEN_PURGE_MIN);
     }
 
+    /// Whether the graph has outgrown the memory `domain` allows, asked every
+    /// [`MEMORY_CHECK_EVERY`] expansions of this call ([`Domain::outgrown`]).
+    fn outgrown(&self, domain: &D) -> bool {
+        self.stats.expansions.is_multiple_of(MEMORY_CHECK_EVERY) && domain.outgrown(self.bytes())
+    }
+
     fn plan_best_cost(&mut self, domain: &D) -> Plan<D> {
         self.stats = Stats::default();
         // A start label may already be in the graph (the rover moved along the plan).
@@ -756,7 +765,7 @@ impl<D: Domain> Search<D> {
                 break;
             }
             // Checked last: a search whose answer is on the open list needs no more work.
-            if domain.exhausted() {
+            if domain.exhausted() || self.outgrown(domain) {
                 self.open.push(top);
                 stopped = true;
                 break;
@@ -779,7 +788,7 @@ impl<D: Domain> Search<D> {
                 self.open.push(top);
                 break;
             }
-            if domain.exhausted() {
+            if domain.exhausted() || self.outgrown(domain) {
                 self.open.push(top);
                 stopped = true;
                 break;

@@ -777,6 +777,10 @@ impl Domain for TempestDomain<'_> {
         self.allowance.exhausted()
     }
 
+    fn outgrown(&self, graph_bytes: u64) -> bool {
+        self.allowance.outgrown(graph_bytes + (self.geometry_bytes() + self.landmark_bytes()) as u64)
+    }
+
     fn compared(&self, labels: u64) {
         self.meter.add_work(self.allowance.compared(labels));
     }

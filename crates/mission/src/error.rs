@@ -53,6 +53,19 @@ pub enum Error {
         /// The limit.
         limit: u64,
     },
+    /// A planning call's search graphs reached [`crate::PlannerConfig::max_search_bytes`]
+    /// before it had an answer.
+    #[error(
+        "the searches stopped when their graphs held {:.2} GiB, the most one planning call may hold ({:.2} GiB): no plan, and no proof that none exists",
+        *bytes as f64 / (1u64 << 30) as f64,
+        *limit as f64 / (1u64 << 30) as f64
+    )]
+    MemoryLimit {
+        /// Bytes the graphs held when the search stopped.
+        bytes: u64,
+        /// The limit, bytes.
+        limit: u64,
+    },
     /// The terrain could not be processed.
     #[error(transparent)]
     Terrain(#[from] areo_terrain::Error),

@@ -79,6 +79,14 @@ pub struct PlannerConfig {
     /// exists. `None`: no limit. Not a scenario field: the run's work budget sets it.
     #[serde(skip)]
     pub max_expansions: Option<u64>,
+    /// The most memory the search graphs of one planning call may hold, bytes: the
+    /// mission's graphs, their drive-geometry and landmark caches, and — while a probe
+    /// or a fresh comparison runs beside it — the mission's own. Checked every
+    /// [`areo_ise::MEMORY_CHECK_EVERY`] expansions; a call that reaches it stops with
+    /// [`Error::MemoryLimit`]: no plan, and no proof that none exists. `None`: no
+    /// limit. Not a scenario field: the run's memory budget sets it.
+    #[serde(skip)]
+    pub max_search_bytes: Option<u64>,
 }
 
 /// The work one planning call may still do, in label expansions, shared by the domains
@@ -99,6 +107,15 @@ struct AllowanceState {
     limit: std::cell::Cell<Option<u64>>,
     /// A search was stopped since the call began.
     stopped: std::cell::Cell<bool>,
+    /// The search graphs' memory limit, bytes.
+    memory: std::cell::Cell<Option<u64>>,
+    /// Bytes held by graphs besides the search that runs: the mission's other segments.
+    held: std::cell::Cell<u64>,
+    /// Bytes held outside the mission that searches: the mission a probe or a fresh
+    /// comparison runs beside.
+    beside: std::cell::Cell<u64>,
+    /// The graphs' bytes when a search was stopped for memory.
+    outgrown: std::cell::Cell<Option<u64>>,
 }
 
 impl Allowance {
@@ -109,9 +126,10 @@ impl Allowance {
     /// budget`).
     pub(crate) const COMPARISONS_PER_EXPANSION: u64 = 100;
 
-    fn new(limit: Option<u64>) -> Allowance {
+    fn new(limit: Option<u64>, memory: Option<u64>) -> Allowance {
         let a = Allowance::default();
         a.0.limit.set(limit);
+        a.0.memory.set(memory);
         a
     }
 
@@ -120,6 +138,35 @@ impl Allowance {
         self.0.spent.set(0);
         self.0.compared.set(0);
         self.0.stopped.set(false);
+        self.0.outgrown.set(None);
+    }
+
+    /// The graphs besides the next search hold `bytes` (with what is held beside the
+    /// mission).
+    fn hold(&self, bytes: u64) {
+        self.0.held.set(bytes + self.0.beside.get());
+    }
+
+    /// Runs `f` with `bytes` more held beside the mission (a probe or a fresh search
+    /// next to the mission holding them).
+    fn beside<T>(&self, bytes: u64, f: impl FnOnce() -> T) -> T {
+        let before = self.0.beside.get();
+        self.0.beside.set(before + bytes);
+        let out = f();
+        self.0.beside.set(before);
+        out
+    }
+
+    /// Whether a search whose graph and caches hold `bytes` takes the graphs past the
+    /// memory limit (the search asking stops).
+    pub(crate) fn outgrown(&self, bytes: u64) -> bool {
+        let total = bytes + self.0.held.get();
+        let out = self.0.memory.get().is_some_and(|m| total > m);
+        if out {
+            self.0.stopped.set(true);
+            self.0.outgrown.set(Some(total));
+        }
+        out
     }
 
     pub(crate) fn spend(&self) {
@@ -145,10 +192,15 @@ impl Allowance {
         out
     }
 
-    /// [`Error::WorkLimit`] if a search of this call was stopped.
+    /// [`Error::MemoryLimit`] or [`Error::WorkLimit`] if a search of this call was
+    /// stopped.
     fn check(&self) -> Result<()> {
-        match self.0.limit.get() {
-            Some(limit) if self.0.stopped.get() => Err(Error::WorkLimit { expansions: self.0.spent.get(), limit }),
+        if !self.0.stopped.get() {
+            return Ok(());
+        }
+        match (self.0.outgrown.get(), self.0.memory.get(), self.0.limit.get()) {
+            (Some(bytes), Some(limit), _) => Err(Error::MemoryLimit { bytes, limit }),
+            (_, _, Some(limit)) => Err(Error::WorkLimit { expansions: self.0.spent.get(), limit }),
             _ => Ok(()),
         }
     }
@@ -259,6 +311,7 @@ impl Default for PlannerConfig {
             unreachable_retries: 0,
             meter: ExpansionMeter::default(),
             max_expansions: None,
+            max_search_bytes: None,
         }
     }
 }
@@ -468,7 +521,7 @@ impl<'a> Mission<'a> {
         // never narrower than the last try's — at finer classes than the last, so that
         // what a coarser setting finds a finer one finds too (see `finer_classes`).
         let geometry = SharedGeometry::default();
-        let allowance = Allowance::new(config.max_expansions);
+        let allowance = Allowance::new(config.max_expansions, config.max_search_bytes);
         let (mut config, mut start, mut last_resort) = (config, start, false);
         let (given_t_max, widened_for_s) = (start.t_max, config.resolution.time_s);
         loop {
@@ -730,6 +783,12 @@ impl<'a> Mission<'a> {
                     seg.goals = goals;
                 }
             }
+            // The other segments' graphs (the shared drive geometries are the domain's).
+            let others: u64 = (self.segments.iter().enumerate())
+                .filter(|&(j, _)| j != k)
+                .map(|(_, s)| s.search.bytes() + s.domain.landmark_bytes() as u64)
+                .sum();
+            self.allowance.hold(others);
             let seg = &mut self.segments[k];
             seg.candidates.clear();
             let full = seg.domain.start.energy_wh;
@@ -971,7 +1030,7 @@ impl<'a> Mission<'a> {
             allowance: self.allowance.clone(),
         };
         probe.build_segments();
-        probe.solve_from(Some(probe.segments.len() - 1), &[], false);
+        self.allowance.beside(self.search_bytes(), || probe.solve_from(Some(probe.segments.len() - 1), &[], false));
         !probe.segments[0].candidates.is_empty()
     }
 
@@ -1072,7 +1131,8 @@ impl<'a> Mission<'a> {
             widened_for_s: self.widened_for_s,
             allowance: self.allowance.clone(),
         };
-        fresh.solve_from(Some(n - 1), &[], n > 0);
+        // The fresh graphs share the drive geometries, which `self` counts.
+        self.allowance.beside(self.search_bytes(), || fresh.solve_from(Some(n - 1), &[], n > 0));
         self.allowance.check()?;
         fresh.assemble()
     }

@@ -633,6 +633,64 @@ fn the_world_memory_estimate_bounds_a_built_world() {
     assert_eq!(with_truth, cells * (areo_terrain::Dem::BYTES_PER_CELL + World::GRID_BYTES_PER_CELL));
 }
 
+/// `max_search_bytes` bounds what a planning call's graphs hold, the probes beside the
+/// mission included: a call whose graphs outgrow it stops with `MemoryLimit` — not
+/// "unreachable" — having held more than the limit and no more than the whole search
+/// holds; a limit the graphs never reach changes nothing.
+#[test]
+fn a_planning_call_stops_when_its_graphs_outgrow_their_memory_and_says_so() {
+    // A plan whose search holds about 300 000 labels (90 MB).
+    let world = fixed_sun_world(flat(40, 30, 10.0), 120.0, 60.0, 30.0);
+    let model = model(1e5, ActionConfig::default());
+    let start = Start { cell: world.cell(2, 3), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let goal = world.cell(33, 20);
+    let config = PlannerConfig::default();
+    let meter = areo_mission::ExpansionMeter::counting();
+    let (mission, free) =
+        Mission::plan(&world, &model, PlannerConfig { meter: meter.clone(), ..config.clone() }, start, &[goal])
+            .unwrap();
+    let whole = mission.search_bytes();
+    let roomy = PlannerConfig { max_search_bytes: Some(whole + 1), ..config.clone() };
+    assert_eq!(Mission::plan(&world, &model, roomy, start, &[goal]).unwrap().1, free);
+    for limit in [whole / 2, whole * 9 / 10] {
+        let tight = PlannerConfig { max_search_bytes: Some(limit), ..config.clone() };
+        match Mission::plan(&world, &model, tight, start, &[goal]) {
+            Err(Error::MemoryLimit { bytes, limit: l }) => {
+                assert_eq!(l, limit);
+                assert!(
+                    limit < bytes && bytes <= whole,
+                    "held {bytes} B at a limit of {limit} B; the whole search {whole} B"
+                );
+            }
+            other => panic!("limit {limit} of {whole} B: {:?}", other.map(|(_, p)| p.cost)),
+        }
+    }
+
+    // No plan: the probes that name the binding constraint run beside the mission's
+    // graphs, which count; a limit that stops any of it is reported as the limit.
+    let (long, small, start, quick, goal) = battery_bound();
+    let unlimited = Mission::plan(&long, &small, quick.clone(), start, &[goal]);
+    assert!(matches!(unlimited, Err(Error::Unreachable { binding: Binding::Battery, .. })), "{unlimited:?}");
+    let stopped_in = |limit: u64| {
+        let meter = areo_mission::ExpansionMeter::counting();
+        let capped = PlannerConfig { max_search_bytes: Some(limit), meter: meter.clone(), ..quick.clone() };
+        match Mission::plan(&long, &small, capped, start, &[goal]) {
+            Err(Error::MemoryLimit { bytes, .. }) => Some((bytes, meter.phases_seen())),
+            Err(Error::Unreachable { binding: Binding::Battery, .. }) => None,
+            other => panic!("{:?}", other.map(|(_, p)| p.cost)),
+        }
+    };
+    // The smallest limit the whole call fits in, by bisection; just under it the call
+    // stops in a probe, holding more than any one graph of it alone.
+    let (mut lo, mut hi) = (1u64, 1u64 << 32);
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if stopped_in(mid).is_some() { lo = mid } else { hi = mid }
+    }
+    let (bytes, phases) = stopped_in(lo).unwrap();
+    assert!(bytes > lo && phases.len() > 1, "{bytes} B at {lo} B, phases {phases:?}");
+}
+
 /// `max_expansions` bounds a planning call's work, the finer-class retries and the
 /// binding-constraint probes included: a call that reaches it stops with
 /// `WorkLimit` — not "unreachable" — and a limit the call does not reach changes

@@ -48,6 +48,22 @@ pub enum Error {
         /// Work the call did, in expansions (`areo_mission::ExpansionMeter::work`).
         expansions: u64,
     },
+    /// A TEMPEST planning call's search graphs reached what the memory budget leaves
+    /// them beside the worlds (see `areo_mission::PlannerConfig::max_search_bytes`).
+    #[error(
+        "{}: the TEMPEST searches stopped when their graphs held {:.2} GiB, all the memory budget leaves them beside the worlds ({:.2} GiB; raise it with --max-memory-gb, or search at wider time classes, `job.planner.resolution.time_s`): no plan, and no proof that none exists",
+        path.display(),
+        *bytes as f64 / (1u64 << 30) as f64,
+        *limit as f64 / (1u64 << 30) as f64
+    )]
+    MemorySpent {
+        /// The scenario.
+        path: PathBuf,
+        /// Bytes the graphs held.
+        bytes: u64,
+        /// What the budget left them, bytes.
+        limit: u64,
+    },
     /// An output file could not be written (a full disk, no permission): a failure
     /// while running.
     #[error("{path}: {source}")]
@@ -134,7 +150,7 @@ impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Syntax { .. } | Error::Invalid { .. } | Error::Grid { .. } | Error::Ephemeris(_) => 2,
-            Error::Read { .. } | Error::Budget { .. } | Error::WorkSpent { .. } => 2,
+            Error::Read { .. } | Error::Budget { .. } | Error::WorkSpent { .. } | Error::MemorySpent { .. } => 2,
             // A referenced file that cannot be read or used is bad input, whatever the
             // cause; only an output that cannot be written is a failure while running.
             Error::Referenced { source, .. } => match source.exit_code() {

@@ -43,7 +43,10 @@ fn a_map_that_is_its_own_truth_is_counted_once() {
     // A truth that adds no landform is still a second world, which shares the map's
     // horizon map and holds the rest again: more than the map alone, less than twice it
     // (which is what counting the map twice gave).
-    assert!(own_mb < twin_mb && twin_mb < 2.0 * own_mb, "truth Map {own_mb} MB, an identical truth of its own {twin_mb} MB");
+    assert!(
+        own_mb < twin_mb && twin_mb < 2.0 * own_mb,
+        "truth Map {own_mb} MB, an identical truth of its own {twin_mb} MB"
+    );
 }
 
 /// VmHWM is in KiB; the fact is in MB like every other memory figure (it was MiB).

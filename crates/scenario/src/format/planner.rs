@@ -258,8 +258,9 @@ impl From<&PlannerSpec> for m::PlannerConfig {
             goal_energy_wh: p.goal_energy_wh,
             unreachable_retries: p.unreachable_retries,
             meter: m::ExpansionMeter::default(),
-            // Set by the run from its work budget, not by the file.
+            // Set by the run from its work and memory budgets, not by the file.
             max_expansions: None,
+            max_search_bytes: None,
         }
     }
 }

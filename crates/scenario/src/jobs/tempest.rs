@@ -550,7 +550,7 @@ fn located_uncertainty(file: &ScenarioFile, e: Error) -> Error {
         Error::Mission(MissionError::Config { field, message }) if field.starts_with("uncertainty.") => {
             scenario_error(file, format!("job.{field}"), message)
         }
-        Error::Mission(e @ MissionError::WorkLimit { .. }) => located(file, e),
+        Error::Mission(e @ (MissionError::WorkLimit { .. } | MissionError::MemoryLimit { .. })) => located(file, e),
         other => other,
     }
 }
@@ -559,9 +559,23 @@ fn located_uncertainty(file: &ScenarioFile, e: Error) -> Error {
 /// may expand more labels than the work budget leaves for searching (an expansion is
 /// `budget::EXPANSION_STEPS` of the estimate's steps; `budget::search_allowance`) — the
 /// estimate is checked before the run, this holds during it.
-fn planner_config(job: &TempestJob, opts: &RunOptions<'_>, world: &World) -> areo_mission::PlannerConfig {
+///
+/// The search graphs may hold what the memory budget leaves beside the worlds
+/// (`worlds_bytes`: the map, the truth, and any snapshot or envelope the run keeps): the
+/// estimate counts the graphs per cell, and a search that floods — no plan at narrow
+/// time classes over a long horizon — outgrows it; this stops it before the machine does.
+fn planner_config(
+    job: &TempestJob,
+    opts: &RunOptions<'_>,
+    world: &World,
+    worlds_bytes: u64,
+) -> areo_mission::PlannerConfig {
     let allowance = crate::budget::search_allowance(job, world.cells() as u64, &opts.budget);
-    areo_mission::PlannerConfig { max_expansions: Some(allowance), ..(&job.planner).into() }
+    areo_mission::PlannerConfig {
+        max_expansions: Some(allowance),
+        max_search_bytes: Some(opts.budget.memory_bytes.saturating_sub(worlds_bytes)),
+        ..(&job.planner).into()
+    }
 }
 
 /// A planner error as the scenario's: a planning call stopped by its work limit names
@@ -569,6 +583,7 @@ fn planner_config(job: &TempestJob, opts: &RunOptions<'_>, world: &World) -> are
 fn located(file: &ScenarioFile, e: MissionError) -> Error {
     match e {
         MissionError::WorkLimit { expansions, .. } => Error::WorkSpent { path: file.path.clone(), expansions },
+        MissionError::MemoryLimit { bytes, limit } => Error::MemorySpent { path: file.path.clone(), bytes, limit },
         e => e.into(),
     }
 }
@@ -593,7 +608,13 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     let pristine = pristine_belief(job, plan_world);
     let belief = if envelope.is_some() { world } else { pristine.as_ref().unwrap_or(world) };
     let plan_belief = pristine.as_ref().unwrap_or(plan_world);
-    let planner = areo_mission::PlannerConfig { meter: meter.clone(), ..planner_config(job, &opts, world) };
+    let worlds_bytes = [Some(world), truth.as_ref(), envelope.as_ref(), pristine.as_ref()]
+        .into_iter()
+        .flatten()
+        .map(|w| w.bytes() as u64)
+        .sum();
+    let planner =
+        areo_mission::PlannerConfig { meter: meter.clone(), ..planner_config(job, &opts, world, worlds_bytes) };
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
             let map = crate::budget::SearchMap::of(world.dem());
@@ -638,13 +659,17 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     let chance = match initial {
         Some(plan) => {
             let worlds = ((belief, plan_belief), truth.as_ref().unwrap_or(belief));
-            chance::evaluate(job, (worlds, config), model, planner_config(job, &opts, world), (*start, goals), plan)
+            let planner = planner_config(job, &opts, world, worlds_bytes);
+            chance::evaluate(job, (worlds, config), model, planner, (*start, goals), plan)
                 .map_err(|e| located_uncertainty(file, e))?
         }
         None => None,
     };
     let front = match initial {
-        Some(_) => front::evaluate(job, file, (belief, model), (plan_start, goals), planner_config(job, &opts, world))?,
+        Some(_) => {
+            let planner = planner_config(job, &opts, world, worlds_bytes);
+            front::evaluate(job, file, (belief, model), (plan_start, goals), planner)?
+        }
         None => None,
     };
     // Off Mars: where the rover can wait out a shadow or a loss of the Earth.
