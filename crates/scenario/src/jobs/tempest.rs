@@ -592,6 +592,24 @@ fn pristine_belief(job: &TempestJob, world: &World) -> Option<World> {
     (job.simulate.is_some() && (job.uncertainty.is_some() || job.pareto_front.is_some())).then(|| world.snapshot())
 }
 
+/// Bytes the worlds a run keeps hold (each once).
+fn held_bytes(worlds: &[Option<&World>]) -> u64 {
+    worlds.iter().flatten().map(|w| w.bytes() as u64).sum()
+}
+
+/// The planner's answer as the run's: a plan or a simulation, "unreachable" as a
+/// verdict, any other error the scenario's (located).
+fn run_or_verdict(file: &ScenarioFile, result: std::result::Result<Run, MissionError>) -> Result<Run> {
+    match result {
+        Ok(run) => Ok(run),
+        Err(MissionError::Config { field, message }) => Err(scenario_error(file, planner_field(field), message)),
+        Err(MissionError::Unreachable { binding, message, proven }) => {
+            Ok(Run::Unreachable { binding, message, proven })
+        }
+        Err(e) => Err(located(file, e)),
+    }
+}
+
 fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared: Prepared) -> Result<TempestReport> {
     let Prepared { world, truth, config, model, start, goals, .. } = &prepared;
     // A chance-constrained plan allows for a late start.
@@ -608,11 +626,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     let pristine = pristine_belief(job, plan_world);
     let belief = if envelope.is_some() { world } else { pristine.as_ref().unwrap_or(world) };
     let plan_belief = pristine.as_ref().unwrap_or(plan_world);
-    let worlds_bytes = [Some(world), truth.as_ref(), envelope.as_ref(), pristine.as_ref()]
-        .into_iter()
-        .flatten()
-        .map(|w| w.bytes() as u64)
-        .sum();
+    let worlds_bytes = held_bytes(&[Some(world), truth.as_ref(), envelope.as_ref(), pristine.as_ref()]);
     let planner =
         areo_mission::PlannerConfig { meter: meter.clone(), ..planner_config(job, &opts, world, worlds_bytes) };
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
@@ -643,14 +657,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
         }
     };
     opts.progress.finish();
-    let run = match result {
-        Ok(run) => run,
-        Err(MissionError::Config { field, message }) => {
-            return Err(scenario_error(file, planner_field(field), message));
-        }
-        Err(MissionError::Unreachable { binding, message, proven }) => Run::Unreachable { binding, message, proven },
-        Err(e) => return Err(located(file, e)),
-    };
+    let run = run_or_verdict(file, result)?;
     let initial = match &run {
         Run::Plan { plan, .. } => Some(plan),
         Run::Simulated(r) => Some(&r.plans[0].plan),
