@@ -1131,7 +1131,8 @@ impl<'a> Mission<'a> {
             widened_for_s: self.widened_for_s,
             allowance: self.allowance.clone(),
         };
-        // The fresh graphs share the drive geometries, which `self` counts.
+        // The mission beside the fresh search; the drive geometries both share are then
+        // counted twice, which errs towards stopping early.
         self.allowance.beside(self.search_bytes(), || fresh.solve_from(Some(n - 1), &[], n > 0));
         self.allowance.check()?;
         fresh.assemble()

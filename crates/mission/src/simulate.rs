@@ -453,11 +453,18 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         // here, as an executive would, before declaring the goals unreachable.
         let outcome = match mission.advance(here, &changed) {
             Ok(p) => Ok((p, PlanKind::Replan)),
-            Err(Error::Unreachable { .. }) => Mission::plan(believed, model, config.clone(), here, &goals[next_goal..])
-                .map(|(m, p)| {
+            Err(Error::Unreachable { .. }) => {
+                // The kept graphs stay alive until the new mission replaces them.
+                let held = mission.search_bytes();
+                let fresh = PlannerConfig {
+                    max_search_bytes: config.max_search_bytes.map(|m| m.saturating_sub(held)),
+                    ..config.clone()
+                };
+                Mission::plan(believed, model, fresh, here, &goals[next_goal..]).map(|(m, p)| {
                     mission = m;
                     (p, PlanKind::Restart)
-                }),
+                })
+            }
             Err(e) => Err(e),
         };
         match outcome {
