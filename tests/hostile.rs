@@ -579,6 +579,16 @@ fn small_cases_exit_as_documented() {
     assert!(!String::from_utf8_lossy(&o.stdout).contains("skipped"));
 }
 
+/// devon-island run with a battery too low to move (a search that floods the map), with
+/// `budget` flags, its outputs under a temporary directory named `name`.
+fn devon_island_from_an_empty_battery(name: &str, budget: &[&str]) -> Output {
+    let (dir, scenario) = (tmp(name), root().join("scenarios/devon-island.ron"));
+    let mut args = vec!["-q", "run", scenario.to_str().unwrap(), "--out", dir.to_str().unwrap()];
+    args.extend(["--set", "job.start_battery_above_floor_wh=0.001"]);
+    args.extend(budget);
+    areo(&args)
+}
+
 /// The work budget holds during the run, not only in the estimate before it: on
 /// devon-island with a battery too low to move (fuzz seed 7's finding: 4.8 M expansions
 /// against an estimate of 2.4 M, minutes of search) the searches stop
@@ -586,21 +596,7 @@ fn small_cases_exit_as_documented() {
 /// flag — instead of running on or calling the goal unreachable.
 #[test]
 fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
-    let dir = tmp("work-spent");
-    let scenario = root().join("scenarios/devon-island.ron");
-    let run = |max_work: &str| {
-        areo(&[
-            "-q",
-            "run",
-            scenario.to_str().unwrap(),
-            "--out",
-            dir.to_str().unwrap(),
-            "--set",
-            "job.start_battery_above_floor_wh=0.001",
-            "--max-work",
-            max_work,
-        ])
-    };
+    let run = |max_work: &str| devon_island_from_an_empty_battery("work-spent", &["--max-work", max_work]);
     // The estimate is 10 000 cells × 64 sectors of sweeps plus 2.4 M label expansions
     // (4 legs, each leg's detour ellipse covering the 10 000-cell map, × 60 time
     // classes) at 50 steps each: a smaller budget refuses the job before it starts; one
@@ -623,19 +619,7 @@ fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
 /// exit code, the file, the flag — instead of growing until the machine kills the run.
 #[test]
 fn a_search_that_outgrows_its_memory_estimate_stops_at_the_memory_budget() {
-    let dir = tmp("memory-spent");
-    let scenario = root().join("scenarios/devon-island.ron");
-    let out = areo(&[
-        "-q",
-        "run",
-        scenario.to_str().unwrap(),
-        "--out",
-        dir.to_str().unwrap(),
-        "--set",
-        "job.start_battery_above_floor_wh=0.001",
-        "--max-memory-gb",
-        "0.1",
-    ]);
+    let out = devon_island_from_an_empty_battery("memory-spent", &["--max-memory-gb", "0.1"]);
     let err = stderr(&out);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("devon-island.ron") && err.contains("--max-memory-gb"), "{err}");
