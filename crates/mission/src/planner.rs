@@ -211,7 +211,11 @@ impl Allowance {
 /// every meter equals every other, so it never changes what a configuration compares
 /// as.
 #[derive(Debug, Clone, Default)]
-pub struct ExpansionMeter(Option<std::sync::Arc<[std::sync::atomic::AtomicU64; 4]>>);
+pub struct ExpansionMeter(Option<std::sync::Arc<[std::sync::atomic::AtomicU64; METER_SLOTS]>>);
+
+/// The meter's counters: expansions, work, the current phase, the phases seen (a bit
+/// each), then the expansions of each phase.
+const METER_SLOTS: usize = 4 + PHASES.len();
 
 /// What the searches are for, as a watcher shows it: planning, or — when no plan was
 /// found — the relaxed searches that name the binding constraint
@@ -280,7 +284,20 @@ impl ExpansionMeter {
         if let Some(count) = &self.0 {
             count[0].fetch_add(n, std::sync::atomic::Ordering::Relaxed);
             count[1].fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+            let phase = count[2].load(std::sync::atomic::Ordering::Relaxed) as usize;
+            count[4 + phase].fetch_add(n, std::sync::atomic::Ordering::Relaxed);
         }
+    }
+
+    /// The expansions counted in each phase the searches have been in, in the order
+    /// of [`ExpansionMeter::phases_seen`]; they sum to [`ExpansionMeter::expansions`].
+    pub fn expansions_by_phase(&self) -> Vec<(&'static str, u64)> {
+        let Some(n) = &self.0 else { return vec![(PHASES[0], 0)] };
+        let seen = n[3].load(std::sync::atomic::Ordering::Relaxed) | 1;
+        (0..PHASES.len())
+            .filter(|i| seen >> i & 1 == 1)
+            .map(|i| (PHASES[i], n[4 + i].load(std::sync::atomic::Ordering::Relaxed)))
+            .collect()
     }
 
     pub(crate) fn add_work(&self, n: u64) {

@@ -213,11 +213,32 @@ struct Prepared {
 /// What planning (or simulating) gave.
 enum Run {
     /// No plan reaches the goals from the start.
-    Unreachable { binding: areo_mission::Binding, message: String, proven: bool },
+    Unreachable { binding: areo_mission::Binding, message: String, proven: bool, work: NoPlanWork },
     /// A plan, its wall time (s) and the search graphs' bytes after it.
     Plan { plan: MissionPlan, seconds: f64, search_bytes: u64 },
     /// A simulated run with its re-plans.
     Simulated(SimReport),
+}
+
+/// What a "no plan" verdict cost: a planner waiting minutes for one wants to know
+/// where they went.
+#[derive(Debug, Clone, Default)]
+struct NoPlanWork {
+    /// Wall time from the first search to the verdict, s.
+    seconds: f64,
+    /// Label expansions of every search: the plan's, its fallbacks', the probes'.
+    expansions: u64,
+    /// Those of each phase, in [`areo_mission::ExpansionMeter::phases_seen`]'s order:
+    /// "planning" (the settings and their fallbacks), then the relaxed probes that
+    /// name the binding constraint.
+    phases: Vec<(&'static str, u64)>,
+}
+
+impl NoPlanWork {
+    /// The work `meter` counted since `start`.
+    fn since(start: Instant, meter: &areo_mission::ExpansionMeter) -> NoPlanWork {
+        NoPlanWork { seconds: start.elapsed().as_secs_f64(), expansions: meter.expansions(), phases: meter.expansions_by_phase() }
+    }
 }
 
 /// A TEMPEST job's result: the prepared worlds, the run, the haven map (off Mars) and
@@ -599,12 +620,16 @@ fn held_bytes(worlds: &[Option<&World>]) -> u64 {
 
 /// The planner's answer as the run's: a plan or a simulation, "unreachable" as a
 /// verdict, any other error the scenario's (located).
-fn run_or_verdict(file: &ScenarioFile, result: std::result::Result<Run, MissionError>) -> Result<Run> {
+fn run_or_verdict(
+    file: &ScenarioFile,
+    result: std::result::Result<Run, MissionError>,
+    work: impl FnOnce() -> NoPlanWork,
+) -> Result<Run> {
     match result {
         Ok(run) => Ok(run),
         Err(MissionError::Config { field, message }) => Err(scenario_error(file, planner_field(field), message)),
         Err(MissionError::Unreachable { binding, message, proven }) => {
-            Ok(Run::Unreachable { binding, message, proven })
+            Ok(Run::Unreachable { binding, message, proven, work: work() })
         }
         Err(e) => Err(located(file, e)),
     }
@@ -629,6 +654,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     let worlds_bytes = held_bytes(&[Some(world), truth.as_ref(), envelope.as_ref(), pristine.as_ref()]);
     let planner =
         areo_mission::PlannerConfig { meter: meter.clone(), ..planner_config(job, &opts, world, worlds_bytes) };
+    let since = Instant::now();
     let result: std::result::Result<Run, MissionError> = match &job.simulate {
         None => {
             let map = crate::budget::SearchMap::of(world.dem());
@@ -657,7 +683,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
         }
     };
     opts.progress.finish();
-    let run = run_or_verdict(file, result)?;
+    let run = run_or_verdict(file, result, || NoPlanWork::since(since, &meter))?;
     let initial = match &run {
         Run::Plan { plan, .. } => Some(plan),
         Run::Simulated(r) => Some(&r.plans[0].plan),
@@ -716,7 +742,7 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
     if ctx.job.horizon_sectors > 0 {
         o.number("horizon_bytes_per_angle", if world.horizon_is_narrow() { 1.0 } else { 2.0 });
     }
-    if let Run::Unreachable { binding, message, proven } = &report.run {
+    if let Run::Unreachable { binding, message, proven, work } = &report.run {
         o.failure = Some(Failure::Unreachable { binding: *binding, message: message.clone(), after_actions: None });
         o.text("status", "unreachable");
         o.text("binding", message.clone());
@@ -724,6 +750,7 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
         o.number("goals_reached", 0.0);
         o.number("precalc_s", precalc_s);
         o.summary.push(format!("no plan: the goals are unreachable ({message})"));
+        no_plan_facts(&mut o, work, report.peak_memory_mb);
         if let Some(u) = chance::uncertainty(ctx.job).filter(|u| u.margins() != areo_mission::Perturbation::NONE) {
             o.summary.push(format!(
                 "(planned at confidence {}: every action made worse by its margins; a deterministic plan may still exist)",
@@ -780,6 +807,30 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
         }
     }
     o
+}
+
+/// What the "no plan" verdict cost, as facts and a summary line.
+fn no_plan_facts(o: &mut Outcome, work: &NoPlanWork, peak_memory_mb: Option<f64>) {
+    o.number("no_plan_s", work.seconds);
+    o.count("no_plan_expansions", work.expansions);
+    let planning = work.phases.iter().find(|p| p.0 == "planning").map_or(0, |p| p.1);
+    o.count("no_plan_planning_expansions", planning);
+    o.count("no_plan_probes", work.phases.len() as u64 - 1);
+    if let Some(mb) = peak_memory_mb {
+        o.number("peak_memory_mb", mb);
+    }
+    let probes: Vec<String> = (work.phases.iter())
+        .filter_map(|&(p, n)| p.strip_prefix("no plan: ").map(|p| format!("{n} with {p}")))
+        .collect();
+    let probes = if probes.is_empty() {
+        String::new()
+    } else {
+        format!("; the probes naming the binding constraint {}", probes.join(", "))
+    };
+    o.summary.push(format!(
+        "no plan after {} expansions in {:.1} s: {planning} at the settings and their fallbacks{probes}",
+        work.expansions, work.seconds
+    ));
 }
 
 /// Sampling step of the haven map and of the plan's contact and shadow checks, s.
