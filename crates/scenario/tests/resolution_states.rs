@@ -96,7 +96,7 @@ fn valley_step77_keeps_its_plan_at_finer_classes_down_to_a_tight_battery() {
     assert_eq!(planning + probes[0] + probes[1], total, "{line}");
     // A planned state reports no such line.
     let planned = plan(&path, &["job.start_battery_above_floor_wh=80"]);
-    assert!(planned.facts.get("no_plan_expansions").is_none());
+    assert!(!planned.facts.contains_key("no_plan_expansions"));
 }
 
 /// valley-detour as shipped, planned only (no simulation), from its own start with a

@@ -237,7 +237,11 @@ struct NoPlanWork {
 impl NoPlanWork {
     /// The work `meter` counted since `start`.
     fn since(start: Instant, meter: &areo_mission::ExpansionMeter) -> NoPlanWork {
-        NoPlanWork { seconds: start.elapsed().as_secs_f64(), expansions: meter.expansions(), phases: meter.expansions_by_phase() }
+        NoPlanWork {
+            seconds: start.elapsed().as_secs_f64(),
+            expansions: meter.expansions(),
+            phases: meter.expansions_by_phase(),
+        }
     }
 }
 
