@@ -323,3 +323,61 @@ fn two_goals_with_a_binding_battery_shadows_and_sensing_equal_a_brute_force_sear
     assert_eq!(checked, 2);
     assert!(binding >= 1, "the battery never binds: the cases do not test it");
 }
+
+/// The chain against the brute force over many two-goal problems on the ridge map
+/// (exact classes, Charge only in direct sun, morning starts): three goal pairs, two
+/// goal energies, and 5 Wh or 40 Wh at the start. Each chained cost must
+/// equal the brute force's (up to the sums' rounding), and neither may find a plan the
+/// other does not.
+#[test]
+fn chained_costs_equal_the_brute_force_over_goal_pairs_goal_energies_and_batteries() {
+    let (cols, rows) = (9, 6);
+    let map = mars_world(ridge(cols, rows), 8.0, Some(16));
+    let mut actions = quantised_actions(600.0);
+    actions.energy_quantum_wh = 5.0;
+    actions.charge.direct_sun = true;
+    actions.drive.sun_in_camera = false;
+    let model = model(300.0, actions);
+    let t0 = {
+        let mut t = 0.0;
+        while map.sun(t).elevation_deg < 8.0 {
+            t += 60.0;
+        }
+        t
+    };
+    let pairs = [((8, 5), (0, 0)), ((2, 5), (8, 5)), ((6, 1), (0, 5))];
+    let (mut equal, mut low_battery_plans) = (0, 0);
+    // Exploring 120 such cases (two capacities, five goal pairs, three goal energies,
+    // four or five start batteries) found every cost equal; these 12 stay as the test.
+    for (g1, g2) in pairs {
+        let goals = [map.cell(g1.0, g1.1), map.cell(g2.0, g2.1)];
+        for goal_wh in [0.0, 40.0] {
+            let cfg = |starts| PlannerConfig {
+                resolution: Resolution { time_s: 60.0, energy_wh: None },
+                goal_times: 10,
+                segment_starts: starts,
+                max_wait_s: Some(900.0),
+                goal_energy_wh: goal_wh,
+                ..PlannerConfig::default()
+            };
+            for start_wh in [5.0, 40.0] {
+                let start = Start { cell: map.cell(1, 1), t_min: t0, t_max: t0, energy_wh: start_wh };
+                let (probe, _) = Mission::plan(&map, &model, cfg(1), start, &goals)
+                    .unwrap_or_else(|e| panic!("{g1:?} → {g2:?}: {e}"));
+                let (lo, hi) = probe.goal_windows()[0];
+                // Start intervals of at most one arrival minute: the chain is exact.
+                let starts = ((hi - lo) / 50.0).ceil() as usize;
+                let (mission, plan) = Mission::plan(&map, &model, cfg(starts), start, &goals).unwrap();
+                let what = format!("{g1:?} → {g2:?}, {goal_wh} Wh at the end, {start_wh} Wh at the start");
+                let brute = brute_force_with_battery(&map, &model, &mission, &goals, goal_wh).expect(&what);
+                assert!((plan.cost - brute).abs() <= 1e-8 * brute.abs().max(1.0), "{what}: {} vs {brute}", plan.cost);
+                assert!(!plan.exact_at_quanta, "{what}: found by the last resort");
+                equal += 1;
+                if start_wh < 10.0 {
+                    low_battery_plans += 1;
+                }
+            }
+        }
+    }
+    assert_eq!((equal, low_battery_plans), (12, 6));
+}
