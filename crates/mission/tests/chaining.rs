@@ -246,6 +246,25 @@ fn brute_force_with_battery(
     None
 }
 
+/// Ten-minute quanta, Charge only in direct sun, no camera rule; 5 Wh energy quanta
+/// keep the brute force's battery levels few.
+fn ridge_actions() -> ActionConfig {
+    let mut actions = quantised_actions(600.0);
+    actions.energy_quantum_wh = 5.0;
+    actions.charge.direct_sun = true;
+    actions.drive.sun_in_camera = false;
+    actions
+}
+
+/// The first whole minute the Sun stands 8° up, s after the epoch.
+fn sun_at_8_degrees(map: &World) -> f64 {
+    let mut t = 0.0;
+    while map.sun(t).elevation_deg < 8.0 {
+        t += 60.0;
+    }
+    t
+}
+
 #[test]
 fn two_goals_with_a_binding_battery_shadows_and_sensing_equal_a_brute_force_search() {
     // Exact classes (1-minute actions and classes, energy exact), terrain shadows from
@@ -263,19 +282,8 @@ fn two_goals_with_a_binding_battery_shadows_and_sensing_equal_a_brute_force_sear
     .unwrap();
     let truth = World::truth(truth_dem, &crate::common::config(8.0, Some(16)), &areo_ephemeris::Mars24, &map).unwrap();
     let original = mars_world(ridge(cols, rows), 8.0, Some(16));
-    let mut actions = quantised_actions(600.0);
-    // 5 Wh quanta keep the brute force's battery levels few.
-    actions.energy_quantum_wh = 5.0;
-    actions.charge.direct_sun = true;
-    actions.drive.sun_in_camera = false;
-    let model = model(400.0, actions);
-    let t0 = {
-        let mut t = 0.0;
-        while map.sun(t).elevation_deg < 8.0 {
-            t += 60.0;
-        }
-        t
-    };
+    let model = model(400.0, ridge_actions());
+    let t0 = sun_at_8_degrees(&map);
     // The ridge's shadow covers part of the map when the plans start.
     let shadowed = (0..map.cells() as u32).filter(|&c| !map.lit(c, &map.sun(t0))).count();
     assert!(shadowed >= 3 && shadowed < map.cells() / 2, "{shadowed} cells in shadow");
@@ -333,18 +341,8 @@ fn two_goals_with_a_binding_battery_shadows_and_sensing_equal_a_brute_force_sear
 fn chained_costs_equal_the_brute_force_over_goal_pairs_goal_energies_and_batteries() {
     let (cols, rows) = (9, 6);
     let map = mars_world(ridge(cols, rows), 8.0, Some(16));
-    let mut actions = quantised_actions(600.0);
-    actions.energy_quantum_wh = 5.0;
-    actions.charge.direct_sun = true;
-    actions.drive.sun_in_camera = false;
-    let model = model(300.0, actions);
-    let t0 = {
-        let mut t = 0.0;
-        while map.sun(t).elevation_deg < 8.0 {
-            t += 60.0;
-        }
-        t
-    };
+    let model = model(300.0, ridge_actions());
+    let t0 = sun_at_8_degrees(&map);
     let pairs = [((8, 5), (0, 0)), ((2, 5), (8, 5)), ((6, 1), (0, 5))];
     let (mut equal, mut low_battery_plans) = (0, 0);
     // Exploring 120 such cases (two capacities, five goal pairs, three goal energies,
