@@ -333,7 +333,7 @@ fn two_goals_with_a_binding_battery_shadows_and_sensing_equal_a_brute_force_sear
 }
 
 /// The chain against the brute force over many two-goal problems on the ridge map
-/// (exact classes, Charge only in direct sun, morning starts): three goal pairs, two
+/// (exact classes, Charge only in direct sun, morning starts): two goal pairs, two
 /// goal energies, and 5 Wh or 40 Wh at the start. Each chained cost must
 /// equal the brute force's (up to the sums' rounding), and neither may find a plan the
 /// other does not.
@@ -343,10 +343,10 @@ fn chained_costs_equal_the_brute_force_over_goal_pairs_goal_energies_and_batteri
     let map = mars_world(ridge(cols, rows), 8.0, Some(16));
     let model = model(300.0, ridge_actions());
     let t0 = sun_at_8_degrees(&map);
-    let pairs = [((8, 5), (0, 0)), ((2, 5), (8, 5)), ((6, 1), (0, 5))];
+    let pairs = [((8, 5), (0, 0)), ((6, 1), (0, 5))];
     let (mut equal, mut low_battery_plans) = (0, 0);
     // Exploring 120 such cases (two capacities, five goal pairs, three goal energies,
-    // four or five start batteries) found every cost equal; these 12 stay as the test.
+    // four or five start batteries) found every cost equal; these 8 stay as the test.
     for (g1, g2) in pairs {
         let goals = [map.cell(g1.0, g1.1), map.cell(g2.0, g2.1)];
         for goal_wh in [0.0, 40.0] {
@@ -377,5 +377,5 @@ fn chained_costs_equal_the_brute_force_over_goal_pairs_goal_energies_and_batteri
             }
         }
     }
-    assert_eq!((equal, low_battery_plans), (12, 6));
+    assert_eq!((equal, low_battery_plans), (8, 4));
 }
