@@ -214,8 +214,10 @@ impl Allowance {
 pub struct ExpansionMeter(Option<std::sync::Arc<[std::sync::atomic::AtomicU64; METER_SLOTS]>>);
 
 /// The meter's counters: expansions, work, the current phase, the phases seen (a bit
-/// each), then the expansions of each phase.
-const METER_SLOTS: usize = 4 + PHASES.len();
+/// each), the expansions when the current phase began, then the expansions of each
+/// phase before it (settled at each change of phase, so that counting an expansion
+/// stays two additions).
+const METER_SLOTS: usize = 5 + PHASES.len();
 
 /// What the searches are for, as a watcher shows it: planning, or — when no plan was
 /// found — the relaxed searches that name the binding constraint
@@ -269,14 +271,17 @@ impl ExpansionMeter {
     /// Every phase the searches have been in since the meter was made, in the order of
     /// [`ExpansionMeter::phase`]'s list (not the order they ran in).
     pub fn phases_seen(&self) -> Vec<&'static str> {
-        let seen = self.0.as_ref().map_or(1, |n| n[3].load(std::sync::atomic::Ordering::Relaxed) | 1);
-        PHASES.iter().enumerate().filter(|(i, _)| seen >> i & 1 == 1).map(|(_, p)| *p).collect()
+        self.expansions_by_phase().into_iter().map(|(p, _)| p).collect()
     }
 
     fn set_phase(&self, phase: usize) {
+        use std::sync::atomic::Ordering::Relaxed;
         if let Some(n) = &self.0 {
-            n[2].store(phase as u64, std::sync::atomic::Ordering::Relaxed);
-            n[3].fetch_or(1 << phase, std::sync::atomic::Ordering::Relaxed);
+            let now = n[0].load(Relaxed);
+            let began = n[4].swap(now, Relaxed);
+            n[5 + n[2].load(Relaxed) as usize].fetch_add(now.saturating_sub(began), Relaxed);
+            n[2].store(phase as u64, Relaxed);
+            n[3].fetch_or(1 << phase, Relaxed);
         }
     }
 
@@ -284,19 +289,20 @@ impl ExpansionMeter {
         if let Some(count) = &self.0 {
             count[0].fetch_add(n, std::sync::atomic::Ordering::Relaxed);
             count[1].fetch_add(n, std::sync::atomic::Ordering::Relaxed);
-            let phase = count[2].load(std::sync::atomic::Ordering::Relaxed) as usize;
-            count[4 + phase].fetch_add(n, std::sync::atomic::Ordering::Relaxed);
         }
     }
 
     /// The expansions counted in each phase the searches have been in, in the order
     /// of [`ExpansionMeter::phases_seen`]; they sum to [`ExpansionMeter::expansions`].
     pub fn expansions_by_phase(&self) -> Vec<(&'static str, u64)> {
+        use std::sync::atomic::Ordering::Relaxed;
         let Some(n) = &self.0 else { return vec![(PHASES[0], 0)] };
-        let seen = n[3].load(std::sync::atomic::Ordering::Relaxed) | 1;
+        let (seen, current) = (n[3].load(Relaxed) | 1, n[2].load(Relaxed) as usize);
+        // The current phase's expansions are not settled yet.
+        let running = n[0].load(Relaxed).saturating_sub(n[4].load(Relaxed));
         (0..PHASES.len())
             .filter(|i| seen >> i & 1 == 1)
-            .map(|i| (PHASES[i], n[4 + i].load(std::sync::atomic::Ordering::Relaxed)))
+            .map(|i| (PHASES[i], n[5 + i].load(Relaxed) + if i == current { running } else { 0 }))
             .collect()
     }
 
