@@ -210,6 +210,7 @@ fn brute_force_with_battery(
     type Key = (usize, u32, i64, u64);
     let mut dist: HashMap<Key, f64> = HashMap::new();
     let mut heap = BinaryHeap::new();
+    let mut memo = MoveMemo::new(world, model);
     for (m, battery) in start_minutes(model, &start) {
         dist.insert((0, start.cell, m, battery.to_bits()), 0.0);
         heap.push(Reverse((OrderedFloat(0.0), 0usize, start.cell, m, battery.to_bits())));
@@ -227,7 +228,7 @@ fn brute_force_with_battery(
         if cell == goals[k] && k + 1 < goals.len() && t >= windows[k].0 - 1e-9 && t <= windows[k].1 + 1e-9 {
             next.push(((k + 1, cell, m, b), 0.0));
         }
-        for (a, to, e) in moves(world, model, cell, t) {
+        for &(a, to, e) in memo.at(cell, t) {
             let after = (battery - e.energy_wh).min(capacity);
             if after < -1e-9 {
                 continue;

@@ -6,6 +6,7 @@ use areo_mission::{Action, ActionConfig, ActionModel, Objective, PathLength, Wor
 use areo_rover::resources::ResourceModel;
 use areo_terrain::Dem;
 use hifitime::Epoch;
+use std::collections::HashMap;
 
 /// The Sun fixed at an azimuth and elevation over a site.
 pub(crate) struct FixedSun {
@@ -87,8 +88,11 @@ pub(crate) fn quantised_actions(hibernate_s: f64) -> ActionConfig {
     a
 }
 
+/// An action that succeeds, the cell it ends in and what it does.
+pub(crate) type Move = (Action, u32, areo_mission::Effect);
+
 /// Every action from (`cell`, `t`) forward: (action, destination, effect).
-pub(crate) fn moves(world: &World, model: &ActionModel, cell: u32, t: f64) -> Vec<(Action, u32, areo_mission::Effect)> {
+pub(crate) fn moves(world: &World, model: &ActionModel, cell: u32, t: f64) -> Vec<Move> {
     let mut out = Vec::new();
     for a in (0..8).map(Action::Drive).chain([Action::Charge, Action::Hibernate]) {
         let r = match a {
@@ -100,6 +104,28 @@ pub(crate) fn moves(world: &World, model: &ActionModel, cell: u32, t: f64) -> Ve
         }
     }
     out
+}
+
+/// [`moves`], remembered by cell and instant. The brute-force references meet the same
+/// (cell, minute) at many battery levels or for many goal instants, and an action's
+/// effect does not depend on the battery: computing it once per (cell, instant) keeps
+/// the references independent of the planner and makes them several times faster.
+pub(crate) struct MoveMemo<'a> {
+    world: &'a World,
+    model: &'a ActionModel,
+    memo: HashMap<(u32, u64), Vec<Move>>,
+}
+
+impl<'a> MoveMemo<'a> {
+    pub(crate) fn new(world: &'a World, model: &'a ActionModel) -> MoveMemo<'a> {
+        MoveMemo { world, model, memo: HashMap::new() }
+    }
+
+    /// The actions that succeed from `cell` at `t` s, as [`moves`] gives them.
+    pub(crate) fn at(&mut self, cell: u32, t: f64) -> &[Move] {
+        let (world, model) = (self.world, self.model);
+        self.memo.entry((cell, t.to_bits())).or_insert_with(|| moves(world, model, cell, t))
+    }
 }
 
 /// A step's cost in the planner's terms: Δe + E_max × length, or the duration, plus the

@@ -25,6 +25,7 @@ fn every_plan(world: &World, model: &ActionModel, mission: &Mission<'_>, goal: u
     let first = (start.t_min / 60.0).ceil() as i64;
     let key = |x: f64| (x * 1e6).round() as i64;
     let mut out = Vec::new();
+    let mut memo = MoveMemo::new(world, model);
     for g in mission.final_goal_times().iter().map(|t| (t / 60.0).round() as i64) {
         let span = (g - first + 1).max(0) as usize;
         if span == 0 {
@@ -37,7 +38,7 @@ fn every_plan(world: &World, model: &ActionModel, mission: &Mission<'_>, goal: u
             let t = (first + i as i64) as f64 * 60.0;
             for cell in 0..world.cells() as u32 {
                 let mut here = HashSet::new();
-                for (_, to, e) in moves(world, model, cell, t) {
+                for &(_, to, e) in memo.at(cell, t) {
                     let j = i + (e.duration_s / 60.0).round() as usize;
                     if j >= span {
                         continue;

@@ -71,6 +71,7 @@ fn least_cost_from(
     type Key = (u32, i64, u64);
     let mut dist: HashMap<Key, f64> = HashMap::new();
     let mut heap = BinaryHeap::new();
+    let mut memo = MoveMemo::new(world, model);
     for (m, battery) in start_minutes(model, &start) {
         dist.insert((start.cell, m, battery.to_bits()), 0.0);
         heap.push(Reverse((OrderedFloat(0.0), start.cell, m, battery.to_bits())));
@@ -84,7 +85,7 @@ fn least_cost_from(
             return Some(d);
         }
         let t = m as f64 * 60.0;
-        for (a, to, e) in moves(world, model, cell, t) {
+        for &(a, to, e) in memo.at(cell, t) {
             let after = (battery - e.energy_wh).min(capacity);
             if after < -1e-9 {
                 continue;
@@ -117,6 +118,7 @@ fn least_energy(
     let cells = world.cells() as u32;
     let first = (start.t_min / 60.0).ceil() as i64;
     let mut best: Option<f64> = None;
+    let mut memo = MoveMemo::new(world, model);
     for g in mission.final_goal_times().iter().map(|t| (t / 60.0).round() as i64) {
         // need[m - first][cell], minutes from the window's opening to the instant.
         let span = (g - first + 1).max(0) as usize;
@@ -129,7 +131,7 @@ fn least_energy(
             let t = (first + i as i64) as f64 * 60.0;
             for cell in 0..cells {
                 let mut least = f64::INFINITY;
-                for (_, to, e) in moves(world, model, cell, t) {
+                for &(_, to, e) in memo.at(cell, t) {
                     let j = i + (e.duration_s / 60.0).round() as usize;
                     if j < span && need[j][to as usize].is_finite() {
                         least = least.min((need[j][to as usize] + e.energy_wh).max(0.0));

@@ -1,7 +1,8 @@
 //! Brute-force references: one ray per cell, marched to the map's edge, with no
 //! sweep, no shared state between cells and no early exit. Slow (O(cells × length)) and
 //! plain on purpose; the tests hold every [`Method`](crate::shadow::Method) of [`crate::shadow`] and the
-//! horizon maps against them.
+//! horizon maps against them. Cells are shared out over threads by rows (each one's
+//! ray alone, so the answer does not depend on the thread count).
 //!
 //! - [`horizon_on_triangles`] / [`cast_shadows`]: each cell's own ray on the
 //!   triangulated surface (cell centres joined by grid lines and each quad's
@@ -13,6 +14,7 @@
 //!   this crate's ray marching.
 
 use parry3d::query::{Ray, RayCast};
+use rayon::prelude::*;
 
 use crate::dem::Dem;
 use crate::error::Result;
@@ -60,55 +62,60 @@ pub fn horizon_on_triangles(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -
     };
     let inside =
         |fc: f64, fr: f64| fc > -EPS && fr > -EPS && fc < (cols - 1) as f64 + EPS && fr < (rows - 1) as f64 + EPS;
-    let mut out = vec![f64::NAN; (cols * rows) as usize];
-    for r in 0..rows {
-        for c in 0..cols {
-            let z0 = at(c, r);
-            if z0.is_nan() {
+    // Each cell's ray, alone; rows run in parallel (no state is shared between cells,
+    // so the result does not depend on the thread count).
+    let ray = |c: i64, r: i64| -> f64 {
+        let z0 = at(c, r);
+        if z0.is_nan() {
+            return f64::NAN;
+        }
+        let mut best = -90f64;
+        let mut see = |s: f64, h: f64| {
+            if !h.is_nan() {
+                best = best.max(((h - s * s * inv_2r - z0) / s).atan().to_degrees());
+            }
+        };
+        // Each family of edges: the ray's coordinate `rate·s` along it passes the
+        // integers j = 1, 2, … at s = j/|rate|.
+        for family in 0..3 {
+            let rate = [pc, pr, pc + pr][family];
+            if rate.abs() < 1e-12 {
                 continue;
             }
-            let mut best = -90f64;
-            let mut see = |s: f64, h: f64| {
-                if !h.is_nan() {
-                    best = best.max(((h - s * s * inv_2r - z0) / s).atan().to_degrees());
+            for j in 1.. {
+                let s = j as f64 / rate.abs();
+                let (fc, fr) = (c as f64 + pc * s, r as f64 + pr * s);
+                if !inside(fc, fr) {
+                    break;
                 }
-            };
-            // Each family of edges: the ray's coordinate `rate·s` along it passes the
-            // integers j = 1, 2, … at s = j/|rate|.
-            for family in 0..3 {
-                let rate = [pc, pr, pc + pr][family];
-                if rate.abs() < 1e-12 {
-                    continue;
-                }
-                for j in 1.. {
-                    let s = j as f64 / rate.abs();
-                    let (fc, fr) = (c as f64 + pc * s, r as f64 + pr * s);
-                    if !inside(fc, fr) {
-                        break;
+                let h = match family {
+                    0 => {
+                        let cc = c + j * rate.signum() as i64;
+                        let r0 = fr.floor().max(0.0) as i64;
+                        edge(at(cc, r0), at(cc, r0 + 1), fr - r0 as f64)
                     }
-                    let h = match family {
-                        0 => {
-                            let cc = c + j * rate.signum() as i64;
-                            let r0 = fr.floor().max(0.0) as i64;
-                            edge(at(cc, r0), at(cc, r0 + 1), fr - r0 as f64)
-                        }
-                        1 => {
-                            let rr = r + j * rate.signum() as i64;
-                            let c0 = fc.floor().max(0.0) as i64;
-                            edge(at(c0, rr), at(c0 + 1, rr), fc - c0 as f64)
-                        }
-                        _ => {
-                            let sum = c + r + j * rate.signum() as i64;
-                            let c0 = fc.floor().max(0.0) as i64;
-                            edge(at(c0, sum - c0), at(c0 + 1, sum - c0 - 1), fc - c0 as f64)
-                        }
-                    };
-                    see(s, h);
-                }
+                    1 => {
+                        let rr = r + j * rate.signum() as i64;
+                        let c0 = fc.floor().max(0.0) as i64;
+                        edge(at(c0, rr), at(c0 + 1, rr), fc - c0 as f64)
+                    }
+                    _ => {
+                        let sum = c + r + j * rate.signum() as i64;
+                        let c0 = fc.floor().max(0.0) as i64;
+                        edge(at(c0, sum - c0), at(c0 + 1, sum - c0 - 1), fc - c0 as f64)
+                    }
+                };
+                see(s, h);
             }
-            out[(r * cols + c) as usize] = best;
         }
-    }
+        best
+    };
+    let mut out = vec![f64::NAN; (cols * rows) as usize];
+    out.par_chunks_mut(cols as usize).enumerate().for_each(|(r, row)| {
+        for (c, h) in row.iter_mut().enumerate() {
+            *h = ray(c as i64, r as i64);
+        }
+    });
     out
 }
 
