@@ -3,7 +3,7 @@
 //! sensing — the shipped lunar-south-pole scenario (four chained goals, 6 start
 //! intervals, 12 goal instants, 1 h / 100 Wh classes) executed on true terrain with
 //! three landforms its map lacks (`tests/tempest/lunar-sensing.ron`). Every re-plan
-//! after sensing changed the map or a goal was reached is compared, and every 25th of
+//! after sensing changed the map or a goal was reached is compared, and every 50th of
 //! the others (plan extension alone); `cargo xtask bench fresh` compares all of them.
 
 use std::path::Path;
@@ -25,9 +25,9 @@ fn lunar_replans_on_kept_graphs_equal_fresh_searches() {
     let sensed = number("replans_after_sensing");
     assert!(sensed >= 20.0, "{sensed} re-plans after sensing");
     assert!(number("route_changes") >= 3.0, "{:?}", o.summary);
-    // Those, the three goal changes and every 25th of ~360 re-plans.
+    // Those, the three goal changes and every 50th of ~360 re-plans.
     let compared = number("fresh_compared");
-    assert!(compared >= sensed + 3.0 + 10.0, "{compared} compared, {sensed} after sensing");
+    assert!(compared >= sensed + 3.0 + 5.0, "{compared} compared, {sensed} after sensing");
     // Equal costs, and no re-plan did more work than searching afresh.
     assert!(number("replan_fresh_cost_difference") <= 1e-9, "{:?}", o.summary);
     assert_eq!(number("replans_above_fresh"), 0.0, "{:?}", o.summary);
