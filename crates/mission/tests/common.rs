@@ -109,7 +109,8 @@ pub(crate) fn moves(world: &World, model: &ActionModel, cell: u32, t: f64) -> Ve
 /// [`moves`], remembered by cell and instant. The brute-force references meet the same
 /// (cell, minute) at many battery levels or for many goal instants, and an action's
 /// effect does not depend on the battery: computing it once per (cell, instant) keeps
-/// the references independent of the planner and makes them several times faster.
+/// the references independent of the planner and makes them faster (1.3–1.6× on
+/// the chaining and Pareto references).
 pub(crate) struct MoveMemo<'a> {
     world: &'a World,
     model: &'a ActionModel,

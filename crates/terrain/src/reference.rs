@@ -1,8 +1,7 @@
 //! Brute-force references: one ray per cell, marched to the map's edge, with no
 //! sweep, no shared state between cells and no early exit. Slow (O(cells × length)) and
 //! plain on purpose; the tests hold every [`Method`](crate::shadow::Method) of [`crate::shadow`] and the
-//! horizon maps against them. Cells are shared out over threads by rows (each one's
-//! ray alone, so the answer does not depend on the thread count).
+//! horizon maps against them.
 //!
 //! - [`horizon_on_triangles`] / [`cast_shadows`]: each cell's own ray on the
 //!   triangulated surface (cell centres joined by grid lines and each quad's
@@ -62,8 +61,8 @@ pub fn horizon_on_triangles(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -
     };
     let inside =
         |fc: f64, fr: f64| fc > -EPS && fr > -EPS && fc < (cols - 1) as f64 + EPS && fr < (rows - 1) as f64 + EPS;
-    // Each cell's ray, alone; rows run in parallel (no state is shared between cells,
-    // so the result does not depend on the thread count).
+    // Each cell's ray reads only the DEM and writes only its own cell, so rows can run
+    // in parallel.
     let ray = |c: i64, r: i64| -> f64 {
         let z0 = at(c, r);
         if z0.is_nan() {
