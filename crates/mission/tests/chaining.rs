@@ -2,8 +2,9 @@
 //! concatenated problem, and re-planning and plan extension against plans from scratch.
 
 use ordered_float::OrderedFloat;
+use rustc_hash::FxHashMap;
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::BinaryHeap;
 
 use areo_mission::{
     Action, ActionConfig, ActionModel, Mission, Objective, PathLength, PlannerConfig, Resolution, Start, World,
@@ -30,7 +31,7 @@ fn brute_force(world: &World, model: &ActionModel, mission: &Mission<'_>, goals:
     let start = mission.start();
     let windows = mission.goal_windows();
     let finals: Vec<i64> = mission.final_goal_times().iter().map(|t| (t / 60.0).round() as i64).collect();
-    let mut dist: HashMap<(usize, u32, i64), f64> = HashMap::new();
+    let mut dist: FxHashMap<(usize, u32, i64), f64> = FxHashMap::default();
     let mut heap = BinaryHeap::new();
     let mut m = (start.t_min / 60.0).ceil() as i64;
     while m as f64 * 60.0 <= start.t_max + 1e-9 {
@@ -208,7 +209,7 @@ fn brute_force_with_battery(
     let windows = mission.goal_windows();
     let finals: Vec<i64> = mission.final_goal_times().iter().map(|t| (t / 60.0).round() as i64).collect();
     type Key = (usize, u32, i64, u64);
-    let mut dist: HashMap<Key, f64> = HashMap::new();
+    let mut dist: FxHashMap<Key, f64> = FxHashMap::default();
     let mut heap = BinaryHeap::new();
     let mut memo = MoveMemo::new(world, model);
     for (m, battery) in start_minutes(model, &start) {

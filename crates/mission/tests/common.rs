@@ -6,7 +6,7 @@ use areo_mission::{Action, ActionConfig, ActionModel, Objective, PathLength, Wor
 use areo_rover::resources::ResourceModel;
 use areo_terrain::Dem;
 use hifitime::Epoch;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// The Sun fixed at an azimuth and elevation over a site.
 pub(crate) struct FixedSun {
@@ -114,12 +114,12 @@ pub(crate) fn moves(world: &World, model: &ActionModel, cell: u32, t: f64) -> Ve
 pub(crate) struct MoveMemo<'a> {
     world: &'a World,
     model: &'a ActionModel,
-    memo: HashMap<(u32, u64), Vec<Move>>,
+    memo: FxHashMap<(u32, u64), Vec<Move>>,
 }
 
 impl<'a> MoveMemo<'a> {
     pub(crate) fn new(world: &'a World, model: &'a ActionModel) -> MoveMemo<'a> {
-        MoveMemo { world, model, memo: HashMap::new() }
+        MoveMemo { world, model, memo: FxHashMap::default() }
     }
 
     /// The actions that succeed from `cell` at `t` s, as [`moves`] gives them.

@@ -8,7 +8,7 @@
 //! The front must equal the non-dominated set of these; the Time and EnergyUsed
 //! objectives their least duration and least energy used.
 
-use std::collections::HashSet;
+use rustc_hash::FxHashSet;
 
 use areo_mission::{ActionModel, Mission, Objective, Start, World, non_dominated};
 
@@ -32,12 +32,12 @@ fn every_plan(world: &World, model: &ActionModel, mission: &Mission<'_>, goal: u
             continue;
         }
         // ways[i][cell]: (used, need) of every way from (cell, first + i) to the goal at g.
-        let mut ways: Vec<Vec<HashSet<(i64, i64)>>> = vec![vec![HashSet::new(); world.cells()]; span];
+        let mut ways: Vec<Vec<FxHashSet<(i64, i64)>>> = vec![vec![FxHashSet::default(); world.cells()]; span];
         ways[span - 1][goal as usize].insert((0, key(0.0)));
         for i in (0..span - 1).rev() {
             let t = (first + i as i64) as f64 * 60.0;
             for cell in 0..world.cells() as u32 {
-                let mut here = HashSet::new();
+                let mut here = FxHashSet::default();
                 for &(_, to, e) in memo.at(cell, t) {
                     let j = i + (e.duration_s / 60.0).round() as usize;
                     if j >= span {

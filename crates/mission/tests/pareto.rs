@@ -16,8 +16,9 @@
 //! them — the tests count those cases, so that they test what they claim.
 
 use ordered_float::OrderedFloat;
+use rustc_hash::FxHashMap;
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::BinaryHeap;
 
 use areo_mission::{
     ActionConfig, ActionModel, Mission, Objective, PathLength, PlannerConfig, Resolution, Start, World,
@@ -69,7 +70,7 @@ fn least_cost_from(
     let capacity = model.capacity_wh();
     let finals: Vec<i64> = mission.final_goal_times().iter().map(|t| (t / 60.0).round() as i64).collect();
     type Key = (u32, i64, u64);
-    let mut dist: HashMap<Key, f64> = HashMap::new();
+    let mut dist: FxHashMap<Key, f64> = FxHashMap::default();
     let mut heap = BinaryHeap::new();
     let mut memo = MoveMemo::new(world, model);
     for (m, battery) in start_minutes(model, &start) {
@@ -612,7 +613,7 @@ fn heuristic_against_a_forward_search(t0: f64, daylight: bool) -> (usize, f64, f
     let domain = TempestDomain::new(&world, &model, start, Objective::Energy, resolution, PathLength::Distance);
     let (e_max, _) = model.gain_bounds(&world);
     let end = ((t0 + 24.0 * 3600.0) / 60.0) as i64;
-    let mut dist: HashMap<(u32, i64), f64> = HashMap::new();
+    let mut dist: FxHashMap<(u32, i64), f64> = FxHashMap::default();
     let mut heap = BinaryHeap::new();
     for m in (t0 / 60.0).ceil() as i64..=((t0 + 600.0) / 60.0).floor() as i64 {
         dist.insert((start.cell, m), 0.0);
