@@ -75,6 +75,70 @@ fn violations(meta: &serde_json::Value) -> Result<Vec<String>, String> {
     Ok(found)
 }
 
+/// Libraries that run only inside the compiler (what proc-macros and build scripts are
+/// built from) without being proc-macros themselves.
+const COMPILE_TIME_LIBRARIES: &[&str] = &["syn", "pyo3-macros-backend", "cc"];
+
+/// The compile-time-only crates that the root `Cargo.toml` does not compile at opt-level 0
+/// in the dev profile. `[profile.dev.package."*"]` (opt-level 2, for the numerics the
+/// tests run) outranks `build-override`, so each must be named: at opt-level 2 syn took
+/// ~50 s of the CI machine's two cores, three times (docs/ARCHITECTURE.md, "Testing").
+pub(crate) fn optimised_compile_time_crates(root: &Path) -> Result<Vec<String>, String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let out = Command::new(cargo)
+        .args(["metadata", "--format-version", "1", "--offline", "--filter-platform", "x86_64-unknown-linux-gnu"])
+        .current_dir(root)
+        .output()
+        .map_err(|e| format!("cargo metadata: {e}"))?;
+    if !out.status.success() {
+        return Err(format!("cargo metadata failed: {}", String::from_utf8_lossy(&out.stderr)));
+    }
+    let meta: serde_json::Value =
+        serde_json::from_slice(&out.stdout).map_err(|e| format!("cargo metadata output: {e}"))?;
+    let manifest = root.join("Cargo.toml");
+    let text = std::fs::read_to_string(&manifest).map_err(|e| format!("{}: {e}", manifest.display()))?;
+    Ok(missing_opt_level_0(&text, &compile_time_crates(&meta)))
+}
+
+/// The proc-macro packages of the resolved graph, and [`COMPILE_TIME_LIBRARIES`].
+fn compile_time_crates(meta: &serde_json::Value) -> Vec<String> {
+    let resolved: Vec<&str> =
+        meta["resolve"]["nodes"].as_array().into_iter().flatten().filter_map(|n| n["id"].as_str()).collect();
+    let mut names: Vec<String> = meta["packages"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter(|p| p["id"].as_str().is_some_and(|id| resolved.contains(&id)))
+        .filter(|p| {
+            p["targets"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .any(|t| t["kind"].as_array().into_iter().flatten().any(|k| k.as_str() == Some("proc-macro")))
+        })
+        .filter_map(|p| p["name"].as_str().map(str::to_string))
+        .chain(COMPILE_TIME_LIBRARIES.iter().map(|s| s.to_string()))
+        .collect();
+    names.sort();
+    names.dedup();
+    names
+}
+
+/// The names without a `[profile.dev.package.<name>]` table setting `opt-level = 0`.
+fn missing_opt_level_0(manifest: &str, names: &[String]) -> Vec<String> {
+    names
+        .iter()
+        .filter(|name| {
+            let header = format!("[profile.dev.package.{name}]");
+            let Some(at) = manifest.find(&header) else { return true };
+            let table = &manifest[at + header.len()..];
+            let table = &table[..table.find("\n[").unwrap_or(table.len())];
+            !table.lines().any(|l| l.split('#').next().unwrap_or("").replace(' ', "") == "opt-level=0")
+        })
+        .cloned()
+        .collect()
+}
+
 /// Every `.rs` file under `dirs` (those that exist), skipping directories named in
 /// `skip`, with its text: the one walk the source checks below share.
 fn rust_sources(dirs: &[PathBuf], skip: &[&str]) -> Result<Vec<(PathBuf, String)>, String> {
@@ -175,6 +239,40 @@ mod tests {
     fn workspace_dependencies_point_down() {
         let v = check(&crate::project_root()).unwrap();
         assert!(v.is_empty(), "{v:#?}");
+    }
+
+    #[test]
+    fn compile_time_crates_are_compiled_unoptimised() {
+        let missing = optimised_compile_time_crates(&crate::project_root()).unwrap();
+        assert!(missing.is_empty(), "name them in Cargo.toml with opt-level = 0: {missing:?}");
+        // The check sees a crate left out, or left at another level.
+        let names = vec!["serde_derive".to_string(), "syn".to_string()];
+        let manifest = "[profile.dev.package.\"*\"]\nopt-level = 2\n[profile.dev.package.syn]\nopt-level = 0\n";
+        assert_eq!(missing_opt_level_0(manifest, &names), vec!["serde_derive".to_string()]);
+        let manifest =
+            "[profile.dev.package.serde_derive]\nopt-level = 2\n[profile.dev.package.syn]\nopt-level = 0 # why\n";
+        assert_eq!(missing_opt_level_0(manifest, &names), vec!["serde_derive".to_string()]);
+        // The real graph has the proc-macros this was written for.
+        let meta: serde_json::Value = serde_json::from_slice(
+            &std::process::Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+                .args([
+                    "metadata",
+                    "--format-version",
+                    "1",
+                    "--offline",
+                    "--filter-platform",
+                    "x86_64-unknown-linux-gnu",
+                ])
+                .current_dir(crate::project_root())
+                .output()
+                .unwrap()
+                .stdout,
+        )
+        .unwrap();
+        let found = compile_time_crates(&meta);
+        for name in ["serde_derive", "thiserror-impl", "clap_derive", "syn"] {
+            assert!(found.iter().any(|f| f == name), "{name} not among {found:?}");
+        }
     }
 
     #[test]

@@ -39,6 +39,10 @@ fn main() -> ExitCode {
                 violations.extend(prints.into_iter().map(|at| format!("{at}: a library writes to stdout or stderr")));
                 let bodies = deps::body_constants_outside_areo_body(&project_root())?;
                 violations.extend(bodies.into_iter().map(|at| format!("{at}: a body constant outside areo-body")));
+                let unoptimised = deps::optimised_compile_time_crates(&project_root())?;
+                violations.extend(unoptimised.into_iter().map(|name| {
+                    format!("Cargo.toml: {name} runs only while compiling: give it opt-level = 0 in the dev profile")
+                }));
                 let long = deps::long_functions(&project_root(), 80)?;
                 violations
                     .extend(long.into_iter().map(|at| format!("{at}: a function over 80 lines in areo-scenario")));
