@@ -32,18 +32,22 @@ const CLI_STACK: &[&str] = &["clap", "indicatif", "tracing-subscriber"];
 
 /// Every dependency that breaks the map, as a sentence.
 pub(crate) fn check(root: &Path) -> Result<Vec<String>, String> {
+    violations(&metadata(root, &["--no-deps"])?)
+}
+
+/// `cargo metadata` of the workspace at `root`, offline, with `args` added.
+fn metadata(root: &Path, args: &[&str]) -> Result<serde_json::Value, String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = Command::new(cargo)
-        .args(["metadata", "--format-version", "1", "--no-deps", "--offline"])
+        .args(["metadata", "--format-version", "1", "--offline"])
+        .args(args)
         .current_dir(root)
         .output()
         .map_err(|e| format!("cargo metadata: {e}"))?;
     if !out.status.success() {
         return Err(format!("cargo metadata failed: {}", String::from_utf8_lossy(&out.stderr)));
     }
-    let meta: serde_json::Value =
-        serde_json::from_slice(&out.stdout).map_err(|e| format!("cargo metadata output: {e}"))?;
-    violations(&meta)
+    serde_json::from_slice(&out.stdout).map_err(|e| format!("cargo metadata output: {e}"))
 }
 
 fn violations(meta: &serde_json::Value) -> Result<Vec<String>, String> {
@@ -84,17 +88,7 @@ const COMPILE_TIME_LIBRARIES: &[&str] = &["syn", "pyo3-macros-backend", "cc"];
 /// tests run) outranks `build-override`, so each must be named: at opt-level 2 syn took
 /// ~50 s of the CI machine's two cores, three times (docs/ARCHITECTURE.md, "Testing").
 pub(crate) fn optimised_compile_time_crates(root: &Path) -> Result<Vec<String>, String> {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let out = Command::new(cargo)
-        .args(["metadata", "--format-version", "1", "--offline", "--filter-platform", "x86_64-unknown-linux-gnu"])
-        .current_dir(root)
-        .output()
-        .map_err(|e| format!("cargo metadata: {e}"))?;
-    if !out.status.success() {
-        return Err(format!("cargo metadata failed: {}", String::from_utf8_lossy(&out.stderr)));
-    }
-    let meta: serde_json::Value =
-        serde_json::from_slice(&out.stdout).map_err(|e| format!("cargo metadata output: {e}"))?;
+    let meta = metadata(root, &["--filter-platform", "x86_64-unknown-linux-gnu"])?;
     let manifest = root.join("Cargo.toml");
     let text = std::fs::read_to_string(&manifest).map_err(|e| format!("{}: {e}", manifest.display()))?;
     Ok(missing_opt_level_0(&text, &compile_time_crates(&meta)))
