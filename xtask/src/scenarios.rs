@@ -142,6 +142,7 @@ mod tests {
         ditch_and_hill => "ditch-and-hill",
         friction_sweep_20cm => "friction-sweep-20cm",
         friction_sweep => "friction-sweep",
+        gale_mola_traverse => "gale-mola-traverse",
         gale_sol_sun => "gale-sol-sun",
         lita_scale => "lita-scale",
         lunar_south_pole => "lunar-south-pole",

@@ -160,6 +160,11 @@ pub struct TempestDomain<'a> {
     /// start intervals of a segment begin at its first one), so pruning with it never
     /// loses a label that a later start needs.
     reachable_from: (u32, f64),
+    /// Whether the rover idles from the start window's opening to a start label's
+    /// time (a real start: it is ready when the window opens), or arrives at the label's
+    /// time (the start intervals of an intermediate goal: it reached the goal then, and
+    /// idles for nothing before it).
+    idles_before_start: bool,
     objective: Objective,
     resolution: Resolution,
     length: PathLength,
@@ -349,6 +354,7 @@ impl<'a> TempestDomain<'a> {
             model,
             start,
             reachable_from: (start.cell, start.t_min),
+            idles_before_start: true,
             objective,
             resolution,
             length,
@@ -461,6 +467,7 @@ impl<'a> TempestDomain<'a> {
     pub fn moved_to(&mut self, start: Start) {
         self.start = start;
         self.reachable_from = (start.cell, start.t_min);
+        self.idles_before_start = true;
     }
 
     /// The earliest time the rover can be at `cell`: the first start plus the fastest
@@ -541,6 +548,16 @@ impl<'a> TempestDomain<'a> {
     /// Bytes held by the landmark.
     pub(crate) fn landmark_bytes(&self) -> usize {
         self.landmark.borrow().bytes()
+    }
+
+    /// The domain of a segment that starts at an intermediate goal: its start labels
+    /// are arrivals there, at their own time, so the battery a way on needs is compared
+    /// with the battery whole — not less an idle from the interval's opening, which
+    /// would refuse a way on that needs a full battery unless it left exactly at the
+    /// opening. [`TempestDomain::moved_to`] (the rover is there) undoes it.
+    pub(crate) fn arriving(mut self) -> TempestDomain<'a> {
+        self.idles_before_start = false;
+        self
     }
 
     /// The domain, with its drive geometries kept in `cache` (the same world and action
@@ -789,8 +806,10 @@ impl Domain for TempestDomain<'_> {
         state == self.start.cell
             && label.t >= self.start.t_min - 1e-9
             && label.t <= self.start.t_max + 1e-9
-            // The rover idles from the window's opening to the plan's start.
-            && label.e + self.model.idle_wh(label.t - self.start.t_min) <= self.start.energy_wh + 1e-9
+            // At a real start the rover idles from the window's opening to the plan's
+            // start; at an intermediate goal it arrives at the label's time.
+            && label.e + if self.idles_before_start { self.model.idle_wh(label.t - self.start.t_min) } else { 0.0 }
+                <= self.start.energy_wh + 1e-9
     }
 
     fn start_state(&self) -> Option<u32> {

@@ -741,12 +741,13 @@ impl<'a> Mission<'a> {
             } else {
                 Vec::new()
             };
-            segments.push(self.new_segment(from, to, start, goals, intervals));
+            segments.push(self.new_segment(from, to, start, goals, intervals, k > 0));
         }
         self.segments = segments;
     }
 
-    /// A segment with a new, empty graph seeded with `goals` at `to`.
+    /// A segment with a new, empty graph seeded with `goals` at `to`; `arriving`: it
+    /// starts at an intermediate goal (see [`TempestDomain::arriving`]).
     fn new_segment(
         &self,
         from: u32,
@@ -754,6 +755,7 @@ impl<'a> Mission<'a> {
         start: Start,
         goals: Vec<(Label, f64)>,
         intervals: Vec<(f64, f64)>,
+        arriving: bool,
     ) -> Segment<'a> {
         let domain = TempestDomain::new(
             self.world,
@@ -766,6 +768,7 @@ impl<'a> Mission<'a> {
         .sharing_geometry(&self.geometry)
         .metered(self.config.meter.clone())
         .allowing(self.allowance.clone());
+        let domain = if arriving { domain.arriving() } else { domain };
         let search = Search::new(&domain, relabel_goals(goal_list(&goals, to)), domain.mode());
         Segment { from, to, domain, search, goals, intervals, candidates: Vec::new(), stats: Stats::default() }
     }
@@ -1138,7 +1141,7 @@ impl<'a> Mission<'a> {
                     Start { t_min, t_max, ..seg.domain.start }
                 };
                 let goals = if k + 1 == n { seg.goals.clone() } else { Vec::new() };
-                self.new_segment(seg.from, seg.to, start, goals, seg.intervals.clone())
+                self.new_segment(seg.from, seg.to, start, goals, seg.intervals.clone(), k > 0)
             })
             .collect();
         let mut fresh = Mission {
