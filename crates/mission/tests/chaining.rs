@@ -363,7 +363,7 @@ fn two_goals_with_a_binding_battery_shadows_and_sensing_equal_a_brute_force_sear
 /// The same check on real terrain: a 7 × 5 crop (463 m cells, 3.2 × 2.3 km) of the MOLA
 /// MEGDR of Gale crater (`crates/terrain/tests/data/gale_mola_crop_64.tif`, columns
 /// 36–42 and rows 33–37 of that crop) on the flank of Aeolis Mons, under the real Sun at
-/// the crop's own latitude and longitude. Its slopes (6–22°) block cells for a
+/// the crop's own latitude and longitude. Its slopes (a few cells over 20°) block cells for a
 /// Hyperion-class rover (20° at most) and make the drives' durations and energies
 /// uneven (half an hour to well over an hour a cell, up to about 95 Wh); the morning
 /// Sun leaves its western cells in the slope's shadow; a 200 Wh battery, 10 Wh at the
