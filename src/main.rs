@@ -1,6 +1,7 @@
 //! The `areo` command line: parse flags, call areo-scenario, print what it returns
 //! (`print`), map errors to exit codes (0 success, 1 failure while running, 2 bad
-//! input: flags, scenario files, times; 3 unreachable goals). It computes nothing.
+//! input: flags, scenario files, times; 3 unreachable goals; 4 searches stopped by the
+//! work or memory budget). It computes nothing.
 
 #![allow(clippy::print_stdout, clippy::print_stderr)]
 

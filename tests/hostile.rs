@@ -592,8 +592,9 @@ fn devon_island_from_an_empty_battery(name: &str, budget: &[&str]) -> Output {
 /// The work budget holds during the run, not only in the estimate before it: on
 /// devon-island with a battery too low to move (fuzz seed 7's finding: 4.8 M expansions
 /// against an estimate of 2.4 M, minutes of search) the searches stop
-/// where the budget ends, and the run says so — bad input's exit code, the file, the
-/// flag — instead of running on or calling the goal unreachable.
+/// where the budget ends, and the run says so — an exit code of its own (4, neither bad
+/// input's nor a verdict's), the file, the flag — instead of running on or calling the
+/// goal unreachable.
 #[test]
 fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
     let run = |max_work: &str| devon_island_from_an_empty_battery("work-spent", &["--max-work", max_work]);
@@ -607,7 +608,7 @@ fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
     assert!(err.contains("needs about 1.21e8 steps"), "refused by the estimate first: {err}");
     let out = run("1.2064e8");
     let err = stderr(&out);
-    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(out.status.code(), Some(4), "{err}");
     assert!(err.contains("devon-island.ron") && err.contains("--max-work"), "{err}");
     assert!(err.contains("stopped after the work of 2400000 label expansions"), "{err}");
     assert!(!err.contains("unreachable"), "stopping is not a proof that no plan exists: {err}");
@@ -615,13 +616,13 @@ fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
 
 /// The same flooding search under a memory budget its estimate fits in (10 000 cells,
 /// a few MB of worlds and graphs by the estimate): the graphs outgrow it within seconds,
-/// and the searches stop where the budget leaves the graphs no more room — bad input's
-/// exit code, the file, the flag — instead of growing until the machine kills the run.
+/// and the searches stop where the budget leaves the graphs no more room — exit code 4,
+/// the file, the flag — instead of growing until the machine kills the run.
 #[test]
 fn a_search_that_outgrows_its_memory_estimate_stops_at_the_memory_budget() {
     let out = devon_island_from_an_empty_battery("memory-spent", &["--max-memory-gb", "0.1"]);
     let err = stderr(&out);
-    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(out.status.code(), Some(4), "{err}");
     assert!(err.contains("devon-island.ron") && err.contains("--max-memory-gb"), "{err}");
     assert!(err.contains("stopped when their graphs held 0.1"), "{err}");
     assert!(!err.contains("unreachable"), "stopping is not a proof that no plan exists: {err}");

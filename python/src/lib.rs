@@ -37,6 +37,12 @@ create_exception!(
     "A scenario file's mistake: bad RON, a value out of range, an inconsistent field."
 );
 create_exception!(areo, Unreachable, AreoError, "The run ended without a plan that reaches every goal.");
+create_exception!(
+    areo,
+    BudgetSpent,
+    AreoError,
+    "The searches stopped at the work or memory budget before they had an answer: no plan, and no proof that none exists."
+);
 
 /// The exception for a library error, with `file`, `line`, `column` and `field` set
 /// (None where the error does not say).
@@ -56,7 +62,14 @@ fn to_py(py: Python<'_>, e: &Error) -> PyErr {
         _ => (None, None, None, None),
     };
     let scenario = matches!(e, Error::Syntax { .. } | Error::Invalid { .. } | Error::Scenario { .. });
-    let err = if scenario { ScenarioError::new_err(e.to_string()) } else { AreoError::new_err(e.to_string()) };
+    let spent = e.exit_code() == 4;
+    let err = if scenario {
+        ScenarioError::new_err(e.to_string())
+    } else if spent {
+        BudgetSpent::new_err(e.to_string())
+    } else {
+        AreoError::new_err(e.to_string())
+    };
     let value = err.value(py);
     // Setting an attribute on a fresh exception cannot fail.
     let _ = value.setattr("file", file.map(|p| p.display().to_string()));
@@ -589,6 +602,7 @@ fn areo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("AreoError", py.get_type::<AreoError>())?;
     m.add("ScenarioError", py.get_type::<ScenarioError>())?;
     m.add("Unreachable", py.get_type::<Unreachable>())?;
+    m.add("BudgetSpent", py.get_type::<BudgetSpent>())?;
     m.add_class::<PyDem>()?;
     m.add_class::<PyScenario>()?;
     m.add_class::<PyRunResult>()?;

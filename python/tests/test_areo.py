@@ -214,6 +214,7 @@ def test_a_run_keeps_to_its_work_budget(tmp_path):
     with pytest.raises(areo.AreoError) as e:
         sc.run(out=tmp_path, max_work=1.2064e8)
     assert not isinstance(e.value, areo.Unreachable)
+    assert isinstance(e.value, areo.BudgetSpent)
     assert e.value.file.endswith("devon-island.ron")
     assert "stopped after the work of 2400000 label expansions" in str(e.value)
     with pytest.raises(ValueError):

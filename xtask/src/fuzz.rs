@@ -1,7 +1,7 @@
 //! `cargo xtask fuzz [--cases N] [--seed S] [--timeout-s T]`: the long, seeded part of
 //! the robustness suite (the fast part is `crates/scenario/tests/robustness.rs` and
 //! `tests/hostile.rs`). Each case runs the release binary on a hostile input in a fresh
-//! directory and must end within the time bound with exit 0, 2 or 3 — never a panic
+//! directory and must end within the time bound with exit 0, 2, 3 or 4 — never a panic
 //! (101), an abort (134), a signal, exit 1 or a file written outside its `--out`.
 //!
 //! Cases, drawn by a ChaCha8 generator from the seed: a number of a shipped scenario
@@ -92,7 +92,7 @@ impl Outcome {
         } else {
             match self.code {
                 Some(2) if self.must_locate() && !self.located() => "exit 2 without a field or line:column".into(),
-                Some(0 | 2 | 3) => return None,
+                Some(0 | 2 | 3 | 4) => return None,
                 Some(c) => format!("exit {c}"),
                 None => "killed by a signal".into(),
             }

@@ -18,6 +18,7 @@
 use areo_rover::resources::{Load, ResourceModel};
 use serde::{Deserialize, Serialize};
 
+use crate::effect::{Drawn, Effect};
 use crate::world::{Sun, World};
 
 /// The azimuth of drive direction `k` (rows grow southward: a drive of (dc, dr) heads
@@ -213,20 +214,6 @@ impl LoadLevel {
             LoadLevel::High => Load::High,
         }
     }
-}
-
-/// What an action does: its duration and the battery energy it uses (negative when it
-/// charges), Wh.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Effect {
-    /// Duration, s.
-    pub duration_s: f64,
-    /// Battery energy used, Wh (negative: gained).
-    pub energy_wh: f64,
-    /// Energy the rover's loads drew, Wh (≥ 0, whatever the sources gave meanwhile):
-    /// the "energy used" objective's measure, rounded *up* to the energy quantum so
-    /// that a bound from the least load power never exceeds it.
-    pub load_wh: f64,
 }
 
 /// The shared arrival side of the drives into one cell at one time (see
@@ -553,9 +540,8 @@ impl ActionModel {
         let lit0 = self.rover.solar.is_some() && world.lit(from, &s0);
         let p0 = load - self.drive_source_lit_w(world, from, &s0, k, lit0, share);
         let p1 = load - self.drive_source_lit_w(world, arrival.to, s1, k, arrival.lit, share);
-        let e = self.drive_energy_wh(load, (p0, p1), duration, delay);
-        let load_wh = self.quantise_load(load * duration / 3600.0);
-        Some((from, Effect { duration_s: duration, energy_wh: self.quantise_energy(e), load_wh }))
+        let drawn = self.drive_energy_wh(load, (p0, p1), duration, delay);
+        Some((from, self.effect(&drawn, duration, load * duration / 3600.0)))
     }
 
     fn drive_perturbed(
@@ -592,17 +578,43 @@ impl ActionModel {
         let source = |w: f64| nuclear + p.solar_factor * (w - nuclear);
         let p0 = load - source(self.drive_source_lit_w(world, from, &s0, k, lit(from, &s0), share));
         let p1 = load - source(self.drive_source_lit_w(world, to, &s1, k, lit(to, &s1), share));
-        let e = self.drive_energy_wh(load, (p0, p1), duration, delay);
-        let load_wh = self.quantise_load(load * duration / 3600.0);
-        Ok((to, Effect { duration_s: duration, energy_wh: self.quantise_energy(e), load_wh }))
+        let drawn = self.drive_energy_wh(load, (p0, p1), duration, delay);
+        Ok((to, self.effect(&drawn, duration, load * duration / 3600.0)))
     }
 
     /// A drive's battery energy, Wh: `delay` s at its load with only a generator, then
     /// the move, half at each end's net load (`net_w`).
-    fn drive_energy_wh(&self, load_w: f64, net_w: (f64, f64), duration: f64, delay: f64) -> f64 {
+    fn drive_energy_wh(&self, load_w: f64, net_w: (f64, f64), duration: f64, delay: f64) -> Drawn {
         let moving = (duration - delay).max(0.0);
-        let waiting = if delay > 0.0 { self.battery_wh(load_w - self.rover.nuclear_w, delay) } else { 0.0 };
-        waiting + self.battery_wh(net_w.0, moving / 2.0) + self.battery_wh(net_w.1, moving / 2.0)
+        let mut drawn = Drawn::default();
+        if delay > 0.0 {
+            drawn.push(self.battery_wh(load_w - self.rover.nuclear_w, delay));
+        }
+        drawn.push(self.battery_wh(net_w.0, moving / 2.0));
+        drawn.push(self.battery_wh(net_w.1, moving / 2.0));
+        drawn
+    }
+
+    /// Pushes onto `drawn` a segment of `dt_s` over which the net bus load goes linearly
+    /// from `q_w` to `p_w` (W, positive drains): split where it crosses zero, so that
+    /// the drain and the gain each pass through their own efficiency and the battery's
+    /// extreme inside the segment is seen.
+    fn linear_segment(&self, drawn: &mut Drawn, q_w: f64, p_w: f64, dt_s: f64) {
+        if q_w * p_w < 0.0 {
+            let s = q_w / (q_w - p_w);
+            drawn.push(self.battery_wh(0.5 * q_w, s * dt_s));
+            drawn.push(self.battery_wh(0.5 * p_w, (1.0 - s) * dt_s));
+        } else {
+            drawn.push(self.battery_wh(0.5 * (q_w + p_w), dt_s));
+        }
+    }
+
+    /// The effect of the segments in `drawn` over `duration_s`, with `load_wh` drawn by
+    /// the loads, rounded to the quanta.
+    fn effect(&self, drawn: &Drawn, duration_s: f64, load_wh: f64) -> Effect {
+        let effect = drawn.effect(duration_s, self.quantise_load(load_wh));
+        let q = self.config.energy_quantum_wh;
+        if q > 0.0 { effect.quantised(q, |e| self.quantise_energy(e)) } else { effect }
     }
 
     /// Executes `action` from `cell` at `t0` as the rover would in the field, with
@@ -674,7 +686,7 @@ impl ActionModel {
             }
         }
         let n = ((duration / STATIONARY_SAMPLE_S).ceil() as usize).max(2);
-        let mut e = 0.0;
+        let mut energy = Drawn::default();
         let mut drawn = 0.0;
         let mut prev: Option<(f64, f64)> = None;
         for k in 0..=n {
@@ -694,12 +706,12 @@ impl ActionModel {
                 if self.in_session(t) { load_w.max(self.rover.electronics.power_w(Load::High) * draw) } else { load_w };
             let p = load_w - source;
             if let Some((q, l)) = prev {
-                e += self.battery_wh(0.5 * (p + q), duration / n as f64);
+                self.linear_segment(&mut energy, q, p, duration / n as f64);
                 drawn += 0.5 * (load_w + l) * duration / n as f64 / 3600.0;
             }
             prev = Some((p, load_w));
         }
-        Ok(Effect { duration_s: duration, energy_wh: self.quantise_energy(e), load_wh: self.quantise_load(drawn) })
+        Ok(self.effect(&energy, duration, drawn))
     }
 
     fn check(

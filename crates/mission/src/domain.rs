@@ -23,7 +23,8 @@ use std::rc::Rc;
 use areo_ise::{Domain, Step};
 use serde::{Deserialize, Serialize};
 
-use crate::action_model::{Action, ActionModel, DriveGeometry, Effect, NEIGHBOURS};
+use crate::action_model::{Action, ActionModel, DriveGeometry, NEIGHBOURS};
+use crate::effect::Effect;
 use crate::landmark::{Edges, Landmark};
 use crate::world::World;
 
@@ -585,7 +586,7 @@ impl<'a> TempestDomain<'a> {
     /// The cost of `action` when it used `energy_wh` over `duration_s`: Δe + E_max × its
     /// share of L (eqs. 3–5), or its duration.
     pub fn step_cost(&self, action: Action, effect: Effect) -> f64 {
-        let Effect { energy_wh, duration_s, load_wh } = effect;
+        let Effect { energy_wh, duration_s, load_wh, .. } = effect;
         match self.objective {
             Objective::Energy => {
                 let units = match action {
@@ -610,7 +611,10 @@ impl<'a> TempestDomain<'a> {
     /// The predecessor label reached backward through `action` with `effect`, and the
     /// step's cost.
     fn step(&self, from: u32, label: &Label, action: Action, effect: Effect) -> Step<Self> {
-        let e = (label.e + effect.energy_wh).max(0.0);
+        // The battery must stay above the floor inside the action too, and what the
+        // action draws after its fullest instant must fit below the capacity: a step
+        // that cannot carry `label.e` to its end needs more than the battery holds.
+        let e = if effect.fits(label.e, self.capacity) { effect.required_before(label.e) } else { f64::INFINITY };
         let t = label.t - effect.duration_s;
         let mut cost = self.step_cost(action, effect);
         if !matches!(action, Action::Drive(_)) {

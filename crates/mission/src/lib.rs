@@ -33,6 +33,7 @@
 
 mod action_model;
 mod domain;
+mod effect;
 mod error;
 mod landmark;
 mod plan;
@@ -46,10 +47,10 @@ pub mod uncertainty;
 
 pub use crate::{
     action_model::{
-        Action, ActionConfig, ActionModel, Binding, Constraints, DriveGeometry, Effect, LoadLevel, NEIGHBOURS,
-        Perturbation,
+        Action, ActionConfig, ActionModel, Binding, Constraints, DriveGeometry, LoadLevel, NEIGHBOURS, Perturbation,
     },
     domain::{Label, Objective, PathLength, Resolution, Start, TempestDomain},
+    effect::Effect,
     error::{Error, Result},
     plan::{MissionPlan, Waypoint},
     planner::{ExpansionMeter, FrontPlan, Mission, ParetoFront, PlannerConfig, non_dominated},

@@ -921,7 +921,7 @@ impl<'a> Mission<'a> {
                     cell: step.state,
                     binding: b.describe().to_string(),
                 })?;
-                battery = (battery - e.energy_wh).min(capacity);
+                battery = e.after(battery, capacity);
             }
         }
         let (e_max, _) = self.model.gain_bounds(self.world);

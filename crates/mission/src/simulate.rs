@@ -414,7 +414,10 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
             let rise = truth.elevation(to).unwrap_or(0.0) - truth.elevation(cell).unwrap_or(0.0);
             (a.0 - b.0).hypot(a.1 - b.1).hypot(rise)
         };
-        battery = (battery - effect.energy_wh).min(capacity);
+        // The battery is checked at every integration sample of the action, not only at
+        // its end: a stay that drains before the Sun rises can run out inside it.
+        let lowest = effect.lowest(battery, capacity);
+        battery = effect.after(battery, capacity);
         report.steps.push(ExecutedStep {
             t_s: t,
             cell,
@@ -430,7 +433,7 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         cell = to;
         t += effect.duration_s;
         on_step(SimProgress { step, t_s: t, goals_reached: report.goals_reached.len() });
-        if battery < 0.0 {
+        if battery < 0.0 || lowest < -1e-9 {
             report.status = SimStatus::BatteryDepleted;
             break;
         }

@@ -549,7 +549,9 @@ fn execute_once(
             Ok((to, effect)) => {
                 cell = to;
                 t += effect.duration_s;
-                battery = (battery - effect.energy_wh).min(capacity);
+                // Checked inside the action too (its integration samples).
+                out.lowest_battery_wh = out.lowest_battery_wh.min(effect.lowest(battery, capacity));
+                battery = effect.after(battery, capacity);
             }
             Err(binding) => {
                 out.failure = Some((step, Failure::Refused(binding)));
@@ -558,7 +560,7 @@ fn execute_once(
         }
         out.battery_wh.push((t, battery));
         out.lowest_battery_wh = out.lowest_battery_wh.min(battery);
-        if battery < 0.0 {
+        if out.lowest_battery_wh < -1e-9 {
             out.failure = Some((step, Failure::BatteryDepleted));
             return out;
         }

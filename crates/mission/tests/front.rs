@@ -44,8 +44,9 @@ fn every_plan(world: &World, model: &ActionModel, mission: &Mission<'_>, goal: u
                         continue;
                     }
                     for &(used, need) in &ways[j][to as usize] {
-                        let need = (need as f64 / 1e6 + e.energy_wh).max(0.0);
-                        if need <= capacity + 1e-9 {
+                        let after = need as f64 / 1e6;
+                        let need = e.required_before(after);
+                        if need <= capacity + 1e-9 && e.fits(after, capacity) {
                             here.insert((used + key(e.load_wh), key(need)));
                         }
                     }

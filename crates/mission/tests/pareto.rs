@@ -87,10 +87,11 @@ fn least_cost_from(
         }
         let t = m as f64 * 60.0;
         for &(a, to, e) in memo.at(cell, t) {
-            let after = (battery - e.energy_wh).min(capacity);
-            if after < -1e-9 {
+            // The battery above its floor at every integration sample of the action.
+            if e.lowest(battery, capacity) < -1e-9 {
                 continue;
             }
+            let after = e.after(battery, capacity);
             let key = (to, m + (e.duration_s / 60.0).round() as i64, after.to_bits());
             let nd = d + step_cost(world, Objective::Energy, e_max, a, t, e);
             if dist.get(&key).is_none_or(|&best| nd < best - 1e-12) {
@@ -134,8 +135,9 @@ fn least_energy(
                 let mut least = f64::INFINITY;
                 for &(_, to, e) in memo.at(cell, t) {
                     let j = i + (e.duration_s / 60.0).round() as usize;
-                    if j < span && need[j][to as usize].is_finite() {
-                        least = least.min((need[j][to as usize] + e.energy_wh).max(0.0));
+                    let after = need.get(j).map_or(f64::INFINITY, |row| row[to as usize]);
+                    if after.is_finite() && e.fits(after, capacity) {
+                        least = least.min(e.required_before(after));
                     }
                 }
                 if least <= capacity + 1e-9 {

@@ -473,7 +473,7 @@ fn a_backward_expansion_equals_its_actions_one_by_one_and_the_forward_drives() {
                 let (to, effect) = model.drive(&world, step.state, k, step.label.t).expect("feasible forward");
                 assert_eq!(to, cell);
                 assert!((step.label.t + effect.duration_s - t).abs() < 1e-6);
-                assert!((step.label.e - (40.0 + effect.energy_wh).max(0.0)).abs() < 1e-9);
+                assert!((step.label.e - effect.required_before(40.0)).abs() < 1e-9);
                 drives += 1;
             }
             t += 1700.0;

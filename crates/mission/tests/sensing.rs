@@ -217,7 +217,7 @@ fn a_rover_that_finds_a_wall_replans_with_no_more_work_than_a_fresh_plan() {
         t = t.max(plan.waypoints[0].t_s);
         let exact = areo_mission::Perturbation::NONE;
         let (to, effect) = model.execute(&truth, action, cell, t, exact).unwrap();
-        (cell, t, battery) = (to, t + effect.duration_s, (battery - effect.energy_wh).min(model.capacity_wh()));
+        (cell, t, battery) = (to, t + effect.duration_s, effect.after(battery, model.capacity_wh()));
         let changed = map.sense(&truth, &disc(&map, cell, 2)).unwrap();
         let here = Start { cell, t_min: t, t_max: t, energy_wh: battery };
         plan = mission.advance(here, &changed).unwrap();
@@ -281,7 +281,7 @@ fn walk_with_coarse_classes(energy_wh: Option<f64>) -> usize {
         t = t.max(plan.waypoints[0].t_s);
         let exact = areo_mission::Perturbation::NONE;
         let (to, effect) = model.execute(&truth, action, cell, t, exact).unwrap();
-        (cell, t, battery) = (to, t + effect.duration_s, (battery - effect.energy_wh).min(model.capacity_wh()));
+        (cell, t, battery) = (to, t + effect.duration_s, effect.after(battery, model.capacity_wh()));
         // As the simulation does: the first goal is reached when the rover stands on it.
         if next_goal == 0 && cell == goals[0] {
             next_goal = 1;

@@ -1,5 +1,6 @@
 //! areo-mission integration tests.
 
+mod battery_inside;
 mod bodies;
 mod chaining;
 mod common;

@@ -146,11 +146,16 @@ pub enum Error {
 
 impl Error {
     /// The process exit code for this error: 2 for bad input, 3 for an unreachable
-    /// goal, 1 otherwise. The only place exit codes are decided.
+    /// goal, 4 for searches stopped by the work or memory budget before they had an
+    /// answer (neither a plan nor a proof: raise the budget), 1 otherwise. The only
+    /// place exit codes are decided.
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Syntax { .. } | Error::Invalid { .. } | Error::Grid { .. } | Error::Ephemeris(_) => 2,
-            Error::Read { .. } | Error::Budget { .. } | Error::WorkSpent { .. } | Error::MemorySpent { .. } => 2,
+            // Refused before it starts: the job as written asks for more than allowed.
+            Error::Read { .. } | Error::Budget { .. } => 2,
+            Error::WorkSpent { .. } | Error::MemorySpent { .. } => 4,
+            Error::Mission(areo_mission::Error::WorkLimit { .. } | areo_mission::Error::MemoryLimit { .. }) => 4,
             // A referenced file that cannot be read or used is bad input, whatever the
             // cause; only an output that cannot be written is a failure while running.
             Error::Referenced { source, .. } => match source.exit_code() {
@@ -206,6 +211,12 @@ mod tests {
             Estimate { what: "the job".into(), memory_bytes: 3 << 30, work_steps: 10, work_unit: "cell-sector sweeps" };
         let memory = Budget { memory_bytes: 1 << 30, work_steps: 100 }.check(&estimate).unwrap_err();
         assert_eq!(memory.exit_code(), 2);
+        // Stopped while searching: its own code, neither bad input nor a verdict.
+        let spent = Error::WorkSpent { path: "job.ron".into(), expansions: 10 };
+        assert_eq!(spent.exit_code(), 4);
+        let held = Error::MemorySpent { path: "job.ron".into(), bytes: 2, limit: 1 };
+        assert_eq!(held.exit_code(), 4);
+        assert_eq!(Error::Mission(areo_mission::Error::WorkLimit { expansions: 3, limit: 2 }).exit_code(), 4);
         assert_eq!(
             memory.to_string(),
             "the job needs about 3.00 GiB of memory, more than the 1.00 GiB allowed (raise it with --max-memory-gb)"
