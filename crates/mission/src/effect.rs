@@ -44,13 +44,6 @@ pub struct Effect {
 const SLACK_WH: f64 = 1e-9;
 
 impl Effect {
-    /// An effect that only draws or only gains, evenly: `energy_wh` over `duration_s`.
-    pub fn uniform(duration_s: f64, energy_wh: f64, load_wh: f64) -> Effect {
-        let mut drawn = Drawn::default();
-        drawn.push(energy_wh);
-        drawn.effect(duration_s, load_wh)
-    }
-
     /// The least charge above the floor the battery needs at the action's start so that
     /// it never goes below the floor inside the action and ends with `after_wh`, Wh —
     /// the backward step of the search: max(E + Δe, peak).
