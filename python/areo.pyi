@@ -37,6 +37,8 @@ class BudgetSpent(AreoError):
     """The searches stopped at the work or memory budget (`max_work`, the memory
     limit) before they had an answer: no plan, and no proof that none exists — the CLI's
     exit code 4."""
+    result: RunResult
+    """What the run wrote before it stopped (`facts["status"]` is "stopped")."""
 
 def sun(time: Union[str, float], lat_deg: float, lon_east_deg: float, body: Body = "mars") -> dict[str, Any]:
     """The Sun over a site at one instant (ISO 8601 UTC text or Unix seconds):

@@ -612,6 +612,13 @@ fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
     assert!(err.contains("devon-island.ron") && err.contains("--max-work"), "{err}");
     assert!(err.contains("stopped after the work of 2400000 label expansions"), "{err}");
     assert!(!err.contains("unreachable"), "stopping is not a proof that no plan exists: {err}");
+    // The facts it has are written: stopped, by what, the work done.
+    let facts = root().join("target/hostile-tests/work-spent/devon-island/facts.json");
+    let facts = std::fs::read_to_string(&facts).unwrap_or_else(|e| panic!("{}: {e}", facts.display()));
+    assert!(facts.contains(r#""status": "stopped""#) && facts.contains(r#""stopped_by": "work""#), "{facts}");
+    // Some work was counted (its value is the searches' expansions, the comparisons aside).
+    let expansions = facts.split(r#""no_plan_expansions": "#).nth(1).and_then(|r| r.split([',', '\n']).next());
+    assert!(expansions.and_then(|n| n.trim().parse::<u64>().ok()).is_some_and(|n| n > 100_000), "{facts}");
 }
 
 /// The same flooding search under a memory budget its estimate fits in (10 000 cells,
@@ -626,4 +633,8 @@ fn a_search_that_outgrows_its_memory_estimate_stops_at_the_memory_budget() {
     assert!(err.contains("devon-island.ron") && err.contains("--max-memory-gb"), "{err}");
     assert!(err.contains("stopped when their graphs held 0.1"), "{err}");
     assert!(!err.contains("unreachable"), "stopping is not a proof that no plan exists: {err}");
+    let facts = root().join("target/hostile-tests/memory-spent/devon-island/facts.json");
+    let facts = std::fs::read_to_string(&facts).unwrap_or_else(|e| panic!("{}: {e}", facts.display()));
+    assert!(facts.contains(r#""status": "stopped""#) && facts.contains(r#""stopped_by": "memory""#), "{facts}");
+    assert!(facts.contains(r#""peak_memory_mb""#), "{facts}");
 }

@@ -370,7 +370,8 @@ impl PyScenario {
     /// raises `Unreachable` (its `.binding`, `.message` and `.result`). `max_work`
     /// (elementary steps) and `max_memory_gb` (GiB) are the CLI's `--max-work` and
     /// `--max-memory-gb`: a job estimated over them is refused before it starts, and
-    /// its searches stop where the work budget ends (AreoError).
+    /// its searches stop where the work budget ends (`BudgetSpent`, with `.result`: the
+    /// facts the run had).
     #[pyo3(signature = (out = None, max_work = None, max_memory_gb = None))]
     fn run(
         &self,
@@ -415,6 +416,16 @@ impl PyScenario {
             let v = err.value(py);
             v.setattr("binding", format!("{binding:?}"))?;
             v.setattr("message", message.clone())?;
+            v.setattr("result", Py::new(py, result.clone())?)?;
+            return Err(err);
+        }
+        if let Some(failure @ Failure::Stopped { .. }) = &result.failure {
+            let err = BudgetSpent::new_err(failure.to_string());
+            let v = err.value(py);
+            v.setattr("file", self.path.display().to_string())?;
+            for attr in ["field", "line", "column"] {
+                v.setattr(attr, py.None())?;
+            }
             v.setattr("result", Py::new(py, result.clone())?)?;
             return Err(err);
         }

@@ -215,6 +215,9 @@ def test_a_run_keeps_to_its_work_budget(tmp_path):
         sc.run(out=tmp_path, max_work=1.2064e8)
     assert not isinstance(e.value, areo.Unreachable)
     assert isinstance(e.value, areo.BudgetSpent)
+    assert e.value.result.facts["status"] == "stopped"
+    assert e.value.result.facts["stopped_by"] == "work"
+    assert e.value.result.facts["no_plan_expansions"] > 100000
     assert e.value.file.endswith("devon-island.ron")
     assert "stopped after the work of 2400000 label expansions" in str(e.value)
     with pytest.raises(ValueError):

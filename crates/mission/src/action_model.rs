@@ -127,6 +127,10 @@ pub enum Binding {
     Communicate,
     /// A scheduled Communicate session: the rover must stand where the Earth is in view.
     EarthHidden,
+    /// The goal windows: every goal must be reached within the fastest travel plus the
+    /// detour allowance plus `max_wait_s` of waiting (`PlannerConfig::max_wait_s`), and
+    /// a plan needs to wait longer.
+    GoalWindow,
     /// Battery, darkness, shadow, camera and session constraints together (those the
     /// rover and its actions have): no one of them relaxed alone makes a plan, all
     /// relaxed at once do. The error's message names the ones relaxed.
@@ -144,6 +148,10 @@ impl Binding {
             Binding::SunInCamera => "the Sun in the navigation cameras",
             Binding::Horizon => "the planning horizon (the goal cannot be reached within it)",
             Binding::Battery => "battery energy",
+            Binding::GoalWindow => {
+                "the goal windows (`max_wait_s`: the plan must wait longer than the windows allow; a plan is \
+                 found with them open to the planning horizon)"
+            }
             Binding::Communicate => "a scheduled Communicate session (the rover stands still)",
             Binding::EarthHidden => "a scheduled Communicate session (the Earth must be in view)",
             Binding::Together => {

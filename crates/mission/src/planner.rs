@@ -222,7 +222,7 @@ const METER_SLOTS: usize = 5 + PHASES.len();
 /// What the searches are for, as a watcher shows it: planning, or — when no plan was
 /// found — the relaxed searches that name the binding constraint
 /// ([`ExpansionMeter::phase`]).
-const PHASES: [&str; 7] = [
+const PHASES: [&str; 8] = [
     "planning",
     "no plan: every constraint relaxed",
     "no plan: battery relaxed",
@@ -230,6 +230,7 @@ const PHASES: [&str; 7] = [
     "no plan: shadow relaxed",
     "no plan: Sun in the cameras relaxed",
     "no plan: sessions relaxed",
+    "no plan: goal windows relaxed",
 ];
 
 /// The phase of the relaxed search for `binding` (`None`: all at once).
@@ -240,6 +241,7 @@ fn phase_of(binding: Option<Binding>) -> usize {
         Some(Binding::Darkness) => 3,
         Some(Binding::Shadow) => 4,
         Some(Binding::SunInCamera) => 5,
+        Some(Binding::GoalWindow) => 7,
         Some(_) => 6,
     }
 }
@@ -964,20 +966,43 @@ impl<'a> Mission<'a> {
             (r.daylight, r.direct_sun) = (false, false);
         }
         all.drive.sun_in_camera = false;
-        if !self.probe_plans(None, all, true, false) {
+        // Whether the goal windows close before the planning horizon: waiting longer
+        // than `max_wait_s` may then be what a plan needs.
+        let windows = self.windows();
+        let capped = windows.iter().any(|w| w.1 < self.world.span_s() - 1e-6);
+        if !self.probe_plans(None, all.clone(), true, false) {
             if let Err(e) = self.allowance.check() {
                 return e;
             }
-            let windows = self.windows();
             let proven = windows.last().is_some_and(|w| w.0 >= self.world.span_s());
             if proven {
                 let message = Binding::Horizon.describe().into();
                 return Error::Unreachable { binding: Binding::Horizon, message, proven };
             }
+            if capped {
+                let open = self.probe_window_open(all, true, false);
+                if let Err(e) = self.allowance.check() {
+                    return e;
+                }
+                if open {
+                    return self.unreachable(Binding::GoalWindow, &self.window_message());
+                }
+            }
             // Start and goals are connected (checked before any search) and nothing
             // relaxed made a plan: only time is left — the horizon, the goal instants,
             // the waits.
             return self.unreachable(Binding::Horizon, Binding::Horizon.describe());
+        }
+        // The goal windows first: a limit of the settings, the one a planner can lift
+        // without changing the rover or its rules.
+        if capped {
+            let open = self.probe_window_open(base.clone(), false, true);
+            if let Err(e) = self.allowance.check() {
+                return e;
+            }
+            if open {
+                return self.unreachable(Binding::GoalWindow, &self.window_message());
+            }
         }
         // (binding, action constraints, unlimited battery, keep the sessions), each
         // relaxing one constraint; shadow with darkness, as direct sun implies daylight.
@@ -1024,10 +1049,41 @@ impl<'a> Mission<'a> {
         self.unreachable(Binding::Together, &message)
     }
 
+    /// The message naming the goal windows as binding, with the settings that set them.
+    fn window_message(&self) -> String {
+        let max_wait_s = self.config.max_wait_s.unwrap_or_else(|| self.world.body().solar_day_s().round());
+        let close = self.windows().last().map_or(0.0, |w| w.1);
+        format!(
+            "the goal windows: the last goal must be reached by {close:.0} s (the fastest travel × `detour_factor` {} \
+             plus `max_wait_s` {max_wait_s:.0} s of waiting), and no plan arrives by then; with the windows open to \
+             the planning horizon ({:.0} s) a plan is found — raise `max_wait_s`",
+            self.config.detour_factor,
+            self.world.span_s()
+        )
+    }
+
+    /// [`Mission::probe_plans`] with the goal windows open to the planning horizon.
+    fn probe_window_open(&self, actions: ActionConfig, big_battery: bool, sessions: bool) -> bool {
+        let config = PlannerConfig { max_wait_s: Some(self.world.span_s()), ..self.config.clone() };
+        self.probe_with(Some(Binding::GoalWindow), actions, big_battery, sessions, config)
+    }
+
     /// Whether this mission finds a plan with `actions` for constraints, the battery
     /// unlimited if `big_battery`, the Communicate sessions kept if `sessions`: the
     /// probe of [`Mission::explain_unreachable`] relaxing `binding` (`None`: all).
     fn probe_plans(&self, binding: Option<Binding>, actions: ActionConfig, big_battery: bool, sessions: bool) -> bool {
+        self.probe_with(binding, actions, big_battery, sessions, self.config.clone())
+    }
+
+    /// [`Mission::probe_plans`] with the planner settings `config`.
+    fn probe_with(
+        &self,
+        binding: Option<Binding>,
+        actions: ActionConfig,
+        big_battery: bool,
+        sessions: bool,
+        config: PlannerConfig,
+    ) -> bool {
         self.config.meter.set_phase(phase_of(binding));
         let mut rover = self.model.rover().clone();
         let mut start = self.start;
@@ -1044,7 +1100,7 @@ impl<'a> Mission<'a> {
         let mut probe = Mission {
             world: self.world,
             model: &model,
-            config: self.config.clone(),
+            config,
             start,
             goals: self.goals.clone(),
             segments: Vec::new(),

@@ -167,7 +167,9 @@ fn constraints_that_bind_only_together_and_time_are_named_as_such() {
     match Mission::plan(&night, &small, watched, start, &[night.cell(77, 1)]) {
         Err(Error::Unreachable { binding, message, proven }) => {
             // All at once made a plan, then each one alone was searched, and a watcher
-            // was told which; sessions were never searched (there are none).
+            // was told which; sessions were never searched (there are none). The goal
+            // windows close before the 12 h horizon (`max_wait_s` of an hour), so
+            // opening them alone was searched too (first; listed in phase order).
             let phases = [
                 "planning",
                 "no plan: every constraint relaxed",
@@ -175,6 +177,7 @@ fn constraints_that_bind_only_together_and_time_are_named_as_such() {
                 "no plan: darkness relaxed",
                 "no plan: shadow relaxed",
                 "no plan: Sun in the cameras relaxed",
+                "no plan: goal windows relaxed",
             ];
             assert_eq!(meter.phases_seen(), phases);
             assert_eq!(meter.phase(), "planning");
@@ -751,4 +754,44 @@ fn a_planning_call_stops_at_its_expansion_limit_and_says_so() {
             other => panic!("limit {limit} of {m}: {other:?}"),
         }
     }
+}
+
+/// The first instant after `after` s at which the Sun goes down, to the minute.
+fn sunset_after(world: &World, after: f64) -> f64 {
+    let mut t = after;
+    while world.sun(t).elevation_deg <= 0.0 {
+        t += 60.0;
+    }
+    while world.sun(t).elevation_deg > 0.0 {
+        t += 60.0;
+    }
+    t
+}
+
+/// A drive that cannot end before dark, drives only in daylight and a battery that never
+/// binds: the plan must wait out the night, and with `max_wait_s` of an hour the goal
+/// window closes long before the morning. The verdict names the goal windows — the
+/// constraint that binds, since opening them alone makes a plan — not darkness, which
+/// is how the windows show up when relaxed one by one in the rover's rules.
+#[test]
+fn a_goal_window_that_closes_before_the_morning_is_named_and_relaxing_it_plans() {
+    let world = mars_world(flat(80, 3, 20.0), 36.0, None);
+    let big = model(1e5, ActionConfig::default());
+    let t0 = sunset_after(&world, 0.0) - 40.0 * 60.0;
+    let start = Start { cell: world.cell(2, 1), t_min: t0, t_max: t0, energy_wh: 5e4 };
+    let goal = world.cell(77, 1);
+    let hour = PlannerConfig { max_wait_s: Some(3600.0), ..PlannerConfig::default() };
+    match Mission::plan(&world, &big, hour.clone(), start, &[goal]) {
+        Err(Error::Unreachable { binding, message, .. }) => {
+            assert_eq!(binding, Binding::GoalWindow, "{message}");
+            assert!(message.contains("`max_wait_s` 3600 s") && message.contains("raise `max_wait_s`"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // Relaxed to the default (a sol of waiting), the same plan drives on in the morning.
+    let sol = PlannerConfig { max_wait_s: None, ..hour };
+    let (_, plan) = Mission::plan(&world, &big, sol, start, &[goal]).unwrap();
+    let last = plan.waypoints.last().unwrap();
+    assert_eq!(last.cell, goal);
+    assert!(last.t_s > sunset_after(&world, 0.0) + 6.0 * 3600.0, "arrives after the night: {} s", last.t_s);
 }

@@ -154,7 +154,7 @@ impl Error {
             Error::Syntax { .. } | Error::Invalid { .. } | Error::Grid { .. } | Error::Ephemeris(_) => 2,
             // Refused before it starts: the job as written asks for more than allowed.
             Error::Read { .. } | Error::Budget { .. } => 2,
-            Error::WorkSpent { .. } | Error::MemorySpent { .. } => 4,
+            Error::WorkSpent { .. } | Error::MemorySpent { .. } | Error::Failed(Failure::Stopped { .. }) => 4,
             Error::Mission(areo_mission::Error::WorkLimit { .. } | areo_mission::Error::MemoryLimit { .. }) => 4,
             // A referenced file that cannot be read or used is bad input, whatever the
             // cause; only an output that cannot be written is a failure while running.
@@ -217,6 +217,7 @@ mod tests {
         let held = Error::MemorySpent { path: "job.ron".into(), bytes: 2, limit: 1 };
         assert_eq!(held.exit_code(), 4);
         assert_eq!(Error::Mission(areo_mission::Error::WorkLimit { expansions: 3, limit: 2 }).exit_code(), 4);
+        assert_eq!(Error::Failed(Failure::Stopped { message: "stopped".into() }).exit_code(), 4);
         assert_eq!(
             memory.to_string(),
             "the job needs about 3.00 GiB of memory, more than the 1.00 GiB allowed (raise it with --max-memory-gb)"

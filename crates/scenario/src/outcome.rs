@@ -67,6 +67,13 @@ pub enum Failure {
         /// Of how many scenarios.
         scenarios: usize,
     },
+    /// The searches stopped at the work or memory budget before they had an answer:
+    /// no plan, and no proof that none exists (exit 4). The message names the scenario
+    /// and the flag that raises the budget.
+    Stopped {
+        /// What stopped them, as the planner says it.
+        message: String,
+    },
     /// Grid benchmarks whose length differs from the published optimum (exit 1).
     Mismatched {
         /// How many.
@@ -85,6 +92,7 @@ impl std::fmt::Display for Failure {
             Failure::Unreachable { message, after_actions: Some(n), .. } => {
                 write!(f, "goal unreachable after {n} actions: binding constraint: {message}")
             }
+            Failure::Stopped { message } => f.write_str(message),
             Failure::NoPath { unreachable, scenarios } => write!(
                 f,
                 "{unreachable} of {scenarios} scenarios: no path to the goal (the published length says there is one)"

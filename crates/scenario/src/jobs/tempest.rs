@@ -214,6 +214,9 @@ struct Prepared {
 enum Run {
     /// No plan reaches the goals from the start.
     Unreachable { binding: areo_mission::Binding, message: String, proven: bool, work: NoPlanWork },
+    /// The searches stopped at the work (`memory: false`) or memory budget before they
+    /// had an answer; `message` names the file and the flag.
+    Stopped { memory: bool, message: String, work: NoPlanWork },
     /// A plan, its wall time (s) and the search graphs' bytes after it.
     Plan { plan: MissionPlan, seconds: f64, search_bytes: u64 },
     /// A simulated run with its re-plans.
@@ -635,6 +638,12 @@ fn run_or_verdict(
         Err(MissionError::Unreachable { binding, message, proven }) => {
             Ok(Run::Unreachable { binding, message, proven, work: work() })
         }
+        // Stopped by a budget: the facts it has are written, and the run exits with
+        // the code of its own (4), not bad input's.
+        Err(e @ (MissionError::WorkLimit { .. } | MissionError::MemoryLimit { .. })) => {
+            let memory = matches!(e, MissionError::MemoryLimit { .. });
+            Ok(Run::Stopped { memory, message: located(file, e).to_string(), work: work() })
+        }
         Err(e) => Err(located(file, e)),
     }
 }
@@ -691,7 +700,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
     let initial = match &run {
         Run::Plan { plan, .. } => Some(plan),
         Run::Simulated(r) => Some(&r.plans[0].plan),
-        Run::Unreachable { .. } => None,
+        Run::Unreachable { .. } | Run::Stopped { .. } => None,
     };
     let chance = match initial {
         Some(plan) => {
@@ -710,11 +719,12 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
         None => None,
     };
     // Off Mars: where the rover can wait out a shadow or a loss of the Earth.
-    let havens =
-        (job.body.model() != areo_ephemeris::Body::Mars && !matches!(run, Run::Unreachable { .. })).then(|| {
-            let every = job.communicate.as_ref().filter(|_| model.needs_earth()).and_then(|c| c.every_h);
-            contact::havens(world, model, world.span_s(), HAVEN_STEP_S, every)
-        });
+    let havens = (job.body.model() != areo_ephemeris::Body::Mars
+        && !matches!(run, Run::Unreachable { .. } | Run::Stopped { .. }))
+    .then(|| {
+        let every = job.communicate.as_ref().filter(|_| model.needs_earth()).and_then(|c| c.every_h);
+        contact::havens(world, model, world.span_s(), HAVEN_STEP_S, every)
+    });
     Ok(TempestReport { prepared, run, chance, front, havens, peak_memory_mb: peak_memory_mb() })
 }
 
@@ -763,13 +773,23 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
         }
         return o;
     }
+    if let Run::Stopped { memory, message, work } = &report.run {
+        o.failure = Some(Failure::Stopped { message: message.clone() });
+        o.text("status", "stopped");
+        o.text("stopped_by", if *memory { "memory" } else { "work" });
+        o.number("goals_reached", 0.0);
+        o.number("precalc_s", precalc_s);
+        o.summary.push(format!("no answer: {message}"));
+        no_plan_facts(&mut o, work, report.peak_memory_mb);
+        return o;
+    }
     o.number("precalc_s", precalc_s);
     if let Some(mb) = report.peak_memory_mb {
         o.number("peak_memory_mb", mb);
     }
     o.count("cells", world.cells() as u64);
     match &report.run {
-        Run::Unreachable { .. } => {}
+        Run::Unreachable { .. } | Run::Stopped { .. } => {}
         Run::Plan { plan, seconds, search_bytes } => {
             o.number("initial_plan_s", *seconds);
             // The segments' graphs as the plan leaves them (the most they held).
@@ -1243,7 +1263,7 @@ fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf
     let mut files = Vec::new();
     let (initial, report) = match run {
         // Nothing planned: facts.json (written by the caller) says why.
-        Run::Unreachable { .. } => return Ok(Vec::new()),
+        Run::Unreachable { .. } | Run::Stopped { .. } => return Ok(Vec::new()),
         Run::Plan { plan, .. } => (plan, None),
         Run::Simulated(r) => (&r.plans[0].plan, Some(r)),
     };
