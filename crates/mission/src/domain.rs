@@ -3,9 +3,12 @@
 //! reach the goal (Wh above the battery's floor).
 //!
 //! Searching backward, an action that used Δe forward gives its predecessor
-//! E' = max(E + Δe, 0): gains can bring E to zero, which means "reachable even from an
-//! empty battery", never below; a path needing more than the usable capacity is
-//! abandoned (the global constraint). The objective is the paper's composite L + B
+//! E' = max(E + Δe, peak) ([`Effect::required_before`], with `peak` ≥ 0 the most the
+//! action draws from its start to any instant within): gains can bring E to zero,
+//! which means "reachable even from an empty battery", never below; an action whose
+//! drain after its fullest instant would not fit below the capacity is refused
+//! ([`Effect::fits`]), and a path needing more than the usable capacity is abandoned
+//! (the global constraint). The objective is the paper's composite L + B
 //! (eqs. 3–5): every step costs Δe + E_max ≥ 0, with E_max a bound on the largest
 //! single-step gain, so cost grows monotonically and BESTPCOST applies; or, for the
 //! Arctic configuration, path duration under a maximum with "less required energy is
@@ -762,7 +765,7 @@ impl Domain for TempestDomain<'_> {
     fn dominates(&self, _state: u32, a: &Label, cost_a: f64, b: &Label, cost_b: f64) -> bool {
         // Called within a time class only. Completions toward the start depend on the
         // label's time (exactly when a class holds one instant) and on E only through
-        // E' = max(E + Δe, 0), the capacity and the start's battery, all monotone in E;
+        // E' = max(E + Δe, peak), the capacity check and the start's battery, all monotone in E;
         // step costs do not depend on E. Equal in both, the later label stands (a
         // rover can reach a cell later more easily than earlier), so which one is kept
         // does not depend on the order they came in.
@@ -771,7 +774,7 @@ impl Domain for TempestDomain<'_> {
 
     fn stands_in_for(&self, _state: u32, better: &Label, beaten: &Label) -> bool {
         // At the same instant every step has the same time, effect and cost from both,
-        // and E' = max(E + Δe, 0) keeps the order of E: each step from `better`
+        // and E' = max(E + Δe, peak) keeps the order of E: each step from `better`
         // dominates the matching step from `beaten`. At another instant of the same
         // class the steps differ, so the beaten subtree must go.
         better.t.to_bits() == beaten.t.to_bits()
