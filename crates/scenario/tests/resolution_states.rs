@@ -80,17 +80,17 @@ fn valley_step77_keeps_its_plan_at_finer_classes_down_to_a_tight_battery() {
     let low = plan(&path, &["job.start_battery_above_floor_wh=40"]);
     assert!(matches!(low.failure, Some(areo_scenario::outcome::Failure::Unreachable { .. })), "{:?}", low.failure);
     assert_eq!(low.facts.get("unreachable_proven"), Some(&areo_scenario::outcome::Fact::Flag(false)));
-    // What the verdict cost, split between the plan's settings and the three probes that
-    // named the battery (all constraints relaxed first; then the goal windows opened
-    // alone, as they close before the horizon, which finds nothing; then the battery
-    // alone, which makes a plan, so no other probe runs).
+    // What the verdict cost, split between the plan's settings and the two probes that
+    // named the battery (all constraints relaxed first, then the battery alone, which
+    // makes a plan, so no other probe runs — the goal windows, which close before the
+    // horizon, are named as a possibility, not searched).
     let total = number(&low, "no_plan_expansions");
     let planning = number(&low, "no_plan_planning_expansions");
-    assert_eq!(number(&low, "no_plan_probes"), 3.0);
+    assert_eq!(number(&low, "no_plan_probes"), 2.0);
     assert!(planning > 0.0 && planning < total, "{planning} of {total}");
     assert!(number(&low, "no_plan_s") > 0.0);
     let line = low.summary.iter().find(|l| l.starts_with("no plan after ")).expect("the work line");
-    let probes: Vec<f64> = ["with every constraint relaxed", "with goal windows relaxed", "with battery relaxed"]
+    let probes: Vec<f64> = ["with every constraint relaxed", "with battery relaxed"]
         .iter()
         .map(|p| {
             let before = &line[..line.find(p).unwrap_or_else(|| panic!("{p}: {line}"))];
