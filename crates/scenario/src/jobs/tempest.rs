@@ -756,31 +756,7 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
     if ctx.job.horizon_sectors > 0 {
         o.number("horizon_bytes_per_angle", if world.horizon_is_narrow() { 1.0 } else { 2.0 });
     }
-    if let Run::Unreachable { binding, message, proven, work } = &report.run {
-        o.failure = Some(Failure::Unreachable { binding: *binding, message: message.clone(), after_actions: None });
-        o.text("status", "unreachable");
-        o.text("binding", message.clone());
-        o.flag("unreachable_proven", *proven);
-        o.number("goals_reached", 0.0);
-        o.number("precalc_s", precalc_s);
-        o.summary.push(format!("no plan: the goals are unreachable ({message})"));
-        no_plan_facts(&mut o, work, report.peak_memory_mb);
-        if let Some(u) = chance::uncertainty(ctx.job).filter(|u| u.margins() != areo_mission::Perturbation::NONE) {
-            o.summary.push(format!(
-                "(planned at confidence {}: every action made worse by its margins; a deterministic plan may still exist)",
-                u.confidence
-            ));
-        }
-        return o;
-    }
-    if let Run::Stopped { memory, message, work } = &report.run {
-        o.failure = Some(Failure::Stopped { message: message.clone() });
-        o.text("status", "stopped");
-        o.text("stopped_by", if *memory { "memory" } else { "work" });
-        o.number("goals_reached", 0.0);
-        o.number("precalc_s", precalc_s);
-        o.summary.push(format!("no answer: {message}"));
-        no_plan_facts(&mut o, work, report.peak_memory_mb);
+    if no_plan_outcome(&mut o, ctx, report) {
         return o;
     }
     o.number("precalc_s", precalc_s);
@@ -831,6 +807,42 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
         }
     }
     o
+}
+
+/// The facts and summary of a run without a plan — unreachable, or stopped by a
+/// budget — into `o`; false when the run has a plan.
+fn no_plan_outcome(o: &mut Outcome, ctx: &Context<'_>, report: &TempestReport) -> bool {
+    let precalc_s = ctx.precalc_s;
+    match &report.run {
+        Run::Unreachable { binding, message, proven, work } => {
+            o.failure = Some(Failure::Unreachable { binding: *binding, message: message.clone(), after_actions: None });
+            o.text("status", "unreachable");
+            o.text("binding", message.clone());
+            o.flag("unreachable_proven", *proven);
+            o.number("goals_reached", 0.0);
+            o.number("precalc_s", precalc_s);
+            o.summary.push(format!("no plan: the goals are unreachable ({message})"));
+            no_plan_facts(o, work, report.peak_memory_mb);
+            if let Some(u) = chance::uncertainty(ctx.job).filter(|u| u.margins() != areo_mission::Perturbation::NONE) {
+                o.summary.push(format!(
+                    "(planned at confidence {}: every action made worse by its margins; a deterministic plan may still exist)",
+                    u.confidence
+                ));
+            }
+            true
+        }
+        Run::Stopped { memory, message, work } => {
+            o.failure = Some(Failure::Stopped { message: message.clone() });
+            o.text("status", "stopped");
+            o.text("stopped_by", if *memory { "memory" } else { "work" });
+            o.number("goals_reached", 0.0);
+            o.number("precalc_s", precalc_s);
+            o.summary.push(format!("no answer: {message}"));
+            no_plan_facts(o, work, report.peak_memory_mb);
+            true
+        }
+        Run::Plan { .. } | Run::Simulated(_) => false,
+    }
 }
 
 /// What the "no plan" verdict cost, as facts and a summary line.
