@@ -598,14 +598,23 @@ fn devon_island_from_an_empty_battery(name: &str, budget: &[&str]) -> Output {
 #[test]
 fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
     let run = |max_work: &str| devon_island_from_an_empty_battery("work-spent", &["--max-work", max_work]);
-    // The estimate is 10 000 cells × 64 sectors of sweeps plus 2.4 M label expansions
-    // (4 legs, each leg's detour ellipse covering the 10 000-cell map, × 60 time
-    // classes) at 50 steps each: a smaller budget refuses the job before it starts; one
-    // that admits it leaves the searches what the sweeps do not use, 50 steps an
-    // expansion.
+    // What is certain before the run is refused before it starts: the 10 000 cells × 64
+    // sectors of horizon sweeps. The searches are not guessed at (a guess of 2.4 M
+    // expansions refused budgets this one spends to the end); they get what the
+    // sweeps leave, 50 steps an expansion, and stop there.
     let sweeps = 10_000 * 64;
-    let err = stderr(&run(&(sweeps + 50 * 2_000_000).to_string()));
-    assert!(err.contains("needs about 1.21e8 steps"), "refused by the estimate first: {err}");
+    let out = run(&(sweeps - 1).to_string());
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("needs about 6.40e5 steps"), "refused for its sweeps: {err}");
+    let out = run(&(sweeps + 50 * 100_000).to_string());
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(4), "{err}");
+    // The work counts whole expansions and the comparisons of long Pareto fronts, a
+    // hundred to one: the last expansion may carry it one past the limit.
+    let work = err.split("stopped after the work of ").nth(1).and_then(|r| r.split(' ').next());
+    let work = work.and_then(|n| n.parse::<u64>().ok()).unwrap_or_else(|| panic!("{err}"));
+    assert!((100_000..=100_001).contains(&work), "{err}");
     let out = run("1.2064e8");
     let err = stderr(&out);
     assert_eq!(out.status.code(), Some(4), "{err}");

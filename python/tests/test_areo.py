@@ -208,8 +208,8 @@ def test_an_unreachable_goal_raises_unreachable_with_its_binding(tmp_path):
 def test_a_run_keeps_to_its_work_budget(tmp_path):
     devon = ROOT / "scenarios" / "devon-island.ron"
     sc = areo.Scenario.load(devon).set("job.start_battery_above_floor_wh", 0.001)
-    # Admitted (estimate 1.2064e8 steps), then stopped where the budget ends: the
-    # budget less the 640 000 horizon sweeps, 50 steps an expansion, as
+    # Admitted (its certain work is the 640 000 horizon sweeps), then stopped where
+    # the budget ends: the budget less the sweeps, 50 steps an expansion, as
     # `areo run --max-work 1.2064e8` does.
     with pytest.raises(areo.AreoError) as e:
         sc.run(out=tmp_path, max_work=1.2064e8)

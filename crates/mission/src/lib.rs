@@ -55,7 +55,8 @@ pub use crate::{
     plan::{MissionPlan, Waypoint},
     planner::{ExpansionMeter, FrontPlan, Mission, ParetoFront, PlannerConfig, non_dominated},
     simulate::{
-        ExecutedStep, Noise, PlanKind, PlanRecord, SimConfig, SimProgress, SimReport, SimStatus, Simulation, simulate,
+        ExecutedStep, Noise, PlanKind, PlanRecord, Restart, SimConfig, SimProgress, SimReport, SimStatus, Simulation,
+        simulate,
     },
     world::{EarthSky, Sun, World, WorldConfig, curvature_of},
 };

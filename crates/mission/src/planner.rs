@@ -482,17 +482,6 @@ fn own_path(p: Vec<PathStep<TempestDomain<'_>>>) -> Vec<PathStep<TempestDomain<'
 }
 
 impl<'a> Mission<'a> {
-    /// Search-graph bytes per map cell (nodes, state and group tables, open list),
-    /// measured on valley-detour and lita-scale: the share of a mission's searches per
-    /// cell of the map, an upper bound on the shipped scenarios.
-    pub const SEARCH_BYTES_PER_CELL: u64 = 132;
-
-    /// The search graphs' bytes a mission on `cells` cells may hold, for memory
-    /// estimates made before it plans ([`Mission::SEARCH_BYTES_PER_CELL`] a cell).
-    pub fn estimate_search_bytes(cells: u64) -> u64 {
-        cells.saturating_mul(Mission::SEARCH_BYTES_PER_CELL)
-    }
-
     /// Plans from `start` through `goals` (cells, in order).
     pub fn plan(
         world: &'a World,
@@ -707,6 +696,46 @@ impl<'a> Mission<'a> {
             w.1 = (w.1 + max_wait_s).min(self.world.span_s());
         }
         out
+    }
+
+    /// The problem the kept graphs answer, segment by segment: (from, to, start, goal
+    /// labels, start intervals, arriving) — the goal instants and start intervals as
+    /// they were made, which after plan extension are not what [`Mission::windows`]
+    /// would make from the rover's new start.
+    #[allow(clippy::type_complexity)]
+    fn kept_problem(&self) -> Vec<(u32, u32, Start, Vec<(Label, f64)>, Vec<(f64, f64)>, bool)> {
+        let n = self.segments.len();
+        (self.segments.iter().enumerate())
+            .map(|(k, seg)| {
+                let start = if k == 0 {
+                    self.start
+                } else {
+                    let (t_min, t_max) = seg.intervals[0];
+                    Start { t_min, t_max, ..seg.domain.start }
+                };
+                let goals = if k + 1 == n { seg.goals.clone() } else { Vec::new() };
+                (seg.from, seg.to, start, goals, seg.intervals.clone(), k > 0)
+            })
+            .collect()
+    }
+
+    /// The arrival windows at each goal of the kept problem: the next segment's start
+    /// intervals, and the span of the last segment's goal instants ([`Mission::windows`]
+    /// before any segment is built).
+    fn kept_windows(&self) -> Vec<(f64, f64)> {
+        if self.segments.is_empty() {
+            return self.windows();
+        }
+        let n = self.segments.len();
+        (0..n)
+            .map(|k| match self.segments.get(k + 1) {
+                Some(next) => (next.intervals[0].0, next.intervals.last().map_or(0.0, |i| i.1)),
+                None => {
+                    let t = self.segments[k].goals.iter().map(|g| g.0.t);
+                    (t.clone().fold(f64::INFINITY, f64::min), t.fold(f64::NEG_INFINITY, f64::max))
+                }
+            })
+            .collect()
     }
 
     fn build_segments(&mut self) {
@@ -968,7 +997,7 @@ impl<'a> Mission<'a> {
         all.drive.sun_in_camera = false;
         // Whether the goal windows close before the planning horizon: waiting longer
         // than `max_wait_s` may then be what a plan needs.
-        let windows = self.windows();
+        let windows = self.kept_windows();
         let capped = windows.iter().any(|w| w.1 < self.world.span_s() - 1e-6);
         if !self.probe_plans(None, all.clone(), true, false) {
             if let Err(e) = self.allowance.check() {
@@ -1073,7 +1102,7 @@ impl<'a> Mission<'a> {
     /// Where the last goal window closes and the settings that put it there.
     fn window_limits(&self) -> String {
         let max_wait_s = self.config.max_wait_s.unwrap_or_else(|| self.world.body().solar_day_s().round());
-        let close = self.windows().last().map_or(0.0, |w| w.1);
+        let close = self.kept_windows().last().map_or(0.0, |w| w.1);
         format!(
             "the last goal by {close:.0} s: the slowest travel × `detour_factor` {} plus `max_wait_s` {max_wait_s:.0} s",
             self.config.detour_factor
@@ -1083,24 +1112,28 @@ impl<'a> Mission<'a> {
     /// [`Mission::probe_plans`] with the goal windows open to the planning horizon.
     fn probe_window_open(&self, actions: ActionConfig, big_battery: bool, sessions: bool) -> bool {
         let config = PlannerConfig { max_wait_s: Some(self.world.span_s()), ..self.config.clone() };
-        self.probe_with(Some(Binding::GoalWindow), actions, big_battery, sessions, config)
+        self.probe_with(Some(Binding::GoalWindow), actions, big_battery, sessions, Some(config))
     }
 
     /// Whether this mission finds a plan with `actions` for constraints, the battery
     /// unlimited if `big_battery`, the Communicate sessions kept if `sessions`: the
     /// probe of [`Mission::explain_unreachable`] relaxing `binding` (`None`: all).
     fn probe_plans(&self, binding: Option<Binding>, actions: ActionConfig, big_battery: bool, sessions: bool) -> bool {
-        self.probe_with(binding, actions, big_battery, sessions, self.config.clone())
+        self.probe_with(binding, actions, big_battery, sessions, None)
     }
 
-    /// [`Mission::probe_plans`] with the planner settings `config`.
+    /// [`Mission::probe_plans`]: on the kept problem (its goal instants and start
+    /// intervals, [`Mission::kept_problem`]) — a re-plan's probe must relax one
+    /// constraint of the problem the re-plan searched, not search goal windows made anew
+    /// from the rover's new start — or, with `windows`, on the goal windows those planner
+    /// settings make.
     fn probe_with(
         &self,
         binding: Option<Binding>,
         actions: ActionConfig,
         big_battery: bool,
         sessions: bool,
-        config: PlannerConfig,
+        windows: Option<PlannerConfig>,
     ) -> bool {
         self.config.meter.set_phase(phase_of(binding));
         let mut rover = self.model.rover().clone();
@@ -1115,10 +1148,11 @@ impl<'a> Mission<'a> {
         }
         // The same settings as the plan: a coarser probe could lose the very plan the
         // relaxation makes possible, and name the wrong constraint.
+        let rebuild = windows.is_some();
         let mut probe = Mission {
             world: self.world,
             model: &model,
-            config,
+            config: windows.unwrap_or_else(|| self.config.clone()),
             start,
             goals: self.goals.clone(),
             segments: Vec::new(),
@@ -1129,7 +1163,17 @@ impl<'a> Mission<'a> {
             widened_for_s: self.widened_for_s,
             allowance: self.allowance.clone(),
         };
-        probe.build_segments();
+        if rebuild || self.segments.is_empty() {
+            probe.build_segments();
+        } else {
+            for (from, to, mut seg_start, goals, intervals, arriving) in self.kept_problem() {
+                if big_battery {
+                    seg_start.energy_wh = if arriving { model.capacity_wh() } else { start.energy_wh };
+                }
+                let seg = probe.new_segment(from, to, seg_start, goals, intervals, arriving);
+                probe.segments.push(seg);
+            }
+        }
         self.allowance.beside(self.search_bytes(), || probe.solve_from(Some(probe.segments.len() - 1), &[], false));
         !probe.segments[0].candidates.is_empty()
     }
@@ -1203,21 +1247,10 @@ impl<'a> Mission<'a> {
     pub fn fresh(&self) -> Result<Option<MissionPlan>> {
         self.allowance.begin();
         let n = self.segments.len();
-        let segments = self
-            .segments
-            .iter()
-            .enumerate()
-            .map(|(k, seg)| {
-                let start = if k == 0 {
-                    self.start
-                } else {
-                    let (t_min, t_max) = seg.intervals[0];
-                    Start { t_min, t_max, ..seg.domain.start }
-                };
-                let goals = if k + 1 == n { seg.goals.clone() } else { Vec::new() };
-                self.new_segment(seg.from, seg.to, start, goals, seg.intervals.clone(), k > 0)
-            })
-            .collect();
+        let mut segments = Vec::with_capacity(n);
+        for (from, to, start, goals, intervals, arriving) in self.kept_problem() {
+            segments.push(self.new_segment(from, to, start, goals, intervals, arriving));
+        }
         let mut fresh = Mission {
             world: self.world,
             model: self.model,
@@ -1259,6 +1292,13 @@ impl<'a> Mission<'a> {
     /// energy), reusing the first segment's graph.
     pub fn extend(&mut self, start: Start) -> Result<MissionPlan> {
         self.advance(start, &[])
+    }
+
+    /// The work the last planning call did over all its searches (the binding
+    /// constraint's probes included), in expansions: what
+    /// [`PlannerConfig::max_expansions`] holds it to ([`ExpansionMeter::work`]).
+    pub fn last_call_work(&self) -> u64 {
+        self.allowance.0.spent.get()
     }
 
     /// Search statistics of the last call, per segment.

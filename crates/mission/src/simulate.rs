@@ -151,8 +151,30 @@ pub struct PlanRecord {
     /// With [`SimConfig::compare_fresh`]: the same problem planned from scratch — its
     /// expansions and cost (`None` when not compared, or no fresh plan exists).
     pub fresh: Option<(u64, f64)>,
+    /// For a [`PlanKind::Restart`]: the re-plan that found nothing and why.
+    pub restart: Option<Restart>,
     /// The plan.
     pub plan: MissionPlan,
+}
+
+/// A re-plan on the kept graphs that found nothing, replaced by a plan made afresh
+/// from the rover's state (new goal windows and instants from where it now is).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Restart {
+    /// The constraint the failed re-plan named as binding.
+    pub binding: Binding,
+    /// Its message.
+    pub reason: String,
+    /// The work the failed re-plan did (its binding probes included), expansions
+    /// ([`Mission::last_call_work`]); the plan made afresh counts its own in
+    /// [`PlanRecord::expansions`].
+    pub replan_work: u64,
+    /// With [`SimConfig::compare_fresh`]: whether a search from scratch of the problem
+    /// the re-plan answered (the kept goal instants and start intervals) found a plan.
+    /// `Some(true)` is a re-plan that disagrees with a fresh search: the kept graphs
+    /// lost a plan. `Some(false)`: both find nothing there; the restart's plan comes
+    /// from the goal instants of a new mission.
+    pub fresh_found: Option<bool>,
 }
 
 /// One executed action.
@@ -347,6 +369,7 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         search_bytes: mission.search_bytes(),
         route_changed: true,
         fresh: None,
+        restart: None,
         plan: plan.clone(),
     });
 
@@ -455,23 +478,32 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         // nothing (their discretisation can miss a narrow way through), plan afresh from
         // here, as an executive would, before declaring the goals unreachable.
         let outcome = match mission.advance(here, &changed) {
-            Ok(p) => Ok((p, PlanKind::Replan)),
-            Err(Error::Unreachable { .. }) => {
+            Ok(p) => Ok((p, None)),
+            Err(Error::Unreachable { binding, message, .. }) => {
+                let replan_work = mission.last_call_work();
+                // The re-plan is compared like every other: the same problem searched
+                // from scratch on the kept goal instants.
+                let fresh_found = if sim.compare_fresh { Some(mission.fresh()?.is_some()) } else { None };
+                let restart = Restart { binding, reason: message, replan_work, fresh_found };
                 // The kept graphs stay alive until the new mission replaces them.
                 let held = mission.search_bytes();
                 let fresh = PlannerConfig {
                     max_search_bytes: config.max_search_bytes.map(|m| m.saturating_sub(held)),
                     ..config.clone()
                 };
-                Mission::plan(believed, model, fresh, here, &goals[next_goal..]).map(|(m, p)| {
+                // Past the last goal the plan only stays there (to reach the goal
+                // energy): the fresh plan is to that goal from where the rover stands.
+                let remaining = &goals[next_goal.min(goals.len() - 1)..];
+                Mission::plan(believed, model, fresh, here, remaining).map(|(m, p)| {
                     mission = m;
-                    (p, PlanKind::Restart)
+                    (p, Some(restart))
                 })
             }
             Err(e) => Err(e),
         };
         match outcome {
-            Ok((p, kind)) => {
+            Ok((p, restart)) => {
+                let kind = if restart.is_some() { PlanKind::Restart } else { PlanKind::Replan };
                 let route_changed = !same_route(&plan, &p, cell);
                 // Plan extension alone moves the start, and the kept graph must still
                 // answer as a fresh one: with `fresh_every: 1` every re-plan is compared,
@@ -493,6 +525,7 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
                     search_bytes: mission.search_bytes(),
                     route_changed,
                     fresh,
+                    restart,
                     plan: p.clone(),
                 });
                 plan = p;

@@ -1,7 +1,7 @@
 //! Execution simulation: a map that lacks an obstacle, sensing, re-planning, noise.
 
 use areo_mission::{
-    Action, ActionConfig, ActionModel, Error, Mission, Noise, PlanKind, PlannerConfig, SimConfig, SimStatus,
+    Action, ActionConfig, ActionModel, Binding, Error, Mission, Noise, PlanKind, PlannerConfig, SimConfig, SimStatus,
     Simulation, Start, World, simulate,
 };
 use areo_terrain::Dem;
@@ -164,4 +164,60 @@ fn fresh_every_compares_every_nth_replan_and_every_one_after_sensing_or_a_goal()
     // All three reasons occurred, and some re-plans were left out.
     assert!(kinds.iter().all(|&k| k > 0), "{kinds:?}");
     assert!(replans.iter().any(|p| p.fresh.is_none()));
+}
+
+/// A rover slower than every plan allowed for: goal windows with no room to wait
+/// (`max_wait_s` 0, no detour) and drives up to three times slower than planned. The
+/// kept goal instants fall behind it, a re-plan on the kept graphs finds nothing, and
+/// the rover plans afresh from where it is — each time counted as a restart with the
+/// re-plan's verdict, its work, and a fresh search of the same problem, which must
+/// agree that it has no plan (a re-plan that loses a plan a fresh search finds is a
+/// defect, not a restart).
+#[test]
+fn a_re_plan_that_finds_nothing_restarts_and_is_compared_with_a_fresh_search() {
+    let map = fixed_sun_world(flat(30, 20, 10.0), 120.0, 60.0, 10.0);
+    let model = model(1e5, ActionConfig::default());
+    let start = Start { cell: map.cell(3, 10), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let goal = map.cell(27, 10);
+    let planner = PlannerConfig { detour_factor: 1.0, max_wait_s: Some(0.0), ..PlannerConfig::default() };
+    let run = |compare_fresh: bool| {
+        let config = SimConfig {
+            noise: Noise { drive_slowdown: 2.0, solar_loss: 0.0, seed: 3 },
+            compare_fresh,
+            ..SimConfig::default()
+        };
+        let sim = Simulation {
+            believed: &map,
+            truth: &map,
+            model: &model,
+            planner: planner.clone(),
+            start,
+            goals: &[goal],
+            config,
+        };
+        simulate(&sim, &mut |_| {}).unwrap()
+    };
+    let report = run(true);
+    assert_eq!(report.status, SimStatus::Completed, "{:?}", report.status);
+    let restarts: Vec<_> = report.plans.iter().filter(|p| p.kind == PlanKind::Restart).collect();
+    assert!(!restarts.is_empty(), "the slow rover fell behind its goal instants");
+    for p in &restarts {
+        let r = p.restart.as_ref().expect("a restart says why");
+        // The binding is the one that binds: the goal windows (nothing else constrains
+        // this rover), found by opening them — not a relaxed probe that searched goal
+        // windows made anew from the rover's new start, which named the battery.
+        assert_eq!(r.binding, Binding::GoalWindow, "{r:?}");
+        assert!(r.reason.contains("`max_wait_s` 0 s"), "{r:?}");
+        assert_eq!(r.fresh_found, Some(false), "the kept graphs agree with a fresh search: {r:?}");
+    }
+    // The failed re-plans' work is counted apart from the plans made afresh (a rover
+    // late at its last goal finds its goal instants past without a single expansion).
+    assert!(restarts.iter().map(|p| p.restart.as_ref().unwrap().replan_work).sum::<u64>() > 0);
+    // Re-plans that found a plan carry no restart record; without the comparison the
+    // restarts are the same and say nothing about a fresh search.
+    assert!(report.plans.iter().filter(|p| p.kind != PlanKind::Restart).all(|p| p.restart.is_none()));
+    let plain = run(false);
+    let kinds = |r: &areo_mission::SimReport| r.plans.iter().map(|p| p.kind).collect::<Vec<_>>();
+    assert_eq!(kinds(&plain), kinds(&report));
+    assert!(plain.plans.iter().filter_map(|p| p.restart.as_ref()).all(|r| r.fresh_found.is_none()));
 }

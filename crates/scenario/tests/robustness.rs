@@ -119,7 +119,7 @@ fn every_truncation_of_every_scenario_is_a_located_error() {
 }
 
 #[test]
-fn the_shipped_scenarios_fit_the_default_budget_and_fine_classes_do_not() {
+fn the_shipped_scenarios_fit_the_default_budget_and_fine_classes_are_not_refused_on_a_guess() {
     use areo_scenario::budget::{Budget, DEFAULT_WORK_STEPS, EXPANSION_STEPS, SearchMap, expected_expansions, tempest};
     use areo_scenario::format::Job;
     let budget = Budget { memory_bytes: 16 << 30, work_steps: DEFAULT_WORK_STEPS };
@@ -135,21 +135,21 @@ fn the_shipped_scenarios_fit_the_default_budget_and_fine_classes_do_not() {
             budget.check(&tempest(job, map)).unwrap_or_else(|err| panic!("{}: {err}", path.display()));
         }
     }
-    // Time classes of a second over sun-synchronous-traverse's 110 h are refused with
-    // their estimate.
+    // Time classes of a second over sun-synchronous-traverse's 110 h: the searches are
+    // expected to expand 396 000 time classes over the three legs' ellipses, but that
+    // is no refusal — only the horizon sweeps are certain; the searches are held to the
+    // budget as they run.
     let text = std::fs::read_to_string(root().join("scenarios/sun-synchronous-traverse.ron")).unwrap();
     let text = text.replacen("time_s: 1200", "time_s: 1", 1);
     let scenario = parse(Path::new("s.ron"), &text).unwrap();
     let Job::Tempest(job) = &scenario.job else { panic!("a TEMPEST job") };
     let map = SearchMap { cells: 160 * 120, cell_m2: 50.0 * 50.0 };
-    let e = tempest(job, map);
-    // The sweeps, and 396 000 time classes over the three legs' ellipses (each at most
-    // the map) at 50 steps an expansion.
     let labels = expected_expansions(job, map);
     assert!(labels > 160 * 120 * 396_000 && labels <= 160 * 120 * 396_000 * 3, "{labels}");
-    assert_eq!(e.work_steps, 160 * 120 * 64 + labels * EXPANSION_STEPS);
-    let err = budget.check(&e).unwrap_err().to_string();
-    assert!(err.contains("--max-work") && err.contains("396000 time classes"), "{err}");
+    assert!(labels * EXPANSION_STEPS > DEFAULT_WORK_STEPS);
+    let e = tempest(job, map);
+    assert_eq!(e.work_steps, 160 * 120 * 64);
+    budget.check(&e).unwrap();
 }
 
 #[test]

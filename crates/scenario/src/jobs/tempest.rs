@@ -1134,8 +1134,7 @@ fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, peak_memory_mb: 
     o.number("hibernate_h", hibernate_h);
     o.count("replans", replans.len() as u64);
     o.count("route_changes", route_changes as u64);
-    let restarts = r.plans.iter().filter(|p| p.kind == PlanKind::Restart).count();
-    o.count("restarts", restarts as u64);
+    restart_facts(o, r);
     let asked = ctx.job.planner.resolution.energy_wh;
     let fallbacks = r.plans.iter().filter(|p| asked.is_some() && p.plan.energy_classes_wh.is_none()).count();
     o.count("exact_energy_fallbacks", fallbacks as u64);
@@ -1201,6 +1200,26 @@ fn search_facts(o: &mut Outcome, r: &SimReport) {
     }
 }
 
+/// The re-plans on the kept graphs that found nothing and were replaced by plans made
+/// afresh: how many, the work the failed re-plans did and the fresh plans' expansions,
+/// and with `compare_fresh` how many a fresh search of the same problem contradicted
+/// (it found a plan where the kept graphs found none).
+fn restart_facts(o: &mut Outcome, r: &SimReport) {
+    let restarts: Vec<(&areo_mission::PlanRecord, &areo_mission::Restart)> =
+        r.plans.iter().filter_map(|p| p.restart.as_ref().map(|x| (p, x))).collect();
+    o.count("restarts", restarts.len() as u64);
+    if restarts.is_empty() {
+        return;
+    }
+    o.count("restart_replan_work", restarts.iter().map(|(_, x)| x.replan_work).sum());
+    o.count("restart_expansions", restarts.iter().map(|(p, _)| p.expansions).sum());
+    let compared: Vec<bool> = restarts.iter().filter_map(|(_, x)| x.fresh_found).collect();
+    if !compared.is_empty() {
+        o.count("restarts_fresh_compared", compared.len() as u64);
+        o.count("restarts_fresh_disagree", compared.iter().filter(|&&found| found).count() as u64);
+    }
+}
+
 /// Hours the executed run spent in the actions `which` accepts.
 fn hours_in(r: &SimReport, which: impl Fn(Action) -> bool) -> f64 {
     // A fold from +0: `sum` of no f64 is -0, which prints as "-0.0 h".
@@ -1255,8 +1274,22 @@ fn sim_summary(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, status: &str, 
         ));
     }
     if restarts > 0 {
+        let mut why: Vec<String> =
+            r.plans.iter().filter_map(|p| p.restart.as_ref()).map(|x| format!("{:?}", x.binding)).collect();
+        why.dedup();
+        let compared: Vec<bool> = r.plans.iter().filter_map(|p| p.restart.as_ref()?.fresh_found).collect();
         o.summary.push(format!(
-            "{restarts} restart(s): re-planning on the kept graphs found nothing, so the rover planned afresh"
+            "{restarts} restart(s): re-planning on the kept graphs found nothing ({}), so the rover planned afresh{}",
+            why.join(", "),
+            if compared.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; a fresh search of the same problem found a plan in {} of {}",
+                    compared.iter().filter(|&&f| f).count(),
+                    compared.len()
+                )
+            }
         ));
     }
     o.summary.push(format!(
@@ -1469,6 +1502,9 @@ struct ReplanRow {
     search_mb: Fixed<1>,
     fresh_expansions: Option<u64>,
     fresh_cost: Option<Fixed<4>>,
+    restart_binding: Option<String>,
+    restart_replan_work: Option<u64>,
+    restart_fresh_found: Option<u8>,
 }
 
 fn replan_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item = ReplanRow> + 'a {
@@ -1492,6 +1528,9 @@ fn replan_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item
         search_mb: Fixed(p.search_bytes as f64 / 1e6),
         fresh_expansions: p.fresh.map(|f| f.0),
         fresh_cost: p.fresh.map(|f| Fixed(f.1)),
+        restart_binding: p.restart.as_ref().map(|x| format!("{:?}", x.binding)),
+        restart_replan_work: p.restart.as_ref().map(|x| x.replan_work),
+        restart_fresh_found: p.restart.as_ref().and_then(|x| x.fresh_found).map(u8::from),
     })
 }
 
