@@ -1027,8 +1027,7 @@ fn terrain_shadow_at_an_instant_uses_the_sun_over_the_maps_middle() {
     );
     // On a south polar map with λ0 = 0 (a LOLA product's grid) near the pole, the Sun
     // lies toward the subsolar meridian: its grid azimuth is the subsolar longitude,
-    // whatever the site's — not the true azimuth at a site at 90°E (a quarter turn off
-    // before session 32).
+    // whatever the site's — not the true azimuth at a site at 90°E (a quarter turn off).
     let polar = root().join("crates/terrain/tests/data/polar_lon0_64.tif");
     let polar = polar.to_str().unwrap();
     let t = "2025-01-01T00:00:00Z";
@@ -1099,8 +1098,8 @@ fn a_map_in_a_crs_areo_does_not_read_is_said_to_be_a_local_frame() {
 }
 
 /// A site off a georeferenced map is refused by field: the Sun and the Earth are computed
-/// at the site, so a longitude's sign mistyped lit Gale with a sky 5000 km away (before
-/// session 32, silently). The same scenario with the site on the map runs.
+/// at the site, so a longitude's sign mistyped would light Gale with a sky 5000 km away,
+/// silently. The same scenario with the site on the map runs.
 #[test]
 fn a_site_off_a_georeferenced_map_is_refused() {
     let gale = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");

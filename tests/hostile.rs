@@ -1,4 +1,4 @@
-//! Hostile input end to end (issue 25): names that would become paths, duplicates,
+//! Hostile input end to end: names that would become paths, duplicates,
 //! outputs over inputs, missing referenced files, budgets, stale outputs, and the exit
 //! code of each (0 success, 1 failure while running, 2 bad input, 3 unreachable).
 
@@ -252,7 +252,7 @@ fn a_full_disk_is_a_failure_while_running_not_bad_input() {
     assert!(!dir.join("slope.tif").exists(), "no file under the real name");
 }
 
-// ---- Round 2 (issue 37): files that are not what they seem, sweeps and scripts,
+// ---- Round 2: files that are not what they seem, sweeps and scripts,
 // budgets on every command. Each test is one class; each case exits 2 (or the class's
 // documented code) within its time, never 101, never hangs.
 

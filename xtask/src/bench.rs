@@ -433,7 +433,7 @@ fn check_all(checks: &[(&str, f64, f64)]) -> bool {
     ok
 }
 
-/// The work budget's units against the clock (issue 34): on the shipped TEMPEST
+/// The work budget's units against the clock: on the shipped TEMPEST
 /// scenarios, the time of one counted sweep step (the pre-calculation over cells ×
 /// sectors) and of one label expansion (the initial plan over its expansions), their
 /// ratio beside `budget::EXPANSION_STEPS`, and the expansions the estimate expects
@@ -541,7 +541,7 @@ fn valley(root: &Path) -> Result<bool, String> {
     ]))
 }
 
-/// The lunar south-pole traverse at 30 m and at 10 m cells (issue 34): how the work
+/// The lunar south-pole traverse at 30 m and at 10 m cells: how the work
 /// and the memory grow with nine times the cells, and the 10 m plan's targets.
 fn lunar(root: &Path) -> Result<bool, String> {
     println!("lunar-south-pole, four goals over four days (plan only):");
@@ -565,8 +565,8 @@ fn lunar(root: &Path) -> Result<bool, String> {
     }
     let ((e30, _, _, _), (e10, peak10, wall10, bytes10)) = (figures[0], figures[1]);
     println!("  30 m to 10 m: 9 x the cells, {:.1} x the expansions", e10 / e30);
-    // Issue 34: memory per label at most half of the ~160 bytes per expansion of
-    // before (182 on this plan at the end of session 17).
+    // Memory per label: at most 80 bytes, half of what a graph that kept every
+    // generated label held (about 160 bytes per expansion).
     Ok(check_all(&[
         ("10 m whole run, s", wall10, 120.0),
         ("10 m process peak memory, MB", peak10, 3000.0),
@@ -574,7 +574,7 @@ fn lunar(root: &Path) -> Result<bool, String> {
     ]))
 }
 
-/// Issue 34, item 6, beyond valley-detour and lita-scale (whose expected runs compare
+/// Re-plans against fresh searches beyond valley-detour and lita-scale (whose expected runs compare
 /// every re-plan): the multi-goal polar scenarios executed with sensing, each re-plan on
 /// the kept graphs against a fresh search of the same problem. lunar-south-pole with
 /// three landforms its map lacks (`tests/tempest/lunar-sensing.ron`, whose test compares
@@ -684,7 +684,7 @@ fn lita(root: &Path) -> Result<bool, String> {
     );
     let compared = against_fresh(root, "lita-scale")?;
     let check = |name: &str| number(&compared, name);
-    // Issue 34's targets: energy-aware (25 Wh energy classes, E never collapsed).
+    // The targets: energy-aware (25 Wh energy classes, E never collapsed).
     Ok(check_all(&[
         ("re-plan cost against a fresh search's (relative)", check("replan_fresh_cost_difference"), 1e-9),
         ("restarts", fact("restarts"), 0.0),
@@ -695,7 +695,7 @@ fn lita(root: &Path) -> Result<bool, String> {
     ]))
 }
 
-/// A metre-scale DTM larger than memory (issue 21): a synthesised `side` × `side`
+/// A metre-scale DTM larger than memory: a synthesised `side` × `side`
 /// float32 GeoTIFF of 1 m cells (30 000 by default: 3.6 GB) is written as a tiled GeoTIFF to
 /// target/bigmap, then its direct-sun map is computed tile by tile (own ray, 2048-cell
 /// tiles, read through GeoTIFF windows) and written as a tiled GeoTIFF as tiles finish; then its 16-sector horizon map, written the same way. Target: peak resident

@@ -192,6 +192,60 @@ pub(crate) fn body_constants_outside_areo_body(root: &Path) -> Result<Vec<String
     lines_containing(root, &[root.join("crates"), root.join("src")], &skip, CONSTANTS)
 }
 
+/// The project describes itself as it is: every line of its text files (sources,
+/// scenarios, docs, scripts; not `target/` or `.git/`) that names a work session or an
+/// issue by number ("session" or "issue", singular or plural, any case, then a
+/// number), as sorted `path:line`. History lives in git.
+pub(crate) fn history_references(root: &Path) -> Result<Vec<String>, String> {
+    const TEXT: &[&str] = &["rs", "md", "ron", "py", "pyi", "toml", "sh", "yml", "yaml", "html", "js", "txt"];
+    let mut found = Vec::new();
+    let mut stack = vec![root.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        for entry in entries {
+            let path = entry.map_err(|e| format!("{}: {e}", dir.display()))?.path();
+            let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+            if path.is_dir() {
+                if !["target", ".git", "node_modules"].contains(&name) && !name.starts_with("ci-") {
+                    stack.push(path);
+                }
+                continue;
+            }
+            let ext = path.extension().and_then(|e| e.to_str()).unwrap_or_default();
+            let script = path.parent().is_some_and(|p| p.ends_with(".ci"));
+            if !TEXT.contains(&ext) && !script {
+                continue;
+            }
+            let Ok(text) = std::fs::read_to_string(&path) else { continue };
+            for (i, line) in text.lines().enumerate() {
+                if names_history(line) {
+                    found.push(format!("{}:{}", path.strip_prefix(root).unwrap_or(&path).display(), i + 1));
+                }
+            }
+        }
+    }
+    found.sort();
+    Ok(found)
+}
+
+/// Whether `line` has "session" or "issue" (plural too, any case) as a word followed by
+/// a space and a digit.
+fn names_history(line: &str) -> bool {
+    let lower = line.to_lowercase();
+    let bytes = lower.as_bytes();
+    ["session", "issue"].iter().any(|word| {
+        lower.match_indices(word).any(|(at, _)| {
+            let before = at.checked_sub(1).map(|b| bytes[b]);
+            if before.is_some_and(|b| b.is_ascii_alphanumeric()) {
+                return false;
+            }
+            let mut rest = &lower[at + word.len()..];
+            rest = rest.strip_prefix('s').unwrap_or(rest);
+            rest.strip_prefix(' ').is_some_and(|r| r.starts_with(|c: char| c.is_ascii_digit()))
+        })
+    })
+}
+
 /// Functions of areo-scenario longer than `max` lines, as `path:line name (n lines)`: the
 /// middle layer stays a set of small steps (a job computes a report; printers read it).
 pub(crate) fn long_functions(root: &Path, max: usize) -> Result<Vec<String>, String> {
@@ -279,6 +333,25 @@ mod tests {
         std::fs::write(dir.join("crates/x/src/lib.rs"), "// 3_389_500 in a comment\nconst R: f64 = 1_737_400.0;\n")
             .unwrap();
         assert_eq!(body_constants_outside_areo_body(&dir).unwrap(), vec!["crates/x/src/lib.rs:2".to_string()]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn no_session_or_issue_numbers_in_the_project() {
+        let found = history_references(&crate::project_root()).unwrap();
+        assert!(found.is_empty(), "the project describes itself as it is; history lives in git: {found:#?}");
+        // The scan sees them when they are there, and not where the words stand alone.
+        let (s, i) = ("Session", "issues");
+        assert!(names_history(&format!("// {s} 12 measured it")));
+        assert!(names_history(&format!("see {i} 3 and 4")));
+        assert!(names_history(&format!("({} 65)", "issue")));
+        assert!(!names_history(&format!("a {} of 3 sols", "session")));
+        assert!(!names_history(&format!("Communicate {}s: 2", "session")));
+        assert!(!names_history(&format!("re{} 5", "issue")));
+        let dir = std::env::temp_dir().join(format!("areo-history-scan-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("docs")).unwrap();
+        std::fs::write(dir.join("docs/a.md"), format!("fine\nas of {} 9\n", "session")).unwrap();
+        assert_eq!(history_references(&dir).unwrap(), vec!["docs/a.md:2".to_string()]);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -439,7 +439,7 @@ impl Corpus {
 }
 
 impl Corpus {
-    /// Files that are not what they seem (issue 37): a FIFO or a device as an input, a
+    /// Files that are not what they seem: a FIFO or a device as an input, a
     /// scenario nested deep, a sweep with a hostile name or count, an output that is a
     /// link to the input.
     fn file_case(&self, rng: &mut ChaCha8Rng, dir: &Path) -> Result<Case, String> {

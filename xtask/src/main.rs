@@ -43,6 +43,10 @@ fn main() -> ExitCode {
                 violations.extend(unoptimised.into_iter().map(|name| {
                     format!("Cargo.toml: {name} runs only while compiling: give it opt-level = 0 in the dev profile")
                 }));
+                let history = deps::history_references(&project_root())?;
+                violations.extend(
+                    history.into_iter().map(|at| format!("{at}: a session or issue number (history lives in git)")),
+                );
                 let long = deps::long_functions(&project_root(), 80)?;
                 violations
                     .extend(long.into_iter().map(|at| format!("{at}: a function over 80 lines in areo-scenario")));

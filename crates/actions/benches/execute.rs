@@ -1,5 +1,5 @@
 //! The action planner's unit of work: executing plans on the LSR-1 model. Targets
-//! (issue 9): ≥ 50 000 module executions per second per core (a 40-module plan in
+//! : ≥ 50 000 module executions per second per core (a 40-module plan in
 //! < 1 ms), and a full 50 × 20 GA run on task 1 in < 2 s on 2 cores.
 
 use areo_actions::{ExecConfig, Executor, GaConfig, Inventory, Sample, Scale, Task, Weights, evolve};
@@ -10,7 +10,7 @@ use areo_terrain::Dem;
 use areo_terrain::synth::{Feature, Noise, TerrainSpec};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
-/// Task 1's terrain (scenarios/ditch-and-hill.ron, as of issue 20).
+/// Task 1's terrain (scenarios/ditch-and-hill.ron).
 fn terrain() -> Dem {
     let rock = |x_m, y_m, height_m, width_m| Feature::Rock { x_m, y_m, height_m, width_m };
     TerrainSpec {

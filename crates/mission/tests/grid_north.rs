@@ -1,8 +1,7 @@
 //! A polar map whose central meridian is not the site's (a LOLA product, λ0 = 0, at a
 //! site at 90°E): its grid's north is not true north, so the Sun and the Earth must turn
 //! with the grid. The same ground on a map aligned with the site and on the turned map
-//! must be lit alike. Before session 32 the turned map cast every shadow a quarter turn
-//! off.
+//! must be lit alike, not a quarter turn apart.
 
 use areo_ephemeris::flux::Atmosphere;
 use areo_ephemeris::{Body, Site, parse_utc};

@@ -497,7 +497,7 @@ fn unreachable_retries_search_again_at_halved_classes() {
             (a, b) => panic!("case {case}: without retries {:?}, with {:?}", a.map(|_| ()), b.map(|_| ())),
         }
     }
-    // Measured (session 29): 98 plans kept, 14 found at 60 s and 3 more at 30 s, 81
+    // Measured: 98 plans kept, 14 found at 60 s and 3 more at 30 s, 81
     // cases without a plan at any of the three.
     assert_eq!(kept, 98);
     assert!(
@@ -562,7 +562,7 @@ fn unreachable_retries_with_quantised_actions_come_before_the_exact_search() {
             (a, b) => panic!("case {case}: without retries {:?}, with {:?}", a.map(|_| ()), b.map(|_| ())),
         }
     }
-    // Measured (session 30): 135 plans — 51 at 480 s, 45 found by a retry, 39 still at
+    // Measured: 135 plans — 51 at 480 s, 45 found by a retry, 39 still at
     // the quanta — and 61 proofs. The 45 cost 19 891 expansions' work with the retries
     // against 42 785 going straight to the exact search; over all cases the retries
     // cost 7 % more (154 539 against 143 763), spent where they find nothing.
@@ -741,6 +741,6 @@ fn a_last_resort_plan_at_the_settings_own_classes_says_so() {
             direct += 1;
         }
     }
-    // Measured (session 30): 107 found by the settings, 28 by the last resort.
+    // Measured: 107 found by the settings, 28 by the last resort.
     assert!((95..=120).contains(&direct) && (20..=36).contains(&by_last_resort), "{direct} + {by_last_resort}");
 }

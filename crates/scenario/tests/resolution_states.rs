@@ -1,4 +1,4 @@
-//! Issue 34's states, rebuilt from the shipped scenarios' own runs
+//! Re-planning states, rebuilt from the shipped scenarios' own runs
 //! (`tests/tempest/lita-step20.ron`, `tests/tempest/valley-step77.ron`), planned at the
 //! scenarios' settings and at finer ones: where the settings as shipped find a plan, the
 //! finer ones checked here must too. Actions there are unquantised, so no search is exact

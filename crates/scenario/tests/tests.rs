@@ -1,5 +1,5 @@
 //! areo-scenario integration tests, in one binary so that the long ones (a fresh search
-//! beside every compared re-plan, issue 34's states at finer settings) share the
+//! beside every compared re-plan, the kept TEMPEST states at finer settings) share the
 //! cores. `memory.rs` is its own binary: it reads the process's peak memory.
 
 mod fresh_replans;

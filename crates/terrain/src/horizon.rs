@@ -20,7 +20,7 @@
 //! cell or two away, where a sweep line's terrain beside the own ray differs most. On
 //! the border the own ray may leave the map at once (no horizon) while the sweep line
 //! beside it stays in. Tests assert 2°, 6° and 20°. This is an approximation, not an
-//! exact horizon; issue 21 tracks an exact method.
+//! exact horizon: `Method::OwnRay` (crate::shadow) is the exact one.
 
 use rayon::prelude::*;
 

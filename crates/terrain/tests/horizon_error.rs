@@ -1,4 +1,4 @@
-//! How far a horizon map's sector horizons are from each cell's own ray (issue 21):
+//! How far a horizon map's sector horizons are from each cell's own ray:
 //! every cell of every sector against the brute-force horizon on the triangulated
 //! surface, on the real Gale MOLA crop and on synthesised terrain. The figures printed
 //! are the ones the `HorizonMap` rustdoc states.

@@ -1,4 +1,4 @@
-//! Every DEM reader on hostile bytes (issue 25): random bytes, and valid files with
+//! Every DEM reader on hostile bytes: random bytes, and valid files with
 //! bytes flipped, overwritten or cut, must give a DEM or an error — never a panic, and
 //! never an allocation larger than the file could fill.
 

@@ -506,8 +506,7 @@ fn windows_of_tiled_and_stripped_geotiffs_equal_crops_of_the_whole() {
 #[test]
 fn deflate_lzw_and_zstd_tiles_read_whole_and_through_windows() {
     let value = |c: u32, r: u32| if (c, r) == (30, 3) { 65535 } else { (c * 37 + r * 11) as u16 };
-    // Zstandard: GDAL writes it for `COMPRESS=ZSTD`, common on recent DTMs; before
-    // session 31 such a file was refused ("compression method ZSTD is unsupported").
+    // Zstandard: GDAL writes it for `COMPRESS=ZSTD`, common on recent DTMs.
     for (compression, name) in [(8, "deflate"), (5, "lzw"), (50000, "zstd")] {
         let path = tmp(&format!("tiled_{name}.tif"));
         let bytes = tiled_uint16_tiff_compressed(37, 21, value, "65535", compression);
@@ -570,7 +569,7 @@ fn a_longitude_latitude_grid_reads_as_metres_at_its_middle_latitude() {
 /// An equirectangular map whose standard parallel is the equator (a global mosaic's,
 /// a MEGDR tile's) cropped at 40° N: its map metres are 1/cos 40° = 1.31 ground metres
 /// east–west. It reads as the same cells at true scale, relabelled at its middle
-/// latitude (before session 32 slopes, shadows and drives were 31 % stretched); a map
+/// latitude (not 31 % stretched in slopes, shadows and drives); a map
 /// within 1 % of its standard parallel stays as written; one too tall for one scale is
 /// refused with what to do; a PDS3 label reads alike.
 #[test]
@@ -636,9 +635,8 @@ fn an_equirectangular_map_far_from_its_standard_parallel_reads_at_true_scale() {
 }
 
 /// A terrestrial CRS named only by its EPSG code (UTM zone 16 N, EPSG:32616, as GDAL
-/// writes it) is the Earth's WGS84: before session 32 it was taken for Mars (the
-/// default for a map with no axes), so `terrain info` said "Mars" and shadows dropped
-/// away on Mars's sphere. Its transverse Mercator is not read: a local frame, and
+/// writes it) is the Earth's WGS84, not Mars (the default for a map with no axes),
+/// whose sphere would make `terrain info` say "Mars" and shadows drop away. Its transverse Mercator is not read: a local frame, and
 /// the reader says so.
 #[test]
 fn an_epsg_coded_map_is_on_the_earth() {

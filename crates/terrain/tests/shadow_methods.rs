@@ -1,5 +1,5 @@
 //! Every shadow method against each cell's own ray, brute force on the same surface
-//! (issue 21): `Method::OwnRay` must agree on every cell, at every azimuth, on the
+//! `Method::OwnRay` must agree on every cell, at every azimuth, on the
 //! real Gale MOLA map and on synthesised terrain; the sweeps' disagreements are the
 //! figures `areo_terrain::shadow`'s docs state.
 
