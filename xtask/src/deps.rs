@@ -212,7 +212,7 @@ pub(crate) fn history_references(root: &Path) -> Result<Vec<String>, String> {
                 continue;
             }
             let ext = path.extension().and_then(|e| e.to_str()).unwrap_or_default();
-            let script = path.parent().is_some_and(|p| p.ends_with(".ci"));
+            let script = path.parent().and_then(|p| p.file_name()).is_some_and(|n| n == ".ci");
             if !TEXT.contains(&ext) && !script {
                 continue;
             }
