@@ -51,40 +51,41 @@ pub(crate) fn text(report: &Report) -> String {
             let _ = writeln!(s, "no μ ≤ 5 holds here");
         }
     }
-    if let Some(c) = &report.climb {
-        let _ = writeln!(
-            s,
-            "climb over the step ({} poses, every {} m): {}",
-            c.poses,
-            c.step_m,
-            if c.over {
-                format!("every wheel on top after {:.2} m", c.distance_m)
-            } else {
-                format!("stopped at {:.2} m ({})", c.distance_m, c.stop.as_deref().unwrap_or("?"))
-            }
-        );
-        match c.mu_needed {
-            Some(m) => {
-                let _ = writeln!(
-                    s,
-                    "smallest μ that holds every pose: {m:.3}, needed at {:.2} m ({} wheels up)",
-                    c.mu_needed_at_m,
-                    if c.wheels_on_top_there.is_empty() { "no" } else { &c.wheels_on_top_there }
-                );
-            }
-            None => {
-                let _ = writeln!(s, "no μ ≤ 5 holds every pose");
-            }
+    climb_text(&mut s, report);
+    s
+}
+
+/// The climb over a step, if the report has one, as aligned text.
+fn climb_text(s: &mut String, report: &Report) {
+    let Some(c) = &report.climb else { return };
+    let _ = writeln!(
+        s,
+        "climb over the step ({} poses, every {} m): {}",
+        c.poses,
+        c.step_m,
+        if c.over {
+            format!("every wheel on top after {:.2} m", c.distance_m)
+        } else {
+            format!("stopped at {:.2} m ({})", c.distance_m, c.stop.as_deref().unwrap_or("?"))
         }
-        if c.min_stability_pct.is_finite() {
+    );
+    match c.mu_needed {
+        Some(m) => {
             let _ = writeln!(
                 s,
-                "least stability margin {:.1} %, largest pitch {:.1}°",
-                c.min_stability_pct, c.max_pitch_deg
+                "smallest μ that holds every pose: {m:.3}, needed at {:.2} m ({} wheels up)",
+                c.mu_needed_at_m,
+                if c.wheels_on_top_there.is_empty() { "no" } else { &c.wheels_on_top_there }
             );
         }
+        None => {
+            let _ = writeln!(s, "no μ ≤ 5 holds every pose");
+        }
     }
-    s
+    if c.min_stability_pct.is_finite() {
+        let _ =
+            writeln!(s, "least stability margin {:.1} %, largest pitch {:.1}°", c.min_stability_pct, c.max_pitch_deg);
+    }
 }
 
 /// A resource model's figures as aligned text.

@@ -281,29 +281,9 @@ fn horizon(root: &Path) -> Result<bool, String> {
 /// ≤ 20 s on 2 cores, initial plan ≤ 2 s, median re-plan ≤ 1 % of the initial plan.
 fn mission() -> Result<bool, String> {
     use areo_ephemeris::Mars24;
-    use areo_mission::{ActionConfig, ActionModel, Mission, PlannerConfig, Start, World, WorldConfig};
-    use areo_terrain::synth::{Noise, TerrainSpec};
+    use areo_mission::{ActionConfig, ActionModel, Mission, PlannerConfig, Start, World};
     use std::time::Instant;
-    let dem = TerrainSpec {
-        cols: 2527,
-        rows: 2356,
-        cell_m: 100.0,
-        base_m: 0.0,
-        seed: 7,
-        noise: Some(Noise { amplitude_m: 150.0, wavelength_m: 30_000.0, octaves: 5, persistence: 0.45 }),
-        features: vec![],
-    }
-    .build()
-    .map_err(|e| e.to_string())?;
-    let epoch = areo_ephemeris::parse_utc("2025-03-01T00:00:00Z").map_err(|e| e.to_string())?;
-    let config = WorldConfig {
-        epoch,
-        span_s: 3.0 * areo_ephemeris::SOL_S,
-        sun_step_s: 120.0,
-        horizon_sectors: Some(32),
-        atmosphere: areo_ephemeris::flux::Atmosphere::BeerLambert { tau: 0.5 },
-        site: Some(areo_ephemeris::Site::new(-4.6, 137.4).map_err(|e| e.to_string())?),
-    };
+    let (dem, config) = lita_size_world()?;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let t = Instant::now();
     let world = World::new(dem, &config, &Mars24).map_err(|e| e.to_string())?;
@@ -345,8 +325,53 @@ fn mission() -> Result<bool, String> {
         plan.expansions,
         plan.e_max_wh
     );
-    // Sensing near the rover: block 2 cells beside the route's first steps, re-plan,
-    // clear them, re-plan.
+    let mut times = replan_times(&world, &mut mission, &plan)?;
+    times.sort_by(f64::total_cmp);
+    let median = times[times.len() / 2];
+    let ratio = median / initial;
+    println!("re-plan after a 2-cell update: median {:.4} s = {:.2} % of the initial plan", median, 100.0 * ratio);
+    println!("peak memory (VmHWM): {}", peak_memory().unwrap_or_else(|| "unknown".into()));
+    let ok = precalc <= 20.0 && initial <= 2.0 && ratio <= 0.01;
+    println!("targets: pre-calculation ≤ 20 s, initial ≤ 2 s, re-plan ≤ 1 %: {}", if ok { "ok" } else { "MISSED" });
+    Ok(ok)
+}
+
+/// The LITA-size synthetic map and its world settings: 2527 × 2356 cells of 100 m,
+/// fractal relief, three sols of the Mars24 Sun at 4.6° S 137.4° E through τ = 0.5.
+fn lita_size_world() -> Result<(areo_terrain::Dem, areo_mission::WorldConfig), String> {
+    use areo_mission::WorldConfig;
+    use areo_terrain::synth::{Noise, TerrainSpec};
+    let dem = TerrainSpec {
+        cols: 2527,
+        rows: 2356,
+        cell_m: 100.0,
+        base_m: 0.0,
+        seed: 7,
+        noise: Some(Noise { amplitude_m: 150.0, wavelength_m: 30_000.0, octaves: 5, persistence: 0.45 }),
+        features: vec![],
+    }
+    .build()
+    .map_err(|e| e.to_string())?;
+    let epoch = areo_ephemeris::parse_utc("2025-03-01T00:00:00Z").map_err(|e| e.to_string())?;
+    let config = WorldConfig {
+        epoch,
+        span_s: 3.0 * areo_ephemeris::SOL_S,
+        sun_step_s: 120.0,
+        horizon_sectors: Some(32),
+        atmosphere: areo_ephemeris::flux::Atmosphere::BeerLambert { tau: 0.5 },
+        site: Some(areo_ephemeris::Site::new(-4.6, 137.4).map_err(|e| e.to_string())?),
+    };
+    Ok((dem, config))
+}
+
+/// Sensing near the rover: 2 cells beside each of the route's first steps blocked, a
+/// re-plan, cleared, a re-plan; the re-plans' times, s.
+fn replan_times(
+    world: &areo_mission::World,
+    mission: &mut areo_mission::Mission<'_>,
+    plan: &areo_mission::MissionPlan,
+) -> Result<Vec<f64>, String> {
+    use std::time::Instant;
     let mut times = Vec::new();
     for k in 1..=6 {
         let w = &plan.waypoints[k.min(plan.waypoints.len() - 1)];
@@ -361,14 +386,7 @@ fn mission() -> Result<bool, String> {
         mission.replan(&changed).map_err(|e| e.to_string())?;
         times.push(t.elapsed().as_secs_f64());
     }
-    times.sort_by(f64::total_cmp);
-    let median = times[times.len() / 2];
-    let ratio = median / initial;
-    println!("re-plan after a 2-cell update: median {:.4} s = {:.2} % of the initial plan", median, 100.0 * ratio);
-    println!("peak memory (VmHWM): {}", peak_memory().unwrap_or_else(|| "unknown".into()));
-    let ok = precalc <= 20.0 && initial <= 2.0 && ratio <= 0.01;
-    println!("targets: pre-calculation ≤ 20 s, initial ≤ 2 s, re-plan ≤ 1 %: {}", if ok { "ok" } else { "MISSED" });
-    Ok(ok)
+    Ok(times)
 }
 
 fn peak_memory() -> Option<String> {
@@ -701,44 +719,12 @@ fn lita(root: &Path) -> Result<bool, String> {
 /// tiles, read through GeoTIFF windows) and written as a tiled GeoTIFF as tiles finish; then its 16-sector horizon map, written the same way. Target: peak resident
 /// memory ≤ 2 GB for the whole run.
 fn bigmap(root: &Path, side: usize) -> Result<bool, String> {
-    use areo_terrain::geotiff::{Grid, Windows, write_f32_tiled, write_u8_tiled};
+    use areo_terrain::geotiff::{Windows, write_u8_tiled};
     use areo_terrain::shadow::{Curvature, Shadows, SunDirection};
     use areo_terrain::tiles::{ShadowHalo, Tiling, relief};
     let dir = root.join("target/bigmap");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let dem_path = dir.join(format!("dem_{side}.tif"));
-    let grid = Grid {
-        cols: side,
-        rows: side,
-        dx: 1.0,
-        dy: 1.0,
-        x0: 0.0,
-        y_top: side as f64,
-        georef: areo_terrain::Georef::default(),
-    };
-    let started = std::time::Instant::now();
-    // Rolling terrain, about 130 m of relief: ridges of a few hundred metres, a long
-    // swell, a 3 m ripple.
-    let height = |x: f64, y: f64| {
-        40.0 * (x / 370.0).sin() * (y / 290.0).cos()
-            + 25.0 * ((x + 2.0 * y) / 1130.0).sin()
-            + 3.0 * (x / 23.0).sin() * (y / 31.0).sin()
-    };
-    write_f32_tiled(&grid, 512, false, &dem_path, |row0, band| {
-        for (i, z) in band.iter_mut().enumerate() {
-            let (c, r) = (i % side, row0 + i / side);
-            *z = height(c as f64 + 0.5, (side - r) as f64 - 0.5) as f32;
-        }
-        Ok(())
-    })
-    .map_err(|e| e.to_string())?;
-    let write_s = started.elapsed().as_secs_f64();
-    let bytes = std::fs::metadata(&dem_path).map_or(0, |m| m.len());
-    println!(
-        "bigmap: wrote {} ({side} x {side} float32, {:.2} GB) in {write_s:.1} s",
-        dem_path.display(),
-        bytes as f64 / 1e9
-    );
+    let (dem_path, grid) = write_big_dem(&dir, side)?;
     let tile = 2048;
     let started = std::time::Instant::now();
     let mut src = Windows::open(&dem_path, 512 << 20).map_err(|e| e.to_string())?;
@@ -774,24 +760,10 @@ fn bigmap(root: &Path, side: usize) -> Result<bool, String> {
     let ok = peak_kb * 1024.0 <= 2e9;
     println!("bigmap: peak resident memory {peak} (target ≤ 2 GB): {}", if ok { "met" } else { "MISSED" });
     let _ = std::fs::remove_file(&out);
-    // A 16-sector horizon map for Suns 12° up or higher, tile by tile, written as one
-    // tiled GeoTIFF (a plane per sector, 2 bytes a cell and sector: 29 GB for 30 000²)
-    // as tiles finish; the file is counted and removed.
-    use areo_terrain::tiles::{HorizonTiles, write_horizon_tiled};
-    let lowest = 12.0;
-    let halo = ShadowHalo::new(rel, &grid, lowest).map_err(|e| e.to_string())?;
-    let plan = HorizonTiles { sectors: 16, curvature: Curvature::Flat, lowest_deg: lowest, halo, tile };
-    let started = std::time::Instant::now();
-    let horizon_out = dir.join(format!("horizon_{side}.tif"));
-    let mut tiles = 0usize;
-    let big = write_horizon_tiled(&mut src, &plan, &horizon_out, |done, _| tiles = done).map_err(|e| e.to_string())?;
-    let horizon_bytes = std::fs::metadata(&horizon_out).map_or(0, |m| m.len());
-    let _ = std::fs::remove_file(&horizon_out);
-    let horizon_s = started.elapsed().as_secs_f64();
+    let (horizon_s, horizon_bytes, big, halo_cols, tiles) = big_horizon(&mut src, rel, &grid, &dir, side, tile)?;
     let peak = peak_memory().unwrap_or_else(|| "unknown".into());
     println!(
-        "bigmap: horizon map, 16 sectors, halo {} cells on every side, {tiles} tiles: {horizon_s:.1} s ({:.1} M cell-sectors/s on {} threads, incl. writing), {:.2} GB tiled {}",
-        halo.cols,
+        "bigmap: horizon map, 16 sectors, halo {halo_cols} cells on every side, {tiles} tiles: {horizon_s:.1} s ({:.1} M cell-sectors/s on {} threads, incl. writing), {:.2} GB tiled {}",
         cells * 16.0 / horizon_s / 1e6,
         std::thread::available_parallelism().map_or(1, |n| n.get()),
         horizon_bytes as f64 / 1e9,
@@ -801,4 +773,71 @@ fn bigmap(root: &Path, side: usize) -> Result<bool, String> {
     let ok = ok && peak_kb * 1024.0 <= 2e9;
     println!("bigmap: peak resident memory after both {peak} (target ≤ 2 GB): {}", if ok { "met" } else { "MISSED" });
     Ok(ok)
+}
+
+/// The synthesised `side` × `side` DTM of 1 m cells written as a tiled float32 GeoTIFF
+/// in `dir`: its path and grid.
+fn write_big_dem(dir: &Path, side: usize) -> Result<(std::path::PathBuf, areo_terrain::geotiff::Grid), String> {
+    use areo_terrain::geotiff::{Grid, write_f32_tiled};
+    let dem_path = dir.join(format!("dem_{side}.tif"));
+    let grid = Grid {
+        cols: side,
+        rows: side,
+        dx: 1.0,
+        dy: 1.0,
+        x0: 0.0,
+        y_top: side as f64,
+        georef: areo_terrain::Georef::default(),
+    };
+    let started = std::time::Instant::now();
+    // Rolling terrain, about 130 m of relief: ridges of a few hundred metres, a long
+    // swell, a 3 m ripple.
+    let height = |x: f64, y: f64| {
+        40.0 * (x / 370.0).sin() * (y / 290.0).cos()
+            + 25.0 * ((x + 2.0 * y) / 1130.0).sin()
+            + 3.0 * (x / 23.0).sin() * (y / 31.0).sin()
+    };
+    write_f32_tiled(&grid, 512, false, &dem_path, |row0, band| {
+        for (i, z) in band.iter_mut().enumerate() {
+            let (c, r) = (i % side, row0 + i / side);
+            *z = height(c as f64 + 0.5, (side - r) as f64 - 0.5) as f32;
+        }
+        Ok(())
+    })
+    .map_err(|e| e.to_string())?;
+    let write_s = started.elapsed().as_secs_f64();
+    let bytes = std::fs::metadata(&dem_path).map_or(0, |m| m.len());
+    println!(
+        "bigmap: wrote {} ({side} x {side} float32, {:.2} GB) in {write_s:.1} s",
+        dem_path.display(),
+        bytes as f64 / 1e9
+    );
+    Ok((dem_path, grid))
+}
+
+/// A 16-sector horizon map for Suns 12° up or higher, tile by tile, written as one
+/// tiled GeoTIFF (a plane per sector, 2 bytes a cell and sector: 29 GB for 30 000²) as
+/// tiles finish; the file is counted and removed. Its time, s, bytes, whether it is a
+/// BigTIFF, the halo in cells and the tiles.
+fn big_horizon(
+    src: &mut areo_terrain::geotiff::Windows,
+    rel: areo_terrain::tiles::Relief,
+    grid: &areo_terrain::geotiff::Grid,
+    dir: &Path,
+    side: usize,
+    tile: usize,
+) -> Result<(f64, u64, bool, usize, usize), String> {
+    use areo_terrain::shadow::Curvature;
+    use areo_terrain::tiles::{HorizonTiles, ShadowHalo, write_horizon_tiled};
+    let lowest = 12.0;
+    let halo = ShadowHalo::new(rel, grid, lowest).map_err(|e| e.to_string())?;
+    let plan = HorizonTiles { sectors: 16, curvature: Curvature::Flat, lowest_deg: lowest, halo, tile };
+    let started = std::time::Instant::now();
+    let horizon_out = dir.join(format!("horizon_{side}.tif"));
+    let mut tiles = 0usize;
+    let big = write_horizon_tiled(src, &plan, &horizon_out, |done, _| tiles = done).map_err(|e| e.to_string())?;
+    let horizon_bytes = std::fs::metadata(&horizon_out).map_or(0, |m| m.len());
+    let _ = std::fs::remove_file(&horizon_out);
+    let horizon_s = started.elapsed().as_secs_f64();
+    Ok((horizon_s, horizon_bytes, big, halo.cols, tiles))
 }

@@ -246,37 +246,80 @@ fn names_history(line: &str) -> bool {
     })
 }
 
-/// Functions of areo-scenario longer than `max` lines, as `path:line name (n lines)`: the
-/// middle layer stays a set of small steps (a job computes a report; printers read it).
+/// Functions longer than `max` lines (from `fn` to the closing brace) in the sources of
+/// every crate, the binary, xtask and the Python module, as `path:line name (n lines)`:
+/// code stays a set of small steps. The files are parsed (`syn`), so every form counts —
+/// free functions, methods, a trait's default bodies, functions inside functions,
+/// whatever their visibility (`pub(super)`, `pub(in …)`) or qualifiers (`const`,
+/// `async`, `unsafe`, `extern`). Tests are exempt: `#[test]` functions and
+/// `#[cfg(test)]` modules, and the `tests/` and `benches/` directories.
 pub(crate) fn long_functions(root: &Path, max: usize) -> Result<Vec<String>, String> {
+    let dirs: Vec<PathBuf> = std::fs::read_dir(root.join("crates"))
+        .map(|entries| entries.filter_map(|e| Some(e.ok()?.path().join("src"))).collect())
+        .unwrap_or_default();
+    let dirs: Vec<PathBuf> =
+        dirs.into_iter().chain(["src", "xtask/src", "python/src"].iter().map(|d| root.join(d))).collect();
     let mut found = Vec::new();
-    for (path, text) in rust_sources(&[root.join("crates/scenario/src")], &[])? {
-        let lines: Vec<&str> = text.lines().collect();
-        let mut i = 0;
-        while i < lines.len() {
-            let line = lines[i];
-            let indent = line.len() - line.trim_start().len();
-            let code = line.trim_start();
-            let code = code.strip_prefix("pub(crate) ").or_else(|| code.strip_prefix("pub ")).unwrap_or(code);
-            // A declaration, or a body on one line, is not followed to a closing line.
-            if let Some(rest) = code.strip_prefix("fn ")
-                && !line.trim_end().ends_with(';')
-                && !line.trim_end().ends_with('}')
-            {
-                let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
-                let close = format!("{}}}", " ".repeat(indent));
-                let end = (i + 1..lines.len()).find(|&j| lines[j] == close).unwrap_or(lines.len() - 1);
-                if end - i + 1 > max {
-                    let at = path.strip_prefix(root).unwrap_or(&path).display();
-                    found.push(format!("{at}:{} {name} ({} lines)", i + 1, end - i + 1));
-                }
-                i = end;
-            }
-            i += 1;
-        }
+    for (path, text) in rust_sources(&dirs, &["tests", "benches"])? {
+        let file = syn::parse_file(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        let shown = path.strip_prefix(root).unwrap_or(&path).display().to_string();
+        let mut scan = LongFunctions { max, path: &shown, found: Vec::new() };
+        syn::visit::Visit::visit_file(&mut scan, &file);
+        found.extend(scan.found);
     }
     found.sort();
     Ok(found)
+}
+
+/// The visitor of [`long_functions`].
+struct LongFunctions<'a> {
+    max: usize,
+    path: &'a str,
+    found: Vec<String>,
+}
+
+impl LongFunctions<'_> {
+    fn check(&mut self, attrs: &[syn::Attribute], sig: &syn::Signature, block: &syn::Block) {
+        if attrs.iter().any(|a| a.path().is_ident("test")) {
+            return;
+        }
+        let first = sig.fn_token.span.start().line;
+        let last = block.brace_token.span.close().end().line;
+        let lines = last + 1 - first;
+        if lines > self.max {
+            self.found.push(format!("{}:{first} {} ({lines} lines)", self.path, sig.ident));
+        }
+    }
+}
+
+/// Whether `attrs` hold `#[cfg(test)]`.
+fn cfg_test(attrs: &[syn::Attribute]) -> bool {
+    attrs.iter().any(|a| a.path().is_ident("cfg") && a.parse_args::<syn::Ident>().is_ok_and(|i| i == "test"))
+}
+
+impl<'ast> syn::visit::Visit<'ast> for LongFunctions<'_> {
+    fn visit_item_mod(&mut self, m: &'ast syn::ItemMod) {
+        if !cfg_test(&m.attrs) {
+            syn::visit::visit_item_mod(self, m);
+        }
+    }
+
+    fn visit_item_fn(&mut self, f: &'ast syn::ItemFn) {
+        self.check(&f.attrs, &f.sig, &f.block);
+        syn::visit::visit_item_fn(self, f);
+    }
+
+    fn visit_impl_item_fn(&mut self, f: &'ast syn::ImplItemFn) {
+        self.check(&f.attrs, &f.sig, &f.block);
+        syn::visit::visit_impl_item_fn(self, f);
+    }
+
+    fn visit_trait_item_fn(&mut self, f: &'ast syn::TraitItemFn) {
+        if let Some(block) = &f.default {
+            self.check(&f.attrs, &f.sig, block);
+        }
+        syn::visit::visit_trait_item_fn(self, f);
+    }
 }
 
 #[cfg(test)]
@@ -356,20 +399,40 @@ mod tests {
     }
 
     #[test]
-    fn no_long_functions_in_the_middle_layer() {
+    fn no_long_functions_anywhere() {
         let found = long_functions(&crate::project_root(), 80).unwrap();
-        assert!(found.is_empty(), "areo-scenario's functions stay under 80 lines: {found:#?}");
-        // The scan sees one when it is there.
+        assert!(found.is_empty(), "functions stay under 80 lines: {found:#?}");
+    }
+
+    /// Every form of function is seen, whatever its visibility and qualifiers; tests
+    /// are not.
+    #[test]
+    fn the_length_check_sees_every_form_of_function() {
         let dir = std::env::temp_dir().join(format!("areo-long-fn-{}", std::process::id()));
-        std::fs::create_dir_all(dir.join("crates/scenario/src")).unwrap();
-        let body = "    let x = 1;\n".repeat(81);
-        std::fs::write(
-            dir.join("crates/scenario/src/lib.rs"),
-            format!("fn short() {{}}\npub(crate) fn long() {{\n{body}}}\n"),
-        )
-        .unwrap();
-        assert_eq!(long_functions(&dir, 80).unwrap(), vec!["crates/scenario/src/lib.rs:2 long (83 lines)".to_string()]);
+        std::fs::create_dir_all(dir.join("crates/x/src")).unwrap();
+        let body = "    let x = 1;\n".repeat(79);
+        let forms = [
+            "fn a() {B}",
+            "pub(super) fn b() {B}",
+            "pub(in crate::m) fn c() {B}",
+            "pub async fn d() {B}",
+            "pub(crate) const fn e() {B}",
+            "unsafe fn f() {B}",
+            "struct S;\nimpl S {\n    pub fn g(&self) {B}\n}",
+            "trait T {\n    fn h(&self) {B}\n}",
+            "#[test]\nfn t() {B}",
+            "#[cfg(test)]\nmod tests {\n    fn u() {B}\n}",
+            "fn short() {\n}",
+        ];
+        let text: String = forms.iter().map(|f| f.replace('B', &format!("\n{body}")) + "\n").collect();
+        std::fs::write(dir.join("crates/x/src/lib.rs"), &text).unwrap();
+        let found = long_functions(&dir, 80).unwrap();
         std::fs::remove_dir_all(&dir).unwrap();
+        let mut names: Vec<&str> = found.iter().map(|f| f.split(' ').nth(1).unwrap()).collect();
+        names.sort_unstable();
+        assert_eq!(names, ["a", "b", "c", "d", "e", "f", "g", "h"], "{found:#?}");
+        assert!(found.iter().all(|f| f.ends_with("(81 lines)")), "{found:#?}");
+        assert!(found.iter().any(|f| f.starts_with("crates/x/src/lib.rs:1 a ")), "{found:#?}");
     }
 
     #[test]

@@ -298,28 +298,19 @@ impl Corpus {
 
     /// Draws a case and writes its inputs into `dir`.
     fn draw(&self, rng: &mut ChaCha8Rng, dir: &Path) -> Result<Case, String> {
-        let write = |name: &str, bytes: &[u8]| {
-            std::fs::write(dir.join(name), bytes).map_err(|e| format!("{}: {e}", dir.join(name).display()))
-        };
+        let write = |name: &str, bytes: &[u8]| write_in(dir, name, bytes);
         // Every scenario may name a rover file: give each case the shipped ones.
         std::fs::create_dir_all(dir.join("rovers")).map_err(|e| e.to_string())?;
         for (name, text) in &self.rovers {
             write(&format!("rovers/{name}"), text.as_bytes())?;
         }
         let _ = &self.rover_dir;
-        // A tenth of the default work budget (2·10⁹ steps, 1–4 minutes;
-        // lunar-south-pole-10m, 4·10⁹, is refused, its rover checked on
-        // lunar-south-pole): it is what makes a mutated search that floods its map end,
-        // with exit 2, within the time bound — the default budget is 10–40 minutes.
-        let run = |name: &str| -> Vec<String> {
-            ["-q", "run", name, "--out", "out", "--max-work", "2e9"].map(String::from).to_vec()
-        };
         let pick = rng.random_range(0..100u32);
         Ok(if pick < 45 {
             let (name, text) = &self.scenarios[rng.random_range(0..self.scenarios.len())];
             let (mutated, what) = mutate_number(rng, text);
             write(name, mutated.as_bytes())?;
-            Case { kind: "scenario number", what: format!("{name}: {what}"), args: run(name) }
+            Case { kind: "scenario number", what: format!("{name}: {what}"), args: run_args(name) }
         } else if pick < 60 {
             let (name, text) = &self.scenarios[rng.random_range(0..self.scenarios.len())];
             let mut cut = rng.random_range(0..text.len());
@@ -327,27 +318,9 @@ impl Corpus {
                 cut -= 1;
             }
             write(name, &text.as_bytes()[..cut])?;
-            Case { kind: "scenario cut", what: format!("{name} cut at byte {cut}"), args: run(name) }
+            Case { kind: "scenario cut", what: format!("{name} cut at byte {cut}"), args: run_args(name) }
         } else if pick < 72 {
-            // A rover file of the scenario that uses it.
-            let (rover, text) = &self.rovers[rng.random_range(0..self.rovers.len())];
-            let (mutated, what) = mutate_number(rng, text);
-            write(&format!("rovers/{rover}"), mutated.as_bytes())?;
-            let user = self
-                .scenarios
-                .iter()
-                .filter(|(_, t)| t.contains(rover.as_str()))
-                // The cheapest user, so that the rover's numbers are checked by a run
-                // the fuzz's work budget admits.
-                .min_by_key(|(n, t)| {
-                    areo_scenario::format::parse(Path::new(n), t)
-                        .ok()
-                        .and_then(|s| areo_scenario::budget::estimate(&s))
-                        .map_or(u64::MAX, |e| e.work_steps)
-                })
-                .ok_or_else(|| format!("no scenario uses rovers/{rover}"))?;
-            write(&user.0, user.1.as_bytes())?;
-            Case { kind: "rover number", what: format!("rovers/{rover}: {what}"), args: run(&user.0) }
+            self.rover_case(rng, dir)?
         } else if pick < 78 {
             let (mutated, what) = mutate_number(rng, &self.lsr1);
             write("lsr1.ron", mutated.as_bytes())?;
@@ -358,84 +331,133 @@ impl Corpus {
                 args: ["rover", "check", "lsr1.ron", "--terrain", terrain].map(String::from).to_vec(),
             }
         } else if pick < 92 {
-            let (name, bytes) = &self.dems[rng.random_range(0..self.dems.len())];
-            let mut b = bytes.clone();
-            let what = match rng.random_range(0..3u32) {
-                0 => {
-                    let cut = rng.random_range(0..b.len());
-                    b.truncate(cut);
-                    format!("{name} cut at byte {cut}")
-                }
-                1 => {
-                    let n = rng.random_range(1..8usize);
-                    // Headers matter most: flip within the first 600 bytes half the time.
-                    let span = if rng.random_range(0..2u32) == 0 { b.len().min(600) } else { b.len() };
-                    for _ in 0..n {
-                        let i = rng.random_range(0..span);
-                        b[i] ^= 1 << rng.random_range(0..8u32);
-                    }
-                    format!("{name} with {n} bits flipped")
-                }
-                _ => {
-                    let i = rng.random_range(0..b.len());
-                    let n = rng.random_range(1..16usize).min(b.len() - i);
-                    for k in 0..n {
-                        b[i + k] = rng.random::<u8>();
-                    }
-                    format!("{name} with {n} random bytes at {i}")
-                }
-            };
-            write(name, &b)?;
-            let args: Vec<String> = match rng.random_range(0..3u32) {
-                0 => vec!["terrain".into(), "info".into(), (*name).into()],
-                1 => ["terrain", "shadow", name, "--sun-azimuth", "100", "--sun-elevation", "5", "-o", "out/s.tif"]
-                    .map(String::from)
-                    .to_vec(),
-                _ => ["terrain", "horizon", name, "--sectors", "16", "-o", "out/h.tif"].map(String::from).to_vec(),
-            };
-            std::fs::create_dir_all(dir.join("out")).map_err(|e| e.to_string())?;
-            Case { kind: "dem bytes", what: format!("{what}: {}", args[1]), args }
+            self.dem_case(rng, dir)?
         } else if pick < 96 {
             self.file_case(rng, dir)?
         } else {
-            let values: Vec<String> = (0..3).map(|_| HOSTILE[rng.random_range(0..HOSTILE.len())].to_string()).collect();
-            let v = |i: usize| values[i].clone();
-            let (tif_name, tif) = &self.dems[0];
-            write(tif_name, tif)?;
-            std::fs::create_dir_all(dir.join("out")).map_err(|e| e.to_string())?;
-            let args: Vec<String> = match rng.random_range(0..4u32) {
-                0 => vec![
-                    "terrain".into(),
-                    "shadow".into(),
-                    (*tif_name).into(),
-                    format!("--sun-azimuth={}", v(0)),
-                    format!("--sun-elevation={}", v(1)),
-                    "-o".into(),
-                    "out/s.tif".into(),
-                ],
-                1 => vec![
-                    "terrain".into(),
-                    "viewshed".into(),
-                    (*tif_name).into(),
-                    format!("--from={},{},{}", v(0), v(1), v(2)),
-                    "-o".into(),
-                    "out/v.tif".into(),
-                ],
-                2 => vec![
-                    "terrain".into(),
-                    "horizon".into(),
-                    (*tif_name).into(),
-                    format!("--sectors={}", v(0)),
-                    "-o".into(),
-                    "out/h.tif".into(),
-                ],
-                _ => {
-                    vec!["sun".into(), format!("--sol={}", v(0)), format!("--lat={}", v(1)), format!("--lon={}", v(2))]
-                }
-            };
-            Case { kind: "flags", what: args.join(" "), args }
+            self.flag_case(rng, dir)?
         })
     }
+}
+
+impl Corpus {
+    /// A rover file with a number mutated, checked by the cheapest scenario that uses it.
+    fn rover_case(&self, rng: &mut ChaCha8Rng, dir: &Path) -> Result<Case, String> {
+        let write = |name: &str, bytes: &[u8]| write_in(dir, name, bytes);
+        // A rover file of the scenario that uses it.
+        let (rover, text) = &self.rovers[rng.random_range(0..self.rovers.len())];
+        let (mutated, what) = mutate_number(rng, text);
+        write(&format!("rovers/{rover}"), mutated.as_bytes())?;
+        let user = self
+            .scenarios
+            .iter()
+            .filter(|(_, t)| t.contains(rover.as_str()))
+            // The cheapest user, so that the rover's numbers are checked by a run
+            // the fuzz's work budget admits.
+            .min_by_key(|(n, t)| {
+                areo_scenario::format::parse(Path::new(n), t)
+                    .ok()
+                    .and_then(|s| areo_scenario::budget::estimate(&s))
+                    .map_or(u64::MAX, |e| e.work_steps)
+            })
+            .ok_or_else(|| format!("no scenario uses rovers/{rover}"))?;
+        write(&user.0, user.1.as_bytes())?;
+        Ok(Case { kind: "rover number", what: format!("rovers/{rover}: {what}"), args: run_args(&user.0) })
+    }
+
+    /// A DEM cut short, with bits flipped or with random bytes, read by a terrain command.
+    fn dem_case(&self, rng: &mut ChaCha8Rng, dir: &Path) -> Result<Case, String> {
+        let (name, bytes) = &self.dems[rng.random_range(0..self.dems.len())];
+        let mut b = bytes.clone();
+        let what = match rng.random_range(0..3u32) {
+            0 => {
+                let cut = rng.random_range(0..b.len());
+                b.truncate(cut);
+                format!("{name} cut at byte {cut}")
+            }
+            1 => {
+                let n = rng.random_range(1..8usize);
+                // Headers matter most: flip within the first 600 bytes half the time.
+                let span = if rng.random_range(0..2u32) == 0 { b.len().min(600) } else { b.len() };
+                for _ in 0..n {
+                    let i = rng.random_range(0..span);
+                    b[i] ^= 1 << rng.random_range(0..8u32);
+                }
+                format!("{name} with {n} bits flipped")
+            }
+            _ => {
+                let i = rng.random_range(0..b.len());
+                let n = rng.random_range(1..16usize).min(b.len() - i);
+                for k in 0..n {
+                    b[i + k] = rng.random::<u8>();
+                }
+                format!("{name} with {n} random bytes at {i}")
+            }
+        };
+        write_in(dir, name, &b)?;
+        let args: Vec<String> = match rng.random_range(0..3u32) {
+            0 => vec!["terrain".into(), "info".into(), (*name).into()],
+            1 => ["terrain", "shadow", name, "--sun-azimuth", "100", "--sun-elevation", "5", "-o", "out/s.tif"]
+                .map(String::from)
+                .to_vec(),
+            _ => ["terrain", "horizon", name, "--sectors", "16", "-o", "out/h.tif"].map(String::from).to_vec(),
+        };
+        std::fs::create_dir_all(dir.join("out")).map_err(|e| e.to_string())?;
+        Ok(Case { kind: "dem bytes", what: format!("{what}: {}", args[1]), args })
+    }
+
+    /// Hostile values in the command-line flags.
+    fn flag_case(&self, rng: &mut ChaCha8Rng, dir: &Path) -> Result<Case, String> {
+        let values: Vec<String> = (0..3).map(|_| HOSTILE[rng.random_range(0..HOSTILE.len())].to_string()).collect();
+        let v = |i: usize| values[i].clone();
+        let (tif_name, tif) = &self.dems[0];
+        write_in(dir, tif_name, tif)?;
+        std::fs::create_dir_all(dir.join("out")).map_err(|e| e.to_string())?;
+        let args: Vec<String> = match rng.random_range(0..4u32) {
+            0 => vec![
+                "terrain".into(),
+                "shadow".into(),
+                (*tif_name).into(),
+                format!("--sun-azimuth={}", v(0)),
+                format!("--sun-elevation={}", v(1)),
+                "-o".into(),
+                "out/s.tif".into(),
+            ],
+            1 => vec![
+                "terrain".into(),
+                "viewshed".into(),
+                (*tif_name).into(),
+                format!("--from={},{},{}", v(0), v(1), v(2)),
+                "-o".into(),
+                "out/v.tif".into(),
+            ],
+            2 => vec![
+                "terrain".into(),
+                "horizon".into(),
+                (*tif_name).into(),
+                format!("--sectors={}", v(0)),
+                "-o".into(),
+                "out/h.tif".into(),
+            ],
+            _ => {
+                vec!["sun".into(), format!("--sol={}", v(0)), format!("--lat={}", v(1)), format!("--lon={}", v(2))]
+            }
+        };
+        Ok(Case { kind: "flags", what: args.join(" "), args })
+    }
+}
+
+/// Writes `bytes` as `dir`/`name`.
+fn write_in(dir: &Path, name: &str, bytes: &[u8]) -> Result<(), String> {
+    std::fs::write(dir.join(name), bytes).map_err(|e| format!("{}: {e}", dir.join(name).display()))
+}
+
+/// `areo run` of scenario `name` at a tenth of the default work budget (2·10⁹ steps, 1–4
+/// minutes; lunar-south-pole-10m, 4·10⁹, is refused, its rover checked on
+/// lunar-south-pole): it is what makes a mutated search that floods its map end within
+/// the time bound — the default budget is 10–40 minutes.
+fn run_args(name: &str) -> Vec<String> {
+    ["-q", "run", name, "--out", "out", "--max-work", "2e9"].map(String::from).to_vec()
 }
 
 impl Corpus {
@@ -499,7 +521,7 @@ impl Corpus {
             }
             _ => {
                 let (tif_name, tif) = &self.dems[0];
-                write(tif_name, tif)?;
+                write_in(dir, tif_name, tif)?;
                 #[cfg(unix)]
                 std::os::unix::fs::symlink(tif_name, dir.join("out/link.tif")).map_err(|e| e.to_string())?;
                 Case {

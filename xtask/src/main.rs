@@ -48,8 +48,7 @@ fn main() -> ExitCode {
                     history.into_iter().map(|at| format!("{at}: a session or issue number (history lives in git)")),
                 );
                 let long = deps::long_functions(&project_root(), 80)?;
-                violations
-                    .extend(long.into_iter().map(|at| format!("{at}: a function over 80 lines in areo-scenario")));
+                violations.extend(long.into_iter().map(|at| format!("{at}: a function over 80 lines")));
                 Ok(violations)
             })
             .map(|violations| {

@@ -380,6 +380,34 @@ impl<D: Domain> Search<D> {
                 (true, Vec::new())
             });
         }
+        self.remove_subtrees(domain, roots, &mut touch, &mut order);
+        let closed = self.closed_near(domain, &order, &touch);
+        // Those closed nodes keep every step they made that lands on an untouched state
+        // (its transition did not change): they are reopened for a partial expansion
+        // that makes again only the steps into touched states — if the search still
+        // needs them when they come up.
+        for id in closed {
+            let n = &mut self.nodes[id];
+            n.flags = OPEN | PARTIAL;
+            self.stats.reopened += 1;
+            let (g, label, state) = (n.g, n.label.clone(), n.state);
+            let f = g + domain.heuristic(state, &label) + self.key_offset;
+            self.open.push(Entry::new(f, g, id));
+            self.partial.push(id);
+        }
+        self.touched.extend(order);
+    }
+
+    /// Removes the subtrees under `roots` (the nodes and everything whose path passes
+    /// through them), noting in `touch` (in `order` of first touch) the classes the
+    /// removed labels had pruned others in.
+    fn remove_subtrees(
+        &mut self,
+        domain: &D,
+        roots: Vec<u32>,
+        touch: &mut FxHashMap<D::State, (bool, Vec<D::Key>)>,
+        order: &mut Vec<D::State>,
+    ) {
         let mut stack = roots;
         while let Some(id) = stack.pop() {
             let n = &mut self.nodes[id];
@@ -422,12 +450,21 @@ impl<D: Domain> Search<D> {
                 }
             }
         }
-        // The surviving closed nodes that can regenerate labels at the touched states, or
-        // reach them more cheaply now: those at the touched states and their
-        // neighbours whose steps can land in a touched class.
+    }
+
+    /// The surviving closed nodes that can regenerate labels at the touched states, or
+    /// reach them more cheaply now: those at the touched states and their neighbours
+    /// whose steps can land in a touched class. Removed and replaced-but-never-expanded
+    /// nodes met on the way are unlinked from their states' lists.
+    fn closed_near(
+        &mut self,
+        domain: &D,
+        order: &[D::State],
+        touch: &FxHashMap<D::State, (bool, Vec<D::Key>)>,
+    ) -> Vec<u32> {
         let mut near = Vec::new();
         let mut toward: FxHashMap<D::State, Vec<D::State>> = FxHashMap::default();
-        for &t in &order {
+        for &t in order {
             self.states.clear();
             domain.successors(t, &mut self.states);
             self.states.push(t);
@@ -478,20 +515,7 @@ impl<D: Domain> Search<D> {
             }
             self.relink_head(domain, s, head, new_head);
         }
-        // Those closed nodes keep every step they made that lands on an untouched state
-        // (its transition did not change): they are reopened for a partial expansion
-        // that makes again only the steps into touched states — if the search still
-        // needs them when they come up.
-        for id in closed {
-            let n = &mut self.nodes[id];
-            n.flags = OPEN | PARTIAL;
-            self.stats.reopened += 1;
-            let (g, label, state) = (n.g, n.label.clone(), n.state);
-            let f = g + domain.heuristic(state, &label) + self.key_offset;
-            self.open.push(Entry::new(f, g, id));
-            self.partial.push(id);
-        }
-        self.touched.extend(order);
+        closed
     }
 
     /// Tells the engine that [`Domain::within_global`] may now reject labels it
@@ -616,7 +640,30 @@ impl<D: Domain> Search<D> {
             }
         }
         self.nodes.truncate(kept);
-        // Rebuild the links, newest first as they were made.
+        self.relink(domain, kept, &remap);
+        self.open = OpenList::from_vec(open);
+        self.open_purge_at = (3 * self.open.len() / 2).max(OPEN_PURGE_MIN);
+        let parked = std::mem::take(&mut self.parked);
+        self.parked = parked
+            .into_iter()
+            .filter_map(|p| {
+                let new = remap[p.id as usize];
+                (new != NONE).then_some(Parked { release: p.release, id: new })
+            })
+            .collect();
+        self.goal_ids.retain_mut(|id| {
+            *id = remap[*id as usize];
+            *id != NONE
+        });
+        self.compacted_len = kept;
+        u64::from(len - kept)
+    }
+
+    /// After compaction moved the `kept` survivors down (`remap`: old id to new), makes
+    /// again every link between them: parents and children, the states' label lists,
+    /// and the class table or dominance groups of the live ones — newest first, as
+    /// they were made.
+    fn relink(&mut self, domain: &D, kept: u32, remap: &[u32]) {
         self.classes.clear();
         self.groups.clear();
         self.group_next.clear();
@@ -651,22 +698,6 @@ impl<D: Domain> Search<D> {
                 }
             }
         }
-        self.open = OpenList::from_vec(open);
-        self.open_purge_at = (3 * self.open.len() / 2).max(OPEN_PURGE_MIN);
-        let parked = std::mem::take(&mut self.parked);
-        self.parked = parked
-            .into_iter()
-            .filter_map(|p| {
-                let new = remap[p.id as usize];
-                (new != NONE).then_some(Parked { release: p.release, id: new })
-            })
-            .collect();
-        self.goal_ids.retain_mut(|id| {
-            *id = remap[*id as usize];
-            *id != NONE
-        });
-        self.compacted_len = kept;
-        u64::from(len - kept)
     }
 
     /// Tells the engine that the start (and so the heuristic) changed: plan extension
@@ -980,31 +1011,7 @@ impl<D: Domain> Search<D> {
             return;
         }
         if D::MANY_LABELS && !D::DOMINANCE {
-            // The class table finds the one label this one competes with.
-            let new_id = self.nodes.len();
-            match self.classes.entry((state, key)) {
-                std::collections::hash_map::Entry::Occupied(mut e) => {
-                    let (id, old_g) = *e.get();
-                    self.stats.pruned_resolution += 1;
-                    let keep_old = old_g < g || (old_g == g && !domain.better(&label, &self.nodes[id].label));
-                    if keep_old {
-                        return;
-                    }
-                    // Killed in place: the entry borrows the table.
-                    self.nodes[id].flags = DEAD;
-                    self.alive -= 1;
-                    if self.nodes[id].first_child != NONE && !domain.stands_in_for(state, &label, &self.nodes[id].label)
-                    {
-                        self.doomed.push(id);
-                    }
-                    *e.get_mut() = (new_id, g);
-                }
-                std::collections::hash_map::Entry::Vacant(e) => {
-                    e.insert((new_id, g));
-                }
-            }
-            let pushed = self.push_node(domain, state, label, g, parent, action, head);
-            debug_assert_eq!(pushed, new_id);
+            self.insert_in_class(domain, state, label, key, head, g, parent, action);
             return;
         }
         // Walk the labels at this state, unlinking removed ones on the way.
@@ -1056,6 +1063,47 @@ impl<D: Domain> Search<D> {
         self.push_node(domain, state, label, g, parent, action, new_head);
     }
 
+    /// [`Search::insert`] with a class table: the table finds the one label this one
+    /// competes with.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn insert_in_class(
+        &mut self,
+        domain: &D,
+        state: D::State,
+        label: D::Label,
+        key: D::Key,
+        head: u32,
+        g: f64,
+        parent: u32,
+        action: Option<D::Action>,
+    ) {
+        // The class table finds the one label this one competes with.
+        let new_id = self.nodes.len();
+        match self.classes.entry((state, key)) {
+            std::collections::hash_map::Entry::Occupied(mut e) => {
+                let (id, old_g) = *e.get();
+                self.stats.pruned_resolution += 1;
+                let keep_old = old_g < g || (old_g == g && !domain.better(&label, &self.nodes[id].label));
+                if keep_old {
+                    return;
+                }
+                // Killed in place: the entry borrows the table.
+                self.nodes[id].flags = DEAD;
+                self.alive -= 1;
+                if self.nodes[id].first_child != NONE && !domain.stands_in_for(state, &label, &self.nodes[id].label) {
+                    self.doomed.push(id);
+                }
+                *e.get_mut() = (new_id, g);
+            }
+            std::collections::hash_map::Entry::Vacant(e) => {
+                e.insert((new_id, g));
+            }
+        }
+        let pushed = self.push_node(domain, state, label, g, parent, action, head);
+        debug_assert_eq!(pushed, new_id);
+    }
+
     /// [`Search::insert`] for domains with many labels per state and dominance: the new
     /// label competes with the live labels of its (state, dominance group) only. First
     /// whether anything there beats it (the same class at no greater cost, or a
@@ -1075,24 +1123,7 @@ impl<D: Domain> Search<D> {
     ) {
         let group = domain.dominance_group(state, key);
         let head = self.groups.get(domain, state, group);
-        let mut id = head;
-        let mut compared = 0u64;
-        while id != NONE {
-            compared += 1;
-            let n = &self.nodes[id];
-            let beaten = if !domain.pareto_classes() && domain.key(state, &n.label) == key {
-                (n.g < g || (n.g == g && !domain.better(&label, &n.label))).then_some(&mut self.stats.pruned_resolution)
-            } else {
-                domain.dominates(state, &n.label, n.g, &label, g).then_some(&mut self.stats.pruned_dominance)
-            };
-            if let Some(count) = beaten {
-                *count += 1;
-                self.stats.compared += compared;
-                domain.compared(compared);
-                return;
-            }
-            id = self.group_next[id as usize];
-        }
+        let Some(compared) = self.survives_in_group(domain, state, &label, key, g, head) else { return };
         // The second walk below tests the same labels again.
         self.stats.compared += 2 * compared;
         domain.compared(2 * compared);
@@ -1145,6 +1176,40 @@ impl<D: Domain> Search<D> {
         };
         self.group_next[new_id as usize] = new_head;
         self.groups.set(domain, state, group, new_id);
+    }
+
+    /// Whether a new label (`label` of class `key` at cost `g`) survives the live labels
+    /// of its dominance group from `head`: `Some` with the labels it was compared with,
+    /// `None` when one of them beats it (counted).
+    #[inline]
+    fn survives_in_group(
+        &mut self,
+        domain: &D,
+        state: D::State,
+        label: &D::Label,
+        key: D::Key,
+        g: f64,
+        head: u32,
+    ) -> Option<u64> {
+        let mut id = head;
+        let mut compared = 0u64;
+        while id != NONE {
+            compared += 1;
+            let n = &self.nodes[id];
+            let beaten = if !domain.pareto_classes() && domain.key(state, &n.label) == key {
+                (n.g < g || (n.g == g && !domain.better(label, &n.label))).then_some(&mut self.stats.pruned_resolution)
+            } else {
+                domain.dominates(state, &n.label, n.g, label, g).then_some(&mut self.stats.pruned_dominance)
+            };
+            if let Some(count) = beaten {
+                *count += 1;
+                self.stats.compared += compared;
+                domain.compared(compared);
+                return None;
+            }
+            id = self.group_next[id as usize];
+        }
+        Some(compared)
     }
 
     /// Takes a removed node out of its dominance group's list (which holds live labels

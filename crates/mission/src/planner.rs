@@ -481,6 +481,60 @@ fn own_path(p: Vec<PathStep<TempestDomain<'_>>>) -> Vec<PathStep<TempestDomain<'
         .collect()
 }
 
+/// Refuses a problem that cannot be planned before any search: bad settings, no goals,
+/// a start or goal off the map or blocked, a bad start, goals that slopes or obstacles
+/// cut off whatever the time (a proven "unreachable"), energy classes out of range.
+fn check_problem(
+    world: &World,
+    model: &ActionModel,
+    config: &PlannerConfig,
+    start: Start,
+    goals: &[u32],
+) -> Result<()> {
+    config.validate()?;
+    if goals.is_empty() {
+        return Err(Error::Config { field: "goals", message: "at least one goal is needed".into() });
+    }
+    for (field, cell) in std::iter::once(("start", start.cell)).chain(goals.iter().map(|&g| ("goals", g))) {
+        if cell as usize >= world.cells() || !world.passable(cell) {
+            return Err(Error::Config {
+                field,
+                message: format!("cell {cell} is off the map, on missing data or blocked"),
+            });
+        }
+    }
+    if !(start.energy_wh >= 0.0 && start.t_min >= 0.0 && start.t_max >= start.t_min) {
+        return Err(Error::Config {
+            field: "start",
+            message: "start energy must be ≥ 0 and the start window a non-empty interval from t ≥ 0".into(),
+        });
+    }
+    // Time-independent reachability first: a cheap, clear answer when slopes or
+    // obstacles cut the goals off.
+    let mut at = start.cell;
+    for &g in goals {
+        if !connected(world, model, at, g, true) {
+            let binding = if connected(world, model, at, g, false) { Binding::Slope } else { Binding::Blocked };
+            return Err(Error::Unreachable { binding, message: binding.describe().into(), proven: true });
+        }
+        at = g;
+    }
+    if let Some(w) = config.resolution.energy_wh {
+        let usable = model.capacity_wh();
+        if !(1e-3..=usable / 2.0).contains(&w) {
+            return Err(Error::Config {
+                field: "resolution.energy_wh",
+                message: format!(
+                    "{w} Wh: allowed 0.001 Wh up to half the usable battery ({:.1} Wh), or none for exact \
+                     energy — a wider class would collapse E",
+                    usable / 2.0
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
 impl<'a> Mission<'a> {
     /// Plans from `start` through `goals` (cells, in order).
     pub fn plan(
@@ -490,47 +544,7 @@ impl<'a> Mission<'a> {
         start: Start,
         goals: &[u32],
     ) -> Result<(Mission<'a>, MissionPlan)> {
-        config.validate()?;
-        if goals.is_empty() {
-            return Err(Error::Config { field: "goals", message: "at least one goal is needed".into() });
-        }
-        for (field, cell) in std::iter::once(("start", start.cell)).chain(goals.iter().map(|&g| ("goals", g))) {
-            if cell as usize >= world.cells() || !world.passable(cell) {
-                return Err(Error::Config {
-                    field,
-                    message: format!("cell {cell} is off the map, on missing data or blocked"),
-                });
-            }
-        }
-        if !(start.energy_wh >= 0.0 && start.t_min >= 0.0 && start.t_max >= start.t_min) {
-            return Err(Error::Config {
-                field: "start",
-                message: "start energy must be ≥ 0 and the start window a non-empty interval from t ≥ 0".into(),
-            });
-        }
-        // Time-independent reachability first: a cheap, clear answer when slopes or
-        // obstacles cut the goals off.
-        let mut at = start.cell;
-        for &g in goals {
-            if !connected(world, model, at, g, true) {
-                let binding = if connected(world, model, at, g, false) { Binding::Slope } else { Binding::Blocked };
-                return Err(Error::Unreachable { binding, message: binding.describe().into(), proven: true });
-            }
-            at = g;
-        }
-        if let Some(w) = config.resolution.energy_wh {
-            let usable = model.capacity_wh();
-            if !(1e-3..=usable / 2.0).contains(&w) {
-                return Err(Error::Config {
-                    field: "resolution.energy_wh",
-                    message: format!(
-                        "{w} Wh: allowed 0.001 Wh up to half the usable battery ({:.1} Wh), or none for exact \
-                         energy — a wider class would collapse E",
-                        usable / 2.0
-                    ),
-                });
-            }
-        }
+        check_problem(world, model, &config, start, goals)?;
         // Each try searches the same problem — the same goal windows, and a start window
         // never narrower than the last try's — at finer classes than the last, so that
         // what a coarser setting finds a finer one finds too (see `finer_classes`).
@@ -1000,52 +1014,11 @@ impl<'a> Mission<'a> {
         let windows = self.kept_windows();
         let capped = windows.iter().any(|w| w.1 < self.world.span_s() - 1e-6);
         if !self.probe_plans(None, all.clone(), true, false) {
-            if let Err(e) = self.allowance.check() {
-                return e;
-            }
-            let proven = windows.last().is_some_and(|w| w.0 >= self.world.span_s());
-            if proven {
-                let message = Binding::Horizon.describe().into();
-                return Error::Unreachable { binding: Binding::Horizon, message, proven };
-            }
-            if capped {
-                let open = self.probe_window_open(all, true, false);
-                if let Err(e) = self.allowance.check() {
-                    return e;
-                }
-                if open {
-                    return self.unreachable(Binding::GoalWindow, &self.window_message());
-                }
-            }
-            // Start and goals are connected (checked before any search) and nothing
-            // relaxed made a plan: only time is left — the horizon, the goal instants,
-            // the waits.
-            return self.unreachable(Binding::Horizon, Binding::Horizon.describe());
+            return self.time_binds(all, &windows, capped);
         }
         // (binding, action constraints, unlimited battery, keep the sessions), each
         // relaxing one constraint; shadow with darkness, as direct sun implies daylight.
-        let mut singles: Vec<(Binding, ActionConfig, bool, bool)> = vec![(Binding::Battery, base.clone(), true, true)];
-        let mut c = base.clone();
-        for r in [&mut c.drive, &mut c.charge, &mut c.hibernate] {
-            r.daylight = false;
-        }
-        if dark {
-            singles.push((Binding::Darkness, c.clone(), false, true));
-        }
-        for r in [&mut c.drive, &mut c.charge, &mut c.hibernate] {
-            r.direct_sun = false;
-        }
-        if shade {
-            singles.push((Binding::Shadow, c, false, true));
-        }
-        if camera {
-            let mut cam = base.clone();
-            cam.drive.sun_in_camera = false;
-            singles.push((Binding::SunInCamera, cam, false, true));
-        }
-        if sessions {
-            singles.push((Binding::Communicate, base.clone(), false, false));
-        }
+        let singles = self.single_relaxations(&base, dark, shade, camera, sessions);
         for (binding, actions, big_battery, sessions) in singles {
             let found = self.probe_plans(Some(binding), actions, big_battery, sessions);
             if let Err(e) = self.allowance.check() {
@@ -1087,6 +1060,69 @@ impl<'a> Mission<'a> {
             relaxed.join(", ")
         );
         self.unreachable(Binding::Together, &message)
+    }
+
+    /// The verdict when every constraint relaxed at once finds no plan: only time is left
+    /// — a goal window that closes before the horizon (`GoalWindow`, if opening it plans),
+    /// else the planning horizon (proven where the last window opens past it).
+    fn time_binds(&self, all: ActionConfig, windows: &[(f64, f64)], capped: bool) -> Error {
+        if let Err(e) = self.allowance.check() {
+            return e;
+        }
+        let proven = windows.last().is_some_and(|w| w.0 >= self.world.span_s());
+        if proven {
+            let message = Binding::Horizon.describe().into();
+            return Error::Unreachable { binding: Binding::Horizon, message, proven };
+        }
+        if capped {
+            let open = self.probe_window_open(all, true, false);
+            if let Err(e) = self.allowance.check() {
+                return e;
+            }
+            if open {
+                return self.unreachable(Binding::GoalWindow, &self.window_message());
+            }
+        }
+        // Start and goals are connected (checked before any search) and nothing
+        // relaxed made a plan: only time is left — the horizon, the goal instants,
+        // the waits.
+        self.unreachable(Binding::Horizon, Binding::Horizon.describe())
+    }
+
+    /// The single relaxations to probe, in order: (binding, action constraints, unlimited
+    /// battery, keep the sessions), each relaxing one constraint the mission has; shadow
+    /// with darkness, as direct sun implies daylight.
+    fn single_relaxations(
+        &self,
+        base: &ActionConfig,
+        dark: bool,
+        shade: bool,
+        camera: bool,
+        sessions: bool,
+    ) -> Vec<(Binding, ActionConfig, bool, bool)> {
+        let mut singles: Vec<(Binding, ActionConfig, bool, bool)> = vec![(Binding::Battery, base.clone(), true, true)];
+        let mut c = base.clone();
+        for r in [&mut c.drive, &mut c.charge, &mut c.hibernate] {
+            r.daylight = false;
+        }
+        if dark {
+            singles.push((Binding::Darkness, c.clone(), false, true));
+        }
+        for r in [&mut c.drive, &mut c.charge, &mut c.hibernate] {
+            r.direct_sun = false;
+        }
+        if shade {
+            singles.push((Binding::Shadow, c, false, true));
+        }
+        if camera {
+            let mut cam = base.clone();
+            cam.drive.sun_in_camera = false;
+            singles.push((Binding::SunInCamera, cam, false, true));
+        }
+        if sessions {
+            singles.push((Binding::Communicate, base.clone(), false, false));
+        }
+        singles
     }
 
     /// The message naming the goal windows as binding, with the settings that set them.

@@ -344,39 +344,11 @@ pub struct Simulation<'a> {
 /// or a first plan that cannot be made; an unreachable goal found later ends the run
 /// with [`SimStatus::Unreachable`] and everything so far kept.
 pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress)) -> Result<SimReport> {
-    let Simulation { believed, truth, model, ref planner, start, goals, config: ref sim } = *simulation;
-    let planner = planner.clone();
+    let Simulation { believed, truth, model, start, goals, config: ref sim, .. } = *simulation;
     sim.validate()?;
-    let mut report = SimReport {
-        status: SimStatus::StepLimit,
-        plans: Vec::new(),
-        steps: Vec::new(),
-        goals_reached: Vec::new(),
-        start,
-        goals: goals.to_vec(),
-    };
-    let sensed = believed.sense(truth, &disc(believed, start.cell, sim.sense_radius_cells))?;
-    let clock = Instant::now();
-    let config = planner.clone();
-    let (mut mission, mut plan) = Mission::plan(believed, model, planner, start, goals)?;
-    report.plans.push(PlanRecord {
-        step: 0,
-        kind: PlanKind::Initial,
-        t_s: start.t_min,
-        wall_s: clock.elapsed().as_secs_f64(),
-        expansions: plan.expansions,
-        changed_cells: sensed.len(),
-        search_bytes: mission.search_bytes(),
-        route_changed: true,
-        fresh: None,
-        restart: None,
-        plan: plan.clone(),
-    });
-
-    let mut rng = ChaCha8Rng::seed_from_u64(sim.noise.seed);
-    rng.set_stream(sim.stream);
-    // A systematic departure is drawn once, before the first action.
-    let once = sim.uncertainty.map(|u| u.sample(&mut rng));
+    let config = simulation.planner.clone();
+    let (mut mission, mut plan, mut report) = initial_plan(simulation)?;
+    let (mut rng, once) = noise_source(sim);
     // The rover executes on the nominal model; planning margins are the planner's.
     let executor = model.nominal();
     let (mut cell, mut t, mut battery) = (start.cell, start.t_min, start.energy_wh);
@@ -394,82 +366,31 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         // The plan may start a little after now (its start window): idle until then.
         let t_plan = plan.waypoints.first().map_or(t, |w| w.t_s);
         if t_plan > t + 1e-6 {
-            let energy_wh = executor.idle_wh(t_plan - t);
-            battery = (battery - energy_wh).min(capacity);
-            report.steps.push(ExecutedStep {
-                t_s: t,
-                cell,
-                to: cell,
-                action: Action::Hibernate,
-                duration_s: t_plan - t,
-                energy_wh,
-                battery_above_floor_wh: battery,
-                distance_m: 0.0,
-                sun_elevation_deg: truth.sun(t).elevation_deg,
-                refused: None,
-            });
+            let idle = idle_step(&executor, truth, cell, t, t_plan - t, battery, capacity);
+            battery = idle.battery_above_floor_wh;
+            report.steps.push(idle);
             t = t_plan;
         }
-        let perturbation = match (&sim.uncertainty, once) {
-            (Some(u), Some(p)) => u.next(p, &mut rng),
-            (Some(u), None) => u.sample(&mut rng),
-            (None, _) => Perturbation::drive_and_solar(
-                1.0 + sim.noise.drive_slowdown * rng.random::<f64>(),
-                1.0 - sim.noise.solar_loss * rng.random::<f64>(),
-            ),
-        };
-        let sun_elevation_deg = truth.sun(t).elevation_deg;
-        let (executed, refused, outcome) = match executor.execute(truth, action, cell, t, perturbation) {
-            Ok(o) => (action, None, o),
-            Err(why) => match executor.execute(truth, Action::Hibernate, cell, t, perturbation) {
-                Ok(o) => (Action::Hibernate, Some((action, why)), o),
+        let perturbation = draw_perturbation(sim, once, &mut rng);
+        let (executed, lowest) =
+            match execute_step(&executor, truth, action, (cell, t, battery, capacity), perturbation) {
+                Ok(e) => e,
                 Err(b) => {
                     report.status = SimStatus::Stuck(b);
                     break;
                 }
-            },
-        };
-        let (to, effect) = outcome;
-        let distance_m = if to == cell {
-            0.0
-        } else {
-            let (a, b) = (truth.center(cell), truth.center(to));
-            let rise = truth.elevation(to).unwrap_or(0.0) - truth.elevation(cell).unwrap_or(0.0);
-            (a.0 - b.0).hypot(a.1 - b.1).hypot(rise)
-        };
-        // The battery is checked at every integration sample of the action, not only at
-        // its end: a stay that drains before the Sun rises can run out inside it.
-        let lowest = effect.lowest(battery, capacity);
-        battery = effect.after(battery, capacity);
-        report.steps.push(ExecutedStep {
-            t_s: t,
-            cell,
-            to,
-            action: executed,
-            duration_s: effect.duration_s,
-            energy_wh: effect.energy_wh,
-            battery_above_floor_wh: battery,
-            distance_m,
-            sun_elevation_deg,
-            refused,
-        });
+            };
+        let (to, duration_s) = (executed.to, executed.duration_s);
+        battery = executed.battery_above_floor_wh;
+        report.steps.push(executed);
         cell = to;
-        t += effect.duration_s;
+        t += duration_s;
         on_step(SimProgress { step, t_s: t, goals_reached: report.goals_reached.len() });
         if battery < 0.0 || lowest < -1e-9 {
             report.status = SimStatus::BatteryDepleted;
             break;
         }
-        let goal_reached = next_goal < goals.len() && cell == goals[next_goal];
-        if goal_reached {
-            report.goals_reached.push((next_goal, t));
-            next_goal += 1;
-            // At the last goal the plan may still charge to the goal energy: it ends
-            // when the plan does.
-            if next_goal < goals.len() {
-                mission.goal_reached();
-            }
-        }
+        let goal_reached = arrive(&mut report, &mut mission, &mut next_goal, cell, t);
 
         let changed = believed.sense(truth, &disc(believed, cell, sim.sense_radius_cells))?;
         let clock = Instant::now();
@@ -477,57 +398,19 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         // Re-planning keeps the mission's goal instants and graphs; when that finds
         // nothing (their discretisation can miss a narrow way through), plan afresh from
         // here, as an executive would, before declaring the goals unreachable.
-        let outcome = match mission.advance(here, &changed) {
-            Ok(p) => Ok((p, None)),
-            Err(Error::Unreachable { binding, message, .. }) => {
-                let replan_work = mission.last_call_work();
-                // The re-plan is compared like every other: the same problem searched
-                // from scratch on the kept goal instants.
-                let fresh_found = if sim.compare_fresh { Some(mission.fresh()?.is_some()) } else { None };
-                let restart = Restart { binding, reason: message, replan_work, fresh_found };
-                // The kept graphs stay alive until the new mission replaces them.
-                let held = mission.search_bytes();
-                let fresh = PlannerConfig {
-                    max_search_bytes: config.max_search_bytes.map(|m| m.saturating_sub(held)),
-                    ..config.clone()
-                };
-                // Past the last goal the plan only stays there (to reach the goal
-                // energy): the fresh plan is to that goal from where the rover stands.
-                let remaining = &goals[next_goal.min(goals.len() - 1)..];
-                Mission::plan(believed, model, fresh, here, remaining).map(|(m, p)| {
-                    mission = m;
-                    (p, Some(restart))
-                })
-            }
-            Err(e) => Err(e),
-        };
+        let remaining = &goals[next_goal.min(goals.len() - 1)..];
+        let outcome = replan(&mut mission, (believed, model, &config), sim.compare_fresh, here, &changed, remaining);
         match outcome {
             Ok((p, restart)) => {
-                let kind = if restart.is_some() { PlanKind::Restart } else { PlanKind::Replan };
-                let route_changed = !same_route(&plan, &p, cell);
                 // Plan extension alone moves the start, and the kept graph must still
                 // answer as a fresh one: with `fresh_every: 1` every re-plan is compared,
                 // sensed change or not; thinned out, never those that repaired or
                 // re-seeded the graphs.
                 let compared = step % sim.fresh_every == 0 || !changed.is_empty() || goal_reached;
-                let fresh = if sim.compare_fresh && kind == PlanKind::Replan && compared {
-                    mission.fresh()?.map(|f| (f.expansions, f.cost))
-                } else {
-                    None
-                };
-                report.plans.push(PlanRecord {
-                    step,
-                    kind,
-                    t_s: t,
-                    wall_s: clock.elapsed().as_secs_f64(),
-                    expansions: p.expansions,
-                    changed_cells: changed.len(),
-                    search_bytes: mission.search_bytes(),
-                    route_changed,
-                    fresh,
-                    restart,
-                    plan: p.clone(),
-                });
+                let compare = sim.compare_fresh && restart.is_none() && compared;
+                let route_changed = !same_route(&plan, &p, cell);
+                let at = (step, t, clock.elapsed().as_secs_f64());
+                report.plans.push(record_replan(&mission, &p, restart, at, (changed.len(), route_changed), compare)?);
                 plan = p;
             }
             Err(Error::Unreachable { binding, message, proven }) => {
@@ -538,6 +421,207 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         }
     }
     Ok(report)
+}
+
+/// The first plan, before the rover moves (after sensing around its start), and the
+/// report that records it.
+fn initial_plan<'a>(simulation: &Simulation<'a>) -> Result<(Mission<'a>, MissionPlan, SimReport)> {
+    let Simulation { believed, truth, model, ref planner, start, goals, config: ref sim } = *simulation;
+    let mut report = SimReport {
+        status: SimStatus::StepLimit,
+        plans: Vec::new(),
+        steps: Vec::new(),
+        goals_reached: Vec::new(),
+        start,
+        goals: goals.to_vec(),
+    };
+    let sensed = believed.sense(truth, &disc(believed, start.cell, sim.sense_radius_cells))?;
+    let clock = Instant::now();
+    let (mission, plan) = Mission::plan(believed, model, planner.clone(), start, goals)?;
+    report.plans.push(PlanRecord {
+        step: 0,
+        kind: PlanKind::Initial,
+        t_s: start.t_min,
+        wall_s: clock.elapsed().as_secs_f64(),
+        expansions: plan.expansions,
+        changed_cells: sensed.len(),
+        search_bytes: mission.search_bytes(),
+        route_changed: true,
+        fresh: None,
+        restart: None,
+        plan: plan.clone(),
+    });
+    Ok((mission, plan, report))
+}
+
+/// Executes `action` from `cell` at `t` with `battery` (of `capacity`) on the true world
+/// under `perturbation`; where the truth refuses it, the rover hibernates instead. The
+/// executed step (with the battery after it) and the lowest charge inside it: the
+/// battery is checked at every integration sample of the action, not only at its end,
+/// since a stay that drains before the Sun rises can run out inside it. `Err`: not even
+/// a hibernation is possible, and why.
+fn execute_step(
+    executor: &ActionModel,
+    truth: &World,
+    action: Action,
+    (cell, t, battery, capacity): (u32, f64, f64, f64),
+    perturbation: Perturbation,
+) -> std::result::Result<(ExecutedStep, f64), Binding> {
+    let sun_elevation_deg = truth.sun(t).elevation_deg;
+    let (executed, refused, (to, effect)) = match executor.execute(truth, action, cell, t, perturbation) {
+        Ok(o) => (action, None, o),
+        Err(why) => {
+            (Action::Hibernate, Some((action, why)), executor.execute(truth, Action::Hibernate, cell, t, perturbation)?)
+        }
+    };
+    let step = ExecutedStep {
+        t_s: t,
+        cell,
+        to,
+        action: executed,
+        duration_s: effect.duration_s,
+        energy_wh: effect.energy_wh,
+        battery_above_floor_wh: effect.after(battery, capacity),
+        distance_m: drive_length_m(truth, cell, to),
+        sun_elevation_deg,
+        refused,
+    };
+    Ok((step, effect.lowest(battery, capacity)))
+}
+
+/// The record of re-plan (or restart) `p` made at (`step`, `t`) in `wall_s`, after
+/// sensing changed `changed_cells` cells, with whether it changed the route; with
+/// `compare`, the same problem searched afresh beside it.
+fn record_replan(
+    mission: &Mission<'_>,
+    p: &MissionPlan,
+    restart: Option<Restart>,
+    (step, t, wall_s): (usize, f64, f64),
+    (changed_cells, route_changed): (usize, bool),
+    compare: bool,
+) -> Result<PlanRecord> {
+    let fresh = if compare { mission.fresh()?.map(|f| (f.expansions, f.cost)) } else { None };
+    Ok(PlanRecord {
+        step,
+        kind: if restart.is_some() { PlanKind::Restart } else { PlanKind::Replan },
+        t_s: t,
+        wall_s,
+        expansions: p.expansions,
+        changed_cells,
+        search_bytes: mission.search_bytes(),
+        route_changed,
+        fresh,
+        restart,
+        plan: p.clone(),
+    })
+}
+
+/// Whether the rover, now at `cell` at `t`, has reached the next goal; if so it is
+/// recorded and the mission moves on to the goal after it. At the last goal the plan may
+/// still charge to the goal energy: the run ends when the plan does.
+fn arrive(report: &mut SimReport, mission: &mut Mission<'_>, next_goal: &mut usize, cell: u32, t: f64) -> bool {
+    if *next_goal >= report.goals.len() || cell != report.goals[*next_goal] {
+        return false;
+    }
+    report.goals_reached.push((*next_goal, t));
+    *next_goal += 1;
+    if *next_goal < report.goals.len() {
+        mission.goal_reached();
+    }
+    true
+}
+
+/// The run's random numbers (seeded, on the run's own stream) and the systematic
+/// departure drawn once, before the first action, when the uncertainty model has one.
+fn noise_source(sim: &SimConfig) -> (ChaCha8Rng, Option<Perturbation>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(sim.noise.seed);
+    rng.set_stream(sim.stream);
+    let once = sim.uncertainty.map(|u| u.sample(&mut rng));
+    (rng, once)
+}
+
+/// The rover idling at the low load from `t` for `duration_s` (until its plan starts),
+/// as an executed Hibernate.
+fn idle_step(
+    executor: &ActionModel,
+    truth: &World,
+    cell: u32,
+    t: f64,
+    duration_s: f64,
+    battery: f64,
+    capacity: f64,
+) -> ExecutedStep {
+    let energy_wh = executor.idle_wh(duration_s);
+    ExecutedStep {
+        t_s: t,
+        cell,
+        to: cell,
+        action: Action::Hibernate,
+        duration_s,
+        energy_wh,
+        battery_above_floor_wh: (battery - energy_wh).min(capacity),
+        distance_m: 0.0,
+        sun_elevation_deg: truth.sun(t).elevation_deg,
+        refused: None,
+    }
+}
+
+/// The 3-D length of a drive from `cell` to `to` on `world`, m (0 for a stay).
+fn drive_length_m(world: &World, cell: u32, to: u32) -> f64 {
+    if to == cell {
+        return 0.0;
+    }
+    let (a, b) = (world.center(cell), world.center(to));
+    let rise = world.elevation(to).unwrap_or(0.0) - world.elevation(cell).unwrap_or(0.0);
+    (a.0 - b.0).hypot(a.1 - b.1).hypot(rise)
+}
+
+/// The next action's departure from the nominal model: drawn from the uncertainty
+/// model (about the run's systematic departure `once`, if any), or else the noise.
+fn draw_perturbation(sim: &SimConfig, once: Option<Perturbation>, rng: &mut ChaCha8Rng) -> Perturbation {
+    match (&sim.uncertainty, once) {
+        (Some(u), Some(p)) => u.next(p, rng),
+        (Some(u), None) => u.sample(rng),
+        (None, _) => Perturbation::drive_and_solar(
+            1.0 + sim.noise.drive_slowdown * rng.random::<f64>(),
+            1.0 - sim.noise.solar_loss * rng.random::<f64>(),
+        ),
+    }
+}
+
+/// Plan extension and re-planning from `here` after sensing changed `changed`. The
+/// re-plan keeps the mission's goal instants and graphs; when that finds nothing (their
+/// discretisation can miss a narrow way through), the rover plans afresh from here to
+/// the `remaining` goals, as an executive would, before declaring them unreachable —
+/// a restart, returned with the failed re-plan's verdict and work and, with
+/// `compare_fresh`, what a fresh search of the re-plan's own problem found.
+fn replan<'a>(
+    mission: &mut Mission<'a>,
+    (believed, model, config): (&'a World, &'a ActionModel, &PlannerConfig),
+    compare_fresh: bool,
+    here: Start,
+    changed: &[u32],
+    remaining: &[u32],
+) -> Result<(MissionPlan, Option<Restart>)> {
+    let (binding, reason) = match mission.advance(here, changed) {
+        Ok(p) => return Ok((p, None)),
+        Err(Error::Unreachable { binding, message, .. }) => (binding, message),
+        Err(e) => return Err(e),
+    };
+    let replan_work = mission.last_call_work();
+    // The re-plan is compared like every other: the same problem searched from scratch
+    // on the kept goal instants.
+    let fresh_found = if compare_fresh { Some(mission.fresh()?.is_some()) } else { None };
+    let restart = Restart { binding, reason, replan_work, fresh_found };
+    // The kept graphs stay alive until the new mission replaces them.
+    let held = mission.search_bytes();
+    let fresh =
+        PlannerConfig { max_search_bytes: config.max_search_bytes.map(|m| m.saturating_sub(held)), ..config.clone() };
+    // Past the last goal the plan only stays there (to reach the goal energy): the
+    // fresh plan is to that goal from where the rover stands (`remaining`).
+    let (m, p) = Mission::plan(believed, model, fresh, here, remaining)?;
+    *mission = m;
+    Ok((p, Some(restart)))
 }
 
 /// The cells within `radius` cells (centre to centre) of `cell`.

@@ -204,24 +204,7 @@ impl World {
         config: &WorldConfig,
         sun_model: &impl SunModel,
     ) -> Result<World> {
-        let site = match config.site {
-            Some(s) => s,
-            None => {
-                let (x, y) = dem.cell_center(dem.cols() / 2, dem.rows() / 2);
-                let (lat, lon) = dem.geographic(x, y).ok_or(Error::Config {
-                    field: "site",
-                    message: "the DEM has no georeference: give the site's latitude and longitude".into(),
-                })?;
-                Site::on(sun_model.body(), lat, lon)
-                    .map_err(|e| Error::Config { field: "site", message: e.to_string() })?
-            }
-        };
-        if site.body() != sun_model.body() {
-            return Err(Error::Config {
-                field: "site",
-                message: format!("a site on {} under the Sun of {}", site.body(), sun_model.body()),
-            });
-        }
+        let site = site_of(&dem, config, sun_model)?;
         let body = sun_model.body();
         let cells = dem.cols() * dem.rows();
         let normal = (0..cells)
@@ -237,35 +220,7 @@ impl World {
             })
             .collect();
         let horizon = horizon.map(Arc::new);
-        let n = (config.span_s / config.sun_step_s).ceil() as usize + 2;
-        // Every direction in the sky is kept on the grid's axes, as slopes, headings
-        // and horizon sectors are: where the map's meridians are not its columns (a
-        // polar map whose central meridian is not the site's) true azimuths turn by
-        // the grid's convergence at the site.
-        let projection = dem.georef().projection;
-        let (sin_n, cos_n) = projection.true_north_on_grid_deg(site.lon_east_deg()).to_radians().sin_cos();
-        let on_grid = |azimuth_deg: f64| projection.grid_azimuth_deg(azimuth_deg, site.lon_east_deg());
-        let sun = (0..n)
-            .map(|k| {
-                let at = config.epoch + Duration::from_seconds(k as f64 * config.sun_step_s);
-                let state = sun_model.sun(at);
-                let p = state.at_site(&site);
-                let [e, nn, u] = p.direction_enu;
-                Sun {
-                    azimuth_deg: on_grid(p.azimuth_deg),
-                    elevation_deg: p.elevation_deg,
-                    enu: [e * cos_n + nn * sin_n, nn * cos_n - e * sin_n, u],
-                    beam_w_m2: config.atmosphere.beam_w_m2(p.elevation_deg, state.distance_au),
-                }
-            })
-            .collect();
-        let earth = (0..n)
-            .map_while(|k| {
-                let at = config.epoch + Duration::from_seconds(k as f64 * config.sun_step_s);
-                let (azimuth_deg, elevation_deg) = body.earth(at)?.at_site(&site);
-                Some(EarthSky { azimuth_deg: on_grid(azimuth_deg), elevation_deg })
-            })
-            .collect();
+        let (sun, earth) = sky_tables(&dem, config, sun_model, &site);
         Ok(World {
             dem,
             elevation,
@@ -859,6 +814,65 @@ impl World {
         drop(table);
         Ok(world)
     }
+}
+
+/// The site the Sun is computed at: the configured one, or the DEM's middle cell where
+/// its georeference tells where that is; on the Sun model's body.
+fn site_of(dem: &Dem, config: &WorldConfig, sun_model: &impl SunModel) -> Result<Site> {
+    let site = match config.site {
+        Some(s) => s,
+        None => {
+            let (x, y) = dem.cell_center(dem.cols() / 2, dem.rows() / 2);
+            let (lat, lon) = dem.geographic(x, y).ok_or(Error::Config {
+                field: "site",
+                message: "the DEM has no georeference: give the site's latitude and longitude".into(),
+            })?;
+            Site::on(sun_model.body(), lat, lon).map_err(|e| Error::Config { field: "site", message: e.to_string() })?
+        }
+    };
+    if site.body() != sun_model.body() {
+        return Err(Error::Config {
+            field: "site",
+            message: format!("a site on {} under the Sun of {}", site.body(), sun_model.body()),
+        });
+    }
+    Ok(site)
+}
+
+/// The Sun and the Earth in the sky at `site` every Sun step over the span, directions
+/// on the grid's axes, as slopes, headings and horizon sectors are.
+fn sky_tables(dem: &Dem, config: &WorldConfig, sun_model: &impl SunModel, site: &Site) -> (Vec<Sun>, Vec<EarthSky>) {
+    let body = sun_model.body();
+    let n = (config.span_s / config.sun_step_s).ceil() as usize + 2;
+    // Every direction in the sky is kept on the grid's axes, as slopes, headings
+    // and horizon sectors are: where the map's meridians are not its columns (a
+    // polar map whose central meridian is not the site's) true azimuths turn by
+    // the grid's convergence at the site.
+    let projection = dem.georef().projection;
+    let (sin_n, cos_n) = projection.true_north_on_grid_deg(site.lon_east_deg()).to_radians().sin_cos();
+    let on_grid = |azimuth_deg: f64| projection.grid_azimuth_deg(azimuth_deg, site.lon_east_deg());
+    let sun = (0..n)
+        .map(|k| {
+            let at = config.epoch + Duration::from_seconds(k as f64 * config.sun_step_s);
+            let state = sun_model.sun(at);
+            let p = state.at_site(site);
+            let [e, nn, u] = p.direction_enu;
+            Sun {
+                azimuth_deg: on_grid(p.azimuth_deg),
+                elevation_deg: p.elevation_deg,
+                enu: [e * cos_n + nn * sin_n, nn * cos_n - e * sin_n, u],
+                beam_w_m2: config.atmosphere.beam_w_m2(p.elevation_deg, state.distance_au),
+            }
+        })
+        .collect();
+    let earth = (0..n)
+        .map_while(|k| {
+            let at = config.epoch + Duration::from_seconds(k as f64 * config.sun_step_s);
+            let (azimuth_deg, elevation_deg) = body.earth(at)?.at_site(site);
+            Some(EarthSky { azimuth_deg: on_grid(azimuth_deg), elevation_deg })
+        })
+        .collect();
+    (sun, earth)
 }
 
 #[cfg(test)]

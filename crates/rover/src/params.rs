@@ -6,6 +6,16 @@ use serde::Deserialize;
 
 use crate::error::{Error, Result, parse_ron, read_text};
 
+// Physical ranges: finite, positive where a zero would divide, and bounded so that no
+// product overflows (masses to 10 t, lengths to 100 m, powers to 1 MW, durations to
+// 10⁷ s).
+const LEN: f64 = 100.0;
+const POWER: f64 = 1e6;
+const DURATION: f64 = 1e7;
+
+/// A parameter out of its range: the field, its value and what is allowed.
+type Invalid = (&'static str, f64, String);
+
 /// The shipped LSR-1 parameter file (see its comments for sources and assumptions).
 pub const LSR1_RON: &str = include_str!("../params/lsr1.ron");
 
@@ -272,14 +282,16 @@ impl RoverParams {
 
     /// Checks ranges and that the geometry can be built.
     pub fn validate(&self, origin: &str) -> Result<()> {
-        let fail = |field: &'static str, value: f64, why: String| {
-            Err(Error::Invalid { origin: origin.into(), field, value, why })
-        };
-        // Physical ranges: finite, positive where a zero would divide, and bounded so
-        // that no product overflows (masses to 10 t, lengths to 100 m, powers to 1 MW).
-        const LEN: f64 = 100.0;
-        const POWER: f64 = 1e6;
-        const DURATION: f64 = 1e7;
+        self.check_magnitudes()
+            .and_then(|()| self.check_bounds())
+            .and_then(|()| self.check_geometry())
+            .map_err(|(field, value, why)| Error::Invalid { origin: origin.into(), field, value, why })
+    }
+
+    /// The quantities that must be positive (a zero would divide) and bounded, and the
+    /// efficiencies and fractions in (0, 1].
+    fn check_magnitudes(&self) -> std::result::Result<(), Invalid> {
+        let fail = |field: &'static str, value: f64, why: String| Err((field, value, why));
         let positive: [(&'static str, f64, f64); 18] = [
             ("arm.tool_speed_m_s", self.arm.tool_speed_m_s, 10.0),
             ("turn_rate_deg_s", self.turn_rate_deg_s, 360.0),
@@ -319,6 +331,13 @@ impl RoverParams {
                 return fail(field, v, "allowed 0 (exclusive)..=1".into());
             }
         }
+        Ok(())
+    }
+
+    /// The quantities that may be zero, every point of the geometry within 100 m of the
+    /// body origin, and the joint limits.
+    fn check_bounds(&self) -> std::result::Result<(), Invalid> {
+        let fail = |field: &'static str, value: f64, why: String| Err((field, value, why));
         for (field, v, hi) in [
             ("hotel_power_w", self.hotel_power_w, POWER),
             ("arm.mass_kg", self.arm.mass_kg, 1e4),
@@ -371,6 +390,13 @@ impl RoverParams {
                 return fail(field, v, "allowed 0..90 degrees".into());
             }
         }
+        Ok(())
+    }
+
+    /// The geometry: axles in order and apart, pivots where a rocker-bogie has them, the
+    /// centre of mass over the footprint, a stowed arm, a drive that delivers its torque.
+    fn check_geometry(&self) -> std::result::Result<(), Invalid> {
+        let fail = |field: &'static str, value: f64, why: String| Err((field, value, why));
         // Geometry.
         let (a, r) = (self.axle_x_m, self.wheel_radius_m);
         if !(a.front > a.middle && a.middle > a.rear) {

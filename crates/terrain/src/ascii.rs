@@ -51,10 +51,25 @@ fn geographic(dem: Dem, wkt: &str, prj: &Path) -> Result<Dem> {
         .map_err(|e| bad(e.to_string()))
 }
 
-/// Parses ESRI ASCII grid text; `path` labels errors.
-pub fn parse(text: &str, path: &Path) -> Result<Dem> {
+/// The header keys of an ESRI ASCII grid, as read (each `None` until given).
+struct Header {
+    ncols: Option<f64>,
+    nrows: Option<f64>,
+    dx: Option<f64>,
+    dy: Option<f64>,
+    xll: Option<f64>,
+    yll: Option<f64>,
+    /// The lower-left is a cell's centre (`xllcenter`), not its corner.
+    centre: bool,
+    nodata: Option<f64>,
+}
+
+/// Reads the header lines of `lines` up to the first line of data (left unread).
+fn read_header(
+    lines: &mut std::iter::Peekable<std::iter::Enumerate<std::str::Lines<'_>>>,
+    path: &Path,
+) -> Result<Header> {
     let bad = |line: usize, m: String| Error::format(path, format!("line {line}: {m}"));
-    let mut lines = text.lines().enumerate().peekable();
     let (mut ncols, mut nrows, mut dx, mut dy) = (None, None, None, None);
     let (mut xll, mut yll, mut centre) = (None, None, false);
     let mut nodata: Option<f64> = None;
@@ -90,6 +105,14 @@ pub fn parse(text: &str, path: &Path) -> Result<Dem> {
         }
         lines.next();
     }
+    Ok(Header { ncols, nrows, dx, dy, xll, yll, centre, nodata })
+}
+
+/// Parses ESRI ASCII grid text; `path` labels errors.
+pub fn parse(text: &str, path: &Path) -> Result<Dem> {
+    let bad = |line: usize, m: String| Error::format(path, format!("line {line}: {m}"));
+    let mut lines = text.lines().enumerate().peekable();
+    let Header { ncols, nrows, dx, dy, xll, yll, centre, nodata } = read_header(&mut lines, path)?;
     let need = |v: Option<f64>, name: &str| v.ok_or_else(|| bad(1, format!("header lacks `{name}`")));
     let (ncols, nrows) = (need(ncols, "ncols")?, need(nrows, "nrows")?);
     let (dx, dy) = (need(dx, "cellsize")?, need(dy, "cellsize")?);

@@ -108,6 +108,52 @@ fn describe_unread(geokeys: &GeoKeys) -> String {
     }
 }
 
+/// Refuses, before decoding, a TIFF whose samples or compression areo does not read,
+/// saying what it reads and how to rewrite the file. Shared by the whole-map and the
+/// window readers, so they refuse the same files.
+fn check_readable<R: Read + Seek>(dec: &mut Decoder<R>, path: &Path) -> Result<()> {
+    let bad = |m: String| Error::format(path, m);
+    let tiff_err = |e: tiff::TiffError| Error::format(path, format!("not a readable TIFF: {e}"));
+    // Sample types areo reads, refused here so the whole-map and the window readers
+    // refuse the same files.
+    let bits = dec.find_tag_unsigned_vec::<u16>(Tag::BitsPerSample).map_err(tiff_err)?.unwrap_or_else(|| vec![1]);
+    let format = dec.find_tag_unsigned_vec::<u16>(Tag::SampleFormat).map_err(tiff_err)?.unwrap_or_else(|| vec![1]);
+    let (b, f) = (bits.first().copied().unwrap_or(1), format.first().copied().unwrap_or(1));
+    let readable = matches!((f, b), (1 | 2, 8 | 16 | 32) | (3, 32 | 64));
+    if !readable {
+        let kind = match f {
+            1 => "unsigned integer",
+            2 => "signed integer",
+            3 => "floating point",
+            _ => "unknown",
+        };
+        return Err(bad(format!(
+            "{b}-bit {kind} samples (BitsPerSample {b}, SampleFormat {f}): areo reads 8-, 16- and 32-bit integers and 32- and 64-bit floats"
+        )));
+    }
+    // The schemes the decoder has, named before decoding: its own message for the
+    // rest ("Unknown(34887) is unsupported", or "corrupt" for JPEG) says neither what
+    // the file is nor what to do.
+    let compression = dec.find_tag_unsigned::<u16>(Tag::Compression).map_err(tiff_err)?.unwrap_or(1);
+    if !matches!(compression, 1 | 5 | 8 | 32946 | 32773 | 50000) {
+        let name = match compression {
+            2..=4 => "CCITT fax",
+            6 | 7 => "JPEG",
+            34712 => "JPEG 2000",
+            34887 => "LERC",
+            34925 => "LZMA",
+            50001 => "WebP",
+            50002 => "JPEG XL",
+            _ => "an unknown scheme",
+        };
+        return Err(bad(format!(
+            "compression {compression} ({name}): areo reads uncompressed, LZW, deflate, PackBits and Zstandard \
+             GeoTIFFs; rewrite it, e.g. `gdal_translate -co COMPRESS=DEFLATE in.tif out.tif`"
+        )));
+    }
+    Ok(())
+}
+
 impl Header {
     fn parse<R: Read + Seek>(dec: &mut Decoder<R>, path: &Path) -> Result<Header> {
         let bad = |m: String| Error::format(path, m);
@@ -117,43 +163,7 @@ impl Header {
         if samples != 1 {
             return Err(bad(format!("{samples} samples per pixel; a DEM has one band")));
         }
-        // Sample types areo reads, refused here so the whole-map and the window readers
-        // refuse the same files.
-        let bits = dec.find_tag_unsigned_vec::<u16>(Tag::BitsPerSample).map_err(tiff_err)?.unwrap_or_else(|| vec![1]);
-        let format = dec.find_tag_unsigned_vec::<u16>(Tag::SampleFormat).map_err(tiff_err)?.unwrap_or_else(|| vec![1]);
-        let (b, f) = (bits.first().copied().unwrap_or(1), format.first().copied().unwrap_or(1));
-        let readable = matches!((f, b), (1 | 2, 8 | 16 | 32) | (3, 32 | 64));
-        if !readable {
-            let kind = match f {
-                1 => "unsigned integer",
-                2 => "signed integer",
-                3 => "floating point",
-                _ => "unknown",
-            };
-            return Err(bad(format!(
-                "{b}-bit {kind} samples (BitsPerSample {b}, SampleFormat {f}): areo reads 8-, 16- and 32-bit integers and 32- and 64-bit floats"
-            )));
-        }
-        // The schemes the decoder has, named before decoding: its own message for the
-        // rest ("Unknown(34887) is unsupported", or "corrupt" for JPEG) says neither what
-        // the file is nor what to do.
-        let compression = dec.find_tag_unsigned::<u16>(Tag::Compression).map_err(tiff_err)?.unwrap_or(1);
-        if !matches!(compression, 1 | 5 | 8 | 32946 | 32773 | 50000) {
-            let name = match compression {
-                2..=4 => "CCITT fax",
-                6 | 7 => "JPEG",
-                34712 => "JPEG 2000",
-                34887 => "LERC",
-                34925 => "LZMA",
-                50001 => "WebP",
-                50002 => "JPEG XL",
-                _ => "an unknown scheme",
-            };
-            return Err(bad(format!(
-                "compression {compression} ({name}): areo reads uncompressed, LZW, deflate, PackBits and Zstandard \
-                 GeoTIFFs; rewrite it, e.g. `gdal_translate -co COMPRESS=DEFLATE in.tif out.tif`"
-            )));
-        }
+        check_readable(dec, path)?;
         if dec.find_tag(Tag::Unknown(MODEL_TRANSFORMATION)).map_err(tiff_err)?.is_some() {
             return Err(bad(
                 "ModelTransformationTag (a rotated or sheared grid) is not read: warp the DEM to a north-up grid first (gdalwarp)"
@@ -890,7 +900,6 @@ where
     [C::Inner]: tiff::encoder::TiffValue,
     C::Inner: Default + Copy,
 {
-    use tiff::tags::{CompressionMethod, PhotometricInterpretation, PlanarConfiguration};
     let tiff_err = |e: tiff::TiffError| match e {
         tiff::TiffError::IoError(source) => Error::Io { path: path.to_path_buf(), source },
         other => Error::Io { path: path.to_path_buf(), source: std::io::Error::other(other) },
@@ -946,35 +955,50 @@ where
         .map(|_| K::OffsetType::try_from(tile_bytes))
         .collect::<std::result::Result<_, _>>()
         .map_err(|e| tiff_err(e.into()))?;
-    dir.write_tag(Tag::ImageWidth, grid.cols as u32).map_err(tiff_err)?;
-    dir.write_tag(Tag::ImageLength, grid.rows as u32).map_err(tiff_err)?;
+    write_tile_tags::<W, K, C>(&mut dir, grid, layout, &offsets, &counts).map_err(tiff_err)?;
+    dir.finish().map_err(tiff_err)
+}
+
+/// The tags of a tiled file: its grid, sample layout, tile offsets and byte counts,
+/// georeference, no-data value and per-band scale and offset.
+fn write_tile_tags<W: Write + Seek, K: tiff::encoder::TiffKind, C: colortype::ColorType>(
+    dir: &mut tiff::encoder::DirectoryEncoder<'_, W, K>,
+    grid: &Grid,
+    layout: &Layout<'_>,
+    offsets: &[K::OffsetType],
+    counts: &[K::OffsetType],
+) -> tiff::TiffResult<()> {
+    use tiff::tags::{CompressionMethod, PhotometricInterpretation, PlanarConfiguration};
+    let (tile, planes) = (layout.tile, layout.planes);
+    dir.write_tag(Tag::ImageWidth, grid.cols as u32)?;
+    dir.write_tag(Tag::ImageLength, grid.rows as u32)?;
     let bits = vec![C::BITS_PER_SAMPLE[0]; planes];
-    dir.write_tag(Tag::BitsPerSample, &bits[..]).map_err(tiff_err)?;
+    dir.write_tag(Tag::BitsPerSample, &bits[..])?;
     let formats = vec![C::SAMPLE_FORMAT[0].to_u16(); planes];
-    dir.write_tag(Tag::SampleFormat, &formats[..]).map_err(tiff_err)?;
-    dir.write_tag(Tag::SamplesPerPixel, planes as u16).map_err(tiff_err)?;
-    dir.write_tag(Tag::Compression, CompressionMethod::None.to_u16()).map_err(tiff_err)?;
-    dir.write_tag(Tag::PhotometricInterpretation, PhotometricInterpretation::BlackIsZero.to_u16()).map_err(tiff_err)?;
+    dir.write_tag(Tag::SampleFormat, &formats[..])?;
+    dir.write_tag(Tag::SamplesPerPixel, planes as u16)?;
+    dir.write_tag(Tag::Compression, CompressionMethod::None.to_u16())?;
+    dir.write_tag(Tag::PhotometricInterpretation, PhotometricInterpretation::BlackIsZero.to_u16())?;
     let planar = if planes > 1 { PlanarConfiguration::Planar } else { PlanarConfiguration::Chunky };
-    dir.write_tag(Tag::PlanarConfiguration, planar.to_u16()).map_err(tiff_err)?;
+    dir.write_tag(Tag::PlanarConfiguration, planar.to_u16())?;
     if planes > 1 {
         // Planes beyond the first are data, not alpha (TIFF 6.0, ExtraSamples 0).
-        dir.write_tag(Tag::ExtraSamples, &vec![0u16; planes - 1][..]).map_err(tiff_err)?;
+        dir.write_tag(Tag::ExtraSamples, &vec![0u16; planes - 1][..])?;
     }
-    dir.write_tag(Tag::TileWidth, tile as u32).map_err(tiff_err)?;
-    dir.write_tag(Tag::TileLength, tile as u32).map_err(tiff_err)?;
-    dir.write_tag(Tag::TileOffsets, K::convert_slice(&offsets)).map_err(tiff_err)?;
-    dir.write_tag(Tag::TileByteCounts, K::convert_slice(&counts)).map_err(tiff_err)?;
-    dir.write_tag(Tag::ModelPixelScaleTag, &[grid.dx, grid.dy, 0.0][..]).map_err(tiff_err)?;
-    dir.write_tag(Tag::ModelTiepointTag, &[0.0, 0.0, 0.0, grid.x0, grid.y_top, 0.0][..]).map_err(tiff_err)?;
-    geokeys_for(&grid.georef).write(&mut dir).map_err(tiff_err)?;
+    dir.write_tag(Tag::TileWidth, tile as u32)?;
+    dir.write_tag(Tag::TileLength, tile as u32)?;
+    dir.write_tag(Tag::TileOffsets, K::convert_slice(offsets))?;
+    dir.write_tag(Tag::TileByteCounts, K::convert_slice(counts))?;
+    dir.write_tag(Tag::ModelPixelScaleTag, &[grid.dx, grid.dy, 0.0][..])?;
+    dir.write_tag(Tag::ModelTiepointTag, &[0.0, 0.0, 0.0, grid.x0, grid.y_top, 0.0][..])?;
+    geokeys_for(&grid.georef).write(dir)?;
     if let Some(nd) = layout.nodata {
-        dir.write_tag(Tag::GdalNodata, nd).map_err(tiff_err)?;
+        dir.write_tag(Tag::GdalNodata, nd)?;
     }
     if let Some((scale, offset)) = layout.scale_offset {
-        dir.write_tag(Tag::Unknown(GDAL_METADATA), &gdal_scale_offset(planes, scale, offset)[..]).map_err(tiff_err)?;
+        dir.write_tag(Tag::Unknown(GDAL_METADATA), &gdal_scale_offset(planes, scale, offset)[..])?;
     }
-    dir.finish().map_err(tiff_err)
+    Ok(())
 }
 
 /// GDAL's metadata tag: XML items, here each band's scale and offset.

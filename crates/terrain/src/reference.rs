@@ -29,6 +29,21 @@ pub fn cast_shadows(dem: &Dem, sun: SunDirection, curvature: Curvature) -> Vec<b
     horizon_on_triangles(dem, sun.azimuth_deg, curvature).into_iter().map(|h| h > sun.elevation_deg).collect()
 }
 
+/// How close to a vertex, in edge fractions, a crossing counts as the vertex itself.
+const EPS: f64 = 1e-9;
+
+/// The surface on an edge between two vertices of heights `a` and `b`, a fraction `t`
+/// from the first (a vertex's own height within [`EPS`] of it).
+fn on_edge(a: f64, b: f64, t: f64) -> f64 {
+    if t < EPS {
+        a
+    } else if t > 1.0 - EPS {
+        b
+    } else {
+        a + (b - a) * t
+    }
+}
+
 /// Per cell, the elevation angle (degrees) of the highest terrain seen toward
 /// `azimuth_deg` along the cell's own ray (−90 where nothing rises, NaN on missing
 /// cells): a cell is in cast shadow from a source at that azimuth exactly when the
@@ -37,7 +52,6 @@ pub fn cast_shadows(dem: &Dem, sun: SunDirection, curvature: Curvature) -> Vec<b
 /// diagonals): exact for that surface. O(cells × length): the brute-force reference of every
 /// [`Method`](crate::shadow::Method).
 pub fn horizon_on_triangles(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f64> {
-    const EPS: f64 = 1e-9;
     let (cols, rows) = (dem.cols() as i64, dem.rows() as i64);
     let a = azimuth_deg.to_radians();
     let snap = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
@@ -48,16 +62,6 @@ pub fn horizon_on_triangles(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -
             return f64::NAN;
         }
         dem.z(c as usize, r as usize).map_or(f64::NAN, f64::from)
-    };
-    // The surface on an edge between two vertices, a fraction t from the first.
-    let edge = |a: f64, b: f64, t: f64| {
-        if t < EPS {
-            a
-        } else if t > 1.0 - EPS {
-            b
-        } else {
-            a + (b - a) * t
-        }
     };
     let inside =
         |fc: f64, fr: f64| fc > -EPS && fr > -EPS && fc < (cols - 1) as f64 + EPS && fr < (rows - 1) as f64 + EPS;
@@ -91,17 +95,17 @@ pub fn horizon_on_triangles(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -
                     0 => {
                         let cc = c + j * rate.signum() as i64;
                         let r0 = fr.floor().max(0.0) as i64;
-                        edge(at(cc, r0), at(cc, r0 + 1), fr - r0 as f64)
+                        on_edge(at(cc, r0), at(cc, r0 + 1), fr - r0 as f64)
                     }
                     1 => {
                         let rr = r + j * rate.signum() as i64;
                         let c0 = fc.floor().max(0.0) as i64;
-                        edge(at(c0, rr), at(c0 + 1, rr), fc - c0 as f64)
+                        on_edge(at(c0, rr), at(c0 + 1, rr), fc - c0 as f64)
                     }
                     _ => {
                         let sum = c + r + j * rate.signum() as i64;
                         let c0 = fc.floor().max(0.0) as i64;
-                        edge(at(c0, sum - c0), at(c0 + 1, sum - c0 - 1), fc - c0 as f64)
+                        on_edge(at(c0, sum - c0), at(c0 + 1, sum - c0 - 1), fc - c0 as f64)
                     }
                 };
                 see(s, h);

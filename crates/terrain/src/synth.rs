@@ -209,6 +209,167 @@ pub struct Pass {
     pub width_m: f64,
 }
 
+impl Feature {
+    /// Checks feature `i`'s fields, naming the first bad one.
+    fn validate(&self, i: usize) -> Result<()> {
+        let c = FieldCheck { i };
+        match self {
+            Feature::Ridge { .. } | Feature::MountainChain { .. } | Feature::Scarp { .. } | Feature::Ditch { .. } => {
+                self.validate_linear(&c)
+            }
+            _ => self.validate_local(&c),
+        }
+    }
+
+    /// The features drawn about a point.
+    fn validate_local(&self, c: &FieldCheck) -> Result<()> {
+        match *self {
+            Feature::Crater { x_m, y_m, radius_m, depth_m, rim_height_m, ejecta_radii } => {
+                c.at("x_m", x_m)?;
+                c.at("y_m", y_m)?;
+                c.positive("radius_m", radius_m)?;
+                c.depth("depth_m", depth_m)?;
+                c.depth("rim_height_m", rim_height_m)?;
+                if !(1.0..=100.0).contains(&ejecta_radii) {
+                    return c.bad("ejecta_radii", ejecta_radii, "1..=100");
+                }
+            }
+            Feature::Hill { x_m, y_m, radius_m, slope_deg } => {
+                c.at("x_m", x_m)?;
+                c.at("y_m", y_m)?;
+                c.positive("radius_m", radius_m)?;
+                c.slope("slope_deg", slope_deg)?;
+            }
+            Feature::AsymmetricHill { x_m, y_m, height_m, west_slope_deg, east_slope_deg, top_radius_m } => {
+                if !(0.0..=MAX_LENGTH_M).contains(&top_radius_m) {
+                    return c.bad("top_radius_m", top_radius_m, "0..=1e7 m");
+                }
+                c.at("x_m", x_m)?;
+                c.at("y_m", y_m)?;
+                c.positive("height_m", height_m)?;
+                c.slope("west_slope_deg", west_slope_deg)?;
+                c.slope("east_slope_deg", east_slope_deg)?;
+            }
+            Feature::Rock { x_m, y_m, height_m, width_m } => {
+                c.at("x_m", x_m)?;
+                c.at("y_m", y_m)?;
+                if !(height_m > 0.0 && height_m <= MAX_HEIGHT_M) {
+                    return c.bad("height_m", height_m, "0 (exclusive)..=100000 m");
+                }
+                c.positive("width_m", width_m)?;
+            }
+            Feature::Tilt { slope_deg, aspect_deg } => {
+                c.slope("slope_deg", slope_deg)?;
+                if !(aspect_deg.abs() <= 360.0) {
+                    return c.bad("aspect_deg", aspect_deg, "-360..=360 degrees");
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// The features drawn along a line.
+    fn validate_linear(&self, c: &FieldCheck) -> Result<()> {
+        match *self {
+            Feature::Ridge { from_m, to_m, height_m, width_m } => {
+                for (name, v) in [("from_m", from_m.0), ("from_m", from_m.1), ("to_m", to_m.0), ("to_m", to_m.1)] {
+                    c.at(name, v)?;
+                }
+                c.height("height_m", height_m)?;
+                c.positive("width_m", width_m)?;
+            }
+            Feature::MountainChain { x_m, y_from_m, y_to_m, height_m, width_m, ref passes } => {
+                c.at("x_m", x_m)?;
+                c.at("y_from_m", y_from_m)?;
+                c.at("y_to_m", y_to_m)?;
+                c.height("height_m", height_m)?;
+                c.positive("width_m", width_m)?;
+                for (k, pass) in passes.iter().enumerate() {
+                    let q = |name: &str| format!("passes[{k}].{name}");
+                    if !(pass.y_m.abs() <= MAX_LENGTH_M) {
+                        return c.bad(&q("y_m"), pass.y_m, "-1e7..=1e7 m");
+                    }
+                    if !(pass.height_m.abs() <= MAX_HEIGHT_M) {
+                        return c.bad(&q("height_m"), pass.height_m, "-100000..=100000 m");
+                    }
+                    if !(pass.width_m > 0.0 && pass.width_m <= MAX_LENGTH_M) {
+                        return c.bad(&q("width_m"), pass.width_m, "0 (exclusive)..=1e7 m");
+                    }
+                }
+            }
+            Feature::Scarp { from_m, to_m, height_m, slope_deg } => {
+                for (name, v) in [("from_m", from_m.0), ("from_m", from_m.1), ("to_m", to_m.0), ("to_m", to_m.1)] {
+                    c.at(name, v)?;
+                }
+                if from_m == to_m {
+                    return c.bad("to_m", to_m.0, "a point different from from_m");
+                }
+                c.positive("height_m", height_m)?;
+                c.slope("slope_deg", slope_deg)?;
+                if !(slope_deg > 0.0) {
+                    return c.bad("slope_deg", slope_deg, "0 (exclusive)..90");
+                }
+            }
+            Feature::Ditch { from_m, to_m, width_m, depth_m, wall_deg } => {
+                for (name, v) in [("from_m", from_m.0), ("from_m", from_m.1), ("to_m", to_m.0), ("to_m", to_m.1)] {
+                    c.at(name, v)?;
+                }
+                c.positive("width_m", width_m)?;
+                if !(depth_m > 0.0 && depth_m <= MAX_HEIGHT_M) {
+                    return c.bad("depth_m", depth_m, "0 (exclusive)..=100000 m");
+                }
+                if !(wall_deg > 0.0 && wall_deg <= 90.0) {
+                    return c.bad("wall_deg", wall_deg, "0 (exclusive)..=90");
+                }
+                let run = if wall_deg >= 90.0 { 0.0 } else { depth_m / wall_deg.to_radians().tan() };
+                if 2.0 * run > width_m {
+                    return c.bad("wall_deg", wall_deg, "steep enough that both walls fit in width_m");
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+/// The range checks of feature `i`'s fields, each naming the field as
+/// `features[i].name`.
+struct FieldCheck {
+    i: usize,
+}
+
+impl FieldCheck {
+    fn bad(&self, name: &str, value: f64, allowed: &'static str) -> Result<()> {
+        Err(Error::BadSynth { field: format!("features[{}].{name}", self.i), value, allowed })
+    }
+
+    /// A position, m.
+    fn at(&self, name: &str, v: f64) -> Result<()> {
+        if v.abs() <= MAX_LENGTH_M { Ok(()) } else { self.bad(name, v, "-1e7..=1e7 m") }
+    }
+
+    /// A size, m.
+    fn positive(&self, name: &str, v: f64) -> Result<()> {
+        if v > 0.0 && v <= MAX_LENGTH_M { Ok(()) } else { self.bad(name, v, "0 (exclusive)..=1e7 m") }
+    }
+
+    /// A height above or below the base, m.
+    fn height(&self, name: &str, v: f64) -> Result<()> {
+        if v.abs() <= MAX_HEIGHT_M { Ok(()) } else { self.bad(name, v, "-100000..=100000 m") }
+    }
+
+    /// A depth, m.
+    fn depth(&self, name: &str, v: f64) -> Result<()> {
+        if (0.0..=MAX_HEIGHT_M).contains(&v) { Ok(()) } else { self.bad(name, v, "0..=100000 m") }
+    }
+
+    /// A slope, degrees.
+    fn slope(&self, name: &str, v: f64) -> Result<()> {
+        if (0.0..90.0).contains(&v) { Ok(()) } else { self.bad(name, v, "0..90") }
+    }
+}
+
 impl TerrainSpec {
     /// Checks every value, naming the first bad field. Beyond finiteness, the ranges are
     /// physical: cells from 1 mm to 10 km, positions and sizes within 10 000 km,
@@ -248,117 +409,7 @@ impl TerrainSpec {
             }
         }
         for (i, f) in self.features.iter().enumerate() {
-            let p = |name: &str| format!("features[{i}].{name}");
-            let at = |name: &str, v: f64| {
-                if v.abs() <= MAX_LENGTH_M { Ok(()) } else { bad(p(name), v, "-1e7..=1e7 m") }
-            };
-            let positive = |name: &str, v: f64| {
-                if v > 0.0 && v <= MAX_LENGTH_M { Ok(()) } else { bad(p(name), v, "0 (exclusive)..=1e7 m") }
-            };
-            let height = |name: &str, v: f64| {
-                if v.abs() <= MAX_HEIGHT_M { Ok(()) } else { bad(p(name), v, "-100000..=100000 m") }
-            };
-            let depth = |name: &str, v: f64| {
-                if (0.0..=MAX_HEIGHT_M).contains(&v) { Ok(()) } else { bad(p(name), v, "0..=100000 m") }
-            };
-            let slope = |name: &str, v: f64| if (0.0..90.0).contains(&v) { Ok(()) } else { bad(p(name), v, "0..90") };
-            match *f {
-                Feature::Crater { x_m, y_m, radius_m, depth_m, rim_height_m, ejecta_radii } => {
-                    at("x_m", x_m)?;
-                    at("y_m", y_m)?;
-                    positive("radius_m", radius_m)?;
-                    depth("depth_m", depth_m)?;
-                    depth("rim_height_m", rim_height_m)?;
-                    if !(1.0..=100.0).contains(&ejecta_radii) {
-                        return bad(p("ejecta_radii"), ejecta_radii, "1..=100");
-                    }
-                }
-                Feature::Hill { x_m, y_m, radius_m, slope_deg } => {
-                    at("x_m", x_m)?;
-                    at("y_m", y_m)?;
-                    positive("radius_m", radius_m)?;
-                    slope("slope_deg", slope_deg)?;
-                }
-                Feature::AsymmetricHill { x_m, y_m, height_m, west_slope_deg, east_slope_deg, top_radius_m } => {
-                    if !(0.0..=MAX_LENGTH_M).contains(&top_radius_m) {
-                        return bad(p("top_radius_m"), top_radius_m, "0..=1e7 m");
-                    }
-                    at("x_m", x_m)?;
-                    at("y_m", y_m)?;
-                    positive("height_m", height_m)?;
-                    slope("west_slope_deg", west_slope_deg)?;
-                    slope("east_slope_deg", east_slope_deg)?;
-                }
-                Feature::Ridge { from_m, to_m, height_m, width_m } => {
-                    for (name, v) in [("from_m", from_m.0), ("from_m", from_m.1), ("to_m", to_m.0), ("to_m", to_m.1)] {
-                        at(name, v)?;
-                    }
-                    height("height_m", height_m)?;
-                    positive("width_m", width_m)?;
-                }
-                Feature::MountainChain { x_m, y_from_m, y_to_m, height_m, width_m, ref passes } => {
-                    at("x_m", x_m)?;
-                    at("y_from_m", y_from_m)?;
-                    at("y_to_m", y_to_m)?;
-                    height("height_m", height_m)?;
-                    positive("width_m", width_m)?;
-                    for (k, pass) in passes.iter().enumerate() {
-                        let q = |name: &str| format!("features[{i}].passes[{k}].{name}");
-                        if !(pass.y_m.abs() <= MAX_LENGTH_M) {
-                            return bad(q("y_m"), pass.y_m, "-1e7..=1e7 m");
-                        }
-                        if !(pass.height_m.abs() <= MAX_HEIGHT_M) {
-                            return bad(q("height_m"), pass.height_m, "-100000..=100000 m");
-                        }
-                        if !(pass.width_m > 0.0 && pass.width_m <= MAX_LENGTH_M) {
-                            return bad(q("width_m"), pass.width_m, "0 (exclusive)..=1e7 m");
-                        }
-                    }
-                }
-                Feature::Scarp { from_m, to_m, height_m, slope_deg } => {
-                    for (name, v) in [("from_m", from_m.0), ("from_m", from_m.1), ("to_m", to_m.0), ("to_m", to_m.1)] {
-                        at(name, v)?;
-                    }
-                    if from_m == to_m {
-                        return bad(p("to_m"), to_m.0, "a point different from from_m");
-                    }
-                    positive("height_m", height_m)?;
-                    slope("slope_deg", slope_deg)?;
-                    if !(slope_deg > 0.0) {
-                        return bad(p("slope_deg"), slope_deg, "0 (exclusive)..90");
-                    }
-                }
-                Feature::Ditch { from_m, to_m, width_m, depth_m, wall_deg } => {
-                    for (name, v) in [("from_m", from_m.0), ("from_m", from_m.1), ("to_m", to_m.0), ("to_m", to_m.1)] {
-                        at(name, v)?;
-                    }
-                    positive("width_m", width_m)?;
-                    if !(depth_m > 0.0 && depth_m <= MAX_HEIGHT_M) {
-                        return bad(p("depth_m"), depth_m, "0 (exclusive)..=100000 m");
-                    }
-                    if !(wall_deg > 0.0 && wall_deg <= 90.0) {
-                        return bad(p("wall_deg"), wall_deg, "0 (exclusive)..=90");
-                    }
-                    let run = if wall_deg >= 90.0 { 0.0 } else { depth_m / wall_deg.to_radians().tan() };
-                    if 2.0 * run > width_m {
-                        return bad(p("wall_deg"), wall_deg, "steep enough that both walls fit in width_m");
-                    }
-                }
-                Feature::Rock { x_m, y_m, height_m, width_m } => {
-                    at("x_m", x_m)?;
-                    at("y_m", y_m)?;
-                    if !(height_m > 0.0 && height_m <= MAX_HEIGHT_M) {
-                        return bad(p("height_m"), height_m, "0 (exclusive)..=100000 m");
-                    }
-                    positive("width_m", width_m)?;
-                }
-                Feature::Tilt { slope_deg, aspect_deg } => {
-                    slope("slope_deg", slope_deg)?;
-                    if !(aspect_deg.abs() <= 360.0) {
-                        return bad(p("aspect_deg"), aspect_deg, "-360..=360 degrees");
-                    }
-                }
-            }
+            f.validate(i)?;
         }
         Ok(())
     }

@@ -66,40 +66,11 @@ pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: C
         lines.read(line, &mut heights);
         marks.fill(false);
         for k in 0..nv {
-            let (cell, zc) = if k % SUB == 0 {
-                let h = heights[k / SUB];
-                (Some(k / SUB), if h.is_nan() { f64::NEG_INFINITY } else { h })
-            } else {
-                let (a, b) = (heights[k / SUB], heights[k / SUB + 1]);
-                let t = (k % SUB) as f64 / SUB as f64;
-                // NaN (a missing end) fails the comparison: no terrain there.
-                let zc = if !a.is_nan() && !b.is_nan() { a * (1.0 - t) + b * t } else { f64::NEG_INFINITY };
-                (None, zc)
-            };
+            let (cell, zc) = sample(&heights, k);
             // The envelope arriving from the sun-ward line.
             let (mut h_in, mut d_in) = (f64::NEG_INFINITY, 0.0);
             if !first {
-                let k0 = k as isize + base;
-                let k1 = k0 + 1;
-                let get = |kk: isize| -> Option<(f64, f64)> {
-                    (kk >= 0 && (kk as usize) < nv).then(|| (prev_h[kk as usize], prev_d[kk as usize]))
-                };
-                let (h, d) = match (get(k0), get(k1)) {
-                    (Some((h0, d0)), Some((h1, d1))) => {
-                        if frac == 0.0 {
-                            (h0, d0)
-                        } else if h0.is_finite() && h1.is_finite() {
-                            (h0 + (h1 - h0) * frac, d0 + (d1 - d0) * frac)
-                        } else if h0 > h1 {
-                            (h0, d0)
-                        } else {
-                            (h1, d1)
-                        }
-                    }
-                    (Some(a), None) if frac == 0.0 => a,
-                    // The ray leaves the map: nothing beyond the edge shadows.
-                    _ => (f64::NEG_INFINITY, 0.0),
-                };
+                let (h, d) = arriving(&prev_h, &prev_d, k as isize + base, frac);
                 if h.is_finite() {
                     h_in = h - step_m * tan_e - (2.0 * d * step_m + step_m * step_m) * inv_2r;
                     d_in = d + step_m;
@@ -123,6 +94,46 @@ pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: C
     }
     lines.finish(&mut shadow);
     shadow
+}
+
+/// Line sample `k`: a cell's height (`Some(cell)`), or the height interpolated between
+/// two cells; −∞ where the terrain is missing (NaN at either end).
+#[inline]
+fn sample(heights: &[f64], k: usize) -> (Option<usize>, f64) {
+    if k % SUB == 0 {
+        let h = heights[k / SUB];
+        return (Some(k / SUB), if h.is_nan() { f64::NEG_INFINITY } else { h });
+    }
+    let (a, b) = (heights[k / SUB], heights[k / SUB + 1]);
+    let t = (k % SUB) as f64 / SUB as f64;
+    // NaN (a missing end) fails the comparison: no terrain there.
+    (None, if !a.is_nan() && !b.is_nan() { a * (1.0 - t) + b * t } else { f64::NEG_INFINITY })
+}
+
+/// The previous line's envelope (height, distance back to its source) where this
+/// line's sample meets it, between samples `k0` and `k0 + 1` at `frac`: interpolated
+/// where both are finite, else the higher; −∞ where the ray leaves the map (nothing
+/// beyond the edge shadows).
+#[inline]
+fn arriving(prev_h: &[f64], prev_d: &[f64], k0: isize, frac: f64) -> (f64, f64) {
+    let get = |kk: isize| -> Option<(f64, f64)> {
+        (kk >= 0 && (kk as usize) < prev_h.len()).then(|| (prev_h[kk as usize], prev_d[kk as usize]))
+    };
+    match (get(k0), get(k0 + 1)) {
+        (Some((h0, d0)), Some((h1, d1))) => {
+            if frac == 0.0 {
+                (h0, d0)
+            } else if h0.is_finite() && h1.is_finite() {
+                (h0 + (h1 - h0) * frac, d0 + (d1 - d0) * frac)
+            } else if h0 > h1 {
+                (h0, d0)
+            } else {
+                (h1, d1)
+            }
+        }
+        (Some(a), None) if frac == 0.0 => a,
+        _ => (f64::NEG_INFINITY, 0.0),
+    }
 }
 
 #[cfg(test)]

@@ -165,27 +165,11 @@ impl Envelopes {
 /// beside it lends its occluding triangle, moved sideways onto the cell's ray.
 pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
     debug_assert!(elevation_deg > 0.0, "the door (`cast_shadows`) answers a Sun at or below the horizon");
-    // Line geometry: a line is a column or a row; `step` is the metres travelled toward
-    // the source from one line to the next, `shift` the change in position along the
-    // lines over that step.
-    let LineGeometry { along_cols, n_lines, n_cells, step_m, shift, toward_higher_line } =
-        LineGeometry::toward(dem, azimuth_deg);
-    // Directions a hair off an axis or a diagonal would otherwise straddle two cells
-    // with a weight of 1e-16 and lose the border cell's neighbour.
-    let shift = if (shift - shift.round()).abs() < 1e-9 { shift.round() } else { shift };
-    let sigma: isize = if toward_higher_line { 1 } else { -1 };
-    let tan_e = elevation_deg.to_radians().tan();
-    let inv_2r = curvature.inv_2r();
-    let line_drop = step_m * tan_e + step_m * step_m * inv_2r;
-    let curve_per_d = 2.0 * step_m * inv_2r;
-    let ds = 1.0 / RAYS as f64;
+    let geometry = LineGeometry::toward(dem, azimuth_deg);
+    let (along_cols, n_lines, n_cells, toward_higher_line) =
+        (geometry.along_cols, geometry.n_lines, geometry.n_cells, geometry.toward_higher_line);
+    let sweep = Sweep::new(&geometry, elevation_deg, curvature);
     let mut shadow = vec![false; dem.cols() * dem.rows()];
-    // A cell's own ray: its position is whole, so one set of crossings serves all;
-    // it meets the previous line at k + shift, inside it for k in k_lo..k_hi.
-    let cell_crossings = edge_crossings(0.0, shift, sigma, step_m, tan_e, inv_2r);
-    let (s_whole, s_frac) = (shift.floor() as isize, shift - shift.floor());
-    let k_lo = ((-shift - 1e-9).ceil().max(0.0) as usize).min(n_cells);
-    let k_hi = (((n_cells - 1) as f64 - shift + 1e-9).floor() + 1.0).clamp(k_lo as f64, n_cells as f64) as usize;
     let mut prev = Envelopes::new(n_cells);
     let mut cur = Envelopes::new(n_cells);
     // The envelopes arriving from sun-ward, before each ray's own line joins them.
@@ -204,141 +188,21 @@ pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: C
         here.load(&mut lines_io, line);
         // Rays sit at phi + m·ds along the line (phi < ds); a ray at q here was at
         // q + shift on the previous line.
-        let mut phi = (-(i as f64) * shift).rem_euclid(ds);
+        let ds = sweep.ds;
+        let mut phi = (-(i as f64) * sweep.shift).rem_euclid(ds);
         if phi < 1e-9 || ds - phi < 1e-9 {
             phi = 0.0;
         }
         let n = (((n_cells - 1) as f64 - phi) / ds + 1e-9).floor() as usize + 1;
-        let offset = ((phi + shift - prev_phi) / ds).round() as isize;
-        let lines = [&here, &sun];
+        let offset = ((phi + sweep.shift - prev_phi) / ds).round() as isize;
         for p in 0..RAYS {
-            // Phase p: rays m = RAYS·j + p at j + f, all with the same crossings.
-            let f = phi + p as f64 * ds;
-            let n_p = if n > p { (n - p - 1) / RAYS + 1 } else { 0 };
-            let crossings = edge_crossings(f, shift, sigma, step_m, tan_e, inv_2r);
-            // The same ray on the previous line: phase pp, slot j + jshift.
-            let (pp, jshift) =
-                ((p as isize + offset).rem_euclid(RAYS as isize), (p as isize + offset).div_euclid(RAYS as isize));
-            let from = (pp as usize * prev.stride) as isize + EDGE as isize + jshift;
-            let from = from as usize;
-            let (ph, pd, pl, pr_) = (
-                &prev.h[from..from + n_p],
-                &prev.d[from..from + n_p],
-                &prev.left[from..from + n_p],
-                &prev.right[from..from + n_p],
-            );
-            let at = |v, off: isize| run(v, PAD as isize + off, n_p);
-            let z0 = at(&here.z, 0);
-            let z1 = at(&here.z, 1);
-            let s_m1 = at(&here.slope, -1);
-            let s_0 = at(&here.slope, 0);
-            let ca: [&[f64]; MAX_CROSSINGS] = std::array::from_fn(|c| at(&here.z, crossings[c].a));
-            let cb: [&[f64]; MAX_CROSSINGS] = std::array::from_fn(|c| at(&sun.z, crossings[c].b));
-            let cl: [&[f64]; MAX_CROSSINGS] =
-                std::array::from_fn(|c| at(&lines[crossings[c].left.0].slope, crossings[c].left.1));
-            let cr: [&[f64]; MAX_CROSSINGS] =
-                std::array::from_fn(|c| at(&lines[crossings[c].right.0].slope, crossings[c].right.1));
-            // The ray's own line: it casts the envelope from here on if it rises above
-            // what arrives.
-            let (here_h, here_l): (&[f64], &[f64]) = if f < 1e-9 {
-                (z0, s_m1)
-            } else {
-                let buf = &mut scratch[..n_p];
-                for ((b, a), c) in buf.iter_mut().zip(z0).zip(z1) {
-                    *b = lerp(*a, *c, f);
-                }
-                (&scratch[..n_p], s_0)
-            };
-            let inputs = RayInputs {
-                prev: [ph, pd, pl, pr_],
-                here: [here_h, here_l, s_0],
-                crossings: std::array::from_fn(|c| [ca[c], cb[c], cl[c], cr[c]]),
-                x: crossings,
-                line_drop,
-                curve_per_d,
-                step_m,
-            };
-            let o = p * cur.stride + EDGE;
-            let used = crossings.iter().filter(|x| x.drop.is_finite()).count();
-            let run_phase = match used {
-                0 => advance_rays::<0>,
-                1 => advance_rays::<1>,
-                2 => advance_rays::<2>,
-                _ => advance_rays::<3>,
-            };
-            run_phase(
-                &inputs,
-                &mut cur.h[o..o + n_p],
-                &mut cur.d[o..o + n_p],
-                &mut cur.left[o..o + n_p],
-                &mut cur.right[o..o + n_p],
-                &mut arriving.h[o..o + n_p],
-                &mut arriving.left[o..o + n_p],
-                &mut arriving.right[o..o + n_p],
-            );
+            let lines = (&here, &sun);
+            let n_p = sweep.phase(p, (phi, n, offset), lines, &prev, (&mut cur, &mut arriving), &mut scratch);
             cur.end_phase(p, n_p);
             arriving.end_phase(p, n_p);
         }
         if i > 0 {
-            // The rays either side of cell k: m0 = RAYS·k + below, a fraction w of a
-            // ray spacing (in cells) above it; the same for every cell of the line.
-            let below: isize = if phi > 0.0 { -1 } else { 0 };
-            let w = if phi > 0.0 { ds - phi } else { 0.0 };
-            let ray_slot = |m0: isize| {
-                let (p, j) = (m0.rem_euclid(RAYS as isize) as usize, m0.div_euclid(RAYS as isize));
-                ((p * arriving.stride) as isize + EDGE as isize + j + k_lo as isize) as usize
-            };
-            let len = k_hi - k_lo;
-            let (bs, as_) = (ray_slot(below), ray_slot(below + 1));
-            let (bh, br) = (&arriving.h[bs..bs + len], &arriving.right[bs..bs + len]);
-            let (ah, al) = (&arriving.h[as_..as_ + len], &arriving.left[as_..as_ + len]);
-            // A cell exactly on a ray takes that ray's envelope alone.
-            let above_gap = if w > 1e-9 { ds - w } else { f64::INFINITY };
-            let at = |v, off: isize| run(v, (PAD + k_lo) as isize + off, len);
-            let zc = at(&here.z, 0);
-            let (n0, n1) = (at(&sun.z, s_whole), at(&sun.z, s_whole + 1));
-            let ca: [&[f64]; MAX_CROSSINGS] = std::array::from_fn(|c| at(&here.z, cell_crossings[c].a));
-            let cb: [&[f64]; MAX_CROSSINGS] = std::array::from_fn(|c| at(&sun.z, cell_crossings[c].b));
-            // The cell's own ray back to the previous line, exactly; the edges it
-            // crosses on the way; then the occluders of the rays on either side,
-            // moved sideways onto it.
-            let h = &mut scratch[..len];
-            if s_frac < 1e-9 {
-                for (h, a) in h.iter_mut().zip(n0) {
-                    *h = a - line_drop;
-                }
-            } else {
-                for ((h, a), b) in h.iter_mut().zip(n0).zip(n1) {
-                    *h = lerp(*a, *b, s_frac) - line_drop;
-                }
-            }
-            for c in 0..MAX_CROSSINGS {
-                let x = &cell_crossings[c];
-                if x.drop.is_finite() {
-                    cross_height(h, ca[c], cb[c], x);
-                }
-            }
-            lend(h, bh, br, w);
-            if above_gap.is_finite() {
-                lend(h, ah, al, -above_gap);
-            }
-            for ((o, z), h) in line_shadow[k_lo..k_hi].iter_mut().zip(zc).zip(h.iter()) {
-                *o = z < h;
-            }
-            // Cells whose ray leaves the map before the previous line: only the edges
-            // crossed on the way out.
-            for k in (0..k_lo).chain(k_hi..n_cells) {
-                let mut h = f64::NEG_INFINITY;
-                for c in &cell_crossings {
-                    let t = lerp(
-                        here.z[(PAD as isize + k as isize + c.a) as usize],
-                        sun.z[(PAD as isize + k as isize + c.b) as usize],
-                        c.u,
-                    ) - c.drop;
-                    h = if t > h { t } else { h };
-                }
-                line_shadow[k] = here.z[PAD + k] < h;
-            }
+            sweep.decide(phi, (&here, &sun), &arriving, &mut scratch, &mut line_shadow);
         }
         lines_io.write(line, &line_shadow, &mut shadow);
         std::mem::swap(&mut prev, &mut cur);
@@ -346,6 +210,222 @@ pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: C
     }
     lines_io.finish(&mut shadow);
     shadow
+}
+
+/// What every line of one sweep shares: the step toward the source and what a ray
+/// drops over it, the rays' spacing, and the crossings of a cell's own ray.
+struct Sweep {
+    /// The change in position along the lines from one line to the next toward the
+    /// source, cells.
+    shift: f64,
+    /// +1 when the source lies toward higher line indices, else −1.
+    sigma: isize,
+    /// Metres travelled toward the source from one line to the next.
+    step_m: f64,
+    tan_e: f64,
+    inv_2r: f64,
+    /// How far a ray sinks over one step, m (elevation and curvature).
+    line_drop: f64,
+    /// The curvature's extra drop per metre already travelled, per step.
+    curve_per_d: f64,
+    /// The rays' spacing along a line, cells.
+    ds: f64,
+    n_cells: usize,
+    /// A cell's own ray: its position is whole, so one set of crossings serves all.
+    cell_crossings: [EdgeCrossing; MAX_CROSSINGS],
+    /// `shift`'s whole and fractional parts.
+    s_whole: isize,
+    s_frac: f64,
+    /// A cell's ray meets the previous line at k + shift, inside it for k in
+    /// `k_lo..k_hi`.
+    k_lo: usize,
+    k_hi: usize,
+}
+
+impl Sweep {
+    fn new(g: &LineGeometry, elevation_deg: f64, curvature: Curvature) -> Sweep {
+        // Directions a hair off an axis or a diagonal would otherwise straddle two cells
+        // with a weight of 1e-16 and lose the border cell's neighbour.
+        let shift = if (g.shift - g.shift.round()).abs() < 1e-9 { g.shift.round() } else { g.shift };
+        let (n_cells, step_m) = (g.n_cells, g.step_m);
+        let sigma: isize = if g.toward_higher_line { 1 } else { -1 };
+        let tan_e = elevation_deg.to_radians().tan();
+        let inv_2r = curvature.inv_2r();
+        let k_lo = ((-shift - 1e-9).ceil().max(0.0) as usize).min(n_cells);
+        Sweep {
+            shift,
+            sigma,
+            step_m,
+            tan_e,
+            inv_2r,
+            line_drop: step_m * tan_e + step_m * step_m * inv_2r,
+            curve_per_d: 2.0 * step_m * inv_2r,
+            ds: 1.0 / RAYS as f64,
+            n_cells,
+            cell_crossings: edge_crossings(0.0, shift, sigma, step_m, tan_e, inv_2r),
+            s_whole: shift.floor() as isize,
+            s_frac: shift - shift.floor(),
+            k_lo,
+            k_hi: (((n_cells - 1) as f64 - shift + 1e-9).floor() + 1.0).clamp(k_lo as f64, n_cells as f64) as usize,
+        }
+    }
+
+    /// Advances phase `p` of a line's rays (rays m = RAYS·j + p at j + f, all with the
+    /// same crossings) from the previous line's envelopes `prev` into `cur`, and the
+    /// envelopes arriving before the line joins them into `arriving`; `phi` places the
+    /// line's rays, `n` counts them, `offset` maps them to the previous line's. Returns
+    /// the phase's ray count.
+    fn phase(
+        &self,
+        p: usize,
+        (phi, n, offset): (f64, usize, isize),
+        (here, sun): (&LineBuf, &LineBuf),
+        prev: &Envelopes,
+        (cur, arriving): (&mut Envelopes, &mut Envelopes),
+        scratch: &mut [f64],
+    ) -> usize {
+        let Sweep { shift, sigma, step_m, tan_e, inv_2r, line_drop, curve_per_d, ds, .. } = *self;
+        let lines = [here, sun];
+        // Phase p: rays m = RAYS·j + p at j + f, all with the same crossings.
+        let f = phi + p as f64 * ds;
+        let n_p = if n > p { (n - p - 1) / RAYS + 1 } else { 0 };
+        let crossings = edge_crossings(f, shift, sigma, step_m, tan_e, inv_2r);
+        // The same ray on the previous line: phase pp, slot j + jshift.
+        let (pp, jshift) =
+            ((p as isize + offset).rem_euclid(RAYS as isize), (p as isize + offset).div_euclid(RAYS as isize));
+        let from = (pp as usize * prev.stride) as isize + EDGE as isize + jshift;
+        let from = from as usize;
+        let (ph, pd, pl, pr_) = (
+            &prev.h[from..from + n_p],
+            &prev.d[from..from + n_p],
+            &prev.left[from..from + n_p],
+            &prev.right[from..from + n_p],
+        );
+        let at = |v, off: isize| run(v, PAD as isize + off, n_p);
+        let z0 = at(&here.z, 0);
+        let z1 = at(&here.z, 1);
+        let s_m1 = at(&here.slope, -1);
+        let s_0 = at(&here.slope, 0);
+        let ca: [&[f64]; MAX_CROSSINGS] = std::array::from_fn(|c| at(&here.z, crossings[c].a));
+        let cb: [&[f64]; MAX_CROSSINGS] = std::array::from_fn(|c| at(&sun.z, crossings[c].b));
+        let cl: [&[f64]; MAX_CROSSINGS] =
+            std::array::from_fn(|c| at(&lines[crossings[c].left.0].slope, crossings[c].left.1));
+        let cr: [&[f64]; MAX_CROSSINGS] =
+            std::array::from_fn(|c| at(&lines[crossings[c].right.0].slope, crossings[c].right.1));
+        // The ray's own line: it casts the envelope from here on if it rises above
+        // what arrives.
+        let (here_h, here_l): (&[f64], &[f64]) = if f < 1e-9 {
+            (z0, s_m1)
+        } else {
+            let buf = &mut scratch[..n_p];
+            for ((b, a), c) in buf.iter_mut().zip(z0).zip(z1) {
+                *b = lerp(*a, *c, f);
+            }
+            (&scratch[..n_p], s_0)
+        };
+        let inputs = RayInputs {
+            prev: [ph, pd, pl, pr_],
+            here: [here_h, here_l, s_0],
+            crossings: std::array::from_fn(|c| [ca[c], cb[c], cl[c], cr[c]]),
+            x: crossings,
+            line_drop,
+            curve_per_d,
+            step_m,
+        };
+        let o = p * cur.stride + EDGE;
+        let used = crossings.iter().filter(|x| x.drop.is_finite()).count();
+        let run_phase = match used {
+            0 => advance_rays::<0>,
+            1 => advance_rays::<1>,
+            2 => advance_rays::<2>,
+            _ => advance_rays::<3>,
+        };
+        run_phase(
+            &inputs,
+            &mut cur.h[o..o + n_p],
+            &mut cur.d[o..o + n_p],
+            &mut cur.left[o..o + n_p],
+            &mut cur.right[o..o + n_p],
+            &mut arriving.h[o..o + n_p],
+            &mut arriving.left[o..o + n_p],
+            &mut arriving.right[o..o + n_p],
+        );
+        n_p
+    }
+
+    /// Decides the cells of the line `here` (with `sun` the line before it): each
+    /// cell's own ray back to the previous line, exactly, the edges it crosses on the
+    /// way, then the occluders of the rays either side (`arriving`), moved sideways
+    /// onto it.
+    fn decide(
+        &self,
+        phi: f64,
+        (here, sun): (&LineBuf, &LineBuf),
+        arriving: &Envelopes,
+        scratch: &mut [f64],
+        line_shadow: &mut [bool],
+    ) {
+        let Sweep { line_drop, ds, n_cells, ref cell_crossings, s_whole, s_frac, k_lo, k_hi, .. } = *self;
+        // The rays either side of cell k: m0 = RAYS·k + below, a fraction w of a
+        // ray spacing (in cells) above it; the same for every cell of the line.
+        let below: isize = if phi > 0.0 { -1 } else { 0 };
+        let w = if phi > 0.0 { ds - phi } else { 0.0 };
+        let ray_slot = |m0: isize| {
+            let (p, j) = (m0.rem_euclid(RAYS as isize) as usize, m0.div_euclid(RAYS as isize));
+            ((p * arriving.stride) as isize + EDGE as isize + j + k_lo as isize) as usize
+        };
+        let len = k_hi - k_lo;
+        let (bs, as_) = (ray_slot(below), ray_slot(below + 1));
+        let (bh, br) = (&arriving.h[bs..bs + len], &arriving.right[bs..bs + len]);
+        let (ah, al) = (&arriving.h[as_..as_ + len], &arriving.left[as_..as_ + len]);
+        // A cell exactly on a ray takes that ray's envelope alone.
+        let above_gap = if w > 1e-9 { ds - w } else { f64::INFINITY };
+        let at = |v, off: isize| run(v, (PAD + k_lo) as isize + off, len);
+        let zc = at(&here.z, 0);
+        let (n0, n1) = (at(&sun.z, s_whole), at(&sun.z, s_whole + 1));
+        let ca: [&[f64]; MAX_CROSSINGS] = std::array::from_fn(|c| at(&here.z, cell_crossings[c].a));
+        let cb: [&[f64]; MAX_CROSSINGS] = std::array::from_fn(|c| at(&sun.z, cell_crossings[c].b));
+        // The cell's own ray back to the previous line, exactly; the edges it
+        // crosses on the way; then the occluders of the rays on either side,
+        // moved sideways onto it.
+        let h = &mut scratch[..len];
+        if s_frac < 1e-9 {
+            for (h, a) in h.iter_mut().zip(n0) {
+                *h = a - line_drop;
+            }
+        } else {
+            for ((h, a), b) in h.iter_mut().zip(n0).zip(n1) {
+                *h = lerp(*a, *b, s_frac) - line_drop;
+            }
+        }
+        for c in 0..MAX_CROSSINGS {
+            let x = &cell_crossings[c];
+            if x.drop.is_finite() {
+                cross_height(h, ca[c], cb[c], x);
+            }
+        }
+        lend(h, bh, br, w);
+        if above_gap.is_finite() {
+            lend(h, ah, al, -above_gap);
+        }
+        for ((o, z), h) in line_shadow[k_lo..k_hi].iter_mut().zip(zc).zip(h.iter()) {
+            *o = z < h;
+        }
+        // Cells whose ray leaves the map before the previous line: only the edges
+        // crossed on the way out.
+        for k in (0..k_lo).chain(k_hi..n_cells) {
+            let mut h = f64::NEG_INFINITY;
+            for c in cell_crossings {
+                let t = lerp(
+                    here.z[(PAD as isize + k as isize + c.a) as usize],
+                    sun.z[(PAD as isize + k as isize + c.b) as usize],
+                    c.u,
+                ) - c.drop;
+                h = if t > h { t } else { h };
+            }
+            line_shadow[k] = here.z[PAD + k] < h;
+        }
+    }
 }
 
 /// What one phase of a line's rays reads, each slice one value per ray: the same rays'

@@ -179,6 +179,12 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chan
         m.delay_s,
         u.start_delay_margin_s()
     ));
+    deterministic_facts(o, ctx, plan, chance);
+    monte_carlo_facts(o, ctx, chance);
+}
+
+/// The deterministic plan beside the chance-constrained one: what the margins cost.
+fn deterministic_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chance: &Chance) {
     match &chance.deterministic {
         Some(Ok(d)) => {
             let (extra_h, extra_wh) =
@@ -196,6 +202,10 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chan
         Some(Err(why)) => o.text("deterministic_plan", format!("none: {why}")),
         None => {}
     }
+}
+
+/// The Monte Carlo executions of both plans, open and closed loop.
+fn monte_carlo_facts(o: &mut Outcome, ctx: &Context<'_>, chance: &Chance) {
     for (prefix, runs) in [
         ("mc", &chance.chance_runs),
         ("mc_deterministic", &chance.deterministic_runs),
