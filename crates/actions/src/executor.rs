@@ -345,25 +345,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
         motion.stability_floor = self.config.stability_floor;
         let mut state = self.start_state();
         let mut collected = vec![false; self.task.samples.len()];
-        let mut out = Execution {
-            prefix_len: 0,
-            failure: None,
-            failure_progress: 0.0,
-            complete: false,
-            distance_to_target_m: self.distance(&state),
-            samples: 0,
-            taken: Vec::new(),
-            min_stability: 1.0,
-            mean_stability: 1.0,
-            stabilities: Vec::new(),
-            time_s: 0.0,
-            energy_wh: 0.0,
-            peak_friction_ratio: 0.0,
-            peak_saturation: 0.0,
-            trace: Vec::new(),
-            binding: None,
-            checkpoints: Vec::with_capacity(plan.len()),
-        };
+        let mut out = self.empty_execution(&state, plan.len());
         if let Some(problem) = &self.start_problem {
             out.failure = Some((0, Failure::StartPose(*problem)));
             return out;
@@ -371,56 +353,16 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
         if let Some(c) = at {
             state = c.state;
             collected.clone_from(&c.collected);
-            out.samples = c.samples;
-            out.taken = c.taken.clone();
-            out.stabilities.extend_from_slice(history.0);
-            out.time_s = c.time_s;
-            out.energy_wh = c.energy_wh;
-            out.peak_friction_ratio = c.peak_friction_ratio;
-            out.peak_saturation = c.peak_saturation;
-            out.distance_to_target_m = c.distance_to_target_m;
-            out.checkpoints.extend_from_slice(history.1);
-            out.prefix_len = first;
+            out.resume(c, history, first);
         }
         for (i, &module) in plan.iter().enumerate().skip(first) {
-            let samples: Vec<SampleSite> = self
-                .task
-                .samples
-                .iter()
-                .enumerate()
-                .filter(|(k, _)| !collected[*k])
-                .map(|(k, s)| SampleSite { id: k, x: s.x_m, y: s.y_m, mass_kg: s.mass_kg })
-                .collect();
-            let step = match motion.run(self.ground, &state, module, &samples) {
+            let samples = self.samples_left(&collected);
+            let step = match self.run_module(&motion, &state, module, &samples, trace) {
                 Ok(step) => step,
-                // Nothing to act on: no constraint is violated, but the module's time
-                // and hotel energy are spent.
-                Err(Stopped {
-                    failure:
-                        MotionFailure::NoSample
-                        | MotionFailure::NotHolding
-                        | MotionFailure::ArmReach
-                        | MotionFailure::NothingToTurnTo,
-                    ..
-                }) => match motion.idle(&state, module) {
-                    Ok(step) => step,
-                    Err(stopped) => {
-                        out.failure = Some((i, Failure::Motion(stopped.failure)));
-                        out.failure_progress = stopped.progress;
-                        break;
-                    }
-                },
-                Err(Stopped { failure: MotionFailure::BelowFloor(s), progress, .. }) => {
-                    out.failure = Some((i, Failure::Stability(s)));
+                Err((failure, progress, binding)) => {
+                    out.failure = Some((i, failure));
                     out.failure_progress = progress;
-                    break;
-                }
-                Err(Stopped { failure, progress, state: last }) => {
-                    if trace && matches!(failure, MotionFailure::Violation(Violation::Forces { .. })) {
-                        out.binding = self.binding(&last, module);
-                    }
-                    out.failure = Some((i, Failure::Motion(failure)));
-                    out.failure_progress = progress;
+                    out.binding = binding.or(out.binding);
                     break;
                 }
             };
@@ -439,14 +381,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
                 out.samples += 1;
                 out.taken.push(k);
             }
-            let energy = step.energy.net_wh();
-            out.time_s += step.duration_s;
-            out.energy_wh += energy;
-            out.peak_friction_ratio = out.peak_friction_ratio.max(step.max_friction / self.config.mu);
-            out.peak_saturation = out.peak_saturation.max(step.max_saturation);
-            if let Some(s) = step.min_stability {
-                out.stabilities.push(s);
-            }
+            let energy = out.add(&step, self.config.mu);
             if trace {
                 let mut t = self.trace_step(module, &step.state, step.min_stability, energy, &motion);
                 t.friction_used = step.max_friction;
@@ -467,6 +402,76 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             out.mean_stability = out.stabilities.iter().sum::<f64>() / out.stabilities.len() as f64;
         }
         out
+    }
+
+    /// The task's samples not yet `collected`, as the motions see them.
+    fn samples_left(&self, collected: &[bool]) -> Vec<SampleSite> {
+        (self.task.samples.iter().enumerate())
+            .filter(|(k, _)| !collected[*k])
+            .map(|(k, s)| SampleSite { id: k, x: s.x_m, y: s.y_m, mass_kg: s.mass_kg })
+            .collect()
+    }
+
+    /// An execution that has run nothing yet from `state`, with room for `modules`
+    /// checkpoints.
+    fn empty_execution(&self, state: &RoverState, modules: usize) -> Execution {
+        Execution {
+            prefix_len: 0,
+            failure: None,
+            failure_progress: 0.0,
+            complete: false,
+            distance_to_target_m: self.distance(state),
+            samples: 0,
+            taken: Vec::new(),
+            min_stability: 1.0,
+            mean_stability: 1.0,
+            stabilities: Vec::new(),
+            time_s: 0.0,
+            energy_wh: 0.0,
+            peak_friction_ratio: 0.0,
+            peak_saturation: 0.0,
+            trace: Vec::new(),
+            binding: None,
+            checkpoints: Vec::with_capacity(modules),
+        }
+    }
+
+    /// Runs one module from `state` with `samples` still on the ground. A module with
+    /// nothing to act on violates no constraint, but its time and hotel energy are
+    /// spent. `Err`: why the execution stops there, how far into the module, and (with
+    /// `trace`, where the forces failed) the wheel limit that bound.
+    fn run_module(
+        &self,
+        motion: &Motion<'_>,
+        state: &RoverState,
+        module: Module,
+        samples: &[SampleSite],
+        trace: bool,
+    ) -> Result<areo_rover::motion::Step, (Failure, f64, Option<WheelLimit>)> {
+        match motion.run(self.ground, state, module, samples) {
+            Ok(step) => Ok(step),
+            Err(Stopped {
+                failure:
+                    MotionFailure::NoSample
+                    | MotionFailure::NotHolding
+                    | MotionFailure::ArmReach
+                    | MotionFailure::NothingToTurnTo,
+                ..
+            }) => {
+                motion.idle(state, module).map_err(|stopped| (Failure::Motion(stopped.failure), stopped.progress, None))
+            }
+            Err(Stopped { failure: MotionFailure::BelowFloor(s), progress, .. }) => {
+                Err((Failure::Stability(s), progress, None))
+            }
+            Err(Stopped { failure, progress, state: last }) => {
+                let binding = if trace && matches!(failure, MotionFailure::Violation(Violation::Forces { .. })) {
+                    self.binding(&last, module)
+                } else {
+                    None
+                };
+                Err((Failure::Motion(failure), progress, binding))
+            }
+        }
     }
 
     fn distance(&self, s: &RoverState) -> f64 {
@@ -573,6 +578,38 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             friction_used: ratio(k),
             steepest: (names[j].to_string(), gammas[j].to_degrees(), gammas[j] * direction > 0.0),
         })
+    }
+}
+
+impl Execution {
+    /// Adds an executed module's time, energy, peaks (friction as a share of `mu`) and
+    /// stability; returns its net energy, Wh.
+    fn add(&mut self, step: &areo_rover::motion::Step, mu: f64) -> f64 {
+        let energy = step.energy.net_wh();
+        self.time_s += step.duration_s;
+        self.energy_wh += energy;
+        self.peak_friction_ratio = self.peak_friction_ratio.max(step.max_friction / mu);
+        self.peak_saturation = self.peak_saturation.max(step.max_saturation);
+        if let Some(s) = step.min_stability {
+            self.stabilities.push(s);
+        }
+        energy
+    }
+
+    /// Takes up where checkpoint `c` left off: its samples, time, energy, peaks and
+    /// distance, and `history` (the stabilities and checkpoints of the `first` modules
+    /// before it).
+    fn resume(&mut self, c: &Checkpoint, history: (&[f64], &[Checkpoint]), first: usize) {
+        self.samples = c.samples;
+        self.taken = c.taken.clone();
+        self.stabilities.extend_from_slice(history.0);
+        self.time_s = c.time_s;
+        self.energy_wh = c.energy_wh;
+        self.peak_friction_ratio = c.peak_friction_ratio;
+        self.peak_saturation = c.peak_saturation;
+        self.distance_to_target_m = c.distance_to_target_m;
+        self.checkpoints.extend_from_slice(history.1);
+        self.prefix_len = first;
     }
 }
 

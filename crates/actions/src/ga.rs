@@ -197,30 +197,8 @@ pub fn evolve<G: Ground + Sync>(
     let pick = |rng: &mut ChaCha8Rng| inventory.modules[rng.random_range(0..inventory.modules.len())];
     let mut evaluations = 0usize;
     let mut modules_executed = 0usize;
-    // Each plan comes with the execution of a plan sharing its first modules, if any:
-    // those are not executed again (a child keeps its first parent's prefix).
-    let evaluate = |plans: Vec<Job<'_>>, evaluations: &mut usize, modules: &mut usize| -> Vec<Individual> {
-        let out: Vec<(Individual, usize)> = plans
-            .into_par_iter()
-            .map(|(plan, parent)| {
-                let (execution, reused) = match parent {
-                    Some((e, shared)) => {
-                        let ex = executor.resume(&plan, e, shared);
-                        let reused = shared.min(e.checkpoints.len()).min(ex.prefix_len);
-                        (ex, reused)
-                    }
-                    None => (executor.run(&plan, false), 0),
-                };
-                let fitness = fitness(&execution, weights, scale);
-                (Individual { plan, execution, fitness }, reused)
-            })
-            .collect();
-        *evaluations += out.len();
-        *modules += out
-            .iter()
-            .map(|(i, reused)| i.execution.prefix_len + usize::from(i.execution.failure.is_some()) - reused)
-            .sum::<usize>();
-        out.into_iter().map(|(i, _)| i).collect()
+    let evaluate = |plans: Vec<Job<'_>>, evaluations: &mut usize, modules: &mut usize| {
+        evaluate_jobs(executor, (weights, scale), plans, evaluations, modules)
     };
 
     let initial: Vec<Vec<Module>> = (0..config.population)
@@ -244,48 +222,11 @@ pub fn evolve<G: Ground + Sync>(
             parents.push(None);
         }
         while next_plans.len() < config.population {
-            let a = tournament(&population, config.tournament, &mut rng);
-            let b = tournament(&population, config.tournament, &mut rng);
-            let (pa, pb) = (&population[a], &population[b]);
-            let c = crossover_point(pa, config.crossover, &mut rng);
-            let mut child: Vec<Module> = pa.plan[..c].to_vec();
-            if c < pb.plan.len() {
-                child.extend_from_slice(&pb.plan[c..]);
-            }
-            // Mutation: replacements, then at most one insertion and one deletion.
-            for m in child.iter_mut() {
-                if rng.random::<f64>() < config.mutate_replace {
-                    *m = pick(&mut rng);
-                }
-            }
-            if rng.random::<f64>() < config.mutate_insert {
-                let at = rng.random_range(0..=child.len());
-                let m = pick(&mut rng);
-                child.insert(at, m);
-            }
-            if child.len() > 1 && rng.random::<f64>() < config.mutate_delete {
-                let at = rng.random_range(0..child.len());
-                child.remove(at);
-            }
-            child.truncate(config.max_length);
-            if child.is_empty() {
-                child.push(pick(&mut rng));
-            }
+            let (child, a) = breed(&population, config, &mut rng, &pick);
             next_plans.push(child);
             parents.push(Some(a));
         }
-        let jobs: Vec<Job<'_>> = next_plans
-            .into_iter()
-            .zip(&parents)
-            .map(|(plan, parent)| {
-                let a = parent.map_or(usize::MAX, |a| a);
-                let source = if a == usize::MAX { None } else { Some(&population[a]) };
-                // Elites are their own parents: everything is shared.
-                let source = source.or_else(|| population.iter().find(|p| p.plan == plan));
-                let shared = source.map_or(0, |s| s.plan.iter().zip(&plan).take_while(|(x, y)| x == y).count());
-                (plan, source.map(|s| (&s.execution, shared)))
-            })
-            .collect();
+        let jobs = jobs_of(&population, next_plans, &parents);
         let children = evaluate(jobs, &mut evaluations, &mut modules_executed);
         for (child, parent) in children.iter().zip(&parents) {
             if let Some(a) = parent {
@@ -305,6 +246,95 @@ pub fn evolve<G: Ground + Sync>(
     population.sort_by(|a, b| b.fitness.total_cmp(&a.fitness));
     let best = population.swap_remove(0);
     Ok(GaReport { best, generations, first_solved, lookahead, evaluations, modules_executed })
+}
+
+/// Executes `plans` in parallel, each resuming from the execution of a plan sharing its
+/// first modules where it has one (those are not executed again: a child keeps its
+/// first parent's prefix), and scores them; counts the evaluations and the modules
+/// executed.
+fn evaluate_jobs<G: Ground + Sync>(
+    executor: &Executor<'_, G>,
+    (weights, scale): (&Weights, &Scale),
+    plans: Vec<Job<'_>>,
+    evaluations: &mut usize,
+    modules: &mut usize,
+) -> Vec<Individual> {
+    let out: Vec<(Individual, usize)> = plans
+        .into_par_iter()
+        .map(|(plan, parent)| {
+            let (execution, reused) = match parent {
+                Some((e, shared)) => {
+                    let ex = executor.resume(&plan, e, shared);
+                    let reused = shared.min(e.checkpoints.len()).min(ex.prefix_len);
+                    (ex, reused)
+                }
+                None => (executor.run(&plan, false), 0),
+            };
+            let fitness = fitness(&execution, weights, scale);
+            (Individual { plan, execution, fitness }, reused)
+        })
+        .collect();
+    *evaluations += out.len();
+    *modules += out
+        .iter()
+        .map(|(i, reused)| i.execution.prefix_len + usize::from(i.execution.failure.is_some()) - reused)
+        .sum::<usize>();
+    out.into_iter().map(|(i, _)| i).collect()
+}
+
+/// A child of two tournament winners: one-point crossover, then replacements, at most
+/// one insertion and one deletion, cut to the longest plan; with its first parent.
+fn breed(
+    population: &[Individual],
+    config: &GaConfig,
+    rng: &mut ChaCha8Rng,
+    pick: &impl Fn(&mut ChaCha8Rng) -> Module,
+) -> (Vec<Module>, usize) {
+    let a = tournament(population, config.tournament, rng);
+    let b = tournament(population, config.tournament, rng);
+    let (pa, pb) = (&population[a], &population[b]);
+    let c = crossover_point(pa, config.crossover, rng);
+    let mut child: Vec<Module> = pa.plan[..c].to_vec();
+    if c < pb.plan.len() {
+        child.extend_from_slice(&pb.plan[c..]);
+    }
+    // Mutation: replacements, then at most one insertion and one deletion.
+    for m in child.iter_mut() {
+        if rng.random::<f64>() < config.mutate_replace {
+            *m = pick(rng);
+        }
+    }
+    if rng.random::<f64>() < config.mutate_insert {
+        let at = rng.random_range(0..=child.len());
+        let m = pick(rng);
+        child.insert(at, m);
+    }
+    if child.len() > 1 && rng.random::<f64>() < config.mutate_delete {
+        let at = rng.random_range(0..child.len());
+        child.remove(at);
+    }
+    child.truncate(config.max_length);
+    if child.is_empty() {
+        child.push(pick(rng));
+    }
+    (child, a)
+}
+
+/// Each next plan with the execution it can resume from: its first parent's, or for an
+/// elite (no parent) its own, and how many first modules they share.
+fn jobs_of<'p>(population: &'p [Individual], next_plans: Vec<Vec<Module>>, parents: &[Option<usize>]) -> Vec<Job<'p>> {
+    next_plans
+        .into_iter()
+        .zip(parents)
+        .map(|(plan, parent)| {
+            let a = parent.map_or(usize::MAX, |a| a);
+            let source = if a == usize::MAX { None } else { Some(&population[a]) };
+            // Elites are their own parents: everything is shared.
+            let source = source.or_else(|| population.iter().find(|p| p.plan == plan));
+            let shared = source.map_or(0, |s| s.plan.iter().zip(&plan).take_while(|(x, y)| x == y).count());
+            (plan, source.map(|s| (&s.execution, shared)))
+        })
+        .collect()
 }
 
 fn summary(index: usize, population: &[Individual]) -> Generation {

@@ -23,7 +23,7 @@ use nalgebra::Vector3;
 
 use crate::arm::ArmState;
 use crate::forces::{self, ForceFailure, Limits, SideContacts, SideForces};
-use crate::kinematics::{Kinematics, KinematicsFailure, Pose};
+use crate::kinematics::{Kinematics, KinematicsFailure, Pose, SidePose};
 use crate::params::RoverParams;
 use crate::stability::{ForceAngle, Normalisation, force_angle};
 
@@ -233,7 +233,6 @@ impl Evaluator {
         // The CG on the map: the body frame turned by the pose's attitude about the body
         // reference (the rocker pivots' midpoint).
         let (fx, fy) = pose.forward();
-        let (lx, ly) = (-fy, fx);
         let rel = cg_body - Vector3::new(p.rocker_pivot_m.x, 0.0, p.rocker_pivot_m.z);
         let g = pose.body_to_map(rel.into());
         // Pivot loads by the lever rule along the (horizontal) pivot line.
@@ -254,70 +253,14 @@ impl Evaluator {
         }
         let down = Vector3::new(0.0, 0.0, -weight);
         let fa = force_angle(&pts, Vector3::from(g), down, Vector3::zeros()).ok_or(Violation::TipOver)?;
-        let stability = match self.normalisation {
-            Normalisation::PerAxis => {
-                let hull = fa.hull();
-                fa.angles()
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &a)| {
-                        // The axis' outward direction, up × (q − p) with gravity down the
-                        // z axis; unnormalised, as the class only compares its components.
-                        let (p, q) = (hull[i], hull[(i + 1) % hull.len()]);
-                        let o = (p.y - q.y, q.x - p.x);
-                        let class = class_of(o.0 * fx + o.1 * fy, o.0 * lx + o.1 * ly);
-                        a / self.flat.by_class[class]
-                    })
-                    .fold(f64::INFINITY, f64::min)
-            }
-            Normalisation::Global => fa.critical().map_or(f64::NEG_INFINITY, |c| c.1) / self.flat.smallest,
-        };
+        let stability = self.normalised_stability(&fa, (fx, fy));
         if !(stability > 0.0) {
             return Err(Violation::TipOver);
         }
         let mut sides = [None; 2];
         let mut friction_used = 0.0f64;
         for (k, side) in [&pose.left, &pose.right].into_iter().enumerate() {
-            // Lateral ground slope at each contact, for the friction cone.
-            let mut lateral = [0.0; 3];
-            for (i, l) in lateral.iter_mut().enumerate() {
-                let c = pose.wheels[3 * k + i].contact;
-                if let Some((_, slope)) = ground.height_slope(c[0], c[1], (lx, ly)) {
-                    *l = slope.abs();
-                }
-            }
-            let worst_lateral = lateral.iter().copied().fold(0.0, f64::max);
-            if worst_lateral >= cond.mu {
-                return Err(Violation::Forces { side: k, failure: ForceFailure::Slip, stability });
-            }
-            // The force balance knows the bogie-in-front chain: a bogie-behind rover's
-            // side is solved as its mirror image (driving the other way, the couple's
-            // nose at the other end) and its forces turned back.
-            let mirror = self.kinematics.mirrored();
-            let sign = if mirror { -1.0 } else { 1.0 };
-            let chain = if mirror { side.mirrored() } else { *side };
-            let contacts = SideContacts {
-                axles: chain.axles,
-                gamma_sin_cos: chain.gamma_sin_cos(),
-                bogie_pivot: chain.bogie_pivot,
-                rocker_pivot: chain.rocker_pivot,
-                load_n: loads[k],
-                couple_nm: sign * couple,
-                wheel_radius_m: p.wheel_radius_m,
-            };
-            let limits = Limits {
-                mu: (cond.mu * cond.mu - worst_lateral * worst_lateral).sqrt(),
-                torque_max_nm: p.wheel_torque_max_nm,
-                n_min: 0.0,
-                rolling_resistance: p.rolling_resistance,
-                direction: sign * cond.direction,
-            };
-            let f = forces::solve(&contacts, &limits).map_err(|failure| Violation::Forces {
-                side: k,
-                failure,
-                stability,
-            })?;
-            let f = if mirror { f.mirrored() } else { f };
+            let (f, worst_lateral) = self.side_forces(ground, pose, k, side, (loads[k], couple), cond, stability)?;
             friction_used = friction_used.max(f.friction_used.hypot(worst_lateral));
             sides[k] = Some(f);
         }
@@ -334,5 +277,86 @@ impl Evaluator {
             stability,
             friction_used,
         })
+    }
+
+    /// The force-angle stability margin `fa` normalised by flat ground's: per axis by
+    /// the axis' class relative to the heading (`fx`, `fy`), or globally.
+    fn normalised_stability(&self, fa: &ForceAngle, (fx, fy): (f64, f64)) -> f64 {
+        let (lx, ly) = (-fy, fx);
+        match self.normalisation {
+            Normalisation::PerAxis => {
+                let hull = fa.hull();
+                fa.angles()
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &a)| {
+                        // The axis' outward direction, up × (q − p) with gravity down the
+                        // z axis; unnormalised, as the class only compares its components.
+                        let (p, q) = (hull[i], hull[(i + 1) % hull.len()]);
+                        let o = (p.y - q.y, q.x - p.x);
+                        let class = class_of(o.0 * fx + o.1 * fy, o.0 * lx + o.1 * ly);
+                        a / self.flat.by_class[class]
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            }
+            Normalisation::Global => fa.critical().map_or(f64::NEG_INFINITY, |c| c.1) / self.flat.smallest,
+        }
+    }
+
+    /// Side `k`'s force balance at `pose`, carrying `load` at its pivot and the body's
+    /// pitching `couple`, within the friction cone the ground's lateral slope leaves:
+    /// the forces and that worst lateral slope.
+    #[allow(clippy::too_many_arguments)]
+    fn side_forces(
+        &self,
+        ground: &impl Ground,
+        pose: &Pose,
+        k: usize,
+        side: &SidePose,
+        (load, couple): (f64, f64),
+        cond: &Conditions,
+        stability: f64,
+    ) -> Result<(SideForces, f64), Violation> {
+        let p = &self.params;
+        let (fx, fy) = pose.forward();
+        let (lx, ly) = (-fy, fx);
+        // Lateral ground slope at each contact, for the friction cone.
+        let mut lateral = [0.0; 3];
+        for (i, l) in lateral.iter_mut().enumerate() {
+            let c = pose.wheels[3 * k + i].contact;
+            if let Some((_, slope)) = ground.height_slope(c[0], c[1], (lx, ly)) {
+                *l = slope.abs();
+            }
+        }
+        let worst_lateral = lateral.iter().copied().fold(0.0, f64::max);
+        if worst_lateral >= cond.mu {
+            return Err(Violation::Forces { side: k, failure: ForceFailure::Slip, stability });
+        }
+        // The force balance knows the bogie-in-front chain: a bogie-behind rover's
+        // side is solved as its mirror image (driving the other way, the couple's
+        // nose at the other end) and its forces turned back.
+        let mirror = self.kinematics.mirrored();
+        let sign = if mirror { -1.0 } else { 1.0 };
+        let chain = if mirror { side.mirrored() } else { *side };
+        let contacts = SideContacts {
+            axles: chain.axles,
+            gamma_sin_cos: chain.gamma_sin_cos(),
+            bogie_pivot: chain.bogie_pivot,
+            rocker_pivot: chain.rocker_pivot,
+            load_n: load,
+            couple_nm: sign * couple,
+            wheel_radius_m: p.wheel_radius_m,
+        };
+        let limits = Limits {
+            mu: (cond.mu * cond.mu - worst_lateral * worst_lateral).sqrt(),
+            torque_max_nm: p.wheel_torque_max_nm,
+            n_min: 0.0,
+            rolling_resistance: p.rolling_resistance,
+            direction: sign * cond.direction,
+        };
+        let f =
+            forces::solve(&contacts, &limits).map_err(|failure| Violation::Forces { side: k, failure, stability })?;
+        let f = if mirror { f.mirrored() } else { f };
+        Ok((f, worst_lateral))
     }
 }

@@ -50,6 +50,35 @@ pub enum Anchor {
 }
 
 impl Anchor {
+    /// Each side's wheel plane's offset to the left of the anchor, m, for a rover of
+    /// `track` rolled to cos ψ = `c`.
+    fn offsets(self, track: f64, c: f64) -> (f64, f64) {
+        match self {
+            Anchor::MiddleMidpoint => (0.5 * track * c, -0.5 * track * c),
+            Anchor::MiddleRight => (track * c, 0.0),
+            Anchor::MiddleLeft => (0.0, -track * c),
+        }
+    }
+
+    /// The sides' shifts along the heading that put both rocker pivots (at `pl`, `pr`
+    /// along their lines) on the body's lateral axis with the anchor fixed.
+    fn shifts(self, pl: f64, pr: f64) -> (f64, f64) {
+        match self {
+            Anchor::MiddleMidpoint => (0.5 * (pr - pl), 0.5 * (pl - pr)),
+            Anchor::MiddleRight => (pr - pl, 0.0),
+            Anchor::MiddleLeft => (0.0, pl - pr),
+        }
+    }
+
+    /// The shifts moved by (`dl`, `dr`), the anchored side's staying at zero.
+    fn stepped(self, shift: (f64, f64), (dl, dr): (f64, f64)) -> (f64, f64) {
+        match self {
+            Anchor::MiddleMidpoint => (shift.0 + dl, shift.1 + dr),
+            Anchor::MiddleRight => (shift.0 + dl, 0.0),
+            Anchor::MiddleLeft => (0.0, shift.1 + dr),
+        }
+    }
+
     /// The same point seen from the rover turned end for end (left and right swap).
     fn mirrored(self) -> Anchor {
         match self {
@@ -441,6 +470,13 @@ impl Kinematics {
     }
 
     /// [`Kinematics::solve`] for the bogie-in-front chain this model holds.
+    ///
+    /// Three coupled corrections settle together over a few passes: the roll ψ (secant
+    /// steps on ψ = g(ψ)); the footprints (each side's wheel plane at ±(w/2)·cos ψ,
+    /// tilted by ψ, so the terrain it cuts rises (1 + g_lat·tan ψ) times less than under
+    /// the vertical line, g_lat the ground's sideways slope); and each side's shift
+    /// along the heading that puts both rocker pivots on the body's lateral axis (the
+    /// differential's pivot line) with the anchor fixed.
     fn solve_bogie_front(
         &self,
         ground: &impl Ground,
@@ -451,13 +487,6 @@ impl Kinematics {
         anchor: Anchor,
     ) -> Result<Pose, KinematicsFailure> {
         let (fx, fy) = (heading.sin(), heading.cos());
-        let (lx, ly) = (-heading.cos(), heading.sin());
-        // Three coupled corrections settle together over a few passes: the roll ψ
-        // (secant steps on ψ = g(ψ)); the footprints (each side's wheel plane at
-        // ±(w/2)·cos ψ, tilted by ψ, so the terrain it cuts rises (1 + g_lat·tan ψ)
-        // times less than under the vertical line, g_lat the ground's sideways slope);
-        // and each side's shift along the heading that puts both rocker pivots on the
-        // body's lateral axis (the differential's pivot line) with the anchor fixed.
         let mut roll = warm.map_or(0.0, |p| p.roll);
         let mut shift = warm.map_or((0.0, 0.0), |p| (p.left.shift, p.right.shift));
         // Where each side's axles were (s along the line), to seed the closures.
@@ -470,56 +499,17 @@ impl Kinematics {
         let mut misses = 0;
         let mut sides = None;
         let mut last: Option<(Vector3<f64>, Vector3<f64>)> = None;
-        // Over the wheel's width scale, from heights (a Ground's normals may be coarser).
-        let lateral_slope = |o: (f64, f64)| {
-            let e = 0.5 * self.r;
-            match (ground.height(o.0 + lx * e, o.1 + ly * e), ground.height(o.0 - lx * e, o.1 - ly * e)) {
-                (Some(a), Some(b)) => (a - b) / (2.0 * e),
-                _ => 0.0,
-            }
-        };
         // Lateral slopes where they were last taken: (x, y, slope) per axle and side.
         let mut lateral_cache = ([(f64::NAN, f64::NAN, 0.0); 3], [(f64::NAN, f64::NAN, 0.0); 3]);
         const PASSES: usize = 24;
         for pass in 0..PASSES {
             let (c, t) = (roll.cos(), roll.tan());
-            let (ol, or) = match anchor {
-                Anchor::MiddleMidpoint => (0.5 * self.track * c, -0.5 * self.track * c),
-                Anchor::MiddleRight => (self.track * c, 0.0),
-                Anchor::MiddleLeft => (0.0, -self.track * c),
-            };
-            let origin_l = (x + lx * ol + fx * shift.0, y + ly * ol + fy * shift.0);
-            let origin_r = (x + lx * or + fx * shift.1, y + ly * or + fy * shift.1);
-            // The tilted wheel plane passes through the ground under s = 0.
-            let (zl, zr) = (
-                ground.height(origin_l.0, origin_l.1).ok_or(KinematicsFailure::OffTerrain)?,
-                ground.height(origin_r.0, origin_r.1).ok_or(KinematicsFailure::OffTerrain)?,
-            );
+            let (ol, or) = anchor.offsets(self.track, c);
+            let (origin_l, zl) = side_origin(ground, (x, y), (fx, fy), ol, shift.0)?;
+            let (origin_r, zr) = side_origin(ground, (x, y), (fx, fy), or, shift.1)?;
             // The sideways slope under each wheel (where the last pass put it).
-            let squeeze = |o: (f64, f64), side: Option<[f64; 3]>, cache: &mut [(f64, f64, f64); 3]| {
-                if t == 0.0 {
-                    return [1.0; 3];
-                }
-                let mut at = |i: usize, nominal: f64| {
-                    let s = side.map_or(nominal, |p| p[i]);
-                    let p = (o.0 + fx * s, o.1 + fy * s);
-                    // The slope over ±r/2 barely changes over 0.1 mm (the later passes
-                    // move the axles by less): on ground curved 3 /m it moves by 3e-4,
-                    // which shifts the squeezed heights by about a micron. It is kept.
-                    let (x, y, g) = cache[i];
-                    let g = if (p.0 - x).abs() < 1e-4 && (p.1 - y).abs() < 1e-4 {
-                        g
-                    } else {
-                        let g = lateral_slope(p);
-                        cache[i] = (p.0, p.1, g);
-                        g
-                    };
-                    1.0 / (1.0 + g * t).max(0.2)
-                };
-                [at(0, self.front.0), at(1, 0.0), at(2, self.rear.0)]
-            };
-            let kl = squeeze(origin_l, guess.map(|g| g.0), &mut lateral_cache.0);
-            let kr = squeeze(origin_r, guess.map(|g| g.1), &mut lateral_cache.1);
+            let kl = self.squeeze(ground, (fx, fy), t, origin_l, guess.map(|g| g.0), &mut lateral_cache.0);
+            let kr = self.squeeze(ground, (fx, fy), t, origin_r, guess.map(|g| g.1), &mut lateral_cache.1);
             let split = (0.5 * self.front.0, 0.5 * self.rear.0);
             let profile_l = Line { ground, origin: origin_l, dir: (fx, fy), zref: zl, squeeze: kl, split };
             let profile_r = Line { ground, origin: origin_r, dir: (fx, fy), zref: zr, squeeze: kr, split };
@@ -531,11 +521,7 @@ impl Kinematics {
             let sin_roll = ((left.rocker_pivot.1 - right.rocker_pivot.1) / self.track).clamp(-1.0, 1.0);
             let g = sin_roll.asin();
             let (pl, pr) = (left.rocker_pivot.0, right.rocker_pivot.0);
-            let new_shift = match anchor {
-                Anchor::MiddleMidpoint => (0.5 * (pr - pl), 0.5 * (pl - pr)),
-                Anchor::MiddleRight => (pr - pl, 0.0),
-                Anchor::MiddleLeft => (0.0, pl - pr),
-            };
+            let new_shift = anchor.shifts(pl, pr);
             // Settled: the shifts to 10 µm and the roll to 5e-5 rad (0.003°; the sides
             // then sit within ~3 µm of where the reported roll puts them), far below the
             // terrain's accuracy. The reported roll is the one the final sides give.
@@ -559,35 +545,29 @@ impl Kinematics {
                 misses += 1;
                 pins = Some((left.pins, right.pins));
             }
-            // Broyden's method on x = (ψ, shift_l, shift_r) ↦ G(x) − x: roll and shifts
-            // are coupled (moving a side along a sloping flank changes the roll), so a
-            // step that knows the coupling settles in 2–3 passes where plain iteration
-            // needs 4–5. H approximates the inverse Jacobian; −I is plain iteration.
             let x_now = Vector3::new(roll, shift.0, shift.1);
             let f_now = Vector3::new(g, new_shift.0, new_shift.1) - x_now;
-            if let Some((x0, f0)) = last {
-                let (dx, df): (Vector3<f64>, Vector3<f64>) = (x_now - x0, f_now - f0);
-                let dd = df.dot(&df);
-                if dd > 1e-30 {
-                    inverse_jacobian += (dx - inverse_jacobian * df) * (df.transpose() / dd);
-                }
-            }
-            last = Some((x_now, f_now));
-            let mut step = -(inverse_jacobian * f_now);
-            // A wild step (a changed pin, a wall) falls back to plain iteration.
-            if !(step.iter().all(|v| v.is_finite()) && step.norm() <= 10.0 * f_now.norm()) || pass >= PASSES / 2 {
-                inverse_jacobian = -Matrix3::identity();
-                step = f_now;
-            }
+            let step = broyden_step(&mut inverse_jacobian, &mut last, (x_now, f_now), pass >= PASSES / 2);
             guess = Some((axle_s(&left), axle_s(&right)));
             roll += step.x;
-            shift = match anchor {
-                Anchor::MiddleMidpoint => (shift.0 + step.y, shift.1 + step.z),
-                Anchor::MiddleRight => (shift.0 + step.y, 0.0),
-                Anchor::MiddleLeft => (0.0, shift.1 + step.z),
-            };
+            shift = anchor.stepped(shift, (step.y, step.z));
         }
         let (left, right) = sides.ok_or(KinematicsFailure::NoClosure)?;
+        self.assemble(left, right, roll, (x, y, heading), inverse_jacobian)
+    }
+
+    /// The pose from a side pair solved at `roll` for the rover at `at` (x, y, heading):
+    /// pitch, joint limits, wheels on the map, pivots and body.
+    fn assemble(
+        &self,
+        left: SidePose,
+        right: SidePose,
+        roll: f64,
+        (x, y, heading): (f64, f64, f64),
+        inverse_jacobian: Matrix3<f64>,
+    ) -> Result<Pose, KinematicsFailure> {
+        let (fx, fy) = (heading.sin(), heading.cos());
+        let (lx, ly) = (-heading.cos(), heading.sin());
         // The mean rocker pitch is an angle in the tilted wheel planes; the body x axis'
         // elevation (the Euler pitch of yaw–pitch–roll) is asin(cos ψ · sin of it).
         let pitch = (roll.cos() * (0.5 * (left.rocker_pitch + right.rocker_pitch)).sin()).asin();
@@ -633,6 +613,50 @@ impl Kinematics {
             inverse_jacobian,
             at: (x, y, heading),
         })
+    }
+
+    /// The factors by which a side's three wheels see the terrain squeezed in the
+    /// wheel plane tilted by a roll of tangent `t`: 1 / (1 + g_lat·t), g_lat the ground's
+    /// sideways slope under each wheel (at `side`'s axles along `dir` from `o`, or their
+    /// nominal places). Slopes are kept in `cache` while a wheel moves by under 0.1 mm.
+    fn squeeze(
+        &self,
+        ground: &impl Ground,
+        (fx, fy): (f64, f64),
+        t: f64,
+        o: (f64, f64),
+        side: Option<[f64; 3]>,
+        cache: &mut [(f64, f64, f64); 3],
+    ) -> [f64; 3] {
+        if t == 0.0 {
+            return [1.0; 3];
+        }
+        let (lx, ly) = (-fy, fx);
+        // Over the wheel's width scale, from heights (a Ground's normals may be coarser).
+        let lateral_slope = |o: (f64, f64)| {
+            let e = 0.5 * self.r;
+            match (ground.height(o.0 + lx * e, o.1 + ly * e), ground.height(o.0 - lx * e, o.1 - ly * e)) {
+                (Some(a), Some(b)) => (a - b) / (2.0 * e),
+                _ => 0.0,
+            }
+        };
+        let mut at = |i: usize, nominal: f64| {
+            let s = side.map_or(nominal, |p| p[i]);
+            let p = (o.0 + fx * s, o.1 + fy * s);
+            // The slope over ±r/2 barely changes over 0.1 mm (the later passes move the
+            // axles by less): on ground curved 3 /m it moves by 3e-4, which shifts the
+            // squeezed heights by about a micron. It is kept.
+            let (x, y, g) = cache[i];
+            let g = if (p.0 - x).abs() < 1e-4 && (p.1 - y).abs() < 1e-4 {
+                g
+            } else {
+                let g = lateral_slope(p);
+                cache[i] = (p.0, p.1, g);
+                g
+            };
+            1.0 / (1.0 + g * t).max(0.2)
+        };
+        [at(0, self.front.0), at(1, 0.0), at(2, self.rear.0)]
     }
 
     /// The dilated terrain at s in the side's tilted plane: in-plane heights are true
@@ -705,21 +729,7 @@ impl Kinematics {
             Some(s) => dir * (s - centre.0),
             None => {
                 // Cold: scan outward for the sign change.
-                let steps = 16;
-                let mut prev = 0.0;
-                if eval(0.0)?.0 >= 0.0 {
-                    return Err(KinematicsFailure::NoClosure);
-                }
-                let mut found = None;
-                for k in 1..=steps {
-                    let t = 1.2 * len * k as f64 / steps as f64;
-                    if eval(t)?.0 >= 0.0 {
-                        found = Some((prev, t));
-                        break;
-                    }
-                    prev = t;
-                }
-                let (a, b) = found.ok_or(KinematicsFailure::NoClosure)?;
+                let (a, b) = scan_for_closure(&eval, len)?;
                 lo = a;
                 hi = b;
                 0.5 * (a + b)
@@ -915,6 +925,72 @@ pub fn pose(
     heading_deg: f64,
 ) -> Result<Pose, KinematicsFailure> {
     Kinematics::new(params).solve(ground, x, y, heading_deg.to_radians(), None)
+}
+
+/// A side's line origin on the map for the rover at `at` heading along `fwd`: `offset`
+/// to the left and `shift` along the heading; and the ground's height there, through
+/// which the side's tilted wheel plane passes.
+fn side_origin(
+    ground: &impl Ground,
+    at: (f64, f64),
+    (fx, fy): (f64, f64),
+    offset: f64,
+    shift: f64,
+) -> Result<((f64, f64), f64), KinematicsFailure> {
+    let (lx, ly) = (-fy, fx);
+    let o = (at.0 + lx * offset + fx * shift, at.1 + ly * offset + fy * shift);
+    Ok((o, ground.height(o.0, o.1).ok_or(KinematicsFailure::OffTerrain)?))
+}
+
+/// A cold closure's bracket: scanning outward from t = 0 (where the link must be too
+/// short) in 16 steps to 1.2 × its length, the first interval where φ changes sign.
+fn scan_for_closure<T>(
+    eval: &impl Fn(f64) -> Result<(f64, f64, T), KinematicsFailure>,
+    len: f64,
+) -> Result<(f64, f64), KinematicsFailure> {
+    let steps = 16;
+    if eval(0.0)?.0 >= 0.0 {
+        return Err(KinematicsFailure::NoClosure);
+    }
+    let mut prev = 0.0;
+    for k in 1..=steps {
+        let t = 1.2 * len * k as f64 / steps as f64;
+        if eval(t)?.0 >= 0.0 {
+            return Ok((prev, t));
+        }
+        prev = t;
+    }
+    Err(KinematicsFailure::NoClosure)
+}
+
+/// One step of Broyden's method on x = (ψ, shift_l, shift_r) ↦ G(x) − x, from `x_now`
+/// where G(x) − x is `f_now`, updating the inverse Jacobian's estimate and the last
+/// point. With `plain` (late passes), or after a wild step, plain iteration.
+fn broyden_step(
+    inverse_jacobian: &mut Matrix3<f64>,
+    last: &mut Option<(Vector3<f64>, Vector3<f64>)>,
+    (x_now, f_now): (Vector3<f64>, Vector3<f64>),
+    plain: bool,
+) -> Vector3<f64> {
+    // Broyden's method on x = (ψ, shift_l, shift_r) ↦ G(x) − x: roll and shifts
+    // are coupled (moving a side along a sloping flank changes the roll), so a
+    // step that knows the coupling settles in 2–3 passes where plain iteration
+    // needs 4–5. H approximates the inverse Jacobian; −I is plain iteration.
+    if let Some((x0, f0)) = *last {
+        let (dx, df): (Vector3<f64>, Vector3<f64>) = (x_now - x0, f_now - f0);
+        let dd = df.dot(&df);
+        if dd > 1e-30 {
+            *inverse_jacobian += (dx - *inverse_jacobian * df) * (df.transpose() / dd);
+        }
+    }
+    *last = Some((x_now, f_now));
+    let mut step = -(*inverse_jacobian * f_now);
+    // A wild step (a changed pin, a wall) falls back to plain iteration.
+    if !(step.iter().all(|v| v.is_finite()) && step.norm() <= 10.0 * f_now.norm()) || plain {
+        *inverse_jacobian = -Matrix3::identity();
+        step = f_now;
+    }
+    step
 }
 
 #[cfg(test)]

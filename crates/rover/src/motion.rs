@@ -277,6 +277,121 @@ pub struct Step {
     pub grasped: Option<usize>,
 }
 
+impl Step {
+    /// Takes in an evaluated pose's stability, friction and saturation (of a wheel
+    /// torque limit of `torque_max_nm`).
+    fn record(&mut self, eval: &Evaluation, torque_max_nm: f64) {
+        self.min_stability = Some(self.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
+        self.max_friction = self.max_friction.max(eval.friction_used);
+        self.max_saturation = self.max_saturation.max(eval.saturation(torque_max_nm));
+    }
+
+    /// Adds `seconds` of the rover's hotel load and a payload of `load_w`, W.
+    fn timed(&mut self, params: &crate::RoverParams, seconds: f64, load_w: f64) {
+        self.duration_s += seconds;
+        self.energy.hotel_wh += params.hotel_power_w * seconds / 3600.0;
+        self.energy.payload_wh += load_w * seconds / 3600.0;
+    }
+}
+
+/// A drive's motion: each wheel's speed (m/s), its duration (s) and direction (+1
+/// forward, −1 backward; +1 for a turn in place).
+struct Kinetics {
+    wheel_speeds: [f64; 6],
+    total_time: f64,
+    direction: f64,
+}
+
+impl Kinetics {
+    /// The fine grid of poses: for drives and arcs a step every `spacing_m` of the
+    /// reference point's travel `dist` (at least 3); for point turns (`dist` 0) every
+    /// `spacing_m` of the farthest wheel's travel — a 5° turn rolls the corner wheels
+    /// under 3 cm.
+    fn fine_steps(&self, dist: f64, spacing_m: f64) -> usize {
+        if dist == 0.0 {
+            let travel = self.wheel_speeds.iter().fold(0.0f64, |m, &v| m.max(v)) * self.total_time;
+            ((travel / spacing_m - 1e-9).ceil() as usize).max(1)
+        } else {
+            ((dist.abs() / spacing_m).ceil() as usize).max(3)
+        }
+    }
+
+    /// The drive's mechanical power (what the motors deliver over the gears'
+    /// efficiency, never negative: no regeneration) and copper losses at a pose, W.
+    fn power(&self, p: &crate::RoverParams, eval: &Evaluation) -> (f64, f64) {
+        let (k_copper, eta) = (p.drive.copper_loss_w_per_nm2(), p.drive.gear_efficiency);
+        let torques = eval.torques_nm();
+        let (mut mech, mut copper) = (0.0, 0.0);
+        for i in 0..6 {
+            let omega = self.wheel_speeds[i] / p.wheel_radius_m;
+            mech += (torques[i] * omega * self.direction).max(0.0) / eta;
+            copper += k_copper * torques[i] * torques[i];
+        }
+        (mech, copper)
+    }
+}
+
+/// The motion of a drive of `dist` (m) along a circle of `radius` (m), or of a turn in
+/// place by `turn` (rad) when `dist` is 0, at the rover's speed and turn rate.
+fn kinetics(p: &crate::RoverParams, dist: f64, radius: f64, turn: f64) -> Kinetics {
+    let in_place = dist == 0.0;
+    // Yaw rate and reference speed.
+    let (speed, yaw_rate) = if in_place {
+        (0.0, p.turn_rate_deg_s.to_radians() * turn.signum())
+    } else {
+        let v = p.speed_m_s * dist.signum();
+        (v, if radius.is_finite() { v / radius } else { 0.0 })
+    };
+    Kinetics {
+        wheel_speeds: wheel_speeds(p, speed, yaw_rate),
+        total_time: if in_place { turn.abs() / yaw_rate.abs() } else { dist.abs() / p.speed_m_s },
+        direction: if in_place { 1.0 } else { dist.signum() },
+    }
+}
+
+/// Each wheel's speed about the instantaneous centre for a reference `speed` (m/s) and
+/// `yaw_rate` (rad/s): its body-frame velocity (speed − ω·y_w, ω·x_w) along its rolling
+/// direction; left front, middle, rear, then right.
+fn wheel_speeds(p: &crate::RoverParams, speed: f64, yaw_rate: f64) -> [f64; 6] {
+    let (half, a) = (p.track_m / 2.0, p.axle_x_m);
+    let mut w = [0.0; 6];
+    for (k, y) in [half, -half].into_iter().enumerate() {
+        for (i, x) in [a.front, a.middle, a.rear].into_iter().enumerate() {
+            w[3 * k + i] = (speed - yaw_rate * y).hypot(yaw_rate * (x - a.middle));
+        }
+    }
+    w
+}
+
+/// Where a drive of `dist` (m) along a circle of `radius` (m, infinite straight), or a
+/// turn in place by `turn` (rad) when `dist` is 0, puts the reference point a fraction
+/// `f` of the way from `start`.
+fn place_along(start: &RoverState, dist: f64, radius: f64, turn: f64, f: f64) -> Place {
+    if dist == 0.0 {
+        Place { x: start.x, y: start.y, heading: start.heading - turn * f }
+    } else if radius.is_finite() {
+        // Along a circle: heading changes by s/R (left positive = azimuth down).
+        let s = dist * f;
+        let dpsi = s / radius;
+        let (fx, fy) = (start.heading.sin(), start.heading.cos());
+        let (lx, ly) = (-fy, fx);
+        let (along, side) = (radius * dpsi.sin(), radius * (1.0 - dpsi.cos()));
+        Place {
+            x: start.x + fx * along + lx * side,
+            y: start.y + fy * along + ly * side,
+            heading: start.heading - dpsi,
+        }
+    } else {
+        let s = dist * f;
+        Place { x: start.x + start.heading.sin() * s, y: start.y + start.heading.cos() * s, heading: start.heading }
+    }
+}
+
+/// A module stopped by `failure` after `progress` of it, in `state`.
+fn stopped(failure: MotionFailure, progress: f64, state: RoverState) -> Stopped {
+    Stopped { failure, progress, state: Box::new(state) }
+}
+
 /// A sample on the ground that a grasp can pick up.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SampleSite {
@@ -455,7 +570,6 @@ impl<'e> Motion<'e> {
     ) -> Result<Step, Stopped> {
         let p = self.evaluator.params();
         let act = &p.activities;
-        let stop = |failure, progress, state: RoverState| Stopped { failure, progress, state: Box::new(state) };
         let mut step = Step {
             state: *state,
             duration_s: 0.0,
@@ -464,11 +578,6 @@ impl<'e> Motion<'e> {
             max_friction: 0.0,
             max_saturation: 0.0,
             grasped: None,
-        };
-        let timed = |step: &mut Step, seconds: f64, load_w: f64| {
-            step.duration_s += seconds;
-            step.energy.hotel_wh += p.hotel_power_w * seconds / 3600.0;
-            step.energy.payload_wh += load_w * seconds / 3600.0;
         };
         if let Some((dist, radius, turn)) = module.path() {
             // A turn to a sample is a stance for the arm, not a change of route: the
@@ -481,98 +590,7 @@ impl<'e> Motion<'e> {
             }
             self.drive(ground, &from, dist, radius, turn, &mut step)?;
         } else {
-            match module {
-                Module::ArmForward
-                | Module::ArmBack
-                | Module::ArmLeft
-                | Module::ArmRight
-                | Module::ArmDown
-                | Module::ArmUp => {
-                    let d = 0.02;
-                    let delta = match module {
-                        Module::ArmForward => [d, 0.0, 0.0],
-                        Module::ArmBack => [-d, 0.0, 0.0],
-                        Module::ArmLeft => [0.0, d, 0.0],
-                        Module::ArmRight => [0.0, -d, 0.0],
-                        Module::ArmDown => [0.0, 0.0, -d],
-                        _ => [0.0, 0.0, d],
-                    };
-                    let from = state.arm;
-                    let path = |f: f64| from.moved([delta[0] * f, delta[1] * f, delta[2] * f], p);
-                    self.move_arm(ground, state, path, &mut step)?;
-                    timed(&mut step, d / p.arm.tool_speed_m_s, 0.0);
-                }
-                Module::TurnToSample | Module::TurnFromSample => {
-                    let turn = if module == Module::TurnFromSample {
-                        -state.sample_turn
-                    } else {
-                        self.turn_toward_sample(state, samples)
-                    };
-                    if turn == 0.0 {
-                        return Err(stop(MotionFailure::NothingToTurnTo, 0.0, *state));
-                    }
-                    self.drive(ground, state, 0.0, 0.0, turn, &mut step)?;
-                    step.state.sample_turn =
-                        if module == Module::TurnFromSample { 0.0 } else { state.sample_turn + turn };
-                }
-                Module::Grasp => {
-                    if state.arm.payload_kg > 0.0 {
-                        return Err(stop(MotionFailure::NoSample, 0.0, *state));
-                    }
-                    let Some((site, target)) = self.reachable_sample(ground, state, samples) else {
-                        return Err(stop(MotionFailure::NoSample, 0.0, *state));
-                    };
-                    // Reach down to the sample and back, by inverse kinematics through
-                    // the arm's workspace: the arm's CG and then the sample's shift the
-                    // rover's along the way, and lifting the sample costs its work.
-                    let (from, to) = (state.arm, ArmState { tool_m: target, ..state.arm });
-                    self.move_arm(ground, state, |f| from.toward(&to, f, p), &mut step)?;
-                    let reached = step.state;
-                    step.state.arm.payload_kg = site.mass_kg;
-                    if step.state.arm.check(p).is_err() {
-                        return Err(stop(MotionFailure::ArmReach, 0.5, reached));
-                    }
-                    self.settle(ground, &mut step, reached)?;
-                    let holding = step.state;
-                    let back = ArmState { payload_kg: site.mass_kg, ..from };
-                    self.move_arm(ground, &holding, |f| holding.arm.toward(&back, f, p), &mut step)?;
-                    step.grasped = Some(site.id);
-                    // Timed by the tool's straight-line distance at the tool speed.
-                    let t = from.tool_m;
-                    let travel = (target[0] - t[0]).hypot(target[1] - t[1]).hypot(target[2] - t[2]);
-                    timed(&mut step, 2.0 * travel / p.arm.tool_speed_m_s, 0.0);
-                    timed(&mut step, act.grasp_s, act.grasp_w);
-                }
-                Module::Release => {
-                    if !(state.arm.payload_kg > 0.0) {
-                        return Err(stop(MotionFailure::NotHolding, 0.0, *state));
-                    }
-                    step.state.arm.payload_kg = 0.0;
-                    self.settle(ground, &mut step, *state)?;
-                    timed(&mut step, act.grasp_s, act.grasp_w);
-                }
-                Module::TrayDeploy | Module::TrayRetract => {
-                    step.state.tray_deployed = module == Module::TrayDeploy;
-                    timed(&mut step, act.tray_s, act.tray_w);
-                }
-                Module::VideoStart | Module::VideoEnd => {
-                    step.state.video_on = module == Module::VideoStart;
-                    timed(&mut step, act.video_s, act.video_w);
-                }
-                Module::SweepSensors => timed(&mut step, act.sweep_s, act.sweep_w),
-                Module::Communicate => timed(&mut step, act.communicate_s, act.communicate_w),
-                Module::Sleep => {
-                    step.duration_s += act.sleep_s;
-                    step.energy.hotel_wh += act.sleep_w * act.sleep_s / 3600.0;
-                }
-                Module::Recharge => {
-                    timed(&mut step, act.recharge_s, 0.0);
-                    let tilt = state.pose.map_or(1.0, |q| q.pitch.cos() * q.roll.cos());
-                    let watts = act.recharge_flux_w_m2 * p.solar.area_m2 * p.solar.efficiency * tilt.max(0.0);
-                    step.energy.solar_wh += watts * act.recharge_s / 3600.0;
-                }
-                _ => {}
-            }
+            self.stay(ground, state, module, samples, &mut step)?;
         }
         // Video and an open tray draw power for as long as the module lasts.
         if step.state.video_on && !matches!(module, Module::VideoStart | Module::VideoEnd) {
@@ -582,10 +600,127 @@ impl<'e> Motion<'e> {
         let floor = battery.capacity_wh * (1.0 - battery.usable_fraction);
         let after = (state.battery_wh - step.energy.net_wh()).min(battery.capacity_wh);
         if after < floor {
-            return Err(stop(MotionFailure::Battery, 1.0, *state));
+            return Err(stopped(MotionFailure::Battery, 1.0, *state));
         }
         step.state.battery_wh = after;
         Ok(step)
+    }
+
+    /// Runs a module that does not drive: arm moves, turns to and from a sample, grasps
+    /// and releases, the tray, video, sensors, communication, sleep, recharge.
+    fn stay(
+        &self,
+        ground: &impl Ground,
+        state: &RoverState,
+        module: Module,
+        samples: &[SampleSite],
+        step: &mut Step,
+    ) -> Result<(), Stopped> {
+        let p = self.evaluator.params();
+        let act = &p.activities;
+        match module {
+            Module::ArmForward
+            | Module::ArmBack
+            | Module::ArmLeft
+            | Module::ArmRight
+            | Module::ArmDown
+            | Module::ArmUp => {
+                let d = 0.02;
+                let delta = match module {
+                    Module::ArmForward => [d, 0.0, 0.0],
+                    Module::ArmBack => [-d, 0.0, 0.0],
+                    Module::ArmLeft => [0.0, d, 0.0],
+                    Module::ArmRight => [0.0, -d, 0.0],
+                    Module::ArmDown => [0.0, 0.0, -d],
+                    _ => [0.0, 0.0, d],
+                };
+                let from = state.arm;
+                let path = |f: f64| from.moved([delta[0] * f, delta[1] * f, delta[2] * f], p);
+                self.move_arm(ground, state, path, step)?;
+                step.timed(p, d / p.arm.tool_speed_m_s, 0.0);
+            }
+            Module::TurnToSample | Module::TurnFromSample => {
+                let turn = if module == Module::TurnFromSample {
+                    -state.sample_turn
+                } else {
+                    self.turn_toward_sample(state, samples)
+                };
+                if turn == 0.0 {
+                    return Err(stopped(MotionFailure::NothingToTurnTo, 0.0, *state));
+                }
+                self.drive(ground, state, 0.0, 0.0, turn, step)?;
+                step.state.sample_turn = if module == Module::TurnFromSample { 0.0 } else { state.sample_turn + turn };
+            }
+            Module::Grasp => self.grasp(ground, state, samples, step)?,
+            Module::Release => {
+                if !(state.arm.payload_kg > 0.0) {
+                    return Err(stopped(MotionFailure::NotHolding, 0.0, *state));
+                }
+                step.state.arm.payload_kg = 0.0;
+                self.settle(ground, step, *state)?;
+                step.timed(p, act.grasp_s, act.grasp_w);
+            }
+            Module::TrayDeploy | Module::TrayRetract => {
+                step.state.tray_deployed = module == Module::TrayDeploy;
+                step.timed(p, act.tray_s, act.tray_w);
+            }
+            Module::VideoStart | Module::VideoEnd => {
+                step.state.video_on = module == Module::VideoStart;
+                step.timed(p, act.video_s, act.video_w);
+            }
+            Module::SweepSensors => step.timed(p, act.sweep_s, act.sweep_w),
+            Module::Communicate => step.timed(p, act.communicate_s, act.communicate_w),
+            Module::Sleep => {
+                step.duration_s += act.sleep_s;
+                step.energy.hotel_wh += act.sleep_w * act.sleep_s / 3600.0;
+            }
+            Module::Recharge => {
+                step.timed(p, act.recharge_s, 0.0);
+                let tilt = state.pose.map_or(1.0, |q| q.pitch.cos() * q.roll.cos());
+                let watts = act.recharge_flux_w_m2 * p.solar.area_m2 * p.solar.efficiency * tilt.max(0.0);
+                step.energy.solar_wh += watts * act.recharge_s / 3600.0;
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// A grasp: reach down to the nearest sample in reach and back, by inverse
+    /// kinematics through the arm's workspace — the arm's CG and then the sample's shift
+    /// the rover's along the way, and lifting the sample costs its work.
+    fn grasp(
+        &self,
+        ground: &impl Ground,
+        state: &RoverState,
+        samples: &[SampleSite],
+        step: &mut Step,
+    ) -> Result<(), Stopped> {
+        let p = self.evaluator.params();
+        let act = &p.activities;
+        if state.arm.payload_kg > 0.0 {
+            return Err(stopped(MotionFailure::NoSample, 0.0, *state));
+        }
+        let Some((site, target)) = self.reachable_sample(ground, state, samples) else {
+            return Err(stopped(MotionFailure::NoSample, 0.0, *state));
+        };
+        let (from, to) = (state.arm, ArmState { tool_m: target, ..state.arm });
+        self.move_arm(ground, state, |f| from.toward(&to, f, p), step)?;
+        let reached = step.state;
+        step.state.arm.payload_kg = site.mass_kg;
+        if step.state.arm.check(p).is_err() {
+            return Err(stopped(MotionFailure::ArmReach, 0.5, reached));
+        }
+        self.settle(ground, step, reached)?;
+        let holding = step.state;
+        let back = ArmState { payload_kg: site.mass_kg, ..from };
+        self.move_arm(ground, &holding, |f| holding.arm.toward(&back, f, p), step)?;
+        step.grasped = Some(site.id);
+        // Timed by the tool's straight-line distance at the tool speed.
+        let t = from.tool_m;
+        let travel = (target[0] - t[0]).hypot(target[1] - t[1]).hypot(target[2] - t[2]);
+        step.timed(p, 2.0 * travel / p.arm.tool_speed_m_s, 0.0);
+        step.timed(p, act.grasp_s, act.grasp_w);
+        Ok(())
     }
 
     /// Drives the reference point `dist` (m, negative backward) along a circle of
@@ -601,86 +736,19 @@ impl<'e> Motion<'e> {
         step: &mut Step,
     ) -> Result<(), Stopped> {
         let p = self.evaluator.params();
-        let k_copper = p.drive.copper_loss_w_per_nm2();
-        let eta = p.drive.gear_efficiency;
-        let half = p.track_m / 2.0;
-        let a = p.axle_x_m;
-        let in_place = dist == 0.0;
-        // Yaw rate and reference speed.
-        let (speed, yaw_rate) = if in_place {
-            (0.0, p.turn_rate_deg_s.to_radians() * turn.signum())
-        } else {
-            let v = p.speed_m_s * dist.signum();
-            (v, if radius.is_finite() { v / radius } else { 0.0 })
-        };
-        let total_time = if in_place { turn.abs() / yaw_rate.abs() } else { dist.abs() / p.speed_m_s };
-        let direction = if in_place { 1.0 } else { dist.signum() };
-        let cond = Conditions { mu: self.mu, direction };
-        // Wheel speeds about the instantaneous centre: body-frame velocity of each
-        // wheel = (speed − ω·y_w, ω·x_w); |v| along its rolling direction.
-        let wheel_speeds: [f64; 6] = {
-            let mut w = [0.0; 6];
-            for (k, y) in [half, -half].into_iter().enumerate() {
-                for (i, x) in [a.front, a.middle, a.rear].into_iter().enumerate() {
-                    w[3 * k + i] = (speed - yaw_rate * y).hypot(yaw_rate * (x - a.middle));
-                }
-            }
-            w
-        };
-        // The fine grid. Drives and arcs: a step every `spacing_m` of the reference
-        // point's travel (at least 3). Point turns: every `spacing_m` of the farthest
-        // wheel's travel — a 5° turn rolls the corner wheels under 3 cm.
-        let n = if in_place {
-            let travel = wheel_speeds.iter().fold(0.0f64, |m, &v| m.max(v)) * total_time;
-            ((travel / self.spacing_m - 1e-9).ceil() as usize).max(1)
-        } else {
-            ((dist.abs() / self.spacing_m).ceil() as usize).max(3)
-        };
-        let place_at = |f: f64| {
-            if in_place {
-                Place { x: start.x, y: start.y, heading: start.heading - turn * f }
-            } else if radius.is_finite() {
-                // Along a circle: heading changes by s/R (left positive = azimuth down).
-                let s = dist * f;
-                let dpsi = s / radius;
-                let (fx, fy) = (start.heading.sin(), start.heading.cos());
-                let (lx, ly) = (-fy, fx);
-                let (along, side) = (radius * dpsi.sin(), radius * (1.0 - dpsi.cos()));
-                Place {
-                    x: start.x + fx * along + lx * side,
-                    y: start.y + fy * along + ly * side,
-                    heading: start.heading - dpsi,
-                }
-            } else {
-                let s = dist * f;
-                Place {
-                    x: start.x + start.heading.sin() * s,
-                    y: start.y + start.heading.cos() * s,
-                    heading: start.heading,
-                }
-            }
-        };
-        let power = |eval: &Evaluation| {
-            let torques = eval.torques_nm();
-            let (mut mech, mut copper) = (0.0, 0.0);
-            for i in 0..6 {
-                let omega = wheel_speeds[i] / p.wheel_radius_m;
-                mech += (torques[i] * omega * direction).max(0.0) / eta;
-                copper += k_copper * torques[i] * torques[i];
-            }
-            (mech, copper)
-        };
+        let kin = kinetics(p, dist, radius, turn);
+        let total_time = kin.total_time;
+        let cond = Conditions { mu: self.mu, direction: kin.direction };
+        let n = kin.fine_steps(dist, self.spacing_m);
+        let place_at = |f: f64| place_along(start, dist, radius, turn, f);
+        let power = |eval: &Evaluation| kin.power(p, eval);
         let mut state = *start;
         // The start: the previous module left its pose here, so only the forces under
         // this module's conditions are new.
         let first = self
             .pose_at(ground, start.place(), &start.arm, &cond, start.pose.as_ref())
             .map_err(|failure| Stopped { failure, progress: 0.0, state: Box::new(state) })?;
-        let record = |step: &mut Step, eval: &Evaluation| {
-            step.min_stability = Some(step.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
-            step.max_friction = step.max_friction.max(eval.friction_used);
-            step.max_saturation = step.max_saturation.max(eval.saturation(p.wheel_torque_max_nm));
-        };
+        let record = |step: &mut Step, eval: &Evaluation| step.record(eval, p.wheel_torque_max_nm);
         record(step, &first);
         let mut last = Signature::of(&first, p.wheel_torque_max_nm);
         let mut prev_power = power(&first);

@@ -59,34 +59,8 @@ pub fn newton_pose(
     let (fx, fy) = (heading.sin(), heading.cos());
     let (lx, ly) = (-heading.cos(), heading.sin());
     let half = params.track_m / 2.0;
-    let rot = |v: (f64, f64), ang: f64| {
-        let (s, c) = ang.sin_cos();
-        (v.0 * c - v.1 * s, v.0 * s + v.1 * c)
-    };
-    // q = (xB, yB, zB, pitch, roll, ρ, β_L, β_R).
-    let axles_of = |q: &Vec8| -> [[f64; 3]; 6] {
-        let (sp, cp) = q[3].sin_cos();
-        let (sr, cr) = q[4].sin_cos();
-        let mut out = [[0.0; 3]; 6];
-        for (side, (y_s, a_s, beta)) in [(half, q[5], q[6]), (-half, -q[5], q[7])].into_iter().enumerate() {
-            let piv = rot(p0, a_s);
-            let bogie = |v: (f64, f64)| {
-                let d = rot((v.0 - p0.0, v.1 - p0.1), a_s + beta);
-                (piv.0 + d.0, piv.1 + d.1)
-            };
-            // The chain as built, in the rover's own frame (no mirror image here, so the
-            // planar solver's handling of a bogie-behind rover is checked independently).
-            let wheels =
-                if bogie_front { [bogie(f0), bogie(m0), rot(r0, a_s)] } else { [rot(f0, a_s), bogie(m0), bogie(r0)] };
-            for (i, v) in wheels.into_iter().enumerate() {
-                // Body frame (v.0, y_s, v.1): roll about x, then pitch (nose up), then yaw.
-                let (bx, by, bz) = (v.0, y_s * cr - v.1 * sr, y_s * sr + v.1 * cr);
-                let (px, pz) = (bx * cp - bz * sp, bx * sp + bz * cp);
-                out[3 * side + i] = [q[0] + fx * px + lx * by, q[1] + fy * px + ly * by, q[2] + pz];
-            }
-        }
-        out
-    };
+    let chain = Chain { p0, f0, m0, r0, bogie_front, half, fwd: (fx, fy), left: (lx, ly) };
+    let axles_of = |q: &Vec8| chain.axles(q);
     // Each wheel is a disc in the body's x–z plane; its residual is the smallest gap
     // between the disc's lower rim and the terrain (0 = touching), sampled as in the
     // planar solver.
@@ -120,36 +94,101 @@ pub fn newton_pose(
         f[7] = ax_y - y;
         Some(f)
     };
-    let mut q = match start {
-        Some(p) => Vec8::from_column_slice(&[
-            p.body[0],
-            p.body[1],
-            p.body[2],
-            p.pitch,
-            p.roll,
-            0.5 * (p.left.rocker_pitch - p.right.rocker_pitch),
-            p.left.bogie_angle,
-            p.right.bogie_angle,
-        ]),
+    let q = match start {
+        Some(p) => start_of(p),
         None => {
             let z = ground.height(x, y)?;
             Vec8::from_column_slice(&[x, y, z + b_z, 0.0, 0.0, 0.0, 0.0, 0.0])
         }
     };
+    let (q, residual_m, iterations) = damped_newton(residual, q)?;
+    Some(NewtonPose {
+        body: [q[0], q[1], q[2]],
+        pitch: q[3],
+        roll: q[4],
+        rocker: q[5],
+        bogie: [q[6], q[7]],
+        axles: axles_of(&q),
+        residual_m,
+        iterations,
+    })
+}
+
+/// The rover's chain as built, relative to the rocker pivot (x, z in the body's plane,
+/// m): bogie pivot and the three axles, which end carries the bogie, half the track,
+/// and the heading's forward and left directions on the map.
+struct Chain {
+    p0: (f64, f64),
+    f0: (f64, f64),
+    m0: (f64, f64),
+    r0: (f64, f64),
+    bogie_front: bool,
+    half: f64,
+    fwd: (f64, f64),
+    left: (f64, f64),
+}
+
+impl Chain {
+    /// The six axles on the map (left front, middle, rear, then right) for the unknowns
+    /// q = (xB, yB, zB, pitch, roll, ρ, β_L, β_R).
+    fn axles(&self, q: &Vec8) -> [[f64; 3]; 6] {
+        let (sp, cp) = q[3].sin_cos();
+        let (sr, cr) = q[4].sin_cos();
+        let mut out = [[0.0; 3]; 6];
+        for (side, (y_s, a_s, beta)) in [(self.half, q[5], q[6]), (-self.half, -q[5], q[7])].into_iter().enumerate() {
+            let piv = rot(self.p0, a_s);
+            let bogie = |v: (f64, f64)| {
+                let d = rot((v.0 - self.p0.0, v.1 - self.p0.1), a_s + beta);
+                (piv.0 + d.0, piv.1 + d.1)
+            };
+            // The chain as built, in the rover's own frame (no mirror image here, so the
+            // planar solver's handling of a bogie-behind rover is checked independently).
+            let wheels = if self.bogie_front {
+                [bogie(self.f0), bogie(self.m0), rot(self.r0, a_s)]
+            } else {
+                [rot(self.f0, a_s), bogie(self.m0), bogie(self.r0)]
+            };
+            for (i, v) in wheels.into_iter().enumerate() {
+                // Body frame (v.0, y_s, v.1): roll about x, then pitch (nose up), then yaw.
+                let (bx, by, bz) = (v.0, y_s * cr - v.1 * sr, y_s * sr + v.1 * cr);
+                let (px, pz) = (bx * cp - bz * sp, bx * sp + bz * cp);
+                out[3 * side + i] =
+                    [q[0] + self.fwd.0 * px + self.left.0 * by, q[1] + self.fwd.1 * px + self.left.1 * by, q[2] + pz];
+            }
+        }
+        out
+    }
+}
+
+/// `v` turned by `ang` radians in its plane.
+fn rot(v: (f64, f64), ang: f64) -> (f64, f64) {
+    let (s, c) = ang.sin_cos();
+    (v.0 * c - v.1 * s, v.0 * s + v.1 * c)
+}
+
+/// The unknowns of a planar-decomposition pose.
+fn start_of(p: &Pose) -> Vec8 {
+    Vec8::from_column_slice(&[
+        p.body[0],
+        p.body[1],
+        p.body[2],
+        p.pitch,
+        p.roll,
+        0.5 * (p.left.rocker_pitch - p.right.rocker_pitch),
+        p.left.bogie_angle,
+        p.right.bogie_angle,
+    ])
+}
+
+/// Damped Newton iterations on `residual` from `q`, the Jacobian by central
+/// differences, each step halved until the residual falls: the solution, its largest
+/// residual and the iterations, or `None` if it does not converge to 1e-8 in 60.
+fn damped_newton(residual: impl Fn(&Vec8) -> Option<Vec8>, mut q: Vec8) -> Option<(Vec8, f64, usize)> {
     let mut f = residual(&q)?;
     for it in 0..60 {
         let norm = f.amax();
         if norm < 1e-8 {
-            return Some(NewtonPose {
-                body: [q[0], q[1], q[2]],
-                pitch: q[3],
-                roll: q[4],
-                rocker: q[5],
-                bogie: [q[6], q[7]],
-                axles: axles_of(&q),
-                residual_m: norm,
-                iterations: it,
-            });
+            return Some((q, norm, it));
         }
         let mut jac = SMatrix::<f64, 8, 8>::zeros();
         for j in 0..8 {
