@@ -182,14 +182,96 @@ pub(crate) fn printing_in_libraries(root: &Path) -> Result<Vec<String>, String> 
     lines_containing(root, &[root.join("crates")], &["tests", "benches", "examples", "target"], WRITERS)
 }
 
-/// The bodies' constants are written only in areo-body: every line of another crate's
-/// sources (before its unit tests) that spells a body's radius or WGS84's flattening, as
-/// `path:line`.
+/// The bodies' constants are written only in areo-body: every numeric literal in another
+/// crate's sources (the binary, xtask and the Python module included; not tests, nor
+/// `#[cfg(test)]` modules) whose value is a body's radius — in metres or kilometres,
+/// however it is spelt (`3396190.0`, `3_396_190`, `3.39619e6`, `3396.19`) — WGS84's
+/// flattening, or the length of the Martian sol in seconds or days, as
+/// `path:line value`. The files are parsed, so comments and strings do not count.
 pub(crate) fn body_constants_outside_areo_body(root: &Path) -> Result<Vec<String>, String> {
-    const CONSTANTS: &[&str] =
-        &["3_396_190", "3_376_200", "3_396_000", "3_389_500", "1_737_400", "6_378_137", "6_371_008", "298.257"];
-    let skip = ["tests", "benches", "examples", "target", "body"];
-    lines_containing(root, &[root.join("crates"), root.join("src")], &skip, CONSTANTS)
+    let dirs: Vec<PathBuf> = std::fs::read_dir(root.join("crates"))
+        .map(|entries| {
+            entries
+                .filter_map(|e| Some(e.ok()?.path()))
+                .filter(|p| !p.ends_with("body"))
+                .map(|p| p.join("src"))
+                .collect()
+        })
+        .unwrap_or_default();
+    let dirs: Vec<PathBuf> =
+        dirs.into_iter().chain(["src", "xtask/src", "python/src"].iter().map(|d| root.join(d))).collect();
+    let mut found = Vec::new();
+    for (path, text) in rust_sources(&dirs, &["tests", "benches"])? {
+        let file = syn::parse_file(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        let shown = path.strip_prefix(root).unwrap_or(&path).display().to_string();
+        let mut scan = BodyLiterals { path: &shown, found: Vec::new() };
+        syn::visit::Visit::visit_file(&mut scan, &file);
+        found.extend(scan.found);
+    }
+    found.sort();
+    Ok(found)
+}
+
+/// The values [`body_constants_outside_areo_body`] looks for: the IAU radii of Mars (the
+/// 2015 ellipsoid, MOLA's sphere, the mean), the Moon and the Earth (WGS84, the mean), in
+/// metres and kilometres; WGS84's inverse flattening; the sol in seconds and days.
+const BODY_VALUES: &[f64] = &[
+    3_396_190.0,
+    3_376_200.0,
+    3_396_000.0,
+    3_389_500.0,
+    1_737_400.0,
+    6_378_137.0,
+    6_371_008.8,
+    3396.19,
+    3376.2,
+    3389.5,
+    1737.4,
+    6378.137,
+    6371.0088,
+    298.257_223_563,
+    88_775.244,
+    1.027_491_251_7,
+];
+
+/// The visitor of [`body_constants_outside_areo_body`].
+struct BodyLiterals<'a> {
+    path: &'a str,
+    found: Vec<String>,
+}
+
+impl<'ast> syn::visit::Visit<'ast> for BodyLiterals<'_> {
+    fn visit_item_const(&mut self, c: &'ast syn::ItemConst) {
+        // This check's own list of the values it looks for.
+        if c.ident != "BODY_VALUES" {
+            syn::visit::visit_item_const(self, c);
+        }
+    }
+
+    fn visit_item_mod(&mut self, m: &'ast syn::ItemMod) {
+        if !cfg_test(&m.attrs) {
+            syn::visit::visit_item_mod(self, m);
+        }
+    }
+
+    fn visit_item_fn(&mut self, f: &'ast syn::ItemFn) {
+        if !f.attrs.iter().any(|a| a.path().is_ident("test")) {
+            syn::visit::visit_item_fn(self, f);
+        }
+    }
+
+    fn visit_lit(&mut self, lit: &'ast syn::Lit) {
+        let value = match lit {
+            syn::Lit::Float(f) => f.base10_parse::<f64>().ok(),
+            syn::Lit::Int(i) => i.base10_parse::<u64>().ok().map(|v| v as f64),
+            _ => None,
+        };
+        if let Some(v) = value
+            && BODY_VALUES.iter().any(|b| (v - b).abs() <= 1e-6 * b.abs())
+        {
+            self.found.push(format!("{}:{} {v}", self.path, lit.span().start().line));
+        }
+    }
 }
 
 /// The project describes itself as it is: every line of its text files (sources,
@@ -369,14 +451,30 @@ mod tests {
     #[test]
     fn body_constants_live_in_areo_body_alone() {
         let found = body_constants_outside_areo_body(&crate::project_root()).unwrap();
-        assert!(found.is_empty(), "radii and flattening are areo-body's: {found:#?}");
-        // The scan sees one when it is there.
+        assert!(found.is_empty(), "radii, flattening and the sol are areo-body's: {found:#?}");
+        // The scan sees them however they are spelt, and not in comments, strings or
+        // tests.
         let dir = std::env::temp_dir().join(format!("areo-body-scan-{}", std::process::id()));
         std::fs::create_dir_all(dir.join("crates/x/src")).unwrap();
-        std::fs::write(dir.join("crates/x/src/lib.rs"), "// 3_389_500 in a comment\nconst R: f64 = 1_737_400.0;\n")
-            .unwrap();
-        assert_eq!(body_constants_outside_areo_body(&dir).unwrap(), vec!["crates/x/src/lib.rs:2".to_string()]);
+        let text = "// 3_389_500 in a comment\nconst R: f64 = 1_737_400.0;\nconst S: f64 = 3.39619e6;\n\
+                    const K: f64 = 3396.19;\nconst SOL: f64 = 88775.244;\nconst N: &str = \"6378137\";\n\
+                    const F: f64 = 298.257223563;\nconst OK: f64 = 3396.5;\n\
+                    #[cfg(test)]\nmod tests {\n    const T: f64 = 1737400.0;\n}\n";
+        std::fs::write(dir.join("crates/x/src/lib.rs"), text).unwrap();
+        let found = body_constants_outside_areo_body(&dir).unwrap();
         std::fs::remove_dir_all(&dir).unwrap();
+        let lines: Vec<&str> = found.iter().map(|f| f.split(' ').next().unwrap()).collect();
+        assert_eq!(
+            lines,
+            [
+                "crates/x/src/lib.rs:2",
+                "crates/x/src/lib.rs:3",
+                "crates/x/src/lib.rs:4",
+                "crates/x/src/lib.rs:5",
+                "crates/x/src/lib.rs:7"
+            ],
+            "{found:#?}"
+        );
     }
 
     #[test]

@@ -359,7 +359,8 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             let samples = self.samples_left(&collected);
             let step = match self.run_module(&motion, &state, module, &samples, trace) {
                 Ok(step) => step,
-                Err((failure, progress, binding)) => {
+                Err(stop) => {
+                    let (failure, progress, binding) = *stop;
                     out.failure = Some((i, failure));
                     out.failure_progress = progress;
                     out.binding = binding.or(out.binding);
@@ -447,7 +448,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
         module: Module,
         samples: &[SampleSite],
         trace: bool,
-    ) -> Result<areo_rover::motion::Step, (Failure, f64, Option<WheelLimit>)> {
+    ) -> Result<areo_rover::motion::Step, Box<(Failure, f64, Option<WheelLimit>)>> {
         match motion.run(self.ground, state, module, samples) {
             Ok(step) => Ok(step),
             Err(Stopped {
@@ -457,11 +458,11 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
                     | MotionFailure::ArmReach
                     | MotionFailure::NothingToTurnTo,
                 ..
-            }) => {
-                motion.idle(state, module).map_err(|stopped| (Failure::Motion(stopped.failure), stopped.progress, None))
-            }
+            }) => motion
+                .idle(state, module)
+                .map_err(|stopped| Box::new((Failure::Motion(stopped.failure), stopped.progress, None))),
             Err(Stopped { failure: MotionFailure::BelowFloor(s), progress, .. }) => {
-                Err((Failure::Stability(s), progress, None))
+                Err(Box::new((Failure::Stability(s), progress, None)))
             }
             Err(Stopped { failure, progress, state: last }) => {
                 let binding = if trace && matches!(failure, MotionFailure::Violation(Violation::Forces { .. })) {
@@ -469,7 +470,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
                 } else {
                     None
                 };
-                Err((Failure::Motion(failure), progress, binding))
+                Err(Box::new((Failure::Motion(failure), progress, binding)))
             }
         }
     }

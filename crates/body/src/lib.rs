@@ -25,7 +25,10 @@ pub use crate::spheroid::{Spheroid, WGS84_INVERSE_FLATTENING};
 
 /// A mean Mars solar day (sol), s: 1.0274912517 Earth days (Allison & McEwen 2000, as
 /// Mars24 uses).
-pub const SOL_S: f64 = 1.027_491_251_7 * 86_400.0;
+pub const SOL_S: f64 = SOL_IN_DAYS * 86_400.0;
+
+/// A mean Mars solar day in Earth days (Mars24, 2018 constants).
+pub const SOL_IN_DAYS: f64 = 1.027_491_251_7;
 
 /// A body a rover can drive on (scenario files write `Mars`, `Moon` or `Earth`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]

@@ -8,8 +8,8 @@ use crate::sun::SolarGeometry;
 
 /// Julian date (TT) of the J2000 epoch.
 pub(crate) const J2000_JD_TT: f64 = 2_451_545.0;
-/// Length of the mean Mars solar day in Earth days (Mars24, 2018 constants).
-pub(crate) const SOL_IN_DAYS: f64 = 1.027_491_251_7;
+/// Length of the mean Mars solar day in Earth days (Mars24, 2018 constants; areo-body's).
+pub(crate) use areo_body::SOL_IN_DAYS;
 
 /// A mean Mars solar day (sol), s (areo-body's; the same 1.0274912517 Earth days).
 pub use areo_body::SOL_S;

@@ -322,10 +322,10 @@ impl Kinetics {
         let (k_copper, eta) = (p.drive.copper_loss_w_per_nm2(), p.drive.gear_efficiency);
         let torques = eval.torques_nm();
         let (mut mech, mut copper) = (0.0, 0.0);
-        for i in 0..6 {
-            let omega = self.wheel_speeds[i] / p.wheel_radius_m;
-            mech += (torques[i] * omega * self.direction).max(0.0) / eta;
-            copper += k_copper * torques[i] * torques[i];
+        for (torque, speed) in torques.iter().zip(&self.wheel_speeds) {
+            let omega = speed / p.wheel_radius_m;
+            mech += (torque * omega * self.direction).max(0.0) / eta;
+            copper += k_copper * torque * torque;
         }
         (mech, copper)
     }

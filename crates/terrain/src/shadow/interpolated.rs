@@ -100,7 +100,7 @@ pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: C
 /// two cells; −∞ where the terrain is missing (NaN at either end).
 #[inline]
 fn sample(heights: &[f64], k: usize) -> (Option<usize>, f64) {
-    if k % SUB == 0 {
+    if k.is_multiple_of(SUB) {
         let h = heights[k / SUB];
         return (Some(k / SUB), if h.is_nan() { f64::NEG_INFINITY } else { h });
     }
