@@ -134,7 +134,8 @@ fn missing_opt_level_0(manifest: &str, names: &[String]) -> Vec<String> {
 }
 
 /// Every `.rs` file under `dirs` (those that exist), skipping directories named in
-/// `skip`, with its text: the one walk the source checks below share.
+/// `skip` and `tests.rs` unit-test files, with its text: the one walk the source checks
+/// below share.
 fn rust_sources(dirs: &[PathBuf], skip: &[&str]) -> Result<Vec<(PathBuf, String)>, String> {
     let mut files = Vec::new();
     let mut stack: Vec<PathBuf> = dirs.iter().filter(|d| d.is_dir()).cloned().collect();
@@ -147,7 +148,9 @@ fn rust_sources(dirs: &[PathBuf], skip: &[&str]) -> Result<Vec<(PathBuf, String)
                 if !skip.contains(&name) {
                     stack.push(path);
                 }
-            } else if name.ends_with(".rs") {
+            } else if name.ends_with(".rs") && name != "tests.rs" {
+                // A `tests.rs` under a source directory is a module's unit tests
+                // (`#[cfg(test)] mod tests;`), exempt as the tests at a file's end are.
                 let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
                 files.push((path, text));
             }
