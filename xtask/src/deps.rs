@@ -519,6 +519,7 @@ mod tests {
             "pub async fn d() {B}",
             "pub(crate) const fn e() {B}",
             "unsafe fn f() {B}",
+            "pub extern \"C\" fn x() {B}",
             "struct S;\nimpl S {\n    pub fn g(&self) {B}\n}",
             "trait T {\n    fn h(&self) {B}\n}",
             "#[test]\nfn t() {B}",
@@ -531,7 +532,7 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
         let mut names: Vec<&str> = found.iter().map(|f| f.split(' ').nth(1).unwrap()).collect();
         names.sort_unstable();
-        assert_eq!(names, ["a", "b", "c", "d", "e", "f", "g", "h"], "{found:#?}");
+        assert_eq!(names, ["a", "b", "c", "d", "e", "f", "g", "h", "x"], "{found:#?}");
         assert!(found.iter().all(|f| f.ends_with("(81 lines)")), "{found:#?}");
         assert!(found.iter().any(|f| f.starts_with("crates/x/src/lib.rs:1 a ")), "{found:#?}");
     }
