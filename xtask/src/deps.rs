@@ -356,6 +356,25 @@ pub(crate) fn long_functions(root: &Path, max: usize) -> Result<Vec<String>, Str
     Ok(found)
 }
 
+/// Source files of every crate, the binary, xtask and the Python module longer than
+/// `max` lines, as `path (n lines)`: a file holds one subject a reader can take in.
+pub(crate) fn long_files(root: &Path, max: usize) -> Result<Vec<String>, String> {
+    let dirs: Vec<PathBuf> = std::fs::read_dir(root.join("crates"))
+        .map(|entries| entries.filter_map(|e| Some(e.ok()?.path().join("src"))).collect())
+        .unwrap_or_default();
+    let dirs: Vec<PathBuf> =
+        dirs.into_iter().chain(["src", "xtask/src", "python/src"].iter().map(|d| root.join(d))).collect();
+    let mut found: Vec<String> = rust_sources(&dirs, &[])?
+        .into_iter()
+        .filter(|(_, text)| text.lines().count() > max)
+        .map(|(path, text)| {
+            format!("{} ({} lines)", path.strip_prefix(root).unwrap_or(&path).display(), text.lines().count())
+        })
+        .collect();
+    found.sort();
+    Ok(found)
+}
+
 /// The visitor of [`long_functions`].
 struct LongFunctions<'a> {
     max: usize,
@@ -497,6 +516,19 @@ mod tests {
         std::fs::write(dir.join("docs/a.md"), format!("fine\nas of {} 9\n", "session")).unwrap();
         assert_eq!(history_references(&dir).unwrap(), vec!["docs/a.md:2".to_string()]);
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn no_source_file_over_a_thousand_lines() {
+        let found = long_files(&crate::project_root(), 1000).unwrap();
+        assert!(found.is_empty(), "source files stay under 1 000 lines: {found:#?}");
+        let dir = std::env::temp_dir().join(format!("areo-long-file-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("crates/x/src")).unwrap();
+        std::fs::write(dir.join("crates/x/src/lib.rs"), "// a line\n".repeat(1001)).unwrap();
+        std::fs::write(dir.join("crates/x/src/ok.rs"), "// a line\n".repeat(1000)).unwrap();
+        let found = long_files(&dir, 1000).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(found, vec!["crates/x/src/lib.rs (1001 lines)".to_string()]);
     }
 
     #[test]

@@ -47,6 +47,8 @@ fn main() -> ExitCode {
                 violations.extend(
                     history.into_iter().map(|at| format!("{at}: a session or issue number (history lives in git)")),
                 );
+                let files = deps::long_files(&project_root(), 1000)?;
+                violations.extend(files.into_iter().map(|at| format!("{at}: a source file over 1 000 lines")));
                 let long = deps::long_functions(&project_root(), 80)?;
                 violations.extend(long.into_iter().map(|at| format!("{at}: a function over 80 lines")));
                 Ok(violations)

@@ -1,0 +1,686 @@
+//! The TEMPEST job's files: the plan, executed, waits and re-plan tables, the route as
+//! KML and GeoJSON, and the plots.
+
+use super::*;
+
+pub(super) fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let (initial, report) = match run {
+        // Nothing planned: facts.json (written by the caller) says why.
+        Run::Unreachable { .. } | Run::Stopped { .. } => return Ok(Vec::new()),
+        Run::Plan { plan, .. } => (plan, None),
+        Run::Simulated(r) => (&r.plans[0].plan, Some(r)),
+    };
+    let mut put = |name: &str, write: &dyn Fn(&Path) -> Result<()>| -> Result<()> {
+        let path = dir.join(name);
+        write(&path)?;
+        files.push(path);
+        Ok(())
+    };
+    put("plan.json", &|p| write_file(p, json_for(p, initial, true)?.as_bytes()))?;
+    put("plan.csv", &|p| write_rows(p, plan_rows(ctx, initial)))?;
+    if let Some(r) = report {
+        put("simulation.json", &|p| write_file(p, json_for(p, r, false)?.as_bytes()))?;
+        put("executed.csv", &|p| write_rows(p, executed_rows(ctx, r)))?;
+        put("replans.csv", &|p| write_rows(p, replan_rows(ctx, r)))?;
+    }
+    put("route.geojson", &|p| crate::output::geojson::write(p, &route_geojson(ctx, initial, report)))?;
+    put("route.kml", &|p| route_kml(ctx, initial, report).write(p))?;
+    if let Some(h) = ctx.havens {
+        put("waits.csv", &|p| write_rows(p, wait_rows(ctx, initial, h)))?;
+    }
+    files.extend(layers::write(dir, ctx.world, ctx.truth, shadow_time_s(ctx)?)?);
+    files.extend(plots(dir, ctx, initial, report)?);
+    Ok(files)
+}
+
+/// A row of waits.csv: one of the plan's waits with its place, span, lowest charge and
+/// whether at a haven.
+#[derive(Serialize, Default)]
+pub(super) struct WaitRow {
+    pub(super) x_m: Fixed<1>,
+    pub(super) y_m: Fixed<1>,
+    pub(super) from_h: Fixed<3>,
+    pub(super) to_h: Fixed<3>,
+    pub(super) hours: Fixed<3>,
+    pub(super) lowest_battery_above_floor_wh: Fixed<1>,
+    pub(super) safe_haven: bool,
+    pub(super) longest_shadow_h: Fixed<1>,
+    pub(super) longest_earth_loss_h: Fixed<1>,
+}
+
+pub(super) fn wait_rows(ctx: &Context<'_>, plan: &MissionPlan, havens: &contact::Havens) -> Vec<WaitRow> {
+    contact::waits(plan, havens, floor_wh(ctx), HAVEN_STEP_S)
+        .into_iter()
+        .map(|w| {
+            let (x, y) = ctx.local(w.cell);
+            let i = w.cell as usize;
+            WaitRow {
+                x_m: Fixed(x),
+                y_m: Fixed(y),
+                from_h: Fixed(w.from_h),
+                to_h: Fixed(w.to_h),
+                hours: Fixed(w.to_h - w.from_h),
+                lowest_battery_above_floor_wh: Fixed(w.lowest_battery_above_floor_wh),
+                safe_haven: w.haven,
+                longest_shadow_h: Fixed(f64::from(havens.longest_shadow_h[i])),
+                longest_earth_loss_h: Fixed(f64::from(havens.longest_earth_loss_h[i])),
+            }
+        })
+        .collect()
+}
+
+pub(super) fn action_name(a: Option<Action>) -> &'static str {
+    a.map_or("arrive", Action::name)
+}
+
+/// A row of plan.csv: one waypoint.
+#[derive(Serialize, Default)]
+pub(super) struct PlanRow {
+    pub(super) index: usize,
+    pub(super) utc: String,
+    pub(super) t_s: Fixed<1>,
+    pub(super) sol: i64,
+    pub(super) ltst_h: Fixed<4>,
+    pub(super) col: usize,
+    pub(super) row: usize,
+    pub(super) x_m: Fixed<2>,
+    pub(super) y_m: Fixed<2>,
+    pub(super) lat_deg: Fixed<7>,
+    pub(super) lon_deg: Fixed<7>,
+    pub(super) elevation_m: Fixed<2>,
+    pub(super) action: &'static str,
+    pub(super) required_wh: Fixed<3>,
+    pub(super) battery_wh: Fixed<3>,
+    pub(super) slope_deg: Fixed<3>,
+    pub(super) sun_elevation_deg: Fixed<3>,
+    pub(super) sun_above_ground_deg: Fixed<3>,
+    pub(super) lit: u8,
+    pub(super) goal: String,
+}
+
+pub(super) fn plan_rows<'a>(ctx: &'a Context<'_>, plan: &'a MissionPlan) -> impl Iterator<Item = PlanRow> + 'a {
+    plan.waypoints.iter().enumerate().map(move |(index, w)| {
+        let (x, y) = ctx.local(w.cell);
+        PlanRow {
+            index,
+            utc: w.utc.clone(),
+            t_s: Fixed(w.t_s),
+            sol: ctx.world.local_sol(w.t_s, w.lon_deg),
+            ltst_h: Fixed(w.ltst_h),
+            col: w.col_row.0,
+            row: w.col_row.1,
+            x_m: Fixed(x),
+            y_m: Fixed(y),
+            lat_deg: Fixed(w.lat_deg),
+            lon_deg: Fixed(w.lon_deg),
+            elevation_m: Fixed(ctx.world.elevation(w.cell).unwrap_or(f64::NAN)),
+            action: action_name(w.action),
+            required_wh: Fixed(w.required_wh),
+            battery_wh: Fixed(w.battery_wh),
+            slope_deg: Fixed(w.slope_deg),
+            sun_elevation_deg: Fixed(w.sun_elevation_deg),
+            sun_above_ground_deg: Fixed(w.sun_above_ground_deg),
+            lit: u8::from(w.lit),
+            goal: w.goal.map(|g| ctx.goal_name(g).to_string()).unwrap_or_default(),
+        }
+    })
+}
+
+/// A row of executed.csv: one executed action.
+#[derive(Serialize, Default)]
+pub(super) struct ExecutedRow {
+    pub(super) step: usize,
+    pub(super) utc: String,
+    pub(super) t_s: Fixed<1>,
+    pub(super) sol: i64,
+    pub(super) ltst_h: Fixed<4>,
+    pub(super) col: usize,
+    pub(super) row: usize,
+    pub(super) x_m: Fixed<2>,
+    pub(super) y_m: Fixed<2>,
+    pub(super) lat_deg: Fixed<7>,
+    pub(super) lon_deg: Fixed<7>,
+    pub(super) elevation_m: Fixed<2>,
+    pub(super) action: &'static str,
+    pub(super) duration_s: Fixed<1>,
+    pub(super) energy_wh: Fixed<3>,
+    pub(super) battery_wh: Fixed<3>,
+    pub(super) battery_above_floor_wh: Fixed<3>,
+    pub(super) distance_m: Fixed<3>,
+    pub(super) sun_elevation_deg: Fixed<3>,
+    pub(super) refused: String,
+}
+
+pub(super) fn executed_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item = ExecutedRow> + 'a {
+    r.steps.iter().enumerate().map(move |(i, st)| {
+        let (col, row) = ctx.world.col_row(st.cell);
+        let (x, y) = ctx.local(st.cell);
+        let p = ctx.place(st.cell, st.t_s);
+        ExecutedRow {
+            step: i + 1,
+            utc: format_utc(ctx.world.epoch() + Duration::from_seconds(st.t_s)),
+            t_s: Fixed(st.t_s),
+            sol: p.sol,
+            ltst_h: Fixed(p.ltst_h),
+            col,
+            row,
+            x_m: Fixed(x),
+            y_m: Fixed(y),
+            lat_deg: Fixed(p.lat_deg),
+            lon_deg: Fixed(p.lon_deg),
+            elevation_m: Fixed(p.elevation_m),
+            action: st.action.name(),
+            duration_s: Fixed(st.duration_s),
+            energy_wh: Fixed(st.energy_wh),
+            battery_wh: Fixed(st.battery_above_floor_wh + floor_wh(ctx)),
+            battery_above_floor_wh: Fixed(st.battery_above_floor_wh),
+            distance_m: Fixed(st.distance_m),
+            sun_elevation_deg: Fixed(st.sun_elevation_deg),
+            refused: st.refused.map(|(a, b)| format!("{} ({})", a.name(), b.describe())).unwrap_or_default(),
+        }
+    })
+}
+
+/// A row of replans.csv: one plan of a simulated run (the initial plan, a re-plan or
+/// a restart), with its fresh comparison when asked for.
+#[derive(Serialize, Default)]
+pub(super) struct ReplanRow {
+    pub(super) step: usize,
+    pub(super) kind: &'static str,
+    pub(super) utc: String,
+    pub(super) t_s: Fixed<1>,
+    pub(super) wall_ms: Fixed<3>,
+    pub(super) expansions: u64,
+    pub(super) changed_cells: usize,
+    pub(super) route_changed: u8,
+    pub(super) waypoints: usize,
+    pub(super) cost: Fixed<4>,
+    pub(super) duration_h: Fixed<3>,
+    pub(super) min_battery_wh: Fixed<2>,
+    pub(super) search_mb: Fixed<1>,
+    pub(super) fresh_expansions: Option<u64>,
+    pub(super) fresh_cost: Option<Fixed<4>>,
+    pub(super) restart_binding: Option<String>,
+    pub(super) restart_replan_work: Option<u64>,
+    pub(super) restart_fresh_found: Option<u8>,
+}
+
+pub(super) fn replan_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item = ReplanRow> + 'a {
+    r.plans.iter().map(move |p| ReplanRow {
+        step: p.step,
+        kind: match p.kind {
+            PlanKind::Initial => "initial",
+            PlanKind::Replan => "replan",
+            PlanKind::Restart => "restart",
+        },
+        utc: format_utc(ctx.world.epoch() + Duration::from_seconds(p.t_s)),
+        t_s: Fixed(p.t_s),
+        wall_ms: Fixed(1e3 * p.wall_s),
+        expansions: p.expansions,
+        changed_cells: p.changed_cells,
+        route_changed: u8::from(p.route_changed),
+        waypoints: p.plan.waypoints.len(),
+        cost: Fixed(p.plan.cost),
+        duration_h: Fixed(p.plan.duration_s() / 3600.0),
+        min_battery_wh: Fixed(p.plan.min_battery_wh()),
+        search_mb: Fixed(p.search_bytes as f64 / 1e6),
+        fresh_expansions: p.fresh.map(|f| f.0),
+        fresh_cost: p.fresh.map(|f| Fixed(f.1)),
+        restart_binding: p.restart.as_ref().map(|x| format!("{:?}", x.binding)),
+        restart_replan_work: p.restart.as_ref().map(|x| x.replan_work),
+        restart_fresh_found: p.restart.as_ref().and_then(|x| x.fresh_found).map(u8::from),
+    })
+}
+
+/// The routes, start and goals as KML for Google Earth (with the body's hint).
+pub(super) fn route_kml(
+    ctx: &Context<'_>,
+    initial: &MissionPlan,
+    report: Option<&SimReport>,
+) -> crate::output::kml::Kml {
+    let at = |cell: u32| ctx.world.lat_lon(cell);
+    let mut kml = crate::output::kml::Kml::new("areo TEMPEST route", ctx.world.dem().georef().surface.body());
+    kml.line("initial plan", "ffdc5a1e", initial.waypoints.iter().map(|w| at(w.cell)));
+    if let Some(r) = report {
+        let cells = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
+        kml.line("executed route", "ff281edc", cells.map(at));
+    }
+    let utc = |t_s: f64| format_utc(ctx.world.epoch() + Duration::from_seconds(t_s));
+    kml.point("start", &format!("start at {}", utc(ctx.start.t_min)), at(ctx.start.cell));
+    for (i, &g) in ctx.goals.iter().enumerate() {
+        let reached = initial.waypoints.iter().find(|w| w.goal == Some(i)).map(|w| w.utc.clone());
+        let description = match reached {
+            Some(t) => format!("goal {} of the plan, reached at {t}", i + 1),
+            None => format!("goal {} of the plan", i + 1),
+        };
+        kml.point(ctx.goal_name(i), &description, at(g));
+    }
+    kml
+}
+
+pub(super) fn route_geojson(ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> FeatureCollection {
+    let at = |cell: u32| ctx.world.lat_lon(cell);
+    let floor = floor_wh(ctx);
+    let mut features =
+        vec![feature(line(initial.waypoints.iter().map(|w| at(w.cell))), json!({"name": "initial plan"}))];
+    // Every point says where and when it is as a mission counts it, beside its charge
+    // (absolute, and above the floor: the search's E).
+    let located = |cell: u32, t_s: f64, mut properties: serde_json::Value, above_floor_wh: f64| {
+        let p = ctx.place(cell, t_s);
+        let extra = json!({
+            "utc": format_utc(ctx.world.epoch() + Duration::from_seconds(t_s)), "t_h": t_s / 3600.0,
+            "sol": p.sol, "ltst_h": p.ltst_h, "elevation_m": p.elevation_m,
+            "battery_wh": above_floor_wh + floor, "battery_above_floor_wh": above_floor_wh,
+        });
+        if let (Some(o), serde_json::Value::Object(e)) = (properties.as_object_mut(), extra) {
+            o.extend(e);
+        }
+        feature(point(at(cell)), properties)
+    };
+    match report {
+        None => {
+            for (i, w) in initial.waypoints.iter().enumerate() {
+                let props = json!({
+                    "kind": "waypoint", "index": i, "action": action_name(w.action), "required_wh": w.required_wh,
+                });
+                features.push(located(w.cell, w.t_s, props, w.battery_wh - floor));
+            }
+        }
+        Some(r) => {
+            let cells = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
+            features.push(feature(line(cells.map(at)), json!({"name": "executed route"})));
+            for (i, s) in r.steps.iter().enumerate() {
+                let props =
+                    json!({"kind": "executed", "step": i + 1, "action": s.action.name(), "energy_wh": s.energy_wh});
+                features.push(located(s.cell, s.t_s, props, s.battery_above_floor_wh));
+            }
+        }
+    }
+    features.push(feature(point(at(ctx.start.cell)), json!({"kind": "start", "name": "start"})));
+    for (i, &g) in ctx.goals.iter().enumerate() {
+        features.push(feature(point(at(g)), json!({"kind": "goal", "name": ctx.goal_name(i), "order": i})));
+    }
+    collection(features, &ctx.world.dem().georef().surface)
+}
+
+/// Night intervals (the Sun's centre below the horizontal) over [0, end_s], hours
+/// since the epoch.
+pub(super) fn nights(world: &World, end_s: f64) -> Vec<(f64, f64)> {
+    let start = world.epoch();
+    night_intervals(&world.site(), &HorizonMask::flat(), start, start + Duration::from_seconds(end_s))
+        .into_iter()
+        .map(|(a, b)| ((a - start).to_seconds() / 3600.0, (b - start).to_seconds() / 3600.0))
+        .collect()
+}
+
+pub(super) fn plots(
+    dir: &Path,
+    ctx: &Context<'_>,
+    initial: &MissionPlan,
+    report: Option<&SimReport>,
+) -> Result<Vec<PathBuf>> {
+    let mut files = route_plots(dir, ctx, initial, report)?;
+    let end_s =
+        report.map_or(initial.waypoints.last().map_or(0.0, |w| w.t_s), |r| r.end_t_s().max(initial.duration_s()));
+    let night = nights(ctx.truth, end_s);
+    files.extend(distance_plot(dir, ctx, initial, report, (end_s, &night))?);
+    files.extend(energy_plot(dir, ctx, initial, report, (end_s, &night))?);
+    Ok(files)
+}
+
+/// The time plots' tick labels as the job's `plot_time` asks.
+pub(super) fn time_ticks(ctx: &Context<'_>) -> crate::output::plots::TimeTicks {
+    use crate::output::plots::TimeTicks;
+    match ctx.job.plot_time {
+        crate::format::PlotTime::Hours => TimeTicks::Numbers,
+        crate::format::PlotTime::Utc => TimeTicks::Utc { epoch: ctx.truth.epoch() },
+        crate::format::PlotTime::LocalSolar => TimeTicks::LocalSolar {
+            ltst0_h: ctx.truth.local_solar_time_h(0.0, ctx.truth.lat_lon(ctx.start.cell).1),
+            day_h: ctx.job.body.model().solar_day_s() / 3600.0,
+        },
+    }
+}
+
+/// The x axis's name for the job's `plot_time`.
+pub(super) fn time_axis_name(ctx: &Context<'_>) -> String {
+    match ctx.job.plot_time {
+        crate::format::PlotTime::Hours => "hours since the start".into(),
+        crate::format::PlotTime::Utc => "UTC".into(),
+        crate::format::PlotTime::LocalSolar => "local true solar time at the start".into(),
+    }
+}
+
+/// The job's `shadow_utc` (default its start), s after the world's epoch.
+pub(super) fn shadow_time_s(ctx: &Context<'_>) -> Result<f64> {
+    Ok(match &ctx.job.shadow_utc {
+        Some(s) => (parse_utc(s)? - ctx.truth.epoch()).to_seconds(),
+        None => 0.0,
+    })
+}
+
+/// The routes over the hillshade with shadows at the job's `shadow_utc` (and the
+/// haven map off Mars).
+pub(super) fn route_plots(
+    dir: &Path,
+    ctx: &Context<'_>,
+    initial: &MissionPlan,
+    report: Option<&SimReport>,
+) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let world = ctx.truth;
+    let dem = world.dem();
+    // (a) Routes over the hillshade with shadows at the chosen time.
+    let t_shadow = shadow_time_s(ctx)?;
+    let sun = world.sun(t_shadow.clamp(0.0, world.span_s()));
+    let shadowed: Vec<bool> = (0..world.cells() as u32).map(|c| !world.lit(c, &sun)).collect();
+    let slope = areo_terrain::slope::slope_aspect(dem);
+    let background = areo_terrain::hillshade::hillshade_rgb(
+        dem,
+        &slope,
+        Some(&shadowed),
+        sun.azimuth_deg,
+        sun.elevation_deg.max(5.0),
+    );
+    let to_xy = |cells: &mut dyn Iterator<Item = u32>| cells.map(|c| ctx.local(c)).collect::<Vec<_>>();
+    let mut series = vec![Series {
+        label: "initial plan".into(),
+        points: to_xy(&mut initial.waypoints.iter().map(|w| w.cell)),
+        rgb: (30, 90, 220),
+        width: 2,
+    }];
+    if let Some(r) = report {
+        // Significant re-plans: those that changed the route, at most six, spread out.
+        let changed: Vec<_> = r.plans.iter().filter(|p| p.kind != PlanKind::Initial && p.route_changed).collect();
+        let pick = changed.len().div_ceil(6).max(1);
+        for p in changed.iter().step_by(pick) {
+            series.push(Series {
+                label: format!("re-plan after action {}", p.step),
+                points: to_xy(&mut p.plan.waypoints.iter().map(|w| w.cell)),
+                rgb: (240, 150, 30),
+                width: 1,
+            });
+        }
+        let mut cells = vec![r.start.cell];
+        cells.extend(r.steps.iter().map(|s| s.to));
+        series.push(Series {
+            label: "executed route".into(),
+            points: to_xy(&mut cells.into_iter()),
+            rgb: (220, 30, 40),
+            width: 3,
+        });
+    }
+    let mut markers = vec![Marker { label: "start".into(), at: ctx.local(ctx.start.cell), rgb: (40, 200, 60) }];
+    for (i, &g) in ctx.goals.iter().enumerate() {
+        markers.push(Marker { label: ctx.goal_name(i).to_string(), at: ctx.local(g), rgb: (250, 220, 40) });
+    }
+    // Every goal in visiting order: the last goal's name alone read as the plot's subject.
+    let n = ctx.goals.len();
+    let visits = if n <= 4 {
+        (0..n).map(|i| ctx.goal_name(i)).collect::<Vec<_>>().join(" → ")
+    } else {
+        format!("{} goals ending at {}", n, ctx.goal_name(n - 1))
+    };
+    let title = format!(
+        "Routes to {visits} over the terrain (shadows at {})",
+        format_utc(world.epoch() + Duration::from_seconds(t_shadow))
+    );
+    let route = framed(dem, &background, series.clone(), markers.clone(), title);
+    files.extend(crate::output::plots::route(dir, "route", &route)?);
+    if let Some(h) = ctx.havens {
+        files.extend(haven_plots(dir, ctx, initial, h, series, markers)?);
+    }
+    Ok(files)
+}
+
+/// The straight-line distance to the final goal against time, with the nights
+/// (`end_s`, s, and the nights, h).
+pub(super) fn distance_plot(
+    dir: &Path,
+    ctx: &Context<'_>,
+    initial: &MissionPlan,
+    report: Option<&SimReport>,
+    (end_s, night): (f64, &[(f64, f64)]),
+) -> Result<Vec<PathBuf>> {
+    // (b) Distance to the final goal against time.
+    let last = *ctx.goals.last().unwrap_or(&ctx.start.cell);
+    let goal_xy = ctx.local(last);
+    let dist = |cell: u32| {
+        let (x, y) = ctx.local(cell);
+        (x - goal_xy.0).hypot(y - goal_xy.1)
+    };
+    let mut dseries = vec![Series {
+        label: "initial plan".into(),
+        points: initial.waypoints.iter().map(|w| (w.t_s / 3600.0, dist(w.cell))).collect(),
+        rgb: (30, 90, 220),
+        width: 2,
+    }];
+    if let Some(r) = report {
+        let mut pts = vec![(r.start.t_min / 3600.0, dist(r.start.cell))];
+        for s in &r.steps {
+            pts.push(((s.t_s + s.duration_s) / 3600.0, dist(s.to)));
+        }
+        dseries.push(Series { label: "executed".into(), points: pts, rgb: (220, 30, 40), width: 2 });
+    }
+    let d0 = dist(ctx.start.cell);
+    let v = ctx.model.top_speed_m_s();
+    let t_zero = ctx.start.t_min + d0 / v;
+    dseries.push(Series {
+        label: "straight line at top speed".into(),
+        points: vec![(ctx.start.t_min / 3600.0, d0), (t_zero / 3600.0, 0.0)],
+        rgb: (90, 90, 90),
+        width: 1,
+    });
+    crate::output::plots::time(
+        dir,
+        "distance",
+        &TimePlot {
+            title: "Straight-line distance to the final goal".into(),
+            x_label: time_axis_name(ctx),
+            y_label: "distance, m".into(),
+            series: dseries,
+            nights: night.to_vec(),
+            x_range: (0.0, end_s / 3600.0),
+            windows: Vec::new(),
+            windows_label: String::new(),
+            dots: false,
+            x_ticks: time_ticks(ctx),
+        },
+    )
+}
+
+/// The energy required to finish and the battery's charge against time.
+pub(super) fn energy_plot(
+    dir: &Path,
+    ctx: &Context<'_>,
+    initial: &MissionPlan,
+    report: Option<&SimReport>,
+    (end_s, night): (f64, &[(f64, f64)]),
+) -> Result<Vec<PathBuf>> {
+    // (c) Required energy and battery charge against time.
+    let mut eseries = vec![
+        Series {
+            label: "required energy E (initial plan)".into(),
+            points: initial.waypoints.iter().map(|w| (w.t_s / 3600.0, w.required_wh)).collect(),
+            rgb: (120, 40, 180),
+            width: 2,
+        },
+        Series {
+            label: "predicted charge above floor (initial plan)".into(),
+            points: initial.waypoints.iter().map(|w| (w.t_s / 3600.0, w.battery_wh - floor_wh(ctx))).collect(),
+            rgb: (30, 90, 220),
+            width: 2,
+        },
+    ];
+    if let Some(r) = report
+        && let Some(first) = r.plans.iter().find(|p| p.kind != PlanKind::Initial && p.route_changed)
+    {
+        eseries.push(Series {
+            label: format!("required energy E (first route change, action {})", first.step),
+            points: first.plan.waypoints.iter().map(|w| (w.t_s / 3600.0, w.required_wh)).collect(),
+            rgb: (40, 170, 200),
+            width: 2,
+        });
+    }
+    if let Some(r) = report {
+        let mut pts = vec![(r.start.t_min / 3600.0, r.start.energy_wh)];
+        for s in &r.steps {
+            pts.push(((s.t_s + s.duration_s) / 3600.0, s.battery_above_floor_wh));
+        }
+        eseries.push(Series { label: "executed charge above floor".into(), points: pts, rgb: (220, 30, 40), width: 2 });
+    }
+    crate::output::plots::time(
+        dir,
+        "energy",
+        &TimePlot {
+            title: "Battery: energy required to finish and charge".into(),
+            x_label: time_axis_name(ctx),
+            y_label: "Wh above the battery floor".into(),
+            series: eseries,
+            nights: night.to_vec(),
+            x_range: (0.0, end_s / 3600.0),
+            windows: Vec::new(),
+            windows_label: String::new(),
+            dots: false,
+            x_ticks: time_ticks(ctx),
+        },
+    )
+}
+
+/// A route plot framed on its routes and markers: their bounding box with a margin, on
+/// whole cells of `dem`, over `background` (RGB, the whole map).
+pub(super) fn framed(
+    dem: &Dem,
+    background: &[u8],
+    series: Vec<Series>,
+    markers: Vec<Marker>,
+    title: String,
+) -> RoutePlot {
+    let (dx, dy) = (dem.dx(), dem.dy());
+    let (mut lo, mut hi) = ((f64::INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::NEG_INFINITY));
+    for p in series.iter().flat_map(|s| s.points.iter()).chain(markers.iter().map(|m| &m.at)) {
+        lo = (lo.0.min(p.0), lo.1.min(p.1));
+        hi = (hi.0.max(p.0), hi.1.max(p.1));
+    }
+    let margin = (0.15 * (hi.0 - lo.0).max(hi.1 - lo.1)).max(5.0 * dx.max(dy));
+    let col0 = (((lo.0 - margin) / dx).floor().max(0.0) as usize).min(dem.cols() - 1);
+    let col1 = (((hi.0 + margin) / dx).ceil() as usize).clamp(col0 + 1, dem.cols());
+    // Rows count from the north edge.
+    let height_m = dem.rows() as f64 * dy;
+    let row0 = (((height_m - hi.1 - margin) / dy).floor().max(0.0) as usize).min(dem.rows() - 1);
+    let row1 = (((height_m - lo.1 + margin) / dy).ceil() as usize).clamp(row0 + 1, dem.rows());
+    let (cols, rows) = (col1 - col0, row1 - row0);
+    let mut crop = Vec::with_capacity(cols * rows * 3);
+    for r in row0..row1 {
+        let i = 3 * (r * dem.cols() + col0);
+        crop.extend_from_slice(&background[i..i + 3 * cols]);
+    }
+    RoutePlot {
+        title,
+        background: crop,
+        cols,
+        rows,
+        origin: (col0 as f64 * dx, height_m - row1 as f64 * dy),
+        extent: (cols as f64 * dx, rows as f64 * dy),
+        series,
+        markers,
+    }
+}
+
+/// Off Mars: the safe havens under the plan (`havens.png`), then [`sky_plot`].
+pub(super) fn haven_plots(
+    dir: &Path,
+    ctx: &Context<'_>,
+    plan: &MissionPlan,
+    havens: &contact::Havens,
+    series: Vec<Series>,
+    mut markers: Vec<Marker>,
+) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let world = ctx.world;
+    let dem = world.dem();
+    let slope = areo_terrain::slope::slope_aspect(dem);
+    let sun = world.sun(0.0);
+    let mut rgb =
+        areo_terrain::hillshade::hillshade_rgb(dem, &slope, None, sun.azimuth_deg, sun.elevation_deg.max(5.0));
+    // Havens tinted green, ground the Sun leaves dark longer than a battery lasts
+    // tinted blue.
+    for (i, px) in rgb.chunks_exact_mut(3).enumerate() {
+        let tint = if havens.haven[i] {
+            Some((40u16, 200u16, 80u16))
+        } else if world.passable(i as u32) {
+            Some((40, 60, 200))
+        } else {
+            None
+        };
+        if let Some((r, g, b)) = tint {
+            px[0] = ((u16::from(px[0]) + r) / 2) as u8;
+            px[1] = ((u16::from(px[1]) + g) / 2) as u8;
+            px[2] = ((u16::from(px[2]) + b) / 2) as u8;
+        }
+    }
+    for w in contact::waits(plan, havens, floor_wh(ctx), HAVEN_STEP_S) {
+        markers.push(Marker {
+            label: format!("wait {:.1} h", w.to_h - w.from_h),
+            at: ctx.local(w.cell),
+            rgb: if w.haven { (20, 140, 40) } else { (200, 40, 40) },
+        });
+    }
+    let title = format!(
+        "Safe havens (green): shadows under {:.0} h{}",
+        havens.survive_h.min(1e6),
+        if ctx.model.needs_earth() { ", the Earth never lost longer than the contact interval" } else { "" }
+    );
+    files.extend(crate::output::plots::route(dir, "havens", &framed(dem, &rgb, series, markers, title))?);
+    files.extend(sky_plot(dir, ctx, plan)?);
+    Ok(files)
+}
+
+/// The Sun and the Earth over the plan, at the site, with the Communicate sessions
+/// shaded (`sky.png`).
+pub(super) fn sky_plot(dir: &Path, ctx: &Context<'_>, plan: &MissionPlan) -> Result<Vec<PathBuf>> {
+    let world = ctx.world;
+    let end_s = plan.waypoints.last().map_or(world.span_s(), |w| w.t_s).max(3600.0);
+    let n = ((end_s / CONTACT_STEP_S).ceil() as usize).max(2);
+    let hours = |k: usize| end_s * k as f64 / n as f64;
+    let mut sky = vec![Series {
+        label: "Sun elevation, °".into(),
+        points: (0..=n).map(|k| (hours(k) / 3600.0, world.sun(hours(k)).elevation_deg)).collect(),
+        rgb: (230, 160, 20),
+        width: 2,
+    }];
+    if world.earth(0.0).is_some() {
+        sky.push(Series {
+            label: "Earth elevation, °".into(),
+            points: (0..=n).filter_map(|k| Some((hours(k) / 3600.0, world.earth(hours(k))?.elevation_deg))).collect(),
+            rgb: (30, 90, 220),
+            width: 2,
+        });
+    }
+    let sessions: Vec<(f64, f64)> = ctx
+        .model
+        .sessions()
+        .iter()
+        .map(|&(a, b)| (a / 3600.0, b / 3600.0))
+        .filter(|&(a, _)| a <= end_s / 3600.0)
+        .collect();
+    crate::output::plots::time(
+        dir,
+        "sky",
+        &TimePlot {
+            title: format!(
+                "The Sun{} over the plan, at the site",
+                if world.earth(0.0).is_some() { " and the Earth" } else { "" }
+            ),
+            x_label: time_axis_name(ctx),
+            y_label: "elevation, degrees".into(),
+            series: sky,
+            nights: nights(world, end_s),
+            x_range: (0.0, end_s / 3600.0),
+            windows: sessions,
+            windows_label: "Communicate session".into(),
+            dots: false,
+            x_ticks: time_ticks(ctx),
+        },
+    )
+}
