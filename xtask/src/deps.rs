@@ -133,6 +133,17 @@ fn missing_opt_level_0(manifest: &str, names: &[String]) -> Vec<String> {
         .collect()
 }
 
+/// The source directories the checks read: every crate's `src/` but those of the crates
+/// named in `except`, the binary's, xtask's and the Python module's.
+fn source_dirs(root: &Path, except: &[&str]) -> Vec<PathBuf> {
+    let crates = std::fs::read_dir(root.join("crates")).into_iter().flatten().filter_map(|e| Some(e.ok()?.path()));
+    crates
+        .filter(|p| !except.iter().any(|c| p.ends_with(c)))
+        .map(|p| p.join("src"))
+        .chain(["src", "xtask/src", "python/src"].iter().map(|d| root.join(d)))
+        .collect()
+}
+
 /// Every `.rs` file under `dirs` (those that exist), skipping directories named in
 /// `skip` and `tests.rs` unit-test files, with its text: the one walk the source checks
 /// below share.
@@ -192,17 +203,7 @@ pub(crate) fn printing_in_libraries(root: &Path) -> Result<Vec<String>, String> 
 /// flattening, or the length of the Martian sol in seconds or days, as
 /// `path:line value`. The files are parsed, so comments and strings do not count.
 pub(crate) fn body_constants_outside_areo_body(root: &Path) -> Result<Vec<String>, String> {
-    let dirs: Vec<PathBuf> = std::fs::read_dir(root.join("crates"))
-        .map(|entries| {
-            entries
-                .filter_map(|e| Some(e.ok()?.path()))
-                .filter(|p| !p.ends_with("body"))
-                .map(|p| p.join("src"))
-                .collect()
-        })
-        .unwrap_or_default();
-    let dirs: Vec<PathBuf> =
-        dirs.into_iter().chain(["src", "xtask/src", "python/src"].iter().map(|d| root.join(d))).collect();
+    let dirs = source_dirs(root, &["body"]);
     let mut found = Vec::new();
     for (path, text) in rust_sources(&dirs, &["tests", "benches"])? {
         let file = syn::parse_file(&text).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -339,11 +340,7 @@ fn names_history(line: &str) -> bool {
 /// `async`, `unsafe`, `extern`). Tests are exempt: `#[test]` functions and
 /// `#[cfg(test)]` modules, and the `tests/` and `benches/` directories.
 pub(crate) fn long_functions(root: &Path, max: usize) -> Result<Vec<String>, String> {
-    let dirs: Vec<PathBuf> = std::fs::read_dir(root.join("crates"))
-        .map(|entries| entries.filter_map(|e| Some(e.ok()?.path().join("src"))).collect())
-        .unwrap_or_default();
-    let dirs: Vec<PathBuf> =
-        dirs.into_iter().chain(["src", "xtask/src", "python/src"].iter().map(|d| root.join(d))).collect();
+    let dirs = source_dirs(root, &[]);
     let mut found = Vec::new();
     for (path, text) in rust_sources(&dirs, &["tests", "benches"])? {
         let file = syn::parse_file(&text).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -359,11 +356,7 @@ pub(crate) fn long_functions(root: &Path, max: usize) -> Result<Vec<String>, Str
 /// Source files of every crate, the binary, xtask and the Python module longer than
 /// `max` lines, as `path (n lines)`: a file holds one subject a reader can take in.
 pub(crate) fn long_files(root: &Path, max: usize) -> Result<Vec<String>, String> {
-    let dirs: Vec<PathBuf> = std::fs::read_dir(root.join("crates"))
-        .map(|entries| entries.filter_map(|e| Some(e.ok()?.path().join("src"))).collect())
-        .unwrap_or_default();
-    let dirs: Vec<PathBuf> =
-        dirs.into_iter().chain(["src", "xtask/src", "python/src"].iter().map(|d| root.join(d))).collect();
+    let dirs = source_dirs(root, &[]);
     let mut found: Vec<String> = rust_sources(&dirs, &[])?
         .into_iter()
         .filter(|(_, text)| text.lines().count() > max)
