@@ -21,6 +21,8 @@ use serde::{Deserialize, Serialize};
 use crate::effect::{Drawn, Effect};
 use crate::world::{Sun, World};
 
+mod wait;
+
 /// The azimuth of drive direction `k` (rows grow southward: a drive of (dc, dr) heads
 /// atan2(dc, −dr) from north), degrees.
 fn heading_of(k: u8) -> f64 {
@@ -48,6 +50,10 @@ pub enum Action {
     Charge,
     /// Hibernate in place.
     Hibernate,
+    /// Wait in place for one wait step ([`ActionConfig::wait_step_s`]), charging where the
+    /// array sees the Sun and sleeping where it does not; steps back to back are one
+    /// wait of their sum.
+    Wait,
 }
 
 impl Action {
@@ -60,6 +66,7 @@ impl Action {
             }
             Action::Charge => "charge",
             Action::Hibernate => "hibernate",
+            Action::Wait => "wait",
         }
     }
 }
@@ -185,6 +192,11 @@ pub struct ActionConfig {
     pub time_quantum_s: f64,
     /// Round every energy change to a multiple of this, Wh (0: exact).
     pub energy_quantum_wh: f64,
+    /// The rover's stationary action. `None`: the paper's Charge and Hibernate of fixed
+    /// durations. `Some(step)`: it waits, in steps of `step` s that chain into waits of
+    /// any whole number of steps, charging where its array sees the Sun and sleeping
+    /// where it does not ([`Action::Wait`]).
+    pub wait_step_s: Option<f64>,
 }
 
 impl Default for ActionConfig {
@@ -199,6 +211,7 @@ impl Default for ActionConfig {
             max_slope_deg: None,
             time_quantum_s: 0.0,
             energy_quantum_wh: 0.0,
+            wait_step_s: None,
         }
     }
 }
@@ -646,14 +659,24 @@ impl ActionModel {
         }
     }
 
-    /// Duration of a stationary action (Charge, or Hibernate for any other), s,
-    /// quantised.
+    /// Duration of a stationary action (Charge, Wait, or Hibernate for any other), s,
+    /// quantised. A wait is not commanded: no planning delay precedes it.
     pub fn stay_duration_s(&self, action: Action) -> f64 {
-        let d = if action == Action::Charge { self.config.charge_s } else { self.config.hibernate_s };
-        self.quantise_time(d + self.margins.delay_s)
+        match action {
+            Action::Charge => self.quantise_time(self.config.charge_s + self.margins.delay_s),
+            Action::Wait => self.wait_step_s().unwrap_or_else(|| self.quantise_time(self.config.hibernate_s)),
+            _ => self.quantise_time(self.config.hibernate_s + self.margins.delay_s),
+        }
     }
 
-    /// A stationary action (Charge or Hibernate) at `cell` starting at `t0`.
+    /// The stationary action a rover falls back to where the one it was given is
+    /// refused: a wait step where the rover waits, else a Hibernate.
+    pub fn fallback_stay(&self) -> Action {
+        if self.config.wait_step_s.is_some() { Action::Wait } else { Action::Hibernate }
+    }
+
+    /// A stationary action (Charge, Hibernate or one Wait step) at `cell` starting at
+    /// `t0`.
     pub fn stay(&self, world: &World, action: Action, cell: u32, t0: f64) -> Result<Effect, Binding> {
         self.stay_perturbed(world, action, cell, t0, Perturbation::NONE)
     }
@@ -666,6 +689,9 @@ impl ActionModel {
         t0: f64,
         perturbation: Perturbation,
     ) -> Result<Effect, Binding> {
+        if action == Action::Wait {
+            return self.wait_perturbed(world, cell, t0, self.stay_duration_s(action), perturbation);
+        }
         let (rules, load) = match action {
             Action::Charge => (&self.config.charge, self.config.charge_load.load()),
             _ => (&self.config.hibernate, Load::Low),
@@ -682,17 +708,7 @@ impl ActionModel {
         }
         let draw = self.margins.draw_factor * perturbation.draw_factor;
         let load_w = self.rover.electronics.power_w(load) * draw;
-        if self.sessions_need_earth {
-            // Each overlapping session's part inside the action, at its ends and every
-            // ten minutes between (the Earth moves 0.5°/h at most in the lunar sky).
-            for &(a, b) in self.sessions.iter().filter(|&&(a, b)| a < t1 && b > t0) {
-                let (lo, hi) = (a.max(t0), b.min(t1));
-                let n = ((hi - lo) / 600.0).ceil().max(1.0) as usize;
-                if (0..=n).any(|k| !world.earth_visible(cell, lo + (hi - lo) * k as f64 / n as f64)) {
-                    return Err(Binding::EarthHidden);
-                }
-            }
-        }
+        self.earth_in_view(world, cell, t0, t1)?;
         let n = ((duration / STATIONARY_SAMPLE_S).ceil() as usize).max(2);
         let mut energy = Drawn::default();
         let mut drawn = 0.0;
@@ -835,8 +851,17 @@ impl ActionModel {
             self.rover.electronics.power_w(Load::Low),
             self.quantise_time(self.config.hibernate_s),
         );
+        // A wait's share of L is its duration over a Hibernate's: its gain per unit of L
+        // is at most what the lesser of its loads gains from the most the sources give
+        // over a Hibernate's duration.
+        let wait = if self.config.wait_step_s.is_some() {
+            let e = &self.rover.electronics;
+            gain(e.power_w(Load::Low).min(e.power_w(self.config.charge_load.load())), self.config.hibernate_s)
+        } else {
+            0.0
+        };
         let q = self.config.energy_quantum_wh;
-        let all = drive.max(charge).max(hibernate);
+        let all = drive.max(charge).max(hibernate).max(wait);
         // Quantised energies round to the nearest quantum: allow for half of one.
         (all + q / 2.0, drive + q / 2.0)
     }
@@ -940,8 +965,18 @@ impl ActionModel {
             // (A relative hair below, for rounding in the sums the plan makes.)
             (e_max + e - 1e-9 * e.abs() - half_quantum).max(0.0) / d
         };
-        let charge = stay(Action::Charge, self.rover.nuclear_w + charge_solar_w, self.config.charge_load.load());
-        let hibernate = stay(Action::Hibernate, self.rover.nuclear_w, Load::Low);
+        let stays = if self.config.wait_step_s.is_some() {
+            // Waiting, the rover charges or sleeps, whichever drains less.
+            let d = self.stay_duration_s(Action::Wait);
+            let e = &self.rover.electronics;
+            let charging = e.power_w(self.config.charge_load.load()) - self.rover.nuclear_w - charge_solar_w;
+            let net = charging.min(e.power_w(Load::Low) - self.rover.nuclear_w);
+            let e = self.battery_wh(net, d);
+            (e_max * self.stay_units(Action::Wait) + e - 1e-9 * e.abs() - half_quantum).max(0.0) / d
+        } else {
+            let charge = stay(Action::Charge, self.rover.nuclear_w + charge_solar_w, self.config.charge_load.load());
+            charge.min(stay(Action::Hibernate, self.rover.nuclear_w, Load::Low))
+        };
         // Per second a drive costs (E_max·units − ½q)/d plus its net load's energy rate:
         // least at the longest d.
         let net_w =
@@ -949,7 +984,7 @@ impl ActionModel {
         let per_hour = self.battery_wh(net_w, 3600.0);
         let drive = (e_max * drive_units - half_quantum).max(0.0) / self.longest_drive_s(world)
             + (per_hour - 1e-9 * per_hour.abs()) / 3600.0;
-        charge.min(hibernate).min(drive).max(0.0)
+        stays.min(drive).max(0.0)
     }
 
     /// The most the array can give under a beam of `beam_w_m2` (facing it squarely), W.
@@ -961,6 +996,10 @@ impl ActionModel {
     /// against the generator alone (sessions only add the radio's), rounded to the
     /// energy quantum.
     pub(crate) fn dark_stay_floor_wh(&self, action: Action) -> f64 {
+        if action == Action::Wait {
+            let e = self.dark_wait_floor_wh(self.stay_duration_s(action));
+            return e - 1e-9 * e.abs() - self.config.energy_quantum_wh.max(0.0) / 2.0;
+        }
         let load = match action {
             Action::Charge => self.config.charge_load.load(),
             _ => Load::Low,

@@ -244,11 +244,13 @@ impl DarkCost {
             return None;
         }
         let step_s = world.span_s() / (table.len() - 2) as f64;
-        let stays = [Action::Charge, Action::Hibernate];
+        let stays = model.stays();
         let dark_rate = if model.config().drive.daylight {
             stays
                 .iter()
-                .map(|&a| (e_max + model.dark_stay_floor_wh(a)).max(0.0) / model.stay_duration_s(a))
+                .map(|&a| {
+                    (e_max * model.stay_units(a) + model.dark_stay_floor_wh(a)).max(0.0) / model.stay_duration_s(a)
+                })
                 .fold(f64::INFINITY, f64::min)
         } else {
             0.0
@@ -256,7 +258,8 @@ impl DarkCost {
         let dark_rate = if dark_rate.is_finite() { dark_rate.max(0.0) } else { 0.0 };
         let longest = stays.iter().map(|&a| model.stay_duration_s(a)).fold(model.longest_drive_s(world), f64::max);
         let reach = (longest / step_s).ceil() as usize + 1;
-        let charge_reach = (model.stay_duration_s(Action::Charge) / step_s).ceil() as usize + 1;
+        // The stay that can charge: Charge, or a wait step.
+        let charge_reach = (model.stay_duration_s(stays[0]) / step_s).ceil() as usize + 1;
         let drive_reach = (model.longest_drive_s(world) / step_s).ceil() as usize + 1;
         let dark: Vec<bool> = table.iter().map(|s| s.elevation_deg <= 0.0).collect();
         let mut cumulative = Vec::with_capacity(table.len());
@@ -594,7 +597,7 @@ impl<'a> TempestDomain<'a> {
             Objective::Energy => {
                 let units = match action {
                     Action::Drive(k) => self.drive_units[k as usize % 8],
-                    _ => 1.0,
+                    stay => self.model.stay_units(stay),
                 };
                 (energy_wh + self.e_max * units).max(0.0)
             }
@@ -625,7 +628,7 @@ impl<'a> TempestDomain<'a> {
             // after every action and always finds the wait first would never set off.
             // The bias is a millionth of a step and shrinks to zero over the horizon.
             let scale = match self.objective {
-                Objective::Energy => self.e_max,
+                Objective::Energy => self.e_max * self.model.stay_units(action),
                 Objective::Time | Objective::Margin { .. } => effect.duration_s,
                 Objective::EnergyUsed => effect.load_wh,
             };
@@ -660,7 +663,7 @@ impl<'a> TempestDomain<'a> {
                 }
             }
         }
-        for stay in [Action::Charge, Action::Hibernate] {
+        for &stay in self.model.stays() {
             if wanted(stay)
                 && let Ok(effect) = self.model.stay(self.world, stay, state, label.t - self.model.stay_duration_s(stay))
             {
@@ -721,7 +724,8 @@ impl Domain for TempestDomain<'_> {
         // `state` (none: nothing lands). Compared by time class: the energy class of
         // the step depends on E.
         let durations: [Option<f64>; 2] = if pred == state {
-            [Action::Charge, Action::Hibernate].map(|a| Some(self.model.stay_duration_s(a)))
+            let stays = self.model.stays();
+            [stays.first(), stays.get(1)].map(|a| a.map(|&a| self.model.stay_duration_s(a)))
         } else {
             let drive = self.drives_into(state).into_iter().flatten().find(|&(from, _)| from == pred);
             [drive.map(|(_, g)| g.duration_s), None]

@@ -132,7 +132,8 @@ impl MissionPlan {
         }
     }
 
-    /// How many times each kind of action appears: (drives, charges, hibernations).
+    /// How many times each kind of action appears: (drives, charges, hibernations);
+    /// wait steps are counted by [`MissionPlan::wait_steps`].
     pub fn action_counts(&self) -> (usize, usize, usize) {
         let mut c = (0, 0, 0);
         for w in &self.waypoints {
@@ -140,10 +141,15 @@ impl MissionPlan {
                 Some(Action::Drive(_)) => c.0 += 1,
                 Some(Action::Charge) => c.1 += 1,
                 Some(Action::Hibernate) => c.2 += 1,
-                None => {}
+                Some(Action::Wait) | None => {}
             }
         }
         c
+    }
+
+    /// How many wait steps the plan has (see [`crate::ActionConfig::wait_s`]).
+    pub fn wait_steps(&self) -> usize {
+        self.waypoints.iter().filter(|w| w.action == Some(Action::Wait)).count()
     }
 
     /// The energy the plan's actions' loads draw, replayed forward on `model` in

@@ -122,6 +122,14 @@ impl PlannerConfig {
         if !((1.0..=1e6).contains(&a.charge_s) && (1.0..=1e6).contains(&a.hibernate_s)) {
             return bad("actions.charge_s", "charge_s and hibernate_s: allowed 1..=1e6 s".into());
         }
+        if let Some(w) = a.wait_step_s
+            && !(1.0..=86_400.0).contains(&w)
+        {
+            return bad(
+                "actions.wait_step_s",
+                format!("{w}: allowed 1..=86400 s (or None: the paper's Charge and Hibernate)"),
+            );
+        }
         if !(a.time_quantum_s == 0.0 || (1e-3..=86_400.0).contains(&a.time_quantum_s)) {
             return bad(
                 "actions.time_quantum_s",
@@ -351,7 +359,7 @@ impl<'a> Mission<'a> {
                     if resort {
                         // As wide as a coarser setting's could be (see `widen_start`):
                         // one Hibernate, or two of these time classes.
-                        let width = model.stay_duration_s(Action::Hibernate).max(2.0 * config.resolution.time_s);
+                        let width = model.stay_duration_s(model.fallback_stay()).max(2.0 * config.resolution.time_s);
                         start.t_max = start.t_max.max(start.t_min + width);
                     }
                     (config, last_resort) = (finer, resort);
@@ -437,8 +445,9 @@ impl<'a> Mission<'a> {
 
     /// A path's time is fixed by its goal instant and its actions: a start window
     /// narrower than the gaps a path can bridge could miss every goal instant, so it is
-    /// widened. Waits come in whole Hibernate periods, so a window as long as one
-    /// Hibernate (or as the spacing of the goal instants, if shorter), and no narrower
+    /// widened. Waits come in whole Hibernate periods (or wait steps, where the rover
+    /// waits), so a window as long as one of them (or as the spacing of the goal
+    /// instants, if shorter), and no narrower
     /// than two time classes, lets some number of waits meet an instant; the rover
     /// idles from the window's opening to the plan's start, and that idle's energy is
     /// counted (see `TempestDomain::is_start`). The last-resort search starts from a
@@ -449,8 +458,9 @@ impl<'a> Mission<'a> {
         let m = self.config.goal_times.max(2) - 1;
         // Resolution pruning keeps one label per time class, so starts can shift by up
         // to one class width: the window is at least that wide too.
-        let width =
-            ((hi - lo) / m as f64).min(self.model.stay_duration_s(Action::Hibernate)).max(2.0 * self.widened_for_s);
+        let width = ((hi - lo) / m as f64)
+            .min(self.model.stay_duration_s(self.model.fallback_stay()))
+            .max(2.0 * self.widened_for_s);
         if self.start.t_max - self.start.t_min < width {
             self.start.t_max = self.start.t_min + width;
         }

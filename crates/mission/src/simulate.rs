@@ -455,11 +455,11 @@ fn initial_plan<'a>(simulation: &Simulation<'a>) -> Result<(Mission<'a>, Mission
 }
 
 /// Executes `action` from `cell` at `t` with `battery` (of `capacity`) on the true world
-/// under `perturbation`; where the truth refuses it, the rover hibernates instead. The
+/// under `perturbation`; where the truth refuses it, the rover hibernates (or waits a step) instead. The
 /// executed step (with the battery after it) and the lowest charge inside it: the
 /// battery is checked at every integration sample of the action, not only at its end,
 /// since a stay that drains before the Sun rises can run out inside it. `Err`: not even
-/// a hibernation is possible, and why.
+/// that is possible, and why.
 fn execute_step(
     executor: &ActionModel,
     truth: &World,
@@ -471,7 +471,8 @@ fn execute_step(
     let (executed, refused, (to, effect)) = match executor.execute(truth, action, cell, t, perturbation) {
         Ok(o) => (action, None, o),
         Err(why) => {
-            (Action::Hibernate, Some((action, why)), executor.execute(truth, Action::Hibernate, cell, t, perturbation)?)
+            let stay = executor.fallback_stay();
+            (stay, Some((action, why)), executor.execute(truth, stay, cell, t, perturbation)?)
         }
     };
     let step = ExecutedStep {

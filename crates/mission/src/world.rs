@@ -606,6 +606,11 @@ impl World {
             .any(|w| seen((w[0].azimuth_deg, w[0].elevation_deg), (w[1].azimuth_deg, w[1].elevation_deg)))
     }
 
+    /// The Sun table's step, s.
+    pub fn sun_step_s(&self) -> f64 {
+        self.sun_step_s
+    }
+
     /// The Sun at time `t` (s after the epoch), interpolated; clamped to the table.
     pub fn sun(&self, t: f64) -> Sun {
         let pos = (t / self.sun_step_s).clamp(0.0, (self.sun.len() - 1) as f64);

@@ -236,7 +236,7 @@ fn brute_force_with_battery(
             }
             let after = e.after(battery, capacity);
             let m2 = m + (e.duration_s / 60.0).round() as i64;
-            next.push(((k, to, m2, after.to_bits()), step_cost(world, Objective::Energy, e_max, a, t, e)));
+            next.push(((k, to, m2, after.to_bits()), step_cost((world, model), Objective::Energy, e_max, a, t, e)));
         }
         for (key, w) in next {
             let nd = d + w;

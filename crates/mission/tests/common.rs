@@ -94,7 +94,7 @@ pub(crate) type Move = (Action, u32, areo_mission::Effect);
 /// Every action from (`cell`, `t`) forward: (action, destination, effect).
 pub(crate) fn moves(world: &World, model: &ActionModel, cell: u32, t: f64) -> Vec<Move> {
     let mut out = Vec::new();
-    for a in (0..8).map(Action::Drive).chain([Action::Charge, Action::Hibernate]) {
+    for a in (0..8).map(Action::Drive).chain(model.stays().iter().copied()) {
         let r = match a {
             Action::Drive(k) => model.drive(world, cell, k, t),
             stay => model.stay(world, stay, cell, t).map(|e| (cell, e)),
@@ -132,16 +132,19 @@ impl<'a> MoveMemo<'a> {
 /// A step's cost in the planner's terms: Δe + E_max × length, or the duration, plus the
 /// planner's wait-late tie-breaker on stationary actions.
 pub(crate) fn step_cost(
-    world: &World,
+    (world, model): (&World, &ActionModel),
     objective: Objective,
     e_max: f64,
     a: Action,
     t0: f64,
     e: areo_mission::Effect,
 ) -> f64 {
-    let units = PathLength::Distance.units(a, world.dem().dx(), world.dem().dy());
+    let units = match a {
+        Action::Drive(_) => PathLength::Distance.units(a, world.dem().dx(), world.dem().dy()),
+        stay => model.stay_units(stay),
+    };
     let (base, scale) = match objective {
-        Objective::Energy => ((e.energy_wh + e_max * units).max(0.0), e_max),
+        Objective::Energy => ((e.energy_wh + e_max * units).max(0.0), e_max * units),
         Objective::Time | Objective::Margin { .. } => (e.duration_s, e.duration_s),
         Objective::EnergyUsed => (e.load_wh, e.load_wh),
     };

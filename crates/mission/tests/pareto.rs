@@ -93,7 +93,7 @@ fn least_cost_from(
             }
             let after = e.after(battery, capacity);
             let key = (to, m + (e.duration_s / 60.0).round() as i64, after.to_bits());
-            let nd = d + step_cost(world, Objective::Energy, e_max, a, t, e);
+            let nd = d + step_cost((world, model), Objective::Energy, e_max, a, t, e);
             if dist.get(&key).is_none_or(|&best| nd < best - 1e-12) {
                 dist.insert(key, nd);
                 heap.push(Reverse((OrderedFloat(nd), key.0, key.1, key.2)));
@@ -603,12 +603,13 @@ fn sunset(world: &World) -> f64 {
 /// of the next 24 h: the heuristic must never be above the cheapest way there. Returns
 /// how many (cell, minute) were checked and the most the time-dependent part of the
 /// heuristic (its rise since the start window's close) added anywhere.
-fn heuristic_against_a_forward_search(t0: f64, daylight: bool) -> (usize, f64, f64) {
+fn heuristic_against_a_forward_search(t0: f64, daylight: bool, wait_step_s: Option<f64>) -> (usize, f64, f64) {
     use areo_ise::Domain;
     use areo_mission::{Label, TempestDomain};
     let world = mars_world(hills(7, 5), 40.0, None);
     let mut actions = quantised();
     actions.drive.daylight = daylight;
+    actions.wait_step_s = wait_step_s;
     let model = model(400.0, actions);
     let start = Start { cell: world.cell(1, 1), t_min: t0, t_max: t0 + 600.0, energy_wh: 300.0 };
     let resolution = Resolution { time_s: 60.0, energy_wh: None };
@@ -637,7 +638,7 @@ fn heuristic_against_a_forward_search(t0: f64, daylight: bool) -> (usize, f64, f
             if key.1 > end {
                 continue;
             }
-            let nd = d + step_cost(&world, Objective::Energy, e_max, a, t, e);
+            let nd = d + step_cost((&world, &model), Objective::Energy, e_max, a, t, e);
             if dist.get(&key).is_none_or(|&best| nd < best - 1e-12) {
                 dist.insert(key, nd);
                 heap.push(Reverse((OrderedFloat(nd), key.0, key.1)));
@@ -654,9 +655,19 @@ fn the_heuristic_never_exceeds_the_cheapest_way_to_any_place_and_time_through_a_
     // bounds (octile floors, the cached 2-D landmark). From an afternoon start, over
     // the night and the next morning.
     let world = mars_world(hills(7, 5), 40.0, None);
-    let (checked, night_share, e_max) = heuristic_against_a_forward_search(sunset(&world) - 3600.0, true);
+    let (checked, night_share, e_max) = heuristic_against_a_forward_search(sunset(&world) - 3600.0, true, None);
     assert!(checked > 10_000, "only {checked} places and times reached");
     // The night is worth many E_max to the bound: it is not vacuous.
+    assert!(night_share > 10.0 * e_max, "the night adds only {night_share} (E_max {e_max})");
+}
+
+/// The heuristic's night and time bounds with wait steps for stays: a wait's share of
+/// L scales with its length, and the bounds must follow it.
+#[test]
+fn the_heuristic_never_exceeds_the_cheapest_way_with_wait_steps() {
+    let world = mars_world(hills(7, 5), 40.0, None);
+    let (checked, night_share, e_max) = heuristic_against_a_forward_search(sunset(&world) - 3600.0, true, Some(300.0));
+    assert!(checked > 10_000, "only {checked} places and times reached");
     assert!(night_share > 10.0 * e_max, "the night adds only {night_share} (E_max {e_max})");
 }
 
@@ -667,22 +678,24 @@ fn the_heuristic_never_exceeds_the_cheapest_way_to_any_place_and_time_through_a_
     // with drives allowed at night too, so the deep-night bound is off and the time
     // bound alone makes the rise. From a morning start, over the day and the night.
     let world = mars_world(hills(7, 5), 40.0, None);
-    let (checked, time_share, e_max) = heuristic_against_a_forward_search(morning(&world), false);
+    let (checked, time_share, e_max) = heuristic_against_a_forward_search(morning(&world), false, None);
     assert!(checked > 10_000, "only {checked} places and times reached");
     assert!(time_share > 5.0 * e_max, "the day and night add only {time_share} (E_max {e_max})");
 }
 
-#[test]
-fn a_plan_that_waits_out_a_night_equals_an_exhaustive_search() {
-    // Drives in daylight only, an afternoon start too far from the goal to arrive
-    // before dark: the plan must stand through the night, where the deep-night bound
-    // guides the search. Its cost must equal the exhaustive search's.
+/// Drives in daylight only, an afternoon start too far from the goal to arrive before
+/// dark: the plan must stand through the night, where the deep-night bound guides the
+/// search. Its cost must equal the exhaustive search's, with the rover's stationary
+/// actions `wait_step_s` ([`ActionConfig::wait_step_s`]). Returns how many cases
+/// planned and the stationary steps their plans took.
+fn night_against_an_exhaustive_search(wait_step_s: Option<f64>) -> (usize, usize) {
     let world = mars_world(hills(7, 5), 40.0, None);
     let mut actions = quantised();
     actions.drive.daylight = true;
+    actions.wait_step_s = wait_step_s;
     let model = model(400.0, actions.clone());
     let t0 = sunset(&world) - 240.0;
-    let (mut hibernated, mut planned) = (0, 0);
+    let (mut stood, mut planned) = (0, 0);
     for (from, to, start_wh) in [((0, 0), (6, 4), 360.0), ((6, 0), (0, 4), 300.0), ((0, 2), (6, 2), 330.0)] {
         let start = Start { cell: world.cell(from.0, from.1), t_min: t0, t_max: t0, energy_wh: start_wh };
         let goal = world.cell(to.0, to.1);
@@ -705,15 +718,31 @@ fn a_plan_that_waits_out_a_night_equals_an_exhaustive_search() {
                     "{from:?}→{to:?}: planned {} vs exhaustive {brute}",
                     plan.cost
                 );
-                hibernated += plan.action_counts().2;
+                stood += plan.action_counts().1 + plan.action_counts().2 + plan.wait_steps();
                 planned += 1;
             }
             (Err(_), None) => {}
             (p, b) => panic!("{from:?}→{to:?}: planned {:?} vs exhaustive {b:?}", p.as_ref().map(|x| x.1.cost)),
         }
     }
+    (planned, stood)
+}
+
+#[test]
+fn a_plan_that_waits_out_a_night_equals_an_exhaustive_search() {
+    let (planned, hibernated) = night_against_an_exhaustive_search(None);
     assert!(planned >= 2, "only {planned} of 3 cases have a plan");
     assert!(hibernated >= 30, "the plans stand through the night: {hibernated} hibernations");
+}
+
+/// The same nights with the rover waiting in 20-minute steps instead of the paper's
+/// Charge and Hibernate: the planner's wait steps, their share of L and its bounds on
+/// the night's cost agree with the exhaustive search over the same actions.
+#[test]
+fn a_plan_that_waits_in_steps_through_a_night_equals_an_exhaustive_search() {
+    let (planned, steps) = night_against_an_exhaustive_search(Some(1200.0));
+    assert!(planned >= 2, "only {planned} of 3 cases have a plan");
+    assert!(steps >= 30, "the plans wait through the night: {steps} wait steps");
 }
 
 /// A plan the last resort finds is reported as its fallback even where the settings'

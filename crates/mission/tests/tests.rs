@@ -12,3 +12,4 @@ mod sensing;
 mod simulation;
 mod terrain_error;
 mod uncertainty;
+mod waits;

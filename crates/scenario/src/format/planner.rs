@@ -90,6 +90,10 @@ pub struct ActionSpec {
     pub time_quantum_s: f64,
     /// Round every energy change to a multiple of this, Wh (0: exact).
     pub energy_quantum_wh: f64,
+    /// The rover's stationary action: `None`, the paper's Charge and Hibernate of fixed
+    /// durations; `Some(step)`, waits in steps of `step` s (1..=86400), charging where
+    /// the array sees the Sun and sleeping where it does not.
+    pub wait_step_s: Option<f64>,
 }
 
 impl Default for ActionSpec {
@@ -110,6 +114,7 @@ impl ActionSpec {
             max_slope_deg: a.max_slope_deg,
             time_quantum_s: a.time_quantum_s,
             energy_quantum_wh: a.energy_quantum_wh,
+            wait_step_s: a.wait_step_s,
         }
     }
 }
@@ -126,6 +131,7 @@ impl From<&ActionSpec> for m::ActionConfig {
             max_slope_deg: a.max_slope_deg,
             time_quantum_s: a.time_quantum_s,
             energy_quantum_wh: a.energy_quantum_wh,
+            wait_step_s: a.wait_step_s,
         }
     }
 }

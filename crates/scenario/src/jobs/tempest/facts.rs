@@ -26,6 +26,7 @@ pub(super) fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan)
     o.count("initial_plan_drives", drives as u64);
     o.count("initial_plan_charges", charges as u64);
     o.count("initial_plan_hibernations", hibernations as u64);
+    o.count("initial_plan_wait_steps", plan.wait_steps() as u64);
     o.number("initial_plan_duration_h", plan.duration_s() / 3600.0);
     o.number("initial_plan_min_battery_wh", plan.min_battery_wh());
     o.count("initial_plan_expansions", plan.expansions);
@@ -210,6 +211,7 @@ pub(super) fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, peak_
     o.number("drive_h", drive_h);
     o.number("charge_h", charge_h);
     o.number("hibernate_h", hibernate_h);
+    o.number("wait_h", hours_in(r, |a| a == Action::Wait));
     o.count("replans", replans.len() as u64);
     o.count("route_changes", route_changes as u64);
     restart_facts(o, r);
@@ -350,10 +352,14 @@ pub(super) fn sim_summary(
     fractions.sort_by(f64::total_cmp);
     o.summary.push(format!(
         "{status}: {} of {} goals; {:.0} m driven in {drive_h:.1} h; charged {charge_h:.1} h, hibernated {hibernate_h:.1} h; \
-         {} night(s)",
+         {}{} night(s)",
         r.goals_reached.len(),
         ctx.goals.len(),
         r.distance_m(),
+        match hours_in(r, |a| a == Action::Wait) {
+            h if h > 0.0 => format!("waited {h:.1} h; "),
+            _ => String::new(),
+        },
         r.nights()
     ));
     o.summary.push(format!(
