@@ -42,6 +42,7 @@ mod simulate;
 mod world;
 
 pub mod contact;
+pub mod exact;
 pub mod metrics;
 pub mod uncertainty;
 

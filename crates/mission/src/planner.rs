@@ -114,8 +114,8 @@ impl Default for PlannerConfig {
 }
 
 impl PlannerConfig {
-    /// Checks ranges, naming the first bad field.
-    pub fn validate(&self) -> Result<()> {
+    /// Checks the actions' ranges, naming the first bad field.
+    fn validate_actions(&self) -> Result<()> {
         let bad = |field: &'static str, message: String| Err(Error::Config { field, message });
         let a = &self.actions;
         // Physical ranges: a step of a second to days, classes that a search can hold.
@@ -147,8 +147,30 @@ impl PlannerConfig {
         {
             return bad("actions.max_slope_deg", format!("{m}: allowed 0..90 degrees"));
         }
+        Ok(())
+    }
+
+    /// Checks ranges, naming the first bad field.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field: &'static str, message: String| Err(Error::Config { field, message });
+        self.validate_actions()?;
+        let a = &self.actions;
         if !(1.0..=1e6).contains(&self.resolution.time_s) {
             return bad("resolution.time_s", format!("{}: allowed 1..=1e6 s", self.resolution.time_s));
+        }
+        if let Some(w) = a.wait_step_s
+            && w < self.resolution.time_s
+        {
+            // Labels of one time class are compared as one instant: a wait step inside a
+            // class looks like no wait at all and costs more, so the search drops it and
+            // the rover could never wait out a night.
+            return bad(
+                "actions.wait_step_s",
+                format!(
+                    "{w} s is shorter than the time classes (`resolution.time_s` {} s): allowed at least time_s",
+                    self.resolution.time_s
+                ),
+            );
         }
         if !(0.0..=1e7).contains(&self.goal_energy_wh) {
             return bad("goal_energy_wh", format!("{}: allowed 0..=1e7 Wh", self.goal_energy_wh));

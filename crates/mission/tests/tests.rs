@@ -4,6 +4,7 @@ mod battery_inside;
 mod bodies;
 mod chaining;
 mod common;
+mod exact;
 mod front;
 mod grid_north;
 mod pareto;

@@ -237,5 +237,18 @@ fn a_wait_step_out_of_range_names_the_field() {
             }
             other => panic!("wait_step_s {bad}: {other:?}"),
         }
+    } // A wait step shorter than a time class would be merged with the instant it began
+    // at: refused, naming both fields.
+    let config = PlannerConfig {
+        actions: waits(300.0),
+        resolution: Resolution { time_s: 1200.0, energy_wh: None },
+        ..PlannerConfig::default()
+    };
+    match config.validate() {
+        Err(Error::Config { field, message }) => {
+            assert_eq!(field, "actions.wait_step_s");
+            assert!(message.contains("resolution.time_s"), "{message}");
+        }
+        other => panic!("a wait step inside a time class: {other:?}"),
     }
 }
