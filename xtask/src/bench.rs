@@ -5,6 +5,8 @@
 use std::path::Path;
 use std::process::Command;
 
+mod exact;
+
 /// Throughput targets, elements per second: (criterion full id, minimum, what it means).
 const TARGETS: &[(&str, f64, &str)] = &[
     ("sun/direction_body_fixed(days_since_j2000)", 5.0e6, "Sun directions per second, one core"),
@@ -77,7 +79,8 @@ const RATIOS: &[(&str, &str, &str, f64)] = &[
 /// Runs `cargo bench` (optionally only benches matching `filter`) and prints the table;
 /// `movingai` as the filter runs only the full Moving AI check.
 pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
-    let in_process = ["movingai", "horizon", "mission", "lita", "valley", "lunar", "bigmap", "budget", "fresh"];
+    let in_process =
+        ["movingai", "horizon", "mission", "lita", "valley", "lunar", "bigmap", "budget", "fresh", "exact"];
     if cfg!(debug_assertions) && args.first().is_some_and(|a| in_process.contains(&a.as_str())) {
         // `cargo xtask` builds the dev profile (shared with the tests); timings are only
         // meaningful optimised, so these run again from a release build of xtask.
@@ -90,33 +93,22 @@ pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
             .map_err(|e| format!("cargo run --release: {e}"))?;
         return Ok(status.success());
     }
-    if args.first().is_some_and(|a| a == "movingai") {
-        return movingai(root);
-    }
-    if args.first().is_some_and(|a| a == "horizon") {
-        return horizon(root);
-    }
-    if args.first().is_some_and(|a| a == "mission") {
-        return mission();
-    }
-    if args.first().is_some_and(|a| a == "lita") {
-        return lita(root);
-    }
-    if args.first().is_some_and(|a| a == "valley") {
-        return valley(root);
-    }
-    if args.first().is_some_and(|a| a == "lunar") {
-        return lunar(root);
-    }
-    if args.first().is_some_and(|a| a == "budget") {
-        return budget(root);
-    }
-    if args.first().is_some_and(|a| a == "fresh") {
-        return fresh(root);
-    }
-    if args.first().is_some_and(|a| a == "bigmap") {
-        let side = args.get(1).map_or(Ok(30_000), |s| s.parse::<usize>()).map_err(|e| format!("bigmap SIDE: {e}"))?;
-        return bigmap(root, side);
+    match args.first().map(String::as_str) {
+        Some("movingai") => return movingai(root),
+        Some("horizon") => return horizon(root),
+        Some("mission") => return mission(),
+        Some("lita") => return lita(root),
+        Some("valley") => return valley(root),
+        Some("lunar") => return lunar(root),
+        Some("budget") => return budget(root),
+        Some("fresh") => return fresh(root),
+        Some("exact") => return exact::run(),
+        Some("bigmap") => {
+            let side =
+                args.get(1).map_or(Ok(30_000), |s| s.parse::<usize>()).map_err(|e| format!("bigmap SIDE: {e}"))?;
+            return bigmap(root, side);
+        }
+        _ => {}
     }
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut cmd = Command::new(cargo);

@@ -212,7 +212,7 @@ pub struct TempestDomain<'a> {
 /// search spread as far as a night's cost reaches (valley-detour at four times the
 /// area).
 #[derive(Debug, Clone)]
-struct DarkCost {
+pub(crate) struct DarkCost {
     /// Sun-table step, s.
     step_s: f64,
     /// The bound from t = 0 to each table instant, cost units.
@@ -228,7 +228,7 @@ struct DarkCost {
 }
 
 impl DarkCost {
-    fn new(
+    pub(crate) fn new(
         world: &World,
         model: &ActionModel,
         objective: Objective,
@@ -296,12 +296,12 @@ impl DarkCost {
     }
 
     /// The dark-time bound from t = 0 to `t` (s after the epoch).
-    fn at(&self, t: f64) -> f64 {
+    pub(crate) fn at(&self, t: f64) -> f64 {
         self.interpolate(&self.cumulative, t)
     }
 
     /// The time bound from t = 0 to `t` (s after the epoch).
-    fn any_at(&self, t: f64) -> f64 {
+    pub(crate) fn any_at(&self, t: f64) -> f64 {
         self.interpolate(&self.any, t)
     }
 }

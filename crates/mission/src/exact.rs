@@ -34,7 +34,7 @@ use std::collections::BinaryHeap;
 use rustc_hash::FxHashMap;
 
 use crate::action_model::{Action, ActionModel, NEIGHBOURS};
-use crate::domain::{Objective, PathLength, Start};
+use crate::domain::{DarkCost, Objective, PathLength, Start};
 use crate::effect::Effect;
 use crate::world::World;
 
@@ -130,16 +130,8 @@ impl ExactQuery<'_> {
     pub fn solve(&self) -> ExactOutcome {
         let tick = self.model.wait_step_s().unwrap_or_else(|| self.model.stay_duration_s(Action::Hibernate));
         let e_max = self.model.gain_bounds(self.world).0;
-        let bounds: Vec<Vec<f64>> = self.goals.iter().map(|g| self.reverse_bound(g.cell, e_max)).collect();
-        // The bound from goal i onward: to goal i, then between the later goals.
-        let mut tails = vec![0.0; self.goals.len() + 1];
-        for i in (0..self.goals.len().saturating_sub(1)).rev() {
-            tails[i] = tails[i + 1] + bounds[i + 1][self.goals[i].cell as usize];
-        }
-        let h = |cell: u32, goal: u16| -> f64 {
-            let g = goal as usize;
-            if g >= self.goals.len() { 0.0 } else { bounds[g][cell as usize] + tails[g] }
-        };
+        let bound = self.bound(e_max);
+        let h = |cell: u32, goal: u16, t: f64| bound.at(self.world, cell, goal, t);
         let mut nodes: Vec<Node> = Vec::new();
         let mut at: FxHashMap<(u32, u16, i64), Vec<u32>> = FxHashMap::default();
         let mut open = BinaryHeap::new();
@@ -155,8 +147,8 @@ impl ExactQuery<'_> {
             dead: false,
         };
         self.keep(start, &mut nodes, &mut at, &mut out, tick);
-        open.push(Reverse((ordered(h(start.cell, start.goal)), 0u32)));
-        while let Some(Reverse((_, i))) = open.pop() {
+        open.push(Reverse((ordered(h(start.cell, start.goal, start.t)), Reverse(ordered(0.0)), 0u32)));
+        while let Some(Reverse((_, _, i))) = open.pop() {
             let node = nodes[i as usize];
             if node.dead {
                 continue;
@@ -172,11 +164,41 @@ impl ExactQuery<'_> {
             out.expanded += 1;
             for next in self.successors(node, i, tick, e_max) {
                 if let Some(j) = self.keep(next, &mut nodes, &mut at, &mut out, tick) {
-                    open.push(Reverse((ordered(next.cost + h(next.cell, next.goal)), j)));
+                    open.push(Reverse((
+                        ordered(next.cost + h(next.cell, next.goal, next.t)),
+                        Reverse(ordered(next.cost)),
+                        j,
+                    )));
                 }
             }
         }
         out
+    }
+
+    /// The search's bound (see [`Bound`]).
+    fn bound(&self, e_max: f64) -> Bound {
+        let drives: Vec<Vec<f64>> = self.goals.iter().map(|g| self.reverse_bound(g.cell, e_max)).collect();
+        let mut tails = vec![0.0; self.goals.len() + 1];
+        for i in (0..self.goals.len().saturating_sub(1)).rev() {
+            tails[i] = tails[i + 1] + drives[i + 1][self.goals[i].cell as usize];
+        }
+        let speed = self.model.top_speed_m_s();
+        let mut time_tails = vec![0.0; self.goals.len() + 1];
+        for i in (0..self.goals.len().saturating_sub(1)).rev() {
+            time_tails[i] = time_tails[i + 1] + self.world.octile_m(self.goals[i].cell, self.goals[i + 1].cell) / speed;
+        }
+        let units = (0..8u8)
+            .map(|k| PathLength::Distance.units(Action::Drive(k), self.world.dem().dx(), self.world.dem().dy()))
+            .fold(f64::INFINITY, f64::min);
+        let source_w = self.model.drive_source_bound_w(self.world);
+        Bound {
+            drives,
+            tails,
+            time_tails,
+            goals: self.goals.iter().map(|g| g.cell).collect(),
+            speed,
+            dark: DarkCost::new(self.world, self.model, self.objective, e_max, units, source_w),
+        }
     }
 
     /// The goal index after arriving at `cell` at `t` with `e`, having reached
@@ -362,6 +384,41 @@ impl ExactQuery<'_> {
         }
         steps.reverse();
         steps
+    }
+}
+
+/// The A* bound from a label to the last goal: the cheapest drives through the
+/// remaining goals over each drive's floor (2-D, any time), plus the deep night (or any
+/// action's least cost per second) between the label's instant and the earliest it can
+/// arrive — the approximate planner's own time bounds (`domain::DarkCost`).
+struct Bound {
+    /// Per goal, the drives' bound from every cell to it.
+    drives: Vec<Vec<f64>>,
+    /// Per goal, the drives' bound from it through the later goals.
+    tails: Vec<f64>,
+    /// Per goal, the least time from it through the later goals, s.
+    time_tails: Vec<f64>,
+    goals: Vec<u32>,
+    speed: f64,
+    dark: Option<DarkCost>,
+}
+
+impl Bound {
+    fn at(&self, world: &World, cell: u32, goal: u16, t: f64) -> f64 {
+        let g = goal as usize;
+        if g >= self.goals.len() {
+            return 0.0;
+        }
+        let drives = self.drives[g][cell as usize] + self.tails[g];
+        // Any plan from here spends at least until `t + least` on its way: the deep
+        // night in that span with stays, and all of it at the least cost per second.
+        let least = world.octile_m(cell, self.goals[g]) / self.speed + self.time_tails[g];
+        match &self.dark {
+            Some(d) => {
+                (drives + (d.at(t + least) - d.at(t)).max(0.0)).max((d.any_at(t + least) - d.any_at(t)).max(0.0))
+            }
+            None => drives,
+        }
     }
 }
 

@@ -1,0 +1,101 @@
+//! `cargo xtask bench exact`: what exactness at a tick costs. On synthetic Mars maps of
+//! growing extent (rolling relief, 50 m cells, the Mars24 Sun over Gale, an afternoon
+//! start and a goal across the map that the rover reaches the next day), three searches
+//! of the same single-goal problem with the rover waiting in steps of the tick:
+//! - the exact tick search (`areo_mission::exact`, drives depart on ticks and settle to
+//!   the next one): optimal over its plans, "no plan" a proof;
+//! - the same without the settle (drives chain at their own durations, only waits end
+//!   on ticks): exact too, but its labels between ticks multiply — stopped at a label
+//!   budget where it cannot finish;
+//! - the approximate planner (`Mission::plan`, time classes of one tick, exact energy,
+//!   72 goal instants), whose plans chain drives without settling.
+
+use std::time::Instant;
+
+use areo_mission::exact::{ExactGoal, ExactOutcome, ExactQuery};
+use areo_mission::{ActionConfig, ActionModel, Mission, Objective, PlannerConfig, Resolution, Start, World};
+
+/// Labels the chained search may keep before it is stopped.
+const CHAIN_BUDGET: u64 = 3_000_000;
+
+fn world(cols: usize) -> Result<World, String> {
+    let dem = areo_terrain::Dem::from_fn(cols, cols * 3 / 4, 50.0, 50.0, |x, y| {
+        30.0 * (x / 370.0).sin() + 25.0 * (y / 230.0).cos() + 5.0 * (x / 90.0 + y / 70.0).sin()
+    })
+    .map_err(|e| e.to_string())?;
+    let config = areo_mission::WorldConfig {
+        epoch: areo_ephemeris::parse_utc("2012-08-06T12:00:00Z").map_err(|e| e.to_string())?,
+        span_s: 60.0 * 3600.0,
+        sun_step_s: 120.0,
+        horizon_sectors: Some(32),
+        atmosphere: areo_ephemeris::flux::Atmosphere::Baseline { peak_w_m2: 500.0 },
+        site: Some(areo_ephemeris::Site::new(-4.6, 137.4).map_err(|e| e.to_string())?),
+    };
+    World::new(dem, &config, &areo_ephemeris::Mars24).map_err(|e| e.to_string())
+}
+
+fn exact(world: &World, model: &ActionModel, start: Start, goal: ExactGoal, settle: bool) -> (ExactOutcome, f64) {
+    let t = Instant::now();
+    let query = ExactQuery {
+        world,
+        model,
+        start,
+        goals: vec![goal],
+        goal_energy_wh: 0.0,
+        objective: Objective::Energy,
+        max_labels: if settle { 100_000_000 } else { CHAIN_BUDGET },
+        settle,
+    };
+    let out = query.solve();
+    (out, t.elapsed().as_secs_f64())
+}
+
+fn describe(out: &ExactOutcome, wall: f64) -> String {
+    match (&out.plan, out.stopped) {
+        (_, true) => format!("stopped at {} labels after {wall:.2} s ({} between ticks)", out.kept, out.between_ticks),
+        (Some((cost, _)), false) => format!("{wall:.2} s, {} labels, cost {cost:.1}", out.kept),
+        (None, false) => format!("{wall:.2} s, {} labels, no plan (proven)", out.kept),
+    }
+}
+
+pub(crate) fn run() -> Result<bool, String> {
+    println!("exactness at a tick: one goal across the map, an afternoon start, a night on the way");
+    for (cols, tick) in [(20, 60.0), (40, 60.0), (80, 60.0), (80, 600.0)] {
+        let world = world(cols)?;
+        let mut rover = areo_rover::resources::ResourceModel::hyperion();
+        rover.battery.capacity_wh = 1000.0;
+        let actions = ActionConfig { wait_step_s: Some(tick), ..Default::default() };
+        let model = ActionModel::new(rover, actions.clone());
+        let t0 = 14.0 * 3600.0;
+        let start = Start { cell: world.cell(2, 2), t_min: t0, t_max: t0, energy_wh: 800.0 };
+        let goal = ExactGoal { cell: world.cell(cols - 3, cols * 3 / 4 - 3), open_s: t0, close_s: 50.0 * 3600.0 };
+        let (settled, settled_s) = exact(&world, &model, start, goal, true);
+        let (chained, chained_s) = exact(&world, &model, start, goal, false);
+        let config = PlannerConfig {
+            actions,
+            resolution: Resolution { time_s: tick, energy_wh: None },
+            max_wait_s: Some(goal.close_s - t0),
+            goal_times: 72,
+            ..PlannerConfig::default()
+        };
+        let t = Instant::now();
+        let planned = Mission::plan(&world, &model, config, start, &[goal.cell]);
+        let planner_s = t.elapsed().as_secs_f64();
+        println!("{cols} x {} cells, tick {tick} s:", cols * 3 / 4);
+        println!("  exact, drives settle to ticks:      {}", describe(&settled, settled_s));
+        println!("  exact, drives chained:              {}", describe(&chained, chained_s));
+        match planned {
+            Ok((_, plan)) => {
+                let gap = settled.plan.as_ref().map_or(String::new(), |(c, _)| {
+                    format!(", {:+.2} % against the settled optimum", 100.0 * (plan.cost - c) / c)
+                });
+                println!(
+                    "  approximate planner (classes {tick} s): {planner_s:.2} s, {} expansions, cost {:.1}{gap}",
+                    plan.expansions, plan.cost
+                );
+            }
+            Err(e) => println!("  approximate planner (classes {tick} s): {planner_s:.2} s: {e}"),
+        }
+    }
+    Ok(true)
+}
