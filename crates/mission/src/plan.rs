@@ -147,7 +147,7 @@ impl MissionPlan {
         c
     }
 
-    /// How many wait steps the plan has (see [`crate::ActionConfig::wait_s`]).
+    /// How many wait steps the plan has (see [`crate::ActionConfig::wait_step_s`]).
     pub fn wait_steps(&self) -> usize {
         self.waypoints.iter().filter(|w| w.action == Some(Action::Wait)).count()
     }
