@@ -78,6 +78,9 @@ pub struct ExactOutcome {
     pub kept: u64,
     /// Labels kept that were not on a tick: the rover driving through a cell.
     pub between_ticks: u64,
+    /// The (cell, goal, instant) triples that held a label: `kept` over this is how
+    /// many battery–cost trade-offs an instant holds on average.
+    pub instants: u64,
     /// Whether the search stopped at its label budget before it could decide.
     pub stopped: bool,
 }
@@ -135,7 +138,7 @@ impl ExactQuery<'_> {
         let mut nodes: Vec<Node> = Vec::new();
         let mut at: FxHashMap<(u32, u16, i64), Vec<u32>> = FxHashMap::default();
         let mut open = BinaryHeap::new();
-        let mut out = ExactOutcome { plan: None, expanded: 0, kept: 0, between_ticks: 0, stopped: false };
+        let mut out = ExactOutcome { plan: None, expanded: 0, kept: 0, between_ticks: 0, instants: 0, stopped: false };
         let start = Node {
             cell: self.start.cell,
             goal: self.reached(0, self.start.cell, self.start.t_min, self.start.energy_wh),
@@ -273,7 +276,10 @@ impl ExactQuery<'_> {
         out: &mut ExactOutcome,
         tick: f64,
     ) -> Option<u32> {
-        let list = at.entry((node.cell, node.goal, instant_key(node.t))).or_default();
+        let list = at.entry((node.cell, node.goal, instant_key(node.t))).or_insert_with(|| {
+            out.instants += 1;
+            Vec::new()
+        });
         if list.iter().any(|&j| {
             let other = &nodes[j as usize];
             other.e >= node.e - 1e-9 && other.cost <= node.cost + 1e-12

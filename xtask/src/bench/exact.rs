@@ -53,7 +53,9 @@ fn exact(world: &World, model: &ActionModel, start: Start, goal: ExactGoal, sett
 fn describe(out: &ExactOutcome, wall: f64) -> String {
     match (&out.plan, out.stopped) {
         (_, true) => format!("stopped at {} labels after {wall:.2} s ({} between ticks)", out.kept, out.between_ticks),
-        (Some((cost, _)), false) => format!("{wall:.2} s, {} labels, cost {cost:.1}", out.kept),
+        (Some((cost, _)), false) => {
+            format!("{wall:.2} s, {} labels at {} instants, cost {cost:.1}", out.kept, out.instants)
+        }
         (None, false) => format!("{wall:.2} s, {} labels, no plan (proven)", out.kept),
     }
 }
