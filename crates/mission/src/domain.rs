@@ -557,6 +557,22 @@ impl<'a> TempestDomain<'a> {
         self.landmark.borrow().bytes()
     }
 
+    /// The battery a start label at `state` needs when the window opens: at a real
+    /// start the rover idles from the window's opening to the plan's start (asleep, or
+    /// waiting where it waits — charging where lit); at an intermediate goal it arrives
+    /// at the label's time.
+    fn needed_at_start(&self, state: u32, label: &Label) -> f64 {
+        if !self.idles_before_start {
+            return label.e;
+        }
+        let idle_s = label.t - self.start.t_min;
+        match self.model.idle_wait(self.world, state, self.start.t_min, idle_s) {
+            Some(w) if w.fits(label.e, self.capacity) => w.required_before(label.e),
+            Some(_) => f64::INFINITY,
+            None => label.e + self.model.idle_wh(idle_s),
+        }
+    }
+
     /// The domain of a segment that starts at an intermediate goal: its start labels
     /// are arrivals there, at their own time, so the battery a way on needs is compared
     /// with the battery whole — not less an idle from the interval's opening, which
@@ -817,10 +833,7 @@ impl Domain for TempestDomain<'_> {
         state == self.start.cell
             && label.t >= self.start.t_min - 1e-9
             && label.t <= self.start.t_max + 1e-9
-            // At a real start the rover idles from the window's opening to the plan's
-            // start; at an intermediate goal it arrives at the label's time.
-            && label.e + if self.idles_before_start { self.model.idle_wh(label.t - self.start.t_min) } else { 0.0 }
-                <= self.start.energy_wh + 1e-9
+            && self.needed_at_start(state, label) <= self.start.energy_wh + 1e-9
     }
 
     fn start_state(&self) -> Option<u32> {

@@ -734,7 +734,11 @@ impl<'a> Mission<'a> {
         };
         // The rover idles from the opening of its start window to the plan's start.
         let t_first = steps.first().map_or(self.start.t_min, |(s, _)| s.label.t);
-        let mut battery = self.start.energy_wh - self.model.idle_wh(t_first - self.start.t_min);
+        let idle_s = t_first - self.start.t_min;
+        let mut battery = match self.model.idle_wait(self.world, self.start.cell, self.start.t_min, idle_s) {
+            Some(wait) => wait.after(self.start.energy_wh, capacity),
+            None => self.start.energy_wh - self.model.idle_wh(idle_s),
+        };
         let mut waypoints = Vec::with_capacity(steps.len());
         for (i, (step, segment)) in steps.iter().enumerate() {
             let next_action = if i + 1 < steps.len() { step.action } else { None };

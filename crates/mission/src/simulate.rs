@@ -552,15 +552,22 @@ fn idle_step(
     battery: f64,
     capacity: f64,
 ) -> ExecutedStep {
-    let energy_wh = executor.idle_wh(duration_s);
+    // A rover that waits charges while it idles where its array sees the Sun.
+    let (action, energy_wh, after) = match executor.idle_wait(truth, cell, t, duration_s) {
+        Some(w) => (Action::Wait, w.energy_wh, w.after(battery, capacity)),
+        None => {
+            let e = executor.idle_wh(duration_s);
+            (Action::Hibernate, e, (battery - e).min(capacity))
+        }
+    };
     ExecutedStep {
         t_s: t,
         cell,
         to: cell,
-        action: Action::Hibernate,
+        action,
         duration_s,
         energy_wh,
-        battery_above_floor_wh: (battery - energy_wh).min(capacity),
+        battery_above_floor_wh: after,
         distance_m: 0.0,
         sun_elevation_deg: truth.sun(t).elevation_deg,
         refused: None,

@@ -541,8 +541,10 @@ fn execute_once(
         let p = factors(step);
         // Not before its planned start: an early rover sleeps until then.
         if w.t_s > t {
-            let e = model.idle_wh(w.t_s - t) * p.draw_factor;
-            battery = (battery - e).min(capacity);
+            battery = match model.idle_wait(world, cell, t, w.t_s - t) {
+                Some(wait) => wait.after(battery, capacity),
+                None => (battery - model.idle_wh(w.t_s - t) * p.draw_factor).min(capacity),
+            };
             t = w.t_s;
         }
         match model.execute(world, action, cell, t, p) {

@@ -212,7 +212,7 @@ fn brute_force_with_battery(
     let mut dist: FxHashMap<Key, f64> = FxHashMap::default();
     let mut heap = BinaryHeap::new();
     let mut memo = MoveMemo::new(world, model);
-    for (m, battery) in start_minutes(model, &start) {
+    for (m, battery) in start_minutes(world, model, &start) {
         dist.insert((0, start.cell, m, battery.to_bits()), 0.0);
         heap.push(Reverse((OrderedFloat(0.0), 0usize, start.cell, m, battery.to_bits())));
     }

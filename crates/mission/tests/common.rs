@@ -154,13 +154,19 @@ pub(crate) fn step_cost(
 }
 
 /// The whole minutes of a start window and the battery at each (the rover idles from
-/// the window's opening), where it is not below zero — where the brute-force searches
-/// begin.
-pub(crate) fn start_minutes(model: &ActionModel, start: &areo_mission::Start) -> Vec<(i64, f64)> {
+/// the window's opening: asleep, or waiting where it waits), where it is not below zero
+/// — where the brute-force searches begin.
+pub(crate) fn start_minutes(world: &World, model: &ActionModel, start: &areo_mission::Start) -> Vec<(i64, f64)> {
     let mut out = Vec::new();
+    let capacity = model.capacity_wh();
     let mut m = (start.t_min / 60.0).ceil() as i64;
     while m as f64 * 60.0 <= start.t_max + 1e-9 {
-        let battery = start.energy_wh - model.idle_wh(m as f64 * 60.0 - start.t_min);
+        let idle_s = m as f64 * 60.0 - start.t_min;
+        let battery = match model.idle_wait(world, start.cell, start.t_min, idle_s) {
+            Some(w) if w.lowest(start.energy_wh, capacity) >= -1e-9 => w.after(start.energy_wh, capacity),
+            Some(_) => -1.0,
+            None => start.energy_wh - model.idle_wh(idle_s),
+        };
         if battery >= 0.0 {
             out.push((m, battery));
         }

@@ -8,3 +8,4 @@ mod resolution_states;
 mod robustness;
 mod sweep;
 mod task1;
+mod waits;

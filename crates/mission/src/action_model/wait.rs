@@ -52,6 +52,15 @@ impl ActionModel {
         }
     }
 
+    /// How the rover idles at `cell` from `t0` for `duration_s` s before a plan's start,
+    /// where it waits ([`super::ActionConfig::wait_step_s`]): a wait, so that it charges
+    /// where its array sees the Sun. `None` with the paper's stays, or where no wait is
+    /// possible: it then sleeps with the array off-line ([`ActionModel::idle_wh`]).
+    pub fn idle_wait(&self, world: &World, cell: u32, t0: f64, duration_s: f64) -> Option<Effect> {
+        self.config.wait_step_s?;
+        self.wait(world, cell, t0, duration_s.max(0.0)).ok()
+    }
+
     /// The rover waits at `cell` from `t0` for `duration_s` (s after the epoch; any
     /// duration ≥ 0): its effect, or the constraint that forbids it (the horizon, an
     /// impassable cell, the Earth out of view during a session that needs it, or a
