@@ -375,14 +375,7 @@ fn two_goals_with_a_binding_battery_shadows_and_sensing_equal_a_brute_force_sear
 /// force finds.
 #[test]
 fn on_a_crop_of_gale_crater_two_goals_with_a_binding_battery_equal_a_brute_force_search() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../terrain/tests/data/gale_mola_crop_64.tif");
-    let crop = areo_terrain::read(&path).unwrap().crop(36, 33, 7, 5).unwrap();
-    let (x, y) = crop.cell_center(3, 2);
-    let (lat, lon) = crop.geographic(x, y).unwrap();
-    let config = areo_mission::WorldConfig {
-        site: Some(areo_ephemeris::Site::new(lat, lon).unwrap()),
-        ..crate::common::config(16.0, Some(16))
-    };
+    let (crop, config) = crate::common::gale_crop(16.0);
     // The mound: 60 m high, 400 m across, on cell (3, 2), which both legs cross.
     let (mx, my) = crop.cell_center(3, 2);
     let mound: Vec<f32> = (0..crop.rows())

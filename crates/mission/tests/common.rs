@@ -174,3 +174,16 @@ pub(crate) fn start_minutes(world: &World, model: &ActionModel, start: &areo_mis
     }
     out
 }
+
+/// The 7 × 5 crop (463 m cells) of the MOLA Gale map the real-terrain references use
+/// (`crates/terrain/tests/data/gale_mola_crop_64.tif`, columns 36–42, rows 33–37), and
+/// world settings over `span_h` hours with the Sun at the crop's own latitude and
+/// longitude.
+pub(crate) fn gale_crop(span_h: f64) -> (Dem, WorldConfig) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../terrain/tests/data/gale_mola_crop_64.tif");
+    let crop = areo_terrain::read(&path).unwrap().crop(36, 33, 7, 5).unwrap();
+    let (x, y) = crop.cell_center(3, 2);
+    let (lat, lon) = crop.geographic(x, y).unwrap();
+    let config = WorldConfig { site: Some(Site::new(lat, lon).unwrap()), ..config(span_h, Some(16)) };
+    (crop, config)
+}

@@ -248,14 +248,7 @@ fn halving_the_tick_never_loses_a_plan_over_200_seeded_worlds() {
 /// both prove that no plan exists.
 #[test]
 fn on_a_crop_of_gale_crater_the_exact_search_equals_a_dijkstra_without_dominance() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../terrain/tests/data/gale_mola_crop_64.tif");
-    let crop = areo_terrain::read(&path).unwrap().crop(36, 33, 7, 5).unwrap();
-    let (x, y) = crop.cell_center(3, 2);
-    let (lat, lon) = crop.geographic(x, y).unwrap();
-    let config = areo_mission::WorldConfig {
-        site: Some(areo_ephemeris::Site::new(lat, lon).unwrap()),
-        ..crate::common::config(30.0, Some(16))
-    };
+    let (crop, config) = crate::common::gale_crop(30.0);
     let world = World::new(crop, &config, &areo_ephemeris::Mars24).unwrap();
     let mut t0 = 0.0;
     while world.sun(t0).elevation_deg < 8.0 {
