@@ -65,6 +65,10 @@ pub struct ExactStep {
     pub settle_s: f64,
     /// The battery above the floor at its end, Wh.
     pub battery_wh: f64,
+    /// How many of the query's goals are reached at its end.
+    pub goals_reached: usize,
+    /// The plan's cost so far at its end.
+    pub cost_after: f64,
 }
 
 /// What an exact search found and what it cost.
@@ -81,9 +85,16 @@ pub struct ExactOutcome {
     /// The (cell, goal, instant) triples that held a label: `kept` over this is how
     /// many battery–cost trade-offs an instant holds on average.
     pub instants: u64,
-    /// Whether the search stopped at its label budget before it could decide.
+    /// Whether the search stopped at its label budget (or its caller's
+    /// [`ExactQuery::solve_with`] check) before it could decide.
     pub stopped: bool,
+    /// What the labels, their index and the queue held at the end, bytes.
+    pub bytes: u64,
 }
+
+/// What one label costs in memory: the label, its place in the index and in the queue.
+pub const BYTES_PER_LABEL: u64 =
+    (std::mem::size_of::<Node>() + std::mem::size_of::<u32>() + std::mem::size_of::<(Ordered, Ordered, u32)>()) as u64;
 
 /// An exact query: the rover at `start` (ready at `start.t_min` with
 /// `start.energy_wh`), the goals in order, the battery to hold at the last one, what
@@ -131,6 +142,19 @@ impl ExactQuery<'_> {
     /// Runs the search. `None` in the outcome's plan with `stopped` false is a proof
     /// that no plan whose waits end on ticks reaches the goals.
     pub fn solve(&self) -> ExactOutcome {
+        self.solve_with(&mut |_| true)
+    }
+
+    /// [`ExactQuery::solve`], asking `go_on` before every expansion with the labels kept
+    /// so far whether to go on (a caller's work and memory budget): `false` stops the
+    /// search undecided.
+    pub fn solve_with(&self, go_on: &mut dyn FnMut(u64) -> bool) -> ExactOutcome {
+        let mut out = self.search(go_on);
+        out.bytes = out.kept * BYTES_PER_LABEL;
+        out
+    }
+
+    fn search(&self, go_on: &mut dyn FnMut(u64) -> bool) -> ExactOutcome {
         let tick = self.model.wait_step_s().unwrap_or_else(|| self.model.stay_duration_s(Action::Hibernate));
         let e_max = self.model.gain_bounds(self.world).0;
         let bound = self.bound(e_max);
@@ -138,7 +162,8 @@ impl ExactQuery<'_> {
         let mut nodes: Vec<Node> = Vec::new();
         let mut at: FxHashMap<(u32, u16, i64), Vec<u32>> = FxHashMap::default();
         let mut open = BinaryHeap::new();
-        let mut out = ExactOutcome { plan: None, expanded: 0, kept: 0, between_ticks: 0, instants: 0, stopped: false };
+        let mut out =
+            ExactOutcome { plan: None, expanded: 0, kept: 0, between_ticks: 0, instants: 0, stopped: false, bytes: 0 };
         let start = Node {
             cell: self.start.cell,
             goal: self.reached(0, self.start.cell, self.start.t_min, self.start.energy_wh),
@@ -160,7 +185,7 @@ impl ExactQuery<'_> {
                 out.plan = Some((node.cost, self.steps(&nodes, i)));
                 return out;
             }
-            if out.kept >= self.max_labels {
+            if out.kept >= self.max_labels || !go_on(out.kept) {
                 out.stopped = true;
                 return out;
             }
@@ -385,6 +410,8 @@ impl ExactQuery<'_> {
                 duration_s,
                 settle_s: (duration_s - drive_s).max(0.0),
                 battery_wh: node.e,
+                goals_reached: node.goal as usize,
+                cost_after: node.cost,
             });
             i = node.parent;
         }

@@ -17,10 +17,13 @@
 //! candidates) changed has its graph repaired around the changed goals.
 
 mod front;
+mod problem;
+mod tick;
 mod verdict;
 mod work;
 
 pub use front::{FrontPlan, ParetoFront, non_dominated};
+use problem::check_problem;
 pub(crate) use work::Allowance;
 pub use work::ExpansionMeter;
 
@@ -29,7 +32,7 @@ use std::rc::Rc;
 use areo_ise::{Goal, PathStep, Search, Stats};
 use serde::{Deserialize, Serialize};
 
-use crate::action_model::{Action, ActionConfig, ActionModel, Binding};
+use crate::action_model::{Action, ActionConfig, ActionModel};
 use crate::domain::{Label, Objective, PathLength, Resolution, SharedGeometry, Start, TempestDomain};
 use crate::error::{Error, Result};
 use crate::plan::{MissionPlan, Waypoint};
@@ -70,6 +73,15 @@ pub struct PlannerConfig {
     /// guarantee is the last resort's, the retries make a plan cheaper to find. A plan
     /// found so is at the narrower classes ([`MissionPlan::time_classes_s`]).
     pub unreachable_retries: u32,
+    /// One time step, s (1..=86400): `Some` plans exactly at it — every planning call
+    /// one exact search ([`crate::exact`]: drives depart on ticks, waits end on them,
+    /// energy exact, goals reached at any instant of their windows), so the plan is
+    /// optimal over every such plan, "unreachable" is a proof at the tick and a re-plan
+    /// is what a fresh search returns. The rover must wait in steps of the tick
+    /// ([`ActionConfig::wait_step_s`]); `resolution`, `goal_times`, `segment_starts`
+    /// and `unreachable_retries` are not used. `None`: the approximate search over time
+    /// classes and goal instants.
+    pub tick_s: Option<f64>,
     /// Counts the searches' expansions as they happen, for a progress display (not a
     /// scenario field; no effect on the plan).
     #[serde(skip)]
@@ -106,6 +118,7 @@ impl Default for PlannerConfig {
             max_wait_s: None,
             goal_energy_wh: 0.0,
             unreachable_retries: 0,
+            tick_s: None,
             meter: ExpansionMeter::default(),
             max_expansions: None,
             max_search_bytes: None,
@@ -118,6 +131,11 @@ impl PlannerConfig {
     fn validate_actions(&self) -> Result<()> {
         let bad = |field: &'static str, message: String| Err(Error::Config { field, message });
         let a = &self.actions;
+        if let Some(tick) = self.tick_s
+            && !(1.0..=86_400.0).contains(&tick)
+        {
+            return bad("tick_s", format!("{tick}: allowed 1..=86400 s"));
+        }
         // Physical ranges: a step of a second to days, classes that a search can hold.
         if !((1.0..=1e6).contains(&a.charge_s) && (1.0..=1e6).contains(&a.hibernate_s)) {
             return bad("actions.charge_s", "charge_s and hibernate_s: allowed 1..=1e6 s".into());
@@ -160,6 +178,7 @@ impl PlannerConfig {
         }
         if let Some(w) = a.wait_step_s
             && w < self.resolution.time_s
+            && self.tick_s.is_none()
         {
             // Labels of one time class are compared as one instant: a wait step inside a
             // class looks like no wait at all and costs more, so the search drops it and
@@ -265,6 +284,8 @@ pub struct Mission<'a> {
     widened_for_s: f64,
     /// The expansions the current planning call may still make.
     allowance: Allowance,
+    /// On a tick ([`PlannerConfig::tick_s`]): the kept windows and last plan.
+    tick: Option<tick::TickState>,
 }
 
 fn goal_list(goals: &[(Label, f64)], cell: u32) -> Vec<Goal<TempestDomain<'static>>> {
@@ -283,60 +304,6 @@ fn own_path(p: Vec<PathStep<TempestDomain<'_>>>) -> Vec<PathStep<TempestDomain<'
         .collect()
 }
 
-/// Refuses a problem that cannot be planned before any search: bad settings, no goals,
-/// a start or goal off the map or blocked, a bad start, goals that slopes or obstacles
-/// cut off whatever the time (a proven "unreachable"), energy classes out of range.
-fn check_problem(
-    world: &World,
-    model: &ActionModel,
-    config: &PlannerConfig,
-    start: Start,
-    goals: &[u32],
-) -> Result<()> {
-    config.validate()?;
-    if goals.is_empty() {
-        return Err(Error::Config { field: "goals", message: "at least one goal is needed".into() });
-    }
-    for (field, cell) in std::iter::once(("start", start.cell)).chain(goals.iter().map(|&g| ("goals", g))) {
-        if cell as usize >= world.cells() || !world.passable(cell) {
-            return Err(Error::Config {
-                field,
-                message: format!("cell {cell} is off the map, on missing data or blocked"),
-            });
-        }
-    }
-    if !(start.energy_wh >= 0.0 && start.t_min >= 0.0 && start.t_max >= start.t_min) {
-        return Err(Error::Config {
-            field: "start",
-            message: "start energy must be ≥ 0 and the start window a non-empty interval from t ≥ 0".into(),
-        });
-    }
-    // Time-independent reachability first: a cheap, clear answer when slopes or
-    // obstacles cut the goals off.
-    let mut at = start.cell;
-    for &g in goals {
-        if !connected(world, model, at, g, true) {
-            let binding = if connected(world, model, at, g, false) { Binding::Slope } else { Binding::Blocked };
-            return Err(Error::Unreachable { binding, message: binding.describe().into(), proven: true });
-        }
-        at = g;
-    }
-    if let Some(w) = config.resolution.energy_wh {
-        let usable = model.capacity_wh();
-        if !(1e-3..=usable / 2.0).contains(&w) {
-            return Err(Error::Config {
-                field: "resolution.energy_wh",
-                message: format!(
-                    "{w} Wh: allowed 0.001 Wh up to half the usable battery ({:.1} Wh), or none for exact \
-                     energy — a wider class would collapse E",
-                    usable / 2.0
-                ),
-            });
-        }
-    }
-    Ok(())
-}
-
 impl<'a> Mission<'a> {
     /// Plans from `start` through `goals` (cells, in order).
     pub fn plan(
@@ -347,6 +314,9 @@ impl<'a> Mission<'a> {
         goals: &[u32],
     ) -> Result<(Mission<'a>, MissionPlan)> {
         check_problem(world, model, &config, start, goals)?;
+        if config.tick_s.is_some() {
+            return Mission::plan_at_tick(world, model, config, start, goals);
+        }
         // Each try searches the same problem — the same goal windows, and a start window
         // never narrower than the last try's — at finer classes than the last, so that
         // what a coarser setting finds a finer one finds too (see `finer_classes`).
@@ -367,6 +337,7 @@ impl<'a> Mission<'a> {
                 given_t_max,
                 widened_for_s,
                 allowance: allowance.clone(),
+                tick: None,
             };
             mission.widen_start();
             mission.build_segments();
@@ -457,6 +428,9 @@ impl<'a> Mission<'a> {
 
     /// The arrival windows at each goal (best case, worst case), s after the epoch.
     pub fn goal_windows(&self) -> Vec<(f64, f64)> {
+        if let Some(t) = &self.tick {
+            return t.windows.clone();
+        }
         self.windows()
     }
 
@@ -541,6 +515,9 @@ impl<'a> Mission<'a> {
     /// intervals, and the span of the last segment's goal instants ([`Mission::windows`]
     /// before any segment is built).
     fn kept_windows(&self) -> Vec<(f64, f64)> {
+        if let Some(t) = &self.tick {
+            return t.windows.clone();
+        }
         if self.segments.is_empty() {
             return self.windows();
         }
@@ -789,6 +766,7 @@ impl<'a> Mission<'a> {
             energy_classes_wh: self.config.resolution.energy_wh,
             time_classes_s: self.config.resolution.time_s,
             exact_at_quanta: self.last_resort,
+            tick_s: None,
         })
     }
 
@@ -796,6 +774,9 @@ impl<'a> Mission<'a> {
     /// or [`World::set_slope`]).
     pub fn replan(&mut self, changed: &[u32]) -> Result<MissionPlan> {
         self.allowance.begin();
+        if self.tick.is_some() {
+            return self.tick_plan(changed.is_empty());
+        }
         self.solve_from(None, changed, false);
         self.allowance.check()?;
         self.assemble()?.ok_or_else(|| self.explain_unreachable())
@@ -809,6 +790,9 @@ impl<'a> Mission<'a> {
         self.allowance.begin();
         self.start = start;
         self.given_t_max = start.t_max;
+        if self.tick.is_some() {
+            return self.tick_plan(changed.is_empty());
+        }
         self.widen_start();
         let start = self.start;
         let seg = &mut self.segments[0];
@@ -828,6 +812,9 @@ impl<'a> Mission<'a> {
     /// its expansions) against. `None` when no plan exists.
     pub fn fresh(&self) -> Result<Option<MissionPlan>> {
         self.allowance.begin();
+        if self.tick.is_some() {
+            return self.tick_fresh();
+        }
         let n = self.segments.len();
         let mut segments = Vec::with_capacity(n);
         for (from, to, start, goals, intervals, arriving) in self.kept_problem() {
@@ -845,6 +832,7 @@ impl<'a> Mission<'a> {
             given_t_max: self.given_t_max,
             widened_for_s: self.widened_for_s,
             allowance: self.allowance.clone(),
+            tick: None,
         };
         // The mission beside the fresh search; the drive geometries both share are then
         // counted twice, which errs towards stopping early.
@@ -861,7 +849,11 @@ impl<'a> Mission<'a> {
             return false;
         }
         self.goals.remove(0);
-        self.segments.remove(0);
+        if self.tick.is_some() {
+            self.tick_goal_reached();
+        } else {
+            self.segments.remove(0);
+        }
         true
     }
 
@@ -890,6 +882,9 @@ impl<'a> Mission<'a> {
 
     /// Labels alive over all segment graphs (for memory reports).
     pub fn labels_alive(&self) -> u64 {
+        if let Some(t) = &self.tick {
+            return t.kept;
+        }
         self.segments.iter().map(|s| s.stats.labels_alive).sum()
     }
 
@@ -897,6 +892,9 @@ impl<'a> Mission<'a> {
     /// hold now — the search's memory, apart from the worlds' (terrain, horizon maps,
     /// Sun table).
     pub fn search_bytes(&self) -> u64 {
+        if let Some(t) = &self.tick {
+            return t.bytes;
+        }
         let geometry = self.segments.first().map_or(0, |s| s.domain.geometry_bytes() as u64);
         geometry + self.segments.iter().map(|s| s.search.bytes() + s.domain.landmark_bytes() as u64).sum::<u64>()
     }
@@ -916,41 +914,4 @@ fn add_stats(total: &mut Stats, s: &Stats) {
     total.parked += s.parked;
     total.labels_alive = s.labels_alive;
     total.bytes = s.bytes;
-}
-
-/// Whether `to` can be reached from `from` by drives, ignoring time and energy (with or
-/// without the slope limit).
-fn connected(world: &World, model: &ActionModel, from: u32, to: u32, with_slope: bool) -> bool {
-    let relaxed = (!with_slope).then(|| {
-        let mut c = model.config().clone();
-        c.drive.max_slope = false;
-        ActionModel::new(model.rover().clone(), c)
-    });
-    let model = relaxed.as_ref().unwrap_or(model);
-    // Greedy best-first toward the goal: when it is reachable this touches little more
-    // than a path's worth of cells (a blind flood would visit the whole map first);
-    // only a goal that is cut off costs the flood.
-    let (tc, tr) = world.col_row(to);
-    let steps_to_goal = |cell: u32| {
-        let (c, r) = world.col_row(cell);
-        c.abs_diff(tc).max(r.abs_diff(tr))
-    };
-    let mut seen = vec![false; world.cells()];
-    let mut open = std::collections::BinaryHeap::new();
-    open.push(std::cmp::Reverse((steps_to_goal(from), from)));
-    seen[from as usize] = true;
-    while let Some(std::cmp::Reverse((_, c))) = open.pop() {
-        if c == to {
-            return true;
-        }
-        for k in 0..8u8 {
-            if let Ok(n) = model.drive_geometry(world, c, k).map(|g| g.to)
-                && !seen[n as usize]
-            {
-                seen[n as usize] = true;
-                open.push(std::cmp::Reverse((steps_to_goal(n), n)));
-            }
-        }
-    }
-    false
 }

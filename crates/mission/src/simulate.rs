@@ -365,14 +365,9 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         };
         // The plan may start a little after now (its start window): idle until then.
         let t_plan = plan.waypoints.first().map_or(t, |w| w.t_s);
-        if t_plan > t + 1e-6 {
-            let idle = idle_step(&executor, truth, cell, t, t_plan - t, battery, capacity);
-            battery = idle.battery_above_floor_wh;
-            report.steps.push(idle);
-            t = t_plan;
-        }
+        (t, battery) = idle_until(&mut report, (&executor, truth), (cell, t, battery, capacity), t_plan);
         let perturbation = draw_perturbation(sim, once, &mut rng);
-        let (executed, lowest) =
+        let (executed, mut lowest) =
             match execute_step(&executor, truth, action, (cell, t, battery, capacity), perturbation) {
                 Ok(e) => e,
                 Err(b) => {
@@ -381,17 +376,23 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
                 }
             };
         let (to, duration_s) = (executed.to, executed.duration_s);
+        // On a tick a drive that goes on settles to the next tick first.
+        let goes_on = plan.waypoints.get(1).is_some_and(|w| w.action.is_some());
+        let tick = config.tick_s.filter(|_| matches!(executed.action, Action::Drive(_)) && goes_on);
         battery = executed.battery_above_floor_wh;
         report.steps.push(executed);
         cell = to;
         t += duration_s;
+        if let Some((settle, low)) = tick.and_then(|q| settle_step(&executor, truth, (cell, t, battery, capacity), q)) {
+            (battery, t, lowest) = (settle.battery_above_floor_wh, settle.t_s + settle.duration_s, lowest.min(low));
+            report.steps.push(settle);
+        }
         on_step(SimProgress { step, t_s: t, goals_reached: report.goals_reached.len() });
         if battery < 0.0 || lowest < -1e-9 {
             report.status = SimStatus::BatteryDepleted;
             break;
         }
         let goal_reached = arrive(&mut report, &mut mission, &mut next_goal, cell, t);
-
         let changed = believed.sense(truth, &disc(believed, cell, sim.sense_radius_cells))?;
         let clock = Instant::now();
         let here = Start { cell, t_min: t, t_max: t, energy_wh: battery };
@@ -488,6 +489,43 @@ fn execute_step(
         refused,
     };
     Ok((step, effect.lowest(battery, capacity)))
+}
+
+/// The rover idles from `t` until `until` (a plan that starts later): the idle recorded,
+/// the time and battery after it.
+fn idle_until(
+    report: &mut SimReport,
+    (executor, truth): (&ActionModel, &World),
+    (cell, t, battery, capacity): (u32, f64, f64, f64),
+    until: f64,
+) -> (f64, f64) {
+    if until <= t + 1e-6 {
+        return (t, battery);
+    }
+    let idle = idle_step(executor, truth, cell, t, until - t, battery, capacity);
+    let after = idle.battery_above_floor_wh;
+    report.steps.push(idle);
+    (until, after)
+}
+
+/// On a tick the plan goes on from the next tick: after a drive that ends between ticks
+/// the rover settles there (charging where lit, asleep where not) before it senses and
+/// re-plans. The wait and the lowest charge inside it; `None` on a tick.
+fn settle_step(
+    executor: &ActionModel,
+    truth: &World,
+    (cell, t, battery, capacity): (u32, f64, f64, f64),
+    tick: f64,
+) -> Option<(ExecutedStep, f64)> {
+    let next = ((t / tick + 1e-9).floor() + 1.0) * tick;
+    if next - t <= 1e-6 || (t / tick - (t / tick).round()).abs() <= 1e-9 {
+        return None;
+    }
+    let settle = idle_step(executor, truth, cell, t, next - t, battery, capacity);
+    let low = executor
+        .idle_wait(truth, cell, t, next - t)
+        .map_or(settle.battery_above_floor_wh, |w| w.lowest(battery, capacity));
+    Some((settle, low))
 }
 
 /// The record of re-plan (or restart) `p` made at (`step`, `t`) in `wall_s`, after

@@ -12,5 +12,6 @@ mod planning;
 mod sensing;
 mod simulation;
 mod terrain_error;
+mod tick;
 mod uncertainty;
 mod waits;

@@ -40,3 +40,61 @@ fn a_rover_that_waits_crosses_the_night_in_wait_steps_and_idles_waiting() {
     assert_eq!(number("hibernate_h"), 0.0, "{:?}", o.summary);
     assert!(number("min_battery_wh") > number("final_battery_wh") - number("final_battery_above_floor_wh"));
 }
+
+/// small.ron with its planner settings replaced by `planner`.
+fn small_with(planner: &str, name: &str) -> std::path::PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let text = std::fs::read_to_string(root.join("tests/tempest/small.ron")).unwrap();
+    let rover = root.join("scenarios/rovers/mock-solar-rover.ron");
+    let text = text
+        .replace("\"../../scenarios/rovers/mock-solar-rover.ron\"", &format!("{:?}", rover.display().to_string()))
+        .replace("planner: (goal_times: 200, resolution: (time_s: 600, energy_wh: 25)),", planner);
+    assert!(text.contains(planner), "the override applies");
+    let dir = root.join("target/waits-tests");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_run_on_a_tick_plans_exactly_and_re_plans_as_fresh_searches_do() {
+    let path = small_with(
+        "planner: (tick_s: Some(600)),\n        simulate: (sense_radius_cells: 2, compare_fresh: true),",
+        "tick.ron",
+    );
+    let text = std::fs::read_to_string(&path).unwrap().replace(
+        "        simulate: (sense_radius_cells: 2, noise: (drive_slowdown: 0.1, solar_loss: 0.1, seed: 5)),\n",
+        "",
+    );
+    std::fs::write(&path, text).unwrap();
+    let file = load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let o = run(&file, RunOptions { out_dir: None, progress: &NoProgress, budget: Budget::for_this_machine() })
+        .unwrap_or_else(|e| panic!("{e}"));
+    let number = |name: &str| o.facts.get(name).and_then(Fact::as_number).unwrap_or_else(|| panic!("{name}: {o:?}"));
+    assert_eq!(o.failure, None, "{:?}", o.summary);
+    assert_eq!(number("goals_reached"), 1.0, "{:?}", o.summary);
+    assert_eq!(number("initial_plan_tick_s"), 600.0);
+    assert!(o.summary.iter().any(|l| l.contains("exact at the tick of 600 s")), "{:?}", o.summary);
+    // Every re-plan — those that kept the rest of the plan and those that searched after
+    // the hill came into view — costs what a fresh search costs.
+    assert!(number("fresh_compared") >= 10.0, "{:?}", o.summary);
+    assert!(number("replan_fresh_cost_difference") <= 1e-12, "{:?}", o.summary);
+    assert!(number("replans_after_sensing") >= 1.0, "{:?}", o.summary);
+    assert_eq!(number("restarts"), 0.0, "{:?}", o.summary);
+}
+
+#[test]
+fn the_knobs_a_tick_replaces_are_refused_naming_tick_s() {
+    for (planner, field) in [
+        ("planner: (tick_s: Some(600), goal_times: 200),", "planner.goal_times"),
+        ("planner: (tick_s: Some(600), resolution: (time_s: 600)),", "planner.resolution"),
+        ("planner: (tick_s: Some(600), actions: (wait_step_s: Some(600))),", "planner.actions.wait_step_s"),
+        ("planner: (tick_s: Some(600), segment_starts: 3),", "planner.segment_starts"),
+    ] {
+        let err = load(&small_with(planner, "refused.ron")).expect_err(planner).to_string();
+        assert!(err.contains(field) && err.contains("tick_s") && err.contains("refused.ron"), "{planner}: {err}");
+    }
+    let err = load(&small_with("planner: (tick_s: Some(0.5)),", "refused.ron")).expect_err("a half-second tick");
+    assert!(err.to_string().contains("planner.tick_s") && err.to_string().contains("1..=86400"), "{err}");
+}

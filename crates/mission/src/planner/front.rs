@@ -89,15 +89,21 @@ pub fn non_dominated(points: &[(f64, f64, f64)]) -> Vec<usize> {
 }
 
 impl Mission<'_> {
-    /// The Pareto front of this mission's plans in (arrival time, energy used, margin),
-    /// margins walked `margin_step_wh` apart (see the module's notes). One goal only:
-    /// chained segments pick one candidate per intermediate goal, which a front over the
-    /// whole chain would have to keep apart.
-    pub fn pareto_front(&self, margin_step_wh: f64) -> Result<ParetoFront> {
+    /// The front's settings refused, naming the field: one goal, goal instants (not a
+    /// tick), a margin step in range.
+    fn check_front(&self, margin_step_wh: f64) -> Result<()> {
         if self.goals.len() != 1 {
             return Err(Error::Config {
                 field: "pareto_front",
                 message: format!("the front is searched for a single goal; this mission has {}", self.goals.len()),
+            });
+        }
+        if self.config.tick_s.is_some() {
+            return Err(Error::Config {
+                field: "tick_s",
+                message: "the Pareto front is searched over goal instants, not at a tick: leave `tick_s` unset \
+                          for `pareto_front`"
+                    .into(),
             });
         }
         if !(1e-9..=1e6).contains(&margin_step_wh) {
@@ -106,6 +112,15 @@ impl Mission<'_> {
                 message: format!("{margin_step_wh}: allowed 1e-9..=1e6 Wh"),
             });
         }
+        Ok(())
+    }
+
+    /// The Pareto front of this mission's plans in (arrival time, energy used, margin),
+    /// margins walked `margin_step_wh` apart (see the module's notes). One goal only:
+    /// chained segments pick one candidate per intermediate goal, which a front over the
+    /// whole chain would have to keep apart.
+    pub fn pareto_front(&self, margin_step_wh: f64) -> Result<ParetoFront> {
+        self.check_front(margin_step_wh)?;
         let goal = self.goals[0];
         // One planning call: its searches share the call's expansion allowance.
         self.allowance.begin();

@@ -96,7 +96,7 @@ impl Mission<'_> {
             return e;
         }
         let proven = windows.last().is_some_and(|w| w.0 >= self.world.span_s());
-        if proven {
+        if proven && self.tick.is_none() {
             let message = Binding::Horizon.describe().into();
             return Error::Unreachable { binding: Binding::Horizon, message, proven };
         }
@@ -208,6 +208,20 @@ impl Mission<'_> {
         if sessions {
             model = model.with_sessions(self.model.sessions().to_vec()).sessions_need_earth(self.model.needs_earth());
         }
+        if self.tick.is_some() {
+            // The same exact search on the relaxed rover, over the kept windows or the
+            // windows opened to the planning horizon.
+            let mut query = self.tick_query(&model, start);
+            if windows.is_some() {
+                for g in &mut query.goals {
+                    g.close_s = self.world.span_s();
+                }
+            }
+            return self
+                .allowance
+                .beside(self.search_bytes(), || self.tick_solve(&query))
+                .is_ok_and(|o| o.plan.is_some());
+        }
         // The same settings as the plan: a coarser probe could lose the very plan the
         // relaxation makes possible, and name the wrong constraint.
         let rebuild = windows.is_some();
@@ -224,6 +238,7 @@ impl Mission<'_> {
             given_t_max: self.given_t_max,
             widened_for_s: self.widened_for_s,
             allowance: self.allowance.clone(),
+            tick: None,
         };
         if rebuild || self.segments.is_empty() {
             probe.build_segments();
@@ -244,6 +259,10 @@ impl Mission<'_> {
     /// when they were exact at the quanta (the last resort), otherwise said to be a
     /// verdict at these classes only.
     fn unreachable(&self, binding: Binding, description: &str) -> Error {
+        if self.tick.is_some() {
+            let message = format!("{description}; {}", self.tick_proof());
+            return Error::Unreachable { binding, message, proven: true };
+        }
         let proven = self.last_resort;
         let mut message = description.to_string();
         if !proven {

@@ -224,6 +224,48 @@ pub struct PlannerSpec {
     /// "unreachable", with quantised ones before the last resort exact at the quanta
     /// (see docs/tempest.md).
     pub unreachable_retries: u32,
+    /// One time step, s (1..=86400): the planner plans exactly at it — drives depart
+    /// on ticks, the rover waits in whole ticks (charging where lit, asleep where not),
+    /// the battery exact, each goal reached at any instant of its window. The plan is
+    /// optimal over every such plan and "unreachable" a proof. With it, `resolution`,
+    /// `goal_times`, `segment_starts`, `unreachable_retries`, `actions.wait_step_s` and
+    /// the actions' quanta are refused. `None`: the approximate search.
+    pub tick_s: Option<f64>,
+}
+
+impl PlannerSpec {
+    /// The rover's actions as the library takes them: on a tick, waits in steps of it.
+    pub fn action_config(&self) -> m::ActionConfig {
+        let mut actions: m::ActionConfig = (&self.actions).into();
+        if let Some(tick) = self.tick_s {
+            actions.wait_step_s = Some(tick);
+        }
+        actions
+    }
+
+    /// The fields given beside `tick_s` that it replaces: (path, field), each set to
+    /// other than its default.
+    pub fn replaced_by_tick(&self) -> Vec<(&'static str, &'static str)> {
+        if self.tick_s.is_none() {
+            return Vec::new();
+        }
+        let d = PlannerSpec::default();
+        let mut out = Vec::new();
+        let planner = [
+            ("resolution", self.resolution != d.resolution),
+            ("goal_times", self.goal_times != d.goal_times),
+            ("segment_starts", self.segment_starts != d.segment_starts),
+            ("unreachable_retries", self.unreachable_retries != d.unreachable_retries),
+        ];
+        out.extend(planner.iter().filter(|f| f.1).map(|f| ("", f.0)));
+        let actions = [
+            ("wait_step_s", self.actions.wait_step_s != d.actions.wait_step_s),
+            ("time_quantum_s", self.actions.time_quantum_s != d.actions.time_quantum_s),
+            ("energy_quantum_wh", self.actions.energy_quantum_wh != d.actions.energy_quantum_wh),
+        ];
+        out.extend(actions.iter().filter(|f| f.1).map(|f| ("actions", f.0)));
+        out
+    }
 }
 
 impl Default for PlannerSpec {
@@ -243,6 +285,7 @@ impl Default for PlannerSpec {
             max_wait_s: d.max_wait_s,
             goal_energy_wh: d.goal_energy_wh,
             unreachable_retries: d.unreachable_retries,
+            tick_s: d.tick_s,
         }
     }
 }
@@ -250,7 +293,7 @@ impl Default for PlannerSpec {
 impl From<&PlannerSpec> for m::PlannerConfig {
     fn from(p: &PlannerSpec) -> m::PlannerConfig {
         m::PlannerConfig {
-            actions: (&p.actions).into(),
+            actions: p.action_config(),
             objective: p.objective.into(),
             resolution: m::Resolution { time_s: p.resolution.time_s, energy_wh: p.resolution.energy_wh },
             path_length: match p.path_length {
@@ -263,6 +306,7 @@ impl From<&PlannerSpec> for m::PlannerConfig {
             max_wait_s: p.max_wait_s,
             goal_energy_wh: p.goal_energy_wh,
             unreachable_retries: p.unreachable_retries,
+            tick_s: p.tick_s,
             meter: m::ExpansionMeter::default(),
             // Set by the run from its work and memory budgets, not by the file.
             max_expansions: None,

@@ -272,6 +272,7 @@ impl Validate for TempestJob {
                 c.fail("plan_region", "a region is planned on the map as true (truth: Map, the default)".into());
             }
         }
+        check_tick_fields(c, &self.planner);
         if let Err(areo_mission::Error::Config { field, message }) =
             areo_mission::PlannerConfig::from(&self.planner).validate()
         {
@@ -285,6 +286,20 @@ impl Validate for TempestJob {
         {
             c.nested("simulate", |c| c.fail_at(&field_segments(field), message));
         }
+    }
+}
+
+/// The planner's fields that `tick_s` replaces, refused beside it.
+fn check_tick_fields(c: &mut Checks, planner: &crate::format::planner::PlannerSpec) {
+    for (path, field) in planner.replaced_by_tick() {
+        let message = format!(
+            "not used with `tick_s` (one time step, the plan exact at it: {} s) — remove `{field}`",
+            planner.tick_s.unwrap_or_default()
+        );
+        c.nested("planner", |c| match path {
+            "" => c.fail(field, message),
+            _ => c.nested(path, |c| c.fail(field, message)),
+        });
     }
 }
 

@@ -485,7 +485,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
 
 /// The action model with the job's Communicate sessions, its start battery checked.
 fn action_model(job: &TempestJob, file: &ScenarioFile, world: &World, rover: ResourceModel) -> Result<ActionModel> {
-    let mut model = ActionModel::new(rover, (&job.planner.actions).into());
+    let mut model = ActionModel::new(rover, job.planner.action_config());
     if let Some(com) = &job.communicate {
         let needs_earth = com.earth_in_view.unwrap_or(job.body.model() == areo_ephemeris::Body::Moon);
         let schedule = areo_mission::contact::Schedule {

@@ -72,6 +72,14 @@ pub(super) fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan)
 /// What the search that found the plan approximated, said as what it is: its classes,
 /// and which fallback (energy exact, halved classes, exact at the quanta) found it.
 pub(super) fn resolution_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan) {
+    if let Some(tick) = plan.tick_s {
+        o.number("initial_plan_tick_s", tick);
+        o.summary.push(format!(
+            "search: exact at the tick of {tick:.0} s (drives depart and waits end on ticks, energy exact, goals \
+             reached at any instant of their windows; no approximation, no fallback)"
+        ));
+        return;
+    }
     let resolution = ctx.job.planner.resolution;
     let fallback = resolution.energy_wh.is_some() && plan.energy_classes_wh.is_none();
     o.flag("initial_plan_exact_energy_fallback", fallback);
@@ -263,6 +271,17 @@ pub(super) fn search_facts(o: &mut Outcome, r: &SimReport) {
         "replans_after_sensing",
         r.plans.iter().filter(|p| p.kind != PlanKind::Initial && p.changed_cells > 0).count() as u64,
     );
+    // On a tick: re-plans that kept the rest of the last plan (nothing changed and the
+    // rover where it said: optimal by Bellman's principle) rather than search again.
+    let replans = r.plans.iter().filter(|p| p.kind == PlanKind::Replan);
+    if r.plans.first().is_some_and(|p| p.plan.tick_s.is_some()) {
+        let kept = replans.filter(|p| p.expansions == 0).count() as u64;
+        o.count("replans_kept_rest", kept);
+        o.summary.push(format!(
+            "re-plans on the tick: {kept} kept the rest of the last plan (the world unchanged, the rover where the \
+             plan said), the others searched exactly from where the rover stood"
+        ));
+    }
     // With `compare_fresh`: re-plans against the same problem searched from scratch.
     let compared: Vec<(&areo_mission::PlanRecord, (u64, f64))> =
         r.plans.iter().filter_map(|p| p.fresh.map(|f| (p, f))).collect();

@@ -1,0 +1,300 @@
+//! The planner on a tick ([`PlannerConfig::tick_s`](super::PlannerConfig::tick_s)):
+//! every planning call is one exact search ([`crate::exact`]) from where the rover is
+//! to the goals still ahead, within the goal windows fixed when the mission was planned.
+//! No classes, no goal instants, no start intervals: the plan is optimal over every plan
+//! whose drives depart on ticks and whose waits end on them, and "unreachable" is a
+//! proof at that tick.
+//!
+//! Re-planning searches afresh, so a re-plan *is* what a fresh search returns — with
+//! one shortcut that changes nothing: when the world did not change and the rover
+//! stands where, when and with the battery the last plan said it would (on a tick,
+//! after the settle), the rest of that plan is kept. By Bellman's principle it is
+//! optimal from there: a cheaper way on would, after the part already driven, have
+//! been a cheaper plan from the start, which the exact search would have returned.
+
+use super::{Allowance, Mission, PlannerConfig};
+use crate::action_model::{Action, ActionModel};
+use crate::domain::{Label, SharedGeometry, Start};
+use crate::error::{Error, Result};
+use crate::exact::{ExactGoal, ExactOutcome, ExactQuery, ExactStep};
+use crate::plan::{MissionPlan, Waypoint};
+use crate::world::World;
+
+/// Slack for comparing the rover's state with a plan's prediction (s, Wh).
+const SAME_STATE: f64 = 1e-6;
+
+/// What a mission on a tick keeps between planning calls.
+#[derive(Debug, Clone, Default)]
+pub(super) struct TickState {
+    /// The goal windows of the goals still ahead, s after the epoch, fixed when the
+    /// mission was planned (a re-plan answers the same problem as a fresh search).
+    pub windows: Vec<(f64, f64)>,
+    /// The last plan's steps, from the state it was searched from.
+    last: Option<KeptPlan>,
+    /// The last search's expansions, labels kept and bytes.
+    pub expanded: u64,
+    pub kept: u64,
+    pub bytes: u64,
+    /// Whether the last call kept the rest of the plan before instead of searching.
+    pub reused: bool,
+}
+
+#[derive(Debug, Clone)]
+struct KeptPlan {
+    steps: Vec<ExactStep>,
+    /// The battery above the floor before the first step, Wh.
+    start_wh: f64,
+    /// The mission's goals ahead when it was searched.
+    goals: usize,
+}
+
+impl KeptPlan {
+    /// The rest of the plan from `start`, if the rover is where, when and with the
+    /// battery one of its steps starts with, with `goals` goals ahead: its steps and
+    /// their cost.
+    fn rest_from(&self, start: Start, goals: usize) -> Option<(Vec<ExactStep>, f64)> {
+        let dropped = self.goals.checked_sub(goals)?;
+        let mut before = (self.steps.first()?.t_s, self.start_wh, 0usize, 0.0);
+        for (i, step) in self.steps.iter().enumerate() {
+            let (t, e, reached, cost) = before;
+            let here = step.cell == start.cell
+                && (t - start.t_min).abs() <= SAME_STATE
+                && (e - start.energy_wh).abs() <= SAME_STATE
+                && reached == dropped;
+            if here && i > 0 {
+                let rest = self.steps[i..]
+                    .iter()
+                    .map(|s| ExactStep {
+                        goals_reached: s.goals_reached - dropped,
+                        cost_after: s.cost_after - cost,
+                        ..*s
+                    })
+                    .collect();
+                return Some((rest, self.steps.last()?.cost_after - cost));
+            }
+            before = (step.t_s + step.duration_s, step.battery_wh, step.goals_reached, step.cost_after);
+        }
+        None
+    }
+}
+
+impl<'a> Mission<'a> {
+    /// [`Mission::plan`] on a tick: the goal windows fixed from the start, then one
+    /// exact search.
+    pub(super) fn plan_at_tick(
+        world: &'a World,
+        model: &'a ActionModel,
+        config: PlannerConfig,
+        start: Start,
+        goals: &[u32],
+    ) -> Result<(Mission<'a>, MissionPlan)> {
+        let tick_s = config.tick_s.expect("a mission on a tick");
+        check_tick(model, tick_s)?;
+        let allowance = Allowance::new(config.max_expansions, config.max_search_bytes);
+        let mut mission = Mission {
+            world,
+            model,
+            config,
+            start,
+            goals: goals.to_vec(),
+            segments: Vec::new(),
+            geometry: SharedGeometry::default(),
+            last_resort: false,
+            given_t_max: start.t_max,
+            widened_for_s: tick_s,
+            allowance,
+            tick: Some(TickState::default()),
+        };
+        let windows = mission.windows();
+        mission.tick.as_mut().expect("a mission on a tick").windows = windows;
+        let plan = mission.tick_plan(false)?;
+        Ok((mission, plan))
+    }
+
+    /// The query of the problem as it now stands: from the mission's start to the
+    /// goals ahead within their kept windows.
+    pub(super) fn tick_query<'m>(&'m self, model: &'m ActionModel, start: Start) -> ExactQuery<'m> {
+        let windows = &self.tick.as_ref().expect("a mission on a tick").windows;
+        ExactQuery {
+            world: self.world,
+            model,
+            start,
+            goals: (self.goals.iter().zip(windows))
+                .map(|(&cell, &(open_s, close_s))| ExactGoal { cell, open_s, close_s })
+                .collect(),
+            goal_energy_wh: self.config.goal_energy_wh,
+            objective: self.config.objective,
+            max_labels: u64::MAX,
+            settle: true,
+        }
+    }
+
+    /// Runs `query` within the call's work and memory allowance (every expansion one
+    /// unit of work, every label [`crate::exact::BYTES_PER_LABEL`]).
+    pub(super) fn tick_solve(&self, query: &ExactQuery<'_>) -> Result<ExactOutcome> {
+        let allowance = &self.allowance;
+        let meter = &self.config.meter;
+        let out = query.solve_with(&mut |kept| {
+            allowance.spend();
+            meter.add(1);
+            !allowance.exhausted() && !allowance.outgrown(kept * crate::exact::BYTES_PER_LABEL)
+        });
+        allowance.check()?;
+        Ok(out)
+    }
+
+    /// The plan from the mission's start as the world now stands: the rest of the last
+    /// plan if `reuse` and the rover is where it said (see the module's documentation),
+    /// else an exact search. No plan: the verdict, a proof at the tick.
+    pub(super) fn tick_plan(&mut self, reuse: bool) -> Result<MissionPlan> {
+        let start = self.start;
+        let goals = self.goals.len();
+        let state = self.tick.as_mut().expect("a mission on a tick");
+        let rest = if reuse { state.last.as_ref().and_then(|k| k.rest_from(start, goals)) } else { None };
+        if let Some((steps, cost)) = rest {
+            state.reused = true;
+            state.expanded = 0;
+            return Ok(self.tick_waypoints(&steps, cost, 0));
+        }
+        // Goals that slopes or obstacles cut off: a proof without a search.
+        super::problem::check_problem(self.world, self.model, &self.config, start, &self.goals)?;
+        let q = self.tick_query(self.model, start);
+        let out = self.tick_solve(&q)?;
+        let state = self.tick.as_mut().expect("a mission on a tick");
+        (state.reused, state.expanded, state.kept, state.bytes) = (false, out.expanded, out.kept, out.bytes);
+        let Some((cost, steps)) = out.plan else {
+            state.last = None;
+            return Err(self.explain_unreachable());
+        };
+        state.last = Some(KeptPlan { steps: steps.clone(), start_wh: start.energy_wh, goals });
+        Ok(self.tick_waypoints(&steps, cost, out.expanded))
+    }
+
+    /// What a fresh exact search of the problem as it now stands returns (`None`: no
+    /// plan), for comparison with a re-plan.
+    pub(super) fn tick_fresh(&self) -> Result<Option<MissionPlan>> {
+        let bytes = self.search_bytes();
+        let out = self.allowance.beside(bytes, || self.tick_solve(&self.tick_query(self.model, self.start)))?;
+        Ok(out.plan.map(|(cost, steps)| self.tick_waypoints(&steps, cost, out.expanded)))
+    }
+
+    /// The plan's waypoints from exact steps: one per step (a drive's waypoint covers its
+    /// settle; the wait to the first tick from a start between ticks is the idle before
+    /// the plan's first waypoint), then the last goal.
+    fn tick_waypoints(&self, steps: &[ExactStep], cost: f64, expansions: u64) -> MissionPlan {
+        let (world, model) = (self.world, self.model);
+        let tick = self.config.tick_s.expect("a mission on a tick");
+        let floor = {
+            let b = &model.rover().battery;
+            b.capacity_wh * b.min_soc
+        };
+        let required = required_before(world, model, steps, self.config.goal_energy_wh);
+        let mut waypoints = Vec::with_capacity(steps.len() + 1);
+        let mut battery = self.start.energy_wh;
+        let mut reached = 0usize;
+        let mut pending_goal = None;
+        for (i, step) in steps.iter().enumerate() {
+            let partial = step.action == Action::Wait && step.duration_s < tick - SAME_STATE;
+            if !partial {
+                let label = Label { t: step.t_s, e: required[i] };
+                waypoints.push(waypoint(world, step.cell, label, Some(step.action), floor + battery, pending_goal));
+                pending_goal = None;
+            }
+            if step.goals_reached > reached {
+                pending_goal = Some(step.goals_reached - 1);
+                reached = step.goals_reached;
+            }
+            battery = step.battery_wh;
+        }
+        let end = steps.last().map_or((self.start.cell, self.start.t_min), |s| {
+            let to = match s.action {
+                Action::Drive(k) => model.drive_geometry(world, s.cell, k).map_or(s.cell, |g| g.to),
+                _ => s.cell,
+            };
+            (to, s.t_s + s.duration_s)
+        });
+        let label = Label { t: end.1, e: self.config.goal_energy_wh };
+        let last_goal = pending_goal.or(Some(self.goals.len().saturating_sub(1)));
+        waypoints.push(waypoint(world, end.0, label, None, floor + battery, last_goal));
+        MissionPlan {
+            waypoints,
+            cost,
+            e_max_wh: model.gain_bounds(world).0,
+            objective: self.config.objective,
+            expansions,
+            segments: self.goals.len(),
+            energy_classes_wh: None,
+            time_classes_s: tick,
+            exact_at_quanta: false,
+            tick_s: Some(tick),
+        }
+    }
+
+    /// The mission's state on a tick after the rover reached the first goal ahead.
+    pub(super) fn tick_goal_reached(&mut self) {
+        if let Some(state) = self.tick.as_mut()
+            && !state.windows.is_empty()
+        {
+            state.windows.remove(0);
+        }
+    }
+
+    /// "Unreachable" on a tick: what the search proved.
+    pub(super) fn tick_proof(&self) -> String {
+        let tick = self.config.tick_s.unwrap_or_default();
+        let close = self.tick.as_ref().and_then(|s| s.windows.last()).map_or(0.0, |w| w.1);
+        format!(
+            "proven at the tick of {tick} s: no plan whose drives depart and waits end on ticks reaches the goals in \
+             order within their windows (the last by {close:.0} s); a finer tick cannot find one either where the \
+             rover's waits compose (every plan at a tick is one at half of it)"
+        )
+    }
+}
+
+/// The least battery above the floor each step needs at its start for the plan to
+/// hold `goal_wh` at its end, Wh (replayed backward through each step's effect, its
+/// settle included).
+fn required_before(world: &World, model: &ActionModel, steps: &[ExactStep], goal_wh: f64) -> Vec<f64> {
+    let mut need = vec![0.0; steps.len()];
+    let mut after = goal_wh;
+    for (i, s) in steps.iter().enumerate().rev() {
+        let effect = match s.action {
+            Action::Drive(k) => model.drive(world, s.cell, k, s.t_s).ok().and_then(|(to, drive)| {
+                let settle = model.wait(world, to, s.t_s + drive.duration_s, s.settle_s).ok()?;
+                Some(drive.then(&settle))
+            }),
+            _ => model.wait(world, s.cell, s.t_s, s.duration_s).ok(),
+        };
+        after = effect.map_or(after, |e| e.required_before(after));
+        need[i] = after;
+    }
+    need
+}
+
+fn waypoint(
+    world: &World,
+    cell: u32,
+    label: Label,
+    action: Option<Action>,
+    battery_wh: f64,
+    goal: Option<usize>,
+) -> Waypoint {
+    let (x, y) = world.center(cell);
+    let (lat, lon) = world.lat_lon(cell);
+    Waypoint::new(world, cell, (x, y, lat, lon), label, action, battery_wh, &world.sun(label.t), goal)
+}
+
+/// A mission's settings refused on a tick, naming the field.
+pub(super) fn check_tick(model: &ActionModel, tick_s: f64) -> Result<()> {
+    if model.wait_step_s() != Some(tick_s) {
+        return Err(Error::Config {
+            field: "tick_s",
+            message: format!(
+                "{tick_s} s: the rover must wait in steps of the tick (its wait step is {:?}; set \
+                 `actions.wait_step_s` to the tick)",
+                model.wait_step_s()
+            ),
+        });
+    }
+    Ok(())
+}
