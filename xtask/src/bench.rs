@@ -102,7 +102,7 @@ pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
         Some("lunar") => return lunar(root),
         Some("budget") => return budget(root),
         Some("fresh") => return fresh(root),
-        Some("exact") => return exact::run(),
+        Some("exact") => return exact::run(root),
         Some("bigmap") => {
             let side =
                 args.get(1).map_or(Ok(30_000), |s| s.parse::<usize>()).map_err(|e| format!("bigmap SIDE: {e}"))?;

@@ -292,7 +292,8 @@ impl ExactQuery<'_> {
     }
 
     /// Keeps `node` unless a label at its cell, goal and instant has at least its
-    /// battery at no more cost; drops the labels it beats. Its index, if kept.
+    /// battery at no more cost; drops the labels it beats. Its index, if kept. Both
+    /// are binary searches on the instant's staircase of labels.
     fn keep(
         &self,
         node: Node,
@@ -305,20 +306,24 @@ impl ExactQuery<'_> {
             out.instants += 1;
             Vec::new()
         });
-        if list.iter().any(|&j| {
-            let other = &nodes[j as usize];
-            other.e >= node.e - 1e-9 && other.cost <= node.cost + 1e-12
-        }) {
+        // The list is a staircase: sorted by battery, most first, the cost falling along
+        // it (of two labels neither beats, the one with more battery costs more; their
+        // batteries differ by more than the slack). The labels with at least this
+        // battery are a prefix, the cheapest of them its last.
+        let p = list.partition_point(|&j| nodes[j as usize].e >= node.e - 1e-9);
+        if p > 0 && nodes[list[p - 1] as usize].cost <= node.cost + 1e-12 {
             return None;
         }
-        list.retain(|&j| {
-            let other = &mut nodes[j as usize];
-            let beaten = node.e >= other.e - 1e-9 && node.cost <= other.cost + 1e-12;
-            other.dead |= beaten;
-            !beaten
-        });
+        // Those with at most this battery start at q; the ones it beats (no cheaper) lead
+        // that run.
+        let q = list.partition_point(|&j| nodes[j as usize].e > node.e + 1e-9);
+        let mut r = q;
+        while r < list.len() && nodes[list[r] as usize].cost >= node.cost - 1e-12 {
+            nodes[list[r] as usize].dead = true;
+            r += 1;
+        }
         let j = nodes.len() as u32;
-        list.push(j);
+        list.splice(q..r, [j]);
         nodes.push(node);
         out.kept += 1;
         let phase = node.t / tick;

@@ -542,7 +542,11 @@ fn execute_once(
         // Not before its planned start: an early rover sleeps until then.
         if w.t_s > t {
             battery = match model.idle_wait(world, cell, t, w.t_s - t) {
-                Some(wait) => wait.after(battery, capacity),
+                Some(wait) => {
+                    // A wait (a settle on a tick, a night) can dip inside.
+                    out.lowest_battery_wh = out.lowest_battery_wh.min(wait.lowest(battery, capacity));
+                    wait.after(battery, capacity)
+                }
                 None => (battery - model.idle_wh(w.t_s - t) * p.draw_factor).min(capacity),
             };
             t = w.t_s;

@@ -273,12 +273,12 @@ impl TempestWork {
     /// The label expansions the searches are expected to make: for each leg (start to
     /// the first goal, then goal to goal), the cells within its detour ellipse
     /// ([`DETOUR`]; never more than the map) × time classes (horizon /
-    /// `resolution.time_s`), per search. Each class holds a Pareto front in (cost,
+    /// `resolution.time_s`, or `tick_s` on a tick), per search. Each class holds a Pareto front in (cost,
     /// battery energy), a few labels in practice. An expectation, not a bound either
     /// way: a static route expands far fewer, a search whose battery is too low to move
     /// floods the map (fuzz seed 7 on devon-island expanded 4.8 M labels).
     fn labels(job: &TempestJob, map: SearchMap) -> f64 {
-        let time_classes = (job.horizon_h * 3600.0 / job.planner.resolution.time_s).ceil().max(1.0);
+        let time_classes = (job.horizon_h * 3600.0 / step_s(job)).ceil().max(1.0);
         let stops = std::iter::once((job.start.x_m, job.start.y_m)).chain(job.goals.iter().map(|g| (g.x_m, g.y_m)));
         let footprint: f64 = stops.clone().zip(stops.skip(1)).map(|(a, b)| leg_footprint(a, b, map)).sum();
         let (searches, _, _) = chance_work(job);
@@ -292,10 +292,15 @@ impl TempestWork {
         // and a walk along the plan per open-loop execution.
         let (_, clones, executions) = chance_work(job);
         let sectors = job.horizon_sectors as u64;
-        let time_classes = (job.horizon_h * 3600.0 / job.planner.resolution.time_s).ceil().max(1.0);
+        let time_classes = (job.horizon_h * 3600.0 / step_s(job)).ceil().max(1.0);
         let sweeps = cells.saturating_mul(sectors.max(1)).saturating_mul(clones.saturating_add(1)) as f64;
         sweeps + executions as f64 * time_classes
     }
+}
+
+/// The time step a TEMPEST job's labels are kept at, s: its tick, or its time classes.
+fn step_s(job: &TempestJob) -> f64 {
+    job.planner.tick_s.unwrap_or(job.planner.resolution.time_s)
 }
 
 /// A TEMPEST job's searches (the plan, the deterministic plan beside a

@@ -10,6 +10,7 @@
 //! - the approximate planner (`Mission::plan`, time classes of one tick, exact energy,
 //!   72 goal instants), whose plans chain drives without settling.
 
+use std::path::Path;
 use std::time::Instant;
 
 use areo_mission::exact::{ExactGoal, ExactOutcome, ExactQuery};
@@ -60,7 +61,64 @@ fn describe(out: &ExactOutcome, wall: f64) -> String {
     }
 }
 
-pub(crate) fn run() -> Result<bool, String> {
+/// Work the valley-detour plan on a tick may spend, label expansions.
+const VALLEY_EXPANSIONS: u64 = 20_000_000;
+
+/// valley-detour's initial plan (no simulation) as shipped and on a tick of `tick_s`
+/// (its classes, goal instants and start intervals dropped), in one sitting: each
+/// one's wall time and facts, or where the work budget stopped the tick's search.
+fn valley(root: &Path, tick_s: f64) -> Result<(), String> {
+    let path = root.join("scenarios/valley-detour.ron");
+    let shipped = areo_scenario::format::load(&path).map_err(|e| e.to_string())?;
+    let plan_only = |mut file: areo_scenario::format::ScenarioFile, tick: Option<f64>| {
+        if let areo_scenario::format::Job::Tempest(job) = &mut file.scenario.job {
+            job.simulate = None;
+            if let Some(tick) = tick {
+                let defaults = areo_scenario::format::planner::PlannerSpec::default();
+                job.planner = areo_scenario::format::planner::PlannerSpec {
+                    tick_s: Some(tick),
+                    goal_energy_wh: job.planner.goal_energy_wh,
+                    max_wait_s: job.planner.max_wait_s,
+                    ..defaults
+                };
+            }
+        }
+        file
+    };
+    for (name, file) in
+        [("as shipped", plan_only(shipped.clone(), None)), ("on a tick", plan_only(shipped, Some(tick_s)))]
+    {
+        let budget = areo_scenario::budget::Budget {
+            work_steps: VALLEY_EXPANSIONS * areo_scenario::budget::EXPANSION_STEPS,
+            ..areo_scenario::budget::Budget::for_this_machine()
+        };
+        let clock = Instant::now();
+        let outcome = areo_scenario::run(
+            &file,
+            areo_scenario::RunOptions { out_dir: None, progress: &areo_scenario::NoProgress, budget },
+        );
+        let wall = clock.elapsed().as_secs_f64();
+        match outcome {
+            Ok(o) => {
+                let fact =
+                    |n: &str| o.facts.get(n).and_then(areo_scenario::outcome::Fact::as_number).unwrap_or(f64::NAN);
+                println!(
+                    "  valley-detour initial plan {name}: {wall:.2} s, {} expansions, cost {:.1}, {:.1} h, peak {:.0} MB",
+                    fact("initial_plan_expansions"),
+                    fact("initial_plan_cost"),
+                    fact("initial_plan_duration_h"),
+                    fact("peak_memory_mb")
+                );
+            }
+            Err(e) => println!("  valley-detour initial plan {name}: stopped after {wall:.1} s: {e}"),
+        }
+    }
+    Ok(())
+}
+
+pub(crate) fn run(root: &Path) -> Result<bool, String> {
+    println!("valley-detour (80 x 60 cells, two goals, a night), L + B, tick 600 s:");
+    valley(root, 600.0)?;
     println!("exactness at a tick: one goal across the map, an afternoon start, a night on the way");
     for (cols, tick) in [(20, 60.0), (40, 60.0), (80, 60.0), (80, 600.0)] {
         let world = world(cols)?;

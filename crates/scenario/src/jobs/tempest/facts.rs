@@ -30,6 +30,8 @@ pub(super) fn plan_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan)
     o.number("initial_plan_duration_h", plan.duration_s() / 3600.0);
     o.number("initial_plan_min_battery_wh", plan.min_battery_wh());
     o.count("initial_plan_expansions", plan.expansions);
+    // The objective's value: Wh (L + B, energy used, margin) or s (time).
+    o.number("initial_plan_cost", plan.cost);
     o.number("e_max_wh", plan.e_max_wh);
     let drive_wps: Vec<_> = plan.waypoints.iter().filter(|w| matches!(w.action, Some(Action::Drive(_)))).collect();
     let length: f64 = plan
