@@ -15,7 +15,8 @@
 //! arrival.
 //!
 //! Labels carry the battery exactly (no classes), and one is dropped only for another
-//! at the same cell, goal and instant with at least its battery at no more cost; labels
+//! at the same cell, goal and instant with at least its battery at no more cost (costs
+//! equal to a part in 10⁹ counting as equal: sums in another order round apart); labels
 //! at different ticks are compared where the earlier one's waits reach the later one's
 //! instant. The search is A* on a consistent bound (the cheapest drives to each
 //! remaining goal over a 2-D graph of the least each drive can cost at any time), so
@@ -310,15 +311,18 @@ impl ExactQuery<'_> {
         // it (of two labels neither beats, the one with more battery costs more; their
         // batteries differ by more than the slack). The labels with at least this
         // battery are a prefix, the cheapest of them its last.
+        // Costs are sums in different orders: equal to a part in 10⁹ is equal (else the
+        // rounding of equal costs would keep both labels as a trade-off).
+        let slack = 1e-9 * node.cost.abs().max(1.0);
         let p = list.partition_point(|&j| nodes[j as usize].e >= node.e - 1e-9);
-        if p > 0 && nodes[list[p - 1] as usize].cost <= node.cost + 1e-12 {
+        if p > 0 && nodes[list[p - 1] as usize].cost <= node.cost + slack {
             return None;
         }
         // Those with at most this battery start at q; the ones it beats (no cheaper) lead
         // that run.
         let q = list.partition_point(|&j| nodes[j as usize].e > node.e + 1e-9);
         let mut r = q;
-        while r < list.len() && nodes[list[r] as usize].cost >= node.cost - 1e-12 {
+        while r < list.len() && nodes[list[r] as usize].cost >= node.cost - slack {
             nodes[list[r] as usize].dead = true;
             r += 1;
         }
