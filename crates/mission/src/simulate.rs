@@ -502,7 +502,7 @@ fn idle_until(
     if until <= t + 1e-6 {
         return (t, battery);
     }
-    let idle = idle_step(executor, truth, cell, t, until - t, battery, capacity);
+    let (idle, _) = idle_step(executor, truth, cell, t, until - t, battery, capacity);
     let after = idle.battery_above_floor_wh;
     report.steps.push(idle);
     (until, after)
@@ -521,11 +521,7 @@ fn settle_step(
     if next - t <= 1e-6 || (t / tick - (t / tick).round()).abs() <= 1e-9 {
         return None;
     }
-    let settle = idle_step(executor, truth, cell, t, next - t, battery, capacity);
-    let low = executor
-        .idle_wait(truth, cell, t, next - t)
-        .map_or(settle.battery_above_floor_wh, |w| w.lowest(battery, capacity));
-    Some((settle, low))
+    Some(idle_step(executor, truth, cell, t, next - t, battery, capacity))
 }
 
 /// The record of re-plan (or restart) `p` made at (`step`, `t`) in `wall_s`, after
@@ -580,7 +576,7 @@ fn noise_source(sim: &SimConfig) -> (ChaCha8Rng, Option<Perturbation>) {
 }
 
 /// The rover idling at the low load from `t` for `duration_s` (until its plan starts),
-/// as an executed Hibernate.
+/// as an executed Hibernate (or a wait), and the lowest charge inside it.
 fn idle_step(
     executor: &ActionModel,
     truth: &World,
@@ -589,16 +585,17 @@ fn idle_step(
     duration_s: f64,
     battery: f64,
     capacity: f64,
-) -> ExecutedStep {
+) -> (ExecutedStep, f64) {
     // A rover that waits charges while it idles where its array sees the Sun.
-    let (action, energy_wh, after) = match executor.idle_wait(truth, cell, t, duration_s) {
-        Some(w) => (Action::Wait, w.energy_wh, w.after(battery, capacity)),
+    let (action, energy_wh, after, lowest) = match executor.idle_wait(truth, cell, t, duration_s) {
+        Some(w) => (Action::Wait, w.energy_wh, w.after(battery, capacity), w.lowest(battery, capacity)),
         None => {
             let e = executor.idle_wh(duration_s);
-            (Action::Hibernate, e, (battery - e).min(capacity))
+            let after = (battery - e).min(capacity);
+            (Action::Hibernate, e, after, after)
         }
     };
-    ExecutedStep {
+    let step = ExecutedStep {
         t_s: t,
         cell,
         to: cell,
@@ -609,7 +606,8 @@ fn idle_step(
         distance_m: 0.0,
         sun_elevation_deg: truth.sun(t).elevation_deg,
         refused: None,
-    }
+    };
+    (step, lowest)
 }
 
 /// The 3-D length of a drive from `cell` to `to` on `world`, m (0 for a stay).

@@ -10,22 +10,14 @@ use areo_scenario::{NoProgress, RunOptions, format::load, run};
 
 #[test]
 fn a_rover_that_waits_crosses_the_night_in_wait_steps_and_idles_waiting() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let text = std::fs::read_to_string(root.join("tests/tempest/small.ron")).unwrap();
-    let rover = root.join("scenarios/rovers/mock-solar-rover.ron");
     // Late afternoon at Gale (about 17:30 local solar time): the night falls on the way.
-    let text = text
-        .replace("\"../../scenarios/rovers/mock-solar-rover.ron\"", &format!("{:?}", rover.display().to_string()))
-        .replace("2012-08-06T23:00:00Z", "2012-08-07T08:00:00Z")
-        .replace("planner: (goal_times: 200,", "planner: (actions: (wait_step_s: Some(600)), goal_times: 200,");
-    assert!(text.contains("wait_step_s") && text.contains("08:00:00Z"), "the overrides apply");
-    let dir = root.join("target/waits-tests");
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("evening.ron");
-    std::fs::write(&path, text).unwrap();
-    let file = load(&path).unwrap_or_else(|e| panic!("{e}"));
-    let o = run(&file, RunOptions { out_dir: None, progress: &NoProgress, budget: Budget::for_this_machine() })
-        .unwrap_or_else(|e| panic!("{e}"));
+    let o = run_file(&small_with(
+        &[
+            ("2012-08-06T23:00:00Z", "2012-08-07T08:00:00Z"),
+            ("planner: (goal_times: 200,", "planner: (actions: (wait_step_s: Some(600)), goal_times: 200,"),
+        ],
+        "evening.ron",
+    ));
     let number = |name: &str| o.facts.get(name).and_then(Fact::as_number).unwrap_or_else(|| panic!("{name}: {o:?}"));
     assert_eq!(o.failure, None, "{:?}", o.summary);
     assert_eq!(number("goals_reached"), 1.0, "{:?}", o.summary);
@@ -41,15 +33,25 @@ fn a_rover_that_waits_crosses_the_night_in_wait_steps_and_idles_waiting() {
     assert!(number("min_battery_wh") > number("final_battery_wh") - number("final_battery_above_floor_wh"));
 }
 
-/// small.ron with its planner settings replaced by `planner`.
-fn small_with(planner: &str, name: &str) -> std::path::PathBuf {
+/// small.ron's planner settings.
+const SMALL_PLANNER: &str = "planner: (goal_times: 200, resolution: (time_s: 600, energy_wh: 25)),";
+
+/// small.ron's simulation settings.
+const SMALL_SIMULATE: &str =
+    "        simulate: (sense_radius_cells: 2, noise: (drive_slowdown: 0.1, solar_loss: 0.1, seed: 5)),\n";
+
+/// small.ron with each `(from, to)` of `changes` applied (each must apply), written as
+/// `name` under target/waits-tests.
+fn small_with(changes: &[(&str, &str)], name: &str) -> std::path::PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let text = std::fs::read_to_string(root.join("tests/tempest/small.ron")).unwrap();
     let rover = root.join("scenarios/rovers/mock-solar-rover.ron");
-    let text = text
-        .replace("\"../../scenarios/rovers/mock-solar-rover.ron\"", &format!("{:?}", rover.display().to_string()))
-        .replace("planner: (goal_times: 200, resolution: (time_s: 600, energy_wh: 25)),", planner);
-    assert!(text.contains(planner), "the override applies");
+    let mut text = std::fs::read_to_string(root.join("tests/tempest/small.ron"))
+        .unwrap()
+        .replace("\"../../scenarios/rovers/mock-solar-rover.ron\"", &format!("{:?}", rover.display().to_string()));
+    for (from, to) in changes {
+        assert!(text.contains(from), "the change of {from:?} applies");
+        text = text.replace(from, to);
+    }
     let dir = root.join("target/waits-tests");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(name);
@@ -57,20 +59,24 @@ fn small_with(planner: &str, name: &str) -> std::path::PathBuf {
     path
 }
 
+fn run_file(path: &Path) -> areo_scenario::Outcome {
+    let file = load(path).unwrap_or_else(|e| panic!("{e}"));
+    run(&file, RunOptions { out_dir: None, progress: &NoProgress, budget: Budget::for_this_machine() })
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
 #[test]
 fn a_run_on_a_tick_plans_exactly_and_re_plans_as_fresh_searches_do() {
-    let path = small_with(
-        "planner: (tick_s: Some(600)),\n        simulate: (sense_radius_cells: 2, compare_fresh: true),",
+    let o = run_file(&small_with(
+        &[
+            (SMALL_SIMULATE, ""),
+            (
+                SMALL_PLANNER,
+                "planner: (tick_s: Some(600)),\n        simulate: (sense_radius_cells: 2, compare_fresh: true),",
+            ),
+        ],
         "tick.ron",
-    );
-    let text = std::fs::read_to_string(&path).unwrap().replace(
-        "        simulate: (sense_radius_cells: 2, noise: (drive_slowdown: 0.1, solar_loss: 0.1, seed: 5)),\n",
-        "",
-    );
-    std::fs::write(&path, text).unwrap();
-    let file = load(&path).unwrap_or_else(|e| panic!("{e}"));
-    let o = run(&file, RunOptions { out_dir: None, progress: &NoProgress, budget: Budget::for_this_machine() })
-        .unwrap_or_else(|e| panic!("{e}"));
+    ));
     let number = |name: &str| o.facts.get(name).and_then(Fact::as_number).unwrap_or_else(|| panic!("{name}: {o:?}"));
     assert_eq!(o.failure, None, "{:?}", o.summary);
     assert_eq!(number("goals_reached"), 1.0, "{:?}", o.summary);
@@ -92,9 +98,10 @@ fn the_knobs_a_tick_replaces_are_refused_naming_tick_s() {
         ("planner: (tick_s: Some(600), actions: (wait_step_s: Some(600))),", "planner.actions.wait_step_s"),
         ("planner: (tick_s: Some(600), segment_starts: 3),", "planner.segment_starts"),
     ] {
-        let err = load(&small_with(planner, "refused.ron")).expect_err(planner).to_string();
+        let err = load(&small_with(&[(SMALL_PLANNER, planner)], "refused.ron")).expect_err(planner).to_string();
         assert!(err.contains(field) && err.contains("tick_s") && err.contains("refused.ron"), "{planner}: {err}");
     }
-    let err = load(&small_with("planner: (tick_s: Some(0.5)),", "refused.ron")).expect_err("a half-second tick");
+    let err = load(&small_with(&[(SMALL_PLANNER, "planner: (tick_s: Some(0.5)),")], "refused.ron"))
+        .expect_err("a half-second tick");
     assert!(err.to_string().contains("planner.tick_s") && err.to_string().contains("1..=86400"), "{err}");
 }

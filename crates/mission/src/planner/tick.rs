@@ -107,7 +107,8 @@ impl<'a> Mission<'a> {
         };
         let windows = mission.windows();
         mission.tick.as_mut().expect("a mission on a tick").windows = windows;
-        let plan = mission.tick_plan(false)?;
+        // `Mission::plan` checked the problem.
+        let plan = mission.tick_search()?;
         Ok((mission, plan))
     }
 
@@ -156,10 +157,17 @@ impl<'a> Mission<'a> {
             state.expanded = 0;
             return Ok(self.tick_waypoints(&steps, cost, 0));
         }
-        // Goals that slopes or obstacles cut off: a proof without a search.
+        // Goals that slopes or obstacles cut off (sensing may have cut them off since the
+        // plan): a proof without a search.
         super::problem::check_problem(self.world, self.model, &self.config, start, &self.goals)?;
-        let q = self.tick_query(self.model, start);
-        let out = self.tick_solve(&q)?;
+        self.tick_search()
+    }
+
+    /// One exact search from the mission's start (its problem checked already), kept as
+    /// the last plan.
+    fn tick_search(&mut self) -> Result<MissionPlan> {
+        let (start, goals) = (self.start, self.goals.len());
+        let out = self.tick_solve(&self.tick_query(self.model, start))?;
         let state = self.tick.as_mut().expect("a mission on a tick");
         (state.reused, state.expanded, state.kept, state.bytes) = (false, out.expanded, out.kept, out.bytes);
         let Some((cost, steps)) = out.plan else {
