@@ -253,8 +253,8 @@ impl<'a> Mission<'a> {
         let close = self.tick.as_ref().and_then(|s| s.windows.last()).map_or(0.0, |w| w.1);
         format!(
             "proven at the tick of {tick} s: no plan whose drives depart and waits end on ticks reaches the goals in \
-             order within their windows (the last by {close:.0} s); a finer tick cannot find one either where the \
-             rover's waits compose (every plan at a tick is one at half of it)"
+             order within their windows (the last by {close:.0} s), nor at any multiple of the tick (every plan \
+             at a tick is one at half of it); a finer tick may"
         )
     }
 }
