@@ -372,6 +372,13 @@ impl ActionModel {
         self.sessions.iter().any(|&(a, b)| t >= a && t < b)
     }
 
+    /// Whether some drive may depart at `t` (s after the epoch) from some cell: false
+    /// only where every drive is refused whatever the cell — past the horizon, in the
+    /// dark under the daylight rule, inside a communication session.
+    pub(crate) fn drives_may_depart(&self, world: &World, t: f64) -> bool {
+        t <= world.span_s() && !(self.config.drive.daylight && world.sun(t).elevation_deg <= 0.0) && !self.in_session(t)
+    }
+
     fn overlaps_session(&self, t0: f64, t1: f64) -> bool {
         self.sessions.iter().any(|&(a, b)| t0 < b && t1 > a)
     }

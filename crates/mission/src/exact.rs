@@ -9,7 +9,10 @@
 //! may drive again; it may also wait any whole number of ticks. Waits compose exactly
 //! ([`crate::ActionModel::wait`]), so a settle to a tick is the same as a settle to a
 //! finer tick followed by whole finer ticks: every plan at tick q is a plan at q/2 at
-//! the same cost, and halving the tick never loses a plan nor makes it dearer. A goal
+//! the same cost, and halving the tick never loses a plan nor makes it dearer. Where no
+//! drive may depart (a night under the daylight rule, a communication session) a wait
+//! runs on to the first tick one may: the ticks between hold nothing but more waiting,
+//! so a night is one wait, not one label per tick per battery trade-off. A goal
 //! counts as reached at any instant of its window the rover is there: on arrival
 //! (before the settle), or at the end of a wait; the last goal ends the plan on
 //! arrival.
@@ -18,10 +21,11 @@
 //! at the same cell, goal and instant with at least its battery at no more cost (costs
 //! equal to a part in 10⁹ counting as equal: sums in another order round apart); labels
 //! at different ticks are compared where the earlier one's waits reach the later one's
-//! instant. The search is A* on a consistent bound (the cheapest drives to each
-//! remaining goal over a 2-D graph of the least each drive can cost at any time), so
-//! the first label to reach the last goal is optimal over every plan of this form, and
-//! an empty queue proves that none exists.
+//! instant. The search is A* on an admissible bound (the cheapest drives to each
+//! remaining goal over a 2-D graph of the least each drive can cost at any time, and
+//! the night or slow hours before the earliest the rover can arrive), so the first
+//! label to reach the last goal is optimal over every plan of this form, and an empty
+//! queue proves that none exists.
 //!
 //! `settle: false` drops the settle: drives chain at their own durations and only
 //! waits end on ticks. That search is exact too, but labels between ticks are compared
@@ -34,7 +38,7 @@ use std::collections::BinaryHeap;
 
 use rustc_hash::FxHashMap;
 
-use crate::action_model::{Action, ActionModel, NEIGHBOURS};
+use crate::action_model::{Action, ActionModel, DriveGeometry};
 use crate::domain::{DarkCost, Objective, PathLength, Start};
 use crate::effect::Effect;
 use crate::world::World;
@@ -160,6 +164,7 @@ impl ExactQuery<'_> {
         let e_max = self.model.gain_bounds(self.world).0;
         let bound = self.bound(e_max);
         let h = |cell: u32, goal: u16, t: f64| bound.at(self.world, cell, goal, t);
+        let departures = Departures::new(self.world, self.model, tick);
         let mut nodes: Vec<Node> = Vec::new();
         let mut at: FxHashMap<(u32, u16, i64), Vec<u32>> = FxHashMap::default();
         let mut open = BinaryHeap::new();
@@ -191,13 +196,13 @@ impl ExactQuery<'_> {
                 return out;
             }
             out.expanded += 1;
-            for next in self.successors(node, i, tick, e_max) {
-                if let Some(j) = self.keep(next, &mut nodes, &mut at, &mut out, tick) {
-                    open.push(Reverse((
-                        ordered(next.cost + h(next.cell, next.goal, next.t)),
-                        Reverse(ordered(next.cost)),
-                        j,
-                    )));
+            for next in self.successors(node, i, tick, e_max, &departures) {
+                let f = next.cost + h(next.cell, next.goal, next.t);
+                // An infinite bound: no plan from here reaches the goals in time.
+                if f.is_finite()
+                    && let Some(j) = self.keep(next, &mut nodes, &mut at, &mut out, tick)
+                {
+                    open.push(Reverse((ordered(f), Reverse(ordered(next.cost)), j)));
                 }
             }
         }
@@ -206,16 +211,14 @@ impl ExactQuery<'_> {
 
     /// The search's bound (see [`Bound`]).
     fn bound(&self, e_max: f64) -> Bound {
-        let drives: Vec<Vec<f64>> = self.goals.iter().map(|g| self.reverse_bound(g.cell, e_max)).collect();
+        let drives: Vec<Vec<f64>> =
+            self.goals.iter().map(|g| self.reverse_bound(g.cell, e_max, self.objective, None)).collect();
         let mut tails = vec![0.0; self.goals.len() + 1];
         for i in (0..self.goals.len().saturating_sub(1)).rev() {
             tails[i] = tails[i + 1] + drives[i + 1][self.goals[i].cell as usize];
         }
-        let speed = self.model.top_speed_m_s();
-        let mut time_tails = vec![0.0; self.goals.len() + 1];
-        for i in (0..self.goals.len().saturating_sub(1)).rev() {
-            time_tails[i] = time_tails[i + 1] + self.world.octile_m(self.goals[i].cell, self.goals[i + 1].cell) / speed;
-        }
+        let tick = self.model.wait_step_s().unwrap_or_else(|| self.model.stay_duration_s(Action::Hibernate));
+        let times = Times::new(self, e_max, tick);
         let units = (0..8u8)
             .map(|k| PathLength::Distance.units(Action::Drive(k), self.world.dem().dx(), self.world.dem().dy()))
             .fold(f64::INFINITY, f64::min);
@@ -223,9 +226,8 @@ impl ExactQuery<'_> {
         Bound {
             drives,
             tails,
-            time_tails,
-            goals: self.goals.iter().map(|g| g.cell).collect(),
-            speed,
+            times,
+            time_objective: matches!(self.objective, Objective::Time | Objective::Margin { .. }),
             dark: DarkCost::new(self.world, self.model, self.objective, e_max, units, source_w),
         }
     }
@@ -245,7 +247,7 @@ impl ExactQuery<'_> {
 
     /// The labels one step from `node` (index `i`): each drive (with its settle, unless
     /// it reaches the last goal), and a wait to the next tick.
-    fn successors(&self, node: Node, i: u32, tick: f64, e_max: f64) -> Vec<Node> {
+    fn successors(&self, node: Node, i: u32, tick: f64, e_max: f64, departures: &Departures) -> Vec<Node> {
         let capacity = self.model.capacity_wh();
         let next_tick = |t: f64| ((t / tick + 1e-9).floor() + 1.0) * tick;
         // The label after `effect` from `from`, if the battery holds inside it.
@@ -284,7 +286,14 @@ impl ExactQuery<'_> {
                 out.push(settled);
             }
         }
-        if let Ok(wait) = self.model.wait(self.world, node.cell, node.t, next_tick(node.t) - node.t)
+        // A wait runs on to the first tick from which a drive may depart: the ticks
+        // between hold nothing but more waiting, and waits compose exactly. At the next
+        // goal's cell every tick may reach it (its window opening, the battery it
+        // must hold), so the wait there is one tick.
+        let at_goal = self.goals.get(node.goal as usize).is_some_and(|g| g.cell == node.cell);
+        let end = if at_goal { Some(next_tick(node.t)) } else { departures.next_after(node.t) };
+        if let Some(end) = end
+            && let Ok(wait) = self.model.wait(self.world, node.cell, node.t, end - node.t)
             && let Some(waited) = after(&node, Action::Wait, node.cell, &wait)
         {
             out.push(waited);
@@ -354,13 +363,29 @@ impl ExactQuery<'_> {
         }
     }
 
-    /// The least cost of the drives from every cell to `goal`, at any time: a
-    /// Dijkstra backward over each drive's floor (the least its energy can be under
-    /// any Sun, or its duration).
-    fn reverse_bound(&self, goal: u32, e_max: f64) -> Vec<f64> {
+    /// The least cost of the drives from every cell to `goal` in `objective`, at any
+    /// time: each drive at its floor (the least its energy can be under any Sun, or its
+    /// duration — in whole ticks with `tick`).
+    fn reverse_bound(&self, goal: u32, e_max: f64, objective: Objective, tick: Option<f64>) -> Vec<f64> {
+        let source_w = self.model.drive_source_bound_w(self.world);
+        let (dx, dy) = (self.world.dem().dx(), self.world.dem().dy());
+        self.reverse_dijkstra(goal, &|k, g| match objective {
+            Objective::Time | Objective::Margin { .. } => {
+                tick.map_or(g.duration_s, |q| (g.duration_s / q - 1e-9).ceil() * q)
+            }
+            Objective::EnergyUsed => self.model.drive_load_floor_wh(g),
+            Objective::Energy => {
+                let units = PathLength::Distance.units(Action::Drive(k), dx, dy);
+                (self.model.drive_energy_floor_wh(g, source_w) + e_max * units).max(0.0)
+            }
+        })
+    }
+
+    /// A Dijkstra backward from `goal` over the drives, each costing `step` (never
+    /// negative): the least sum from every cell.
+    fn reverse_dijkstra(&self, goal: u32, step: &dyn Fn(u8, &DriveGeometry) -> f64) -> Vec<f64> {
         let n = self.world.cols() * self.world.rows();
         let mut dist = vec![f64::INFINITY; n];
-        let source_w = self.model.drive_source_bound_w(self.world);
         let mut heap = BinaryHeap::new();
         dist[goal as usize] = 0.0;
         heap.push(Reverse((ordered(0.0), goal)));
@@ -368,28 +393,10 @@ impl ExactQuery<'_> {
             if d.0 > dist[to as usize] {
                 continue;
             }
-            let (c, r) = self.world.col_row(to);
-            for (k, (dc, dr)) in NEIGHBOURS.iter().enumerate() {
+            for k in 0..8u8 {
                 // The drive into `to` from the neighbour behind direction k.
-                let (pc, pr) = (c as i64 - i64::from(*dc), r as i64 - i64::from(*dr));
-                if pc < 0 || pr < 0 || pc as usize >= self.world.cols() || pr as usize >= self.world.rows() {
-                    continue;
-                }
-                let from = self.world.cell(pc as usize, pr as usize);
-                let Ok(g) = self.model.drive_geometry(self.world, from, k as u8) else { continue };
-                let step = match self.objective {
-                    Objective::Time | Objective::Margin { .. } => g.duration_s,
-                    Objective::EnergyUsed => self.model.drive_load_floor_wh(&g),
-                    Objective::Energy => {
-                        let units = PathLength::Distance.units(
-                            Action::Drive(k as u8),
-                            self.world.dem().dx(),
-                            self.world.dem().dy(),
-                        );
-                        (self.model.drive_energy_floor_wh(&g, source_w) + e_max * units).max(0.0)
-                    }
-                };
-                let nd = d.0 + step;
+                let Some((from, g)) = self.model.drive_geometry_into(self.world, to, k) else { continue };
+                let nd = d.0 + step(k, &g);
                 if nd < dist[from as usize] {
                     dist[from as usize] = nd;
                     heap.push(Reverse((ordered(nd), from)));
@@ -425,42 +432,177 @@ impl ExactQuery<'_> {
             i = node.parent;
         }
         steps.reverse();
-        steps
+        merge_waits(steps, self.model.wait_step_s().unwrap_or(f64::INFINITY))
     }
+}
+
+/// Waits back to back at a cell as one wait (they compose exactly): a plan's step is
+/// then a drive or a wait of any length. A first wait shorter than a tick (from a start
+/// between ticks) stays apart, as does a wait whose end reaches a goal.
+fn merge_waits(steps: Vec<ExactStep>, tick: f64) -> Vec<ExactStep> {
+    let mut merged: Vec<ExactStep> = Vec::with_capacity(steps.len());
+    let mut reached = 0;
+    for step in steps {
+        match merged.last_mut() {
+            Some(last)
+                if last.action == Action::Wait
+                    && step.action == Action::Wait
+                    && last.cell == step.cell
+                    && last.duration_s >= tick - 1e-6
+                    && last.goals_reached == reached
+                    && step.goals_reached == reached =>
+            {
+                last.duration_s += step.duration_s;
+                (last.battery_wh, last.cost_after) = (step.battery_wh, step.cost_after);
+            }
+            _ => {
+                reached = merged.last().map_or(0, |l| l.goals_reached);
+                merged.push(step);
+            }
+        }
+    }
+    merged
 }
 
 /// The A* bound from a label to the last goal: the cheapest drives through the
 /// remaining goals over each drive's floor (2-D, any time), plus the deep night (or any
 /// action's least cost per second) between the label's instant and the earliest it can
-/// arrive — the approximate planner's own time bounds (`domain::DarkCost`).
+/// arrive ([`Times`]) — the approximate planner's own time bounds (`domain::DarkCost`).
+/// Under the Time objective, the earliest arrival less the label's instant.
 struct Bound {
     /// Per goal, the drives' bound from every cell to it.
     drives: Vec<Vec<f64>>,
     /// Per goal, the drives' bound from it through the later goals.
     tails: Vec<f64>,
-    /// Per goal, the least time from it through the later goals, s.
-    time_tails: Vec<f64>,
-    goals: Vec<u32>,
-    speed: f64,
+    /// The earliest the rover can reach the last goal.
+    times: Times,
+    /// Whether the cost is the time taken (the bound is then the earliest arrival).
+    time_objective: bool,
     dark: Option<DarkCost>,
+}
+
+/// The earliest instant a plan can reach the last goal from a label: over the drives
+/// that exist (a detour round an obstacle takes its time), each drive but the last
+/// lasting whole ticks (its settle), the last ending where a drive may end (in daylight
+/// under the daylight rule). A plan that cannot beat the sunset is so seen to wait out
+/// the night, and to pay for it in the bound.
+struct Times {
+    /// Per goal, the least time of the drives from every cell to it, s: at their own
+    /// durations, and at whole ticks.
+    plain: Vec<Vec<f64>>,
+    ticks: Vec<Vec<f64>>,
+    /// Per goal, the same from it through the later goals, s.
+    plain_tails: Vec<f64>,
+    tick_tails: Vec<f64>,
+    /// What the whole-tick sums may exceed the truth by: the first drive from a start
+    /// between ticks and the last drive, unsettled, s.
+    slack_s: f64,
+    /// Under the daylight rule, the Sun-table step and, per table instant, the first
+    /// instant at or after it with the Sun above the horizon.
+    day: Option<(f64, Vec<f64>)>,
+}
+
+impl Times {
+    fn new(query: &ExactQuery<'_>, e_max: f64, tick: f64) -> Times {
+        let per_goal = |tick: Option<f64>| -> Vec<Vec<f64>> {
+            query.goals.iter().map(|g| query.reverse_bound(g.cell, e_max, Objective::Time, tick)).collect()
+        };
+        let tails = |times: &[Vec<f64>]| {
+            let mut tails = vec![0.0; query.goals.len() + 1];
+            for i in (0..query.goals.len().saturating_sub(1)).rev() {
+                tails[i] = tails[i + 1] + times[i + 1][query.goals[i].cell as usize];
+            }
+            tails
+        };
+        let plain = per_goal(None);
+        let ticks = if query.settle { per_goal(Some(tick)) } else { plain.clone() };
+        let (plain_tails, tick_tails) = (tails(&plain), tails(&ticks));
+        let world = query.world;
+        let day = query.model.config().drive.daylight.then(|| {
+            let step = world.sun_step_s();
+            let table = world.sun_table();
+            let mut first = vec![f64::INFINITY; table.len() + 1];
+            for k in (0..table.len()).rev() {
+                // The Sun comes up somewhere after the last sample below the horizon.
+                first[k] = if table[k].elevation_deg > 0.0 { k as f64 * step } else { first[k + 1] };
+            }
+            (step, first)
+        });
+        Times { plain, ticks, plain_tails, tick_tails, slack_s: if query.settle { 2.0 * tick } else { 0.0 }, day }
+    }
+
+    /// The earliest the rover at `cell` at `t`, `goal` goals reached, can reach the last
+    /// goal, s after the epoch (infinite: never within the Sun table).
+    fn arrival(&self, world: &World, cell: u32, goal: usize, t: f64) -> f64 {
+        let plain = self.plain[goal][cell as usize] + self.plain_tails[goal];
+        let ticks = self.ticks[goal][cell as usize] + self.tick_tails[goal] - self.slack_s;
+        let least = plain.max(ticks);
+        if least <= 0.0 {
+            return t;
+        }
+        let at = t + least;
+        match &self.day {
+            Some((step, first)) if world.sun(at).elevation_deg <= 0.0 => {
+                // The last drive ends in daylight: no earlier than the sample before
+                // the first one with the Sun up.
+                let k = (at / step).ceil() as usize;
+                match first.get(k) {
+                    Some(&up) if up.is_finite() => at.max(up - step),
+                    _ => f64::INFINITY,
+                }
+            }
+            _ => at,
+        }
+    }
 }
 
 impl Bound {
     fn at(&self, world: &World, cell: u32, goal: u16, t: f64) -> f64 {
         let g = goal as usize;
-        if g >= self.goals.len() {
+        if g >= self.drives.len() {
             return 0.0;
         }
         let drives = self.drives[g][cell as usize] + self.tails[g];
         // Any plan from here spends at least until `t + least` on its way: the deep
         // night in that span with stays, and all of it at the least cost per second.
-        let least = world.octile_m(cell, self.goals[g]) / self.speed + self.time_tails[g];
+        let arrival = self.times.arrival(world, cell, g, t);
+        if !arrival.is_finite() {
+            return f64::INFINITY;
+        }
+        if self.time_objective {
+            return drives.max(arrival - t);
+        }
         match &self.dark {
-            Some(d) => {
-                (drives + (d.at(t + least) - d.at(t)).max(0.0)).max((d.any_at(t + least) - d.any_at(t)).max(0.0))
-            }
+            Some(d) => (drives + (d.at(arrival) - d.at(t)).max(0.0)).max((d.any_at(arrival) - d.any_at(t)).max(0.0)),
             None => drives,
         }
+    }
+}
+
+/// The ticks from which a drive may depart ([`ActionModel::drives_may_depart`]), as
+/// the first such tick from each tick on.
+struct Departures {
+    tick: f64,
+    /// Per tick index, the index of the first tick at or after it from which a drive
+    /// may depart (`u32::MAX`: none before the horizon).
+    first_from: Vec<u32>,
+}
+
+impl Departures {
+    fn new(world: &World, model: &ActionModel, tick: f64) -> Departures {
+        let n = (world.span_s() / tick).floor() as usize + 1;
+        let mut first_from = vec![u32::MAX; n + 1];
+        for k in (0..n).rev() {
+            first_from[k] = if model.drives_may_depart(world, k as f64 * tick) { k as u32 } else { first_from[k + 1] };
+        }
+        Departures { tick, first_from }
+    }
+
+    /// The first tick after `t` from which a drive may depart, s.
+    fn next_after(&self, t: f64) -> Option<f64> {
+        let k = (t / self.tick + 1e-9).floor() as usize + 1;
+        let first = *self.first_from.get(k)?;
+        (first != u32::MAX).then(|| f64::from(first) * self.tick)
     }
 }
 

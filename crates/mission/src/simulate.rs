@@ -259,15 +259,19 @@ impl SimReport {
         self.steps.iter().map(|s| (-s.energy_wh).max(0.0)).sum()
     }
 
-    /// Nights the rover spent: sunsets crossed, plus one if it started in the dark.
-    pub fn nights(&self) -> usize {
+    /// Nights the rover spent on `world` (its Sun): sunsets crossed from the start to
+    /// the end, at the Sun table's step, plus one if it started in the dark — a wait
+    /// may run from an evening to the next morning.
+    pub fn nights(&self, world: &World) -> usize {
+        let step = world.sun_step_s();
+        let (t0, t1) = (self.start.t_min, self.end_t_s());
+        let samples = ((t1 - t0) / step).ceil().max(0.0) as usize;
         let mut n = 0;
         let mut prev_day: Option<bool> = None;
-        for s in &self.steps {
-            let day = s.sun_elevation_deg > 0.0;
+        for k in 0..=samples {
+            let day = world.sun((t0 + k as f64 * step).min(t1)).elevation_deg > 0.0;
             match prev_day {
-                None if !day => n += 1,
-                Some(true) if !day => n += 1,
+                None | Some(true) if !day => n += 1,
                 _ => {}
             }
             prev_day = Some(day);
@@ -367,8 +371,15 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         let t_plan = plan.waypoints.first().map_or(t, |w| w.t_s);
         (t, battery) = idle_until(&mut report, (&executor, truth), (cell, t, battery, capacity), t_plan);
         let perturbation = draw_perturbation(sim, once, &mut rng);
+        // On a tick a wait lasts until the plan's next step, however many ticks.
+        let wait_s = config
+            .tick_s
+            .filter(|_| action == Action::Wait)
+            .and_then(|_| plan.waypoints.get(1))
+            .map(|w| w.t_s - t)
+            .filter(|&d| d > 1e-6);
         let (executed, mut lowest) =
-            match execute_step(&executor, truth, action, (cell, t, battery, capacity), perturbation) {
+            match execute_step(&executor, truth, (action, wait_s), (cell, t, battery, capacity), perturbation) {
                 Ok(e) => e,
                 Err(b) => {
                     report.status = SimStatus::Stuck(b);
@@ -464,12 +475,16 @@ fn initial_plan<'a>(simulation: &Simulation<'a>) -> Result<(Mission<'a>, Mission
 fn execute_step(
     executor: &ActionModel,
     truth: &World,
-    action: Action,
+    (action, wait_s): (Action, Option<f64>),
     (cell, t, battery, capacity): (u32, f64, f64, f64),
     perturbation: Perturbation,
 ) -> std::result::Result<(ExecutedStep, f64), Binding> {
     let sun_elevation_deg = truth.sun(t).elevation_deg;
-    let (executed, refused, (to, effect)) = match executor.execute(truth, action, cell, t, perturbation) {
+    let done = match (action, wait_s) {
+        (Action::Wait, Some(d)) => executor.execute_wait(truth, cell, t, d, perturbation).map(|e| (cell, e)),
+        _ => executor.execute(truth, action, cell, t, perturbation),
+    };
+    let (executed, refused, (to, effect)) = match done {
         Ok(o) => (action, None, o),
         Err(why) => {
             let stay = executor.fallback_stay();

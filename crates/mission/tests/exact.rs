@@ -280,3 +280,55 @@ fn on_a_crop_of_gale_crater_the_exact_search_equals_a_dijkstra_without_dominance
     // The windows decide: too short a day has no plan, a long enough one has.
     assert!(proven >= 2 && found >= 2, "{found} found, {proven} proven unreachable");
 }
+
+/// Across a night: the exact search's waits run on to the first tick a drive may depart
+/// (the night in one wait), the Dijkstra's wait one tick at a time; they cost the same,
+/// and both prove "no plan" together. Seeded worlds, starts one to three hours before
+/// sunset with goals whose windows run through the night into the next morning.
+#[test]
+fn across_a_night_the_exact_search_equals_a_dijkstra_waiting_tick_by_tick() {
+    let (mut planned, mut overnight, mut proven) = (0, 0, 0);
+    for seed in 0..24u64 {
+        let mut r = Seeds(seed.wrapping_mul(0x2545_f491_4f6c_dd1d) | 1);
+        let world = mars_world(hills(5, 4, 50 + seed), 30.0, None);
+        let mut sunset = 0.0;
+        while world.sun(sunset).elevation_deg <= 0.0 {
+            sunset += 60.0;
+        }
+        while world.sun(sunset).elevation_deg > 0.0 {
+            sunset += 60.0;
+        }
+        let t0 = sunset - 3600.0 * (1.0 + 2.0 * r.next());
+        let cell = |r: &mut Seeds| world.cell((r.next() * 5.0) as usize % 5, (r.next() * 4.0) as usize % 4);
+        let start = Start { cell: cell(&mut r), t_min: t0, t_max: t0, energy_wh: 60.0 + 300.0 * r.next() };
+        let goals: Vec<ExactGoal> = (0..1 + (r.next() * 2.0) as usize)
+            .map(|_| ExactGoal { cell: cell(&mut r), open_s: t0, close_s: t0 + 18.0 * 3600.0 })
+            .collect();
+        let model = model(400.0, actions(1800.0));
+        let out = exact_on(&world, start, &goals, &model);
+        assert!(!out.stopped);
+        let brute = brute_force(&world, &model, start, &goals, 0.0);
+        match (&out.plan, brute) {
+            (Some((cost, steps)), Some(b)) => {
+                assert!((cost - b).abs() < 1e-6 * (1.0 + b), "seed {seed}: exact {cost} vs Dijkstra {b}");
+                planned += 1;
+                let end = steps.last().map_or(t0, |s| s.t_s + s.duration_s);
+                if end > sunset + 3600.0 {
+                    overnight += 1;
+                    // The night is one wait: no step starts in the deep night.
+                    assert!(
+                        steps.iter().filter(|s| s.t_s > sunset + 3600.0 && s.t_s < end - 3.0 * 3600.0).count() == 0
+                            || steps.iter().any(|s| s.action == Action::Wait && s.duration_s > 4.0 * 3600.0),
+                        "seed {seed}: the night waited tick by tick: {steps:?}"
+                    );
+                }
+            }
+            (None, None) => proven += 1,
+            (p, b) => panic!("seed {seed}: exact {:?} vs Dijkstra {b:?}", p.as_ref().map(|p| p.0)),
+        }
+    }
+    assert!(
+        planned >= 8 && overnight >= 4 && proven >= 1,
+        "{planned} planned ({overnight} through the night), {proven} proven unreachable: the cases test too little"
+    );
+}

@@ -75,8 +75,9 @@ fn a_plan_on_a_tick_is_the_exact_searchs_and_replays_on_the_model() {
         let (cost, _) = exact.plan.expect("the exact search plans");
         assert!((plan.cost - cost).abs() <= 1e-9 * (1.0 + cost), "{objective:?}: {} vs {cost}", plan.cost);
         // Forward on the model: each action from its waypoint reaches the next one's
-        // cell, then the rover waits (charging or asleep) less than a tick until it; the
-        // battery is the waypoints'.
+        // cell, then the rover waits (charging or asleep) until it — less than a tick
+        // after a drive, whole ticks after a wait's first (a wait lasts until the next
+        // waypoint); the battery is the waypoints'.
         let floor = 600.0 * model.rover().battery.min_soc;
         let capacity = model.capacity_wh();
         let mut battery = start.energy_wh;
@@ -93,7 +94,11 @@ fn a_plan_on_a_tick_is_the_exact_searchs_and_replays_on_the_model() {
             assert!(effect.lowest(battery, capacity) >= -1e-9);
             battery = effect.after(battery, capacity);
             let gap = w[1].t_s - w[0].t_s - effect.duration_s;
-            assert!((-1e-6..TICK_S).contains(&gap), "{action:?} leaves a gap of {gap} s");
+            if action == Action::Wait {
+                assert!(gap > -1e-6 && ((gap / TICK_S) - (gap / TICK_S).round()).abs() < 1e-9, "a wait then {gap} s");
+            } else {
+                assert!((-1e-6..TICK_S).contains(&gap), "{action:?} leaves a gap of {gap} s");
+            }
             if gap > 1e-6 {
                 battery = model.wait(&world, to, w[0].t_s + effect.duration_s, gap).unwrap().after(battery, capacity);
             }

@@ -265,3 +265,48 @@ fn valley_detour_at_quanta_completes_at_its_settings_and_five_finer_ones() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `path` with `sets`, planned on a tick of `tick_s` with no other resolution knob.
+fn plan_on_tick(path: &Path, sets: &[&str], tick_s: f64) -> Outcome {
+    use areo_scenario::format::{Job, planner::PlannerSpec};
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let mut file = load_set(path, &sets).unwrap_or_else(|e| panic!("{sets:?}: {e}"));
+    let Job::Tempest(job) = &mut file.scenario.job else { panic!("{path:?} is not a TEMPEST job") };
+    job.planner = PlannerSpec {
+        tick_s: Some(tick_s),
+        objective: job.planner.objective,
+        goal_energy_wh: job.planner.goal_energy_wh,
+        max_wait_s: job.planner.max_wait_s,
+        ..PlannerSpec::default()
+    };
+    run(&file, RunOptions { out_dir: None, progress: &NoProgress, budget: Budget::for_this_machine() })
+        .unwrap_or_else(|e| panic!("{sets:?}: {e}"))
+}
+
+/// The kept re-planning states on a 60 s tick, where every answer is exact: lita's
+/// step 20 plans (200 goal instants lost it once); valley's step 77 plans the detour
+/// through the night from 64 Wh (where 100 goal instants lost it), and from 40 Wh
+/// "unreachable" is a proof naming the battery.
+#[test]
+fn the_kept_states_plan_on_a_60_s_tick_and_unreachable_is_a_proof() {
+    use areo_scenario::outcome::Failure;
+    let lita = plan_on_tick(&state("lita-step20.ron"), &[], 60.0);
+    assert_planned(&lita, "lita step 20 on a 60 s tick");
+    assert_eq!(number(&lita, "initial_plan_tick_s"), 60.0);
+    let valley = state("valley-step77.ron");
+    let planned = plan_on_tick(&valley, &["job.start_battery_above_floor_wh=64"], 60.0);
+    assert_planned(&planned, "valley step 77 at 64 Wh on a 60 s tick");
+    // The detour through the night, the night waited out in one wait.
+    let hours = number(&planned, "initial_plan_duration_h");
+    assert!((24.0..30.0).contains(&hours), "{hours} h");
+    assert!(number(&planned, "initial_plan_waypoints") < 120.0, "{:?}", planned.summary);
+    let low = plan_on_tick(&valley, &["job.start_battery_above_floor_wh=40"], 60.0);
+    match &low.failure {
+        Some(Failure::Unreachable { message, .. }) => {
+            assert!(message.contains("battery energy"), "{message}");
+            assert!(message.contains("proven at the tick of 60 s"), "{message}");
+            assert!(!message.contains("not a proof"), "{message}");
+        }
+        other => panic!("40 Wh on a 60 s tick: {other:?}"),
+    }
+}

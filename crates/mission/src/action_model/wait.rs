@@ -69,6 +69,20 @@ impl ActionModel {
         self.wait_perturbed(world, cell, t0, duration_s, Perturbation::NONE)
     }
 
+    /// The rover waiting at `cell` from `t0` for `duration_s` as it happens, the array's
+    /// output and the loads departing from the model by `p` (see
+    /// [`ActionModel::wait`]).
+    pub fn execute_wait(
+        &self,
+        world: &World,
+        cell: u32,
+        t0: f64,
+        duration_s: f64,
+        p: Perturbation,
+    ) -> Result<Effect, Binding> {
+        self.wait_perturbed(world, cell, t0, duration_s, p)
+    }
+
     /// [`ActionModel::wait`] with the array's output and the loads departing from the
     /// model by `p`. A wait is not commanded, so it has no delay (`p.delay_s` is not
     /// applied).

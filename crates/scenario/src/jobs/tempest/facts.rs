@@ -217,7 +217,7 @@ pub(super) fn sim_facts(o: &mut Outcome, ctx: &Context<'_>, r: &SimReport, peak_
     o.number("final_battery_wh", r.final_battery_above_floor_wh() + floor);
     o.number("final_battery_above_floor_wh", r.final_battery_above_floor_wh());
     o.number("min_battery_wh", min_battery + floor);
-    o.count("nights", r.nights() as u64);
+    o.count("nights", r.nights(ctx.truth) as u64);
     o.number("drive_h", drive_h);
     o.number("charge_h", charge_h);
     o.number("hibernate_h", hibernate_h);
@@ -381,7 +381,7 @@ pub(super) fn sim_summary(
             h if h > 0.0 => format!("waited {h:.1} h; "),
             _ => String::new(),
         },
-        r.nights()
+        r.nights(ctx.truth)
     ));
     o.summary.push(format!(
         "battery: used {:.0} Wh, gained {:.0} Wh, ends at {:.0} Wh ({:.0} Wh above the {floor:.0} Wh floor), \
