@@ -371,21 +371,13 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         let t_plan = plan.waypoints.first().map_or(t, |w| w.t_s);
         (t, battery) = idle_until(&mut report, (&executor, truth), (cell, t, battery, capacity), t_plan);
         let perturbation = draw_perturbation(sim, once, &mut rng);
-        // On a tick a wait lasts until the plan's next step, however many ticks.
-        let wait_s = config
-            .tick_s
-            .filter(|_| action == Action::Wait)
-            .and_then(|_| plan.waypoints.get(1))
-            .map(|w| w.t_s - t)
-            .filter(|&d| d > 1e-6);
-        let (executed, mut lowest) =
-            match execute_step(&executor, truth, (action, wait_s), (cell, t, battery, capacity), perturbation) {
-                Ok(e) => e,
-                Err(b) => {
-                    report.status = SimStatus::Stuck(b);
-                    break;
-                }
-            };
+        let what = (action, planned_wait_s(&config, &plan, action, t));
+        let Ok((executed, mut lowest)) =
+            execute_step(&executor, truth, what, (cell, t, battery, capacity), perturbation)
+                .map_err(|b| report.status = SimStatus::Stuck(b))
+        else {
+            break;
+        };
         let (to, duration_s) = (executed.to, executed.duration_s);
         // On a tick a drive that goes on settles to the next tick first.
         let goes_on = plan.waypoints.get(1).is_some_and(|w| w.action.is_some());
@@ -521,6 +513,17 @@ fn idle_until(
     let after = idle.battery_above_floor_wh;
     report.steps.push(idle);
     (until, after)
+}
+
+/// On a tick a wait lasts until the plan's next step, however many ticks: its duration
+/// from `t`, s (`None`: not a wait on a tick).
+fn planned_wait_s(config: &PlannerConfig, plan: &MissionPlan, action: Action, t: f64) -> Option<f64> {
+    config
+        .tick_s
+        .filter(|_| action == Action::Wait)
+        .and_then(|_| plan.waypoints.get(1))
+        .map(|w| w.t_s - t)
+        .filter(|&d| d > 1e-6)
 }
 
 /// On a tick the plan goes on from the next tick: after a drive that ends between ticks
