@@ -500,6 +500,8 @@ struct Times {
     /// Under the daylight rule, the Sun-table step and, per table instant, the first
     /// instant at or after it with the Sun above the horizon.
     day: Option<(f64, Vec<f64>)>,
+    /// The last goal's window's close, s after the epoch.
+    close_s: f64,
 }
 
 impl Times {
@@ -528,7 +530,9 @@ impl Times {
             }
             (step, first)
         });
-        Times { plain, ticks, plain_tails, tick_tails, slack_s: if query.settle { 2.0 * tick } else { 0.0 }, day }
+        let close_s = query.goals.last().map_or(f64::INFINITY, |g| g.close_s);
+        let slack_s = if query.settle { 2.0 * tick } else { 0.0 };
+        Times { plain, ticks, plain_tails, tick_tails, slack_s, day, close_s }
     }
 
     /// The earliest the rover at `cell` at `t`, `goal` goals reached, can reach the last
@@ -541,6 +545,10 @@ impl Times {
             return t;
         }
         let at = t + least;
+        if at > self.close_s + 1e-9 {
+            // After the last goal's window: no plan from here.
+            return f64::INFINITY;
+        }
         match &self.day {
             Some((step, first)) if world.sun(at).elevation_deg <= 0.0 => {
                 // The last drive ends in daylight: no earlier than the sample before

@@ -332,3 +332,73 @@ fn across_a_night_the_exact_search_equals_a_dijkstra_waiting_tick_by_tick() {
         "{planned} planned ({overnight} through the night), {proven} proven unreachable: the cases test too little"
     );
 }
+
+/// Where nothing depends on time (drives by day or night, a battery far beyond the
+/// route's needs), the tick search under the Time objective is a 2-D search: on a
+/// crop of the MOLA Gale map its plan takes what a Dijkstra over the same drives at
+/// whole ticks takes (less the last drive's settle, under one tick), with the same
+/// expansions at a horizon of 40 h and of 300 h; where the route needs more than the
+/// horizon, "no plan" is proven with no expansion beyond the start.
+#[test]
+fn a_static_route_on_a_tick_is_a_2d_search_whatever_the_horizon() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../terrain/tests/data/gale_mola_crop_64.tif");
+    let dem = areo_terrain::read(&path).unwrap();
+    let mut actions = actions(60.0);
+    actions.drive.daylight = false;
+    let model = model(1.0e7, actions);
+    let tick = 60.0;
+    let mut expansions = Vec::new();
+    for span_h in [40.0, 300.0, 5.0] {
+        let world = mars_world(dem.clone(), span_h, None);
+        let (start, goal) = (world.cell(20, 20), world.cell(44, 40));
+        let query = ExactQuery {
+            world: &world,
+            model: &model,
+            start: Start { cell: start, t_min: 0.0, t_max: 0.0, energy_wh: 5.0e6 },
+            goals: vec![ExactGoal { cell: goal, open_s: 0.0, close_s: world.span_s() }],
+            goal_energy_wh: 0.0,
+            objective: Objective::Time,
+            max_labels: 5_000_000,
+            settle: true,
+        };
+        let out = query.solve();
+        assert!(!out.stopped);
+        // The Dijkstra over whole-tick drive durations.
+        let mut dist = vec![f64::INFINITY; world.cols() * world.rows()];
+        let mut heap = BinaryHeap::new();
+        dist[start as usize] = 0.0;
+        heap.push(Reverse((OrderedFloat(0.0), start)));
+        while let Some(Reverse((OrderedFloat(d), cell))) = heap.pop() {
+            if d > dist[cell as usize] {
+                continue;
+            }
+            for k in 0..8u8 {
+                let Ok(g) = model.drive_geometry(&world, cell, k) else { continue };
+                let nd = d + (g.duration_s / tick - 1e-9).ceil() * tick;
+                if nd < dist[g.to as usize] {
+                    dist[g.to as usize] = nd;
+                    heap.push(Reverse((OrderedFloat(nd), g.to)));
+                }
+            }
+        }
+        let reference = dist[goal as usize];
+        assert!(reference.is_finite() && reference > 20.0 * 3600.0, "{reference} s");
+        match out.plan {
+            Some((cost, _)) => {
+                assert!(reference <= world.span_s(), "span {span_h} h");
+                assert!(
+                    (reference - tick..=reference + 1e-6).contains(&cost),
+                    "{span_h} h: {cost} s against {reference} s"
+                );
+                expansions.push(out.expanded);
+            }
+            None => {
+                assert!(reference > world.span_s(), "span {span_h} h: no plan, the Dijkstra takes {reference} s");
+                assert!(out.expanded <= 1, "{} expansions to prove it", out.expanded);
+            }
+        }
+    }
+    assert_eq!(expansions.len(), 2);
+    assert_eq!(expansions[0], expansions[1], "the horizon changed the work");
+    assert!(expansions[0] < 2_000, "{} expansions", expansions[0]);
+}

@@ -1,0 +1,132 @@
+//! `cargo xtask bench static`: a route on which nothing depends on time, planned on a
+//! tick. On crops of the real MOLA Gale map (463 m cells) the rover drives by day or
+//! night, its battery far larger than the route needs, across the middle of the crop
+//! (from its 3/8 point to the reachable cell nearest its 5/8 point) under the Time
+//! objective: the exact tick search (60 s, drives settling to ticks)
+//! at horizons of 50 to 300 h, beside a plain Dijkstra (the `pathfinding` crate) over the
+//! same drives, each lasting what it lasts in a tick plan (whole ticks; the last one
+//! needs no settle, so the tick plan may be up to one tick shorter). The tick search's
+//! work should not grow with the horizon.
+
+use std::path::Path;
+use std::time::Instant;
+
+use areo_mission::exact::{ExactGoal, ExactQuery};
+use areo_mission::{ActionConfig, ActionModel, Objective, Start, World};
+
+const TICK_S: f64 = 60.0;
+
+fn world(root: &Path, size: usize, horizon_h: f64) -> Result<World, String> {
+    let path = root.join("../shared/data/dem/gale_mola_463m.tif");
+    let map = areo_terrain::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let size = size.min(map.cols()).min(map.rows());
+    let (c0, r0) = ((map.cols() - size) / 2, (map.rows() - size) / 2);
+    let dem = map.crop(c0, r0, size, size).map_err(|e| e.to_string())?;
+    let (x, y) = dem.cell_center(size / 2, size / 2);
+    let (lat, lon) = dem.geographic(x, y).ok_or_else(|| format!("{}: not georeferenced", path.display()))?;
+    let config = areo_mission::WorldConfig {
+        epoch: areo_ephemeris::parse_utc("2012-08-06T12:00:00Z").map_err(|e| e.to_string())?,
+        span_s: horizon_h * 3600.0,
+        sun_step_s: 600.0,
+        horizon_sectors: None,
+        atmosphere: areo_ephemeris::flux::Atmosphere::Baseline { peak_w_m2: 500.0 },
+        site: Some(areo_ephemeris::Site::new(lat, lon).map_err(|e| e.to_string())?),
+    };
+    World::new(dem, &config, &areo_ephemeris::Mars24).map_err(|e| e.to_string())
+}
+
+/// The passable cell nearest (`col`, `row`) with a gentle slope.
+fn passable_near(world: &World, col: usize, row: usize) -> u32 {
+    (0..world.cols() * world.rows())
+        .map(|i| i as u32)
+        .filter(|&c| world.passable(c) && world.slope_deg(c) < 15.0)
+        .min_by_key(|&c| {
+            let (x, y) = world.col_row(c);
+            (x as i64 - col as i64).pow(2) + (y as i64 - row as i64).pow(2)
+        })
+        .unwrap_or(0)
+}
+
+/// The cell reachable from `start` nearest (`col`, `row`).
+fn reachable_near(world: &World, model: &ActionModel, start: u32, col: usize, row: usize) -> u32 {
+    let reached = pathfinding::directed::bfs::bfs_reach(start, |&cell| {
+        (0..8u8).filter_map(|k| model.drive_geometry(world, cell, k).ok()).map(|g| g.to).collect::<Vec<_>>()
+    });
+    reached
+        .min_by_key(|&c| {
+            let (x, y) = world.col_row(c);
+            (x as i64 - col as i64).pow(2) + (y as i64 - row as i64).pow(2)
+        })
+        .unwrap_or(start)
+}
+
+/// The least sum of the drives' tick durations (whole ticks, ms) from `start` to `goal`.
+fn dijkstra(world: &World, model: &ActionModel, start: u32, goal: u32) -> Option<(Vec<u32>, u64)> {
+    pathfinding::directed::dijkstra::dijkstra(
+        &start,
+        |&cell| {
+            (0..8u8)
+                .filter_map(|k| model.drive_geometry(world, cell, k).ok())
+                .map(|g| (g.to, ((g.duration_s / TICK_S - 1e-9).ceil() * TICK_S * 1000.0) as u64))
+                .collect::<Vec<_>>()
+        },
+        |&cell| cell == goal,
+    )
+}
+
+pub(crate) fn run(root: &Path) -> Result<bool, String> {
+    println!("static route on the MOLA Gale map (463 m cells), Time objective, no daylight rule, tick {TICK_S} s:");
+    let mut rover = areo_rover::resources::ResourceModel::hyperion();
+    rover.battery.capacity_wh = 1.0e7;
+    let mut actions = ActionConfig { wait_step_s: Some(TICK_S), ..Default::default() };
+    actions.drive.daylight = false;
+    actions.drive.sun_in_camera = false;
+    let model = ActionModel::new(rover, actions);
+    for size in [128, 256, 897] {
+        for horizon_h in [50.0, 150.0, 300.0] {
+            let world = world(root, size, horizon_h)?;
+            // A route across the middle of the crop, between its 3/8 and 5/8 points.
+            let start_cell = passable_near(&world, size * 3 / 8, size * 3 / 8);
+            let goal_cell = reachable_near(&world, &model, start_cell, size * 5 / 8, size * 5 / 8);
+            let clock = Instant::now();
+            let reference = dijkstra(&world, &model, start_cell, goal_cell);
+            let dijkstra_s = clock.elapsed().as_secs_f64();
+            let query = ExactQuery {
+                world: &world,
+                model: &model,
+                start: Start { cell: start_cell, t_min: 0.0, t_max: 0.0, energy_wh: 5.0e6 },
+                goals: vec![ExactGoal { cell: goal_cell, open_s: 0.0, close_s: world.span_s() }],
+                goal_energy_wh: 0.0,
+                objective: Objective::Time,
+                max_labels: 50_000_000,
+                settle: true,
+            };
+            let clock = Instant::now();
+            let out = query.solve();
+            let tick_s = clock.elapsed().as_secs_f64();
+            let reference_h = reference.as_ref().map(|(path, ms)| (path.len(), *ms as f64 / 3.6e6));
+            match (&out.plan, reference_h) {
+                (Some((cost, steps)), Some((cells, hours))) => println!(
+                    "  {size}² crop, horizon {horizon_h:.0} h: tick search {tick_s:.3} s, {} expansions, {} labels, \
+                     {:.2} h over {} drives; Dijkstra {dijkstra_s:.3} s, {:.2} h over {} drives; {:.1} × the \
+                     Dijkstra's time, cost difference {:.0} s",
+                    out.expanded,
+                    out.kept,
+                    cost / 3600.0,
+                    steps.iter().filter(|s| matches!(s.action, areo_mission::Action::Drive(_))).count(),
+                    hours,
+                    cells - 1,
+                    tick_s / dijkstra_s.max(1e-9),
+                    cost - hours * 3600.0
+                ),
+                (plan, reference) => println!(
+                    "  {size}² crop, horizon {horizon_h:.0} h: tick search {tick_s:.3} s, plan {:?}, stopped {}; \
+                     Dijkstra {reference:?}",
+                    plan.as_ref().map(|p| p.0),
+                    out.stopped
+                ),
+            }
+        }
+    }
+    Ok(true)
+}
