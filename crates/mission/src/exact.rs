@@ -163,7 +163,7 @@ impl ExactQuery<'_> {
         let tick = self.model.wait_step_s().unwrap_or_else(|| self.model.stay_duration_s(Action::Hibernate));
         let e_max = self.model.gain_bounds(self.world).0;
         let bound = self.bound(e_max);
-        let h = |cell: u32, goal: u16, t: f64| bound.at(self.world, cell, goal, t);
+        let h = |cell: u32, goal: u16, t: f64, e: f64| bound.at(self.world, cell, goal, t, e);
         let departures = Departures::new(self.world, self.model, tick);
         let mut nodes: Vec<Node> = Vec::new();
         let mut at: FxHashMap<(u32, u16, i64), Vec<u32>> = FxHashMap::default();
@@ -181,7 +181,7 @@ impl ExactQuery<'_> {
             dead: false,
         };
         self.keep(start, &mut nodes, &mut at, &mut out, tick);
-        open.push(Reverse((ordered(h(start.cell, start.goal, start.t)), Reverse(ordered(0.0)), 0u32)));
+        open.push(Reverse((ordered(h(start.cell, start.goal, start.t, start.e)), Reverse(ordered(0.0)), 0u32)));
         while let Some(Reverse((_, _, i))) = open.pop() {
             let node = nodes[i as usize];
             if node.dead {
@@ -197,7 +197,7 @@ impl ExactQuery<'_> {
             }
             out.expanded += 1;
             for next in self.successors(node, i, tick, e_max, &departures) {
-                let f = next.cost + h(next.cell, next.goal, next.t);
+                let f = next.cost + h(next.cell, next.goal, next.t, next.e);
                 // An infinite bound: no plan from here reaches the goals in time.
                 if f.is_finite()
                     && let Some(j) = self.keep(next, &mut nodes, &mut at, &mut out, tick)
@@ -502,6 +502,80 @@ struct Times {
     day: Option<(f64, Vec<f64>)>,
     /// The last goal's window's close, s after the epoch.
     close_s: f64,
+    /// The energy the rest of the plan needs against the most the sources can give.
+    energy: Harvest,
+}
+
+/// The earliest instant the sources can have given the battery what the drives ahead
+/// draw: the rover ends at the last goal with its battery above what it must hold only
+/// if its charge now plus everything the sources give until then covers the drives'
+/// loads (each at its least, over the cheapest way), whatever the efficiencies, the
+/// waits' own loads and the battery's cap, which only make it later. The sources are
+/// bounded by the generator plus the array square to the beam at each instant — small
+/// in the last hour of the day, nothing at night — so a label near the goal in the
+/// evening without the battery to finish is seen to wait for the morning.
+struct Harvest {
+    /// Per goal, the least the drives from every cell to it load the rover, Wh; the
+    /// same from it through the later goals.
+    loads: Vec<Vec<f64>>,
+    load_tails: Vec<f64>,
+    /// The battery to hold above the floor at the last goal, Wh.
+    hold_wh: f64,
+    /// The Sun-table step, s, and at each table instant the most the sources can have
+    /// given since the epoch, Wh.
+    step_s: f64,
+    given: Vec<f64>,
+}
+
+impl Harvest {
+    fn new(query: &ExactQuery<'_>, tails: &dyn Fn(&[Vec<f64>]) -> Vec<f64>) -> Harvest {
+        let loads: Vec<Vec<f64>> = query
+            .goals
+            .iter()
+            .map(|g| query.reverse_dijkstra(g.cell, &|_, d| query.model.drive_load_floor_wh(d).max(0.0)))
+            .collect();
+        let load_tails = tails(&loads);
+        let (world, model) = (query.world, query.model);
+        let table = world.sun_table();
+        let step_s = world.sun_step_s();
+        let mut given = Vec::with_capacity(table.len());
+        given.push(0.0);
+        for k in 1..table.len() {
+            // Linear between samples: the larger end bounds the interval.
+            let beam = table[k - 1].beam_w_m2.max(table[k].beam_w_m2);
+            let w = model.rover().nuclear_w + model.solar_peak_w(beam);
+            given.push(given[k - 1] + w.max(0.0) * step_s / 3600.0);
+        }
+        Harvest { loads, load_tails, hold_wh: query.goal_energy_wh.max(0.0), step_s, given }
+    }
+
+    /// The most the sources can have given from the epoch to `t`, Wh.
+    fn given_at(&self, t: f64) -> f64 {
+        let pos = (t / self.step_s).clamp(0.0, (self.given.len() - 1) as f64);
+        let k = (pos as usize).min(self.given.len() - 2);
+        self.given[k] + (self.given[k + 1] - self.given[k]) * (pos - k as f64)
+    }
+
+    /// The earliest the rover at `cell` at `t` with `e` above the floor, `goal` goals
+    /// reached, can have what the rest of the plan needs, s (infinite: not within the
+    /// Sun table).
+    fn ready(&self, cell: u32, goal: usize, t: f64, e: f64) -> f64 {
+        let lack = self.loads[goal][cell as usize] + self.load_tails[goal] + self.hold_wh - e;
+        if lack <= 0.0 {
+            return t;
+        }
+        let target = self.given_at(t) + lack;
+        let k = self.given.partition_point(|&g| g < target);
+        if k >= self.given.len() {
+            return f64::INFINITY;
+        }
+        if k == 0 {
+            return t;
+        }
+        let (a, b) = (self.given[k - 1], self.given[k]);
+        let f = if b > a { (target - a) / (b - a) } else { 1.0 };
+        (((k - 1) as f64 + f) * self.step_s).max(t)
+    }
 }
 
 impl Times {
@@ -532,22 +606,24 @@ impl Times {
         });
         let close_s = query.goals.last().map_or(f64::INFINITY, |g| g.close_s);
         let slack_s = if query.settle { 2.0 * tick } else { 0.0 };
-        Times { plain, ticks, plain_tails, tick_tails, slack_s, day, close_s }
+        let energy = Harvest::new(query, &tails);
+        Times { plain, ticks, plain_tails, tick_tails, slack_s, day, close_s, energy }
     }
 
     /// The earliest the rover at `cell` at `t`, `goal` goals reached, can reach the last
     /// goal, s after the epoch (infinite: never within the Sun table).
-    fn arrival(&self, world: &World, cell: u32, goal: usize, t: f64) -> f64 {
+    fn arrival(&self, world: &World, cell: u32, goal: usize, t: f64, e: f64) -> f64 {
         let plain = self.plain[goal][cell as usize] + self.plain_tails[goal];
         let ticks = self.ticks[goal][cell as usize] + self.tick_tails[goal] - self.slack_s;
         let least = plain.max(ticks);
-        if least <= 0.0 {
-            return t;
-        }
-        let at = t + least;
+        let at = (t + least).max(self.energy.ready(cell, goal, t, e));
         if at > self.close_s + 1e-9 {
             // After the last goal's window: no plan from here.
             return f64::INFINITY;
+        }
+        if least <= 0.0 {
+            // At the goal: no drive left to end in daylight.
+            return at;
         }
         match &self.day {
             Some((step, first)) if world.sun(at).elevation_deg <= 0.0 => {
@@ -565,7 +641,7 @@ impl Times {
 }
 
 impl Bound {
-    fn at(&self, world: &World, cell: u32, goal: u16, t: f64) -> f64 {
+    fn at(&self, world: &World, cell: u32, goal: u16, t: f64, e: f64) -> f64 {
         let g = goal as usize;
         if g >= self.drives.len() {
             return 0.0;
@@ -573,7 +649,7 @@ impl Bound {
         let drives = self.drives[g][cell as usize] + self.tails[g];
         // Any plan from here spends at least until `t + least` on its way: the deep
         // night in that span with stays, and all of it at the least cost per second.
-        let arrival = self.times.arrival(world, cell, g, t);
+        let arrival = self.times.arrival(world, cell, g, t, e);
         if !arrival.is_finite() {
             return f64::INFINITY;
         }
