@@ -698,7 +698,7 @@ impl ActionModel {
         perturbation: Perturbation,
     ) -> Result<Effect, Binding> {
         if action == Action::Wait {
-            return self.wait_perturbed(world, cell, t0, self.stay_duration_s(action), perturbation);
+            return self.execute_wait(world, cell, t0, self.stay_duration_s(action), perturbation);
         }
         let (rules, load) = match action {
             Action::Charge => (&self.config.charge, self.config.charge_load.load()),

@@ -66,27 +66,13 @@ impl ActionModel {
     /// impassable cell, the Earth out of view during a session that needs it, or a
     /// Hibernate constraint of the scenario's).
     pub fn wait(&self, world: &World, cell: u32, t0: f64, duration_s: f64) -> Result<Effect, Binding> {
-        self.wait_perturbed(world, cell, t0, duration_s, Perturbation::NONE)
+        self.execute_wait(world, cell, t0, duration_s, Perturbation::NONE)
     }
 
-    /// The rover waiting at `cell` from `t0` for `duration_s` as it happens, the array's
-    /// output and the loads departing from the model by `p` (see
-    /// [`ActionModel::wait`]).
+    /// [`ActionModel::wait`] as it happens: the array's output and the loads departing
+    /// from the model by `p`. A wait is not commanded, so it has no delay (`p.delay_s`
+    /// is not applied).
     pub fn execute_wait(
-        &self,
-        world: &World,
-        cell: u32,
-        t0: f64,
-        duration_s: f64,
-        p: Perturbation,
-    ) -> Result<Effect, Binding> {
-        self.wait_perturbed(world, cell, t0, duration_s, p)
-    }
-
-    /// [`ActionModel::wait`] with the array's output and the loads departing from the
-    /// model by `p`. A wait is not commanded, so it has no delay (`p.delay_s` is not
-    /// applied).
-    pub(super) fn wait_perturbed(
         &self,
         world: &World,
         cell: u32,
