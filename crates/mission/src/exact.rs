@@ -34,9 +34,10 @@
 //! kept to measure what the settle costs and saves.
 
 use std::cmp::Reverse;
-use std::collections::BinaryHeap;
 
+use dary_heap::QuaternaryHeap;
 use rustc_hash::FxHashMap;
+use smallvec::SmallVec;
 
 use crate::action_model::{Action, ActionModel, DriveGeometry};
 use crate::domain::{DarkCost, Objective, PathLength, Start};
@@ -93,13 +94,10 @@ pub struct ExactOutcome {
     /// Whether the search stopped at its label budget (or its caller's
     /// [`ExactQuery::solve_with`] check) before it could decide.
     pub stopped: bool,
-    /// What the labels, their index and the queue held at the end, bytes.
+    /// The most the labels, their index, the queue and the memo of drives held,
+    /// bytes.
     pub bytes: u64,
 }
-
-/// What one label costs in memory: the label, its place in the index and in the queue.
-pub const BYTES_PER_LABEL: u64 =
-    (std::mem::size_of::<Node>() + std::mem::size_of::<u32>() + std::mem::size_of::<(Ordered, Ordered, u32)>()) as u64;
 
 /// An exact query: the rover at `start` (ready at `start.t_min` with
 /// `start.energy_wh`), the goals in order, the battery to hold at the last one, what
@@ -137,6 +135,74 @@ struct Node {
     dead: bool,
 }
 
+/// A drive from a cell at an instant, and how it settles to the next tick.
+#[derive(Debug, Clone, Copy)]
+struct Move {
+    to: u32,
+    drive: Effect,
+    settle: Settle,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Settle {
+    /// The drive ends on a tick (or the search does not settle).
+    OnTick,
+    /// The wait to the next tick.
+    Wait(Effect),
+    /// No wait is possible at the drive's end (the horizon, a session out of view).
+    Refused,
+}
+
+/// The drives from a cell at an instant are a pure function of the two, and the
+/// search expands several labels there (goals, battery trade-offs: up to tens when
+/// the battery binds): a direct-mapped memo of the last (cell, instant) per slot,
+/// keyed by the instant's exact bits so that a hit returns exactly what a fresh
+/// evaluation would.
+struct Moves {
+    slots: Vec<(u32, u64, [Option<Move>; 8])>,
+}
+
+impl Moves {
+    /// A memo of about eight slots per cell (several instants of each in flight), at
+    /// least 2¹⁰ and at most 2¹⁵ (~30 MB).
+    fn new(cells: usize) -> Moves {
+        let n = (8 * cells).next_power_of_two().clamp(1 << 10, 1 << 15);
+        Moves { slots: vec![(NONE, 0, [None; 8]); n] }
+    }
+
+    fn get(&mut self, cell: u32, t: f64, eval: impl FnOnce() -> [Option<Move>; 8]) -> &[Option<Move>; 8] {
+        let bits = t.to_bits();
+        let h = (u64::from(cell) ^ bits.rotate_left(29)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        let mask = self.slots.len() - 1;
+        let slot = &mut self.slots[(h >> 40) as usize & mask];
+        if slot.0 != cell || slot.1 != bits {
+            *slot = (cell, bits, eval());
+        }
+        &slot.2
+    }
+
+    fn bytes(&self) -> usize {
+        self.slots.len() * size_of::<(u32, u64, [Option<Move>; 8])>()
+    }
+}
+
+/// No label: the start's parent.
+const NONE: u32 = u32::MAX;
+
+/// A (cell, goal, instant) triple: the key of a staircase.
+type Instant = (u32, u16, i64);
+
+/// A label on its instant's staircase: its battery, cost and index.
+#[derive(Debug, Clone, Copy)]
+struct Stair {
+    e: f64,
+    cost: f64,
+    label: u32,
+}
+
+/// The labels of one instant that no other there beats (most instants hold one).
+type Staircase = SmallVec<[Stair; 1]>;
+
 /// Instants compared to a microsecond: sums of drive durations in another order round
 /// differently.
 fn instant_key(t: f64) -> i64 {
@@ -150,13 +216,11 @@ impl ExactQuery<'_> {
         self.solve_with(&mut |_| true)
     }
 
-    /// [`ExactQuery::solve`], asking `go_on` before every expansion with the labels kept
-    /// so far whether to go on (a caller's work and memory budget): `false` stops the
+    /// [`ExactQuery::solve`], asking `go_on` before every expansion with the bytes the
+    /// search holds (its labels, their index and queue, its memo) whether to go on (a caller's work and memory budget): `false` stops the
     /// search undecided.
     pub fn solve_with(&self, go_on: &mut dyn FnMut(u64) -> bool) -> ExactOutcome {
-        let mut out = self.search(go_on);
-        out.bytes = out.kept * BYTES_PER_LABEL;
-        out
+        self.search(go_on)
     }
 
     fn search(&self, go_on: &mut dyn FnMut(u64) -> bool) -> ExactOutcome {
@@ -165,9 +229,10 @@ impl ExactQuery<'_> {
         let bound = self.bound(e_max);
         let h = |cell: u32, goal: u16, t: f64, e: f64| bound.at(self.world, cell, goal, t, e);
         let departures = Departures::new(self.world, self.model, tick);
+        let mut moves = Moves::new(self.world.dem().cols() * self.world.dem().rows());
         let mut nodes: Vec<Node> = Vec::new();
-        let mut at: FxHashMap<(u32, u16, i64), Vec<u32>> = FxHashMap::default();
-        let mut open = BinaryHeap::new();
+        let mut at: FxHashMap<Instant, Staircase> = FxHashMap::default();
+        let mut open = QuaternaryHeap::new();
         let mut out =
             ExactOutcome { plan: None, expanded: 0, kept: 0, between_ticks: 0, instants: 0, stopped: false, bytes: 0 };
         let start = Node {
@@ -176,7 +241,7 @@ impl ExactQuery<'_> {
             t: self.start.t_min,
             e: self.start.energy_wh,
             cost: 0.0,
-            parent: u32::MAX,
+            parent: NONE,
             action: None,
             dead: false,
         };
@@ -191,12 +256,17 @@ impl ExactQuery<'_> {
                 out.plan = Some((node.cost, self.steps(&nodes, i)));
                 return out;
             }
-            if out.kept >= self.max_labels || !go_on(out.kept) {
+            let held = (nodes.len() * size_of::<Node>()
+                + at.len() * size_of::<(Instant, Staircase)>()
+                + open.len() * size_of::<(Ordered, Reverse<Ordered>, u32)>()
+                + moves.bytes()) as u64;
+            out.bytes = out.bytes.max(held);
+            if out.kept >= self.max_labels || !go_on(held) {
                 out.stopped = true;
                 return out;
             }
             out.expanded += 1;
-            for next in self.successors(node, i, tick, e_max, &departures) {
+            for next in self.successors(node, i, (tick, e_max), &departures, &mut moves) {
                 let f = next.cost + h(next.cell, next.goal, next.t, next.e);
                 // An infinite bound: no plan from here reaches the goals in time.
                 if f.is_finite()
@@ -247,7 +317,14 @@ impl ExactQuery<'_> {
 
     /// The labels one step from `node` (index `i`): each drive (with its settle, unless
     /// it reaches the last goal), and a wait to the next tick.
-    fn successors(&self, node: Node, i: u32, tick: f64, e_max: f64, departures: &Departures) -> Vec<Node> {
+    fn successors(
+        &self,
+        node: Node,
+        i: u32,
+        (tick, e_max): (f64, f64),
+        departures: &Departures,
+        cache: &mut Moves,
+    ) -> Vec<Node> {
         let capacity = self.model.capacity_wh();
         let next_tick = |t: f64| ((t / tick + 1e-9).floor() + 1.0) * tick;
         // The label after `effect` from `from`, if the battery holds inside it.
@@ -268,22 +345,23 @@ impl ExactQuery<'_> {
             })
         };
         let mut out = Vec::with_capacity(9);
-        for k in 0..8u8 {
-            let Ok((to, drive)) = self.model.drive(self.world, node.cell, k, node.t) else { continue };
-            let Some(arrived) = after(&node, Action::Drive(k), to, &drive) else { continue };
-            let on_tick = ((arrived.t / tick) - (arrived.t / tick).round()).abs() < 1e-9;
-            if !self.settle || on_tick || arrived.goal as usize == self.goals.len() {
-                out.push(arrived);
-                continue;
-            }
-            // The settle: the drive and the wait to the next tick are one step of the
-            // plan (the drive's label is not kept: no plan departs from it).
-            let Ok(wait) = self.model.wait(self.world, to, arrived.t, next_tick(arrived.t) - arrived.t) else {
-                continue;
-            };
-            if let Some(mut settled) = after(&arrived, Action::Wait, to, &wait) {
-                settled.action = Some(Action::Drive(k));
-                out.push(settled);
+        let last = self.goals.len();
+        let moves = cache.get(node.cell, node.t, || self.moves_from(node.cell, node.t, tick));
+        for (k, m) in moves.iter().enumerate() {
+            let Some(m) = m else { continue };
+            let Some(arrived) = after(&node, Action::Drive(k as u8), m.to, &m.drive) else { continue };
+            match m.settle {
+                Settle::OnTick => out.push(arrived),
+                _ if arrived.goal as usize == last => out.push(arrived),
+                Settle::Refused => {}
+                // The settle: the drive and the wait to the next tick are one step of
+                // the plan (the drive's label is not kept: no plan departs from it).
+                Settle::Wait(wait) => {
+                    if let Some(mut settled) = after(&arrived, Action::Wait, m.to, &wait) {
+                        settled.action = Some(Action::Drive(k as u8));
+                        out.push(settled);
+                    }
+                }
             }
         }
         // A wait runs on to the first tick from which a drive may depart: the ticks
@@ -301,42 +379,61 @@ impl ExactQuery<'_> {
         out
     }
 
+    /// The eight drives from `cell` departing at `t`, each with its settle to the next
+    /// tick: `None` where the drive is refused.
+    fn moves_from(&self, cell: u32, t: f64, tick: f64) -> [Option<Move>; 8] {
+        std::array::from_fn(|k| {
+            let (to, drive) = self.model.drive(self.world, cell, k as u8, t).ok()?;
+            let arrival = t + drive.duration_s;
+            let phase = arrival / tick;
+            let settle = if !self.settle || (phase - phase.round()).abs() < 1e-9 {
+                Settle::OnTick
+            } else {
+                let end = ((phase + 1e-9).floor() + 1.0) * tick;
+                self.model.wait(self.world, to, arrival, end - arrival).map_or(Settle::Refused, Settle::Wait)
+            };
+            Some(Move { to, drive, settle })
+        })
+    }
+
     /// Keeps `node` unless a label at its cell, goal and instant has at least its
     /// battery at no more cost; drops the labels it beats. Its index, if kept. Both
-    /// are binary searches on the instant's staircase of labels.
+    /// are binary searches on the instant's staircase.
     fn keep(
         &self,
         node: Node,
         nodes: &mut Vec<Node>,
-        at: &mut FxHashMap<(u32, u16, i64), Vec<u32>>,
+        at: &mut FxHashMap<Instant, Staircase>,
         out: &mut ExactOutcome,
         tick: f64,
     ) -> Option<u32> {
         let list = at.entry((node.cell, node.goal, instant_key(node.t))).or_insert_with(|| {
             out.instants += 1;
-            Vec::new()
+            Staircase::new()
         });
-        // The list is a staircase: sorted by battery, most first, the cost falling along
-        // it (of two labels neither beats, the one with more battery costs more; their
+        // The staircase is sorted by battery, most first, the cost falling along it (of
+        // two labels neither beats, the one with more battery costs more; their
         // batteries differ by more than the slack). The labels with at least this
-        // battery are a prefix, the cheapest of them its last.
+        // battery are a prefix, the cheapest of them its last. It holds each label's
+        // battery and cost beside its index, so the searches touch one short array.
         // Costs are sums in different orders: equal to a part in 10⁹ is equal (else the
         // rounding of equal costs would keep both labels as a trade-off).
         let slack = 1e-9 * node.cost.abs().max(1.0);
-        let p = list.partition_point(|&j| nodes[j as usize].e >= node.e - 1e-9);
-        if p > 0 && nodes[list[p - 1] as usize].cost <= node.cost + slack {
+        let p = list.partition_point(|s| s.e >= node.e - 1e-9);
+        if p > 0 && list[p - 1].cost <= node.cost + slack {
             return None;
         }
         // Those with at most this battery start at q; the ones it beats (no cheaper) lead
         // that run.
-        let q = list.partition_point(|&j| nodes[j as usize].e > node.e + 1e-9);
+        let q = list.partition_point(|s| s.e > node.e + 1e-9);
         let mut r = q;
-        while r < list.len() && nodes[list[r] as usize].cost >= node.cost - slack {
-            nodes[list[r] as usize].dead = true;
+        while r < list.len() && list[r].cost >= node.cost - slack {
+            nodes[list[r].label as usize].dead = true;
             r += 1;
         }
         let j = nodes.len() as u32;
-        list.splice(q..r, [j]);
+        list.drain(q..r);
+        list.insert(q, Stair { e: node.e, cost: node.cost, label: j });
         nodes.push(node);
         out.kept += 1;
         let phase = node.t / tick;
@@ -386,7 +483,7 @@ impl ExactQuery<'_> {
     fn reverse_dijkstra(&self, goal: u32, step: &dyn Fn(u8, &DriveGeometry) -> f64) -> Vec<f64> {
         let n = self.world.cols() * self.world.rows();
         let mut dist = vec![f64::INFINITY; n];
-        let mut heap = BinaryHeap::new();
+        let mut heap = QuaternaryHeap::new();
         dist[goal as usize] = 0.0;
         heap.push(Reverse((ordered(0.0), goal)));
         while let Some(Reverse((d, to))) = heap.pop() {
@@ -408,7 +505,7 @@ impl ExactQuery<'_> {
 
     fn steps(&self, nodes: &[Node], mut i: u32) -> Vec<ExactStep> {
         let mut steps = Vec::new();
-        while nodes[i as usize].parent != u32::MAX {
+        while nodes[i as usize].parent != NONE {
             let node = nodes[i as usize];
             let parent = nodes[node.parent as usize];
             let action = node.action.expect("a label with a parent has an action");

@@ -131,14 +131,14 @@ impl<'a> Mission<'a> {
     }
 
     /// Runs `query` within the call's work and memory allowance (every expansion one
-    /// unit of work, every label [`crate::exact::BYTES_PER_LABEL`]).
+    /// unit of work, the memory what the search holds).
     pub(super) fn tick_solve(&self, query: &ExactQuery<'_>) -> Result<ExactOutcome> {
         let allowance = &self.allowance;
         let meter = &self.config.meter;
-        let out = query.solve_with(&mut |kept| {
+        let out = query.solve_with(&mut |held| {
             allowance.spend();
             meter.add(1);
-            !allowance.exhausted() && !allowance.outgrown(kept * crate::exact::BYTES_PER_LABEL)
+            !allowance.exhausted() && !allowance.outgrown(held)
         });
         allowance.check()?;
         Ok(out)
