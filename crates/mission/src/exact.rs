@@ -155,34 +155,30 @@ enum Settle {
 
 /// The drives from a cell at an instant are a pure function of the two, and the
 /// search expands several labels there (goals, battery trade-offs: up to tens when
-/// the battery binds): a direct-mapped memo of the last (cell, instant) per slot,
-/// keyed by the instant's exact bits so that a hit returns exactly what a fresh
-/// evaluation would.
+/// the battery binds): a memo keyed by the cell and the instant's exact bits, so that
+/// a hit returns exactly what a fresh evaluation would. It grows with the instants
+/// the search touches and starts afresh past [`Moves::CAPACITY`] entries: a small
+/// search allocates little, a large one holds at most ~30 MB.
 struct Moves {
-    slots: Vec<(u32, u64, [Option<Move>; 8])>,
+    memo: FxHashMap<(u32, u64), [Option<Move>; 8]>,
 }
 
 impl Moves {
-    /// A memo of about eight slots per cell (several instants of each in flight), at
-    /// least 2¹⁰ and at most 2¹⁵ (~30 MB).
-    fn new(cells: usize) -> Moves {
-        let n = (8 * cells).next_power_of_two().clamp(1 << 10, 1 << 15);
-        Moves { slots: vec![(NONE, 0, [None; 8]); n] }
+    const CAPACITY: usize = 1 << 15;
+
+    fn new() -> Moves {
+        Moves { memo: FxHashMap::default() }
     }
 
     fn get(&mut self, cell: u32, t: f64, eval: impl FnOnce() -> [Option<Move>; 8]) -> &[Option<Move>; 8] {
-        let bits = t.to_bits();
-        let h = (u64::from(cell) ^ bits.rotate_left(29)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-        let mask = self.slots.len() - 1;
-        let slot = &mut self.slots[(h >> 40) as usize & mask];
-        if slot.0 != cell || slot.1 != bits {
-            *slot = (cell, bits, eval());
+        if self.memo.len() >= Self::CAPACITY && !self.memo.contains_key(&(cell, t.to_bits())) {
+            self.memo.clear();
         }
-        &slot.2
+        self.memo.entry((cell, t.to_bits())).or_insert_with(eval)
     }
 
     fn bytes(&self) -> usize {
-        self.slots.len() * size_of::<(u32, u64, [Option<Move>; 8])>()
+        self.memo.capacity() * size_of::<((u32, u64), [Option<Move>; 8])>()
     }
 }
 
@@ -229,7 +225,7 @@ impl ExactQuery<'_> {
         let bound = self.bound(e_max);
         let h = |cell: u32, goal: u16, t: f64, e: f64| bound.at(self.world, cell, goal, t, e);
         let departures = Departures::new(self.world, self.model, tick);
-        let mut moves = Moves::new(self.world.dem().cols() * self.world.dem().rows());
+        let mut moves = Moves::new();
         let mut nodes: Vec<Node> = Vec::new();
         let mut at: FxHashMap<Instant, Staircase> = FxHashMap::default();
         let mut open = QuaternaryHeap::new();
