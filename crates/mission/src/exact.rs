@@ -39,7 +39,7 @@ use dary_heap::QuaternaryHeap;
 use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
-use crate::action_model::{Action, ActionModel, DriveGeometry};
+use crate::action_model::{Action, ActionModel, NEIGHBOURS};
 use crate::domain::{DarkCost, Objective, PathLength, Start};
 use crate::effect::Effect;
 use crate::world::World;
@@ -277,14 +277,18 @@ impl ExactQuery<'_> {
 
     /// The search's bound (see [`Bound`]).
     fn bound(&self, e_max: f64) -> Bound {
-        let drives: Vec<Vec<f64>> =
-            self.goals.iter().map(|g| self.reverse_bound(g.cell, e_max, self.objective, None)).collect();
+        let tick = self.model.wait_step_s().unwrap_or_else(|| self.model.stay_duration_s(Action::Hibernate));
+        let weights = self.weigh(e_max, tick);
+        let times = Times::new(self, &weights, tick);
+        let drives: Vec<Vec<f64>> = match &weights.objective {
+            Some(w) => self.goals.iter().map(|g| self.reverse_dijkstra(g.cell, w)).collect(),
+            // Under Time the drives' floor is their duration: the same searches.
+            None => times.plain.clone(),
+        };
         let mut tails = vec![0.0; self.goals.len() + 1];
         for i in (0..self.goals.len().saturating_sub(1)).rev() {
             tails[i] = tails[i + 1] + drives[i + 1][self.goals[i].cell as usize];
         }
-        let tick = self.model.wait_step_s().unwrap_or_else(|| self.model.stay_duration_s(Action::Hibernate));
-        let times = Times::new(self, e_max, tick);
         let units = (0..8u8)
             .map(|k| PathLength::Distance.units(Action::Drive(k), self.world.dem().dx(), self.world.dem().dy()))
             .fold(f64::INFINITY, f64::min);
@@ -456,27 +460,49 @@ impl ExactQuery<'_> {
         }
     }
 
-    /// The least cost of the drives from every cell to `goal` in `objective`, at any
-    /// time: each drive at its floor (the least its energy can be under any Sun, or its
-    /// duration — in whole ticks with `tick`).
-    fn reverse_bound(&self, goal: u32, e_max: f64, objective: Objective, tick: Option<f64>) -> Vec<f64> {
+    /// Every drive into every cell weighed once for the bound's backward searches (see
+    /// [`DriveWeights`]): each at its floor — the least its energy can be under any Sun
+    /// in the objective, its duration, its duration in whole ticks, its loads' energy.
+    fn weigh(&self, e_max: f64, tick: f64) -> DriveWeights {
+        let n = self.world.cols() * self.world.rows();
         let source_w = self.model.drive_source_bound_w(self.world);
         let (dx, dy) = (self.world.dem().dx(), self.world.dem().dy());
-        self.reverse_dijkstra(goal, &|k, g| match objective {
-            Objective::Time | Objective::Margin { .. } => {
-                tick.map_or(g.duration_s, |q| (g.duration_s / q - 1e-9).ceil() * q)
+        let table = || vec![[f32::INFINITY; 8]; n];
+        let time_objective = matches!(self.objective, Objective::Time | Objective::Margin { .. });
+        let mut w = DriveWeights {
+            objective: (!time_objective).then(table),
+            duration: table(),
+            ticks: self.settle.then(table),
+            load: table(),
+        };
+        for to in 0..n {
+            for k in 0..8u8 {
+                let Some((_, g)) = self.model.drive_geometry_into(self.world, to as u32, k) else { continue };
+                let load = self.model.drive_load_floor_wh(&g).max(0.0);
+                w.duration[to][k as usize] = floor_f32(g.duration_s);
+                w.load[to][k as usize] = floor_f32(load);
+                if let Some(ticks) = &mut w.ticks {
+                    ticks[to][k as usize] = floor_f32((g.duration_s / tick - 1e-9).ceil() * tick);
+                }
+                if let Some(objective) = &mut w.objective {
+                    let floor = match self.objective {
+                        Objective::Energy => {
+                            let units = PathLength::Distance.units(Action::Drive(k), dx, dy);
+                            (self.model.drive_energy_floor_wh(&g, source_w) + e_max * units).max(0.0)
+                        }
+                        Objective::EnergyUsed => self.model.drive_load_floor_wh(&g),
+                        Objective::Time | Objective::Margin { .. } => g.duration_s,
+                    };
+                    objective[to][k as usize] = floor_f32(floor);
+                }
             }
-            Objective::EnergyUsed => self.model.drive_load_floor_wh(g),
-            Objective::Energy => {
-                let units = PathLength::Distance.units(Action::Drive(k), dx, dy);
-                (self.model.drive_energy_floor_wh(g, source_w) + e_max * units).max(0.0)
-            }
-        })
+        }
+        w
     }
 
-    /// A Dijkstra backward from `goal` over the drives, each costing `step` (never
-    /// negative): the least sum from every cell.
-    fn reverse_dijkstra(&self, goal: u32, step: &dyn Fn(u8, &DriveGeometry) -> f64) -> Vec<f64> {
+    /// A Dijkstra backward from `goal` over the drives weighed `w` (never negative;
+    /// infinite where no drive exists): the least sum from every cell.
+    fn reverse_dijkstra(&self, goal: u32, w: &[[f32; 8]]) -> Vec<f64> {
         let n = self.world.cols() * self.world.rows();
         let mut dist = vec![f64::INFINITY; n];
         let mut heap = QuaternaryHeap::new();
@@ -486,10 +512,16 @@ impl ExactQuery<'_> {
             if d.0 > dist[to as usize] {
                 continue;
             }
-            for k in 0..8u8 {
-                // The drive into `to` from the neighbour behind direction k.
-                let Some((from, g)) = self.model.drive_geometry_into(self.world, to, k) else { continue };
-                let nd = d.0 + step(k, &g);
+            let (c, r) = self.world.col_row(to);
+            for (k, &weight) in w[to as usize].iter().enumerate() {
+                if weight == f32::INFINITY {
+                    continue;
+                }
+                // The drive into `to` from the neighbour behind direction k (on the map:
+                // the drive exists).
+                let (dc, dr) = NEIGHBOURS[k];
+                let from = self.world.cell((c as i64 - i64::from(dc)) as usize, (r as i64 - i64::from(dr)) as usize);
+                let nd = d.0 + f64::from(weight);
                 if nd < dist[from as usize] {
                     dist[from as usize] = nd;
                     heap.push(Reverse((ordered(nd), from)));
@@ -557,6 +589,27 @@ fn merge_waits(steps: Vec<ExactStep>, tick: f64) -> Vec<ExactStep> {
     merged
 }
 
+/// The drives into every cell, weighed once per query for the bound's backward
+/// searches (several per goal): per cell, the drive from the neighbour behind each
+/// direction. Weights are f32 rounded down, so that sums of them stay lower bounds, at
+/// a quarter of f64's memory; infinite where no drive exists.
+struct DriveWeights {
+    /// The objective's floor; `None` under Time and Margin, whose floor is `duration`.
+    objective: Option<Vec<[f32; 8]>>,
+    /// Duration, s.
+    duration: Vec<[f32; 8]>,
+    /// Duration in whole ticks, s, when drives settle to ticks.
+    ticks: Option<Vec<[f32; 8]>>,
+    /// The loads' least energy, Wh.
+    load: Vec<[f32; 8]>,
+}
+
+/// The largest f32 not above `x`.
+fn floor_f32(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) > x { y.next_down() } else { y }
+}
+
 /// The A* bound from a label to the last goal: the cheapest drives through the
 /// remaining goals over each drive's floor (2-D, any time), plus the deep night (or any
 /// action's least cost per second) between the label's instant and the earliest it can
@@ -621,12 +674,8 @@ struct Harvest {
 }
 
 impl Harvest {
-    fn new(query: &ExactQuery<'_>, tails: &dyn Fn(&[Vec<f64>]) -> Vec<f64>) -> Harvest {
-        let loads: Vec<Vec<f64>> = query
-            .goals
-            .iter()
-            .map(|g| query.reverse_dijkstra(g.cell, &|_, d| query.model.drive_load_floor_wh(d).max(0.0)))
-            .collect();
+    fn new(query: &ExactQuery<'_>, load: &[[f32; 8]], tails: &dyn Fn(&[Vec<f64>]) -> Vec<f64>) -> Harvest {
+        let loads: Vec<Vec<f64>> = query.goals.iter().map(|g| query.reverse_dijkstra(g.cell, load)).collect();
         let load_tails = tails(&loads);
         let (world, model) = (query.world, query.model);
         let table = world.sun_table();
@@ -672,9 +721,9 @@ impl Harvest {
 }
 
 impl Times {
-    fn new(query: &ExactQuery<'_>, e_max: f64, tick: f64) -> Times {
-        let per_goal = |tick: Option<f64>| -> Vec<Vec<f64>> {
-            query.goals.iter().map(|g| query.reverse_bound(g.cell, e_max, Objective::Time, tick)).collect()
+    fn new(query: &ExactQuery<'_>, weights: &DriveWeights, tick: f64) -> Times {
+        let per_goal = |w: &[[f32; 8]]| -> Vec<Vec<f64>> {
+            query.goals.iter().map(|g| query.reverse_dijkstra(g.cell, w)).collect()
         };
         let tails = |times: &[Vec<f64>]| {
             let mut tails = vec![0.0; query.goals.len() + 1];
@@ -683,8 +732,8 @@ impl Times {
             }
             tails
         };
-        let plain = per_goal(None);
-        let ticks = if query.settle { per_goal(Some(tick)) } else { plain.clone() };
+        let plain = per_goal(&weights.duration);
+        let ticks = weights.ticks.as_deref().map_or_else(|| plain.clone(), per_goal);
         let (plain_tails, tick_tails) = (tails(&plain), tails(&ticks));
         let world = query.world;
         let day = query.model.config().drive.daylight.then(|| {
@@ -699,7 +748,7 @@ impl Times {
         });
         let close_s = query.goals.last().map_or(f64::INFINITY, |g| g.close_s);
         let slack_s = if query.settle { 2.0 * tick } else { 0.0 };
-        let energy = Harvest::new(query, &tails);
+        let energy = Harvest::new(query, &weights.load, &tails);
         Times { plain, ticks, plain_tails, tick_tails, slack_s, day, close_s, energy }
     }
 
