@@ -853,3 +853,24 @@ impl Ord for Ordered {
 fn ordered(x: f64) -> Ordered {
     Ordered(x)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::floor_f32;
+
+    /// The bound's drive weights are f32: each must be the largest f32 not above the
+    /// f64 weight, or a sum of them could exceed a plan's cost and the search lose its
+    /// optimum.
+    #[test]
+    fn drive_weights_round_down_to_the_nearest_f32() {
+        // 0.1 and 1/3 round up to nearest in f32, 0.7 and 2/3 down; 1e-46 underflows to 0
+        // (round to nearest) or a subnormal; 1e39 overflows f32.
+        for x in [0.1, 0.7, 1.0 / 3.0, 2.0 / 3.0, 123.456_789, 86_399.999_999, 1e-46, 3.0, 0.0, 1e39] {
+            let y = floor_f32(x);
+            assert!(f64::from(y) <= x, "{x}: {y} is above it");
+            assert!(f64::from(y.next_up()) > x, "{x}: {y} is not the nearest below");
+        }
+        assert_eq!(floor_f32(0.1), 0.1f32.next_down(), "0.1 rounds up in f32");
+        assert_eq!(floor_f32(0.7), 0.7f32, "0.7 rounds down in f32");
+    }
+}
