@@ -191,4 +191,12 @@ fn a_tick_needs_the_rover_to_wait_in_its_steps() {
     }
     let bad = PlannerConfig { tick_s: Some(0.5), ..planner(Objective::Energy) };
     assert!(matches!(bad.validate(), Err(Error::Config { field: "tick_s", .. })));
+    // A margin is the plan's lowest battery, which the exact search's sums cannot
+    // minimise: refused rather than planned as the least time.
+    let margin = planner(Objective::Margin { max_duration_s: 86_400.0 });
+    match margin.validate() {
+        Err(Error::Config { field: "objective", message }) => assert!(message.contains("tick"), "{message}"),
+        other => panic!("expected the objective refused, got {other:?}"),
+    }
+    assert!(planner(Objective::Time).validate().is_ok());
 }
