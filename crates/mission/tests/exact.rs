@@ -402,3 +402,31 @@ fn a_static_route_on_a_tick_is_a_2d_search_whatever_the_horizon() {
     assert_eq!(expansions[0], expansions[1], "the horizon changed the work");
     assert!(expansions[0] < 2_000, "{} expansions", expansions[0]);
 }
+
+/// Three goals in order, each reached at any instant of its window: the exact search
+/// costs what the Dijkstra with no dominance finds, and proves "no plan" where it finds
+/// none — the goal index a third dimension beside cell and instant.
+#[test]
+fn with_three_goals_the_exact_search_equals_a_dijkstra_without_dominance() {
+    let (mut planned, mut proven) = (0, 0);
+    for seed in 0..12u64 {
+        let c = case(100 + seed, 4.0);
+        let mut r = Seeds(seed.wrapping_mul(0x2545_f491_4f6c_dd1d) | 1);
+        let cell = |r: &mut Seeds| c.world.cell((r.next() * 6.0) as usize % 6, (r.next() * 4.0) as usize % 4);
+        let (open, close) = (c.start.t_min, c.start.t_min + 4.0 * 3600.0);
+        let goals: Vec<ExactGoal> =
+            (0..3).map(|_| ExactGoal { cell: cell(&mut r), open_s: open, close_s: close }).collect();
+        let model = model(150.0, actions(900.0));
+        let out = exact_on(&c.world, c.start, &goals, &model);
+        assert!(!out.stopped);
+        match (out.plan.as_ref().map(|p| p.0), brute_force(&c.world, &model, c.start, &goals, 0.0)) {
+            (Some(cost), Some(b)) => {
+                assert!((cost - b).abs() < 1e-6 * (1.0 + b), "seed {seed}: exact {cost} vs Dijkstra {b}");
+                planned += 1;
+            }
+            (None, None) => proven += 1,
+            (p, b) => panic!("seed {seed}: exact {p:?} vs Dijkstra {b:?}"),
+        }
+    }
+    assert!(planned >= 4 && proven >= 1, "{planned} planned, {proven} proven unreachable: the cases test too little");
+}
