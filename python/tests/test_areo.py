@@ -170,7 +170,7 @@ def test_a_scenario_run_gives_the_binarys_facts_and_tables(tmp_path):
         assert ours[k] == facts[k], k
     plan = result.table("plan")
     assert len(plan) == ours["initial_plan_waypoints"]
-    assert plan[0]["action"] in {"hibernate", "drive", "charge", "start"}
+    assert plan[0]["action"] in {"hibernate", "drive", "charge", "start", "wait"}
     assert "monte_carlo" in result.tables and len(result.tables["monte_carlo"]) == 2000
     # The same table as a NumPy record array: numbers as float64, text as text.
     arr = result.table_array("plan")
@@ -200,9 +200,10 @@ def test_an_unreachable_goal_raises_unreachable_with_its_binding(tmp_path):
         sc.run(out=tmp_path)
     assert e.value.binding == "Battery"
     assert isinstance(e.value.result, areo.RunResult) and "initial_plan_waypoints" not in e.value.result.facts
-    # Unquantised actions: a verdict at the scenario's classes, and said to be one.
-    assert e.value.result.facts["unreachable_proven"] is False
-    assert "not a proof" in e.value.message
+    # The scenario plans exactly on a 60 s tick: the verdict is a proof at that tick,
+    # and the message says what it proves.
+    assert e.value.result.facts["unreachable_proven"] is True
+    assert "proven at the tick of 60 s" in e.value.message and "not a proof" not in e.value.message
 
 
 def test_a_run_keeps_to_its_work_budget(tmp_path):
