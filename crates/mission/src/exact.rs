@@ -478,9 +478,9 @@ impl ExactQuery<'_> {
         for to in 0..n {
             for k in 0..8u8 {
                 let Some((_, g)) = self.model.drive_geometry_into(self.world, to as u32, k) else { continue };
-                let load = self.model.drive_load_floor_wh(&g).max(0.0);
+                let load = self.model.drive_load_floor_wh(&g);
                 w.duration[to][k as usize] = floor_f32(g.duration_s);
-                w.load[to][k as usize] = floor_f32(load);
+                w.load[to][k as usize] = floor_f32(load.max(0.0));
                 if let Some(ticks) = &mut w.ticks {
                     ticks[to][k as usize] = floor_f32((g.duration_s / tick - 1e-9).ceil() * tick);
                 }
@@ -490,7 +490,7 @@ impl ExactQuery<'_> {
                             let units = PathLength::Distance.units(Action::Drive(k), dx, dy);
                             (self.model.drive_energy_floor_wh(&g, source_w) + e_max * units).max(0.0)
                         }
-                        Objective::EnergyUsed => self.model.drive_load_floor_wh(&g),
+                        Objective::EnergyUsed => load,
                         Objective::Time | Objective::Margin { .. } => g.duration_s,
                     };
                     objective[to][k as usize] = floor_f32(floor);
