@@ -303,8 +303,9 @@ pub(crate) fn history_references(root: &Path) -> Result<Vec<String>, String> {
                 continue;
             }
             let Ok(text) = std::fs::read_to_string(&path) else { continue };
-            for (i, line) in text.lines().enumerate() {
-                if names_history(line) {
+            let lines: Vec<&str> = text.lines().collect();
+            for (i, line) in lines.iter().enumerate() {
+                if names_history(line) || lines.get(i + 1).is_some_and(|next| names_history(&joined(line, next))) {
                     found.push(format!("{}:{}", path.strip_prefix(root).unwrap_or(&path).display(), i + 1));
                 }
             }
@@ -312,6 +313,17 @@ pub(crate) fn history_references(root: &Path) -> Result<Vec<String>, String> {
     }
     found.sort();
     Ok(found)
+}
+
+/// `line` and the text of `next`, as one line: a sentence wrapped between "issue" and
+/// its number in a comment or a paragraph names history all the same.
+fn joined(line: &str, next: &str) -> String {
+    let end = line.trim_end().to_lowercase();
+    if !["session", "sessions", "issue", "issues"].iter().any(|w| end.ends_with(w)) {
+        return String::new();
+    }
+    let text = next.trim_start().trim_start_matches(['/', '#', '!', '*', '>']).trim_start();
+    format!("{} {text}", line.trim_end())
 }
 
 /// Whether `line` has "session" or "issue" (plural too, any case) as a word followed by
@@ -507,7 +519,8 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("areo-history-scan-{}", std::process::id()));
         std::fs::create_dir_all(dir.join("docs")).unwrap();
         std::fs::write(dir.join("docs/a.md"), format!("fine\nas of {} 9\n", "session")).unwrap();
-        assert_eq!(history_references(&dir).unwrap(), vec!["docs/a.md:2".to_string()]);
+        std::fs::write(dir.join("docs/b.ron"), format!("// checked ({}\n    // 34): equal\nfine\n", "issue")).unwrap();
+        assert_eq!(history_references(&dir).unwrap(), vec!["docs/a.md:2".to_string(), "docs/b.ron:1".to_string()]);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
