@@ -39,8 +39,12 @@ use dary_heap::QuaternaryHeap;
 use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
-use crate::action_model::{Action, ActionModel, NEIGHBOURS};
-use crate::domain::{DarkCost, Objective, PathLength, Start};
+mod bound;
+
+use bound::Bound;
+
+use crate::action_model::{Action, ActionModel};
+use crate::domain::{Objective, PathLength, Start};
 use crate::effect::Effect;
 use crate::world::World;
 
@@ -94,7 +98,8 @@ pub struct ExactOutcome {
     /// Whether the search stopped at its label budget (or its caller's
     /// [`ExactQuery::solve_with`] check) before it could decide.
     pub stopped: bool,
-    /// The most the labels, their index, the queue and the memo of drives held,
+    /// The most the labels, their index, the queue, the memo of drives and the
+    /// bound's backward searches held,
     /// bytes.
     pub bytes: u64,
 }
@@ -222,8 +227,7 @@ impl ExactQuery<'_> {
     fn search(&self, go_on: &mut dyn FnMut(u64) -> bool) -> ExactOutcome {
         let tick = self.model.wait_step_s().unwrap_or_else(|| self.model.stay_duration_s(Action::Hibernate));
         let e_max = self.model.gain_bounds(self.world).0;
-        let bound = self.bound(e_max);
-        let h = |cell: u32, goal: u16, t: f64, e: f64| bound.at(self.world, cell, goal, t, e);
+        let mut bound = Bound::new(self, e_max, tick);
         let departures = Departures::new(self.world, self.model, tick);
         let mut moves = Moves::new();
         let mut nodes: Vec<Node> = Vec::new();
@@ -242,7 +246,7 @@ impl ExactQuery<'_> {
             dead: false,
         };
         self.keep(start, &mut nodes, &mut at, &mut out, tick);
-        open.push(Reverse((ordered(h(start.cell, start.goal, start.t, start.e)), Reverse(ordered(0.0)), 0u32)));
+        open.push(Reverse((ordered(bound.at(start.cell, start.goal, start.t, start.e)), Reverse(ordered(0.0)), 0u32)));
         while let Some(Reverse((_, _, i))) = open.pop() {
             let node = nodes[i as usize];
             if node.dead {
@@ -255,7 +259,8 @@ impl ExactQuery<'_> {
             let held = (nodes.len() * size_of::<Node>()
                 + at.len() * size_of::<(Instant, Staircase)>()
                 + open.len() * size_of::<(Ordered, Reverse<Ordered>, u32)>()
-                + moves.bytes()) as u64;
+                + moves.bytes()
+                + bound.bytes()) as u64;
             out.bytes = out.bytes.max(held);
             if out.kept >= self.max_labels || !go_on(held) {
                 out.stopped = true;
@@ -263,7 +268,7 @@ impl ExactQuery<'_> {
             }
             out.expanded += 1;
             for next in self.successors(node, i, (tick, e_max), &departures, &mut moves) {
-                let f = next.cost + h(next.cell, next.goal, next.t, next.e);
+                let f = next.cost + bound.at(next.cell, next.goal, next.t, next.e);
                 // An infinite bound: no plan from here reaches the goals in time.
                 if f.is_finite()
                     && let Some(j) = self.keep(next, &mut nodes, &mut at, &mut out, tick)
@@ -273,33 +278,6 @@ impl ExactQuery<'_> {
             }
         }
         out
-    }
-
-    /// The search's bound (see [`Bound`]).
-    fn bound(&self, e_max: f64) -> Bound {
-        let tick = self.model.wait_step_s().unwrap_or_else(|| self.model.stay_duration_s(Action::Hibernate));
-        let weights = self.weigh(e_max, tick);
-        let times = Times::new(self, &weights, tick);
-        let drives: Vec<Vec<f64>> = match &weights.objective {
-            Some(w) => self.goals.iter().map(|g| self.reverse_dijkstra(g.cell, w)).collect(),
-            // Under Time the drives' floor is their duration: the same searches.
-            None => times.plain.clone(),
-        };
-        let mut tails = vec![0.0; self.goals.len() + 1];
-        for i in (0..self.goals.len().saturating_sub(1)).rev() {
-            tails[i] = tails[i + 1] + drives[i + 1][self.goals[i].cell as usize];
-        }
-        let units = (0..8u8)
-            .map(|k| PathLength::Distance.units(Action::Drive(k), self.world.dem().dx(), self.world.dem().dy()))
-            .fold(f64::INFINITY, f64::min);
-        let source_w = self.model.drive_source_bound_w(self.world);
-        Bound {
-            drives,
-            tails,
-            times,
-            time_objective: matches!(self.objective, Objective::Time | Objective::Margin { .. }),
-            dark: DarkCost::new(self.world, self.model, self.objective, e_max, units, source_w),
-        }
     }
 
     /// The goal index after arriving at `cell` at `t` with `e`, having reached
@@ -460,77 +438,6 @@ impl ExactQuery<'_> {
         }
     }
 
-    /// Every drive into every cell weighed once for the bound's backward searches (see
-    /// [`DriveWeights`]): each at its floor — the least its energy can be under any Sun
-    /// in the objective, its duration, its duration in whole ticks, its loads' energy.
-    fn weigh(&self, e_max: f64, tick: f64) -> DriveWeights {
-        let n = self.world.cols() * self.world.rows();
-        let source_w = self.model.drive_source_bound_w(self.world);
-        let (dx, dy) = (self.world.dem().dx(), self.world.dem().dy());
-        let table = || vec![[f32::INFINITY; 8]; n];
-        let time_objective = matches!(self.objective, Objective::Time | Objective::Margin { .. });
-        let mut w = DriveWeights {
-            objective: (!time_objective).then(table),
-            duration: table(),
-            ticks: self.settle.then(table),
-            load: table(),
-        };
-        for to in 0..n {
-            for k in 0..8u8 {
-                let Some((_, g)) = self.model.drive_geometry_into(self.world, to as u32, k) else { continue };
-                let load = self.model.drive_load_floor_wh(&g);
-                w.duration[to][k as usize] = floor_f32(g.duration_s);
-                w.load[to][k as usize] = floor_f32(load.max(0.0));
-                if let Some(ticks) = &mut w.ticks {
-                    ticks[to][k as usize] = floor_f32((g.duration_s / tick - 1e-9).ceil() * tick);
-                }
-                if let Some(objective) = &mut w.objective {
-                    let floor = match self.objective {
-                        Objective::Energy => {
-                            let units = PathLength::Distance.units(Action::Drive(k), dx, dy);
-                            (self.model.drive_energy_floor_wh(&g, source_w) + e_max * units).max(0.0)
-                        }
-                        Objective::EnergyUsed => load,
-                        Objective::Time | Objective::Margin { .. } => g.duration_s,
-                    };
-                    objective[to][k as usize] = floor_f32(floor);
-                }
-            }
-        }
-        w
-    }
-
-    /// A Dijkstra backward from `goal` over the drives weighed `w` (never negative;
-    /// infinite where no drive exists): the least sum from every cell.
-    fn reverse_dijkstra(&self, goal: u32, w: &[[f32; 8]]) -> Vec<f64> {
-        let n = self.world.cols() * self.world.rows();
-        let mut dist = vec![f64::INFINITY; n];
-        let mut heap = QuaternaryHeap::new();
-        dist[goal as usize] = 0.0;
-        heap.push(Reverse((ordered(0.0), goal)));
-        while let Some(Reverse((d, to))) = heap.pop() {
-            if d.0 > dist[to as usize] {
-                continue;
-            }
-            let (c, r) = self.world.col_row(to);
-            for (k, &weight) in w[to as usize].iter().enumerate() {
-                if weight == f32::INFINITY {
-                    continue;
-                }
-                // The drive into `to` from the neighbour behind direction k (on the map:
-                // the drive exists).
-                let (dc, dr) = NEIGHBOURS[k];
-                let from = self.world.cell((c as i64 - i64::from(dc)) as usize, (r as i64 - i64::from(dr)) as usize);
-                let nd = d.0 + f64::from(weight);
-                if nd < dist[from as usize] {
-                    dist[from as usize] = nd;
-                    heap.push(Reverse((ordered(nd), from)));
-                }
-            }
-        }
-        dist
-    }
-
     fn steps(&self, nodes: &[Node], mut i: u32) -> Vec<ExactStep> {
         let mut steps = Vec::new();
         while nodes[i as usize].parent != NONE {
@@ -589,222 +496,6 @@ fn merge_waits(steps: Vec<ExactStep>, tick: f64) -> Vec<ExactStep> {
     merged
 }
 
-/// The drives into every cell, weighed once per query for the bound's backward
-/// searches (several per goal): per cell, the drive from the neighbour behind each
-/// direction. Weights are f32 rounded down, so that sums of them stay lower bounds, at
-/// a quarter of f64's memory; infinite where no drive exists.
-struct DriveWeights {
-    /// The objective's floor; `None` under Time and Margin, whose floor is `duration`.
-    objective: Option<Vec<[f32; 8]>>,
-    /// Duration, s.
-    duration: Vec<[f32; 8]>,
-    /// Duration in whole ticks, s, when drives settle to ticks.
-    ticks: Option<Vec<[f32; 8]>>,
-    /// The loads' least energy, Wh.
-    load: Vec<[f32; 8]>,
-}
-
-/// The largest f32 not above `x`.
-fn floor_f32(x: f64) -> f32 {
-    let y = x as f32;
-    if f64::from(y) > x { y.next_down() } else { y }
-}
-
-/// The A* bound from a label to the last goal: the cheapest drives through the
-/// remaining goals over each drive's floor (2-D, any time), plus the deep night (or any
-/// action's least cost per second) between the label's instant and the earliest it can
-/// arrive ([`Times`]) — the approximate planner's own time bounds (`domain::DarkCost`).
-/// Under the Time objective, the earliest arrival less the label's instant.
-struct Bound {
-    /// Per goal, the drives' bound from every cell to it.
-    drives: Vec<Vec<f64>>,
-    /// Per goal, the drives' bound from it through the later goals.
-    tails: Vec<f64>,
-    /// The earliest the rover can reach the last goal.
-    times: Times,
-    /// Whether the cost is the time taken (the bound is then the earliest arrival).
-    time_objective: bool,
-    dark: Option<DarkCost>,
-}
-
-/// The earliest instant a plan can reach the last goal from a label: over the drives
-/// that exist (a detour round an obstacle takes its time), each drive but the last
-/// lasting whole ticks (its settle), the last ending where a drive may end (in daylight
-/// under the daylight rule). A plan that cannot beat the sunset is so seen to wait out
-/// the night, and to pay for it in the bound.
-struct Times {
-    /// Per goal, the least time of the drives from every cell to it, s: at their own
-    /// durations, and at whole ticks.
-    plain: Vec<Vec<f64>>,
-    ticks: Vec<Vec<f64>>,
-    /// Per goal, the same from it through the later goals, s.
-    plain_tails: Vec<f64>,
-    tick_tails: Vec<f64>,
-    /// What the whole-tick sums may exceed the truth by: the first drive from a start
-    /// between ticks and the last drive, unsettled, s.
-    slack_s: f64,
-    /// Under the daylight rule, the Sun-table step and, per table instant, the first
-    /// instant at or after it with the Sun above the horizon.
-    day: Option<(f64, Vec<f64>)>,
-    /// The last goal's window's close, s after the epoch.
-    close_s: f64,
-    /// The energy the rest of the plan needs against the most the sources can give.
-    energy: Harvest,
-}
-
-/// The earliest instant the sources can have given the battery what the drives ahead
-/// draw: the rover ends at the last goal with its battery above what it must hold only
-/// if its charge now plus everything the sources give until then covers the drives'
-/// loads (each at its least, over the cheapest way), whatever the efficiencies, the
-/// waits' own loads and the battery's cap, which only make it later. The sources are
-/// bounded by the generator plus the array square to the beam at each instant — small
-/// in the last hour of the day, nothing at night — so a label near the goal in the
-/// evening without the battery to finish is seen to wait for the morning.
-struct Harvest {
-    /// Per goal, the least the drives from every cell to it load the rover, Wh; the
-    /// same from it through the later goals.
-    loads: Vec<Vec<f64>>,
-    load_tails: Vec<f64>,
-    /// The battery to hold above the floor at the last goal, Wh.
-    hold_wh: f64,
-    /// The Sun-table step, s, and at each table instant the most the sources can have
-    /// given since the epoch, Wh.
-    step_s: f64,
-    given: Vec<f64>,
-}
-
-impl Harvest {
-    fn new(query: &ExactQuery<'_>, load: &[[f32; 8]], tails: &dyn Fn(&[Vec<f64>]) -> Vec<f64>) -> Harvest {
-        let loads: Vec<Vec<f64>> = query.goals.iter().map(|g| query.reverse_dijkstra(g.cell, load)).collect();
-        let load_tails = tails(&loads);
-        let (world, model) = (query.world, query.model);
-        let table = world.sun_table();
-        let step_s = world.sun_step_s();
-        let mut given = Vec::with_capacity(table.len());
-        given.push(0.0);
-        for k in 1..table.len() {
-            // Linear between samples: the larger end bounds the interval.
-            let beam = table[k - 1].beam_w_m2.max(table[k].beam_w_m2);
-            let w = model.rover().nuclear_w + model.solar_peak_w(beam);
-            given.push(given[k - 1] + w.max(0.0) * step_s / 3600.0);
-        }
-        Harvest { loads, load_tails, hold_wh: query.goal_energy_wh.max(0.0), step_s, given }
-    }
-
-    /// The most the sources can have given from the epoch to `t`, Wh.
-    fn given_at(&self, t: f64) -> f64 {
-        let pos = (t / self.step_s).clamp(0.0, (self.given.len() - 1) as f64);
-        let k = (pos as usize).min(self.given.len() - 2);
-        self.given[k] + (self.given[k + 1] - self.given[k]) * (pos - k as f64)
-    }
-
-    /// The earliest the rover at `cell` at `t` with `e` above the floor, `goal` goals
-    /// reached, can have what the rest of the plan needs, s (infinite: not within the
-    /// Sun table).
-    fn ready(&self, cell: u32, goal: usize, t: f64, e: f64) -> f64 {
-        let lack = self.loads[goal][cell as usize] + self.load_tails[goal] + self.hold_wh - e;
-        if lack <= 0.0 {
-            return t;
-        }
-        let target = self.given_at(t) + lack;
-        let k = self.given.partition_point(|&g| g < target);
-        if k >= self.given.len() {
-            return f64::INFINITY;
-        }
-        if k == 0 {
-            return t;
-        }
-        let (a, b) = (self.given[k - 1], self.given[k]);
-        let f = if b > a { (target - a) / (b - a) } else { 1.0 };
-        (((k - 1) as f64 + f) * self.step_s).max(t)
-    }
-}
-
-impl Times {
-    fn new(query: &ExactQuery<'_>, weights: &DriveWeights, tick: f64) -> Times {
-        let per_goal = |w: &[[f32; 8]]| -> Vec<Vec<f64>> {
-            query.goals.iter().map(|g| query.reverse_dijkstra(g.cell, w)).collect()
-        };
-        let tails = |times: &[Vec<f64>]| {
-            let mut tails = vec![0.0; query.goals.len() + 1];
-            for i in (0..query.goals.len().saturating_sub(1)).rev() {
-                tails[i] = tails[i + 1] + times[i + 1][query.goals[i].cell as usize];
-            }
-            tails
-        };
-        let plain = per_goal(&weights.duration);
-        let ticks = weights.ticks.as_deref().map_or_else(|| plain.clone(), per_goal);
-        let (plain_tails, tick_tails) = (tails(&plain), tails(&ticks));
-        let world = query.world;
-        let day = query.model.config().drive.daylight.then(|| {
-            let step = world.sun_step_s();
-            let table = world.sun_table();
-            let mut first = vec![f64::INFINITY; table.len() + 1];
-            for k in (0..table.len()).rev() {
-                // The Sun comes up somewhere after the last sample below the horizon.
-                first[k] = if table[k].elevation_deg > 0.0 { k as f64 * step } else { first[k + 1] };
-            }
-            (step, first)
-        });
-        let close_s = query.goals.last().map_or(f64::INFINITY, |g| g.close_s);
-        let slack_s = if query.settle { 2.0 * tick } else { 0.0 };
-        let energy = Harvest::new(query, &weights.load, &tails);
-        Times { plain, ticks, plain_tails, tick_tails, slack_s, day, close_s, energy }
-    }
-
-    /// The earliest the rover at `cell` at `t`, `goal` goals reached, can reach the last
-    /// goal, s after the epoch (infinite: never within the Sun table).
-    fn arrival(&self, world: &World, cell: u32, goal: usize, t: f64, e: f64) -> f64 {
-        let plain = self.plain[goal][cell as usize] + self.plain_tails[goal];
-        let ticks = self.ticks[goal][cell as usize] + self.tick_tails[goal] - self.slack_s;
-        let least = plain.max(ticks);
-        let at = (t + least).max(self.energy.ready(cell, goal, t, e));
-        if at > self.close_s + 1e-9 {
-            // After the last goal's window: no plan from here.
-            return f64::INFINITY;
-        }
-        if least <= 0.0 {
-            // At the goal: no drive left to end in daylight.
-            return at;
-        }
-        match &self.day {
-            Some((step, first)) if world.sun(at).elevation_deg <= 0.0 => {
-                // The last drive ends in daylight: no earlier than the sample before
-                // the first one with the Sun up.
-                let k = (at / step).ceil() as usize;
-                match first.get(k) {
-                    Some(&up) if up.is_finite() => at.max(up - step),
-                    _ => f64::INFINITY,
-                }
-            }
-            _ => at,
-        }
-    }
-}
-
-impl Bound {
-    fn at(&self, world: &World, cell: u32, goal: u16, t: f64, e: f64) -> f64 {
-        let g = goal as usize;
-        if g >= self.drives.len() {
-            return 0.0;
-        }
-        let drives = self.drives[g][cell as usize] + self.tails[g];
-        // Any plan from here spends at least until `t + least` on its way: the deep
-        // night in that span with stays, and all of it at the least cost per second.
-        let arrival = self.times.arrival(world, cell, g, t, e);
-        if !arrival.is_finite() {
-            return f64::INFINITY;
-        }
-        if self.time_objective {
-            return drives.max(arrival - t);
-        }
-        match &self.dark {
-            Some(d) => (drives + (d.at(arrival) - d.at(t)).max(0.0)).max((d.any_at(arrival) - d.any_at(t)).max(0.0)),
-            None => drives,
-        }
-    }
-}
-
 /// The ticks from which a drive may depart ([`ActionModel::drives_may_depart`]), as
 /// the first such tick from each tick on.
 struct Departures {
@@ -856,7 +547,7 @@ fn ordered(x: f64) -> Ordered {
 
 #[cfg(test)]
 mod tests {
-    use super::floor_f32;
+    use super::bound::floor_f32;
 
     /// The bound's drive weights are f32: each must be the largest f32 not above the
     /// f64 weight, or a sum of them could exceed a plan's cost and the search lose its

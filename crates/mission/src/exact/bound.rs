@@ -1,0 +1,438 @@
+//! The exact search's A* bound: the cheapest drives to each remaining goal over a 2-D
+//! graph of the least each drive can cost at any time, and the night or slow hours
+//! before the earliest the rover can arrive.
+//!
+//! Its 2-D parts are Dijkstras backward from each goal over the drives' floors, run
+//! lazily: each goes only as far as the cells the search asks about need (a cell's
+//! distance is final once the backward search has settled it, and the search goes on
+//! from where it stopped at the next cell asked about). A route of a few kilometres on
+//! a map of millions of cells so weighs the drives of the cells around it, not the
+//! map's; the values are the very distances a whole-map Dijkstra gives, so the bound,
+//! and the search, do not change.
+
+use std::cmp::Reverse;
+
+use dary_heap::QuaternaryHeap;
+
+use super::{ExactQuery, Ordered, ordered};
+use crate::action_model::{Action, ActionModel, NEIGHBOURS};
+use crate::domain::{DarkCost, Objective, PathLength};
+use crate::world::World;
+
+/// The weights of a drive the backward searches sum, as rows of [`Region::weights`].
+const OBJECTIVE: usize = 0;
+const DURATION: usize = 1;
+const TICKS: usize = 2;
+const LOAD: usize = 3;
+
+/// Cells per page of the slot table.
+const PAGE: usize = 256;
+
+/// The largest f32 not above `x`.
+pub(super) fn floor_f32(x: f64) -> f32 {
+    let y = x as f32;
+    if f64::from(y) > x { y.next_down() } else { y }
+}
+
+/// What weighs a drive: the query's objective and model, and the tick.
+struct Weigher<'a> {
+    world: &'a World,
+    model: &'a ActionModel,
+    objective: Objective,
+    e_max: f64,
+    tick: f64,
+    source_w: f64,
+}
+
+impl Weigher<'_> {
+    /// The drives into `cell` from the neighbour behind each direction, weighed: per
+    /// row ([`OBJECTIVE`], [`DURATION`], [`TICKS`], [`LOAD`]) the objective's floor
+    /// (the least its energy can be under any Sun), the duration, the duration in whole
+    /// ticks and the loads' least energy — f32 rounded down, so that sums of them stay
+    /// lower bounds; infinite where no drive exists.
+    fn weigh(&self, cell: u32) -> [[f32; 8]; 4] {
+        let mut w = [[f32::INFINITY; 8]; 4];
+        let (dx, dy) = (self.world.dem().dx(), self.world.dem().dy());
+        for k in 0..8u8 {
+            let Some((_, g)) = self.model.drive_geometry_into(self.world, cell, k) else { continue };
+            let load = self.model.drive_load_floor_wh(&g);
+            let floor = match self.objective {
+                Objective::Energy => {
+                    let units = PathLength::Distance.units(Action::Drive(k), dx, dy);
+                    (self.model.drive_energy_floor_wh(&g, self.source_w) + self.e_max * units).max(0.0)
+                }
+                Objective::EnergyUsed => load,
+                Objective::Time | Objective::Margin { .. } => g.duration_s,
+            };
+            let k = k as usize;
+            w[OBJECTIVE][k] = floor_f32(floor);
+            w[DURATION][k] = floor_f32(g.duration_s);
+            w[TICKS][k] = floor_f32((g.duration_s / self.tick - 1e-9).ceil() * self.tick);
+            w[LOAD][k] = floor_f32(load.max(0.0));
+        }
+        w
+    }
+}
+
+/// The cells the backward searches have met, each given a slot (in the order met) in
+/// compact tables: its drives' weights, and each search's distance.
+struct Region<'a> {
+    weigher: Weigher<'a>,
+    /// Per page of [`PAGE`] cells, each cell's slot (`u32::MAX`: not met).
+    pages: Vec<Option<Box<[u32]>>>,
+    /// How many pages are allocated.
+    pages_held: usize,
+    /// Per slot, its cell.
+    cells: Vec<u32>,
+    /// Per slot, the drives into its cell weighed ([`Weigher::weigh`]).
+    weights: Vec<[[f32; 8]; 4]>,
+}
+
+impl<'a> Region<'a> {
+    fn new(weigher: Weigher<'a>) -> Region<'a> {
+        let n = weigher.world.cols() * weigher.world.rows();
+        Region { weigher, pages: vec![None; n.div_ceil(PAGE)], pages_held: 0, cells: Vec::new(), weights: Vec::new() }
+    }
+
+    /// The slot of `cell`, weighing its drives when it is met first.
+    fn slot(&mut self, cell: u32) -> usize {
+        let (page, at) = (cell as usize / PAGE, cell as usize % PAGE);
+        let held = &mut self.pages_held;
+        let slots = self.pages[page].get_or_insert_with(|| {
+            *held += 1;
+            vec![u32::MAX; PAGE].into_boxed_slice()
+        });
+        if slots[at] == u32::MAX {
+            slots[at] = self.cells.len() as u32;
+            self.cells.push(cell);
+            self.weights.push(self.weigher.weigh(cell));
+        }
+        slots[at] as usize
+    }
+
+    fn bytes(&self) -> usize {
+        self.pages.len() * size_of::<Option<Box<[u32]>>>()
+            + self.pages_held * PAGE * size_of::<u32>()
+            + self.cells.capacity() * size_of::<u32>()
+            + self.weights.capacity() * size_of::<[[f32; 8]; 4]>()
+    }
+}
+
+/// A Dijkstra backward from a goal over one row of the drives' weights (never
+/// negative), stopped wherever it was last asked about: the least sum from a cell to
+/// the goal is final once the cell is settled.
+struct Backward {
+    row: usize,
+    /// Per slot, the least sum found so far, and whether it is final.
+    dist: Vec<f64>,
+    settled: Vec<bool>,
+    heap: QuaternaryHeap<Reverse<(Ordered, u32)>>,
+}
+
+impl Backward {
+    fn new(goal: u32, row: usize, region: &mut Region<'_>) -> Backward {
+        let s = region.slot(goal);
+        let mut search = Backward { row, dist: Vec::new(), settled: Vec::new(), heap: QuaternaryHeap::new() };
+        search.grow(region);
+        search.dist[s] = 0.0;
+        search.heap.push(Reverse((ordered(0.0), s as u32)));
+        search
+    }
+
+    fn grow(&mut self, region: &Region<'_>) {
+        if self.dist.len() < region.cells.len() {
+            self.dist.resize(region.cells.len(), f64::INFINITY);
+            self.settled.resize(region.cells.len(), false);
+        }
+    }
+
+    /// The least sum of the row's weights over the drives from `cell` to the goal
+    /// (infinite: no way there), searching on as far as it needs.
+    fn get(&mut self, cell: u32, region: &mut Region<'_>) -> f64 {
+        let s = region.slot(cell);
+        self.grow(region);
+        while !self.settled[s] {
+            let Some(Reverse((d, to))) = self.heap.pop() else { break };
+            let to = to as usize;
+            if self.settled[to] || d.0 > self.dist[to] {
+                continue;
+            }
+            self.settled[to] = true;
+            let (c, r) = region.weigher.world.col_row(region.cells[to]);
+            let weights = region.weights[to][self.row];
+            for (k, &weight) in weights.iter().enumerate() {
+                if weight == f32::INFINITY {
+                    continue;
+                }
+                // The drive into `to` from the neighbour behind direction k (on the map:
+                // the drive exists).
+                let (dc, dr) = NEIGHBOURS[k];
+                let from =
+                    region.weigher.world.cell((c as i64 - i64::from(dc)) as usize, (r as i64 - i64::from(dr)) as usize);
+                let f = region.slot(from);
+                self.grow(region);
+                let nd = d.0 + f64::from(weight);
+                if nd < self.dist[f] {
+                    self.dist[f] = nd;
+                    self.heap.push(Reverse((ordered(nd), f as u32)));
+                }
+            }
+        }
+        self.dist[s]
+    }
+
+    fn bytes(&self) -> usize {
+        self.dist.capacity() * size_of::<f64>()
+            + self.settled.capacity()
+            + self.heap.len() * size_of::<Reverse<(Ordered, u32)>>()
+    }
+}
+
+/// The backward searches of one goal, as indices into [`Bound::searches`] (two may be
+/// the same search: under Time the objective's floor is the duration; without settles
+/// the whole ticks are not searched).
+#[derive(Debug, Clone, Copy)]
+struct GoalSearches {
+    objective: usize,
+    duration: usize,
+    ticks: usize,
+    load: usize,
+}
+
+/// The A* bound from a label to the last goal: the cheapest drives through the
+/// remaining goals over each drive's floor (2-D, any time), plus the deep night (or any
+/// action's least cost per second) between the label's instant and the earliest it can
+/// arrive — the approximate planner's own time bounds (`domain::DarkCost`). Under the
+/// Time objective, the earliest arrival less the label's instant.
+///
+/// The earliest arrival: over the drives that exist (a detour round an obstacle takes
+/// its time), each drive but the last lasting whole ticks (its settle), the last ending
+/// where a drive may end (in daylight under the daylight rule), and no earlier than the
+/// sources can have given the battery what the drives ahead load it with ([`Harvest`]).
+/// A plan that cannot beat the sunset is so seen to wait out the night, and to pay for
+/// it in the bound.
+pub(super) struct Bound<'a> {
+    region: Region<'a>,
+    searches: Vec<Backward>,
+    per_goal: Vec<GoalSearches>,
+    /// Per goal, the same sums from it through the later goals.
+    tails: Vec<GoalTails>,
+    /// What the whole-tick sums may exceed the truth by: the first drive from a start
+    /// between ticks and the last drive, unsettled, s.
+    slack_s: f64,
+    /// Under the daylight rule, the Sun-table step and, per table instant, the first
+    /// instant at or after it with the Sun above the horizon.
+    day: Option<(f64, Vec<f64>)>,
+    /// The last goal's window's close, s after the epoch.
+    close_s: f64,
+    harvest: Harvest,
+    /// Whether the cost is the time taken (the bound is then the earliest arrival).
+    time_objective: bool,
+    dark: Option<DarkCost>,
+}
+
+/// Sums from a goal through the later goals.
+#[derive(Debug, Clone, Copy, Default)]
+struct GoalTails {
+    objective: f64,
+    duration: f64,
+    ticks: f64,
+    load: f64,
+}
+
+impl<'a> Bound<'a> {
+    pub(super) fn new(query: &ExactQuery<'a>, e_max: f64, tick: f64) -> Bound<'a> {
+        let (world, model) = (query.world, query.model);
+        let time_objective = matches!(query.objective, Objective::Time | Objective::Margin { .. });
+        let source_w = model.drive_source_bound_w(world);
+        let weigher = Weigher { world, model, objective: query.objective, e_max, tick, source_w };
+        let mut region = Region::new(weigher);
+        let mut searches = Vec::new();
+        let mut add = |goal: u32, row: usize| {
+            searches.push(Backward::new(goal, row, &mut region));
+            searches.len() - 1
+        };
+        let per_goal: Vec<GoalSearches> = query
+            .goals
+            .iter()
+            .map(|g| {
+                let duration = add(g.cell, DURATION);
+                GoalSearches {
+                    objective: if time_objective { duration } else { add(g.cell, OBJECTIVE) },
+                    duration,
+                    ticks: if query.settle { add(g.cell, TICKS) } else { duration },
+                    load: add(g.cell, LOAD),
+                }
+            })
+            .collect();
+        let mut tails = vec![GoalTails::default(); query.goals.len() + 1];
+        for i in (0..query.goals.len().saturating_sub(1)).rev() {
+            let (next, cell) = (per_goal[i + 1], query.goals[i].cell);
+            let mut leg = |s: usize| searches[s].get(cell, &mut region);
+            let step = GoalTails {
+                objective: leg(next.objective),
+                duration: leg(next.duration),
+                ticks: leg(next.ticks),
+                load: leg(next.load),
+            };
+            let after = tails[i + 1];
+            tails[i] = GoalTails {
+                objective: after.objective + step.objective,
+                duration: after.duration + step.duration,
+                ticks: after.ticks + step.ticks,
+                load: after.load + step.load,
+            };
+        }
+        let day = model.config().drive.daylight.then(|| {
+            let step = world.sun_step_s();
+            let table = world.sun_table();
+            let mut first = vec![f64::INFINITY; table.len() + 1];
+            for k in (0..table.len()).rev() {
+                // The Sun comes up somewhere after the last sample below the horizon.
+                first[k] = if table[k].elevation_deg > 0.0 { k as f64 * step } else { first[k + 1] };
+            }
+            (step, first)
+        });
+        let units = (0..8u8)
+            .map(|k| PathLength::Distance.units(Action::Drive(k), world.dem().dx(), world.dem().dy()))
+            .fold(f64::INFINITY, f64::min);
+        Bound {
+            region,
+            searches,
+            per_goal,
+            tails,
+            slack_s: if query.settle { 2.0 * tick } else { 0.0 },
+            day,
+            close_s: query.goals.last().map_or(f64::INFINITY, |g| g.close_s),
+            harvest: Harvest::new(query),
+            time_objective,
+            dark: DarkCost::new(world, model, query.objective, e_max, units, source_w),
+        }
+    }
+
+    /// The sum of `search`'s weights from `cell` to its goal.
+    fn get(&mut self, search: usize, cell: u32) -> f64 {
+        self.searches[search].get(cell, &mut self.region)
+    }
+
+    /// The least cost from a label at `cell` at `t` with `e` above the floor, `goal`
+    /// goals reached, to the end of any plan (infinite: none can reach the goals).
+    pub(super) fn at(&mut self, cell: u32, goal: u16, t: f64, e: f64) -> f64 {
+        let g = goal as usize;
+        if g >= self.per_goal.len() {
+            return 0.0;
+        }
+        let arrival = self.arrival(cell, g, t, e);
+        if !arrival.is_finite() {
+            return f64::INFINITY;
+        }
+        let drives = self.get(self.per_goal[g].objective, cell) + self.tails[g].objective;
+        if self.time_objective {
+            return drives.max(arrival - t);
+        }
+        // Any plan from here spends at least until the arrival on its way: the deep
+        // night in that span with stays, and all of it at the least cost per second.
+        match &self.dark {
+            Some(d) => (drives + (d.at(arrival) - d.at(t)).max(0.0)).max((d.any_at(arrival) - d.any_at(t)).max(0.0)),
+            None => drives,
+        }
+    }
+
+    /// The earliest the rover at `cell` at `t` with `e`, `goal` goals reached, can reach
+    /// the last goal, s after the epoch (infinite: never within the Sun table, or after
+    /// the last goal's window).
+    fn arrival(&mut self, cell: u32, goal: usize, t: f64, e: f64) -> f64 {
+        let (searches, tails) = (self.per_goal[goal], self.tails[goal]);
+        let plain = self.get(searches.duration, cell) + tails.duration;
+        let ticks = self.get(searches.ticks, cell) + tails.ticks - self.slack_s;
+        let least = plain.max(ticks);
+        let load = self.get(searches.load, cell) + tails.load;
+        let at = (t + least).max(self.harvest.ready(load, t, e));
+        if at > self.close_s + 1e-9 {
+            return f64::INFINITY;
+        }
+        if least <= 0.0 {
+            // At the goal: no drive left to end in daylight.
+            return at;
+        }
+        match &self.day {
+            Some((step, first)) if self.region.weigher.world.sun(at).elevation_deg <= 0.0 => {
+                // The last drive ends in daylight: no earlier than the sample before
+                // the first one with the Sun up.
+                let k = (at / step).ceil() as usize;
+                match first.get(k) {
+                    Some(&up) if up.is_finite() => at.max(up - step),
+                    _ => f64::INFINITY,
+                }
+            }
+            _ => at,
+        }
+    }
+
+    /// The bytes the bound holds: its region's tables and its searches.
+    pub(super) fn bytes(&self) -> usize {
+        self.region.bytes() + self.searches.iter().map(Backward::bytes).sum::<usize>()
+    }
+}
+
+/// The earliest instant the sources can have given the battery what the drives ahead
+/// draw: the rover ends at the last goal with its battery above what it must hold only
+/// if its charge now plus everything the sources give until then covers the drives'
+/// loads (each at its least, over the cheapest way), whatever the efficiencies, the
+/// waits' own loads and the battery's cap, which only make it later. The sources are
+/// bounded by the generator plus the array square to the beam at each instant — small
+/// in the last hour of the day, nothing at night — so a label near the goal in the
+/// evening without the battery to finish is seen to wait for the morning.
+struct Harvest {
+    /// The battery to hold above the floor at the last goal, Wh.
+    hold_wh: f64,
+    /// The Sun-table step, s, and at each table instant the most the sources can have
+    /// given since the epoch, Wh.
+    step_s: f64,
+    given: Vec<f64>,
+}
+
+impl Harvest {
+    fn new(query: &ExactQuery<'_>) -> Harvest {
+        let (world, model) = (query.world, query.model);
+        let table = world.sun_table();
+        let step_s = world.sun_step_s();
+        let mut given = Vec::with_capacity(table.len());
+        given.push(0.0);
+        for k in 1..table.len() {
+            // Linear between samples: the larger end bounds the interval.
+            let beam = table[k - 1].beam_w_m2.max(table[k].beam_w_m2);
+            let w = model.rover().nuclear_w + model.solar_peak_w(beam);
+            given.push(given[k - 1] + w.max(0.0) * step_s / 3600.0);
+        }
+        Harvest { hold_wh: query.goal_energy_wh.max(0.0), step_s, given }
+    }
+
+    /// The most the sources can have given from the epoch to `t`, Wh.
+    fn given_at(&self, t: f64) -> f64 {
+        let pos = (t / self.step_s).clamp(0.0, (self.given.len() - 1) as f64);
+        let k = (pos as usize).min(self.given.len() - 2);
+        self.given[k] + (self.given[k + 1] - self.given[k]) * (pos - k as f64)
+    }
+
+    /// The earliest a rover at `t` with `e` above the floor, whose drives ahead load it
+    /// with at least `load_wh`, can have what the rest of the plan needs, s (infinite:
+    /// not within the Sun table).
+    fn ready(&self, load_wh: f64, t: f64, e: f64) -> f64 {
+        let lack = load_wh + self.hold_wh - e;
+        if lack <= 0.0 {
+            return t;
+        }
+        let target = self.given_at(t) + lack;
+        let k = self.given.partition_point(|&g| g < target);
+        if k >= self.given.len() {
+            return f64::INFINITY;
+        }
+        if k == 0 {
+            return t;
+        }
+        let (a, b) = (self.given[k - 1], self.given[k]);
+        let f = if b > a { (target - a) / (b - a) } else { 1.0 };
+        (((k - 1) as f64 + f) * self.step_s).max(t)
+    }
+}
