@@ -32,6 +32,8 @@ pub(crate) struct Landmark {
     /// Tentative or settled distance of each cell, in pages allocated as the search
     /// reaches them; `INFINITY`: not reached yet.
     pages: Vec<Option<Box<[f64; PAGE]>>>,
+    /// How many pages are allocated.
+    held: usize,
     /// The frontier: (distance bits, cell). Non-negative f64s order as their bits.
     heap: BinaryHeap<Reverse<(u64, u32)>>,
     /// The largest distance settled so far: every cell below it is settled.
@@ -44,7 +46,7 @@ pub(crate) type Edges<'e> = &'e mut Vec<(u32, f64)>;
 impl Landmark {
     /// The map for `anchor`; nothing is settled until asked.
     pub(crate) fn new(anchor: u32) -> Landmark {
-        let mut l = Landmark { pages: Vec::new(), heap: BinaryHeap::new(), radius: 0.0 };
+        let mut l = Landmark { pages: Vec::new(), held: 0, heap: BinaryHeap::new(), radius: 0.0 };
         l.set(anchor, 0.0);
         l.heap.push(Reverse((0f64.to_bits(), anchor)));
         l
@@ -60,7 +62,11 @@ impl Landmark {
         if self.pages.len() <= i / PAGE {
             self.pages.resize_with(i / PAGE + 1, || None);
         }
-        self.pages[i / PAGE].get_or_insert_with(|| Box::new([f64::INFINITY; PAGE]))[i % PAGE] = d;
+        let held = &mut self.held;
+        self.pages[i / PAGE].get_or_insert_with(|| {
+            *held += 1;
+            Box::new([f64::INFINITY; PAGE])
+        })[i % PAGE] = d;
     }
 
     /// Lowers `cell` to `d` if that is less than it has.
@@ -163,7 +169,7 @@ impl Landmark {
 
     /// Bytes held.
     pub(crate) fn bytes(&self) -> usize {
-        self.pages.iter().flatten().count() * PAGE * 8
+        self.held * PAGE * 8
             + self.pages.capacity() * 8
             + self.heap.capacity() * std::mem::size_of::<Reverse<(u64, u32)>>()
     }

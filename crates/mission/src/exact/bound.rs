@@ -10,22 +10,19 @@
 //! map's; the values are the very distances a whole-map Dijkstra gives, so the bound,
 //! and the search, do not change.
 
-use std::cmp::Reverse;
-
-use dary_heap::QuaternaryHeap;
-
-use super::{ExactQuery, Ordered, ordered};
+use super::ExactQuery;
 use crate::action_model::{Action, ActionModel, NEIGHBOURS};
 use crate::domain::{DarkCost, Objective, PathLength};
+use crate::landmark::{Edges, Landmark};
 use crate::world::World;
 
-/// The weights of a drive the backward searches sum, as rows of [`Region::weights`].
+/// The weights of a drive the backward searches sum, as rows of [`Weigher::weigh`].
 const OBJECTIVE: usize = 0;
 const DURATION: usize = 1;
 const TICKS: usize = 2;
 const LOAD: usize = 3;
 
-/// Cells per page of the slot table.
+/// Cells per page of the weighed drives.
 const PAGE: usize = 256;
 
 /// The largest f32 not above `x`.
@@ -74,118 +71,59 @@ impl Weigher<'_> {
     }
 }
 
-/// The cells the backward searches have met, each given a slot (in the order met) in
-/// compact tables: its drives' weights, and each search's distance.
-struct Region<'a> {
+/// The drives into each cell the backward searches have met, weighed when first met
+/// ([`Weigher::weigh`]), in pages allocated as the searches reach them.
+struct Weights<'a> {
     weigher: Weigher<'a>,
-    /// Per page of [`PAGE`] cells, each cell's slot (`u32::MAX`: not met).
-    pages: Vec<Option<Box<[u32]>>>,
+    pages: Vec<Option<Box<[Option<[[f32; 8]; 4]>]>>>,
     /// How many pages are allocated.
-    pages_held: usize,
-    /// Per slot, its cell.
-    cells: Vec<u32>,
-    /// Per slot, the drives into its cell weighed ([`Weigher::weigh`]).
-    weights: Vec<[[f32; 8]; 4]>,
+    held: usize,
 }
 
-impl<'a> Region<'a> {
-    fn new(weigher: Weigher<'a>) -> Region<'a> {
+impl<'a> Weights<'a> {
+    fn new(weigher: Weigher<'a>) -> Weights<'a> {
         let n = weigher.world.cols() * weigher.world.rows();
-        Region { weigher, pages: vec![None; n.div_ceil(PAGE)], pages_held: 0, cells: Vec::new(), weights: Vec::new() }
+        Weights { weigher, pages: vec![None; n.div_ceil(PAGE)], held: 0 }
     }
 
-    /// The slot of `cell`, weighing its drives when it is met first.
-    fn slot(&mut self, cell: u32) -> usize {
+    /// The drives into `cell`, weighed.
+    fn into(&mut self, cell: u32) -> &[[f32; 8]; 4] {
         let (page, at) = (cell as usize / PAGE, cell as usize % PAGE);
-        let held = &mut self.pages_held;
-        let slots = self.pages[page].get_or_insert_with(|| {
+        let held = &mut self.held;
+        let page = self.pages[page].get_or_insert_with(|| {
             *held += 1;
-            vec![u32::MAX; PAGE].into_boxed_slice()
+            vec![None; PAGE].into_boxed_slice()
         });
-        if slots[at] == u32::MAX {
-            slots[at] = self.cells.len() as u32;
-            self.cells.push(cell);
-            self.weights.push(self.weigher.weigh(cell));
+        page[at].get_or_insert_with(|| self.weigher.weigh(cell))
+    }
+
+    /// A backward search's edges over row `row`: the drives into a cell, each from the
+    /// neighbour behind its direction, with its weight.
+    fn edges(&mut self, row: usize, to: u32, out: Edges<'_>) {
+        let world = self.weigher.world;
+        let (c, r) = world.col_row(to);
+        let weights = self.into(to)[row];
+        for (k, &weight) in weights.iter().enumerate() {
+            if weight != f32::INFINITY {
+                // On the map: the drive exists.
+                let (dc, dr) = NEIGHBOURS[k];
+                let from = world.cell((c as i64 - i64::from(dc)) as usize, (r as i64 - i64::from(dr)) as usize);
+                out.push((from, f64::from(weight)));
+            }
         }
-        slots[at] as usize
     }
 
     fn bytes(&self) -> usize {
-        self.pages.len() * size_of::<Option<Box<[u32]>>>()
-            + self.pages_held * PAGE * size_of::<u32>()
-            + self.cells.capacity() * size_of::<u32>()
-            + self.weights.capacity() * size_of::<[[f32; 8]; 4]>()
+        self.pages.len() * size_of::<Option<Box<[Option<[[f32; 8]; 4]>]>>>()
+            + self.held * PAGE * size_of::<Option<[[f32; 8]; 4]>>()
     }
 }
 
 /// A Dijkstra backward from a goal over one row of the drives' weights (never
-/// negative), stopped wherever it was last asked about: the least sum from a cell to
-/// the goal is final once the cell is settled.
+/// negative), run as far as the cells asked about need ([`Landmark`]).
 struct Backward {
     row: usize,
-    /// Per slot, the least sum found so far, and whether it is final.
-    dist: Vec<f64>,
-    settled: Vec<bool>,
-    heap: QuaternaryHeap<Reverse<(Ordered, u32)>>,
-}
-
-impl Backward {
-    fn new(goal: u32, row: usize, region: &mut Region<'_>) -> Backward {
-        let s = region.slot(goal);
-        let mut search = Backward { row, dist: Vec::new(), settled: Vec::new(), heap: QuaternaryHeap::new() };
-        search.grow(region);
-        search.dist[s] = 0.0;
-        search.heap.push(Reverse((ordered(0.0), s as u32)));
-        search
-    }
-
-    fn grow(&mut self, region: &Region<'_>) {
-        if self.dist.len() < region.cells.len() {
-            self.dist.resize(region.cells.len(), f64::INFINITY);
-            self.settled.resize(region.cells.len(), false);
-        }
-    }
-
-    /// The least sum of the row's weights over the drives from `cell` to the goal
-    /// (infinite: no way there), searching on as far as it needs.
-    fn get(&mut self, cell: u32, region: &mut Region<'_>) -> f64 {
-        let s = region.slot(cell);
-        self.grow(region);
-        while !self.settled[s] {
-            let Some(Reverse((d, to))) = self.heap.pop() else { break };
-            let to = to as usize;
-            if self.settled[to] || d.0 > self.dist[to] {
-                continue;
-            }
-            self.settled[to] = true;
-            let (c, r) = region.weigher.world.col_row(region.cells[to]);
-            let weights = region.weights[to][self.row];
-            for (k, &weight) in weights.iter().enumerate() {
-                if weight == f32::INFINITY {
-                    continue;
-                }
-                // The drive into `to` from the neighbour behind direction k (on the map:
-                // the drive exists).
-                let (dc, dr) = NEIGHBOURS[k];
-                let from =
-                    region.weigher.world.cell((c as i64 - i64::from(dc)) as usize, (r as i64 - i64::from(dr)) as usize);
-                let f = region.slot(from);
-                self.grow(region);
-                let nd = d.0 + f64::from(weight);
-                if nd < self.dist[f] {
-                    self.dist[f] = nd;
-                    self.heap.push(Reverse((ordered(nd), f as u32)));
-                }
-            }
-        }
-        self.dist[s]
-    }
-
-    fn bytes(&self) -> usize {
-        self.dist.capacity() * size_of::<f64>()
-            + self.settled.capacity()
-            + self.heap.len() * size_of::<Reverse<(Ordered, u32)>>()
-    }
+    distances: Landmark,
 }
 
 /// The backward searches of one goal, as indices into [`Bound::searches`] (two may be
@@ -212,7 +150,7 @@ struct GoalSearches {
 /// A plan that cannot beat the sunset is so seen to wait out the night, and to pay for
 /// it in the bound.
 pub(super) struct Bound<'a> {
-    region: Region<'a>,
+    weights: Weights<'a>,
     searches: Vec<Backward>,
     per_goal: Vec<GoalSearches>,
     /// Per goal, the same sums from it through the later goals.
@@ -231,6 +169,12 @@ pub(super) struct Bound<'a> {
     dark: Option<DarkCost>,
 }
 
+/// The sum of `search`'s weights from `cell` to its goal (infinite: no way there).
+fn distance(search: &mut Backward, weights: &mut Weights<'_>, cell: u32) -> f64 {
+    let row = search.row;
+    search.distances.distance(cell, |to, out| weights.edges(row, to, out)).unwrap_or(f64::INFINITY)
+}
+
 /// Sums from a goal through the later goals.
 #[derive(Debug, Clone, Copy, Default)]
 struct GoalTails {
@@ -246,10 +190,10 @@ impl<'a> Bound<'a> {
         let time_objective = matches!(query.objective, Objective::Time | Objective::Margin { .. });
         let source_w = model.drive_source_bound_w(world);
         let weigher = Weigher { world, model, objective: query.objective, e_max, tick, source_w };
-        let mut region = Region::new(weigher);
+        let mut weights = Weights::new(weigher);
         let mut searches = Vec::new();
         let mut add = |goal: u32, row: usize| {
-            searches.push(Backward::new(goal, row, &mut region));
+            searches.push(Backward { row, distances: Landmark::new(goal) });
             searches.len() - 1
         };
         let per_goal: Vec<GoalSearches> = query
@@ -268,7 +212,7 @@ impl<'a> Bound<'a> {
         let mut tails = vec![GoalTails::default(); query.goals.len() + 1];
         for i in (0..query.goals.len().saturating_sub(1)).rev() {
             let (next, cell) = (per_goal[i + 1], query.goals[i].cell);
-            let mut leg = |s: usize| searches[s].get(cell, &mut region);
+            let mut leg = |s: usize| distance(&mut searches[s], &mut weights, cell);
             let step = GoalTails {
                 objective: leg(next.objective),
                 duration: leg(next.duration),
@@ -297,7 +241,7 @@ impl<'a> Bound<'a> {
             .map(|k| PathLength::Distance.units(Action::Drive(k), world.dem().dx(), world.dem().dy()))
             .fold(f64::INFINITY, f64::min);
         Bound {
-            region,
+            weights,
             searches,
             per_goal,
             tails,
@@ -312,7 +256,7 @@ impl<'a> Bound<'a> {
 
     /// The sum of `search`'s weights from `cell` to its goal.
     fn get(&mut self, search: usize, cell: u32) -> f64 {
-        self.searches[search].get(cell, &mut self.region)
+        distance(&mut self.searches[search], &mut self.weights, cell)
     }
 
     /// The least cost from a label at `cell` at `t` with `e` above the floor, `goal`
@@ -356,7 +300,7 @@ impl<'a> Bound<'a> {
             return at;
         }
         match &self.day {
-            Some((step, first)) if self.region.weigher.world.sun(at).elevation_deg <= 0.0 => {
+            Some((step, first)) if self.weights.weigher.world.sun(at).elevation_deg <= 0.0 => {
                 // The last drive ends in daylight: no earlier than the sample before
                 // the first one with the Sun up.
                 let k = (at / step).ceil() as usize;
@@ -369,9 +313,9 @@ impl<'a> Bound<'a> {
         }
     }
 
-    /// The bytes the bound holds: its region's tables and its searches.
+    /// The bytes the bound holds: its weighed drives and its searches.
     pub(super) fn bytes(&self) -> usize {
-        self.region.bytes() + self.searches.iter().map(Backward::bytes).sum::<usize>()
+        self.weights.bytes() + self.searches.iter().map(|s| s.distances.bytes()).sum::<usize>()
     }
 }
 
