@@ -47,7 +47,7 @@ impl Weigher<'_> {
     /// (the least its energy can be under any Sun), the duration, the duration in whole
     /// ticks and the loads' least energy — f32 rounded down, so that sums of them stay
     /// lower bounds; infinite where no drive exists.
-    fn weigh(&self, cell: u32) -> [[f32; 8]; 4] {
+    fn weigh(&self, cell: u32) -> Weighed {
         let mut w = [[f32::INFINITY; 8]; 4];
         let (dx, dy) = (self.world.dem().dx(), self.world.dem().dy());
         for k in 0..8u8 {
@@ -71,11 +71,14 @@ impl Weigher<'_> {
     }
 }
 
+/// The drives into a cell weighed, a row per weight ([`Weigher::weigh`]).
+type Weighed = [[f32; 8]; 4];
+
 /// The drives into each cell the backward searches have met, weighed when first met
 /// ([`Weigher::weigh`]), in pages allocated as the searches reach them.
 struct Weights<'a> {
     weigher: Weigher<'a>,
-    pages: Vec<Option<Box<[Option<[[f32; 8]; 4]>]>>>,
+    pages: Vec<Option<Box<[Option<Weighed>]>>>,
     /// How many pages are allocated.
     held: usize,
 }
@@ -87,7 +90,7 @@ impl<'a> Weights<'a> {
     }
 
     /// The drives into `cell`, weighed.
-    fn into(&mut self, cell: u32) -> &[[f32; 8]; 4] {
+    fn into(&mut self, cell: u32) -> &Weighed {
         let (page, at) = (cell as usize / PAGE, cell as usize % PAGE);
         let held = &mut self.held;
         let page = self.pages[page].get_or_insert_with(|| {
@@ -114,8 +117,7 @@ impl<'a> Weights<'a> {
     }
 
     fn bytes(&self) -> usize {
-        self.pages.len() * size_of::<Option<Box<[Option<[[f32; 8]; 4]>]>>>()
-            + self.held * PAGE * size_of::<Option<[[f32; 8]; 4]>>()
+        self.pages.len() * size_of::<Option<Box<[Option<Weighed>]>>>() + self.held * PAGE * size_of::<Option<Weighed>>()
     }
 }
 
