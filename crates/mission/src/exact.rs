@@ -25,7 +25,9 @@
 //! remaining goal over a 2-D graph of the least each drive can cost at any time, and
 //! the night or slow hours before the earliest the rover can arrive), so the first
 //! label to reach the last goal is optimal over every plan of this form, and an empty
-//! queue proves that none exists.
+//! queue proves that none exists. The bound's 2-D searches run backward from each goal
+//! only as far as the cells the search asks about, so a query on a map of millions of
+//! cells weighs the drives around its route, not the map's.
 //!
 //! `settle: false` drops the settle: drives chain at their own durations and only
 //! waits end on ticks. That search is exact too, but labels between ticks are compared
