@@ -362,17 +362,7 @@ fn a_static_route_on_a_tick_is_a_2d_search_whatever_the_horizon() {
     for span_h in [40.0, 300.0, 5.0] {
         let world = mars_world(dem.clone(), span_h, None);
         let (start, goal) = (world.cell(20, 20), world.cell(44, 40));
-        let query = ExactQuery {
-            world: &world,
-            model: &model,
-            start: Start { cell: start, t_min: 0.0, t_max: 0.0, energy_wh: 5.0e6 },
-            goals: vec![ExactGoal { cell: goal, open_s: 0.0, close_s: world.span_s() }],
-            goal_energy_wh: 0.0,
-            objective: Objective::Time,
-            max_labels: 5_000_000,
-            settle: true,
-        };
-        let out = query.solve();
+        let out = static_route(&world, &model, start, goal);
         assert!(!out.stopped);
         let reference = whole_tick_dijkstra(&world, &model, start, goal, tick);
         assert!(reference.is_finite() && reference > 20.0 * 3600.0, "{reference} s");
@@ -394,6 +384,22 @@ fn a_static_route_on_a_tick_is_a_2d_search_whatever_the_horizon() {
     assert_eq!(expansions.len(), 2);
     assert_eq!(expansions[0], expansions[1], "the horizon changed the work");
     assert!(expansions[0] < 2_000, "{} expansions", expansions[0]);
+}
+
+/// The fastest route from `start` to `goal` with a battery that never binds, any time
+/// in the world's span.
+fn static_route(world: &World, model: &ActionModel, start: u32, goal: u32) -> areo_mission::exact::ExactOutcome {
+    ExactQuery {
+        world,
+        model,
+        start: Start { cell: start, t_min: 0.0, t_max: 0.0, energy_wh: 5.0e6 },
+        goals: vec![ExactGoal { cell: goal, open_s: 0.0, close_s: world.span_s() }],
+        goal_energy_wh: 0.0,
+        objective: Objective::Time,
+        max_labels: 5_000_000,
+        settle: true,
+    }
+    .solve()
 }
 
 /// The least time from `start` to `goal` over drives each lasting whole ticks, by a
@@ -435,17 +441,7 @@ fn on_a_large_map_the_bound_weighs_the_cells_around_the_route() {
     let tick = 60.0;
     let world = mars_world(hills(1200, 1200, 3), 40.0, None);
     let (start, goal) = (world.cell(600, 600), world.cell(640, 615));
-    let out = ExactQuery {
-        world: &world,
-        model: &model,
-        start: Start { cell: start, t_min: 0.0, t_max: 0.0, energy_wh: 5.0e6 },
-        goals: vec![ExactGoal { cell: goal, open_s: 0.0, close_s: world.span_s() }],
-        goal_energy_wh: 0.0,
-        objective: Objective::Time,
-        max_labels: 5_000_000,
-        settle: true,
-    }
-    .solve();
+    let out = static_route(&world, &model, start, goal);
     let reference = whole_tick_dijkstra(&world, &model, start, goal, tick);
     let (cost, _) = out.plan.expect("a plan");
     assert!((reference - tick..=reference + 1e-6).contains(&cost), "{cost} s against {reference} s");

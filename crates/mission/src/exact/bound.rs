@@ -128,17 +128,6 @@ struct Backward {
     distances: Landmark,
 }
 
-/// The backward searches of one goal, as indices into [`Bound::searches`] (two may be
-/// the same search: under Time the objective's floor is the duration; without settles
-/// the whole ticks are not searched).
-#[derive(Debug, Clone, Copy)]
-struct GoalSearches {
-    objective: usize,
-    duration: usize,
-    ticks: usize,
-    load: usize,
-}
-
 /// The A* bound from a label to the last goal: the cheapest drives through the
 /// remaining goals over each drive's floor (2-D, any time), plus the deep night (or any
 /// action's least cost per second) between the label's instant and the earliest it can
@@ -154,9 +143,12 @@ struct GoalSearches {
 pub(super) struct Bound<'a> {
     weights: Weights<'a>,
     searches: Vec<Backward>,
-    per_goal: Vec<GoalSearches>,
-    /// Per goal, the same sums from it through the later goals.
-    tails: Vec<GoalTails>,
+    /// Per goal and weight row, the index of its backward search in `searches` (two
+    /// rows may share one: under Time the objective's floor is the duration; without
+    /// settles the whole ticks are the durations).
+    per_goal: Vec<[usize; 4]>,
+    /// Per goal and weight row, the sum from the goal through the later goals.
+    tails: Vec<[f64; 4]>,
     /// What the whole-tick sums may exceed the truth by: the first drive from a start
     /// between ticks and the last drive, unsettled, s.
     slack_s: f64,
@@ -177,15 +169,6 @@ fn distance(search: &mut Backward, weights: &mut Weights<'_>, cell: u32) -> f64 
     search.distances.distance(cell, |to, out| weights.edges(row, to, out)).unwrap_or(f64::INFINITY)
 }
 
-/// Sums from a goal through the later goals.
-#[derive(Debug, Clone, Copy, Default)]
-struct GoalTails {
-    objective: f64,
-    duration: f64,
-    ticks: f64,
-    load: f64,
-}
-
 impl<'a> Bound<'a> {
     pub(super) fn new(query: &ExactQuery<'a>, e_max: f64, tick: f64) -> Bound<'a> {
         let (world, model) = (query.world, query.model);
@@ -198,36 +181,24 @@ impl<'a> Bound<'a> {
             searches.push(Backward { row, distances: Landmark::new(goal) });
             searches.len() - 1
         };
-        let per_goal: Vec<GoalSearches> = query
+        let per_goal: Vec<[usize; 4]> = query
             .goals
             .iter()
             .map(|g| {
-                let duration = add(g.cell, DURATION);
-                GoalSearches {
-                    objective: if time_objective { duration } else { add(g.cell, OBJECTIVE) },
-                    duration,
-                    ticks: if query.settle { add(g.cell, TICKS) } else { duration },
-                    load: add(g.cell, LOAD),
-                }
+                let mut rows = [0; 4];
+                rows[DURATION] = add(g.cell, DURATION);
+                rows[OBJECTIVE] = if time_objective { rows[DURATION] } else { add(g.cell, OBJECTIVE) };
+                rows[TICKS] = if query.settle { add(g.cell, TICKS) } else { rows[DURATION] };
+                rows[LOAD] = add(g.cell, LOAD);
+                rows
             })
             .collect();
-        let mut tails = vec![GoalTails::default(); query.goals.len() + 1];
+        let mut tails = vec![[0.0; 4]; query.goals.len() + 1];
         for i in (0..query.goals.len().saturating_sub(1)).rev() {
-            let (next, cell) = (per_goal[i + 1], query.goals[i].cell);
-            let mut leg = |s: usize| distance(&mut searches[s], &mut weights, cell);
-            let step = GoalTails {
-                objective: leg(next.objective),
-                duration: leg(next.duration),
-                ticks: leg(next.ticks),
-                load: leg(next.load),
-            };
-            let after = tails[i + 1];
-            tails[i] = GoalTails {
-                objective: after.objective + step.objective,
-                duration: after.duration + step.duration,
-                ticks: after.ticks + step.ticks,
-                load: after.load + step.load,
-            };
+            for row in 0..4 {
+                let leg = distance(&mut searches[per_goal[i + 1][row]], &mut weights, query.goals[i].cell);
+                tails[i][row] = tails[i + 1][row] + leg;
+            }
         }
         let day = model.config().drive.daylight.then(|| {
             let step = world.sun_step_s();
@@ -256,9 +227,9 @@ impl<'a> Bound<'a> {
         }
     }
 
-    /// The sum of `search`'s weights from `cell` to its goal.
-    fn get(&mut self, search: usize, cell: u32) -> f64 {
-        distance(&mut self.searches[search], &mut self.weights, cell)
+    /// The sum of weight `row` from `cell` through the goals from `goal` on.
+    fn remaining(&mut self, row: usize, goal: usize, cell: u32) -> f64 {
+        distance(&mut self.searches[self.per_goal[goal][row]], &mut self.weights, cell) + self.tails[goal][row]
     }
 
     /// The least cost from a label at `cell` at `t` with `e` above the floor, `goal`
@@ -272,7 +243,7 @@ impl<'a> Bound<'a> {
         if !arrival.is_finite() {
             return f64::INFINITY;
         }
-        let drives = self.get(self.per_goal[g].objective, cell) + self.tails[g].objective;
+        let drives = self.remaining(OBJECTIVE, g, cell);
         if self.time_objective {
             return drives.max(arrival - t);
         }
@@ -288,11 +259,10 @@ impl<'a> Bound<'a> {
     /// the last goal, s after the epoch (infinite: never within the Sun table, or after
     /// the last goal's window).
     fn arrival(&mut self, cell: u32, goal: usize, t: f64, e: f64) -> f64 {
-        let (searches, tails) = (self.per_goal[goal], self.tails[goal]);
-        let plain = self.get(searches.duration, cell) + tails.duration;
-        let ticks = self.get(searches.ticks, cell) + tails.ticks - self.slack_s;
+        let plain = self.remaining(DURATION, goal, cell);
+        let ticks = self.remaining(TICKS, goal, cell) - self.slack_s;
         let least = plain.max(ticks);
-        let load = self.get(searches.load, cell) + tails.load;
+        let load = self.remaining(LOAD, goal, cell);
         let at = (t + least).max(self.harvest.ready(load, t, e));
         if at > self.close_s + 1e-9 {
             return f64::INFINITY;
