@@ -10,10 +10,10 @@ use areo_rover::evaluation::{Conditions, Evaluation, Evaluator, Place, Violation
 use areo_rover::kinematics::Pose;
 use areo_rover::motion::MotionFailure;
 use areo_terrain::Ground;
-use areo_terrain::analytic::Step;
+use areo_terrain::analytic::Wall;
 use serde::Serialize;
 
-use crate::executor::Failure;
+use crate::executor::ExecFailure;
 
 /// One arm configuration at one pose of the climb.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -78,7 +78,7 @@ pub fn arm_reached_forward(evaluator: &Evaluator) -> ArmState {
 
 fn case(eval: Result<Evaluation, Violation>) -> Option<ArmCase> {
     // The executor's names for the limits, so climb.csv and the plans agree.
-    let kind = |v: &Violation| Failure::Motion(MotionFailure::Violation(*v)).kind();
+    let kind = |v: &Violation| ExecFailure::Motion(MotionFailure::Violation(*v)).kind();
     match eval {
         Ok(e) => {
             let n = e.normals_n();
@@ -226,7 +226,7 @@ pub fn step_climb(ev: &Evaluator, arm: &ArmState, h: f64, mu: f64, direction: f6
     let p = ev.params();
     let (a, r) = (p.axle_x_m, p.wheel_radius_m);
     let x_step = (a.front - a.middle) + r - 1e-6;
-    let ground = Step { x_step, low_m: 0.0, high_m: h };
+    let ground = Wall { x_step, low_m: 0.0, high_m: h };
     // The rear wheel's axle crosses the edge when the reference point is at
     // x_step − (rear − middle); a radius beyond, the wheel stands on top.
     let length = x_step - (a.rear - a.middle) + r;
@@ -272,7 +272,7 @@ pub fn step_climb(ev: &Evaluator, arm: &ArmState, h: f64, mu: f64, direction: f6
                 let kind = match v {
                     Violation::TipOver => "tip_over".to_string(),
                     Violation::Kinematics(_) => "kinematics".to_string(),
-                    Violation::Forces { .. } => Failure::Motion(MotionFailure::Violation(v)).kind().to_string(),
+                    Violation::Forces { .. } => ExecFailure::Motion(MotionFailure::Violation(v)).kind().to_string(),
                 };
                 climb.stop.get_or_insert(kind);
             }

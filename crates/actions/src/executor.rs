@@ -46,7 +46,7 @@ impl Default for ExecConfig {
 
 /// Why a plan stopped early.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum Failure {
+pub enum ExecFailure {
     /// The start pose is not admissible: no plan can run.
     StartPose(Violation),
     /// A module could not run: the physical limit it met (areo-rover's reason, typed).
@@ -57,36 +57,36 @@ pub enum Failure {
     Collision(usize),
 }
 
-impl Failure {
+impl ExecFailure {
     /// A short name of the kind of failure, for reports: `start_pose`, `tip_over`,
     /// `slip`, `loss_of_contact`, `saturation`, `kinematics`, `battery`, `stability`,
     /// `collision` (the arm's and gripper's no-ops, which are not failures, as
     /// `module`).
     pub fn kind(&self) -> &'static str {
         match self {
-            Failure::StartPose(_) => "start_pose",
-            Failure::Motion(MotionFailure::Violation(v)) => match v {
+            ExecFailure::StartPose(_) => "start_pose",
+            ExecFailure::Motion(MotionFailure::Violation(v)) => match v {
                 Violation::TipOver => "tip_over",
                 Violation::Forces { failure: ForceFailure::Slip, .. } => "slip",
                 Violation::Forces { failure: ForceFailure::LossOfContact, .. } => "loss_of_contact",
                 Violation::Forces { failure: ForceFailure::Saturation, .. } => "saturation",
                 Violation::Kinematics(_) => "kinematics",
             },
-            Failure::Motion(MotionFailure::Battery) => "battery",
-            Failure::Motion(MotionFailure::BelowFloor(_)) | Failure::Stability(_) => "stability",
-            Failure::Motion(_) => "module",
-            Failure::Collision(_) => "collision",
+            ExecFailure::Motion(MotionFailure::Battery) => "battery",
+            ExecFailure::Motion(MotionFailure::BelowFloor(_)) | ExecFailure::Stability(_) => "stability",
+            ExecFailure::Motion(_) => "module",
+            ExecFailure::Collision(_) => "collision",
         }
     }
 }
 
-impl std::fmt::Display for Failure {
+impl std::fmt::Display for ExecFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Failure::StartPose(v) => write!(f, "the start pose is not admissible: {v}"),
-            Failure::Motion(m) => m.fmt(f),
-            Failure::Stability(s) => write!(f, "stability margin {:.0} % below the floor", 100.0 * s),
-            Failure::Collision(i) => write!(f, "the body hit rock {i}"),
+            ExecFailure::StartPose(v) => write!(f, "the start pose is not admissible: {v}"),
+            ExecFailure::Motion(m) => m.fmt(f),
+            ExecFailure::Stability(s) => write!(f, "stability margin {:.0} % below the floor", 100.0 * s),
+            ExecFailure::Collision(i) => write!(f, "the body hit rock {i}"),
         }
     }
 }
@@ -205,7 +205,7 @@ pub struct Execution {
     /// Modules that ran to their end before the failure or the task's completion.
     pub prefix_len: usize,
     /// The first failure and the index of its module, if any.
-    pub failure: Option<(usize, Failure)>,
+    pub failure: Option<(usize, ExecFailure)>,
     /// Fraction of the failing module done.
     pub failure_progress: f64,
     /// The target reached with the samples wanted.
@@ -347,7 +347,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
         let mut collected = vec![false; self.task.samples.len()];
         let mut out = self.empty_execution(&state, plan.len());
         if let Some(problem) = &self.start_problem {
-            out.failure = Some((0, Failure::StartPose(*problem)));
+            out.failure = Some((0, ExecFailure::StartPose(*problem)));
             return out;
         }
         if let Some(c) = at {
@@ -370,11 +370,11 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
             if let Some(s) = step.min_stability
                 && s < self.config.stability_floor
             {
-                out.failure = Some((i, Failure::Stability(s)));
+                out.failure = Some((i, ExecFailure::Stability(s)));
                 break;
             }
             if let Some(rock) = self.collision(&step.state) {
-                out.failure = Some((i, Failure::Collision(rock)));
+                out.failure = Some((i, ExecFailure::Collision(rock)));
                 break;
             }
             if let Some(k) = step.grasped {
@@ -448,7 +448,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
         module: Module,
         samples: &[SampleSite],
         trace: bool,
-    ) -> Result<areo_rover::motion::Step, Box<(Failure, f64, Option<WheelLimit>)>> {
+    ) -> Result<areo_rover::motion::ModuleRun, Box<(ExecFailure, f64, Option<WheelLimit>)>> {
         match motion.run(self.ground, state, module, samples) {
             Ok(step) => Ok(step),
             Err(Stopped {
@@ -460,9 +460,9 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
                 ..
             }) => motion
                 .idle(state, module)
-                .map_err(|stopped| Box::new((Failure::Motion(stopped.failure), stopped.progress, None))),
+                .map_err(|stopped| Box::new((ExecFailure::Motion(stopped.failure), stopped.progress, None))),
             Err(Stopped { failure: MotionFailure::BelowFloor(s), progress, .. }) => {
-                Err(Box::new((Failure::Stability(s), progress, None)))
+                Err(Box::new((ExecFailure::Stability(s), progress, None)))
             }
             Err(Stopped { failure, progress, state: last }) => {
                 let binding = if trace && matches!(failure, MotionFailure::Violation(Violation::Forces { .. })) {
@@ -470,7 +470,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
                 } else {
                     None
                 };
-                Err(Box::new((Failure::Motion(failure), progress, binding)))
+                Err(Box::new((ExecFailure::Motion(failure), progress, binding)))
             }
         }
     }
@@ -585,7 +585,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
 impl Execution {
     /// Adds an executed module's time, energy, peaks (friction as a share of `mu`) and
     /// stability; returns its net energy, Wh.
-    fn add(&mut self, step: &areo_rover::motion::Step, mu: f64) -> f64 {
+    fn add(&mut self, step: &areo_rover::motion::ModuleRun, mu: f64) -> f64 {
         let energy = step.energy.net_wh();
         self.time_s += step.duration_s;
         self.energy_wh += energy;

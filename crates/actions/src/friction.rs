@@ -12,7 +12,7 @@ use areo_rover::motion::Module;
 use areo_terrain::Ground;
 
 use crate::error::Result;
-use crate::executor::{ExecConfig, Executor, Failure, WheelLimit};
+use crate::executor::{ExecConfig, ExecFailure, Executor, WheelLimit};
 use crate::fitness::{Scale, Weights};
 use crate::ga::{GaConfig, evolve};
 use crate::inventory::Inventory;
@@ -32,7 +32,7 @@ pub struct SweepPoint {
     /// The furthest north the rover got, m.
     pub max_y_m: f64,
     /// What stopped the best plan, if anything.
-    pub failure: Option<Failure>,
+    pub failure: Option<ExecFailure>,
     /// The wheel that bound, when a force limit stopped it.
     pub binding: Option<WheelLimit>,
 }
@@ -107,7 +107,7 @@ pub struct ReplayPoint {
     /// The furthest north the rover got, m.
     pub max_y_m: f64,
     /// The module (index into the plan) and the reason the plan stopped, if it did.
-    pub failure: Option<(usize, Failure)>,
+    pub failure: Option<(usize, ExecFailure)>,
     /// The wheel that bound, when a force limit stopped it.
     pub binding: Option<WheelLimit>,
 }

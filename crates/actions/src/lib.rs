@@ -53,7 +53,7 @@ pub use crate::{
     },
     command::{Command, commands, steering},
     error::{Error, Result},
-    executor::{Checkpoint, ExecConfig, Execution, Executor, Failure, TraceStep, WheelLimit},
+    executor::{Checkpoint, ExecConfig, ExecFailure, Execution, Executor, TraceStep, WheelLimit},
     fitness::{Scale, Weights, fitness, stability_penalty},
     friction::{FrictionReplay, FrictionSweep, ReplayPoint, SweepPoint, friction_replay, friction_sweep},
     ga::{CrossoverPoint, GaConfig, GaReport, Generation, Individual, evolve},

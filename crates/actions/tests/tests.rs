@@ -5,7 +5,7 @@ use areo_actions::*;
 use areo_rover::RoverParams;
 use areo_rover::evaluation::Evaluator;
 use areo_rover::motion::Module;
-use areo_terrain::analytic::{Plane, Step};
+use areo_terrain::analytic::{Plane, Wall};
 
 fn task(target: (f64, f64)) -> Task {
     Task {
@@ -133,7 +133,7 @@ fn constraints_stop_a_plan_with_its_successful_prefix() {
     let p = RoverParams::lsr1();
     let ev = Evaluator::new(&p);
     // A 0.5 m wall 0.6 m ahead: the rover drives up to it and fails on the wall.
-    let wall = Step { x_step: 0.6, low_m: 0.0, high_m: 0.5 };
+    let wall = Wall { x_step: 0.6, low_m: 0.0, high_m: 0.5 };
     let mut t = task((2.0, 0.0));
     t.start = (0.0, 0.0, 90.0);
     let ex = Executor::new(&wall, &ev, &t, ExecConfig { mu: 0.8, ..ExecConfig::default() });
@@ -142,7 +142,7 @@ fn constraints_stop_a_plan_with_its_successful_prefix() {
     assert_eq!(e.prefix_len, at);
     assert!((1..=5).contains(&at), "fails within the 0.6 m before the wall: {at}");
     // The wall stops the wheels (a typed physical limit, not text).
-    assert!(matches!(why, Failure::Motion(areo_rover::motion::MotionFailure::Violation(_))), "{why}");
+    assert!(matches!(why, ExecFailure::Motion(areo_rover::motion::MotionFailure::Violation(_))), "{why}");
     assert!(
         ["slip", "saturation", "loss_of_contact", "kinematics", "tip_over"].contains(&why.kind()),
         "{}",
@@ -153,7 +153,7 @@ fn constraints_stop_a_plan_with_its_successful_prefix() {
     r.rocks = vec![Rock { x_m: 0.0, y_m: 0.9, height_m: 0.35, width_m: 0.2 }];
     let ex = Executor::new(&FLAT, &ev, &r, ExecConfig::default());
     let e = ex.run(&[Module::Forward; 20], false);
-    assert_eq!(e.failure.as_ref().map(|f| f.1.clone()), Some(Failure::Collision(0)));
+    assert_eq!(e.failure.as_ref().map(|f| f.1.clone()), Some(ExecFailure::Collision(0)));
     // The body's front (0.30 m ahead of the reference) meets the ball (0.10 m radius)
     // around 0.5 m of travel.
     assert!((4..=6).contains(&e.prefix_len), "{}", e.prefix_len);
@@ -216,7 +216,7 @@ fn resuming_from_a_parents_prefix_gives_the_same_execution_as_running_afresh() {
     let p = RoverParams::lsr1();
     let ev = Evaluator::new(&p);
     // Over a 20 cm step 0.8 m ahead, with a sample on the way.
-    let ground = Step { x_step: 0.8, low_m: 0.0, high_m: 0.05 };
+    let ground = Wall { x_step: 0.8, low_m: 0.0, high_m: 0.05 };
     let mut t = task((1.6, 0.0));
     t.start = (0.0, 0.0, 90.0);
     t.samples = vec![Sample { x_m: 0.45, y_m: 0.0, mass_kg: 0.1 }];
@@ -275,7 +275,7 @@ fn a_rock_already_in_the_map_is_not_counted_twice_by_the_body_test() {
         t.rocks = vec![rock];
         let ex = Executor::new(&dem, &ev, &t, ExecConfig::default());
         let run = ex.run(&[Module::Forward; 12], false);
-        let collided = matches!(run.failure, Some((_, Failure::Collision(0))));
+        let collided = matches!(run.failure, Some((_, ExecFailure::Collision(0))));
         assert_eq!(collided, hits, "{height} m rock: {:?}", run.failure);
         if !hits {
             assert!(run.failure.is_none() && run.prefix_len == 12, "{:?}", run.failure);

@@ -64,7 +64,7 @@ pub trait Domain {
         state: Self::State,
         label: &Self::Label,
         wanted: impl Fn(Self::Action) -> bool,
-        visit: impl FnMut(Self::Action, Step<Self>),
+        visit: impl FnMut(Self::Action, Predecessor<Self>),
     ) where
         Self: Sized;
 
@@ -74,7 +74,12 @@ pub trait Domain {
     /// the dark, in shadow, on ground too steep), which stays true until `state` itself
     /// changes. A repair then never reopens such a label to remake steps from changed
     /// neighbours: it would make none. The default tells nothing (`false`).
-    fn expand_all(&self, state: Self::State, label: &Self::Label, visit: impl FnMut(Self::Action, Step<Self>)) -> bool
+    fn expand_all(
+        &self,
+        state: Self::State,
+        label: &Self::Label,
+        visit: impl FnMut(Self::Action, Predecessor<Self>),
+    ) -> bool
     where
         Self: Sized,
     {
@@ -235,7 +240,7 @@ pub trait Domain {
 
 /// One backward transition: the predecessor and the cost of the step.
 #[derive(Debug, Clone)]
-pub struct Step<D: Domain + ?Sized> {
+pub struct Predecessor<D: Domain + ?Sized> {
     /// Predecessor state.
     pub state: D::State,
     /// Predecessor label.

@@ -6,7 +6,7 @@
 //! every weight ≥ 1 so that the octile distance stays an admissible heuristic. A
 //! diagonal step needs both orthogonal neighbours free.
 
-use crate::domain::{Domain, Step};
+use crate::domain::{Domain, Predecessor};
 
 /// Offsets of the 8 moves: N, NE, E, SE, S, SW, W, NW (x right, y down as in the files).
 const MOVES: [(i32, i32); 8] = [(0, -1), (1, -1), (1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1)];
@@ -283,7 +283,13 @@ impl Domain for Grid {
     /// `state`: the predecessor lies one move in the opposite direction, and moves are
     /// symmetric in legality and cost.
     #[inline]
-    fn expand(&self, state: u32, _label: &(), wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Step<Grid>)) {
+    fn expand(
+        &self,
+        state: u32,
+        _label: &(),
+        wanted: impl Fn(u8) -> bool,
+        mut visit: impl FnMut(u8, Predecessor<Grid>),
+    ) {
         if !self.free[state as usize] {
             return;
         }
@@ -291,7 +297,7 @@ impl Domain for Grid {
             if wanted(action)
                 && let Some((pred, cost)) = self.step_cost(state, (action as usize + 4) % 8)
             {
-                visit(action, Step { state: pred, label: (), cost });
+                visit(action, Predecessor { state: pred, label: (), cost });
             }
         }
     }

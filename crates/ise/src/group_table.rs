@@ -122,7 +122,7 @@ impl<D: Domain> GroupTable<D> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::domain::Step;
+    use crate::domain::Predecessor;
 
     /// States without transitions: only their index matters here.
     struct Cells {
@@ -134,7 +134,7 @@ mod tests {
         type Label = ();
         type Key = i64;
         type Action = u8;
-        fn expand(&self, _: u32, _: &(), _: impl Fn(u8) -> bool, _: impl FnMut(u8, Step<Self>)) {}
+        fn expand(&self, _: u32, _: &(), _: impl Fn(u8) -> bool, _: impl FnMut(u8, Predecessor<Self>)) {}
         fn successors(&self, _: u32, _: &mut Vec<u32>) {}
         fn key(&self, _: u32, _: &()) -> i64 {
             0

@@ -53,6 +53,6 @@ mod state_table;
 pub mod grid;
 
 pub use crate::{
-    domain::{Domain, Goal, Step},
+    domain::{Domain, Goal, Predecessor},
     search::{MEMORY_CHECK_EVERY, Mode, PathStep, Plan, Search, Stats},
 };

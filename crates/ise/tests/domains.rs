@@ -1,7 +1,7 @@
 //! A time-expanded domain and a battery domain: ISE against brute-force Dijkstra over
 //! the fully enumerated state space, in both modes, including "no feasible path".
 
-use areo_ise::{Domain, Goal, Mode, Search, Step};
+use areo_ise::{Domain, Goal, Mode, Predecessor, Search};
 
 use crate::brute::dijkstra;
 
@@ -64,7 +64,7 @@ impl TimeGrid {
             .collect()
     }
     /// The state and time `a` leads from into (`s`, `t`), and the step's cost.
-    fn predecessor(&self, s: u32, t: u32, a: u8) -> Option<Step<TimeGrid>> {
+    fn predecessor(&self, s: u32, t: u32, a: u8) -> Option<Predecessor<TimeGrid>> {
         if t == 0 || !self.free(s, t) {
             return None;
         }
@@ -72,7 +72,7 @@ impl TimeGrid {
         if !self.free(p, t - 1) {
             return None;
         }
-        Some(Step { state: p, label: t - 1, cost: self.cost[self.idx(s, t)] })
+        Some(Predecessor { state: p, label: t - 1, cost: self.cost[self.idx(s, t)] })
     }
     fn manhattan(&self, a: u32, b: u32) -> f64 {
         let (ax, ay) = ((a as i32) % self.w, (a as i32) / self.w);
@@ -87,7 +87,7 @@ impl Domain for TimeGrid {
     type Key = u32;
     type Action = u8;
 
-    fn expand(&self, s: u32, t: &u32, wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Step<Self>)) {
+    fn expand(&self, s: u32, t: &u32, wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Predecessor<Self>)) {
         self.spent.set(self.spent.get() + 1);
         for a in (0..5u8).filter(|&a| wanted(a)) {
             if let Some(step) = self.predecessor(s, *t, a) {
@@ -237,12 +237,12 @@ impl Domain for Battery {
     type Action = u8;
     const DOMINANCE: bool = true;
 
-    fn expand(&self, s: u32, l: &Charge, wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Step<Self>)) {
+    fn expand(&self, s: u32, l: &Charge, wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Predecessor<Self>)) {
         for a in (0..5u8).filter(|&a| wanted(a)) {
             if let Some(step) = self.grid.predecessor(s, l.t, a) {
                 let de = self.delta_e[self.grid.idx(s, l.t)];
                 let e = (l.e + de).max(0);
-                visit(a, Step { state: step.state, label: Charge { t: l.t - 1, e }, cost: self.step_cost(de) });
+                visit(a, Predecessor { state: step.state, label: Charge { t: l.t - 1, e }, cost: self.step_cost(de) });
             }
         }
     }
@@ -359,8 +359,8 @@ impl Domain for Grouped {
     const DOMINANCE: bool = true;
     const MANY_LABELS: bool = true;
 
-    fn expand(&self, s: u32, l: &Charge, wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Step<Self>)) {
-        self.0.expand(s, l, wanted, |a, st| visit(a, Step { state: st.state, label: st.label, cost: st.cost }));
+    fn expand(&self, s: u32, l: &Charge, wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Predecessor<Self>)) {
+        self.0.expand(s, l, wanted, |a, st| visit(a, Predecessor { state: st.state, label: st.label, cost: st.cost }));
     }
     fn successors(&self, s: u32, out: &mut Vec<u32>) {
         self.0.successors(s, out);

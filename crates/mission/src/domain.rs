@@ -23,7 +23,7 @@
 use std::cell::RefCell;
 use std::rc::Rc;
 
-use areo_ise::{Domain, Step};
+use areo_ise::{Domain, Predecessor};
 use serde::{Deserialize, Serialize};
 
 use crate::action_model::{Action, ActionModel, DriveGeometry, NEIGHBOURS};
@@ -632,7 +632,7 @@ impl<'a> TempestDomain<'a> {
 
     /// The predecessor label reached backward through `action` with `effect`, and the
     /// step's cost.
-    fn step(&self, from: u32, label: &Label, action: Action, effect: Effect) -> Step<Self> {
+    fn step(&self, from: u32, label: &Label, action: Action, effect: Effect) -> Predecessor<Self> {
         // The battery must stay above the floor inside the action too, and what the
         // action draws after its fullest instant must fit below the capacity: a step
         // that cannot carry `label.e` to its end needs more than the battery holds.
@@ -650,7 +650,7 @@ impl<'a> TempestDomain<'a> {
             };
             cost += 1e-6 * scale * (1.0 - t / self.world.span_s()).clamp(0.0, 1.0);
         }
-        Step { state: from, label: Label { t, e }, cost }
+        Predecessor { state: from, label: Label { t, e }, cost }
     }
 
     /// [`Domain::expand`], returning whether a drive could arrive at (`state`,
@@ -660,7 +660,7 @@ impl<'a> TempestDomain<'a> {
         state: u32,
         label: &Label,
         wanted: impl Fn(Action) -> bool,
-        mut visit: impl FnMut(Action, Step<Self>),
+        mut visit: impl FnMut(Action, Predecessor<Self>),
     ) -> Option<bool> {
         self.meter.add(1);
         self.allowance.spend();
@@ -708,14 +708,14 @@ impl Domain for TempestDomain<'_> {
         state: u32,
         label: &Label,
         wanted: impl Fn(Action) -> bool,
-        visit: impl FnMut(Action, Step<Self>),
+        visit: impl FnMut(Action, Predecessor<Self>),
     ) {
         self.expand_arriving(state, label, wanted, visit);
     }
 
     /// Whether no drive can arrive: the arrival's checks are this cell's alone (its
     /// slope, its light at this time), so they stand until sensing changes the cell.
-    fn expand_all(&self, state: u32, label: &Label, visit: impl FnMut(Action, Step<Self>)) -> bool {
+    fn expand_all(&self, state: u32, label: &Label, visit: impl FnMut(Action, Predecessor<Self>)) -> bool {
         self.expand_arriving(state, label, |_| true, visit) == Some(false)
     }
 

@@ -329,7 +329,7 @@ impl MonteCarlo {
 
 /// Why an open-loop execution failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Failure {
+pub enum RunFailure {
     /// The world refused a planned action (a drive ending after dark, a charge in
     /// shadow, past the horizon, …).
     Refused(Binding),
@@ -341,14 +341,14 @@ pub enum Failure {
     StepLimit,
 }
 
-impl Failure {
+impl RunFailure {
     /// A short name for tables and facts.
     pub fn name(self) -> String {
         match self {
-            Failure::Refused(b) => format!("refused_{}", format!("{b:?}").to_lowercase()),
-            Failure::BatteryDepleted => "battery_depleted".into(),
-            Failure::Unreachable(b) => format!("unreachable_{}", format!("{b:?}").to_lowercase()),
-            Failure::StepLimit => "step_limit".into(),
+            RunFailure::Refused(b) => format!("refused_{}", format!("{b:?}").to_lowercase()),
+            RunFailure::BatteryDepleted => "battery_depleted".into(),
+            RunFailure::Unreachable(b) => format!("unreachable_{}", format!("{b:?}").to_lowercase()),
+            RunFailure::StepLimit => "step_limit".into(),
         }
     }
 }
@@ -359,7 +359,7 @@ pub struct Execution {
     /// The run's index (its random stream).
     pub run: usize,
     /// Why it failed, at which step of the plan; `None`: every goal reached.
-    pub failure: Option<(usize, Failure)>,
+    pub failure: Option<(usize, RunFailure)>,
     /// Arrival time at each goal reached, s after the epoch, in goal order.
     pub arrivals_s: Vec<f64>,
     /// The lowest battery charge along the way, Wh above the floor (negative when it
@@ -503,10 +503,10 @@ fn execution_of(run: usize, r: &SimReport) -> Execution {
     let n = r.steps.len();
     let failure = match &r.status {
         SimStatus::Completed => None,
-        SimStatus::BatteryDepleted => Some((n, Failure::BatteryDepleted)),
-        SimStatus::Unreachable { binding, .. } => Some((n, Failure::Unreachable(*binding))),
-        SimStatus::Stuck(b) => Some((n, Failure::Refused(*b))),
-        SimStatus::StepLimit => Some((n, Failure::StepLimit)),
+        SimStatus::BatteryDepleted => Some((n, RunFailure::BatteryDepleted)),
+        SimStatus::Unreachable { binding, .. } => Some((n, RunFailure::Unreachable(*binding))),
+        SimStatus::Stuck(b) => Some((n, RunFailure::Refused(*b))),
+        SimStatus::StepLimit => Some((n, RunFailure::StepLimit)),
     };
     let battery_wh: Vec<(f64, f64)> =
         r.steps.iter().map(|s| (s.t_s + s.duration_s, s.battery_above_floor_wh)).collect();
@@ -560,14 +560,14 @@ fn execute_once(
                 battery = effect.after(battery, capacity);
             }
             Err(binding) => {
-                out.failure = Some((step, Failure::Refused(binding)));
+                out.failure = Some((step, RunFailure::Refused(binding)));
                 return out;
             }
         }
         out.battery_wh.push((t, battery));
         out.lowest_battery_wh = out.lowest_battery_wh.min(battery);
         if out.lowest_battery_wh < -1e-9 {
-            out.failure = Some((step, Failure::BatteryDepleted));
+            out.failure = Some((step, RunFailure::BatteryDepleted));
             return out;
         }
     }
@@ -595,7 +595,7 @@ pub struct Summary {
     pub last_arrival_s: Option<(f64, f64, f64)>,
     /// The lowest battery charge, Wh above the floor: 5th and 50th percentiles.
     pub lowest_battery_wh: (f64, f64),
-    /// How many executions failed each way, by [`Failure::name`], sorted by name.
+    /// How many executions failed each way, by [`RunFailure::name`], sorted by name.
     pub failures: Vec<(String, usize)>,
 }
 

@@ -2,7 +2,7 @@
 //! refuses, and the executions report, a plan whose charge goes below the floor in the
 //! middle of an action whose ends balance.
 
-use areo_mission::uncertainty::{Failure, MonteCarlo, Uncertainty, open_loop};
+use areo_mission::uncertainty::{MonteCarlo, RunFailure, Uncertainty, open_loop};
 use areo_mission::{
     Action, ActionConfig, ActionModel, Error, Mission, Perturbation, PlannerConfig, Resolution, Start, World,
 };
@@ -123,7 +123,7 @@ fn a_stay_across_sunrise_needs_the_night_s_drain_before_it() {
     let start = Start { cell, t_min: t0, t_max: t0, energy_wh: below };
     let runs =
         open_loop(&plan, &model, &world, start, &Uncertainty::default(), &MonteCarlo { runs: 1, seed: 1 }).unwrap();
-    assert_eq!(runs[0].failure, Some((0, Failure::BatteryDepleted)), "{:?}", runs[0]);
+    assert_eq!(runs[0].failure, Some((0, RunFailure::BatteryDepleted)), "{:?}", runs[0]);
     assert!((runs[0].lowest_battery_wh - (below - effect.peak_wh)).abs() < 1e-9, "{:?}", runs[0]);
     assert!(below - effect.energy_wh > goal_wh, "the stay's ends balance");
 }

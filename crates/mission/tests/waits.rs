@@ -3,7 +3,7 @@
 //! budget worked by hand, against itself split anywhere, and in the planner and the
 //! executions where the battery runs out inside a wait.
 
-use areo_mission::uncertainty::{Failure, MonteCarlo, Uncertainty, open_loop};
+use areo_mission::uncertainty::{MonteCarlo, RunFailure, Uncertainty, open_loop};
 use areo_mission::{Action, ActionConfig, Effect, Error, Mission, PlannerConfig, Resolution, Start, World};
 use areo_rover::resources::Load;
 
@@ -204,7 +204,7 @@ fn a_wait_across_sunrise_needs_the_night_s_drain_before_it() {
     let runs =
         open_loop(&plan, &model, &world, start, &Uncertainty::default(), &MonteCarlo { runs: 1, seed: 1 }).unwrap();
     let (step, failure) = runs[0].failure.expect("the run from less charge fails");
-    assert_eq!(failure, Failure::BatteryDepleted, "{:?}", runs[0]);
+    assert_eq!(failure, RunFailure::BatteryDepleted, "{:?}", runs[0]);
     let failed_at = plan.waypoints[step].t_s;
     assert!(failed_at < rise, "it runs out in a wait step before sunrise, not at {failed_at} s (sunrise {rise} s)");
 }

@@ -47,7 +47,7 @@ pub mod stability;
 pub use crate::{
     error::{Error, MAX_NESTING, Result, ron_options, too_deep},
     params::{
-        Activities, Arm, Assumed, Axles, Battery, BodyPoint, Drive, Geometry, LSR1_RON, Layout, RoverParams, SidePoint,
-        Solar,
+        Activities, Arm, Assumed, Axles, BatteryPack, BodyPoint, Drive, Geometry, LSR1_RON, Layout, RoverParams,
+        SidePoint, Solar,
     },
 };

@@ -259,7 +259,7 @@ impl Energy {
 
 /// A module that ran to its end.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Step {
+pub struct ModuleRun {
     /// The state after it.
     pub state: RoverState,
     /// Duration, s.
@@ -277,7 +277,7 @@ pub struct Step {
     pub grasped: Option<usize>,
 }
 
-impl Step {
+impl ModuleRun {
     /// Takes in an evaluated pose's stability, friction and saturation (of a wheel
     /// torque limit of `torque_max_nm`).
     fn record(&mut self, eval: &Evaluation, torque_max_nm: f64) {
@@ -567,10 +567,10 @@ impl<'e> Motion<'e> {
         state: &RoverState,
         module: Module,
         samples: &[SampleSite],
-    ) -> Result<Step, Stopped> {
+    ) -> Result<ModuleRun, Stopped> {
         let p = self.evaluator.params();
         let act = &p.activities;
-        let mut step = Step {
+        let mut step = ModuleRun {
             state: *state,
             duration_s: 0.0,
             energy: Energy::default(),
@@ -614,7 +614,7 @@ impl<'e> Motion<'e> {
         state: &RoverState,
         module: Module,
         samples: &[SampleSite],
-        step: &mut Step,
+        step: &mut ModuleRun,
     ) -> Result<(), Stopped> {
         let p = self.evaluator.params();
         let act = &p.activities;
@@ -693,7 +693,7 @@ impl<'e> Motion<'e> {
         ground: &impl Ground,
         state: &RoverState,
         samples: &[SampleSite],
-        step: &mut Step,
+        step: &mut ModuleRun,
     ) -> Result<(), Stopped> {
         let p = self.evaluator.params();
         let act = &p.activities;
@@ -733,7 +733,7 @@ impl<'e> Motion<'e> {
         dist: f64,
         radius: f64,
         turn: f64,
-        step: &mut Step,
+        step: &mut ModuleRun,
     ) -> Result<(), Stopped> {
         let p = self.evaluator.params();
         let kin = kinetics(p, dist, radius, turn);
@@ -748,7 +748,7 @@ impl<'e> Motion<'e> {
         let first = self
             .pose_at(ground, start.place(), &start.arm, &cond, start.pose.as_ref())
             .map_err(|failure| Stopped { failure, progress: 0.0, state: Box::new(state) })?;
-        let record = |step: &mut Step, eval: &Evaluation| step.record(eval, p.wheel_torque_max_nm);
+        let record = |step: &mut ModuleRun, eval: &Evaluation| step.record(eval, p.wheel_torque_max_nm);
         record(step, &first);
         let mut last = Signature::of(&first, p.wheel_torque_max_nm);
         let mut prev_power = power(&first);
@@ -808,7 +808,7 @@ impl<'e> Motion<'e> {
         ground: &impl Ground,
         start: &RoverState,
         path: impl Fn(f64) -> Result<ArmState, String>,
-        step: &mut Step,
+        step: &mut ModuleRun,
     ) -> Result<(), Stopped> {
         let p = self.evaluator.params();
         let cond = Conditions { mu: self.mu, direction: 0.0 };
@@ -849,7 +849,7 @@ impl<'e> Motion<'e> {
     }
 
     /// Re-evaluates the pose after a change of load (grasp, release).
-    fn settle(&self, ground: &impl Ground, step: &mut Step, before: RoverState) -> Result<(), Stopped> {
+    fn settle(&self, ground: &impl Ground, step: &mut ModuleRun, before: RoverState) -> Result<(), Stopped> {
         let s = &step.state;
         let cond = Conditions { mu: self.mu, direction: 0.0 };
         let eval = self.pose_at(ground, s.place(), &s.arm, &cond, s.pose.as_ref()).map_err(|failure| Stopped {
@@ -885,7 +885,7 @@ impl<'e> Motion<'e> {
     /// (with its power), a turn to or from a sample the time to sweep the turn's
     /// largest angle looking for one — and the hotel power over it. The state changes
     /// only by the battery drawn; a draw below the battery's usable window stops it.
-    pub fn idle(&self, state: &RoverState, module: Module) -> Result<Step, Stopped> {
+    pub fn idle(&self, state: &RoverState, module: Module) -> Result<ModuleRun, Stopped> {
         let p = self.evaluator.params();
         let act = &p.activities;
         let (seconds, load_w) = match module {
@@ -909,7 +909,7 @@ impl<'e> Motion<'e> {
         if after.battery_wh < p.battery.capacity_wh * (1.0 - p.battery.usable_fraction) {
             return Err(Stopped { failure: MotionFailure::Battery, progress: 1.0, state: Box::new(*state) });
         }
-        Ok(Step {
+        Ok(ModuleRun {
             state: after,
             duration_s: seconds,
             energy,

@@ -184,10 +184,11 @@ pub struct Solar {
     pub efficiency: f64,
 }
 
-/// The battery.
+/// LSR-1's battery pack: its size and the share of it a plan may use (the TEMPEST
+/// rovers' state-of-charge model is [`crate::resources::Battery`]).
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Battery {
+pub struct BatteryPack {
     /// Capacity, Wh.
     pub capacity_wh: f64,
     /// Usable fraction of the capacity, 0..=1.
@@ -232,7 +233,7 @@ pub struct RoverParams {
     /// The solar array.
     pub solar: Solar,
     /// The battery.
-    pub battery: Battery,
+    pub battery: BatteryPack,
     /// Gravity, m/s².
     pub gravity_m_s2: f64,
     /// Driving speed, m/s.

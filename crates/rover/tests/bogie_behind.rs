@@ -9,7 +9,7 @@ use areo_rover::evaluation::{Conditions, Evaluator, Place};
 use areo_rover::kinematics::Kinematics;
 use areo_rover::{Layout, RoverParams};
 use areo_terrain::Ground;
-use areo_terrain::analytic::{Plane, Step};
+use areo_terrain::analytic::{Plane, Wall};
 
 fn mer() -> RoverParams {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/params/mer.ron");
@@ -106,7 +106,7 @@ fn a_step_under_the_front_wheels_turns_the_rocker_not_the_bogie() {
     let p = mer();
     let (a, r) = (p.axle_x_m, p.wheel_radius_m);
     let h = 0.10;
-    let g = Step { x_step: 0.20, low_m: 0.0, high_m: h };
+    let g = Wall { x_step: 0.20, low_m: 0.0, high_m: h };
     let pose = Kinematics::new(&p).solve(&g, 0.0, 0.0, std::f64::consts::FRAC_PI_2, None).unwrap();
     let (dx, dz) = (a.front - p.bogie_pivot_m.x, r - p.bogie_pivot_m.z);
     let len = dx.hypot(dz);

@@ -8,7 +8,7 @@ use areo_rover::forces::ForceFailure;
 use areo_rover::kinematics::{Kinematics, newton_pose};
 use areo_rover::motion::{Module, Motion, MotionFailure, RoverState, SampleSite};
 use areo_terrain::Ground;
-use areo_terrain::analytic::{Plane, Step};
+use areo_terrain::analytic::{Plane, Wall};
 
 fn lsr1() -> RoverParams {
     RoverParams::lsr1()
@@ -211,7 +211,7 @@ fn mu_star(ground: &impl Ground, x: f64, heading_deg: f64, direction: f64) -> f6
 fn climbing_a_vertical_step_needs_the_reference_mu() {
     // T9: the front wheels against a wall taller than r, the others on flat ground:
     // μ* = 0.580, whatever the CG height.
-    let wall = Step { x_step: 0.0, low_m: 0.0, high_m: 0.30 };
+    let wall = Wall { x_step: 0.0, low_m: 0.0, high_m: 0.30 };
     // Heading east, middle axles at x = −0.499999: the front wheels press 1 µm into
     // the wall's face, so they ride on it 1 mm above the ground.
     let mu = mu_star(&wall, -0.499999, 90.0, 0.0);
@@ -373,7 +373,7 @@ fn a_drive_into_a_wall_stops_at_the_first_violation() {
     let ev = Evaluator::new(&p);
     // A 0.5 m wall across the path: the bogie passes its limit before the front axle
     // can climb it.
-    let wall = Step { x_step: 0.0, low_m: 0.0, high_m: 0.5 };
+    let wall = Wall { x_step: 0.0, low_m: 0.0, high_m: 0.5 };
     let motion = Motion::new(&ev, 0.8);
     let mut state = RoverState::new(&ev, -0.60, 0.0, 90f64.to_radians());
     let mut stopped = None;

@@ -10,7 +10,7 @@ use areo_rover::arm::ArmState;
 use areo_rover::evaluation::{Conditions, Evaluation, Evaluator, Place, Violation};
 use areo_rover::kinematics::Pose;
 use areo_terrain::Ground;
-use areo_terrain::analytic::{Plane, Step};
+use areo_terrain::analytic::{Plane, Wall};
 use serde::Serialize;
 
 use crate::error::{Error, Result};
@@ -149,7 +149,7 @@ pub fn check(params_path: &Path, terrain: TestTerrain, mu: f64, moving: bool) ->
             // Heading east; the wall 1 µm inside the front wheels' reach.
             let a = params.axle_x_m;
             let x_step = (a.front - a.middle) + params.wheel_radius_m - 1e-6;
-            at(&ev, &Step { x_step, low_m: 0.0, high_m: h }, 90.0, &arm, mu, direction)
+            at(&ev, &Wall { x_step, low_m: 0.0, high_m: h }, 90.0, &arm, mu, direction)
         }
     };
     let mut report = Report {

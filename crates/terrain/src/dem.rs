@@ -25,11 +25,11 @@ impl Georef {
         let axes =
             format!(r#"CS[Cartesian,2],AXIS["easting (E)",east,ORDER[1],{m}],AXIS["northing (N)",north,ORDER[2],{m}]"#);
         let r = self.surface.equatorial_radius_m;
-        let body = match r {
-            r if (3_390_000.0..3_400_000.0).contains(&r) => "Mars",
-            r if (1_730_000.0..1_740_000.0).contains(&r) => "Moon",
-            r if (6_370_000.0..6_380_000.0).contains(&r) => "Earth",
-            _ => "Body",
+        let body = match self.surface.body() {
+            Some(areo_body::Body::Mars) => "Mars",
+            Some(areo_body::Body::Moon) => "Moon",
+            Some(areo_body::Body::Earth) => "Earth",
+            None => "Body",
         };
         let sphere = format!("{body} sphere R={r} m");
         let base = format!(
@@ -582,7 +582,7 @@ pub mod analytic {
     /// A vertical step: `low_m` for x < `x_step`, `high_m` beyond (a wall, for contact
     /// tests).
     #[derive(Debug, Clone, Copy, PartialEq)]
-    pub struct Step {
+    pub struct Wall {
         /// Where the wall stands, m.
         pub x_step: f64,
         /// Height west of the wall, m.
@@ -591,7 +591,7 @@ pub mod analytic {
         pub high_m: f64,
     }
 
-    impl Ground for Step {
+    impl Ground for Wall {
         fn height(&self, x: f64, _y: f64) -> Option<f64> {
             Some(if x < self.x_step { self.low_m } else { self.high_m })
         }
@@ -604,6 +604,24 @@ pub mod analytic {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The CRS names the body its reference surface is (one rule: [`Spheroid::body`]),
+    /// and no body for a radius that is none of them.
+    #[test]
+    fn the_crs_names_the_body_of_its_reference_surface() {
+        let projection = Projection::Equirectangular { lat_ts_deg: 0.0, lon0_deg: 0.0 };
+        let cases = [
+            (Spheroid::MARS_IAU2015, "Mars"),
+            (Spheroid::MARS_MOLA_SPHERE, "Mars"),
+            (Spheroid::MOON, "Moon"),
+            (Spheroid::EARTH_WGS84, "Earth"),
+            (Spheroid { equatorial_radius_m: 2_634_100.0, polar_radius_m: 2_634_100.0 }, "Body"),
+        ];
+        for (surface, body) in cases {
+            let wkt = Georef { projection, surface }.wkt();
+            assert!(wkt.starts_with(&format!("PROJCRS[\"{body} equirectangular\"")), "{body}: {wkt}");
+        }
+    }
 
     #[test]
     fn heights_along_a_line_equal_the_pointwise_heights() {

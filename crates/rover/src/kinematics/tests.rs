@@ -1,5 +1,5 @@
 use super::*;
-use areo_terrain::analytic::{Plane, Step};
+use areo_terrain::analytic::{Plane, Wall};
 
 fn lsr1() -> RoverParams {
     RoverParams::lsr1()
@@ -80,7 +80,7 @@ fn a_side_slope_rolls_the_body_and_narrows_the_footprint() {
 fn the_front_wheel_climbs_a_step_and_the_differential_averages() {
     // A 0.15 m step 0.25 m ahead of the middle wheels, across both sides: the front
     // axles ride on top, 0.15 m higher; the bogies rotate by asin(0.15/0.40).
-    let g = Step { x_step: 0.0, low_m: 0.0, high_m: 0.15 };
+    let g = Wall { x_step: 0.0, low_m: 0.0, high_m: 0.15 };
     let p = pose(&g, &lsr1(), -0.25, 0.0, 90.0).unwrap();
     let f = p.left.axles[0];
     assert!((f.1 - (0.10 + 0.15)).abs() < 1e-3, "front axle on top: {f:?}");
@@ -109,7 +109,7 @@ fn the_front_wheel_climbs_a_step_and_the_differential_averages() {
 fn a_wheel_against_a_wall_sits_on_its_face() {
     // A 0.30 m wall (taller than r) just ahead: the front axle rests against the
     // face, r from it, with a horizontal contact normal (γ = 90°).
-    let g = Step { x_step: 0.0, low_m: 0.0, high_m: 0.30 };
+    let g = Wall { x_step: 0.0, low_m: 0.0, high_m: 0.30 };
     let p = pose(&g, &lsr1(), -0.45, 0.0, 90.0).unwrap();
     let f = p.left.axles[0];
     assert!((f.0 - 0.35).abs() < 1e-6, "axle r behind the wall: {f:?}");
@@ -140,7 +140,7 @@ fn a_warm_start_that_loses_a_step_edge_gives_the_cold_answer() {
     // A step exactly one wheel radius high, climbed 1 cm at a time: the warm start's
     // pinned rim sample loses the edge part way (the solver then retries cold), so
     // every pose must equal the cold one and none may be refused.
-    let g = Step { x_step: 0.0, low_m: 0.0, high_m: 0.10 };
+    let g = Wall { x_step: 0.0, low_m: 0.0, high_m: 0.10 };
     let k = Kinematics::new(&lsr1());
     let mut prev = None;
     for i in 0..120 {
@@ -178,6 +178,6 @@ fn joint_limits_and_missing_ground_are_reported() {
     }
     assert_eq!(pose(&Island, &lsr1(), 0.0, 0.0, 90.0), Err(KinematicsFailure::OffTerrain));
     // A 0.40 m step under the front wheels only needs the bogie past 45°.
-    let g = Step { x_step: 0.25, low_m: 0.0, high_m: 0.40 };
+    let g = Wall { x_step: 0.25, low_m: 0.0, high_m: 0.40 };
     assert_eq!(pose(&g, &lsr1(), 0.0, 0.0, 90.0), Err(KinematicsFailure::JointLimit));
 }
