@@ -39,11 +39,9 @@ fn attitude_change(a: [f64; 3], b: [f64; 3]) -> f64 {
     (3.0 - trace).max(0.0).sqrt()
 }
 
-/// The sphere a body's horizon maps drop away on: its published mean radius
-/// ([`Body::mean_radius_m`]: Mars 3389.5 km, the Moon 1737.4 km, the Earth
-/// 6371.0088 km).
+/// The sphere a body's horizon maps drop away on ([`Curvature::of_body`]).
 pub fn curvature_of(body: Body) -> Curvature {
-    Curvature::Sphere { radius_m: body.mean_radius_m() }
+    Curvature::of_body(body)
 }
 
 /// The Earth at one instant in the sky of the reference site.

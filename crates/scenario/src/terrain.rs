@@ -296,8 +296,7 @@ pub fn write_shadow_tiled(
     let Some(relief) = relief(&mut src, tile)? else {
         return Err(Error::usage(input.display().to_string(), "no cell has data"));
     };
-    let curvature =
-        if flat { Curvature::Flat } else { Curvature::Sphere { radius_m: grid.georef.surface.mean_radius_m() } };
+    let curvature = if flat { Curvature::Flat } else { Curvature::of_surface(grid.georef.surface) };
     let halo = ShadowHalo::new(relief, &grid, sun.1)?;
     // A low Sun over high relief needs a wide halo: refuse before a window outgrows
     // the machine (the message names the estimate; a higher Sun or a smaller tile help).
@@ -387,7 +386,7 @@ pub fn write_horizon_tiled(
     let Some(relief) = relief(&mut src, tile)? else {
         return Err(Error::usage(input.display().to_string(), "no cell has data"));
     };
-    let curvature = Curvature::Sphere { radius_m: grid.georef.surface.mean_radius_m() };
+    let curvature = Curvature::of_surface(grid.georef.surface);
     let halo = ShadowHalo::new(relief, &grid, lowest_deg)?;
     let window = ((tile + 2 * halo.cols).min(grid.cols) as u64) * ((tile + 2 * halo.rows).min(grid.rows) as u64);
     budget.check(&crate::budget::tiled_horizon(

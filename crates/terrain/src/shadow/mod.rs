@@ -133,9 +133,24 @@ pub enum Curvature {
 }
 
 impl Curvature {
-    /// The curvature of the DEM's reference body (its mean radius).
+    /// The sphere a body's ground drops away on: its published mean radius
+    /// ([`areo_body::Body::mean_radius_m`]: Mars 3389.5 km, the Moon 1737.4 km, the
+    /// Earth 6371.0088 km). The one rule for horizons, shadows and lines of sight, in
+    /// the terrain tools and the planner alike.
+    pub fn of_body(body: areo_body::Body) -> Curvature {
+        Curvature::Sphere { radius_m: body.mean_radius_m() }
+    }
+
+    /// The curvature of the body a reference surface belongs to
+    /// ([`Curvature::of_body`]); a surface of no known body drops away on its own mean
+    /// radius.
+    pub fn of_surface(surface: areo_body::Spheroid) -> Curvature {
+        surface.body().map_or(Curvature::Sphere { radius_m: surface.mean_radius_m() }, Curvature::of_body)
+    }
+
+    /// The curvature of the DEM's reference surface's body ([`Curvature::of_surface`]).
     pub fn of(dem: &Dem) -> Curvature {
-        Curvature::Sphere { radius_m: dem.georef().surface.mean_radius_m() }
+        Curvature::of_surface(dem.georef().surface)
     }
 
     /// 1/2R (0 for a flat world): an occluder at distance d sits d²·(1/2R) lower.
@@ -198,6 +213,26 @@ pub(crate) fn shadow_map_from(dem: &Dem, sun: SunDirection, cast: Vec<bool>) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One curvature rule: a DEM on any of Mars's reference surfaces (the MOLA sphere,
+    /// the IAU ellipsoid) drops away on Mars's published mean radius, the one the
+    /// planner's horizon maps use; a sphere of no known body on its own radius.
+    #[test]
+    fn a_dem_curves_with_its_bodys_mean_radius() {
+        use crate::{Georef, Projection, Spheroid};
+        let projection = Projection::Equirectangular { lat_ts_deg: 0.0, lon0_deg: 0.0 };
+        let on = |surface: Spheroid| {
+            let dem = Dem::from_fn(4, 4, 10.0, 10.0, |_, _| 0.0).unwrap().with_georef(Georef { projection, surface });
+            Curvature::of(&dem)
+        };
+        let mars = Curvature::Sphere { radius_m: 3_389_500.0 };
+        assert_eq!(on(Spheroid::MARS_MOLA_SPHERE), mars);
+        assert_eq!(on(Spheroid::MARS_IAU2015), mars);
+        assert_eq!(on(Spheroid::MOON), Curvature::Sphere { radius_m: 1_737_400.0 });
+        assert_eq!(on(Spheroid::EARTH_WGS84), Curvature::Sphere { radius_m: 6_371_008.8 });
+        let ganymede = Spheroid { equatorial_radius_m: 2_634_100.0, polar_radius_m: 2_634_100.0 };
+        assert_eq!(on(ganymede), Curvature::Sphere { radius_m: 2_634_100.0 });
+    }
 
     #[test]
     fn every_method_puts_a_walls_shadow_h_over_tan_e_behind_it() {

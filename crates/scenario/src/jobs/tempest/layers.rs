@@ -17,8 +17,8 @@ const SHADOWED: u8 = 0;
 const NO_DATA: u8 = 255;
 
 /// Writes `dem.tif` (elevation, m), `slope.tif` (degrees) from the planner's map and
-/// `shadow.tif` (1 lit, 0 shadowed, 255 no data) from the true terrain at `shadow_s`
-/// after the epoch; returns the files.
+/// `shadow.tif` (1 direct sun, 0 shadowed or facing away, 255 no data) from the true
+/// terrain at `shadow_s` after the epoch; returns the files.
 pub(super) fn write(dir: &Path, map: &World, truth: &World, shadow_s: f64) -> Result<Vec<PathBuf>> {
     let dem = map.dem();
     let dem_path = dir.join("dem.tif");
@@ -33,7 +33,9 @@ pub(super) fn write(dir: &Path, map: &World, truth: &World, shadow_s: f64) -> Re
     let sun = truth.sun(shadow_s.clamp(0.0, truth.span_s()));
     let shadow: Vec<u8> = (0..truth.cells() as u32)
         .zip(truth.dem().valid_mask())
-        .map(|(c, ok)| match (*ok, truth.lit(c, &sun)) {
+        // Direct sun on the ground, as `areo terrain shadow` writes it: neither in a cast
+        // shadow nor on a slope facing away from the Sun.
+        .map(|(c, ok)| match (*ok, truth.lit(c, &sun) && truth.sun_above_ground_deg(c, &sun) > 0.0) {
             (false, _) => NO_DATA,
             (true, true) => LIT,
             (true, false) => SHADOWED,
