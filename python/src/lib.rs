@@ -22,7 +22,7 @@ use areo_ephemeris::{Body, Site, SunModel};
 use areo_scenario::{Error, Failure, NoProgress, Outcome, RunOptions};
 use areo_terrain::Dem;
 use areo_terrain::horizon::HorizonMap;
-use areo_terrain::shadow::{Curvature, Shadows, SunDirection};
+use areo_terrain::shadow::{Curvature, GridSunDirection, Shadows};
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyValueError};
@@ -281,8 +281,9 @@ fn shadow<'py>(
         )));
     }
     let d = &dem.dem;
-    let map =
-        py.detach(|| Shadows::new(SunDirection::new(azimuth_deg, elevation_deg), curvature(d, curved)).map(d).to_u8());
+    let map = py.detach(|| {
+        Shadows::new(GridSunDirection::new(azimuth_deg, elevation_deg), curvature(d, curved)).map(d).to_u8()
+    });
     PyArray1::from_vec(py, map).reshape([d.rows(), d.cols()])
 }
 

@@ -747,7 +747,7 @@ fn lita(root: &Path) -> Result<bool, String> {
 /// memory ≤ 2 GB for the whole run.
 fn bigmap(root: &Path, side: usize) -> Result<bool, String> {
     use areo_terrain::geotiff::{Windows, write_u8_tiled};
-    use areo_terrain::shadow::{Curvature, Shadows, SunDirection};
+    use areo_terrain::shadow::{Curvature, GridSunDirection, Shadows};
     use areo_terrain::tiles::{ShadowHalo, Tiling, relief};
     let dir = root.join("target/bigmap");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -757,7 +757,7 @@ fn bigmap(root: &Path, side: usize) -> Result<bool, String> {
     let mut src = Windows::open(&dem_path, 512 << 20).map_err(|e| e.to_string())?;
     let rel = relief(&mut src, tile).map_err(|e| e.to_string())?.ok_or("no data")?;
     let relief_s = started.elapsed().as_secs_f64();
-    let sun = SunDirection::new(135.0, 8.0);
+    let sun = GridSunDirection::new(135.0, 8.0);
     let halo = ShadowHalo::new(rel, &grid, sun.elevation_deg).map_err(|e| e.to_string())?;
     let shadows = Shadows::new(sun, Curvature::Flat);
     let out = dir.join(format!("shadow_{side}.tif"));

@@ -36,12 +36,12 @@ const SCRATCHES: &[Scratch] = &[
         name: "terrain-core",
         dependency: r#"areo-terrain = { path = "../../../crates/terrain", default-features = false }"#,
         main: r#"fn main() {
-    use areo_terrain::shadow::{Curvature, Shadows, SunDirection};
+    use areo_terrain::shadow::{Curvature, Shadows, GridSunDirection};
     let dem = areo_terrain::Dem::from_fn(40, 30, 10.0, 10.0, |x, y| 0.02 * x + 5.0 * (y / 50.0).sin())
         .expect("a DEM");
     let slope = areo_terrain::slope::slope_aspect(&dem);
     assert!(slope.slope_deg.iter().all(|s| s.is_finite()));
-    let lit = Shadows::new(SunDirection::new(90.0, 5.0), Curvature::Flat).map(&dem).lit_fraction();
+    let lit = Shadows::new(GridSunDirection::new(90.0, 5.0), Curvature::Flat).map(&dem).lit_fraction();
     assert!(lit > 0.0 && lit <= 1.0);
 }
 "#,

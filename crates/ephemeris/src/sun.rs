@@ -328,10 +328,11 @@ impl SunState {
     }
 }
 
-/// The Sun in a site's local frame.
+/// The Sun in a site's local frame, azimuth from true north (areo-terrain's
+/// `GridSunDirection` is the same Sun on a map's grid).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SunPosition {
-    /// Azimuth, clockwise from north, degrees [0, 360).
+    /// Azimuth, clockwise from true north, degrees [0, 360).
     pub azimuth_deg: f64,
     /// Elevation above the local horizontal (ellipsoid tangent plane), degrees.
     pub elevation_deg: f64,

@@ -8,7 +8,7 @@ pub use areo_terrain::geotiff::Grid;
 use areo_terrain::hillshade::hillshade_rgb;
 use areo_terrain::horizon::HorizonMap;
 pub use areo_terrain::shadow::Method as ShadowMethod;
-use areo_terrain::shadow::{Curvature, Shadows, SunDirection};
+use areo_terrain::shadow::{Curvature, GridSunDirection, Shadows};
 use areo_terrain::slope::slope_aspect;
 use areo_terrain::tiles::Source as _;
 /// A DEM, and how its map metres relate to its body (for the binary and its tests).
@@ -245,7 +245,7 @@ pub fn write_shadow(
     out: &Path,
 ) -> Result<(Vec<std::path::PathBuf>, f64)> {
     let curvature = if flat { Curvature::Flat } else { Curvature::of(dem) };
-    let map = Shadows::new(SunDirection::new(azimuth_deg, elevation_deg), curvature).method(method).map(dem);
+    let map = Shadows::new(GridSunDirection::new(azimuth_deg, elevation_deg), curvature).method(method).map(dem);
     write_with(out, |tmp| Ok(geotiff::write_u8(dem, &map.to_u8(), Some(255), tmp)?))?;
     let sa = slope_aspect(dem);
     let dark: Vec<bool> = (0..map.cast.len()).map(|i| !map.direct_sun(i)).collect();
@@ -308,7 +308,7 @@ pub fn write_shadow_tiled(
         (tile * grid.cols) as u64,
         held_bytes as u64,
     ))?;
-    let shadows = Shadows::new(SunDirection::new(sun.0, sun.1), curvature).method(method);
+    let shadows = Shadows::new(GridSunDirection::new(sun.0, sun.1), curvature).method(method);
     progress.start((grid.rows.div_ceil(tile) * grid.cols.div_ceil(tile)) as u64, "tiles");
     let (mut lit, mut valid, mut tiles, mut bigtiff) = (0u64, 0u64, 0usize, false);
     write_with(out, |tmp| {

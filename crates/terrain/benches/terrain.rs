@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 
 use areo_terrain::horizon::horizon_sweep;
-use areo_terrain::shadow::{Curvature, Method, Shadows, SunDirection};
+use areo_terrain::shadow::{Curvature, GridSunDirection, Method, Shadows};
 use areo_terrain::slope::slope_aspect;
 use areo_terrain::synth::{Noise, TerrainSpec};
 use areo_terrain::{Dem, geotiff};
@@ -54,13 +54,13 @@ fn terrain(c: &mut Criterion) {
     {
         for (case, az, el, curvature) in cases {
             g.bench_function(format!("{prefix}_{case}"), |b| {
-                b.iter(|| Shadows::new(SunDirection::new(az, el), curvature).method(method).cast(&dem))
+                b.iter(|| Shadows::new(GridSunDirection::new(az, el), curvature).method(method).cast(&dem))
             });
         }
     }
     // A low Sun: the longest shadows, where the own ray marches furthest.
     g.bench_function("cast_shadows_az250_el2_flat", |b| {
-        b.iter(|| Shadows::new(SunDirection::new(250.0, 2.0), Curvature::Flat).cast(&dem))
+        b.iter(|| Shadows::new(GridSunDirection::new(250.0, 2.0), Curvature::Flat).cast(&dem))
     });
     g.bench_function("slope_aspect", |b| b.iter(|| slope_aspect(&dem)));
     // What a TEMPEST run spends writing its DEM layer (the slope layer is the same size;

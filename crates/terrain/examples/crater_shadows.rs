@@ -5,7 +5,7 @@
 #![allow(clippy::print_stdout)] // an example prints what it shows
 
 use areo_terrain::horizon::HorizonMap;
-use areo_terrain::shadow::{Curvature, Shadows, SunDirection};
+use areo_terrain::shadow::{Curvature, GridSunDirection, Shadows};
 use areo_terrain::synth::{Feature, Noise, TerrainSpec};
 
 fn main() -> Result<(), areo_terrain::Error> {
@@ -30,7 +30,7 @@ fn main() -> Result<(), areo_terrain::Error> {
     let steepest = slope.slope_deg.iter().copied().fold(0.0f32, f32::max);
     println!("{} × {} cells of 10 m; steepest slope {steepest:.1}°", dem.cols(), dem.rows());
     for elevation in [5.0, 15.0, 30.0] {
-        let map = Shadows::new(SunDirection::new(90.0, elevation), Curvature::of(&dem)).map(&dem);
+        let map = Shadows::new(GridSunDirection::new(90.0, elevation), Curvature::of(&dem)).map(&dem);
         println!("Sun in the east {elevation:>4}° up: {:.1} % of the map lit", 100.0 * map.lit_fraction());
     }
     let horizon = HorizonMap::compute(&dem, 32, Curvature::of(&dem))?;

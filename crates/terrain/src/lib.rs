@@ -39,11 +39,11 @@
 //! from north. Only this crate does index↔metre arithmetic.
 //!
 //! ```
-//! use areo_terrain::{Dem, shadow::{Curvature, Shadows, SunDirection}};
+//! use areo_terrain::{Dem, shadow::{Curvature, Shadows, GridSunDirection}};
 //!
 //! // A 10 m wall on flat ground; the Sun 45° up in the east: a 10 m shadow to the west.
 //! let dem = Dem::from_fn(40, 3, 1.0, 1.0, |x, _| if (20.0..21.0).contains(&x) { 10.0 } else { 0.0 }).unwrap();
-//! let shadowed = Shadows::new(SunDirection::new(90.0, 45.0), Curvature::Flat).cast(&dem);
+//! let shadowed = Shadows::new(GridSunDirection::new(90.0, 45.0), Curvature::Flat).cast(&dem);
 //! let row = 1 * 40;
 //! assert!(shadowed[row + 15] && !shadowed[row + 5] && !shadowed[row + 30]);
 //! ```

@@ -18,11 +18,11 @@ use rayon::prelude::*;
 use crate::dem::Dem;
 use crate::error::Result;
 use crate::los::Field;
-use crate::shadow::{Curvature, SunDirection};
+use crate::shadow::{Curvature, GridSunDirection};
 
 /// Cast shadow (true = shadowed) by each cell's own ray on the triangulated surface:
 /// [`horizon_on_triangles`] above the Sun.
-pub fn cast_shadows(dem: &Dem, sun: SunDirection, curvature: Curvature) -> Vec<bool> {
+pub fn cast_shadows(dem: &Dem, sun: GridSunDirection, curvature: Curvature) -> Vec<bool> {
     if sun.elevation_deg <= 0.0 {
         return vec![true; dem.cols() * dem.rows()];
     }
@@ -125,7 +125,7 @@ pub fn horizon_on_triangles(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -
 /// Cast shadow on the grid-line surface (see [`horizon_on_grid_lines`]): the reference
 /// of [`Method::Interpolated`](crate::shadow::Method::Interpolated), which samples that
 /// surface. O(cells × length).
-pub fn cast_shadows_on_grid_lines(dem: &Dem, sun: SunDirection, curvature: Curvature) -> Vec<bool> {
+pub fn cast_shadows_on_grid_lines(dem: &Dem, sun: GridSunDirection, curvature: Curvature) -> Vec<bool> {
     if sun.elevation_deg <= 0.0 {
         return vec![true; dem.cols() * dem.rows()];
     }
@@ -200,7 +200,7 @@ pub fn horizon_on_grid_lines(dem: &Dem, azimuth_deg: f64, curvature: Curvature) 
 /// `HeightField`). Flat world only; parry3d works in f32, and its rays start a
 /// thousandth of a cell aside (its traversal loses rays along vertex rows), so it
 /// parts from [`cast_shadows`] where the Sun grazes the terrain.
-pub fn cast_shadows_parry(dem: &Dem, sun: SunDirection) -> Result<Vec<bool>> {
+pub fn cast_shadows_parry(dem: &Dem, sun: GridSunDirection) -> Result<Vec<bool>> {
     let (azimuth_deg, elevation_deg) = (sun.azimuth_deg, sun.elevation_deg);
     let (cx, cy) = dem.cell_center(dem.cols() / 2, dem.rows() / 2);
     let field = Field::new(dem, cx, cy, 0.0, Curvature::Flat)?;
@@ -252,7 +252,7 @@ mod tests {
         let dem = crate::synth::rough_test_terrain(100, 80, 11, 30.0, 3);
         let (mut own_differ, mut cells) = (0, 0);
         for (az, el) in [(90.0, 15.0), (200.0, 25.0), (315.0, 10.0), (300.0, 8.0), (10.0, 15.0), (135.0, 5.0)] {
-            let sun = SunDirection::new(az, el);
+            let sun = GridSunDirection::new(az, el);
             let parry = cast_shadows_parry(&dem, sun).unwrap();
             let own = cast(&dem, sun, Curvature::Flat, Method::OwnRay);
             let fast = cast(&dem, sun, Curvature::Flat, Method::Interpolated);

@@ -32,7 +32,7 @@ use crate::dem::Dem;
 use crate::error::{Error, Result};
 use crate::geotiff::{Grid, Windows};
 use crate::horizon::HorizonMap;
-use crate::shadow::{Curvature, Shadows, SunDirection};
+use crate::shadow::{Curvature, GridSunDirection, Shadows};
 use crate::slope::{SlopeAspect, slope_aspect};
 
 /// A DEM read a window at a time.
@@ -131,7 +131,7 @@ impl ShadowHalo {
 fn window_for(
     g: &Grid,
     tile: (usize, usize, usize, usize),
-    sun: SunDirection,
+    sun: GridSunDirection,
     halo: &ShadowHalo,
 ) -> (usize, usize, usize, usize) {
     let (c0, r0, w, h) = tile;
@@ -428,7 +428,7 @@ pub fn slope_by_tiles(
 mod tests {
     use super::*;
     use crate::shadow::Method;
-    fn whole_map(dem: &Dem, sun: SunDirection, curvature: Curvature, method: Method) -> crate::shadow::ShadowMap {
+    fn whole_map(dem: &Dem, sun: GridSunDirection, curvature: Curvature, method: Method) -> crate::shadow::ShadowMap {
         Shadows::new(sun, curvature).method(method).map(dem)
     }
 
@@ -466,7 +466,7 @@ mod tests {
             (135.0, 9.0, Curvature::Sphere { radius_m: 5.0e4 }),
             (250.0, 20.0, Curvature::Flat),
         ] {
-            let sun = SunDirection::new(az, el);
+            let sun = GridSunDirection::new(az, el);
             let halo = ShadowHalo::new(relief, &grid, el).unwrap();
             assert!(halo.cols < 60 && halo.rows < 60, "az {az}: a halo of {halo:?} would hide the tiling");
             let whole = whole_map(&dem, sun, curvature, Method::OwnRay).to_u8();
@@ -625,7 +625,7 @@ mod tests {
         // The same check with the halo cut to the margin: long shadows are lost at the
         // tiles' sun-ward edges — the halo is what the identity rests on.
         let mut dem = terrain();
-        let sun = SunDirection::new(77.0, 4.0);
+        let sun = GridSunDirection::new(77.0, 4.0);
         let short = ShadowHalo { metres: 0.0, cols: MARGIN, rows: MARGIN };
         let whole = whole_map(&dem, sun, Curvature::Flat, Method::OwnRay).to_u8();
         let mut tiled = Vec::new();

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use areo_terrain::reference::horizon_on_triangles;
-use areo_terrain::shadow::{Curvature, Method, Shadows, SunDirection};
+use areo_terrain::shadow::{Curvature, GridSunDirection, Method, Shadows};
 use areo_terrain::synth::{Feature, Noise, TerrainSpec};
 use areo_terrain::{Dem, geotiff};
 
@@ -20,7 +20,7 @@ fn disagreements(dem: &Dem, az: f64, elevations: &[f64], curvature: Curvature) -
         .iter()
         .map(|&el| {
             [Method::OwnRay, Method::Swept].map(|method| {
-                let cast = Shadows::new(SunDirection::new(az, el), curvature).method(method).cast(dem);
+                let cast = Shadows::new(GridSunDirection::new(az, el), curvature).method(method).cast(dem);
                 let differ = cast.iter().zip(&own).filter(|(s, h)| h.is_finite() && **s != (**h > el)).count();
                 differ as f64 / valid
             })

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use areo_ephemeris::{Site, SolarGeometry, SunModel, format_utc, parse_utc};
 use areo_terrain::Dem;
-use areo_terrain::shadow::{Curvature, Method, Shadows, SunDirection};
+use areo_terrain::shadow::{Curvature, GridSunDirection, Method, Shadows};
 use areo_terrain::slope::slope_aspect;
 use hifitime::Epoch;
 
@@ -19,7 +19,7 @@ struct ShadowReport {
     dem: Dem,
     utc: Epoch,
     /// The Sun's direction on the grid's axes.
-    sun: SunDirection,
+    sun: GridSunDirection,
     /// Its true azimuth at the site, degrees clockwise from north.
     true_azimuth_deg: f64,
     ltst_hours: f64,
@@ -61,7 +61,7 @@ fn compute(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) ->
     let dem = dem.placed_at(job.body.model().reference_surface(), site.lat_deg(), site.lon_east_deg())?;
     // Shadows are cast along the grid: a polar map's north is not the site's.
     let grid_azimuth = dem.georef().projection.grid_azimuth_deg(at_site.azimuth_deg, site.lon_east_deg());
-    let sun = SunDirection::new(grid_azimuth, at_site.elevation_deg);
+    let sun = GridSunDirection::new(grid_azimuth, at_site.elevation_deg);
     let curvature = if job.flat { Curvature::Flat } else { Curvature::of(&dem) };
     let map = Shadows::new(sun, curvature).map(&dem);
     let sa = slope_aspect(&dem);

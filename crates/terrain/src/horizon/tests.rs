@@ -1,6 +1,6 @@
 use super::*;
 use crate::reference::horizon_on_grid_lines;
-use crate::shadow::{Method, SunDirection, cast_shadows};
+use crate::shadow::{GridSunDirection, Method, cast_shadows};
 use crate::synth::{Feature, Noise, TerrainSpec};
 
 fn terrain() -> Dem {
@@ -34,7 +34,7 @@ fn horizon_lookups_agree_with_shadow_maps_at_sector_centres() {
         let az = sector as f64 * 360.0 / 32.0;
         let truth = horizon_on_grid_lines(&dem, az, Curvature::Flat);
         let looked_up = map.shadowed(az, el);
-        let swept = cast_shadows(&dem, SunDirection::new(az, el), Curvature::Flat, Method::OwnRay);
+        let swept = cast_shadows(&dem, GridSunDirection::new(az, el), Curvature::Flat, Method::OwnRay);
         let (mut differ, mut not_grazing, mut sweep_differ) = (0, 0, 0);
         for i in 0..truth.len() {
             let shadowed = truth[i] > el;

@@ -196,7 +196,7 @@ mod tests {
         let curved = cast(&dem, 270.0, 0.3, Curvature::Sphere { radius_m: 3_389_500.0 });
         assert!(flat[target], "flat world: in the peak's shadow");
         assert!(!curved[target], "curved world: the peak is below the horizon");
-        let sun = crate::shadow::SunDirection { azimuth_deg: 270.0, elevation_deg: 0.3 };
+        let sun = crate::shadow::GridSunDirection { azimuth_deg: 270.0, elevation_deg: 0.3 };
         let reference =
             crate::reference::cast_shadows_on_grid_lines(&dem, sun, Curvature::Sphere { radius_m: 3_389_500.0 });
         assert!(!reference[target]);

@@ -40,20 +40,23 @@ mod swept;
 use crate::dem::Dem;
 use crate::slope::horn_gradient;
 
-/// The Sun's direction as seen from the map: azimuth clockwise from north and elevation
-/// above the local horizontal, degrees.
+/// The Sun's direction on the map's grid: azimuth clockwise from the grid's north (up
+/// in the image, the direction shadows are cast along — true north only where the
+/// map's meridians are its columns; [`crate::Projection::true_north_on_grid_deg`]
+/// turns one into the other) and elevation above the local horizontal, degrees.
+/// areo-ephemeris's `SunPosition` is the same Sun clockwise from true north.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SunDirection {
-    /// Degrees clockwise from north.
+pub struct GridSunDirection {
+    /// Degrees clockwise from the grid's north.
     pub azimuth_deg: f64,
     /// Degrees above the local horizontal; at or below 0 every cell is in shadow.
     pub elevation_deg: f64,
 }
 
-impl SunDirection {
-    /// The Sun at `azimuth_deg` (clockwise from north), `elevation_deg` up.
-    pub fn new(azimuth_deg: f64, elevation_deg: f64) -> SunDirection {
-        SunDirection { azimuth_deg, elevation_deg }
+impl GridSunDirection {
+    /// The Sun at `azimuth_deg` (clockwise from the grid's north), `elevation_deg` up.
+    pub fn new(azimuth_deg: f64, elevation_deg: f64) -> GridSunDirection {
+        GridSunDirection { azimuth_deg, elevation_deg }
     }
 }
 
@@ -77,7 +80,7 @@ pub enum Method {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Shadows {
     /// The Sun's direction.
-    pub sun: SunDirection,
+    pub sun: GridSunDirection,
     /// Flat or curved world.
     pub curvature: Curvature,
     /// How each cell is decided ([`Method::OwnRay`] unless set).
@@ -86,7 +89,7 @@ pub struct Shadows {
 
 impl Shadows {
     /// Shadows of the Sun at `sun` on a world of `curvature`, each cell by its own ray.
-    pub fn new(sun: SunDirection, curvature: Curvature) -> Shadows {
+    pub fn new(sun: GridSunDirection, curvature: Curvature) -> Shadows {
         Shadows { sun, curvature, method: Method::default() }
     }
 
@@ -107,7 +110,7 @@ impl Shadows {
 }
 
 /// Cast shadow (true = shadowed) of every cell, row-major like the DEM.
-pub(crate) fn cast_shadows(dem: &Dem, sun: SunDirection, curvature: Curvature, method: Method) -> Vec<bool> {
+pub(crate) fn cast_shadows(dem: &Dem, sun: GridSunDirection, curvature: Curvature, method: Method) -> Vec<bool> {
     let (az, el) = (sun.azimuth_deg, sun.elevation_deg);
     if el <= 0.0 {
         // Below the local horizontal the Sun is behind the surface everywhere.
@@ -193,7 +196,7 @@ impl ShadowMap {
 }
 
 /// [`Shadows::map`] around a cast-shadow map already computed for the same Sun.
-pub(crate) fn shadow_map_from(dem: &Dem, sun: SunDirection, cast: Vec<bool>) -> ShadowMap {
+pub(crate) fn shadow_map_from(dem: &Dem, sun: GridSunDirection, cast: Vec<bool>) -> ShadowMap {
     let valid = dem.valid_mask().to_vec();
     let (gx, gy) = horn_gradient(dem);
     let (sa, ca) = sun.azimuth_deg.to_radians().sin_cos();
@@ -240,7 +243,7 @@ mod tests {
         let (h, e) = (20.0, 30.0f64);
         let dem = Dem::from_fn(200, 20, 1.0, 1.0, |x, _| if (50.0..51.0).contains(&x) { h } else { 0.0 }).unwrap();
         for method in [Method::OwnRay, Method::Swept, Method::Interpolated] {
-            let s = cast_shadows(&dem, SunDirection::new(270.0, e), Curvature::Flat, method);
+            let s = cast_shadows(&dem, GridSunDirection::new(270.0, e), Curvature::Flat, method);
             let len = (51..200).take_while(|&c| s[10 * 200 + c]).count() as f64;
             assert!((len - h / e.to_radians().tan()).abs() <= 1.0, "{method:?}: shadow {len} m");
             assert!((0..50).all(|c| !s[10 * 200 + c]), "{method:?}: the sun side is lit");
@@ -251,10 +254,10 @@ mod tests {
     fn sun_side_border_is_lit_and_a_sun_below_the_horizon_lights_nothing() {
         let dem = Dem::from_fn(30, 30, 1.0, 1.0, |x, y| (x * 0.7).sin() * 5.0 + (y * 0.3).cos() * 5.0).unwrap();
         for method in [Method::OwnRay, Method::Swept, Method::Interpolated] {
-            let s = cast_shadows(&dem, SunDirection::new(0.0, 5.0), Curvature::Flat, method);
+            let s = cast_shadows(&dem, GridSunDirection::new(0.0, 5.0), Curvature::Flat, method);
             assert!((0..30).all(|c| !s[c]), "{method:?}: the northern border faces a northern Sun unobstructed");
         }
-        let m = Shadows::new(SunDirection::new(0.0, -1.0), Curvature::Flat).map(&dem);
+        let m = Shadows::new(GridSunDirection::new(0.0, -1.0), Curvature::Flat).map(&dem);
         assert_eq!(m.lit_fraction(), 0.0);
     }
 
@@ -267,8 +270,11 @@ mod tests {
         let target = 2 * 1101 + 1000;
         let mars = Curvature::Sphere { radius_m: 3_389_500.0 };
         for method in [Method::OwnRay, Method::Swept, Method::Interpolated] {
-            assert!(cast_shadows(&dem, SunDirection::new(270.0, 0.3), Curvature::Flat, method)[target], "{method:?}");
-            assert!(!cast_shadows(&dem, SunDirection::new(270.0, 0.3), mars, method)[target], "{method:?}");
+            assert!(
+                cast_shadows(&dem, GridSunDirection::new(270.0, 0.3), Curvature::Flat, method)[target],
+                "{method:?}"
+            );
+            assert!(!cast_shadows(&dem, GridSunDirection::new(270.0, 0.3), mars, method)[target], "{method:?}");
         }
     }
 }
