@@ -119,3 +119,29 @@ fn a_region_plans_what_the_whole_map_plans() {
     let err = run_text("bad", &scenario(bad, (1200.0, 900.0))).unwrap_err().to_string();
     assert!(err.contains("job.plan_region.x_m") && err.contains("0 ≤ low < high"), "{err}");
 }
+
+/// The battery to hold at the last goal above what the battery holds is bad input,
+/// refused by field with the limit before any search (not searched for until the work
+/// budget ends); at the limit it is a question the planner answers.
+#[test]
+fn a_goal_battery_above_the_capacity_is_refused_by_field() {
+    // A directory of its own: the other test writes its map beside its scenarios.
+    let d = dir().join("capacity");
+    std::fs::create_dir_all(&d).unwrap();
+    write_map(&d.join("map.tif"));
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    std::fs::copy(root.join("scenarios/rovers/mock-solar-rover.ron"), d.join("mock-solar-rover.ron")).unwrap();
+    let refusal = |name: &str, text: String| {
+        let path = d.join(format!("{name}.ron"));
+        std::fs::write(&path, text).unwrap();
+        let file = load(&path).unwrap();
+        let budget = Budget::for_this_machine();
+        run(&file, RunOptions { out_dir: None, progress: &NoProgress, budget }).unwrap_err().to_string()
+    };
+    let text = scenario("", (1200.0, 900.0));
+    let err = refusal("goal-above", text.replace("goal_energy_wh: 50", "goal_energy_wh: 5000"));
+    assert!(err.contains("job.planner.goal_energy_wh") && err.contains("5000 Wh") && err.contains("at most"), "{err}");
+    let err =
+        refusal("start-above", text.replace("start_battery_above_floor_wh: 150", "start_battery_above_floor_wh: 5000"));
+    assert!(err.contains("job.start_battery_above_floor_wh") && err.contains("at most"), "{err}");
+}

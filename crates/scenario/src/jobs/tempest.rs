@@ -483,7 +483,8 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
     Ok(Prepared { world, truth, config, model, frame, start, goals, precalc_s, notes, crs_not_read })
 }
 
-/// The action model with the job's Communicate sessions, its start battery checked.
+/// The action model with the job's Communicate sessions, its start battery and the
+/// battery to hold at the last goal checked against what the battery holds.
 fn action_model(job: &TempestJob, file: &ScenarioFile, world: &World, rover: ResourceModel) -> Result<ActionModel> {
     let mut model = ActionModel::new(rover, job.planner.action_config());
     if let Some(com) = &job.communicate {
@@ -503,6 +504,19 @@ fn action_model(job: &TempestJob, file: &ScenarioFile, world: &World, rover: Res
             format!(
                 "{} Wh: the battery holds at most {:.1} Wh above its floor",
                 job.start_battery_above_floor_wh,
+                model.capacity_wh()
+            ),
+        ));
+    }
+    // A plan cannot end with more than the battery holds: refused as the bad input it
+    // is, not searched for until the work budget ends.
+    if job.planner.goal_energy_wh > model.capacity_wh() + 1e-9 {
+        return Err(scenario_error(
+            file,
+            "job.planner.goal_energy_wh",
+            format!(
+                "{} Wh: the battery holds at most {:.1} Wh above its floor",
+                job.planner.goal_energy_wh,
                 model.capacity_wh()
             ),
         ));
