@@ -165,13 +165,14 @@ enum Settle {
 /// the battery binds): a memo keyed by the cell and the instant's exact bits, so that
 /// a hit returns exactly what a fresh evaluation would. It grows with the instants
 /// the search touches and starts afresh past [`Moves::CAPACITY`] entries: a small
-/// search allocates little, a large one holds at most ~30 MB.
+/// search allocates little, a large one holds at most ~7 MB (a hit is a label of
+/// the same instant, made shortly before: a larger memo saved no time).
 struct Moves {
     memo: FxHashMap<(u32, u64), [Option<Move>; 8]>,
 }
 
 impl Moves {
-    const CAPACITY: usize = 1 << 15;
+    const CAPACITY: usize = 1 << 12;
 
     fn new() -> Moves {
         Moves { memo: FxHashMap::default() }

@@ -222,8 +222,9 @@ enum Run {
     /// The searches stopped at the work (`memory: false`) or memory budget before they
     /// had an answer; `message` names the file and the flag.
     Stopped { memory: bool, message: String, work: NoPlanWork },
-    /// A plan, its wall time (s) and the search graphs' bytes after it.
-    Plan { plan: MissionPlan, seconds: f64, search_bytes: u64 },
+    /// A plan, its wall time (s), the search graphs' bytes and the labels they hold
+    /// after it.
+    Plan { plan: MissionPlan, seconds: f64, search_bytes: u64, labels: u64 },
     /// A simulated run with its re-plans.
     Simulated(SimReport),
 }
@@ -697,6 +698,7 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
                     plan,
                     seconds: clock.elapsed().as_secs_f64(),
                     search_bytes: mission.search_bytes(),
+                    labels: mission.labels_alive(),
                 })
             })
         }
@@ -785,10 +787,13 @@ fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
     o.count("cells", world.cells() as u64);
     match &report.run {
         Run::Unreachable { .. } | Run::Stopped { .. } => {}
-        Run::Plan { plan, seconds, search_bytes } => {
+        Run::Plan { plan, seconds, search_bytes, labels } => {
             o.number("initial_plan_s", *seconds);
             // The segments' graphs as the plan leaves them (the most they held).
             o.number("peak_search_mb", *search_bytes as f64 / 1e6);
+            // Labels those graphs hold (on a tick, every label the search kept: most
+            // are never expanded).
+            o.count("initial_plan_labels", *labels);
             plan_facts(&mut o, ctx, plan);
             if let Some(c) = &report.chance {
                 chance::facts(&mut o, ctx, plan, c);
