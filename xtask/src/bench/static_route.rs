@@ -128,5 +128,58 @@ pub(crate) fn run(root: &Path) -> Result<bool, String> {
             }
         }
     }
+    traverses(root)?;
     Ok(true)
+}
+
+/// Multi-sol single-goal traverses on the shipped 64² crop of the Gale map (the
+/// gale-mola-traverse scenario, its second goal alone, 13.7 km away, a 120 h horizon,
+/// on its 60 s tick, no simulation): each must plan, or be proven unreachable, in
+/// seconds. The variants: as shipped (600 Wh, L + B), under the Time objective, from the
+/// same start with 120 Wh and with 10 Wh (the default `max_wait_s`: the battery must be
+/// charged on the way), and with a horizon too short for the drive (a proof).
+fn traverses(root: &Path) -> Result<(), String> {
+    use areo_scenario::format::planner::ObjectiveSpec;
+    println!("multi-sol traverses on the 64² Gale crop (463 m cells), one goal 13.7 km away, tick 60 s:");
+    type Change = fn(&mut areo_scenario::format::TempestJob);
+    let variants: [(&str, Change); 5] = [
+        ("600 Wh, L + B", |_| {}),
+        ("600 Wh, Time", |job| job.planner.objective = ObjectiveSpec::Time),
+        ("120 Wh, default max_wait_s", |job| {
+            job.start_battery_above_floor_wh = 120.0;
+            job.planner.max_wait_s = None;
+        }),
+        ("10 Wh, default max_wait_s", |job| {
+            job.start_battery_above_floor_wh = 10.0;
+            job.planner.max_wait_s = None;
+        }),
+        ("a 10 h horizon", |job| job.horizon_h = 10.0),
+    ];
+    for (what, change) in variants {
+        let (outcome, wall) = super::run_scenario_with(root, "gale-mola-traverse", false, |job| {
+            job.goals.remove(0);
+            job.simulate = None;
+            job.horizon_h = 120.0;
+            change(job);
+        })?;
+        let fact = |name: &str| super::number(&outcome, name);
+        match &outcome.failure {
+            None => println!(
+                "  {what}: {:.1} h plan, {} expansions, {wall:.2} s",
+                fact("initial_plan_duration_h"),
+                fact("initial_plan_expansions")
+            ),
+            Some(failure) => {
+                let verdict = failure.to_string();
+                let proven = if verdict.contains("proven") { "proven" } else { "not proven" };
+                println!(
+                    "  {what}: no plan ({proven}), {} expansions at the settings, {} in all with the probes \
+                     naming what binds, {wall:.2} s",
+                    fact("no_plan_planning_expansions"),
+                    fact("no_plan_expansions")
+                );
+            }
+        }
+    }
+    Ok(())
 }
