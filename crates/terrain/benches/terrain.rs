@@ -6,7 +6,7 @@
 
 use std::path::PathBuf;
 
-use areo_terrain::horizon::horizon_sweep;
+use areo_terrain::horizon::horizon_toward;
 use areo_terrain::shadow::{Curvature, GridSunDirection, Method, Shadows};
 use areo_terrain::slope::slope_aspect;
 use areo_terrain::synth::{Noise, TerrainSpec};
@@ -70,7 +70,7 @@ fn terrain(c: &mut Criterion) {
     let _ = std::fs::remove_file(&path);
     // One sector of a horizon map (a 64-sector map is 64 of these, split over cores).
     g.bench_function("horizon_one_sector_az101", |b| {
-        b.iter(|| horizon_sweep(&dem, 101.25, Curvature::Sphere { radius_m: 3_389_500.0 }))
+        b.iter(|| horizon_toward(&dem, 101.25, Curvature::Sphere { radius_m: 3_389_500.0 }))
     });
     g.finish();
 }

@@ -6,7 +6,7 @@
 //! two nearest sector centres — which makes sequences of line-of-sight maps over a sol
 //! cheap: one horizon map, then one lookup per cell per time step.
 //!
-//! Each sector's horizon comes from [`horizon_sweep`] along its centre azimuth: upper
+//! Each sector's horizon comes from [`horizon_toward`] along its centre azimuth: upper
 //! convex hulls along parallel lines, exact along each line. Planetary curvature
 //! lowers an occluder at distance d by d²/2R. The lines are laid on the whole map's
 //! lattice even when a window of it is computed, so that
@@ -445,7 +445,7 @@ fn sweep_sectors(
 /// horizons of the two lines straddling it, weighted by distance (lines a whole cell
 /// apart miss narrow peaks between them: 1–2 % of cells disagree with a per-cell ray
 /// cast at low Sun, against 0.1–0.2 % at a quarter cell).
-pub fn horizon_sweep(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f64> {
+pub fn horizon_toward(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f64> {
     let mut acc = Accumulator::default();
     sweep_lines(dem, &Elevations::of(dem), azimuth_deg, curvature, (0, 0), Some(&mut acc), None);
     let mut out = vec![0.0; dem.cols() * dem.rows()];

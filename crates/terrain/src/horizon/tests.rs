@@ -146,11 +146,11 @@ fn the_tangent_searched_from_a_neighbour_equals_the_bisection() {
 #[test]
 fn flat_ground_has_a_flat_horizon_and_a_wall_raises_it() {
     let flat = Dem::from_fn(20, 20, 1.0, 1.0, |_, _| 0.0).unwrap();
-    let h = horizon_sweep(&flat, 123.0, Curvature::Flat);
+    let h = horizon_toward(&flat, 123.0, Curvature::Flat);
     assert!(h.iter().all(|a| a.abs() < 1e-9 || *a == -90.0));
     // A 10 m wall 10 m east of a cell: horizon 45° toward the east.
     let wall = Dem::from_fn(40, 5, 1.0, 1.0, |x, _| if (30.0..31.0).contains(&x) { 10.0 } else { 0.0 }).unwrap();
-    let h = horizon_sweep(&wall, 90.0, Curvature::Flat);
+    let h = horizon_toward(&wall, 90.0, Curvature::Flat);
     assert!((h[2 * 40 + 20] - 45.0).abs() < 0.5, "{}", h[2 * 40 + 20]);
 }
 
