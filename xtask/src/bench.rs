@@ -660,6 +660,17 @@ fn against_fresh(root: &Path, name: &str) -> Result<areo_scenario::Outcome, Stri
     Ok(compared)
 }
 
+/// The job's planner replaced by `tick_s` alone (the classes' settings dropped; the goal
+/// battery and `max_wait_s` kept).
+fn plan_on_tick(job: &mut areo_scenario::format::TempestJob, tick_s: f64) {
+    job.planner = areo_scenario::format::planner::PlannerSpec {
+        tick_s: Some(tick_s),
+        goal_energy_wh: job.planner.goal_energy_wh,
+        max_wait_s: job.planner.max_wait_s,
+        ..areo_scenario::format::planner::PlannerSpec::default()
+    };
+}
+
 /// valley-detour's initial plan on a 60 s tick (`tick_s` alone), on its map and on one
 /// of four times the area: the exact search's work grows with the route, not with the
 /// map, when its bound's backward searches go only as far as the search asks. Returns
@@ -669,12 +680,7 @@ fn valley_area_on_a_tick(root: &Path) -> Result<(f64, f64), String> {
     let on_tick = |scale: usize| {
         run_scenario_with(root, "valley-detour", false, |job| {
             job.simulate = None;
-            job.planner = areo_scenario::format::planner::PlannerSpec {
-                tick_s: Some(60.0),
-                goal_energy_wh: job.planner.goal_energy_wh,
-                max_wait_s: job.planner.max_wait_s,
-                ..areo_scenario::format::planner::PlannerSpec::default()
-            };
+            plan_on_tick(job, 60.0);
             if let areo_scenario::format::TerrainSource::Synth(spec) = &mut job.terrain {
                 spec.cols *= scale;
                 spec.rows *= scale;
@@ -711,14 +717,7 @@ fn lita_on_ticks(root: &Path) -> Result<(), String> {
         // Each run's own peak: Linux resets VmHWM on "5" (a failed write leaves the
         // process's peak so far, which the figure then includes).
         let _ = std::fs::write("/proc/self/clear_refs", "5");
-        let (outcome, wall) = run_scenario_with(root, "lita-scale", false, |job| {
-            job.planner = areo_scenario::format::planner::PlannerSpec {
-                tick_s: Some(tick),
-                goal_energy_wh: job.planner.goal_energy_wh,
-                max_wait_s: job.planner.max_wait_s,
-                ..areo_scenario::format::planner::PlannerSpec::default()
-            };
-        })?;
+        let (outcome, wall) = run_scenario_with(root, "lita-scale", false, |job| plan_on_tick(job, tick))?;
         let fact = |name: &str| number(&outcome, name);
         println!(
             "  on a {tick:.0} s tick: initial plan {:.3} s, {} expansions, {:.1} h; {} re-plans, median {:.1} ms; \

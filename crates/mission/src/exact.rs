@@ -166,7 +166,8 @@ enum Settle {
 /// a hit returns exactly what a fresh evaluation would. It grows with the instants
 /// the search touches and starts afresh past [`Moves::CAPACITY`] entries: a small
 /// search allocates little, a large one holds at most ~7 MB (a hit is a label of
-/// the same instant, made shortly before: a larger memo saved no time).
+/// the same instant, made shortly before: eight times the entries saved no time on
+/// valley-detour's initial plan on a 60 s tick, 1.19 s against 1.08–1.21 s).
 struct Moves {
     memo: FxHashMap<(u32, u64), [Option<Move>; 8]>,
 }
