@@ -59,7 +59,12 @@ pub enum Objective {
     EnergyUsed,
     /// Risk margin (BESTDPARMS, the paper's Arctic setting): among plans no longer than
     /// `max_duration_s`, the one that needs least battery at its start — the largest
-    /// margin between the battery the rover has and the battery the plan needs.
+    /// margin between the battery the rover has and the battery the plan needs. On a
+    /// tick the margin is read forward: the plan whose battery at its lowest (inside
+    /// actions too) stays highest, its cost the Wh drawn below the start battery there
+    /// (ties: the earlier arrival). The two agree wherever the battery does not reach
+    /// its cap before that lowest point; past a full charge the battery the rover
+    /// holds at its worst moment is the margin a planner reads off the plot.
     #[serde(alias = "Duration")]
     Margin {
         /// The longest acceptable plan, s.

@@ -250,7 +250,9 @@ impl ExactQuery<'_> {
             dead: false,
         };
         self.keep(start, &mut nodes, &mut at, &mut out, tick);
-        open.push(Reverse((ordered(bound.at(start.cell, start.goal, start.t, start.e)), Reverse(ordered(0.0)), 0u32)));
+        if let Some((first, second)) = self.key(&mut bound, &start) {
+            open.push(Reverse((first, second, 0u32)));
+        }
         while let Some(Reverse((_, _, i))) = open.pop() {
             let node = nodes[i as usize];
             if node.dead {
@@ -262,7 +264,7 @@ impl ExactQuery<'_> {
             }
             let held = (nodes.len() * size_of::<Node>()
                 + at.len() * size_of::<(Instant, Staircase)>()
-                + open.len() * size_of::<(Ordered, Reverse<Ordered>, u32)>()
+                + open.len() * size_of::<(Ordered, Ordered, u32)>()
                 + moves.bytes()
                 + bound.bytes()) as u64;
             out.bytes = out.bytes.max(held);
@@ -272,16 +274,43 @@ impl ExactQuery<'_> {
             }
             out.expanded += 1;
             for next in self.successors(node, i, (tick, e_max), &departures, &mut moves) {
-                let f = next.cost + bound.at(next.cell, next.goal, next.t, next.e);
-                // An infinite bound: no plan from here reaches the goals in time.
-                if f.is_finite()
+                if let Some((first, second)) = self.key(&mut bound, &next)
                     && let Some(j) = self.keep(next, &mut nodes, &mut at, &mut out, tick)
                 {
-                    open.push(Reverse((ordered(f), Reverse(ordered(next.cost)), j)));
+                    open.push(Reverse((first, second, j)));
                 }
             }
         }
         out
+    }
+
+    /// A label's place in the queue, or `None` where the bound is infinite (no plan from
+    /// it reaches the goals in time). For a sum: A*'s estimate, ties to the label further
+    /// along (more cost so far). For Margin, whose cost only grows along a plan and has
+    /// no useful estimate: the cost, then the earliest arrival — A* on time among the
+    /// labels of equal margin, so that the first label at the last goal has the least
+    /// margin used and, of those, arrives first.
+    fn key(&self, bound: &mut Bound<'_>, node: &Node) -> Option<(Ordered, Ordered)> {
+        let rest = bound.at(node.cell, node.goal, node.t, node.e);
+        if !rest.is_finite() {
+            return None;
+        }
+        Some(match self.objective {
+            Objective::Margin { .. } => {
+                // A plan from here that uses no more margin keeps the battery at least
+                // at the start's less the margin used: it holds that much at the last
+                // goal too, so the sources must give it more first. (Ordering only:
+                // plans that use more margin may still arrive earlier.)
+                let keep = (self.start.energy_wh - node.cost - self.goal_energy_wh).max(0.0);
+                let arrival = if keep > 0.0 {
+                    node.t + bound.at(node.cell, node.goal, node.t, node.e - keep)
+                } else {
+                    node.t + rest
+                };
+                (ordered(node.cost), ordered(arrival))
+            }
+            _ => (ordered(node.cost + rest), ordered(-node.cost)),
+        })
     }
 
     /// The goal index after arriving at `cell` at `t` with `e`, having reached
@@ -320,7 +349,11 @@ impl ExactQuery<'_> {
                 goal: self.reached(from.goal, to, t, e),
                 t,
                 e,
-                cost: from.cost + self.step_cost(action, effect, e_max),
+                cost: match self.objective {
+                    // The battery drawn below the start at the plan's lowest so far.
+                    Objective::Margin { .. } => from.cost.max(self.start.energy_wh - effect.lowest(from.e, capacity)),
+                    _ => from.cost + self.step_cost(action, effect, e_max),
+                },
                 parent: i,
                 action: Some(action),
                 dead: false,
@@ -427,6 +460,7 @@ impl ExactQuery<'_> {
 
     fn step_cost(&self, action: Action, effect: &Effect, e_max: f64) -> f64 {
         match self.objective {
+            // (Margin's cost is not a sum: `successors` takes the plan's lowest battery.)
             Objective::Time | Objective::Margin { .. } => effect.duration_s,
             Objective::EnergyUsed => effect.load_wh,
             Objective::Energy => {

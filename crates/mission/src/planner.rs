@@ -136,16 +136,6 @@ impl PlannerConfig {
         {
             return bad("tick_s", format!("{tick}: allowed 1..=86400 s"));
         }
-        if self.tick_s.is_some() && matches!(self.objective, Objective::Margin { .. }) {
-            // The exact search minimises a sum of step costs; a margin is the plan's
-            // lowest battery, which no sum stands for.
-            return bad(
-                "objective",
-                "Margin is not searched at a tick (a margin is the plan's lowest battery, not a sum along \
-                 it): plan by Time, Energy or EnergyUsed on a tick, or leave `tick_s` unset"
-                    .into(),
-            );
-        }
         // Physical ranges: a step of a second to days, classes that a search can hold.
         if !((1.0..=1e6).contains(&a.charge_s) && (1.0..=1e6).contains(&a.hibernate_s)) {
             return bad("actions.charge_s", "charge_s and hibernate_s: allowed 1..=1e6 s".into());

@@ -105,7 +105,15 @@ impl<'a> Mission<'a> {
             allowance,
             tick: Some(TickState::default()),
         };
-        let windows = mission.windows();
+        let mut windows = mission.windows();
+        if let crate::domain::Objective::Margin { max_duration_s } = mission.config.objective {
+            // The longest acceptable plan, from the instant the rover is ready: every
+            // goal by then.
+            let deadline = start.t_min + max_duration_s;
+            for w in &mut windows {
+                w.1 = w.1.min(deadline);
+            }
+        }
         mission.tick.as_mut().expect("a mission on a tick").windows = windows;
         // `Mission::plan` checked the problem.
         let plan = mission.tick_search()?;
@@ -151,6 +159,10 @@ impl<'a> Mission<'a> {
         let start = self.start;
         let goals = self.goals.len();
         let state = self.tick.as_mut().expect("a mission on a tick");
+        // A margin is a plan's worst moment, not a sum: the rest of the plan with the
+        // least margin used need not be the best rest (its worst moment may lie
+        // behind), so a plan by Margin is always searched afresh.
+        let reuse = reuse && !matches!(self.config.objective, crate::domain::Objective::Margin { .. });
         let rest = if reuse { state.last.as_ref().and_then(|k| k.rest_from(start, goals)) } else { None };
         if let Some((steps, cost)) = rest {
             state.reused = true;
