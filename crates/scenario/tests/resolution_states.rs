@@ -102,21 +102,22 @@ fn valley_step77_keeps_its_plan_at_finer_classes_down_to_a_tight_battery() {
     assert!(!planned.expect("80 Wh planned").facts.contains_key("no_plan_expansions"));
 }
 
-/// valley-detour as shipped, planned only (no simulation), from its own start with a
+/// valley-detour on its former classes (`sweeps/valley-detour-classes.base.ron`),
+/// planned only (no simulation), from its own start with a
 /// battery low enough that charging decides: two goals, so `segment_starts` matters
 /// too (measured 2026-11-27 at 40, 20, 10 and 5 Wh: every setting below plans; at
 /// 1 Wh none does at 72 goal instants and 100 instants do).
 #[test]
 fn valley_detour_keeps_its_two_goal_plan_at_finer_settings() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let text = std::fs::read_to_string(root.join("scenarios/valley-detour.ron")).unwrap();
+    let text = std::fs::read_to_string(root.join("scenarios/sweeps/valley-detour-classes.base.ron")).unwrap();
     let simulate = "        simulate: (sense_radius_cells: 2),\n";
     assert!(text.contains(simulate));
     let rovers = format!("\"{}/", root.join("scenarios/rovers").display());
     let dir = std::env::temp_dir().join(format!("areo_resolution_states_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("valley-plan.ron");
-    std::fs::write(&path, text.replace(simulate, "").replace("\"rovers/", &rovers)).unwrap();
+    std::fs::write(&path, text.replace(simulate, "").replace("\"../rovers/", &rovers)).unwrap();
     for battery in [20, 5] {
         let b = format!("job.start_battery_above_floor_wh={battery}");
         assert_planned(&plan(&path, &[&b]), &format!("{battery} Wh as shipped"));
