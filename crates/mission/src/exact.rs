@@ -42,8 +42,10 @@ use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
 mod bound;
+mod front;
 
 use bound::Bound;
+pub use front::{ExactFront, FrontPoint};
 
 use crate::action_model::{Action, ActionModel};
 use crate::domain::{Objective, PathLength, Start};
@@ -273,7 +275,7 @@ impl ExactQuery<'_> {
                 return out;
             }
             out.expanded += 1;
-            for next in self.successors(node, i, (tick, e_max), &departures, &mut moves) {
+            for (next, _) in self.successors(node, i, (tick, e_max), &departures, &mut moves) {
                 if let Some((first, second)) = self.key(&mut bound, &next)
                     && let Some(j) = self.keep(next, &mut nodes, &mut at, &mut out, tick)
                 {
@@ -327,7 +329,8 @@ impl ExactQuery<'_> {
     }
 
     /// The labels one step from `node` (index `i`): each drive (with its settle, unless
-    /// it reaches the last goal), and a wait to the next tick.
+    /// it reaches the last goal), and a wait to the next tick — each with the lowest
+    /// battery above the floor inside its step, Wh.
     fn successors(
         &self,
         node: Node,
@@ -335,46 +338,48 @@ impl ExactQuery<'_> {
         (tick, e_max): (f64, f64),
         departures: &Departures,
         cache: &mut Moves,
-    ) -> Vec<Node> {
+    ) -> Vec<(Node, f64)> {
         let capacity = self.model.capacity_wh();
         let next_tick = |t: f64| ((t / tick + 1e-9).floor() + 1.0) * tick;
         // The label after `effect` from `from`, if the battery holds inside it.
-        let after = |from: &Node, action: Action, to: u32, effect: &Effect| -> Option<Node> {
-            if effect.lowest(from.e, capacity) < -1e-9 {
+        let after = |from: &Node, action: Action, to: u32, effect: &Effect| -> Option<(Node, f64)> {
+            let lowest = effect.lowest(from.e, capacity);
+            if lowest < -1e-9 {
                 return None;
             }
             let (t, e) = (from.t + effect.duration_s, effect.after(from.e, capacity));
-            Some(Node {
+            let node = Node {
                 cell: to,
                 goal: self.reached(from.goal, to, t, e),
                 t,
                 e,
                 cost: match self.objective {
                     // The battery drawn below the start at the plan's lowest so far.
-                    Objective::Margin { .. } => from.cost.max(self.start.energy_wh - effect.lowest(from.e, capacity)),
+                    Objective::Margin { .. } => from.cost.max(self.start.energy_wh - lowest),
                     _ => from.cost + self.step_cost(action, effect, e_max),
                 },
                 parent: i,
                 action: Some(action),
                 dead: false,
-            })
+            };
+            Some((node, lowest))
         };
         let mut out = Vec::with_capacity(9);
         let last = self.goals.len();
         let moves = cache.get(node.cell, node.t, || self.moves_from(node.cell, node.t, tick));
         for (k, m) in moves.iter().enumerate() {
             let Some(m) = m else { continue };
-            let Some(arrived) = after(&node, Action::Drive(k as u8), m.to, &m.drive) else { continue };
+            let Some((arrived, low)) = after(&node, Action::Drive(k as u8), m.to, &m.drive) else { continue };
             match m.settle {
-                Settle::OnTick => out.push(arrived),
-                _ if arrived.goal as usize == last => out.push(arrived),
+                Settle::OnTick => out.push((arrived, low)),
+                _ if arrived.goal as usize == last => out.push((arrived, low)),
                 Settle::Refused => {}
                 // The settle: the drive and the wait to the next tick are one step of
                 // the plan (the drive's label is not kept: no plan departs from it).
                 Settle::Wait(wait) => {
-                    if let Some(mut settled) = after(&arrived, Action::Wait, m.to, &wait) {
+                    if let Some((mut settled, settle_low)) = after(&arrived, Action::Wait, m.to, &wait) {
                         settled.action = Some(Action::Drive(k as u8));
-                        out.push(settled);
+                        out.push((settled, low.min(settle_low)));
                     }
                 }
             }

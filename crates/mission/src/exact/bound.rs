@@ -258,7 +258,7 @@ impl<'a> Bound<'a> {
     /// The earliest the rover at `cell` at `t` with `e`, `goal` goals reached, can reach
     /// the last goal, s after the epoch (infinite: never within the Sun table, or after
     /// the last goal's window).
-    fn arrival(&mut self, cell: u32, goal: usize, t: f64, e: f64) -> f64 {
+    pub(super) fn arrival(&mut self, cell: u32, goal: usize, t: f64, e: f64) -> f64 {
         let plain = self.remaining(DURATION, goal, cell);
         let ticks = self.remaining(TICKS, goal, cell) - self.slack_s;
         let least = plain.max(ticks);

@@ -89,21 +89,12 @@ pub fn non_dominated(points: &[(f64, f64, f64)]) -> Vec<usize> {
 }
 
 impl Mission<'_> {
-    /// The front's settings refused, naming the field: one goal, goal instants (not a
-    /// tick), a margin step in range.
+    /// The front's settings refused, naming the field: one goal, a margin step in range.
     fn check_front(&self, margin_step_wh: f64) -> Result<()> {
         if self.goals.len() != 1 {
             return Err(Error::Config {
                 field: "pareto_front",
                 message: format!("the front is searched for a single goal; this mission has {}", self.goals.len()),
-            });
-        }
-        if self.config.tick_s.is_some() {
-            return Err(Error::Config {
-                field: "tick_s",
-                message: "the Pareto front is searched over goal instants, not at a tick: leave `tick_s` unset \
-                          for `pareto_front`"
-                    .into(),
             });
         }
         if !(1e-9..=1e6).contains(&margin_step_wh) {
@@ -121,6 +112,9 @@ impl Mission<'_> {
     /// whole chain would have to keep apart.
     pub fn pareto_front(&self, margin_step_wh: f64) -> Result<ParetoFront> {
         self.check_front(margin_step_wh)?;
+        if self.config.tick_s.is_some() {
+            return self.tick_front();
+        }
         let goal = self.goals[0];
         // One planning call: its searches share the call's expansion allowance.
         self.allowance.begin();
@@ -182,5 +176,41 @@ impl Mission<'_> {
             .collect();
         plans.sort_by(|a, b| a.arrival_s.total_cmp(&b.arrival_s).then(a.energy_used_wh.total_cmp(&b.energy_used_wh)));
         Ok(ParetoFront { plans, searches, expansions, candidates: candidates.len(), margin_step_wh })
+    }
+}
+
+impl Mission<'_> {
+    /// The front on a tick: the exact search's ([`crate::exact::ExactQuery::front`]) —
+    /// every plan on the tick that no other beats in arrival, energy used and lowest
+    /// battery, with no margin step (reported as 0). The margin is the plan's lowest
+    /// battery above the floor, inside actions too.
+    fn tick_front(&self) -> Result<ParetoFront> {
+        self.allowance.begin();
+        let query = self.tick_query(self.model, self.start);
+        let (allowance, meter) = (&self.allowance, &self.config.meter);
+        let front = query.front_with(&mut |held| {
+            allowance.spend();
+            meter.add(1);
+            !allowance.exhausted() && !allowance.outgrown(held)
+        });
+        self.allowance.check()?;
+        let candidates = front.points.len();
+        let plans = (front.points.into_iter())
+            .map(|p| {
+                let departure_s = (p.steps.iter())
+                    .find(|s| matches!(s.action, crate::action_model::Action::Drive(_)))
+                    .map_or(p.arrival_s, |s| s.t_s);
+                let mut plan = self.tick_waypoints(&p.steps, p.energy_used_wh, front.expanded);
+                plan.objective = Objective::EnergyUsed;
+                FrontPlan {
+                    departure_s,
+                    arrival_s: p.arrival_s,
+                    energy_used_wh: p.energy_used_wh,
+                    margin_wh: p.lowest_wh,
+                    plan,
+                }
+            })
+            .collect();
+        Ok(ParetoFront { plans, searches: 1, expansions: front.expanded, candidates, margin_step_wh: 0.0 })
     }
 }

@@ -201,7 +201,7 @@ impl<'a> Mission<'a> {
     /// The plan's waypoints from exact steps: one per step (a drive's waypoint covers its
     /// settle; the wait to the first tick from a start between ticks is the idle before
     /// the plan's first waypoint), then the last goal.
-    fn tick_waypoints(&self, steps: &[ExactStep], cost: f64, expansions: u64) -> MissionPlan {
+    pub(super) fn tick_waypoints(&self, steps: &[ExactStep], cost: f64, expansions: u64) -> MissionPlan {
         let (world, model) = (self.world, self.model);
         let tick = self.config.tick_s.expect("a mission on a tick");
         let floor = {

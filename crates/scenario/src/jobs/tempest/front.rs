@@ -70,10 +70,20 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, fron
         o.number("plan_margin_wh", own.2);
         o.flag("plan_dominated_by_front", beaten);
     }
+    let how = if plan.tick_s.is_some() {
+        "exact on the tick: every plan on it that no other beats in all three, the margin its lowest battery above \
+         the floor"
+            .to_string()
+    } else {
+        format!(
+            "{} searches, {} plans before the filter; margins walked {} Wh apart, so a plan within that above a found \
+             one's margin may be missing",
+            front.searches, front.candidates, front.margin_step_wh
+        )
+    };
     o.summary.push(format!(
         "Pareto front: {} plans in (arrival, energy used, margin) — arrival {:.2}–{:.2} h, energy used {:.1}–{:.1} \
-         Wh, margin {:.1}–{:.1} Wh ({} searches, {} plans before the filter; margins walked {} Wh apart, so a plan \
-         within that above a found one's margin may be missing)",
+         Wh, margin {:.1}–{:.1} Wh ({how})",
         plans.len(),
         ctx.hours(arrival.0),
         ctx.hours(arrival.1),
@@ -81,14 +91,51 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, fron
         used.1,
         margin.0,
         margin.1,
-        front.searches,
-        front.candidates,
-        front.margin_step_wh
     ));
+}
+
+/// A plan on a tick in the front's measures: (arrival s, energy used Wh, lowest battery
+/// above the floor Wh), replayed on the job's model — each waypoint's action, then the
+/// wait to the next waypoint (a drive's settle, a wait's length), from the start.
+fn tick_measures(ctx: &Context<'_>, plan: &MissionPlan) -> Option<(f64, f64, f64)> {
+    let (world, model, start) = (ctx.world, ctx.model, ctx.start);
+    let capacity = model.capacity_wh();
+    let (mut t, mut e, mut used, mut low) = (start.t_min, start.energy_wh, 0.0, start.energy_wh);
+    let mut cell = start.cell;
+    let mut take = |effect: &areo_mission::Effect, t: &mut f64, e: &mut f64| {
+        low = f64::min(low, effect.lowest(*e, capacity));
+        used += effect.load_wh;
+        *e = effect.after(*e, capacity);
+        *t += effect.duration_s;
+    };
+    for (i, w) in plan.waypoints.iter().enumerate() {
+        if w.t_s > t + 1e-6 {
+            let idle = model.wait(world, cell, t, w.t_s - t).ok()?;
+            take(&idle, &mut t, &mut e);
+        }
+        cell = w.cell;
+        match w.action {
+            Some(areo_mission::Action::Drive(k)) => {
+                let (to, drive) = model.drive(world, w.cell, k, w.t_s).ok()?;
+                take(&drive, &mut t, &mut e);
+                cell = to;
+            }
+            Some(areo_mission::Action::Wait) => {
+                let until = plan.waypoints.get(i + 1)?.t_s;
+                let wait = model.wait(world, w.cell, w.t_s, until - w.t_s).ok()?;
+                take(&wait, &mut t, &mut e);
+            }
+            _ => {}
+        }
+    }
+    Some((t, used, low))
 }
 
 /// A plan's (arrival s, energy used Wh, margin Wh), replayed on the job's model.
 fn measures(ctx: &Context<'_>, plan: &MissionPlan) -> Option<(f64, f64, f64)> {
+    if plan.tick_s.is_some() {
+        return tick_measures(ctx, plan);
+    }
     let (first, last) = (plan.waypoints.first()?, plan.waypoints.last()?);
     let used = plan.energy_used_wh(ctx.world, ctx.model).ok()?;
     let start = ctx.start;
