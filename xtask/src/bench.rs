@@ -559,7 +559,7 @@ fn valley(root: &Path) -> Result<bool, String> {
 /// The lunar south-pole traverse at 30 m and at 10 m cells: how the work
 /// and the memory grow with nine times the cells, and the 10 m plan's targets.
 fn lunar(root: &Path) -> Result<bool, String> {
-    println!("lunar-south-pole, four goals over four days (plan only):");
+    println!("lunar-south-pole, four goals over days (plan only):");
     let mut figures = Vec::new();
     for name in ["lunar-south-pole", "lunar-south-pole-10m"] {
         let (outcome, wall) = run_scenario(root, name, false)?;
@@ -578,8 +578,9 @@ fn lunar(root: &Path) -> Result<bool, String> {
         );
         figures.push((fact("initial_plan_expansions"), fact("peak_memory_mb"), wall, per_expansion));
     }
-    let ((e30, _, _, _), (e10, peak10, wall10, bytes10)) = (figures[0], figures[1]);
-    println!("  30 m to 10 m: 9 x the cells, {:.1} x the expansions", e10 / e30);
+    // The 30 m scenario plans exactly on a 600 s tick and the 10 m one on its classes:
+    // their expansions are not the same measure, so no ratio is printed.
+    let (_, peak10, wall10, bytes10) = figures[1];
     // Memory per label: at most 80 bytes, half of what a graph that kept every
     // generated label held (about 160 bytes per expansion).
     Ok(check_all(&[

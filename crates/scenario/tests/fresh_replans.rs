@@ -1,7 +1,8 @@
 //! Re-planning on kept graphs returns what a fresh search of the same problem
 //! returns, checked on a multi-goal world with moving shadows, Earth contact and
-//! sensing — the shipped lunar-south-pole scenario (four chained goals, 6 start
-//! intervals, 12 goal instants, 1 h / 100 Wh classes) executed on true terrain with
+//! sensing — the lunar-south-pole scenario on the approximate planner's settings
+//! (four chained goals, 6 start intervals, 12 goal instants, 1 h / 100 Wh classes)
+//! executed on true terrain with
 //! three landforms its map lacks (`tests/tempest/lunar-sensing.ron`). Every re-plan
 //! after sensing changed the map or a goal was reached is compared, and every 50th of
 //! the others (plan extension alone); `cargo xtask bench fresh` compares all of them.
