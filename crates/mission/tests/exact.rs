@@ -284,18 +284,25 @@ fn halving_the_tick_never_loses_a_plan_over_200_seeded_worlds() {
     assert!(only_finer >= 1, "no case plans only at the finer tick");
 }
 
-/// On a crop of the real MOLA Gale map (7 × 5 cells of 463 m, real slopes and cast
-/// shadows at a low morning Sun), two goals: the exact search equals the Dijkstra under
-/// L + B and under Margin, with little battery and with plenty, and where the day is too short for both goals
-/// both prove that no plan exists.
-#[test]
-fn on_a_crop_of_gale_crater_the_exact_search_equals_a_dijkstra_without_dominance() {
+/// The 7 × 5 crop of the MOLA Gale map over 30 h, and the first minute the Sun stands
+/// 8° above its horizon, s.
+fn gale_morning() -> (World, f64) {
     let (crop, config) = crate::common::gale_crop(30.0);
     let world = World::new(crop, &config, &areo_ephemeris::Mars24).unwrap();
     let mut t0 = 0.0;
     while world.sun(t0).elevation_deg < 8.0 {
         t0 += 60.0;
     }
+    (world, t0)
+}
+
+/// On a crop of the real MOLA Gale map (7 × 5 cells of 463 m, real slopes and cast
+/// shadows at a low morning Sun), two goals: the exact search equals the Dijkstra under
+/// L + B and under Margin, with little battery and with plenty, and where the day is too short for both goals
+/// both prove that no plan exists.
+#[test]
+fn on_a_crop_of_gale_crater_the_exact_search_equals_a_dijkstra_without_dominance() {
+    let (world, t0) = gale_morning();
     // 5 Wh energy quanta keep the Dijkstra's battery levels few.
     let model = model(400.0, ActionConfig { energy_quantum_wh: 5.0, ..actions(1800.0) });
     let goals = [
@@ -655,12 +662,7 @@ fn the_exact_front_is_the_front_of_every_plan_enumerated() {
 /// the exact front is the front of every plan.
 #[test]
 fn on_a_crop_of_gale_crater_the_exact_front_is_the_front_of_every_plan() {
-    let (crop, config) = crate::common::gale_crop(30.0);
-    let world = World::new(crop, &config, &areo_ephemeris::Mars24).unwrap();
-    let mut t0 = 0.0;
-    while world.sun(t0).elevation_deg < 8.0 {
-        t0 += 60.0;
-    }
+    let (world, t0) = gale_morning();
     let model = model(400.0, ActionConfig { energy_quantum_wh: 5.0, ..actions(1800.0) });
     let mut points = 0;
     for (battery, hours) in [(60.0, 5.0), (150.0, 4.0), (100.0, 7.0), (20.0, 7.0)] {
