@@ -475,7 +475,7 @@ mod tests {
         let ellipse = std::f64::consts::PI * a * (a * a - half * half).sqrt() / 1e4;
         let budget = Budget { memory_bytes: 1 << 40, work_steps: DEFAULT_WORK_STEPS };
         let mut fine = lita.clone();
-        fine.planner.resolution = crate::format::planner::ResolutionSpec { time_s: 60.0, energy_wh: None };
+        fine.planner.tick_s = Some(60.0);
         let expected = expected_expansions(&fine, map) as f64;
         assert!((expected - ellipse * 4320.0).abs() <= 1.0, "{expected}");
         let e = tempest(&fine, map);
