@@ -594,9 +594,11 @@ fn lunar(root: &Path) -> Result<bool, String> {
 /// every re-plan): the multi-goal polar scenarios executed with sensing, each re-plan on
 /// the kept graphs against a fresh search of the same problem. lunar-south-pole with
 /// three landforms its map lacks (`tests/tempest/lunar-sensing.ron`, whose test compares
-/// a subset): all ~360 re-plans. sun-synchronous-traverse, whose fresh search is
-/// ~25 s, with a hill its map lacks beside the first leg's diagonal: the first 40
-/// actions, every re-plan after sensing and every 10th.
+/// a subset): all ~360 re-plans. sun-synchronous-traverse on its former approximate
+/// settings (1200 s / 25 Wh classes, 48 goal instants, 12 start intervals, L + B: it
+/// ships exact on a tick, where a re-plan that cannot keep its plan searches afresh),
+/// whose fresh search is ~25 s, with a hill its map lacks beside the first leg's
+/// diagonal: the first 40 actions, every re-plan after sensing and every 10th.
 fn fresh(root: &Path) -> Result<bool, String> {
     use areo_scenario::format::{Truth, planner::SimSpec, synth::FeatureSpec};
     let mut checks = Vec::new();
@@ -608,6 +610,14 @@ fn fresh(root: &Path) -> Result<bool, String> {
     })?;
     let sun_sync = root.join("scenarios/sun-synchronous-traverse.ron");
     let (s, wall_s) = run_file_with(&sun_sync, true, |job| {
+        job.planner = areo_scenario::format::planner::PlannerSpec {
+            actions: job.planner.actions.clone(),
+            resolution: areo_scenario::format::planner::ResolutionSpec { time_s: 1200.0, energy_wh: Some(25.0) },
+            goal_times: 48,
+            segment_starts: 12,
+            goal_energy_wh: job.planner.goal_energy_wh,
+            ..areo_scenario::format::planner::PlannerSpec::default()
+        };
         job.truth =
             Truth::AddFeatures(vec![FeatureSpec::Hill { x_m: 1100.0, y_m: 1000.0, radius_m: 120.0, slope_deg: 25.0 }]);
         job.simulate = Some(SimSpec {

@@ -463,8 +463,8 @@ mod tests {
     /// The expected label work counts the cells around the route, not the map:
     /// lita-scale's one 6978 m leg on 100 m cells spreads over its detour ellipse
     /// (a = 2 · 3489 m + 10 cells, b = √(a² − 3489²)), 0.3 % of the 2527 × 2356 map.
-    /// None of it is refused up front: sun-synchronous-traverse at 1 s classes (4·10⁵
-    /// classes, 10¹² expected steps) is admitted with the horizon sweeps as its certain
+    /// None of it is refused up front: sun-synchronous-traverse on a 1 s tick (4·10⁵
+    /// ticks, 10¹² expected steps) is admitted with the horizon sweeps as its certain
     /// work, and its searches are held to the budget as they run.
     #[test]
     fn the_label_estimate_counts_the_route_and_is_never_a_refusal() {
@@ -482,7 +482,7 @@ mod tests {
         assert_eq!(e.work_steps, 2527 * 2356 * 32, "the sweeps alone");
         assert!(budget.check(&e).is_ok(), "{e:?}");
         let mut sun_sync = shipped("sun-synchronous-traverse");
-        sun_sync.planner.resolution.time_s = 1.0;
+        sun_sync.planner.tick_s = Some(1.0);
         let map = SearchMap { cells: 160 * 120, cell_m2: 2500.0 };
         assert!(expected_expansions(&sun_sync, map) as f64 * EXPANSION_STEPS as f64 > 1e12);
         assert!(budget.check(&tempest(&sun_sync, map)).is_ok());

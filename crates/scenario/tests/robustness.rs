@@ -135,12 +135,12 @@ fn the_shipped_scenarios_fit_the_default_budget_and_fine_classes_are_not_refused
             budget.check(&tempest(job, map)).unwrap_or_else(|err| panic!("{}: {err}", path.display()));
         }
     }
-    // Time classes of a second over sun-synchronous-traverse's 110 h: the searches are
-    // expected to expand 396 000 time classes over the three legs' ellipses, but that
+    // A tick of a second over sun-synchronous-traverse's 110 h: the searches are
+    // expected to expand 396 000 ticks over the three legs' ellipses, but that
     // is no refusal — only the horizon sweeps are certain; the searches are held to the
     // budget as they run.
     let text = std::fs::read_to_string(root().join("scenarios/sun-synchronous-traverse.ron")).unwrap();
-    let text = text.replacen("time_s: 1200", "time_s: 1", 1);
+    let text = text.replacen("tick_s: 300", "tick_s: 1", 1);
     let scenario = parse(Path::new("s.ron"), &text).unwrap();
     let Job::Tempest(job) = &scenario.job else { panic!("a TEMPEST job") };
     let map = SearchMap { cells: 160 * 120, cell_m2: 50.0 * 50.0 };
