@@ -311,7 +311,7 @@ fn chance_work(job: &TempestJob) -> (u64, u64, u64) {
     // one search per margin step of the starting battery (one per plan found, in
     // practice).
     let front = job.pareto_front.as_ref().map_or(0, |f| {
-        let steps = (job.start_battery_above_floor_wh / f.margin_step_wh).floor().min(1e9) as u64 + 1;
+        let steps = (job.start_battery_above_floor_wh / f.step_wh()).floor().min(1e9) as u64 + 1;
         1u64.saturating_add((job.planner.goal_times as u64).saturating_mul(steps))
     });
     let (searches, clones, executions) = uncertainty_work(job);

@@ -391,10 +391,20 @@ fn a_pareto_front_needs_one_goal_and_a_step_in_range() {
     let Error::Invalid { field, message, .. } = &err else { panic!("{err}") };
     assert_eq!(field, "job.pareto_front");
     assert!(message.contains("single goal") && message.contains('2'), "{message}");
-    let err = parse(path, &text.replace("margin_step_wh: 1", "margin_step_wh: 0")).unwrap_err();
+    // The approximate search's margin step: out of range is refused with its range; on
+    // a tick, where the front is exact, any step is refused naming `tick_s`.
+    let (on_tick, front) = ("planner: (tick_s: 600)", "pareto_front: ()");
+    assert!(text.contains(on_tick) && text.contains(front));
+    let approximate = text.replace(on_tick, "planner: ()");
+    let err = parse(path, &approximate.replace(front, "pareto_front: (margin_step_wh: 0)")).unwrap_err();
     let Error::Invalid { field, message, .. } = &err else { panic!("{err}") };
     assert_eq!(field, "job.pareto_front.margin_step_wh");
     assert!(message.contains("0.001"), "{message}");
+    parse(path, &approximate.replace(front, "pareto_front: (margin_step_wh: 2)")).unwrap();
+    let err = parse(path, &text.replace(front, "pareto_front: (margin_step_wh: 2)")).unwrap_err();
+    let Error::Invalid { field, message, .. } = &err else { panic!("{err}") };
+    assert_eq!(field, "job.pareto_front.margin_step_wh");
+    assert!(message.contains("tick_s") && message.contains("600"), "{message}");
 }
 
 #[test]

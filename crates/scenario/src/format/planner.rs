@@ -465,14 +465,22 @@ impl From<&UncertaintySpec> for m::uncertainty::Uncertainty {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct FrontSpec {
-    /// How far apart the walk along the front takes margins, Wh (0.001..=1000; default
-    /// 1): a plan within this above a found one's margin may be missed.
-    pub margin_step_wh: f64,
+    /// How far apart the approximate search's walk along the front takes margins, Wh
+    /// (0.001..=1000; default 1): a plan within this above a found one's margin may be
+    /// missed. Refused on a tick, where the front is exact.
+    pub margin_step_wh: Option<f64>,
+}
+
+impl FrontSpec {
+    /// The margin step the approximate search walks the front in, Wh.
+    pub fn step_wh(&self) -> f64 {
+        self.margin_step_wh.unwrap_or(1.0)
+    }
 }
 
 impl Default for FrontSpec {
     fn default() -> FrontSpec {
-        FrontSpec { margin_step_wh: 1.0 }
+        FrontSpec { margin_step_wh: None }
     }
 }
 

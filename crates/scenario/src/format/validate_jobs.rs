@@ -209,7 +209,18 @@ fn validate_uncertainty(c: &mut Checks, job: &TempestJob) {
                 format!("the front is searched for a single goal; this job has {}: allowed with one", job.goals.len()),
             );
         }
-        c.range("pareto_front.margin_step_wh", f.margin_step_wh, 0.001, 1000.0, "Wh");
+        if let Some(step) = f.margin_step_wh {
+            match job.planner.tick_s {
+                Some(tick) => c.fail(
+                    "pareto_front.margin_step_wh",
+                    format!(
+                        "not used with `tick_s` (the front is exact at the tick of {tick} s: every plan no \
+                         other beats in arrival, energy used and margin) — remove `margin_step_wh`"
+                    ),
+                ),
+                None => c.range("pareto_front.margin_step_wh", step, 0.001, 1000.0, "Wh"),
+            }
+        }
     }
 }
 

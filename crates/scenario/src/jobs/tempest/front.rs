@@ -26,7 +26,7 @@ pub(super) fn evaluate(
 ) -> Result<Option<ParetoFront>> {
     let Some(spec) = &job.pareto_front else { return Ok(None) };
     let front = Mission::plan(world, model, planner, start, goals)
-        .and_then(|(mission, _)| mission.pareto_front(spec.margin_step_wh));
+        .and_then(|(mission, _)| mission.pareto_front(spec.step_wh()));
     match front {
         Ok(front) => Ok(Some(front)),
         Err(areo_mission::Error::Config { field, message }) => {
