@@ -462,7 +462,7 @@ impl From<&UncertaintySpec> for m::uncertainty::Uncertainty {
 }
 
 /// The Pareto front's settings (`areo_mission::Mission::pareto_front`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct FrontSpec {
     /// How far apart the approximate search's walk along the front takes margins, Wh
@@ -475,12 +475,6 @@ impl FrontSpec {
     /// The margin step the approximate search walks the front in, Wh.
     pub fn step_wh(&self) -> f64 {
         self.margin_step_wh.unwrap_or(1.0)
-    }
-}
-
-impl Default for FrontSpec {
-    fn default() -> FrontSpec {
-        FrontSpec { margin_step_wh: None }
     }
 }
 
