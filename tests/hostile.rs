@@ -605,13 +605,13 @@ fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
     // What is certain before the run is refused before it starts: the 10 000 cells × 64
     // sectors of horizon sweeps. The searches are not guessed at (a guess of 2.4 M
     // expansions refused budgets this one spends to the end); they get what the
-    // sweeps leave, 50 steps an expansion, and stop there.
+    // sweeps leave, 100 steps an expansion, and stop there.
     let sweeps = 10_000 * 64;
     let out = run(&(sweeps - 1).to_string());
     let err = stderr(&out);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("needs about 6.40e5 steps"), "refused for its sweeps: {err}");
-    let out = run(&(sweeps + 50 * 100_000).to_string());
+    let out = run(&(sweeps + 100 * 100_000).to_string());
     let err = stderr(&out);
     assert_eq!(out.status.code(), Some(4), "{err}");
     // The work counts whole expansions and the comparisons of long Pareto fronts, a
@@ -619,7 +619,7 @@ fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
     let work = err.split("stopped after the work of ").nth(1).and_then(|r| r.split(' ').next());
     let work = work.and_then(|n| n.parse::<u64>().ok()).unwrap_or_else(|| panic!("{err}"));
     assert!((100_000..=100_001).contains(&work), "{err}");
-    let out = run("1.2064e8");
+    let out = run("2.4064e8");
     let err = stderr(&out);
     assert_eq!(out.status.code(), Some(4), "{err}");
     assert!(err.contains("devon-island.ron") && err.contains("--max-work"), "{err}");

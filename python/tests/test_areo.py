@@ -217,10 +217,10 @@ def test_a_run_keeps_to_its_work_budget(tmp_path):
     devon.write_text(text)
     sc = areo.Scenario.load(devon).set("job.start_battery_above_floor_wh", 0.001)
     # Admitted (its certain work is the 640 000 horizon sweeps), then stopped where
-    # the budget ends: the budget less the sweeps, 50 steps an expansion, as
-    # `areo run --max-work 1.2064e8` does.
+    # the budget ends: the budget less the sweeps, 100 steps an expansion, as
+    # `areo run --max-work 2.4064e8` does.
     with pytest.raises(areo.AreoError) as e:
-        sc.run(out=tmp_path, max_work=1.2064e8)
+        sc.run(out=tmp_path, max_work=2.4064e8)
     assert not isinstance(e.value, areo.Unreachable)
     assert isinstance(e.value, areo.BudgetSpent)
     assert e.value.result.facts["status"] == "stopped"
