@@ -108,3 +108,33 @@ fn the_knobs_a_tick_replaces_are_refused_naming_tick_s() {
         .expect_err("a half-second tick");
     assert!(err.to_string().contains("planner.tick_s") && err.to_string().contains("1..=86400"), "{err}");
 }
+
+/// A planner block that sets none of the approximate search's fields plans exactly on
+/// the default tick; one that sets any of them (even to its default value) asks for the
+/// approximate search, and a given `tick_s` is kept as written.
+#[test]
+fn a_planner_block_without_the_approximate_fields_plans_on_the_default_tick() {
+    use areo_scenario::format::{Job, planner::DEFAULT_TICK_S};
+    let tick_of = |planner: &str| {
+        let file = load(&small_with(&[(SMALL_PLANNER, planner)], "default-tick.ron")).unwrap_or_else(|e| panic!("{e}"));
+        let Job::Tempest(job) = &file.scenario.job else { panic!("a TEMPEST job") };
+        (job.planner.tick_s, job.planner.max_wait_s)
+    };
+    assert_eq!(tick_of("planner: (),"), (Some(DEFAULT_TICK_S), None));
+    assert_eq!(tick_of("planner: (max_wait_s: 7200, objective: Time),"), (Some(DEFAULT_TICK_S), Some(7200.0)));
+    assert_eq!(tick_of("planner: (tick_s: 600),"), (Some(600.0), None));
+    for approximate in [
+        "planner: (resolution: (time_s: 60)),",
+        "planner: (goal_times: 24),",
+        "planner: (segment_starts: 8),",
+        "planner: (unreachable_retries: 0),",
+        "planner: (actions: (time_quantum_s: 5)),",
+        "planner: (actions: (wait_step_s: 600)),",
+    ] {
+        assert_eq!(tick_of(approximate).0, None, "{approximate}");
+    }
+    // And it runs so: exact at 60 s, the goal reached.
+    let o = run_file(&small_with(&[(SMALL_SIMULATE, ""), (SMALL_PLANNER, "planner: (),")], "default-tick.ron"));
+    assert_eq!(o.failure, None, "{:?}", o.summary);
+    assert!(o.summary.iter().any(|l| l.contains("exact at the tick of 60 s")), "{:?}", o.summary);
+}

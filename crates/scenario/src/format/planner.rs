@@ -197,9 +197,16 @@ pub enum PathLengthSpec {
     Steps,
 }
 
-/// The TEMPEST planner's settings.
+/// The tick a planner block plans on when it sets neither `tick_s` nor any field of the
+/// approximate search ([`PlannerSpec::tick_s`]), s.
+pub const DEFAULT_TICK_S: f64 = 60.0;
+
+/// The TEMPEST planner's settings. Read from a file, a block that sets neither
+/// `tick_s` nor any field of the approximate search plans exactly on a
+/// [`DEFAULT_TICK_S`] tick; [`PlannerSpec::default`] is the library's defaults as they
+/// are (the approximate search), for code that sets its fields itself.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(from = "PlannerFields")]
 pub struct PlannerSpec {
     /// Actions and their constraints.
     pub actions: ActionSpec,
@@ -229,8 +236,65 @@ pub struct PlannerSpec {
     /// the battery exact, each goal reached at any instant of its window. The plan is
     /// optimal over every such plan and "unreachable" a proof. With it, `resolution`,
     /// `goal_times`, `segment_starts`, `unreachable_retries`, `actions.wait_step_s` and
-    /// the actions' quanta are refused. `None`: the approximate search.
+    /// the actions' quanta are refused. `None`: the approximate search. In a file:
+    /// [`DEFAULT_TICK_S`] unless the block sets one of those fields.
     pub tick_s: Option<f64>,
+}
+
+/// A planner block as written: which fields it sets, so that a block setting none of
+/// the approximate search's plans on the default tick.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlannerFields {
+    #[serde(default)]
+    actions: Option<ActionSpec>,
+    #[serde(default)]
+    objective: Option<ObjectiveSpec>,
+    #[serde(default)]
+    resolution: Option<ResolutionSpec>,
+    #[serde(default)]
+    path_length: Option<PathLengthSpec>,
+    #[serde(default)]
+    goal_times: Option<usize>,
+    #[serde(default)]
+    segment_starts: Option<usize>,
+    #[serde(default)]
+    detour_factor: Option<f64>,
+    #[serde(default)]
+    max_wait_s: Option<Option<f64>>,
+    #[serde(default)]
+    goal_energy_wh: Option<f64>,
+    #[serde(default)]
+    unreachable_retries: Option<u32>,
+    #[serde(default)]
+    tick_s: Option<f64>,
+}
+
+impl From<PlannerFields> for PlannerSpec {
+    fn from(f: PlannerFields) -> PlannerSpec {
+        let d = PlannerSpec::default();
+        let actions = f.actions.unwrap_or(d.actions.clone());
+        let approximate = f.resolution.is_some()
+            || f.goal_times.is_some()
+            || f.segment_starts.is_some()
+            || f.unreachable_retries.is_some()
+            || actions.wait_step_s != d.actions.wait_step_s
+            || actions.time_quantum_s != d.actions.time_quantum_s
+            || actions.energy_quantum_wh != d.actions.energy_quantum_wh;
+        PlannerSpec {
+            actions,
+            objective: f.objective.unwrap_or(d.objective),
+            resolution: f.resolution.unwrap_or(d.resolution),
+            path_length: f.path_length.unwrap_or(d.path_length),
+            goal_times: f.goal_times.unwrap_or(d.goal_times),
+            segment_starts: f.segment_starts.unwrap_or(d.segment_starts),
+            detour_factor: f.detour_factor.unwrap_or(d.detour_factor),
+            max_wait_s: f.max_wait_s.unwrap_or(d.max_wait_s),
+            goal_energy_wh: f.goal_energy_wh.unwrap_or(d.goal_energy_wh),
+            unreachable_retries: f.unreachable_retries.unwrap_or(d.unreachable_retries),
+            tick_s: f.tick_s.or((!approximate).then_some(DEFAULT_TICK_S)),
+        }
+    }
 }
 
 impl PlannerSpec {
