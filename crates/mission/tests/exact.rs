@@ -691,3 +691,41 @@ fn on_a_crop_of_gale_crater_the_exact_front_is_the_front_of_every_plan() {
     }
     assert!(points >= 3, "{points} front plans in all: the cases test too little");
 }
+
+/// With Communicate sessions (no drive may overlap one) the exact search still equals
+/// the Dijkstra: the bound counts the sessions' hours as time no drive can use, and a
+/// bound that overstated them would lose or overprice plans here. Sessions of 40
+/// minutes every 90 minutes, off the tick grid, over seeded worlds with one and two
+/// goals and windows of 1.5 and 4 hours, under Time and L + B; in some cases the sessions make the plan later than
+/// it is without them (so the test can tell the bound's session hours from none).
+#[test]
+fn with_communicate_sessions_the_exact_search_equals_a_dijkstra_without_dominance() {
+    let (mut planned, mut proven, mut delayed) = (0, 0, 0);
+    for seed in 0..16 {
+        // A third of the cases allow only an hour and a half: too short for some routes.
+        let c = case(500 + seed, if seed % 3 == 0 { 1.5 } else { 4.0 });
+        let plain = model(150.0, actions(900.0));
+        let first = c.start.t_min + 700.0;
+        let sessions: Vec<(f64, f64)> =
+            (0..8).map(|k| (first + k as f64 * 5400.0, first + k as f64 * 5400.0 + 2400.0)).collect();
+        let model = model(150.0, actions(900.0)).with_sessions(sessions);
+        for objective in [Objective::Time, Objective::Energy] {
+            let out = exact_by(objective, &c.world, c.start, &c.goals, &model);
+            assert!(!out.stopped);
+            let brute = brute_force_by(objective, &c.world, &model, c.start, &c.goals, 0.0);
+            if !agree(out.plan.as_ref().map(|p| p.0), brute, &format!("seed {seed}, {objective:?}")) {
+                proven += 1;
+                continue;
+            }
+            planned += 1;
+            if objective == Objective::Time {
+                let free = exact_by(objective, &c.world, c.start, &c.goals, &plain).plan.expect("a plan");
+                if out.plan.as_ref().unwrap().0 > free.0 + 1.0 {
+                    delayed += 1;
+                }
+            }
+        }
+    }
+    assert!(planned >= 10 && proven >= 2, "{planned} planned, {proven} proven unreachable: the cases test too little");
+    assert!(delayed >= 3, "the sessions delay only {delayed} plans");
+}

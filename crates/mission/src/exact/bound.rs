@@ -135,9 +135,10 @@ struct Backward {
 /// Time objective, the earliest arrival less the label's instant.
 ///
 /// The earliest arrival: over the drives that exist (a detour round an obstacle takes
-/// its time), each drive but the last lasting whole ticks (its settle), the last ending
-/// where a drive may end (in daylight under the daylight rule), and no earlier than the
-/// sources can have given the battery what the drives ahead load it with ([`Harvest`]).
+/// its time), each drive but the last lasting whole ticks (its settle), the drives
+/// outside the Communicate sessions ([`FreeTime`]), the last ending where a drive may
+/// end (in daylight under the daylight rule), and no earlier than the sources can have
+/// given the battery what the drives ahead load it with ([`Harvest`]).
 /// A plan that cannot beat the sunset is so seen to wait out the night, and to pay for
 /// it in the bound.
 pub(super) struct Bound<'a> {
@@ -158,6 +159,7 @@ pub(super) struct Bound<'a> {
     /// The last goal's window's close, s after the epoch.
     close_s: f64,
     harvest: Harvest,
+    free: FreeTime,
     /// Whether the cost is the time taken (the bound is then the earliest arrival).
     time_objective: bool,
     dark: Option<DarkCost>,
@@ -222,6 +224,7 @@ impl<'a> Bound<'a> {
             day,
             close_s: query.goals.last().map_or(f64::INFINITY, |g| g.close_s),
             harvest: Harvest::new(query),
+            free: FreeTime::new(model.sessions()),
             time_objective,
             dark: DarkCost::new(world, model, query.objective, e_max, units, source_w),
         }
@@ -263,7 +266,7 @@ impl<'a> Bound<'a> {
         let ticks = self.remaining(TICKS, goal, cell) - self.slack_s;
         let least = plain.max(ticks);
         let load = self.remaining(LOAD, goal, cell);
-        let at = (t + least).max(self.harvest.ready(load, t, e));
+        let at = (t + least).max(self.free.after(t, plain)).max(self.harvest.ready(load, t, e));
         if at > self.close_s + 1e-9 {
             return f64::INFINITY;
         }
@@ -288,6 +291,65 @@ impl<'a> Bound<'a> {
     /// The bytes the bound holds: its weighed drives and its searches.
     pub(super) fn bytes(&self) -> usize {
         self.weights.bytes() + self.searches.iter().map(|s| s.distances.bytes()).sum::<usize>()
+    }
+}
+
+/// The time the rover may drive in: no drive overlaps a Communicate session
+/// ([`ActionModel::with_sessions`]), so drives of `d` seconds from `t` end no earlier
+/// than the instant by which `d` seconds outside the sessions have passed. A plan that
+/// would cross a session's hours is so seen to stand through it, and to pay for it in
+/// the bound (under Time, and in the deep night's and slow hours' costs under L + B).
+struct FreeTime {
+    /// The sessions, overlapping ones merged, sorted: (start, end), s after the epoch.
+    sessions: Vec<(f64, f64)>,
+    /// Per session, the sessions' time before its start, s.
+    before: Vec<f64>,
+    /// Per session, the time outside sessions from the epoch to its start, s
+    /// (non-decreasing).
+    free_before: Vec<f64>,
+}
+
+impl FreeTime {
+    fn new(sessions: &[(f64, f64)]) -> FreeTime {
+        let mut merged: Vec<(f64, f64)> = Vec::with_capacity(sessions.len());
+        for &(a, b) in sessions {
+            match merged.last_mut() {
+                Some(last) if a <= last.1 => last.1 = last.1.max(b),
+                _ => merged.push((a, b)),
+            }
+        }
+        let mut before = Vec::with_capacity(merged.len());
+        let mut sum = 0.0;
+        for &(a, b) in &merged {
+            before.push(sum);
+            sum += b - a;
+        }
+        let free_before = merged.iter().zip(&before).map(|(s, b)| s.0 - b).collect();
+        FreeTime { sessions: merged, before, free_before }
+    }
+
+    /// The time outside sessions from the epoch to `t`, s.
+    fn free_at(&self, t: f64) -> f64 {
+        let k = self.sessions.partition_point(|s| s.0 < t);
+        if k == 0 {
+            return t;
+        }
+        let (a, b) = self.sessions[k - 1];
+        t - self.before[k - 1] - (t.min(b) - a)
+    }
+
+    /// The earliest instant, s after the epoch, by which `d` seconds outside sessions
+    /// have passed since `t`.
+    fn after(&self, t: f64, d: f64) -> f64 {
+        if d <= 0.0 {
+            return t;
+        }
+        let target = self.free_at(t) + d;
+        // The sessions that start before the free time reaches the target lie wholly
+        // before the instant sought (the free time stands still through each).
+        let k = self.free_before.partition_point(|&f| f < target);
+        let blocked = if k == 0 { 0.0 } else { self.before[k - 1] + (self.sessions[k - 1].1 - self.sessions[k - 1].0) };
+        (target + blocked).max(t)
     }
 }
 
@@ -350,5 +412,28 @@ impl Harvest {
         let (a, b) = (self.given[k - 1], self.given[k]);
         let f = if b > a { (target - a) / (b - a) } else { 1.0 };
         (((k - 1) as f64 + f) * self.step_s).max(t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::FreeTime;
+
+    /// Two overlapping sessions, 100–200 s and 150–250 s (merged: 100–250 s), and one
+    /// of 400–500 s: the free time passes around them.
+    #[test]
+    fn drives_end_after_the_free_time_they_need_has_passed() {
+        let free = FreeTime::new(&[(100.0, 200.0), (150.0, 250.0), (400.0, 500.0)]);
+        assert_eq!(free.after(0.0, 50.0), 50.0);
+        // Exactly up to a session's start, then past it.
+        assert_eq!(free.after(0.0, 100.0), 100.0);
+        assert_eq!(free.after(0.0, 101.0), 251.0);
+        // From inside a session: its rest first.
+        assert_eq!(free.after(120.0, 10.0), 260.0);
+        // Across the second session, or up to it.
+        assert_eq!(free.after(300.0, 150.0), 550.0);
+        assert_eq!(free.after(300.0, 100.0), 400.0);
+        assert_eq!(free.after(600.0, 10.0), 610.0);
+        assert_eq!(FreeTime::new(&[]).after(5.0, 10.0), 15.0);
     }
 }
