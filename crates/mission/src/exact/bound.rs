@@ -159,7 +159,15 @@ pub(super) struct Bound<'a> {
     /// The last goal's window's close, s after the epoch.
     close_s: f64,
     harvest: Harvest,
+    /// The time outside the sessions, for the drives at their own durations.
     free: FreeTime,
+    /// The ticks outside the sessions, for the drives with their settles: a drive
+    /// departs on a tick outside any session and no tick inside it falls in one (it
+    /// would overlap the session), so the tick intervals from the sessions' first tick
+    /// to the first after their end hold no part of a drive and its settle.
+    free_ticks: FreeTime,
+    /// The tick, s.
+    tick: f64,
     /// Whether the cost is the time taken (the bound is then the earliest arrival).
     time_objective: bool,
     dark: Option<DarkCost>,
@@ -225,6 +233,8 @@ impl<'a> Bound<'a> {
             close_s: query.goals.last().map_or(f64::INFINITY, |g| g.close_s),
             harvest: Harvest::new(query),
             free: FreeTime::new(model.sessions()),
+            free_ticks: FreeTime::new(&if query.settle { on_ticks(model.sessions(), tick) } else { Vec::new() }),
+            tick,
             time_objective,
             dark: DarkCost::new(world, model, query.objective, e_max, units, source_w),
         }
@@ -266,7 +276,10 @@ impl<'a> Bound<'a> {
         let ticks = self.remaining(TICKS, goal, cell) - self.slack_s;
         let least = plain.max(ticks);
         let load = self.remaining(LOAD, goal, cell);
-        let at = (t + least).max(self.free.after(t, plain)).max(self.harvest.ready(load, t, e));
+        // A start between ticks may lie in the last interval of a session that ends
+        // between ticks: one tick less.
+        let stepped = self.free_ticks.after(t, ticks - self.tick);
+        let at = (t + least).max(self.free.after(t, plain)).max(stepped).max(self.harvest.ready(load, t, e));
         if at > self.close_s + 1e-9 {
             return f64::INFINITY;
         }
@@ -292,6 +305,13 @@ impl<'a> Bound<'a> {
     pub(super) fn bytes(&self) -> usize {
         self.weights.bytes() + self.searches.iter().map(|s| s.distances.bytes()).sum::<usize>()
     }
+}
+
+/// Sessions widened to whole tick intervals: from the first tick at or after each
+/// start to the first at or after its end (empty where no tick falls inside).
+fn on_ticks(sessions: &[(f64, f64)], tick: f64) -> Vec<(f64, f64)> {
+    let up = |x: f64| (x / tick - 1e-9).ceil() * tick;
+    sessions.iter().map(|&(a, b)| (up(a), up(b))).filter(|(a, b)| b > a).collect()
 }
 
 /// The time the rover may drive in: no drive overlaps a Communicate session
