@@ -19,7 +19,7 @@ use areo_rover::resources::{Load, ResourceModel};
 use serde::{Deserialize, Serialize};
 
 use crate::effect::{Drawn, Effect};
-use crate::world::{Sun, World};
+use crate::world::{GridSun, World};
 
 mod bounds;
 mod wait;
@@ -244,7 +244,7 @@ impl LoadLevel {
 pub(crate) struct Arrival {
     to: u32,
     t1: f64,
-    sun: Sun,
+    sun: GridSun,
     /// Whether the Sun lights the arrival cell (false without a solar array).
     lit: bool,
 }
@@ -601,7 +601,7 @@ impl ActionModel {
         for (cell, sun) in [(from, &s0), (to, &s1)] {
             self.check(world, rules, cell, sun, Some(heading))?;
         }
-        let lit = |cell: u32, sun: &Sun| self.rover.solar.is_some() && world.lit(cell, sun);
+        let lit = |cell: u32, sun: &GridSun| self.rover.solar.is_some() && world.lit(cell, sun);
         // The noise dims the array, not a generator.
         let nuclear = self.rover.nuclear_w;
         let source = |w: f64| nuclear + p.solar_factor * (w - nuclear);
@@ -751,7 +751,7 @@ impl ActionModel {
         world: &World,
         rules: &Constraints,
         cell: u32,
-        sun: &Sun,
+        sun: &GridSun,
         heading: Option<f64>,
     ) -> Result<(), Binding> {
         if rules.max_slope && world.slope_deg(cell) > self.max_slope_deg {
@@ -777,7 +777,7 @@ impl ActionModel {
     /// [`ActionModel::source_w`] for drive heading `k`, from the precomputed level
     /// normal, given whether the Sun lights the cell (so callers test it once), with
     /// the array credited for `share` of the time (see [`DriveGeometry::solar_share`]).
-    fn drive_source_lit_w(&self, world: &World, cell: u32, sun: &Sun, k: u8, lit: bool, share: f64) -> f64 {
+    fn drive_source_lit_w(&self, world: &World, cell: u32, sun: &GridSun, k: u8, lit: bool, share: f64) -> f64 {
         let mut p = self.rover.nuclear_w;
         if lit {
             p += share * self.array_w(world, cell, sun, self.level_normals[k as usize % 8]);
@@ -787,7 +787,7 @@ impl ActionModel {
 
     /// Power from the array (if lit, times the planning margin's solar factor) and any
     /// generator, W. With no heading the array is turned to face the Sun.
-    pub fn source_w(&self, world: &World, cell: u32, sun: &Sun, heading: Option<f64>) -> f64 {
+    pub fn source_w(&self, world: &World, cell: u32, sun: &GridSun, heading: Option<f64>) -> f64 {
         let mut p = self.rover.nuclear_w;
         if let Some(array) = &self.rover.solar
             && world.lit(cell, sun)
@@ -812,7 +812,7 @@ impl ActionModel {
     /// on an envelope of terrains at most the least over its members — the cosine with
     /// the Sun lowered by how far the members tip the array from the map's attitude
     /// ([`World::attitude_spread`]), one evaluation instead of one per member.
-    fn array_w(&self, world: &World, cell: u32, sun: &Sun, level: [f64; 3]) -> f64 {
+    fn array_w(&self, world: &World, cell: u32, sun: &GridSun, level: [f64; 3]) -> f64 {
         let Some(array) = &self.rover.solar else { return 0.0 };
         let n = areo_rover::resources::SolarArray::tipped_normal_enu(level, world.normal(cell));
         let mut w = array.power_w(sun.beam_w_m2, sun.enu, n, false);

@@ -59,5 +59,5 @@ pub use crate::{
         ExecutedStep, Noise, PlanKind, PlanRecord, Restart, SimConfig, SimProgress, SimReport, SimStatus, Simulation,
         simulate,
     },
-    world::{EarthSky, Sun, World, WorldConfig, curvature_of},
+    world::{EarthSky, GridSun, World, WorldConfig, curvature_of},
 };

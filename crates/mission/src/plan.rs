@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::action_model::Action;
 use crate::domain::{Label, Objective};
-use crate::world::{Sun, World};
+use crate::world::{GridSun, World};
 
 /// One waypoint of a plan.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -62,7 +62,7 @@ impl Waypoint {
         label: Label,
         action: Option<Action>,
         battery_wh: f64,
-        sun: &Sun,
+        sun: &GridSun,
         goal: Option<usize>,
     ) -> Waypoint {
         let epoch = world.epoch() + Duration::from_seconds(label.t);

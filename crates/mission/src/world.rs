@@ -47,7 +47,7 @@ pub fn curvature_of(body: Body) -> Curvature {
 /// The Earth at one instant in the sky of the reference site.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EarthSky {
-    /// Azimuth, degrees clockwise from the grid's north (as [`Sun::azimuth_deg`]).
+    /// Azimuth, degrees clockwise from the grid's north (as [`GridSun::azimuth_deg`]).
     pub azimuth_deg: f64,
     /// Elevation above the horizontal, degrees (topocentric).
     pub elevation_deg: f64,
@@ -72,9 +72,11 @@ pub struct WorldConfig {
     pub site: Option<Site>,
 }
 
-/// The Sun at one instant, at the reference site, on the map's axes.
+/// The Sun at one instant, at the reference site, on the map's axes: its azimuth from
+/// the grid's north, as the terrain's [`areo_terrain::shadow::GridSunDirection`] (the
+/// ephemeris' `SunPosition` is from true north).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sun {
+pub struct GridSun {
     /// Azimuth, degrees clockwise from the grid's north (true north wherever the map's
     /// meridians are its columns; see [`areo_terrain::Projection::true_north_on_grid_deg`]).
     pub azimuth_deg: f64,
@@ -107,7 +109,7 @@ pub struct World {
     /// Cells whose horizon was sensed: their profile is in `sensed_horizon`.
     horizon_sensed: Vec<AtomicBool>,
     sensed_horizon: Mutex<HashMap<u32, Box<[f32]>>>,
-    sun: Vec<Sun>,
+    sun: Vec<GridSun>,
     /// The Earth, tabulated like the Sun (empty on the Earth itself).
     earth: Vec<EarthSky>,
     sun_step_s: f64,
@@ -610,7 +612,7 @@ impl World {
     }
 
     /// The Sun at time `t` (s after the epoch), interpolated; clamped to the table.
-    pub fn sun(&self, t: f64) -> Sun {
+    pub fn sun(&self, t: f64) -> GridSun {
         let pos = (t / self.sun_step_s).clamp(0.0, (self.sun.len() - 1) as f64);
         let k = (pos as usize).min(self.sun.len() - 2);
         let f = pos - k as f64;
@@ -624,7 +626,7 @@ impl World {
         } else if daz < -180.0 {
             daz += 360.0;
         }
-        Sun {
+        GridSun {
             azimuth_deg: {
                 // Tabulated azimuths are in [0, 360) and |daz| ≤ 180: one wrap at most,
                 // without fmod.
@@ -718,18 +720,18 @@ impl World {
 
     /// Whether the Sun lights a cell: above the horizontal and above the terrain's
     /// horizon there.
-    pub fn lit(&self, cell: u32, sun: &Sun) -> bool {
+    pub fn lit(&self, cell: u32, sun: &GridSun) -> bool {
         sun.elevation_deg > self.horizon_floor_deg(cell, sun.azimuth_deg)
     }
 
     /// The Sun's elevation above a cell's ground plane, degrees (TEMPEST's LOS-map value).
-    pub fn sun_above_ground_deg(&self, cell: u32, sun: &Sun) -> f64 {
+    pub fn sun_above_ground_deg(&self, cell: u32, sun: &GridSun) -> f64 {
         let n = self.normal(cell);
         (n[0] * sun.enu[0] + n[1] * sun.enu[1] + n[2] * sun.enu[2]).clamp(-1.0, 1.0).asin().to_degrees()
     }
 
     /// The tabulated Sun, one sample per Sun step from t = 0.
-    pub fn sun_table(&self) -> &[Sun] {
+    pub fn sun_table(&self) -> &[GridSun] {
         &self.sun
     }
 
@@ -844,7 +846,12 @@ fn site_of(dem: &Dem, config: &WorldConfig, sun_model: &impl SunModel) -> Result
 
 /// The Sun and the Earth in the sky at `site` every Sun step over the span, directions
 /// on the grid's axes, as slopes, headings and horizon sectors are.
-fn sky_tables(dem: &Dem, config: &WorldConfig, sun_model: &impl SunModel, site: &Site) -> (Vec<Sun>, Vec<EarthSky>) {
+fn sky_tables(
+    dem: &Dem,
+    config: &WorldConfig,
+    sun_model: &impl SunModel,
+    site: &Site,
+) -> (Vec<GridSun>, Vec<EarthSky>) {
     let body = sun_model.body();
     let n = (config.span_s / config.sun_step_s).ceil() as usize + 2;
     // Every direction in the sky is kept on the grid's axes, as slopes, headings
@@ -860,7 +867,7 @@ fn sky_tables(dem: &Dem, config: &WorldConfig, sun_model: &impl SunModel, site: 
             let state = sun_model.sun(at);
             let p = state.at_site(site);
             let [e, nn, u] = p.direction_enu;
-            Sun {
+            GridSun {
                 azimuth_deg: on_grid(p.azimuth_deg),
                 elevation_deg: p.elevation_deg,
                 enu: [e * cos_n + nn * sin_n, nn * cos_n - e * sin_n, u],
