@@ -223,8 +223,11 @@ pub struct TempestJob {
     pub start_window_min: f64,
     /// Goals, in the order they must be reached (at least one).
     pub goals: Vec<GoalSpec>,
-    /// Planner settings (areo-mission `PlannerConfig`); every field has a default.
-    #[serde(default)]
+    /// Planner settings (areo-mission `PlannerConfig`); every field has a default, and
+    /// without the block the planner is exact on the default tick
+    /// ([`planner::DEFAULT_TICK_S`]), as with a block that sets none of the approximate
+    /// search's fields.
+    #[serde(default = "planner::PlannerSpec::on_the_default_tick")]
     pub planner: planner::PlannerSpec,
     /// Simulate execution (sensing, noise, re-planning); default: plan only.
     #[serde(default)]

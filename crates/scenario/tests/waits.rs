@@ -109,8 +109,8 @@ fn the_knobs_a_tick_replaces_are_refused_naming_tick_s() {
     assert!(err.to_string().contains("planner.tick_s") && err.to_string().contains("1..=86400"), "{err}");
 }
 
-/// A planner block that sets none of the approximate search's fields plans exactly on
-/// the default tick; one that sets any of them (even to its default value) asks for the
+/// A planner block that sets none of the approximate search's fields, or none at all,
+/// plans exactly on the default tick; one that sets any of them (even to its default value) asks for the
 /// approximate search, and a given `tick_s` is kept as written.
 #[test]
 fn a_planner_block_without_the_approximate_fields_plans_on_the_default_tick() {
@@ -121,6 +121,7 @@ fn a_planner_block_without_the_approximate_fields_plans_on_the_default_tick() {
         (job.planner.tick_s, job.planner.max_wait_s)
     };
     assert_eq!(tick_of("planner: (),"), (Some(DEFAULT_TICK_S), None));
+    assert_eq!(tick_of(""), (Some(DEFAULT_TICK_S), None), "no planner block");
     assert_eq!(tick_of("planner: (max_wait_s: 7200, objective: Time),"), (Some(DEFAULT_TICK_S), Some(7200.0)));
     assert_eq!(tick_of("planner: (tick_s: 600),"), (Some(600.0), None));
     for approximate in [

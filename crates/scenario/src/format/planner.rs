@@ -298,6 +298,12 @@ impl From<PlannerFields> for PlannerSpec {
 }
 
 impl PlannerSpec {
+    /// The library's defaults, exact on [`DEFAULT_TICK_S`]: what a file's planner block
+    /// that sets nothing, or no block, means.
+    pub fn on_the_default_tick() -> PlannerSpec {
+        PlannerSpec { tick_s: Some(DEFAULT_TICK_S), ..PlannerSpec::default() }
+    }
+
     /// The rover's actions as the library takes them: on a tick, waits in steps of it.
     pub fn action_config(&self) -> m::ActionConfig {
         let mut actions: m::ActionConfig = (&self.actions).into();
