@@ -322,7 +322,7 @@ fn on_ticks(sessions: &[(f64, f64)], tick: f64) -> Vec<(f64, f64)> {
 struct FreeTime {
     /// The sessions, overlapping ones merged, sorted: (start, end), s after the epoch.
     sessions: Vec<(f64, f64)>,
-    /// Per session, the sessions' time before its start, s.
+    /// Per session, the sessions' time before its start, s; and last, all of it.
     before: Vec<f64>,
     /// Per session, the time outside sessions from the epoch to its start, s
     /// (non-decreasing).
@@ -338,11 +338,10 @@ impl FreeTime {
                 _ => merged.push((a, b)),
             }
         }
-        let mut before = Vec::with_capacity(merged.len());
-        let mut sum = 0.0;
+        let mut before = Vec::with_capacity(merged.len() + 1);
+        before.push(0.0);
         for &(a, b) in &merged {
-            before.push(sum);
-            sum += b - a;
+            before.push(before[before.len() - 1] + b - a);
         }
         let free_before = merged.iter().zip(&before).map(|(s, b)| s.0 - b).collect();
         FreeTime { sessions: merged, before, free_before }
@@ -368,8 +367,7 @@ impl FreeTime {
         // The sessions that start before the free time reaches the target lie wholly
         // before the instant sought (the free time stands still through each).
         let k = self.free_before.partition_point(|&f| f < target);
-        let blocked = if k == 0 { 0.0 } else { self.before[k - 1] + (self.sessions[k - 1].1 - self.sessions[k - 1].0) };
-        (target + blocked).max(t)
+        (target + self.before[k]).max(t)
     }
 }
 
