@@ -29,6 +29,10 @@
 //! only as far as the cells the search asks about, so a query on a map of millions of
 //! cells weighs the drives around its route, not the map's.
 //!
+//! Under Time a wait where driving on first is never worse jumps several ticks
+//! (`forward`): the flood of labels waiting tick by tick behind a bound that cannot see
+//! the waits ahead shrinks, and the optimum is kept.
+//!
 //! `settle: false` drops the settle: drives chain at their own durations and only
 //! waits end on ticks. That search is exact too, but labels between ticks are compared
 //! only at the very same instant, and routes of near-equal cost reach a cell at
@@ -42,9 +46,11 @@ use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
 mod bound;
+mod forward;
 mod front;
 
 use bound::Bound;
+use forward::{Forward, Refills};
 pub use front::{ExactFront, FrontPoint};
 
 use crate::action_model::{Action, ActionModel};
@@ -99,6 +105,9 @@ pub struct ExactOutcome {
     /// The (cell, goal, instant) triples that held a label: `kept` over this is how
     /// many battery–cost trade-offs an instant holds on average.
     pub instants: u64,
+    /// Waits that jumped several ticks at once under Time, where driving on first is
+    /// never worse (see the module's documentation).
+    pub jumps: u64,
     /// Whether the search stopped at its label budget (or its caller's
     /// [`ExactQuery::solve_with`] check) before it could decide.
     pub stopped: bool,
@@ -193,6 +202,8 @@ impl Moves {
     }
 }
 
+/// How far a wait jumps where [`Forward`] holds, in ticks: a longer jump checks longer
+/// waits at every neighbour.
 /// No label: the start's parent.
 const NONE: u32 = u32::MAX;
 
@@ -236,11 +247,20 @@ impl ExactQuery<'_> {
         let mut bound = Bound::new(self, e_max, tick);
         let departures = Departures::new(self.world, self.model, tick);
         let mut moves = Moves::new();
+        let mut refills = Refills::new(self, tick);
         let mut nodes: Vec<Node> = Vec::new();
         let mut at: FxHashMap<Instant, Staircase> = FxHashMap::default();
         let mut open = QuaternaryHeap::new();
-        let mut out =
-            ExactOutcome { plan: None, expanded: 0, kept: 0, between_ticks: 0, instants: 0, stopped: false, bytes: 0 };
+        let mut out = ExactOutcome {
+            plan: None,
+            expanded: 0,
+            kept: 0,
+            between_ticks: 0,
+            instants: 0,
+            jumps: 0,
+            stopped: false,
+            bytes: 0,
+        };
         let start = Node {
             cell: self.start.cell,
             goal: self.reached(0, self.start.cell, self.start.t_min, self.start.energy_wh),
@@ -257,32 +277,37 @@ impl ExactQuery<'_> {
         }
         while let Some(Reverse((_, _, i))) = open.pop() {
             let node = nodes[i as usize];
-            if node.dead {
+            if node.dead || refills.passed(&node) {
                 continue;
             }
             if node.goal as usize == self.goals.len() {
                 out.plan = Some((node.cost, self.steps(&nodes, i)));
+                out.jumps = refills.jumps;
                 return out;
             }
             let held = (nodes.len() * size_of::<Node>()
                 + at.len() * size_of::<(Instant, Staircase)>()
                 + open.len() * size_of::<(Ordered, Ordered, u32)>()
                 + moves.bytes()
+                + refills.bytes()
                 + bound.bytes()) as u64;
             out.bytes = out.bytes.max(held);
             if out.kept >= self.max_labels || !go_on(held) {
                 out.stopped = true;
+                out.jumps = refills.jumps;
                 return out;
             }
             out.expanded += 1;
-            for (next, _) in self.successors(node, i, (tick, e_max), &departures, &mut moves) {
-                if let Some((first, second)) = self.key(&mut bound, &next)
+            for (next, _) in self.successors(node, i, (tick, e_max), &departures, (&mut moves, Some(&mut refills))) {
+                if !refills.passed(&next)
+                    && let Some((first, second)) = self.key(&mut bound, &next)
                     && let Some(j) = self.keep(next, &mut nodes, &mut at, &mut out, tick)
                 {
                     open.push(Reverse((first, second, j)));
                 }
             }
         }
+        out.jumps = refills.jumps;
         out
     }
 
@@ -337,10 +362,9 @@ impl ExactQuery<'_> {
         i: u32,
         (tick, e_max): (f64, f64),
         departures: &Departures,
-        cache: &mut Moves,
+        (cache, refills): (&mut Moves, Option<&mut Refills>),
     ) -> Vec<(Node, f64)> {
         let capacity = self.model.capacity_wh();
-        let next_tick = |t: f64| ((t / tick + 1e-9).floor() + 1.0) * tick;
         // The label after `effect` from `from`, if the battery holds inside it.
         let after = |from: &Node, action: Action, to: u32, effect: &Effect| -> Option<(Node, f64)> {
             let lowest = effect.lowest(from.e, capacity);
@@ -366,37 +390,85 @@ impl ExactQuery<'_> {
         };
         let mut out = Vec::with_capacity(9);
         let last = self.goals.len();
-        let moves = cache.get(node.cell, node.t, || self.moves_from(node.cell, node.t, tick));
+        let at_goal = self.goals.get(node.goal as usize).is_some_and(|g| g.cell == node.cell);
+        // Where every drive from here lands where the battery soon refills, waiting
+        // first is no better than driving now and waiting there (`forward`).
+        let mut forward = Forward::new(
+            refills.is_some() && self.waits_may_move_on(&node, at_goal, tick),
+            self.goals.get(node.goal as usize).map(|g| g.cell),
+        );
+        let moves = *cache.get(node.cell, node.t, || self.moves_from(node.cell, node.t, tick));
         for (k, m) in moves.iter().enumerate() {
-            let Some(m) = m else { continue };
-            let Some((arrived, low)) = after(&node, Action::Drive(k as u8), m.to, &m.drive) else { continue };
+            let Some(m) = m else {
+                // Refused now: waiting may let it depart, unless it is refused at any time.
+                forward.open = forward.open && self.model.drive_geometry(self.world, node.cell, k as u8).is_err();
+                continue;
+            };
+            let Some((arrived, low)) = after(&node, Action::Drive(k as u8), m.to, &m.drive) else {
+                forward.open = false;
+                continue;
+            };
             match m.settle {
-                Settle::OnTick => out.push((arrived, low)),
                 _ if arrived.goal as usize == last => out.push((arrived, low)),
-                Settle::Refused => {}
+                Settle::OnTick => {
+                    forward.lands(k as u8, arrived.cell, arrived.t, arrived.e);
+                    out.push((arrived, low));
+                }
+                Settle::Refused => forward.open = false,
                 // The settle: the drive and the wait to the next tick are one step of
                 // the plan (the drive's label is not kept: no plan departs from it).
                 Settle::Wait(wait) => {
                     if let Some((mut settled, settle_low)) = after(&arrived, Action::Wait, m.to, &wait) {
                         settled.action = Some(Action::Drive(k as u8));
+                        forward.lands(k as u8, settled.cell, settled.t, settled.e);
                         out.push((settled, low.min(settle_low)));
+                    } else {
+                        forward.open = false;
                     }
                 }
             }
         }
-        // A wait runs on to the first tick from which a drive may depart: the ticks
-        // between hold nothing but more waiting, and waits compose exactly. At the next
-        // goal's cell every tick may reach it (its window opening, the battery it
-        // must hold), so the wait there is one tick.
-        let at_goal = self.goals.get(node.goal as usize).is_some_and(|g| g.cell == node.cell);
-        let end = if at_goal { Some(next_tick(node.t)) } else { departures.next_after(node.t) };
-        if let Some(end) = end
+        if let Some(end) = self.wait_end(&node, at_goal, departures, &forward, (cache, refills))
             && let Ok(wait) = self.model.wait(self.world, node.cell, node.t, end - node.t)
             && let Some(waited) = after(&node, Action::Wait, node.cell, &wait)
         {
             out.push(waited);
         }
         out
+    }
+
+    /// Where the wait from `node` ends, s after the epoch. A wait runs on to the first
+    /// tick from which a drive may depart: the ticks between hold nothing but more
+    /// waiting, and waits compose exactly. At the next goal's cell every tick may reach
+    /// it (its window opening, the battery it must hold), so the wait there is one
+    /// tick. Where driving on first is no worse (`forward`), it jumps.
+    fn wait_end(
+        &self,
+        node: &Node,
+        at_goal: bool,
+        departures: &Departures,
+        forward: &Forward,
+        (cache, refills): (&mut Moves, Option<&mut Refills>),
+    ) -> Option<f64> {
+        let tick = departures.tick;
+        let end =
+            if at_goal { Some(((node.t / tick + 1e-9).floor() + 1.0) * tick) } else { departures.next_after(node.t) };
+        if let Some(next) = end
+            && (next - node.t - tick).abs() < 1e-9 * tick
+            && let Some(refills) = refills
+            && self.jumps(node, forward, cache, refills)
+        {
+            return Some(node.t + f64::from(forward::FORWARD_TICKS) * tick);
+        }
+        end
+    }
+
+    /// Whether a wait from `node` may be cut short by [`Forward`]: under Time (a wait
+    /// costs what it lasts wherever it is spent), on the settled search's ticks, away
+    /// from the next goal's cell (whose window a wait may open).
+    fn waits_may_move_on(&self, node: &Node, at_goal: bool, tick: f64) -> bool {
+        let phase = node.t / tick;
+        matches!(self.objective, Objective::Time) && self.settle && !at_goal && (phase - phase.round()).abs() < 1e-9
     }
 
     /// The eight drives from `cell` departing at `t`, each with its settle to the next

@@ -737,3 +737,84 @@ fn with_communicate_sessions_the_exact_search_equals_a_dijkstra_without_dominanc
     assert!(planned >= 10 && proven >= 2, "{planned} planned, {proven} proven unreachable: the cases test too little");
     assert!(delayed >= 4, "the sessions delay only {delayed} plans");
 }
+
+/// Under Time with a full battery the sun keeps full, the search does not wait one tick
+/// at a time where driving on first is never worse: its waits jump. It still equals
+/// the Dijkstra that waits tick by tick — over seeded worlds with afternoon starts whose
+/// windows run into the dusk (drives refused in shadow or darkness until a wait ends),
+/// one and two goals, and on the crop of the Gale map under a low morning Sun — and the
+/// jumps are many, while plans that must wait still wait.
+#[test]
+fn under_time_the_waits_that_jump_keep_the_optimum_of_a_dijkstra_waiting_tick_by_tick() {
+    let (mut planned, mut proven, mut jumps, mut waited) = (0, 0, 0, 0);
+    let mut check = |world: &World, model: &ActionModel, start: Start, goals: &[ExactGoal], case: &str| {
+        let out = exact_by(Objective::Time, world, start, goals, model);
+        assert!(!out.stopped, "{case}");
+        jumps += out.jumps;
+        let brute = brute_force_by(Objective::Time, world, model, start, goals, 0.0);
+        if agree(out.plan.as_ref().map(|p| p.0), brute, case) {
+            planned += 1;
+            let steps = &out.plan.as_ref().unwrap().1;
+            if steps.iter().any(|s| s.action == Action::Wait && s.duration_s > 900.0 + 1e-6 && s.t_s > start.t_min) {
+                waited += 1;
+            }
+        } else {
+            proven += 1;
+        }
+    };
+    for seed in 0..24u64 {
+        let mut r = Seeds(seed.wrapping_mul(0x6a09_e667_f3bc_c909) | 1);
+        let world = mars_world(hills(7, 4, 300 + seed), 30.0, Some(32));
+        // Drives in direct sun only: the hills' shadows refuse drives until they move.
+        let mut lit = actions(900.0);
+        lit.drive.direct_sun = true;
+        let model = model(150.0, lit);
+        let cell = |r: &mut Seeds| world.cell((r.next() * 7.0) as usize % 7, (r.next() * 4.0) as usize % 4);
+        // Starts in the long shadows of the morning, or of the afternoon.
+        let mut sunrise = 0.0;
+        while world.sun(sunrise).elevation_deg > 0.0 || world.sun(sunrise + 60.0).elevation_deg <= 0.0 {
+            sunrise += 60.0;
+        }
+        let t0 = sunrise + if seed % 2 == 0 { 3.0 * r.next() } else { 7.0 + 3.0 * r.next() } * 3600.0;
+        let start = Start { cell: cell(&mut r), t_min: t0, t_max: t0, energy_wh: model.capacity_wh() };
+        let n = 1 + (seed / 2 % 2) as usize;
+        let close = (t0 + (3.0 + 12.0 * r.next()) * 3600.0).min(29.0 * 3600.0);
+        // The first goal opens up to five hours after the start: the rover has time to
+        // spare, to spend anywhere on the way.
+        let open = t0 + 5.0 * 3600.0 * r.next();
+        let goals: Vec<ExactGoal> =
+            (0..n).map(|_| ExactGoal { cell: cell(&mut r), open_s: open, close_s: close }).collect();
+        check(&world, &model, start, &goals, &format!("seed {seed}"));
+    }
+    // A cliff 40 m high east of a plain, whose morning shadow recedes east across it
+    // while the Sun is already high enough to charge: the rover from the west waits at
+    // the shadow's edge, cell by cell.
+    let ridge = areo_terrain::Dem::from_fn(10, 3, 20.0, 20.0, |x, _| if x > 180.0 { 40.0 } else { 0.0 }).unwrap();
+    let world = mars_world(ridge, 30.0, Some(32));
+    let mut lit = actions(600.0);
+    lit.drive.direct_sun = true;
+    let ridge_model = model(150.0, lit);
+    let mut sunrise = 0.0;
+    while world.sun(sunrise).elevation_deg > 0.0 || world.sun(sunrise + 60.0).elevation_deg <= 0.0 {
+        sunrise += 60.0;
+    }
+    for hours in [0.5, 1.0, 1.5, 2.5] {
+        let t0 = sunrise + hours * 3600.0;
+        let start = Start { cell: world.cell(0, 1), t_min: t0, t_max: t0, energy_wh: 135.0 };
+        let goals = [ExactGoal { cell: world.cell(7, 1), open_s: t0, close_s: t0 + 10.0 * 3600.0 }];
+        check(&world, &ridge_model, start, &goals, &format!("ridge, {hours} h after sunrise"));
+    }
+    let (world, t0) = gale_morning();
+    let model = model(400.0, ActionConfig { energy_quantum_wh: 5.0, ..actions(1800.0) });
+    for hours in [7.0, 9.0, 11.0] {
+        let goals = [
+            ExactGoal { cell: world.cell(1, 1), open_s: t0, close_s: t0 + hours * 3600.0 },
+            ExactGoal { cell: world.cell(5, 4), open_s: t0, close_s: t0 + hours * 3600.0 },
+        ];
+        let start = Start { cell: world.cell(6, 0), t_min: t0, t_max: t0, energy_wh: 360.0 };
+        check(&world, &model, start, &goals, &format!("Gale, {hours} h"));
+    }
+    assert!(planned >= 8 && proven >= 2, "{planned} planned, {proven} proven unreachable: the cases test too little");
+    assert!(jumps >= 100, "only {jumps} waits jumped: the rule is not exercised");
+    assert!(waited >= 2, "only {waited} plans wait: the cases never need a wait");
+}

@@ -10,6 +10,15 @@ use super::{Action, ActionModel, DriveGeometry};
 use crate::world::World;
 
 impl ActionModel {
+    /// An upper bound on the power any wait charges the battery with, W (the largest
+    /// flux on the array facing the Sun, and the generator, through the battery's
+    /// charge efficiency, no load drawn).
+    pub(crate) fn charge_bound_w(&self, world: &World) -> f64 {
+        let source =
+            self.rover.nuclear_w + self.rover.solar.map_or(0.0, |a| world.max_beam_w_m2() * a.area_m2 * a.efficiency);
+        source * self.rover.battery.charge_efficiency
+    }
+
     /// An upper bound on the energy any single action can gain, Wh (TEMPEST's E_max,
     /// eq. 3, bounded from the largest flux on a panel facing the Sun), and the same
     /// bound for drives alone.

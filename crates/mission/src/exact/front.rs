@@ -124,7 +124,9 @@ impl ExactQuery<'_> {
                 break;
             }
             out.expanded += 1;
-            for (next, step_low) in query.successors(node, i, (tick, e_max), &departures, &mut moves) {
+            // No jumping waits: the front weighs each plan's lowest battery too, which
+            // a wait moved to another cell changes.
+            for (next, step_low) in query.successors(node, i, (tick, e_max), &departures, (&mut moves, None)) {
                 let low = low.min(step_low);
                 let rest = bound.at(next.cell, next.goal, next.t, next.e);
                 if !rest.is_finite() {
