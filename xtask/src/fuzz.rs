@@ -453,9 +453,9 @@ fn write_in(dir: &Path, name: &str, bytes: &[u8]) -> Result<(), String> {
 }
 
 /// `areo run` of scenario `name` at a tenth of the default work budget (2·10⁹ steps, 1–4
-/// minutes; lunar-south-pole-10m, 4·10⁹, is refused, its rover checked on
-/// lunar-south-pole): it is what makes a mutated search that floods its map end within
-/// the time bound — the default budget is 10–40 minutes.
+/// minutes, lunar-south-pole-10m's plan of ~10 M expansions within it): it is what makes
+/// a mutated search that floods its map end within the time bound — the default budget
+/// is 10–40 minutes.
 fn run_args(name: &str) -> Vec<String> {
     ["-q", "run", name, "--out", "out", "--max-work", "2e9"].map(String::from).to_vec()
 }
