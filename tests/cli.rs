@@ -1084,7 +1084,7 @@ fn a_map_in_a_crs_areo_does_not_read_is_said_to_be_a_local_frame() {
         format!(
             r#"Scenario(version: 1, description: "UTM map", job: Tempest(body: Earth, terrain: File({utm:?}),
                 site: (lat_deg: 75.4, lon_east_deg: -89.7), start_utc: "2025-06-01T00:00:00Z", horizon_h: 6,
-                rover: {rover:?}, planner: (resolution: (time_s: 1800)), start: (x_m: 3000, y_m: 3000),
+                rover: {rover:?}, planner: (approximate: true, resolution: (time_s: 1800)), start: (x_m: 3000, y_m: 3000),
                 start_battery_above_floor_wh: 300, goals: [(name: "a", x_m: 3200, y_m: 3100)]))"#,
             rover = rover.to_str().unwrap()
         ),
@@ -1112,7 +1112,7 @@ fn a_site_off_a_georeferenced_map_is_refused() {
             format!(
                 r#"Scenario(version: 1, description: "site check", job: Tempest(terrain: File({gale:?}),
                     site: (lat_deg: -5.26, lon_east_deg: {lon}), start_utc: "2025-03-01T17:45:00Z", horizon_h: 6,
-                    rover: {rover:?}, planner: (resolution: (time_s: 1800)), start: (x_m: 5000, y_m: 5000),
+                    rover: {rover:?}, planner: (approximate: true, resolution: (time_s: 1800)), start: (x_m: 5000, y_m: 5000),
                     start_battery_above_floor_wh: 600, goals: [(name: "a", x_m: 6000, y_m: 5000)]))"#,
                 gale = gale.to_str().unwrap(),
                 rover = rover.to_str().unwrap()

@@ -39,7 +39,7 @@ fn scenario(body: &str, (lat, lon): (f64, f64), utc: &str) -> String {
             start: (x_m: 105, y_m: 405),
             start_battery_above_floor_wh: 600,
             goals: [(name: "east", x_m: 1665, y_m: 825)],
-            planner: (actions: (drive: (max_slope: true, daylight: false)), resolution: (time_s: 600)),
+            planner: (approximate: true, actions: (drive: (max_slope: true, daylight: false)), resolution: (time_s: 600)),
         ))"#
     )
 }

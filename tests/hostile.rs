@@ -585,7 +585,7 @@ fn small_cases_exit_as_documented() {
 /// search plans from there in about a second: the rover waits in the midnight sun.)
 fn devon_island_from_an_empty_battery(name: &str, budget: &[&str]) -> Output {
     let dir = tmp(name);
-    let classes = "resolution: (time_s: 1800, energy_wh: 50), goal_times: 12, segment_starts: 8,";
+    let classes = "approximate: true, resolution: (time_s: 1800, energy_wh: 50), goal_times: 12, segment_starts: 8,";
     let scenario = write_variant(&dir, "devon-island.ron", "tick_s: 300,", classes);
     let mut args = vec!["-q", "run", scenario.to_str().unwrap(), "--out", dir.to_str().unwrap()];
     args.extend(["--set", "job.start_battery_above_floor_wh=0.001"]);

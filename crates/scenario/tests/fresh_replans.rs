@@ -46,7 +46,10 @@ fn restarts_are_counted_with_their_work_and_compared_with_fresh_searches() {
     let rover = root.join("scenarios/rovers/mock-solar-rover.ron");
     let text = text
         .replace("\"../../scenarios/rovers/mock-solar-rover.ron\"", &format!("{:?}", rover.display().to_string()))
-        .replace("planner: (goal_times: 200,", "planner: (detour_factor: 1.0, max_wait_s: 0, goal_times: 200,")
+        .replace(
+            "planner: (approximate: true, goal_times: 200,",
+            "planner: (approximate: true, detour_factor: 1.0, max_wait_s: 0, goal_times: 200,",
+        )
         .replace("drive_slowdown: 0.1", "drive_slowdown: 2.0")
         .replace("simulate: (sense_radius_cells: 2,", "simulate: (sense_radius_cells: 2, compare_fresh: true,");
     let dir = root.join("target/fresh-replans-tests");

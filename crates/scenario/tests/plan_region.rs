@@ -59,7 +59,7 @@ fn scenario(region: &str, start: (f64, f64)) -> String {
         start: (x_m: {}, y_m: {}),
         start_battery_above_floor_wh: 150,
         goals: [(name: "goal", x_m: 3300, y_m: 2900)],
-        planner: (goal_energy_wh: 50, resolution: (time_s: 1200, energy_wh: 25)),
+        planner: (approximate: true, goal_energy_wh: 50, resolution: (time_s: 1200, energy_wh: 25)),
         {region}
     ),
 )"#,

@@ -395,7 +395,7 @@ fn a_pareto_front_needs_one_goal_and_a_step_in_range() {
     // a tick, where the front is exact, any step is refused naming `tick_s`.
     let (on_tick, front) = ("planner: (tick_s: 600)", "pareto_front: ()");
     assert!(text.contains(on_tick) && text.contains(front));
-    let approximate = text.replace(on_tick, "planner: (resolution: (time_s: 600))");
+    let approximate = text.replace(on_tick, "planner: (approximate: true, resolution: (time_s: 600))");
     let err = parse(path, &approximate.replace(front, "pareto_front: (margin_step_wh: 0)")).unwrap_err();
     let Error::Invalid { field, message, .. } = &err else { panic!("{err}") };
     assert_eq!(field, "job.pareto_front.margin_step_wh");

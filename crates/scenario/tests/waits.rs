@@ -14,7 +14,10 @@ fn a_rover_that_waits_crosses_the_night_in_wait_steps_and_idles_waiting() {
     let o = run_file(&small_with(
         &[
             ("2012-08-06T23:00:00Z", "2012-08-07T08:00:00Z"),
-            ("planner: (goal_times: 200,", "planner: (actions: (wait_step_s: Some(600)), goal_times: 200,"),
+            (
+                "planner: (approximate: true, goal_times: 200,",
+                "planner: (approximate: true, actions: (wait_step_s: Some(600)), goal_times: 200,",
+            ),
         ],
         "evening.ron",
     ));
@@ -34,7 +37,7 @@ fn a_rover_that_waits_crosses_the_night_in_wait_steps_and_idles_waiting() {
 }
 
 /// small.ron's planner settings.
-const SMALL_PLANNER: &str = "planner: (goal_times: 200, resolution: (time_s: 600, energy_wh: 25)),";
+const SMALL_PLANNER: &str = "planner: (approximate: true, goal_times: 200, resolution: (time_s: 600, energy_wh: 25)),";
 
 /// small.ron's simulation settings.
 const SMALL_SIMULATE: &str =
@@ -124,16 +127,22 @@ fn a_planner_block_without_the_approximate_fields_plans_on_the_default_tick() {
     assert_eq!(tick_of(""), (Some(DEFAULT_TICK_S), None), "no planner block");
     assert_eq!(tick_of("planner: (max_wait_s: 7200, objective: Time),"), (Some(DEFAULT_TICK_S), Some(7200.0)));
     assert_eq!(tick_of("planner: (tick_s: 600),"), (Some(600.0), None));
-    for approximate in [
-        "planner: (resolution: (time_s: 60)),",
-        "planner: (goal_times: 24),",
-        "planner: (segment_starts: 8),",
-        "planner: (unreachable_retries: 0),",
-        "planner: (actions: (time_quantum_s: 5)),",
-        "planner: (actions: (wait_step_s: 600)),",
+    // The approximate search's fields are refused, naming the field and `tick_s`, unless
+    // the block opts in to that search.
+    for (fields, field) in [
+        ("resolution: (time_s: 60)", "planner.resolution"),
+        ("goal_times: 24", "planner.goal_times"),
+        ("segment_starts: 8", "planner.segment_starts"),
+        ("unreachable_retries: 0", "planner.unreachable_retries"),
+        ("actions: (time_quantum_s: 5)", "planner.actions.time_quantum_s"),
+        ("actions: (wait_step_s: 600)", "planner.actions.wait_step_s"),
     ] {
-        assert_eq!(tick_of(approximate).0, None, "{approximate}");
+        let planner = format!("planner: ({fields}),");
+        let err = load(&small_with(&[(SMALL_PLANNER, &planner)], "refused.ron")).expect_err(&planner).to_string();
+        assert!(err.contains(field) && err.contains("tick_s") && err.contains("approximate: true"), "{planner}: {err}");
+        assert_eq!(tick_of(&format!("planner: (approximate: true, {fields}),")).0, None, "{fields}");
     }
+    assert_eq!(tick_of("planner: (approximate: true),").0, None);
     // And it runs so: exact at 60 s, the goal reached.
     let o = run_file(&small_with(&[(SMALL_SIMULATE, ""), (SMALL_PLANNER, "planner: (),")], "default-tick.ron"));
     assert_eq!(o.failure, None, "{:?}", o.summary);

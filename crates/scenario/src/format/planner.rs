@@ -206,7 +206,7 @@ pub const DEFAULT_TICK_S: f64 = 60.0;
 /// [`DEFAULT_TICK_S`] tick; [`PlannerSpec::default`] is the library's defaults as they
 /// are (the approximate search), for code that sets its fields itself.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(from = "PlannerFields")]
+#[serde(try_from = "PlannerFields", into = "PlannerWritten")]
 pub struct PlannerSpec {
     /// Actions and their constraints.
     pub actions: ActionSpec,
@@ -237,7 +237,8 @@ pub struct PlannerSpec {
     /// optimal over every such plan and "unreachable" a proof. With it, `resolution`,
     /// `goal_times`, `segment_starts`, `unreachable_retries`, `actions.wait_step_s` and
     /// the actions' quanta are refused. `None`: the approximate search. In a file:
-    /// [`DEFAULT_TICK_S`] unless the block sets one of those fields.
+    /// [`DEFAULT_TICK_S`] unless the block sets one of those fields, which a file
+    /// may do only beside `approximate: true` (else they are refused, naming `tick_s`).
     pub tick_s: Option<f64>,
 }
 
@@ -268,20 +269,40 @@ struct PlannerFields {
     unreachable_retries: Option<u32>,
     #[serde(default)]
     tick_s: Option<f64>,
+    /// Opts in to the approximate search's fields (the paper's classes), which are
+    /// otherwise refused.
+    #[serde(default)]
+    approximate: bool,
 }
 
-impl From<PlannerFields> for PlannerSpec {
-    fn from(f: PlannerFields) -> PlannerSpec {
+impl TryFrom<PlannerFields> for PlannerSpec {
+    type Error = String;
+
+    fn try_from(f: PlannerFields) -> Result<PlannerSpec, String> {
         let d = PlannerSpec::default();
         let actions = f.actions.unwrap_or(d.actions.clone());
-        let approximate = f.resolution.is_some()
-            || f.goal_times.is_some()
-            || f.segment_starts.is_some()
-            || f.unreachable_retries.is_some()
-            || actions.wait_step_s != d.actions.wait_step_s
-            || actions.time_quantum_s != d.actions.time_quantum_s
-            || actions.energy_quantum_wh != d.actions.energy_quantum_wh;
-        PlannerSpec {
+        let written = [
+            ("resolution", f.resolution.is_some()),
+            ("goal_times", f.goal_times.is_some()),
+            ("segment_starts", f.segment_starts.is_some()),
+            ("unreachable_retries", f.unreachable_retries.is_some()),
+            ("actions.wait_step_s", actions.wait_step_s != d.actions.wait_step_s),
+            ("actions.time_quantum_s", actions.time_quantum_s != d.actions.time_quantum_s),
+            ("actions.energy_quantum_wh", actions.energy_quantum_wh != d.actions.energy_quantum_wh),
+        ];
+        let approximate = written.iter().find(|w| w.1).map(|w| w.0);
+        if let Some(field) = approximate
+            && !f.approximate
+            && f.tick_s.is_none()
+        {
+            return Err(format!(
+                "field `planner.{field}` belongs to the approximate search (the paper's time and energy \
+                 classes, whose plan may cost more than the optimum and whose \"unreachable\" is no proof): the \
+                 planner is exact on one time step, `tick_s` (s, 1..=86400; default {DEFAULT_TICK_S} s) — write \
+                 `tick_s` in its place, or `approximate: true` beside it to plan with the classes"
+            ));
+        }
+        Ok(PlannerSpec {
             actions,
             objective: f.objective.unwrap_or(d.objective),
             resolution: f.resolution.unwrap_or(d.resolution),
@@ -292,7 +313,45 @@ impl From<PlannerFields> for PlannerSpec {
             max_wait_s: f.max_wait_s.unwrap_or(d.max_wait_s),
             goal_energy_wh: f.goal_energy_wh.unwrap_or(d.goal_energy_wh),
             unreachable_retries: f.unreachable_retries.unwrap_or(d.unreachable_retries),
-            tick_s: f.tick_s.or((!approximate).then_some(DEFAULT_TICK_S)),
+            tick_s: f.tick_s.or((approximate.is_none() && !f.approximate).then_some(DEFAULT_TICK_S)),
+        })
+    }
+}
+
+/// A planner block as written back out: every field, and `approximate: true` where the
+/// spec plans with the approximate search, so that it reads back the same.
+#[derive(Serialize)]
+struct PlannerWritten {
+    actions: ActionSpec,
+    objective: ObjectiveSpec,
+    resolution: ResolutionSpec,
+    path_length: PathLengthSpec,
+    goal_times: usize,
+    segment_starts: usize,
+    detour_factor: f64,
+    max_wait_s: Option<f64>,
+    goal_energy_wh: f64,
+    unreachable_retries: u32,
+    tick_s: Option<f64>,
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    approximate: bool,
+}
+
+impl From<PlannerSpec> for PlannerWritten {
+    fn from(p: PlannerSpec) -> PlannerWritten {
+        PlannerWritten {
+            approximate: p.tick_s.is_none(),
+            actions: p.actions,
+            objective: p.objective,
+            resolution: p.resolution,
+            path_length: p.path_length,
+            goal_times: p.goal_times,
+            segment_starts: p.segment_starts,
+            detour_factor: p.detour_factor,
+            max_wait_s: p.max_wait_s,
+            goal_energy_wh: p.goal_energy_wh,
+            unreachable_retries: p.unreachable_retries,
+            tick_s: p.tick_s,
         }
     }
 }
