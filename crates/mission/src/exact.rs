@@ -202,8 +202,6 @@ impl Moves {
     }
 }
 
-/// How far a wait jumps where [`Forward`] holds, in ticks: a longer jump checks longer
-/// waits at every neighbour.
 /// No label: the start's parent.
 const NONE: u32 = u32::MAX;
 

@@ -31,8 +31,9 @@ pub struct Budget {
 impl Budget {
     /// Three quarters of this machine's memory (`/proc/meminfo`; 8 GiB where it cannot
     /// be read) and 2·10¹⁰ steps (the largest shipped up-front estimate, lita-scale's,
-    /// is 2·10⁸; lunar-south-pole-10m's plan spends about 10⁹ as it runs). A step is about one horizon sweep of a cell and sector (30–120 ns
-    /// measured) and a label expansion counts [`EXPANSION_STEPS`], so the default is
+    /// is 2·10⁸; lunar-south-pole-10m's plan spends about 10⁹ as it runs). A step is
+    /// about one horizon sweep of a cell and sector (30–120 ns measured) and a label
+    /// expansion counts [`EXPANSION_STEPS`], so the default is
     /// 10–40 minutes of work whichever kind spends it; the searches stop there
     /// ([`search_allowance`]).
     pub fn for_this_machine() -> Budget {
