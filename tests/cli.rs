@@ -84,6 +84,33 @@ fn shipped_scenario_runs_and_writes_outputs() {
 }
 
 #[test]
+fn the_json_of_a_run_is_its_report_and_the_facts_and_files_read_off_it() {
+    let out_dir = tmp("report-json");
+    let scenario = root().join("scenarios/gale-sol-sun.ron");
+    let out = areo(&["-q", "run", scenario.to_str().unwrap(), "--out", out_dir.to_str().unwrap(), "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let (report, facts) = (&v["report"], &v["facts"]);
+    assert_eq!(report["job"], "SunTable");
+    // Every fact is the report's field at its path.
+    assert_eq!(facts["rows"], report["rows"]);
+    assert_eq!(facts["first_sunrise.ltst_hours"], report["first_sunrise"]["ltst_hours"]);
+    assert_eq!(facts["max_elevation_deg"], report["max_elevation_deg"]);
+    let table = report["table"].as_array().unwrap();
+    assert_eq!(table.len(), 148);
+    // The CSV holds the report's rows, at its decimals: the highest elevation among
+    // them is the report's maximum.
+    let csv = std::fs::read_to_string(out_dir.join("gale-sol-sun/sun.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = header.iter().position(|h| *h == "elevation_deg").unwrap();
+    let highest = lines.map(|l| l.split(',').nth(col).unwrap().parse::<f64>().unwrap()).fold(f64::MIN, f64::max);
+    assert!((highest - report["max_elevation_deg"].as_f64().unwrap()).abs() < 1e-4, "{highest}");
+    let sunlit = table.iter().filter(|r| r["sunlit"] == true).count();
+    assert!(sunlit > 50 && sunlit < 100, "about half the sol's rows are sunlit: {sunlit}");
+}
+
+#[test]
 fn sun_csv_reproduces_the_spirit_worked_example() {
     let out =
         areo(&["sun", "--time", "2004-01-03T13:46:31Z", "--lat", "-14.64", "--lon", "175.298", "--format", "csv"]);

@@ -457,6 +457,8 @@ fn temp_out(name: &str) -> std::io::Result<PathBuf> {
 #[derive(Clone)]
 struct PyRunResult {
     facts_json: String,
+    /// The job's report, for the jobs that return one as plain data.
+    report: Option<serde_json::Value>,
     summary: Vec<String>,
     files: Vec<PathBuf>,
     out: PathBuf,
@@ -465,9 +467,109 @@ struct PyRunResult {
 
 impl PyRunResult {
     fn from_outcome(o: Outcome, out: PathBuf) -> PyResult<PyRunResult> {
-        let facts_json = serde_json::to_string(&o.facts).map_err(|e| AreoError::new_err(e.to_string()))?;
-        Ok(PyRunResult { facts_json, summary: o.summary, files: o.files, out, failure: o.failure })
+        let error = |e: serde_json::Error| AreoError::new_err(e.to_string());
+        let facts_json = serde_json::to_string(&o.facts).map_err(error)?;
+        let report = o.report.as_deref().map(serde_json::to_value).transpose().map_err(error)?;
+        Ok(PyRunResult { facts_json, report, summary: o.summary, files: o.files, out, failure: o.failure })
     }
+}
+
+/// A report's value as Python data: a table (a list of records) as a dict of columns,
+/// a list of numbers or a numeric column as a float64 array (an absent value NaN), a
+/// raster (`cols`, `rows`, `values`) as a `(rows, cols)` array, or `(rows, cols, k)`
+/// for `k` values per cell.
+fn report_value<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    use serde_json::Value;
+    match value {
+        Value::Null => Ok(py.None().into_bound(py)),
+        Value::Bool(b) => Ok(pyo3::types::PyBool::new(py, *b).to_owned().into_any()),
+        Value::Number(n) => match n.as_i64() {
+            Some(i) => Ok(i.into_pyobject(py)?.into_any()),
+            None => Ok(n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any()),
+        },
+        Value::String(s) => Ok(s.into_pyobject(py)?.into_any()),
+        Value::Object(fields) => {
+            if let Some(array) = raster(py, fields)? {
+                return Ok(array);
+            }
+            let d = PyDict::new(py);
+            for (k, v) in fields {
+                d.set_item(k, report_value(py, v)?)?;
+            }
+            Ok(d.into_any())
+        }
+        Value::Array(items) => {
+            if let Some(xs) = numbers(items) {
+                return Ok(PyArray1::from_vec(py, xs).into_any());
+            }
+            if !items.is_empty() && items.iter().all(Value::is_boolean) {
+                let flags: Vec<bool> = items.iter().map(|v| v.as_bool() == Some(true)).collect();
+                return Ok(PyArray1::from_vec(py, flags).into_any());
+            }
+            match items.first() {
+                Some(Value::Object(first)) if items.iter().all(Value::is_object) => {
+                    let d = PyDict::new(py);
+                    for k in first.keys() {
+                        let column: Vec<Value> =
+                            items.iter().map(|r| r.get(k).cloned().unwrap_or(Value::Null)).collect();
+                        d.set_item(k, report_value(py, &Value::Array(column))?)?;
+                    }
+                    Ok(d.into_any())
+                }
+                _ => {
+                    let l = PyList::empty(py);
+                    for v in items {
+                        l.append(report_value(py, v)?)?;
+                    }
+                    Ok(l.into_any())
+                }
+            }
+        }
+    }
+}
+
+/// Every item a number (or absent, as NaN), not all absent.
+fn numbers(items: &[serde_json::Value]) -> Option<Vec<f64>> {
+    let numeric = items.iter().all(|v| v.is_number() || v.is_null()) && items.iter().any(serde_json::Value::is_number);
+    numeric.then(|| items.iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect())
+}
+
+/// A raster's fields as a NumPy array of its shape, if they are one.
+fn raster<'py>(
+    py: Python<'py>,
+    fields: &serde_json::Map<String, serde_json::Value>,
+) -> PyResult<Option<Bound<'py, PyAny>>> {
+    let (Some(cols), Some(rows), Some(serde_json::Value::Array(values))) = (
+        fields.get("cols").and_then(|v| v.as_u64()),
+        fields.get("rows").and_then(|v| v.as_u64()),
+        fields.get("values"),
+    ) else {
+        return Ok(None);
+    };
+    if fields.len() != 3 || values.len() as u64 != cols * rows {
+        return Ok(None);
+    }
+    let (flat, per_cell) = match values.first() {
+        Some(serde_json::Value::Array(first)) => {
+            let k = first.len();
+            let flat: Vec<serde_json::Value> =
+                values.iter().flat_map(|v| v.as_array().cloned().unwrap_or_default()).collect();
+            if flat.len() != values.len() * k {
+                return Ok(None);
+            }
+            (flat, Some(k))
+        }
+        _ => (values.clone(), None),
+    };
+    let Some(xs) = numbers(&flat).or_else(|| flat.is_empty().then(Vec::new)) else {
+        return Ok(None);
+    };
+    let array = PyArray1::from_vec(py, xs).into_any();
+    let shape = match per_cell {
+        Some(k) => vec![rows as usize, cols as usize, k],
+        None => vec![rows as usize, cols as usize],
+    };
+    Ok(Some(array.call_method1("reshape", (shape,))?))
 }
 
 /// A CSV table as a list of dicts, numbers as floats (an empty cell: None).
@@ -500,6 +602,18 @@ impl PyRunResult {
     #[getter]
     fn facts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         py.import("json")?.call_method1("loads", (&self.facts_json,))
+    }
+
+    /// The job's report, as `areo run --json` prints it: plain data whose scalar fields
+    /// are the facts (a fact `a.b` is `report["a"]["b"]`), tables as dicts of columns
+    /// and rasters as NumPy arrays of shape `(rows, cols)`. None for a job that does not
+    /// return one yet (TEMPEST, actions: read `facts` and `tables`).
+    #[getter]
+    fn report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        match &self.report {
+            Some(r) => report_value(py, r),
+            None => Ok(py.None().into_bound(py)),
+        }
     }
 
     /// The summary lines `areo run` prints.

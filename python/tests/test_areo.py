@@ -158,6 +158,33 @@ def test_horizon_equals_the_binarys_maps(tmp_path):
     assert np.all(sun[h[0] > 11.0] == 0)
 
 
+def test_a_runs_report_is_the_binarys_with_tables_as_columns_and_rasters_as_arrays(tmp_path):
+    shadows = ROOT / "scenarios/crater-morning-shadows.ron"
+    result = areo.Scenario.load(shadows).run(out=tmp_path / "py")
+    report = result.report
+    out = subprocess.run([areo_bin(), "-q", "run", str(shadows), "--out", str(tmp_path / "cli"), "--json"],
+                         check=True, capture_output=True, text=True)
+    cli_report = json.loads(out.stdout)["report"]
+    assert report["job"] == cli_report["job"] == "TerrainShadow"
+    for name in ("lit_fraction", "cast_shadow_fraction", "relief_m", "cells"):
+        assert report[name] == cli_report[name]
+    assert report["sun"]["elevation_deg"] == result.facts["sun.elevation_deg"]
+    rows, cols = report["grid"]["rows"], report["grid"]["cols"]
+    sun = report["direct_sun"]
+    assert sun.shape == (rows, cols) and report["preview_rgb"].shape == (rows, cols, 3)
+    # The raster is the lit fraction's source: cells with data (not 255) in direct sun (1).
+    valid = sun != 255
+    assert (sun[valid] == 1).mean() == pytest.approx(report["lit_fraction"], abs=1e-12)
+    assert np.isnan(report["elevation_m"][~valid]).all()
+    assert np.nanmax(report["elevation_m"]) - np.nanmin(report["elevation_m"]) == pytest.approx(report["relief_m"], rel=1e-6)
+
+    table = areo.Scenario.load(ROOT / "scenarios/gale-sol-sun.ron").run(out=tmp_path / "sun").report["table"]
+    assert isinstance(table["elevation_deg"], np.ndarray) and len(table["elevation_deg"]) == 148
+    # A row is sunlit where the Sun stands above the horizon mask.
+    assert table["sunlit"].dtype == bool
+    assert (table["sunlit"] == (table["elevation_deg"] > table["horizon_deg"])).all()
+
+
 def test_a_scenario_run_gives_the_binarys_facts_and_tables(tmp_path):
     result = areo.Scenario.load(RIDGE).run(out=tmp_path / "py")
     cli("run", RIDGE, "-o", tmp_path / "cli")

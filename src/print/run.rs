@@ -6,12 +6,15 @@ use std::path::PathBuf;
 use areo_scenario::format::ScenarioFile;
 use areo_scenario::{Fact, Outcome};
 
-/// The run as JSON: the facts with their JSON types (counts as integers), the summary
-/// lines, the files written and why the aim was missed, if it was.
+/// The run as JSON: the job's report (for the jobs that return one as plain data), the
+/// facts with their JSON types (counts as integers), the summary lines, the files
+/// written and why the aim was missed, if it was.
 #[derive(serde::Serialize)]
 pub(crate) struct RunJson<'a> {
     scenario: &'a str,
     description: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    report: Option<&'a areo_scenario::Report>,
     summary: &'a [String],
     facts: &'a BTreeMap<String, Fact>,
     files: &'a [PathBuf],
@@ -23,6 +26,7 @@ impl<'a> RunJson<'a> {
         RunJson {
             scenario: &file.name,
             description: &file.scenario.description,
+            report: outcome.report.as_deref(),
             summary: &outcome.summary,
             facts: &outcome.facts,
             files: &outcome.files,

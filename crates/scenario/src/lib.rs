@@ -7,6 +7,8 @@
 //!   every error ([`format::load`], [`format::parse`]);
 //! - [`run()`]: one scenario's job ([`jobs`]: Sun table, terrain shadow, TEMPEST,
 //!   GA actions) through the library crates into an [`Outcome`];
+//! - [`report`]: the jobs' reports as plain serialisable data, and the facts read off
+//!   their fields;
 //! - [`budget`]: a job's memory and work estimated before it starts, and refused
 //!   when over the limit;
 //! - [`outcome`]: named [`Fact`]s and the [`outcome::Expected`] checks of
@@ -29,6 +31,7 @@ pub mod grid;
 pub mod jobs;
 pub mod outcome;
 pub mod output;
+pub mod report;
 pub mod rover_check;
 pub mod sun;
 pub mod sweep;
@@ -42,6 +45,7 @@ pub use crate::{
     jobs::{RunOptions, run, run_into},
     outcome::{Fact, Failure, Outcome},
     progress::{NoProgress, Progress},
+    report::Report,
 };
 
 /// Reads a text file a user gave (scenario, rover, sweep, list of instants, grid map,

@@ -31,9 +31,12 @@ impl std::fmt::Display for Fact {
     }
 }
 
-/// A job's result: named facts, files written and a human summary.
+/// A job's result: its report, named facts, files written and a human summary.
 #[derive(Debug, Clone, Default)]
 pub struct Outcome {
+    /// The job's report, for the jobs that return one as plain data (the Sun table and
+    /// the terrain shadow); their facts, summary and files are read off it.
+    pub report: Option<Box<crate::report::Report>>,
     /// Facts by name.
     pub facts: BTreeMap<String, Fact>,
     /// Lines for a person to read.

@@ -5,7 +5,7 @@ use crate::projection::Projection;
 use areo_body::Spheroid;
 
 /// Where a DEM sits: its map projection and reference body.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Georef {
     /// How map metres relate to latitude and longitude.
     pub projection: Projection,

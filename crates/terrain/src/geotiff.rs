@@ -680,17 +680,33 @@ fn geokeys_for(georef: &Georef) -> GeoTags {
 pub fn write(dem: &Dem, path: &Path) -> Result<()> {
     let z: Vec<f32> =
         dem.elevations().iter().zip(dem.valid_mask()).map(|(z, ok)| if *ok { *z } else { f32::NAN }).collect();
-    write_raster::<colortype::Gray32Float>(dem, &z, Some("nan"), path)
+    write_raster::<colortype::Gray32Float>(&Grid::of(dem), &z, Some("nan"), path)
+}
+
+/// Writes float32 values on `grid` (NaN where there is no value, GDAL_NODATA "nan"):
+/// a raster held as plain data, without its DEM.
+pub fn write_f32_on(grid: &Grid, values: &[f32], path: &Path) -> Result<()> {
+    write_raster::<colortype::Gray32Float>(grid, values, Some("nan"), path)
+}
+
+/// Writes one byte per cell on `grid`, with an optional nodata value.
+pub fn write_u8_on(grid: &Grid, values: &[u8], nodata: Option<u8>, path: &Path) -> Result<()> {
+    let nd = nodata.map(|v| v.to_string());
+    write_raster::<colortype::Gray8>(grid, values, nd.as_deref(), path)
 }
 
 /// Writes a one-byte-per-cell raster on the DEM's grid (masks, shadow maps), with an
 /// optional nodata value.
 pub fn write_u8(dem: &Dem, values: &[u8], nodata: Option<u8>, path: &Path) -> Result<()> {
-    let nd = nodata.map(|v| v.to_string());
-    write_raster::<colortype::Gray8>(dem, values, nd.as_deref(), path)
+    write_u8_on(&Grid::of(dem), values, nodata, path)
 }
 
-fn write_raster<C: colortype::ColorType>(dem: &Dem, data: &[C::Inner], nodata: Option<&str>, path: &Path) -> Result<()>
+fn write_raster<C: colortype::ColorType>(
+    grid: &Grid,
+    data: &[C::Inner],
+    nodata: Option<&str>,
+    path: &Path,
+) -> Result<()>
 where
     [C::Inner]: tiff::encoder::TiffValue,
 {
@@ -701,17 +717,17 @@ where
         tiff::TiffError::IoError(source) => Error::Io { path: path.to_path_buf(), source },
         other => Error::Io { path: path.to_path_buf(), source: std::io::Error::other(other) },
     };
-    if data.len() != dem.cols() * dem.rows() {
-        return Err(Error::BadGrid(format!("{} values for {} cells", data.len(), dem.cols() * dem.rows())));
+    if data.len() != grid.cols * grid.rows {
+        return Err(Error::BadGrid(format!("{} values for {} cells", data.len(), grid.cols * grid.rows)));
     }
     let mut out = BufWriter::new(File::create(path).map_err(io)?);
     {
         let mut enc = TiffEncoder::new(&mut out).map_err(tiff_err)?;
-        let mut img = enc.new_image::<C>(dem.cols() as u32, dem.rows() as u32).map_err(tiff_err)?;
+        let mut img = enc.new_image::<C>(grid.cols as u32, grid.rows as u32).map_err(tiff_err)?;
         let e = img.encoder();
-        e.write_tag(Tag::ModelPixelScaleTag, &[dem.dx(), dem.dy(), 0.0][..]).map_err(tiff_err)?;
-        e.write_tag(Tag::ModelTiepointTag, &[0.0, 0.0, 0.0, dem.x0(), dem.y_top(), 0.0][..]).map_err(tiff_err)?;
-        geokeys_for(dem.georef()).write(e).map_err(tiff_err)?;
+        e.write_tag(Tag::ModelPixelScaleTag, &[grid.dx, grid.dy, 0.0][..]).map_err(tiff_err)?;
+        e.write_tag(Tag::ModelTiepointTag, &[0.0, 0.0, 0.0, grid.x0, grid.y_top, 0.0][..]).map_err(tiff_err)?;
+        geokeys_for(&grid.georef).write(e).map_err(tiff_err)?;
         if let Some(nd) = nodata {
             e.write_tag(Tag::GdalNodata, nd).map_err(tiff_err)?;
         }
@@ -721,7 +737,7 @@ where
 }
 
 /// A raster's grid without its values: what a writer needs to place it.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Grid {
     /// Columns.
     pub cols: usize,

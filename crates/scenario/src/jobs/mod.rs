@@ -1,6 +1,9 @@
-//! One module per job: each computes a typed report from its part of the scenario,
-//! turns it into facts and summary lines ([`Outcome`]) and writes its files. [`run`]
-//! dispatches on the scenario's job.
+//! One module per job: each computes a report from its part of the scenario. [`run`]
+//! dispatches on the scenario's job and makes the [`Outcome`]. A job whose report is
+//! public plain data ([`Report`]: the Sun table, the terrain shadow) has its facts read
+//! off the report's fields and its summary and files written from the report alone by
+//! [`output::reports`](crate::output::reports); the TEMPEST and actions jobs still build
+//! their facts, summary and files themselves.
 
 pub mod actions;
 pub(crate) mod sun_table;
@@ -15,6 +18,7 @@ use crate::format::{Job, ScenarioFile};
 use crate::outcome::Outcome;
 use crate::output::{json_for, write_file};
 use crate::progress::Progress;
+use crate::report::Report;
 
 /// How to run a job.
 #[derive(Clone, Copy)]
@@ -50,8 +54,8 @@ pub fn run(file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
         std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.to_path_buf(), source })?;
     }
     let mut outcome = match &file.scenario.job {
-        Job::SunTable(job) => sun_table::run(job, opts)?,
-        Job::TerrainShadow(job) => terrain_shadow::run(job, file, opts)?,
+        Job::SunTable(job) => reported(Report::SunTable(sun_table::compute(job, opts.progress)?), opts)?,
+        Job::TerrainShadow(job) => reported(Report::TerrainShadow(terrain_shadow::compute(job, file, opts)?), opts)?,
         Job::Tempest(job) => tempest::run(job, file, opts)?,
         Job::Actions(job) => actions::run(job, file, opts)?,
     };
@@ -62,6 +66,22 @@ pub fn run(file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
         outcome.files.push(path);
     }
     Ok(outcome)
+}
+
+/// The outcome of a job that returned `report`: its facts and summary read off it, its
+/// files written from it.
+fn reported(report: Report, opts: RunOptions<'_>) -> Result<Outcome> {
+    let files = match opts.out_dir {
+        Some(dir) => crate::output::reports::write(dir, &report)?,
+        None => Vec::new(),
+    };
+    Ok(Outcome {
+        facts: report.facts(),
+        summary: crate::output::reports::summary(&report),
+        files,
+        failure: None,
+        report: Some(Box::new(report)),
+    })
 }
 
 /// Puts the finished `staging` directory in place of `dir`, the previous outputs moved

@@ -1,48 +1,25 @@
 //! The terrain-shadow job: a DEM (synthesised or read) lit by the Sun at an instant.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use areo_ephemeris::{Site, SolarGeometry, SunModel, format_utc, parse_utc};
-use areo_terrain::Dem;
-use areo_terrain::shadow::{Curvature, GridSunDirection, Method, Shadows};
+use areo_terrain::geotiff::Grid;
+use areo_terrain::hillshade::hillshade_rgb;
+use areo_terrain::shadow::{Curvature, GridSunDirection, Shadows};
 use areo_terrain::slope::slope_aspect;
-use hifitime::Epoch;
 
 use crate::error::Result;
 use crate::format::{ScenarioFile, TerrainShadowJob, TerrainSource};
 use crate::jobs::RunOptions;
-use crate::outcome::Outcome;
+use crate::report::{Raster, ShadowSun, TerrainShadowReport};
 
-/// What a terrain-shadow job computed: the placed map, the Sun at the instant and the
-/// light and relief figures read off the shadow and slope maps.
-struct ShadowReport {
-    dem: Dem,
-    utc: Epoch,
-    /// The Sun's direction on the grid's axes.
-    sun: GridSunDirection,
-    /// Its true azimuth at the site, degrees clockwise from north.
-    true_azimuth_deg: f64,
-    ltst_hours: f64,
-    lit_fraction: f64,
-    cast_shadow_fraction: f64,
-    relief_m: f64,
-    max_slope_deg: f64,
-    mean_slope_deg: f64,
-}
-
-/// Runs a terrain-shadow job: compute the report, then its facts and files.
-pub(crate) fn run(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
-    let report = compute(job, file, opts)?;
-    let mut o = outcome(&report);
-    if let Some(dir) = opts.out_dir {
-        o.files = write(dir, job, &report)?;
-    }
-    opts.progress.advance(1);
-    opts.progress.finish();
-    Ok(o)
-}
-
-fn compute(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<ShadowReport> {
+/// Computes the report: the map placed at the site, the Sun at the instant, the
+/// direct-sun and slope maps and the figures read off them.
+pub(crate) fn compute(
+    job: &TerrainShadowJob,
+    file: &ScenarioFile,
+    opts: RunOptions<'_>,
+) -> Result<TerrainShadowReport> {
     opts.progress.start(3, "terrain");
     let dem = match &job.terrain {
         TerrainSource::Synth(spec) => spec.build()?,
@@ -75,66 +52,30 @@ fn compute(job: &TerrainShadowJob, file: &ScenarioFile, opts: RunOptions<'_>) ->
         areo_ephemeris::Body::Mars => SolarGeometry::at(utc).ltst_hours(site.lon_east_deg()),
         _ => state.local_solar_time_hours(site.lon_east_deg()),
     };
-    Ok(ShadowReport {
-        utc,
-        sun,
-        true_azimuth_deg: at_site.azimuth_deg,
+    let dark: Vec<bool> = (0..map.cast.len()).map(|i| !map.direct_sun(i)).collect();
+    let rgb = hillshade_rgb(&dem, &sa, Some(&dark), sun.azimuth_deg, sun.elevation_deg);
+    let (cols, rows) = (dem.cols(), dem.rows());
+    let elevation_m =
+        dem.elevations().iter().zip(dem.valid_mask()).map(|(z, ok)| if *ok { *z } else { f32::NAN }).collect();
+    opts.progress.advance(1);
+    opts.progress.finish();
+    Ok(TerrainShadowReport {
+        utc: format_utc(utc),
         ltst_hours,
-        lit_fraction: map.lit_fraction(),
-        cast_shadow_fraction: cast,
+        sun: ShadowSun {
+            azimuth_deg: at_site.azimuth_deg,
+            grid_azimuth_deg: sun.azimuth_deg,
+            elevation_deg: sun.elevation_deg,
+        },
+        grid: Grid::of(&dem),
+        cells: cols * rows,
         relief_m: f64::from(hi - lo),
         max_slope_deg: slopes.iter().copied().fold(0.0, f64::max),
         mean_slope_deg: slopes.iter().fold(0.0, |a, b| a + b) / slopes.len().max(1) as f64,
-        dem,
+        lit_fraction: map.lit_fraction(),
+        cast_shadow_fraction: cast,
+        elevation_m: Raster { cols, rows, values: elevation_m },
+        direct_sun: Raster { cols, rows, values: map.to_u8() },
+        preview_rgb: Raster { cols, rows, values: rgb.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect() },
     })
-}
-
-fn outcome(r: &ShadowReport) -> Outcome {
-    let mut o = Outcome::default();
-    let dem = &r.dem;
-    o.count("cells", (dem.cols() * dem.rows()) as u64);
-    o.number("relief_m", r.relief_m);
-    o.number("max_slope_deg", r.max_slope_deg);
-    o.number("mean_slope_deg", r.mean_slope_deg);
-    o.number("sun_azimuth_deg", r.true_azimuth_deg);
-    o.number("sun_grid_azimuth_deg", r.sun.azimuth_deg);
-    o.number("sun_elevation_deg", r.sun.elevation_deg);
-    o.number("ltst_hours", r.ltst_hours);
-    o.number("lit_fraction", r.lit_fraction);
-    o.number("cast_shadow_fraction", r.cast_shadow_fraction);
-    o.summary.push(format!(
-        "{} × {} cells of {} m × {} m, relief {:.1} m, slopes up to {:.1}°",
-        dem.cols(),
-        dem.rows(),
-        dem.dx(),
-        dem.dy(),
-        r.relief_m,
-        r.max_slope_deg
-    ));
-    o.summary.push(format!(
-        "Sun at azimuth {:.2}°{}, elevation {:.2}° ({}): {:.1} % of the ground in direct sun, {:.1} % in cast shadow",
-        r.true_azimuth_deg,
-        crate::terrain::grid_azimuth_said(r.true_azimuth_deg, r.sun.azimuth_deg),
-        r.sun.elevation_deg,
-        format_utc(r.utc),
-        100.0 * r.lit_fraction,
-        100.0 * r.cast_shadow_fraction
-    ));
-    o
-}
-
-/// dem.tif, shadow.tif and its preview.
-fn write(dir: &Path, job: &TerrainShadowJob, r: &ShadowReport) -> Result<Vec<PathBuf>> {
-    let dem_path = dir.join("dem.tif");
-    areo_terrain::geotiff::write(&r.dem, &dem_path)?;
-    let shadow_path = dir.join("shadow.tif");
-    let (files, _) = crate::terrain::write_shadow(
-        &r.dem,
-        r.sun.azimuth_deg,
-        r.sun.elevation_deg,
-        job.flat,
-        Method::OwnRay,
-        &shadow_path,
-    )?;
-    Ok(std::iter::once(dem_path).chain(files).collect())
 }
