@@ -305,6 +305,18 @@ fn sweep_runs_tasks_by_array_index_and_collects_them() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.starts_with("2 finished, 2 missing, 0 failed"), "{text}");
     assert!(text.contains("missing tau-0.25") && text.contains("missing tau-0.75"));
+    // The job reports its own `tau`: beside the axis, in a column of its own.
+    let results = std::fs::read_to_string(run_dir.join("results.csv")).unwrap();
+    let mut lines = results.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let (axis, fact) = (header.iter().position(|h| *h == "tau"), header.iter().position(|h| *h == "fact.tau"));
+    let (axis, fact) = (axis.expect("the axis column"), fact.expect("the fact's column"));
+    let done: Vec<Vec<&str>> =
+        lines.map(|l| l.split(',').collect()).filter(|r: &Vec<&str>| r.contains(&"done")).collect();
+    assert_eq!(done.len(), 2);
+    for row in done {
+        assert_eq!(row[axis].parse::<f64>().unwrap(), row[fact].parse::<f64>().unwrap());
+    }
     let script = String::from_utf8_lossy(&areo(&["sweep", "slurm", &run, "--parallel", "2"]).stdout).into_owned();
     assert!(script.contains("#SBATCH --array=0-3%2"), "{script}");
     let job = String::from_utf8_lossy(&areo(&["sweep", "k8s", &run]).stdout).into_owned();
@@ -793,7 +805,7 @@ fn tempest_run_writes_every_output_and_each_parses() {
     let facts: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("facts.json")).unwrap()).unwrap();
     assert_eq!(facts["status"], "completed");
-    assert_eq!(facts["route_enters_hill"], false, "the rover went round the hill it sensed");
+    assert_eq!(facts["route_enters.hill"], false, "the rover went round the hill it sensed");
 }
 
 #[test]
@@ -857,7 +869,7 @@ fn actions_run_writes_the_plan_tables_and_five_plots() {
     }
     let facts: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("facts.json")).unwrap()).unwrap();
-    assert_eq!(facts["small_evaluations"], 12.0 * 5.0);
+    assert_eq!(facts["runs.small.evaluations"], 12.0 * 5.0);
 }
 
 #[test]

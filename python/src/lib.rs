@@ -457,7 +457,7 @@ fn temp_out(name: &str) -> std::io::Result<PathBuf> {
 #[derive(Clone)]
 struct PyRunResult {
     facts_json: String,
-    /// The job's report, for the jobs that return one as plain data.
+    /// The job's report.
     report: Option<serde_json::Value>,
     summary: Vec<String>,
     files: Vec<PathBuf>,
@@ -606,8 +606,8 @@ impl PyRunResult {
 
     /// The job's report, as `areo run --json` prints it: plain data whose scalar fields
     /// are the facts (a fact `a.b` is `report["a"]["b"]`), tables as dicts of columns
-    /// and rasters as NumPy arrays of shape `(rows, cols)`. None for a job that does not
-    /// return one yet (TEMPEST, actions: read `facts` and `tables`).
+    /// and rasters as NumPy arrays of shape `(rows, cols)`. A TEMPEST report holds the
+    /// plan (`report["plan"]["waypoints"]`) and a simulated run (`report["simulation"]`).
     #[getter]
     fn report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         match &self.report {

@@ -205,6 +205,14 @@ def test_a_scenario_run_gives_the_binarys_facts_and_tables(tmp_path):
     assert np.array_equal(arr["t_s"], [row["t_s"] for row in plan])
     assert list(arr["action"]) == [row["action"] or "" for row in plan]
     assert any(p.name == "facts.json" for p in result.files)
+    # The report holds the figures the facts name and the plan itself, its waypoints as
+    # columns: the plan table's rows are the report's waypoints.
+    report = result.report
+    assert report["job"] == "Tempest" and report["initial_plan_waypoints"] == ours["initial_plan_waypoints"]
+    assert report["mc"]["success_probability"] == ours["mc.success_probability"]
+    waypoints = report["plan"]["waypoints"]
+    assert np.allclose(waypoints["t_s"], arr["t_s"], atol=0.05)
+    assert report["plan"]["e_max_wh"] == ours["e_max_wh"]
 
 
 def test_set_changes_a_field_and_refuses_a_bad_one():

@@ -6,8 +6,7 @@ use std::path::PathBuf;
 use areo_scenario::format::ScenarioFile;
 use areo_scenario::{Fact, Outcome};
 
-/// The run as JSON: the job's report (for the jobs that return one as plain data), the
-/// facts with their JSON types (counts as integers), the summary lines, the files
+/// The run as JSON: the job's report, the facts with their JSON types (counts as integers), the summary lines, the files
 /// written and why the aim was missed, if it was.
 #[derive(serde::Serialize)]
 pub(crate) struct RunJson<'a> {

@@ -34,8 +34,8 @@ impl std::fmt::Display for Fact {
 /// A job's result: its report, named facts, files written and a human summary.
 #[derive(Debug, Clone, Default)]
 pub struct Outcome {
-    /// The job's report, for the jobs that return one as plain data (the Sun table and
-    /// the terrain shadow); their facts, summary and files are read off it.
+    /// The job's report as plain data; the facts are read off it. (`None` only for an
+    /// outcome built by hand.)
     pub report: Option<Box<crate::report::Report>>,
     /// Facts by name.
     pub facts: BTreeMap<String, Fact>,

@@ -757,7 +757,8 @@ fn plot_against(
 }
 
 /// Merges every finished task's facts into `DIR/results.csv` (one row per task: index,
-/// id, the axis values, status, then every fact any task reported, by name), and with
+/// id, the axis values, status, then every fact any task reported, by name; a fact
+/// named as an axis as `fact.NAME`), and with
 /// `plot: Some((fact, axis))` plots that fact against that axis (`DIR/FACT_vs_AXIS`).
 pub fn collect(dir: &Path, plot: Option<(&str, &str)>) -> Result<Collected> {
     let info = info(dir)?;
@@ -785,7 +786,10 @@ pub fn collect(dir: &Path, plot: Option<(&str, &str)>) -> Result<Collected> {
     let mut header: Vec<String> = vec!["index".into(), "id".into()];
     header.extend(info.axes.iter().cloned());
     header.push("status".into());
-    header.extend(names.iter().cloned());
+    // A fact named as one of the columns before it (a sweep over `tau` of a job that
+    // reports its `tau`) keeps its own column, as `fact.NAME`.
+    let leading: BTreeSet<String> = header.iter().cloned().collect();
+    header.extend(names.iter().map(|n| if leading.contains(n) { format!("fact.{n}") } else { n.clone() }));
     let mut table = Table::new(header.iter().map(String::as_str));
     let cell = |v: &serde_json::Value| match v {
         serde_json::Value::String(s) => s.clone(),

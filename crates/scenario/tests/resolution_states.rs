@@ -261,7 +261,7 @@ fn valley_detour_at_quanta_completes_at_its_settings_and_five_finer_ones() {
         assert_eq!(number(&o, "night_drives"), 0.0, "{}", task.id);
         assert!(number(&o, "final_battery_above_floor_wh") >= 100.0 - 1e-6, "{}", task.id);
         // The detour waits out one night and reaches goal 2 the next day.
-        let arrival = number(&o, "goal_goal2_arrival_h");
+        let arrival = number(&o, "goals.goal2.arrival_h");
         assert!((28.0..34.0).contains(&arrival), "{}: goal 2 after {arrival} h", task.id);
     }
     let _ = std::fs::remove_dir_all(&dir);

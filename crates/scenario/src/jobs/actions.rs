@@ -21,7 +21,13 @@ use crate::outcome::Outcome;
 use crate::output::csv::{Fixed, rows_to_csv, write_rows};
 use crate::output::plots::{HistogramPlot, Marker, ProfilePlot, ProfileRover, RoutePlot, Series, TimePlot};
 use crate::output::{json_for, write_file};
+use crate::report::Report;
+use crate::report::actions::{
+    ActionsReport, Binding, ClimbFigures, GaRunFigures, ReplayFigures, SeedThreshold, SensitivityFigures, StudyFigures,
+    SweepFigures, SweepSeedFigures,
+};
 use serde::Serialize;
+use std::collections::BTreeMap;
 
 mod outputs;
 
@@ -106,10 +112,11 @@ struct RunResult {
     best: Execution,
 }
 
-/// What an actions job computed: the filtered inventory, each run, the friction sweep
+/// What an actions job computed (the public [`ActionsReport`], the summary and the
+/// files are made from it): the filtered inventory, each run, the friction sweep
 /// (the μ values and their results, and the sweep for each further seed), the first
 /// run's best plan replayed over friction, and the climb profile.
-struct ActionsReport {
+struct Computed {
     filtered: Inventory,
     runs: Vec<RunResult>,
     sweep: Option<(Vec<f64>, FrictionSweep)>,
@@ -183,7 +190,7 @@ fn mu_values(range: Option<(f64, f64, f64)>) -> Vec<f64> {
 }
 
 /// Evolves every run (and its other seeds), sweeps μ and profiles the climb.
-fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &Setup) -> Result<ActionsReport> {
+fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &Setup) -> Result<Computed> {
     let Setup { dem, task, params, execution, weights, ga, overrides } = setup;
     let evaluator = Evaluator::new(params);
     let scale = scale_of(setup);
@@ -236,7 +243,7 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
     let (sweep, sweep_seeds) = friction_sweeps(job, file, opts, setup, &plans[0].inventory, &sweep, &sweep_seeds)?;
     opts.progress.finish();
     let (replay, climb, sensitivity) = studies_without_the_ga(job, setup, &runs[0]);
-    Ok(ActionsReport { filtered, runs, sweep, sweep_seeds, replay, climb, sensitivity })
+    Ok(Computed { filtered, runs, sweep, sweep_seeds, replay, climb, sensitivity })
 }
 
 /// The friction sweep at the GA's seed (`mu_sweep`), and at each seed of
@@ -321,90 +328,90 @@ fn studies_without_the_ga(
     (replay, climb, sensitivity)
 }
 
-/// The report's facts and summary lines.
-fn outcome(setup: &Setup, report: &ActionsReport) -> Outcome {
-    let mut o = Outcome::default();
+/// The public report and the summary lines.
+fn outcome(setup: &Setup, computed: &Computed) -> Outcome {
+    let mut summary = Vec::new();
     let (task, m) = (&setup.task, setup.ga.initial_length.1);
-    let filtered = &report.filtered;
-    o.number("design_space_log10_full", design_space_log10(26, m));
-    o.number("design_space_log10_filtered", design_space_log10(filtered.modules.len(), m));
-    o.summary.push(format!(
+    let filtered = &computed.filtered;
+    let mut r = ActionsReport {
+        design_space_log10_full: design_space_log10(26, m),
+        design_space_log10_filtered: design_space_log10(filtered.modules.len(), m),
+        inventory: filtered.codes(),
+        ..ActionsReport::default()
+    };
+    summary.push(format!(
         "inventory: {} of 26 modules after the task filters ({}); D = N^m for m = {m}: 10^{:.0} → 10^{:.0}",
         filtered.modules.len(),
         filtered.codes().iter().map(u16::to_string).collect::<Vec<_>>().join(" "),
         design_space_log10(26, m),
         design_space_log10(filtered.modules.len(), m)
     ));
-    for run in &report.runs {
-        let name = &run.name;
-        run_facts(&mut o, name, &run.report, run.seconds, task);
-        o.count(&format!("{name}_modules"), run.inventory.modules.len() as u64);
-        o.number(&format!("{name}_design_space_log10"), design_space_log10(run.inventory.modules.len(), m));
-        if let Some(study) = &run.study {
-            study_facts(&mut o, name, study, run.generations);
+    for run in &computed.runs {
+        let mut f = run_facts(&run.report, run.seconds, task);
+        f.modules = run.inventory.modules.len();
+        f.design_space_log10 = design_space_log10(run.inventory.modules.len(), m);
+        f.study = run.study.as_ref().map(|study| study_facts(&mut summary, &run.name, study, run.generations));
+        r.runs.insert(run.name.clone(), f);
+    }
+    r.sweep = computed.sweep.as_ref().map(|(values, result)| sweep_facts(&mut summary, values, result));
+    if !computed.sweep_seeds.is_empty() {
+        r.sweep_seeds = Some(sweep_seed_facts(&mut summary, &computed.sweep_seeds));
+    }
+    r.replay = computed.replay.as_ref().map(|replay| replay_facts(&mut summary, &computed.runs[0], replay));
+    r.climb = computed.climb.as_ref().map(|profile| climb_facts(&mut summary, profile));
+    r.sensitivity = sensitivity_facts(&mut summary, &computed.sensitivity);
+    for run in &computed.runs {
+        if let Some(f) = r.runs.get_mut(&run.name) {
+            best_facts(f, &mut summary, run);
         }
     }
-    if let Some((values, result)) = &report.sweep {
-        sweep_facts(&mut o, values, result);
-    }
-    if !report.sweep_seeds.is_empty() {
-        sweep_seed_facts(&mut o, &report.sweep_seeds);
-    }
-    if let Some(replay) = &report.replay {
-        replay_facts(&mut o, &report.runs[0], replay);
-    }
-    if let Some(profile) = &report.climb {
-        climb_facts(&mut o, profile);
-    }
-    sensitivity_facts(&mut o, &report.sensitivity);
-    for run in &report.runs {
-        best_facts(&mut o, run);
-    }
-    o
+    let report = Report::Actions(Box::new(r));
+    Outcome { facts: report.facts(), summary, files: Vec::new(), failure: None, report: Some(Box::new(report)) }
 }
 
 /// The friction sweep's thresholds and what binds just below each.
-fn sweep_facts(o: &mut Outcome, values: &[f64], result: &FrictionSweep) {
+fn sweep_facts(summary: &mut Vec<String>, values: &[f64], result: &FrictionSweep) -> SweepFigures {
     let (crossed, completed) = (result.min_mu_crossing, result.min_mu_completing);
-    if let Some(mu) = crossed {
-        o.number("sweep_min_mu_crossing_ditch", mu);
-    }
-    if let Some(mu) = completed {
-        o.number("sweep_min_mu_completing", mu);
-    }
-    if let (Some(a), Some(b)) = (crossed, completed) {
-        o.flag("sweep_ditch_needs_less_friction_than_hill", a < b);
-    }
+    let mut f = SweepFigures {
+        sweep_min_mu_crossing_ditch: crossed,
+        sweep_min_mu_completing: completed,
+        sweep_ditch_needs_less_friction_than_hill: crossed.zip(completed).map(|(a, b)| a < b),
+        ..SweepFigures::default()
+    };
     // What binds just below each threshold: the best plan at the last μ that fails.
     for (what, threshold) in [("crossing", crossed), ("completing", completed)] {
         // (The nearest μ below whose best plan stopped on a force limit: a plan that
         // merely runs out of modules names no wheel.)
         let below = threshold.and_then(|t| result.points.iter().rev().find(|p| p.mu < t - 1e-9 && p.binding.is_some()));
         if let Some(b) = below.and_then(|p| p.binding.as_ref()) {
-            o.text(&format!("sweep_binding_below_{what}_wheel"), b.wheel.clone());
-            o.flag(&format!("sweep_binding_below_{what}_climbing"), b.climbing);
-            o.number(&format!("sweep_binding_below_{what}_y_m"), b.contact_m[1]);
-            o.number(&format!("sweep_binding_below_{what}_mu"), below.map_or(0.0, |p| p.mu));
-            o.text(&format!("sweep_binding_below_{what}_steepest_wheel"), b.steepest.0.clone());
-            o.flag(&format!("sweep_binding_below_{what}_steepest_climbing"), b.steepest.2);
-            o.number(&format!("sweep_binding_below_{what}_steepest_angle_deg"), b.steepest.1);
-            o.summary.push(format!("below the {what} threshold (μ = {}): {b}", below.map_or(0.0, |p| p.mu)));
+            let binding = Binding {
+                wheel: b.wheel.clone(),
+                climbing: b.climbing,
+                y_m: b.contact_m[1],
+                mu: below.map_or(0.0, |p| p.mu),
+                steepest_wheel: b.steepest.0.clone(),
+                steepest_climbing: b.steepest.2,
+                steepest_angle_deg: b.steepest.1,
+            };
+            f.sweep_binding_below.insert(what.to_string(), binding);
+            summary.push(format!("below the {what} threshold (μ = {}): {b}", below.map_or(0.0, |p| p.mu)));
         }
     }
-    o.summary.push(format!(
+    summary.push(format!(
         "friction sweep μ = {}..{}: ditch crossed from μ = {}, task completed from μ = {}",
         values[0],
         values[values.len() - 1],
         crossed.map_or("never".into(), |m| format!("{m}")),
         completed.map_or("never".into(), |m| format!("{m}"))
     ));
+    f
 }
 
 /// The friction sweep's thresholds over seeds: median, least and greatest, and how many
 /// seeds never got there.
-fn sweep_seed_facts(o: &mut Outcome, seeds: &[(u64, FrictionSweep)]) {
+fn sweep_seed_facts(summary: &mut Vec<String>, seeds: &[(u64, FrictionSweep)]) -> SweepSeedFigures {
     let n = seeds.len();
-    o.count("sweep_seeds", n as u64);
+    let mut f = SweepSeedFigures { sweep_seeds: n, ..SweepSeedFigures::default() };
     for (what, pick) in [
         ("crossing_ditch", (|s: &FrictionSweep| s.min_mu_crossing) as fn(&FrictionSweep) -> Option<f64>),
         ("completing", |s: &FrictionSweep| s.min_mu_completing),
@@ -412,53 +419,49 @@ fn sweep_seed_facts(o: &mut Outcome, seeds: &[(u64, FrictionSweep)]) {
         let mut found: Vec<f64> = seeds.iter().filter_map(|(_, s)| pick(s)).collect();
         found.sort_by(f64::total_cmp);
         let never = n - found.len();
-        o.count(&format!("sweep_seeds_never_{what}"), never as u64);
+        f.sweep_seeds_never.insert(what.to_string(), never);
         let (Some(&lo), Some(&hi)) = (found.first(), found.last()) else { continue };
-        o.number(&format!("sweep_seeds_min_mu_{what}_least"), lo);
-        o.number(&format!("sweep_seeds_min_mu_{what}_greatest"), hi);
         // A seed that never gets there counts as above every μ: the median exists while
         // fewer than half never do.
         let median = (2 * never < n).then(|| found[(n - 1) / 2]);
-        if let Some(m) = median {
-            o.number(&format!("sweep_seeds_min_mu_{what}_median"), m);
-        }
-        o.summary.push(format!(
+        f.sweep_seeds_min_mu.insert(what.to_string(), SeedThreshold { least: lo, greatest: hi, median });
+        summary.push(format!(
             "friction sweep over {n} seeds, least μ {what}: median {}, range {lo}–{hi}{}",
             median.map_or("above the sweep".into(), |m| m.to_string()),
             if never > 0 { format!(", {never} never") } else { String::new() }
         ));
     }
+    f
 }
 
 /// The replayed plan: from which μ up it crosses and completes, and what stops it at
 /// the highest μ where it fails.
-fn replay_facts(o: &mut Outcome, run: &RunResult, replay: &FrictionReplay) {
-    if let Some(mu) = replay.min_mu_crossing {
-        o.number("replay_min_mu_crossing_ditch", mu);
-    }
-    if let Some(mu) = replay.min_mu_completing {
-        o.number("replay_min_mu_completing", mu);
-    }
+fn replay_facts(summary: &mut Vec<String>, run: &RunResult, replay: &FrictionReplay) -> ReplayFigures {
+    let mut r = ReplayFigures {
+        replay_min_mu_crossing_ditch: replay.min_mu_crossing,
+        replay_min_mu_completing: replay.min_mu_completing,
+        ..ReplayFigures::default()
+    };
     let failing = replay.highest_failing();
     if let Some(p) = failing {
-        o.number("replay_highest_failing_mu", p.mu);
-        o.number("replay_highest_failing_max_y_m", p.max_y_m);
+        r.replay_highest_failing_mu = Some(p.mu);
+        r.replay_highest_failing_max_y_m = Some(p.max_y_m);
         if let Some((i, f)) = &p.failure {
-            o.text("replay_failure", f.kind());
-            o.count("replay_failure_module", *i as u64 + 1);
-            o.count("replay_failure_code", u64::from(run.report.best.plan[*i].code()));
+            r.replay_failure = Some(f.kind().to_string());
+            r.replay_failure_module = Some(*i + 1);
+            r.replay_failure_code = Some(run.report.best.plan[*i].code());
         }
         if let Some(b) = &p.binding {
-            o.text("replay_binding_wheel", b.wheel.clone());
-            o.flag("replay_binding_climbing", b.climbing);
-            o.number("replay_binding_y_m", b.contact_m[1]);
-            o.text("replay_binding_steepest_wheel", b.steepest.0.clone());
-            o.flag("replay_binding_steepest_climbing", b.steepest.2);
-            o.number("replay_binding_steepest_angle_deg", b.steepest.1);
+            r.replay_binding_wheel = Some(b.wheel.clone());
+            r.replay_binding_climbing = Some(b.climbing);
+            r.replay_binding_y_m = Some(b.contact_m[1]);
+            r.replay_binding_steepest_wheel = Some(b.steepest.0.clone());
+            r.replay_binding_steepest_climbing = Some(b.steepest.2);
+            r.replay_binding_steepest_angle_deg = Some(b.steepest.1);
         }
     }
     let at = |m: Option<f64>| m.map_or("no μ listed".into(), |m| format!("μ = {m}"));
-    o.summary.push(format!(
+    summary.push(format!(
         "{}'s best plan (found at μ = {}) replayed: crosses the ditch from {}, completes from {}{}",
         run.name,
         run.exec.mu,
@@ -471,14 +474,15 @@ fn replay_facts(o: &mut Outcome, run: &RunResult, replay: &FrictionReplay) {
             p.failure.as_ref().map_or(String::new(), |(_, f)| format!(" ({f})"))
         ))
     ));
+    r
 }
 
 /// A run's best plan as executed: its summary line, where it ended and what bound it.
-fn best_facts(o: &mut Outcome, run: &RunResult) {
+fn best_facts(f: &mut GaRunFigures, summary: &mut Vec<String>, run: &RunResult) {
     let (name, report, best) = (&run.name, &run.report, &run.best);
     let failure =
         best.failure.as_ref().map(|(i, f)| format!("module {} ({}): {f}", i + 1, report.best.plan[*i].code()));
-    o.summary.push(format!(
+    summary.push(format!(
         "{name}: {} in {}; fitness {:.2}; {} ({}); stability min {:.0} %, mean {:.0} %; {:.0} s, {:.2} Wh{}",
         if best.complete { "task complete" } else { "not complete" },
         super::counted(best.prefix_len, "module"),
@@ -494,30 +498,28 @@ fn best_facts(o: &mut Outcome, run: &RunResult) {
     let executed = &report.best.plan[..best.prefix_len.min(report.best.plan.len())];
     let count = |m: areo_rover::motion::Module| executed.iter().filter(|&&x| x == m).count() as f64;
     use areo_rover::motion::Module as M;
-    o.number(&format!("{name}_arm_forward_net"), count(M::ArmForward) - count(M::ArmBack));
+    f.arm_forward_net = count(M::ArmForward) - count(M::ArmBack);
     if let Some(last) = best.trace.last() {
-        o.number(&format!("{name}_last_pitch_deg"), last.pitch_deg);
+        f.last_pitch_deg = Some(last.pitch_deg);
         // Left and right front wheels' share of the load where the plan last stood:
         // near 0 as the rover rotates back over its rear wheels.
         let l = last.wheel_loads_n;
         let total: f64 = l.iter().sum();
         if total > 0.0 {
-            o.number(&format!("{name}_last_front_load_fraction"), (l[0] + l[3]) / total);
+            f.last_front_load_fraction = Some((l[0] + l[3]) / total);
         }
     }
-    if let Some((_, f)) = &best.failure {
-        o.text(&format!("{name}_failure"), f.kind());
-    }
+    f.failure = best.failure.as_ref().map(|(_, failure)| failure.kind().to_string());
     if let Some(b) = &best.binding {
-        o.text(&format!("{name}_binding_wheel"), b.wheel.clone());
-        o.flag(&format!("{name}_binding_climbing"), b.climbing);
-        o.summary.push(format!("{name}: bound by the {b}"));
+        f.binding_wheel = Some(b.wheel.clone());
+        f.binding_climbing = Some(b.climbing);
+        summary.push(format!("{name}: bound by the {b}"));
     }
 }
 
 /// Every file of the report: inventory.csv, the seed studies, sweep.csv, the climb, and
 /// each run's plan files (in a directory per run when there are several).
-fn write_report(dir: &Path, setup: &Setup, report: &ActionsReport) -> Result<Vec<PathBuf>> {
+fn write_report(dir: &Path, setup: &Setup, report: &Computed) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let kept = report.filtered.codes().into_iter().map(|code| InventoryRow { code, kept: 1, reason: String::new() });
     let removed =
@@ -568,22 +570,26 @@ fn value_key(v: f64) -> String {
 }
 
 /// Each assumed value's climb: what stopped it, where, and the margins at its end.
-fn sensitivity_facts(o: &mut Outcome, rows: &[areo_actions::SensitivityRow]) {
+fn sensitivity_facts(
+    summary: &mut Vec<String>,
+    rows: &[areo_actions::SensitivityRow],
+) -> BTreeMap<String, BTreeMap<String, SensitivityFigures>> {
+    let mut out: BTreeMap<String, BTreeMap<String, SensitivityFigures>> = BTreeMap::new();
     for row in rows {
-        let key = format!("sensitivity_{}_{}", row.parameter.field().replace('.', "_"), value_key(row.value));
+        let mut f = SensitivityFigures::default();
         match &row.profile {
             Ok(p) => {
-                o.text(&format!("{key}_stop"), p.stop.unwrap_or("none"));
-                o.number(&format!("{key}_stop_distance_m"), p.stop_distance_m);
+                f.stop = p.stop.unwrap_or("none").to_string();
+                f.stop_distance_m = Some(p.stop_distance_m);
                 if let Some(last) = p.poses.last() {
-                    o.number(&format!("{key}_last_pitch_deg"), last.pitch_deg);
-                    o.number(&format!("{key}_last_margin_stowed"), last.stowed.margin);
-                    o.number(&format!("{key}_last_margin_forward"), last.forward.margin);
-                    o.number(&format!("{key}_min_margin_stowed"), p.least(|q| q.stowed.margin));
-                    o.number(&format!("{key}_min_margin_forward"), p.least(|q| q.forward.margin));
-                    o.number(&format!("{key}_max_pitch_deg"), -p.least(|q| -q.pitch_deg));
+                    f.last_pitch_deg = Some(last.pitch_deg);
+                    f.last_margin_stowed = Some(last.stowed.margin);
+                    f.last_margin_forward = Some(last.forward.margin);
+                    f.min_margin_stowed = Some(p.least(|q| q.stowed.margin));
+                    f.min_margin_forward = Some(p.least(|q| q.forward.margin));
+                    f.max_pitch_deg = Some(-p.least(|q| -q.pitch_deg));
                 }
-                o.summary.push(format!(
+                summary.push(format!(
                     "{} = {}: straight climb {} after {:.2} m{}",
                     row.parameter.field(),
                     row.value,
@@ -600,11 +606,14 @@ fn sensitivity_facts(o: &mut Outcome, rows: &[areo_actions::SensitivityRow]) {
                 ));
             }
             Err(e) => {
-                o.text(&format!("{key}_stop"), "refused");
-                o.summary.push(format!("{} = {}: refused ({e})", row.parameter.field(), row.value));
+                f.stop = "refused".into();
+                summary.push(format!("{} = {}: refused ({e})", row.parameter.field(), row.value));
             }
         }
+        let field = row.parameter.field().replace('.', "_");
+        out.entry(field).or_default().insert(value_key(row.value), f);
     }
+    out
 }
 
 /// A row of sensitivity.csv: one assumed value and the straight climb with it.
@@ -647,25 +656,27 @@ impl SensitivityCsvRow {
 }
 
 /// The climb's facts: what ended it and where, and the margins along it.
-fn climb_facts(o: &mut Outcome, profile: &ClimbProfile) {
+fn climb_facts(summary: &mut Vec<String>, profile: &ClimbProfile) -> ClimbFigures {
+    let stop = profile.stop.unwrap_or("none").to_string();
     let Some(last) = profile.poses.last() else {
-        o.text("climb_stop", profile.stop.unwrap_or("none"));
-        return;
+        return ClimbFigures { climb_stop: stop, ..ClimbFigures::default() };
     };
-    o.text("climb_stop", profile.stop.unwrap_or("none"));
-    o.number("climb_stop_distance_m", profile.stop_distance_m);
-    o.number("climb_last_pitch_deg", last.pitch_deg);
-    o.number("climb_last_margin_stowed", last.stowed.margin);
-    o.number("climb_last_margin_forward", last.forward.margin);
     let max =
         |f: &dyn Fn(&areo_actions::ClimbPose) -> f64| profile.poses.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
-    o.number("climb_max_pitch_deg", max(&|p| p.pitch_deg));
-    o.number("climb_min_margin_stowed", profile.least(|p| p.stowed.margin));
-    o.number("climb_min_margin_forward", profile.least(|p| p.forward.margin));
-    o.number("climb_max_margin_gain", max(&|p| p.forward.margin - p.stowed.margin));
     let front = profile.poses.iter().map(|p| p.stowed.front_load_fraction).filter(|f| f.is_finite());
-    o.number("climb_min_front_load_stowed", front.fold(f64::INFINITY, f64::min));
-    o.summary.push(format!(
+    let figures = ClimbFigures {
+        climb_stop: stop,
+        climb_stop_distance_m: Some(profile.stop_distance_m),
+        climb_last_pitch_deg: Some(last.pitch_deg),
+        climb_last_margin_stowed: Some(last.stowed.margin),
+        climb_last_margin_forward: Some(last.forward.margin),
+        climb_max_pitch_deg: Some(max(&|p| p.pitch_deg)),
+        climb_min_margin_stowed: Some(profile.least(|p| p.stowed.margin)),
+        climb_min_margin_forward: Some(profile.least(|p| p.forward.margin)),
+        climb_max_margin_gain: Some(max(&|p| p.forward.margin - p.stowed.margin)),
+        climb_min_front_load_stowed: Some(front.fold(f64::INFINITY, f64::min)),
+    };
+    summary.push(format!(
         "straight climb: {} after {:.2} m at {:.1}° of pitch; stability margin there {:.3} stowed, {:.3} with the arm forward (tool at {:.2} m); least margins {:.3} and {:.3}",
         match profile.stop {
             Some("kinematics") => "no pose (a joint limit or the map's edge)",
@@ -680,6 +691,7 @@ fn climb_facts(o: &mut Outcome, profile: &ClimbProfile) {
         profile.least(|p| p.stowed.margin),
         profile.least(|p| p.forward.margin),
     ));
+    figures
 }
 
 /// `climb.csv` (one row per pose) and `climb.png` (margins and front load along it).
@@ -792,31 +804,34 @@ impl SeedStudy {
     }
 }
 
-fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usize) {
+fn study_facts(summary: &mut Vec<String>, name: &str, study: &SeedStudy, generations: usize) -> StudyFigures {
     let n = study.seeds.len();
-    o.count(&format!("{name}_seeds"), n as u64);
     let last = generations.saturating_sub(1);
-    o.number(&format!("{name}_success_fraction"), study.solved_by(last));
-    if let Some(m) = study.median_first_solved() {
-        o.number(&format!("{name}_first_solved_median"), m);
-    }
     let la = &study.lookahead;
     let small = la.iter().filter(|d| (1..=4).contains(*d)).count();
-    o.number(
-        &format!("{name}_pooled_lookahead_1_to_4_fraction"),
-        if la.is_empty() { 0.0 } else { small as f64 / la.len() as f64 },
-    );
-    o.count(&format!("{name}_pooled_improving_crossovers"), la.len() as u64);
+    let share = |f: &dyn Fn(i64) -> bool| {
+        if la.is_empty() { 0.0 } else { la.iter().filter(|d| f(**d)).count() as f64 / la.len() as f64 }
+    };
+    let mut f = StudyFigures {
+        seeds: n,
+        success_fraction: study.solved_by(last),
+        first_solved_median: study.median_first_solved(),
+        pooled_lookahead_1_to_4_fraction: if la.is_empty() { 0.0 } else { small as f64 / la.len() as f64 },
+        pooled_improving_crossovers: la.len(),
+        pooled_lookahead_none_fraction: share(&|d| d <= 0),
+        pooled_lookahead_5_plus_fraction: share(&|d| d >= 5),
+        ..StudyFigures::default()
+    };
     // Over the seeds that solved it: the range of first-solved generations and of their
     // best plans' least stability margins (the paper's "S ≥ 40 %").
     let solved: Vec<&(u64, Option<usize>, f64, usize, f64)> = study.seeds.iter().filter(|s| s.1.is_some()).collect();
     if !solved.is_empty() {
         let gens = solved.iter().filter_map(|s| s.1);
-        o.count(&format!("{name}_first_solved_earliest"), gens.clone().min().unwrap_or(0) as u64);
-        o.count(&format!("{name}_first_solved_latest"), gens.max().unwrap_or(0) as u64);
+        f.first_solved_earliest = Some(gens.clone().min().unwrap_or(0));
+        f.first_solved_latest = Some(gens.max().unwrap_or(0));
         let margins = solved.iter().map(|s| s.4);
-        o.number(&format!("{name}_solved_least_margin_min"), margins.clone().fold(f64::INFINITY, f64::min));
-        o.number(&format!("{name}_solved_least_margin_max"), margins.fold(f64::NEG_INFINITY, f64::max));
+        f.solved_least_margin_min = Some(margins.clone().fold(f64::INFINITY, f64::min));
+        f.solved_least_margin_max = Some(margins.fold(f64::NEG_INFINITY, f64::max));
     }
     // How the seeds' best plans ended: a count per kind, every kind that occurred.
     let mut kinds: Vec<&str> = study.stopped_by.clone();
@@ -824,25 +839,20 @@ fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usiz
     kinds.dedup();
     for kind in kinds {
         let count = study.stopped_by.iter().filter(|k| **k == kind).count();
-        o.count(&format!("{name}_seeds_stopped_by_{kind}"), count as u64);
+        f.seeds_stopped_by.insert(kind.to_string(), count);
     }
     // The paper's plan took the samples on the left of the way and left the others.
     if study.has_samples {
         let left_only = study.taken.iter().filter(|t| t.1 > 0 && t.2 == 0).count();
-        o.number(&format!("{name}_left_only_fraction"), left_only as f64 / n.max(1) as f64);
+        f.left_only_fraction = Some(left_only as f64 / n.max(1) as f64);
     }
-    let share = |f: &dyn Fn(i64) -> bool| {
-        if la.is_empty() { 0.0 } else { la.iter().filter(|d| f(**d)).count() as f64 / la.len() as f64 }
-    };
-    o.number(&format!("{name}_pooled_lookahead_none_fraction"), share(&|d| d <= 0));
-    o.number(&format!("{name}_pooled_lookahead_5_plus_fraction"), share(&|d| d >= 5));
     // Of the crossovers that extended the successful prefix, the share adding fewer than
     // five modules (the paper's Figure 3 counts these).
     let extending = la.iter().filter(|d| **d >= 1).count();
     if extending > 0 {
-        o.number(&format!("{name}_pooled_extending_under_5_fraction"), small as f64 / extending as f64);
+        f.pooled_extending_under_5_fraction = Some(small as f64 / extending as f64);
     }
-    o.summary.push(format!(
+    summary.push(format!(
         "{name}: seeds {}..{}: solved by generation {last} in {} of {n}; median first-solved generation {}; {} improving crossovers, {:.0} % adding 1–4 successful modules",
         study.seeds.first().map_or(0, |s| s.0),
         study.seeds.last().map_or(0, |s| s.0),
@@ -851,6 +861,7 @@ fn study_facts(o: &mut Outcome, name: &str, study: &SeedStudy, generations: usiz
         la.len(),
         if la.is_empty() { 0.0 } else { 100.0 * small as f64 / la.len() as f64 }
     ));
+    f
 }
 
 /// `seeds.csv` (one row per run and seed), the success-by-generation plot and each
@@ -940,31 +951,28 @@ fn sides(task: &Task, taken: &[usize]) -> (usize, usize) {
     (left, taken.len() - left)
 }
 
-fn run_facts(o: &mut Outcome, name: &str, r: &GaReport, seconds: f64, task: &Task) {
+/// A GA run's best plan as the GA scored it (its run took `seconds`).
+fn run_facts(r: &GaReport, seconds: f64, task: &Task) -> GaRunFigures {
     let e = &r.best.execution;
-    o.flag(&format!("{name}_complete"), e.complete);
-    o.number(&format!("{name}_best_fitness"), r.best.fitness);
-    o.count(&format!("{name}_samples"), e.samples as u64);
-    if !task.samples.is_empty() {
-        o.text(&format!("{name}_samples_taken"), taken_label(&e.taken));
-        let (left, right) = sides(task, &e.taken);
-        o.count(&format!("{name}_samples_left"), left as u64);
-        o.count(&format!("{name}_samples_right"), right as u64);
-    }
-    o.number(&format!("{name}_min_stability"), e.min_stability);
-    o.number(&format!("{name}_peak_saturation"), e.peak_saturation);
-    o.number(&format!("{name}_peak_friction_ratio"), e.peak_friction_ratio);
-    o.count(&format!("{name}_prefix"), e.prefix_len as u64);
-    o.number(&format!("{name}_distance_to_target_m"), e.distance_to_target_m);
-    o.count(&format!("{name}_evaluations"), r.evaluations as u64);
-    o.count(&format!("{name}_modules_executed"), r.modules_executed as u64);
-    o.number(&format!("{name}_seconds"), seconds);
-    if let Some(g) = r.first_solved {
-        o.count(&format!("{name}_first_solved_generation"), g as u64);
-    }
     let small = r.lookahead.iter().filter(|d| (1..=4).contains(*d)).count();
-    o.number(
-        &format!("{name}_lookahead_1_to_4_fraction"),
-        if r.lookahead.is_empty() { 0.0 } else { small as f64 / r.lookahead.len() as f64 },
-    );
+    let sides = (!task.samples.is_empty()).then(|| sides(task, &e.taken));
+    GaRunFigures {
+        complete: e.complete,
+        best_fitness: r.best.fitness,
+        samples: e.samples,
+        samples_taken: (!task.samples.is_empty()).then(|| taken_label(&e.taken)),
+        samples_left: sides.map(|s| s.0),
+        samples_right: sides.map(|s| s.1),
+        min_stability: e.min_stability,
+        peak_saturation: e.peak_saturation,
+        peak_friction_ratio: e.peak_friction_ratio,
+        prefix: e.prefix_len,
+        distance_to_target_m: e.distance_to_target_m,
+        evaluations: r.evaluations,
+        modules_executed: r.modules_executed,
+        seconds,
+        first_solved_generation: r.first_solved,
+        lookahead_1_to_4_fraction: if r.lookahead.is_empty() { 0.0 } else { small as f64 / r.lookahead.len() as f64 },
+        ..GaRunFigures::default()
+    }
 }

@@ -1,9 +1,9 @@
-//! One module per job: each computes a report from its part of the scenario. [`run`]
-//! dispatches on the scenario's job and makes the [`Outcome`]. A job whose report is
-//! public plain data ([`Report`]: the Sun table, the terrain shadow) has its facts read
-//! off the report's fields and its summary and files written from the report alone by
-//! [`output::reports`](crate::output::reports); the TEMPEST and actions jobs still build
-//! their facts, summary and files themselves.
+//! One module per job: each computes its public plain-data [`Report`] from its part of
+//! the scenario, and [`run`] dispatches on the scenario's job. Every job's facts are read
+//! off its report's fields. The Sun table's and the terrain shadow's summary and files
+//! are written from the report alone ([`output::reports`](crate::output::reports)); the
+//! TEMPEST and actions jobs still compose their summary and write their files from what
+//! they computed (worlds, GA results) beside the report.
 
 pub mod actions;
 pub(crate) mod sun_table;

@@ -34,6 +34,8 @@ use crate::output::csv::{Fixed, write_rows};
 use crate::output::geojson::{collection, feature, line, point};
 use crate::output::plots::{Marker, RoutePlot, Series, TimePlot};
 use crate::output::{json_for, write_file};
+use crate::report::Report;
+use crate::report::tempest::{NoPlanFigures, TempestReport};
 use areo_mission::{contact, metrics};
 use serde::Serialize;
 
@@ -254,9 +256,10 @@ impl NoPlanWork {
     }
 }
 
-/// A TEMPEST job's result: the prepared worlds, the run, the haven map (off Mars) and
-/// the process's peak memory. Facts, the summary and the files are read off it.
-struct TempestReport {
+/// What a TEMPEST job computed: the prepared worlds, the run, the haven map (off Mars)
+/// and the process's peak memory. The public [`TempestReport`], the summary and the
+/// files are made from it.
+struct Computed {
     prepared: Prepared,
     run: Run,
     /// The chance-constrained plan's comparison and Monte Carlo, with `uncertainty`.
@@ -668,7 +671,7 @@ fn run_or_verdict(
     }
 }
 
-fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared: Prepared) -> Result<TempestReport> {
+fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared: Prepared) -> Result<Computed> {
     let Prepared { world, truth, config, model, start, goals, .. } = &prepared;
     // A chance-constrained plan allows for a late start.
     let plan_start = chance::uncertainty(job).map_or(*start, |u| u.planning_start(*start));
@@ -746,10 +749,10 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
         let every = job.communicate.as_ref().filter(|_| model.needs_earth()).and_then(|c| c.every_h);
         contact::havens(world, model, world.span_s(), HAVEN_STEP_S, every)
     });
-    Ok(TempestReport { prepared, run, chance, front, havens, peak_memory_mb: peak_memory_mb() })
+    Ok(Computed { prepared, run, chance, front, havens, peak_memory_mb: peak_memory_mb() })
 }
 
-impl TempestReport {
+impl Computed {
     fn context<'a>(&'a self, job: &'a TempestJob) -> Context<'a> {
         let p = &self.prepared;
         Context {
@@ -766,119 +769,103 @@ impl TempestReport {
     }
 }
 
-/// The report's facts and summary.
-fn outcome(ctx: &Context<'_>, report: &TempestReport) -> Outcome {
-    let mut o = Outcome::default();
+/// The public report and the summary lines.
+fn outcome(ctx: &Context<'_>, computed: &Computed) -> Outcome {
+    let mut r = TempestReport::default();
+    let mut summary: Vec<String> = computed.prepared.notes.clone();
     let (world, precalc_s) = (ctx.world, ctx.precalc_s);
-    o.summary.extend(report.prepared.notes.iter().cloned());
-    if let Some(crs) = &report.prepared.crs_not_read {
-        o.text("map_crs_not_read", crs.clone());
-    }
+    r.map_crs_not_read.clone_from(&computed.prepared.crs_not_read);
     if ctx.job.horizon_sectors > 0 {
-        o.number("horizon_bytes_per_angle", if world.horizon_is_narrow() { 1.0 } else { 2.0 });
+        r.horizon_bytes_per_angle = Some(if world.horizon_is_narrow() { 1.0 } else { 2.0 });
     }
-    if no_plan_outcome(&mut o, ctx, report) {
-        return o;
-    }
-    o.number("precalc_s", precalc_s);
-    if let Some(mb) = report.peak_memory_mb {
-        o.number("peak_memory_mb", mb);
-    }
-    o.count("cells", world.cells() as u64);
-    match &report.run {
-        Run::Unreachable { .. } | Run::Stopped { .. } => {}
+    r.precalc_s = precalc_s;
+    r.peak_memory_mb = computed.peak_memory_mb;
+    let mut failure = None;
+    match &computed.run {
+        Run::Unreachable { .. } | Run::Stopped { .. } => failure = no_plan(&mut r, &mut summary, ctx, computed),
         Run::Plan { plan, seconds, search_bytes, labels } => {
-            o.number("initial_plan_s", *seconds);
+            r.cells = Some(world.cells());
             // The segments' graphs as the plan leaves them (the most they held).
-            o.number("peak_search_mb", *search_bytes as f64 / 1e6);
+            r.peak_search_mb = Some(*search_bytes as f64 / 1e6);
+            let mut figures = plan_facts(&mut summary, ctx, plan, *seconds);
             // Labels those graphs hold (on a tick, every label the search kept: most
             // are never expanded).
-            o.count("initial_plan_labels", *labels);
-            plan_facts(&mut o, ctx, plan);
-            if let Some(c) = &report.chance {
-                chance::facts(&mut o, ctx, plan, c);
-            }
-            if let Some(f) = &report.front {
-                front::facts(&mut o, ctx, plan, f);
-            }
-            o.text("status", "planned");
-            o.number("goals_reached", 0.0);
-            o.summary.push(format!(
+            figures.initial_plan_labels = Some(*labels);
+            r.initial_plan = Some(figures);
+            r.chance = computed.chance.as_ref().map(|c| chance::facts(&mut summary, ctx, plan, c));
+            r.front = computed.front.as_ref().map(|f| front::facts(&mut summary, ctx, plan, f));
+            r.status = "planned".into();
+            summary.push(format!(
                 "{} × {} cells; pre-calculation {precalc_s:.2} s, planning {seconds:.3} s ({} expansions)",
                 world.cols(),
                 world.rows(),
                 plan.expansions
             ));
+            r.plan = Some(plan.clone());
         }
-        Run::Simulated(r) => {
-            o.number("initial_plan_s", r.plans[0].wall_s);
-            plan_facts(&mut o, ctx, &r.plans[0].plan);
-            if let Some(c) = &report.chance {
-                chance::facts(&mut o, ctx, &r.plans[0].plan, c);
-            }
-            if let Some(f) = &report.front {
-                front::facts(&mut o, ctx, &r.plans[0].plan, f);
-            }
-            sim_facts(&mut o, ctx, r, report.peak_memory_mb);
-            if let SimStatus::Unreachable { binding, message, proven } = &r.status {
-                o.flag("unreachable_proven", *proven);
-                o.failure = Some(Failure::Unreachable {
+        Run::Simulated(sim) => {
+            r.cells = Some(world.cells());
+            let initial = &sim.plans[0].plan;
+            r.initial_plan = Some(plan_facts(&mut summary, ctx, initial, sim.plans[0].wall_s));
+            r.chance = computed.chance.as_ref().map(|c| chance::facts(&mut summary, ctx, initial, c));
+            r.front = computed.front.as_ref().map(|f| front::facts(&mut summary, ctx, initial, f));
+            sim_facts(&mut r, &mut summary, ctx, sim, computed.peak_memory_mb);
+            if let SimStatus::Unreachable { binding, message, proven } = &sim.status {
+                r.unreachable_proven = Some(*proven);
+                failure = Some(Failure::Unreachable {
                     binding: *binding,
                     message: message.clone(),
-                    after_actions: Some(r.steps.len()),
+                    after_actions: Some(sim.steps.len()),
                 });
             }
+            r.plan = Some(initial.clone());
+            r.simulation = Some(sim.clone());
         }
     }
-    o
+    let report = Report::Tempest(Box::new(r));
+    Outcome { facts: report.facts(), summary, files: Vec::new(), failure, report: Some(Box::new(report)) }
 }
 
-/// The facts and summary of a run without a plan — unreachable, or stopped by a
-/// budget — into `o`; false when the run has a plan.
-fn no_plan_outcome(o: &mut Outcome, ctx: &Context<'_>, report: &TempestReport) -> bool {
-    let precalc_s = ctx.precalc_s;
-    match &report.run {
+/// The figures and summary of a run without a plan — unreachable, or stopped by a
+/// budget — and why it failed (`None` for a run with a plan).
+fn no_plan(
+    r: &mut TempestReport,
+    summary: &mut Vec<String>,
+    ctx: &Context<'_>,
+    computed: &Computed,
+) -> Option<Failure> {
+    let (failure, work) = match &computed.run {
         Run::Unreachable { binding, message, proven, work } => {
-            o.failure = Some(Failure::Unreachable { binding: *binding, message: message.clone(), after_actions: None });
-            o.text("status", "unreachable");
-            o.text("binding", message.clone());
-            o.flag("unreachable_proven", *proven);
-            o.number("goals_reached", 0.0);
-            o.number("precalc_s", precalc_s);
-            o.summary.push(format!("no plan: the goals are unreachable ({message})"));
-            no_plan_facts(o, work, report.peak_memory_mb);
-            if let Some(u) = chance::uncertainty(ctx.job).filter(|u| u.margins() != areo_mission::Perturbation::NONE) {
-                o.summary.push(format!(
-                    "(planned at confidence {}: every action made worse by its margins; a deterministic plan may still exist)",
-                    u.confidence
-                ));
-            }
-            true
+            r.status = "unreachable".into();
+            r.binding = Some(message.clone());
+            r.unreachable_proven = Some(*proven);
+            summary.push(format!("no plan: the goals are unreachable ({message})"));
+            let failure = Failure::Unreachable { binding: *binding, message: message.clone(), after_actions: None };
+            (failure, work)
         }
         Run::Stopped { memory, message, work } => {
-            o.failure = Some(Failure::Stopped { message: message.clone() });
-            o.text("status", "stopped");
-            o.text("stopped_by", if *memory { "memory" } else { "work" });
-            o.number("goals_reached", 0.0);
-            o.number("precalc_s", precalc_s);
-            o.summary.push(format!("no answer: {message}"));
-            no_plan_facts(o, work, report.peak_memory_mb);
-            true
+            r.status = "stopped".into();
+            r.stopped_by = Some(if *memory { "memory" } else { "work" }.into());
+            summary.push(format!("no answer: {message}"));
+            (Failure::Stopped { message: message.clone() }, work)
         }
-        Run::Plan { .. } | Run::Simulated(_) => false,
+        Run::Plan { .. } | Run::Simulated(_) => return None,
+    };
+    r.no_plan = Some(no_plan_facts(summary, work));
+    if matches!(failure, Failure::Unreachable { .. })
+        && let Some(u) = chance::uncertainty(ctx.job).filter(|u| u.margins() != areo_mission::Perturbation::NONE)
+    {
+        summary.push(format!(
+            "(planned at confidence {}: every action made worse by its margins; a deterministic plan may still exist)",
+            u.confidence
+        ));
     }
+    Some(failure)
 }
 
-/// What the "no plan" verdict cost, as facts and a summary line.
-fn no_plan_facts(o: &mut Outcome, work: &NoPlanWork, peak_memory_mb: Option<f64>) {
-    o.number("no_plan_s", work.seconds);
-    o.count("no_plan_expansions", work.expansions);
+/// What the "no plan" verdict cost, as figures and a summary line.
+fn no_plan_facts(summary: &mut Vec<String>, work: &NoPlanWork) -> NoPlanFigures {
     let planning = work.phases.iter().find(|p| p.0 == "planning").map_or(0, |p| p.1);
-    o.count("no_plan_planning_expansions", planning);
-    o.count("no_plan_probes", work.phases.len() as u64 - 1);
-    if let Some(mb) = peak_memory_mb {
-        o.number("peak_memory_mb", mb);
-    }
     let probes: Vec<String> = (work.phases.iter())
         .filter_map(|&(p, n)| p.strip_prefix("no plan: ").map(|p| format!("{n} with {p}")))
         .collect();
@@ -887,10 +874,16 @@ fn no_plan_facts(o: &mut Outcome, work: &NoPlanWork, peak_memory_mb: Option<f64>
     } else {
         format!("; the probes naming the binding constraint {}", probes.join(", "))
     };
-    o.summary.push(format!(
+    summary.push(format!(
         "no plan after {} expansions in {:.1} s: {planning} at the settings and their fallbacks{probes}",
         work.expansions, work.seconds
     ));
+    NoPlanFigures {
+        no_plan_s: work.seconds,
+        no_plan_expansions: work.expansions,
+        no_plan_planning_expansions: planning,
+        no_plan_probes: work.phases.len() as u64 - 1,
+    }
 }
 
 /// Sampling step of the haven map and of the plan's contact and shadow checks, s.

@@ -60,9 +60,9 @@ pub(crate) fn compute(
     opts.progress.advance(1);
     opts.progress.finish();
     Ok(TerrainShadowReport {
-        utc: format_utc(utc),
         ltst_hours,
         sun: ShadowSun {
+            utc: format_utc(utc),
             azimuth_deg: at_site.azimuth_deg,
             grid_azimuth_deg: sun.azimuth_deg,
             elevation_deg: sun.elevation_deg,

@@ -7,7 +7,7 @@ pub(crate) mod kml;
 pub(crate) mod layout;
 pub(crate) mod plots;
 pub(crate) mod png;
-pub mod reports;
+pub(crate) mod reports;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};

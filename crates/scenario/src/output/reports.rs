@@ -1,5 +1,5 @@
-//! The files and summary lines of a job's [`Report`]: read off the report alone, so
-//! what a file shows is what the report holds.
+//! The files and summary lines of the Sun-table and terrain-shadow jobs, read off their
+//! [`Report`]s alone, so what a file shows is what the report holds.
 
 use std::path::{Path, PathBuf};
 
@@ -11,19 +11,23 @@ use crate::sun::CSV_HEADER;
 
 use super::csv::Table;
 
-/// Writes the report's files into `dir`; returns them.
+/// Writes the report's files into `dir`; returns them. (The TEMPEST and actions jobs write
+/// their own files from what they computed.)
 pub(crate) fn write(dir: &Path, report: &Report) -> Result<Vec<PathBuf>> {
     match report {
         Report::SunTable(r) => sun_table_files(dir, r),
         Report::TerrainShadow(r) => terrain_shadow_files(dir, r),
+        Report::Tempest(_) | Report::Actions(_) => Ok(Vec::new()),
     }
 }
 
-/// The report's lines for a person to read.
-pub fn summary(report: &Report) -> Vec<String> {
+/// The report's lines for a person to read. (The TEMPEST and actions jobs compose
+/// their own summaries.)
+pub(crate) fn summary(report: &Report) -> Vec<String> {
     match report {
         Report::SunTable(r) => sun_table_summary(r),
         Report::TerrainShadow(r) => terrain_shadow_summary(r),
+        Report::Tempest(_) | Report::Actions(_) => Vec::new(),
     }
 }
 
@@ -89,7 +93,7 @@ fn terrain_shadow_summary(r: &TerrainShadowReport) -> Vec<String> {
             r.sun.azimuth_deg,
             crate::terrain::grid_azimuth_said(r.sun.azimuth_deg, r.sun.grid_azimuth_deg),
             r.sun.elevation_deg,
-            r.utc,
+            r.sun.utc,
             100.0 * r.lit_fraction,
             100.0 * r.cast_shadow_fraction
         ),

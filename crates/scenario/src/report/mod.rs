@@ -7,14 +7,18 @@
 //! `first_sunrise.ltst_hours` is the field `ltst_hours` of [`SunTableReport`]'s
 //! `first_sunrise` ([`facts`]).
 
+pub mod actions;
 mod sun_table;
+pub mod tempest;
 mod terrain_shadow;
 
 use std::collections::BTreeMap;
 
 use serde::Serialize;
 
+pub use actions::ActionsReport;
 pub use sun_table::{SunTableReport, SunTableRow, Sunrise};
+pub use tempest::TempestReport;
 pub use terrain_shadow::{ShadowSun, TerrainShadowReport};
 
 use crate::outcome::Fact;
@@ -28,6 +32,10 @@ pub enum Report {
     SunTable(SunTableReport),
     /// A map lit by the Sun at one instant.
     TerrainShadow(TerrainShadowReport),
+    /// A TEMPEST plan or simulated run (boxed: its figures outweigh the others').
+    Tempest(Box<TempestReport>),
+    /// A GA action plan for the LSR-1-type rover, and its studies.
+    Actions(Box<ActionsReport>),
 }
 
 /// A raster as plain data: `rows` × `cols` values, row-major from the north-west
@@ -44,12 +52,22 @@ pub struct Raster<T> {
 
 impl Report {
     /// The report's facts: every scalar field, named by its path from the report's top
-    /// (`sun.elevation_deg`). Tables and rasters (arrays) are not facts, nor are absent
-    /// values; an unsigned integer is a count, any other number a number.
+    /// (`sun.elevation_deg`; a flattened group's fields by their own names). Tables and
+    /// rasters (arrays) are not facts, nor are absent values, nor the TEMPEST plan and
+    /// run themselves (data whose figures the report holds); an unsigned integer is a
+    /// count, any other number a number.
     pub fn facts(&self) -> BTreeMap<String, Fact> {
         let value = match self {
             Report::SunTable(r) => serde_json::to_value(r),
             Report::TerrainShadow(r) => serde_json::to_value(r),
+            Report::Actions(r) => serde_json::to_value(r),
+            Report::Tempest(r) => serde_json::to_value(r).map(|mut v| {
+                if let Some(fields) = v.as_object_mut() {
+                    fields.remove("plan");
+                    fields.remove("simulation");
+                }
+                v
+            }),
         };
         let mut facts = BTreeMap::new();
         // Plain data always serialises: a map with non-string keys is the only way

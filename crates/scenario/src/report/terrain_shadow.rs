@@ -9,8 +9,6 @@ use super::Raster;
 /// rasters its files show.
 #[derive(Debug, Clone, Serialize)]
 pub struct TerrainShadowReport {
-    /// The instant, ISO 8601 UTC.
-    pub utc: String,
     /// Local solar time at the site, hours (true solar time on Mars).
     pub ltst_hours: f64,
     /// The Sun at the site.
@@ -38,9 +36,11 @@ pub struct TerrainShadowReport {
     pub preview_rgb: Raster<[u8; 3]>,
 }
 
-/// The Sun's direction at the site.
-#[derive(Debug, Clone, Copy, Serialize)]
+/// The Sun's direction at the site at the job's instant.
+#[derive(Debug, Clone, Serialize)]
 pub struct ShadowSun {
+    /// The instant, ISO 8601 UTC.
+    pub utc: String,
     /// True azimuth, degrees clockwise from north.
     pub azimuth_deg: f64,
     /// Azimuth on the grid's axes, degrees clockwise from the grid's up (differs from

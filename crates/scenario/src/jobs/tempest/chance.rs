@@ -13,9 +13,9 @@ use serde::Serialize;
 use super::{Context, nights, time_axis_name, time_ticks};
 use crate::error::Result;
 use crate::format::TempestJob;
-use crate::outcome::Outcome;
 use crate::output::csv::{Fixed, write_rows};
 use crate::output::plots::{Series, TimePlot};
+use crate::report::tempest::{ChanceFigures, MonteCarloFigures};
 
 /// One plan's open-loop executions.
 pub(super) struct Executed {
@@ -140,26 +140,35 @@ fn terrain_clones(
 }
 
 /// The facts and summary lines.
-pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chance: &Chance) {
+pub(super) fn facts(
+    summary: &mut Vec<String>,
+    ctx: &Context<'_>,
+    plan: &MissionPlan,
+    chance: &Chance,
+) -> ChanceFigures {
     let u = &chance.uncertainty;
     let m = u.margins();
-    o.number("chance_confidence", u.confidence);
-    o.number("chance_z", u.z());
-    o.number("chance_drive_time_factor", m.duration_factor);
-    o.number("chance_draw_factor", m.draw_factor);
-    o.number("chance_solar_factor", m.solar_factor);
-    o.number("chance_action_delay_s", m.delay_s);
-    o.number("chance_start_delay_s", u.start_delay_margin_s());
+    let mut f = ChanceFigures {
+        chance_confidence: u.confidence,
+        chance_z: u.z(),
+        chance_drive_time_factor: m.duration_factor,
+        chance_draw_factor: m.draw_factor,
+        chance_solar_factor: m.solar_factor,
+        chance_action_delay_s: m.delay_s,
+        chance_start_delay_s: u.start_delay_margin_s(),
+        chance_correlation: format!("{:?}", u.correlation),
+        ..ChanceFigures::default()
+    };
     if u.terrain_clones > 0 && u.terrain_sigma_m > 0.0 {
-        o.count("mc_terrain_clones", u.terrain_clones as u64);
-        o.summary.push(format!(
+        f.mc_terrain_clones = Some(u.terrain_clones);
+        summary.push(format!(
             "the open-loop and closed-loop executions drive on {} error clones of the terrain (height RMS {} m, correlated over {} m)",
             u.terrain_clones, u.terrain_sigma_m, u.terrain_correlation_m
         ));
     }
     if u.terrain_plan_clones > 0 && u.terrain_sigma_m > 0.0 {
-        o.count("chance_terrain_plan_clones", u.terrain_plan_clones as u64);
-        o.summary.push(format!(
+        f.chance_terrain_plan_clones = Some(u.terrain_plan_clones);
+        summary.push(format!(
             "the plan is made to hold on the map and {} error clones of it (seeds from 2^63, never the Monte Carlo's): each drive as slow and as hungry as on its worst, sunlight only where every one is lit and at most the least any gives",
             u.terrain_plan_clones
         ));
@@ -168,8 +177,7 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chan
         Correlation::Execution => "one draw per execution: each quantity at its quantile",
         Correlation::Action => "a draw per action: a conservative bound",
     };
-    o.text("chance_correlation", format!("{:?}", u.correlation));
-    o.summary.push(format!(
+    summary.push(format!(
         "plan under uncertainty ({bound}): confidence {} (z = {:.3}); planned with drives ×{:.3}, loads ×{:.3}, sunlight ×{:.3}, {:.0} s before each action, a start {:.0} s late",
         u.confidence,
         u.z(),
@@ -179,43 +187,45 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chan
         m.delay_s,
         u.start_delay_margin_s()
     ));
-    deterministic_facts(o, ctx, plan, chance);
-    monte_carlo_facts(o, ctx, chance);
+    deterministic_facts(&mut f, summary, ctx, plan, chance);
+    monte_carlo_facts(&mut f, summary, ctx, chance);
+    f
 }
 
 /// The deterministic plan beside the chance-constrained one: what the margins cost.
-fn deterministic_facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, chance: &Chance) {
+fn deterministic_facts(
+    f: &mut ChanceFigures,
+    summary: &mut Vec<String>,
+    ctx: &Context<'_>,
+    plan: &MissionPlan,
+    chance: &Chance,
+) {
     match &chance.deterministic {
         Some(Ok(d)) => {
             let (extra_h, extra_wh) =
                 ((plan.duration_s() - d.duration_s()) / 3600.0, energy_used_wh(plan) - energy_used_wh(d));
-            o.number("deterministic_plan_duration_h", d.duration_s() / 3600.0);
-            o.number("deterministic_plan_min_battery_wh", d.min_battery_wh() - super::floor_wh(ctx));
-            o.number("chance_extra_duration_h", extra_h);
-            o.number("chance_extra_energy_used_wh", extra_wh);
-            o.number("chance_cost_ratio", plan.cost / d.cost);
-            o.summary.push(format!(
+            f.deterministic_plan_duration_h = Some(d.duration_s() / 3600.0);
+            f.deterministic_plan_min_battery_wh = Some(d.min_battery_wh() - super::floor_wh(ctx));
+            f.chance_extra_duration_h = Some(extra_h);
+            f.chance_extra_energy_used_wh = Some(extra_wh);
+            f.chance_cost_ratio = Some(plan.cost / d.cost);
+            summary.push(format!(
                 "the margins cost {extra_h:+.2} h and {extra_wh:+.1} Wh drawn against the deterministic plan (cost ×{:.3})",
                 plan.cost / d.cost
             ));
         }
-        Some(Err(why)) => o.text("deterministic_plan", format!("none: {why}")),
+        Some(Err(why)) => f.deterministic_plan = Some(format!("none: {why}")),
         None => {}
     }
 }
 
 /// The Monte Carlo executions of both plans, open and closed loop.
-fn monte_carlo_facts(o: &mut Outcome, ctx: &Context<'_>, chance: &Chance) {
-    for (prefix, runs) in [
-        ("mc", &chance.chance_runs),
-        ("mc_deterministic", &chance.deterministic_runs),
-        ("mc_closed", &chance.chance_closed),
-        ("mc_closed_deterministic", &chance.deterministic_closed),
-    ] {
-        if let Some(r) = runs {
-            summary_facts(o, ctx, prefix, &r.summary);
-        }
-    }
+fn monte_carlo_facts(f: &mut ChanceFigures, summary: &mut Vec<String>, ctx: &Context<'_>, chance: &Chance) {
+    let figures = |runs: &Option<Executed>| runs.as_ref().map(|r| summary_facts(ctx, &r.summary));
+    f.mc = figures(&chance.chance_runs);
+    f.mc_deterministic = figures(&chance.deterministic_runs);
+    f.mc_closed = figures(&chance.chance_closed);
+    f.mc_closed_deterministic = figures(&chance.deterministic_closed);
     if let Some(c) = &chance.chance_runs {
         let s = &c.summary;
         let det = chance.deterministic_runs.as_ref().map_or(String::new(), |d| {
@@ -223,7 +233,7 @@ fn monte_carlo_facts(o: &mut Outcome, ctx: &Context<'_>, chance: &Chance) {
             format!("; the deterministic plan {:.3} [{lo:.3}, {hi:.3}]", d.summary.success_probability)
         });
         let (lo, hi) = s.success_interval;
-        o.summary.push(format!(
+        summary.push(format!(
             "open-loop Monte Carlo, {} runs: the plan reaches every goal with the battery above its floor in {:.3} [{lo:.3}, {hi:.3}] (95 % Wilson){det}",
             s.runs, s.success_probability
         ));
@@ -233,7 +243,7 @@ fn monte_carlo_facts(o: &mut Outcome, ctx: &Context<'_>, chance: &Chance) {
             .deterministic_closed
             .as_ref()
             .map_or(String::new(), |d| format!("; planning deterministically {:.3}", d.summary.success_probability));
-        o.summary.push(format!(
+        summary.push(format!(
             "closed-loop Monte Carlo (re-planning after every action), {} runs: every goal reached with the battery above its floor in {:.3}{det}",
             c.summary.runs, c.summary.success_probability
         ));
@@ -245,24 +255,23 @@ fn energy_used_wh(plan: &MissionPlan) -> f64 {
     plan.waypoints.windows(2).map(|w| (w[0].battery_wh - w[1].battery_wh).max(0.0)).sum()
 }
 
-fn summary_facts(o: &mut Outcome, ctx: &Context<'_>, prefix: &str, s: &Summary) {
-    o.count(&format!("{prefix}_runs"), s.runs as u64);
-    o.number(&format!("{prefix}_success_probability"), s.success_probability);
-    o.number(&format!("{prefix}_success_ci_low"), s.success_interval.0);
-    o.number(&format!("{prefix}_success_ci_high"), s.success_interval.1);
-    o.number(&format!("{prefix}_battery_ok_probability"), s.battery_ok_probability);
-    for (i, p) in s.goal_probability.iter().enumerate() {
-        o.number(&format!("{prefix}_goal_{}_probability", ctx.goal_name(i)), *p);
-    }
-    if let Some((a, b, c)) = s.last_arrival_s {
-        o.number(&format!("{prefix}_last_arrival_h_p05"), ctx.hours(a));
-        o.number(&format!("{prefix}_last_arrival_h_p50"), ctx.hours(b));
-        o.number(&format!("{prefix}_last_arrival_h_p95"), ctx.hours(c));
-    }
-    o.number(&format!("{prefix}_lowest_battery_wh_p05"), s.lowest_battery_wh.0);
-    o.number(&format!("{prefix}_lowest_battery_wh_p50"), s.lowest_battery_wh.1);
-    for (name, n) in &s.failures {
-        o.count(&format!("{prefix}_failed_{name}"), *n as u64);
+fn summary_facts(ctx: &Context<'_>, s: &Summary) -> MonteCarloFigures {
+    let arrival = |pick: fn((f64, f64, f64)) -> f64| s.last_arrival_s.map(|a| ctx.hours(pick(a)));
+    MonteCarloFigures {
+        runs: s.runs,
+        success_probability: s.success_probability,
+        success_ci_low: s.success_interval.0,
+        success_ci_high: s.success_interval.1,
+        battery_ok_probability: s.battery_ok_probability,
+        goal_probability: (s.goal_probability.iter().enumerate())
+            .map(|(i, p)| (ctx.goal_name(i).to_string(), *p))
+            .collect(),
+        last_arrival_h_p05: arrival(|a| a.0),
+        last_arrival_h_p50: arrival(|a| a.1),
+        last_arrival_h_p95: arrival(|a| a.2),
+        lowest_battery_wh_p05: s.lowest_battery_wh.0,
+        lowest_battery_wh_p50: s.lowest_battery_wh.1,
+        failed: s.failures.iter().cloned().collect(),
     }
 }
 

@@ -8,11 +8,12 @@ use std::path::{Path, PathBuf};
 use areo_mission::{ActionModel, Mission, MissionPlan, ParetoFront, Start, World};
 use serde::Serialize;
 
+use crate::report::tempest::FrontFigures;
+
 use super::chance::time_plot;
 use super::{Context, nights};
 use crate::error::Result;
 use crate::format::{ScenarioFile, TempestJob};
-use crate::outcome::Outcome;
 use crate::output::csv::{Fixed, write_rows};
 use crate::output::plots::Series;
 
@@ -38,11 +39,19 @@ pub(super) fn evaluate(
 
 /// The `front_…` facts and a summary line; `plan` (the job's own plan, by its
 /// objective) is placed against the front.
-pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, front: &ParetoFront) {
+pub(super) fn facts(
+    summary: &mut Vec<String>,
+    ctx: &Context<'_>,
+    plan: &MissionPlan,
+    front: &ParetoFront,
+) -> FrontFigures {
     let plans = &front.plans;
-    o.count("front_plans", plans.len() as u64);
-    o.count("front_searches", front.searches as u64);
-    o.count("front_candidates", front.candidates as u64);
+    let mut f = FrontFigures {
+        front_plans: plans.len(),
+        front_searches: front.searches,
+        front_candidates: front.candidates,
+        ..FrontFigures::default()
+    };
     let range = |f: fn(&areo_mission::FrontPlan) -> f64| {
         plans.iter().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)))
     };
@@ -50,15 +59,15 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, fron
     let used = range(|p| p.energy_used_wh);
     let margin = range(|p| p.margin_wh);
     if plans.is_empty() {
-        o.summary.push("Pareto front: no plan".into());
-        return;
+        summary.push("Pareto front: no plan".into());
+        return f;
     }
-    o.number("front_earliest_arrival_h", ctx.hours(arrival.0));
-    o.number("front_latest_arrival_h", ctx.hours(arrival.1));
-    o.number("front_least_energy_used_wh", used.0);
-    o.number("front_most_energy_used_wh", used.1);
-    o.number("front_least_margin_wh", margin.0);
-    o.number("front_largest_margin_wh", margin.1);
+    f.front_earliest_arrival_h = Some(ctx.hours(arrival.0));
+    f.front_latest_arrival_h = Some(ctx.hours(arrival.1));
+    f.front_least_energy_used_wh = Some(used.0);
+    f.front_most_energy_used_wh = Some(used.1);
+    f.front_least_margin_wh = Some(margin.0);
+    f.front_largest_margin_wh = Some(margin.1);
     // The job's plan in the front's measures: dominated when a front plan arrives no
     // later, draws no more and holds no less, and is better in one.
     if let Some(own) = measures(ctx, plan) {
@@ -66,9 +75,9 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, fron
             let q = (p.arrival_s, p.energy_used_wh, p.margin_wh);
             areo_mission::non_dominated(&[own, q]) == vec![1]
         });
-        o.number("plan_energy_used_wh", own.1);
-        o.number("plan_margin_wh", own.2);
-        o.flag("plan_dominated_by_front", beaten);
+        f.plan_energy_used_wh = Some(own.1);
+        f.plan_margin_wh = Some(own.2);
+        f.plan_dominated_by_front = Some(beaten);
     }
     let how = if plan.tick_s.is_some() {
         "exact on the tick: every plan on it that no other beats in all three, the margin its lowest battery above \
@@ -81,7 +90,7 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, fron
             front.searches, front.candidates, front.margin_step_wh
         )
     };
-    o.summary.push(format!(
+    summary.push(format!(
         "Pareto front: {} plans in (arrival, energy used, margin) — arrival {:.2}–{:.2} h, energy used {:.1}–{:.1} \
          Wh, margin {:.1}–{:.1} Wh ({how})",
         plans.len(),
@@ -92,6 +101,7 @@ pub(super) fn facts(o: &mut Outcome, ctx: &Context<'_>, plan: &MissionPlan, fron
         margin.0,
         margin.1,
     ));
+    f
 }
 
 /// A plan on a tick in the front's measures: (arrival s, energy used Wh, lowest battery

@@ -1,0 +1,261 @@
+//! The actions job's report: the design space, each GA run's best plan and seed study,
+//! the friction sweeps, the replay, the straight climb and the sensitivity climbs.
+//!
+//! Figures keyed by a run, a threshold, a seed count or an assumed value are maps, so a
+//! fact names its key in its path (`runs.lsr1.best_fitness`,
+//! `sweep_binding_below.crossing.wheel`, `sensitivity.FIELD.VALUE.stop`); groups whose
+//! figures carry their own prefix (`sweep_…`, `replay_…`, `climb_…`) are flattened.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+/// An actions job's result.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ActionsReport {
+    /// log10 of the design space D = N^m over all 26 modules.
+    pub design_space_log10_full: f64,
+    /// log10 of the design space over the modules the task filters keep.
+    pub design_space_log10_filtered: f64,
+    /// The codes of the modules the task filters keep.
+    pub inventory: Vec<u16>,
+    /// Each GA run, by name.
+    pub runs: BTreeMap<String, GaRunFigures>,
+    /// The friction sweep's thresholds.
+    #[serde(flatten)]
+    pub sweep: Option<SweepFigures>,
+    /// The friction sweep's thresholds over seeds.
+    #[serde(flatten)]
+    pub sweep_seeds: Option<SweepSeedFigures>,
+    /// The first run's best plan replayed over friction.
+    #[serde(flatten)]
+    pub replay: Option<ReplayFigures>,
+    /// The straight climb.
+    #[serde(flatten)]
+    pub climb: Option<ClimbFigures>,
+    /// The straight climb with each assumed value changed: by field (its dots as `_`),
+    /// then by value (`0.27` as `0p27`, `-5` as `m5`).
+    pub sensitivity: BTreeMap<String, BTreeMap<String, SensitivityFigures>>,
+}
+
+/// One GA run: its best plan as the GA scored it and as executed, and its seed study.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct GaRunFigures {
+    /// Whether the best plan completes the task.
+    pub complete: bool,
+    /// Its fitness.
+    pub best_fitness: f64,
+    /// Samples it takes.
+    pub samples: usize,
+    /// Which, by their 1-based number in the task ("s1 s4", "none"), with samples.
+    pub samples_taken: Option<String>,
+    /// How many lie left of the way, with samples.
+    pub samples_left: Option<usize>,
+    /// How many lie right of the way, with samples.
+    pub samples_right: Option<usize>,
+    /// The least stability margin along it.
+    pub min_stability: f64,
+    /// The highest actuator saturation along it.
+    pub peak_saturation: f64,
+    /// The highest friction needed over friction available.
+    pub peak_friction_ratio: f64,
+    /// Modules executed successfully.
+    pub prefix: usize,
+    /// From where it ends to the target, m.
+    pub distance_to_target_m: f64,
+    /// Plans evaluated.
+    pub evaluations: usize,
+    /// Modules executed over all evaluations.
+    pub modules_executed: usize,
+    /// Wall time of the run, s.
+    pub seconds: f64,
+    /// The first generation whose best plan completes the task.
+    pub first_solved_generation: Option<usize>,
+    /// Of the improving crossovers, the share adding 1–4 successful modules.
+    pub lookahead_1_to_4_fraction: f64,
+    /// Modules the run may use.
+    pub modules: usize,
+    /// log10 of its design space.
+    pub design_space_log10: f64,
+    /// Arm-forward modules less arm-back ones in the executed plan.
+    pub arm_forward_net: f64,
+    /// Pitch where the plan last stood, degrees.
+    pub last_pitch_deg: Option<f64>,
+    /// The front wheels' share of the load there.
+    pub last_front_load_fraction: Option<f64>,
+    /// What stopped the best plan (`tip_over`, `slip`, …), if it stopped.
+    pub failure: Option<String>,
+    /// The wheel whose force limit bound it.
+    pub binding_wheel: Option<String>,
+    /// Whether that wheel was climbing.
+    pub binding_climbing: Option<bool>,
+    /// The run repeated over seeds.
+    #[serde(flatten)]
+    pub study: Option<StudyFigures>,
+}
+
+/// A run repeated over seeds.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct StudyFigures {
+    /// Seeds run.
+    pub seeds: usize,
+    /// Share solved by the last generation.
+    pub success_fraction: f64,
+    /// Median first-solved generation (absent when half or more never solve it).
+    pub first_solved_median: Option<f64>,
+    /// Pooled over seeds: the share of improving crossovers adding 1–4 modules.
+    pub pooled_lookahead_1_to_4_fraction: f64,
+    /// Pooled improving crossovers.
+    pub pooled_improving_crossovers: usize,
+    /// Earliest first-solved generation over the seeds that solved it.
+    pub first_solved_earliest: Option<usize>,
+    /// Latest.
+    pub first_solved_latest: Option<usize>,
+    /// Least stability margin of the solved seeds' best plans: its lowest.
+    pub solved_least_margin_min: Option<f64>,
+    /// Its highest.
+    pub solved_least_margin_max: Option<f64>,
+    /// How the seeds' best plans ended: a count per kind (`none`, `tip_over`, …).
+    pub seeds_stopped_by: BTreeMap<String, usize>,
+    /// With samples: the share of seeds whose plan took samples left of the way only.
+    pub left_only_fraction: Option<f64>,
+    /// Pooled: the share of crossovers that did not extend the prefix.
+    pub pooled_lookahead_none_fraction: f64,
+    /// Pooled: the share adding five modules or more.
+    pub pooled_lookahead_5_plus_fraction: f64,
+    /// Of the crossovers extending the prefix, the share adding fewer than five.
+    pub pooled_extending_under_5_fraction: Option<f64>,
+}
+
+/// The friction sweep.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct SweepFigures {
+    /// The least μ whose best plan crosses the ditch.
+    pub sweep_min_mu_crossing_ditch: Option<f64>,
+    /// The least μ whose best plan completes the task.
+    pub sweep_min_mu_completing: Option<f64>,
+    /// Whether crossing needs less friction than completing.
+    pub sweep_ditch_needs_less_friction_than_hill: Option<bool>,
+    /// What binds just below each threshold (`crossing`, `completing`).
+    pub sweep_binding_below: BTreeMap<String, Binding>,
+}
+
+/// A force limit that bound a plan.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Binding {
+    /// The wheel.
+    pub wheel: String,
+    /// Whether it was climbing.
+    pub climbing: bool,
+    /// Its contact's distance along the way, m.
+    pub y_m: f64,
+    /// The μ it was found at.
+    pub mu: f64,
+    /// The wheel on the steepest ground.
+    pub steepest_wheel: String,
+    /// Whether that one was climbing.
+    pub steepest_climbing: bool,
+    /// The steepest contact angle, degrees.
+    pub steepest_angle_deg: f64,
+}
+
+/// The friction sweep over seeds.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct SweepSeedFigures {
+    /// Seeds swept.
+    pub sweep_seeds: usize,
+    /// Seeds that never got there, by threshold (`crossing_ditch`, `completing`).
+    pub sweep_seeds_never: BTreeMap<String, usize>,
+    /// The thresholds over the seeds that got there, by threshold.
+    pub sweep_seeds_min_mu: BTreeMap<String, SeedThreshold>,
+}
+
+/// One threshold's μ over seeds.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct SeedThreshold {
+    /// The least.
+    pub least: f64,
+    /// The greatest.
+    pub greatest: f64,
+    /// The median, a seed that never gets there counting as above every μ (absent when
+    /// half or more never do).
+    pub median: Option<f64>,
+}
+
+/// The first run's best plan replayed over friction.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ReplayFigures {
+    /// The least μ it crosses the ditch from.
+    pub replay_min_mu_crossing_ditch: Option<f64>,
+    /// The least μ it completes from.
+    pub replay_min_mu_completing: Option<f64>,
+    /// The highest μ where it fails.
+    pub replay_highest_failing_mu: Option<f64>,
+    /// How far it got there, m.
+    pub replay_highest_failing_max_y_m: Option<f64>,
+    /// What stopped it there.
+    pub replay_failure: Option<String>,
+    /// At which module (1-based).
+    pub replay_failure_module: Option<usize>,
+    /// That module's code.
+    pub replay_failure_code: Option<u16>,
+    /// The wheel whose force limit bound it.
+    pub replay_binding_wheel: Option<String>,
+    /// Whether it was climbing.
+    pub replay_binding_climbing: Option<bool>,
+    /// Its contact's distance along the way, m.
+    pub replay_binding_y_m: Option<f64>,
+    /// The wheel on the steepest ground.
+    pub replay_binding_steepest_wheel: Option<String>,
+    /// Whether that one was climbing.
+    pub replay_binding_steepest_climbing: Option<bool>,
+    /// The steepest contact angle, degrees.
+    pub replay_binding_steepest_angle_deg: Option<f64>,
+}
+
+/// The straight climb.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ClimbFigures {
+    /// What ended it: `none`, `kinematics` or `tip_over`.
+    pub climb_stop: String,
+    /// Where, m along the way.
+    pub climb_stop_distance_m: Option<f64>,
+    /// Pitch at its last pose, degrees.
+    pub climb_last_pitch_deg: Option<f64>,
+    /// Stability margin there, arm stowed.
+    pub climb_last_margin_stowed: Option<f64>,
+    /// With the arm forward.
+    pub climb_last_margin_forward: Option<f64>,
+    /// The highest pitch, degrees.
+    pub climb_max_pitch_deg: Option<f64>,
+    /// The least margin, arm stowed.
+    pub climb_min_margin_stowed: Option<f64>,
+    /// With the arm forward.
+    pub climb_min_margin_forward: Option<f64>,
+    /// The most the arm forward adds to the margin.
+    pub climb_max_margin_gain: Option<f64>,
+    /// The front wheels' least share of the load, arm stowed.
+    pub climb_min_front_load_stowed: Option<f64>,
+}
+
+/// The straight climb with one assumed value changed.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct SensitivityFigures {
+    /// What ended it: `none`, `kinematics`, `tip_over`, or `refused` (the value is not
+    /// a rover).
+    pub stop: String,
+    /// Where, m along the way.
+    pub stop_distance_m: Option<f64>,
+    /// Pitch at its last pose, degrees.
+    pub last_pitch_deg: Option<f64>,
+    /// Stability margin there, arm stowed.
+    pub last_margin_stowed: Option<f64>,
+    /// With the arm forward.
+    pub last_margin_forward: Option<f64>,
+    /// The least margin, arm stowed.
+    pub min_margin_stowed: Option<f64>,
+    /// With the arm forward.
+    pub min_margin_forward: Option<f64>,
+    /// The highest pitch, degrees.
+    pub max_pitch_deg: Option<f64>,
+}

@@ -1,0 +1,373 @@
+//! The TEMPEST job's report: how the search ended, the plan's figures, the simulated
+//! run's, the plan under uncertainty's and the Pareto front's, and the plan and run
+//! themselves as the mission crate gives them.
+//!
+//! Groups whose figures carry their own prefix (`initial_plan_…`, `no_plan_…`,
+//! `chance_…`, `front_…`) are flattened into the report, so a fact keeps the field's
+//! name; figures keyed by a goal, a region or a failure are maps (`goals.NAME.arrival_h`,
+//! `route_enters.NAME`, `mc.failed.NAME`).
+
+use std::collections::BTreeMap;
+
+use areo_mission::{MissionPlan, SimReport};
+use serde::Serialize;
+
+/// A TEMPEST job's result.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct TempestReport {
+    /// `planned`, `completed`, `unreachable`, `stopped`, `battery_depleted`, `stuck`
+    /// or `step_limit`.
+    pub status: String,
+    /// Without a plan: the binding constraint, as the planner names it.
+    pub binding: Option<String>,
+    /// Whether "unreachable" is a proof (the exact search emptied its graph).
+    pub unreachable_proven: Option<bool>,
+    /// Stopped by a budget: `work` or `memory`.
+    pub stopped_by: Option<String>,
+    /// The map file's CRS, when areo does not read its projection (a local frame).
+    pub map_crs_not_read: Option<String>,
+    /// Bytes per horizon angle the horizon maps hold (1 or 2), with horizon maps.
+    pub horizon_bytes_per_angle: Option<f64>,
+    /// Slope, horizon maps and the Sun table, s.
+    pub precalc_s: f64,
+    /// The process's peak resident memory, MB (where the system reports it).
+    pub peak_memory_mb: Option<f64>,
+    /// Cells of the planning map (with a plan).
+    pub cells: Option<usize>,
+    /// Goals reached (a plan without simulation reaches none yet).
+    pub goals_reached: usize,
+    /// The search graphs at their largest, MB.
+    pub peak_search_mb: Option<f64>,
+    /// What a run without a plan cost.
+    #[serde(flatten)]
+    pub no_plan: Option<NoPlanFigures>,
+    /// The initial plan's figures.
+    #[serde(flatten)]
+    pub initial_plan: Option<PlanFigures>,
+    /// The simulated run's figures.
+    #[serde(flatten)]
+    pub run: Option<RunFigures>,
+    /// The plan under uncertainty: margins, the deterministic plan beside it and the
+    /// Monte Carlo executions.
+    #[serde(flatten)]
+    pub chance: Option<ChanceFigures>,
+    /// The Pareto front of arrival, energy used and margin.
+    #[serde(flatten)]
+    pub front: Option<FrontFigures>,
+    /// The initial plan, as the planner made it.
+    pub plan: Option<MissionPlan>,
+    /// The simulated run: every plan and executed action.
+    pub simulation: Option<SimReport>,
+}
+
+/// What a "no plan" verdict cost.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct NoPlanFigures {
+    /// Wall time from the first search to the verdict, s.
+    pub no_plan_s: f64,
+    /// Label expansions of every search: the plan's, its fallbacks', the probes'.
+    pub no_plan_expansions: u64,
+    /// Those of the searches at the settings and their fallbacks.
+    pub no_plan_planning_expansions: u64,
+    /// Relaxed probes run to name the binding constraint.
+    pub no_plan_probes: u64,
+}
+
+/// The initial plan's figures.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct PlanFigures {
+    /// Wall time of the search, s.
+    pub initial_plan_s: f64,
+    /// Labels the search graphs hold after it (without simulation).
+    pub initial_plan_labels: Option<u64>,
+    /// Waypoints, the start included.
+    pub initial_plan_waypoints: usize,
+    /// Drive actions.
+    pub initial_plan_drives: usize,
+    /// Charge actions.
+    pub initial_plan_charges: usize,
+    /// Hibernate actions.
+    pub initial_plan_hibernations: usize,
+    /// Wait steps.
+    pub initial_plan_wait_steps: usize,
+    /// From the start to the last goal, h.
+    pub initial_plan_duration_h: f64,
+    /// The lowest predicted battery charge, Wh (absolute).
+    pub initial_plan_min_battery_wh: f64,
+    /// Label expansions of the search.
+    pub initial_plan_expansions: u64,
+    /// The objective's value: Wh (L + B, energy used, margin) or s (time).
+    pub initial_plan_cost: f64,
+    /// The plan's E_max, Wh.
+    pub e_max_wh: f64,
+    /// Straight-line length of the route, m.
+    pub initial_plan_distance_m: f64,
+    /// Goals the plan reaches.
+    pub initial_plan_goals: usize,
+    /// Fraction of drives that start in direct sun (1 without drives).
+    pub initial_plan_sunlit_drive_fraction: f64,
+    /// Drives that start with the Sun below the horizon.
+    pub initial_plan_night_drives: usize,
+    /// Whether the route enters each named region.
+    pub initial_plan_enters: BTreeMap<String, bool>,
+    /// The exact search's tick, s.
+    pub initial_plan_tick_s: Option<f64>,
+    /// The approximate search: whether no plan at the energy classes made it search
+    /// again with energy exact.
+    pub initial_plan_exact_energy_fallback: Option<bool>,
+    /// The approximate search: whether it searched again exact at the actions' quanta.
+    pub initial_plan_quanta_fallback: Option<bool>,
+    /// The approximate search: whether it searched again at halved time classes.
+    pub initial_plan_halved_classes_fallback: Option<bool>,
+    /// Communicate sessions and the drives that would overlap one.
+    #[serde(flatten)]
+    pub sessions: Option<SessionFigures>,
+    /// Off Mars: shadowed driving, Earth contact, the Sun's sweep, waits at havens.
+    #[serde(flatten)]
+    pub body: Option<BodyFigures>,
+}
+
+/// Communicate sessions the plan covers.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct SessionFigures {
+    /// Sessions over the horizon.
+    pub communicate_sessions: usize,
+    /// Sessions within the plan's span.
+    pub plan_sessions: usize,
+    /// Drives that overlap a session (none may).
+    pub plan_drives_during_sessions: usize,
+}
+
+/// A plan's figures off Mars, measured on the plan by sampling.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct BodyFigures {
+    /// Hours driven out of direct sun.
+    pub initial_plan_shadowed_drive_h: f64,
+    /// The longest gap without a whole session of Earth contact, h.
+    pub initial_plan_contact_max_gap_h: Option<f64>,
+    /// Fraction of the plan with the Earth in view.
+    pub initial_plan_earth_in_view_fraction: Option<f64>,
+    /// How far the Sun's azimuth turns over the plan, degrees.
+    pub initial_plan_sun_azimuth_swept_deg: f64,
+    /// The Sun's lowest elevation over the plan, degrees.
+    pub initial_plan_lowest_sun_deg: f64,
+    /// Whether the plan ends within a cell of its start.
+    pub initial_plan_closes_circuit: Option<bool>,
+    /// Fraction of drives whose solar array faces within 90° of the Sun.
+    pub initial_plan_panel_sunward_drive_fraction: Option<f64>,
+    /// Safe havens and the plan's waits, with a haven map.
+    #[serde(flatten)]
+    pub havens: Option<HavenFigures>,
+}
+
+/// Cells where the rover can wait out a shadow, and the plan's waits.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct HavenFigures {
+    /// Cells whose shadows are shorter than a full battery lasts asleep.
+    pub safe_haven_cells: usize,
+    /// How long a full battery lasts asleep, h.
+    pub safe_haven_survive_h: f64,
+    /// The plan's waits of at least the haven map's step.
+    pub initial_plan_waits: usize,
+    /// Those at havens.
+    pub initial_plan_waits_at_havens: usize,
+    /// The longest wait, h.
+    pub initial_plan_longest_wait_h: f64,
+    /// Whether the longest wait is at a haven.
+    pub initial_plan_longest_wait_at_haven: bool,
+}
+
+/// A goal reached in the simulated run.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct GoalArrival {
+    /// Hours after the start.
+    pub arrival_h: f64,
+    /// Local solar time at the goal, hours.
+    pub arrival_ltst_h: f64,
+}
+
+/// The simulated run's figures.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct RunFigures {
+    /// Each goal reached, by name.
+    pub goals: BTreeMap<String, GoalArrival>,
+    /// Drives that undo the one before (back and forth).
+    pub zigzag_pairs: usize,
+    /// Executed actions.
+    pub actions: usize,
+    /// Distance driven, m.
+    pub distance_m: f64,
+    /// Energy drawn, Wh.
+    pub energy_used_wh: f64,
+    /// Energy gained, Wh.
+    pub energy_gained_wh: f64,
+    /// The battery at the end, Wh (absolute).
+    pub final_battery_wh: f64,
+    /// The battery at the end above its floor, Wh.
+    pub final_battery_above_floor_wh: f64,
+    /// The lowest battery, Wh (absolute).
+    pub min_battery_wh: f64,
+    /// Nights the run spans.
+    pub nights: usize,
+    /// Hours driving.
+    pub drive_h: f64,
+    /// Hours charging.
+    pub charge_h: f64,
+    /// Hours hibernating.
+    pub hibernate_h: f64,
+    /// Hours waiting.
+    pub wait_h: f64,
+    /// Re-plans (restarts included).
+    pub replans: usize,
+    /// Re-plans that changed the route.
+    pub route_changes: usize,
+    /// Re-plans on the kept graphs that found nothing and were replaced by fresh plans.
+    pub restarts: usize,
+    /// The work those failed re-plans did (expansions).
+    pub restart_replan_work: Option<u64>,
+    /// The fresh plans' expansions.
+    pub restart_expansions: Option<u64>,
+    /// With `compare_fresh`: restarts compared with a fresh search of the same problem.
+    pub restarts_fresh_compared: Option<usize>,
+    /// Of those, how many a fresh search contradicted (it found a plan).
+    pub restarts_fresh_disagree: Option<usize>,
+    /// The approximate search: plans that fell back to energy exact.
+    pub exact_energy_fallbacks: usize,
+    /// Each re-plan's expansions against the initial plan's: median.
+    pub replan_expansions_median: Option<f64>,
+    /// 95th percentile.
+    pub replan_expansions_p95: Option<f64>,
+    /// Largest.
+    pub replan_expansions_max: Option<f64>,
+    /// Re-plans that repaired the kept graphs for cells sensing changed.
+    pub replans_after_sensing: usize,
+    /// On a tick: re-plans that kept the rest of the last plan.
+    pub replans_kept_rest: Option<usize>,
+    /// With `compare_fresh`: re-plans compared with fresh searches.
+    pub fresh_compared: Option<usize>,
+    /// Of those, how many expanded more than the fresh search.
+    pub replans_above_fresh: Option<usize>,
+    /// The largest relative cost difference from the fresh search.
+    pub replan_fresh_cost_difference: Option<f64>,
+    /// The worlds held, MB.
+    pub world_mb: f64,
+    /// Actions the rover refused.
+    pub refused_actions: usize,
+    /// Drives with the Sun below the horizon.
+    pub night_drives: usize,
+    /// Fraction of driving in direct sun.
+    pub sunlit_drive_fraction: f64,
+    /// From the start to the end of the run, h.
+    pub mission_h: f64,
+    /// Median re-plan wall time, s.
+    pub median_replan_s: Option<f64>,
+    /// Longest re-plan wall time, s.
+    pub max_replan_s: Option<f64>,
+    /// Median re-plan over the initial plan's wall time.
+    pub median_replan_fraction: Option<f64>,
+    /// Whether the route enters each named region.
+    pub route_enters: BTreeMap<String, bool>,
+}
+
+/// The plan under uncertainty.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ChanceFigures {
+    /// The confidence each quantity is planned at.
+    pub chance_confidence: f64,
+    /// Its standard normal quantile.
+    pub chance_z: f64,
+    /// Drive time factor planned with.
+    pub chance_drive_time_factor: f64,
+    /// Load factor planned with.
+    pub chance_draw_factor: f64,
+    /// Sunlight factor planned with.
+    pub chance_solar_factor: f64,
+    /// Delay before each action, s.
+    pub chance_action_delay_s: f64,
+    /// Start delay allowed for, s.
+    pub chance_start_delay_s: f64,
+    /// Error clones of the terrain the executions drive on.
+    pub mc_terrain_clones: Option<usize>,
+    /// Error clones the plan is made to hold on.
+    pub chance_terrain_plan_clones: Option<usize>,
+    /// `Execution` or `Action`.
+    pub chance_correlation: String,
+    /// The deterministic plan, when there is none: why.
+    pub deterministic_plan: Option<String>,
+    /// The deterministic plan's duration, h.
+    pub deterministic_plan_duration_h: Option<f64>,
+    /// Its lowest battery above the floor, Wh.
+    pub deterministic_plan_min_battery_wh: Option<f64>,
+    /// What the margins cost in time, h.
+    pub chance_extra_duration_h: Option<f64>,
+    /// And in energy drawn, Wh.
+    pub chance_extra_energy_used_wh: Option<f64>,
+    /// The plan's cost over the deterministic one's.
+    pub chance_cost_ratio: Option<f64>,
+    /// Open-loop executions of the plan.
+    pub mc: Option<MonteCarloFigures>,
+    /// Open-loop executions of the deterministic plan.
+    pub mc_deterministic: Option<MonteCarloFigures>,
+    /// Closed-loop executions (re-planning after every action) of the plan.
+    pub mc_closed: Option<MonteCarloFigures>,
+    /// Closed-loop executions planning deterministically.
+    pub mc_closed_deterministic: Option<MonteCarloFigures>,
+}
+
+/// Monte Carlo executions of one plan.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct MonteCarloFigures {
+    /// Executions.
+    pub runs: usize,
+    /// Fraction that reached every goal with the battery above its floor.
+    pub success_probability: f64,
+    /// 95 % Wilson interval: low.
+    pub success_ci_low: f64,
+    /// High.
+    pub success_ci_high: f64,
+    /// Fraction whose battery never fell below its floor.
+    pub battery_ok_probability: f64,
+    /// Fraction that reached each goal, by name.
+    pub goal_probability: BTreeMap<String, f64>,
+    /// The last goal's arrival, h after the start: 5th percentile.
+    pub last_arrival_h_p05: Option<f64>,
+    /// 50th.
+    pub last_arrival_h_p50: Option<f64>,
+    /// 95th.
+    pub last_arrival_h_p95: Option<f64>,
+    /// The lowest battery above the floor, Wh: 5th percentile.
+    pub lowest_battery_wh_p05: f64,
+    /// 50th.
+    pub lowest_battery_wh_p50: f64,
+    /// Executions that failed each way, by name.
+    pub failed: BTreeMap<String, usize>,
+}
+
+/// The Pareto front.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct FrontFigures {
+    /// Plans on the front.
+    pub front_plans: usize,
+    /// Searches made.
+    pub front_searches: usize,
+    /// Plans before the non-dominated filter.
+    pub front_candidates: usize,
+    /// The front's earliest arrival, h.
+    pub front_earliest_arrival_h: Option<f64>,
+    /// Latest arrival, h.
+    pub front_latest_arrival_h: Option<f64>,
+    /// Least energy used, Wh.
+    pub front_least_energy_used_wh: Option<f64>,
+    /// Most energy used, Wh.
+    pub front_most_energy_used_wh: Option<f64>,
+    /// Least margin, Wh.
+    pub front_least_margin_wh: Option<f64>,
+    /// Largest margin, Wh.
+    pub front_largest_margin_wh: Option<f64>,
+    /// The job's plan's energy used, Wh.
+    pub plan_energy_used_wh: Option<f64>,
+    /// The job's plan's margin, Wh.
+    pub plan_margin_wh: Option<f64>,
+    /// Whether a front plan beats the job's plan.
+    pub plan_dominated_by_front: Option<bool>,
+}
