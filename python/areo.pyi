@@ -87,7 +87,12 @@ class RunResult:
     """What a scenario run produced."""
     @property
     def facts(self) -> dict[str, Any]:
-        """Named facts (numbers in the unit their name gives, counts, flags, text)."""
+        """Named facts (numbers in the unit their name gives, counts, flags, text): the
+        report's scalar fields by path (`a.b` is `report["a"]["b"]`)."""
+    @property
+    def report(self) -> Optional[dict[str, Any]]:
+        """The job's report as `areo run --json` prints it: tables as dicts of NumPy
+        columns, rasters as `(rows, cols)` arrays, `report["job"]` the job's name."""
     @property
     def summary(self) -> list[str]: ...
     @property

@@ -93,7 +93,7 @@ pub(crate) fn sun_over(sun: &areo_scenario::terrain::SunOver) -> String {
         sun.lon_east_deg,
         sun.body,
         sun.azimuth_deg,
-        areo_scenario::terrain::grid_azimuth_said(sun.azimuth_deg, sun.grid_azimuth_deg),
+        areo_scenario::output::grid_azimuth_said(sun.azimuth_deg, sun.grid_azimuth_deg),
         sun.elevation_deg,
         if sun.elevation_deg <= 0.0 { " (below the horizon: the map is dark)" } else { "" }
     )

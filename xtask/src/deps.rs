@@ -365,6 +365,90 @@ pub(crate) fn long_functions(root: &Path, max: usize) -> Result<Vec<String>, Str
     Ok(found)
 }
 
+/// The writers of reports (`crates/scenario/src/output/reports.rs` and any module under
+/// `output/reports/`) name nothing but report types, the output modules, the error
+/// type, the Sun table's CSV header and areo-terrain's GeoTIFF writer: a file shows what
+/// the report holds and is never computed from a world, a map or a plan. Every path
+/// naming something outside that list, as `path:line path`.
+pub(crate) fn writers_outside_reports(root: &Path) -> Result<Vec<String>, String> {
+    let dir = root.join("crates/scenario/src/output");
+    let mut sources = Vec::new();
+    if dir.join("reports.rs").exists() {
+        sources.push(dir.join("reports.rs"));
+    }
+    sources.extend(rust_sources(&[dir.join("reports")], &[])?.into_iter().map(|(p, _)| p));
+    let mut found = Vec::new();
+    for path in sources {
+        let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let file = syn::parse_file(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        let shown = path.strip_prefix(root).unwrap_or(&path).display().to_string();
+        let mut scan = ReportPaths { path: &shown, found: Vec::new() };
+        syn::visit::Visit::visit_file(&mut scan, &file);
+        found.extend(scan.found);
+    }
+    Ok(found)
+}
+
+/// What a report writer may name: (first segment, second segment or "" for any).
+const WRITER_PATHS: &[(&str, &str)] = &[
+    ("crate", "report"),
+    ("crate", "output"),
+    ("crate", "error"),
+    ("crate", "sun::CSV_HEADER"),
+    ("areo_terrain", "geotiff"),
+];
+
+/// The visitor of [`writers_outside_reports`].
+struct ReportPaths<'a> {
+    path: &'a str,
+    found: Vec<String>,
+}
+
+impl ReportPaths<'_> {
+    fn check(&mut self, segments: &[String], line: usize) {
+        let Some(first) = segments.first() else { return };
+        // A lone `crate` is a visibility (`pub(crate)`), not a path into the crate.
+        let watched = (first == "crate" && segments.len() > 1) || first.starts_with("areo");
+        if !watched {
+            return;
+        }
+        let rest = segments[1..].join("::");
+        let allowed =
+            WRITER_PATHS.iter().any(|(a, b)| a == first && (rest == *b || rest.starts_with(&format!("{b}::"))));
+        if !allowed {
+            self.found.push(format!("{}:{line} {}", self.path, segments.join("::")));
+        }
+    }
+
+    /// Every path a `use` tree names, with `prefix` before it.
+    fn use_tree(&mut self, tree: &syn::UseTree, prefix: &mut Vec<String>, line: usize) {
+        match tree {
+            syn::UseTree::Path(p) => {
+                prefix.push(p.ident.to_string());
+                self.use_tree(&p.tree, prefix, line);
+                prefix.pop();
+            }
+            syn::UseTree::Name(n) => self.check(&[prefix.clone(), vec![n.ident.to_string()]].concat(), line),
+            syn::UseTree::Rename(r) => self.check(&[prefix.clone(), vec![r.ident.to_string()]].concat(), line),
+            syn::UseTree::Glob(_) => self.check(&[prefix.clone(), vec!["*".into()]].concat(), line),
+            syn::UseTree::Group(g) => g.items.iter().for_each(|t| self.use_tree(t, prefix, line)),
+        }
+    }
+}
+
+impl<'ast> syn::visit::Visit<'ast> for ReportPaths<'_> {
+    fn visit_item_use(&mut self, u: &'ast syn::ItemUse) {
+        self.use_tree(&u.tree, &mut Vec::new(), u.use_token.span.start().line);
+    }
+
+    fn visit_path(&mut self, p: &'ast syn::Path) {
+        let segments: Vec<String> = p.segments.iter().map(|s| s.ident.to_string()).collect();
+        let line = p.segments.first().map_or(0, |s| s.ident.span().start().line);
+        self.check(&segments, line);
+        syn::visit::visit_path(self, p);
+    }
+}
+
 /// Source files of every crate, the binary, xtask and the Python module longer than
 /// `max` lines, as `path (n lines)`: a file holds one subject a reader can take in.
 pub(crate) fn long_files(root: &Path, max: usize) -> Result<Vec<String>, String> {
@@ -573,6 +657,36 @@ mod tests {
         assert_eq!(names, ["a", "b", "c", "d", "e", "f", "g", "h", "x"], "{found:#?}");
         assert!(found.iter().all(|f| f.ends_with("(81 lines)")), "{found:#?}");
         assert!(found.iter().any(|f| f.starts_with("crates/x/src/lib.rs:1 a ")), "{found:#?}");
+    }
+
+    #[test]
+    fn report_writers_name_only_reports_and_output_libraries() {
+        let found = writers_outside_reports(&crate::project_root()).unwrap();
+        assert!(found.is_empty(), "a report's writers read the report alone: {found:#?}");
+        // The scan finds a world, a plan or a job module named however it is written.
+        let dir = std::env::temp_dir().join(format!("areo-writer-scan-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("crates/scenario/src/output/reports")).unwrap();
+        std::fs::write(
+            dir.join("crates/scenario/src/output/reports.rs"),
+            "use crate::report::Report;\nuse crate::{output::csv::Table, jobs::tempest};\nuse areo_terrain::geotiff;\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join("crates/scenario/src/output/reports/plan.rs"),
+            "fn f(w: &areo_mission::World) {\n    let s = crate::sun::CSV_HEADER;\n    let _ = crate::terrain::read_dem(p);\n}\n",
+        )
+        .unwrap();
+        let found = writers_outside_reports(&dir).unwrap();
+        assert_eq!(
+            found,
+            [
+                "crates/scenario/src/output/reports.rs:2 crate::jobs::tempest",
+                "crates/scenario/src/output/reports/plan.rs:1 areo_mission::World",
+                "crates/scenario/src/output/reports/plan.rs:3 crate::terrain::read_dem",
+            ],
+            "{found:#?}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -51,6 +51,9 @@ fn main() -> ExitCode {
                 violations.extend(files.into_iter().map(|at| format!("{at}: a source file over 1 000 lines")));
                 let long = deps::long_functions(&project_root(), 80)?;
                 violations.extend(long.into_iter().map(|at| format!("{at}: a function over 80 lines")));
+                let writers = deps::writers_outside_reports(&project_root())?;
+                violations
+                    .extend(writers.into_iter().map(|at| format!("{at}: a report writer names what is not a report")));
                 Ok(violations)
             })
             .map(|violations| {

@@ -92,17 +92,6 @@ pub fn sun_over(file: &Path, grid: &Grid, utc: &str) -> Result<SunOver> {
     })
 }
 
-/// " (137.20° on the grid, …)" where the map's north is not true north there (a polar map
-/// whose central meridian is not the site's), else nothing.
-pub fn grid_azimuth_said(true_deg: f64, grid_deg: f64) -> String {
-    let turn = (grid_deg - true_deg + 540.0).rem_euclid(360.0) - 180.0;
-    if turn.abs() < 5e-3 {
-        String::new()
-    } else {
-        format!(" ({grid_deg:.2}° on the grid, whose north is not true north here)")
-    }
-}
-
 /// Checks an output path before anything is computed: a GeoTIFF name (`.tif` or
 /// `.tiff`, since a PNG preview is written beside it under the `.png` name), and neither
 /// it nor its preview the input file itself.

@@ -130,3 +130,14 @@ mod tests {
         assert_eq!(json_for(Path::new("f.json"), &[1, 2], false).unwrap(), "[1,2]");
     }
 }
+
+/// " (137.20° on the grid, …)" where the map's north is not true north there (a polar map
+/// whose central meridian is not the site's), else nothing.
+pub fn grid_azimuth_said(true_deg: f64, grid_deg: f64) -> String {
+    let turn = (grid_deg - true_deg + 540.0).rem_euclid(360.0) - 180.0;
+    if turn.abs() < 5e-3 {
+        String::new()
+    } else {
+        format!(" ({grid_deg:.2}° on the grid, whose north is not true north here)")
+    }
+}

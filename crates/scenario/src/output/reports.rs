@@ -91,7 +91,7 @@ fn terrain_shadow_summary(r: &TerrainShadowReport) -> Vec<String> {
         format!(
             "Sun at azimuth {:.2}°{}, elevation {:.2}° ({}): {:.1} % of the ground in direct sun, {:.1} % in cast shadow",
             r.sun.azimuth_deg,
-            crate::terrain::grid_azimuth_said(r.sun.azimuth_deg, r.sun.grid_azimuth_deg),
+            super::grid_azimuth_said(r.sun.azimuth_deg, r.sun.grid_azimuth_deg),
             r.sun.elevation_deg,
             r.sun.utc,
             100.0 * r.lit_fraction,
