@@ -76,6 +76,17 @@ pub(crate) fn json_for(path: &Path, value: &impl serde::Serialize, pretty: bool)
     text.map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) })
 }
 
+/// " (137.20° on the grid, …)" where the map's north is not true north there (a polar map
+/// whose central meridian is not the site's), else nothing.
+pub fn grid_azimuth_said(true_deg: f64, grid_deg: f64) -> String {
+    let turn = (grid_deg - true_deg + 540.0).rem_euclid(360.0) - 180.0;
+    if turn.abs() < 5e-3 {
+        String::new()
+    } else {
+        format!(" ({grid_deg:.2}° on the grid, whose north is not true north here)")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -128,16 +139,5 @@ mod tests {
         let err = json_for(Path::new("out/x/facts.json"), &bad, true).unwrap_err();
         assert!(err.to_string().contains("out/x/facts.json"), "{err}");
         assert_eq!(json_for(Path::new("f.json"), &[1, 2], false).unwrap(), "[1,2]");
-    }
-}
-
-/// " (137.20° on the grid, …)" where the map's north is not true north there (a polar map
-/// whose central meridian is not the site's), else nothing.
-pub fn grid_azimuth_said(true_deg: f64, grid_deg: f64) -> String {
-    let turn = (grid_deg - true_deg + 540.0).rem_euclid(360.0) - 180.0;
-    if turn.abs() < 5e-3 {
-        String::new()
-    } else {
-        format!(" ({grid_deg:.2}° on the grid, whose north is not true north here)")
     }
 }
