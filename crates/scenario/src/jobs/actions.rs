@@ -485,9 +485,9 @@ fn best_facts(f: &mut GaRunFigures, summary: &mut Vec<String>, run: &RunResult) 
     summary.push(format!(
         "{name}: {} in {}; fitness {:.2}; {} ({}); stability min {:.0} %, mean {:.0} %; {:.0} s, {:.2} Wh{}",
         if best.complete { "task complete" } else { "not complete" },
-        super::counted(best.prefix_len, "module"),
+        crate::output::counted(best.prefix_len, "module"),
         report.best.fitness,
-        super::counted(best.samples, "sample"),
+        crate::output::counted(best.samples, "sample"),
         taken_label(&best.taken),
         100.0 * best.min_stability,
         100.0 * best.mean_stability,

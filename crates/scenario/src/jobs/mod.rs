@@ -40,11 +40,6 @@ impl std::fmt::Debug for RunOptions<'_> {
     }
 }
 
-/// `n` with its noun, singular for one: "1 charge", "3 charges", "0 samples".
-pub(crate) fn counted(n: usize, noun: &str) -> String {
-    if n == 1 { format!("1 {noun}") } else { format!("{n} {noun}s") }
-}
-
 /// Runs the scenario's job; writes its files into `opts.out_dir` if given.
 pub fn run(file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
     if let Some(estimate) = crate::budget::estimate(&file.scenario) {
@@ -175,14 +170,4 @@ pub fn run_into(file: &ScenarioFile, out_root: &Path, progress: &dyn Progress, b
         }
     }
     Ok(outcome)
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn counts_are_singular_for_one_only() {
-        assert_eq!(super::counted(1, "charge"), "1 charge");
-        assert_eq!(super::counted(0, "sample"), "0 samples");
-        assert_eq!(super::counted(12, "re-plan"), "12 re-plans");
-    }
 }

@@ -769,49 +769,50 @@ impl Computed {
     }
 }
 
-/// The public report and the summary lines.
+/// The public report, and the summary written from it.
 fn outcome(ctx: &Context<'_>, computed: &Computed) -> Outcome {
-    let mut r = TempestReport::default();
-    let mut summary: Vec<String> = computed.prepared.notes.clone();
-    let (world, precalc_s) = (ctx.world, ctx.precalc_s);
-    r.map_crs_not_read.clone_from(&computed.prepared.crs_not_read);
-    if ctx.job.horizon_sectors > 0 {
-        r.horizon_bytes_per_angle = Some(if world.horizon_is_narrow() { 1.0 } else { 2.0 });
-    }
-    r.precalc_s = precalc_s;
-    r.peak_memory_mb = computed.peak_memory_mb;
+    let world = ctx.world;
+    let mut r = TempestReport {
+        notes: computed.prepared.notes.clone(),
+        map_crs_not_read: computed.prepared.crs_not_read.clone(),
+        horizon_bytes_per_angle: (ctx.job.horizon_sectors > 0).then_some(if world.horizon_is_narrow() {
+            1.0
+        } else {
+            2.0
+        }),
+        precalc_s: ctx.precalc_s,
+        peak_memory_mb: computed.peak_memory_mb,
+        goals_total: ctx.goals.len(),
+        battery_floor_wh: floor_wh(ctx),
+        ..TempestReport::default()
+    };
     let mut failure = None;
     match &computed.run {
-        Run::Unreachable { .. } | Run::Stopped { .. } => failure = no_plan(&mut r, &mut summary, ctx, computed),
+        Run::Unreachable { .. } | Run::Stopped { .. } => failure = no_plan(&mut r, ctx, computed),
         Run::Plan { plan, seconds, search_bytes, labels } => {
-            r.cells = Some(world.cells());
+            (r.cells, r.map_cols_rows) = (Some(world.cells()), Some((world.cols(), world.rows())));
             // The segments' graphs as the plan leaves them (the most they held).
             r.peak_search_mb = Some(*search_bytes as f64 / 1e6);
-            let mut figures = plan_facts(&mut summary, ctx, plan, *seconds);
+            let mut figures = plan_facts(ctx, plan, *seconds);
             // Labels those graphs hold (on a tick, every label the search kept: most
             // are never expanded).
             figures.initial_plan_labels = Some(*labels);
             r.initial_plan = Some(figures);
-            r.chance = computed.chance.as_ref().map(|c| chance::facts(&mut summary, ctx, plan, c));
-            r.front = computed.front.as_ref().map(|f| front::facts(&mut summary, ctx, plan, f));
+            r.chance = computed.chance.as_ref().map(|c| chance::facts(ctx, plan, c));
+            r.front = computed.front.as_ref().map(|f| front::facts(ctx, plan, f));
             r.status = "planned".into();
-            summary.push(format!(
-                "{} × {} cells; pre-calculation {precalc_s:.2} s, planning {seconds:.3} s ({} expansions)",
-                world.cols(),
-                world.rows(),
-                plan.expansions
-            ));
             r.plan = Some(plan.clone());
         }
         Run::Simulated(sim) => {
-            r.cells = Some(world.cells());
+            (r.cells, r.map_cols_rows) = (Some(world.cells()), Some((world.cols(), world.rows())));
             let initial = &sim.plans[0].plan;
-            r.initial_plan = Some(plan_facts(&mut summary, ctx, initial, sim.plans[0].wall_s));
-            r.chance = computed.chance.as_ref().map(|c| chance::facts(&mut summary, ctx, initial, c));
-            r.front = computed.front.as_ref().map(|f| front::facts(&mut summary, ctx, initial, f));
-            sim_facts(&mut r, &mut summary, ctx, sim, computed.peak_memory_mb);
+            r.initial_plan = Some(plan_facts(ctx, initial, sim.plans[0].wall_s));
+            r.chance = computed.chance.as_ref().map(|c| chance::facts(ctx, initial, c));
+            r.front = computed.front.as_ref().map(|f| front::facts(ctx, initial, f));
+            sim_facts(&mut r, ctx, sim);
             if let SimStatus::Unreachable { binding, message, proven } = &sim.status {
                 r.unreachable_proven = Some(*proven);
+                r.binding = Some(message.clone());
                 failure = Some(Failure::Unreachable {
                     binding: *binding,
                     message: message.clone(),
@@ -823,67 +824,44 @@ fn outcome(ctx: &Context<'_>, computed: &Computed) -> Outcome {
         }
     }
     let report = Report::Tempest(Box::new(r));
+    let summary = crate::output::reports::summary(&report);
     Outcome { facts: report.facts(), summary, files: Vec::new(), failure, report: Some(Box::new(report)) }
 }
 
-/// The figures and summary of a run without a plan — unreachable, or stopped by a
-/// budget — and why it failed (`None` for a run with a plan).
-fn no_plan(
-    r: &mut TempestReport,
-    summary: &mut Vec<String>,
-    ctx: &Context<'_>,
-    computed: &Computed,
-) -> Option<Failure> {
+/// The figures of a run without a plan — unreachable, or stopped by a budget — and why
+/// it failed (`None` for a run with a plan).
+fn no_plan(r: &mut TempestReport, ctx: &Context<'_>, computed: &Computed) -> Option<Failure> {
     let (failure, work) = match &computed.run {
         Run::Unreachable { binding, message, proven, work } => {
             r.status = "unreachable".into();
             r.binding = Some(message.clone());
             r.unreachable_proven = Some(*proven);
-            summary.push(format!("no plan: the goals are unreachable ({message})"));
+            // Planned with every action made worse by its margins: a deterministic plan
+            // may still exist.
+            r.planned_at_confidence = chance::uncertainty(ctx.job)
+                .filter(|u| u.margins() != areo_mission::Perturbation::NONE)
+                .map(|u| u.confidence);
             let failure = Failure::Unreachable { binding: *binding, message: message.clone(), after_actions: None };
             (failure, work)
         }
         Run::Stopped { memory, message, work } => {
             r.status = "stopped".into();
             r.stopped_by = Some(if *memory { "memory" } else { "work" }.into());
-            summary.push(format!("no answer: {message}"));
+            r.stopped_message = Some(message.clone());
             (Failure::Stopped { message: message.clone() }, work)
         }
         Run::Plan { .. } | Run::Simulated(_) => return None,
     };
-    r.no_plan = Some(no_plan_facts(summary, work));
-    if matches!(failure, Failure::Unreachable { .. })
-        && let Some(u) = chance::uncertainty(ctx.job).filter(|u| u.margins() != areo_mission::Perturbation::NONE)
-    {
-        summary.push(format!(
-            "(planned at confidence {}: every action made worse by its margins; a deterministic plan may still exist)",
-            u.confidence
-        ));
-    }
-    Some(failure)
-}
-
-/// What the "no plan" verdict cost, as figures and a summary line.
-fn no_plan_facts(summary: &mut Vec<String>, work: &NoPlanWork) -> NoPlanFigures {
-    let planning = work.phases.iter().find(|p| p.0 == "planning").map_or(0, |p| p.1);
-    let probes: Vec<String> = (work.phases.iter())
-        .filter_map(|&(p, n)| p.strip_prefix("no plan: ").map(|p| format!("{n} with {p}")))
-        .collect();
-    let probes = if probes.is_empty() {
-        String::new()
-    } else {
-        format!("; the probes naming the binding constraint {}", probes.join(", "))
-    };
-    summary.push(format!(
-        "no plan after {} expansions in {:.1} s: {planning} at the settings and their fallbacks{probes}",
-        work.expansions, work.seconds
-    ));
-    NoPlanFigures {
+    r.no_plan = Some(NoPlanFigures {
         no_plan_s: work.seconds,
         no_plan_expansions: work.expansions,
-        no_plan_planning_expansions: planning,
+        no_plan_planning_expansions: work.phases.iter().find(|p| p.0 == "planning").map_or(0, |p| p.1),
         no_plan_probes: work.phases.len() as u64 - 1,
-    }
+        no_plan_probe_expansions: (work.phases.iter())
+            .filter_map(|&(p, n)| p.strip_prefix("no plan: ").map(|p| (p.to_string(), n)))
+            .collect(),
+    });
+    Some(failure)
 }
 
 /// Sampling step of the haven map and of the plan's contact and shadow checks, s.

@@ -87,6 +87,11 @@ pub fn grid_azimuth_said(true_deg: f64, grid_deg: f64) -> String {
     }
 }
 
+/// `n` with its noun, singular for one: "1 charge", "3 charges", "0 samples".
+pub(crate) fn counted(n: usize, noun: &str) -> String {
+    if n == 1 { format!("1 {noun}") } else { format!("{n} {noun}s") }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -139,5 +144,12 @@ mod tests {
         let err = json_for(Path::new("out/x/facts.json"), &bad, true).unwrap_err();
         assert!(err.to_string().contains("out/x/facts.json"), "{err}");
         assert_eq!(json_for(Path::new("f.json"), &[1, 2], false).unwrap(), "[1,2]");
+    }
+
+    #[test]
+    fn counts_are_singular_for_one_only() {
+        assert_eq!(super::counted(1, "charge"), "1 charge");
+        assert_eq!(super::counted(0, "sample"), "0 samples");
+        assert_eq!(super::counted(12, "re-plan"), "12 re-plans");
     }
 }

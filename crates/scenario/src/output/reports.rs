@@ -11,6 +11,8 @@ use crate::sun::CSV_HEADER;
 
 use super::csv::Table;
 
+mod tempest;
+
 /// Writes the report's files into `dir`; returns them. (The TEMPEST and actions jobs write
 /// their own files from what they computed.)
 pub(crate) fn write(dir: &Path, report: &Report) -> Result<Vec<PathBuf>> {
@@ -21,13 +23,13 @@ pub(crate) fn write(dir: &Path, report: &Report) -> Result<Vec<PathBuf>> {
     }
 }
 
-/// The report's lines for a person to read. (The TEMPEST and actions jobs compose
-/// their own summaries.)
+/// The report's lines for a person to read. (The actions job composes its own.)
 pub(crate) fn summary(report: &Report) -> Vec<String> {
     match report {
         Report::SunTable(r) => sun_table_summary(r),
         Report::TerrainShadow(r) => terrain_shadow_summary(r),
-        Report::Tempest(_) | Report::Actions(_) => Vec::new(),
+        Report::Tempest(r) => tempest::summary(r),
+        Report::Actions(_) => Vec::new(),
     }
 }
 

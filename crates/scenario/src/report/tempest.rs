@@ -34,6 +34,19 @@ pub struct TempestReport {
     pub peak_memory_mb: Option<f64>,
     /// Cells of the planning map (with a plan).
     pub cells: Option<usize>,
+    /// Its columns and rows (with a plan).
+    pub map_cols_rows: Option<(usize, usize)>,
+    /// What the map approximates or how it is read (a cut region, one-byte horizons,
+    /// a grid whose north is not true north), in words.
+    pub notes: Vec<String>,
+    /// Stopped by a budget: what stopped it, naming the file and the flag.
+    pub stopped_message: Option<String>,
+    /// Without a plan under uncertainty margins: the confidence planned at.
+    pub planned_at_confidence: Option<f64>,
+    /// The goals asked for.
+    pub goals_total: usize,
+    /// The battery's floor (capacity × min_soc), Wh.
+    pub battery_floor_wh: f64,
     /// Goals reached (a plan without simulation reaches none yet).
     pub goals_reached: usize,
     /// The search graphs at their largest, MB.
@@ -71,6 +84,8 @@ pub struct NoPlanFigures {
     pub no_plan_planning_expansions: u64,
     /// Relaxed probes run to name the binding constraint.
     pub no_plan_probes: u64,
+    /// Each probe's relaxation and its expansions.
+    pub no_plan_probe_expansions: Vec<(String, u64)>,
 }
 
 /// The initial plan's figures.
@@ -119,12 +134,28 @@ pub struct PlanFigures {
     pub initial_plan_quanta_fallback: Option<bool>,
     /// The approximate search: whether it searched again at halved time classes.
     pub initial_plan_halved_classes_fallback: Option<bool>,
+    /// The approximate search's settings and the classes its plan was found at.
+    pub approximate: Option<ApproximateSearch>,
     /// Communicate sessions and the drives that would overlap one.
     #[serde(flatten)]
     pub sessions: Option<SessionFigures>,
     /// Off Mars: shadowed driving, Earth contact, the Sun's sweep, waits at havens.
     #[serde(flatten)]
     pub body: Option<BodyFigures>,
+}
+
+/// The approximate search (`approximate: true`): its classes.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ApproximateSearch {
+    /// The time classes asked for, s.
+    pub time_classes_asked_s: f64,
+    /// The energy classes asked for, Wh (absent: energy exact).
+    pub energy_classes_asked_wh: Option<f64>,
+    /// The time classes the plan was found at, s.
+    pub time_classes_s: f64,
+    /// Whether the actions have a time quantum (their last resort is a search exact at
+    /// the quanta).
+    pub quantised: bool,
 }
 
 /// Communicate sessions the plan covers.
@@ -147,6 +178,8 @@ pub struct BodyFigures {
     pub initial_plan_contact_max_gap_h: Option<f64>,
     /// Fraction of the plan with the Earth in view.
     pub initial_plan_earth_in_view_fraction: Option<f64>,
+    /// The contact a gap is measured without: a session of this length, min.
+    pub contact_session_min: Option<f64>,
     /// How far the Sun's azimuth turns over the plan, degrees.
     pub initial_plan_sun_azimuth_swept_deg: f64,
     /// The Sun's lowest elevation over the plan, degrees.
@@ -175,11 +208,15 @@ pub struct HavenFigures {
     pub initial_plan_longest_wait_h: f64,
     /// Whether the longest wait is at a haven.
     pub initial_plan_longest_wait_at_haven: bool,
+    /// The shortest wait counted, h.
+    pub waits_counted_from_h: f64,
 }
 
 /// A goal reached in the simulated run.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct GoalArrival {
+    /// The instant, ISO 8601 UTC.
+    pub arrival_utc: String,
     /// Hours after the start.
     pub arrival_h: f64,
     /// Local solar time at the goal, hours.
@@ -191,6 +228,8 @@ pub struct GoalArrival {
 pub struct RunFigures {
     /// Each goal reached, by name.
     pub goals: BTreeMap<String, GoalArrival>,
+    /// The goals' names in the order reached.
+    pub arrival_order: Vec<String>,
     /// Drives that undo the one before (back and forth).
     pub zigzag_pairs: usize,
     /// Executed actions.
@@ -231,6 +270,8 @@ pub struct RunFigures {
     pub restarts_fresh_compared: Option<usize>,
     /// Of those, how many a fresh search contradicted (it found a plan).
     pub restarts_fresh_disagree: Option<usize>,
+    /// The binding constraint each failed re-plan named, consecutive repeats once.
+    pub restart_bindings: Vec<String>,
     /// The approximate search: plans that fell back to energy exact.
     pub exact_energy_fallbacks: usize,
     /// Each re-plan's expansions against the initial plan's: median.
@@ -290,6 +331,10 @@ pub struct ChanceFigures {
     pub mc_terrain_clones: Option<usize>,
     /// Error clones the plan is made to hold on.
     pub chance_terrain_plan_clones: Option<usize>,
+    /// The clones' height error (RMS), m.
+    pub chance_terrain_sigma_m: Option<f64>,
+    /// The distance it is correlated over, m.
+    pub chance_terrain_correlation_m: Option<f64>,
     /// `Execution` or `Action`.
     pub chance_correlation: String,
     /// The deterministic plan, when there is none: why.
@@ -352,6 +397,8 @@ pub struct FrontFigures {
     pub front_searches: usize,
     /// Plans before the non-dominated filter.
     pub front_candidates: usize,
+    /// The approximate front's margin step, Wh (absent on a tick: the front is exact).
+    pub front_margin_step_wh: Option<f64>,
     /// The front's earliest arrival, h.
     pub front_earliest_arrival_h: Option<f64>,
     /// Latest arrival, h.

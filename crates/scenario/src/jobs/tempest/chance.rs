@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use areo_mission::uncertainty::{Correlation, Execution, MonteCarlo, Summary, Uncertainty, percentile, summarise};
+use areo_mission::uncertainty::{Execution, MonteCarlo, Summary, Uncertainty, percentile, summarise};
 use areo_mission::uncertainty::{closed_loop_on, dem_clone, open_loop_on, planning_clones};
 use areo_mission::{Mission, MissionPlan, PlannerConfig, Simulation, Start, World, WorldConfig};
 use serde::Serialize;
@@ -139,13 +139,8 @@ fn terrain_clones(
         .collect()
 }
 
-/// The facts and summary lines.
-pub(super) fn facts(
-    summary: &mut Vec<String>,
-    ctx: &Context<'_>,
-    plan: &MissionPlan,
-    chance: &Chance,
-) -> ChanceFigures {
+/// The report's figures of the plan under uncertainty.
+pub(super) fn facts(ctx: &Context<'_>, plan: &MissionPlan, chance: &Chance) -> ChanceFigures {
     let u = &chance.uncertainty;
     let m = u.margins();
     let mut f = ChanceFigures {
@@ -159,47 +154,19 @@ pub(super) fn facts(
         chance_correlation: format!("{:?}", u.correlation),
         ..ChanceFigures::default()
     };
-    if u.terrain_clones > 0 && u.terrain_sigma_m > 0.0 {
-        f.mc_terrain_clones = Some(u.terrain_clones);
-        summary.push(format!(
-            "the open-loop and closed-loop executions drive on {} error clones of the terrain (height RMS {} m, correlated over {} m)",
-            u.terrain_clones, u.terrain_sigma_m, u.terrain_correlation_m
-        ));
+    if u.terrain_sigma_m > 0.0 && (u.terrain_clones > 0 || u.terrain_plan_clones > 0) {
+        f.mc_terrain_clones = (u.terrain_clones > 0).then_some(u.terrain_clones);
+        f.chance_terrain_plan_clones = (u.terrain_plan_clones > 0).then_some(u.terrain_plan_clones);
+        f.chance_terrain_sigma_m = Some(u.terrain_sigma_m);
+        f.chance_terrain_correlation_m = Some(u.terrain_correlation_m);
     }
-    if u.terrain_plan_clones > 0 && u.terrain_sigma_m > 0.0 {
-        f.chance_terrain_plan_clones = Some(u.terrain_plan_clones);
-        summary.push(format!(
-            "the plan is made to hold on the map and {} error clones of it (seeds from 2^63, never the Monte Carlo's): each drive as slow and as hungry as on its worst, sunlight only where every one is lit and at most the least any gives",
-            u.terrain_plan_clones
-        ));
-    }
-    let bound = match u.correlation {
-        Correlation::Execution => "one draw per execution: each quantity at its quantile",
-        Correlation::Action => "a draw per action: a conservative bound",
-    };
-    summary.push(format!(
-        "plan under uncertainty ({bound}): confidence {} (z = {:.3}); planned with drives ×{:.3}, loads ×{:.3}, sunlight ×{:.3}, {:.0} s before each action, a start {:.0} s late",
-        u.confidence,
-        u.z(),
-        m.duration_factor,
-        m.draw_factor,
-        m.solar_factor,
-        m.delay_s,
-        u.start_delay_margin_s()
-    ));
-    deterministic_facts(&mut f, summary, ctx, plan, chance);
-    monte_carlo_facts(&mut f, summary, ctx, chance);
+    deterministic_facts(&mut f, ctx, plan, chance);
+    monte_carlo_facts(&mut f, ctx, chance);
     f
 }
 
 /// The deterministic plan beside the chance-constrained one: what the margins cost.
-fn deterministic_facts(
-    f: &mut ChanceFigures,
-    summary: &mut Vec<String>,
-    ctx: &Context<'_>,
-    plan: &MissionPlan,
-    chance: &Chance,
-) {
+fn deterministic_facts(f: &mut ChanceFigures, ctx: &Context<'_>, plan: &MissionPlan, chance: &Chance) {
     match &chance.deterministic {
         Some(Ok(d)) => {
             let (extra_h, extra_wh) =
@@ -209,10 +176,6 @@ fn deterministic_facts(
             f.chance_extra_duration_h = Some(extra_h);
             f.chance_extra_energy_used_wh = Some(extra_wh);
             f.chance_cost_ratio = Some(plan.cost / d.cost);
-            summary.push(format!(
-                "the margins cost {extra_h:+.2} h and {extra_wh:+.1} Wh drawn against the deterministic plan (cost ×{:.3})",
-                plan.cost / d.cost
-            ));
         }
         Some(Err(why)) => f.deterministic_plan = Some(format!("none: {why}")),
         None => {}
@@ -220,34 +183,12 @@ fn deterministic_facts(
 }
 
 /// The Monte Carlo executions of both plans, open and closed loop.
-fn monte_carlo_facts(f: &mut ChanceFigures, summary: &mut Vec<String>, ctx: &Context<'_>, chance: &Chance) {
+fn monte_carlo_facts(f: &mut ChanceFigures, ctx: &Context<'_>, chance: &Chance) {
     let figures = |runs: &Option<Executed>| runs.as_ref().map(|r| summary_facts(ctx, &r.summary));
     f.mc = figures(&chance.chance_runs);
     f.mc_deterministic = figures(&chance.deterministic_runs);
     f.mc_closed = figures(&chance.chance_closed);
     f.mc_closed_deterministic = figures(&chance.deterministic_closed);
-    if let Some(c) = &chance.chance_runs {
-        let s = &c.summary;
-        let det = chance.deterministic_runs.as_ref().map_or(String::new(), |d| {
-            let (lo, hi) = d.summary.success_interval;
-            format!("; the deterministic plan {:.3} [{lo:.3}, {hi:.3}]", d.summary.success_probability)
-        });
-        let (lo, hi) = s.success_interval;
-        summary.push(format!(
-            "open-loop Monte Carlo, {} runs: the plan reaches every goal with the battery above its floor in {:.3} [{lo:.3}, {hi:.3}] (95 % Wilson){det}",
-            s.runs, s.success_probability
-        ));
-    }
-    if let Some(c) = &chance.chance_closed {
-        let det = chance
-            .deterministic_closed
-            .as_ref()
-            .map_or(String::new(), |d| format!("; planning deterministically {:.3}", d.summary.success_probability));
-        summary.push(format!(
-            "closed-loop Monte Carlo (re-planning after every action), {} runs: every goal reached with the battery above its floor in {:.3}{det}",
-            c.summary.runs, c.summary.success_probability
-        ));
-    }
 }
 
 /// Energy drawn along a plan (the sum of its battery's falls), Wh.

@@ -1,8 +1,11 @@
-//! The TEMPEST report's figures and the summary lines: the plan, its sessions and
-//! resolution, the body's figures, the simulated run, its search costs and restarts.
+//! The TEMPEST report's figures: the plan, its sessions and resolution, the body's
+//! figures, the simulated run, its search costs and restarts. (The summary lines are
+//! written from the report, in `output::reports::tempest`.)
 
 use super::*;
-use crate::report::tempest::{BodyFigures, GoalArrival, HavenFigures, PlanFigures, RunFigures, SessionFigures};
+use crate::report::tempest::{
+    ApproximateSearch, BodyFigures, GoalArrival, HavenFigures, PlanFigures, RunFigures, SessionFigures,
+};
 
 /// Communicate sessions the plan covers, and drives that would overlap one (none may).
 pub(super) fn session_facts(ctx: &Context<'_>, plan: &MissionPlan) -> Option<SessionFigures> {
@@ -24,13 +27,8 @@ pub(super) fn session_facts(ctx: &Context<'_>, plan: &MissionPlan) -> Option<Ses
     })
 }
 
-/// The initial plan's figures (its search took `seconds`), and its summary lines.
-pub(super) fn plan_facts(
-    summary: &mut Vec<String>,
-    ctx: &Context<'_>,
-    plan: &MissionPlan,
-    seconds: f64,
-) -> PlanFigures {
+/// The initial plan's figures (its search took `seconds`).
+pub(super) fn plan_facts(ctx: &Context<'_>, plan: &MissionPlan, seconds: f64) -> PlanFigures {
     let (drives, charges, hibernations) = plan.action_counts();
     let drive_wps: Vec<_> = plan.waypoints.iter().filter(|w| matches!(w.action, Some(Action::Drive(_)))).collect();
     let length: f64 = plan
@@ -66,50 +64,22 @@ pub(super) fn plan_facts(
         ..PlanFigures::default()
     };
     if ctx.job.body.model() != areo_ephemeris::Body::Mars {
-        f.body = Some(body_facts(summary, ctx, plan));
+        f.body = Some(body_facts(ctx, plan));
     }
-    summary.push(format!(
-        "initial plan: {} waypoints ({}, {}, {}) over {:.1} h; lowest predicted battery {:.0} Wh (absolute); \
-         E_max {:.2} Wh",
-        plan.waypoints.len(),
-        crate::jobs::counted(drives, "drive"),
-        crate::jobs::counted(charges, "charge"),
-        crate::jobs::counted(hibernations, "hibernation"),
-        plan.duration_s() / 3600.0,
-        plan.min_battery_wh(),
-        plan.e_max_wh
-    ));
-    resolution_facts(&mut f, summary, ctx, plan);
+    resolution_facts(&mut f, ctx, plan);
     f
 }
 
 /// What the search that found the plan approximated, said as what it is: its classes,
 /// and which fallback (energy exact, halved classes, exact at the quanta) found it.
-pub(super) fn resolution_facts(f: &mut PlanFigures, summary: &mut Vec<String>, ctx: &Context<'_>, plan: &MissionPlan) {
+pub(super) fn resolution_facts(f: &mut PlanFigures, ctx: &Context<'_>, plan: &MissionPlan) {
     if let Some(tick) = plan.tick_s {
         f.initial_plan_tick_s = Some(tick);
-        summary.push(format!(
-            "search: exact at the tick of {tick:.0} s (drives depart and waits end on ticks, energy exact, goals \
-             reached at any instant of their windows; no approximation, no fallback)"
-        ));
         return;
     }
     let resolution = ctx.job.planner.resolution;
     let fallback = resolution.energy_wh.is_some() && plan.energy_classes_wh.is_none();
     f.initial_plan_exact_energy_fallback = Some(fallback);
-    summary.push(format!(
-        "search resolution: time classes of {:.0} s (approximate: labels of a class are compared as one instant); {}",
-        resolution.time_s,
-        match (resolution.energy_wh, fallback) {
-            (None, _) => "energy exact (Pareto labels)".to_string(),
-            (Some(w), false) => format!(
-                "energy classes of {w} Wh (approximate: a kept label may need up to {w} Wh more than one it dropped)"
-            ),
-            (Some(w), true) => format!(
-                "no plan with energy classes of {w} Wh, so the planner searched again with energy exact (fallback)"
-            ),
-        }
-    ));
     // The last resort for quantised actions: a search exact at the quanta (reported
     // even where the classes were one quantum already: its goal instants and start
     // times are not the settings'); before it, and for continuous actions instead of
@@ -119,30 +89,18 @@ pub(super) fn resolution_facts(f: &mut PlanFigures, summary: &mut Vec<String>, c
     let halved = plan.time_classes_s < resolution.time_s && !at_quanta;
     f.initial_plan_quanta_fallback = Some(at_quanta);
     f.initial_plan_halved_classes_fallback = Some(halved);
-    if halved {
-        let exactness = if quantised {
-            "before the last resort exact at the quanta, which it made unnecessary"
-        } else {
-            "still approximate: no class width is exact for continuous action times"
-        };
-        summary.push(format!(
-            "no plan at these classes, so the planner searched again at time classes of {:.0} s (fallback: \
-             `unreachable_retries`; {exactness})",
-            plan.time_classes_s
-        ));
-    }
-    if at_quanta {
-        summary.push(format!(
-            "no plan at these classes, so the planner searched again exact at the actions' quanta (fallback: time classes of {:.0} s, energy exact, every goal instant a coarser goal_times would use)",
-            plan.time_classes_s
-        ));
-    }
+    f.approximate = Some(ApproximateSearch {
+        time_classes_asked_s: resolution.time_s,
+        energy_classes_asked_wh: resolution.energy_wh,
+        time_classes_s: plan.time_classes_s,
+        quantised,
+    });
 }
 
 /// Facts of a plan off Mars: driving in shadow, Earth contact, the Sun's sweep, the
 /// circuit, and the waits at safe havens — each measured on the plan by sampling, not
 /// taken from the planner's constraints.
-pub(super) fn body_facts(summary: &mut Vec<String>, ctx: &Context<'_>, plan: &MissionPlan) -> BodyFigures {
+pub(super) fn body_facts(ctx: &Context<'_>, plan: &MissionPlan) -> BodyFigures {
     use contact::{contact_along, shadowed_drive_h, waits};
     let sun = metrics::sun_along(ctx.world, plan, CONTACT_STEP_S);
     let mut f = BodyFigures {
@@ -165,12 +123,7 @@ pub(super) fn body_facts(summary: &mut Vec<String>, ctx: &Context<'_>, plan: &Mi
         let c = contact_along(ctx.world, plan, com.duration_min * 60.0, CONTACT_STEP_S);
         f.initial_plan_contact_max_gap_h = Some(c.max_gap_h);
         f.initial_plan_earth_in_view_fraction = Some(c.in_view_fraction);
-        summary.push(format!(
-            "Earth contact: in view {:.0} % of the plan; longest gap without {} min of contact {:.1} h",
-            100.0 * c.in_view_fraction,
-            com.duration_min,
-            c.max_gap_h
-        ));
+        f.contact_session_min = Some(com.duration_min);
     }
     if let Some(h) = ctx.havens {
         let ws = waits(plan, h, floor_wh(ctx), HAVEN_STEP_S);
@@ -182,28 +135,14 @@ pub(super) fn body_facts(summary: &mut Vec<String>, ctx: &Context<'_>, plan: &Mi
             initial_plan_waits_at_havens: ws.iter().filter(|w| w.haven).count(),
             initial_plan_longest_wait_h: longest.map_or(0.0, |w| w.to_h - w.from_h),
             initial_plan_longest_wait_at_haven: longest.is_some_and(|w| w.haven),
+            waits_counted_from_h: HAVEN_STEP_S / 3600.0,
         });
-        summary.push(format!(
-            "safe havens: {} cells (shadows shorter than the {:.0} h a full battery lasts asleep); the plan waits {} \
-             times for at least {:.1} h, {} of them at havens",
-            h.haven.iter().filter(|&&x| x).count(),
-            h.survive_h.min(1e6),
-            ws.len(),
-            HAVEN_STEP_S / 3600.0,
-            ws.iter().filter(|w| w.haven).count()
-        ));
     }
     f
 }
 
-/// The simulated run's figures into `report`, and its summary lines.
-pub(super) fn sim_facts(
-    report: &mut TempestReport,
-    summary: &mut Vec<String>,
-    ctx: &Context<'_>,
-    r: &SimReport,
-    peak_memory_mb: Option<f64>,
-) {
+/// The simulated run's figures into `report`.
+pub(super) fn sim_facts(report: &mut TempestReport, ctx: &Context<'_>, r: &SimReport) {
     let status = match &r.status {
         SimStatus::Completed => "completed",
         SimStatus::Unreachable { .. } => "unreachable",
@@ -220,8 +159,9 @@ pub(super) fn sim_facts(
         let (_, lon) = ctx.world.lat_lon(ctx.goals[g]);
         let at = epoch + Duration::from_seconds(t);
         let ltst = ctx.world.local_solar_time_h(t, lon);
-        f.goals.insert(name.to_string(), GoalArrival { arrival_h: ctx.hours(t), arrival_ltst_h: ltst });
-        summary.push(format!("reached {name} at {} (after {:.1} h, LTST {ltst:.2} h)", format_utc(at), ctx.hours(t)));
+        let arrival = GoalArrival { arrival_utc: format_utc(at), arrival_h: ctx.hours(t), arrival_ltst_h: ltst };
+        f.goals.insert(name.to_string(), arrival);
+        f.arrival_order.push(name.to_string());
     }
     let drive_h = hours_in(r, |a| matches!(a, Action::Drive(_)));
     let charge_h = hours_in(r, |a| a == Action::Charge);
@@ -247,7 +187,7 @@ pub(super) fn sim_facts(
     restart_facts(&mut f, r);
     let asked = ctx.job.planner.resolution.energy_wh;
     f.exact_energy_fallbacks = r.plans.iter().filter(|p| asked.is_some() && p.plan.energy_classes_wh.is_none()).count();
-    report.peak_search_mb = Some(search_facts(&mut f, summary, r));
+    report.peak_search_mb = Some(search_facts(&mut f, r));
     f.world_mb = worlds_mb(ctx);
     f.refused_actions = r.steps.iter().filter(|s| s.refused.is_some()).count();
     f.night_drives = metrics::night_drives(&r.steps);
@@ -262,7 +202,6 @@ pub(super) fn sim_facts(
         let route = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
         f.route_enters.insert(reg.name.clone(), ctx.enters(route, reg));
     }
-    sim_summary(summary, ctx, r, status, peak_memory_mb);
     report.run = Some(f);
 }
 
@@ -274,7 +213,7 @@ pub(super) fn p95(values: &[f64]) -> f64 {
 /// The simulated run's search figures: re-plan expansions against the initial plan's
 /// (restarts included), and with `compare_fresh` the re-plans against fresh searches
 /// of the same problems. Returns the search graphs' peak, MB.
-pub(super) fn search_facts(f: &mut RunFigures, summary: &mut Vec<String>, r: &SimReport) -> f64 {
+pub(super) fn search_facts(f: &mut RunFigures, r: &SimReport) -> f64 {
     // Deterministic search costs: each re-plan's expansions against the initial plan's
     // — restarts included, as the fresh plans they are (counted apart as well) — and
     // the search's memory.
@@ -293,10 +232,6 @@ pub(super) fn search_facts(f: &mut RunFigures, summary: &mut Vec<String>, r: &Si
     if r.plans.first().is_some_and(|p| p.plan.tick_s.is_some()) {
         let kept = replans.filter(|p| p.expansions == 0).count();
         f.replans_kept_rest = Some(kept);
-        summary.push(format!(
-            "re-plans on the tick: {kept} kept the rest of the last plan (the world unchanged, the rover where the \
-             plan said), the others searched exactly from where the rover stood"
-        ));
     }
     // With `compare_fresh`: re-plans against the same problem searched from scratch.
     let compared: Vec<(&areo_mission::PlanRecord, (u64, f64))> =
@@ -306,12 +241,6 @@ pub(super) fn search_facts(f: &mut RunFigures, summary: &mut Vec<String>, r: &Si
         f.replans_above_fresh = Some(compared.iter().filter(|(p, (e, _))| p.expansions > *e).count());
         let worst = compared.iter().map(|(p, (_, c))| (p.plan.cost - c).abs() / c.abs().max(1.0)).fold(0.0, f64::max);
         f.replan_fresh_cost_difference = Some(worst);
-        summary.push(format!(
-            "compared with fresh plans: {} re-plans, {} expanded more than the fresh search; costs within {:.2e} (relative)",
-            compared.len(),
-            compared.iter().filter(|(p, (e, _))| p.expansions > *e).count(),
-            worst
-        ));
     }
     r.peak_search_bytes() as f64 / 1e6
 }
@@ -328,6 +257,8 @@ pub(super) fn restart_facts(f: &mut RunFigures, r: &SimReport) {
         return;
     }
     f.restart_replan_work = Some(restarts.iter().map(|(_, x)| x.replan_work).sum());
+    f.restart_bindings = restarts.iter().map(|(_, x)| format!("{:?}", x.binding)).collect();
+    f.restart_bindings.dedup();
     f.restart_expansions = Some(restarts.iter().map(|(p, _)| p.expansions).sum());
     let compared: Vec<bool> = restarts.iter().filter_map(|(_, x)| x.fresh_found).collect();
     if !compared.is_empty() {
@@ -336,102 +267,8 @@ pub(super) fn restart_facts(f: &mut RunFigures, r: &SimReport) {
     }
 }
 
-/// The summary line on the run's restarts, if any: the bindings the failed re-plans
-/// named and what a fresh search of their problems found.
-pub(super) fn restart_summary(summary: &mut Vec<String>, r: &SimReport, restarts: usize) {
-    if restarts > 0 {
-        let mut why: Vec<String> =
-            r.plans.iter().filter_map(|p| p.restart.as_ref()).map(|x| format!("{:?}", x.binding)).collect();
-        why.dedup();
-        let compared: Vec<bool> = r.plans.iter().filter_map(|p| p.restart.as_ref()?.fresh_found).collect();
-        summary.push(format!(
-            "{restarts} restart(s): re-planning on the kept graphs found nothing ({}), so the rover planned afresh{}",
-            why.join(", "),
-            if compared.is_empty() {
-                String::new()
-            } else {
-                format!(
-                    "; a fresh search of the same problem found a plan in {} of {}",
-                    compared.iter().filter(|&&f| f).count(),
-                    compared.len()
-                )
-            }
-        ));
-    }
-}
-
 /// Hours the executed run spent in the actions `which` accepts.
 pub(super) fn hours_in(r: &SimReport, which: impl Fn(Action) -> bool) -> f64 {
     // A fold from +0: `sum` of no f64 is -0, which prints as "-0.0 h".
     r.steps.iter().filter(|s| which(s.action)).map(|s| s.duration_s).fold(0.0, |a, d| a + d) / 3600.0
-}
-
-/// The simulated run in words: where it got, its battery, its re-plans and memory.
-pub(super) fn sim_summary(
-    summary: &mut Vec<String>,
-    ctx: &Context<'_>,
-    r: &SimReport,
-    status: &str,
-    peak_memory_mb: Option<f64>,
-) {
-    let floor = floor_wh(ctx);
-    let (drive_h, charge_h, hibernate_h) = (
-        hours_in(r, |a| matches!(a, Action::Drive(_))),
-        hours_in(r, |a| a == Action::Charge),
-        hours_in(r, |a| a == Action::Hibernate),
-    );
-    let replans: Vec<_> = r.plans.iter().filter(|p| p.kind != PlanKind::Initial).collect();
-    let route_changes = replans.iter().filter(|p| p.route_changed).count();
-    let restarts = r.plans.iter().filter(|p| p.kind == PlanKind::Restart).count();
-    let min_battery = r.steps.iter().map(|s| s.battery_above_floor_wh).fold(r.start.energy_wh, f64::min);
-    let mut fractions: Vec<f64> = r.replan_expansion_fractions();
-    fractions.sort_by(f64::total_cmp);
-    summary.push(format!(
-        "{status}: {} of {} goals; {:.0} m driven in {drive_h:.1} h; charged {charge_h:.1} h, hibernated {hibernate_h:.1} h; \
-         {}{} night(s)",
-        r.goals_reached.len(),
-        ctx.goals.len(),
-        r.distance_m(),
-        match hours_in(r, |a| a == Action::Wait) {
-            h if h > 0.0 => format!("waited {h:.1} h; "),
-            _ => String::new(),
-        },
-        r.nights(ctx.truth)
-    ));
-    summary.push(format!(
-        "battery: used {:.0} Wh, gained {:.0} Wh, ends at {:.0} Wh ({:.0} Wh above the {floor:.0} Wh floor), \
-         lowest {:.0} Wh ({:.0} Wh above the floor)",
-        r.energy_used_wh(),
-        r.energy_gained_wh(),
-        r.final_battery_above_floor_wh() + floor,
-        r.final_battery_above_floor_wh(),
-        min_battery + floor,
-        min_battery
-    ));
-    summary.push(format!(
-        "{} ({route_changes} changed the route), median {:.2} ms, initial plan {:.1} ms",
-        crate::jobs::counted(replans.len(), "re-plan"),
-        1e3 * r.median_replan_s().unwrap_or(0.0),
-        1e3 * r.plans[0].wall_s
-    ));
-    if !fractions.is_empty() {
-        summary.push(format!(
-            "re-plan expansions: median {:.3} %, 95th percentile {:.2} %, largest {:.1} % of the initial plan's{}",
-            100.0 * fractions[fractions.len() / 2],
-            100.0 * p95(&fractions),
-            100.0 * fractions[fractions.len() - 1],
-            if restarts > 0 { format!(" ({restarts} restart(s) included)") } else { String::new() }
-        ));
-    }
-    restart_summary(summary, r, restarts);
-    summary.push(format!(
-        "pre-calculation {:.2} s (slope, horizon maps, Sun table); memory: search graphs {:.0} MB at most, worlds {:.0} MB, process peak {}",
-        ctx.precalc_s,
-        r.peak_search_bytes() as f64 / 1e6,
-        worlds_mb(ctx),
-        peak_memory_mb.map_or("unknown".into(), |mb| format!("{mb:.0} MB"))
-    ));
-    if let SimStatus::Unreachable { message, .. } = &r.status {
-        summary.push(format!("stopped: the next goal is unreachable ({message})"));
-    }
 }

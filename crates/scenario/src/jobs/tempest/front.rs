@@ -37,19 +37,16 @@ pub(super) fn evaluate(
     }
 }
 
-/// The `front_…` facts and a summary line; `plan` (the job's own plan, by its
-/// objective) is placed against the front.
-pub(super) fn facts(
-    summary: &mut Vec<String>,
-    ctx: &Context<'_>,
-    plan: &MissionPlan,
-    front: &ParetoFront,
-) -> FrontFigures {
+/// The `front_…` figures; `plan` (the job's own plan, by its objective) is placed
+/// against the front.
+pub(super) fn facts(ctx: &Context<'_>, plan: &MissionPlan, front: &ParetoFront) -> FrontFigures {
     let plans = &front.plans;
     let mut f = FrontFigures {
         front_plans: plans.len(),
         front_searches: front.searches,
         front_candidates: front.candidates,
+        // On a tick the front is exact; off it, margins are walked in steps.
+        front_margin_step_wh: plan.tick_s.is_none().then_some(front.margin_step_wh),
         ..FrontFigures::default()
     };
     let range = |f: fn(&areo_mission::FrontPlan) -> f64| {
@@ -59,7 +56,6 @@ pub(super) fn facts(
     let used = range(|p| p.energy_used_wh);
     let margin = range(|p| p.margin_wh);
     if plans.is_empty() {
-        summary.push("Pareto front: no plan".into());
         return f;
     }
     f.front_earliest_arrival_h = Some(ctx.hours(arrival.0));
@@ -79,28 +75,6 @@ pub(super) fn facts(
         f.plan_margin_wh = Some(own.2);
         f.plan_dominated_by_front = Some(beaten);
     }
-    let how = if plan.tick_s.is_some() {
-        "exact on the tick: every plan on it that no other beats in all three, the margin its lowest battery above \
-         the floor"
-            .to_string()
-    } else {
-        format!(
-            "{} searches, {} plans before the filter; margins walked {} Wh apart, so a plan within that above a found \
-             one's margin may be missing",
-            front.searches, front.candidates, front.margin_step_wh
-        )
-    };
-    summary.push(format!(
-        "Pareto front: {} plans in (arrival, energy used, margin) — arrival {:.2}–{:.2} h, energy used {:.1}–{:.1} \
-         Wh, margin {:.1}–{:.1} Wh ({how})",
-        plans.len(),
-        ctx.hours(arrival.0),
-        ctx.hours(arrival.1),
-        used.0,
-        used.1,
-        margin.0,
-        margin.1,
-    ));
     f
 }
 
