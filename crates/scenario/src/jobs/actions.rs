@@ -23,8 +23,8 @@ use crate::output::plots::{HistogramPlot, Marker, ProfilePlot, ProfileRover, Rou
 use crate::output::{json_for, write_file};
 use crate::report::Report;
 use crate::report::actions::{
-    ActionsReport, Binding, ClimbFigures, GaRunFigures, ReplayFigures, SeedThreshold, SensitivityFigures, StudyFigures,
-    SweepFigures, SweepSeedFigures,
+    ActionsReport, Binding, ClimbFigures, ExecutedBest, GaRunFigures, ReplayFigures, SeedThreshold, SensitivityFigures,
+    StudyFigures, SweepFigures, SweepSeedFigures,
 };
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -328,51 +328,44 @@ fn studies_without_the_ga(
     (replay, climb, sensitivity)
 }
 
-/// The public report and the summary lines.
+/// The public report, and the summary written from it.
 fn outcome(setup: &Setup, computed: &Computed) -> Outcome {
-    let mut summary = Vec::new();
     let (task, m) = (&setup.task, setup.ga.initial_length.1);
     let filtered = &computed.filtered;
     let mut r = ActionsReport {
         design_space_log10_full: design_space_log10(26, m),
         design_space_log10_filtered: design_space_log10(filtered.modules.len(), m),
+        plan_modules: m,
         inventory: filtered.codes(),
         ..ActionsReport::default()
     };
-    summary.push(format!(
-        "inventory: {} of 26 modules after the task filters ({}); D = N^m for m = {m}: 10^{:.0} → 10^{:.0}",
-        filtered.modules.len(),
-        filtered.codes().iter().map(u16::to_string).collect::<Vec<_>>().join(" "),
-        design_space_log10(26, m),
-        design_space_log10(filtered.modules.len(), m)
-    ));
     for run in &computed.runs {
         let mut f = run_facts(&run.report, run.seconds, task);
         f.modules = run.inventory.modules.len();
         f.design_space_log10 = design_space_log10(run.inventory.modules.len(), m);
-        f.study = run.study.as_ref().map(|study| study_facts(&mut summary, &run.name, study, run.generations));
+        f.study = run.study.as_ref().map(|study| study_facts(study, run.generations));
+        best_facts(&mut f, run);
         r.runs.insert(run.name.clone(), f);
+        r.run_order.push(run.name.clone());
     }
-    r.sweep = computed.sweep.as_ref().map(|(values, result)| sweep_facts(&mut summary, values, result));
+    r.sweep = computed.sweep.as_ref().map(|(values, result)| sweep_facts(values, result));
     if !computed.sweep_seeds.is_empty() {
-        r.sweep_seeds = Some(sweep_seed_facts(&mut summary, &computed.sweep_seeds));
+        r.sweep_seeds = Some(sweep_seed_facts(&computed.sweep_seeds));
     }
-    r.replay = computed.replay.as_ref().map(|replay| replay_facts(&mut summary, &computed.runs[0], replay));
-    r.climb = computed.climb.as_ref().map(|profile| climb_facts(&mut summary, profile));
-    r.sensitivity = sensitivity_facts(&mut summary, &computed.sensitivity);
-    for run in &computed.runs {
-        if let Some(f) = r.runs.get_mut(&run.name) {
-            best_facts(f, &mut summary, run);
-        }
-    }
+    r.replay = computed.replay.as_ref().map(|replay| replay_facts(&computed.runs[0], replay));
+    r.climb = computed.climb.as_ref().map(climb_facts);
+    (r.sensitivity, r.sensitivity_order) = sensitivity_facts(&computed.sensitivity);
     let report = Report::Actions(Box::new(r));
+    let summary = crate::output::reports::summary(&report);
     Outcome { facts: report.facts(), summary, files: Vec::new(), failure: None, report: Some(Box::new(report)) }
 }
 
 /// The friction sweep's thresholds and what binds just below each.
-fn sweep_facts(summary: &mut Vec<String>, values: &[f64], result: &FrictionSweep) -> SweepFigures {
+fn sweep_facts(values: &[f64], result: &FrictionSweep) -> SweepFigures {
     let (crossed, completed) = (result.min_mu_crossing, result.min_mu_completing);
     let mut f = SweepFigures {
+        sweep_mu_first: values[0],
+        sweep_mu_last: values[values.len() - 1],
         sweep_min_mu_crossing_ditch: crossed,
         sweep_min_mu_completing: completed,
         sweep_ditch_needs_less_friction_than_hill: crossed.zip(completed).map(|(a, b)| a < b),
@@ -392,24 +385,17 @@ fn sweep_facts(summary: &mut Vec<String>, values: &[f64], result: &FrictionSweep
                 steepest_wheel: b.steepest.0.clone(),
                 steepest_climbing: b.steepest.2,
                 steepest_angle_deg: b.steepest.1,
+                said: b.to_string(),
             };
             f.sweep_binding_below.insert(what.to_string(), binding);
-            summary.push(format!("below the {what} threshold (μ = {}): {b}", below.map_or(0.0, |p| p.mu)));
         }
     }
-    summary.push(format!(
-        "friction sweep μ = {}..{}: ditch crossed from μ = {}, task completed from μ = {}",
-        values[0],
-        values[values.len() - 1],
-        crossed.map_or("never".into(), |m| format!("{m}")),
-        completed.map_or("never".into(), |m| format!("{m}"))
-    ));
     f
 }
 
 /// The friction sweep's thresholds over seeds: median, least and greatest, and how many
 /// seeds never got there.
-fn sweep_seed_facts(summary: &mut Vec<String>, seeds: &[(u64, FrictionSweep)]) -> SweepSeedFigures {
+fn sweep_seed_facts(seeds: &[(u64, FrictionSweep)]) -> SweepSeedFigures {
     let n = seeds.len();
     let mut f = SweepSeedFigures { sweep_seeds: n, ..SweepSeedFigures::default() };
     for (what, pick) in [
@@ -425,19 +411,16 @@ fn sweep_seed_facts(summary: &mut Vec<String>, seeds: &[(u64, FrictionSweep)]) -
         // fewer than half never do.
         let median = (2 * never < n).then(|| found[(n - 1) / 2]);
         f.sweep_seeds_min_mu.insert(what.to_string(), SeedThreshold { least: lo, greatest: hi, median });
-        summary.push(format!(
-            "friction sweep over {n} seeds, least μ {what}: median {}, range {lo}–{hi}{}",
-            median.map_or("above the sweep".into(), |m| m.to_string()),
-            if never > 0 { format!(", {never} never") } else { String::new() }
-        ));
     }
     f
 }
 
 /// The replayed plan: from which μ up it crosses and completes, and what stops it at
 /// the highest μ where it fails.
-fn replay_facts(summary: &mut Vec<String>, run: &RunResult, replay: &FrictionReplay) -> ReplayFigures {
+fn replay_facts(run: &RunResult, replay: &FrictionReplay) -> ReplayFigures {
     let mut r = ReplayFigures {
+        replay_run: run.name.clone(),
+        replay_found_at_mu: run.exec.mu,
         replay_min_mu_crossing_ditch: replay.min_mu_crossing,
         replay_min_mu_completing: replay.min_mu_completing,
         ..ReplayFigures::default()
@@ -446,6 +429,8 @@ fn replay_facts(summary: &mut Vec<String>, run: &RunResult, replay: &FrictionRep
     if let Some(p) = failing {
         r.replay_highest_failing_mu = Some(p.mu);
         r.replay_highest_failing_max_y_m = Some(p.max_y_m);
+        r.replay_stops_at_module = Some(p.failure.as_ref().map_or(p.prefix_len + 1, |(i, _)| i + 1));
+        r.replay_failure_said = p.failure.as_ref().map(|(_, f)| f.to_string());
         if let Some((i, f)) = &p.failure {
             r.replay_failure = Some(f.kind().to_string());
             r.replay_failure_module = Some(*i + 1);
@@ -460,41 +445,24 @@ fn replay_facts(summary: &mut Vec<String>, run: &RunResult, replay: &FrictionRep
             r.replay_binding_steepest_angle_deg = Some(b.steepest.1);
         }
     }
-    let at = |m: Option<f64>| m.map_or("no μ listed".into(), |m| format!("μ = {m}"));
-    summary.push(format!(
-        "{}'s best plan (found at μ = {}) replayed: crosses the ditch from {}, completes from {}{}",
-        run.name,
-        run.exec.mu,
-        at(replay.min_mu_crossing),
-        at(replay.min_mu_completing),
-        failing.map_or(String::new(), |p| format!(
-            "; at μ = {} it stops at module {}{}",
-            p.mu,
-            p.failure.as_ref().map_or(p.prefix_len + 1, |(i, _)| i + 1),
-            p.failure.as_ref().map_or(String::new(), |(_, f)| format!(" ({f})"))
-        ))
-    ));
     r
 }
 
-/// A run's best plan as executed: its summary line, where it ended and what bound it.
-fn best_facts(f: &mut GaRunFigures, summary: &mut Vec<String>, run: &RunResult) {
-    let (name, report, best) = (&run.name, &run.report, &run.best);
-    let failure =
-        best.failure.as_ref().map(|(i, f)| format!("module {} ({}): {f}", i + 1, report.best.plan[*i].code()));
-    summary.push(format!(
-        "{name}: {} in {}; fitness {:.2}; {} ({}); stability min {:.0} %, mean {:.0} %; {:.0} s, {:.2} Wh{}",
-        if best.complete { "task complete" } else { "not complete" },
-        crate::output::counted(best.prefix_len, "module"),
-        report.best.fitness,
-        crate::output::counted(best.samples, "sample"),
-        taken_label(&best.taken),
-        100.0 * best.min_stability,
-        100.0 * best.mean_stability,
-        best.time_s,
-        best.energy_wh,
-        failure.map_or(String::new(), |f| format!("; stopped at {f}"))
-    ));
+/// A run's best plan as executed: where it ended and what bound it.
+fn best_facts(f: &mut GaRunFigures, run: &RunResult) {
+    let (report, best) = (&run.report, &run.best);
+    f.executed = ExecutedBest {
+        complete: best.complete,
+        modules: best.prefix_len,
+        samples: best.samples,
+        taken: taken_label(&best.taken),
+        min_stability: best.min_stability,
+        mean_stability: best.mean_stability,
+        time_s: best.time_s,
+        energy_wh: best.energy_wh,
+        stopped_at: (best.failure.as_ref())
+            .map(|(i, f)| format!("module {} ({}): {f}", i + 1, report.best.plan[*i].code())),
+    };
     let executed = &report.best.plan[..best.prefix_len.min(report.best.plan.len())];
     let count = |m: areo_rover::motion::Module| executed.iter().filter(|&&x| x == m).count() as f64;
     use areo_rover::motion::Module as M;
@@ -513,7 +481,7 @@ fn best_facts(f: &mut GaRunFigures, summary: &mut Vec<String>, run: &RunResult) 
     if let Some(b) = &best.binding {
         f.binding_wheel = Some(b.wheel.clone());
         f.binding_climbing = Some(b.climbing);
-        summary.push(format!("{name}: bound by the {b}"));
+        f.binding_said = Some(b.to_string());
     }
 }
 
@@ -569,14 +537,16 @@ fn value_key(v: f64) -> String {
     format!("{v}").replace('.', "p").replace('-', "m")
 }
 
-/// Each assumed value's climb: what stopped it, where, and the margins at its end.
-fn sensitivity_facts(
-    summary: &mut Vec<String>,
-    rows: &[areo_actions::SensitivityRow],
-) -> BTreeMap<String, BTreeMap<String, SensitivityFigures>> {
-    let mut out: BTreeMap<String, BTreeMap<String, SensitivityFigures>> = BTreeMap::new();
+/// The figures of the sensitivity climbs, by field and value.
+type SensitivityMap = BTreeMap<String, BTreeMap<String, SensitivityFigures>>;
+
+/// Each assumed value's climb: what stopped it, where, and the margins at its end; and
+/// the (field, value) keys in the scenario's order.
+fn sensitivity_facts(rows: &[areo_actions::SensitivityRow]) -> (SensitivityMap, Vec<(String, String)>) {
+    let (mut out, mut order) = (SensitivityMap::new(), Vec::new());
     for row in rows {
-        let mut f = SensitivityFigures::default();
+        let mut f =
+            SensitivityFigures { parameter: row.parameter.field().to_string(), value: row.value, ..Default::default() };
         match &row.profile {
             Ok(p) => {
                 f.stop = p.stop.unwrap_or("none").to_string();
@@ -589,31 +559,17 @@ fn sensitivity_facts(
                     f.min_margin_forward = Some(p.least(|q| q.forward.margin));
                     f.max_pitch_deg = Some(-p.least(|q| -q.pitch_deg));
                 }
-                summary.push(format!(
-                    "{} = {}: straight climb {} after {:.2} m{}",
-                    row.parameter.field(),
-                    row.value,
-                    match p.stop {
-                        Some("kinematics") => "has no pose (a joint limit)",
-                        Some("tip_over") => "tips over with the arm stowed",
-                        _ => "goes its length",
-                    },
-                    p.stop_distance_m,
-                    p.poses.last().map_or(String::new(), |l| format!(
-                        " at {:.1}° of pitch; margin stowed {:.3}, arm forward {:.3}",
-                        l.pitch_deg, l.stowed.margin, l.forward.margin
-                    ))
-                ));
             }
             Err(e) => {
                 f.stop = "refused".into();
-                summary.push(format!("{} = {}: refused ({e})", row.parameter.field(), row.value));
+                f.refused = Some(e.to_string());
             }
         }
-        let field = row.parameter.field().replace('.', "_");
-        out.entry(field).or_default().insert(value_key(row.value), f);
+        let (field, value) = (row.parameter.field().replace('.', "_"), value_key(row.value));
+        order.push((field.clone(), value.clone()));
+        out.entry(field).or_default().insert(value, f);
     }
-    out
+    (out, order)
 }
 
 /// A row of sensitivity.csv: one assumed value and the straight climb with it.
@@ -656,7 +612,7 @@ impl SensitivityCsvRow {
 }
 
 /// The climb's facts: what ended it and where, and the margins along it.
-fn climb_facts(summary: &mut Vec<String>, profile: &ClimbProfile) -> ClimbFigures {
+fn climb_facts(profile: &ClimbProfile) -> ClimbFigures {
     let stop = profile.stop.unwrap_or("none").to_string();
     let Some(last) = profile.poses.last() else {
         return ClimbFigures { climb_stop: stop, ..ClimbFigures::default() };
@@ -664,7 +620,7 @@ fn climb_facts(summary: &mut Vec<String>, profile: &ClimbProfile) -> ClimbFigure
     let max =
         |f: &dyn Fn(&areo_actions::ClimbPose) -> f64| profile.poses.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
     let front = profile.poses.iter().map(|p| p.stowed.front_load_fraction).filter(|f| f.is_finite());
-    let figures = ClimbFigures {
+    ClimbFigures {
         climb_stop: stop,
         climb_stop_distance_m: Some(profile.stop_distance_m),
         climb_last_pitch_deg: Some(last.pitch_deg),
@@ -675,23 +631,8 @@ fn climb_facts(summary: &mut Vec<String>, profile: &ClimbProfile) -> ClimbFigure
         climb_min_margin_forward: Some(profile.least(|p| p.forward.margin)),
         climb_max_margin_gain: Some(max(&|p| p.forward.margin - p.stowed.margin)),
         climb_min_front_load_stowed: Some(front.fold(f64::INFINITY, f64::min)),
-    };
-    summary.push(format!(
-        "straight climb: {} after {:.2} m at {:.1}° of pitch; stability margin there {:.3} stowed, {:.3} with the arm forward (tool at {:.2} m); least margins {:.3} and {:.3}",
-        match profile.stop {
-            Some("kinematics") => "no pose (a joint limit or the map's edge)",
-            Some("tip_over") => "tipped over",
-            _ => "climbed its length",
-        },
-        profile.stop_distance_m,
-        last.pitch_deg,
-        last.stowed.margin,
-        last.forward.margin,
-        profile.forward_tool_m[0],
-        profile.least(|p| p.stowed.margin),
-        profile.least(|p| p.forward.margin),
-    ));
-    figures
+        climb_forward_tool_m: Some(profile.forward_tool_m[0]),
+    }
 }
 
 /// `climb.csv` (one row per pose) and `climb.png` (margins and front load along it).
@@ -804,7 +745,7 @@ impl SeedStudy {
     }
 }
 
-fn study_facts(summary: &mut Vec<String>, name: &str, study: &SeedStudy, generations: usize) -> StudyFigures {
+fn study_facts(study: &SeedStudy, generations: usize) -> StudyFigures {
     let n = study.seeds.len();
     let last = generations.saturating_sub(1);
     let la = &study.lookahead;
@@ -814,6 +755,10 @@ fn study_facts(summary: &mut Vec<String>, name: &str, study: &SeedStudy, generat
     };
     let mut f = StudyFigures {
         seeds: n,
+        first_seed: study.seeds.first().map_or(0, |s| s.0),
+        last_seed: study.seeds.last().map_or(0, |s| s.0),
+        last_generation: last,
+        solved: study.seeds.iter().filter(|s| s.1.is_some()).count(),
         success_fraction: study.solved_by(last),
         first_solved_median: study.median_first_solved(),
         pooled_lookahead_1_to_4_fraction: if la.is_empty() { 0.0 } else { small as f64 / la.len() as f64 },
@@ -852,15 +797,6 @@ fn study_facts(summary: &mut Vec<String>, name: &str, study: &SeedStudy, generat
     if extending > 0 {
         f.pooled_extending_under_5_fraction = Some(small as f64 / extending as f64);
     }
-    summary.push(format!(
-        "{name}: seeds {}..{}: solved by generation {last} in {} of {n}; median first-solved generation {}; {} improving crossovers, {:.0} % adding 1–4 successful modules",
-        study.seeds.first().map_or(0, |s| s.0),
-        study.seeds.last().map_or(0, |s| s.0),
-        study.seeds.iter().filter(|s| s.1.is_some()).count(),
-        study.median_first_solved().map_or("never (half or more unsolved)".into(), |m| format!("{m}")),
-        la.len(),
-        if la.is_empty() { 0.0 } else { 100.0 * small as f64 / la.len() as f64 }
-    ));
     f
 }
 

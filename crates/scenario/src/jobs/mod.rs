@@ -1,9 +1,9 @@
 //! One module per job: each computes its public plain-data [`Report`] from its part of
 //! the scenario, and [`run`] dispatches on the scenario's job. Every job's facts are read
-//! off its report's fields. The Sun table's and the terrain shadow's summary and files
-//! are written from the report alone ([`output::reports`](crate::output::reports)); the
-//! TEMPEST and actions jobs still compose their summary and write their files from what
-//! they computed (worlds, GA results) beside the report.
+//! off its report's fields and its summary is written from the report alone
+//! ([`output::reports`](crate::output::reports)). The Sun table's and the terrain
+//! shadow's files are written from the report too; the TEMPEST and actions jobs still
+//! write theirs from what they computed (worlds, GA results) beside the report.
 
 pub mod actions;
 pub(crate) mod sun_table;

@@ -11,6 +11,7 @@ use crate::sun::CSV_HEADER;
 
 use super::csv::Table;
 
+mod actions;
 mod tempest;
 
 /// Writes the report's files into `dir`; returns them. (The TEMPEST and actions jobs write
@@ -23,13 +24,13 @@ pub(crate) fn write(dir: &Path, report: &Report) -> Result<Vec<PathBuf>> {
     }
 }
 
-/// The report's lines for a person to read. (The actions job composes its own.)
+/// The report's lines for a person to read.
 pub(crate) fn summary(report: &Report) -> Vec<String> {
     match report {
         Report::SunTable(r) => sun_table_summary(r),
         Report::TerrainShadow(r) => terrain_shadow_summary(r),
         Report::Tempest(r) => tempest::summary(r),
-        Report::Actions(_) => Vec::new(),
+        Report::Actions(r) => actions::summary(r),
     }
 }
 

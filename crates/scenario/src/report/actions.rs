@@ -17,10 +17,14 @@ pub struct ActionsReport {
     pub design_space_log10_full: f64,
     /// log10 of the design space over the modules the task filters keep.
     pub design_space_log10_filtered: f64,
+    /// The plan length m the design space counts, modules.
+    pub plan_modules: usize,
     /// The codes of the modules the task filters keep.
     pub inventory: Vec<u16>,
     /// Each GA run, by name.
     pub runs: BTreeMap<String, GaRunFigures>,
+    /// The runs' names in the scenario's order.
+    pub run_order: Vec<String>,
     /// The friction sweep's thresholds.
     #[serde(flatten)]
     pub sweep: Option<SweepFigures>,
@@ -36,6 +40,8 @@ pub struct ActionsReport {
     /// The straight climb with each assumed value changed: by field (its dots as `_`),
     /// then by value (`0.27` as `0p27`, `-5` as `m5`).
     pub sensitivity: BTreeMap<String, BTreeMap<String, SensitivityFigures>>,
+    /// The sensitivity climbs' keys (field, value) in the scenario's order.
+    pub sensitivity_order: Vec<(String, String)>,
 }
 
 /// One GA run: its best plan as the GA scored it and as executed, and its seed study.
@@ -89,9 +95,36 @@ pub struct GaRunFigures {
     pub binding_wheel: Option<String>,
     /// Whether that wheel was climbing.
     pub binding_climbing: Option<bool>,
+    /// The binding force limit, in words.
+    pub binding_said: Option<String>,
+    /// The best plan executed again with a trace.
+    pub executed: ExecutedBest,
     /// The run repeated over seeds.
     #[serde(flatten)]
     pub study: Option<StudyFigures>,
+}
+
+/// A run's best plan executed with a trace.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ExecutedBest {
+    /// Whether it completes the task.
+    pub complete: bool,
+    /// Modules executed successfully.
+    pub modules: usize,
+    /// Samples taken.
+    pub samples: usize,
+    /// Which ("s1 s4", "none").
+    pub taken: String,
+    /// The least stability margin.
+    pub min_stability: f64,
+    /// The mean stability margin.
+    pub mean_stability: f64,
+    /// Time, s.
+    pub time_s: f64,
+    /// Energy, Wh.
+    pub energy_wh: f64,
+    /// Where and why it stopped, in words ("module 7 (3002): …").
+    pub stopped_at: Option<String>,
 }
 
 /// A run repeated over seeds.
@@ -99,6 +132,14 @@ pub struct GaRunFigures {
 pub struct StudyFigures {
     /// Seeds run.
     pub seeds: usize,
+    /// The first seed.
+    pub first_seed: u64,
+    /// The last seed.
+    pub last_seed: u64,
+    /// The last generation (0-based) the success fraction counts to.
+    pub last_generation: usize,
+    /// Seeds solved by then.
+    pub solved: usize,
     /// Share solved by the last generation.
     pub success_fraction: f64,
     /// Median first-solved generation (absent when half or more never solve it).
@@ -138,6 +179,10 @@ pub struct SweepFigures {
     pub sweep_ditch_needs_less_friction_than_hill: Option<bool>,
     /// What binds just below each threshold (`crossing`, `completing`).
     pub sweep_binding_below: BTreeMap<String, Binding>,
+    /// The sweep's first μ.
+    pub sweep_mu_first: f64,
+    /// Its last μ.
+    pub sweep_mu_last: f64,
 }
 
 /// A force limit that bound a plan.
@@ -157,6 +202,8 @@ pub struct Binding {
     pub steepest_climbing: bool,
     /// The steepest contact angle, degrees.
     pub steepest_angle_deg: f64,
+    /// The binding in words.
+    pub said: String,
 }
 
 /// The friction sweep over seeds.
@@ -185,6 +232,14 @@ pub struct SeedThreshold {
 /// The first run's best plan replayed over friction.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct ReplayFigures {
+    /// The run whose best plan is replayed.
+    pub replay_run: String,
+    /// The μ it was found at.
+    pub replay_found_at_mu: f64,
+    /// At the highest failing μ: the module it stops at (1-based).
+    pub replay_stops_at_module: Option<usize>,
+    /// And why, in words.
+    pub replay_failure_said: Option<String>,
     /// The least μ it crosses the ditch from.
     pub replay_min_mu_crossing_ditch: Option<f64>,
     /// The least μ it completes from.
@@ -236,11 +291,19 @@ pub struct ClimbFigures {
     pub climb_max_margin_gain: Option<f64>,
     /// The front wheels' least share of the load, arm stowed.
     pub climb_min_front_load_stowed: Option<f64>,
+    /// How far forward the arm holds its tool, m.
+    pub climb_forward_tool_m: Option<f64>,
 }
 
 /// The straight climb with one assumed value changed.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct SensitivityFigures {
+    /// The assumed parameter, as the rover file names it.
+    pub parameter: String,
+    /// Its value.
+    pub value: f64,
+    /// Why the value was refused (it is not a rover), if it was.
+    pub refused: Option<String>,
     /// What ended it: `none`, `kinematics`, `tip_over`, or `refused` (the value is not
     /// a rover).
     pub stop: String,
