@@ -16,7 +16,7 @@ use areo_ephemeris::{Body, EarthFrom, Site, SunModel};
 use areo_rover::resources::SolarArray;
 use areo_terrain::Dem;
 use areo_terrain::horizon::HorizonMap;
-use areo_terrain::shadow::Curvature;
+use areo_terrain::shadow::{Curvature, GridSunDirection};
 use areo_terrain::slope::{SlopeAspect, slope_aspect};
 use areo_terrain::tiles::Region;
 use hifitime::{Duration, Epoch};
@@ -75,17 +75,27 @@ pub struct WorldConfig {
 /// The Sun at one instant, at the reference site, on the map's axes: its azimuth from
 /// the grid's north, as the terrain's [`areo_terrain::shadow::GridSunDirection`] (the
 /// ephemeris' `SunPosition` is from true north).
+///
+/// Its direction is areo-terrain's one grid-north Sun type, [`GridSunDirection`] (its
+/// `azimuth_deg` and `elevation_deg` read through `Deref`); this adds the light.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GridSun {
     /// Azimuth, degrees clockwise from the grid's north (true north wherever the map's
-    /// meridians are its columns; see [`areo_terrain::Projection::true_north_on_grid_deg`]).
-    pub azimuth_deg: f64,
-    /// Elevation above the horizontal, degrees.
-    pub elevation_deg: f64,
+    /// meridians are its columns; see [`areo_terrain::Projection::true_north_on_grid_deg`]),
+    /// and elevation above the horizontal, degrees.
+    pub direction: GridSunDirection,
     /// Unit vector toward the Sun on the grid's axes: (grid east, grid north, up).
     pub enu: [f64; 3],
     /// Direct-beam flux at the surface, W/m² normal to the beam (0 below the horizon).
     pub beam_w_m2: f64,
+}
+
+impl std::ops::Deref for GridSun {
+    type Target = GridSunDirection;
+
+    fn deref(&self) -> &GridSunDirection {
+        &self.direction
+    }
 }
 
 /// Terrain, Sun and light for planning. What sensing can change (elevation, slope,
@@ -626,20 +636,18 @@ impl World {
         } else if daz < -180.0 {
             daz += 360.0;
         }
+        // Tabulated azimuths are in [0, 360) and |daz| ≤ 180: one wrap at most, without
+        // fmod.
+        let az = a.azimuth_deg + daz * f;
+        let azimuth_deg = if az < 0.0 {
+            az + 360.0
+        } else if az >= 360.0 {
+            az - 360.0
+        } else {
+            az
+        };
         GridSun {
-            azimuth_deg: {
-                // Tabulated azimuths are in [0, 360) and |daz| ≤ 180: one wrap at most,
-                // without fmod.
-                let az = a.azimuth_deg + daz * f;
-                if az < 0.0 {
-                    az + 360.0
-                } else if az >= 360.0 {
-                    az - 360.0
-                } else {
-                    az
-                }
-            },
-            elevation_deg: a.elevation_deg + (b.elevation_deg - a.elevation_deg) * f,
+            direction: GridSunDirection::new(azimuth_deg, a.elevation_deg + (b.elevation_deg - a.elevation_deg) * f),
             enu,
             beam_w_m2: a.beam_w_m2 + (b.beam_w_m2 - a.beam_w_m2) * f,
         }
@@ -868,8 +876,7 @@ fn sky_tables(
             let p = state.at_site(site);
             let [e, nn, u] = p.direction_enu;
             GridSun {
-                azimuth_deg: on_grid(p.azimuth_deg),
-                elevation_deg: p.elevation_deg,
+                direction: GridSunDirection::new(on_grid(p.azimuth_deg), p.elevation_deg),
                 enu: [e * cos_n + nn * sin_n, nn * cos_n - e * sin_n, u],
                 beam_w_m2: config.atmosphere.beam_w_m2(p.elevation_deg, state.distance_au),
             }
