@@ -213,6 +213,10 @@ def test_a_scenario_run_gives_the_binarys_facts_and_tables(tmp_path):
     waypoints = report["plan"]["waypoints"]
     assert np.allclose(waypoints["t_s"], arr["t_s"], atol=0.05)
     assert report["plan"]["e_max_wh"] == ours["e_max_wh"]
+    # The plan table is in the report too, its columns at full precision.
+    table = report["tables"]["plan"]
+    assert np.array_equal(table["sol"], arr["sol"]) and list(table["action"]) == list(arr["action"])
+    assert np.allclose(table["lat_deg"], arr["lat_deg"], atol=5e-8)
 
 
 def test_set_changes_a_field_and_refuses_a_bad_one():

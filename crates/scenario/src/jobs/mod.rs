@@ -1,9 +1,10 @@
 //! One module per job: each computes its public plain-data [`Report`] from its part of
 //! the scenario, and [`run`] dispatches on the scenario's job. Every job's facts are read
 //! off its report's fields and its summary is written from the report alone
-//! ([`output::reports`](crate::output::reports)). The Sun table's and the terrain
-//! shadow's files are written from the report too; the TEMPEST and actions jobs still
-//! write theirs from what they computed (worlds, GA results) beside the report.
+//! ([`output::reports`](crate::output::reports)), as are the Sun table's and terrain
+//! shadow's files and TEMPEST's plan, run and tables. TEMPEST's routes, map layers and
+//! plots and the actions job's files are still written by the job from what it computed
+//! (worlds, GA results) beside the report.
 
 pub mod actions;
 pub(crate) mod sun_table;

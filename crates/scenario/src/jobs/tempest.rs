@@ -30,14 +30,11 @@ use crate::error::{Error, Result};
 use crate::format::{ScenarioFile, TempestJob, TerrainSource, Truth};
 use crate::jobs::RunOptions;
 use crate::outcome::{Failure, Outcome};
-use crate::output::csv::{Fixed, write_rows};
 use crate::output::geojson::{collection, feature, line, point};
 use crate::output::plots::{Marker, RoutePlot, Series, TimePlot};
-use crate::output::{json_for, write_file};
 use crate::report::Report;
 use crate::report::tempest::{NoPlanFigures, TempestReport};
 use areo_mission::{contact, metrics};
-use serde::Serialize;
 
 /// The map's south-west corner in map coordinates: scenario positions are relative
 /// to it.
@@ -277,6 +274,9 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let ctx = report.context(job);
     let mut o = outcome(&ctx, &report);
     if let Some(dir) = opts.out_dir {
+        if let Some(r) = &o.report {
+            o.files.extend(crate::output::reports::write(dir, r)?);
+        }
         o.files.extend(write_outputs(dir, &ctx, &report.run)?);
         if let Some(c) = &report.chance {
             o.files.extend(chance::write(dir, &ctx, c)?);
@@ -801,6 +801,7 @@ fn outcome(ctx: &Context<'_>, computed: &Computed) -> Outcome {
             r.chance = computed.chance.as_ref().map(|c| chance::facts(ctx, plan, c));
             r.front = computed.front.as_ref().map(|f| front::facts(ctx, plan, f));
             r.status = "planned".into();
+            r.tables = tables(ctx, plan, None);
             r.plan = Some(plan.clone());
         }
         Run::Simulated(sim) => {
@@ -819,6 +820,7 @@ fn outcome(ctx: &Context<'_>, computed: &Computed) -> Outcome {
                     after_actions: Some(sim.steps.len()),
                 });
             }
+            r.tables = tables(ctx, initial, Some(sim));
             r.plan = Some(initial.clone());
             r.simulation = Some(sim.clone());
         }

@@ -13,14 +13,17 @@ use super::csv::Table;
 
 mod actions;
 mod tempest;
+mod tempest_tables;
 
-/// Writes the report's files into `dir`; returns them. (The TEMPEST and actions jobs write
-/// their own files from what they computed.)
+/// Writes the report's files into `dir`; returns them. (A TEMPEST job's routes, layers
+/// and plots, and the actions job's files, are written by the job from what it
+/// computed.)
 pub(crate) fn write(dir: &Path, report: &Report) -> Result<Vec<PathBuf>> {
     match report {
         Report::SunTable(r) => sun_table_files(dir, r),
         Report::TerrainShadow(r) => terrain_shadow_files(dir, r),
-        Report::Tempest(_) | Report::Actions(_) => Ok(Vec::new()),
+        Report::Tempest(r) => tempest_tables::write(dir, r),
+        Report::Actions(_) => Ok(Vec::new()),
     }
 }
 

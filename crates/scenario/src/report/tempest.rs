@@ -67,6 +67,8 @@ pub struct TempestReport {
     /// The Pareto front of arrival, energy used and margin.
     #[serde(flatten)]
     pub front: Option<FrontFigures>,
+    /// The plan's and the run's tables.
+    pub tables: TempestTables,
     /// The initial plan, as the planner made it.
     pub plan: Option<MissionPlan>,
     /// The simulated run: every plan and executed action.
@@ -417,4 +419,172 @@ pub struct FrontFigures {
     pub plan_margin_wh: Option<f64>,
     /// Whether a front plan beats the job's plan.
     pub plan_dominated_by_front: Option<bool>,
+}
+
+/// The plan's and the simulated run's tables: a row per waypoint, executed action, plan
+/// and wait (`plan.csv`, `executed.csv`, `replans.csv`, `waits.csv`).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct TempestTables {
+    /// The initial plan's waypoints.
+    pub plan: Vec<PlanRow>,
+    /// The simulated run's executed actions (with a simulation).
+    pub executed: Option<Vec<ExecutedRow>>,
+    /// The simulated run's plans: the initial one, re-plans and restarts.
+    pub replans: Option<Vec<ReplanRow>>,
+    /// The initial plan's waits, with a haven map (off Mars).
+    pub waits: Option<Vec<WaitRow>>,
+}
+
+/// One waypoint of the plan.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct PlanRow {
+    /// Its index, 0 the start.
+    pub index: usize,
+    /// ISO 8601 UTC.
+    pub utc: String,
+    /// Seconds after the start.
+    pub t_s: f64,
+    /// The local solar day since the start's.
+    pub sol: i64,
+    /// Local true solar time, hours.
+    pub ltst_h: f64,
+    /// Grid column.
+    pub col: usize,
+    /// Grid row.
+    pub row: usize,
+    /// Map metres east of the map's south-west corner.
+    pub x_m: f64,
+    /// Map metres north.
+    pub y_m: f64,
+    /// Planetocentric latitude, degrees.
+    pub lat_deg: f64,
+    /// East longitude, degrees.
+    pub lon_deg: f64,
+    /// Elevation, m.
+    pub elevation_m: f64,
+    /// The action taken from here (`arrive` at the last).
+    pub action: String,
+    /// Least energy above the floor needed from here to the last goal, Wh.
+    pub required_wh: f64,
+    /// Predicted battery charge, Wh (absolute).
+    pub battery_wh: f64,
+    /// Slope, degrees.
+    pub slope_deg: f64,
+    /// The Sun's elevation, degrees.
+    pub sun_elevation_deg: f64,
+    /// The Sun above the terrain's horizon here, degrees.
+    pub sun_above_ground_deg: f64,
+    /// Whether the cell is in direct sun.
+    pub lit: bool,
+    /// The goal reached here, if one is.
+    pub goal: String,
+}
+
+/// One executed action of the simulated run.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ExecutedRow {
+    /// Its number, from 1.
+    pub step: usize,
+    /// When it started, ISO 8601 UTC.
+    pub utc: String,
+    /// Seconds after the start.
+    pub t_s: f64,
+    /// The local solar day since the start's.
+    pub sol: i64,
+    /// Local true solar time, hours.
+    pub ltst_h: f64,
+    /// Grid column where it started.
+    pub col: usize,
+    /// Grid row.
+    pub row: usize,
+    /// Map metres east.
+    pub x_m: f64,
+    /// Map metres north.
+    pub y_m: f64,
+    /// Planetocentric latitude, degrees.
+    pub lat_deg: f64,
+    /// East longitude, degrees.
+    pub lon_deg: f64,
+    /// Elevation, m.
+    pub elevation_m: f64,
+    /// The action.
+    pub action: String,
+    /// How long it took, s.
+    pub duration_s: f64,
+    /// Energy drawn (negative: gained), Wh.
+    pub energy_wh: f64,
+    /// The battery after it, Wh (absolute).
+    pub battery_wh: f64,
+    /// The battery after it above the floor, Wh.
+    pub battery_above_floor_wh: f64,
+    /// Distance driven, m.
+    pub distance_m: f64,
+    /// The Sun's elevation, degrees.
+    pub sun_elevation_deg: f64,
+    /// The action refused and why, if the world refused one.
+    pub refused: String,
+}
+
+/// One plan of the simulated run.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ReplanRow {
+    /// The executed actions before it.
+    pub step: usize,
+    /// `initial`, `replan` or `restart`.
+    pub kind: String,
+    /// When, ISO 8601 UTC.
+    pub utc: String,
+    /// Seconds after the start.
+    pub t_s: f64,
+    /// Its wall time, ms.
+    pub wall_ms: f64,
+    /// Label expansions.
+    pub expansions: u64,
+    /// Cells sensing changed before it.
+    pub changed_cells: usize,
+    /// Whether it changed the route.
+    pub route_changed: bool,
+    /// Its waypoints.
+    pub waypoints: usize,
+    /// Its cost (the objective's unit).
+    pub cost: f64,
+    /// Its duration, h.
+    pub duration_h: f64,
+    /// Its lowest predicted battery, Wh (absolute).
+    pub min_battery_wh: f64,
+    /// The search graphs after it, MB.
+    pub search_mb: f64,
+    /// With `compare_fresh`: a fresh search's expansions.
+    pub fresh_expansions: Option<u64>,
+    /// And its cost.
+    pub fresh_cost: Option<f64>,
+    /// A restart: the binding constraint the failed re-plan named.
+    pub restart_binding: Option<String>,
+    /// The failed re-plan's work, expansions.
+    pub restart_replan_work: Option<u64>,
+    /// Whether a fresh search of the same problem found a plan.
+    pub restart_fresh_found: Option<bool>,
+}
+
+/// One of the plan's waits.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct WaitRow {
+    /// Map metres east.
+    pub x_m: f64,
+    /// Map metres north.
+    pub y_m: f64,
+    /// From, h after the start.
+    pub from_h: f64,
+    /// To, h after the start.
+    pub to_h: f64,
+    /// Its length, h.
+    pub hours: f64,
+    /// The lowest charge during it above the floor, Wh.
+    pub lowest_battery_above_floor_wh: f64,
+    /// Whether it is at a safe haven.
+    pub safe_haven: bool,
+    /// The longest shadow there over the span, h.
+    pub longest_shadow_h: f64,
+    /// The longest loss of the Earth there, h.
+    pub longest_earth_loss_h: f64,
 }

@@ -2,7 +2,11 @@
 //! KML and GeoJSON, and the plots.
 
 use super::*;
+use crate::report::tempest::{ExecutedRow, PlanRow, ReplanRow, TempestTables, WaitRow};
 
+/// The files the job writes from what it computed (the tables, the plan and the run
+/// are written from the report by `output::reports`): the routes, the map layers and
+/// the plots.
 pub(super) fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let (initial, report) = match run {
@@ -11,60 +15,44 @@ pub(super) fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<
         Run::Plan { plan, .. } => (plan, None),
         Run::Simulated(r) => (&r.plans[0].plan, Some(r)),
     };
-    let mut put = |name: &str, write: &dyn Fn(&Path) -> Result<()>| -> Result<()> {
-        let path = dir.join(name);
-        write(&path)?;
-        files.push(path);
-        Ok(())
-    };
-    put("plan.json", &|p| write_file(p, json_for(p, initial, true)?.as_bytes()))?;
-    put("plan.csv", &|p| write_rows(p, plan_rows(ctx, initial)))?;
-    if let Some(r) = report {
-        put("simulation.json", &|p| write_file(p, json_for(p, r, false)?.as_bytes()))?;
-        put("executed.csv", &|p| write_rows(p, executed_rows(ctx, r)))?;
-        put("replans.csv", &|p| write_rows(p, replan_rows(ctx, r)))?;
-    }
-    put("route.geojson", &|p| crate::output::geojson::write(p, &route_geojson(ctx, initial, report)))?;
-    put("route.kml", &|p| route_kml(ctx, initial, report).write(p))?;
-    if let Some(h) = ctx.havens {
-        put("waits.csv", &|p| write_rows(p, wait_rows(ctx, initial, h)))?;
-    }
+    let path = dir.join("route.geojson");
+    crate::output::geojson::write(&path, &route_geojson(ctx, initial, report))?;
+    files.push(path);
+    let path = dir.join("route.kml");
+    route_kml(ctx, initial, report).write(&path)?;
+    files.push(path);
     files.extend(layers::write(dir, ctx.world, ctx.truth, shadow_time_s(ctx)?)?);
     files.extend(plots(dir, ctx, initial, report)?);
     Ok(files)
 }
 
-/// A row of waits.csv: one of the plan's waits with its place, span, lowest charge and
-/// whether at a haven.
-#[derive(Serialize, Default)]
-pub(super) struct WaitRow {
-    pub(super) x_m: Fixed<1>,
-    pub(super) y_m: Fixed<1>,
-    pub(super) from_h: Fixed<3>,
-    pub(super) to_h: Fixed<3>,
-    pub(super) hours: Fixed<3>,
-    pub(super) lowest_battery_above_floor_wh: Fixed<1>,
-    pub(super) safe_haven: bool,
-    pub(super) longest_shadow_h: Fixed<1>,
-    pub(super) longest_earth_loss_h: Fixed<1>,
+/// The report's tables of the plan and the simulated run.
+pub(super) fn tables(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimReport>) -> TempestTables {
+    TempestTables {
+        plan: plan_rows(ctx, initial).collect(),
+        executed: sim.map(|r| executed_rows(ctx, r).collect()),
+        replans: sim.map(|r| replan_rows(ctx, r).collect()),
+        waits: ctx.havens.map(|h| wait_rows(ctx, initial, h)),
+    }
 }
 
-pub(super) fn wait_rows(ctx: &Context<'_>, plan: &MissionPlan, havens: &contact::Havens) -> Vec<WaitRow> {
+/// The plan's waits with their place, span, lowest charge and whether at a haven.
+fn wait_rows(ctx: &Context<'_>, plan: &MissionPlan, havens: &contact::Havens) -> Vec<WaitRow> {
     contact::waits(plan, havens, floor_wh(ctx), HAVEN_STEP_S)
         .into_iter()
         .map(|w| {
-            let (x, y) = ctx.local(w.cell);
+            let (x_m, y_m) = ctx.local(w.cell);
             let i = w.cell as usize;
             WaitRow {
-                x_m: Fixed(x),
-                y_m: Fixed(y),
-                from_h: Fixed(w.from_h),
-                to_h: Fixed(w.to_h),
-                hours: Fixed(w.to_h - w.from_h),
-                lowest_battery_above_floor_wh: Fixed(w.lowest_battery_above_floor_wh),
+                x_m,
+                y_m,
+                from_h: w.from_h,
+                to_h: w.to_h,
+                hours: w.to_h - w.from_h,
+                lowest_battery_above_floor_wh: w.lowest_battery_above_floor_wh,
                 safe_haven: w.haven,
-                longest_shadow_h: Fixed(f64::from(havens.longest_shadow_h[i])),
-                longest_earth_loss_h: Fixed(f64::from(havens.longest_earth_loss_h[i])),
+                longest_shadow_h: f64::from(havens.longest_shadow_h[i]),
+                longest_earth_loss_h: f64::from(havens.longest_earth_loss_h[i]),
             }
         })
         .collect()
@@ -74,162 +62,89 @@ pub(super) fn action_name(a: Option<Action>) -> &'static str {
     a.map_or("arrive", Action::name)
 }
 
-/// A row of plan.csv: one waypoint.
-#[derive(Serialize, Default)]
-pub(super) struct PlanRow {
-    pub(super) index: usize,
-    pub(super) utc: String,
-    pub(super) t_s: Fixed<1>,
-    pub(super) sol: i64,
-    pub(super) ltst_h: Fixed<4>,
-    pub(super) col: usize,
-    pub(super) row: usize,
-    pub(super) x_m: Fixed<2>,
-    pub(super) y_m: Fixed<2>,
-    pub(super) lat_deg: Fixed<7>,
-    pub(super) lon_deg: Fixed<7>,
-    pub(super) elevation_m: Fixed<2>,
-    pub(super) action: &'static str,
-    pub(super) required_wh: Fixed<3>,
-    pub(super) battery_wh: Fixed<3>,
-    pub(super) slope_deg: Fixed<3>,
-    pub(super) sun_elevation_deg: Fixed<3>,
-    pub(super) sun_above_ground_deg: Fixed<3>,
-    pub(super) lit: u8,
-    pub(super) goal: String,
-}
-
-pub(super) fn plan_rows<'a>(ctx: &'a Context<'_>, plan: &'a MissionPlan) -> impl Iterator<Item = PlanRow> + 'a {
+fn plan_rows<'a>(ctx: &'a Context<'_>, plan: &'a MissionPlan) -> impl Iterator<Item = PlanRow> + 'a {
     plan.waypoints.iter().enumerate().map(move |(index, w)| {
-        let (x, y) = ctx.local(w.cell);
+        let (x_m, y_m) = ctx.local(w.cell);
         PlanRow {
             index,
             utc: w.utc.clone(),
-            t_s: Fixed(w.t_s),
+            t_s: w.t_s,
             sol: ctx.world.local_sol(w.t_s, w.lon_deg),
-            ltst_h: Fixed(w.ltst_h),
+            ltst_h: w.ltst_h,
             col: w.col_row.0,
             row: w.col_row.1,
-            x_m: Fixed(x),
-            y_m: Fixed(y),
-            lat_deg: Fixed(w.lat_deg),
-            lon_deg: Fixed(w.lon_deg),
-            elevation_m: Fixed(ctx.world.elevation(w.cell).unwrap_or(f64::NAN)),
-            action: action_name(w.action),
-            required_wh: Fixed(w.required_wh),
-            battery_wh: Fixed(w.battery_wh),
-            slope_deg: Fixed(w.slope_deg),
-            sun_elevation_deg: Fixed(w.sun_elevation_deg),
-            sun_above_ground_deg: Fixed(w.sun_above_ground_deg),
-            lit: u8::from(w.lit),
+            x_m,
+            y_m,
+            lat_deg: w.lat_deg,
+            lon_deg: w.lon_deg,
+            elevation_m: ctx.world.elevation(w.cell).unwrap_or(f64::NAN),
+            action: action_name(w.action).to_string(),
+            required_wh: w.required_wh,
+            battery_wh: w.battery_wh,
+            slope_deg: w.slope_deg,
+            sun_elevation_deg: w.sun_elevation_deg,
+            sun_above_ground_deg: w.sun_above_ground_deg,
+            lit: w.lit,
             goal: w.goal.map(|g| ctx.goal_name(g).to_string()).unwrap_or_default(),
         }
     })
 }
 
-/// A row of executed.csv: one executed action.
-#[derive(Serialize, Default)]
-pub(super) struct ExecutedRow {
-    pub(super) step: usize,
-    pub(super) utc: String,
-    pub(super) t_s: Fixed<1>,
-    pub(super) sol: i64,
-    pub(super) ltst_h: Fixed<4>,
-    pub(super) col: usize,
-    pub(super) row: usize,
-    pub(super) x_m: Fixed<2>,
-    pub(super) y_m: Fixed<2>,
-    pub(super) lat_deg: Fixed<7>,
-    pub(super) lon_deg: Fixed<7>,
-    pub(super) elevation_m: Fixed<2>,
-    pub(super) action: &'static str,
-    pub(super) duration_s: Fixed<1>,
-    pub(super) energy_wh: Fixed<3>,
-    pub(super) battery_wh: Fixed<3>,
-    pub(super) battery_above_floor_wh: Fixed<3>,
-    pub(super) distance_m: Fixed<3>,
-    pub(super) sun_elevation_deg: Fixed<3>,
-    pub(super) refused: String,
-}
-
-pub(super) fn executed_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item = ExecutedRow> + 'a {
+fn executed_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item = ExecutedRow> + 'a {
     r.steps.iter().enumerate().map(move |(i, st)| {
         let (col, row) = ctx.world.col_row(st.cell);
-        let (x, y) = ctx.local(st.cell);
+        let (x_m, y_m) = ctx.local(st.cell);
         let p = ctx.place(st.cell, st.t_s);
         ExecutedRow {
             step: i + 1,
             utc: format_utc(ctx.world.epoch() + Duration::from_seconds(st.t_s)),
-            t_s: Fixed(st.t_s),
+            t_s: st.t_s,
             sol: p.sol,
-            ltst_h: Fixed(p.ltst_h),
+            ltst_h: p.ltst_h,
             col,
             row,
-            x_m: Fixed(x),
-            y_m: Fixed(y),
-            lat_deg: Fixed(p.lat_deg),
-            lon_deg: Fixed(p.lon_deg),
-            elevation_m: Fixed(p.elevation_m),
-            action: st.action.name(),
-            duration_s: Fixed(st.duration_s),
-            energy_wh: Fixed(st.energy_wh),
-            battery_wh: Fixed(st.battery_above_floor_wh + floor_wh(ctx)),
-            battery_above_floor_wh: Fixed(st.battery_above_floor_wh),
-            distance_m: Fixed(st.distance_m),
-            sun_elevation_deg: Fixed(st.sun_elevation_deg),
+            x_m,
+            y_m,
+            lat_deg: p.lat_deg,
+            lon_deg: p.lon_deg,
+            elevation_m: p.elevation_m,
+            action: st.action.name().to_string(),
+            duration_s: st.duration_s,
+            energy_wh: st.energy_wh,
+            battery_wh: st.battery_above_floor_wh + floor_wh(ctx),
+            battery_above_floor_wh: st.battery_above_floor_wh,
+            distance_m: st.distance_m,
+            sun_elevation_deg: st.sun_elevation_deg,
             refused: st.refused.map(|(a, b)| format!("{} ({})", a.name(), b.describe())).unwrap_or_default(),
         }
     })
 }
 
-/// A row of replans.csv: one plan of a simulated run (the initial plan, a re-plan or
-/// a restart), with its fresh comparison when asked for.
-#[derive(Serialize, Default)]
-pub(super) struct ReplanRow {
-    pub(super) step: usize,
-    pub(super) kind: &'static str,
-    pub(super) utc: String,
-    pub(super) t_s: Fixed<1>,
-    pub(super) wall_ms: Fixed<3>,
-    pub(super) expansions: u64,
-    pub(super) changed_cells: usize,
-    pub(super) route_changed: u8,
-    pub(super) waypoints: usize,
-    pub(super) cost: Fixed<4>,
-    pub(super) duration_h: Fixed<3>,
-    pub(super) min_battery_wh: Fixed<2>,
-    pub(super) search_mb: Fixed<1>,
-    pub(super) fresh_expansions: Option<u64>,
-    pub(super) fresh_cost: Option<Fixed<4>>,
-    pub(super) restart_binding: Option<String>,
-    pub(super) restart_replan_work: Option<u64>,
-    pub(super) restart_fresh_found: Option<u8>,
-}
-
-pub(super) fn replan_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item = ReplanRow> + 'a {
+fn replan_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item = ReplanRow> + 'a {
     r.plans.iter().map(move |p| ReplanRow {
         step: p.step,
         kind: match p.kind {
             PlanKind::Initial => "initial",
             PlanKind::Replan => "replan",
             PlanKind::Restart => "restart",
-        },
+        }
+        .to_string(),
         utc: format_utc(ctx.world.epoch() + Duration::from_seconds(p.t_s)),
-        t_s: Fixed(p.t_s),
-        wall_ms: Fixed(1e3 * p.wall_s),
+        t_s: p.t_s,
+        wall_ms: 1e3 * p.wall_s,
         expansions: p.expansions,
         changed_cells: p.changed_cells,
-        route_changed: u8::from(p.route_changed),
+        route_changed: p.route_changed,
         waypoints: p.plan.waypoints.len(),
-        cost: Fixed(p.plan.cost),
-        duration_h: Fixed(p.plan.duration_s() / 3600.0),
-        min_battery_wh: Fixed(p.plan.min_battery_wh()),
-        search_mb: Fixed(p.search_bytes as f64 / 1e6),
+        cost: p.plan.cost,
+        duration_h: p.plan.duration_s() / 3600.0,
+        min_battery_wh: p.plan.min_battery_wh(),
+        search_mb: p.search_bytes as f64 / 1e6,
         fresh_expansions: p.fresh.map(|f| f.0),
-        fresh_cost: p.fresh.map(|f| Fixed(f.1)),
+        fresh_cost: p.fresh.map(|f| f.1),
         restart_binding: p.restart.as_ref().map(|x| format!("{:?}", x.binding)),
         restart_replan_work: p.restart.as_ref().map(|x| x.replan_work),
-        restart_fresh_found: p.restart.as_ref().and_then(|x| x.fresh_found).map(u8::from),
+        restart_fresh_found: p.restart.as_ref().and_then(|x| x.fresh_found),
     })
 }
 

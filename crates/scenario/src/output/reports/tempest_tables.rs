@@ -1,0 +1,222 @@
+//! A TEMPEST report's tables and its plan and run as files: `plan.json`, `plan.csv`,
+//! `simulation.json`, `executed.csv`, `replans.csv`, `waits.csv` — each column at the
+//! decimals its CSV row type gives.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::error::Result;
+use crate::output::csv::{Fixed, write_rows};
+use crate::output::{json_for, write_file};
+use crate::report::tempest::{ExecutedRow, PlanRow, ReplanRow, TempestReport, WaitRow};
+
+/// Writes the files into `dir`; returns them (none without a plan).
+pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let Some(plan) = &r.plan else { return Ok(files) };
+    let mut put = |name: &str, write: &dyn Fn(&Path) -> Result<()>| -> Result<()> {
+        let path = dir.join(name);
+        write(&path)?;
+        files.push(path);
+        Ok(())
+    };
+    let t = &r.tables;
+    put("plan.json", &|p| write_file(p, json_for(p, plan, true)?.as_bytes()))?;
+    put("plan.csv", &|p| write_rows(p, t.plan.iter().map(PlanCsv::from)))?;
+    if let Some(sim) = &r.simulation {
+        put("simulation.json", &|p| write_file(p, json_for(p, sim, false)?.as_bytes()))?;
+    }
+    if let Some(rows) = &t.executed {
+        put("executed.csv", &|p| write_rows(p, rows.iter().map(ExecutedCsv::from)))?;
+    }
+    if let Some(rows) = &t.replans {
+        put("replans.csv", &|p| write_rows(p, rows.iter().map(ReplanCsv::from)))?;
+    }
+    if let Some(rows) = &t.waits {
+        put("waits.csv", &|p| write_rows(p, rows.iter().map(WaitCsv::from)))?;
+    }
+    Ok(files)
+}
+
+/// A row of plan.csv.
+#[derive(Serialize, Default)]
+struct PlanCsv {
+    index: usize,
+    utc: String,
+    t_s: Fixed<1>,
+    sol: i64,
+    ltst_h: Fixed<4>,
+    col: usize,
+    row: usize,
+    x_m: Fixed<2>,
+    y_m: Fixed<2>,
+    lat_deg: Fixed<7>,
+    lon_deg: Fixed<7>,
+    elevation_m: Fixed<2>,
+    action: String,
+    required_wh: Fixed<3>,
+    battery_wh: Fixed<3>,
+    slope_deg: Fixed<3>,
+    sun_elevation_deg: Fixed<3>,
+    sun_above_ground_deg: Fixed<3>,
+    lit: u8,
+    goal: String,
+}
+
+impl From<&PlanRow> for PlanCsv {
+    fn from(w: &PlanRow) -> PlanCsv {
+        PlanCsv {
+            index: w.index,
+            utc: w.utc.clone(),
+            t_s: Fixed(w.t_s),
+            sol: w.sol,
+            ltst_h: Fixed(w.ltst_h),
+            col: w.col,
+            row: w.row,
+            x_m: Fixed(w.x_m),
+            y_m: Fixed(w.y_m),
+            lat_deg: Fixed(w.lat_deg),
+            lon_deg: Fixed(w.lon_deg),
+            elevation_m: Fixed(w.elevation_m),
+            action: w.action.clone(),
+            required_wh: Fixed(w.required_wh),
+            battery_wh: Fixed(w.battery_wh),
+            slope_deg: Fixed(w.slope_deg),
+            sun_elevation_deg: Fixed(w.sun_elevation_deg),
+            sun_above_ground_deg: Fixed(w.sun_above_ground_deg),
+            lit: u8::from(w.lit),
+            goal: w.goal.clone(),
+        }
+    }
+}
+
+/// A row of executed.csv.
+#[derive(Serialize, Default)]
+struct ExecutedCsv {
+    step: usize,
+    utc: String,
+    t_s: Fixed<1>,
+    sol: i64,
+    ltst_h: Fixed<4>,
+    col: usize,
+    row: usize,
+    x_m: Fixed<2>,
+    y_m: Fixed<2>,
+    lat_deg: Fixed<7>,
+    lon_deg: Fixed<7>,
+    elevation_m: Fixed<2>,
+    action: String,
+    duration_s: Fixed<1>,
+    energy_wh: Fixed<3>,
+    battery_wh: Fixed<3>,
+    battery_above_floor_wh: Fixed<3>,
+    distance_m: Fixed<3>,
+    sun_elevation_deg: Fixed<3>,
+    refused: String,
+}
+
+impl From<&ExecutedRow> for ExecutedCsv {
+    fn from(s: &ExecutedRow) -> ExecutedCsv {
+        ExecutedCsv {
+            step: s.step,
+            utc: s.utc.clone(),
+            t_s: Fixed(s.t_s),
+            sol: s.sol,
+            ltst_h: Fixed(s.ltst_h),
+            col: s.col,
+            row: s.row,
+            x_m: Fixed(s.x_m),
+            y_m: Fixed(s.y_m),
+            lat_deg: Fixed(s.lat_deg),
+            lon_deg: Fixed(s.lon_deg),
+            elevation_m: Fixed(s.elevation_m),
+            action: s.action.clone(),
+            duration_s: Fixed(s.duration_s),
+            energy_wh: Fixed(s.energy_wh),
+            battery_wh: Fixed(s.battery_wh),
+            battery_above_floor_wh: Fixed(s.battery_above_floor_wh),
+            distance_m: Fixed(s.distance_m),
+            sun_elevation_deg: Fixed(s.sun_elevation_deg),
+            refused: s.refused.clone(),
+        }
+    }
+}
+
+/// A row of replans.csv.
+#[derive(Serialize, Default)]
+struct ReplanCsv {
+    step: usize,
+    kind: String,
+    utc: String,
+    t_s: Fixed<1>,
+    wall_ms: Fixed<3>,
+    expansions: u64,
+    changed_cells: usize,
+    route_changed: u8,
+    waypoints: usize,
+    cost: Fixed<4>,
+    duration_h: Fixed<3>,
+    min_battery_wh: Fixed<2>,
+    search_mb: Fixed<1>,
+    fresh_expansions: Option<u64>,
+    fresh_cost: Option<Fixed<4>>,
+    restart_binding: Option<String>,
+    restart_replan_work: Option<u64>,
+    restart_fresh_found: Option<u8>,
+}
+
+impl From<&ReplanRow> for ReplanCsv {
+    fn from(p: &ReplanRow) -> ReplanCsv {
+        ReplanCsv {
+            step: p.step,
+            kind: p.kind.clone(),
+            utc: p.utc.clone(),
+            t_s: Fixed(p.t_s),
+            wall_ms: Fixed(p.wall_ms),
+            expansions: p.expansions,
+            changed_cells: p.changed_cells,
+            route_changed: u8::from(p.route_changed),
+            waypoints: p.waypoints,
+            cost: Fixed(p.cost),
+            duration_h: Fixed(p.duration_h),
+            min_battery_wh: Fixed(p.min_battery_wh),
+            search_mb: Fixed(p.search_mb),
+            fresh_expansions: p.fresh_expansions,
+            fresh_cost: p.fresh_cost.map(Fixed),
+            restart_binding: p.restart_binding.clone(),
+            restart_replan_work: p.restart_replan_work,
+            restart_fresh_found: p.restart_fresh_found.map(u8::from),
+        }
+    }
+}
+
+/// A row of waits.csv.
+#[derive(Serialize, Default)]
+struct WaitCsv {
+    x_m: Fixed<1>,
+    y_m: Fixed<1>,
+    from_h: Fixed<3>,
+    to_h: Fixed<3>,
+    hours: Fixed<3>,
+    lowest_battery_above_floor_wh: Fixed<1>,
+    safe_haven: bool,
+    longest_shadow_h: Fixed<1>,
+    longest_earth_loss_h: Fixed<1>,
+}
+
+impl From<&WaitRow> for WaitCsv {
+    fn from(w: &WaitRow) -> WaitCsv {
+        WaitCsv {
+            x_m: Fixed(w.x_m),
+            y_m: Fixed(w.y_m),
+            from_h: Fixed(w.from_h),
+            to_h: Fixed(w.to_h),
+            hours: Fixed(w.hours),
+            lowest_battery_above_floor_wh: Fixed(w.lowest_battery_above_floor_wh),
+            safe_haven: w.safe_haven,
+            longest_shadow_h: Fixed(w.longest_shadow_h),
+            longest_earth_loss_h: Fixed(w.longest_earth_loss_h),
+        }
+    }
+}
