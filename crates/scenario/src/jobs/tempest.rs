@@ -13,9 +13,7 @@ use areo_mission::{
 };
 use areo_rover::resources::ResourceModel;
 use areo_terrain::Dem;
-use geojson::FeatureCollection;
 use hifitime::Duration;
-use serde_json::json;
 
 mod chance;
 mod facts;
@@ -30,7 +28,6 @@ use crate::error::{Error, Result};
 use crate::format::{ScenarioFile, TempestJob, TerrainSource, Truth};
 use crate::jobs::RunOptions;
 use crate::outcome::{Failure, Outcome};
-use crate::output::geojson::{collection, feature, line, point};
 use crate::output::plots::{Marker, RoutePlot, Series, TimePlot};
 use crate::report::Report;
 use crate::report::tempest::{NoPlanFigures, TempestReport};
@@ -802,6 +799,7 @@ fn outcome(ctx: &Context<'_>, computed: &Computed) -> Outcome {
             r.front = computed.front.as_ref().map(|f| front::facts(ctx, plan, f));
             r.status = "planned".into();
             r.tables = tables(ctx, plan, None);
+            r.route = Some(route_places(ctx, plan, None));
             r.plan = Some(plan.clone());
         }
         Run::Simulated(sim) => {
@@ -821,6 +819,7 @@ fn outcome(ctx: &Context<'_>, computed: &Computed) -> Outcome {
                 });
             }
             r.tables = tables(ctx, initial, Some(sim));
+            r.route = Some(route_places(ctx, initial, Some(sim)));
             r.plan = Some(initial.clone());
             r.simulation = Some(sim.clone());
         }

@@ -13,7 +13,7 @@ use super::csv::Table;
 
 mod actions;
 mod tempest;
-mod tempest_tables;
+mod tempest_files;
 
 /// Writes the report's files into `dir`; returns them. (A TEMPEST job's routes, layers
 /// and plots, and the actions job's files, are written by the job from what it
@@ -22,7 +22,7 @@ pub(crate) fn write(dir: &Path, report: &Report) -> Result<Vec<PathBuf>> {
     match report {
         Report::SunTable(r) => sun_table_files(dir, r),
         Report::TerrainShadow(r) => terrain_shadow_files(dir, r),
-        Report::Tempest(r) => tempest_tables::write(dir, r),
+        Report::Tempest(r) => tempest_files::write(dir, r),
         Report::Actions(_) => Ok(Vec::new()),
     }
 }

@@ -10,6 +10,7 @@
 use std::collections::BTreeMap;
 
 use areo_mission::{MissionPlan, SimReport};
+use areo_terrain::Spheroid;
 use serde::Serialize;
 
 /// A TEMPEST job's result.
@@ -69,6 +70,8 @@ pub struct TempestReport {
     pub front: Option<FrontFigures>,
     /// The plan's and the run's tables.
     pub tables: TempestTables,
+    /// The start, the goals and the executed route on the body (with a plan).
+    pub route: Option<RoutePlaces>,
     /// The initial plan, as the planner made it.
     pub plan: Option<MissionPlan>,
     /// The simulated run: every plan and executed action.
@@ -587,4 +590,32 @@ pub struct WaitRow {
     pub longest_shadow_h: f64,
     /// The longest loss of the Earth there, h.
     pub longest_earth_loss_h: f64,
+}
+
+/// Where the route runs, for the maps: the body's surface, the start, the goals and the
+/// executed route.
+#[derive(Debug, Clone, Serialize)]
+pub struct RoutePlaces {
+    /// The body's reference surface (the GeoJSON's CRS, the KML's body).
+    pub surface: Spheroid,
+    /// The start.
+    pub start: RoutePoint,
+    /// The goals, in order.
+    pub goals: Vec<RoutePoint>,
+    /// The executed route's cells as (latitude, east longitude), degrees: the start,
+    /// then where each action ended (with a simulation).
+    pub executed: Option<Vec<(f64, f64)>>,
+}
+
+/// A named place of the route.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct RoutePoint {
+    /// Its name (`start`, or the goal's).
+    pub name: String,
+    /// Planetocentric latitude, degrees.
+    pub lat_deg: f64,
+    /// East longitude, degrees.
+    pub lon_deg: f64,
+    /// The start's instant, or when the plan reaches the goal, ISO 8601 UTC.
+    pub utc: Option<String>,
 }

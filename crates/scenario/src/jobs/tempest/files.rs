@@ -2,7 +2,7 @@
 //! KML and GeoJSON, and the plots.
 
 use super::*;
-use crate::report::tempest::{ExecutedRow, PlanRow, ReplanRow, TempestTables, WaitRow};
+use crate::report::tempest::{ExecutedRow, PlanRow, ReplanRow, RoutePlaces, RoutePoint, TempestTables, WaitRow};
 
 /// The files the job writes from what it computed (the tables, the plan and the run
 /// are written from the report by `output::reports`): the routes, the map layers and
@@ -15,12 +15,6 @@ pub(super) fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<
         Run::Plan { plan, .. } => (plan, None),
         Run::Simulated(r) => (&r.plans[0].plan, Some(r)),
     };
-    let path = dir.join("route.geojson");
-    crate::output::geojson::write(&path, &route_geojson(ctx, initial, report))?;
-    files.push(path);
-    let path = dir.join("route.kml");
-    route_kml(ctx, initial, report).write(&path)?;
-    files.push(path);
     files.extend(layers::write(dir, ctx.world, ctx.truth, shadow_time_s(ctx)?)?);
     files.extend(plots(dir, ctx, initial, report)?);
     Ok(files)
@@ -148,75 +142,29 @@ fn replan_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item
     })
 }
 
-/// The routes, start and goals as KML for Google Earth (with the body's hint).
-pub(super) fn route_kml(
-    ctx: &Context<'_>,
-    initial: &MissionPlan,
-    report: Option<&SimReport>,
-) -> crate::output::kml::Kml {
-    let at = |cell: u32| ctx.world.lat_lon(cell);
-    let mut kml = crate::output::kml::Kml::new("areo TEMPEST route", ctx.world.dem().georef().surface.body());
-    kml.line("initial plan", "ffdc5a1e", initial.waypoints.iter().map(|w| at(w.cell)));
-    if let Some(r) = report {
-        let cells = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
-        kml.line("executed route", "ff281edc", cells.map(at));
-    }
-    let utc = |t_s: f64| format_utc(ctx.world.epoch() + Duration::from_seconds(t_s));
-    kml.point("start", &format!("start at {}", utc(ctx.start.t_min)), at(ctx.start.cell));
-    for (i, &g) in ctx.goals.iter().enumerate() {
-        let reached = initial.waypoints.iter().find(|w| w.goal == Some(i)).map(|w| w.utc.clone());
-        let description = match reached {
-            Some(t) => format!("goal {} of the plan, reached at {t}", i + 1),
-            None => format!("goal {} of the plan", i + 1),
-        };
-        kml.point(ctx.goal_name(i), &description, at(g));
-    }
-    kml
-}
-
-pub(super) fn route_geojson(ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> FeatureCollection {
-    let at = |cell: u32| ctx.world.lat_lon(cell);
-    let floor = floor_wh(ctx);
-    let mut features =
-        vec![feature(line(initial.waypoints.iter().map(|w| at(w.cell))), json!({"name": "initial plan"}))];
-    // Every point says where and when it is as a mission counts it, beside its charge
-    // (absolute, and above the floor: the search's E).
-    let located = |cell: u32, t_s: f64, mut properties: serde_json::Value, above_floor_wh: f64| {
-        let p = ctx.place(cell, t_s);
-        let extra = json!({
-            "utc": format_utc(ctx.world.epoch() + Duration::from_seconds(t_s)), "t_h": t_s / 3600.0,
-            "sol": p.sol, "ltst_h": p.ltst_h, "elevation_m": p.elevation_m,
-            "battery_wh": above_floor_wh + floor, "battery_above_floor_wh": above_floor_wh,
-        });
-        if let (Some(o), serde_json::Value::Object(e)) = (properties.as_object_mut(), extra) {
-            o.extend(e);
-        }
-        feature(point(at(cell)), properties)
+/// The start, the goals (with when the plan reaches each) and the executed route on the
+/// body.
+pub(super) fn route_places(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimReport>) -> RoutePlaces {
+    let place = |name: &str, cell: u32, utc: Option<String>| {
+        let (lat_deg, lon_deg) = ctx.world.lat_lon(cell);
+        RoutePoint { name: name.to_string(), lat_deg, lon_deg, utc }
     };
-    match report {
-        None => {
-            for (i, w) in initial.waypoints.iter().enumerate() {
-                let props = json!({
-                    "kind": "waypoint", "index": i, "action": action_name(w.action), "required_wh": w.required_wh,
-                });
-                features.push(located(w.cell, w.t_s, props, w.battery_wh - floor));
-            }
-        }
-        Some(r) => {
+    let start_utc = format_utc(ctx.world.epoch() + Duration::from_seconds(ctx.start.t_min));
+    let goals = (ctx.goals.iter().enumerate())
+        .map(|(i, &g)| {
+            let reached = initial.waypoints.iter().find(|w| w.goal == Some(i)).map(|w| w.utc.clone());
+            place(ctx.goal_name(i), g, reached)
+        })
+        .collect();
+    RoutePlaces {
+        surface: ctx.world.dem().georef().surface,
+        start: place("start", ctx.start.cell, Some(start_utc)),
+        goals,
+        executed: sim.map(|r| {
             let cells = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
-            features.push(feature(line(cells.map(at)), json!({"name": "executed route"})));
-            for (i, s) in r.steps.iter().enumerate() {
-                let props =
-                    json!({"kind": "executed", "step": i + 1, "action": s.action.name(), "energy_wh": s.energy_wh});
-                features.push(located(s.cell, s.t_s, props, s.battery_above_floor_wh));
-            }
-        }
+            cells.map(|c| ctx.world.lat_lon(c)).collect()
+        }),
     }
-    features.push(feature(point(at(ctx.start.cell)), json!({"kind": "start", "name": "start"})));
-    for (i, &g) in ctx.goals.iter().enumerate() {
-        features.push(feature(point(at(g)), json!({"kind": "goal", "name": ctx.goal_name(i), "order": i})));
-    }
-    collection(features, &ctx.world.dem().georef().surface)
 }
 
 /// Night intervals (the Sun's centre below the horizontal) over [0, end_s], hours

@@ -1,15 +1,19 @@
-//! A TEMPEST report's tables and its plan and run as files: `plan.json`, `plan.csv`,
-//! `simulation.json`, `executed.csv`, `replans.csv`, `waits.csv` — each column at the
-//! decimals its CSV row type gives.
+//! A TEMPEST report's files written from the report alone: the plan and the run
+//! (`plan.json`, `simulation.json`), the tables (`plan.csv`, `executed.csv`,
+//! `replans.csv`, `waits.csv`, each column at the decimals its CSV row type gives) and
+//! the routes (`route.geojson`, `route.kml`).
 
 use std::path::{Path, PathBuf};
 
+use geojson::FeatureCollection;
 use serde::Serialize;
+use serde_json::json;
 
 use crate::error::Result;
 use crate::output::csv::{Fixed, write_rows};
+use crate::output::geojson::{collection, feature, line, point};
 use crate::output::{json_for, write_file};
-use crate::report::tempest::{ExecutedRow, PlanRow, ReplanRow, TempestReport, WaitRow};
+use crate::report::tempest::{ExecutedRow, PlanRow, ReplanRow, RoutePlaces, TempestReport, WaitRow};
 
 /// Writes the files into `dir`; returns them (none without a plan).
 pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
@@ -33,10 +37,94 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
     if let Some(rows) = &t.replans {
         put("replans.csv", &|p| write_rows(p, rows.iter().map(ReplanCsv::from)))?;
     }
+    if let Some(route) = &r.route {
+        put("route.geojson", &|p| crate::output::geojson::write(p, &route_geojson(r, route)))?;
+        put("route.kml", &|p| route_kml(r, route).write(p))?;
+    }
     if let Some(rows) = &t.waits {
         put("waits.csv", &|p| write_rows(p, rows.iter().map(WaitCsv::from)))?;
     }
     Ok(files)
+}
+
+/// The routes, start and goals as KML for Google Earth (with the body's hint).
+fn route_kml(r: &TempestReport, route: &RoutePlaces) -> crate::output::kml::Kml {
+    let mut kml = crate::output::kml::Kml::new("areo TEMPEST route", route.surface.body());
+    kml.line("initial plan", "ffdc5a1e", r.tables.plan.iter().map(|w| (w.lat_deg, w.lon_deg)));
+    if let Some(cells) = &route.executed {
+        kml.line("executed route", "ff281edc", cells.iter().copied());
+    }
+    let start = &route.start;
+    kml.point("start", &format!("start at {}", start.utc.as_deref().unwrap_or("")), (start.lat_deg, start.lon_deg));
+    for (i, g) in route.goals.iter().enumerate() {
+        let description = match &g.utc {
+            Some(t) => format!("goal {} of the plan, reached at {t}", i + 1),
+            None => format!("goal {} of the plan", i + 1),
+        };
+        kml.point(&g.name, &description, (g.lat_deg, g.lon_deg));
+    }
+    kml
+}
+
+/// The routes as GeoJSON: every point says where and when it is as a mission counts it,
+/// beside its charge (absolute, and above the floor: the search's E).
+fn route_geojson(r: &TempestReport, route: &RoutePlaces) -> FeatureCollection {
+    let floor = r.battery_floor_wh;
+    let plan = &r.tables.plan;
+    let mut features =
+        vec![feature(line(plan.iter().map(|w| (w.lat_deg, w.lon_deg))), json!({"name": "initial plan"}))];
+    match (&route.executed, &r.tables.executed) {
+        (Some(cells), Some(steps)) => {
+            features.push(feature(line(cells.iter().copied()), json!({"name": "executed route"})));
+            for s in steps {
+                let props = json!({"kind": "executed", "step": s.step, "action": s.action, "energy_wh": s.energy_wh});
+                let when = When { utc: &s.utc, t_s: s.t_s, sol: s.sol, ltst_h: s.ltst_h, elevation_m: s.elevation_m };
+                features.push(located((s.lat_deg, s.lon_deg), props, &when, s.battery_above_floor_wh, floor));
+            }
+        }
+        _ => {
+            for w in plan {
+                let props =
+                    json!({"kind": "waypoint", "index": w.index, "action": w.action, "required_wh": w.required_wh});
+                let when = When { utc: &w.utc, t_s: w.t_s, sol: w.sol, ltst_h: w.ltst_h, elevation_m: w.elevation_m };
+                features.push(located((w.lat_deg, w.lon_deg), props, &when, w.battery_wh - floor, floor));
+            }
+        }
+    }
+    let start = &route.start;
+    features.push(feature(point((start.lat_deg, start.lon_deg)), json!({"kind": "start", "name": "start"})));
+    for (i, g) in route.goals.iter().enumerate() {
+        features.push(feature(point((g.lat_deg, g.lon_deg)), json!({"kind": "goal", "name": g.name, "order": i})));
+    }
+    collection(features, &route.surface)
+}
+
+/// Where in time a point of the route is, as a mission counts it.
+struct When<'a> {
+    utc: &'a str,
+    t_s: f64,
+    sol: i64,
+    ltst_h: f64,
+    elevation_m: f64,
+}
+
+/// A point feature at `at` with `properties`, its time and place, and its charge.
+fn located(
+    at: (f64, f64),
+    mut properties: serde_json::Value,
+    when: &When<'_>,
+    above_floor_wh: f64,
+    floor_wh: f64,
+) -> geojson::Feature {
+    let extra = json!({
+        "utc": when.utc, "t_h": when.t_s / 3600.0, "sol": when.sol, "ltst_h": when.ltst_h,
+        "elevation_m": when.elevation_m,
+        "battery_wh": above_floor_wh + floor_wh, "battery_above_floor_wh": above_floor_wh,
+    });
+    if let (Some(o), serde_json::Value::Object(e)) = (properties.as_object_mut(), extra) {
+        o.extend(e);
+    }
+    feature(point(at), properties)
 }
 
 /// A row of plan.csv.
