@@ -457,8 +457,8 @@ fn temp_out(name: &str) -> std::io::Result<PathBuf> {
 #[derive(Clone)]
 struct PyRunResult {
     facts_json: String,
-    /// The job's report.
-    report: Option<serde_json::Value>,
+    /// The job's report, converted to Python values when asked for.
+    report: Option<std::sync::Arc<areo_scenario::Report>>,
     summary: Vec<String>,
     files: Vec<PathBuf>,
     out: PathBuf,
@@ -469,7 +469,7 @@ impl PyRunResult {
     fn from_outcome(o: Outcome, out: PathBuf) -> PyResult<PyRunResult> {
         let error = |e: serde_json::Error| AreoError::new_err(e.to_string());
         let facts_json = serde_json::to_string(&o.facts).map_err(error)?;
-        let report = o.report.as_deref().map(serde_json::to_value).transpose().map_err(error)?;
+        let report = o.report.map(|r| std::sync::Arc::new(*r));
         Ok(PyRunResult { facts_json, report, summary: o.summary, files: o.files, out, failure: o.failure })
     }
 }
@@ -611,7 +611,7 @@ impl PyRunResult {
     #[getter]
     fn report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         match &self.report {
-            Some(r) => report_value(py, r),
+            Some(r) => report_value(py, &serde_json::to_value(&**r).map_err(|e| AreoError::new_err(e.to_string()))?),
             None => Ok(py.None().into_bound(py)),
         }
     }

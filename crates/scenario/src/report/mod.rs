@@ -8,6 +8,7 @@
 //! `first_sunrise` ([`facts`]).
 
 pub mod actions;
+mod facts;
 mod sun_table;
 pub mod tempest;
 mod terrain_shadow;
@@ -57,48 +58,13 @@ impl Report {
     /// run themselves (data whose figures the report holds); an unsigned integer is a
     /// count, any other number a number.
     pub fn facts(&self) -> BTreeMap<String, Fact> {
-        let value = match self {
-            Report::SunTable(r) => serde_json::to_value(r),
-            Report::TerrainShadow(r) => serde_json::to_value(r),
-            Report::Actions(r) => serde_json::to_value(r),
-            Report::Tempest(r) => serde_json::to_value(r).map(|mut v| {
-                if let Some(fields) = v.as_object_mut() {
-                    fields.remove("plan");
-                    fields.remove("simulation");
-                }
-                v
-            }),
-        };
-        let mut facts = BTreeMap::new();
-        // Plain data always serialises: a map with non-string keys is the only way
-        // out, and no report holds one.
-        if let Ok(value) = value {
-            flatten(&value, "", &mut facts);
+        match self {
+            Report::SunTable(r) => facts::of(r, &[]),
+            Report::TerrainShadow(r) => facts::of(r, &[]),
+            Report::Actions(r) => facts::of(r, &[]),
+            Report::Tempest(r) => facts::of(r, &["plan", "simulation"]),
         }
-        facts
     }
-}
-
-/// The scalars under `value`, their names prefixed with `path`.
-fn flatten(value: &serde_json::Value, path: &str, facts: &mut BTreeMap<String, Fact>) {
-    use serde_json::Value;
-    let fact = match value {
-        Value::Object(fields) => {
-            for (name, v) in fields {
-                let path = if path.is_empty() { name.clone() } else { format!("{path}.{name}") };
-                flatten(v, &path, facts);
-            }
-            return;
-        }
-        Value::Array(_) | Value::Null => return,
-        Value::Bool(b) => Fact::Flag(*b),
-        Value::String(s) => Fact::Text(s.clone()),
-        Value::Number(n) => match n.as_u64() {
-            Some(count) => Fact::Count(count),
-            None => Fact::Number(n.as_f64().unwrap_or(f64::NAN)),
-        },
-    };
-    facts.insert(path.to_string(), fact);
 }
 
 #[cfg(test)]
@@ -112,6 +78,18 @@ mod tests {
     }
 
     #[derive(Serialize)]
+    enum Kind {
+        Local,
+        Polar { lat_ts_deg: f64 },
+    }
+
+    #[derive(Serialize)]
+    struct Group {
+        group_count: u64,
+        group_label: Option<String>,
+    }
+
+    #[derive(Serialize)]
     struct Outer {
         rows: usize,
         lit: bool,
@@ -120,27 +98,118 @@ mod tests {
         missing: Option<Inner>,
         table: Vec<Inner>,
         raster: Raster<u8>,
+        not_a_number: f64,
+        kind: Kind,
+        projection: Kind,
+        by_name: BTreeMap<String, Inner>,
+        pair: (f64, f64),
+        #[serde(flatten)]
+        group: Option<Group>,
+        skipped: Inner,
+    }
+
+    fn outer() -> Outer {
+        let inner = |ltst_hours: f64, utc: &str| Inner { ltst_hours, utc: utc.into() };
+        Outer {
+            rows: 3,
+            lit: true,
+            offset_m: -2,
+            first: Some(inner(6.25, "2012-08-06T05:17:57Z")),
+            missing: None,
+            table: vec![inner(1.0, "")],
+            raster: Raster { cols: 2, rows: 1, values: vec![1, 0] },
+            not_a_number: f64::NAN,
+            kind: Kind::Local,
+            projection: Kind::Polar { lat_ts_deg: -90.0 },
+            by_name: [("west_slope".to_string(), inner(9.5, "w"))].into_iter().collect(),
+            pair: (1.0, 2.0),
+            group: Some(Group { group_count: 7, group_label: None }),
+            skipped: inner(0.0, "never a fact"),
+        }
     }
 
     #[test]
     fn facts_are_the_scalars_named_by_their_paths() {
-        let outer = Outer {
-            rows: 3,
-            lit: true,
-            offset_m: -2,
-            first: Some(Inner { ltst_hours: 6.25, utc: "2012-08-06T05:17:57Z".into() }),
-            missing: None,
-            table: vec![Inner { ltst_hours: 1.0, utc: String::new() }],
-            raster: Raster { cols: 2, rows: 1, values: vec![1, 0] },
-        };
-        let mut facts = BTreeMap::new();
-        flatten(&serde_json::to_value(&outer).unwrap(), "", &mut facts);
+        let facts = facts::of(&outer(), &["skipped"]);
         let names: Vec<&str> = facts.keys().map(String::as_str).collect();
-        assert_eq!(names, ["first.ltst_hours", "first.utc", "lit", "offset_m", "raster.cols", "raster.rows", "rows"]);
+        assert_eq!(
+            names,
+            [
+                "by_name.west_slope.ltst_hours",
+                "by_name.west_slope.utc",
+                "first.ltst_hours",
+                "first.utc",
+                "group_count",
+                "kind",
+                "lit",
+                "offset_m",
+                "projection.Polar.lat_ts_deg",
+                "raster.cols",
+                "raster.rows",
+                "rows",
+            ]
+        );
         assert_eq!(facts["rows"], Fact::Count(3));
         assert_eq!(facts["offset_m"], Fact::Number(-2.0));
         assert_eq!(facts["first.ltst_hours"], Fact::Number(6.25));
         assert_eq!(facts["lit"], Fact::Flag(true));
+        assert_eq!(facts["kind"], Fact::Text("Local".into()));
         assert_eq!(facts["first.utc"], Fact::Text("2012-08-06T05:17:57Z".into()));
+    }
+
+    /// The facts read through JSON: the whole value held, then walked.
+    fn through_json(value: &impl Serialize, skip: &[&str]) -> BTreeMap<String, Fact> {
+        let mut value = serde_json::to_value(value).unwrap();
+        if let Some(fields) = value.as_object_mut() {
+            for name in skip {
+                fields.remove(*name);
+            }
+        }
+        let mut facts = BTreeMap::new();
+        flatten(&value, "", &mut facts);
+        facts
+    }
+
+    /// The scalars under `value`, their names prefixed with `path`.
+    fn flatten(value: &serde_json::Value, path: &str, facts: &mut BTreeMap<String, Fact>) {
+        use serde_json::Value;
+        let fact = match value {
+            Value::Object(fields) => {
+                for (name, v) in fields {
+                    let path = if path.is_empty() { name.clone() } else { format!("{path}.{name}") };
+                    flatten(v, &path, facts);
+                }
+                return;
+            }
+            Value::Array(_) | Value::Null => return,
+            Value::Bool(b) => Fact::Flag(*b),
+            Value::String(s) => Fact::Text(s.clone()),
+            Value::Number(n) => match n.as_u64() {
+                Some(count) => Fact::Count(count),
+                None => Fact::Number(n.as_f64().unwrap_or(f64::NAN)),
+            },
+        };
+        facts.insert(path.to_string(), fact);
+    }
+
+    #[test]
+    fn the_sink_names_what_the_json_of_the_report_holds() {
+        assert_eq!(facts::of(&outer(), &["skipped"]), through_json(&outer(), &["skipped"]));
+        // And on a report: flattened groups and maps keyed by name.
+        let tempest = TempestReport {
+            status: "planned".into(),
+            run: Some(tempest::RunFigures {
+                goals: [("goal2".to_string(), tempest::GoalArrival { arrival_h: 31.5, ..Default::default() })].into(),
+                median_replan_s: Some(0.25),
+                ..Default::default()
+            }),
+            initial_plan: Some(tempest::PlanFigures { initial_plan_tick_s: Some(60.0), ..Default::default() }),
+            ..Default::default()
+        };
+        let facts = facts::of(&tempest, &["plan", "simulation"]);
+        assert_eq!(facts, through_json(&tempest, &["plan", "simulation"]));
+        assert_eq!(facts["goals.goal2.arrival_h"], Fact::Number(31.5));
+        assert_eq!(facts["initial_plan_tick_s"], Fact::Number(60.0));
+        assert_eq!(facts["status"], Fact::Text("planned".into()));
     }
 }
