@@ -44,16 +44,25 @@ pub(crate) fn compute(
     let sa = slope_aspect(&dem);
     opts.progress.advance(1);
 
-    let valid: Vec<f32> = dem.elevations().iter().zip(dem.valid_mask()).filter(|(_, v)| **v).map(|(z, _)| *z).collect();
-    let (lo, hi) = valid.iter().fold((f32::MAX, f32::MIN), |(a, b), z| (a.min(*z), b.max(*z)));
-    let slopes: Vec<f64> = sa.slope_deg.iter().filter(|s| s.is_finite()).map(|s| f64::from(*s)).collect();
-    let cast = map.cast.iter().zip(&map.valid).filter(|(c, v)| **c && **v).count() as f64 / valid.len().max(1) as f64;
+    // Read off the maps as they are dropped, so the report's rasters take their place:
+    // the peak stays within the budget's bytes a cell.
+    let (valid, lo, hi) = (dem.elevations().iter().zip(dem.valid_mask()))
+        .filter(|(_, v)| **v)
+        .fold((0usize, f32::MAX, f32::MIN), |(n, a, b), (z, _)| (n + 1, a.min(*z), b.max(*z)));
+    let (steepest, slope_sum, with_slope) = (sa.slope_deg.iter().filter(|s| s.is_finite()))
+        .fold((0.0, 0.0, 0usize), |(m, sum, n), s| (f64::max(m, f64::from(*s)), sum + f64::from(*s), n + 1));
+    let cast = map.cast.iter().zip(&map.valid).filter(|(c, v)| **c && **v).count() as f64 / valid.max(1) as f64;
     let ltst_hours = match job.body.model() {
         areo_ephemeris::Body::Mars => SolarGeometry::at(utc).ltst_hours(site.lon_east_deg()),
         _ => state.local_solar_time_hours(site.lon_east_deg()),
     };
+    let (lit_fraction, direct_sun) = (map.lit_fraction(), map.to_u8());
     let dark: Vec<bool> = (0..map.cast.len()).map(|i| !map.direct_sun(i)).collect();
+    drop(map);
     let rgb = hillshade_rgb(&dem, &sa, Some(&dark), sun.azimuth_deg, sun.elevation_deg);
+    drop((sa, dark));
+    let preview: Vec<[u8; 3]> = rgb.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    drop(rgb);
     let (cols, rows) = (dem.cols(), dem.rows());
     let elevation_m =
         dem.elevations().iter().zip(dem.valid_mask()).map(|(z, ok)| if *ok { *z } else { f32::NAN }).collect();
@@ -70,12 +79,12 @@ pub(crate) fn compute(
         grid: Grid::of(&dem),
         cells: cols * rows,
         relief_m: f64::from(hi - lo),
-        max_slope_deg: slopes.iter().copied().fold(0.0, f64::max),
-        mean_slope_deg: slopes.iter().fold(0.0, |a, b| a + b) / slopes.len().max(1) as f64,
-        lit_fraction: map.lit_fraction(),
+        max_slope_deg: steepest,
+        mean_slope_deg: slope_sum / with_slope.max(1) as f64,
+        lit_fraction,
         cast_shadow_fraction: cast,
         elevation_m: Raster { cols, rows, values: elevation_m },
-        direct_sun: Raster { cols, rows, values: map.to_u8() },
-        preview_rgb: Raster { cols, rows, values: rgb.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect() },
+        direct_sun: Raster { cols, rows, values: direct_sun },
+        preview_rgb: Raster { cols, rows, values: preview },
     })
 }
