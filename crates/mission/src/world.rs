@@ -47,7 +47,7 @@ pub fn curvature_of(body: Body) -> Curvature {
 /// The Earth at one instant in the sky of the reference site.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EarthSky {
-    /// Azimuth, degrees clockwise from the grid's north (as [`GridSun::azimuth_deg`]).
+    /// Azimuth, degrees clockwise from the grid's north (as [`GridSun`]'s).
     pub azimuth_deg: f64,
     /// Elevation above the horizontal, degrees (topocentric).
     pub elevation_deg: f64,

@@ -1,8 +1,8 @@
 //! One module per job: each computes its public plain-data [`Report`] from its part of
 //! the scenario, and [`run`] dispatches on the scenario's job. Every job's facts are read
 //! off its report's fields and its summary is written from the report alone
-//! ([`output::reports`](crate::output::reports)), as are the Sun table's and terrain
-//! shadow's files and TEMPEST's plan, run, tables and routes. TEMPEST's map layers and
+//! (`output::reports`), as are the Sun table's and terrain
+//! shadow's files and TEMPEST's plan, run, tables, routes and map layers. TEMPEST's
 //! plots and the actions job's files are still written by the job from what it computed
 //! (worlds, GA results) beside the report.
 

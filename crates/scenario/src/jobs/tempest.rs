@@ -269,7 +269,7 @@ pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let prepared = prepare(job, file, opts)?;
     let report = compute(job, file, opts, prepared)?;
     let ctx = report.context(job);
-    let mut o = outcome(&ctx, &report);
+    let mut o = outcome(&ctx, &report)?;
     if let Some(dir) = opts.out_dir {
         if let Some(r) = &o.report {
             o.files.extend(crate::output::reports::write(dir, r)?);
@@ -767,7 +767,7 @@ impl Computed {
 }
 
 /// The public report, and the summary written from it.
-fn outcome(ctx: &Context<'_>, computed: &Computed) -> Outcome {
+fn outcome(ctx: &Context<'_>, computed: &Computed) -> Result<Outcome> {
     let world = ctx.world;
     let mut r = TempestReport {
         notes: computed.prepared.notes.clone(),
@@ -800,6 +800,7 @@ fn outcome(ctx: &Context<'_>, computed: &Computed) -> Outcome {
             r.status = "planned".into();
             r.tables = tables(ctx, plan, None);
             r.route = Some(route_places(ctx, plan, None));
+            r.layers = Some(layers::layers(ctx.world, ctx.truth, shadow_time_s(ctx)?));
             r.plan = Some(plan.clone());
         }
         Run::Simulated(sim) => {
@@ -820,13 +821,14 @@ fn outcome(ctx: &Context<'_>, computed: &Computed) -> Outcome {
             }
             r.tables = tables(ctx, initial, Some(sim));
             r.route = Some(route_places(ctx, initial, Some(sim)));
+            r.layers = Some(layers::layers(ctx.world, ctx.truth, shadow_time_s(ctx)?));
             r.plan = Some(initial.clone());
             r.simulation = Some(sim.clone());
         }
     }
     let report = Report::Tempest(Box::new(r));
     let summary = crate::output::reports::summary(&report);
-    Outcome { facts: report.facts(), summary, files: Vec::new(), failure, report: Some(Box::new(report)) }
+    Ok(Outcome { facts: report.facts(), summary, files: Vec::new(), failure, report: Some(Box::new(report)) })
 }
 
 /// The figures of a run without a plan — unreachable, or stopped by a budget — and why

@@ -5,7 +5,7 @@
 //! writers in [`output`](crate::output) and the summary lines read nothing else, and a
 //! job's facts are the report's scalar fields named by their paths: the fact
 //! `first_sunrise.ltst_hours` is the field `ltst_hours` of [`SunTableReport`]'s
-//! `first_sunrise` ([`facts`]).
+//! `first_sunrise` ([`Report::facts`]).
 
 pub mod actions;
 mod facts;

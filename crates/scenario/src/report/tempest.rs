@@ -11,7 +11,10 @@ use std::collections::BTreeMap;
 
 use areo_mission::{MissionPlan, SimReport};
 use areo_terrain::Spheroid;
+use areo_terrain::geotiff::Grid;
 use serde::Serialize;
+
+use super::Raster;
 
 /// A TEMPEST job's result.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -72,6 +75,8 @@ pub struct TempestReport {
     pub tables: TempestTables,
     /// The start, the goals and the executed route on the body (with a plan).
     pub route: Option<RoutePlaces>,
+    /// The map layers under the route (with a plan).
+    pub layers: Option<MapLayers>,
     /// The initial plan, as the planner made it.
     pub plan: Option<MissionPlan>,
     /// The simulated run: every plan and executed action.
@@ -618,4 +623,21 @@ pub struct RoutePoint {
     pub lon_deg: f64,
     /// The start's instant, or when the plan reaches the goal, ISO 8601 UTC.
     pub utc: Option<String>,
+}
+
+/// The map layers a GIS puts the route over: the planner's elevation and slope, and the
+/// true terrain's direct sun at the job's `shadow_utc`.
+#[derive(Debug, Clone, Serialize)]
+pub struct MapLayers {
+    /// The planner's map grid (size, cell, corner, projection).
+    pub grid: Grid,
+    /// Elevation, m (NaN where the map has no data).
+    pub elevation_m: Raster<f32>,
+    /// Slope, degrees (NaN where the map has no data).
+    pub slope_deg: Raster<f32>,
+    /// The true terrain's grid.
+    pub shadow_grid: Grid,
+    /// Direct sun on the true terrain: 1 lit, 0 in a cast shadow, facing away or at
+    /// night, 255 no data.
+    pub direct_sun: Raster<u8>,
 }

@@ -4,9 +4,9 @@
 use super::*;
 use crate::report::tempest::{ExecutedRow, PlanRow, ReplanRow, RoutePlaces, RoutePoint, TempestTables, WaitRow};
 
-/// The files the job writes from what it computed (the tables, the plan and the run
-/// are written from the report by `output::reports`): the routes, the map layers and
-/// the plots.
+/// The files the job writes from what it computed (the plan, the run, the tables, the
+/// routes and the map layers are written from the report by `output::reports`): the
+/// plots.
 pub(super) fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let (initial, report) = match run {
@@ -15,7 +15,6 @@ pub(super) fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<
         Run::Plan { plan, .. } => (plan, None),
         Run::Simulated(r) => (&r.plans[0].plan, Some(r)),
     };
-    files.extend(layers::write(dir, ctx.world, ctx.truth, shadow_time_s(ctx)?)?);
     files.extend(plots(dir, ctx, initial, report)?);
     Ok(files)
 }

@@ -1,14 +1,12 @@
-//! The map layers a TEMPEST run writes for a GIS to put its route over: the planner's
-//! DEM, its slope and the true terrain's direct sun at the job's `shadow_utc`, each a
-//! GeoTIFF on the DEM's grid and CRS (the body named, metres).
-
-use std::path::{Path, PathBuf};
+//! The map layers a TEMPEST run puts under its route for a GIS: the planner's DEM, its
+//! slope and the true terrain's direct sun at the job's `shadow_utc`, on their grids
+//! (written as GeoTIFFs from the report by `output::reports`).
 
 use areo_mission::World;
-use areo_terrain::geotiff;
+use areo_terrain::geotiff::Grid;
 
-use crate::error::Result;
-use crate::output::write_with;
+use crate::report::Raster;
+use crate::report::tempest::MapLayers;
 
 /// Shadow layer values: in direct sun, in shadow (terrain or the Sun below the
 /// horizon), no data.
@@ -16,22 +14,19 @@ const LIT: u8 = 1;
 const SHADOWED: u8 = 0;
 const NO_DATA: u8 = 255;
 
-/// Writes `dem.tif` (elevation, m), `slope.tif` (degrees) from the planner's map and
-/// `shadow.tif` (1 direct sun, 0 shadowed or facing away, 255 no data) from the true
-/// terrain at `shadow_s` after the epoch; returns the files.
-pub(super) fn write(dir: &Path, map: &World, truth: &World, shadow_s: f64) -> Result<Vec<PathBuf>> {
+/// The planner's elevation and slope, and the true terrain's direct sun at `shadow_s`
+/// after the epoch.
+pub(super) fn layers(map: &World, truth: &World, shadow_s: f64) -> MapLayers {
     let dem = map.dem();
-    let dem_path = dir.join("dem.tif");
-    write_with(&dem_path, |tmp| Ok(geotiff::write(dem, tmp)?))?;
-    let slope: Vec<f32> = (0..map.cells() as u32)
-        .zip(dem.valid_mask())
+    let (cols, rows) = (dem.cols(), dem.rows());
+    let valid = dem.valid_mask();
+    let elevation = dem.elevations().iter().zip(valid).map(|(z, ok)| if *ok { *z } else { f32::NAN }).collect();
+    let slope = (0..map.cells() as u32)
+        .zip(valid)
         .map(|(c, ok)| if *ok { map.slope_deg(c) as f32 } else { f32::NAN })
         .collect();
-    let slope_path = dir.join("slope.tif");
-    let slope_dem = dem.with_values(slope)?;
-    write_with(&slope_path, |tmp| Ok(geotiff::write(&slope_dem, tmp)?))?;
     let sun = truth.sun(shadow_s.clamp(0.0, truth.span_s()));
-    let shadow: Vec<u8> = (0..truth.cells() as u32)
+    let shadow = (0..truth.cells() as u32)
         .zip(truth.dem().valid_mask())
         // Direct sun on the ground, as `areo terrain shadow` writes it: neither in a cast
         // shadow nor on a slope facing away from the Sun.
@@ -41,7 +36,12 @@ pub(super) fn write(dir: &Path, map: &World, truth: &World, shadow_s: f64) -> Re
             (true, false) => SHADOWED,
         })
         .collect();
-    let shadow_path = dir.join("shadow.tif");
-    write_with(&shadow_path, |tmp| Ok(geotiff::write_u8(truth.dem(), &shadow, Some(NO_DATA), tmp)?))?;
-    Ok(vec![dem_path, slope_path, shadow_path])
+    let truth_dem = truth.dem();
+    MapLayers {
+        grid: Grid::of(dem),
+        elevation_m: Raster { cols, rows, values: elevation },
+        slope_deg: Raster { cols, rows, values: slope },
+        shadow_grid: Grid::of(truth_dem),
+        direct_sun: Raster { cols: truth_dem.cols(), rows: truth_dem.rows(), values: shadow },
+    }
 }

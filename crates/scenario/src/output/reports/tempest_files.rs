@@ -1,7 +1,8 @@
 //! A TEMPEST report's files written from the report alone: the plan and the run
 //! (`plan.json`, `simulation.json`), the tables (`plan.csv`, `executed.csv`,
-//! `replans.csv`, `waits.csv`, each column at the decimals its CSV row type gives) and
-//! the routes (`route.geojson`, `route.kml`).
+//! `replans.csv`, `waits.csv`, each column at the decimals its CSV row type gives), the
+//! routes (`route.geojson`, `route.kml`) and the map layers (`dem.tif`, `slope.tif`,
+//! `shadow.tif`).
 
 use std::path::{Path, PathBuf};
 
@@ -12,7 +13,11 @@ use serde_json::json;
 use crate::error::Result;
 use crate::output::csv::{Fixed, write_rows};
 use crate::output::geojson::{collection, feature, line, point};
-use crate::output::{json_for, write_file};
+use crate::output::{json_for, write_file, write_with};
+use areo_terrain::geotiff;
+
+/// The direct-sun layer's value where the map has no data.
+const NO_DATA: u8 = 255;
 use crate::report::tempest::{ExecutedRow, PlanRow, ReplanRow, RoutePlaces, TempestReport, WaitRow};
 
 /// Writes the files into `dir`; returns them (none without a plan).
@@ -43,6 +48,13 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
     }
     if let Some(rows) = &t.waits {
         put("waits.csv", &|p| write_rows(p, rows.iter().map(WaitCsv::from)))?;
+    }
+    if let Some(l) = &r.layers {
+        put("dem.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_f32_on(&l.grid, &l.elevation_m.values, tmp)?)))?;
+        put("slope.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_f32_on(&l.grid, &l.slope_deg.values, tmp)?)))?;
+        put("shadow.tif", &|p| {
+            write_with(p, |tmp| Ok(geotiff::write_u8_on(&l.shadow_grid, &l.direct_sun.values, Some(NO_DATA), tmp)?))
+        })?;
     }
     Ok(files)
 }
