@@ -23,8 +23,9 @@ use crate::output::plots::{HistogramPlot, Marker, ProfilePlot, ProfileRover, Rou
 use crate::output::{json_for, write_file};
 use crate::report::Report;
 use crate::report::actions::{
-    ActionsReport, Binding, ClimbFigures, ExecutedBest, GaRunFigures, ReplayFigures, SeedThreshold, SensitivityFigures,
-    StudyFigures, SweepFigures, SweepSeedFigures,
+    ActionsReport, Binding, ClimbFigures, ExecutedBest, GaRunFigures, RemovedModule, ReplayFigures, ReplayPointRow,
+    SeedSweepRow, SeedThreshold, SensitivityFigures, StudyFigures, SweepFigures, SweepPointRow, SweepSeedFigures,
+    WheelBinding,
 };
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -133,7 +134,10 @@ pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -
     let report = compute(job, file, opts, &setup)?;
     let mut o = outcome(&setup, &report);
     if let Some(dir) = opts.out_dir {
-        o.files = write_report(dir, &setup, &report)?;
+        if let Some(r) = &o.report {
+            o.files = crate::output::reports::write(dir, r)?;
+        }
+        o.files.extend(write_report(dir, &setup, &report)?);
     }
     Ok(o)
 }
@@ -337,6 +341,7 @@ fn outcome(setup: &Setup, computed: &Computed) -> Outcome {
         design_space_log10_filtered: design_space_log10(filtered.modules.len(), m),
         plan_modules: m,
         inventory: filtered.codes(),
+        removed: (filtered.removed.iter()).map(|r| RemovedModule { code: r.code, reason: r.reason.clone() }).collect(),
         ..ActionsReport::default()
     };
     for run in &computed.runs {
@@ -366,6 +371,17 @@ fn sweep_facts(values: &[f64], result: &FrictionSweep) -> SweepFigures {
     let mut f = SweepFigures {
         sweep_mu_first: values[0],
         sweep_mu_last: values[values.len() - 1],
+        sweep_points: (result.points.iter())
+            .map(|p| SweepPointRow {
+                mu: p.mu,
+                complete: p.complete,
+                best_fitness: p.best_fitness,
+                prefix: p.prefix_len,
+                max_y_m: p.max_y_m,
+                failure: p.failure.as_ref().map(ToString::to_string).unwrap_or_default(),
+                binding: p.binding.as_ref().map(wheel_binding),
+            })
+            .collect(),
         sweep_min_mu_crossing_ditch: crossed,
         sweep_min_mu_completing: completed,
         sweep_ditch_needs_less_friction_than_hill: crossed.zip(completed).map(|(a, b)| a < b),
@@ -393,11 +409,32 @@ fn sweep_facts(values: &[f64], result: &FrictionSweep) -> SweepFigures {
     f
 }
 
+/// A force limit as the report holds it.
+fn wheel_binding(b: &areo_actions::WheelLimit) -> WheelBinding {
+    WheelBinding {
+        wheel: b.wheel.clone(),
+        climbing: b.climbing,
+        contact_x_m: b.contact_m[0],
+        contact_y_m: b.contact_m[1],
+        contact_angle_deg: b.contact_angle_deg,
+        pitch_deg: b.pitch_deg,
+        steepest_wheel: b.steepest.0.clone(),
+        steepest_angle_deg: b.steepest.1,
+        steepest_climbing: b.steepest.2,
+    }
+}
+
 /// The friction sweep's thresholds over seeds: median, least and greatest, and how many
 /// seeds never got there.
 fn sweep_seed_facts(seeds: &[(u64, FrictionSweep)]) -> SweepSeedFigures {
     let n = seeds.len();
-    let mut f = SweepSeedFigures { sweep_seeds: n, ..SweepSeedFigures::default() };
+    let rows = seeds.iter().map(|(seed, s)| SeedSweepRow {
+        seed: *seed,
+        min_mu_crossing_ditch: s.min_mu_crossing,
+        min_mu_completing: s.min_mu_completing,
+        completed_at: s.points.iter().filter(|p| p.complete).map(|p| p.mu).collect(),
+    });
+    let mut f = SweepSeedFigures { sweep_seeds: n, sweep_seed_rows: rows.collect(), ..SweepSeedFigures::default() };
     for (what, pick) in [
         ("crossing_ditch", (|s: &FrictionSweep| s.min_mu_crossing) as fn(&FrictionSweep) -> Option<f64>),
         ("completing", |s: &FrictionSweep| s.min_mu_completing),
@@ -421,6 +458,18 @@ fn replay_facts(run: &RunResult, replay: &FrictionReplay) -> ReplayFigures {
     let mut r = ReplayFigures {
         replay_run: run.name.clone(),
         replay_found_at_mu: run.exec.mu,
+        replay_points: (replay.points.iter())
+            .map(|p| ReplayPointRow {
+                mu: p.mu,
+                complete: p.complete,
+                modules_executed: p.prefix_len,
+                max_y_m: p.max_y_m,
+                failure_module: p.failure.as_ref().map(|(i, _)| i + 1),
+                failure_code: p.failure.as_ref().map(|(i, _)| run.report.best.plan[*i].code()),
+                failure: p.failure.as_ref().map(|(_, f)| f.to_string()).unwrap_or_default(),
+                binding: p.binding.as_ref().map(wheel_binding),
+            })
+            .collect(),
         replay_min_mu_crossing_ditch: replay.min_mu_crossing,
         replay_min_mu_completing: replay.min_mu_completing,
         ..ReplayFigures::default()
@@ -489,31 +538,10 @@ fn best_facts(f: &mut GaRunFigures, run: &RunResult) {
 /// each run's plan files (in a directory per run when there are several).
 fn write_report(dir: &Path, setup: &Setup, report: &Computed) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
-    let kept = report.filtered.codes().into_iter().map(|code| InventoryRow { code, kept: 1, reason: String::new() });
-    let removed =
-        report.filtered.removed.iter().map(|r| InventoryRow { code: r.code, kept: 0, reason: r.reason.clone() });
-    let path = dir.join("inventory.csv");
-    write_rows(&path, kept.chain(removed))?;
-    files.push(path);
     let studies: Vec<(String, &SeedStudy)> =
         report.runs.iter().filter_map(|r| r.study.as_ref().map(|s| (r.name.clone(), s))).collect();
     if !studies.is_empty() {
         files.extend(write_studies(dir, &studies, setup.ga.generations)?);
-    }
-    if let Some((_, result)) = &report.sweep {
-        let path = dir.join("sweep.csv");
-        write_rows(&path, sweep_rows(result))?;
-        files.push(path);
-    }
-    if !report.sweep_seeds.is_empty() {
-        let path = dir.join("sweep_seeds.csv");
-        write_rows(&path, report.sweep_seeds.iter().map(|(seed, s)| SeedSweepRow::of(*seed, s)))?;
-        files.push(path);
-    }
-    if let Some(replay) = &report.replay {
-        let path = dir.join("replay.csv");
-        write_rows(&path, replay_rows(replay, &report.runs[0].report.best.plan))?;
-        files.push(path);
     }
     if let Some(profile) = &report.climb {
         files.extend(write_climb(dir, profile)?);

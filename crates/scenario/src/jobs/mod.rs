@@ -2,9 +2,9 @@
 //! the scenario, and [`run`] dispatches on the scenario's job. Every job's facts are read
 //! off its report's fields and its summary is written from the report alone
 //! (`output::reports`), as are the Sun table's and terrain
-//! shadow's files and TEMPEST's plan, run, tables, routes and map layers. TEMPEST's
-//! plots and the actions job's files are still written by the job from what it computed
-//! (worlds, GA results) beside the report.
+//! shadow's files, TEMPEST's plan, run, tables, routes and map layers, and the actions
+//! job's inventory, sweep and replay tables. TEMPEST's plots and the actions job's other
+//! files are still written by the job from what it computed (worlds, GA results).
 
 pub mod actions;
 pub(crate) mod sun_table;

@@ -12,6 +12,7 @@ use crate::sun::CSV_HEADER;
 use super::csv::Table;
 
 mod actions;
+mod actions_files;
 mod tempest;
 mod tempest_files;
 
@@ -23,7 +24,7 @@ pub(crate) fn write(dir: &Path, report: &Report) -> Result<Vec<PathBuf>> {
         Report::SunTable(r) => sun_table_files(dir, r),
         Report::TerrainShadow(r) => terrain_shadow_files(dir, r),
         Report::Tempest(r) => tempest_files::write(dir, r),
-        Report::Actions(_) => Ok(Vec::new()),
+        Report::Actions(r) => actions_files::write(dir, r),
     }
 }
 

@@ -21,6 +21,8 @@ pub struct ActionsReport {
     pub plan_modules: usize,
     /// The codes of the modules the task filters keep.
     pub inventory: Vec<u16>,
+    /// The modules they removed, and why.
+    pub removed: Vec<RemovedModule>,
     /// Each GA run, by name.
     pub runs: BTreeMap<String, GaRunFigures>,
     /// The runs' names in the scenario's order.
@@ -183,6 +185,8 @@ pub struct SweepFigures {
     pub sweep_mu_first: f64,
     /// Its last μ.
     pub sweep_mu_last: f64,
+    /// The GA's best plan at each μ.
+    pub sweep_points: Vec<SweepPointRow>,
 }
 
 /// A force limit that bound a plan.
@@ -215,6 +219,8 @@ pub struct SweepSeedFigures {
     pub sweep_seeds_never: BTreeMap<String, usize>,
     /// The thresholds over the seeds that got there, by threshold.
     pub sweep_seeds_min_mu: BTreeMap<String, SeedThreshold>,
+    /// Each seed's sweep.
+    pub sweep_seed_rows: Vec<SeedSweepRow>,
 }
 
 /// One threshold's μ over seeds.
@@ -240,6 +246,8 @@ pub struct ReplayFigures {
     pub replay_stops_at_module: Option<usize>,
     /// And why, in words.
     pub replay_failure_said: Option<String>,
+    /// The replayed plan at each μ.
+    pub replay_points: Vec<ReplayPointRow>,
     /// The least μ it crosses the ditch from.
     pub replay_min_mu_crossing_ditch: Option<f64>,
     /// The least μ it completes from.
@@ -321,4 +329,89 @@ pub struct SensitivityFigures {
     pub min_margin_forward: Option<f64>,
     /// The highest pitch, degrees.
     pub max_pitch_deg: Option<f64>,
+}
+
+/// A module the task filters removed.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct RemovedModule {
+    /// Its Table 1 code.
+    pub code: u16,
+    /// Why.
+    pub reason: String,
+}
+
+/// The force limit that bound a plan, where it bound.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct WheelBinding {
+    /// The wheel.
+    pub wheel: String,
+    /// Whether it was climbing.
+    pub climbing: bool,
+    /// Its contact, m east and north in the task's frame.
+    pub contact_x_m: f64,
+    /// North.
+    pub contact_y_m: f64,
+    /// The contact angle, degrees.
+    pub contact_angle_deg: f64,
+    /// The rover's pitch, degrees.
+    pub pitch_deg: f64,
+    /// The wheel on the steepest ground.
+    pub steepest_wheel: String,
+    /// Its contact angle, degrees.
+    pub steepest_angle_deg: f64,
+    /// Whether it was climbing.
+    pub steepest_climbing: bool,
+}
+
+/// The GA afresh at one μ of the friction sweep.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct SweepPointRow {
+    /// The friction coefficient.
+    pub mu: f64,
+    /// Whether the best plan completes the task.
+    pub complete: bool,
+    /// Its fitness.
+    pub best_fitness: f64,
+    /// Modules executed successfully.
+    pub prefix: usize,
+    /// How far along the way it got, m.
+    pub max_y_m: f64,
+    /// What stopped it, in words (empty if nothing did).
+    pub failure: String,
+    /// The force limit that bound it.
+    pub binding: Option<WheelBinding>,
+}
+
+/// One seed's friction sweep.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct SeedSweepRow {
+    /// The GA seed.
+    pub seed: u64,
+    /// The least μ whose best plan crosses the ditch.
+    pub min_mu_crossing_ditch: Option<f64>,
+    /// The least μ whose best plan completes.
+    pub min_mu_completing: Option<f64>,
+    /// The μ values whose best plan completed.
+    pub completed_at: Vec<f64>,
+}
+
+/// The replayed plan at one μ.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ReplayPointRow {
+    /// The friction coefficient.
+    pub mu: f64,
+    /// Whether it completes the task.
+    pub complete: bool,
+    /// Modules executed successfully.
+    pub modules_executed: usize,
+    /// How far along the way it got, m.
+    pub max_y_m: f64,
+    /// The module it stopped at (1-based).
+    pub failure_module: Option<usize>,
+    /// That module's code.
+    pub failure_code: Option<u16>,
+    /// Why, in words (empty if nothing stopped it).
+    pub failure: String,
+    /// The force limit that bound it.
+    pub binding: Option<WheelBinding>,
 }

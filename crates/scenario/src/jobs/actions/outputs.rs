@@ -3,115 +3,6 @@
 
 use super::*;
 
-/// A row of sweep.csv: the best plan at one μ and what bound it.
-#[derive(Serialize, Default)]
-pub(super) struct SweepRow {
-    /// As written in the sweep (shortest form: 0.5, 1).
-    pub(super) mu: String,
-    pub(super) complete: u8,
-    pub(super) best_fitness: Fixed<4>,
-    pub(super) prefix: usize,
-    pub(super) max_y_m: Fixed<3>,
-    pub(super) failure: String,
-    pub(super) binding_wheel: String,
-    pub(super) climbing: Option<u8>,
-    pub(super) contact_x_m: Option<Fixed<3>>,
-    pub(super) contact_y_m: Option<Fixed<3>>,
-    pub(super) contact_angle_deg: Option<Fixed<1>>,
-    pub(super) pitch_deg: Option<Fixed<1>>,
-    pub(super) steepest_wheel: String,
-    pub(super) steepest_angle_deg: Option<Fixed<1>>,
-    pub(super) steepest_climbing: Option<u8>,
-}
-
-/// A row of sweep_seeds.csv: one seed's sweep — its thresholds, and the μ values at
-/// which its best plan crossed and completed.
-#[derive(Serialize, Default)]
-pub(super) struct SeedSweepRow {
-    pub(super) seed: u64,
-    pub(super) min_mu_crossing_ditch: Option<f64>,
-    pub(super) min_mu_completing: Option<f64>,
-    /// μ values (space-separated) whose best plan completed.
-    pub(super) completed_at: String,
-}
-
-impl SeedSweepRow {
-    pub(super) fn of(seed: u64, sweep: &FrictionSweep) -> SeedSweepRow {
-        let completed = sweep.points.iter().filter(|p| p.complete).map(|p| p.mu.to_string());
-        SeedSweepRow {
-            seed,
-            min_mu_crossing_ditch: sweep.min_mu_crossing,
-            min_mu_completing: sweep.min_mu_completing,
-            completed_at: completed.collect::<Vec<_>>().join(" "),
-        }
-    }
-}
-
-/// A row of replay.csv: the replayed plan at one μ and what stopped it.
-#[derive(Serialize, Default)]
-pub(super) struct ReplayRow {
-    pub(super) mu: String,
-    pub(super) complete: u8,
-    pub(super) modules_executed: usize,
-    pub(super) max_y_m: Fixed<3>,
-    pub(super) failure_module: Option<usize>,
-    pub(super) failure_code: Option<u16>,
-    pub(super) failure: String,
-    pub(super) binding_wheel: String,
-    pub(super) climbing: Option<u8>,
-    pub(super) contact_y_m: Option<Fixed<3>>,
-    pub(super) contact_angle_deg: Option<Fixed<1>>,
-    pub(super) pitch_deg: Option<Fixed<1>>,
-}
-
-/// The replay as rows, one per μ.
-pub(super) fn replay_rows<'a>(
-    replay: &'a FrictionReplay,
-    plan: &'a [areo_rover::motion::Module],
-) -> impl Iterator<Item = ReplayRow> + 'a {
-    replay.points.iter().map(move |p| {
-        let b = p.binding.as_ref();
-        ReplayRow {
-            mu: p.mu.to_string(),
-            complete: u8::from(p.complete),
-            modules_executed: p.prefix_len,
-            max_y_m: Fixed(p.max_y_m),
-            failure_module: p.failure.as_ref().map(|(i, _)| i + 1),
-            failure_code: p.failure.as_ref().map(|(i, _)| plan[*i].code()),
-            failure: p.failure.as_ref().map(|(_, f)| f.to_string()).unwrap_or_default(),
-            binding_wheel: b.map(|b| b.wheel.clone()).unwrap_or_default(),
-            climbing: b.map(|b| u8::from(b.climbing)),
-            contact_y_m: b.map(|b| Fixed(b.contact_m[1])),
-            contact_angle_deg: b.map(|b| Fixed(b.contact_angle_deg)),
-            pitch_deg: b.map(|b| Fixed(b.pitch_deg)),
-        }
-    })
-}
-
-/// The sweep as rows, one per μ.
-pub(super) fn sweep_rows(sweep: &FrictionSweep) -> impl Iterator<Item = SweepRow> + '_ {
-    sweep.points.iter().map(|p| {
-        let b = p.binding.as_ref();
-        SweepRow {
-            mu: p.mu.to_string(),
-            complete: u8::from(p.complete),
-            best_fitness: Fixed(p.best_fitness),
-            prefix: p.prefix_len,
-            max_y_m: Fixed(p.max_y_m),
-            failure: p.failure.as_ref().map(ToString::to_string).unwrap_or_default(),
-            binding_wheel: b.map(|b| b.wheel.clone()).unwrap_or_default(),
-            climbing: b.map(|b| u8::from(b.climbing)),
-            contact_x_m: b.map(|b| Fixed(b.contact_m[0])),
-            contact_y_m: b.map(|b| Fixed(b.contact_m[1])),
-            contact_angle_deg: b.map(|b| Fixed(b.contact_angle_deg)),
-            pitch_deg: b.map(|b| Fixed(b.pitch_deg)),
-            steepest_wheel: b.map(|b| b.steepest.0.clone()).unwrap_or_default(),
-            steepest_angle_deg: b.map(|b| Fixed(b.steepest.1)),
-            steepest_climbing: b.map(|b| u8::from(b.steepest.2)),
-        }
-    })
-}
-
 /// A row of commands.csv: one command of the best plan as the rover would run it.
 #[derive(Serialize, Default)]
 pub(super) struct CommandRow {
@@ -450,15 +341,6 @@ pub(super) fn ga_plots(dir: &Path, report: &GaReport) -> Result<Vec<PathBuf>> {
         },
     )?);
     Ok(files)
-}
-
-/// A row of inventory.csv: a Table 1 module kept by the task's filters, or removed and
-/// why.
-#[derive(Serialize, Default)]
-pub(super) struct InventoryRow {
-    pub(super) code: u16,
-    pub(super) kept: u8,
-    pub(super) reason: String,
 }
 
 /// A row of plan.csv: one module of the best plan as executed.
