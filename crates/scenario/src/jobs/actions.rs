@@ -546,11 +546,6 @@ fn write_report(dir: &Path, setup: &Setup, report: &Computed) -> Result<Vec<Path
     if let Some(profile) = &report.climb {
         files.extend(write_climb(dir, profile)?);
     }
-    if !report.sensitivity.is_empty() {
-        let path = dir.join("sensitivity.csv");
-        write_rows(&path, report.sensitivity.iter().map(SensitivityCsvRow::of))?;
-        files.push(path);
-    }
     for run in &report.runs {
         let sub = if report.runs.len() == 1 { dir.to_path_buf() } else { dir.join(&run.name) };
         std::fs::create_dir_all(&sub).map_err(|source| Error::Io { path: sub.clone(), source })?;
@@ -579,13 +574,15 @@ fn sensitivity_facts(rows: &[areo_actions::SensitivityRow]) -> (SensitivityMap, 
             Ok(p) => {
                 f.stop = p.stop.unwrap_or("none").to_string();
                 f.stop_distance_m = Some(p.stop_distance_m);
+                // Without a pose the least margins are infinite: written, never a fact.
+                f.min_margin_stowed = Some(p.least(|q| q.stowed.margin));
+                f.min_margin_forward = Some(p.least(|q| q.forward.margin));
                 if let Some(last) = p.poses.last() {
                     f.last_pitch_deg = Some(last.pitch_deg);
                     f.last_margin_stowed = Some(last.stowed.margin);
                     f.last_margin_forward = Some(last.forward.margin);
-                    f.min_margin_stowed = Some(p.least(|q| q.stowed.margin));
-                    f.min_margin_forward = Some(p.least(|q| q.forward.margin));
                     f.max_pitch_deg = Some(-p.least(|q| -q.pitch_deg));
+                    f.arm_keeps_it_standing = Some(p.stop == Some("tip_over") && last.forward.margin > 0.0);
                 }
             }
             Err(e) => {
@@ -598,45 +595,6 @@ fn sensitivity_facts(rows: &[areo_actions::SensitivityRow]) -> (SensitivityMap, 
         out.entry(field).or_default().insert(value, f);
     }
     (out, order)
-}
-
-/// A row of sensitivity.csv: one assumed value and the straight climb with it.
-#[derive(Serialize, Default)]
-struct SensitivityCsvRow {
-    parameter: String,
-    value: f64,
-    stop: String,
-    stop_distance_m: Option<Fixed<3>>,
-    last_pitch_deg: Option<Fixed<2>>,
-    last_margin_stowed: Option<Fixed<4>>,
-    last_margin_forward: Option<Fixed<4>>,
-    min_margin_stowed: Option<Fixed<4>>,
-    min_margin_forward: Option<Fixed<4>>,
-    /// Where the stowed rover tips over, the margin with the arm forward stays above 0.
-    arm_keeps_it_standing: Option<u8>,
-}
-
-impl SensitivityCsvRow {
-    fn of(row: &areo_actions::SensitivityRow) -> SensitivityCsvRow {
-        let mut out =
-            SensitivityCsvRow { parameter: row.parameter.field().to_string(), value: row.value, ..Default::default() };
-        match &row.profile {
-            Ok(p) => {
-                out.stop = p.stop.unwrap_or("none").to_string();
-                out.stop_distance_m = Some(Fixed(p.stop_distance_m));
-                if let Some(last) = p.poses.last() {
-                    out.last_pitch_deg = Some(Fixed(last.pitch_deg));
-                    out.last_margin_stowed = Some(Fixed(last.stowed.margin));
-                    out.last_margin_forward = Some(Fixed(last.forward.margin));
-                    out.arm_keeps_it_standing = Some(u8::from(p.stop == Some("tip_over") && last.forward.margin > 0.0));
-                }
-                out.min_margin_stowed = Some(Fixed(p.least(|q| q.stowed.margin)));
-                out.min_margin_forward = Some(Fixed(p.least(|q| q.forward.margin)));
-            }
-            Err(e) => out.stop = format!("refused: {e}"),
-        }
-        out
-    }
 }
 
 /// The climb's facts: what ended it and where, and the margins along it.

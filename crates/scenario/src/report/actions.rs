@@ -329,6 +329,9 @@ pub struct SensitivityFigures {
     pub min_margin_forward: Option<f64>,
     /// The highest pitch, degrees.
     pub max_pitch_deg: Option<f64>,
+    /// Where the stowed rover tips over: whether the margin with the arm forward stays
+    /// above 0 there.
+    pub arm_keeps_it_standing: Option<bool>,
 }
 
 /// A module the task filters removed.

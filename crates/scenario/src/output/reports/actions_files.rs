@@ -1,5 +1,5 @@
 //! An actions report's files written from the report alone: `inventory.csv`,
-//! `sweep.csv`, `sweep_seeds.csv` and `replay.csv`.
+//! `sweep.csv`, `sweep_seeds.csv`, `replay.csv` and `sensitivity.csv`.
 
 use std::path::{Path, PathBuf};
 
@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::output::csv::{Fixed, write_rows};
-use crate::report::actions::{ActionsReport, ReplayPointRow, SeedSweepRow, SweepPointRow};
+use crate::report::actions::{ActionsReport, ReplayPointRow, SeedSweepRow, SensitivityFigures, SweepPointRow};
 
 /// Writes the files into `dir`; returns them.
 pub(crate) fn write(dir: &Path, r: &ActionsReport) -> Result<Vec<PathBuf>> {
@@ -32,7 +32,48 @@ pub(crate) fn write(dir: &Path, r: &ActionsReport) -> Result<Vec<PathBuf>> {
         write_rows(&path, replay.replay_points.iter().map(ReplayCsv::from))?;
         files.push(path);
     }
+    if !r.sensitivity_order.is_empty() {
+        let rows = (r.sensitivity_order.iter())
+            .filter_map(|(field, value)| r.sensitivity.get(field).and_then(|v| v.get(value)))
+            .map(SensitivityCsv::from);
+        let path = dir.join("sensitivity.csv");
+        write_rows(&path, rows)?;
+        files.push(path);
+    }
     Ok(files)
+}
+
+/// A row of sensitivity.csv: one assumed value and the straight climb with it.
+#[derive(Serialize, Default)]
+struct SensitivityCsv {
+    parameter: String,
+    value: f64,
+    stop: String,
+    stop_distance_m: Option<Fixed<3>>,
+    last_pitch_deg: Option<Fixed<2>>,
+    last_margin_stowed: Option<Fixed<4>>,
+    last_margin_forward: Option<Fixed<4>>,
+    min_margin_stowed: Option<Fixed<4>>,
+    min_margin_forward: Option<Fixed<4>>,
+    /// Where the stowed rover tips over, the margin with the arm forward stays above 0.
+    arm_keeps_it_standing: Option<u8>,
+}
+
+impl From<&SensitivityFigures> for SensitivityCsv {
+    fn from(f: &SensitivityFigures) -> SensitivityCsv {
+        SensitivityCsv {
+            parameter: f.parameter.clone(),
+            value: f.value,
+            stop: f.refused.as_ref().map_or_else(|| f.stop.clone(), |why| format!("refused: {why}")),
+            stop_distance_m: f.stop_distance_m.map(Fixed),
+            last_pitch_deg: f.last_pitch_deg.map(Fixed),
+            last_margin_stowed: f.last_margin_stowed.map(Fixed),
+            last_margin_forward: f.last_margin_forward.map(Fixed),
+            min_margin_stowed: f.min_margin_stowed.map(Fixed),
+            min_margin_forward: f.min_margin_forward.map(Fixed),
+            arm_keeps_it_standing: f.arm_keeps_it_standing.map(u8::from),
+        }
+    }
 }
 
 /// A row of inventory.csv: a module kept (1) or removed (0), and why.
