@@ -3,7 +3,7 @@
 //! off its report's fields and its summary is written from the report alone
 //! (`output::reports`), as are the Sun table's and terrain
 //! shadow's files, TEMPEST's plan, run, tables, routes and map layers, and the actions
-//! job's inventory, sweep and replay tables. TEMPEST's plots and the actions job's other
+//! job's inventory, sweep, replay and sensitivity tables. TEMPEST's plots and the other
 //! files are still written by the job from what it computed (worlds, GA results).
 
 pub mod actions;
