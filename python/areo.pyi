@@ -100,12 +100,15 @@ class RunResult:
     @property
     def out(self) -> PathLike[str]: ...
     @property
-    def tables(self) -> dict[str, list[dict[str, Any]]]:
-        """Every CSV table the run wrote (plan, executed, replans, monte_carlo, …)."""
-    def table(self, name: str) -> list[dict[str, Any]]: ...
+    def tables(self) -> dict[str, dict[str, Any]]:
+        """The report's tables (plan, executed, replans, monte_carlo, seeds, …, named as
+        the CSV each is written to), each a dict of columns: NumPy arrays for numbers
+        (absent: NaN) and flags, lists for text."""
+    def table(self, name: str) -> dict[str, Any]:
+        """One of `tables` by name; KeyError if the report has none."""
     def table_array(self, name: str) -> np.recarray:
-        """One table as a NumPy record array: float64 columns where every cell is a
-        number (empty: NaN), text columns otherwise."""
+        """One table as a NumPy record array: float64 columns for numbers (absent:
+        NaN), bool for flags, text columns for text."""
 
 class Scenario:
     """A scenario file and the fields set on it."""

@@ -572,29 +572,6 @@ fn raster<'py>(
     Ok(Some(array.call_method1("reshape", (shape,))?))
 }
 
-/// A CSV table as a list of dicts, numbers as floats (an empty cell: None).
-fn read_table<'py>(py: Python<'py>, path: &Path) -> PyResult<Bound<'py, PyList>> {
-    let mut reader =
-        csv::Reader::from_path(path).map_err(|e| AreoError::new_err(format!("{}: {e}", path.display())))?;
-    let headers = reader.headers().map_err(|e| AreoError::new_err(format!("{}: {e}", path.display())))?.clone();
-    let rows = PyList::empty(py);
-    for record in reader.records() {
-        let record = record.map_err(|e| AreoError::new_err(format!("{}: {e}", path.display())))?;
-        let row = PyDict::new(py);
-        for (h, v) in headers.iter().zip(record.iter()) {
-            if v.is_empty() {
-                row.set_item(h, py.None())?;
-            } else if let Ok(x) = v.parse::<f64>() {
-                row.set_item(h, x)?;
-            } else {
-                row.set_item(h, v)?;
-            }
-        }
-        rows.append(row)?;
-    }
-    Ok(rows)
-}
-
 #[pymethods]
 impl PyRunResult {
     /// The job's facts by name (numbers in the unit their name gives, counts, flags,
@@ -634,53 +611,52 @@ impl PyRunResult {
         self.out.clone()
     }
 
-    /// The CSV tables the run wrote (`plan`, `executed`, `replans`, `monte_carlo`, …),
-    /// each a list of dicts, by name.
+    /// The report's tables by name (`plan`, `executed`, `replans`, `monte_carlo`,
+    /// `seeds`, …; named as the CSV each is written to), each a dict of columns: NumPy
+    /// arrays for numbers (absent: NaN) and flags, lists for text.
     #[getter]
     fn tables<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        for f in self.files.iter().filter(|f| f.extension().is_some_and(|e| e == "csv")) {
-            let name = f.file_stem().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
-            d.set_item(name, read_table(py, f)?)?;
+        for (name, rows) in self.report.as_ref().map(|r| r.tables()).unwrap_or_default() {
+            d.set_item(name, report_value(py, &rows)?)?;
         }
         Ok(d)
     }
 
-    /// One table by name (`plan`, `executed`, `replans`, …); KeyError if the run wrote
-    /// none.
-    fn table<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyList>> {
-        let f = self
-            .files
-            .iter()
-            .find(|f| f.extension().is_some_and(|e| e == "csv") && f.file_stem().is_some_and(|s| s == name))
+    /// One table by name, as [`tables`](Self::tables) gives it; KeyError if the report
+    /// has none of that name.
+    fn table<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+        let rows = (self.report.as_ref().map(|r| r.tables()).unwrap_or_default().into_iter())
+            .find(|(n, _)| n == name)
+            .map(|(_, rows)| rows)
             .ok_or_else(|| pyo3::exceptions::PyKeyError::new_err(name.to_string()))?;
-        read_table(py, f)
+        report_value(py, &rows)
     }
 
-    /// One table as a NumPy record array (`numpy.rec.fromarrays`): a float64 column
-    /// where every cell is a number (an empty cell NaN), a text column otherwise.
+    /// One table as a NumPy record array (`numpy.rec.fromarrays`): float64 columns for
+    /// numbers (absent: NaN), bool for flags, text columns for text.
     fn table_array<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
-        let rows = self.table(py, name)?;
+        let table = self.table(py, name)?;
         let np = py.import("numpy")?;
-        let names: Vec<String> = match rows.iter().next() {
-            Some(first) => first.cast_into::<PyDict>()?.keys().iter().map(|k| k.extract()).collect::<PyResult<_>>()?,
-            None => Vec::new(),
-        };
-        let columns = PyList::empty(py);
-        for n in &names {
-            let values: Vec<Bound<'py, PyAny>> = rows.iter().map(|r| r.get_item(n)).collect::<PyResult<_>>()?;
-            let numeric = values.iter().all(|v| v.is_none() || v.extract::<f64>().is_ok());
-            let column = if numeric {
-                let xs: Vec<f64> = values.iter().map(|v| v.extract::<f64>().unwrap_or(f64::NAN)).collect();
-                PyArray1::from_vec(py, xs).into_any()
-            } else {
-                let texts: Vec<String> = values
-                    .iter()
-                    .map(|v| if v.is_none() { Ok(String::new()) } else { v.str()?.extract() })
-                    .collect::<PyResult<_>>()?;
-                np.call_method1("array", (texts,))?
-            };
-            columns.append(column)?;
+        let (mut names, columns) = (Vec::new(), PyList::empty(py));
+        if let Ok(table) = table.cast::<PyDict>() {
+            for (k, column) in table.iter() {
+                names.push(k.extract::<String>()?);
+                // Text (a list) as a NumPy text column, an absent text as "".
+                let column = if column.cast::<PyList>().is_ok() {
+                    let texts: Vec<String> = column
+                        .try_iter()?
+                        .map(|v| {
+                            let v = v?;
+                            if v.is_none() { Ok(String::new()) } else { v.str()?.extract() }
+                        })
+                        .collect::<PyResult<_>>()?;
+                    np.call_method1("array", (texts,))?
+                } else {
+                    column
+                };
+                columns.append(column)?;
+            }
         }
         let kwargs = [("names", names.join(","))].into_py_dict(py)?;
         np.getattr("rec")?.call_method("fromarrays", (columns,), Some(&kwargs))

@@ -1,6 +1,7 @@
 """The Python package against the references the Rust tests use and against the
 `areo` binary's own outputs (AREO_BIN, default target/debug/areo)."""
 
+import csv
 import json
 import math
 import os
@@ -196,14 +197,20 @@ def test_a_scenario_run_gives_the_binarys_facts_and_tables(tmp_path):
     for k in set(facts) - timing:
         assert ours[k] == facts[k], k
     plan = result.table("plan")
-    assert len(plan) == ours["initial_plan_waypoints"]
-    assert plan[0]["action"] in {"hibernate", "drive", "charge", "start", "wait"}
-    assert "monte_carlo" in result.tables and len(result.tables["monte_carlo"]) == 2000
+    assert len(plan["t_s"]) == ours["initial_plan_waypoints"]
+    assert plan["action"][0] in {"hibernate", "drive", "charge", "start", "wait"}
+    assert "monte_carlo" in result.tables and len(result.tables["monte_carlo"]["run"]) == 2000
     # The same table as a NumPy record array: numbers as float64, text as text.
     arr = result.table_array("plan")
-    assert len(arr) == len(plan) and arr["t_s"].dtype == np.float64 and arr["action"].dtype.kind == "U"
-    assert np.array_equal(arr["t_s"], [row["t_s"] for row in plan])
-    assert list(arr["action"]) == [row["action"] or "" for row in plan]
+    assert len(arr) == len(plan["t_s"]) and arr["t_s"].dtype == np.float64 and arr["action"].dtype.kind == "U"
+    assert np.array_equal(arr["t_s"], plan["t_s"]) and list(arr["action"]) == list(plan["action"])
+    # The tables come from the report, not the CSVs: plan.csv holds the same rows at
+    # its columns' decimals.
+    with open(result.out / "plan.csv") as f:
+        written = list(csv.DictReader(f))
+    assert [r["action"] for r in written] == list(arr["action"])
+    assert np.allclose([float(r["t_s"]) for r in written], arr["t_s"], atol=0.05)
+    assert np.allclose([float(r["battery_wh"]) for r in written], arr["battery_wh"], atol=0.005)
     assert any(p.name == "facts.json" for p in result.files)
     # The report holds the figures the facts name and the plan itself, its waypoints as
     # columns: the plan table's rows are the report's waypoints.

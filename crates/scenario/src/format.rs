@@ -158,7 +158,7 @@ pub struct ActionsJob {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ActionsRun {
-    /// Name (facts are `NAME_…`).
+    /// Name (facts are `runs.NAME.…`).
     pub name: String,
     /// Table 1 codes; default the filtered inventory.
     #[serde(default)]

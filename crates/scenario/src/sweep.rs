@@ -741,11 +741,11 @@ fn plot_against(
             return Err(Error::usage(what, format!("values from {a:e} to {b:e} cannot be plotted: |value| < 1e300")));
         }
     }
-    let plot = crate::output::plots::TimePlot {
+    let plot = crate::report::plots::TimePlot {
         title: format!("{}: {fact} against {axis}", info.name),
         x_label: axis.to_string(),
         y_label: fact.to_string(),
-        series: vec![crate::output::plots::Series { label: fact.to_string(), points, rgb: (30, 90, 220), width: 2 }],
+        series: vec![crate::report::plots::Series { label: fact.to_string(), points, rgb: (30, 90, 220), width: 2 }],
         nights: Vec::new(),
         x_range: (lo, if hi > lo { hi } else { lo + 1.0 }),
         windows: Vec::new(),
@@ -753,7 +753,7 @@ fn plot_against(
         dots: true,
         x_ticks: Default::default(),
     };
-    crate::output::plots::time(dir, &format!("{fact}_vs_{axis}"), &plot)
+    crate::output::plots::write(dir, &crate::report::plots::Plot::time(format!("{fact}_vs_{axis}"), plot))
 }
 
 /// Merges every finished task's facts into `DIR/results.csv` (one row per task: index,

@@ -4,6 +4,7 @@
 
 mod fresh_replans;
 mod plan_region;
+mod report_files;
 mod resolution_states;
 mod robustness;
 mod sweep;

@@ -1,8 +1,8 @@
 //! The action-planning job: build the terrain and the task, filter the inventory, run
-//! the GA (per run, or per μ of a sweep), and write plan.json, plan.csv, ga.csv and the
-//! plots (top view, side profile, stability, fitness, look-ahead).
+//! the GA (per run, or per μ of a sweep), and report each run's best plan with its
+//! history, commands and plots, the seed studies, the friction studies and the climb.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::format::synth::FeatureSpec;
 use areo_actions::{
@@ -17,17 +17,13 @@ use areo_terrain::Dem;
 use crate::error::{Error, Result};
 use crate::format::{ActionsJob, ScenarioFile, TerrainSource};
 use crate::jobs::RunOptions;
-use crate::outcome::Outcome;
-use crate::output::csv::{Fixed, rows_to_csv, write_rows};
-use crate::output::plots::{HistogramPlot, Marker, ProfilePlot, ProfileRover, RoutePlot, Series, TimePlot};
-use crate::output::{json_for, write_file};
 use crate::report::Report;
 use crate::report::actions::{
-    ActionsReport, Binding, ClimbFigures, ExecutedBest, GaRunFigures, RemovedModule, ReplayFigures, ReplayPointRow,
-    SeedSweepRow, SeedThreshold, SensitivityFigures, StudyFigures, SweepFigures, SweepPointRow, SweepSeedFigures,
-    WheelBinding,
+    ActionsReport, BestPlan, Binding, ClimbFigures, ClimbPoseRow, CommandList, ExecutedBest, GaRunFigures, PlanRecord,
+    RemovedModule, ReplayFigures, ReplayPointRow, SeedRow, SeedSweepRow, SeedThreshold, SensitivityFigures, StartPose,
+    StudyFigures, SweepFigures, SweepPointRow, SweepSeedFigures, WheelBinding,
 };
-use serde::Serialize;
+use crate::report::plots::{HistogramPlot, Marker, Plot, ProfilePlot, ProfileRover, RoutePlot, Series, TimePlot};
 use std::collections::BTreeMap;
 
 mod outputs;
@@ -127,19 +123,12 @@ struct Computed {
     sensitivity: Vec<areo_actions::SensitivityRow>,
 }
 
-/// Runs an actions job: compute the report, then its facts and files.
-pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
+/// Runs an actions job: compute, then the report.
+pub(crate) fn run(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Report> {
     let setup = setup(job, file)?;
     opts.budget.check(&crate::budget::actions(job, (setup.dem.cols() * setup.dem.rows()) as u64))?;
-    let report = compute(job, file, opts, &setup)?;
-    let mut o = outcome(&setup, &report);
-    if let Some(dir) = opts.out_dir {
-        if let Some(r) = &o.report {
-            o.files = crate::output::reports::write(dir, r)?;
-        }
-        o.files.extend(write_report(dir, &setup, &report)?);
-    }
-    Ok(o)
+    let computed = compute(job, file, opts, &setup)?;
+    Ok(report(&setup, &computed))
 }
 
 /// The GA's scales for the task on this rover.
@@ -332,8 +321,8 @@ fn studies_without_the_ga(
     (replay, climb, sensitivity)
 }
 
-/// The public report, and the summary written from it.
-fn outcome(setup: &Setup, computed: &Computed) -> Outcome {
+/// The public report.
+fn report(setup: &Setup, computed: &Computed) -> Report {
     let (task, m) = (&setup.task, setup.ga.initial_length.1);
     let filtered = &computed.filtered;
     let mut r = ActionsReport {
@@ -348,11 +337,21 @@ fn outcome(setup: &Setup, computed: &Computed) -> Outcome {
         let mut f = run_facts(&run.report, run.seconds, task);
         f.modules = run.inventory.modules.len();
         f.design_space_log10 = design_space_log10(run.inventory.modules.len(), m);
-        f.study = run.study.as_ref().map(|study| study_facts(study, run.generations));
+        f.study = run.study.as_ref().map(|study| StudyFigures {
+            seed_rows: seed_rows(&run.name, study),
+            ..study_facts(study, run.generations)
+        });
         best_facts(&mut f, run);
         r.runs.insert(run.name.clone(), f);
         r.run_order.push(run.name.clone());
+        r.best_plans.insert(run.name.clone(), best_plan(setup, run));
     }
+    let studies: Vec<(String, &SeedStudy)> =
+        computed.runs.iter().filter_map(|r| r.study.as_ref().map(|s| (r.name.clone(), s))).collect();
+    if !studies.is_empty() {
+        r.plots = study_plots(&studies, setup.ga.generations);
+    }
+    r.plots.extend(computed.climb.as_ref().map(climb_plot));
     r.sweep = computed.sweep.as_ref().map(|(values, result)| sweep_facts(values, result));
     if !computed.sweep_seeds.is_empty() {
         r.sweep_seeds = Some(sweep_seed_facts(&computed.sweep_seeds));
@@ -360,9 +359,7 @@ fn outcome(setup: &Setup, computed: &Computed) -> Outcome {
     r.replay = computed.replay.as_ref().map(|replay| replay_facts(&computed.runs[0], replay));
     r.climb = computed.climb.as_ref().map(climb_facts);
     (r.sensitivity, r.sensitivity_order) = sensitivity_facts(&computed.sensitivity);
-    let report = Report::Actions(Box::new(r));
-    let summary = crate::output::reports::summary(&report);
-    Outcome { facts: report.facts(), summary, files: Vec::new(), failure: None, report: Some(Box::new(report)) }
+    Report::Actions(Box::new(r))
 }
 
 /// The friction sweep's thresholds and what binds just below each.
@@ -534,27 +531,6 @@ fn best_facts(f: &mut GaRunFigures, run: &RunResult) {
     }
 }
 
-/// Every file of the report: inventory.csv, the seed studies, sweep.csv, the climb, and
-/// each run's plan files (in a directory per run when there are several).
-fn write_report(dir: &Path, setup: &Setup, report: &Computed) -> Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
-    let studies: Vec<(String, &SeedStudy)> =
-        report.runs.iter().filter_map(|r| r.study.as_ref().map(|s| (r.name.clone(), s))).collect();
-    if !studies.is_empty() {
-        files.extend(write_studies(dir, &studies, setup.ga.generations)?);
-    }
-    if let Some(profile) = &report.climb {
-        files.extend(write_climb(dir, profile)?);
-    }
-    for run in &report.runs {
-        let sub = if report.runs.len() == 1 { dir.to_path_buf() } else { dir.join(&run.name) };
-        std::fs::create_dir_all(&sub).map_err(|source| Error::Io { path: sub.clone(), source })?;
-        files.extend(write_outputs(&sub, setup, &run.report, &run.best.trace, run.exec.mu)?);
-        files.extend(write_commands(&sub, setup, run)?);
-    }
-    Ok(files)
-}
-
 /// A fact name's part for a parameter value: `0.27` → `0p27`, `-5` → `m5`.
 fn value_key(v: f64) -> String {
     format!("{v}").replace('.', "p").replace('-', "m")
@@ -601,7 +577,7 @@ fn sensitivity_facts(rows: &[areo_actions::SensitivityRow]) -> (SensitivityMap, 
 fn climb_facts(profile: &ClimbProfile) -> ClimbFigures {
     let stop = profile.stop.unwrap_or("none").to_string();
     let Some(last) = profile.poses.last() else {
-        return ClimbFigures { climb_stop: stop, ..ClimbFigures::default() };
+        return ClimbFigures { climb_stop: stop, climb_poses: climb_rows(profile), ..ClimbFigures::default() };
     };
     let max =
         |f: &dyn Fn(&areo_actions::ClimbPose) -> f64| profile.poses.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
@@ -618,28 +594,29 @@ fn climb_facts(profile: &ClimbProfile) -> ClimbFigures {
         climb_max_margin_gain: Some(max(&|p| p.forward.margin - p.stowed.margin)),
         climb_min_front_load_stowed: Some(front.fold(f64::INFINITY, f64::min)),
         climb_forward_tool_m: Some(profile.forward_tool_m[0]),
+        climb_poses: climb_rows(profile),
     }
 }
 
-/// `climb.csv` (one row per pose) and `climb.png` (margins and front load along it).
-fn write_climb(dir: &Path, profile: &ClimbProfile) -> Result<Vec<std::path::PathBuf>> {
-    // A margin that cannot be computed (no admissible pose) is an empty field.
-    let num = |v: f64| v.is_finite().then_some(Fixed(v));
-    let rows = profile.poses.iter().map(|p| ClimbRow {
-        distance_m: Fixed(p.distance_m),
-        pitch_deg: Fixed(p.pitch_deg),
-        margin_stowed: num(p.stowed.margin),
-        margin_forward: num(p.forward.margin),
-        front_load_stowed: num(p.stowed.front_load_fraction),
-        front_load_forward: num(p.forward.front_load_fraction),
-        friction_needed_stowed: num(p.stowed.friction_needed),
-        friction_needed_forward: num(p.forward.friction_needed),
-        violation_stowed: p.stowed.violation.unwrap_or(""),
-        violation_forward: p.forward.violation.unwrap_or(""),
+/// Every pose of the climb (`climb.csv`).
+fn climb_rows(profile: &ClimbProfile) -> Vec<ClimbPoseRow> {
+    let rows = profile.poses.iter().map(|p| ClimbPoseRow {
+        distance_m: p.distance_m,
+        pitch_deg: p.pitch_deg,
+        margin_stowed: p.stowed.margin,
+        margin_forward: p.forward.margin,
+        front_load_stowed: p.stowed.front_load_fraction,
+        front_load_forward: p.forward.front_load_fraction,
+        friction_needed_stowed: p.stowed.friction_needed,
+        friction_needed_forward: p.forward.friction_needed,
+        violation_stowed: p.stowed.violation.unwrap_or("").to_string(),
+        violation_forward: p.forward.violation.unwrap_or("").to_string(),
     });
-    let path = dir.join("climb.csv");
-    write_rows(&path, rows)?;
-    let mut files = vec![path];
+    rows.collect()
+}
+
+/// The climb's plot: margins and front load along it.
+fn climb_plot(profile: &ClimbProfile) -> Plot {
     let series = |label: &str, rgb, f: &dyn Fn(&areo_actions::ClimbPose) -> f64| Series {
         label: label.to_string(),
         points: profile.poses.iter().map(|p| (p.distance_m, f(p))).filter(|q| q.1.is_finite()).collect(),
@@ -647,10 +624,9 @@ fn write_climb(dir: &Path, profile: &ClimbProfile) -> Result<Vec<std::path::Path
         width: 2,
     };
     let end = profile.poses.last().map_or(1.0, |p| p.distance_m.max(0.01));
-    files.extend(crate::output::plots::time(
-        dir,
+    Plot::time(
         "climb",
-        &TimePlot {
+        TimePlot {
             title: "Straight climb: stability margin and front-wheel load, arm stowed and forward".into(),
             x_label: "distance from the start, m".into(),
             y_label: "margin S / front share of the load".into(),
@@ -667,8 +643,7 @@ fn write_climb(dir: &Path, profile: &ClimbProfile) -> Result<Vec<std::path::Path
             dots: false,
             x_ticks: Default::default(),
         },
-    )?);
-    Ok(files)
+    )
 }
 
 /// One GA run of the job, as configured.
@@ -786,27 +761,25 @@ fn study_facts(study: &SeedStudy, generations: usize) -> StudyFigures {
     f
 }
 
-/// `seeds.csv` (one row per run and seed), the success-by-generation plot and each
-/// study's pooled look-ahead histogram.
-fn write_studies(dir: &Path, studies: &[(String, &SeedStudy)], generations: usize) -> Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
-    let rows = studies.iter().flat_map(|(name, study)| {
-        study.seeds.iter().zip(&study.taken).zip(&study.stopped_by).map(
-            move |((&(seed, first, fitness, samples, s), taken), stopped_by)| SeedRow {
-                run: name.clone(),
-                seed,
-                first_solved_generation: first,
-                best_fitness: Fixed(fitness),
-                samples,
-                taken: taken.0.clone(),
-                min_stability: Fixed(s),
-                stopped_by: stopped_by.to_string(),
-            },
-        )
-    });
-    let path = dir.join("seeds.csv");
-    write_rows(&path, rows)?;
-    files.push(path);
+/// Every seed of a run's study (`seeds.csv`).
+fn seed_rows(name: &str, study: &SeedStudy) -> Vec<SeedRow> {
+    let rows = study.seeds.iter().zip(&study.taken).zip(&study.stopped_by).map(
+        |((&(seed, first, fitness, samples, s), taken), stopped_by)| SeedRow {
+            run: name.to_string(),
+            seed,
+            first_solved_generation: first,
+            best_fitness: fitness,
+            samples,
+            taken: taken.0.clone(),
+            min_stability: s,
+            stopped_by: stopped_by.to_string(),
+        },
+    );
+    rows.collect()
+}
+
+/// The success-by-generation plot and each study's pooled look-ahead histogram.
+fn study_plots(studies: &[(String, &SeedStudy)], generations: usize) -> Vec<Plot> {
     let palette = [(220, 30, 40), (30, 90, 220), (40, 160, 60), (150, 60, 200)];
     let series = studies
         .iter()
@@ -818,10 +791,9 @@ fn write_studies(dir: &Path, studies: &[(String, &SeedStudy)], generations: usiz
             width: 2,
         })
         .collect();
-    files.extend(crate::output::plots::time(
-        dir,
+    let mut plots = vec![Plot::time(
         "success_by_generation",
-        &TimePlot {
+        TimePlot {
             title: "Seeds whose GA has completed the task, by generation".into(),
             x_label: "generation".into(),
             y_label: "seeds solved, %".into(),
@@ -833,21 +805,20 @@ fn write_studies(dir: &Path, studies: &[(String, &SeedStudy)], generations: usiz
             dots: false,
             x_ticks: Default::default(),
         },
-    )?);
+    )];
     for (name, study) in studies {
-        files.extend(crate::output::plots::histogram(
-            dir,
-            &format!("lookahead_{name}"),
-            &HistogramPlot {
+        plots.push(Plot::histogram(
+            format!("lookahead_{name}"),
+            HistogramPlot {
                 title: format!("Look-ahead of improving crossovers, {name}, all seeds"),
                 x_label: "change in successful-prefix length, modules".into(),
                 y_label: "crossovers".into(),
                 bin_width: None,
                 series: vec![(study.lookahead.clone(), (30, 90, 220))],
             },
-        )?);
+        ));
     }
-    Ok(files)
+    plots
 }
 
 /// The samples a plan took, by their 1-based number in the task ("s1 s4"), in the

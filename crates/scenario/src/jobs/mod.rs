@@ -1,10 +1,7 @@
 //! One module per job: each computes its public plain-data [`Report`] from its part of
 //! the scenario, and [`run`] dispatches on the scenario's job. Every job's facts are read
-//! off its report's fields and its summary is written from the report alone
-//! (`output::reports`), as are the Sun table's and terrain
-//! shadow's files, TEMPEST's plan, run, tables, routes and map layers, and the actions
-//! job's inventory, sweep, replay and sensitivity tables. TEMPEST's plots and the other
-//! files are still written by the job from what it computed (worlds, GA results).
+//! off its report's fields, and its summary, files and plots are written from the
+//! report alone (`output::reports`).
 
 pub mod actions;
 pub(crate) mod sun_table;
@@ -50,10 +47,15 @@ pub fn run(file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
         std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.to_path_buf(), source })?;
     }
     let mut outcome = match &file.scenario.job {
-        Job::SunTable(job) => reported(Report::SunTable(sun_table::compute(job, opts.progress)?), opts)?,
-        Job::TerrainShadow(job) => reported(Report::TerrainShadow(terrain_shadow::compute(job, file, opts)?), opts)?,
-        Job::Tempest(job) => tempest::run(job, file, opts)?,
-        Job::Actions(job) => actions::run(job, file, opts)?,
+        Job::SunTable(job) => reported(Report::SunTable(sun_table::compute(job, opts.progress)?), None, opts)?,
+        Job::TerrainShadow(job) => {
+            reported(Report::TerrainShadow(terrain_shadow::compute(job, file, opts)?), None, opts)?
+        }
+        Job::Tempest(job) => {
+            let (report, failure) = tempest::run(job, file, opts)?;
+            reported(report, failure, opts)?
+        }
+        Job::Actions(job) => reported(actions::run(job, file, opts)?, None, opts)?,
     };
     if let Some(dir) = opts.out_dir {
         let path = dir.join("facts.json");
@@ -64,9 +66,9 @@ pub fn run(file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
     Ok(outcome)
 }
 
-/// The outcome of a job that returned `report`: its facts and summary read off it, its
-/// files written from it.
-fn reported(report: Report, opts: RunOptions<'_>) -> Result<Outcome> {
+/// The outcome of a job that returned `report` (and failed as `failure` says): its facts
+/// and summary read off it, its files written from it.
+fn reported(report: Report, failure: Option<crate::outcome::Failure>, opts: RunOptions<'_>) -> Result<Outcome> {
     let files = match opts.out_dir {
         Some(dir) => crate::output::reports::write(dir, &report)?,
         None => Vec::new(),
@@ -75,7 +77,7 @@ fn reported(report: Report, opts: RunOptions<'_>) -> Result<Outcome> {
         facts: report.facts(),
         summary: crate::output::reports::summary(&report),
         files,
-        failure: None,
+        failure,
         report: Some(Box::new(report)),
     })
 }

@@ -1,7 +1,7 @@
 //! The TEMPEST job: build the believed and true worlds, plan (and simulate), and
 //! write plan.json, plan.csv, route.geojson, replans.csv, executed.csv and the plots.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use areo_ephemeris::events::night_intervals;
@@ -27,9 +27,9 @@ use files::*;
 use crate::error::{Error, Result};
 use crate::format::{ScenarioFile, TempestJob, TerrainSource, Truth};
 use crate::jobs::RunOptions;
-use crate::outcome::{Failure, Outcome};
-use crate::output::plots::{Marker, RoutePlot, Series, TimePlot};
+use crate::outcome::Failure;
 use crate::report::Report;
+use crate::report::plots::{Marker, Plot, RoutePlot, Series, TimePlot};
 use crate::report::tempest::{NoPlanFigures, TempestReport};
 use areo_mission::{contact, metrics};
 
@@ -264,25 +264,13 @@ struct Computed {
     peak_memory_mb: Option<f64>,
 }
 
-/// Runs a TEMPEST job: prepare, compute, then the facts and files of the report.
-pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<Outcome> {
+/// Runs a TEMPEST job: prepare, compute, then the report (and why it failed, when it
+/// did).
+pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<(Report, Option<Failure>)> {
     let prepared = prepare(job, file, opts)?;
-    let report = compute(job, file, opts, prepared)?;
-    let ctx = report.context(job);
-    let mut o = outcome(&ctx, &report)?;
-    if let Some(dir) = opts.out_dir {
-        if let Some(r) = &o.report {
-            o.files.extend(crate::output::reports::write(dir, r)?);
-        }
-        o.files.extend(write_outputs(dir, &ctx, &report.run)?);
-        if let Some(c) = &report.chance {
-            o.files.extend(chance::write(dir, &ctx, c)?);
-        }
-        if let Some(f) = &report.front {
-            o.files.extend(front::write(dir, &ctx, f)?);
-        }
-    }
-    Ok(o)
+    let computed = compute(job, file, opts, prepared)?;
+    let ctx = computed.context(job);
+    report(&ctx, &computed)
 }
 
 /// Refuses a site off a georeferenced map: the Sun and the Earth are computed at the
@@ -766,8 +754,8 @@ impl Computed {
     }
 }
 
-/// The public report, and the summary written from it.
-fn outcome(ctx: &Context<'_>, computed: &Computed) -> Result<Outcome> {
+/// The public report, and why the run failed (`None` when it did not).
+fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Failure>)> {
     let world = ctx.world;
     let mut r = TempestReport {
         notes: computed.prepared.notes.clone(),
@@ -801,6 +789,7 @@ fn outcome(ctx: &Context<'_>, computed: &Computed) -> Result<Outcome> {
             r.tables = tables(ctx, plan, None);
             r.route = Some(route_places(ctx, plan, None));
             r.layers = Some(layers::layers(ctx.world, ctx.truth, shadow_time_s(ctx)?));
+            r.plots = plots(ctx, plan, None)?;
             r.plan = Some(plan.clone());
         }
         Run::Simulated(sim) => {
@@ -822,13 +811,21 @@ fn outcome(ctx: &Context<'_>, computed: &Computed) -> Result<Outcome> {
             r.tables = tables(ctx, initial, Some(sim));
             r.route = Some(route_places(ctx, initial, Some(sim)));
             r.layers = Some(layers::layers(ctx.world, ctx.truth, shadow_time_s(ctx)?));
+            r.plots = plots(ctx, initial, Some(sim))?;
             r.plan = Some(initial.clone());
             r.simulation = Some(sim.clone());
         }
     }
-    let report = Report::Tempest(Box::new(r));
-    let summary = crate::output::reports::summary(&report);
-    Ok(Outcome { facts: report.facts(), summary, files: Vec::new(), failure, report: Some(Box::new(report)) })
+    if let Some(c) = &computed.chance {
+        r.tables.monte_carlo = chance::rows(ctx, c);
+        r.plots.extend(chance::plots(ctx, c));
+    }
+    if let Some(f) = &computed.front {
+        r.tables.pareto_front = Some(front::rows(ctx, f));
+        r.pareto_plans = Some(f.plans.iter().map(|p| p.plan.clone()).collect());
+        r.plots.extend(front::plots(ctx, f));
+    }
+    Ok((Report::Tempest(Box::new(r)), failure))
 }
 
 /// The figures of a run without a plan — unreachable, or stopped by a budget — and why

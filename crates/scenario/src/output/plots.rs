@@ -18,108 +18,17 @@ use plotters::prelude::*;
 
 use super::layout::{Bounds, legend_place, place_labels};
 use crate::error::{Error, Result};
-
-/// A polyline to draw: local map metres (or hours and values for the time plots).
-#[derive(Debug, Clone)]
-pub(crate) struct Series {
-    /// Legend text.
-    pub label: String,
-    /// Points.
-    pub points: Vec<(f64, f64)>,
-    /// Colour (RGB).
-    pub rgb: (u8, u8, u8),
-    /// Line width, px.
-    pub width: u32,
-}
-
-/// A labelled marker.
-#[derive(Debug, Clone)]
-pub(crate) struct Marker {
-    /// Label.
-    pub label: String,
-    /// Position.
-    pub at: (f64, f64),
-    /// Colour (RGB).
-    pub rgb: (u8, u8, u8),
-}
-
-/// The route plot's data: a raster background (RGB, `cols` × `rows`, row 0 north)
-/// spanning `extent` = (width, height) m east and north of `origin`, the routes and
-/// the markers (in the same metres).
-#[derive(Debug, Clone)]
-pub(crate) struct RoutePlot {
-    /// Title.
-    pub title: String,
-    /// Background pixels, RGB row by row, north row first.
-    pub background: Vec<u8>,
-    /// Background size, cells.
-    pub cols: usize,
-    /// Background size, cells.
-    pub rows: usize,
-    /// South-west corner of the background, m.
-    pub origin: (f64, f64),
-    /// Background width and height, m.
-    pub extent: (f64, f64),
-    /// Routes, drawn in order.
-    pub series: Vec<Series>,
-    /// Start and goals.
-    pub markers: Vec<Marker>,
-}
-
-/// A time plot: series against hours, with night intervals shaded.
-#[derive(Debug, Clone)]
-pub(crate) struct TimePlot {
-    /// Title.
-    pub title: String,
-    /// X-axis label.
-    pub x_label: String,
-    /// Y-axis label.
-    pub y_label: String,
-    /// Series (x in hours).
-    pub series: Vec<Series>,
-    /// Night intervals, hours.
-    pub nights: Vec<(f64, f64)>,
-    /// Other intervals to shade (contact sessions), hours, with their legend label.
-    pub windows: Vec<(f64, f64)>,
-    /// The legend label of `windows`.
-    pub windows_label: String,
-    /// X range, hours.
-    pub x_range: (f64, f64),
-    /// Draw the series as dots (separate runs), not lines.
-    pub dots: bool,
-    /// How x values (hours) are labelled.
-    pub x_ticks: TimeTicks,
-}
-
-/// How a time plot labels its hours.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub(crate) enum TimeTicks {
-    /// As numbers (hours since the start, or whatever the axis holds).
-    #[default]
-    Numbers,
-    /// As UTC `MM-DD HH:MM`, hour 0 being `epoch`.
-    Utc {
-        /// The instant of hour 0.
-        epoch: hifitime::Epoch,
-    },
-    /// As local solar time `sol N HH:MM`: hour 0 at `ltst0_h` of sol 0, `day_h` hours
-    /// a solar day (the equation of time's drift over a plot, under a minute a sol, is
-    /// left out).
-    LocalSolar {
-        /// Local solar time at hour 0, h.
-        ltst0_h: f64,
-        /// The solar day, h.
-        day_h: f64,
-    },
-}
+use crate::report::plots::{
+    Drawing, HistogramPlot, Plot, ProfilePlot, ProfileRover, RoutePlot, Series, TimePlot, TimeTicks,
+};
 
 impl TimeTicks {
     fn label(&self, hours: f64) -> String {
         match *self {
             TimeTicks::Numbers => format!("{hours}"),
-            TimeTicks::Utc { epoch } => {
+            TimeTicks::Utc { epoch_unix_s } => {
                 let (_, mo, d, h, mi, _, _) =
-                    (epoch + hifitime::Duration::from_seconds(hours * 3600.0)).to_gregorian_utc();
+                    hifitime::Epoch::from_unix_seconds(epoch_unix_s + hours * 3600.0).to_gregorian_utc();
                 format!("{mo:02}-{d:02} {h:02}:{mi:02}")
             }
             TimeTicks::LocalSolar { ltst0_h, day_h } => {
@@ -390,8 +299,18 @@ fn plot_error(path: &Path, e: DrawError) -> Error {
     Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) }
 }
 
+/// Writes the plot as `dir/NAME.svg` and `dir/NAME.png`.
+pub(crate) fn write(dir: &Path, plot: &Plot) -> Result<Vec<PathBuf>> {
+    match &plot.drawing {
+        Drawing::Route(p) => route(dir, &plot.name, p),
+        Drawing::Time(p) => time(dir, &plot.name, p),
+        Drawing::Profile(p) => profile(dir, &plot.name, p),
+        Drawing::Histogram(p) => histogram(dir, &plot.name, p),
+    }
+}
+
 /// Writes the route plot as `dir/NAME.svg` and `dir/NAME.png`.
-pub(crate) fn route(dir: &Path, name: &str, p: &RoutePlot) -> Result<Vec<PathBuf>> {
+fn route(dir: &Path, name: &str, p: &RoutePlot) -> Result<Vec<PathBuf>> {
     let width = 900u32;
     // Square metres: the plot area keeps the map's aspect (within the label margins).
     let height = ((f64::from(width) - 96.0) * p.extent.1 / p.extent.0 + 104.0).clamp(300.0, 1400.0) as u32;
@@ -424,33 +343,8 @@ pub(crate) fn route(dir: &Path, name: &str, p: &RoutePlot) -> Result<Vec<PathBuf
 }
 
 /// Writes a time plot as `dir/NAME.svg` and `dir/NAME.png`.
-pub(crate) fn time(dir: &Path, name: &str, p: &TimePlot) -> Result<Vec<PathBuf>> {
+fn time(dir: &Path, name: &str, p: &TimePlot) -> Result<Vec<PathBuf>> {
     both(dir, name, (900, 500), |r| draw_time(r, p), |r| draw_time(r, p))
-}
-
-/// The rover drawn in a side profile: six wheel axles (distance, height), the body
-/// reference, and a label.
-#[derive(Debug, Clone)]
-pub(crate) struct ProfileRover {
-    /// Wheel axles (left front, middle, rear, right front, middle, rear), m.
-    pub wheels: [(f64, f64); 6],
-    /// Body reference, m.
-    pub body: (f64, f64),
-    /// Label.
-    pub label: String,
-}
-
-/// A side profile: the ground along the path and the rover drawn at some steps.
-#[derive(Debug, Clone)]
-pub(crate) struct ProfilePlot {
-    /// Title.
-    pub title: String,
-    /// Ground (distance along the path, height), m.
-    pub ground: Vec<(f64, f64)>,
-    /// Rovers to draw.
-    pub rovers: Vec<ProfileRover>,
-    /// Wheel radius, m.
-    pub wheel_radius_m: f64,
 }
 
 fn draw_profile<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &ProfilePlot) -> DrawResult<()> {
@@ -495,24 +389,6 @@ fn draw_profile<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &ProfilePl
     }
     root.present().map_err(draw_err)?;
     Ok(())
-}
-
-/// A histogram of counted bins: each series' values are bin numbers, bin k covering
-/// [k·w, (k + 1)·w) of the x axis with w the bin width (1 and integer values: one bar
-/// per integer, centred on it). Several series stand side by side in each bin, each in
-/// its colour (named in the title).
-#[derive(Debug, Clone)]
-pub(crate) struct HistogramPlot {
-    /// Title.
-    pub title: String,
-    /// X-axis label.
-    pub x_label: String,
-    /// Y-axis label (what is counted).
-    pub y_label: String,
-    /// Bin width in x units; `None`: integer values, one bar centred on each.
-    pub bin_width: Option<f64>,
-    /// The values, as bin numbers, and each series' colour.
-    pub series: Vec<(Vec<i64>, (u8, u8, u8))>,
 }
 
 fn draw_histogram<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &HistogramPlot) -> DrawResult<()> {
@@ -606,12 +482,12 @@ fn both_with<T>(
 }
 
 /// Writes a side profile as SVG and PNG.
-pub(crate) fn profile(dir: &Path, name: &str, p: &ProfilePlot) -> Result<Vec<PathBuf>> {
+fn profile(dir: &Path, name: &str, p: &ProfilePlot) -> Result<Vec<PathBuf>> {
     both(dir, name, (900, 450), |r| draw_profile(r, p), |r| draw_profile(r, p))
 }
 
 /// Writes a histogram as SVG and PNG.
-pub(crate) fn histogram(dir: &Path, name: &str, p: &HistogramPlot) -> Result<Vec<PathBuf>> {
+fn histogram(dir: &Path, name: &str, p: &HistogramPlot) -> Result<Vec<PathBuf>> {
     both(dir, name, (700, 450), |r| draw_histogram(r, p), |r| draw_histogram(r, p))
 }
 
@@ -622,7 +498,7 @@ mod tests {
     #[test]
     fn time_ticks_read_as_utc_and_local_solar_time() {
         let epoch = areo_ephemeris::parse_utc("2012-08-06T05:17:57Z").unwrap();
-        assert_eq!(TimeTicks::Utc { epoch }.label(20.0), "08-07 01:17");
+        assert_eq!(TimeTicks::Utc { epoch_unix_s: epoch.to_unix_seconds() }.label(20.0), "08-07 01:17");
         // A Mars sol of 24.6597 h: 14:00 at the start, one sol and 6 h later 20:00 of sol 1.
         let sol_h = areo_ephemeris::SOL_S / 3600.0;
         let ticks = TimeTicks::LocalSolar { ltst0_h: 14.0, day_h: sol_h };

@@ -8,7 +8,10 @@
 
 use std::collections::BTreeMap;
 
+use areo_actions::{Command, Execution, Generation, TraceStep};
 use serde::Serialize;
+
+use super::plots::Plot;
 
 /// An actions job's result.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -44,6 +47,117 @@ pub struct ActionsReport {
     pub sensitivity: BTreeMap<String, BTreeMap<String, SensitivityFigures>>,
     /// The sensitivity climbs' keys (field, value) in the scenario's order.
     pub sensitivity_order: Vec<(String, String)>,
+    /// Each run's best plan in full (its GA history, trace, commands and plots), by
+    /// run name.
+    pub best_plans: BTreeMap<String, BestPlan>,
+    /// The plots of the whole job: the seed studies' `success_by_generation` and
+    /// `lookahead_RUN`, and the straight `climb`.
+    pub plots: Vec<Plot>,
+}
+
+/// A run's best plan in full.
+#[derive(Debug, Clone, Serialize)]
+pub struct BestPlan {
+    /// The plan, its execution and trace, and the GA's history (`plan.json`).
+    pub plan: PlanRecord,
+    /// The plan as commands the rover runs (`commands.json`).
+    pub commands: CommandList,
+    /// `top_view`, `side_profile`, `stability`, `friction`, `fitness`, `lookahead`.
+    pub plots: Vec<Plot>,
+}
+
+/// The best plan and how the GA found it. (Fields in alphabetical order, as
+/// `plan.json` has always listed them.)
+#[derive(Debug, Clone, Serialize)]
+pub struct PlanRecord {
+    /// The modules' Table 1 codes.
+    pub codes: Vec<u16>,
+    /// The plan executed as the GA scored it.
+    pub execution: Execution,
+    /// The first generation whose best plan completes the task.
+    pub first_solved: Option<usize>,
+    /// Its fitness.
+    pub fitness: f64,
+    /// Each generation's best and mean fitness.
+    pub generations: Vec<Generation>,
+    /// The change in successful-prefix length of each improving crossover, modules.
+    pub lookahead: Vec<i64>,
+    /// The plan executed again with a trace, a step per module.
+    pub trace: Vec<TraceStep>,
+}
+
+/// The best plan as commands. (Fields in alphabetical order, as `commands.json` has
+/// always listed them.)
+#[derive(Debug, Clone, Serialize)]
+pub struct CommandList {
+    /// One command per executed module.
+    pub commands: Vec<Command>,
+    /// Whether the plan completes the task.
+    pub complete: bool,
+    /// The friction coefficient it was executed at.
+    pub mu: f64,
+    /// The rover's name.
+    pub rover: String,
+    /// Where it starts.
+    pub start: StartPose,
+}
+
+/// A start on the map. (Fields in alphabetical order, as `commands.json` lists them.)
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct StartPose {
+    /// Heading, degrees clockwise from north.
+    pub heading_deg: f64,
+    /// East, m.
+    pub x_m: f64,
+    /// North, m.
+    pub y_m: f64,
+}
+
+/// One seed of a run's study.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct SeedRow {
+    /// The run.
+    pub run: String,
+    /// The seed.
+    pub seed: u64,
+    /// The first generation whose best plan completes the task.
+    pub first_solved_generation: Option<usize>,
+    /// The best plan's fitness.
+    pub best_fitness: f64,
+    /// Samples it takes.
+    pub samples: usize,
+    /// Which ("s1 s4", "none").
+    pub taken: String,
+    /// Its least stability margin.
+    pub min_stability: f64,
+    /// How it ended: `none` (it ran to its end) or a failure's kind.
+    pub stopped_by: String,
+}
+
+/// One pose of the straight climb, arm stowed and forward (a margin that cannot be
+/// computed — no admissible pose — is not finite).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ClimbPoseRow {
+    /// From the start, m.
+    pub distance_m: f64,
+    /// Pitch, degrees.
+    pub pitch_deg: f64,
+    /// Stability margin, arm stowed.
+    pub margin_stowed: f64,
+    /// Stability margin, arm forward.
+    pub margin_forward: f64,
+    /// The front wheels' share of the load, arm stowed.
+    pub front_load_stowed: f64,
+    /// The front wheels' share of the load, arm forward.
+    pub front_load_forward: f64,
+    /// Friction needed, arm stowed.
+    pub friction_needed_stowed: f64,
+    /// Friction needed, arm forward.
+    pub friction_needed_forward: f64,
+    /// What the stowed pose violates (empty: nothing).
+    pub violation_stowed: String,
+    /// What the forward pose violates (empty: nothing).
+    pub violation_forward: String,
 }
 
 /// One GA run: its best plan as the GA scored it and as executed, and its seed study.
@@ -168,6 +282,8 @@ pub struct StudyFigures {
     pub pooled_lookahead_5_plus_fraction: f64,
     /// Of the crossovers extending the prefix, the share adding fewer than five.
     pub pooled_extending_under_5_fraction: Option<f64>,
+    /// Every seed, in order.
+    pub seed_rows: Vec<SeedRow>,
 }
 
 /// The friction sweep.
@@ -301,6 +417,8 @@ pub struct ClimbFigures {
     pub climb_min_front_load_stowed: Option<f64>,
     /// How far forward the arm holds its tool, m.
     pub climb_forward_tool_m: Option<f64>,
+    /// Every pose along the climb.
+    pub climb_poses: Vec<ClimbPoseRow>,
 }
 
 /// The straight climb with one assumed value changed.

@@ -9,6 +9,7 @@
 
 pub mod actions;
 mod facts;
+pub mod plots;
 mod sun_table;
 pub mod tempest;
 mod terrain_shadow;
@@ -18,6 +19,7 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 pub use actions::ActionsReport;
+use actions::SensitivityFigures;
 pub use sun_table::{SunTableReport, SunTableRow, Sunrise};
 pub use tempest::TempestReport;
 pub use terrain_shadow::{ShadowSun, TerrainShadowReport};
@@ -55,14 +57,93 @@ impl Report {
     /// The report's facts: every scalar field, named by its path from the report's top
     /// (`sun.elevation_deg`; a flattened group's fields by their own names). Tables and
     /// rasters (arrays) are not facts, nor are absent values, nor the TEMPEST plan and
-    /// run themselves (data whose figures the report holds); an unsigned integer is a
-    /// count, any other number a number.
+    /// run themselves nor the actions job's best plans in full (data whose figures the
+    /// report holds); an unsigned integer is a count, any other number a number.
     pub fn facts(&self) -> BTreeMap<String, Fact> {
         match self {
             Report::SunTable(r) => facts::of(r, &[]),
             Report::TerrainShadow(r) => facts::of(r, &[]),
-            Report::Actions(r) => facts::of(r, &[]),
+            Report::Actions(r) => facts::of(r, &["best_plans"]),
             Report::Tempest(r) => facts::of(r, &["plan", "simulation"]),
+        }
+    }
+
+    /// The report's tables, each named as the CSV it is written to (its path under the
+    /// output directory without `.csv`: `plan`, `monte_carlo`, `seeds`, `RUN/ga` where
+    /// a job has several runs), as a list of rows; the Sun table is `sun`.
+    pub fn tables(&self) -> Vec<(String, serde_json::Value)> {
+        let mut out = Vec::new();
+        let mut put = |name: &str, rows: &dyn erased::Rows| out.push((name.to_string(), rows.value()));
+        match self {
+            Report::SunTable(r) => put("sun", &r.table),
+            Report::TerrainShadow(_) => {}
+            Report::Tempest(r) => {
+                let t = &r.tables;
+                put("plan", &t.plan);
+                let optional = [
+                    ("executed", t.executed.as_ref().map(|r| r as &dyn erased::Rows)),
+                    ("replans", t.replans.as_ref().map(|r| r as &dyn erased::Rows)),
+                    ("waits", t.waits.as_ref().map(|r| r as &dyn erased::Rows)),
+                    ("monte_carlo", t.monte_carlo.as_ref().map(|r| r as &dyn erased::Rows)),
+                    ("pareto_front", t.pareto_front.as_ref().map(|r| r as &dyn erased::Rows)),
+                ];
+                for (name, rows) in optional {
+                    if let Some(rows) = rows {
+                        put(name, rows);
+                    }
+                }
+            }
+            Report::Actions(r) => {
+                let seeds: Vec<&actions::SeedRow> = (r.run_order.iter())
+                    .filter_map(|name| r.runs.get(name)?.study.as_ref())
+                    .flat_map(|s| &s.seed_rows)
+                    .collect();
+                if !seeds.is_empty() {
+                    put("seeds", &seeds);
+                }
+                if let Some(c) = &r.climb {
+                    put("climb", &c.climb_poses);
+                }
+                if let Some(s) = &r.sweep {
+                    put("sweep", &s.sweep_points);
+                }
+                if let Some(s) = &r.sweep_seeds {
+                    put("sweep_seeds", &s.sweep_seed_rows);
+                }
+                if let Some(s) = &r.replay {
+                    put("replay", &s.replay_points);
+                }
+                let sensitivity: Vec<&SensitivityFigures> = (r.sensitivity_order.iter())
+                    .filter_map(|(field, value)| r.sensitivity.get(field)?.get(value))
+                    .collect();
+                if !sensitivity.is_empty() {
+                    put("sensitivity", &sensitivity);
+                }
+                for name in &r.run_order {
+                    let Some(best) = r.best_plans.get(name) else { continue };
+                    let dir = if r.run_order.len() == 1 { String::new() } else { format!("{name}/") };
+                    put(&format!("{dir}plan"), &best.plan.trace);
+                    put(&format!("{dir}ga"), &best.plan.generations);
+                    put(&format!("{dir}commands"), &best.commands.commands);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Tables of any row type, as JSON values.
+mod erased {
+    /// A table's rows.
+    pub(super) trait Rows {
+        /// The rows as a JSON array.
+        fn value(&self) -> serde_json::Value;
+    }
+
+    impl<T: serde::Serialize> Rows for Vec<T> {
+        fn value(&self) -> serde_json::Value {
+            // Rows are structs of numbers, text and flags: nothing JSON cannot hold.
+            serde_json::to_value(self).unwrap_or(serde_json::Value::Null)
         }
     }
 }

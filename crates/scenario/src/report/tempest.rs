@@ -15,6 +15,7 @@ use areo_terrain::geotiff::Grid;
 use serde::Serialize;
 
 use super::Raster;
+use super::plots::Plot;
 
 /// A TEMPEST job's result.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -81,6 +82,13 @@ pub struct TempestReport {
     pub plan: Option<MissionPlan>,
     /// The simulated run: every plan and executed action.
     pub simulation: Option<SimReport>,
+    /// The Pareto front's plans, in the order of `tables.pareto_front` (with
+    /// `pareto_front`).
+    pub pareto_plans: Option<Vec<MissionPlan>>,
+    /// The plots: `route`, `distance`, `energy`; off Mars `havens` and `sky`; under
+    /// uncertainty `mc_arrival`, `mc_battery`, `mc_lowest_battery`; with a front
+    /// `front_energy` and `front_margin` (with a plan).
+    pub plots: Vec<Plot>,
 }
 
 /// What a "no plan" verdict cost.
@@ -429,8 +437,9 @@ pub struct FrontFigures {
     pub plan_dominated_by_front: Option<bool>,
 }
 
-/// The plan's and the simulated run's tables: a row per waypoint, executed action, plan
-/// and wait (`plan.csv`, `executed.csv`, `replans.csv`, `waits.csv`).
+/// The plan's and the simulated run's tables: a row per waypoint, executed action, plan,
+/// wait, Monte Carlo execution and front plan (`plan.csv`, `executed.csv`,
+/// `replans.csv`, `waits.csv`, `monte_carlo.csv`, `pareto_front.csv`).
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct TempestTables {
     /// The initial plan's waypoints.
@@ -441,6 +450,10 @@ pub struct TempestTables {
     pub replans: Option<Vec<ReplanRow>>,
     /// The initial plan's waits, with a haven map (off Mars).
     pub waits: Option<Vec<WaitRow>>,
+    /// Every Monte Carlo execution, open and closed loop (with `monte_carlo`).
+    pub monte_carlo: Option<Vec<MonteCarloRow>>,
+    /// The Pareto front's plans (with `pareto_front`).
+    pub pareto_front: Option<Vec<FrontRow>>,
 }
 
 /// One waypoint of the plan.
@@ -640,4 +653,55 @@ pub struct MapLayers {
     /// Direct sun on the true terrain: 1 lit, 0 in a cast shadow, facing away or at
     /// night, 255 no data.
     pub direct_sun: Raster<u8>,
+}
+
+/// One Monte Carlo execution of a plan.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct MonteCarloRow {
+    /// The plan executed: `chance_constrained`, `deterministic`, or either with
+    /// `_closed_loop` (re-planning as it goes).
+    pub plan: String,
+    /// The execution's number.
+    pub run: usize,
+    /// Whether it reached every goal with the battery above its floor.
+    pub succeeded: bool,
+    /// What failed, as the simulation names it (empty when it succeeded).
+    pub failure: String,
+    /// The action it failed at (empty when it succeeded).
+    pub failed_at_action: String,
+    /// Goals reached.
+    pub goals_reached: usize,
+    /// When it reached the last goal, h since the start (when it reached every goal).
+    pub last_arrival_h: Option<f64>,
+    /// The battery at its lowest, Wh above its floor.
+    pub lowest_battery_wh: f64,
+}
+
+/// One plan of the Pareto front.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct FrontRow {
+    /// Its index in `pareto_plans`.
+    pub plan: usize,
+    /// When it leaves, UTC.
+    pub departure_utc: String,
+    /// When it leaves, h since the start.
+    pub departure_h: f64,
+    /// When it arrives, UTC.
+    pub arrival_utc: String,
+    /// When it arrives, h since the start.
+    pub arrival_h: f64,
+    /// Its duration, h.
+    pub duration_h: f64,
+    /// Energy it draws, Wh.
+    pub energy_used_wh: f64,
+    /// Its battery margin, Wh.
+    pub margin_wh: f64,
+    /// The battery at its lowest, Wh.
+    pub lowest_battery_wh: f64,
+    /// Its drives.
+    pub drives: usize,
+    /// Its charges.
+    pub charges: usize,
+    /// Its hibernations.
+    pub hibernations: usize,
 }

@@ -1,148 +1,40 @@
-//! The actions job's files and plots: CSV rows, the plan's and the GA's files, the top
-//! view, side profile, trace and GA plots.
+//! What the actions report holds of each run's best plan: the plan and the GA's
+//! history, the commands, and the plots (top view, side profile, stability, friction,
+//! fitness, look-ahead).
 
 use super::*;
 
-/// A row of commands.csv: one command of the best plan as the rover would run it.
-#[derive(Serialize, Default)]
-pub(super) struct CommandRow {
-    pub(super) step: usize,
-    pub(super) code: u16,
-    pub(super) action: String,
-    pub(super) distance_m: Fixed<3>,
-    pub(super) arc_radius_m: Option<Fixed<3>>,
-    pub(super) turn_deg: Fixed<3>,
-    pub(super) steer_left_front_deg: Option<Fixed<2>>,
-    pub(super) steer_right_front_deg: Option<Fixed<2>>,
-    pub(super) steer_left_rear_deg: Option<Fixed<2>>,
-    pub(super) steer_right_rear_deg: Option<Fixed<2>>,
-    pub(super) arm_yaw_deg: Option<Fixed<2>>,
-    pub(super) arm_shoulder_deg: Option<Fixed<2>>,
-    pub(super) arm_elbow_deg: Option<Fixed<2>>,
-    pub(super) tool_x_m: Fixed<3>,
-    pub(super) tool_y_m: Fixed<3>,
-    pub(super) tool_z_m: Fixed<3>,
-    pub(super) duration_s: Fixed<2>,
-    pub(super) energy_wh: Fixed<5>,
-    pub(super) end_x_m: Fixed<3>,
-    pub(super) end_y_m: Fixed<3>,
-    pub(super) end_heading_deg: Fixed<2>,
-    pub(super) stability: Option<Fixed<4>>,
-}
-
-/// commands.json and commands.csv: the best plan's executed modules as commands (arc,
-/// distance, steering, arm joints, duration, energy; `areo_actions::commands`).
-pub(super) fn write_commands(dir: &Path, setup: &Setup, run: &RunResult) -> Result<Vec<PathBuf>> {
-    let cmds = areo_actions::commands(&run.report.best.plan, &run.best, &setup.params, setup.task.start.2);
-    let json_path = dir.join("commands.json");
-    let doc = serde_json::json!({
-        "rover": setup.params.name,
-        "start": { "x_m": setup.task.start.0, "y_m": setup.task.start.1, "heading_deg": setup.task.start.2 },
-        "mu": run.exec.mu,
-        "complete": run.best.complete,
-        "commands": cmds,
-    });
-    write_file(&json_path, json_for(&json_path, &doc, true)?.as_bytes())?;
-    let csv_path = dir.join("commands.csv");
-    let pick = |a: Option<[f64; 4]>, i: usize| a.map(|a| Fixed(a[i]));
-    let joint = |a: Option<[f64; 3]>, i: usize| a.map(|a| Fixed(a[i]));
-    write_rows(
-        &csv_path,
-        cmds.iter().map(|c| CommandRow {
-            step: c.step,
-            code: c.code,
-            action: c.action.to_string(),
-            distance_m: Fixed(c.distance_m),
-            arc_radius_m: c.arc_radius_m.map(Fixed),
-            turn_deg: Fixed(c.turn_deg),
-            steer_left_front_deg: pick(c.steering_deg, 0),
-            steer_right_front_deg: pick(c.steering_deg, 1),
-            steer_left_rear_deg: pick(c.steering_deg, 2),
-            steer_right_rear_deg: pick(c.steering_deg, 3),
-            arm_yaw_deg: joint(c.arm_joints_deg, 0),
-            arm_shoulder_deg: joint(c.arm_joints_deg, 1),
-            arm_elbow_deg: joint(c.arm_joints_deg, 2),
-            tool_x_m: Fixed(c.tool_m[0]),
-            tool_y_m: Fixed(c.tool_m[1]),
-            tool_z_m: Fixed(c.tool_m[2]),
-            duration_s: Fixed(c.duration_s),
-            energy_wh: Fixed(c.energy_wh),
-            end_x_m: Fixed(c.end[0]),
-            end_y_m: Fixed(c.end[1]),
-            end_heading_deg: Fixed(c.end[2]),
-            stability: c.stability.map(Fixed),
-        }),
-    )?;
-    Ok(vec![json_path, csv_path])
-}
-
-/// A run's files: plan.json, plan.csv, ga.csv and the plots.
-pub(super) fn write_outputs(
-    dir: &Path,
-    setup: &Setup,
-    report: &GaReport,
-    trace: &[TraceStep],
-    mu: f64,
-) -> Result<Vec<PathBuf>> {
-    let mut files = plan_files(dir, report, trace)?;
-    files.extend(top_view_plot(dir, setup, trace)?);
-    files.extend(side_profile_plot(dir, setup, trace)?);
-    files.extend(trace_plots(dir, trace, mu)?);
-    files.extend(ga_plots(dir, report)?);
-    Ok(files)
-}
-
-/// plan.json (the best plan with its execution, trace and the GA's history), plan.csv
-/// (the trace) and ga.csv (per generation).
-pub(super) fn plan_files(dir: &Path, report: &GaReport, trace: &[TraceStep]) -> Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
-    let mut put = |name: &str, text: String| -> Result<()> {
-        let path = dir.join(name);
-        write_file(&path, text.as_bytes())?;
-        files.push(path);
-        Ok(())
-    };
-    let plan_json = serde_json::json!({
-        "codes": report.best.plan.iter().map(|m| m.code()).collect::<Vec<_>>(),
-        "fitness": report.best.fitness,
-        "execution": report.best.execution,
-        "trace": trace,
-        "generations": report.generations,
-        "first_solved": report.first_solved,
-        "lookahead": report.lookahead,
-    });
-    put("plan.json", json_for(&dir.join("plan.json"), &plan_json, true)?)?;
-    let trace_rows = trace.iter().enumerate().map(|(i, t)| TraceRow {
-        step: i + 1,
-        code: t.code,
-        x_m: Fixed(t.x_m),
-        y_m: Fixed(t.y_m),
-        z_m: Fixed(t.z_m),
-        heading_deg: Fixed(t.heading_deg),
-        pitch_deg: Fixed(t.pitch_deg),
-        stability: t.stability.map(Fixed),
-        load_lf_n: Fixed(t.wheel_loads_n[0]),
-        load_lm_n: Fixed(t.wheel_loads_n[1]),
-        load_lr_n: Fixed(t.wheel_loads_n[2]),
-        load_rf_n: Fixed(t.wheel_loads_n[3]),
-        load_rm_n: Fixed(t.wheel_loads_n[4]),
-        load_rr_n: Fixed(t.wheel_loads_n[5]),
-        energy_wh: Fixed(t.energy_wh),
-    });
-    put("plan.csv", rows_to_csv(&dir.join("plan.csv"), trace_rows)?)?;
-    let generations = report.generations.iter().map(|g| GenerationRow {
-        generation: g.index,
-        best: Fixed(g.best),
-        mean: Fixed(g.mean),
-        best_prefix: g.best_prefix,
-        solved: u8::from(g.solved),
-    });
-    put("ga.csv", rows_to_csv(&dir.join("ga.csv"), generations)?)?;
-    Ok(files)
+/// A run's best plan in full.
+pub(super) fn best_plan(setup: &Setup, run: &RunResult) -> BestPlan {
+    let (report, trace) = (&run.report, &run.best.trace);
+    let task = &setup.task;
+    let commands = areo_actions::commands(&report.best.plan, &run.best, &setup.params, task.start.2);
+    let mut plots = vec![top_view_plot(setup, trace), side_profile_plot(setup, trace)];
+    plots.extend(trace_plots(trace, run.exec.mu));
+    plots.extend(ga_plots(report));
+    BestPlan {
+        plan: PlanRecord {
+            codes: report.best.plan.iter().map(|m| m.code()).collect(),
+            execution: report.best.execution.clone(),
+            first_solved: report.first_solved,
+            fitness: report.best.fitness,
+            generations: report.generations.clone(),
+            lookahead: report.lookahead.clone(),
+            trace: trace.clone(),
+        },
+        commands: CommandList {
+            commands,
+            complete: run.best.complete,
+            mu: run.exec.mu,
+            rover: setup.params.name.clone(),
+            start: StartPose { heading_deg: task.start.2, x_m: task.start.0, y_m: task.start.1 },
+        },
+        plots,
+    }
 }
 
 /// The best plan's top view over a hillshade, with rocks and samples.
-pub(super) fn top_view_plot(dir: &Path, setup: &Setup, trace: &[TraceStep]) -> Result<Vec<PathBuf>> {
+fn top_view_plot(setup: &Setup, trace: &[TraceStep]) -> Plot {
     let (dem, task) = (&setup.dem, &setup.task);
     // Top view over a hillshade, with rocks and samples.
     let slope = areo_terrain::slope::slope_aspect(dem);
@@ -170,12 +62,12 @@ pub(super) fn top_view_plot(dir: &Path, setup: &Setup, trace: &[TraceStep]) -> R
         series: vec![Series { label: "reference point".into(), points: path, rgb: (220, 30, 40), width: 2 }],
         markers,
     };
-    crate::output::plots::route(dir, "top_view", &top)
+    Plot::route("top_view", top)
 }
 
 /// The side profile along the path, with the rover drawn at a few steps: the first,
 /// the lowest, the steepest-pitched ones, and the last.
-pub(super) fn side_profile_plot(dir: &Path, setup: &Setup, trace: &[TraceStep]) -> Result<Vec<PathBuf>> {
+fn side_profile_plot(setup: &Setup, trace: &[TraceStep]) -> Plot {
     let (dem, task, params) = (&setup.dem, &setup.task, &setup.params);
     // Side profile along the path, with the rover drawn at a few steps: the first,
     // the steepest-pitched ones, and the last.
@@ -244,10 +136,9 @@ pub(super) fn side_profile_plot(dir: &Path, setup: &Setup, trace: &[TraceStep]) 
             ProfileRover { wheels, body: (d, t.z_m), label: format!("{} ({:.0}°)", i + 1, t.pitch_deg) }
         })
         .collect();
-    crate::output::plots::profile(
-        dir,
+    Plot::profile(
         "side_profile",
-        &ProfilePlot {
+        ProfilePlot {
             title: "Side profile: ground under the path, the rover at key steps (left side)".into(),
             ground,
             rovers,
@@ -257,14 +148,12 @@ pub(super) fn side_profile_plot(dir: &Path, setup: &Setup, trace: &[TraceStep]) 
 }
 
 /// The stability margin and the friction needed along the plan.
-pub(super) fn trace_plots(dir: &Path, trace: &[TraceStep], mu: f64) -> Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
+fn trace_plots(trace: &[TraceStep], mu: f64) -> [Plot; 2] {
     let stability: Vec<(f64, f64)> =
         trace.iter().enumerate().filter_map(|(i, t)| t.stability.map(|s| ((i + 1) as f64, 100.0 * s))).collect();
-    files.extend(crate::output::plots::time(
-        dir,
+    let stability = Plot::time(
         "stability",
-        &TimePlot {
+        TimePlot {
             title: "Stability margin along the plan".into(),
             x_label: "module".into(),
             y_label: "least margin in the module, % of flat ground".into(),
@@ -276,12 +165,11 @@ pub(super) fn trace_plots(dir: &Path, trace: &[TraceStep], mu: f64) -> Result<Ve
             dots: false,
             x_ticks: Default::default(),
         },
-    )?);
+    );
     let friction: Vec<(f64, f64)> = trace.iter().enumerate().map(|(i, t)| (i as f64 + 1.0, t.friction_used)).collect();
-    files.extend(crate::output::plots::time(
-        dir,
+    let friction = Plot::time(
         "friction",
-        &TimePlot {
+        TimePlot {
             title: "Friction needed along the plan (largest |T|/N over each module's poses)".into(),
             x_label: "module".into(),
             y_label: "friction needed".into(),
@@ -301,19 +189,17 @@ pub(super) fn trace_plots(dir: &Path, trace: &[TraceStep], mu: f64) -> Result<Ve
             dots: false,
             x_ticks: Default::default(),
         },
-    )?);
-    Ok(files)
+    );
+    [stability, friction]
 }
 
 /// Fitness per generation and the look-ahead histogram.
-pub(super) fn ga_plots(dir: &Path, report: &GaReport) -> Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
+fn ga_plots(report: &GaReport) -> [Plot; 2] {
     let best: Vec<(f64, f64)> = report.generations.iter().map(|g| (g.index as f64, g.best)).collect();
     let mean: Vec<(f64, f64)> = report.generations.iter().map(|g| (g.index as f64, g.mean)).collect();
-    files.extend(crate::output::plots::time(
-        dir,
+    let fitness = Plot::time(
         "fitness",
-        &TimePlot {
+        TimePlot {
             title: "Fitness per generation".into(),
             x_label: "generation".into(),
             y_label: "fitness".into(),
@@ -328,76 +214,16 @@ pub(super) fn ga_plots(dir: &Path, report: &GaReport) -> Result<Vec<PathBuf>> {
             dots: false,
             x_ticks: Default::default(),
         },
-    )?);
-    files.extend(crate::output::plots::histogram(
-        dir,
+    );
+    let lookahead = Plot::histogram(
         "lookahead",
-        &HistogramPlot {
+        HistogramPlot {
             title: "Look-ahead of improving crossovers".into(),
             x_label: "change in successful-prefix length, modules".into(),
             y_label: "crossovers".into(),
             bin_width: None,
             series: vec![(report.lookahead.clone(), (30, 90, 220))],
         },
-    )?);
-    Ok(files)
-}
-
-/// A row of plan.csv: one module of the best plan as executed.
-#[derive(Serialize, Default)]
-pub(super) struct TraceRow {
-    pub(super) step: usize,
-    pub(super) code: u16,
-    pub(super) x_m: Fixed<4>,
-    pub(super) y_m: Fixed<4>,
-    pub(super) z_m: Fixed<4>,
-    pub(super) heading_deg: Fixed<2>,
-    pub(super) pitch_deg: Fixed<2>,
-    pub(super) stability: Option<Fixed<4>>,
-    pub(super) load_lf_n: Fixed<3>,
-    pub(super) load_lm_n: Fixed<3>,
-    pub(super) load_lr_n: Fixed<3>,
-    pub(super) load_rf_n: Fixed<3>,
-    pub(super) load_rm_n: Fixed<3>,
-    pub(super) load_rr_n: Fixed<3>,
-    pub(super) energy_wh: Fixed<6>,
-}
-
-/// A row of ga.csv: one generation.
-#[derive(Serialize, Default)]
-pub(super) struct GenerationRow {
-    pub(super) generation: usize,
-    pub(super) best: Fixed<5>,
-    pub(super) mean: Fixed<5>,
-    pub(super) best_prefix: usize,
-    pub(super) solved: u8,
-}
-
-/// A row of seeds.csv: one seed of a run's study.
-#[derive(Serialize, Default)]
-pub(super) struct SeedRow {
-    pub(super) run: String,
-    pub(super) seed: u64,
-    pub(super) first_solved_generation: Option<usize>,
-    pub(super) best_fitness: Fixed<4>,
-    pub(super) samples: usize,
-    pub(super) taken: String,
-    pub(super) min_stability: Fixed<4>,
-    /// How the seed's best plan ended: `none` (it ran to its end) or a failure's kind.
-    pub(super) stopped_by: String,
-}
-
-/// A row of climb.csv: one pose of the straight climb, arm stowed and forward.
-#[derive(Serialize, Default)]
-pub(super) struct ClimbRow {
-    pub(super) distance_m: Fixed<3>,
-    pub(super) pitch_deg: Fixed<3>,
-    pub(super) margin_stowed: Option<Fixed<4>>,
-    pub(super) margin_forward: Option<Fixed<4>>,
-    pub(super) front_load_stowed: Option<Fixed<4>>,
-    pub(super) front_load_forward: Option<Fixed<4>>,
-    pub(super) friction_needed_stowed: Option<Fixed<4>>,
-    pub(super) friction_needed_forward: Option<Fixed<4>>,
-    pub(super) violation_stowed: &'static str,
-    pub(super) violation_forward: &'static str,
+    );
+    [fitness, lookahead]
 }

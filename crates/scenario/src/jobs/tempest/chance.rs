@@ -1,21 +1,18 @@
 //! A TEMPEST job under uncertainty: the chance-constrained plan's margins, the
 //! deterministic plan it is compared with, and the open-loop Monte Carlo of both —
-//! facts, `monte_carlo.csv` and two plots (the last goal's arrival as a cumulative
-//! distribution, and the battery's spread against time).
-
-use std::path::{Path, PathBuf};
+//! figures, every execution's row and three plots (the last goal's arrival as a
+//! cumulative distribution, the battery's spread against time, the lowest battery's
+//! histogram).
 
 use areo_mission::uncertainty::{Execution, MonteCarlo, Summary, Uncertainty, percentile, summarise};
 use areo_mission::uncertainty::{closed_loop_on, dem_clone, open_loop_on, planning_clones};
 use areo_mission::{Mission, MissionPlan, PlannerConfig, Simulation, Start, World, WorldConfig};
-use serde::Serialize;
 
 use super::{Context, nights, time_axis_name, time_ticks};
 use crate::error::Result;
 use crate::format::TempestJob;
-use crate::output::csv::{Fixed, write_rows};
-use crate::output::plots::{Series, TimePlot};
-use crate::report::tempest::{ChanceFigures, MonteCarloFigures};
+use crate::report::plots::{HistogramPlot, Plot, Series, TimePlot};
+use crate::report::tempest::{ChanceFigures, MonteCarloFigures, MonteCarloRow};
 
 /// One plan's open-loop executions.
 pub(super) struct Executed {
@@ -216,69 +213,65 @@ fn summary_facts(ctx: &Context<'_>, s: &Summary) -> MonteCarloFigures {
     }
 }
 
-/// A row of monte_carlo.csv: one execution (the header is written from a default row).
-#[derive(Serialize, Default)]
-struct RunRow {
-    plan: &'static str,
-    run: usize,
-    succeeded: bool,
-    failure: String,
-    failed_at_action: String,
-    goals_reached: usize,
-    last_arrival_h: String,
-    lowest_battery_wh: Fixed<2>,
+/// The plans whose open-loop executions are plotted: the chance-constrained plan's and
+/// the deterministic one's.
+fn open_loop(chance: &Chance) -> Vec<(&'static str, &Executed)> {
+    let Some(c) = &chance.chance_runs else { return Vec::new() };
+    std::iter::once(("chance_constrained", c))
+        .chain(chance.deterministic_runs.as_ref().map(|d| ("deterministic", d)))
+        .collect()
 }
 
-/// `monte_carlo.csv` and the two plots.
-pub(super) fn write(dir: &Path, ctx: &Context<'_>, chance: &Chance) -> Result<Vec<PathBuf>> {
-    let Some(c) = &chance.chance_runs else { return Ok(Vec::new()) };
-    let plans: Vec<(&'static str, &Executed)> = std::iter::once(("chance_constrained", c))
-        .chain(chance.deterministic_runs.as_ref().map(|d| ("deterministic", d)))
-        .collect();
-    let closed: Vec<(&'static str, &Executed)> = [
+/// Every execution, open and closed loop (`monte_carlo.csv`), with a Monte Carlo.
+pub(super) fn rows(ctx: &Context<'_>, chance: &Chance) -> Option<Vec<MonteCarloRow>> {
+    chance.chance_runs.as_ref()?;
+    let closed = [
         ("chance_constrained_closed_loop", &chance.chance_closed),
         ("deterministic_closed_loop", &chance.deterministic_closed),
     ]
     .into_iter()
-    .filter_map(|(name, r)| r.as_ref().map(|r| (name, r)))
-    .collect();
-    let rows = plans.iter().chain(&closed).flat_map(|&(plan, r)| {
-        r.executions.iter().map(move |e| RunRow {
-            plan,
+    .filter_map(|(name, r)| r.as_ref().map(|r| (name, r)));
+    let rows = open_loop(chance).into_iter().chain(closed).flat_map(|(plan, r)| {
+        r.executions.iter().map(move |e| MonteCarloRow {
+            plan: plan.to_string(),
             run: e.run,
             succeeded: e.succeeded(),
             failure: e.failure.map_or(String::new(), |(_, f)| f.name()),
             failed_at_action: e.failure.map_or(String::new(), |(k, _)| k.to_string()),
             goals_reached: e.arrivals_s.len(),
             last_arrival_h: (e.arrivals_s.len() == ctx.goals.len())
-                .then(|| e.arrivals_s.last().map(|t| format!("{:.3}", ctx.hours(*t))))
-                .flatten()
-                .unwrap_or_default(),
-            lowest_battery_wh: Fixed(e.lowest_battery_wh),
+                .then(|| e.arrivals_s.last().map(|t| ctx.hours(*t)))
+                .flatten(),
+            lowest_battery_wh: e.lowest_battery_wh,
         })
     });
-    let path = dir.join("monte_carlo.csv");
-    write_rows(&path, rows)?;
-    let mut files = vec![path];
+    Some(rows.collect())
+}
+
+/// The open-loop executions' plots: arrival, battery spread, lowest battery.
+pub(super) fn plots(ctx: &Context<'_>, chance: &Chance) -> Vec<Plot> {
+    let plans = open_loop(chance);
+    if plans.is_empty() {
+        return Vec::new();
+    }
     let end_s = plans
         .iter()
         .flat_map(|(_, r)| r.executions.iter().filter_map(|e| e.battery_wh.last().map(|b| b.0)))
         .fold(0.0, f64::max);
     let night = nights(ctx.truth, end_s);
-    files.extend(arrival_plot(dir, ctx, &plans, (end_s, &night))?);
-    files.extend(battery_fan(dir, ctx, &plans, (end_s, &night))?);
-    files.extend(lowest_battery_histogram(dir, &plans)?);
-    Ok(files)
+    let mut plots = vec![arrival_plot(ctx, &plans, (end_s, &night)), battery_fan(ctx, &plans, (end_s, &night))];
+    plots.extend(lowest_battery_histogram(&plans));
+    plots
 }
 
 /// The lowest battery of every execution, above its floor, binned: a histogram per
 /// plan (the chance-constrained plan blue, the deterministic red), about 30 bins of a
 /// round width over the range.
-fn lowest_battery_histogram(dir: &Path, plans: &[(&'static str, &Executed)]) -> Result<Vec<PathBuf>> {
+fn lowest_battery_histogram(plans: &[(&'static str, &Executed)]) -> Option<Plot> {
     let lowest = || plans.iter().flat_map(|(_, r)| r.executions.iter().map(|e| e.lowest_battery_wh));
     let (lo, hi) = lowest().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
     if !(lo.is_finite() && hi.is_finite()) {
-        return Ok(Vec::new());
+        return None;
     }
     let width = round_width((hi - lo).max(1e-3) / 30.0);
     let series = plans
@@ -291,17 +284,16 @@ fn lowest_battery_histogram(dir: &Path, plans: &[(&'static str, &Executed)]) -> 
         .zip(["blue", "red"])
         .map(|((name, _), colour)| format!("{} {colour}", name.replace('_', "-")))
         .collect();
-    crate::output::plots::histogram(
-        dir,
+    Some(Plot::histogram(
         "mc_lowest_battery",
-        &crate::output::plots::HistogramPlot {
+        HistogramPlot {
             title: format!("Open-loop executions: lowest battery ({})", names.join(", ")),
             x_label: format!("lowest battery above its floor, Wh (bins of {width} Wh; below 0: depleted)"),
             y_label: "executions".into(),
             bin_width: Some(width),
             series,
         },
-    )
+    ))
 }
 
 /// The smallest of 1, 2 and 5 times a power of ten at or above `w`.
@@ -313,12 +305,7 @@ fn round_width(w: f64) -> f64 {
 const COLOURS: [(u8, u8, u8); 2] = [(30, 90, 220), (220, 30, 40)];
 
 /// The fraction of executions that have reached the last goal, against time.
-fn arrival_plot(
-    dir: &Path,
-    ctx: &Context<'_>,
-    plans: &[(&'static str, &Executed)],
-    (end_s, night): (f64, &[(f64, f64)]),
-) -> Result<Vec<PathBuf>> {
+fn arrival_plot(ctx: &Context<'_>, plans: &[(&'static str, &Executed)], (end_s, night): (f64, &[(f64, f64)])) -> Plot {
     let series = plans
         .iter()
         .zip(COLOURS)
@@ -335,23 +322,18 @@ fn arrival_plot(
             Series { label: format!("{} plan", name.replace('_', "-")), points, rgb, width: 2 }
         })
         .collect();
-    plot(
-        dir,
+    time_plot(
         ctx,
         ("mc_arrival", "Open-loop executions: share at the last goal by each time", "fraction of executions"),
         series,
         (end_s, night),
+        false,
     )
 }
 
 /// The battery's 5th, 50th and 95th percentiles after each action of each plan (at the
 /// action's median end time), over the executions still going.
-fn battery_fan(
-    dir: &Path,
-    ctx: &Context<'_>,
-    plans: &[(&'static str, &Executed)],
-    (end_s, night): (f64, &[(f64, f64)]),
-) -> Result<Vec<PathBuf>> {
+fn battery_fan(ctx: &Context<'_>, plans: &[(&'static str, &Executed)], (end_s, night): (f64, &[(f64, f64)])) -> Plot {
     let mut series = Vec::new();
     for (&(name, r), rgb) in plans.iter().zip(COLOURS) {
         let steps = r.executions.iter().map(|e| e.battery_wh.len()).max().unwrap_or(0);
@@ -371,41 +353,27 @@ fn battery_fan(
             series.push(Series { label: format!("{name} plan, {q}"), points: band, rgb, width });
         }
     }
-    plot(
-        dir,
+    time_plot(
         ctx,
         ("mc_battery", "Open-loop executions: battery above its floor (percentiles)", "Wh above the battery floor"),
         series,
         (end_s, night),
+        false,
     )
-}
-
-/// A time plot of `series` named `name`, with its title and y label, over the nights,
-/// as lines.
-fn plot(
-    dir: &Path,
-    ctx: &Context<'_>,
-    labels: (&str, &str, &str),
-    series: Vec<Series>,
-    span: (f64, &[(f64, f64)]),
-) -> Result<Vec<PathBuf>> {
-    time_plot(dir, ctx, labels, series, span, false)
 }
 
 /// A time plot of `series` named `name`, with its title and y label, over the nights
 /// until `end_s`: lines, or `dots` (one point per plan or run).
 pub(super) fn time_plot(
-    dir: &Path,
     ctx: &Context<'_>,
     (name, title, y_label): (&str, &str, &str),
     series: Vec<Series>,
     (end_s, night): (f64, &[(f64, f64)]),
     dots: bool,
-) -> Result<Vec<PathBuf>> {
-    crate::output::plots::time(
-        dir,
+) -> Plot {
+    Plot::time(
         name,
-        &TimePlot {
+        TimePlot {
             title: title.into(),
             x_label: time_axis_name(ctx),
             y_label: y_label.into(),

@@ -1,23 +1,8 @@
-//! The TEMPEST job's files: the plan, executed, waits and re-plan tables, the route as
-//! KML and GeoJSON, and the plots.
+//! What the TEMPEST report shows of the plan and the run: the plan, executed, waits
+//! and re-plan tables, the route's places, and the plots.
 
 use super::*;
 use crate::report::tempest::{ExecutedRow, PlanRow, ReplanRow, RoutePlaces, RoutePoint, TempestTables, WaitRow};
-
-/// The files the job writes from what it computed (the plan, the run, the tables, the
-/// routes and the map layers are written from the report by `output::reports`): the
-/// plots.
-pub(super) fn write_outputs(dir: &Path, ctx: &Context<'_>, run: &Run) -> Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
-    let (initial, report) = match run {
-        // Nothing planned: facts.json (written by the caller) says why.
-        Run::Unreachable { .. } | Run::Stopped { .. } => return Ok(Vec::new()),
-        Run::Plan { plan, .. } => (plan, None),
-        Run::Simulated(r) => (&r.plans[0].plan, Some(r)),
-    };
-    files.extend(plots(dir, ctx, initial, report)?);
-    Ok(files)
-}
 
 /// The report's tables of the plan and the simulated run.
 pub(super) fn tables(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimReport>) -> TempestTables {
@@ -26,6 +11,8 @@ pub(super) fn tables(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimR
         executed: sim.map(|r| executed_rows(ctx, r).collect()),
         replans: sim.map(|r| replan_rows(ctx, r).collect()),
         waits: ctx.havens.map(|h| wait_rows(ctx, initial, h)),
+        monte_carlo: None,
+        pareto_front: None,
     }
 }
 
@@ -176,27 +163,24 @@ pub(super) fn nights(world: &World, end_s: f64) -> Vec<(f64, f64)> {
         .collect()
 }
 
-pub(super) fn plots(
-    dir: &Path,
-    ctx: &Context<'_>,
-    initial: &MissionPlan,
-    report: Option<&SimReport>,
-) -> Result<Vec<PathBuf>> {
-    let mut files = route_plots(dir, ctx, initial, report)?;
+/// The plan's and the run's plots: the routes (and off Mars the havens and the sky),
+/// the distance to the final goal and the battery against time.
+pub(super) fn plots(ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> Result<Vec<Plot>> {
+    let mut plots = route_plots(ctx, initial, report)?;
     let end_s =
         report.map_or(initial.waypoints.last().map_or(0.0, |w| w.t_s), |r| r.end_t_s().max(initial.duration_s()));
     let night = nights(ctx.truth, end_s);
-    files.extend(distance_plot(dir, ctx, initial, report, (end_s, &night))?);
-    files.extend(energy_plot(dir, ctx, initial, report, (end_s, &night))?);
-    Ok(files)
+    plots.push(distance_plot(ctx, initial, report, (end_s, &night)));
+    plots.push(energy_plot(ctx, initial, report, (end_s, &night)));
+    Ok(plots)
 }
 
 /// The time plots' tick labels as the job's `plot_time` asks.
-pub(super) fn time_ticks(ctx: &Context<'_>) -> crate::output::plots::TimeTicks {
-    use crate::output::plots::TimeTicks;
+pub(super) fn time_ticks(ctx: &Context<'_>) -> crate::report::plots::TimeTicks {
+    use crate::report::plots::TimeTicks;
     match ctx.job.plot_time {
         crate::format::PlotTime::Hours => TimeTicks::Numbers,
-        crate::format::PlotTime::Utc => TimeTicks::Utc { epoch: ctx.truth.epoch() },
+        crate::format::PlotTime::Utc => TimeTicks::Utc { epoch_unix_s: ctx.truth.epoch().to_unix_seconds() },
         crate::format::PlotTime::LocalSolar => TimeTicks::LocalSolar {
             ltst0_h: ctx.truth.local_solar_time_h(0.0, ctx.truth.lat_lon(ctx.start.cell).1),
             day_h: ctx.job.body.model().solar_day_s() / 3600.0,
@@ -223,13 +207,7 @@ pub(super) fn shadow_time_s(ctx: &Context<'_>) -> Result<f64> {
 
 /// The routes over the hillshade with shadows at the job's `shadow_utc` (and the
 /// haven map off Mars).
-pub(super) fn route_plots(
-    dir: &Path,
-    ctx: &Context<'_>,
-    initial: &MissionPlan,
-    report: Option<&SimReport>,
-) -> Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
+pub(super) fn route_plots(ctx: &Context<'_>, initial: &MissionPlan, report: Option<&SimReport>) -> Result<Vec<Plot>> {
     let world = ctx.truth;
     let dem = world.dem();
     // (a) Routes over the hillshade with shadows at the chosen time.
@@ -287,23 +265,21 @@ pub(super) fn route_plots(
         "Routes to {visits} over the terrain (shadows at {})",
         format_utc(world.epoch() + Duration::from_seconds(t_shadow))
     );
-    let route = framed(dem, &background, series.clone(), markers.clone(), title);
-    files.extend(crate::output::plots::route(dir, "route", &route)?);
+    let mut plots = vec![Plot::route("route", framed(dem, &background, series.clone(), markers.clone(), title))];
     if let Some(h) = ctx.havens {
-        files.extend(haven_plots(dir, ctx, initial, h, series, markers)?);
+        plots.extend(haven_plots(ctx, initial, h, series, markers));
     }
-    Ok(files)
+    Ok(plots)
 }
 
 /// The straight-line distance to the final goal against time, with the nights
 /// (`end_s`, s, and the nights, h).
 pub(super) fn distance_plot(
-    dir: &Path,
     ctx: &Context<'_>,
     initial: &MissionPlan,
     report: Option<&SimReport>,
     (end_s, night): (f64, &[(f64, f64)]),
-) -> Result<Vec<PathBuf>> {
+) -> Plot {
     // (b) Distance to the final goal against time.
     let last = *ctx.goals.last().unwrap_or(&ctx.start.cell);
     let goal_xy = ctx.local(last);
@@ -333,10 +309,9 @@ pub(super) fn distance_plot(
         rgb: (90, 90, 90),
         width: 1,
     });
-    crate::output::plots::time(
-        dir,
+    Plot::time(
         "distance",
-        &TimePlot {
+        TimePlot {
             title: "Straight-line distance to the final goal".into(),
             x_label: time_axis_name(ctx),
             y_label: "distance, m".into(),
@@ -353,12 +328,11 @@ pub(super) fn distance_plot(
 
 /// The energy required to finish and the battery's charge against time.
 pub(super) fn energy_plot(
-    dir: &Path,
     ctx: &Context<'_>,
     initial: &MissionPlan,
     report: Option<&SimReport>,
     (end_s, night): (f64, &[(f64, f64)]),
-) -> Result<Vec<PathBuf>> {
+) -> Plot {
     // (c) Required energy and battery charge against time.
     let mut eseries = vec![
         Series {
@@ -391,10 +365,9 @@ pub(super) fn energy_plot(
         }
         eseries.push(Series { label: "executed charge above floor".into(), points: pts, rgb: (220, 30, 40), width: 2 });
     }
-    crate::output::plots::time(
-        dir,
+    Plot::time(
         "energy",
-        &TimePlot {
+        TimePlot {
             title: "Battery: energy required to finish and charge".into(),
             x_label: time_axis_name(ctx),
             y_label: "Wh above the battery floor".into(),
@@ -451,14 +424,12 @@ pub(super) fn framed(
 
 /// Off Mars: the safe havens under the plan (`havens.png`), then [`sky_plot`].
 pub(super) fn haven_plots(
-    dir: &Path,
     ctx: &Context<'_>,
     plan: &MissionPlan,
     havens: &contact::Havens,
     series: Vec<Series>,
     mut markers: Vec<Marker>,
-) -> Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
+) -> [Plot; 2] {
     let world = ctx.world;
     let dem = world.dem();
     let slope = areo_terrain::slope::slope_aspect(dem);
@@ -493,14 +464,12 @@ pub(super) fn haven_plots(
         havens.survive_h.min(1e6),
         if ctx.model.needs_earth() { ", the Earth never lost longer than the contact interval" } else { "" }
     );
-    files.extend(crate::output::plots::route(dir, "havens", &framed(dem, &rgb, series, markers, title))?);
-    files.extend(sky_plot(dir, ctx, plan)?);
-    Ok(files)
+    [Plot::route("havens", framed(dem, &rgb, series, markers, title)), sky_plot(ctx, plan)]
 }
 
 /// The Sun and the Earth over the plan, at the site, with the Communicate sessions
 /// shaded (`sky.png`).
-pub(super) fn sky_plot(dir: &Path, ctx: &Context<'_>, plan: &MissionPlan) -> Result<Vec<PathBuf>> {
+pub(super) fn sky_plot(ctx: &Context<'_>, plan: &MissionPlan) -> Plot {
     let world = ctx.world;
     let end_s = plan.waypoints.last().map_or(world.span_s(), |w| w.t_s).max(3600.0);
     let n = ((end_s / CONTACT_STEP_S).ceil() as usize).max(2);
@@ -526,10 +495,9 @@ pub(super) fn sky_plot(dir: &Path, ctx: &Context<'_>, plan: &MissionPlan) -> Res
         .map(|&(a, b)| (a / 3600.0, b / 3600.0))
         .filter(|&(a, _)| a <= end_s / 3600.0)
         .collect();
-    crate::output::plots::time(
-        dir,
+    Plot::time(
         "sky",
-        &TimePlot {
+        TimePlot {
             title: format!(
                 "The Sun{} over the plan, at the site",
                 if world.earth(0.0).is_some() { " and the Earth" } else { "" }

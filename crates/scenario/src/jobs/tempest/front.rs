@@ -1,21 +1,17 @@
 //! A TEMPEST job's Pareto front (`pareto_front: true`): the non-dominated plans to its
-//! goal in (arrival time, energy used, battery margin) — facts, `pareto_front.csv`,
-//! `pareto_front.json` (every plan's waypoints, so an operator can take one) and two
-//! plots (energy used and margin against arrival).
-
-use std::path::{Path, PathBuf};
+//! goal in (arrival time, energy used, battery margin) — figures, a row per plan, the
+//! plans themselves (so an operator can take one) and two plots (energy used and margin
+//! against arrival).
 
 use areo_mission::{ActionModel, Mission, MissionPlan, ParetoFront, Start, World};
-use serde::Serialize;
 
-use crate::report::tempest::FrontFigures;
+use crate::report::tempest::{FrontFigures, FrontRow};
 
 use super::chance::time_plot;
 use super::{Context, nights};
 use crate::error::Result;
 use crate::format::{ScenarioFile, TempestJob};
-use crate::output::csv::{Fixed, write_rows};
-use crate::output::plots::Series;
+use crate::report::plots::{Plot, Series};
 
 /// Plans the job again and searches its front, when the job asks for one.
 pub(super) fn evaluate(
@@ -127,51 +123,31 @@ fn measures(ctx: &Context<'_>, plan: &MissionPlan) -> Option<(f64, f64, f64)> {
     Some((last.t_s, used, margin))
 }
 
-/// A row of pareto_front.csv: one plan of the front.
-#[derive(Serialize, Default)]
-struct FrontRow {
-    plan: usize,
-    departure_utc: String,
-    departure_h: Fixed<3>,
-    arrival_utc: String,
-    arrival_h: Fixed<3>,
-    duration_h: Fixed<3>,
-    energy_used_wh: Fixed<2>,
-    margin_wh: Fixed<2>,
-    lowest_battery_wh: Fixed<2>,
-    drives: usize,
-    charges: usize,
-    hibernations: usize,
-}
-
-/// `pareto_front.csv`, `pareto_front.json` and the two plots.
-pub(super) fn write(dir: &Path, ctx: &Context<'_>, front: &ParetoFront) -> Result<Vec<PathBuf>> {
+/// A row per plan of the front (`pareto_front.csv`).
+pub(super) fn rows(ctx: &Context<'_>, front: &ParetoFront) -> Vec<FrontRow> {
     let rows = front.plans.iter().enumerate().map(|(i, p)| {
         let (drives, charges, hibernations) = p.plan.action_counts();
         let utc = |k: usize| p.plan.waypoints.get(k).map_or(String::new(), |w| w.utc.clone());
         FrontRow {
             plan: i,
             departure_utc: utc(0),
-            departure_h: Fixed(ctx.hours(p.departure_s)),
+            departure_h: ctx.hours(p.departure_s),
             arrival_utc: utc(p.plan.waypoints.len().saturating_sub(1)),
-            arrival_h: Fixed(ctx.hours(p.arrival_s)),
-            duration_h: Fixed(p.plan.duration_s() / 3600.0),
-            energy_used_wh: Fixed(p.energy_used_wh),
-            margin_wh: Fixed(p.margin_wh),
-            lowest_battery_wh: Fixed(p.plan.min_battery_wh()),
+            arrival_h: ctx.hours(p.arrival_s),
+            duration_h: p.plan.duration_s() / 3600.0,
+            energy_used_wh: p.energy_used_wh,
+            margin_wh: p.margin_wh,
+            lowest_battery_wh: p.plan.min_battery_wh(),
             drives,
             charges,
             hibernations,
         }
     });
-    let csv = dir.join("pareto_front.csv");
-    write_rows(&csv, rows)?;
-    let json = dir.join("pareto_front.json");
-    let plans: Vec<&areo_mission::MissionPlan> = front.plans.iter().map(|p| &p.plan).collect();
-    let text = serde_json::to_string_pretty(&plans)
-        .map_err(|e| crate::error::Error::Io { path: json.clone(), source: e.into() })?;
-    crate::output::write_file(&json, text.as_bytes())?;
-    let mut files = vec![csv, json];
+    rows.collect()
+}
+
+/// The front's two plots: energy used and margin against arrival, a dot per plan.
+pub(super) fn plots(ctx: &Context<'_>, front: &ParetoFront) -> [Plot; 2] {
     let end_s = front.plans.iter().map(|p| p.arrival_s).fold(0.0, f64::max) * 1.05;
     let night = nights(ctx.truth, end_s);
     let dots = |f: fn(&areo_mission::FrontPlan) -> f64, label: &str| {
@@ -182,21 +158,20 @@ pub(super) fn write(dir: &Path, ctx: &Context<'_>, front: &ParetoFront) -> Resul
             width: 4,
         }]
     };
-    files.extend(time_plot(
-        dir,
-        ctx,
-        ("front_energy", "Pareto front: energy used against arrival", "energy used, Wh"),
-        dots(|p| p.energy_used_wh, "front plan"),
-        (end_s, &night),
-        true,
-    )?);
-    files.extend(time_plot(
-        dir,
-        ctx,
-        ("front_margin", "Pareto front: battery margin against arrival", "margin above the battery floor, Wh"),
-        dots(|p| p.margin_wh, "front plan"),
-        (end_s, &night),
-        true,
-    )?);
-    Ok(files)
+    [
+        time_plot(
+            ctx,
+            ("front_energy", "Pareto front: energy used against arrival", "energy used, Wh"),
+            dots(|p| p.energy_used_wh, "front plan"),
+            (end_s, &night),
+            true,
+        ),
+        time_plot(
+            ctx,
+            ("front_margin", "Pareto front: battery margin against arrival", "margin above the battery floor, Wh"),
+            dots(|p| p.margin_wh, "front plan"),
+            (end_s, &night),
+            true,
+        ),
+    ]
 }

@@ -1,8 +1,9 @@
 //! A TEMPEST report's files written from the report alone: the plan and the run
 //! (`plan.json`, `simulation.json`), the tables (`plan.csv`, `executed.csv`,
 //! `replans.csv`, `waits.csv`, each column at the decimals its CSV row type gives), the
-//! routes (`route.geojson`, `route.kml`) and the map layers (`dem.tif`, `slope.tif`,
-//! `shadow.tif`).
+//! routes (`route.geojson`, `route.kml`), the map layers (`dem.tif`, `slope.tif`,
+//! `shadow.tif`), the Monte Carlo's and the Pareto front's tables (`monte_carlo.csv`,
+//! `pareto_front.csv`, `pareto_front.json`) and the plots.
 
 use std::path::{Path, PathBuf};
 
@@ -18,7 +19,9 @@ use areo_terrain::geotiff;
 
 /// The direct-sun layer's value where the map has no data.
 const NO_DATA: u8 = 255;
-use crate::report::tempest::{ExecutedRow, PlanRow, ReplanRow, RoutePlaces, TempestReport, WaitRow};
+use crate::report::tempest::{
+    ExecutedRow, FrontRow, MonteCarloRow, PlanRow, ReplanRow, RoutePlaces, TempestReport, WaitRow,
+};
 
 /// Writes the files into `dir`; returns them (none without a plan).
 pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
@@ -56,7 +59,83 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
             write_with(p, |tmp| Ok(geotiff::write_u8_on(&l.shadow_grid, &l.direct_sun.values, Some(NO_DATA), tmp)?))
         })?;
     }
+    if let Some(rows) = &t.monte_carlo {
+        put("monte_carlo.csv", &|p| write_rows(p, rows.iter().map(MonteCarloCsv::from)))?;
+    }
+    if let Some(rows) = &t.pareto_front {
+        put("pareto_front.csv", &|p| write_rows(p, rows.iter().map(FrontCsv::from)))?;
+    }
+    if let Some(plans) = &r.pareto_plans {
+        put("pareto_front.json", &|p| write_file(p, json_for(p, plans, true)?.as_bytes()))?;
+    }
+    for plot in &r.plots {
+        files.extend(crate::output::plots::write(dir, plot)?);
+    }
     Ok(files)
+}
+
+/// A row of monte_carlo.csv.
+#[derive(Serialize, Default)]
+struct MonteCarloCsv<'a> {
+    plan: &'a str,
+    run: usize,
+    succeeded: bool,
+    failure: &'a str,
+    failed_at_action: &'a str,
+    goals_reached: usize,
+    last_arrival_h: Option<Fixed<3>>,
+    lowest_battery_wh: Fixed<2>,
+}
+
+impl<'a> From<&'a MonteCarloRow> for MonteCarloCsv<'a> {
+    fn from(r: &'a MonteCarloRow) -> MonteCarloCsv<'a> {
+        MonteCarloCsv {
+            plan: &r.plan,
+            run: r.run,
+            succeeded: r.succeeded,
+            failure: &r.failure,
+            failed_at_action: &r.failed_at_action,
+            goals_reached: r.goals_reached,
+            last_arrival_h: r.last_arrival_h.map(Fixed),
+            lowest_battery_wh: Fixed(r.lowest_battery_wh),
+        }
+    }
+}
+
+/// A row of pareto_front.csv.
+#[derive(Serialize, Default)]
+struct FrontCsv<'a> {
+    plan: usize,
+    departure_utc: &'a str,
+    departure_h: Fixed<3>,
+    arrival_utc: &'a str,
+    arrival_h: Fixed<3>,
+    duration_h: Fixed<3>,
+    energy_used_wh: Fixed<2>,
+    margin_wh: Fixed<2>,
+    lowest_battery_wh: Fixed<2>,
+    drives: usize,
+    charges: usize,
+    hibernations: usize,
+}
+
+impl<'a> From<&'a FrontRow> for FrontCsv<'a> {
+    fn from(r: &'a FrontRow) -> FrontCsv<'a> {
+        FrontCsv {
+            plan: r.plan,
+            departure_utc: &r.departure_utc,
+            departure_h: Fixed(r.departure_h),
+            arrival_utc: &r.arrival_utc,
+            arrival_h: Fixed(r.arrival_h),
+            duration_h: Fixed(r.duration_h),
+            energy_used_wh: Fixed(r.energy_used_wh),
+            margin_wh: Fixed(r.margin_wh),
+            lowest_battery_wh: Fixed(r.lowest_battery_wh),
+            drives: r.drives,
+            charges: r.charges,
+            hibernations: r.hibernations,
+        }
+    }
 }
 
 /// The routes, start and goals as KML for Google Earth (with the body's hint).
