@@ -32,7 +32,7 @@ struct Cli {
     #[arg(long, global = true, value_name = "GIB")]
     max_memory_gb: Option<f64>,
     /// Refuse a job whose estimated work exceeds this many elementary steps (module
-    /// executions, cell-sector sweeps; a search's label expansion counts 50), and stop
+    /// executions, cell-sector rays; a search's label expansion counts 50), and stop
     /// its searches there (default 2e10, 10–40 minutes of work).
     #[arg(long, global = true, value_name = "STEPS")]
     max_work: Option<f64>,
@@ -181,7 +181,7 @@ enum RoverCommand {
 #[derive(Debug, Clone, Copy, ValueEnum)]
 enum ShadowMethodArg {
     OwnRay,
-    Swept,
+    Sheared,
     Interpolated,
 }
 
@@ -189,7 +189,7 @@ impl From<ShadowMethodArg> for areo_scenario::terrain::ShadowMethod {
     fn from(m: ShadowMethodArg) -> Self {
         match m {
             ShadowMethodArg::OwnRay => Self::OwnRay,
-            ShadowMethodArg::Swept => Self::Swept,
+            ShadowMethodArg::Sheared => Self::Sheared,
             ShadowMethodArg::Interpolated => Self::Interpolated,
         }
     }
@@ -311,8 +311,9 @@ enum TerrainCommand {
         flat: bool,
         /// How each cell's cast shadow is decided: own-ray (each cell by its own ray to
         /// the Sun on the DEM's triangulated surface, as a brute-force ray cast does),
-        /// swept (a sweep, approximate off the cardinal azimuths: up to 0.25 % of cells
-        /// differ at a Sun 5° up or more), interpolated (the cheapest sweep, on a coarser
+        /// sheared (rays beside a cell lend it their occluders; approximate off the cardinal
+        /// azimuths: up to 0.25 % of cells differ at a Sun 5° up or more), interpolated (the
+        /// cheapest, on a coarser
         /// surface: up to 0.5 % differ, within a degree of grazing). The map also
         /// darkens cells whose slope faces away from the Sun.
         #[arg(long, value_enum, default_value_t = ShadowMethodArg::OwnRay)]
@@ -702,7 +703,7 @@ fn grid(args: &GridArgs, budget: Budget) -> Result<(), Error> {
     print!("{}", print::grid::rows(&rows, args.replan.is_some(), args.format)?);
     // Exit 3 when a goal was not reached, 1 when a length differs from the published one.
     let unreachable = rows.iter().filter(|r| r.found.is_infinite() && r.expected.is_finite()).count();
-    let mismatched = rows.iter().filter(|r| r.mismatched()).count();
+    let mismatched = rows.iter().filter(|r| r.mismatched).count();
     if unreachable > 0 {
         return Err(Error::Failed(Failure::NoPath { unreachable, scenarios: rows.len() }));
     }

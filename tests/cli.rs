@@ -420,10 +420,10 @@ fn terrain_info_slope_and_shadow_on_the_real_crop() {
         let text = String::from_utf8_lossy(&out.stdout).into_owned();
         text.split(" % of the valid cells").next().and_then(|v| v.trim().parse::<f64>().ok()).expect("lit %")
     };
-    let (own, swept, fast) = (lit("own-ray"), lit("swept"), lit("interpolated"));
+    let (own, sheared, fast) = (lit("own-ray"), lit("sheared"), lit("interpolated"));
     assert!(
-        own < 99.0 && (swept - own).abs() < 1.0 && (fast - own).abs() < 2.0,
-        "own {own} %, swept {swept} %, interpolated {fast} %"
+        own < 99.0 && (sheared - own).abs() < 1.0 && (fast - own).abs() < 2.0,
+        "own {own} %, sheared {sheared} %, interpolated {fast} %"
     );
     let out = areo(&[
         "terrain",

@@ -132,7 +132,7 @@ fn layers_lie_under_the_route(
     route: &std::path::Path,
     (gcs, geographic): (&str, &str),
 ) {
-    for layer in ["dem.tif", "slope.tif", "shadow.tif"] {
+    for layer in ["dem.tif", "slope.tif", "direct_sun.tif"] {
         let path = dir.join(layer);
         let info: serde_json::Value =
             serde_json::from_str(&tool("gdalinfo", &["-json", path.to_str().unwrap()])).unwrap();
@@ -144,7 +144,7 @@ fn layers_lie_under_the_route(
         assert_eq!(info["size"], serde_json::json!([60, 40]), "{name} {layer}");
     }
     let shadow: serde_json::Value =
-        serde_json::from_str(&tool("gdalinfo", &["-json", dir.join("shadow.tif").to_str().unwrap()])).unwrap();
+        serde_json::from_str(&tool("gdalinfo", &["-json", dir.join("direct_sun.tif").to_str().unwrap()])).unwrap();
     assert_eq!(shadow["bands"][0]["noDataValue"], 255.0, "{name}");
 
     let mut transform = Command::new("gdaltransform")

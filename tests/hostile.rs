@@ -49,11 +49,11 @@ fn write_variant(dir: &std::path::Path, scenario: &str, from: &str, to: &str) ->
 #[test]
 fn a_name_that_would_be_a_path_is_refused_where_it_is_written() {
     let dir = tmp("names");
-    let out = run_variant(&dir, "friction-sweep.ron", "name: \"", "name: \"../../../escaped");
+    let out = run_variant(&dir, "friction-scan.ron", "name: \"", "name: \"../../../escaped");
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     let err = stderr(&out);
     assert!(err.contains("field `job.runs[0].name`") && err.contains("letters, digits"), "{err}");
-    assert!(err.contains("friction-sweep.ron:"), "{err}");
+    assert!(err.contains("friction-scan.ron:"), "{err}");
     assert!(!dir.join("escaped").exists() && !root().join("escaped").exists());
 }
 
@@ -603,7 +603,7 @@ fn devon_island_from_an_empty_battery(name: &str, budget: &[&str]) -> Output {
 fn a_search_that_outgrows_its_estimate_stops_at_the_work_budget() {
     let run = |max_work: &str| devon_island_from_an_empty_battery("work-spent", &["--max-work", max_work]);
     // What is certain before the run is refused before it starts: the 10 000 cells × 64
-    // sectors of horizon sweeps. The searches are not guessed at (a guess of 2.4 M
+    // sectors of horizon rays. The searches are not guessed at (a guess of 2.4 M
     // expansions refused budgets this one spends to the end); they get what the
     // sweeps leave, 100 steps an expansion, and stop there.
     let sweeps = 10_000 * 64;

@@ -507,7 +507,11 @@ fn report_value<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<Bou
                 return Ok(PyArray1::from_vec(py, flags).into_any());
             }
             match items.first() {
-                Some(Value::Object(first)) if items.iter().all(Value::is_object) => {
+                // Rows (objects of one shape) as columns; objects of several shapes (a
+                // report's plots of different kinds) stay a list.
+                Some(Value::Object(first))
+                    if items.iter().all(|v| v.as_object().is_some_and(|o| o.keys().eq(first.keys()))) =>
+                {
                     let d = PyDict::new(py);
                     for k in first.keys() {
                         let column: Vec<Value> =

@@ -224,6 +224,16 @@ def test_a_scenario_run_gives_the_binarys_facts_and_tables(tmp_path):
     table = report["tables"]["plan"]
     assert np.array_equal(table["sol"], arr["sol"]) and list(table["action"]) == list(arr["action"])
     assert np.allclose(table["lat_deg"], arr["lat_deg"], atol=5e-8)
+    # The plots are in the report as plain data, a file of each name written; without
+    # a simulation the energy plot's first series is the plan's required energy, the
+    # plan table's column.
+    names = list(report["plots"]["name"])
+    assert {"route", "distance", "energy", "mc_arrival"} <= set(names)
+    assert all((result.out / f"{n}.svg").exists() for n in names)
+    energy = report["plots"]["drawing"][names.index("energy")]
+    assert energy["kind"] == "time"
+    required = np.array(energy["series"]["points"][0])[:, 1]
+    assert np.allclose(required, table["required_wh"])
 
 
 def test_set_changes_a_field_and_refuses_a_bad_one():
@@ -262,7 +272,7 @@ def test_a_run_keeps_to_its_work_budget(tmp_path):
     devon = tmp_path / "devon-island.ron"
     devon.write_text(text)
     sc = areo.Scenario.load(devon).set("job.start_battery_above_floor_wh", 0.001)
-    # Admitted (its certain work is the 640 000 horizon sweeps), then stopped where
+    # Admitted (its certain work is the 640 000 horizon rays), then stopped where
     # the budget ends: the budget less the sweeps, 100 steps an expansion, as
     # `areo run --max-work 2.4064e8` does.
     with pytest.raises(areo.AreoError) as e:

@@ -8,17 +8,7 @@ use crate::Format;
 /// The rows in the chosen format; `replan` adds the re-planning columns.
 pub(crate) fn rows(rows: &[GridRow], replan: bool, format: Format) -> Result<String, Error> {
     if format == Format::Json {
-        let v: Vec<serde_json::Value> = rows
-            .iter()
-            .map(|r| {
-                serde_json::json!({
-                    "index": r.index, "expected": r.expected, "found": r.found, "expansions": r.expansions,
-                    "replanned": r.replan.map(|x| x.0), "fresh": r.replan.map(|x| x.1),
-                    "replan_expansions": r.replan.map(|x| x.2), "mismatched": r.mismatched(),
-                })
-            })
-            .collect();
-        return Ok(super::json(&v)? + "\n");
+        return Ok(super::json(&rows)? + "\n");
     }
     let mut s = String::new();
     match format {
@@ -36,7 +26,8 @@ pub(crate) fn rows(rows: &[GridRow], replan: bool, format: Format) -> Result<Str
         }
     }
     for r in rows {
-        let extra = match (r.replan, format) {
+        let replan = r.replanned.zip(r.fresh).zip(r.replan_expansions).map(|((a, b), e)| (a, b, e));
+        let extra = match (replan, format) {
             (Some((a, b, e)), Format::Text) => format!(" {a:>14.6} {b:>14.6} {e:>10}"),
             (Some((a, b, e)), _) => format!(",{a:.8},{b:.8},{e}"),
             (None, _) => String::new(),
@@ -48,7 +39,7 @@ pub(crate) fn rows(rows: &[GridRow], replan: bool, format: Format) -> Result<Str
             _ => format!("{},{},{:.8},{}{extra}\n", r.index, r.expected, r.found, r.expansions),
         };
     }
-    let mismatched = rows.iter().filter(|r| r.mismatched()).count();
+    let mismatched = rows.iter().filter(|r| r.mismatched).count();
     let solved = rows.len() - rows.iter().filter(|r| r.found.is_infinite()).count();
     s += &format!("{solved} solved, {mismatched} mismatched\n");
     Ok(s)

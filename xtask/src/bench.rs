@@ -225,7 +225,7 @@ fn movingai(root: &Path) -> Result<bool, String> {
             areo_scenario::budget::Budget::for_this_machine(),
         )
         .map_err(|e| e.to_string())?;
-        let bad = rows.iter().filter(|r| r.mismatched()).count();
+        let bad = rows.iter().filter(|r| r.mismatched).count();
         let solved = rows.iter().filter(|r| r.found.is_finite()).count();
         ok &= bad == 0;
         let name = map.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
@@ -446,15 +446,15 @@ fn check_all(checks: &[(&str, f64, f64)]) -> bool {
 }
 
 /// The work budget's units against the clock: on the shipped TEMPEST
-/// scenarios, the time of one counted sweep step (the pre-calculation over cells ×
+/// scenarios, the time of one counted horizon-ray step (the pre-calculation over cells ×
 /// sectors) and of one label expansion (the initial plan over its expansions), their
-/// ratio beside `budget::EXPANSION_STEPS`, and the expansions the estimate expects
+/// ratio beside `search_cost::EXPANSION_STEPS`, and the expansions the estimate expects
 /// beside those the initial plan made.
 fn budget(root: &Path) -> Result<bool, String> {
     use areo_scenario::budget::{EXPANSION_STEPS, SearchMap, expected_expansions};
     println!(
         "{:<26} {:>10} {:>12} {:>8} {:>12} {:>12} {:>9}",
-        "scenario", "ns/sweep", "ns/expansion", "ratio", "expected", "expanded", "exp/expd"
+        "scenario", "ns/ray", "ns/expansion", "ratio", "expected", "expanded", "exp/expd"
     );
     let mut ratios = Vec::new();
     for name in [
@@ -477,19 +477,19 @@ fn budget(root: &Path) -> Result<bool, String> {
         let expected = expected_expansions(job, map);
         let (outcome, _) = run_scenario(root, name, false)?;
         let fact = |n: &str| number(&outcome, n);
-        let sweep_ns = 1e9 * fact("precalc_s") / (fact("cells") * job.horizon_sectors as f64);
+        let ray_ns = 1e9 * fact("precalc_s") / (fact("cells") * job.horizon_sectors as f64);
         let expansion_ns = 1e9 * fact("initial_plan_s") / fact("initial_plan_expansions");
-        let ratio = expansion_ns / sweep_ns;
+        let ratio = expansion_ns / ray_ns;
         ratios.push(ratio);
         println!(
-            "{name:<26} {sweep_ns:>10.1} {expansion_ns:>12.1} {ratio:>8.1} {expected:>12} {:>12} {:>9.2}",
+            "{name:<26} {ray_ns:>10.1} {expansion_ns:>12.1} {ratio:>8.1} {expected:>12} {:>12} {:>9.2}",
             fact("initial_plan_expansions"),
             expected as f64 / fact("initial_plan_expansions")
         );
     }
     ratios.sort_by(f64::total_cmp);
     let median = ratios[ratios.len() / 2];
-    println!("median ratio {median:.1}; budget::EXPANSION_STEPS = {EXPANSION_STEPS}");
+    println!("median ratio {median:.1}; search_cost::EXPANSION_STEPS = {EXPANSION_STEPS}");
     // The constant is a unit, not a bound: within a factor of 2.5 of the median keeps
     // `--max-work` one clock whichever work spends it.
     let off = median / EXPANSION_STEPS as f64;

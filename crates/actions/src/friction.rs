@@ -4,7 +4,7 @@
 //! of the plans obtained were studied with regard to the sensitivity to the coefficient
 //! of friction"): one plan, found at one μ, executed unchanged at others — from which
 //! μ up it still crosses the obstacle and completes the task, and what stops it below.
-//! [`friction_sweep`] plans afresh at each μ: the least friction *some* plan the GA
+//! [`friction_scan`] plans afresh at each μ: the least friction *some* plan the GA
 //! finds can do it with.
 
 use areo_rover::evaluation::Evaluator;
@@ -20,7 +20,7 @@ use crate::task::Task;
 
 /// One friction coefficient's best plan.
 #[derive(Debug, Clone)]
-pub struct SweepPoint {
+pub struct ScanPoint {
     /// The friction coefficient.
     pub mu: f64,
     /// Whether the best plan completes the task.
@@ -37,11 +37,11 @@ pub struct SweepPoint {
     pub binding: Option<WheelLimit>,
 }
 
-/// A sweep's points in the order given, and its two thresholds.
+/// A scan's points in the order given, and its two thresholds.
 #[derive(Debug, Clone)]
-pub struct FrictionSweep {
+pub struct FrictionScan {
     /// One point per friction coefficient.
-    pub points: Vec<SweepPoint>,
+    pub points: Vec<ScanPoint>,
     /// The first μ whose best plan takes the rover north of the obstacle's far edge.
     pub min_mu_crossing: Option<f64>,
     /// The first μ whose best plan completes the task.
@@ -52,7 +52,7 @@ pub struct FrictionSweep {
 /// settings; `far_edge_y_m` is the northing past which the obstacle counts as crossed.
 /// `each` is called after every point (progress).
 #[allow(clippy::too_many_arguments)]
-pub fn friction_sweep<G: Ground + Sync>(
+pub fn friction_scan<G: Ground + Sync>(
     ground: &G,
     evaluator: &Evaluator,
     task: &Task,
@@ -63,24 +63,24 @@ pub fn friction_sweep<G: Ground + Sync>(
     ga: &GaConfig,
     mus: &[f64],
     far_edge_y_m: Option<f64>,
-    mut each: impl FnMut(&SweepPoint),
-) -> Result<FrictionSweep> {
-    let mut sweep =
-        FrictionSweep { points: Vec::with_capacity(mus.len()), min_mu_crossing: None, min_mu_completing: None };
+    mut each: impl FnMut(&ScanPoint),
+) -> Result<FrictionScan> {
+    let mut scan =
+        FrictionScan { points: Vec::with_capacity(mus.len()), min_mu_crossing: None, min_mu_completing: None };
     // The first μ that does it: each μ has its own plan, so a higher μ's plan may
-    // well do worse; the sweep answers "the least friction a found plan needs".
+    // well do worse; the scan answers "the least friction a found plan needs".
     for &mu in mus {
         let executor = Executor::new(ground, evaluator, task, ExecConfig { mu, ..base });
         let report = evolve(&executor, inventory, weights, scale, ga)?;
         let best = executor.run(&report.best.plan, true);
         let max_y_m = best.trace.iter().map(|t| t.y_m).fold(task.start.1, f64::max);
-        if far_edge_y_m.is_some_and(|y| max_y_m > y) && sweep.min_mu_crossing.is_none() {
-            sweep.min_mu_crossing = Some(mu);
+        if far_edge_y_m.is_some_and(|y| max_y_m > y) && scan.min_mu_crossing.is_none() {
+            scan.min_mu_crossing = Some(mu);
         }
-        if best.complete && sweep.min_mu_completing.is_none() {
-            sweep.min_mu_completing = Some(mu);
+        if best.complete && scan.min_mu_completing.is_none() {
+            scan.min_mu_completing = Some(mu);
         }
-        let point = SweepPoint {
+        let point = ScanPoint {
             mu,
             complete: best.complete,
             best_fitness: report.best.fitness,
@@ -90,9 +90,9 @@ pub fn friction_sweep<G: Ground + Sync>(
             binding: best.binding,
         };
         each(&point);
-        sweep.points.push(point);
+        scan.points.push(point);
     }
-    Ok(sweep)
+    Ok(scan)
 }
 
 /// One friction coefficient's execution of a fixed plan.

@@ -12,7 +12,7 @@
 //! the body, leaving the map), [`fitness()`] (eq. 17) and [`evolve`] (the GA:
 //! crossover at the failure point, mutation, tournament selection, elitism, seeded and
 //! identical for any thread count), [`friction_replay`] (one found plan executed at
-//! each of a list of friction coefficients, the paper's study), [`friction_sweep`]
+//! each of a list of friction coefficients, the paper's study), [`friction_scan`]
 //! (the task planned afresh at each) and [`climb_margins`] (the stability margin along a
 //! straight climb with the arm stowed and reached forward); [`commands`] exports an
 //! executed plan as the commands a rover would run (arc, distance, steering angles,
@@ -55,7 +55,7 @@ pub use crate::{
     error::{Error, Result},
     executor::{Checkpoint, ExecConfig, ExecFailure, Execution, Executor, TraceStep, WheelLimit},
     fitness::{Scale, Weights, fitness, stability_penalty},
-    friction::{FrictionReplay, FrictionSweep, ReplayPoint, SweepPoint, friction_replay, friction_sweep},
+    friction::{FrictionReplay, FrictionScan, ReplayPoint, ScanPoint, friction_replay, friction_scan},
     ga::{CrossoverPoint, GaConfig, GaReport, Generation, Individual, evolve},
     inventory::{Inventory, Overrides, Removal, Surroundings, design_space_log10},
     task::{Rock, Sample, Task},

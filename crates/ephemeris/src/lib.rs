@@ -11,7 +11,7 @@
 //! - [`SolarGeometry`]: every step of the algorithm (mean anomaly, fictitious mean Sun,
 //!   the seven perturbations, equation of centre, Ls, equation of time, sub-solar
 //!   point, heliocentric distance) and the Sun's unit vector in the body-fixed and local
-//!   east-north-up frames ([`SunPosition`]).
+//!   east-north-up frames ([`TrueSunDirection`]).
 //! - [`SunModel`]: time → Sun direction and distance, with [`Mars24`] as the built-in
 //!   implementation; planners depend on the trait only.
 //! - [`events`]: sunrise, solar noon and sunset; daylight intervals under a
@@ -60,6 +60,6 @@ pub use crate::{
     error::{Error, Result},
     events::HorizonMask,
     site::Site,
-    sun::{Mars24, SolarGeometry, SunModel, SunPosition, SunState},
+    sun::{Mars24, SolarGeometry, SunModel, SunState, TrueSunDirection},
     time::{MarsTime, SOL_S, VALID_SOLS, VALID_YEARS, format_utc, local_sol, parse_utc, utc_at_ltst},
 };

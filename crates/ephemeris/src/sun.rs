@@ -311,7 +311,7 @@ impl SunState {
     /// Sun is taken at infinity, as Mars24 does (the parallax from a site 3400 km
     /// off-centre is below 0.001°); on the Moon and the Earth the direction is
     /// topocentric, from the site.
-    pub fn at_site(&self, site: &Site) -> SunPosition {
+    pub fn at_site(&self, site: &Site) -> TrueSunDirection {
         let d = if site.body() == crate::Body::Mars {
             self.direction_body_fixed
         } else {
@@ -324,14 +324,14 @@ impl SunState {
         let (azimuth_deg, elevation_deg) = site.azimuth_elevation_deg(d);
         let [e, n, u] = site.enu_axes();
         let enu = [crate::site::dot(e, d), crate::site::dot(n, d), crate::site::dot(u, d)];
-        SunPosition { azimuth_deg, elevation_deg, direction_enu: enu }
+        TrueSunDirection { azimuth_deg, elevation_deg, direction_enu: enu }
     }
 }
 
 /// The Sun in a site's local frame, azimuth from true north (areo-terrain's
 /// `GridSunDirection` is the same Sun on a map's grid).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SunPosition {
+pub struct TrueSunDirection {
     /// Azimuth, clockwise from true north, degrees [0, 360).
     pub azimuth_deg: f64,
     /// Elevation above the local horizontal (ellipsoid tangent plane), degrees.

@@ -13,7 +13,7 @@ use std::hash::Hash;
 ///   [`Domain::better`]) is kept.
 ///
 /// The engine searches backwards: it starts from goal labels and asks, for each
-/// action that could have led *into* a state, which predecessor label it came from
+/// move that could have led *into* a state, which predecessor label it came from
 /// and at what cost. Costs are ≥ 0 and additive along a path.
 pub trait Domain {
     /// Discrete, coarse coordinates (IPARMS).
@@ -22,8 +22,8 @@ pub trait Domain {
     type Label: Clone + Debug + PartialEq;
     /// Resolution-equivalence class of a label at a state.
     type Key: Copy + Ord + Hash + Debug;
-    /// An action; applied forwards it leads from the predecessor to the state.
-    type Action: Copy + Debug;
+    /// An move; applied forwards it leads from the predecessor to the state.
+    type Move: Copy + Debug;
 
     /// Whether [`Domain::dominates`] can ever return true; when false the engine skips
     /// the pairwise dominance tests.
@@ -48,27 +48,27 @@ pub trait Domain {
     }
 
     /// Expands (`state`, `label`): calls `visit` with every feasible backward
-    /// transition — the action, and the state and label it leads from with the step's
+    /// transition — the move, and the state and label it leads from with the step's
     /// cost (≥ 0) — in a fixed order, skipping those a local constraint forbids.
     ///
-    /// Only actions for which `wanted` is true need be evaluated: a repair's partial
+    /// Only moves for which `wanted` is true need be evaluated: a repair's partial
     /// re-expansion asks for the few steps into the states it changed, and a domain
-    /// saves the work of the others by asking `wanted` before evaluating an action. A
+    /// saves the work of the others by asking `wanted` before evaluating an move. A
     /// full expansion passes `|_| true`, which the compiler removes. The steps given for
-    /// a `wanted` action must not depend on which other actions are wanted.
+    /// a `wanted` move must not depend on which other moves are wanted.
     ///
-    /// This is the one way the engine learns transitions; a domain whose actions share
+    /// This is the one way the engine learns transitions; a domain whose moves share
     /// work (the same Sun, the same arrival cell) does it once here.
     fn expand(
         &self,
         state: Self::State,
         label: &Self::Label,
-        wanted: impl Fn(Self::Action) -> bool,
-        visit: impl FnMut(Self::Action, Predecessor<Self>),
+        wanted: impl Fn(Self::Move) -> bool,
+        visit: impl FnMut(Self::Move, Predecessor<Self>),
     ) where
         Self: Sized;
 
-    /// [`Domain::expand`] with every action wanted, telling besides whether no step
+    /// [`Domain::expand`] with every move wanted, telling besides whether no step
     /// from *another* state can lead to (`state`, `label`) for a reason that depends on
     /// `state` alone (TEMPEST: the rover could not be at this cell at this time — in
     /// the dark, in shadow, on ground too steep), which stays true until `state` itself
@@ -78,7 +78,7 @@ pub trait Domain {
         &self,
         state: Self::State,
         label: &Self::Label,
-        visit: impl FnMut(Self::Action, Predecessor<Self>),
+        visit: impl FnMut(Self::Move, Predecessor<Self>),
     ) -> bool
     where
         Self: Sized,
@@ -87,10 +87,10 @@ pub trait Domain {
         false
     }
 
-    /// The predecessor state `action` comes from into `state`, when it can be told
+    /// The predecessor state `move` comes from into `state`, when it can be told
     /// without evaluating the transition (`None`: unknown). Repairs use it to skip the
     /// steps that cannot land on a changed state.
-    fn predecessor_state(&self, _state: Self::State, _action: Self::Action) -> Option<Self::State> {
+    fn predecessor_state(&self, _state: Self::State, _via: Self::Move) -> Option<Self::State> {
         None
     }
 
@@ -103,8 +103,8 @@ pub trait Domain {
         |_, _| true
     }
 
-    /// The states reachable from `state` by one action (appended to `out`; include
-    /// `state` itself for stationary actions). Used in re-planning to find the nodes
+    /// The states reachable from `state` by one move (appended to `out`; include
+    /// `state` itself for stationary moves). Used in re-planning to find the nodes
     /// whose expansion can regenerate labels at a state.
     fn successors(&self, state: Self::State, out: &mut Vec<Self::State>);
 

@@ -277,9 +277,9 @@ impl Domain for Grid {
     type State = u32;
     type Label = ();
     type Key = ();
-    type Action = u8;
+    type Move = u8;
 
-    /// The 8 moves (a blocked cell has none). Action m leads from the predecessor to
+    /// The 8 moves (a blocked cell has none). Move m leads from the predecessor to
     /// `state`: the predecessor lies one move in the opposite direction, and moves are
     /// symmetric in legality and cost.
     #[inline]
@@ -293,11 +293,11 @@ impl Domain for Grid {
         if !self.free[state as usize] {
             return;
         }
-        for action in 0..8u8 {
-            if wanted(action)
-                && let Some((pred, cost)) = self.step_cost(state, (action as usize + 4) % 8)
+        for via in 0..8u8 {
+            if wanted(via)
+                && let Some((pred, cost)) = self.step_cost(state, (via as usize + 4) % 8)
             {
-                visit(action, Predecessor { state: pred, label: (), cost });
+                visit(via, Predecessor { state: pred, label: (), cost });
             }
         }
     }

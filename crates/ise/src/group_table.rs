@@ -133,7 +133,7 @@ mod tests {
         type State = u32;
         type Label = ();
         type Key = i64;
-        type Action = u8;
+        type Move = u8;
         fn expand(&self, _: u32, _: &(), _: impl Fn(u8) -> bool, _: impl FnMut(u8, Predecessor<Self>)) {}
         fn successors(&self, _: u32, _: &mut Vec<u32>) {}
         fn key(&self, _: u32, _: &()) -> i64 {

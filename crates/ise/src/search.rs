@@ -101,8 +101,8 @@ pub struct PathStep<D: Domain> {
     pub state: D::State,
     /// DPARMS and path quantities of this step.
     pub label: D::Label,
-    /// The action taken from here to the next step (`None` at the goal).
-    pub action: Option<D::Action>,
+    /// The move taken from here to the next step (`None` at the goal).
+    pub via: Option<D::Move>,
     /// Cost accumulated from the start to here.
     pub cost_so_far: f64,
 }
@@ -129,8 +129,8 @@ pub struct Plan<D: Domain> {
 struct Node<D: Domain> {
     state: D::State,
     label: D::Label,
-    /// The action leading from this node to its parent; `None` at goals.
-    action: Option<D::Action>,
+    /// The move leading from this node to its parent; `None` at goals.
+    via: Option<D::Move>,
     g: f64,
     parent: u32,
     first_child: u32,
@@ -633,7 +633,7 @@ impl<D: Domain> Search<D> {
         let mut id = start;
         while id != NONE {
             let n = &self.nodes[id];
-            path.push(PathStep { state: n.state, label: n.label.clone(), action: n.action, cost_so_far: total - n.g });
+            path.push(PathStep { state: n.state, label: n.label.clone(), via: n.via, cost_so_far: total - n.g });
             id = n.parent;
         }
         Plan { path: Some(path), cost: total, stats: self.stats, stopped: false }

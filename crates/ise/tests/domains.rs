@@ -19,7 +19,7 @@ impl Lcg {
 
 const MOVES: [(i32, i32); 5] = [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1)];
 
-/// x, y, t with wait actions; each cell has a time-varying cost and blocked times.
+/// x, y, t with wait moves; each cell has a time-varying cost and blocked times.
 #[derive(Debug, Clone)]
 struct TimeGrid {
     w: i32,
@@ -85,7 +85,7 @@ impl Domain for TimeGrid {
     type State = u32;
     type Label = u32;
     type Key = u32;
-    type Action = u8;
+    type Move = u8;
 
     fn expand(&self, s: u32, t: &u32, wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Predecessor<Self>)) {
         self.spent.set(self.spent.get() + 1);
@@ -234,7 +234,7 @@ impl Domain for Battery {
     type State = u32;
     type Label = Charge;
     type Key = (u32, i32);
-    type Action = u8;
+    type Move = u8;
     const DOMINANCE: bool = true;
 
     fn expand(&self, s: u32, l: &Charge, wanted: impl Fn(u8) -> bool, mut visit: impl FnMut(u8, Predecessor<Self>)) {
@@ -355,7 +355,7 @@ impl Domain for Grouped {
     type State = u32;
     type Label = Charge;
     type Key = (u32, i32);
-    type Action = u8;
+    type Move = u8;
     const DOMINANCE: bool = true;
     const MANY_LABELS: bool = true;
 

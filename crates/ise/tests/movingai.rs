@@ -100,7 +100,7 @@ fn malformed_maps_are_errors() {
 }
 
 /// The grid's one-at-a-time `visit_predecessors` (what the engine expands with) gives
-/// exactly the steps of `predecessors` (the per-action definition), in the same order,
+/// exactly the steps of `predecessors` (the per-move definition), in the same order,
 /// at every cell of a real map with uneven weights.
 #[test]
 fn grid_expands_to_the_moves_it_allows_whatever_else_is_wanted() {
@@ -114,7 +114,7 @@ fn grid_expands_to_the_moves_it_allows_whatever_else_is_wanted() {
     for &c in &cells {
         let mut all = Vec::new();
         grid.expand(c, &(), |_| true, |a, s| all.push((a, s.state, s.cost)));
-        // Asking for one action at a time gives the same steps (a partial expansion
+        // Asking for one move at a time gives the same steps (a partial expansion
         // sees what a full one does).
         let one_by_one: Vec<(u8, u32, f64)> = (0..8u8)
             .flat_map(|want| {

@@ -699,7 +699,7 @@ impl Domain for TempestDomain<'_> {
     type State = u32;
     type Label = Label;
     type Key = i64;
-    type Action = Action;
+    type Move = Action;
     // A cell collects hundreds of time classes; dominance is tested only within one
     // (its dominance group), among the few Pareto labels that survive there.
     const MANY_LABELS: bool = true;

@@ -12,7 +12,7 @@
 //! (the waypoints). [`simulate`] runs a plan on true terrain the rover only learns by
 //! sensing, re-planning after every action ([`SimReport`]). [`contact`] schedules
 //! Communicate sessions and measures Earth contact and safe havens along a plan, and
-//! [`metrics`] measures a plan or a run on the world (the Sun's sweep, sunward drives,
+//! [`metrics`] measures a plan or a run on the world (the Sun's azimuth span, sunward drives,
 //! zig-zags, night and shadowed drives) — both by sampling, independently of the
 //! planner's constraints. [`uncertainty`] makes chance-constrained plans (the model
 //! worsened to a confidence level) and executes a plan open-loop on sampled factors
@@ -44,6 +44,7 @@ mod world;
 pub mod contact;
 pub mod exact;
 pub mod metrics;
+pub mod search_cost;
 pub mod uncertainty;
 
 pub use crate::{

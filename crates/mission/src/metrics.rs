@@ -1,28 +1,113 @@
-//! Measures of a plan and of an executed run, taken on the world by sampling rather
-//! than from the planner's own constraints, so that a report can check the planner:
-//! how far the Sun moved over a plan and how low it went, how many drives kept a
-//! body-fixed array facing the Sun, and how a run drove (zig-zags, night and shadowed
-//! drives).
+//! Measures of a plan and of an executed run: [`PlanMetrics`], the same figures for
+//! both (actions by kind, time in each, distance, drives at night and in the sun); and
+//! measures taken on the world by sampling rather than from the planner's own
+//! constraints, so that a report can check the planner: how far the Sun moved over a
+//! plan and how low it went, how many drives kept a body-fixed array facing the Sun,
+//! and how a run drove (zig-zags, night and shadowed drives).
+
+use serde::Serialize;
 
 use crate::action_model::Action;
 use crate::plan::MissionPlan;
-use crate::simulate::ExecutedStep;
+use crate::simulate::{ExecutedStep, SimReport};
 use crate::world::World;
+
+/// What a plan or an executed run does, measured alike for both.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct PlanMetrics {
+    /// Drives.
+    pub drives: usize,
+    /// Charges.
+    pub charges: usize,
+    /// Hibernations.
+    pub hibernations: usize,
+    /// Wait steps (a plan's waits back to back count one each).
+    pub wait_steps: usize,
+    /// Time driving, h.
+    pub drive_h: f64,
+    /// Time charging, h.
+    pub charge_h: f64,
+    /// Time hibernating, h.
+    pub hibernate_h: f64,
+    /// Time waiting, h.
+    pub wait_h: f64,
+    /// Distance: a plan's waypoints joined on the map's plane, a run's drives as
+    /// executed, m.
+    pub distance_m: f64,
+    /// Drives begun with the Sun at or below the horizon.
+    pub night_drives: usize,
+    /// The share of drives begun in sunlight — on the terrain's horizons (a plan's as
+    /// the planner saw them, a run's on the true terrain); 1 without drives.
+    pub sunlit_drive_fraction: f64,
+}
+
+impl PlanMetrics {
+    /// A plan's figures, from its waypoints.
+    pub fn of_plan(plan: &MissionPlan) -> PlanMetrics {
+        let (drives, charges, hibernations) = plan.action_counts();
+        let steps = plan.waypoints.windows(2).filter_map(|w| Some((w[0].action?, w[1].t_s - w[0].t_s)));
+        let hours = |which: &dyn Fn(Action) -> bool| {
+            // A fold from +0: `sum` of no f64 is -0, which prints as "-0.0 h".
+            steps.clone().filter(|(a, _)| which(*a)).map(|(_, d)| d).fold(0.0, |a, d| a + d) / 3600.0
+        };
+        let drive_wps: Vec<_> = plan.waypoints.iter().filter(|w| matches!(w.action, Some(Action::Drive(_)))).collect();
+        PlanMetrics {
+            drives,
+            charges,
+            hibernations,
+            wait_steps: plan.wait_steps(),
+            drive_h: hours(&|a| matches!(a, Action::Drive(_))),
+            charge_h: hours(&|a| a == Action::Charge),
+            hibernate_h: hours(&|a| a == Action::Hibernate),
+            wait_h: hours(&|a| a == Action::Wait),
+            distance_m: (plan.waypoints.windows(2))
+                .map(|w| (w[1].easting_m - w[0].easting_m).hypot(w[1].northing_m - w[0].northing_m))
+                .sum(),
+            night_drives: drive_wps.iter().filter(|w| w.sun_elevation_deg <= 0.0).count(),
+            sunlit_drive_fraction: if drive_wps.is_empty() {
+                1.0
+            } else {
+                drive_wps.iter().filter(|w| w.lit).count() as f64 / drive_wps.len() as f64
+            },
+        }
+    }
+
+    /// A run's figures, from its executed steps on `truth`.
+    pub fn of_run(run: &SimReport, truth: &World) -> PlanMetrics {
+        let count = |which: &dyn Fn(Action) -> bool| run.steps.iter().filter(|s| which(s.action)).count();
+        let hours = |which: &dyn Fn(Action) -> bool| {
+            run.steps.iter().filter(|s| which(s.action)).map(|s| s.duration_s).fold(0.0, |a, d| a + d) / 3600.0
+        };
+        PlanMetrics {
+            drives: count(&|a| matches!(a, Action::Drive(_))),
+            charges: count(&|a| a == Action::Charge),
+            hibernations: count(&|a| a == Action::Hibernate),
+            wait_steps: count(&|a| a == Action::Wait),
+            drive_h: hours(&|a| matches!(a, Action::Drive(_))),
+            charge_h: hours(&|a| a == Action::Charge),
+            hibernate_h: hours(&|a| a == Action::Hibernate),
+            wait_h: hours(&|a| a == Action::Wait),
+            distance_m: run.distance_m(),
+            night_drives: night_drives(&run.steps),
+            sunlit_drive_fraction: sunlit_drive_fraction(truth, &run.steps),
+        }
+    }
+}
 
 /// The Sun over a plan, sampled every `step_s` from its first waypoint to its last.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SunAlong {
-    /// The Sun's azimuth swept, degrees (each step's shortest turn, summed).
-    pub azimuth_swept_deg: f64,
+    /// How far the Sun's azimuth turns, degrees (each step's shortest turn, summed).
+    pub azimuth_span_deg: f64,
     /// The lowest Sun elevation, degrees (at most 90).
     pub lowest_elevation_deg: f64,
 }
 
-/// The Sun's sweep and lowest elevation over `plan`, sampled every `step_s`.
+/// The Sun's azimuth span and lowest elevation over `plan`, sampled every `step_s`.
 pub fn sun_along(world: &World, plan: &MissionPlan, step_s: f64) -> SunAlong {
     let (t0, t1) = (plan.waypoints.first().map_or(0.0, |w| w.t_s), plan.waypoints.last().map_or(0.0, |w| w.t_s));
     let n = (((t1 - t0) / step_s).ceil() as usize).max(1);
-    let azimuth_swept_deg: f64 = (0..n)
+    let azimuth_span_deg: f64 = (0..n)
         .map(|k| {
             let a = world.sun(t0 + (t1 - t0) * k as f64 / n as f64).azimuth_deg;
             let b = world.sun(t0 + (t1 - t0) * (k + 1) as f64 / n as f64).azimuth_deg;
@@ -31,7 +116,7 @@ pub fn sun_along(world: &World, plan: &MissionPlan, step_s: f64) -> SunAlong {
         .sum();
     let lowest_elevation_deg =
         (0..=n).map(|k| world.sun(t0 + (t1 - t0) * k as f64 / n as f64).elevation_deg).fold(90.0, f64::min);
-    SunAlong { azimuth_swept_deg, lowest_elevation_deg }
+    SunAlong { azimuth_span_deg, lowest_elevation_deg }
 }
 
 /// The share of `plan`'s drives whose array — facing `facing_deg` clockwise from the

@@ -299,9 +299,7 @@ fn relabel_goals<'a>(g: Vec<Goal<TempestDomain<'static>>>) -> Vec<Goal<TempestDo
 }
 
 fn own_path(p: Vec<PathStep<TempestDomain<'_>>>) -> Vec<PathStep<TempestDomain<'static>>> {
-    p.into_iter()
-        .map(|s| PathStep { state: s.state, label: s.label, action: s.action, cost_so_far: s.cost_so_far })
-        .collect()
+    p.into_iter().map(|s| PathStep { state: s.state, label: s.label, via: s.via, cost_so_far: s.cost_so_far }).collect()
 }
 
 impl<'a> Mission<'a> {
@@ -718,7 +716,7 @@ impl<'a> Mission<'a> {
         };
         let mut waypoints = Vec::with_capacity(steps.len());
         for (i, (step, segment)) in steps.iter().enumerate() {
-            let next_action = if i + 1 < steps.len() { step.action } else { None };
+            let next_action = if i + 1 < steps.len() { step.via } else { None };
             let sun = self.world.sun(step.label.t);
             let (x, y) = self.world.center(step.state);
             let (lat, lon) = self.world.lat_lon(step.state);

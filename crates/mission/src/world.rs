@@ -74,7 +74,7 @@ pub struct WorldConfig {
 
 /// The Sun at one instant, at the reference site, on the map's axes: its azimuth from
 /// the grid's north, as the terrain's [`areo_terrain::shadow::GridSunDirection`] (the
-/// ephemeris' `SunPosition` is from true north).
+/// ephemeris' `TrueSunDirection` is from true north).
 ///
 /// Its direction is areo-terrain's one grid-north Sun type, [`GridSunDirection`] (its
 /// `azimuth_deg` and `elevation_deg` read through `Deref`); this adds the light.
@@ -578,7 +578,7 @@ impl World {
     /// Sun and the Earth move linearly in azimuth (the shorter way) and elevation
     /// between table samples ([`World::sun`], [`World::earth`]), and the profile is
     /// interpolated linearly between sectors, so over one table interval the floor
-    /// stays within the values of the sectors the azimuth sweeps and their next ones:
+    /// stays within the values of the sectors the azimuth passes through and their next ones:
     /// if the body stands above both profiles there, or at or below both, nothing can
     /// differ. Conservative: `true` whenever that cannot be shown.
     fn horizon_change_is_seen(&self, old: &[f32], new: &[f32]) -> bool {

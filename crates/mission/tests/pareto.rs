@@ -431,9 +431,9 @@ fn finer_resolution_never_loses_a_plan() {
 /// exact), where no search is exact and the planner has no last resort, lose plans at
 /// finer settings — both through goal instants (even sets of 5, 8 or 13 do not hold
 /// the 4 instants a plan met) and through time classes (finer classes keep other
-/// labels, whose own continuations fail). docs/tempest.md reports the counts
-/// (56 (case, setting) pairs in 24 of 98 cases) and the fallbacks measured against
-/// them; none of their "unreachable" verdicts is a proof.
+/// labels, whose own continuations fail). docs/tempest.md ("The approximate search")
+/// gives the counts (56 (case, setting) pairs in 24 of 98 cases) and docs/benchmarks.md
+/// the fallbacks measured against them; none of their "unreachable" verdicts is a proof.
 #[test]
 fn unquantised_actions_lose_plans_at_finer_settings_on_the_same_worlds() {
     let mut actions = quantised();

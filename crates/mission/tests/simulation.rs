@@ -2,7 +2,7 @@
 
 use areo_mission::{
     Action, ActionConfig, ActionModel, Binding, Error, Mission, Noise, PlanKind, PlannerConfig, SimConfig, SimStatus,
-    Simulation, Start, World, simulate,
+    Simulation, Start, World, metrics::PlanMetrics, simulate,
 };
 use areo_terrain::Dem;
 
@@ -220,4 +220,46 @@ fn a_re_plan_that_finds_nothing_restarts_and_is_compared_with_a_fresh_search() {
     let kinds = |r: &areo_mission::SimReport| r.plans.iter().map(|p| p.kind).collect::<Vec<_>>();
     assert_eq!(kinds(&plain), kinds(&report));
     assert!(plain.plans.iter().filter_map(|p| p.restart.as_ref()).all(|r| r.fresh_found.is_none()));
+}
+
+#[test]
+fn a_run_that_follows_its_plan_measures_as_the_plan_does() {
+    // The map is the truth and nothing is noisy: the rover executes its first plan, so
+    // the plan's figures (read off its waypoints) and the run's (off its executed
+    // steps) must agree.
+    let map = fixed_sun_world(flat(30, 20, 10.0), 120.0, 60.0, 10.0);
+    let model = model(1e5, ActionConfig::default());
+    let start = Start { cell: map.cell(3, 4), t_min: 0.0, t_max: 0.0, energy_wh: 5e4 };
+    let goal = map.cell(25, 15);
+    let report = simulate(&sim_of(&map, &map, &model, start, &[goal], SimConfig::default()), &mut |_| {}).unwrap();
+    assert_eq!(report.status, SimStatus::Completed);
+    let planned = PlanMetrics::of_plan(&report.plans[0].plan);
+    let ran = PlanMetrics::of_run(&report, &map);
+    assert_eq!(planned.drives, 22, "{planned:?}");
+    // Among plans of equal cost the planner leaves as late as it may: the rover idles
+    // asleep until the plan's first waypoint, one stay the plan does not hold.
+    let departure_s = report.plans[0].plan.waypoints[0].t_s;
+    assert!(departure_s > 60.0, "{departure_s}");
+    assert_eq!((ran.drives, ran.charges), (planned.drives, planned.charges));
+    assert_eq!(ran.hibernations, planned.hibernations + 1);
+    assert!((3600.0 * (ran.hibernate_h - planned.hibernate_h) - departure_s).abs() < 1e-6, "{ran:?}");
+    assert!((ran.drive_h - planned.drive_h).abs() < 1e-9, "{ran:?} {planned:?}");
+    assert!((ran.distance_m - planned.distance_m).abs() < 1e-6, "{ran:?} {planned:?}");
+    assert_eq!((ran.night_drives, ran.sunlit_drive_fraction), (planned.night_drives, planned.sunlit_drive_fraction));
+    // 22 diagonal-or-straight steps over a 22 × 11 cell offset: 11 diagonals and 11
+    // straight, 10 m cells.
+    assert!((planned.distance_m - (110.0 * 2f64.sqrt() + 110.0)).abs() < 1e-6, "{planned:?}");
+}
+
+#[test]
+fn a_detour_the_map_did_not_show_measures_longer_than_the_plan() {
+    let (map, truth, model, start) = block_problem();
+    let goal = map.cell(27, 10);
+    let report = simulate(&sim_of(&map, &truth, &model, start, &[goal], SimConfig::default()), &mut |_| {}).unwrap();
+    let planned = PlanMetrics::of_plan(&report.plans[0].plan);
+    let ran = PlanMetrics::of_run(&report, &truth);
+    // The first plan drove straight east: 24 drives, 240 m; the run went round.
+    assert_eq!(planned.drives, 24);
+    assert!((planned.distance_m - 240.0).abs() < 1e-6, "{planned:?}");
+    assert!(ran.distance_m > planned.distance_m + 10.0 && ran.drives > planned.drives, "{ran:?}");
 }

@@ -1,5 +1,5 @@
 //! What a job will cost, estimated before it starts: peak memory in bytes and work in
-//! elementary steps (cell-sector sweeps, module executions, table rows). A job whose
+//! elementary steps (cell-sector rays, module executions, table rows). A job whose
 //! estimate exceeds its [`Budget`] is refused ([`Error::Budget`], exit 2) with the
 //! estimate, so a legal-looking but enormous input fails in a millisecond instead of
 //! aborting on allocation or running for days.
@@ -32,7 +32,7 @@ impl Budget {
     /// Three quarters of this machine's memory (`/proc/meminfo`; 8 GiB where it cannot
     /// be read) and 2·10¹⁰ steps (the largest shipped up-front estimate, lita-scale's,
     /// is 2·10⁸; lunar-south-pole-10m's plan spends about 10⁹ as it runs). A step is
-    /// about one horizon sweep of a cell and sector (30–120 ns measured) and a label
+    /// about one horizon ray of a cell and sector (30–120 ns measured) and a label
     /// expansion counts [`EXPANSION_STEPS`], so the default is
     /// 10–40 minutes of work whichever kind spends it; the searches stop there
     /// ([`search_allowance`]).
@@ -111,7 +111,7 @@ pub fn tiled_shadow(map_cells: u64, tile: u64, window_cells: u64, band_cells: u6
 }
 
 /// The cost of `areo terrain horizon --tile`: one tile read with its halo on every
-/// side at a time (`window_cells`; its DEM and the horizon sweep's codes and working
+/// side at a time (`window_cells`; its DEM and the horizon ray's codes and working
 /// arrays: about 2 bytes a sector plus 24 bytes a cell), one tile of results (2 bytes
 /// a cell and sector) and the reader's chunk cache; every window cell swept once per
 /// sector.
@@ -127,7 +127,7 @@ pub fn tiled_horizon(map_cells: u64, sectors: u64, tile: u64, window_cells: u64,
             .saturating_add(tile_cells.saturating_mul(2 * sectors))
             .saturating_add(cache_bytes),
         work_steps: map_cells.saturating_mul(window_cells.div_ceil(tile_cells).max(1)).saturating_mul(sectors),
-        work_unit: "cell-sector sweeps",
+        work_unit: "cell-sector rays",
     }
 }
 
@@ -163,7 +163,7 @@ impl DemCommand {
 
     /// The command's cost on `cells` cells: the DEM and a few rasters (slope, aspect,
     /// map, preview RGB: 20 bytes a cell), and for `horizon` the map (2 bytes a sector)
-    /// and its working codes; work is a sweep per cell and sector.
+    /// and its working codes; work is a ray per cell and sector.
     pub fn estimate(self, cells: u64) -> Estimate {
         let sectors = match self {
             DemCommand::Horizon { sectors } => sectors,
@@ -174,50 +174,16 @@ impl DemCommand {
             what: format!("`areo terrain {}` on {cells} cells", self.name()),
             memory_bytes: cells.saturating_mul(DEM_BYTES + 20 + horizon),
             work_steps: cells.saturating_mul((sectors as u64).max(1)),
-            work_unit: "cell-sector sweeps",
+            work_unit: "cell-sector rays",
         }
     }
 }
 
-/// Work steps one label expansion counts for, so that a work budget bounds time
-/// whichever kind of work spends it: an expansion (the Sun at the label's time, the
-/// light and slope checks, eight drives with their settles to the tick and a wait,
-/// each label kept placed on its instant's staircase) takes about as long as this many
-/// horizon sweeps of a cell and sector. `cargo xtask bench budget` measures the ratio
-/// on the shipped TEMPEST scenarios and prints it beside this figure
-/// (`docs/benchmarks.md`: 26–173, median 139, on a tick; the approximate search's
-/// expansions are cheaper, 36–118).
-pub const EXPANSION_STEPS: u64 = 100;
-
-/// How far a guided search spreads around the straight line between a leg's ends: the
-/// cells inside the ellipse whose foci are the leg's ends and whose major axis is this
-/// many times the leg's length (plus [`CORRIDOR_CELLS`] on each side). The 2-D cost
-/// bound keeps the search near routes no dearer than the plan; measured footprints
-/// are in `docs/benchmarks.md`.
-pub const DETOUR: f64 = 2.0;
-
-/// Cells added around each leg's ellipse, so a short leg still counts a corridor.
-pub const CORRIDOR_CELLS: f64 = 10.0;
-
-/// The map a TEMPEST job searches, as far as its cost goes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SearchMap {
-    /// Cells of the map (or of the planning region).
-    pub cells: u64,
-    /// Area of one cell, m².
-    pub cell_m2: f64,
-}
-
-impl SearchMap {
-    /// The map of `dem`'s cells.
-    pub fn of(dem: &areo_terrain::Dem) -> SearchMap {
-        SearchMap { cells: (dem.cols() * dem.rows()) as u64, cell_m2: dem.dx().abs() * dem.dy().abs() }
-    }
-}
+pub use areo_mission::search_cost::{CORRIDOR_CELLS, DETOUR, EXPANSION_STEPS, SearchMap};
 
 /// The cost of a TEMPEST job on `map` that is certain before it starts: the worlds it
 /// builds (the map's, the truth's, each terrain clone's: slopes, horizon maps, Sun
-/// tables) and their horizon sweeps and open-loop executions. A job over the budget in
+/// tables) and their horizon rays and open-loop executions. A job over the budget in
 /// these would really exceed it, so it is refused before anything is computed.
 ///
 /// The searches are not in it. What they expand depends on the route, the battery and
@@ -242,7 +208,7 @@ pub fn tempest(job: &TempestJob, map: SearchMap) -> Estimate {
         ),
         memory_bytes,
         work_steps: TempestWork::other(job, cells).min(u64::MAX as f64) as u64,
-        work_unit: "cell-sector sweeps and execution steps",
+        work_unit: "cell-sector rays and execution steps",
     }
 }
 
@@ -254,20 +220,11 @@ pub fn expected_expansions(job: &TempestJob, map: SearchMap) -> u64 {
 
 /// The label expansions one planning call of a TEMPEST job on `cells` cells may make
 /// under `budget` (`areo_mission::PlannerConfig::max_expansions`): the work the budget
-/// leaves after the job's horizon sweeps and executions, at [`EXPANSION_STEPS`] steps
+/// leaves after the job's horizon rays and executions, at [`EXPANSION_STEPS`] steps
 /// an expansion — as if that one call were all the search the job does.
 pub fn search_allowance(job: &TempestJob, cells: u64, budget: &Budget) -> u64 {
     let other = TempestWork::other(job, cells).min(u64::MAX as f64) as u64;
     (budget.work_steps.saturating_sub(other) / EXPANSION_STEPS).max(1)
-}
-
-/// The cells a guided search from `from` to `to` (m) is expected to reach on `map`:
-/// the detour ellipse between them, with a corridor, at most the whole map.
-fn leg_footprint(from: (f64, f64), to: (f64, f64), map: SearchMap) -> f64 {
-    let half = (to.0 - from.0).hypot(to.1 - from.1) / 2.0;
-    let a = DETOUR * half + CORRIDOR_CELLS * map.cell_m2.sqrt();
-    let b = (a * a - half * half).max(0.0).sqrt();
-    (std::f64::consts::PI * a * b / map.cell_m2).min(map.cells as f64)
 }
 
 /// A TEMPEST job's work, in the estimate's steps.
@@ -282,14 +239,13 @@ impl TempestWork {
     /// way: a static route expands far fewer, a search whose battery is too low to move
     /// floods the map (fuzz seed 7 on devon-island expanded 4.8 M labels).
     fn labels(job: &TempestJob, map: SearchMap) -> f64 {
-        let time_classes = (job.horizon_h * 3600.0 / step_s(job)).ceil().max(1.0);
-        let stops = std::iter::once((job.start.x_m, job.start.y_m)).chain(job.goals.iter().map(|g| (g.x_m, g.y_m)));
-        let footprint: f64 = stops.clone().zip(stops.skip(1)).map(|(a, b)| leg_footprint(a, b, map)).sum();
+        let stops: Vec<(f64, f64)> =
+            std::iter::once((job.start.x_m, job.start.y_m)).chain(job.goals.iter().map(|g| (g.x_m, g.y_m))).collect();
         let (searches, _, _) = chance_work(job);
-        footprint.max(1.0) * time_classes * searches as f64
+        areo_mission::search_cost::expected_labels(&stops, map, job.horizon_h * 3600.0, step_s(job)) * searches as f64
     }
 
-    /// The work besides the searches: horizon sweeps (the map's and the clones') and
+    /// The work besides the searches: horizon rays (the map's and the clones') and
     /// open-loop executions.
     fn other(job: &TempestJob, cells: u64) -> f64 {
         // Under uncertainty: a world per terrain clone (its slopes and horizon changes)
@@ -297,8 +253,8 @@ impl TempestWork {
         let (_, clones, executions) = chance_work(job);
         let sectors = job.horizon_sectors as u64;
         let time_classes = (job.horizon_h * 3600.0 / step_s(job)).ceil().max(1.0);
-        let sweeps = cells.saturating_mul(sectors.max(1)).saturating_mul(clones.saturating_add(1)) as f64;
-        sweeps + executions as f64 * time_classes
+        let rays = cells.saturating_mul(sectors.max(1)).saturating_mul(clones.saturating_add(1)) as f64;
+        rays + executions as f64 * time_classes
     }
 }
 
@@ -336,12 +292,12 @@ fn uncertainty_work(job: &TempestJob) -> (u64, u64, u64) {
 
 /// The cost of an actions job on a map of `cells` cells.
 pub fn actions(job: &ActionsJob, cells: u64) -> Estimate {
-    // Every run once per seed of its study, and the sweep once per μ per seed.
+    // Every run once per seed of its study, and the scan once per μ per seed.
     let seeds = |s: Option<(u64, u64)>| s.map_or(1, |(a, b)| b.saturating_sub(a).saturating_add(1));
     let run_evolutions =
         if job.runs.is_empty() { 1 } else { job.runs.iter().map(|r| seeds(r.seeds)).fold(0u64, u64::saturating_add) };
-    let sweep_points = job.mu_sweep.map_or(0, |(a, b, step)| ((b - a) / step).floor().max(0.0) as u64 + 1);
-    let runs = run_evolutions.saturating_add(sweep_points.saturating_mul(seeds(job.mu_sweep_seeds)));
+    let scan_points = job.mu_scan.map_or(0, |(a, b, step)| ((b - a) / step).floor().max(0.0) as u64 + 1);
+    let runs = run_evolutions.saturating_add(scan_points.saturating_mul(seeds(job.mu_scan_seeds)));
     let ga = &job.ga;
     let evaluations = (ga.population as u64).saturating_mul(ga.generations as u64 + 1);
     let modules = evaluations.saturating_mul(ga.max_length as u64).saturating_mul(runs);
@@ -468,7 +424,7 @@ mod tests {
     /// lita-scale's one 6978 m leg on 100 m cells spreads over its detour ellipse
     /// (a = 2 · 3489 m + 10 cells, b = √(a² − 3489²)), 0.3 % of the 2527 × 2356 map.
     /// None of it is refused up front: sun-synchronous-traverse on a 1 s tick (4·10⁵
-    /// ticks, 10¹² expected steps) is admitted with the horizon sweeps as its certain
+    /// ticks, 10¹² expected steps) is admitted with the horizon rays as its certain
     /// work, and its searches are held to the budget as they run.
     #[test]
     fn the_label_estimate_counts_the_route_and_is_never_a_refusal() {
@@ -483,28 +439,28 @@ mod tests {
         let expected = expected_expansions(&fine, map) as f64;
         assert!((expected - ellipse * 4320.0).abs() <= 1.0, "{expected}");
         let e = tempest(&fine, map);
-        assert_eq!(e.work_steps, 2527 * 2356 * 32, "the sweeps alone");
+        assert_eq!(e.work_steps, 2527 * 2356 * 32, "the rays alone");
         assert!(budget.check(&e).is_ok(), "{e:?}");
         let mut sun_sync = shipped("sun-synchronous-traverse");
         sun_sync.planner.tick_s = Some(1.0);
         let map = SearchMap { cells: 160 * 120, cell_m2: 2500.0 };
         assert!(expected_expansions(&sun_sync, map) as f64 * EXPANSION_STEPS as f64 > 1e12);
         assert!(budget.check(&tempest(&sun_sync, map)).is_ok());
-        // The sweeps are certain: a map whose horizon sweeps exceed the budget is refused.
+        // The rays are certain: a map whose horizon rays exceed the budget is refused.
         let huge = SearchMap { cells: 1 << 30, cell_m2: 1.0 };
         let err = budget.check(&tempest(&sun_sync, huge)).unwrap_err().to_string();
         assert!(err.contains("--max-work") && err.contains("1073741824 cells"), "{err}");
     }
 
-    /// A planning call may expand what the budget leaves after the sweeps, at
+    /// A planning call may expand what the budget leaves after the rays, at
     /// [`EXPANSION_STEPS`] steps an expansion, and at least one.
     #[test]
     fn the_search_allowance_is_the_budget_left_in_expansions() {
         let devon = shipped("devon-island");
         let cells = 100 * 100;
         let budget = |work_steps| Budget { memory_bytes: 1 << 40, work_steps };
-        let sweeps = cells * 64;
-        assert_eq!(search_allowance(&devon, cells, &budget(sweeps + 7 * EXPANSION_STEPS + 3)), 7);
-        assert_eq!(search_allowance(&devon, cells, &budget(sweeps / 2)), 1);
+        let rays = cells * 64;
+        assert_eq!(search_allowance(&devon, cells, &budget(rays + 7 * EXPANSION_STEPS + 3)), 7);
+        assert_eq!(search_allowance(&devon, cells, &budget(rays / 2)), 1);
     }
 }

@@ -208,7 +208,7 @@ mod tests {
         assert_eq!((usage.exit_code(), usage.to_string().as_str()), (2, "--mu -1: must be positive and finite"));
 
         let estimate =
-            Estimate { what: "the job".into(), memory_bytes: 3 << 30, work_steps: 10, work_unit: "cell-sector sweeps" };
+            Estimate { what: "the job".into(), memory_bytes: 3 << 30, work_steps: 10, work_unit: "cell-sector rays" };
         let memory = Budget { memory_bytes: 1 << 30, work_steps: 100 }.check(&estimate).unwrap_err();
         assert_eq!(memory.exit_code(), 2);
         // Stopped while searching: its own code, neither bad input nor a verdict.
@@ -224,7 +224,7 @@ mod tests {
         );
         let work = Budget { memory_bytes: 4 << 30, work_steps: 5 }.check(&estimate).unwrap_err();
         assert!(matches!(&work, Error::Budget { limit, .. } if limit.work_steps == 5));
-        assert!(work.to_string().contains("1.00e1 steps of work (cell-sector sweeps), more than the 5.00e0 allowed"));
+        assert!(work.to_string().contains("1.00e1 steps of work (cell-sector rays), more than the 5.00e0 allowed"));
         assert!(Budget { memory_bytes: 4 << 30, work_steps: 10 }.check(&estimate).is_ok());
     }
 }

@@ -124,11 +124,11 @@ pub struct ActionsJob {
     /// default one run, "plan", on the filtered inventory.
     #[serde(default)]
     pub runs: Vec<ActionsRun>,
-    /// A friction sweep: (from, to, step) in μ; each μ runs the GA on the first run's
+    /// A friction scan: (from, to, step) in μ; each μ runs the GA on the first run's
     /// inventory.
     #[serde(default)]
-    pub mu_sweep: Option<(f64, f64, f64)>,
-    /// A line across the path (y of the ditch's far edge, m): the sweep reports the
+    pub mu_scan: Option<(f64, f64, f64)>,
+    /// A line across the path (y of the ditch's far edge, m): the scan reports the
     /// smallest μ whose best plan gets past it.
     #[serde(default)]
     pub ditch_far_edge_y_m: Option<f64>,
@@ -142,11 +142,11 @@ pub struct ActionsJob {
     /// stops it below (`replay.csv`, `replay_…` facts).
     #[serde(default)]
     pub mu_replay: Option<(f64, f64, f64)>,
-    /// The friction sweep repeated for each GA seed (first, last), at most 100: the
-    /// thresholds' median and spread over seeds (`sweep_seeds.csv`, `sweep_seeds_…`
-    /// facts). Needs `mu_sweep`.
+    /// The friction scan repeated for each GA seed (first, last), at most 100: the
+    /// thresholds' median and spread over seeds (`scan_seeds.csv`, `scan_seeds_…`
+    /// facts). Needs `mu_scan`.
     #[serde(default)]
-    pub mu_sweep_seeds: Option<(u64, u64)>,
+    pub mu_scan_seeds: Option<(u64, u64)>,
     /// The straight climb (`climb_profile`) repeated with each assumed rover parameter
     /// set to each of its values: `[(BogieLimitDeg, [35, 45, 55]), (CgHeightM, [0.25,
     /// 0.28])]` (`sensitivity.csv`, `sensitivity_…` facts). Needs `climb_profile`.

@@ -21,8 +21,8 @@ pub struct GridOptions {
     pub seed: u64,
 }
 
-/// The result of one scenario.
-#[derive(Debug, Clone, PartialEq)]
+/// The result of one scenario (`areo grid --format json` prints these as they are).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct GridRow {
     /// 0-based index of the scenario in the file.
     pub index: usize,
@@ -32,17 +32,24 @@ pub struct GridRow {
     pub found: f64,
     /// Nodes expanded.
     pub expansions: u64,
-    /// With `--replan`: the incremental cost, the fresh search's cost, and the
-    /// expansions the repair needed.
-    pub replan: Option<(f64, f64, u64)>,
+    /// With `--replan`: the incremental search's cost after the cells were blocked.
+    pub replanned: Option<f64>,
+    /// With `--replan`: a fresh search's cost on the changed map.
+    pub fresh: Option<f64>,
+    /// With `--replan`: the expansions the repair needed.
+    pub replan_expansions: Option<u64>,
+    /// Whether the found length is off the published one by more than 1e-4 relative,
+    /// or the re-plan disagrees with the fresh search.
+    pub mismatched: bool,
 }
 
 impl GridRow {
-    /// Whether the found length is off the published one by more than 1e-4 relative,
-    /// or the re-plan disagrees with the fresh search.
-    pub fn mismatched(&self) -> bool {
+    /// Sets `mismatched` from the costs.
+    fn judged(mut self) -> GridRow {
         let off = |a: f64, b: f64| !((a - b).abs() <= 1e-4 * b.abs().max(1.0) || (a.is_infinite() && b.is_infinite()));
-        off(self.found, self.expected) || self.replan.is_some_and(|(inc, fresh, _)| off(inc, fresh))
+        let replan_off = self.replanned.zip(self.fresh).is_some_and(|(inc, fresh)| off(inc, fresh));
+        self.mismatched = off(self.found, self.expected) || replan_off;
+        self
     }
 }
 
@@ -101,9 +108,17 @@ fn solve_one(grid: &mut Grid, index: usize, s: &Scenario, replan: Option<u32>, r
     let goal = Goal { state: goal_cell, label: (), cost: 0.0 };
     let mut search = Search::new(&*grid, [goal.clone()], Mode::BestPathCost);
     let plan = search.plan(grid);
-    let mut row =
-        GridRow { index, expected: s.optimal, found: plan.cost, expansions: plan.stats.expansions, replan: None };
-    let Some(k) = replan else { return row };
+    let mut row = GridRow {
+        index,
+        expected: s.optimal,
+        found: plan.cost,
+        expansions: plan.stats.expansions,
+        replanned: None,
+        fresh: None,
+        replan_expansions: None,
+        mismatched: false,
+    };
+    let Some(k) = replan else { return row.judged() };
     // K random free cells within 2 cells of the start (never the start or the goal).
     let (sx, sy) = grid.xy(start);
     let mut candidates: Vec<u32> = (-2i64..=2)
@@ -122,9 +137,10 @@ fn solve_one(grid: &mut Grid, index: usize, s: &Scenario, replan: Option<u32>, r
     search.update(grid, &changed);
     let repaired = search.plan(grid);
     let fresh = Search::new(&*grid, [goal], Mode::BestPathCost).plan(grid);
-    row.replan = Some((repaired.cost, fresh.cost, repaired.stats.expansions));
+    (row.replanned, row.fresh, row.replan_expansions) =
+        (Some(repaired.cost), Some(fresh.cost), Some(repaired.stats.expansions));
     for c in blocked {
         grid.set_free(c, true);
     }
-    row
+    row.judged()
 }

@@ -685,7 +685,7 @@ pub fn run_task(
 }
 
 /// What [`collect`] found.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize)]
 pub struct Collected {
     /// Tasks with outputs.
     pub finished: usize,

@@ -40,7 +40,7 @@ pub struct SunOver {
     pub lat_deg: f64,
     /// The map's middle, degrees east.
     pub lon_east_deg: f64,
-    /// Sun azimuth there, degrees clockwise from north.
+    /// Sun azimuth there, degrees clockwise from true north.
     pub azimuth_deg: f64,
     /// The same direction on the grid, degrees clockwise from the grid's north (up in
     /// the image): what shadows are cast along. It differs from `azimuth_deg` where the

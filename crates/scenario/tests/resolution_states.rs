@@ -2,8 +2,8 @@
 //! (`tests/tempest/lita-step20.ron`, `tests/tempest/valley-step77.ron`), planned at the
 //! scenarios' settings and at finer ones: where the settings as shipped find a plan, the
 //! finer ones checked here must too. Actions there are unquantised, so no search is exact
-//! and this is not guaranteed by construction (docs/tempest.md, "Monotone in
-//! resolution"); these are the states where it once failed, kept as regressions. The
+//! and this is not guaranteed by construction (docs/tempest.md, "The approximate
+//! search"); these are the states where it once failed, kept as regressions. The
 //! one dimension found to lose plans at these states — more `goal_times` at
 //! valley-detour's, at 62–72 Wh — is measured in docs/tempest.md; at 64 Wh it is
 //! asserted here with what recovers it on request (`planner.unreachable_retries`).

@@ -137,7 +137,7 @@ fn the_shipped_scenarios_fit_the_default_budget_and_fine_classes_are_not_refused
     }
     // A tick of a second over sun-synchronous-traverse's 110 h: the searches are
     // expected to expand 396 000 ticks over the three legs' ellipses, but that
-    // is no refusal — only the horizon sweeps are certain; the searches are held to the
+    // is no refusal — only the horizon rays are certain; the searches are held to the
     // budget as they run.
     let text = std::fs::read_to_string(root().join("scenarios/sun-synchronous-traverse.ron")).unwrap();
     let text = text.replacen("tick_s: 300", "tick_s: 1", 1);
@@ -268,23 +268,23 @@ fn a_climb_profile_out_of_range_names_its_field_and_rule() {
 /// The friction replay, the sweep's seeds and the sensitivity study are checked with
 /// their rules, located.
 #[test]
-fn a_friction_replay_sweep_seeds_or_sensitivity_out_of_range_names_its_field_and_rule() {
-    let path = root().join("scenarios/friction-sweep.ron");
+fn a_friction_replay_scan_seeds_or_sensitivity_out_of_range_names_its_field_and_rule() {
+    let path = root().join("scenarios/friction-scan.ron");
     let base = std::fs::read_to_string(&path).unwrap();
     let (replay, seeds, sweep) =
-        ("mu_replay: (0.30, 0.90, 0.05),", "mu_sweep_seeds: (1, 8),", "mu_sweep: (0.50, 0.80, 0.05),");
+        ("mu_replay: (0.30, 0.90, 0.05),", "mu_scan_seeds: (1, 8),", "mu_scan: (0.50, 0.80, 0.05),");
     assert!(base.contains(replay) && base.contains(seeds) && base.contains(sweep));
     assert!(areo_scenario::format::parse(&path, &base).is_ok());
     for (from, to, field, rule) in [
         (replay, "mu_replay: (0.005, 0.9, 0.05),", "mu_replay", "0.01 ≤ from ≤ to ≤ 2"),
         (replay, "mu_replay: (0.3, 0.9, 0.001),", "mu_replay", "at most 100 steps"),
-        (seeds, "mu_sweep_seeds: (8, 1),", "mu_sweep_seeds", "first ≤ last"),
-        (seeds, "mu_sweep_seeds: (1, 200),", "mu_sweep_seeds", "at most 100 seeds"),
-        (sweep, "", "mu_sweep_seeds", "needs a mu_sweep"),
+        (seeds, "mu_scan_seeds: (8, 1),", "mu_scan_seeds", "first ≤ last"),
+        (seeds, "mu_scan_seeds: (1, 200),", "mu_scan_seeds", "at most 100 seeds"),
+        (sweep, "", "mu_scan_seeds", "needs a mu_scan"),
         (replay, "sensitivity: [(CgHeightM, [0.3])],", "sensitivity", "needs a climb_profile"),
     ] {
         let e = areo_scenario::format::parse(&path, &base.replace(from, to)).unwrap_err().to_string();
-        assert!(e.contains("friction-sweep.ron:") && e.contains(field) && e.contains(rule), "{to}: {e}");
+        assert!(e.contains("friction-scan.ron:") && e.contains(field) && e.contains(rule), "{to}: {e}");
     }
 }
 

@@ -1,8 +1,8 @@
 //! Terrain throughput on the TEMPEST-sized Gale DEM (2527 × 2356, from
 //! ../shared/data/dem when present, else a synthesised DEM of the same size): one
 //! shadow map by each method (target ≥ 50 M cells/s on one core for the default,
-//! `Method::OwnRay`; `cast_shadows_*` names it, `swept_*` and `interpolated_*` the
-//! approximate sweeps), slope + aspect (≥ 100 M cells/s) and one horizon sector.
+//! `Method::OwnRay`; `cast_shadows_*` names it, `sheared_*` and `interpolated_*` the
+//! approximate traces), slope + aspect (≥ 100 M cells/s) and one horizon sector.
 
 use std::path::PathBuf;
 
@@ -50,7 +50,7 @@ fn terrain(c: &mut Criterion) {
     let mars = Curvature::Sphere { radius_m: 3_389_500.0 };
     let cases = [("az135_el20_curved", 135.0, 20.0, mars), ("az80_el5_flat", 80.0, 5.0, Curvature::Flat)];
     for (prefix, method) in
-        [("cast_shadows", Method::OwnRay), ("swept", Method::Swept), ("interpolated", Method::Interpolated)]
+        [("cast_shadows", Method::OwnRay), ("sheared", Method::Sheared), ("interpolated", Method::Interpolated)]
     {
         for (case, az, el, curvature) in cases {
             g.bench_function(format!("{prefix}_{case}"), |b| {

@@ -328,7 +328,7 @@ impl std::fmt::Debug for Windows {
 
 /// A GeoTIFF read a window at a time: only the strips or tiles a window touches are
 /// decoded, and the decoded ones are kept up to a byte budget (least recently used
-/// first out), so a sweep of windows across a map decodes each chunk about once and
+/// first out), so a pass of windows across a map decodes each chunk about once and
 /// memory follows the window, not the map.
 pub struct Windows {
     dec: Decoder<BufReader<File>>,

@@ -17,8 +17,8 @@
 //! cells excluded; `tests/horizon_error.rs`): on the real Gale MOLA crop (463 m cells)
 //! 99 % of cells within 1.83°, 99.9 % within 5.73°, the worst 18.97°; on synthesised
 //! terrain 1.18°, 3.55°, 11.91°. The large errors are cells whose nearest occluder is a
-//! cell or two away, where a sweep line's terrain beside the own ray differs most. On
-//! the border the own ray may leave the map at once (no horizon) while the sweep line
+//! cell or two away, where a ray line's terrain beside the own ray differs most. On
+//! the border the own ray may leave the map at once (no horizon) while the ray line
 //! beside it stays in. Tests assert 2°, 6° and 20°. This is an approximation, not an
 //! exact horizon: `Method::OwnRay` (crate::shadow) is the exact one.
 
@@ -26,11 +26,11 @@ use rayon::prelude::*;
 
 use crate::dem::{Dem, unit_normal};
 use crate::error::{Error, Result};
-use crate::scan_lines::LineGeometry;
+use crate::ray_lines::LineGeometry;
 use crate::shadow::Curvature;
 use crate::slope::horn_gradient;
 
-/// A sector to sweep, its output, and the opposite sector's output when swept with it.
+/// A sector to trace, its output, and the opposite sector's output when traced with it.
 type SectorJob<'a> = (usize, &'a mut [u16], Option<&'a mut [u16]>);
 
 /// Horizon elevation per cell and azimuth sector.
@@ -107,7 +107,7 @@ impl HorizonMap {
     }
 
     /// [`HorizonMap::compute`] of a window whose first cell is (`col`, `row`) of a larger
-    /// map: the sweep lines are laid where the whole map's lie, so that a cell whose
+    /// map: the ray lines are laid where the whole map's lie, so that a cell whose
     /// horizon the window's terrain decides gets the whole map's value bit for bit.
     pub(crate) fn compute_at(
         dem: &Dem,
@@ -121,7 +121,7 @@ impl HorizonMap {
         let cells = dem.cols() * dem.rows();
         let zn = Elevations::of(dem);
         // Each sector written in place; opposite sectors (when K is even) from one
-        // sweep of their common lines.
+        // trace of their common lines.
         let mut angles = vec![0u16; cells * sectors];
         let paired = sectors.is_multiple_of(2);
         let jobs = if paired { sectors / 2 } else { sectors };
@@ -138,7 +138,7 @@ impl HorizonMap {
                 pairs.push((s, a, None));
             }
         }
-        sweep_sectors(dem, &zn, sectors, curvature, origin, pairs);
+        trace_sectors(dem, &zn, sectors, curvature, origin, pairs);
         Ok(HorizonMap { cols: dem.cols(), rows: dem.rows(), sectors, angles: Codes::Wide(angles) })
     }
 
@@ -220,7 +220,7 @@ impl HorizonMap {
     }
 
     /// The horizon of `dem` — the terrain a rover truly drives on, on this map's grid —
-    /// where it differs from this map, cell by cell: the same sweep as
+    /// where it differs from this map, cell by cell: the same trace as
     /// [`HorizonMap::compute`], run a few sectors at a time and compared with this map,
     /// so that a second full map is never held. Cells whose surroundings are the same
     /// on both get the same horizon bit for bit and are left out.
@@ -268,7 +268,7 @@ impl HorizonMap {
                     sector_of.push(s + jobs);
                 }
             }
-            sweep_sectors(dem, &zn, sectors, curvature, (0, 0), pairs);
+            trace_sectors(dem, &zn, sectors, curvature, (0, 0), pairs);
             for (chunk, &s) in buffer[..cells * per_job * n].chunks(cells.max(1)).zip(&sector_of) {
                 // At the map's own precision: a narrowed map's truth differs where the
                 // one-byte codes do.
@@ -391,9 +391,9 @@ impl HorizonChanges {
     }
 }
 
-/// Sweeps every (sector, output, opposite output) job in parallel (the result does not
+/// Traces every (sector, output, opposite output) job in parallel (the result does not
 /// depend on the thread count): each sector's horizons encoded into its output.
-fn sweep_sectors(
+fn trace_sectors(
     dem: &Dem,
     zn: &Elevations,
     sectors: usize,
@@ -421,12 +421,12 @@ fn sweep_sectors(
             let az = s as f64 * 360.0 / sectors as f64;
             match opposite {
                 Some(opposite) => {
-                    sweep_lines(dem, zn, az, curvature, origin, Some(&mut *toward), Some(&mut *away));
+                    trace_lines(dem, zn, az, curvature, origin, Some(&mut *toward), Some(&mut *away));
                     write(toward, scratch, out);
                     write(away, scratch, opposite);
                 }
                 None => {
-                    sweep_lines(dem, zn, az, curvature, origin, Some(&mut *toward), None);
+                    trace_lines(dem, zn, az, curvature, origin, Some(&mut *toward), None);
                     write(toward, scratch, out);
                 }
             }
@@ -447,7 +447,7 @@ fn sweep_sectors(
 /// cast at low Sun, against 0.1–0.2 % at a quarter cell).
 pub fn horizon_toward(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f64> {
     let mut acc = Accumulator::default();
-    sweep_lines(dem, &Elevations::of(dem), azimuth_deg, curvature, (0, 0), Some(&mut acc), None);
+    trace_lines(dem, &Elevations::of(dem), azimuth_deg, curvature, (0, 0), Some(&mut acc), None);
     let mut out = vec![0.0; dem.cols() * dem.rows()];
     acc.for_each_cell(dem.cols(), dem.rows(), |i, [sum, weight]| out[i] = finish(dem.valid_mask()[i], sum, weight));
     out
@@ -477,7 +477,7 @@ fn finish(valid: bool, sum: f32, weight: f32) -> f64 {
     }
 }
 
-/// Parallel sweep lines per cell width, and their spacing in cells.
+/// Parallel ray lines per cell width, and their spacing in cells.
 const LINES_PER_CELL: i64 = 4;
 const SPACING: f64 = 1.0 / LINES_PER_CELL as f64;
 
@@ -548,7 +548,7 @@ impl Accumulator {
     }
 }
 
-/// One sweep line's samples, in walking order: the sheared terrain height where the
+/// One ray line's samples, in walking order: the sheared terrain height where the
 /// line crosses each grid line (NaN: off the map or missing), and the observer cell
 /// near each crossing with its sheared height and blending weight.
 #[derive(Default)]
@@ -560,14 +560,14 @@ struct Line {
     w: Vec<f32>,
 }
 
-/// Sweeps the lines parallel to `azimuth_deg` once, accumulating the horizon toward
+/// Traces the lines parallel to `azimuth_deg` once, accumulating the horizon toward
 /// `azimuth_deg` into `toward` and toward the opposite azimuth into `away` (either may
 /// be absent): both directions see the same samples, so they are computed once. The
 /// family of lines depends only on the axis, not on which end is `azimuth_deg`, so a
 /// sector's horizon is the same whether it is computed alone or with its opposite.
 /// `zn` is [`Elevations::of`] the DEM; `origin`, the (column, row) of the DEM's first
 /// cell in the map whose line family to follow.
-fn sweep_lines<'a>(
+fn trace_lines<'a>(
     dem: &Dem,
     zn: &Elevations,
     azimuth_deg: f64,

@@ -21,9 +21,9 @@
 //!   curvature: by default every cell decided by its own ray on the triangulated
 //!   surface (the brute force's answer on every cell at every azimuth tested,
 //!   `tests/shadow_methods.rs`), or by one of
-//!   two cheaper, approximate sweeps whose error is stated; shadow maps.
+//!   two cheaper, approximate traces whose error is stated; shadow maps.
 //! - `reference` (with the `reference` feature, and in every test): the brute-force references the tests hold every method to: one ray
-//!   per cell, no sweep, no shortcuts; and parry3d ray casts.
+//!   per cell, no trace, no shortcuts; and parry3d ray casts.
 //! - [`los`]: surface-to-surface line of sight and viewsheds by parry3d ray casts.
 //! - [`tiles`]: shadow, slope and horizon maps of DTMs too large to hold, tile by tile
 //!   with the halo the longest shadow needs (the whole map's answer), read through
@@ -54,7 +54,7 @@
 mod dem;
 mod error;
 mod projection;
-mod scan_lines;
+mod ray_lines;
 
 pub mod hillshade;
 

@@ -1,5 +1,5 @@
 //! Brute-force references: one ray per cell, marched to the map's edge, with no
-//! sweep, no shared state between cells and no early exit. Slow (O(cells × length)) and
+//! trace, no shared state between cells and no early exit. Slow (O(cells × length)) and
 //! plain on purpose; the tests hold every [`Method`](crate::shadow::Method) of [`crate::shadow`] and the
 //! horizon maps against them.
 //!
@@ -219,7 +219,7 @@ pub fn cast_shadows_parry(dem: &Dem, sun: GridSunDirection) -> Result<Vec<bool>>
         for c in 0..dem.cols() {
             let Some(z) = dem.z(c, r) else { continue };
             let (x, y) = dem.cell_center(c, r);
-            // Start toward the first grid-line crossing, where the sweep's occluders
+            // Start toward the first grid-line crossing, where the trace's occluders
             // begin: the cell's own slope (facing away from the Sun) is not a cast shadow.
             // The ray of a point a thousandth of a cell to the side, on the ground there:
             // parry3d's traversal loses rays that run exactly along vertex rows or
@@ -273,7 +273,7 @@ mod tests {
             // (parry3d works in f32, and its rays start a thousandth of a cell aside and
             // a hundredth of a step along, so they miss the cell's own steepest facet).
             assert!(worst <= 1.5, "az {az}: a disagreement {worst:.3}° from grazing");
-            // The interpolated sweep samples a coarser surface, and blurs far shadows.
+            // The interpolated trace samples a coarser surface, and blurs far shadows.
             assert!(fast_differ as f64 / parry.len() as f64 <= 0.015, "az {az}: {fast_differ} differ");
             own_differ += differ;
             cells += parry.len();

@@ -17,7 +17,7 @@
 //!   handed to a sink as each band of tiles finishes (for
 //!   [`crate::geotiff::write_u8_tiled`]).
 //! - [`horizon_by_tiles`]: each tile's horizons as it finishes, read with the halo on
-//!   every side and its sweep lines laid where the whole map's lie: every horizon at or
+//!   every side and its ray lines laid where the whole map's lie: every horizon at or
 //!   above the lowest Sun planned for is the whole map's, bit for bit;
 //!   [`write_horizon_tiled`] writes them to a tiled GeoTIFF, a plane per sector.
 //!
@@ -251,7 +251,7 @@ pub struct HorizonTiles {
 /// tile's encoded horizons (as [`HorizonMap`] stores them, 2 bytes a cell and sector),
 /// sector after sector, row-major within the tile, as the tile finishes — a horizon map
 /// of a 10⁸-cell DTM is gigabytes, so nothing larger than a tile is held. Every horizon
-/// at or above `lowest_deg` is the whole map's bit for bit (the sweep lines are laid
+/// at or above `lowest_deg` is the whole map's bit for bit (the ray lines are laid
 /// where the whole map's lie, and terrain beyond the halo cannot rise that high); lower
 /// ones are stored as `lowest_deg`, on the whole map as here.
 pub fn horizon_by_tiles(

@@ -22,7 +22,7 @@ fn errors(dem: &Dem, sectors: usize) -> (f64, f64, f64) {
         for (i, t) in truth.iter().enumerate() {
             let (c, r) = (i % dem.cols(), i / dem.cols());
             // Border cells: their own ray may leave the map before it crosses an edge
-            // (−90°) while the sweep's line beside it stays in; stated apart.
+            // (−90°) while the trace's line beside it stays in; stated apart.
             let border = c == 0 || r == 0 || c + 1 == dem.cols() || r + 1 == dem.rows();
             if t.is_finite() && !border {
                 // Both sides clamp at the encoding's −90°.

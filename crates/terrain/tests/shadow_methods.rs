@@ -1,6 +1,6 @@
 //! Every shadow method against each cell's own ray, brute force on the same surface
 //! `Method::OwnRay` must agree on every cell, at every azimuth, on the
-//! real Gale MOLA map and on synthesised terrain; the sweeps' disagreements are the
+//! real Gale MOLA map and on synthesised terrain; the traces' disagreements are the
 //! figures `areo_terrain::shadow`'s docs state.
 
 use std::path::Path;
@@ -19,7 +19,7 @@ fn disagreements(dem: &Dem, az: f64, elevations: &[f64], curvature: Curvature) -
     elevations
         .iter()
         .map(|&el| {
-            [Method::OwnRay, Method::Swept].map(|method| {
+            [Method::OwnRay, Method::Sheared].map(|method| {
                 let cast = Shadows::new(GridSunDirection::new(az, el), curvature).method(method).cast(dem);
                 let differ = cast.iter().zip(&own).filter(|(s, h)| h.is_finite() && **s != (**h > el)).count();
                 differ as f64 / valid
@@ -28,11 +28,11 @@ fn disagreements(dem: &Dem, az: f64, elevations: &[f64], curvature: Curvature) -
         .collect()
 }
 
-/// The swept method's stated bounds (`shadow` docs): none on cardinal azimuths,
+/// The sheared method's stated bounds (`shadow` docs): none on cardinal azimuths,
 /// 0.25 % of cells at a Sun 5° up or more, 0.5 % below. Measured 2026-11-25: the full
 /// Gale map ≤ 0.112 % and ≤ 0.196 %, its 64 × 64 crop 0.220 % and 0.269 %, the
 /// synthesised terrain 0.100 % and 0.142 %.
-fn swept_bound(az: f64, el: f64) -> f64 {
+fn sheared_bound(az: f64, el: f64) -> f64 {
     if az % 90.0 == 0.0 {
         0.0
     } else if el >= 5.0 {
@@ -49,15 +49,15 @@ fn own_ray_agrees_with_brute_force_on_every_cell_of_the_gale_map() {
     let mut worst = [0f64; 2];
     for k in 0..72 {
         let az = k as f64 * 5.0;
-        for (el, [own, swept]) in elevations.iter().zip(disagreements(&crop, az, &elevations, Curvature::Flat)) {
+        for (el, [own, sheared]) in elevations.iter().zip(disagreements(&crop, az, &elevations, Curvature::Flat)) {
             assert_eq!(own, 0.0, "gale crop az {az} el {el}: every cell as its own ray says");
-            assert!(swept <= swept_bound(az, *el), "gale crop az {az} el {el}: swept {swept}");
+            assert!(sheared <= sheared_bound(az, *el), "gale crop az {az} el {el}: sheared {sheared}");
             let w = &mut worst[usize::from(*el >= 5.0)];
-            *w = w.max(swept);
+            *w = w.max(sheared);
         }
     }
     eprintln!(
-        "gale crop, 72 azimuths: swept worst {:.3} % at 2°, {:.3} % at 5° and above",
+        "gale crop, 72 azimuths: sheared worst {:.3} % at 2°, {:.3} % at 5° and above",
         100.0 * worst[0],
         100.0 * worst[1]
     );
@@ -70,10 +70,10 @@ fn own_ray_agrees_with_brute_force_on_every_cell_of_the_gale_map() {
     let full = geotiff::read(&path).unwrap();
     let elevations = [2.0, 5.0, 8.0, 15.0, 20.0];
     for az in [270.0, 135.0, 10.0] {
-        for (el, [own, swept]) in elevations.iter().zip(disagreements(&full, az, &elevations, Curvature::Flat)) {
-            eprintln!("gale 897 x 897 az {az} el {el}: own ray {own}, swept {:.4} % differ", 100.0 * swept);
+        for (el, [own, sheared]) in elevations.iter().zip(disagreements(&full, az, &elevations, Curvature::Flat)) {
+            eprintln!("gale 897 x 897 az {az} el {el}: own ray {own}, sheared {:.4} % differ", 100.0 * sheared);
             assert_eq!(own, 0.0, "gale az {az} el {el}: every cell as its own ray says");
-            assert!(swept <= swept_bound(az, *el), "gale az {az} el {el}: swept {swept}");
+            assert!(sheared <= sheared_bound(az, *el), "gale az {az} el {el}: sheared {sheared}");
         }
     }
     // Curvature: the own ray applies d²/2R exactly, as the brute force does.
@@ -114,16 +114,20 @@ fn own_ray_agrees_with_brute_force_on_synthesised_terrain_at_every_azimuth() {
     let (mut worst_low, mut worst_high): (f64, f64) = (0.0, 0.0);
     for k in 0..24 {
         let az = k as f64 * 15.0;
-        for (el, [own, swept]) in elevations.iter().zip(disagreements(&dem, az, &elevations, Curvature::Flat)) {
+        for (el, [own, sheared]) in elevations.iter().zip(disagreements(&dem, az, &elevations, Curvature::Flat)) {
             assert_eq!(own, 0.0, "az {az} el {el}: every cell as its own ray says");
-            assert!(swept <= swept_bound(az, *el), "az {az} el {el}: swept {swept}");
+            assert!(sheared <= sheared_bound(az, *el), "az {az} el {el}: sheared {sheared}");
             if *el < 5.0 {
-                worst_low = worst_low.max(swept);
+                worst_low = worst_low.max(sheared);
             } else {
-                worst_high = worst_high.max(swept);
+                worst_high = worst_high.max(sheared);
             }
         }
     }
-    // Measured 2026-11-25: swept 0.100 % at 5° and above, 0.142 % at 2°.
-    eprintln!("synthesised, swept: worst {:.3} % at 2°, {:.3} % at 5° and 15°", 100.0 * worst_low, 100.0 * worst_high);
+    // Measured 2026-11-25: sheared 0.100 % at 5° and above, 0.142 % at 2°.
+    eprintln!(
+        "synthesised, sheared: worst {:.3} % at 2°, {:.3} % at 5° and 15°",
+        100.0 * worst_low,
+        100.0 * worst_high
+    );
 }

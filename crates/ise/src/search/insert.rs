@@ -14,7 +14,7 @@ impl<D: Domain> Search<D> {
         label: D::Label,
         g: f64,
         parent: u32,
-        action: Option<D::Action>,
+        via: Option<D::Move>,
     ) {
         if !domain.within_global(state, &label, g) || matches!(self.mode, Mode::BestDparms { max_cost } if g > max_cost)
         {
@@ -39,10 +39,10 @@ impl<D: Domain> Search<D> {
         }
         if !D::MANY_LABELS && head == NONE {
             // A state seen for the first time: nothing to compete with.
-            self.push_node(domain, state, label, g, parent, action, NONE);
+            self.push_node(domain, state, label, g, parent, via, NONE);
             return;
         }
-        self.insert_slow(domain, state, label, key, head, g, parent, action);
+        self.insert_slow(domain, state, label, key, head, g, parent, via);
     }
 
     /// The rest of [`Search::insert`]: the class table, or a walk over the state's labels.
@@ -57,14 +57,14 @@ impl<D: Domain> Search<D> {
         head: u32,
         g: f64,
         parent: u32,
-        action: Option<D::Action>,
+        via: Option<D::Move>,
     ) {
         if D::MANY_LABELS && D::DOMINANCE {
-            self.insert_in_group(domain, state, label, key, head, g, parent, action);
+            self.insert_in_group(domain, state, label, key, head, g, parent, via);
             return;
         }
         if D::MANY_LABELS && !D::DOMINANCE {
-            self.insert_in_class(domain, state, label, key, head, g, parent, action);
+            self.insert_in_class(domain, state, label, key, head, g, parent, via);
             return;
         }
         // Walk the labels at this state, unlinking removed ones on the way.
@@ -93,7 +93,7 @@ impl<D: Domain> Search<D> {
                         // Not yet expanded and nothing hangs from it: the better label
                         // takes its node (A*'s decrease-key) instead of a new one. On a
                         // grid half the labels made are such replacements.
-                        self.relabel(domain, id, label, g, parent, action);
+                        self.relabel(domain, id, label, g, parent, via);
                         self.relink_head(domain, state, head, new_head);
                         return;
                     }
@@ -113,7 +113,7 @@ impl<D: Domain> Search<D> {
             prev = id;
             id = next;
         }
-        self.push_node(domain, state, label, g, parent, action, new_head);
+        self.push_node(domain, state, label, g, parent, via, new_head);
     }
 
     /// [`Search::insert`] with a class table: the table finds the one label this one
@@ -129,7 +129,7 @@ impl<D: Domain> Search<D> {
         head: u32,
         g: f64,
         parent: u32,
-        action: Option<D::Action>,
+        via: Option<D::Move>,
     ) {
         // The class table finds the one label this one competes with.
         let new_id = self.nodes.len();
@@ -153,7 +153,7 @@ impl<D: Domain> Search<D> {
                 e.insert((new_id, g));
             }
         }
-        let pushed = self.push_node(domain, state, label, g, parent, action, head);
+        let pushed = self.push_node(domain, state, label, g, parent, via, head);
         debug_assert_eq!(pushed, new_id);
     }
 
@@ -172,7 +172,7 @@ impl<D: Domain> Search<D> {
         state_head: u32,
         g: f64,
         parent: u32,
-        action: Option<D::Action>,
+        via: Option<D::Move>,
     ) {
         let group = domain.dominance_group(state, key);
         let head = self.groups.get(domain, state, group);
@@ -222,9 +222,9 @@ impl<D: Domain> Search<D> {
             id = next;
         }
         let new_id = if reuse == NONE {
-            self.push_node(domain, state, label, g, parent, action, state_head)
+            self.push_node(domain, state, label, g, parent, via, state_head)
         } else {
-            self.relabel(domain, reuse, label, g, parent, action);
+            self.relabel(domain, reuse, label, g, parent, via);
             reuse
         };
         self.group_next[new_id as usize] = new_head;
@@ -300,7 +300,7 @@ impl<D: Domain> Search<D> {
         label: D::Label,
         g: f64,
         parent: u32,
-        action: Option<D::Action>,
+        via: Option<D::Move>,
         new_head: u32,
     ) -> u32 {
         let h = domain.heuristic(state, &label);
@@ -310,7 +310,7 @@ impl<D: Domain> Search<D> {
         self.nodes.push(Node {
             state,
             label,
-            action,
+            via,
             g,
             parent,
             first_child,
@@ -334,15 +334,7 @@ impl<D: Domain> Search<D> {
     /// Gives the open, childless node `id` a better label of its class: new cost, path
     /// and parent (it leaves its old parent's children), and a new open-list entry (the
     /// old one no longer matches, or is taken after the new one and finds it closed).
-    pub(super) fn relabel(
-        &mut self,
-        domain: &D,
-        id: u32,
-        label: D::Label,
-        g: f64,
-        parent: u32,
-        action: Option<D::Action>,
-    ) {
+    pub(super) fn relabel(&mut self, domain: &D, id: u32, label: D::Label, g: f64, parent: u32, via: Option<D::Move>) {
         let old_parent = self.nodes[id].parent;
         if old_parent != NONE {
             let next = self.nodes[id].next_sibling;
@@ -365,7 +357,7 @@ impl<D: Domain> Search<D> {
         let n = &mut self.nodes[id];
         n.label = label;
         n.g = g;
-        n.action = action;
+        n.via = via;
         n.parent = parent;
         n.next_sibling = next_sibling;
         if parent != NONE {

@@ -120,7 +120,7 @@ impl Validate for ActionsJob {
         if let Some(y) = self.ditch_far_edge_y_m {
             c.range("ditch_far_edge_y_m", y, -1e4, 1e4, "m");
         }
-        for (field, range) in [("mu_sweep", self.mu_sweep), ("mu_replay", self.mu_replay)] {
+        for (field, range) in [("mu_scan", self.mu_scan), ("mu_replay", self.mu_replay)] {
             if let Some((a, b, step)) = range
                 && !(a >= 0.01 && b >= a && b <= 2.0 && step > 0.0 && (b - a) / step <= 100.0)
             {
@@ -140,7 +140,7 @@ impl Validate for ActionsJob {
 }
 
 impl ActionsJob {
-    /// The studies around the GA's runs: the sweep's seeds, the sensitivity study.
+    /// The studies around the GA's runs: the scan's seeds, the sensitivity study.
     fn validate_studies(&self, c: &mut Checks) {
         if !self.sensitivity.is_empty() && self.climb_profile.is_none() {
             c.fail("sensitivity", "needs a climb_profile to repeat".to_string());
@@ -149,14 +149,14 @@ impl ActionsJob {
         if values > 200 {
             c.fail("sensitivity", format!("{values} values: allowed at most 200 in all"));
         }
-        if let Some((a, b)) = self.mu_sweep_seeds {
+        if let Some((a, b)) = self.mu_scan_seeds {
             if !(a <= b && b - a < 100) {
                 c.fail(
-                    "mu_sweep_seeds",
+                    "mu_scan_seeds",
                     format!("({a}, {b}): allowed (first, last) with first ≤ last and at most 100 seeds"),
                 );
-            } else if self.mu_sweep.is_none() {
-                c.fail("mu_sweep_seeds", "needs a mu_sweep to repeat".to_string());
+            } else if self.mu_scan.is_none() {
+                c.fail("mu_scan_seeds", "needs a mu_scan to repeat".to_string());
             }
         }
     }

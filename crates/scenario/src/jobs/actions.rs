@@ -1,14 +1,14 @@
 //! The action-planning job: build the terrain and the task, filter the inventory, run
-//! the GA (per run, or per μ of a sweep), and report each run's best plan with its
+//! the GA (per run, or per μ of a friction scan), and report each run's best plan with its
 //! history, commands and plots, the seed studies, the friction studies and the climb.
 
 use std::path::Path;
 
 use crate::format::synth::FeatureSpec;
 use areo_actions::{
-    ClimbProfile, ExecConfig, Execution, Executor, FrictionReplay, FrictionSweep, GaConfig, GaReport, Inventory,
+    ClimbProfile, ExecConfig, Execution, Executor, FrictionReplay, FrictionScan, GaConfig, GaReport, Inventory,
     Overrides, Rock, Scale, Surroundings, Task, TraceStep, Weights, climb_margins, design_space_log10, evolve,
-    friction_replay, friction_sweep,
+    friction_replay, friction_scan,
 };
 use areo_rover::RoverParams;
 use areo_rover::evaluation::Evaluator;
@@ -20,8 +20,8 @@ use crate::jobs::RunOptions;
 use crate::report::Report;
 use crate::report::actions::{
     ActionsReport, BestPlan, Binding, ClimbFigures, ClimbPoseRow, CommandList, ExecutedBest, GaRunFigures, PlanRecord,
-    RemovedModule, ReplayFigures, ReplayPointRow, SeedRow, SeedSweepRow, SeedThreshold, SensitivityFigures, StartPose,
-    StudyFigures, SweepFigures, SweepPointRow, SweepSeedFigures, WheelBinding,
+    RemovedModule, ReplayFigures, ReplayPointRow, ScanFigures, ScanPointRow, ScanSeedFigures, SeedRow, SeedScanRow,
+    SeedThreshold, SensitivityFigures, StartPose, StudyFigures, WheelBinding,
 };
 use crate::report::plots::{HistogramPlot, Marker, Plot, ProfilePlot, ProfileRover, RoutePlot, Series, TimePlot};
 use std::collections::BTreeMap;
@@ -110,14 +110,14 @@ struct RunResult {
 }
 
 /// What an actions job computed (the public [`ActionsReport`], the summary and the
-/// files are made from it): the filtered inventory, each run, the friction sweep
-/// (the μ values and their results, and the sweep for each further seed), the first
+/// files are made from it): the filtered inventory, each run, the friction scan
+/// (the μ values and their results, and the scan for each further seed), the first
 /// run's best plan replayed over friction, and the climb profile.
 struct Computed {
     filtered: Inventory,
     runs: Vec<RunResult>,
-    sweep: Option<(Vec<f64>, FrictionSweep)>,
-    sweep_seeds: Vec<(u64, FrictionSweep)>,
+    scan: Option<(Vec<f64>, FrictionScan)>,
+    scan_seeds: Vec<(u64, FrictionScan)>,
     replay: Option<FrictionReplay>,
     climb: Option<ClimbProfile>,
     sensitivity: Vec<areo_actions::SensitivityRow>,
@@ -170,7 +170,7 @@ fn run_plans(job: &ActionsJob, file: &ScenarioFile, setup: &Setup, filtered: &In
         .collect()
 }
 
-/// The μ values of a `(first, last, step)` range (`mu_sweep`, `mu_replay`), rounded to
+/// The μ values of a `(first, last, step)` range (`mu_scan`, `mu_replay`), rounded to
 /// 1e-6.
 fn mu_values(range: Option<(f64, f64, f64)>) -> Vec<f64> {
     match range {
@@ -182,7 +182,7 @@ fn mu_values(range: Option<(f64, f64, f64)>) -> Vec<f64> {
     }
 }
 
-/// Evolves every run (and its other seeds), sweeps μ and profiles the climb.
+/// Evolves every run (and its other seeds), scans μ and profiles the climb.
 fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &Setup) -> Result<Computed> {
     let Setup { dem, task, params, execution, weights, ga, overrides } = setup;
     let evaluator = Evaluator::new(params);
@@ -190,15 +190,15 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
     let room = Surroundings::new((dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy()), params);
     let filtered = Inventory::for_task(task, &room, overrides);
     let plans = run_plans(job, file, setup, &filtered)?;
-    let sweep = mu_values(job.mu_sweep);
-    let sweep_seeds: Vec<u64> =
-        job.mu_sweep_seeds.map_or(Vec::new(), |(a, b)| (a..=b).filter(|&seed| seed != ga.seed).collect());
+    let scan = mu_values(job.mu_scan);
+    let scan_seeds: Vec<u64> =
+        job.mu_scan_seeds.map_or(Vec::new(), |(a, b)| (a..=b).filter(|&seed| seed != ga.seed).collect());
     // The run's own seed, then the study's others.
     let evolutions: usize = plans
         .iter()
         .map(|r| 1 + r.seeds.map_or(0, |(a, b)| (b - a + 1) as usize - usize::from((a..=b).contains(&r.ga.seed))))
         .sum();
-    opts.progress.start((evolutions + sweep.len() * (1 + sweep_seeds.len())) as u64, "evolving");
+    opts.progress.start((evolutions + scan.len() * (1 + scan_seeds.len())) as u64, "evolving");
     let mut runs = Vec::with_capacity(plans.len());
     for plan in &plans {
         let exec = ExecConfig { mu: plan.mu, ..*execution };
@@ -233,16 +233,16 @@ fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &
         let (name, inventory, generations) = (plan.name.clone(), plan.inventory.clone(), plan.ga.generations);
         runs.push(RunResult { name, report, seconds, exec, inventory, generations, study, best });
     }
-    let (sweep, sweep_seeds) = friction_sweeps(job, file, opts, setup, &plans[0].inventory, &sweep, &sweep_seeds)?;
+    let (scan, scan_seeds) = friction_scans(job, file, opts, setup, &plans[0].inventory, &scan, &scan_seeds)?;
     opts.progress.finish();
     let (replay, climb, sensitivity) = studies_without_the_ga(job, setup, &runs[0]);
-    Ok(Computed { filtered, runs, sweep, sweep_seeds, replay, climb, sensitivity })
+    Ok(Computed { filtered, runs, scan, scan_seeds, replay, climb, sensitivity })
 }
 
-/// The friction sweep at the GA's seed (`mu_sweep`), and at each seed of
-/// `mu_sweep_seeds` (all of them, the GA's own included, in seed order; empty without).
+/// The friction scan at the GA's seed (`mu_scan`), and at each seed of
+/// `mu_scan_seeds` (all of them, the GA's own included, in seed order; empty without).
 #[allow(clippy::type_complexity)]
-fn friction_sweeps(
+fn friction_scans(
     job: &ActionsJob,
     file: &ScenarioFile,
     opts: RunOptions<'_>,
@@ -250,14 +250,14 @@ fn friction_sweeps(
     inventory: &Inventory,
     mus: &[f64],
     other_seeds: &[u64],
-) -> Result<(Option<(Vec<f64>, FrictionSweep)>, Vec<(u64, FrictionSweep)>)> {
+) -> Result<(Option<(Vec<f64>, FrictionScan)>, Vec<(u64, FrictionScan)>)> {
     if mus.is_empty() {
         return Ok((None, Vec::new()));
     }
     let evaluator = Evaluator::new(&setup.params);
     let scale = scale_of(setup);
-    let sweep_with = |ga: &GaConfig| {
-        friction_sweep(
+    let scan_with = |ga: &GaConfig| {
+        friction_scan(
             &setup.dem,
             &evaluator,
             &setup.task,
@@ -272,14 +272,14 @@ fn friction_sweeps(
         )
         .map_err(|e| ga_error(file, e))
     };
-    let result = sweep_with(&setup.ga)?;
+    let result = scan_with(&setup.ga)?;
     let mut seeds = Vec::new();
-    if let Some((a, b)) = job.mu_sweep_seeds {
+    if let Some((a, b)) = job.mu_scan_seeds {
         if (a..=b).contains(&setup.ga.seed) {
             seeds.push((setup.ga.seed, result.clone()));
         }
         for &seed in other_seeds {
-            seeds.push((seed, sweep_with(&GaConfig { seed, ..setup.ga.clone() })?));
+            seeds.push((seed, scan_with(&GaConfig { seed, ..setup.ga.clone() })?));
         }
         seeds.sort_by_key(|(seed, _)| *seed);
     }
@@ -352,9 +352,9 @@ fn report(setup: &Setup, computed: &Computed) -> Report {
         r.plots = study_plots(&studies, setup.ga.generations);
     }
     r.plots.extend(computed.climb.as_ref().map(climb_plot));
-    r.sweep = computed.sweep.as_ref().map(|(values, result)| sweep_facts(values, result));
-    if !computed.sweep_seeds.is_empty() {
-        r.sweep_seeds = Some(sweep_seed_facts(&computed.sweep_seeds));
+    r.scan = computed.scan.as_ref().map(|(values, result)| scan_facts(values, result));
+    if !computed.scan_seeds.is_empty() {
+        r.scan_seeds = Some(scan_seed_facts(&computed.scan_seeds));
     }
     r.replay = computed.replay.as_ref().map(|replay| replay_facts(&computed.runs[0], replay));
     r.climb = computed.climb.as_ref().map(climb_facts);
@@ -362,14 +362,14 @@ fn report(setup: &Setup, computed: &Computed) -> Report {
     Report::Actions(Box::new(r))
 }
 
-/// The friction sweep's thresholds and what binds just below each.
-fn sweep_facts(values: &[f64], result: &FrictionSweep) -> SweepFigures {
+/// The friction scan's thresholds and what binds just below each.
+fn scan_facts(values: &[f64], result: &FrictionScan) -> ScanFigures {
     let (crossed, completed) = (result.min_mu_crossing, result.min_mu_completing);
-    let mut f = SweepFigures {
-        sweep_mu_first: values[0],
-        sweep_mu_last: values[values.len() - 1],
-        sweep_points: (result.points.iter())
-            .map(|p| SweepPointRow {
+    let mut f = ScanFigures {
+        scan_mu_first: values[0],
+        scan_mu_last: values[values.len() - 1],
+        scan_points: (result.points.iter())
+            .map(|p| ScanPointRow {
                 mu: p.mu,
                 complete: p.complete,
                 best_fitness: p.best_fitness,
@@ -379,10 +379,10 @@ fn sweep_facts(values: &[f64], result: &FrictionSweep) -> SweepFigures {
                 binding: p.binding.as_ref().map(wheel_binding),
             })
             .collect(),
-        sweep_min_mu_crossing_ditch: crossed,
-        sweep_min_mu_completing: completed,
-        sweep_ditch_needs_less_friction_than_hill: crossed.zip(completed).map(|(a, b)| a < b),
-        ..SweepFigures::default()
+        scan_min_mu_crossing_ditch: crossed,
+        scan_min_mu_completing: completed,
+        scan_ditch_needs_less_friction_than_hill: crossed.zip(completed).map(|(a, b)| a < b),
+        ..ScanFigures::default()
     };
     // What binds just below each threshold: the best plan at the last μ that fails.
     for (what, threshold) in [("crossing", crossed), ("completing", completed)] {
@@ -400,7 +400,7 @@ fn sweep_facts(values: &[f64], result: &FrictionSweep) -> SweepFigures {
                 steepest_angle_deg: b.steepest.1,
                 said: b.to_string(),
             };
-            f.sweep_binding_below.insert(what.to_string(), binding);
+            f.scan_binding_below.insert(what.to_string(), binding);
         }
     }
     f
@@ -421,30 +421,30 @@ fn wheel_binding(b: &areo_actions::WheelLimit) -> WheelBinding {
     }
 }
 
-/// The friction sweep's thresholds over seeds: median, least and greatest, and how many
+/// The friction scan's thresholds over seeds: median, least and greatest, and how many
 /// seeds never got there.
-fn sweep_seed_facts(seeds: &[(u64, FrictionSweep)]) -> SweepSeedFigures {
+fn scan_seed_facts(seeds: &[(u64, FrictionScan)]) -> ScanSeedFigures {
     let n = seeds.len();
-    let rows = seeds.iter().map(|(seed, s)| SeedSweepRow {
+    let rows = seeds.iter().map(|(seed, s)| SeedScanRow {
         seed: *seed,
         min_mu_crossing_ditch: s.min_mu_crossing,
         min_mu_completing: s.min_mu_completing,
         completed_at: s.points.iter().filter(|p| p.complete).map(|p| p.mu).collect(),
     });
-    let mut f = SweepSeedFigures { sweep_seeds: n, sweep_seed_rows: rows.collect(), ..SweepSeedFigures::default() };
+    let mut f = ScanSeedFigures { scan_seeds: n, scan_seed_rows: rows.collect(), ..ScanSeedFigures::default() };
     for (what, pick) in [
-        ("crossing_ditch", (|s: &FrictionSweep| s.min_mu_crossing) as fn(&FrictionSweep) -> Option<f64>),
-        ("completing", |s: &FrictionSweep| s.min_mu_completing),
+        ("crossing_ditch", (|s: &FrictionScan| s.min_mu_crossing) as fn(&FrictionScan) -> Option<f64>),
+        ("completing", |s: &FrictionScan| s.min_mu_completing),
     ] {
         let mut found: Vec<f64> = seeds.iter().filter_map(|(_, s)| pick(s)).collect();
         found.sort_by(f64::total_cmp);
         let never = n - found.len();
-        f.sweep_seeds_never.insert(what.to_string(), never);
+        f.scan_seeds_never.insert(what.to_string(), never);
         let (Some(&lo), Some(&hi)) = (found.first(), found.last()) else { continue };
         // A seed that never gets there counts as above every μ: the median exists while
         // fewer than half never do.
         let median = (2 * never < n).then(|| found[(n - 1) / 2]);
-        f.sweep_seeds_min_mu.insert(what.to_string(), SeedThreshold { least: lo, greatest: hi, median });
+        f.scan_seeds_min_mu.insert(what.to_string(), SeedThreshold { least: lo, greatest: hi, median });
     }
     f
 }

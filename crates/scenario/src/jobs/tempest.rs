@@ -593,7 +593,7 @@ fn located_uncertainty(file: &ScenarioFile, e: Error) -> Error {
 
 /// The job's planner settings as every search of the run uses them: no planning call
 /// may expand more labels than the work budget leaves for searching (an expansion is
-/// `budget::EXPANSION_STEPS` of the estimate's steps; `budget::search_allowance`) — the
+/// `search_cost::EXPANSION_STEPS` of the estimate's steps; `budget::search_allowance`) — the
 /// estimate is checked before the run, this holds during it.
 ///
 /// The search graphs may hold what the memory budget leaves beside the worlds

@@ -75,12 +75,13 @@ fn sun_table_summary(r: &SunTableReport) -> Vec<String> {
     ]
 }
 
-/// `dem.tif` (float32, NaN where no data), `shadow.tif` (the direct-sun map: 1 lit,
-/// 0 shadowed, 255 no data) and its preview `shadow.png` with a world file.
+/// `dem.tif` (float32, NaN where no data), `direct_sun.tif` (1 in direct sun, 0 not
+/// — a cast shadow or a slope facing away —, 255 no data) and its preview
+/// `direct_sun.png` with a world file.
 fn terrain_shadow_files(dir: &Path, r: &TerrainShadowReport) -> Result<Vec<PathBuf>> {
     let dem_path = dir.join("dem.tif");
     super::write_with(&dem_path, |tmp| Ok(geotiff::write_f32_on(&r.grid, &r.elevation_m.values, tmp)?))?;
-    let shadow_path = dir.join("shadow.tif");
+    let shadow_path = dir.join("direct_sun.tif");
     super::write_with(&shadow_path, |tmp| Ok(geotiff::write_u8_on(&r.grid, &r.direct_sun.values, Some(255), tmp)?))?;
     let rgb: Vec<u8> = r.preview_rgb.values.iter().flatten().copied().collect();
     let mut files = vec![dem_path, shadow_path.clone()];

@@ -1,10 +1,10 @@
 //! The actions job's report: the design space, each GA run's best plan and seed study,
-//! the friction sweeps, the replay, the straight climb and the sensitivity climbs.
+//! the friction scans, the replay, the straight climb and the sensitivity climbs.
 //!
 //! Figures keyed by a run, a threshold, a seed count or an assumed value are maps, so a
 //! fact names its key in its path (`runs.lsr1.best_fitness`,
-//! `sweep_binding_below.crossing.wheel`, `sensitivity.FIELD.VALUE.stop`); groups whose
-//! figures carry their own prefix (`sweep_…`, `replay_…`, `climb_…`) are flattened.
+//! `scan_binding_below.crossing.wheel`, `sensitivity.FIELD.VALUE.stop`); groups whose
+//! figures carry their own prefix (`scan_…`, `replay_…`, `climb_…`) are flattened.
 
 use std::collections::BTreeMap;
 
@@ -30,12 +30,12 @@ pub struct ActionsReport {
     pub runs: BTreeMap<String, GaRunFigures>,
     /// The runs' names in the scenario's order.
     pub run_order: Vec<String>,
-    /// The friction sweep's thresholds.
+    /// The friction scan's thresholds.
     #[serde(flatten)]
-    pub sweep: Option<SweepFigures>,
-    /// The friction sweep's thresholds over seeds.
+    pub scan: Option<ScanFigures>,
+    /// The friction scan's thresholds over seeds.
     #[serde(flatten)]
-    pub sweep_seeds: Option<SweepSeedFigures>,
+    pub scan_seeds: Option<ScanSeedFigures>,
     /// The first run's best plan replayed over friction.
     #[serde(flatten)]
     pub replay: Option<ReplayFigures>,
@@ -286,23 +286,23 @@ pub struct StudyFigures {
     pub seed_rows: Vec<SeedRow>,
 }
 
-/// The friction sweep.
+/// The friction scan.
 #[derive(Debug, Clone, Default, Serialize)]
-pub struct SweepFigures {
+pub struct ScanFigures {
     /// The least μ whose best plan crosses the ditch.
-    pub sweep_min_mu_crossing_ditch: Option<f64>,
+    pub scan_min_mu_crossing_ditch: Option<f64>,
     /// The least μ whose best plan completes the task.
-    pub sweep_min_mu_completing: Option<f64>,
+    pub scan_min_mu_completing: Option<f64>,
     /// Whether crossing needs less friction than completing.
-    pub sweep_ditch_needs_less_friction_than_hill: Option<bool>,
+    pub scan_ditch_needs_less_friction_than_hill: Option<bool>,
     /// What binds just below each threshold (`crossing`, `completing`).
-    pub sweep_binding_below: BTreeMap<String, Binding>,
-    /// The sweep's first μ.
-    pub sweep_mu_first: f64,
+    pub scan_binding_below: BTreeMap<String, Binding>,
+    /// The scan's first μ.
+    pub scan_mu_first: f64,
     /// Its last μ.
-    pub sweep_mu_last: f64,
+    pub scan_mu_last: f64,
     /// The GA's best plan at each μ.
-    pub sweep_points: Vec<SweepPointRow>,
+    pub scan_points: Vec<ScanPointRow>,
 }
 
 /// A force limit that bound a plan.
@@ -326,17 +326,17 @@ pub struct Binding {
     pub said: String,
 }
 
-/// The friction sweep over seeds.
+/// The friction scan over seeds.
 #[derive(Debug, Clone, Default, Serialize)]
-pub struct SweepSeedFigures {
+pub struct ScanSeedFigures {
     /// Seeds swept.
-    pub sweep_seeds: usize,
+    pub scan_seeds: usize,
     /// Seeds that never got there, by threshold (`crossing_ditch`, `completing`).
-    pub sweep_seeds_never: BTreeMap<String, usize>,
+    pub scan_seeds_never: BTreeMap<String, usize>,
     /// The thresholds over the seeds that got there, by threshold.
-    pub sweep_seeds_min_mu: BTreeMap<String, SeedThreshold>,
-    /// Each seed's sweep.
-    pub sweep_seed_rows: Vec<SeedSweepRow>,
+    pub scan_seeds_min_mu: BTreeMap<String, SeedThreshold>,
+    /// Each seed's scan.
+    pub scan_seed_rows: Vec<SeedScanRow>,
 }
 
 /// One threshold's μ over seeds.
@@ -484,9 +484,9 @@ pub struct WheelBinding {
     pub steepest_climbing: bool,
 }
 
-/// The GA afresh at one μ of the friction sweep.
+/// The GA afresh at one μ of the friction scan.
 #[derive(Debug, Clone, Default, Serialize)]
-pub struct SweepPointRow {
+pub struct ScanPointRow {
     /// The friction coefficient.
     pub mu: f64,
     /// Whether the best plan completes the task.
@@ -503,9 +503,9 @@ pub struct SweepPointRow {
     pub binding: Option<WheelBinding>,
 }
 
-/// One seed's friction sweep.
+/// One seed's friction scan.
 #[derive(Debug, Clone, Default, Serialize)]
-pub struct SeedSweepRow {
+pub struct SeedScanRow {
     /// The GA seed.
     pub seed: u64,
     /// The least μ whose best plan crosses the ditch.

@@ -104,11 +104,11 @@ impl Report {
                 if let Some(c) = &r.climb {
                     put("climb", &c.climb_poses);
                 }
-                if let Some(s) = &r.sweep {
-                    put("sweep", &s.sweep_points);
+                if let Some(s) = &r.scan {
+                    put("scan", &s.scan_points);
                 }
-                if let Some(s) = &r.sweep_seeds {
-                    put("sweep_seeds", &s.sweep_seed_rows);
+                if let Some(s) = &r.scan_seeds {
+                    put("scan_seeds", &s.scan_seed_rows);
                 }
                 if let Some(s) = &r.replay {
                     put("replay", &s.replay_points);

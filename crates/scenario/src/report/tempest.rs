@@ -157,7 +157,7 @@ pub struct PlanFigures {
     /// Communicate sessions and the drives that would overlap one.
     #[serde(flatten)]
     pub sessions: Option<SessionFigures>,
-    /// Off Mars: shadowed driving, Earth contact, the Sun's sweep, waits at havens.
+    /// Off Mars: shadowed driving, Earth contact, the Sun's azimuth span, waits at havens.
     #[serde(flatten)]
     pub body: Option<BodyFigures>,
 }
@@ -199,7 +199,7 @@ pub struct BodyFigures {
     /// The contact a gap is measured without: a session of this length, min.
     pub contact_session_min: Option<f64>,
     /// How far the Sun's azimuth turns over the plan, degrees.
-    pub initial_plan_sun_azimuth_swept_deg: f64,
+    pub initial_plan_sun_azimuth_span_deg: f64,
     /// The Sun's lowest elevation over the plan, degrees.
     pub initial_plan_lowest_sun_deg: f64,
     /// Whether the plan ends within a cell of its start.

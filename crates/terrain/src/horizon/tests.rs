@@ -34,8 +34,8 @@ fn horizon_lookups_agree_with_shadow_maps_at_sector_centres() {
         let az = sector as f64 * 360.0 / 32.0;
         let truth = horizon_on_grid_lines(&dem, az, Curvature::Flat);
         let looked_up = map.shadowed(az, el);
-        let swept = cast_shadows(&dem, GridSunDirection::new(az, el), Curvature::Flat, Method::OwnRay);
-        let (mut differ, mut not_grazing, mut sweep_differ) = (0, 0, 0);
+        let traced = cast_shadows(&dem, GridSunDirection::new(az, el), Curvature::Flat, Method::OwnRay);
+        let (mut differ, mut not_grazing, mut trace_differ) = (0, 0, 0);
         for i in 0..truth.len() {
             let shadowed = truth[i] > el;
             if looked_up[i] != shadowed {
@@ -44,17 +44,17 @@ fn horizon_lookups_agree_with_shadow_maps_at_sector_centres() {
                     not_grazing += 1;
                 }
             }
-            if swept[i] != looked_up[i] {
-                sweep_differ += 1;
+            if traced[i] != looked_up[i] {
+                trace_differ += 1;
             }
         }
         let n = truth.len() as f64;
         eprintln!(
-            "az {az:6.2} el {el:4.1}: horizon map vs rays {differ}, of which {not_grazing} not grazing; vs sweep {sweep_differ} (of {n})"
+            "az {az:6.2} el {el:4.1}: horizon map vs rays {differ}, of which {not_grazing} not grazing; vs trace {trace_differ} (of {n})"
         );
         assert!(differ as f64 / n <= 0.0025, "az {az}: {differ} differ from the ray cast");
         assert!(not_grazing as f64 / n <= 0.0005, "az {az}: {not_grazing} disagreements away from grazing");
-        assert!(sweep_differ as f64 / n <= 0.015, "az {az}: {sweep_differ} differ from the shadow sweep");
+        assert!(trace_differ as f64 / n <= 0.015, "az {az}: {trace_differ} differ from the shadow trace");
     }
 }
 

@@ -1,4 +1,4 @@
-//! [`Method::Interpolated`](super::Method::Interpolated): the cheapest sweep, on the
+//! [`Method::Interpolated`](super::Method::Interpolated): the cheapest trace, on the
 //! grid-line surface, approximate.
 //!
 //! The grid is walked line by line away from the source, the lines being columns or
@@ -17,13 +17,13 @@
 //! disagreements are within 1° of grazing (tests below).
 
 use crate::dem::Dem;
-use crate::scan_lines::{LineGeometry, Lines};
+use crate::ray_lines::{LineGeometry, Lines};
 use crate::shadow::Curvature;
 
 /// Samples per cell along each line (cells plus interpolated points between them).
 const SUB: usize = 2;
 
-/// Cast shadow (true = shadowed) by the interpolating sweep of the module docs.
+/// Cast shadow (true = shadowed) by the interpolating trace of the module docs.
 pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: Curvature) -> Vec<bool> {
     debug_assert!(elevation_deg > 0.0, "the door (`cast_shadows`) answers a Sun at or below the horizon");
     // Line geometry: a line is a column or a row; `step` is the metres travelled toward
@@ -156,13 +156,13 @@ mod tests {
 
     #[test]
     #[allow(clippy::print_stderr)] // the agreement figures are the point of the test
-    fn sweep_agrees_with_per_cell_rays_on_rough_terrain() {
+    fn trace_agrees_with_per_cell_rays_on_rough_terrain() {
         let dem = crate::synth::rough_test_terrain(120, 90, 7, 40.0, 4);
         for (az, el) in [(90.0, 20.0), (135.0, 10.0), (200.0, 35.0), (300.0, 8.0), (10.0, 15.0), (45.0, 3.0)] {
-            let sweep = cast(&dem, az, el, Curvature::Flat);
+            let trace = cast(&dem, az, el, Curvature::Flat);
             let horizon = crate::reference::horizon_on_grid_lines(&dem, az, Curvature::Flat);
             let (mut differ, mut not_grazing) = (0, 0);
-            for (s, h) in sweep.iter().zip(&horizon) {
+            for (s, h) in trace.iter().zip(&horizon) {
                 if *s != (*h > el) {
                     differ += 1;
                     // Grazing: the terrain's horizon is within a degree of the Sun.
@@ -171,15 +171,15 @@ mod tests {
                     }
                 }
             }
-            let agree = 1.0 - differ as f64 / sweep.len() as f64;
+            let agree = 1.0 - differ as f64 / trace.len() as f64;
             eprintln!(
                 "az {az:5.1} el {el:4.1}: {differ} of {} cells differ ({:.3} % agree), {not_grazing} not grazing",
-                sweep.len(),
+                trace.len(),
                 100.0 * agree
             );
             assert!(agree >= 0.995, "az {az} el {el}: only {:.2} % agree", 100.0 * agree);
             assert!(
-                not_grazing as f64 <= 0.001 * sweep.len() as f64,
+                not_grazing as f64 <= 0.001 * trace.len() as f64,
                 "az {az} el {el}: {not_grazing} disagreements away from grazing"
             );
         }

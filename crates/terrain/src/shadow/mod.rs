@@ -14,8 +14,8 @@
 //! | method | decides each cell by | against its own ray (`reference`) |
 //! |---|---|---|
 //! | [`Method::OwnRay`] (default) | its own ray, with certified shortcuts | every cell at every azimuth tested (`tests/shadow_methods.rs`, `own_ray` unit tests: the Gale MOLA map, full and cropped, 75 azimuths, flat and curved; synthesised terrain, 72 azimuths) |
-//! | [`Method::Swept`] | a sweep; beyond the first step, rays up to a third of a cell aside lend their occluders | 0 differ on cardinal azimuths; at most 0.25 % of cells at a Sun ≥ 5° up, 0.5 % at 2° (measured on the full Gale map: ≤ 0.112 % and ≤ 0.196 %) |
-//! | [`Method::Interpolated`] | a sweep on the coarser grid-line surface, envelopes interpolated | ≥ 99.5 % of cells of its own surface (`reference::horizon_on_grid_lines`), disagreements within 1° of grazing |
+//! | [`Method::Sheared`] | a trace; beyond the first step, rays up to a third of a cell aside lend their occluders | 0 differ on cardinal azimuths; at most 0.25 % of cells at a Sun ≥ 5° up, 0.5 % at 2° (measured on the full Gale map: ≤ 0.112 % and ≤ 0.196 %) |
+//! | [`Method::Interpolated`] | a trace on the coarser grid-line surface, envelopes interpolated | ≥ 99.5 % of cells of its own surface (`reference::horizon_on_grid_lines`), disagreements within 1° of grazing |
 //!
 //! Speeds on the 2527 × 2356 Gale map are in docs/benchmarks.md
 //! (`cargo bench -p areo-terrain`, `cargo xtask bench`).
@@ -35,7 +35,7 @@
 
 mod interpolated;
 mod own_ray;
-mod swept;
+mod sheared;
 
 use crate::dem::Dem;
 use crate::slope::horn_gradient;
@@ -44,7 +44,7 @@ use crate::slope::horn_gradient;
 /// in the image, the direction shadows are cast along — true north only where the
 /// map's meridians are its columns; [`crate::Projection::true_north_on_grid_deg`]
 /// turns one into the other) and elevation above the local horizontal, degrees.
-/// areo-ephemeris's `SunPosition` is the same Sun clockwise from true north.
+/// areo-ephemeris's `TrueSunDirection` is the same Sun clockwise from true north.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GridSunDirection {
     /// Degrees clockwise from the grid's north.
@@ -66,10 +66,10 @@ pub enum Method {
     /// Each cell by its own ray, as the brute force does.
     #[default]
     OwnRay,
-    /// A sweep that lends a cell the occluders of the rays beside it: approximate off
+    /// A trace that lends a cell the occluders of the rays beside it: approximate off
     /// the cardinal azimuths.
-    Swept,
-    /// A sweep on the grid-line surface that interpolates envelopes between rays:
+    Sheared,
+    /// A trace on the grid-line surface that interpolates envelopes between rays:
     /// the cheapest, approximate.
     Interpolated,
 }
@@ -118,7 +118,7 @@ pub(crate) fn cast_shadows(dem: &Dem, sun: GridSunDirection, curvature: Curvatur
     }
     match method {
         Method::OwnRay => own_ray::cast(dem, az, el, curvature),
-        Method::Swept => swept::cast(dem, az, el, curvature),
+        Method::Sheared => sheared::cast(dem, az, el, curvature),
         Method::Interpolated => interpolated::cast(dem, az, el, curvature),
     }
 }
@@ -242,7 +242,7 @@ mod tests {
         // A 20 m wall along x = 50 on flat ground; Sun in the west at 30°: 34.6 m east.
         let (h, e) = (20.0, 30.0f64);
         let dem = Dem::from_fn(200, 20, 1.0, 1.0, |x, _| if (50.0..51.0).contains(&x) { h } else { 0.0 }).unwrap();
-        for method in [Method::OwnRay, Method::Swept, Method::Interpolated] {
+        for method in [Method::OwnRay, Method::Sheared, Method::Interpolated] {
             let s = cast_shadows(&dem, GridSunDirection::new(270.0, e), Curvature::Flat, method);
             let len = (51..200).take_while(|&c| s[10 * 200 + c]).count() as f64;
             assert!((len - h / e.to_radians().tan()).abs() <= 1.0, "{method:?}: shadow {len} m");
@@ -253,7 +253,7 @@ mod tests {
     #[test]
     fn sun_side_border_is_lit_and_a_sun_below_the_horizon_lights_nothing() {
         let dem = Dem::from_fn(30, 30, 1.0, 1.0, |x, y| (x * 0.7).sin() * 5.0 + (y * 0.3).cos() * 5.0).unwrap();
-        for method in [Method::OwnRay, Method::Swept, Method::Interpolated] {
+        for method in [Method::OwnRay, Method::Sheared, Method::Interpolated] {
             let s = cast_shadows(&dem, GridSunDirection::new(0.0, 5.0), Curvature::Flat, method);
             assert!((0..30).all(|c| !s[c]), "{method:?}: the northern border faces a northern Sun unobstructed");
         }
@@ -269,7 +269,7 @@ mod tests {
         let dem = Dem::from_fn(1101, 3, 100.0, 100.0, |x, _| if x < 100.0 { 1000.0 } else { 0.0 }).unwrap();
         let target = 2 * 1101 + 1000;
         let mars = Curvature::Sphere { radius_m: 3_389_500.0 };
-        for method in [Method::OwnRay, Method::Swept, Method::Interpolated] {
+        for method in [Method::OwnRay, Method::Sheared, Method::Interpolated] {
             assert!(
                 cast_shadows(&dem, GridSunDirection::new(270.0, 0.3), Curvature::Flat, method)[target],
                 "{method:?}"

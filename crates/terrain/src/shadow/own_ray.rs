@@ -1,5 +1,5 @@
 //! [`Method::OwnRay`](super::Method::OwnRay): every cell decided by its own ray from its
-//! centre toward the Sun, on the triangulated surface, at about the cost of a sweep.
+//! centre toward the Sun, on the triangulated surface, at about the cost of a trace.
 //!
 //! A cell is in cast shadow when some point of its own ray lies below the surface.
 //! Marching that ray across every triangle edge it meets is exact (terrain minus ray
@@ -10,7 +10,7 @@
 //!
 //! - **Lit, by a certified upper bound** ([`Bands`]): rays laid one per cell width and
 //!   sheared so that each meets the next line exactly at another cut the map into
-//!   bands that run on as bands, never widening. One sweep bounds the shadow height over
+//!   bands that run on as bands, never widening. One trace bounds the shadow height over
 //!   each band from the terrain where its two edge rays cross triangle edges and the
 //!   vertices inside it. Once a cell's ray clears the bound of the band it runs in,
 //!   nothing further along can reach it.
@@ -30,7 +30,7 @@
 //! while the rays apply it exactly.
 
 use crate::dem::Dem;
-use crate::scan_lines::LineGeometry;
+use crate::ray_lines::LineGeometry;
 use crate::shadow::Curvature;
 
 /// Crossings closer than this (in cells) to a vertex are that vertex, as in the

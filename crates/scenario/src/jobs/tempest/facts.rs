@@ -29,34 +29,24 @@ pub(super) fn session_facts(ctx: &Context<'_>, plan: &MissionPlan) -> Option<Ses
 
 /// The initial plan's figures (its search took `seconds`).
 pub(super) fn plan_facts(ctx: &Context<'_>, plan: &MissionPlan, seconds: f64) -> PlanFigures {
-    let (drives, charges, hibernations) = plan.action_counts();
-    let drive_wps: Vec<_> = plan.waypoints.iter().filter(|w| matches!(w.action, Some(Action::Drive(_)))).collect();
-    let length: f64 = plan
-        .waypoints
-        .windows(2)
-        .map(|w| (w[1].easting_m - w[0].easting_m).hypot(w[1].northing_m - w[0].northing_m))
-        .sum();
+    let m = metrics::PlanMetrics::of_plan(plan);
     let mut f = PlanFigures {
         initial_plan_s: seconds,
         initial_plan_labels: None,
         initial_plan_waypoints: plan.waypoints.len(),
-        initial_plan_drives: drives,
-        initial_plan_charges: charges,
-        initial_plan_hibernations: hibernations,
-        initial_plan_wait_steps: plan.wait_steps(),
+        initial_plan_drives: m.drives,
+        initial_plan_charges: m.charges,
+        initial_plan_hibernations: m.hibernations,
+        initial_plan_wait_steps: m.wait_steps,
         initial_plan_duration_h: plan.duration_s() / 3600.0,
         initial_plan_min_battery_wh: plan.min_battery_wh(),
         initial_plan_expansions: plan.expansions,
         initial_plan_cost: plan.cost,
         e_max_wh: plan.e_max_wh,
-        initial_plan_distance_m: length,
+        initial_plan_distance_m: m.distance_m,
         initial_plan_goals: plan.waypoints.iter().filter(|w| w.goal.is_some()).count(),
-        initial_plan_sunlit_drive_fraction: if drive_wps.is_empty() {
-            1.0
-        } else {
-            drive_wps.iter().filter(|w| w.lit).count() as f64 / drive_wps.len() as f64
-        },
-        initial_plan_night_drives: drive_wps.iter().filter(|w| w.sun_elevation_deg <= 0.0).count(),
+        initial_plan_sunlit_drive_fraction: m.sunlit_drive_fraction,
+        initial_plan_night_drives: m.night_drives,
         initial_plan_enters: (ctx.job.regions.iter())
             .map(|r| (r.name.clone(), ctx.enters(plan.waypoints.iter().map(|w| w.cell), r)))
             .collect(),
@@ -97,7 +87,7 @@ pub(super) fn resolution_facts(f: &mut PlanFigures, ctx: &Context<'_>, plan: &Mi
     });
 }
 
-/// Facts of a plan off Mars: driving in shadow, Earth contact, the Sun's sweep, the
+/// Facts of a plan off Mars: driving in shadow, Earth contact, the Sun's azimuth span, the
 /// circuit, and the waits at safe havens — each measured on the plan by sampling, not
 /// taken from the planner's constraints.
 pub(super) fn body_facts(ctx: &Context<'_>, plan: &MissionPlan) -> BodyFigures {
@@ -105,7 +95,7 @@ pub(super) fn body_facts(ctx: &Context<'_>, plan: &MissionPlan) -> BodyFigures {
     let sun = metrics::sun_along(ctx.world, plan, CONTACT_STEP_S);
     let mut f = BodyFigures {
         initial_plan_shadowed_drive_h: shadowed_drive_h(ctx.world, plan, CONTACT_STEP_S),
-        initial_plan_sun_azimuth_swept_deg: sun.azimuth_swept_deg,
+        initial_plan_sun_azimuth_span_deg: sun.azimuth_span_deg,
         initial_plan_lowest_sun_deg: sun.lowest_elevation_deg,
         initial_plan_closes_circuit: plan
             .waypoints
@@ -163,16 +153,14 @@ pub(super) fn sim_facts(report: &mut TempestReport, ctx: &Context<'_>, r: &SimRe
         f.goals.insert(name.to_string(), arrival);
         f.arrival_order.push(name.to_string());
     }
-    let drive_h = hours_in(r, |a| matches!(a, Action::Drive(_)));
-    let charge_h = hours_in(r, |a| a == Action::Charge);
-    let hibernate_h = hours_in(r, |a| a == Action::Hibernate);
+    let m = metrics::PlanMetrics::of_run(r, ctx.truth);
     let replans: Vec<_> = r.plans.iter().filter(|p| p.kind != PlanKind::Initial).collect();
     let route_changes = replans.iter().filter(|p| p.route_changed).count();
     f.zigzag_pairs = metrics::zigzag_pairs(&r.steps);
     let min_battery = r.steps.iter().map(|s| s.battery_above_floor_wh).fold(r.start.energy_wh, f64::min);
     let floor = floor_wh(ctx);
     f.actions = r.steps.len();
-    f.distance_m = r.distance_m();
+    f.distance_m = m.distance_m;
     f.energy_used_wh = r.energy_used_wh();
     f.energy_gained_wh = r.energy_gained_wh();
     // Absolute charges, as everywhere a name says `battery_wh`; the search's E beside.
@@ -180,8 +168,7 @@ pub(super) fn sim_facts(report: &mut TempestReport, ctx: &Context<'_>, r: &SimRe
     f.final_battery_above_floor_wh = r.final_battery_above_floor_wh();
     f.min_battery_wh = min_battery + floor;
     f.nights = r.nights(ctx.truth);
-    (f.drive_h, f.charge_h, f.hibernate_h) = (drive_h, charge_h, hibernate_h);
-    f.wait_h = hours_in(r, |a| a == Action::Wait);
+    (f.drive_h, f.charge_h, f.hibernate_h, f.wait_h) = (m.drive_h, m.charge_h, m.hibernate_h, m.wait_h);
     f.replans = replans.len();
     f.route_changes = route_changes;
     restart_facts(&mut f, r);
@@ -190,8 +177,8 @@ pub(super) fn sim_facts(report: &mut TempestReport, ctx: &Context<'_>, r: &SimRe
     report.peak_search_mb = Some(search_facts(&mut f, r));
     f.world_mb = worlds_mb(ctx);
     f.refused_actions = r.steps.iter().filter(|s| s.refused.is_some()).count();
-    f.night_drives = metrics::night_drives(&r.steps);
-    f.sunlit_drive_fraction = metrics::sunlit_drive_fraction(ctx.truth, &r.steps);
+    f.night_drives = m.night_drives;
+    f.sunlit_drive_fraction = m.sunlit_drive_fraction;
     f.mission_h = ctx.hours(r.end_t_s());
     if let Some(m) = r.median_replan_s() {
         f.median_replan_s = Some(m);
@@ -265,10 +252,4 @@ pub(super) fn restart_facts(f: &mut RunFigures, r: &SimReport) {
         f.restarts_fresh_compared = Some(compared.len());
         f.restarts_fresh_disagree = Some(compared.iter().filter(|&&found| found).count());
     }
-}
-
-/// Hours the executed run spent in the actions `which` accepts.
-pub(super) fn hours_in(r: &SimReport, which: impl Fn(Action) -> bool) -> f64 {
-    // A fold from +0: `sum` of no f64 is -0, which prints as "-0.0 h".
-    r.steps.iter().filter(|s| which(s.action)).map(|s| s.duration_s).fold(0.0, |a, d| a + d) / 3600.0
 }

@@ -1,11 +1,9 @@
 //! An actions report's summary lines.
 
 use crate::output::counted;
-use crate::report::actions::{
-    ActionsReport, ClimbFigures, ReplayFigures, StudyFigures, SweepFigures, SweepSeedFigures,
-};
+use crate::report::actions::{ActionsReport, ClimbFigures, ReplayFigures, ScanFigures, ScanSeedFigures, StudyFigures};
 
-/// The report in words: the design space, each run's seed study, the friction sweeps,
+/// The report in words: the design space, each run's seed study, the friction scans,
 /// the replay, the climbs and each run's best plan.
 pub(crate) fn summary(r: &ActionsReport) -> Vec<String> {
     let codes: Vec<String> = r.inventory.iter().map(u16::to_string).collect();
@@ -23,11 +21,11 @@ pub(crate) fn summary(r: &ActionsReport) -> Vec<String> {
             lines.push(study_line(name, study));
         }
     }
-    if let Some(sweep) = &r.sweep {
-        sweep_lines(&mut lines, sweep);
+    if let Some(scan) = &r.scan {
+        scan_lines(&mut lines, scan);
     }
-    if let Some(seeds) = &r.sweep_seeds {
-        sweep_seed_lines(&mut lines, seeds);
+    if let Some(seeds) = &r.scan_seeds {
+        scan_seed_lines(&mut lines, seeds);
     }
     if let Some(replay) = &r.replay {
         lines.push(replay_line(replay));
@@ -72,30 +70,30 @@ fn study_line(name: &str, s: &StudyFigures) -> String {
     )
 }
 
-fn sweep_lines(lines: &mut Vec<String>, s: &SweepFigures) {
+fn scan_lines(lines: &mut Vec<String>, s: &ScanFigures) {
     for what in ["crossing", "completing"] {
-        if let Some(b) = s.sweep_binding_below.get(what) {
+        if let Some(b) = s.scan_binding_below.get(what) {
             lines.push(format!("below the {what} threshold (μ = {}): {}", b.mu, b.said));
         }
     }
     let from = |mu: Option<f64>| mu.map_or("never".into(), |m| format!("{m}"));
     lines.push(format!(
-        "friction sweep μ = {}..{}: ditch crossed from μ = {}, task completed from μ = {}",
-        s.sweep_mu_first,
-        s.sweep_mu_last,
-        from(s.sweep_min_mu_crossing_ditch),
-        from(s.sweep_min_mu_completing)
+        "friction scan μ = {}..{}: ditch crossed from μ = {}, task completed from μ = {}",
+        s.scan_mu_first,
+        s.scan_mu_last,
+        from(s.scan_min_mu_crossing_ditch),
+        from(s.scan_min_mu_completing)
     ));
 }
 
-fn sweep_seed_lines(lines: &mut Vec<String>, s: &SweepSeedFigures) {
+fn scan_seed_lines(lines: &mut Vec<String>, s: &ScanSeedFigures) {
     for what in ["crossing_ditch", "completing"] {
-        let Some(t) = s.sweep_seeds_min_mu.get(what) else { continue };
-        let never = s.sweep_seeds_never.get(what).copied().unwrap_or(0);
+        let Some(t) = s.scan_seeds_min_mu.get(what) else { continue };
+        let never = s.scan_seeds_never.get(what).copied().unwrap_or(0);
         lines.push(format!(
-            "friction sweep over {} seeds, least μ {what}: median {}, range {}–{}{}",
-            s.sweep_seeds,
-            t.median.map_or("above the sweep".into(), |m| m.to_string()),
+            "friction scan over {} seeds, least μ {what}: median {}, range {}–{}{}",
+            s.scan_seeds,
+            t.median.map_or("above the scan".into(), |m| m.to_string()),
             t.least,
             t.greatest,
             if never > 0 { format!(", {never} never") } else { String::new() }

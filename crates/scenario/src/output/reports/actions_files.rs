@@ -1,5 +1,5 @@
 //! An actions report's files written from the report alone: `inventory.csv`,
-//! `seeds.csv`, `climb.csv`, `sweep.csv`, `sweep_seeds.csv`, `replay.csv`,
+//! `seeds.csv`, `climb.csv`, `scan.csv`, `scan_seeds.csv`, `replay.csv`,
 //! `sensitivity.csv`, the job's plots, and each run's `plan.json`, `plan.csv`,
 //! `ga.csv`, `commands.json`, `commands.csv` and plots (in a directory per run when
 //! there are several).
@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 use crate::output::csv::{Fixed, write_rows};
 use crate::output::{json_for, write_file};
 use crate::report::actions::{
-    ActionsReport, BestPlan, ClimbPoseRow, ReplayPointRow, SeedRow, SeedSweepRow, SensitivityFigures, SweepPointRow,
+    ActionsReport, BestPlan, ClimbPoseRow, ReplayPointRow, ScanPointRow, SeedRow, SeedScanRow, SensitivityFigures,
 };
 
 /// Writes the files into `dir`; returns them.
@@ -43,14 +43,14 @@ pub(crate) fn write(dir: &Path, r: &ActionsReport) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(&sub).map_err(|source| Error::Io { path: sub.clone(), source })?;
         files.extend(best_plan_files(&sub, best)?);
     }
-    if let Some(sweep) = &r.sweep {
-        let path = dir.join("sweep.csv");
-        write_rows(&path, sweep.sweep_points.iter().map(SweepCsv::from))?;
+    if let Some(scan) = &r.scan {
+        let path = dir.join("scan.csv");
+        write_rows(&path, scan.scan_points.iter().map(ScanCsv::from))?;
         files.push(path);
     }
-    if let Some(seeds) = &r.sweep_seeds {
-        let path = dir.join("sweep_seeds.csv");
-        write_rows(&path, seeds.sweep_seed_rows.iter().map(SeedSweepCsv::from))?;
+    if let Some(seeds) = &r.scan_seeds {
+        let path = dir.join("scan_seeds.csv");
+        write_rows(&path, seeds.scan_seed_rows.iter().map(SeedScanCsv::from))?;
         files.push(path);
     }
     if let Some(replay) = &r.replay {
@@ -305,10 +305,10 @@ struct InventoryCsv {
     reason: String,
 }
 
-/// A row of sweep.csv: the GA afresh at one μ.
+/// A row of scan.csv: the GA afresh at one μ.
 #[derive(Serialize, Default)]
-struct SweepCsv {
-    /// As written in the sweep (shortest form: 0.5, 1).
+struct ScanCsv {
+    /// As written in the scan (shortest form: 0.5, 1).
     mu: String,
     complete: u8,
     best_fitness: Fixed<4>,
@@ -326,10 +326,10 @@ struct SweepCsv {
     steepest_climbing: Option<u8>,
 }
 
-impl From<&SweepPointRow> for SweepCsv {
-    fn from(p: &SweepPointRow) -> SweepCsv {
+impl From<&ScanPointRow> for ScanCsv {
+    fn from(p: &ScanPointRow) -> ScanCsv {
         let b = p.binding.as_ref();
-        SweepCsv {
+        ScanCsv {
             mu: p.mu.to_string(),
             complete: u8::from(p.complete),
             best_fitness: Fixed(p.best_fitness),
@@ -349,19 +349,19 @@ impl From<&SweepPointRow> for SweepCsv {
     }
 }
 
-/// A row of sweep_seeds.csv: one seed's thresholds and the μ values (space-separated)
+/// A row of scan_seeds.csv: one seed's thresholds and the μ values (space-separated)
 /// whose best plan completed.
 #[derive(Serialize, Default)]
-struct SeedSweepCsv {
+struct SeedScanCsv {
     seed: u64,
     min_mu_crossing_ditch: Option<f64>,
     min_mu_completing: Option<f64>,
     completed_at: String,
 }
 
-impl From<&SeedSweepRow> for SeedSweepCsv {
-    fn from(s: &SeedSweepRow) -> SeedSweepCsv {
-        SeedSweepCsv {
+impl From<&SeedScanRow> for SeedScanCsv {
+    fn from(s: &SeedScanRow) -> SeedScanCsv {
+        SeedScanCsv {
             seed: s.seed,
             min_mu_crossing_ditch: s.min_mu_crossing_ditch,
             min_mu_completing: s.min_mu_completing,

@@ -2,7 +2,7 @@
 //! (`plan.json`, `simulation.json`), the tables (`plan.csv`, `executed.csv`,
 //! `replans.csv`, `waits.csv`, each column at the decimals its CSV row type gives), the
 //! routes (`route.geojson`, `route.kml`), the map layers (`dem.tif`, `slope.tif`,
-//! `shadow.tif`), the Monte Carlo's and the Pareto front's tables (`monte_carlo.csv`,
+//! `direct_sun.tif`), the Monte Carlo's and the Pareto front's tables (`monte_carlo.csv`,
 //! `pareto_front.csv`, `pareto_front.json`) and the plots.
 
 use std::path::{Path, PathBuf};
@@ -55,7 +55,7 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
     if let Some(l) = &r.layers {
         put("dem.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_f32_on(&l.grid, &l.elevation_m.values, tmp)?)))?;
         put("slope.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_f32_on(&l.grid, &l.slope_deg.values, tmp)?)))?;
-        put("shadow.tif", &|p| {
+        put("direct_sun.tif", &|p| {
             write_with(p, |tmp| Ok(geotiff::write_u8_on(&l.shadow_grid, &l.direct_sun.values, Some(NO_DATA), tmp)?))
         })?;
     }

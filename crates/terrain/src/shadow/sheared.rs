@@ -1,4 +1,4 @@
-//! [`Method::Swept`](super::Method::Swept): a sweep of sheared rays on the
+//! [`Method::Sheared`](super::Method::Sheared): a trace of sheared rays on the
 //! triangulated surface, approximate off the cardinal azimuths.
 //!
 //! Rays run toward the Sun three to a cell width, sheared so that each meets the
@@ -11,15 +11,15 @@
 //! each cell's own ray is in [`crate::shadow`]'s docs.
 
 use crate::dem::Dem;
-use crate::scan_lines::{LineGeometry, Lines};
+use crate::ray_lines::{LineGeometry, Lines};
 use crate::shadow::Curvature;
 
-/// Sweep rays per cell width. A cell's envelope beyond its first step comes from the
+/// Trace rays per cell width. A cell's envelope beyond its first step comes from the
 /// rays beside it, at most a third of a cell away (agreement with per-cell rays at a
 /// Sun 8–15° up: 99.81–99.83 % with 2, 99.89–99.94 % with 3, 99.93 % with 4).
 const RAYS: usize = 3;
 
-/// A point where a ray, stepping from one sweep line to the next toward the source,
+/// A point where a ray, stepping from one ray line to the next toward the source,
 /// crosses a triangle edge between the two lines: a grid line of the other family or a
 /// cell diagonal. Offsets are along the lines from the ray's cell `floor(q)`; line 0 is
 /// the ray's own line, line 1 the sun-ward one.
@@ -153,7 +153,7 @@ impl Envelopes {
     }
 }
 
-/// Cast shadow (true = shadowed) on the triangulated surface, by a sweep.
+/// Cast shadow (true = shadowed) on the triangulated surface, by a trace.
 ///
 /// The terrain is the DEM's triangulated surface: cell centres joined by the grid lines
 /// and by each quad's south-west–north-east diagonal (parry3d's `HeightField` split).
@@ -168,7 +168,7 @@ pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: C
     let geometry = LineGeometry::toward(dem, azimuth_deg);
     let (along_cols, n_lines, n_cells, toward_higher_line) =
         (geometry.along_cols, geometry.n_lines, geometry.n_cells, geometry.toward_higher_line);
-    let sweep = Sweep::new(&geometry, elevation_deg, curvature);
+    let trace = Trace::new(&geometry, elevation_deg, curvature);
     let mut shadow = vec![false; dem.cols() * dem.rows()];
     let mut prev = Envelopes::new(n_cells);
     let mut cur = Envelopes::new(n_cells);
@@ -188,21 +188,21 @@ pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: C
         here.load(&mut lines_io, line);
         // Rays sit at phi + m·ds along the line (phi < ds); a ray at q here was at
         // q + shift on the previous line.
-        let ds = sweep.ds;
-        let mut phi = (-(i as f64) * sweep.shift).rem_euclid(ds);
+        let ds = trace.ds;
+        let mut phi = (-(i as f64) * trace.shift).rem_euclid(ds);
         if phi < 1e-9 || ds - phi < 1e-9 {
             phi = 0.0;
         }
         let n = (((n_cells - 1) as f64 - phi) / ds + 1e-9).floor() as usize + 1;
-        let offset = ((phi + sweep.shift - prev_phi) / ds).round() as isize;
+        let offset = ((phi + trace.shift - prev_phi) / ds).round() as isize;
         for p in 0..RAYS {
             let lines = (&here, &sun);
-            let n_p = sweep.phase(p, (phi, n, offset), lines, &prev, (&mut cur, &mut arriving), &mut scratch);
+            let n_p = trace.phase(p, (phi, n, offset), lines, &prev, (&mut cur, &mut arriving), &mut scratch);
             cur.end_phase(p, n_p);
             arriving.end_phase(p, n_p);
         }
         if i > 0 {
-            sweep.decide(phi, (&here, &sun), &arriving, &mut scratch, &mut line_shadow);
+            trace.decide(phi, (&here, &sun), &arriving, &mut scratch, &mut line_shadow);
         }
         lines_io.write(line, &line_shadow, &mut shadow);
         std::mem::swap(&mut prev, &mut cur);
@@ -212,9 +212,9 @@ pub(crate) fn cast(dem: &Dem, azimuth_deg: f64, elevation_deg: f64, curvature: C
     shadow
 }
 
-/// What every line of one sweep shares: the step toward the source and what a ray
+/// What every line of one trace shares: the step toward the source and what a ray
 /// drops over it, the rays' spacing, and the crossings of a cell's own ray.
-struct Sweep {
+struct Trace {
     /// The change in position along the lines from one line to the next toward the
     /// source, cells.
     shift: f64,
@@ -242,8 +242,8 @@ struct Sweep {
     k_hi: usize,
 }
 
-impl Sweep {
-    fn new(g: &LineGeometry, elevation_deg: f64, curvature: Curvature) -> Sweep {
+impl Trace {
+    fn new(g: &LineGeometry, elevation_deg: f64, curvature: Curvature) -> Trace {
         // Directions a hair off an axis or a diagonal would otherwise straddle two cells
         // with a weight of 1e-16 and lose the border cell's neighbour.
         let shift = if (g.shift - g.shift.round()).abs() < 1e-9 { g.shift.round() } else { g.shift };
@@ -252,7 +252,7 @@ impl Sweep {
         let tan_e = elevation_deg.to_radians().tan();
         let inv_2r = curvature.inv_2r();
         let k_lo = ((-shift - 1e-9).ceil().max(0.0) as usize).min(n_cells);
-        Sweep {
+        Trace {
             shift,
             sigma,
             step_m,
@@ -284,7 +284,7 @@ impl Sweep {
         (cur, arriving): (&mut Envelopes, &mut Envelopes),
         scratch: &mut [f64],
     ) -> usize {
-        let Sweep { shift, sigma, step_m, tan_e, inv_2r, line_drop, curve_per_d, ds, .. } = *self;
+        let Trace { shift, sigma, step_m, tan_e, inv_2r, line_drop, curve_per_d, ds, .. } = *self;
         let lines = [here, sun];
         // Phase p: rays m = RAYS·j + p at j + f, all with the same crossings.
         let f = phi + p as f64 * ds;
@@ -365,7 +365,7 @@ impl Sweep {
         scratch: &mut [f64],
         line_shadow: &mut [bool],
     ) {
-        let Sweep { line_drop, ds, n_cells, ref cell_crossings, s_whole, s_frac, k_lo, k_hi, .. } = *self;
+        let Trace { line_drop, ds, n_cells, ref cell_crossings, s_whole, s_frac, k_lo, k_hi, .. } = *self;
         // The rays either side of cell k: m0 = RAYS·k + below, a fraction w of a
         // ray spacing (in cells) above it; the same for every cell of the line.
         let below: isize = if phi > 0.0 { -1 } else { 0 };
@@ -536,10 +536,10 @@ mod tests {
         for (az, el) in
             [(90.0, 20.0), (135.0, 10.0), (200.0, 35.0), (300.0, 8.0), (10.0, 15.0), (45.0, 3.0), (250.0, 12.0)]
         {
-            let sweep = cast(&dem, az, el, Curvature::Flat);
+            let trace = cast(&dem, az, el, Curvature::Flat);
             let horizon = horizon_on_triangles(&dem, az, Curvature::Flat);
             let (mut differ, mut worst) = (0, 0f64);
-            for (s, h) in sweep.iter().zip(&horizon) {
+            for (s, h) in trace.iter().zip(&horizon) {
                 if h.is_nan() {
                     continue;
                 }
@@ -550,13 +550,13 @@ mod tests {
             }
             eprintln!(
                 "az {az:5.1} el {el:4.1}: {differ} of {} cells differ, at most {worst:.2}° from grazing",
-                sweep.len()
+                trace.len()
             );
             // The rays beside a cell lend it their occluders; they miss only where the
             // terrain's horizon is within a degree and a half of the Sun.
             assert!(worst <= 1.5, "az {az} el {el}: a disagreement {worst:.2}° from grazing");
             differ_all += differ;
-            cells_all += sweep.len();
+            cells_all += trace.len();
         }
         let agree = 1.0 - differ_all as f64 / cells_all as f64;
         assert!(agree >= 0.999, "only {:.3} % agree", 100.0 * agree);
@@ -568,9 +568,9 @@ mod tests {
         // neighbouring rays.
         let dem = crate::synth::rough_test_terrain(60, 60, 3, 40.0, 4);
         for (az, el) in [(0.0, 10.0), (90.0, 5.0), (135.0, 12.0), (225.0, 7.0), (315.0, 20.0)] {
-            let sweep = cast(&dem, az, el, Curvature::Flat);
+            let trace = cast(&dem, az, el, Curvature::Flat);
             let horizon = horizon_on_triangles(&dem, az, Curvature::Flat);
-            for (i, (s, h)) in sweep.iter().zip(&horizon).enumerate() {
+            for (i, (s, h)) in trace.iter().zip(&horizon).enumerate() {
                 assert_eq!(*s, *h > el, "az {az}: cell {i}, horizon {h}");
             }
         }

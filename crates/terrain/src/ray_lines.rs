@@ -1,18 +1,18 @@
-//! Sweep lines: which family of grid lines a direction sweeps ([`LineGeometry`]), and
+//! Ray lines: which family of grid lines a direction traces ([`LineGeometry`]), and
 //! a grid read and written one line — a row or a column — at a time ([`Lines`]).
 //!
 //! Walking a column of a row-major grid cell by cell touches a new memory page at
-//! every cell, and the page misses cost more than the sweep's arithmetic. Columns are
+//! every cell, and the page misses cost more than the trace's arithmetic. Columns are
 //! therefore read and written in blocks of [`BLOCK`] columns, copied column-major:
 //! each row of the grid is touched once per block.
 
 use crate::dem::Dem;
 
 /// Columns per block: each row of the grid is read in runs of 64 heights (16 gave
-/// a third of the exact sweep's time to these reads, 128 no gain over 64).
+/// a third of the exact trace's time to these reads, 128 no gain over 64).
 const BLOCK: usize = 64;
 
-/// The family of sweep lines for a direction: columns or rows, whichever the direction
+/// The family of ray lines for a direction: columns or rows, whichever the direction
 /// crosses faster, so that a step from one line to the next moves at most one cell
 /// along the lines.
 #[derive(Debug, Clone, Copy)]
@@ -48,7 +48,7 @@ impl LineGeometry {
     }
 }
 
-/// One sweep's access to a DEM's heights and to its per-cell output.
+/// One trace's access to a DEM's heights and to its per-cell output.
 pub(crate) struct Lines<'a> {
     z: &'a [f32],
     valid: &'a [bool],
@@ -155,7 +155,7 @@ mod tests {
             let (n_lines, n_cells) = if columns { (37, 5) } else { (5, 37) };
             let mut out = vec![false; 37 * 5];
             let mut buf = vec![0.0; n_cells];
-            // Sweep backward, as sweeps toward a western or northern Sun do.
+            // Trace backward, as traces toward a western or northern Sun do.
             for line in (0..n_lines).rev() {
                 lines.read(line, &mut buf);
                 for (k, h) in buf.iter().enumerate() {
