@@ -1170,3 +1170,102 @@ fn a_site_off_a_georeferenced_map_is_refused() {
     let out = write(137.66);
     assert!(out.status.code() != Some(2), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// A CSV file's rows as maps from its header's names (fields may be quoted).
+fn csv_rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let split = |line: &str| {
+        let (mut fields, mut field, mut quoted) = (Vec::new(), String::new(), false);
+        for c in line.chars() {
+            match c {
+                '"' => quoted = !quoted,
+                ',' if !quoted => fields.push(std::mem::take(&mut field)),
+                c => field.push(c),
+            }
+        }
+        fields.push(field);
+        fields
+    };
+    let mut lines = text.lines();
+    let header = split(lines.next().unwrap());
+    lines.map(|l| header.iter().cloned().zip(split(l)).collect()).collect()
+}
+
+#[test]
+fn the_route_in_time_carries_the_executed_times_in_geojson_and_czml() {
+    let out_dir = tmp("route-time");
+    let scenario = root().join("scenarios/gale-mola-traverse.ron");
+    let out = areo(&["-q", "run", scenario.to_str().unwrap(), "--out", out_dir.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let dir = out_dir.join("gale-mola-traverse");
+    let executed = csv_rows(&dir.join("executed.csv"));
+    assert!(executed.len() > 20, "{} actions", executed.len());
+    let read = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join(name)).unwrap()).unwrap()
+    };
+    // MMGIS's enhanced GeoJSON: one vertex per executed action's end after the start,
+    // each with its instant, battery and Sun; the instants are executed.csv's ends.
+    let timed = read("route_time.geojson");
+    let route = &timed["features"][0];
+    let names = route["properties"]["coord_properties"].as_array().unwrap();
+    assert_eq!(names[3], "unix_s");
+    let vertices = route["geometry"]["coordinates"].as_array().unwrap();
+    let utc = route["properties"]["utc"].as_array().unwrap();
+    assert_eq!((vertices.len(), utc.len()), (executed.len() + 1, executed.len() + 1));
+    for (k, row) in executed.iter().enumerate() {
+        assert_eq!(utc[k + 1], row["end_utc"].as_str(), "vertex {}", k + 1);
+        assert_eq!(utc[k], row["utc"].as_str(), "vertex {k} is where action {} starts", k + 1);
+        let battery = vertices[k + 1][5].as_f64().unwrap();
+        assert!((battery - row["battery_wh"].parse::<f64>().unwrap()).abs() < 1e-3, "vertex {}", k + 1);
+        assert_eq!(vertices[k + 1].as_array().unwrap().len(), names.len());
+    }
+    let unix: Vec<f64> = vertices.iter().map(|v| v[3].as_f64().unwrap()).collect();
+    assert!(unix.windows(2).all(|w| w[1] > w[0]), "the vertices' instants increase");
+    // One feature per action, its start and end a time slider can filter on.
+    let actions: Vec<&serde_json::Value> =
+        timed["features"].as_array().unwrap().iter().filter(|f| f["properties"]["kind"] == "action").collect();
+    assert_eq!(actions.len(), executed.len());
+    for (a, row) in actions.iter().zip(&executed) {
+        assert_eq!(a["properties"]["start_utc"], row["utc"].as_str());
+        assert_eq!(a["properties"]["end_utc"], row["end_utc"].as_str());
+        assert_eq!(a["properties"]["activity"], row["action"].as_str());
+    }
+    // CZML: the clock over the run, the rover's time-tagged positions at the route's
+    // vertices, the body named.
+    let czml = read("route.czml");
+    let doc = &czml[0];
+    assert_eq!(doc["id"], "document");
+    assert_eq!(doc["clock"]["currentTime"], utc[0]);
+    assert_eq!(doc["properties"]["body"]["name"], "Mars");
+    let rover = czml.as_array().unwrap().iter().find(|p| p["id"] == "rover").unwrap();
+    assert_eq!(rover["position"]["epoch"], utc[0]);
+    let samples = rover["position"]["cartographicDegrees"].as_array().unwrap();
+    assert_eq!(samples.len(), 4 * vertices.len());
+    let geojson = read("route.geojson");
+    let line = geojson["features"].as_array().unwrap().iter().find(|f| f["properties"]["name"] == "executed route");
+    let line = line.unwrap()["geometry"]["coordinates"].as_array().unwrap();
+    assert_eq!(line.len(), vertices.len());
+    for (k, (sample, lonlat)) in samples.chunks(4).zip(line).enumerate() {
+        let x = |v: &serde_json::Value| v.as_f64().unwrap();
+        assert!((x(&sample[0]) - (unix[k] - unix[0])).abs() < 1e-6, "sample {k}'s time");
+        assert!((x(&sample[1]) - x(&lonlat[0])).abs() < 1e-9 && (x(&sample[2]) - x(&lonlat[1])).abs() < 1e-9, "{k}");
+    }
+    let goals =
+        czml.as_array().unwrap().iter().filter(|p| p["id"].as_str().is_some_and(|s| s.starts_with("goal "))).count();
+    assert_eq!(goals, 2);
+    // The layers say which map they are: after the run, the map as sensed.
+    assert_eq!(read("facts.json")["layers.map"], "as sensed");
+    // The plan's first drive with its settle to the tick, as predicted, is what the rover
+    // then drew driving and settling (the map is true there), and each plan row's
+    // duration ends at the next row's start.
+    let plan = csv_rows(&dir.join("plan.csv"));
+    let f = |row: &std::collections::HashMap<String, String>, k: &str| row[k].parse::<f64>().unwrap();
+    assert!(plan[0]["action"].starts_with("drive") && executed[1]["action"] == "wait");
+    let ran = f(&executed[0], "energy_drawn_wh") + f(&executed[1], "energy_drawn_wh");
+    assert!((f(&plan[0], "energy_drawn_wh") - ran).abs() < 2e-3, "{} vs {ran}", plan[0]["energy_drawn_wh"]);
+    for w in plan.windows(2) {
+        assert_eq!(w[0]["end_utc"], w[1]["utc"]);
+        assert!((f(&w[0], "t_s") + f(&w[0], "duration_s") - f(&w[1], "t_s")).abs() < 0.06);
+        assert!(f(&w[0], "energy_drawn_wh") > 0.0);
+    }
+}

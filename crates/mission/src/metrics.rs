@@ -174,6 +174,7 @@ mod tests {
             action,
             duration_s: 60.0,
             energy_wh: 0.0,
+            load_wh: 0.0,
             battery_above_floor_wh: 0.0,
             distance_m: 0.0,
             sun_elevation_deg,

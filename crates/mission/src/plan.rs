@@ -38,6 +38,10 @@ pub struct Waypoint {
     pub required_wh: f64,
     /// Predicted battery charge, Wh (absolute, including the floor).
     pub battery_wh: f64,
+    /// What the rover's loads draw from here to the next waypoint, Wh (the action and,
+    /// on a tick, its settle; 0 at the last goal), on the world the plan was made on.
+    #[serde(default)]
+    pub drawn_wh: f64,
     /// Slope, degrees.
     pub slope_deg: f64,
     /// Sun elevation above the horizontal, degrees.
@@ -79,6 +83,7 @@ impl Waypoint {
             action,
             required_wh: label.e,
             battery_wh,
+            drawn_wh: 0.0,
             slope_deg: world.slope_deg(cell),
             sun_elevation_deg: sun.elevation_deg,
             sun_above_ground_deg: world.sun_above_ground_deg(cell, sun),

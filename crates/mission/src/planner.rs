@@ -750,6 +750,9 @@ impl<'a> Mission<'a> {
                     binding: b.describe().to_string(),
                 })?;
                 battery = e.after(battery, capacity);
+                if let Some(w) = waypoints.last_mut() {
+                    w.drawn_wh = e.load_wh;
+                }
             }
         }
         let (e_max, _) = self.model.gain_bounds(self.world);

@@ -192,6 +192,9 @@ pub struct ExecutedStep {
     pub duration_s: f64,
     /// Battery energy used (negative: gained), Wh.
     pub energy_wh: f64,
+    /// Energy the rover's loads drew over it, Wh (whatever the sources gave meanwhile).
+    #[serde(default)]
+    pub load_wh: f64,
     /// Battery charge after it, Wh above the floor (the search's E; the absolute charge
     /// adds the battery's floor).
     pub battery_above_floor_wh: f64,
@@ -490,6 +493,7 @@ fn execute_step(
         action: executed,
         duration_s: effect.duration_s,
         energy_wh: effect.energy_wh,
+        load_wh: effect.load_wh,
         battery_above_floor_wh: effect.after(battery, capacity),
         distance_m: drive_length_m(truth, cell, to),
         sun_elevation_deg,
@@ -605,12 +609,13 @@ fn idle_step(
     capacity: f64,
 ) -> (ExecutedStep, f64) {
     // A rover that waits charges while it idles where its array sees the Sun.
-    let (action, energy_wh, after, lowest) = match executor.idle_wait(truth, cell, t, duration_s) {
-        Some(w) => (Action::Wait, w.energy_wh, w.after(battery, capacity), w.lowest(battery, capacity)),
+    let (action, (energy_wh, load_wh), after, lowest) = match executor.idle_wait(truth, cell, t, duration_s) {
+        Some(w) => (Action::Wait, (w.energy_wh, w.load_wh), w.after(battery, capacity), w.lowest(battery, capacity)),
         None => {
+            // Asleep with the array off-line: the battery gives what the loads draw.
             let e = executor.idle_wh(duration_s);
             let after = (battery - e).min(capacity);
-            (Action::Hibernate, e, after, after)
+            (Action::Hibernate, (e, e), after, after)
         }
     };
     let step = ExecutedStep {
@@ -620,6 +625,7 @@ fn idle_step(
         action,
         duration_s,
         energy_wh,
+        load_wh,
         battery_above_floor_wh: after,
         distance_m: 0.0,
         sun_elevation_deg: truth.sun(t).elevation_deg,

@@ -243,6 +243,11 @@ fn a_run_that_follows_its_plan_measures_as_the_plan_does() {
     assert_eq!((ran.drives, ran.charges), (planned.drives, planned.charges));
     assert_eq!(ran.hibernations, planned.hibernations + 1);
     assert!((3600.0 * (ran.hibernate_h - planned.hibernate_h) - departure_s).abs() < 1e-6, "{ran:?}");
+    // What the plan says its actions draw is what the rover's loads drew executing
+    // them, besides that idle.
+    let predicted: f64 = report.plans[0].plan.waypoints.iter().map(|w| w.drawn_wh).sum();
+    let drawn: f64 = report.steps[1..].iter().map(|s| s.load_wh).sum();
+    assert!(predicted > 0.0 && (predicted - drawn).abs() < 1e-6 * drawn, "{predicted} vs {drawn}");
     assert!((ran.drive_h - planned.drive_h).abs() < 1e-9, "{ran:?} {planned:?}");
     assert!((ran.distance_m - planned.distance_m).abs() < 1e-6, "{ran:?} {planned:?}");
     assert_eq!((ran.night_drives, ran.sunlit_drive_fraction), (planned.night_drives, planned.sunlit_drive_fraction));

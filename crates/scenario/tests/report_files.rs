@@ -101,5 +101,8 @@ fn a_tempest_runs_tables_and_plots_are_its_files() {
     for name in ["route", "distance", "energy", "mc_arrival", "mc_battery", "mc_lowest_battery"] {
         assert!(plots.iter().any(|p| p == name), "{name} in {plots:?}");
     }
+    // No simulation: the layers are the map the plan was made on.
+    let Report::Tempest(r) = &report else { panic!("a TEMPEST report") };
+    assert_eq!(r.layers.as_ref().map(|l| l.map.as_str()), Some("as planned"));
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -220,6 +220,11 @@ impl<'a> Mission<'a> {
                 waypoints.push(waypoint(world, step.cell, label, Some(step.action), floor + battery, pending_goal));
                 pending_goal = None;
             }
+            // A partial wait belongs to the waypoint before it (none: the idle before
+            // the plan's first waypoint).
+            if let Some(w) = waypoints.last_mut() {
+                w.drawn_wh += step_effect(world, model, step).map_or(f64::NAN, |e| e.load_wh);
+            }
             if step.goals_reached > reached {
                 pending_goal = Some(step.goals_reached - 1);
                 reached = step.goals_reached;
@@ -278,17 +283,21 @@ fn required_before(world: &World, model: &ActionModel, steps: &[ExactStep], goal
     let mut need = vec![0.0; steps.len()];
     let mut after = goal_wh;
     for (i, s) in steps.iter().enumerate().rev() {
-        let effect = match s.action {
-            Action::Drive(k) => model.drive(world, s.cell, k, s.t_s).ok().and_then(|(to, drive)| {
-                let settle = model.wait(world, to, s.t_s + drive.duration_s, s.settle_s).ok()?;
-                Some(drive.then(&settle))
-            }),
-            _ => model.wait(world, s.cell, s.t_s, s.duration_s).ok(),
-        };
-        after = effect.map_or(after, |e| e.required_before(after));
+        after = step_effect(world, model, s).map_or(after, |e| e.required_before(after));
         need[i] = after;
     }
     need
+}
+
+/// An exact step's effect, a drive's settle included.
+fn step_effect(world: &World, model: &ActionModel, s: &ExactStep) -> Option<crate::Effect> {
+    match s.action {
+        Action::Drive(k) => model.drive(world, s.cell, k, s.t_s).ok().and_then(|(to, drive)| {
+            let settle = model.wait(world, to, s.t_s + drive.duration_s, s.settle_s).ok()?;
+            Some(drive.then(&settle))
+        }),
+        _ => model.wait(world, s.cell, s.t_s, s.duration_s).ok(),
+    }
 }
 
 fn waypoint(

@@ -20,6 +20,7 @@ mod facts;
 mod files;
 mod front;
 mod layers;
+mod view;
 
 use facts::*;
 use files::*;
@@ -269,7 +270,7 @@ struct Computed {
 pub(crate) fn run(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Result<(Report, Option<Failure>)> {
     let prepared = prepare(job, file, opts)?;
     let computed = compute(job, file, opts, prepared)?;
-    let ctx = computed.context(job);
+    let ctx = computed.context(job, &file.name);
     report(&ctx, &computed)
 }
 
@@ -738,9 +739,10 @@ fn compute(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>, prepared
 }
 
 impl Computed {
-    fn context<'a>(&'a self, job: &'a TempestJob) -> Context<'a> {
+    fn context<'a>(&'a self, job: &'a TempestJob, name: &'a str) -> Context<'a> {
         let p = &self.prepared;
         Context {
+            name,
             job,
             world: &p.world,
             truth: p.truth.as_ref().unwrap_or(&p.world),
@@ -788,8 +790,9 @@ fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Fail
             r.status = "planned".into();
             r.tables = tables(ctx, plan, None);
             r.route = Some(route_places(ctx, plan, None));
-            r.layers = Some(layers::layers(ctx.world, ctx.truth, shadow_time_s(ctx)?));
+            r.layers = Some(layers::layers(ctx.world, ctx.truth, shadow_time_s(ctx)?, false));
             r.plots = plots(ctx, plan, None)?;
+            r.view = Some(view::view(ctx, plan, None));
             r.plan = Some(plan.clone());
         }
         Run::Simulated(sim) => {
@@ -810,8 +813,9 @@ fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Fail
             }
             r.tables = tables(ctx, initial, Some(sim));
             r.route = Some(route_places(ctx, initial, Some(sim)));
-            r.layers = Some(layers::layers(ctx.world, ctx.truth, shadow_time_s(ctx)?));
+            r.layers = Some(layers::layers(ctx.world, ctx.truth, shadow_time_s(ctx)?, true));
             r.plots = plots(ctx, initial, Some(sim))?;
+            r.view = Some(view::view(ctx, initial, Some(sim)));
             r.plan = Some(initial.clone());
             r.simulation = Some(sim.clone());
         }
@@ -880,6 +884,8 @@ struct Place {
 }
 
 struct Context<'a> {
+    /// The scenario's name.
+    name: &'a str,
     havens: Option<&'a contact::Havens>,
     job: &'a TempestJob,
     world: &'a World,

@@ -15,6 +15,8 @@ mod actions;
 mod actions_files;
 mod tempest;
 mod tempest_files;
+mod tempest_time;
+mod view;
 
 /// Writes the report's files into `dir`; returns them. (A TEMPEST job's routes, layers
 /// and plots, and the actions job's files, are written by the job from what it

@@ -13,6 +13,7 @@ pub mod plots;
 mod sun_table;
 pub mod tempest;
 mod terrain_shadow;
+pub mod view;
 
 use std::collections::BTreeMap;
 
@@ -64,7 +65,7 @@ impl Report {
             Report::SunTable(r) => facts::of(r, &[]),
             Report::TerrainShadow(r) => facts::of(r, &[]),
             Report::Actions(r) => facts::of(r, &["best_plans"]),
-            Report::Tempest(r) => facts::of(r, &["plan", "simulation"]),
+            Report::Tempest(r) => facts::of(r, &["plan", "simulation", "view"]),
         }
     }
 

@@ -89,6 +89,8 @@ pub struct TempestReport {
     /// uncertainty `mc_arrival`, `mc_battery`, `mc_lowest_battery`; with a front
     /// `front_energy` and `front_margin` (with a plan).
     pub plots: Vec<Plot>,
+    /// What the plan viewer shows (with a plan).
+    pub view: Option<super::view::ViewData>,
 }
 
 /// What a "no plan" verdict cost.
@@ -485,6 +487,15 @@ pub struct PlanRow {
     pub elevation_m: f64,
     /// The action taken from here (`arrive` at the last).
     pub action: String,
+    /// When the action ends (the next waypoint's instant; the last waypoint's own).
+    pub end_utc: String,
+    /// How long the action lasts, s (0 at the last waypoint).
+    pub duration_s: f64,
+    /// What the action's loads draw, Wh (replayed on the planner's model; 0 at the last
+    /// waypoint).
+    pub energy_drawn_wh: f64,
+    /// The battery's change over the action, Wh (positive: charged).
+    pub battery_change_wh: f64,
     /// Least energy above the floor needed from here to the last goal, Wh.
     pub required_wh: f64,
     /// Predicted battery charge, Wh (absolute).
@@ -534,6 +545,10 @@ pub struct ExecutedRow {
     pub duration_s: f64,
     /// Energy drawn (negative: gained), Wh.
     pub energy_wh: f64,
+    /// What the action's loads drew, Wh (whatever the sources gave meanwhile).
+    pub energy_drawn_wh: f64,
+    /// When it ended, ISO 8601 UTC.
+    pub end_utc: String,
     /// The battery after it, Wh (absolute).
     pub battery_wh: f64,
     /// The battery after it above the floor, Wh.
@@ -623,6 +638,33 @@ pub struct RoutePlaces {
     /// The executed route's cells as (latitude, east longitude), degrees: the start,
     /// then where each action ended (with a simulation).
     pub executed: Option<Vec<(f64, f64)>>,
+    /// The route in time: the executed route's vertices (the start, then where and when
+    /// each action ended), or without a simulation the initial plan's waypoints.
+    pub timeline: Vec<RouteVertex>,
+}
+
+/// A vertex of the route in time.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct RouteVertex {
+    /// Planetocentric latitude, degrees.
+    pub lat_deg: f64,
+    /// East longitude, degrees.
+    pub lon_deg: f64,
+    /// Elevation on the map, m.
+    pub elevation_m: f64,
+    /// When the rover is there, ISO 8601 UTC.
+    pub utc: String,
+    /// The same instant, s since 1970-01-01T00:00:00 UTC.
+    pub unix_s: f64,
+    /// The same instant, h since the start.
+    pub t_h: f64,
+    /// The battery there, Wh (absolute).
+    pub battery_wh: f64,
+    /// The Sun's elevation there and then, degrees.
+    pub sun_elevation_deg: f64,
+    /// What brought the rover there (`start` at the first vertex; `drive`, `wait`,
+    /// `charge`, `hibernate`), or for a plan's waypoint what it does next.
+    pub activity: String,
 }
 
 /// A named place of the route.
@@ -642,6 +684,10 @@ pub struct RoutePoint {
 /// true terrain's direct sun at the job's `shadow_utc`.
 #[derive(Debug, Clone, Serialize)]
 pub struct MapLayers {
+    /// Which map the elevation and slope are: `as planned` (no simulation: the map the
+    /// plan was made on) or `as sensed` (after a simulated run: the map with every cell
+    /// the rover sensed replaced by the true terrain's).
+    pub map: String,
     /// The planner's map grid (size, cell, corner, projection).
     pub grid: Grid,
     /// Elevation, m (NaN where the map has no data).

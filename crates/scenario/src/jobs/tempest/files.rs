@@ -2,7 +2,9 @@
 //! and re-plan tables, the route's places, and the plots.
 
 use super::*;
-use crate::report::tempest::{ExecutedRow, PlanRow, ReplanRow, RoutePlaces, RoutePoint, TempestTables, WaitRow};
+use crate::report::tempest::{
+    ExecutedRow, PlanRow, ReplanRow, RoutePlaces, RoutePoint, RouteVertex, TempestTables, WaitRow,
+};
 
 /// The report's tables of the plan and the simulated run.
 pub(super) fn tables(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimReport>) -> TempestTables {
@@ -45,6 +47,7 @@ pub(super) fn action_name(a: Option<Action>) -> &'static str {
 fn plan_rows<'a>(ctx: &'a Context<'_>, plan: &'a MissionPlan) -> impl Iterator<Item = PlanRow> + 'a {
     plan.waypoints.iter().enumerate().map(move |(index, w)| {
         let (x_m, y_m) = ctx.local(w.cell);
+        let next = plan.waypoints.get(index + 1).unwrap_or(w);
         PlanRow {
             index,
             utc: w.utc.clone(),
@@ -59,6 +62,10 @@ fn plan_rows<'a>(ctx: &'a Context<'_>, plan: &'a MissionPlan) -> impl Iterator<I
             lon_deg: w.lon_deg,
             elevation_m: ctx.world.elevation(w.cell).unwrap_or(f64::NAN),
             action: action_name(w.action).to_string(),
+            end_utc: next.utc.clone(),
+            duration_s: next.t_s - w.t_s,
+            energy_drawn_wh: w.drawn_wh,
+            battery_change_wh: next.battery_wh - w.battery_wh,
             required_wh: w.required_wh,
             battery_wh: w.battery_wh,
             slope_deg: w.slope_deg,
@@ -91,6 +98,8 @@ fn executed_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<It
             action: st.action.name().to_string(),
             duration_s: st.duration_s,
             energy_wh: st.energy_wh,
+            energy_drawn_wh: st.load_wh,
+            end_utc: format_utc(ctx.world.epoch() + Duration::from_seconds(st.t_s + st.duration_s)),
             battery_wh: st.battery_above_floor_wh + floor_wh(ctx),
             battery_above_floor_wh: st.battery_above_floor_wh,
             distance_m: st.distance_m,
@@ -150,7 +159,45 @@ pub(super) fn route_places(ctx: &Context<'_>, initial: &MissionPlan, sim: Option
             let cells = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
             cells.map(|c| ctx.world.lat_lon(c)).collect()
         }),
+        timeline: match sim {
+            Some(r) => executed_timeline(ctx, r),
+            None => planned_timeline(ctx, initial),
+        },
     }
+}
+
+/// A vertex of the route at `cell` at `t_s`, with the battery and what brought the
+/// rover there.
+fn vertex(ctx: &Context<'_>, cell: u32, t_s: f64, battery_wh: f64, activity: &str) -> RouteVertex {
+    let p = ctx.place(cell, t_s);
+    let at = ctx.world.epoch() + Duration::from_seconds(t_s);
+    RouteVertex {
+        lat_deg: p.lat_deg,
+        lon_deg: p.lon_deg,
+        elevation_m: p.elevation_m,
+        utc: format_utc(at),
+        unix_s: at.to_unix_seconds(),
+        t_h: ctx.hours(t_s),
+        battery_wh,
+        sun_elevation_deg: ctx.world.sun(t_s.clamp(0.0, ctx.world.span_s())).elevation_deg,
+        activity: activity.to_string(),
+    }
+}
+
+/// The executed route: the start, then where and when each action ended.
+fn executed_timeline(ctx: &Context<'_>, r: &SimReport) -> Vec<RouteVertex> {
+    let floor = floor_wh(ctx);
+    let first = vertex(ctx, r.start.cell, r.start.t_min, r.start.energy_wh + floor, "start");
+    let ends = r
+        .steps
+        .iter()
+        .map(|s| vertex(ctx, s.to, s.t_s + s.duration_s, s.battery_above_floor_wh + floor, s.action.name()));
+    std::iter::once(first).chain(ends).collect()
+}
+
+/// The initial plan's waypoints, each with what the rover does next.
+fn planned_timeline(ctx: &Context<'_>, plan: &MissionPlan) -> Vec<RouteVertex> {
+    (plan.waypoints.iter()).map(|w| vertex(ctx, w.cell, w.t_s, w.battery_wh, action_name(w.action))).collect()
 }
 
 /// Night intervals (the Sun's centre below the horizontal) over [0, end_s], hours

@@ -14,13 +14,18 @@ const LIT: u8 = 1;
 const SHADOWED: u8 = 0;
 const NO_DATA: u8 = 255;
 
-/// The planner's elevation and slope, and the true terrain's direct sun at `shadow_s`
+/// The planner's elevation and slope as it holds them (`sensed`: after a simulated run,
+/// with the cells the rover sensed), and the true terrain's direct sun at `shadow_s`
 /// after the epoch.
-pub(super) fn layers(map: &World, truth: &World, shadow_s: f64) -> MapLayers {
+pub(super) fn layers(map: &World, truth: &World, shadow_s: f64, sensed: bool) -> MapLayers {
     let dem = map.dem();
     let (cols, rows) = (dem.cols(), dem.rows());
     let valid = dem.valid_mask();
-    let elevation = dem.elevations().iter().zip(valid).map(|(z, ok)| if *ok { *z } else { f32::NAN }).collect();
+    // The world's own elevations, as its slopes are: sensing replaces both.
+    let elevation = (0..map.cells() as u32)
+        .zip(valid)
+        .map(|(c, ok)| if *ok { map.elevation(c).unwrap_or(f64::NAN) as f32 } else { f32::NAN })
+        .collect();
     let slope = (0..map.cells() as u32)
         .zip(valid)
         .map(|(c, ok)| if *ok { map.slope_deg(c) as f32 } else { f32::NAN })
@@ -38,6 +43,7 @@ pub(super) fn layers(map: &World, truth: &World, shadow_s: f64) -> MapLayers {
         .collect();
     let truth_dem = truth.dem();
     MapLayers {
+        map: if sensed { "as sensed" } else { "as planned" }.to_string(),
         grid: Grid::of(dem),
         elevation_m: Raster { cols, rows, values: elevation },
         slope_deg: Raster { cols, rows, values: slope },

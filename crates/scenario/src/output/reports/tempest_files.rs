@@ -48,6 +48,10 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
     if let Some(route) = &r.route {
         put("route.geojson", &|p| crate::output::geojson::write(p, &route_geojson(r, route)))?;
         put("route.kml", &|p| route_kml(r, route).write(p))?;
+        let timed = super::tempest_time::route_time_geojson(r, route);
+        put("route_time.geojson", &|p| write_file(p, json_for(p, &timed, true)?.as_bytes()))?;
+        let czml = super::tempest_time::route_czml(r, route);
+        put("route.czml", &|p| write_file(p, json_for(p, &czml, true)?.as_bytes()))?;
     }
     if let Some(rows) = &t.waits {
         put("waits.csv", &|p| write_rows(p, rows.iter().map(WaitCsv::from)))?;
@@ -67,6 +71,9 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
     }
     if let Some(plans) = &r.pareto_plans {
         put("pareto_front.json", &|p| write_file(p, json_for(p, plans, true)?.as_bytes()))?;
+    }
+    if let Some(view) = &r.view {
+        put("view.html", &|p| super::view::write(p, view, r.simulation.is_some()).map(|_| ()))?;
     }
     for plot in &r.plots {
         files.extend(crate::output::plots::write(dir, plot)?);
@@ -234,6 +241,10 @@ struct PlanCsv {
     lon_deg: Fixed<7>,
     elevation_m: Fixed<2>,
     action: String,
+    end_utc: String,
+    duration_s: Fixed<1>,
+    energy_drawn_wh: Fixed<3>,
+    battery_change_wh: Fixed<3>,
     required_wh: Fixed<3>,
     battery_wh: Fixed<3>,
     slope_deg: Fixed<3>,
@@ -259,6 +270,10 @@ impl From<&PlanRow> for PlanCsv {
             lon_deg: Fixed(w.lon_deg),
             elevation_m: Fixed(w.elevation_m),
             action: w.action.clone(),
+            end_utc: w.end_utc.clone(),
+            duration_s: Fixed(w.duration_s),
+            energy_drawn_wh: Fixed(w.energy_drawn_wh),
+            battery_change_wh: Fixed(w.battery_change_wh),
             required_wh: Fixed(w.required_wh),
             battery_wh: Fixed(w.battery_wh),
             slope_deg: Fixed(w.slope_deg),
@@ -287,7 +302,9 @@ struct ExecutedCsv {
     elevation_m: Fixed<2>,
     action: String,
     duration_s: Fixed<1>,
+    end_utc: String,
     energy_wh: Fixed<3>,
+    energy_drawn_wh: Fixed<3>,
     battery_wh: Fixed<3>,
     battery_above_floor_wh: Fixed<3>,
     distance_m: Fixed<3>,
@@ -312,7 +329,9 @@ impl From<&ExecutedRow> for ExecutedCsv {
             elevation_m: Fixed(s.elevation_m),
             action: s.action.clone(),
             duration_s: Fixed(s.duration_s),
+            end_utc: s.end_utc.clone(),
             energy_wh: Fixed(s.energy_wh),
+            energy_drawn_wh: Fixed(s.energy_drawn_wh),
             battery_wh: Fixed(s.battery_wh),
             battery_above_floor_wh: Fixed(s.battery_above_floor_wh),
             distance_m: Fixed(s.distance_m),

@@ -1,0 +1,117 @@
+//! A TEMPEST report's route in time, for the tools mission teams scrub through it
+//! with: `route_time.geojson` — MMGIS's enhanced GeoJSON, the route as one LineString
+//! whose vertices carry their instant, battery and Sun (`coord_properties`), and one
+//! feature per action with `start_utc` and `end_utc` for a time slider — and
+//! `route.czml`, the traverse as a Cesium animation (a clock, the rover's time-tagged
+//! path, the goals).
+
+use serde_json::{Value, json};
+
+use crate::output::geojson::{collection, lon180};
+use crate::report::tempest::{RoutePlaces, RouteVertex, TempestReport};
+
+/// The names of a vertex's values in `route_time.geojson`, in their order.
+pub(super) const COORD_PROPERTIES: [&str; 7] =
+    ["longitude", "latitude", "elevation_m", "unix_s", "t_h", "battery_wh", "sun_elevation_deg"];
+
+/// `route_time.geojson`: the route in time on the report's body.
+pub(super) fn route_time_geojson(r: &TempestReport, route: &RoutePlaces) -> Value {
+    let executed = r.simulation.is_some();
+    let v = &route.timeline;
+    let coordinates: Vec<Value> = v
+        .iter()
+        .map(|p| {
+            json!([lon180(p.lon_deg), p.lat_deg, p.elevation_m, p.unix_s, p.t_h, p.battery_wh, p.sun_elevation_deg])
+        })
+        .collect();
+    let mut features = vec![json!({
+        "type": "Feature",
+        "properties": {
+            "name": if executed { "executed route" } else { "initial plan" },
+            "coord_properties": COORD_PROPERTIES,
+            "utc": v.iter().map(|p| p.utc.as_str()).collect::<Vec<_>>(),
+            "activity": v.iter().map(|p| p.activity.as_str()).collect::<Vec<_>>(),
+            "start_utc": v.first().map(|p| p.utc.as_str()),
+            "end_utc": v.last().map(|p| p.utc.as_str()),
+        },
+        "geometry": { "type": "LineString", "coordinates": coordinates },
+    })];
+    features.extend(v.windows(2).enumerate().map(|(k, w)| action_feature(k, &w[0], &w[1], executed)));
+    let mut fc = serde_json::to_value(collection(Vec::new(), &route.surface)).unwrap_or_else(|_| json!({}));
+    fc["features"] = Value::Array(features);
+    fc
+}
+
+/// The action from vertex `a` to vertex `b`: a LineString where the rover moved, a Point
+/// where it stayed. An executed route's vertex names what brought the rover there, a
+/// plan's what it does next.
+fn action_feature(k: usize, a: &RouteVertex, b: &RouteVertex, executed: bool) -> Value {
+    let activity = if executed { &b.activity } else { &a.activity };
+    let (pa, pb) = ([lon180(a.lon_deg), a.lat_deg], [lon180(b.lon_deg), b.lat_deg]);
+    let geometry = if pa == pb {
+        json!({ "type": "Point", "coordinates": pa })
+    } else {
+        json!({ "type": "LineString", "coordinates": [pa, pb] })
+    };
+    json!({
+        "type": "Feature",
+        "properties": {
+            "kind": "action", "index": k, "activity": activity,
+            "start_utc": a.utc, "end_utc": b.utc, "start_unix_s": a.unix_s, "end_unix_s": b.unix_s,
+            "duration_s": b.unix_s - a.unix_s,
+            "battery_start_wh": a.battery_wh, "battery_end_wh": b.battery_wh,
+        },
+        "geometry": geometry,
+    })
+}
+
+/// `route.czml`: a document packet with the clock over the route's span and the body's
+/// ellipsoid named, the rover's path with a position per vertex (seconds after the
+/// first, degrees, metres on the body's reference sphere), and the goals.
+pub(super) fn route_czml(r: &TempestReport, route: &RoutePlaces) -> Value {
+    let v = &route.timeline;
+    let (Some(first), Some(last)) = (v.first(), v.last()) else { return json!([]) };
+    let interval = format!("{}/{}", first.utc, last.utc);
+    let body = serde_json::to_value(collection(Vec::new(), &route.surface)).unwrap_or_else(|_| json!({}));
+    let mut positions = Vec::with_capacity(4 * v.len());
+    for p in v {
+        positions.extend([p.unix_s - first.unix_s, lon180(p.lon_deg), p.lat_deg, p.elevation_m]);
+    }
+    let mut packets = vec![
+        json!({
+            "id": "document",
+            "name": if r.simulation.is_some() { "areo: executed route" } else { "areo: initial plan" },
+            "version": "1.0",
+            "clock": {
+                "interval": interval, "currentTime": first.utc, "multiplier": 600,
+                "range": "LOOP_STOP", "step": "SYSTEM_CLOCK_MULTIPLIER",
+            },
+            "properties": {
+                "body": body["body"],
+                "crs": body["crs"],
+                "heights": "metres above the body's reference sphere (the map's elevations)",
+            },
+        }),
+        json!({
+            "id": "rover",
+            "name": "rover",
+            "availability": interval,
+            "position": { "epoch": first.utc, "cartographicDegrees": positions },
+            "path": {
+                "material": { "solidColor": { "color": { "rgba": [220, 30, 40, 255] } } },
+                "width": 3, "leadTime": 0, "trailTime": 1e12, "resolution": 60,
+            },
+            "point": { "pixelSize": 10, "color": { "rgba": [255, 255, 255, 255] } },
+        }),
+    ];
+    for g in &route.goals {
+        packets.push(json!({
+            "id": format!("goal {}", g.name),
+            "name": g.name,
+            "position": { "cartographicDegrees": [lon180(g.lon_deg), g.lat_deg, 0.0] },
+            "point": { "pixelSize": 12, "color": { "rgba": [250, 220, 40, 255] } },
+            "label": { "text": g.name, "pixelOffset": { "cartesian2": [0, -18] } },
+        }));
+    }
+    Value::Array(packets)
+}

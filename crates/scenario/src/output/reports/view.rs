@@ -1,0 +1,100 @@
+//! `view.html`: a TEMPEST run's plan viewer, one self-contained page (its data, script
+//! and styles inline; no library, nothing fetched) written from the report's
+//! [`ViewData`]. A slider and play/pause move an instant through the run; the map shows
+//! the terrain with its direct sun at that instant, the routes, the goals and the
+//! rover; beside it the battery, the Sun's elevation and what the rover is doing, with
+//! a cursor. The instant is in the link (`view.html#t=2012-08-07T03:00:00Z`); a link
+//! whose time is not a time of the run shows the start and says why. The page keeps
+//! its state in `#state`'s data attributes (`data-utc`, `data-rover-x`,
+//! `data-rover-y` in the image's pixels, `data-frame`, `data-error`) for a test or a
+//! script to read.
+
+use std::path::Path;
+
+use base64::Engine;
+use serde::Serialize;
+
+use crate::error::Result;
+use crate::output::write_file;
+use crate::report::view::{ViewData, ViewPlace, ViewRoute, ViewTrackPoint};
+
+/// The page, with `__DATA__` where its data goes.
+const TEMPLATE: &str = include_str!("view.html");
+
+/// What the page's script reads.
+#[derive(Serialize)]
+struct Page<'a> {
+    name: &'a str,
+    body: &'a str,
+    map_cols: usize,
+    map_rows: usize,
+    /// The image's north-west cell (column, row).
+    origin_cells: (usize, usize),
+    cells_per_pixel: usize,
+    /// A cell's size, m (east, north).
+    cell_m: (f64, f64),
+    width: usize,
+    height: usize,
+    /// The hillshade's bytes, base64.
+    hillshade: String,
+    frame_unix_s: &'a [f64],
+    frame_sun_elevation_deg: &'a [f64],
+    frames: &'a [String],
+    routes: &'a [ViewRoute],
+    start: &'a ViewPlace,
+    goals: &'a [ViewPlace],
+    track: &'a [ViewTrackPoint],
+    /// Whether the track is an executed run (a point's activity is what brought the
+    /// rover there) or a plan (what it does next).
+    executed: bool,
+    about: String,
+}
+
+/// Writes `view.html` (`executed`: a simulated run) at `path`;
+/// returns its size, bytes.
+pub(super) fn write(path: &Path, view: &ViewData, executed: bool) -> Result<usize> {
+    let page = |about: String| Page {
+        name: &view.name,
+        body: &view.body,
+        map_cols: view.map_cols_rows.0,
+        map_rows: view.map_cols_rows.1,
+        origin_cells: view.origin_cells,
+        cells_per_pixel: view.cells_per_pixel,
+        cell_m: view.cell_m,
+        width: view.hillshade.cols,
+        height: view.hillshade.rows,
+        hillshade: base64::engine::general_purpose::STANDARD.encode(&view.hillshade.values),
+        frame_unix_s: &view.frame_unix_s,
+        frame_sun_elevation_deg: &view.frame_sun_elevation_deg,
+        frames: &view.frames,
+        routes: &view.routes,
+        start: &view.start,
+        goals: &view.goals,
+        track: &view.track,
+        executed,
+        about,
+    };
+    let html = |about: String| -> Result<String> {
+        let data = crate::output::json_for(path, &page(about), false)?;
+        // Nothing in the data may close the script element that holds it.
+        Ok(TEMPLATE.replace("__DATA__", &data.replace("</", "<\\/")))
+    };
+    let about = |bytes: usize| {
+        format!(
+            "One self-contained file of {:.1} MB (data, script and styles inline; nothing is fetched). {} shadow \
+             frames from {} to {}; the map at one pixel per {} × {} cells, the routes at full resolution.",
+            bytes as f64 / 1e6,
+            view.frames.len(),
+            view.track.first().map_or("", |p| p.utc.as_str()),
+            view.track.last().map_or("", |p| p.utc.as_str()),
+            view.cells_per_pixel,
+            view.cells_per_pixel
+        )
+    };
+    // The page states its own size: measured once without it, which the sentence
+    // changes by a few bytes.
+    let first = html(about(0))?.len();
+    let text = html(about(first))?;
+    write_file(path, text.as_bytes())?;
+    Ok(text.len())
+}

@@ -1,0 +1,248 @@
+//! The plan viewer (`view.html`) in a real browser: Debian's headless Chromium loads a
+//! run's page at instants given in the link and the tests read what it drew — its
+//! screenshots and the state the page keeps in `#state` — against the run's own files:
+//! the rover where executed.csv (or the plan) puts it, the shadows changed where the
+//! frames say the direct sun changed, and a link whose time is not the run's showing
+//! the start with the reason.
+//!
+//! Without Chromium the tests fail where `AREO_REQUIRE_CHROMIUM` is set (CI, whose
+//! `.ci/run` installs it) and say they did not run otherwise.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Whether Chromium runs here.
+// Saying that the test did not run is the point of its one message.
+#[allow(clippy::print_stderr)]
+fn chromium_here() -> bool {
+    match Command::new("chromium").arg("--version").output() {
+        Ok(o) if o.status.success() => true,
+        other if std::env::var_os("AREO_REQUIRE_CHROMIUM").is_some() => {
+            panic!("AREO_REQUIRE_CHROMIUM is set but chromium cannot run: {other:?}")
+        }
+        _ => {
+            eprintln!("not run: no chromium here; .ci/run installs Debian's chromium and requires it");
+            false
+        }
+    }
+}
+
+/// Runs `scenario` into a fresh directory; returns the run's output directory.
+fn run(scenario: &str) -> PathBuf {
+    let name = Path::new(scenario).file_stem().unwrap().to_string_lossy().into_owned();
+    let out = root().join("target").join("view-tests").join(&name);
+    let _ = std::fs::remove_dir_all(&out);
+    let o = Command::new(env!("CARGO_BIN_EXE_areo"))
+        .args(["-q", "run", root().join(scenario).to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    out.join(name)
+}
+
+/// The page at `#t=fragment`: its DOM after the script ran, and its console's errors.
+fn dom(page: &Path, fragment: &str) -> (String, String) {
+    let url = format!("file://{}#t={fragment}", page.display());
+    let o = Command::new("chromium")
+        .args(["--headless", "--no-sandbox", "--disable-gpu", "--enable-logging=stderr", "--v=0"])
+        .args(["--virtual-time-budget=5000", "--window-size=1300,820", "--dump-dom", &url])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    let console: Vec<&str> = err.lines().filter(|l| l.contains("CONSOLE") || l.contains("Uncaught")).collect();
+    (String::from_utf8_lossy(&o.stdout).into_owned(), console.join("\n"))
+}
+
+/// A screenshot of the page at `#t=fragment`: width, height and RGBA pixels.
+fn screenshot(page: &Path, fragment: &str, name: &str) -> (usize, usize, Vec<u8>) {
+    let png = page.with_file_name(format!("{name}.png"));
+    let url = format!("file://{}#t={fragment}", page.display());
+    let o = Command::new("chromium")
+        .args(["--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", "--window-size=1300,820"])
+        .args(["--virtual-time-budget=5000", &format!("--screenshot={}", png.display()), &url])
+        .output()
+        .unwrap();
+    assert!(png.exists(), "no screenshot: {}", String::from_utf8_lossy(&o.stderr));
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let rgba: Vec<u8> = match info.color_type {
+        png::ColorType::Rgba => buf[..info.buffer_size()].to_vec(),
+        png::ColorType::Rgb => buf[..info.buffer_size()].chunks(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect(),
+        other => panic!("screenshot colour type {other:?}"),
+    };
+    (info.width as usize, info.height as usize, rgba)
+}
+
+/// `#state`'s data attributes in a dumped DOM.
+fn state(dom: &str) -> HashMap<String, String> {
+    let at = dom.find("id=\"state\"").expect("#state in the page");
+    let tag = &dom[dom[..at].rfind('<').unwrap()..at + dom[at..].find('>').unwrap()];
+    let mut out = HashMap::new();
+    for part in tag.split(" data-").skip(1) {
+        if let Some((k, v)) = part.split_once("=\"") {
+            out.insert(k.to_string(), v.split('"').next().unwrap_or("").replace("&quot;", "\""));
+        }
+    }
+    out
+}
+
+/// The page's data: the JSON in its `#data` script.
+fn page_data(page: &Path) -> serde_json::Value {
+    let html = std::fs::read_to_string(page).unwrap();
+    let start = html.find("type=\"application/json\">").unwrap() + "type=\"application/json\">".len();
+    let end = start + html[start..].find("</script>").unwrap();
+    serde_json::from_str(&html[start..end].replace("<\\/", "</")).unwrap()
+}
+
+/// A CSV file's rows by header name (no quoted commas in the columns read here).
+fn csv(path: &Path) -> Vec<HashMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    lines.map(|l| header.iter().cloned().zip(l.split(',').map(String::from)).collect()).collect()
+}
+
+fn num(s: &str) -> f64 {
+    s.parse().unwrap_or_else(|e| panic!("{s:?}: {e}"))
+}
+
+/// The pixel of map metres (x east, y north of the south-west corner) in the page's
+/// image, from its data: cells from its north-west cell, over cells per pixel.
+fn pixel(data: &serde_json::Value, (x_m, y_m): (f64, f64)) -> (f64, f64) {
+    let k = data["cells_per_pixel"].as_f64().unwrap();
+    let (dx, dy) = (data["cell_m"][0].as_f64().unwrap(), data["cell_m"][1].as_f64().unwrap());
+    let (c0, r0) = (data["origin_cells"][0].as_f64().unwrap(), data["origin_cells"][1].as_f64().unwrap());
+    let rows = data["map_rows"].as_f64().unwrap();
+    ((x_m / dx - c0) / k, ((rows * dy - y_m) / dy - r0) / k)
+}
+
+/// Checks the page at instants `a` and `b`, where the rover stands at `rover_a` and
+/// `rover_b` (map metres): no script error, the rover marker drawn there, and the
+/// screenshots differing where the direct sun changed between the instants' frames.
+fn check_two_instants(page: &Path, (a, rover_a): (&str, (f64, f64)), (b, rover_b): (&str, (f64, f64))) {
+    let data = page_data(page);
+    let mut frames = Vec::new();
+    let mut shots = Vec::new();
+    for (t, at, name) in [(a, rover_a, "shot_a"), (b, rover_b, "shot_b")] {
+        let (page_dom, console) = dom(page, t);
+        assert!(console.is_empty(), "the page's console at {t}:\n{console}");
+        let s = state(&page_dom);
+        assert_eq!(s.get("error").map(String::as_str), Some(""), "{t}: {s:?}");
+        assert!((num(&s["t"]) - unix_s(t)).abs() < 1e-3, "{t}: {}", s["t"]);
+        let (want_x, want_y) = pixel(&data, at);
+        let (x, y) = (num(&s["rover-x"]), num(&s["rover-y"]));
+        assert!(
+            (x - want_x).abs() <= 1.0 && (y - want_y).abs() <= 1.0,
+            "{t}: rover at ({x}, {y}), want ({want_x}, {want_y})"
+        );
+        // The marker is drawn there: the screenshot is magenta at its centre.
+        let (w, _, rgba) = screenshot(page, t, name);
+        let scale = num(&s["scale"]);
+        let (left, top) = (num(&s["map-left"]), num(&s["map-top"]));
+        let (sx, sy) = ((left + x * scale) as usize, (top + y * scale) as usize);
+        let p = &rgba[4 * (sy * w + sx)..4 * (sy * w + sx) + 3];
+        assert!(p[0] > 200 && p[1] < 60 && p[2] > 200, "{t}: the marker's pixel is {p:?}");
+        frames.push(num(&s["frame"]) as usize);
+        shots.push((w, rgba, scale, left, top));
+    }
+    // Where the frames' direct sun differs, so does the picture.
+    let bits = |k: usize| {
+        use base64::Engine;
+        base64::engine::general_purpose::STANDARD.decode(data["frames"][k].as_str().unwrap()).unwrap()
+    };
+    let (fa, fb) = (bits(frames[0]), bits(frames[1]));
+    let width = data["width"].as_u64().unwrap() as usize;
+    let height = data["height"].as_u64().unwrap() as usize;
+    let (mut changed, mut shown) = (0, 0);
+    for i in 0..width * height {
+        let (la, lb) = ((fa[i / 8] >> (i % 8)) & 1, (fb[i / 8] >> (i % 8)) & 1);
+        if la == lb {
+            continue;
+        }
+        changed += 1;
+        let sample = |(w, rgba, scale, left, top): &(usize, Vec<u8>, f64, f64, f64)| {
+            let (sx, sy) = (
+                (left + ((i % width) as f64 + 0.5) * scale) as usize,
+                (top + ((i / width) as f64 + 0.5) * scale) as usize,
+            );
+            let o = 4 * (sy * w + sx);
+            (rgba[o] as i32, rgba[o + 2] as i32)
+        };
+        // Lit ground is grey (blue no stronger than red); ground without direct sun is
+        // blue-tinted.
+        let ((ra, ba), (rb, bb)) = (sample(&shots[0]), sample(&shots[1]));
+        if (la == 1) == (ba - ra < 20) && (lb == 1) == (bb - rb < 20) {
+            shown += 1;
+        }
+    }
+    assert!(changed > 50, "the direct sun changes at {changed} pixels between {a} and {b}");
+    // Routes and markers cover some of them.
+    assert!(shown as f64 >= 0.9 * changed as f64, "{shown} of {changed} changed pixels drawn so");
+}
+
+/// `t` (ISO 8601 UTC, `YYYY-MM-DDTHH:MM:SS(.sss)Z`) as Unix seconds.
+fn unix_s(t: &str) -> f64 {
+    let (date, time) = t.trim_end_matches('Z').split_once('T').unwrap();
+    let d: Vec<i64> = date.split('-').map(|v| v.parse().unwrap()).collect();
+    let h: Vec<f64> = time.split(':').map(|v| v.parse().unwrap()).collect();
+    // Days from 1970-01-01 (the proleptic Gregorian calendar's civil-from-days inverse).
+    let (y, m) = if d[1] <= 2 { (d[0] - 1, d[1] + 9) } else { (d[0], d[1] - 3) };
+    let era = y.div_euclid(400);
+    let yoe = y - era * 400;
+    let doy = (153 * m + 2) / 5 + d[2] - 1;
+    let days = era * 146_097 + yoe * 365 + yoe / 4 - yoe / 100 + doy - 719_468;
+    days as f64 * 86_400.0 + h[0] * 3600.0 + h[1] * 60.0 + h[2]
+}
+
+/// The executed row whose action spans `t` (ISO 8601): its start, as map metres.
+fn executed_at(rows: &[HashMap<String, String>], t: &str) -> (f64, f64) {
+    let row = rows.iter().find(|r| r["utc"].as_str() <= t && t < r["end_utc"].as_str()).expect("an action then");
+    assert!(row["action"] == "wait" || row["action"] == "hibernate", "the rover stands still then: {row:?}");
+    (num(&row["x_m"]), num(&row["y_m"]))
+}
+
+#[test]
+fn valley_detours_viewer_shows_the_night_the_waiting_rover_and_its_battery() {
+    if !chromium_here() {
+        return;
+    }
+    let dir = run("scenarios/valley-detour.ron");
+    let page = dir.join("view.html");
+    let rows = csv(&dir.join("executed.csv"));
+    // In the afternoon waiting at the wall, and in the night that follows.
+    let (a, b) = ("2012-08-07T04:30:00.000Z", "2012-08-07T14:00:00.000Z");
+    check_two_instants(&page, (a, executed_at(&rows, a)), (b, executed_at(&rows, b)));
+    // A bad link shows the start and says why.
+    let (bad, console) = dom(&page, "yesterday");
+    assert!(console.is_empty(), "{console}");
+    let s = state(&bad);
+    assert!(s["error"].contains("\"yesterday\", is not a time: showing the start"), "{s:?}");
+    assert_eq!(s["utc"], rows[0]["utc"].replace(".000Z", "Z"));
+    let (late, _) = dom(&page, "2030-01-01T00:00:00Z");
+    assert!(state(&late)["error"].contains("is outside the run"));
+    let size = std::fs::metadata(&page).unwrap().len();
+    assert!(size < 25_000_000, "{size} bytes");
+}
+
+#[test]
+fn the_lunar_plans_viewer_moves_the_shadows_and_the_rover_along_the_plan() {
+    if !chromium_here() {
+        return;
+    }
+    let dir = run("scenarios/lunar-south-pole.ron");
+    let page = dir.join("view.html");
+    let plan = csv(&dir.join("plan.csv"));
+    // Two waypoints a day apart: the rover is at each at its instant.
+    let first = &plan[1];
+    let later = plan.iter().find(|w| num(&w["t_s"]) > num(&first["t_s"]) + 86_400.0).expect("a waypoint a day on");
+    let at = |w: &HashMap<String, String>| (w["utc"].clone(), (num(&w["x_m"]), num(&w["y_m"])));
+    let ((ta, pa), (tb, pb)) = (at(first), at(later));
+    check_two_instants(&page, (&ta, pa), (&tb, pb));
+}
