@@ -142,6 +142,9 @@ fn layers_lie_under_the_route(
         let gt: Vec<f64> = serde_json::from_value(info["geoTransform"].clone()).unwrap();
         assert_eq!((gt[1], gt[2], gt[4], gt[5]), (30.0, 0.0, 0.0, -30.0), "{name} {layer}");
         assert_eq!(info["size"], serde_json::json!([60, 40]), "{name} {layer}");
+        // A Cloud-Optimized GeoTIFF, as GDAL reads it.
+        assert_eq!(info["metadata"]["IMAGE_STRUCTURE"]["LAYOUT"], "COG", "{name} {layer}: {}", info["metadata"]);
+        assert_eq!(info["bands"][0]["block"], serde_json::json!([256, 256]), "{name} {layer}");
     }
     let shadow: serde_json::Value =
         serde_json::from_str(&tool("gdalinfo", &["-json", dir.join("direct_sun.tif").to_str().unwrap()])).unwrap();
@@ -237,4 +240,30 @@ fn gdal_reads_each_maps_wkt_as_its_projection_on_its_body() {
     let local = Georef { projection: Projection::Local, surface: Spheroid::MARS_IAU2015 };
     let wkt = tool("gdalsrsinfo", &["-o", "wkt2", &local.wkt()]);
     assert!(wkt.contains("ENGCRS") && wkt.contains("metre"), "{wkt}");
+}
+
+/// A map larger than a tile is written with overviews, halving until one tile holds it,
+/// and GDAL reads the full image and each overview (a 600 × 450-cell synthesised map).
+#[test]
+fn gdal_reads_a_large_layer_as_a_cog_with_its_overviews() {
+    if !gdal_here("gdalinfo") {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("areo-gis-cog-{}", std::process::id()));
+    let text = scenario("Mars", (-4.6, 137.4), "2012-08-06T12:00:00Z")
+        .replace("cols: 60, rows: 40", "cols: 600, rows: 450")
+        .replace("(name: \"east\", x_m: 1665, y_m: 825)", "(name: \"east\", x_m: 1665, y_m: 405)");
+    let path = dir.join("big.ron");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(&path, text).unwrap();
+    let out = areo(&["-q", "run", path.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let info: serde_json::Value =
+        serde_json::from_str(&tool("gdalinfo", &["-json", dir.join("big/dem.tif").to_str().unwrap()])).unwrap();
+    assert_eq!(info["metadata"]["IMAGE_STRUCTURE"]["LAYOUT"], "COG");
+    assert_eq!(info["size"], serde_json::json!([600, 450]));
+    let overviews: Vec<serde_json::Value> =
+        info["bands"][0]["overviews"].as_array().unwrap().iter().map(|o| o["size"].clone()).collect();
+    assert_eq!(overviews, [serde_json::json!([300, 225]), serde_json::json!([150, 113])]);
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -18,8 +18,10 @@ use crate::projection::Projection;
 use areo_body::Spheroid;
 
 /// GeoKey ids used here (GeoTIFF 1.1, OGC 19-008r4).
+mod cog;
 mod tiled;
 
+pub use cog::{COG_TILE, write_cog_f32, write_cog_u8};
 pub use tiled::{BIGTIFF_FROM_BYTES, TileSink, write_f32_tiled, write_u8_tiled, write_u16_planes_tiled};
 
 mod key {

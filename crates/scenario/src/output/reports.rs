@@ -77,14 +77,15 @@ fn sun_table_summary(r: &SunTableReport) -> Vec<String> {
     ]
 }
 
-/// `dem.tif` (float32, NaN where no data), `direct_sun.tif` (1 in direct sun, 0 not
+/// `dem.tif` (float32, NaN where no data; Cloud-Optimized, as every layer a job
+/// writes), `direct_sun.tif` (1 in direct sun, 0 not
 /// — a cast shadow or a slope facing away —, 255 no data) and its preview
 /// `direct_sun.png` with a world file.
 fn terrain_shadow_files(dir: &Path, r: &TerrainShadowReport) -> Result<Vec<PathBuf>> {
     let dem_path = dir.join("dem.tif");
-    super::write_with(&dem_path, |tmp| Ok(geotiff::write_f32_on(&r.grid, &r.elevation_m.values, tmp)?))?;
+    super::write_with(&dem_path, |tmp| Ok(geotiff::write_cog_f32(&r.grid, &r.elevation_m.values, tmp)?))?;
     let shadow_path = dir.join("direct_sun.tif");
-    super::write_with(&shadow_path, |tmp| Ok(geotiff::write_u8_on(&r.grid, &r.direct_sun.values, Some(255), tmp)?))?;
+    super::write_with(&shadow_path, |tmp| Ok(geotiff::write_cog_u8(&r.grid, &r.direct_sun.values, Some(255), tmp)?))?;
     let rgb: Vec<u8> = r.preview_rgb.values.iter().flatten().copied().collect();
     let mut files = vec![dem_path, shadow_path.clone()];
     files.extend(super::png::write_grid_png(&shadow_path.with_extension("png"), &r.grid, &rgb)?);

@@ -1,8 +1,8 @@
 //! A TEMPEST report's files written from the report alone: the plan and the run
 //! (`plan.json`, `simulation.json`), the tables (`plan.csv`, `executed.csv`,
 //! `replans.csv`, `waits.csv`, each column at the decimals its CSV row type gives), the
-//! routes (`route.geojson`, `route.kml`), the map layers (`dem.tif`, `slope.tif`,
-//! `direct_sun.tif`), the Monte Carlo's and the Pareto front's tables (`monte_carlo.csv`,
+//! routes (`route.geojson`, `route.kml`), the map layers as Cloud-Optimized GeoTIFFs
+//! (`dem.tif`, `slope.tif`, `direct_sun.tif`), the Monte Carlo's and the Pareto front's tables (`monte_carlo.csv`,
 //! `pareto_front.csv`, `pareto_front.json`) and the plots.
 
 use std::path::{Path, PathBuf};
@@ -57,10 +57,11 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
         put("waits.csv", &|p| write_rows(p, rows.iter().map(WaitCsv::from)))?;
     }
     if let Some(l) = &r.layers {
-        put("dem.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_f32_on(&l.grid, &l.elevation_m.values, tmp)?)))?;
-        put("slope.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_f32_on(&l.grid, &l.slope_deg.values, tmp)?)))?;
+        // Cloud-Optimized GeoTIFFs: tiled, with overviews, for map servers as for GIS.
+        put("dem.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_cog_f32(&l.grid, &l.elevation_m.values, tmp)?)))?;
+        put("slope.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_cog_f32(&l.grid, &l.slope_deg.values, tmp)?)))?;
         put("direct_sun.tif", &|p| {
-            write_with(p, |tmp| Ok(geotiff::write_u8_on(&l.shadow_grid, &l.direct_sun.values, Some(NO_DATA), tmp)?))
+            write_with(p, |tmp| Ok(geotiff::write_cog_u8(&l.shadow_grid, &l.direct_sun.values, Some(NO_DATA), tmp)?))
         })?;
     }
     if let Some(rows) = &t.monte_carlo {
