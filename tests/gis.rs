@@ -144,7 +144,8 @@ fn layers_lie_under_the_route(
         assert_eq!(info["size"], serde_json::json!([60, 40]), "{name} {layer}");
         // A Cloud-Optimized GeoTIFF, as GDAL reads it.
         assert_eq!(info["metadata"]["IMAGE_STRUCTURE"]["LAYOUT"], "COG", "{name} {layer}: {}", info["metadata"]);
-        assert_eq!(info["bands"][0]["block"], serde_json::json!([256, 256]), "{name} {layer}");
+        // A map smaller than a tile is one tile of its size, rounded up to 16 pixels.
+        assert_eq!(info["bands"][0]["block"], serde_json::json!([64, 64]), "{name} {layer}");
     }
     let shadow: serde_json::Value =
         serde_json::from_str(&tool("gdalinfo", &["-json", dir.join("direct_sun.tif").to_str().unwrap()])).unwrap();
@@ -265,5 +266,25 @@ fn gdal_reads_a_large_layer_as_a_cog_with_its_overviews() {
     let overviews: Vec<serde_json::Value> =
         info["bands"][0]["overviews"].as_array().unwrap().iter().map(|o| o["size"].clone()).collect();
     assert_eq!(overviews, [serde_json::json!([300, 225]), serde_json::json!([150, 113])]);
+    assert_eq!(info["bands"][0]["block"], serde_json::json!([256, 256]));
+    // The direct sun through the run: COGs listed with their instants.
+    let folder = dir.join("big/shadows");
+    let index: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(folder.join("index.json")).unwrap()).unwrap();
+    let entries = index.as_array().unwrap();
+    assert!(entries.len() >= 2, "{} frames", entries.len());
+    let times: Vec<f64> = entries.iter().map(|e| e["unix_s"].as_f64().unwrap()).collect();
+    assert!(times.windows(2).all(|w| w[1] >= w[0] + 600.0), "at least ten minutes apart");
+    for e in [&entries[0], entries.last().unwrap()] {
+        let file = folder.join(e["file"].as_str().unwrap());
+        let info: serde_json::Value =
+            serde_json::from_str(&tool("gdalinfo", &["-json", file.to_str().unwrap()])).unwrap();
+        assert_eq!(info["metadata"]["IMAGE_STRUCTURE"]["LAYOUT"], "COG", "{}", file.display());
+        // The file's own time is the index's, to the second.
+        let utc = e["utc"].as_str().unwrap();
+        let stamp = info["metadata"][""]["TIFFTAG_DATETIME"].as_str().unwrap_or_default().to_string();
+        assert_eq!(stamp, utc[..19].replacen('-', ":", 2).replace('T', " "), "{}", file.display());
+        assert!(utc.starts_with("2012-08-06T"), "{e}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

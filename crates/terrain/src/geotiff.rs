@@ -21,7 +21,7 @@ use areo_body::Spheroid;
 mod cog;
 mod tiled;
 
-pub use cog::{COG_TILE, write_cog_f32, write_cog_u8};
+pub use cog::{COG_TILE, write_cog_f32, write_cog_u8, write_cog_u8_at};
 pub use tiled::{BIGTIFF_FROM_BYTES, TileSink, write_f32_tiled, write_u8_tiled, write_u16_planes_tiled};
 
 mod key {

@@ -13,6 +13,7 @@ use super::csv::Table;
 
 mod actions;
 mod actions_files;
+mod shadows;
 mod tempest;
 mod tempest_files;
 mod tempest_time;

@@ -37,6 +37,8 @@ pub struct ViewData {
     pub hillshade: Raster<u8>,
     /// The instants of the direct-sun frames, s since 1970-01-01T00:00:00 UTC.
     pub frame_unix_s: Vec<f64>,
+    /// The same instants, ISO 8601 UTC.
+    pub frame_utc: Vec<String>,
     /// The Sun's elevation at the site at each frame's instant, degrees.
     pub frame_sun_elevation_deg: Vec<f64>,
     /// Each frame's direct sun on the true terrain: base64 of a bitset, pixel i (row-

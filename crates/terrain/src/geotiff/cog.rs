@@ -3,7 +3,8 @@
 //! tiles) fetches what a view needs with range requests and `gdalinfo` reports
 //! `LAYOUT=COG`.
 //!
-//! The file is classic little-endian TIFF, uncompressed: the 8-byte header; GDAL's
+//! The file is classic little-endian TIFF, uncompressed, in tiles of [`COG_TILE`] (or
+//! one tile the map's size, rounded up to 16, for a smaller map): the 8-byte header; GDAL's
 //! "ghost" structural metadata (`LAYOUT=IFDS_BEFORE_DATA`, `BLOCK_ORDER=ROW_MAJOR`,
 //! `BLOCK_LEADER=SIZE_AS_UINT4`, `BLOCK_TRAILER=LAST_4_BYTES_REPEATED`); the full-
 //! resolution image's IFD (with the georeference) and each overview's (halving until
@@ -14,7 +15,8 @@
 
 use super::*;
 
-/// Tile side, pixels.
+/// The largest tile side, pixels (a map smaller than a tile is one tile of its size
+/// rounded up to 16 pixels).
 pub const COG_TILE: usize = 256;
 
 /// A sample type of a COG.
@@ -56,13 +58,21 @@ impl Sample for u8 {
 /// Writes float32 `values` (row-major from the north-west corner, NaN no data) on
 /// `grid` as a Cloud-Optimized GeoTIFF.
 pub fn write_cog_f32(grid: &Grid, values: &[f32], path: &Path) -> Result<()> {
-    write_cog(grid, values, Some("nan".to_string()), f32::NAN, path)
+    write_cog(grid, values, (Some("nan".to_string()), None), f32::NAN, path)
 }
 
 /// Writes one-byte `values` on `grid` as a Cloud-Optimized GeoTIFF, `nodata` named as
 /// GDAL's no-data value.
 pub fn write_cog_u8(grid: &Grid, values: &[u8], nodata: Option<u8>, path: &Path) -> Result<()> {
-    write_cog(grid, values, nodata.map(|v| v.to_string()), nodata.unwrap_or(0), path)
+    write_cog(grid, values, (nodata.map(|v| v.to_string()), None), nodata.unwrap_or(0), path)
+}
+
+/// [`write_cog_u8`] for a map of one instant, `utc` (ISO 8601, `YYYY-MM-DDTHH:MM:SS…`),
+/// written as the TIFF DateTime (`YYYY:MM:DD HH:MM:SS`, which GDAL reports as
+/// `TIFFTAG_DATETIME`).
+pub fn write_cog_u8_at(grid: &Grid, values: &[u8], nodata: Option<u8>, utc: &str, path: &Path) -> Result<()> {
+    let stamp: String = utc.chars().take(19).collect::<String>().replacen('-', ":", 2).replace('T', " ");
+    write_cog(grid, values, (nodata.map(|v| v.to_string()), Some(stamp)), nodata.unwrap_or(0), path)
 }
 
 /// One image of the file: its size and samples.
@@ -93,15 +103,15 @@ impl<T: Sample> Level<T> {
         Level { cols, rows, values }
     }
 
-    /// The tiles, row-major, each `COG_TILE`² samples (edge tiles padded with `pad`).
-    fn tiles(&self, pad: T) -> Vec<Vec<u8>> {
-        let (across, down) = (self.cols.div_ceil(COG_TILE), self.rows.div_ceil(COG_TILE));
+    /// The tiles, row-major, each `tile`² samples (edge tiles padded with `pad`).
+    fn tiles(&self, pad: T, tile: usize) -> Vec<Vec<u8>> {
+        let (across, down) = (self.cols.div_ceil(tile), self.rows.div_ceil(tile));
         let mut out = Vec::with_capacity(across * down);
         for ty in 0..down {
             for tx in 0..across {
-                let mut bytes = Vec::with_capacity(COG_TILE * COG_TILE * usize::from(T::BITS / 8));
-                for r in ty * COG_TILE..(ty + 1) * COG_TILE {
-                    for c in tx * COG_TILE..(tx + 1) * COG_TILE {
+                let mut bytes = Vec::with_capacity(tile * tile * usize::from(T::BITS / 8));
+                for r in ty * tile..(ty + 1) * tile {
+                    for c in tx * tile..(tx + 1) * tile {
                         let v = if r < self.rows && c < self.cols { self.values[r * self.cols + c] } else { pad };
                         v.put(&mut bytes);
                     }
@@ -188,10 +198,10 @@ fn ghost() -> Vec<u8> {
 
 /// The fields of level `k` of `levels`, its tiles at `offsets` of `sizes` bytes.
 fn fields<T: Sample>(
-    grid: &Grid,
+    (grid, tile): (&Grid, usize),
     (k, level): (usize, &Level<T>),
     (offsets, sizes): (&[u32], &[u32]),
-    nodata: Option<&str>,
+    (nodata, datetime): (Option<&str>, Option<&str>),
 ) -> Vec<Field> {
     let mut f = vec![
         Field::longs(254, &[u32::from(k > 0)]),
@@ -202,12 +212,17 @@ fn fields<T: Sample>(
         Field::shorts(262, &[1]),
         Field::shorts(277, &[1]),
         Field::shorts(284, &[1]),
-        Field::longs(322, &[COG_TILE as u32]),
-        Field::longs(323, &[COG_TILE as u32]),
+    ];
+    if let Some(stamp) = datetime {
+        f.push(Field::ascii(306, stamp));
+    }
+    f.extend([
+        Field::longs(322, &[tile as u32]),
+        Field::longs(323, &[tile as u32]),
         Field::longs(324, offsets),
         Field::longs(325, sizes),
         Field::shorts(339, &[T::FORMAT]),
-    ];
+    ]);
     if k == 0 {
         let geo = geokeys_for(&grid.georef);
         f.push(Field::doubles(33550, &[grid.dx, grid.dy, 0.0]));
@@ -222,17 +237,24 @@ fn fields<T: Sample>(
     f
 }
 
-fn write_cog<T: Sample>(grid: &Grid, values: &[T], nodata: Option<String>, pad: T, path: &Path) -> Result<()> {
+fn write_cog<T: Sample>(
+    grid: &Grid,
+    values: &[T],
+    (nodata, datetime): (Option<String>, Option<String>),
+    pad: T,
+    path: &Path,
+) -> Result<()> {
     if values.len() != grid.cols * grid.rows {
         return Err(Error::BadGrid(format!("{} values for {} cells", values.len(), grid.cols * grid.rows)));
     }
+    let tile = COG_TILE.min(grid.cols.max(grid.rows).next_multiple_of(16));
     let mut levels = vec![Level { cols: grid.cols, rows: grid.rows, values: values.to_vec() }];
-    while let Some(last) = levels.last().filter(|l| l.cols > COG_TILE || l.rows > COG_TILE) {
+    while let Some(last) = levels.last().filter(|l| l.cols > tile || l.rows > tile) {
         let next = last.halved();
         levels.push(next);
     }
-    let tiles: Vec<Vec<Vec<u8>>> = levels.iter().map(|l| l.tiles(pad)).collect();
-    let nodata = nodata.as_deref();
+    let tiles: Vec<Vec<Vec<u8>>> = levels.iter().map(|l| l.tiles(pad, tile)).collect();
+    let tags = (nodata.as_deref(), datetime.as_deref());
     // The IFDs' sizes do not depend on the offsets they hold: measure them with zeros,
     // then place the data after them, the smallest overview's tiles first.
     let ghost = ghost();
@@ -240,7 +262,7 @@ fn write_cog<T: Sample>(grid: &Grid, values: &[T], nodata: Option<String>, pad: 
     let sizes: Vec<Vec<u32>> = tiles.iter().map(|t| t.iter().map(|b| b.len() as u32).collect()).collect();
     let zeros: Vec<Vec<u32>> = sizes.iter().map(|s| vec![0; s.len()]).collect();
     let ifd_lens: Vec<usize> = (levels.iter().enumerate())
-        .map(|(k, l)| ifd(0, &fields(grid, (k, l), (&zeros[k], &sizes[k]), nodata), 0).len())
+        .map(|(k, l)| ifd(0, &fields((grid, tile), (k, l), (&zeros[k], &sizes[k]), tags), 0).len())
         .collect();
     let data_start = first_ifd + ifd_lens.iter().sum::<usize>();
     let mut offsets: Vec<Vec<u32>> = zeros.clone();
@@ -265,7 +287,7 @@ fn write_cog<T: Sample>(grid: &Grid, values: &[T], nodata: Option<String>, pad: 
     for (k, l) in levels.iter().enumerate() {
         let here = file.len() as u32;
         let next = if k + 1 < levels.len() { here + ifd_lens[k] as u32 } else { 0 };
-        file.extend(ifd(here, &fields(grid, (k, l), (&offsets[k], &sizes[k]), nodata), next));
+        file.extend(ifd(here, &fields((grid, tile), (k, l), (&offsets[k], &sizes[k]), tags), next));
     }
     for k in (0..levels.len()).rev() {
         for t in &tiles[k] {

@@ -44,6 +44,7 @@ pub(super) fn view(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimRep
         cell_m: (truth.dem().dx(), truth.dem().dy()),
         hillshade: hillshade(truth, &cells, (w, h)),
         frame_sun_elevation_deg: times.iter().map(|&t| sun_at(t)).collect(),
+        frame_utc: times.iter().map(|&t| format_utc(truth.epoch() + Duration::from_seconds(t - epoch_unix))).collect(),
         frames: times.iter().map(|&t| direct_sun(truth, &cells, t - epoch_unix)).collect(),
         frame_unix_s: times,
         routes,
