@@ -9,7 +9,7 @@
 //! Without GDAL the test fails where `AREO_REQUIRE_GDAL` is set (CI) and says it did not
 //! run otherwise.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use areo_scenario::Body;
@@ -251,9 +251,12 @@ fn gdal_reads_a_large_layer_as_a_cog_with_its_overviews() {
         return;
     }
     let dir = std::env::temp_dir().join(format!("areo-gis-cog-{}", std::process::id()));
-    let text = scenario("Mars", (-4.6, 137.4), "2012-08-06T12:00:00Z")
+    // Starting at dawn (local true solar time about 6.5 h), so that the Sun is low and
+    // the hill casts shadows.
+    let text = scenario("Mars", (-4.6, 137.4), "2012-08-06T20:40:00Z")
         .replace("cols: 60, rows: 40", "cols: 600, rows: 450")
-        .replace("(name: \"east\", x_m: 1665, y_m: 825)", "(name: \"east\", x_m: 1665, y_m: 405)");
+        .replace("(name: \"east\", x_m: 1665, y_m: 825)", "(name: \"east\", x_m: 1665, y_m: 405)")
+        .replace("horizon_h: 12,", "horizon_h: 12, sun_step_min: 4, shadow_utc: \"2012-08-06T21:40:00Z\",");
     let path = dir.join("big.ron");
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(&path, text).unwrap();
@@ -274,7 +277,30 @@ fn gdal_reads_a_large_layer_as_a_cog_with_its_overviews() {
     let entries = index.as_array().unwrap();
     assert!(entries.len() >= 2, "{} frames", entries.len());
     let times: Vec<f64> = entries.iter().map(|e| e["unix_s"].as_f64().unwrap()).collect();
-    assert!(times.windows(2).all(|w| w[1] >= w[0] + 600.0), "at least ten minutes apart");
+    // Instants of the Sun table (every 4 minutes from the start), evenly spaced, from
+    // the last at or before the run's first instant to the first at or after its last.
+    let start = 1_344_285_600.0; // 2012-08-06T20:40:00Z
+    let plan = std::fs::read_to_string(dir.join("big/plan.csv")).unwrap();
+    let t_s = |line: &str| line.split(',').nth(2).unwrap().parse::<f64>().unwrap();
+    let (run0, run1) = (t_s(plan.lines().nth(1).unwrap()), t_s(plan.lines().last().unwrap()));
+    assert!(times.iter().all(|t| (t - start) % 240.0 == 0.0), "{times:?}");
+    assert!(times[0] <= start + run0 && start + run0 < times[0] + 240.0, "{} for a run from {run0} s", times[0]);
+    let spacing = times[1] - times[0];
+    assert!(times.windows(2).all(|w| w[1] - w[0] == spacing), "{times:?}");
+    assert!(*times.last().unwrap() >= start + run1 && entries.len() <= 240, "{times:?} for a run to {run1} s");
+    // At `shadow_utc` it is the direct sun direct_sun.tif has (both read by GDAL as raw
+    // bytes: the same values, no data included).
+    let raw = |tif: &Path| {
+        let out = tif.with_extension("raw");
+        tool("gdal_translate", &["-q", "-of", "ENVI", tif.to_str().unwrap(), out.to_str().unwrap()]);
+        std::fs::read(&out).unwrap()
+    };
+    let at = entries.iter().find(|e| e["utc"] == "2012-08-06T21:40:00.000Z").expect("21:40 in the series");
+    let (series, single) = (raw(&folder.join(at["file"].as_str().unwrap())), raw(&dir.join("big/direct_sun.tif")));
+    assert_eq!(series.len(), 600 * 450);
+    let differ = series.iter().zip(&single).filter(|(a, b)| a != b).count();
+    assert!(differ == 0, "{differ} of {} values differ", series.len());
+    assert!(series.contains(&0) && series.contains(&1), "shadow and sun both at 21:40");
     for e in [&entries[0], entries.last().unwrap()] {
         let file = folder.join(e["file"].as_str().unwrap());
         let info: serde_json::Value =

@@ -45,9 +45,9 @@ fn run(scenario: &str) -> PathBuf {
     out.join(name)
 }
 
-/// The page at `#t=fragment`: its DOM after the script ran, and its console's errors.
+/// The page at `#fragment`: its DOM after the script ran, and its console's errors.
 fn dom(page: &Path, fragment: &str) -> (String, String) {
-    let url = format!("file://{}#t={fragment}", page.display());
+    let url = format!("file://{}#{fragment}", page.display());
     let o = Command::new("chromium")
         .args(["--headless", "--no-sandbox", "--disable-gpu", "--enable-logging=stderr", "--v=0"])
         .args(["--virtual-time-budget=5000", "--window-size=1300,820", "--dump-dom", &url])
@@ -58,10 +58,10 @@ fn dom(page: &Path, fragment: &str) -> (String, String) {
     (String::from_utf8_lossy(&o.stdout).into_owned(), console.join("\n"))
 }
 
-/// A screenshot of the page at `#t=fragment`: width, height and RGBA pixels.
+/// A screenshot of the page at `#fragment`: width, height and RGBA pixels.
 fn screenshot(page: &Path, fragment: &str, name: &str) -> (usize, usize, Vec<u8>) {
     let png = page.with_file_name(format!("{name}.png"));
-    let url = format!("file://{}#t={fragment}", page.display());
+    let url = format!("file://{}#{fragment}", page.display());
     let o = Command::new("chromium")
         .args(["--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", "--window-size=1300,820"])
         .args(["--virtual-time-budget=5000", &format!("--screenshot={}", png.display()), &url])
@@ -131,7 +131,7 @@ fn check_two_instants(page: &Path, (a, rover_a): (&str, (f64, f64)), (b, rover_b
     let mut frames = Vec::new();
     let mut shots = Vec::new();
     for (t, at, name) in [(a, rover_a, "shot_a"), (b, rover_b, "shot_b")] {
-        let (page_dom, console) = dom(page, t);
+        let (page_dom, console) = dom(page, &format!("t={t}"));
         assert!(console.is_empty(), "the page's console at {t}:\n{console}");
         let s = state(&page_dom);
         assert_eq!(s.get("error").map(String::as_str), Some(""), "{t}: {s:?}");
@@ -143,7 +143,7 @@ fn check_two_instants(page: &Path, (a, rover_a): (&str, (f64, f64)), (b, rover_b
             "{t}: rover at ({x}, {y}), want ({want_x}, {want_y})"
         );
         // The marker is drawn there: the screenshot is magenta at its centre.
-        let (w, _, rgba) = screenshot(page, t, name);
+        let (w, _, rgba) = screenshot(page, &format!("t={t}"), name);
         let scale = num(&s["scale"]);
         let (left, top) = (num(&s["map-left"]), num(&s["map-top"]));
         let (sx, sy) = ((left + x * scale) as usize, (top + y * scale) as usize);
@@ -220,12 +220,12 @@ fn valley_detours_viewer_shows_the_night_the_waiting_rover_and_its_battery() {
     let (a, b) = ("2012-08-07T04:30:00.000Z", "2012-08-07T14:00:00.000Z");
     check_two_instants(&page, (a, executed_at(&rows, a)), (b, executed_at(&rows, b)));
     // A bad link shows the start and says why.
-    let (bad, console) = dom(&page, "yesterday");
+    let (bad, console) = dom(&page, "t=yesterday");
     assert!(console.is_empty(), "{console}");
     let s = state(&bad);
     assert!(s["error"].contains("\"yesterday\", is not a time: showing the start"), "{s:?}");
     assert_eq!(s["utc"], rows[0]["utc"].replace(".000Z", "Z"));
-    let (late, _) = dom(&page, "2030-01-01T00:00:00Z");
+    let (late, _) = dom(&page, "t=2030-01-01T00:00:00Z");
     assert!(state(&late)["error"].contains("is outside the run"));
     let size = std::fs::metadata(&page).unwrap().len();
     assert!(size < 25_000_000, "{size} bytes");
@@ -245,4 +245,150 @@ fn the_lunar_plans_viewer_moves_the_shadows_and_the_rover_along_the_plan() {
     let at = |w: &HashMap<String, String>| (w["utc"].clone(), (num(&w["x_m"]), num(&w["y_m"])));
     let ((ta, pa), (tb, pb)) = (at(first), at(later));
     check_two_instants(&page, (&ta, pa), (&tb, pb));
+}
+
+/// The least distance from `p` to the polyline through `points`.
+fn to_polyline(p: (f64, f64), points: &[(f64, f64)]) -> f64 {
+    points
+        .windows(2)
+        .map(|w| {
+            let ((x1, y1), (x2, y2)) = (w[0], w[1]);
+            let (vx, vy) = (x2 - x1, y2 - y1);
+            let t = (((p.0 - x1) * vx + (p.1 - y1) * vy) / (vx * vx + vy * vy)).clamp(0.0, 1.0);
+            (p.0 - x1 - t * vx).hypot(p.1 - y1 - t * vy)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn the_actions_viewer_shows_the_pose_the_wheel_loads_and_the_margin_step_by_step() {
+    if !chromium_here() {
+        return;
+    }
+    let dir = run("scenarios/ditch-and-hill.ron").join("task1");
+    let page = dir.join("view.html");
+    let rows = csv(&dir.join("plan.csv"));
+    let data = page_data(&page);
+    let steps = data["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), rows.len());
+    // Every wheel the page draws stands on the ground it draws under its side: the
+    // axle a wheel radius from that section (the pose solved on the terrain, and the
+    // page's projection of both, agree).
+    let r = data["wheel_radius_m"].as_f64().unwrap();
+    let (half, spacing) =
+        (data["section_half_step_m"][0].as_f64().unwrap(), data["section_half_step_m"][1].as_f64().unwrap());
+    let mut worst = 0.0f64;
+    for s in steps {
+        let along = s["along_m"].as_f64().unwrap();
+        for (side, wheels) in [("left_ground_m", 0..3), ("right_ground_m", 3..6)] {
+            let section: Vec<(f64, f64)> = (s[side].as_array().unwrap().iter().enumerate())
+                .filter_map(|(j, z)| Some((along - half + j as f64 * spacing, z.as_f64()?)))
+                .collect();
+            for i in wheels {
+                let w = &s["wheels_profile_m"][i];
+                let d = to_polyline((w[0].as_f64().unwrap(), w[1].as_f64().unwrap()), &section);
+                worst = worst.max((d - r).abs());
+            }
+        }
+    }
+    assert!(worst < 0.01, "a wheel {worst} m off a wheel radius from its ground");
+    // The distance along the path, from plan.csv alone.
+    let start = {
+        let c: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("commands.json")).unwrap()).unwrap();
+        (c["start"]["x_m"].as_f64().unwrap(), c["start"]["y_m"].as_f64().unwrap())
+    };
+    let mut along = Vec::new();
+    let mut at = start;
+    let mut total = 0.0;
+    for row in &rows {
+        let p = (num(&row["x_m"]), num(&row["y_m"]));
+        total += (p.0 - at.0).hypot(p.1 - at.1);
+        at = p;
+        along.push(total);
+    }
+    // In the ditch (the lowest body) and on the hill (the steepest pitch).
+    let lowest = (0..rows.len()).min_by(|&a, &b| num(&rows[a]["z_m"]).total_cmp(&num(&rows[b]["z_m"]))).unwrap();
+    let steepest = (0..rows.len())
+        .max_by(|&a, &b| num(&rows[a]["pitch_deg"]).abs().total_cmp(&num(&rows[b]["pitch_deg"]).abs()))
+        .unwrap();
+    assert!(num(&rows[steepest]["pitch_deg"]).abs() > 15.0, "the hill is climbed");
+    let mut shots = Vec::new();
+    for k in [lowest, steepest] {
+        let fragment = format!("step={}", k + 1);
+        let (page_dom, console) = dom(&page, &fragment);
+        assert!(console.is_empty(), "the page's console at {fragment}:\n{console}");
+        let s = state(&page_dom);
+        assert_eq!(s["error"], "", "{s:?}");
+        assert_eq!(s["step"], (k + 1).to_string());
+        assert_eq!(s["code"], rows[k]["code"]);
+        // The loads and the margin shown are plan.csv's.
+        let loads: Vec<f64> = s["loads"].split(',').map(num).collect();
+        for (j, col) in
+            ["load_lf_n", "load_lm_n", "load_lr_n", "load_rf_n", "load_rm_n", "load_rr_n"].iter().enumerate()
+        {
+            assert!(
+                (loads[j] - num(&rows[k][*col])).abs() < 6e-4,
+                "{fragment} {col}: {} vs {}",
+                loads[j],
+                rows[k][*col]
+            );
+        }
+        match rows[k]["stability"].as_str() {
+            "" => assert_eq!(s["margin"], ""),
+            m => assert!((num(&s["margin"]) - num(m)).abs() < 6e-5, "{fragment}: margin {} vs {m}", s["margin"]),
+        }
+        // The body in profile where plan.csv puts it: its distance along the path and
+        // its height, on the page's scale.
+        let px = num(&s["profile-px-per-m"]);
+        let want = (
+            num(&s["profile-origin-x"]) + (along[k] - num(&s["profile-d0"])) * px,
+            num(&s["profile-origin-y"]) - (num(&rows[k]["z_m"]) - num(&s["profile-z0"])) * px,
+        );
+        let (bx, by) = (num(&s["body-x"]), num(&s["body-y"]));
+        assert!(
+            (bx - want.0).abs() <= 1.5 && (by - want.1).abs() <= 1.5,
+            "{fragment}: body at ({bx}, {by}), want {want:?}"
+        );
+        // From above, the reference point where plan.csv puts it on the map.
+        let (w, h) = (data["width"].as_f64().unwrap(), data["height"].as_f64().unwrap());
+        let scale = (360.0 / w).min(560.0 / h);
+        let (x0, y0) = (data["map_origin_m"][0].as_f64().unwrap(), data["map_origin_m"][1].as_f64().unwrap());
+        let (sx, sy) = (data["map_size_m"][0].as_f64().unwrap(), data["map_size_m"][1].as_f64().unwrap());
+        let top = (
+            (num(&rows[k]["x_m"]) - x0) / sx * (w * scale).round(),
+            (1.0 - (num(&rows[k]["y_m"]) - y0) / sy) * (h * scale).round(),
+        );
+        let (tx, ty) = (num(&s["top-x"]), num(&s["top-y"]));
+        assert!(
+            (tx - top.0).abs() <= 1.0 && (ty - top.1).abs() <= 1.0,
+            "{fragment}: from above at ({tx}, {ty}), want {top:?}"
+        );
+        // Both markers are drawn: magenta at their centres.
+        let (sw, _, rgba) = screenshot(&page, &fragment, &format!("step_{}", k + 1));
+        for (x, y) in [
+            (num(&s["profile-left"]) + bx, num(&s["profile-top"]) + by),
+            (num(&s["top-left"]) + tx, num(&s["top-top"]) + ty),
+        ] {
+            let o = 4 * (y as usize * sw + x as usize);
+            let p = &rgba[o..o + 3];
+            assert!(p[0] > 200 && p[1] < 60 && p[2] > 200, "{fragment}: the marker's pixel at ({x}, {y}) is {p:?}");
+        }
+        shots.push(rgba);
+    }
+    // The rover moved between the two steps: the pictures differ.
+    let differing = shots[0].chunks(4).zip(shots[1].chunks(4)).filter(|(a, b)| a != b).count();
+    assert!(differing > 5_000, "{differing} pixels differ between the ditch and the hill");
+    // A bad link shows step 1 and says why.
+    for (fragment, why) in
+        [("step=zero", "\"zero\", is not a step number: showing step 1"), ("step=999", "is outside the plan")]
+    {
+        let (bad, console) = dom(&page, fragment);
+        assert!(console.is_empty(), "{console}");
+        let s = state(&bad);
+        assert!(s["error"].contains(why), "{fragment}: {s:?}");
+        assert_eq!(s["step"], "1");
+    }
+    let size = std::fs::metadata(&page).unwrap().len();
+    assert!(size < 2_000_000, "{size} bytes");
 }

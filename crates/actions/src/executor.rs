@@ -520,7 +520,9 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
         motion: &Motion<'_>,
     ) -> TraceStep {
         let eval = motion.check(self.ground, state).ok();
-        let pose = state.pose.as_ref();
+        // A module that moves nothing before the first drive finds the rover with no
+        // pose yet: the check just settled it.
+        let pose = state.pose.as_ref().or(eval.as_ref().map(|e| &e.pose));
         let mut loads = [0.0; 6];
         let mut wheels = [[0.0; 3]; 6];
         if let Some(e) = &eval {

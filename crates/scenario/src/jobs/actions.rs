@@ -17,12 +17,14 @@ use areo_terrain::Dem;
 use crate::error::{Error, Result};
 use crate::format::{ActionsJob, ScenarioFile, TerrainSource};
 use crate::jobs::RunOptions;
+use crate::report::Raster;
 use crate::report::Report;
 use crate::report::actions::{
     ActionsReport, BestPlan, Binding, ClimbFigures, ClimbPoseRow, CommandList, ExecutedBest, GaRunFigures, PlanRecord,
     RemovedModule, ReplayFigures, ReplayPointRow, ScanFigures, ScanPointRow, ScanSeedFigures, SeedRow, SeedScanRow,
     SeedThreshold, SensitivityFigures, StartPose, StudyFigures, WheelBinding,
 };
+use crate::report::actions_view::{ACTIONS_VIEW_PIXELS, ActionsView, ActionsViewStep, SECTION_HALF_M, SECTION_STEP_M};
 use crate::report::plots::{HistogramPlot, Marker, Plot, ProfilePlot, ProfileRover, RoutePlot, Series, TimePlot};
 use std::collections::BTreeMap;
 

@@ -790,9 +790,10 @@ fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Fail
             r.status = "planned".into();
             r.tables = tables(ctx, plan, None);
             r.route = Some(route_places(ctx, plan, None));
-            r.layers = Some(layers::layers(ctx.world, ctx.truth, shadow_time_s(ctx)?, false));
+            let view = view::view(ctx, plan, None);
+            r.layers = Some(layers::layers(ctx.world, ctx.truth, shadow_time_s(ctx)?, false, view::span_s(ctx, &view)));
             r.plots = plots(ctx, plan, None)?;
-            r.view = Some(view::view(ctx, plan, None));
+            r.view = Some(view);
             r.plan = Some(plan.clone());
         }
         Run::Simulated(sim) => {
@@ -813,9 +814,10 @@ fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Fail
             }
             r.tables = tables(ctx, initial, Some(sim));
             r.route = Some(route_places(ctx, initial, Some(sim)));
-            r.layers = Some(layers::layers(ctx.world, ctx.truth, shadow_time_s(ctx)?, true));
+            let view = view::view(ctx, initial, Some(sim));
+            r.layers = Some(layers::layers(ctx.world, ctx.truth, shadow_time_s(ctx)?, true, view::span_s(ctx, &view)));
             r.plots = plots(ctx, initial, Some(sim))?;
-            r.view = Some(view::view(ctx, initial, Some(sim)));
+            r.view = Some(view);
             r.plan = Some(initial.clone());
             r.simulation = Some(sim.clone());
         }

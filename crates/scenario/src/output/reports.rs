@@ -13,6 +13,7 @@ use super::csv::Table;
 
 mod actions;
 mod actions_files;
+mod actions_view;
 mod shadows;
 mod tempest;
 mod tempest_files;

@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 use areo_actions::{Command, Execution, Generation, TraceStep};
 use serde::Serialize;
 
+use super::actions_view::ActionsView;
 use super::plots::Plot;
 
 /// An actions job's result.
@@ -64,6 +65,8 @@ pub struct BestPlan {
     pub commands: CommandList,
     /// `top_view`, `side_profile`, `stability`, `friction`, `fitness`, `lookahead`.
     pub plots: Vec<Plot>,
+    /// What the run's `view.html` shows.
+    pub view: ActionsView,
 }
 
 /// The best plan and how the GA found it. (Fields in alphabetical order, as

@@ -8,6 +8,7 @@
 //! `first_sunrise` ([`Report::facts`]).
 
 pub mod actions;
+pub mod actions_view;
 mod facts;
 pub mod plots;
 mod sun_table;
@@ -44,7 +45,7 @@ pub enum Report {
 
 /// A raster as plain data: `rows` × `cols` values, row-major from the north-west
 /// corner, on the grid its report names.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct Raster<T> {
     /// Columns (west to east).
     pub cols: usize,

@@ -699,6 +699,42 @@ pub struct MapLayers {
     /// Direct sun on the true terrain: 1 lit, 0 in a cast shadow, facing away or at
     /// night, 255 no data.
     pub direct_sun: Raster<u8>,
+    /// The true terrain's direct sun through the run (`shadows/`).
+    pub shadow_series: ShadowSeries,
+}
+
+/// The most instants a shadow series holds.
+pub const SERIES_FRAMES: usize = 240;
+
+/// The longest side of a shadow series' maps, pixels: a larger map is downsampled by
+/// whole cells.
+pub const SERIES_PIXELS: usize = 1024;
+
+/// The true terrain's direct sun at instants of the Sun table through the run — every
+/// `every_steps`-th, so that at most [`SERIES_FRAMES`] span it — on the whole map,
+/// downsampled by whole cells to at most [`SERIES_PIXELS`] a side (each pixel its
+/// block's north-west cell).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ShadowSeries {
+    /// Map cells per pixel along each axis.
+    pub cells_per_pixel: usize,
+    /// Pixels west to east.
+    pub cols: usize,
+    /// Pixels north to south.
+    pub rows: usize,
+    /// The Sun table's step, s.
+    pub sun_step_s: f64,
+    /// Sun-table steps between two instants of the series.
+    pub every_steps: usize,
+    /// The instants, s since 1970-01-01T00:00:00 UTC.
+    pub unix_s: Vec<f64>,
+    /// The same, ISO 8601 UTC.
+    pub utc: Vec<String>,
+    /// Each instant's direct sun: base64 of a bitset, pixel i (row-major from the
+    /// north-west) at bit i % 8 of byte i / 8, set where the ground is in direct sun.
+    pub frames: Vec<String>,
+    /// Where the true terrain has data, as the same kind of bitset.
+    pub valid: String,
 }
 
 /// One Monte Carlo execution of a plan.

@@ -3,7 +3,8 @@
 //! tiles) fetches what a view needs with range requests and `gdalinfo` reports
 //! `LAYOUT=COG`.
 //!
-//! The file is classic little-endian TIFF, uncompressed, in tiles of [`COG_TILE`] (or
+//! The file is classic little-endian TIFF, each tile Deflate-compressed (TIFF
+//! compression 8, the zlib stream GDAL writes with `COMPRESS=DEFLATE`), in tiles of [`COG_TILE`] (or
 //! one tile the map's size, rounded up to 16, for a smaller map): the 8-byte header; GDAL's
 //! "ghost" structural metadata (`LAYOUT=IFDS_BEFORE_DATA`, `BLOCK_ORDER=ROW_MAJOR`,
 //! `BLOCK_LEADER=SIZE_AS_UINT4`, `BLOCK_TRAILER=LAST_4_BYTES_REPEATED`); the full-
@@ -73,6 +74,14 @@ pub fn write_cog_u8(grid: &Grid, values: &[u8], nodata: Option<u8>, path: &Path)
 pub fn write_cog_u8_at(grid: &Grid, values: &[u8], nodata: Option<u8>, utc: &str, path: &Path) -> Result<()> {
     let stamp: String = utc.chars().take(19).collect::<String>().replacen('-', ":", 2).replace('T', " ");
     write_cog(grid, values, (nodata.map(|v| v.to_string()), Some(stamp)), nodata.unwrap_or(0), path)
+}
+
+/// A tile's bytes as a zlib stream. (Writing to a `Vec` cannot fail.)
+fn deflate(bytes: &[u8]) -> Vec<u8> {
+    use flate2::write::ZlibEncoder;
+    let mut z = ZlibEncoder::new(Vec::with_capacity(bytes.len() / 4), flate2::Compression::new(1));
+    let _ = z.write_all(bytes);
+    z.finish().unwrap_or_default()
 }
 
 /// One image of the file: its size and samples.
@@ -208,7 +217,7 @@ fn fields<T: Sample>(
         Field::longs(256, &[level.cols as u32]),
         Field::longs(257, &[level.rows as u32]),
         Field::shorts(258, &[T::BITS]),
-        Field::shorts(259, &[1]),
+        Field::shorts(259, &[8]),
         Field::shorts(262, &[1]),
         Field::shorts(277, &[1]),
         Field::shorts(284, &[1]),
@@ -253,7 +262,8 @@ fn write_cog<T: Sample>(
         let next = last.halved();
         levels.push(next);
     }
-    let tiles: Vec<Vec<Vec<u8>>> = levels.iter().map(|l| l.tiles(pad, tile)).collect();
+    let tiles: Vec<Vec<Vec<u8>>> =
+        levels.iter().map(|l| l.tiles(pad, tile).iter().map(|t| deflate(t)).collect()).collect();
     let tags = (nodata.as_deref(), datetime.as_deref());
     // The IFDs' sizes do not depend on the offsets they hold: measure them with zeros,
     // then place the data after them, the smallest overview's tiles first.

@@ -9,9 +9,11 @@ pub(super) fn best_plan(setup: &Setup, run: &RunResult) -> BestPlan {
     let (report, trace) = (&run.report, &run.best.trace);
     let task = &setup.task;
     let commands = areo_actions::commands(&report.best.plan, &run.best, &setup.params, task.start.2);
-    let mut plots = vec![top_view_plot(setup, trace), side_profile_plot(setup, trace)];
+    let profile = PathProfile::new(setup, trace);
+    let mut plots = vec![top_view_plot(setup, trace), side_profile_plot(setup, trace, &profile)];
     plots.extend(trace_plots(trace, run.exec.mu));
     plots.extend(ga_plots(report));
+    let view = view(setup, run, &commands, &profile);
     BestPlan {
         plan: PlanRecord {
             codes: report.best.plan.iter().map(|m| m.code()).collect(),
@@ -29,6 +31,7 @@ pub(super) fn best_plan(setup: &Setup, run: &RunResult) -> BestPlan {
             rover: setup.params.name.clone(),
             start: StartPose { heading_deg: task.start.2, x_m: task.start.0, y_m: task.start.1 },
         },
+        view,
         plots,
     }
 }
@@ -65,37 +68,51 @@ fn top_view_plot(setup: &Setup, trace: &[TraceStep]) -> Plot {
     Plot::route("top_view", top)
 }
 
+/// The path in profile: each step's distance along the reference point's path (the
+/// start at 0, then after each module), and the ground under the path sampled five
+/// times per module, (distance, height), m.
+struct PathProfile {
+    along: Vec<f64>,
+    ground: Vec<(f64, f64)>,
+}
+
+impl PathProfile {
+    fn new(setup: &Setup, trace: &[TraceStep]) -> PathProfile {
+        let (dem, task) = (&setup.dem, &setup.task);
+        let mut along = Vec::with_capacity(trace.len() + 1);
+        let mut ground = Vec::new();
+        let mut last = (task.start.0, task.start.1);
+        let mut dist = 0.0;
+        along.push(0.0);
+        for t in trace {
+            let step = (t.x_m - last.0).hypot(t.y_m - last.1);
+            for k in 1..=5 {
+                let f = f64::from(k) / 5.0;
+                let (x, y) = (last.0 + (t.x_m - last.0) * f, last.1 + (t.y_m - last.1) * f);
+                if let Some(z) = areo_terrain::Ground::height(dem, x, y) {
+                    ground.push((dist + step * f, z));
+                }
+            }
+            dist += step;
+            last = (t.x_m, t.y_m);
+            along.push(dist);
+        }
+        PathProfile { along, ground }
+    }
+
+    /// A map point (east, north, up) near step `i`'s rover in profile: placed along the
+    /// path by its offset along the rover's heading.
+    fn place(&self, trace: &[TraceStep], i: usize, p: [f64; 3]) -> (f64, f64) {
+        let t = &trace[i];
+        let (sx, sy) = (t.heading_deg.to_radians().sin(), t.heading_deg.to_radians().cos());
+        (self.along[i + 1] + (p[0] - t.x_m) * sx + (p[1] - t.y_m) * sy, p[2])
+    }
+}
+
 /// The side profile along the path, with the rover drawn at a few steps: the first,
 /// the lowest, the steepest-pitched ones, and the last.
-fn side_profile_plot(setup: &Setup, trace: &[TraceStep]) -> Plot {
-    let (dem, task, params) = (&setup.dem, &setup.task, &setup.params);
-    // Side profile along the path, with the rover drawn at a few steps: the first,
-    // the steepest-pitched ones, and the last.
-    let mut along = Vec::with_capacity(trace.len() + 1);
-    let mut s_acc = 0.0;
-    let mut prev = (task.start.0, task.start.1);
-    along.push(0.0);
-    for t in trace {
-        s_acc += (t.x_m - prev.0).hypot(t.y_m - prev.1);
-        prev = (t.x_m, t.y_m);
-        along.push(s_acc);
-    }
-    let mut ground = Vec::new();
-    let mut last = (task.start.0, task.start.1);
-    let mut dist = 0.0;
-    for t in trace.iter() {
-        let steps = 5;
-        for k in 1..=steps {
-            let f = k as f64 / steps as f64;
-            let (x, y) = (last.0 + (t.x_m - last.0) * f, last.1 + (t.y_m - last.1) * f);
-            let d = dist + (t.x_m - last.0).hypot(t.y_m - last.1) * f;
-            if let Some(z) = areo_terrain::Ground::height(dem, x, y) {
-                ground.push((d, z));
-            }
-        }
-        dist += (t.x_m - last.0).hypot(t.y_m - last.1);
-        last = (t.x_m, t.y_m);
-    }
+fn side_profile_plot(setup: &Setup, trace: &[TraceStep], profile: &PathProfile) -> Plot {
+    let along = &profile.along;
     let mut picks: Vec<usize> = Vec::new();
     if !trace.is_empty() {
         let mut by_pitch: Vec<usize> = (0..trace.len()).collect();
@@ -125,26 +142,98 @@ fn side_profile_plot(setup: &Setup, trace: &[TraceStep]) -> Plot {
         .iter()
         .map(|&i| {
             let t = &trace[i];
-            let d = along[i + 1];
-            // Project each axle on the path direction at that step.
-            let (sx, sy) = (t.heading_deg.to_radians().sin(), t.heading_deg.to_radians().cos());
-            let wheel = |k: usize| {
-                let w = t.wheels[k];
-                (d + (w[0] - t.x_m) * sx + (w[1] - t.y_m) * sy, w[2])
-            };
-            let wheels = [wheel(0), wheel(1), wheel(2), wheel(3), wheel(4), wheel(5)];
-            ProfileRover { wheels, body: (d, t.z_m), label: format!("{} ({:.0}°)", i + 1, t.pitch_deg) }
+            let wheels = t.wheels.map(|w| profile.place(trace, i, w));
+            ProfileRover { wheels, body: (along[i + 1], t.z_m), label: format!("{} ({:.0}°)", i + 1, t.pitch_deg) }
         })
         .collect();
     Plot::profile(
         "side_profile",
         ProfilePlot {
             title: "Side profile: ground under the path, the rover at key steps (left side)".into(),
-            ground,
+            ground: profile.ground.clone(),
             rovers,
-            wheel_radius_m: params.wheel_radius_m,
+            wheel_radius_m: setup.params.wheel_radius_m,
         },
     )
+}
+
+/// The viewer's data: the terrain from above (downsampled by whole cells to at most
+/// [`ACTIONS_VIEW_PIXELS`] a side), the path in profile and the rover after each module.
+fn view(setup: &Setup, run: &RunResult, commands: &[areo_actions::Command], profile: &PathProfile) -> ActionsView {
+    let (dem, task, params) = (&setup.dem, &setup.task, &setup.params);
+    let trace = &run.best.trace;
+    let slope = areo_terrain::slope::slope_aspect(dem);
+    let rgb = areo_terrain::hillshade::hillshade_rgb(dem, &slope, None, 315.0, 45.0);
+    let k = dem.cols().max(dem.rows()).div_ceil(ACTIONS_VIEW_PIXELS).max(1);
+    let (w, h) = (dem.cols() / k, dem.rows() / k);
+    let values =
+        (0..h).flat_map(|r| (0..w).map(move |c| (r * k) * dem.cols() + c * k)).map(|i| rgb[3 * i + 1]).collect();
+    let pivot = params.rocker_pivot_m;
+    let steps = trace
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            // The tool about the body reference (the rocker pivots' midpoint), turned by
+            // the pitch into the profile's plane.
+            let (f, u) = (t.tool_m[0] - pivot.x, t.tool_m[2] - pivot.z);
+            let (sin, cos) = t.pitch_deg.to_radians().sin_cos();
+            // Heading is clockwise from north: forward (sin h, cos h), left (−cos h, sin h).
+            let (sin_h, cos_h) = t.heading_deg.to_radians().sin_cos();
+            let (fwd, left) = ((sin_h, cos_h), (-cos_h, sin_h));
+            let offset = |side: &[[f64; 3]]| {
+                side.iter().map(|w| (w[0] - t.x_m) * left.0 + (w[1] - t.y_m) * left.1).sum::<f64>() / side.len() as f64
+            };
+            let section = |lateral: f64| -> Vec<Option<f32>> {
+                let n = (2.0 * SECTION_HALF_M / SECTION_STEP_M).round() as usize;
+                (0..=n)
+                    .map(|j| {
+                        let s = -SECTION_HALF_M + j as f64 * SECTION_STEP_M;
+                        let (x, y) = (t.x_m + s * fwd.0 + lateral * left.0, t.y_m + s * fwd.1 + lateral * left.1);
+                        areo_terrain::Ground::height(dem, x, y).map(|z| z as f32)
+                    })
+                    .collect()
+            };
+            ActionsViewStep {
+                left_ground_m: section(offset(&t.wheels[..3])),
+                right_ground_m: section(offset(&t.wheels[3..])),
+                code: t.code,
+                action: commands.get(i).map_or_else(String::new, |c| c.action.to_string()),
+                along_m: profile.along[i + 1],
+                at_m: (t.x_m, t.y_m, t.z_m),
+                heading_deg: t.heading_deg,
+                pitch_deg: t.pitch_deg,
+                wheels_top_m: t.wheels.map(|w| (w[0], w[1])),
+                wheels_profile_m: t.wheels.map(|w| profile.place(trace, i, w)),
+                tool_profile_m: (profile.along[i + 1] + f * cos - u * sin, t.z_m + f * sin + u * cos),
+                wheel_loads_n: t.wheel_loads_n,
+                stability: t.stability,
+                friction_used: t.friction_used,
+                energy_wh: t.energy_wh,
+                duration_s: t.duration_s,
+            }
+        })
+        .collect();
+    let extent = dem.extent();
+    ActionsView {
+        run: run.name.clone(),
+        rover: params.name.clone(),
+        mu: run.exec.mu,
+        stability_floor: run.exec.stability_floor,
+        wheel_radius_m: params.wheel_radius_m,
+        body_half_m: run.exec.body_half_m,
+        hillshade: Raster { cols: w, rows: h, values },
+        // The image starts at the map's north-west corner and drops its last rows
+        // and columns when they do not fill a pixel.
+        map_origin_m: (extent.x_min, extent.y_max - (h * k) as f64 * dem.dy()),
+        map_size_m: ((w * k) as f64 * dem.dx(), (h * k) as f64 * dem.dy()),
+        start: task.start,
+        target: (task.target.0, task.target.1, task.target_radius_m),
+        samples: task.samples.iter().map(|s| (s.x_m, s.y_m)).collect(),
+        rocks: task.rocks.iter().map(|r| (r.x_m, r.y_m, r.width_m)).collect(),
+        ground: profile.ground.clone(),
+        section_half_step_m: (SECTION_HALF_M, SECTION_STEP_M),
+        steps,
+    }
 }
 
 /// The stability margin and the friction needed along the plan.

@@ -54,6 +54,13 @@ pub(super) fn view(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimRep
     }
 }
 
+/// The run's first and last instants on `view`'s track, s after the epoch.
+pub(super) fn span_s(ctx: &Context<'_>, view: &ViewData) -> (f64, f64) {
+    let epoch = ctx.truth.epoch().to_unix_seconds();
+    let at = |p: Option<&ViewTrackPoint>| p.map_or(0.0, |p| p.unix_s - epoch);
+    (at(view.track.first()), at(view.track.last()))
+}
+
 /// The cells the image shows, (north-west, south-east exclusive): every route's cells,
 /// the start and the goals, with a margin of a sixth of their span (at least 20 cells),
 /// within the map.

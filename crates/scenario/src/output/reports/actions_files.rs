@@ -141,7 +141,9 @@ fn best_plan_files(dir: &Path, best: &BestPlan) -> Result<Vec<PathBuf>> {
         stability: c.stability.map(Fixed),
     });
     write_rows(&csv, rows)?;
-    files.extend([json, csv]);
+    let view = dir.join("view.html");
+    super::actions_view::write(&view, &best.view)?;
+    files.extend([json, csv, view]);
     Ok(files)
 }
 

@@ -79,8 +79,8 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
     for plot in &r.plots {
         files.extend(crate::output::plots::write(dir, plot)?);
     }
-    if let (Some(view), Some(layers)) = (&r.view, &r.layers) {
-        files.extend(super::shadows::write(dir, view, layers)?);
+    if let Some(layers) = &r.layers {
+        files.extend(super::shadows::write(dir, layers)?);
     }
     Ok(files)
 }

@@ -74,11 +74,6 @@ pub(super) fn write(path: &Path, view: &ViewData, executed: bool) -> Result<usiz
         executed,
         about,
     };
-    let html = |about: String| -> Result<String> {
-        let data = crate::output::json_for(path, &page(about), false)?;
-        // Nothing in the data may close the script element that holds it.
-        Ok(TEMPLATE.replace("__DATA__", &data.replace("</", "<\\/")))
-    };
     let about = |bytes: usize| {
         format!(
             "One self-contained file of {:.1} MB (data, script and styles inline; nothing is fetched). {} shadow \
@@ -91,10 +86,20 @@ pub(super) fn write(path: &Path, view: &ViewData, executed: bool) -> Result<usiz
             view.cells_per_pixel
         )
     };
-    // The page states its own size: measured once without it, which the sentence
-    // changes by a few bytes.
-    let first = html(about(0))?.len();
-    let text = html(about(first))?;
+    write_page(path, TEMPLATE, &|bytes| page(about(bytes)))
+}
+
+/// Writes `template` with its `__DATA__` replaced by `data`'s JSON at `path`; `data`
+/// is given the file's size, bytes, so that the page can state it. Returns that size.
+pub(super) fn write_page<T: Serialize>(path: &Path, template: &str, data: &dyn Fn(usize) -> T) -> Result<usize> {
+    let html = |bytes: usize| -> Result<String> {
+        let json = crate::output::json_for(path, &data(bytes), false)?;
+        // Nothing in the data may close the script element that holds it.
+        Ok(template.replace("__DATA__", &json.replace("</", "<\\/")))
+    };
+    // Measured once without the size, which the sentence changes by a few bytes.
+    let first = html(0)?.len();
+    let text = html(first)?;
     write_file(path, text.as_bytes())?;
     Ok(text.len())
 }
