@@ -1,14 +1,14 @@
 //! The `areo` command line: parse flags, call areo-scenario, print what it returns
 //! (`print`), map errors to exit codes (0 success, 1 failure while running, 2 bad
 //! input: flags, scenario files, times; 3 unreachable goals; 4 searches stopped by the
-//! work or memory budget). It computes nothing.
-
-#![allow(clippy::print_stdout, clippy::print_stderr)]
+//! work or memory budget; 141 when standard output's reader has gone, see `console`).
+//! It computes nothing.
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+mod console;
 mod print;
 
 use areo_scenario::budget::{Budget, DemCommand};
@@ -402,7 +402,7 @@ fn main() -> ExitCode {
     let budget = match budget(&cli) {
         Ok(b) => b,
         Err(e) => {
-            eprintln!("error: {e}");
+            console::err(&format!("error: {e}\n"));
             return ExitCode::from(e.exit_code() as u8);
         }
     };
@@ -413,8 +413,9 @@ fn main() -> ExitCode {
         Command::Terrain(cmd) => terrain(&cmd, budget),
         Command::Sweep(cmd) => sweep(cmd, budget),
         Command::Completions { shell } => {
-            clap_complete::generate(shell, &mut Cli::command(), "areo", &mut std::io::stdout());
-            Ok(())
+            let mut script = Vec::new();
+            clap_complete::generate(shell, &mut Cli::command(), "areo", &mut script);
+            console::out(&String::from_utf8_lossy(&script))
         }
         Command::Rover(RoverCommand::Check { params, terrain, mu, moving, format, body }) => {
             use areo_scenario::rover_check::{Checked, check_file};
@@ -424,15 +425,14 @@ fn main() -> ExitCode {
                     (ReportFormat::Text, Checked::Physics(r)) => print::rover::text(r),
                     (ReportFormat::Text, Checked::Resources(r)) => print::rover::resources_text(r),
                 };
-                print!("{text}");
-                Ok(())
+                console::out(&text)
             })
         }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            console::err(&format!("error: {e}\n"));
             ExitCode::from(e.exit_code() as u8)
         }
     }
@@ -443,7 +443,7 @@ fn sweep(cmd: SweepCommand, budget: Budget) -> Result<(), Error> {
     match cmd {
         SweepCommand::Expand { sweep: file, out, force } => {
             let tasks = sweep::expand_within(&file, &out, budget, force)?;
-            println!("{} tasks in {} (manifest.jsonl, tasks/)", tasks.len(), out.display());
+            console::out(&format!("{} tasks in {} (manifest.jsonl, tasks/)\n", tasks.len(), out.display()))?;
         }
         SweepCommand::Run { dir, index, force } => {
             let index = sweep::task_index(index)?;
@@ -455,37 +455,38 @@ fn sweep(cmd: SweepCommand, budget: Budget) -> Result<(), Error> {
             }
             match sweep::run_task(&dir, index, force, &progress_bar(), budget)? {
                 sweep::TaskRun::Skipped(t) => {
-                    println!("task {index} ({}): finished before; skipped (--force runs it)", t.id)
+                    console::out(&format!("task {index} ({}): finished before; skipped (--force runs it)\n", t.id))?
                 }
                 sweep::TaskRun::Ran(t, outcome) => {
-                    println!(
-                        "task {index} ({}): {}",
+                    console::out(&format!(
+                        "task {index} ({}): {}\n",
                         t.id,
                         outcome.failure.as_ref().map_or_else(|| "done".to_string(), ToString::to_string)
-                    );
+                    ))?;
                 }
             }
         }
         SweepCommand::Collect { dir, plot, against } => {
             let c = sweep::collect(&dir, plot.as_deref().zip(against.as_deref()))?;
-            println!("{} finished, {} missing, {} failed", c.finished, c.missing.len(), c.failed.len());
+            let mut text = format!("{} finished, {} missing, {} failed\n", c.finished, c.missing.len(), c.failed.len());
             for id in &c.missing {
-                println!("  missing {id}");
+                text += &format!("  missing {id}\n");
             }
             for (id, err) in &c.failed {
-                println!("  failed  {id}: {err}");
+                text += &format!("  failed  {id}: {err}\n");
             }
             for f in &c.files {
-                println!("  wrote {}", f.display());
+                text += &format!("  wrote {}\n", f.display());
             }
+            console::out(&text)?;
         }
         SweepCommand::Slurm { dir, parallel, cpus } => {
             let areo = std::env::current_exe()
                 .map_err(|source| Error::Read { path: "(the running areo binary's path)".into(), source })?;
-            print!("{}", sweep::slurm_script(&dir, &areo, parallel.max(1), cpus.max(1))?);
+            console::out(&sweep::slurm_script(&dir, &areo, parallel.max(1), cpus.max(1))?)?;
         }
         SweepCommand::K8s { dir, image, claim, parallel } => {
-            print!("{}", sweep::k8s_job(&dir, &image, &claim, parallel.max(1))?);
+            console::out(&sweep::k8s_job(&dir, &image, &claim, parallel.max(1))?)?;
         }
     }
     Ok(())
@@ -570,9 +571,9 @@ fn run(
     let bar = progress_bar();
     let outcome = areo_scenario::run_into(&file, out, &bar, budget)?;
     if json {
-        println!("{}", print::json(&print::run::RunJson::of(&file, &outcome))?);
+        console::out(&(print::json(&print::run::RunJson::of(&file, &outcome))? + "\n"))?;
     } else {
-        print!("{}", print::run::text(&file, &outcome));
+        console::out(&print::run::text(&file, &outcome))?;
     }
     match outcome.failure {
         Some(failure) => Err(Error::Failed(failure)),
@@ -684,8 +685,7 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
             )?)
         }
     };
-    print!("{text}");
-    Ok(())
+    console::out(&text)
 }
 
 fn parse_xyz(s: &str) -> Result<(f64, f64, f64), String> {
@@ -700,7 +700,7 @@ fn parse_xyz(s: &str) -> Result<(f64, f64, f64), String> {
 fn grid(args: &GridArgs, budget: Budget) -> Result<(), Error> {
     let opts = areo_scenario::grid::GridOptions { replan: args.replan, seed: args.seed };
     let rows = areo_scenario::grid::solve_file(&args.map, &args.scen, opts, &progress_bar(), budget)?;
-    print!("{}", print::grid::rows(&rows, args.replan.is_some(), args.format)?);
+    console::out(&print::grid::rows(&rows, args.replan.is_some(), args.format)?)?;
     // Exit 3 when a goal was not reached, 1 when a length differs from the published one.
     let unreachable = rows.iter().filter(|r| r.found.is_infinite() && r.expected.is_finite()).count();
     let mismatched = rows.iter().filter(|r| r.mismatched).count();
@@ -722,20 +722,23 @@ fn sun(args: &SunArgs) -> Result<(), Error> {
             return Err(Error::usage("--day", "is for the Moon and the Earth; on Mars give --sol"));
         }
         let (lat, lon) = site.ok_or_else(|| Error::usage("--day", "needs --lat and --lon"))?;
-        print!("{}", print::sun::day(&day_events(body, date, lat, lon)?, args.format)?);
-        return Ok(());
+        return console::out(&print::sun::day(&day_events(body, date, lat, lon)?, args.format)?);
     }
     if let (Some(n), Some(landing)) = (args.mission_sol, &args.landing) {
         if args.body != BodyArg::Mars {
             return Err(Error::usage("--mission-sol", "counts Mars sols; on the Moon and the Earth give --day"));
         }
         let (lat, lon) = site.ok_or_else(|| Error::usage("--mission-sol", "needs --lat and --lon"))?;
-        print!("{}", print::sun::sol(&areo_scenario::sun::mission_sol_events(landing, n, lat, lon)?, args.format)?);
-        return Ok(());
+        return console::out(&print::sun::sol(
+            &areo_scenario::sun::mission_sol_events(landing, n, lat, lon)?,
+            args.format,
+        )?);
     }
     if let (Some(from), Some(to), Some(step)) = (&args.from, &args.to, &args.step) {
-        print!("{}", print::sun::rows(&body_rows(body, Instants::Range { from, to, step }, site)?, args.format)?);
-        return Ok(());
+        return console::out(&print::sun::rows(
+            &body_rows(body, Instants::Range { from, to, step }, site)?,
+            args.format,
+        )?);
     }
     let text = match (args.sol, &args.time, &args.times_file) {
         (Some(_), _, _) if args.body != BodyArg::Mars => {
@@ -754,6 +757,5 @@ fn sun(args: &SunArgs) -> Result<(), Error> {
         (None, None, Some(path)) => print::sun::rows(&body_rows(body, Instants::File(path), site)?, args.format)?,
         (None, None, None) => print::sun::rows(&SunRows::Mars(Vec::new()), args.format)?,
     };
-    print!("{text}");
-    Ok(())
+    console::out(&text)
 }
