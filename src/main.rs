@@ -396,6 +396,12 @@ pub(crate) enum Format {
 static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 fn main() -> ExitCode {
+    // A write past the file-size limit (`ulimit -f`) would end the process by SIGXFSZ,
+    // silently; caught, the write fails with EFBIG and the error names the file.
+    let _ = signal_hook::flag::register(
+        signal_hook::consts::SIGXFSZ,
+        std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false)),
+    );
     let cli = Cli::parse();
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
     init_logging(&cli);

@@ -412,6 +412,8 @@ pub fn expand_within(
         literals.push(a.literals().map_err(|m| bad(format!("axes[{i}]"), m))?);
     }
     let combos = combinations(&sweep, &literals, &bad)?;
+    // Racing expansions into one directory take turns: the second finds the first's.
+    let _lock = crate::output::lock::lock_dir(dir)?;
     let fingerprint = admit(sweep_path, dir, &base_text, combos.len(), (budget, force))?;
     // Replacements are applied from the end of the text so earlier spans stay valid.
     let mut order: Vec<usize> = (0..spans.len()).filter(|&a| spans[a].is_some()).collect();
@@ -762,6 +764,7 @@ fn plot_against(
 /// `plot: Some((fact, axis))` plots that fact against that axis (`DIR/FACT_vs_AXIS`).
 pub fn collect(dir: &Path, plot: Option<(&str, &str)>) -> Result<Collected> {
     let info = info(dir)?;
+    let _lock = crate::output::lock::lock_dir(dir)?;
     let all = tasks(dir)?;
     let mut facts: Vec<Option<serde_json::Map<String, serde_json::Value>>> = Vec::with_capacity(all.len());
     let (mut missing, mut failed) = (Vec::new(), Vec::new());

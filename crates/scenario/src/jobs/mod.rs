@@ -82,46 +82,22 @@ fn reported(report: Report, failure: Option<crate::outcome::Failure>, opts: RunO
     })
 }
 
-/// Puts the finished `staging` directory in place of `dir`, the previous outputs moved
-/// aside and removed. Runs into the same `--out` at once race for the name: one that
-/// finds another's outputs arrived in between (the rename onto a non-empty directory
-/// fails) moves those aside too and tries again, so every run ends in place or with an
-/// error, the last one's outputs staying.
-fn replace_dir(staging: &Path, dir: &Path, out_root: &Path, name: &str) -> Result<()> {
-    let io = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| Error::Io { path, source }
-    };
-    let mut last = None;
-    for attempt in 0..64 {
-        let old = out_root.join(format!(".{name}.old-{}-{attempt}", std::process::id()));
-        match std::fs::rename(dir, &old) {
-            Ok(()) => {}
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-            Err(e) => return Err(io(dir)(e)),
-        }
-        let placed = std::fs::rename(staging, dir);
-        if old.exists() {
-            std::fs::remove_dir_all(&old).map_err(io(&old))?;
-        }
-        match placed {
-            Ok(()) => return Ok(()),
-            // Another run's outputs took the name in between: again.
-            Err(e) if dir.exists() => last = Some(e),
-            Err(e) => return Err(io(dir)(e)),
-        }
-    }
-    Err(io(dir)(last.unwrap_or_else(|| std::io::Error::other("the output directory kept being replaced"))))
-}
-
 /// Runs the scenario into `out_root/NAME/` (NAME the scenario's file stem), replacing
 /// that directory's previous contents as a set: the job writes into a staging directory
 /// beside it, renamed into place only when the job has finished (an unreachable goal
 /// included), so no stale file of an earlier run survives beside the new ones and a
-/// failed run leaves the previous outputs as they were. Refuses an output directory
-/// that holds the scenario file itself.
+/// failed run leaves the previous outputs as they were (see
+/// [`crate::output::staging`]: the swap is atomic where the kernel can exchange two
+/// names). Refuses an output directory that holds the scenario file itself, and a
+/// scenario whose file name is not UTF-8.
 pub fn run_into(file: &ScenarioFile, out_root: &Path, progress: &dyn Progress, budget: Budget) -> Result<Outcome> {
     let name = &file.name;
+    if file.path.file_stem().is_some_and(|s| s.to_str().is_none()) {
+        return Err(Error::usage(
+            file.path.display().to_string(),
+            "the scenario's file name gives the output directory and is not UTF-8: rename the file",
+        ));
+    }
     if name.is_empty() || name.starts_with('.') || name.contains(['/', '\\']) {
         return Err(Error::usage(
             file.path.display().to_string(),
@@ -150,20 +126,26 @@ pub fn run_into(file: &ScenarioFile, out_root: &Path, progress: &dyn Progress, b
             format!("{} is a file or a link, not an output directory: move it or choose another --out", dir.display()),
         ));
     }
-    let staging = out_root.join(format!(".{name}.partial-{}", std::process::id()));
-    if staging.exists() {
-        std::fs::remove_dir_all(&staging).map_err(io(&staging))?;
-    }
+    crate::output::staging::clear_stale(&dir);
+    let staging = crate::output::staging::staging_path(&dir, "partial");
     let outcome = run(file, RunOptions { out_dir: Some(&staging), progress, budget });
     let mut outcome = match outcome {
         Ok(o) => o,
         Err(e) => {
             // Best effort: a half-written staging directory is of no use.
             let _ = std::fs::remove_dir_all(&staging);
-            return Err(e);
+            // Name the file the user asked for, not its staging name.
+            return Err(match e {
+                Error::Io { path, source } => match path.strip_prefix(&staging) {
+                    Ok(rest) => Error::Io { path: dir.join(rest), source },
+                    Err(_) => Error::Io { path, source },
+                },
+                other => other,
+            });
         }
     };
-    replace_dir(&staging, &dir, out_root, name).inspect_err(|_| {
+    crate::output::staging::pause_for_tests(&staging);
+    crate::output::staging::put_in_place(&staging, &dir).map_err(io(&dir)).inspect_err(|_| {
         // Best effort: the finished outputs could not be put in place.
         let _ = std::fs::remove_dir_all(&staging);
     })?;

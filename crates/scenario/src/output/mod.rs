@@ -5,9 +5,11 @@ pub mod csv;
 pub(crate) mod geojson;
 pub(crate) mod kml;
 pub(crate) mod layout;
+pub(crate) mod lock;
 pub(crate) mod plots;
 pub(crate) mod png;
 pub(crate) mod reports;
+pub(crate) mod staging;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -63,11 +65,11 @@ fn fresh(partial: &Path) -> std::io::Result<std::fs::File> {
     std::fs::OpenOptions::new().write(true).create_new(true).open(partial)
 }
 
-/// `NAME.partial` beside `path`.
+/// A staging name beside `path`, this process's alone; stale ones of processes gone
+/// are cleared first.
 fn partial_name(path: &Path) -> PathBuf {
-    let mut partial = path.as_os_str().to_os_string();
-    partial.push(".partial");
-    PathBuf::from(partial)
+    staging::clear_stale(path);
+    staging::staging_path(path, "partial")
 }
 
 /// `value` as JSON (pretty), or an error naming the file it was meant for.
@@ -96,27 +98,29 @@ pub(crate) fn counted(n: usize, noun: &str) -> String {
 mod tests {
     use super::*;
 
-    /// A link planted at the staging name is replaced, not followed: the file it points
-    /// at keeps its contents.
+    /// Links planted at staging names (of a process that is gone) are removed, never
+    /// followed: the file they point at keeps its contents.
     #[cfg(unix)]
     #[test]
-    fn a_planted_link_at_the_staging_name_is_not_followed() {
+    fn a_planted_link_at_a_staging_name_is_not_followed() {
         let dir = std::env::temp_dir().join(format!("areo-link-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let victim = dir.join("victim.txt");
         std::fs::write(&victim, "precious").unwrap();
+        // Above any Linux pid_max: no such process.
+        for name in ["plan.csv", "map.tif"] {
+            std::os::unix::fs::symlink(&victim, dir.join(format!(".{name}.partial-4194305-0"))).unwrap();
+        }
         let path = dir.join("plan.csv");
-        let _ = std::fs::remove_file(partial_name(&path));
-        std::os::unix::fs::symlink(&victim, partial_name(&path)).unwrap();
         write_file(&path, b"a,b\n").unwrap();
         assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "a,b\n");
         let tif = dir.join("map.tif");
-        let _ = std::fs::remove_file(partial_name(&tif));
-        std::os::unix::fs::symlink(&victim, partial_name(&tif)).unwrap();
         write_with(&tif, |p| std::fs::write(p, "tiff").map_err(|source| Error::Io { path: p.to_path_buf(), source }))
             .unwrap();
         assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().map(|e| e.file_name()).collect();
+        assert_eq!(left.len(), 3, "the links are gone: {left:?}");
         let _ = std::fs::remove_dir_all(&dir);
     }
 
