@@ -651,3 +651,38 @@ fn a_search_that_outgrows_its_memory_estimate_stops_at_the_memory_budget() {
     assert!(facts.contains(r#""status": "stopped""#) && facts.contains(r#""stopped_by": "memory""#), "{facts}");
     assert!(facts.contains(r#""peak_memory_mb""#), "{facts}");
 }
+
+#[test]
+fn a_start_on_any_of_the_maps_four_edges_is_on_it_and_a_step_beyond_any_is_off() {
+    let dir = tmp("edges");
+    // A 20 × 20 map of 50 m cells: 0..=1000 m each way, its edges included.
+    let scenario = |start: &str| {
+        format!(
+            r#"Scenario(version: 1, description: "edges", job: Tempest(body: Mars,
+            terrain: Synth(cols: 20, rows: 20, cell_m: 50.0, seed: 4, noise: (amplitude_m: 1.0, wavelength_m: 400.0, octaves: 1), features: []),
+            site: (lat_deg: -4.6, lon_east_deg: 137.4), start_utc: "2012-08-06T20:00:00Z", horizon_h: 12,
+            start: ({start}), start_battery_above_floor_wh: 600, goals: [(name: "g", x_m: 500, y_m: 500)]))"#
+        )
+    };
+    let path = dir.join("edges.ron");
+    for (start, on) in [
+        ("x_m: 0, y_m: 500", true),
+        ("x_m: 1000, y_m: 500", true),
+        ("x_m: 500, y_m: 0", true),
+        ("x_m: 500, y_m: 1000", true),
+        ("x_m: -0.5, y_m: 500", false),
+        ("x_m: 1000.5, y_m: 500", false),
+        ("x_m: 500, y_m: -0.5", false),
+        ("x_m: 500, y_m: 1000.5", false),
+    ] {
+        std::fs::write(&path, scenario(start)).unwrap();
+        let out = areo(&["-q", "run", path.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()]);
+        let err = stderr(&out);
+        if on {
+            assert!(out.status.success(), "{start}: {err}");
+        } else {
+            assert_eq!(out.status.code(), Some(2), "{start}: {err}");
+            assert!(err.contains("off the map: allowed 0..=1000 m east, 0..=1000 m north"), "{start}: {err}");
+        }
+    }
+}

@@ -436,13 +436,18 @@ impl World {
         (c % self.dem.cols(), c / self.dem.cols())
     }
 
-    /// The cell containing map point (x, y), m, if on the map.
+    /// The cell containing map point (x, y), m, if on the map: its four edges included,
+    /// a point on the east or south edge in the last column or row.
     pub fn cell_at(&self, x: f64, y: f64) -> Option<u32> {
         let d = &self.dem;
+        let (cols, rows) = (d.cols() as f64, d.rows() as f64);
+        // The map's four edges alike: a point on the east or south edge is in the last
+        // column or row, as one on the west or north edge is in the first.
         let col = ((x - d.x0()) / d.dx()).floor();
+        let col = if col == cols && x <= d.x0() + cols * d.dx() { col - 1.0 } else { col };
         let row = ((d.y_top() - y) / d.dy()).floor();
-        (col >= 0.0 && row >= 0.0 && (col as usize) < d.cols() && (row as usize) < d.rows())
-            .then(|| self.cell(col as usize, row as usize))
+        let row = if row == rows && y >= d.y_top() - rows * d.dy() { row - 1.0 } else { row };
+        (col >= 0.0 && row >= 0.0 && col < cols && row < rows).then(|| self.cell(col as usize, row as usize))
     }
 
     /// Fewest 8-connected steps between two cells.

@@ -471,13 +471,32 @@ pub fn write_horizon(
     let map = HorizonMap::compute(dem, sectors, Curvature::of(dem))?;
     progress.finish();
     let files = horizon_paths(out, sectors);
-    for (s, path) in files.iter().enumerate() {
+    // Every sector is written to its staging name first and the set renamed in only
+    // when all are written: a run killed while it computes or writes (nearly all of
+    // its time) leaves the previous set as it was, and its staging files are cleared
+    // by the next run into OUT.
+    let mut staged = Vec::with_capacity(files.len());
+    let written = files.iter().enumerate().try_for_each(|(s, path)| {
+        crate::output::staging::clear_stale(path);
+        let tmp = crate::output::staging::staging_path(path, "partial");
+        staged.push(tmp.clone());
         let az = s as f64 * 360.0 / sectors as f64;
         let band: Vec<f32> = (0..dem.cols() * dem.rows()).map(|i| map.horizon_deg(i, az) as f32).collect();
         let d = dem.with_values(band)?;
-        write_with(path, |tmp| Ok(geotiff::write(&d, tmp)?))?;
+        geotiff::write(&d, &tmp).map_err(Error::from)
+    });
+    let placed = written.and_then(|()| {
+        files.iter().zip(&staged).try_for_each(|(path, tmp)| {
+            std::fs::rename(tmp, path).map_err(|source| Error::Io { path: path.clone(), source })
+        })
+    });
+    if placed.is_err() {
+        // Best effort: staging files are of no use to anyone.
+        for tmp in &staged {
+            let _ = std::fs::remove_file(tmp);
+        }
     }
-    Ok(files)
+    placed.map(|()| files)
 }
 
 /// The files a horizon map of `sectors` sectors is written to for `-o OUT`:

@@ -525,7 +525,7 @@ fn locate(job: &TempestJob, file: &ScenarioFile, world: &World, frame: Frame) ->
                 let (w, s) = frame.to_local((e.x_min, e.y_min));
                 let (east, n) = frame.to_local((e.x_max, e.y_max));
                 let what = if job.plan_region.is_some() { "the planning region" } else { "the map" };
-                format!("({x}, {y}) m is off {what}: allowed {w:.0}..{east:.0} m east, {s:.0}..{n:.0} m north")
+                format!("({x}, {y}) m is off {what}: allowed {w:.0}..={east:.0} m east, {s:.0}..={n:.0} m north")
             })
         })?;
         if !world.passable(cell) {
