@@ -414,7 +414,7 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Command::Run { scenario, out, set, json } => run(&scenario, &out, &set, json, budget),
-        Command::Sun(args) => sun(&args),
+        Command::Sun(args) => sun(&args, budget),
         Command::Grid(args) => grid(&args, budget),
         Command::Terrain(cmd) => terrain(&cmd, budget),
         Command::Sweep(cmd) => sweep(cmd, budget),
@@ -719,8 +719,9 @@ fn grid(args: &GridArgs, budget: Budget) -> Result<(), Error> {
     Ok(())
 }
 
-fn sun(args: &SunArgs) -> Result<(), Error> {
-    use areo_scenario::sun::{Instants, SunRows, body_rows, day_events, sol_events};
+fn sun(args: &SunArgs, budget: Budget) -> Result<(), Error> {
+    use areo_scenario::sun::{Instants, SunRows, day_events, sol_events};
+    let body_rows = |body, instants, site| areo_scenario::sun::body_rows_within(body, instants, site, budget);
     let site = args.lat.zip(args.lon);
     let body = args.body.body();
     if let Some(date) = &args.day {

@@ -141,3 +141,31 @@ fn a_full_device_is_exit_1_naming_standard_output() {
     let facts = std::fs::read_to_string(dir.join("out/sun/facts.json")).unwrap();
     assert!(serde_json::from_str::<serde_json::Value>(&facts).is_ok(), "{facts}");
 }
+
+#[test]
+fn the_sun_table_keeps_the_memory_budget_and_says_so_before_it_computes() {
+    let dir = tmp("sun-budget");
+    // 400 000 instants: about 0.34 GiB of rows to print.
+    let mut text = String::new();
+    for k in 0..400_000u32 {
+        text += &format!("2012-08-{:02}T{:02}:{:02}:{:02}Z\n", 6 + k / 86_400, k / 3600 % 24, k / 60 % 60, k % 60);
+    }
+    let times = dir.join("times.txt");
+    std::fs::write(&times, text).unwrap();
+    let out = Command::new("sh")
+        .args(["-c", "ulimit -v 1000000; exec \"$0\" --max-memory-gb 0.25 sun --times-file \"$1\""])
+        .args([env!("CARGO_BIN_EXE_areo"), times.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("a Sun table of 400000 instants needs about 0.34 GiB") && err.contains("0.25 GiB allowed"), "{err}");
+    assert!(out.stdout.is_empty());
+    // Within a budget that holds it, it prints every row.
+    let out = Command::new(env!("CARGO_BIN_EXE_areo"))
+        .args(["--max-memory-gb", "0.5", "sun", "--times-file", times.to_str().unwrap(), "--format", "csv"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(String::from_utf8_lossy(&out.stdout).lines().count(), 400_001);
+}
