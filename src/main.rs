@@ -662,7 +662,12 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
         }
         TerrainCommand::Viewshed { file, from, out } => {
             tt::check_output(file, out)?;
-            let (files, seen) = tt::write_viewshed(&read(file, DemCommand::Viewshed)?, from.0, from.1, from.2, out)?;
+            let (files, seen) = tt::write_viewshed(&read(file, DemCommand::Viewshed)?, from.0, from.1, from.2, out)
+                .map_err(|e| match e {
+                    // Name the DEM a value was refused for.
+                    Error::Usage { what, message } => Error::usage(format!("{what} ({})", file.display()), message),
+                    other => other,
+                })?;
             print::terrain::fraction(seen, "visible") + &print::terrain::wrote(&files)
         }
         TerrainCommand::Horizon { file, sectors, tile: Some(tile), lowest_sun, out } => {

@@ -159,7 +159,10 @@ fn the_sun_table_keeps_the_memory_budget_and_says_so_before_it_computes() {
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(err.contains("a Sun table of 400000 instants needs about 0.34 GiB") && err.contains("0.25 GiB allowed"), "{err}");
+    assert!(
+        err.contains("a Sun table of 400000 instants needs about 0.34 GiB") && err.contains("0.25 GiB allowed"),
+        "{err}"
+    );
     assert!(out.stdout.is_empty());
     // Within a budget that holds it, it prints every row.
     let out = Command::new(env!("CARGO_BIN_EXE_areo"))

@@ -686,3 +686,88 @@ fn a_start_on_any_of_the_maps_four_edges_is_on_it_and_a_step_beyond_any_is_off()
         }
     }
 }
+
+/// `sh -c` running areo with `args` under a CPU-time limit of `cpu_s` seconds and an
+/// address-space limit of `kb` KiB: a case that is slow or huge fails by the limit.
+fn limited(cpu_s: u32, kb: u64, args: &[&str]) -> Output {
+    Command::new("sh")
+        .args(["-c", &format!("ulimit -t {cpu_s} -v {kb}; exec \"$@\""), "sh", env!("CARGO_BIN_EXE_areo")])
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn the_last_rounds_hostile_files_are_refused_quickly_with_their_place() {
+    let dir = tmp("last-round");
+    // A list of 200 000 horizon sectors: refused at the list's opening before parsing,
+    // in a fraction of the memory its parse would take.
+    let sectors = "0,".repeat(200_000);
+    let big = dir.join("big.ron");
+    std::fs::write(
+        &big,
+        format!(
+            "Scenario(version: 1, description: \"t\", job: SunTable(site: (lat_deg: -4.5895, lon_east_deg: 137.4417),\n    start_utc: \"2012-08-06T00:00:00Z\", duration_h: 2, step_min: 30, tau: 0.5,\n    horizon_deg: [{sectors}]))"
+        ),
+    )
+    .unwrap();
+    let out = limited(10, 600_000, &["-q", "run", big.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("big.ron:3:18: a list of more than 100000 items"), "{err}");
+    // A rover file nested far past any real one.
+    let deep = dir.join("deep.ron");
+    std::fs::write(&deep, format!("{}{}", "(".repeat(200_000), ")".repeat(200_000))).unwrap();
+    let out = limited(10, 600_000, &["rover", "check", deep.to_str().unwrap()]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("deep.ron:1:65: brackets nested deeper than 64"), "{err}");
+    // Heights at f32::MAX: an undeclared no-data value, refused naming the file and cell.
+    let max = dir.join("max.asc");
+    std::fs::write(&max, "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 10\n1 2 3\n4 3.4e38 6\n").unwrap();
+    let out = areo(&["terrain", "info", max.to_str().unwrap()]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("max.asc") && err.contains("height 3.4e38 m at column 1, row 1"), "{err}");
+    // A viewshed on one cell names the DEM.
+    let one = dir.join("one.asc");
+    std::fs::write(&one, "ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 10\n1\n").unwrap();
+    let out = areo(&[
+        "terrain",
+        "viewshed",
+        one.to_str().unwrap(),
+        "--from",
+        "5,5,2",
+        "-o",
+        dir.join("vs.tif").to_str().unwrap(),
+    ]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("one.asc") && err.contains("at least 2 x 2 cells"), "{err}");
+}
+
+#[test]
+fn a_damaged_task_result_is_failed_not_missing() {
+    let dir = tmp("damaged");
+    std::fs::write(
+        dir.join("sun.ron"),
+        r#"Scenario(version: 1, description: "t", job: SunTable(site: (lat_deg: -4.5895, lon_east_deg: 137.4417),
+            start_utc: "2012-08-06T00:00:00Z", duration_h: 2, step_min: 30, tau: 0.5))"#,
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("tau.sweep.ron"),
+        r#"Sweep(version: 1, base: "sun.ron", name: "tau-{tau}", axes: [(name: "tau", path: "job.tau", range: (0.25, 0.5, 0.25))])"#,
+    )
+    .unwrap();
+    let sweep = dir.join("sweep");
+    let s = sweep.to_str().unwrap();
+    assert!(areo(&["-q", "sweep", "expand", dir.join("tau.sweep.ron").to_str().unwrap(), "-o", s]).status.success());
+    assert!(areo(&["-q", "sweep", "run", s, "--index", "0"]).status.success());
+    std::fs::write(sweep.join("out/tau-0.25/facts.json"), "{\"tau\": 0.2").unwrap();
+    let out = areo(&["sweep", "collect", s]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("0 finished, 1 missing, 1 failed"), "{text}");
+    assert!(text.contains("failed  tau-0.25:") && text.contains("a damaged result"), "{text}");
+    assert!(text.contains("missing tau-0.5"), "{text}");
+}

@@ -61,10 +61,19 @@ pub fn ron_options() -> ron::Options {
 /// locator works hard on a hostile one.
 pub const MAX_NESTING: usize = 64;
 
-/// The line and column (1-based) of the first bracket in `text` nested deeper than
-/// [`MAX_NESTING`], outside strings and comments; one pass over the text.
-pub fn too_deep(text: &str) -> Option<(usize, usize)> {
+/// The most items areo reads in one RON list: far beyond any real list (a horizon of
+/// 3600 sectors, a polygon's vertices) and low enough that parsing a hostile one stays
+/// small (a million items took 0.35 GB to parse and refuse).
+pub const MAX_LIST_ITEMS: usize = 100_000;
+
+/// Where `text` has a shape areo refuses before parsing, and what: the line and column
+/// (1-based) of the first bracket nested deeper than [`MAX_NESTING`], or of the opening
+/// of the first list with more than [`MAX_LIST_ITEMS`] items, outside strings and
+/// comments; one pass over the text.
+pub fn refused_shape(text: &str) -> Option<(usize, usize, String)> {
     let (mut depth, mut line, mut col) = (0usize, 1usize, 0usize);
+    // Each open bracket: whether it is a list, where it opened, and its separators so far.
+    let mut open: Vec<(bool, usize, usize, usize)> = Vec::new();
     let mut chars = text.chars().peekable();
     let (mut string, mut escaped, mut line_comment, mut block_comment) = (false, false, false, 0usize);
     while let Some(c) = chars.next() {
@@ -103,10 +112,22 @@ pub fn too_deep(text: &str) -> Option<(usize, usize)> {
             ('(' | '[' | '{', _) => {
                 depth += 1;
                 if depth > MAX_NESTING {
-                    return Some((line, col));
+                    return Some((line, col, format!("brackets nested deeper than {MAX_NESTING}")));
+                }
+                open.push((c == '[', line, col, 0));
+            }
+            (')' | ']' | '}', _) => {
+                depth = depth.saturating_sub(1);
+                open.pop();
+            }
+            (',', _) => {
+                if let Some((true, at_line, at_col, items)) = open.last_mut() {
+                    *items += 1;
+                    if *items >= MAX_LIST_ITEMS {
+                        return Some((*at_line, *at_col, format!("a list of more than {MAX_LIST_ITEMS} items")));
+                    }
                 }
             }
-            (')' | ']' | '}', _) => depth = depth.saturating_sub(1),
             _ => {}
         }
     }
@@ -114,16 +135,11 @@ pub fn too_deep(text: &str) -> Option<(usize, usize)> {
 }
 
 /// Parses RON in areo's dialect ([`ron_options`]), turning errors into
-/// [`Error::Syntax`] with `origin` and the position; nesting past [`MAX_NESTING`] is
+/// [`Error::Syntax`] with `origin` and the position; a shape [`refused_shape`] names is
 /// refused before parsing.
 pub(crate) fn parse_ron<T: serde::de::DeserializeOwned>(text: &str, origin: &str) -> Result<T> {
-    if let Some((line, col)) = too_deep(text) {
-        return Err(Error::Syntax {
-            path: origin.into(),
-            line,
-            col,
-            message: format!("brackets nested deeper than {MAX_NESTING}"),
-        });
+    if let Some((line, col, message)) = refused_shape(text) {
+        return Err(Error::Syntax { path: origin.into(), line, col, message });
     }
     ron_options().from_str(text).map_err(|e| Error::Syntax {
         path: origin.into(),

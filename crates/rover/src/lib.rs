@@ -45,7 +45,7 @@ pub mod resources;
 pub mod stability;
 
 pub use crate::{
-    error::{Error, MAX_NESTING, Result, ron_options, too_deep},
+    error::{Error, MAX_LIST_ITEMS, MAX_NESTING, Result, refused_shape, ron_options},
     params::{
         Activities, Arm, Assumed, Axles, BatteryPack, BodyPoint, Drive, Geometry, LSR1_RON, Layout, RoverParams,
         SidePoint, Solar,

@@ -547,7 +547,7 @@ pub(crate) fn refuse_non_finite(path: &Path, text: &str, kind: &str) -> Result<(
 
 /// Parses and validates scenario text; `path` only labels errors.
 pub fn parse(path: &Path, text: &str) -> Result<Scenario, Error> {
-    refuse_deep_nesting(path, text)?;
+    refuse_hostile_shape(path, text)?;
     let scenario: Scenario = ron_options().from_str(text).map_err(|e| {
         // A number of the wrong type (−1 for a count, 2^64 for an index) is a syntax
         // error to RON; name the field it was written for.
@@ -600,20 +600,15 @@ pub(crate) fn syntax_error(path: &Path, e: &ron::error::SpannedError) -> Error {
 /// [`Error::Read`], unparsable [`Error::Syntax`].
 pub(crate) fn read_ron<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, Error> {
     let text = crate::read_text(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
-    refuse_deep_nesting(path, &text)?;
+    refuse_hostile_shape(path, &text)?;
     ron_options().from_str(&text).map_err(|e| syntax_error(path, &e))
 }
 
-/// Refuses brackets nested past areo-rover's limit, at the first one too deep.
-fn refuse_deep_nesting(path: &Path, text: &str) -> Result<(), Error> {
-    match areo_rover::too_deep(text) {
+/// Refuses what areo-rover's shape limits refuse (nesting, list lengths), where it starts.
+fn refuse_hostile_shape(path: &Path, text: &str) -> Result<(), Error> {
+    match areo_rover::refused_shape(text) {
         None => Ok(()),
-        Some((line, col)) => Err(Error::Syntax {
-            path: path.to_path_buf(),
-            line,
-            col,
-            message: format!("brackets nested deeper than {}", areo_rover::MAX_NESTING),
-        }),
+        Some((line, col, message)) => Err(Error::Syntax { path: path.to_path_buf(), line, col, message }),
     }
 }
 

@@ -508,6 +508,21 @@ fn finished(dir: &Path, id: &str) -> Option<serde_json::Map<String, serde_json::
     serde_json::from_str(&text).ok()
 }
 
+/// Why a task whose outputs are there has no result: its facts.json damaged (a task
+/// whose outputs are not there is missing, not failed).
+fn damaged(dir: &Path, id: &str) -> Option<String> {
+    let path = dir.join("out").join(id).join("facts.json");
+    let text = match crate::read_text(&path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return None,
+        Err(e) => return Some(format!("{}: {e}", path.display())),
+    };
+    match serde_json::from_str::<serde_json::Map<String, serde_json::Value>>(&text) {
+        Ok(_) => None,
+        Err(e) => Some(format!("{}: a damaged result ({e}); run the task again with --force", path.display())),
+    }
+}
+
 /// Refuses a manifest that disagrees with `sweep.json` on the number of tasks or their
 /// indices.
 fn agree(dir: &Path, info: &SweepInfo, all: &[SweepTask]) -> Result<()> {
@@ -780,7 +795,10 @@ pub fn collect(dir: &Path, plot: Option<(&str, &str)>) -> Result<Collected> {
                 facts.push(None);
                 match crate::read_text(&dir.join("failed").join(format!("{}.txt", t.id))) {
                     Ok(err) => failed.push((t.id.clone(), err.trim().to_string())),
-                    Err(_) => missing.push(t.id.clone()),
+                    Err(_) => match damaged(dir, &t.id) {
+                        Some(why) => failed.push((t.id.clone(), why)),
+                        None => missing.push(t.id.clone()),
+                    },
                 }
             }
         }

@@ -148,6 +148,9 @@ pub struct Extent {
     pub y_max: f64,
 }
 
+/// The largest height a DEM may hold, m (10 000 km).
+pub(crate) const MAX_HEIGHT_M: f32 = 1e7;
+
 impl Dem {
     /// Bytes a DEM holds per cell: an f32 height and a validity byte (for memory
     /// estimates made before a map is read).
@@ -169,6 +172,17 @@ impl Dem {
         }
         if z.len() != cols * rows {
             return Err(Error::BadGrid(format!("{} elevations for {cols} x {rows} cells", z.len())));
+        }
+        // Beyond 10 000 km a value is no height of any body's surface (a DEM of radii in
+        // metres stays under 7e6): an undeclared no-data value such as f32::MAX, whose
+        // differences would overflow.
+        if let Some(i) = z.iter().position(|v| v.is_finite() && v.abs() > MAX_HEIGHT_M) {
+            return Err(Error::BadGrid(format!(
+                "height {:e} m at column {}, row {}: heights must be within ±{MAX_HEIGHT_M:e} m (an undeclared no-data value? declare it as the file's no-data)",
+                z[i],
+                i % cols,
+                i / cols
+            )));
         }
         let valid: Vec<bool> = z.iter().map(|v| v.is_finite()).collect();
         let all_valid = valid.iter().all(|&v| v);
