@@ -109,7 +109,8 @@ mod tests {
         std::fs::write(&victim, "precious").unwrap();
         // Above any Linux pid_max: no such process.
         for name in ["plan.csv", "map.tif"] {
-            std::os::unix::fs::symlink(&victim, dir.join(format!(".{name}.partial-4194305-0"))).unwrap();
+            let stale = format!(".{name}.partial-{}-4194305-0", staging::host());
+            std::os::unix::fs::symlink(&victim, dir.join(stale)).unwrap();
         }
         let path = dir.join("plan.csv");
         write_file(&path, b"a,b\n").unwrap();

@@ -2,12 +2,14 @@
 //! there whole.
 //!
 //! A staging name sits beside its target, hidden, and is this process's alone:
-//! `.{target}.{kind}-{pid}-{n}` (`n` counts within the process), the target's part cut
-//! at a character boundary so that the whole stays within [`NAME_MAX`] bytes, however
-//! long the target's name. Writers of one target therefore never share a file, and a
-//! staging entry names the process that made it, so the next writer of the target
-//! removes those whose process is gone ([`clear_stale`]) — only entries of this user,
-//! only by their names (a link is removed, never followed).
+//! `.{target}.{kind}-{host}-{pid}-{n}` (the machine's name, letters and digits only;
+//! `n` counts within the process), the target's part cut at a character boundary so
+//! that the whole stays within [`NAME_MAX`] bytes, however long the target's name.
+//! Writers of one target therefore never share a file, and a staging entry names the
+//! process that made it, so the next writer of the target removes those whose process
+//! is gone ([`clear_stale`]) — only entries of this user made on this machine (on a
+//! shared file system another node's process ids mean nothing here), only by their
+//! names (a link is removed, never followed).
 //!
 //! A finished directory replaces its target in one step where the kernel has
 //! `renameat2(RENAME_EXCHANGE)` (Linux 3.15 on ext4, xfs, btrfs, tmpfs): the two swap
@@ -30,10 +32,21 @@ pub(crate) const NAME_MAX: usize = 255;
 /// Staging names made by this process so far.
 static MADE: AtomicU64 = AtomicU64::new(0);
 
+/// This machine's name as staging names carry it: its letters and digits, at most 24.
+pub(crate) fn host() -> &'static str {
+    static HOST: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    HOST.get_or_init(|| {
+        let uname = rustix::system::uname();
+        let name: String =
+            uname.nodename().to_string_lossy().chars().filter(char::is_ascii_alphanumeric).take(24).collect();
+        if name.is_empty() { "host".into() } else { name }
+    })
+}
+
 /// A staging name of `kind` (`partial`, `old`) beside `target`, this process's alone.
 pub(crate) fn staging_path(target: &Path, kind: &str) -> PathBuf {
     let name = target.file_name().map_or_else(Vec::new, |n| n.as_bytes().to_vec());
-    let tail = format!(".{kind}-{}-{}", std::process::id(), MADE.fetch_add(1, Ordering::Relaxed));
+    let tail = format!(".{kind}-{}-{}-{}", host(), std::process::id(), MADE.fetch_add(1, Ordering::Relaxed));
     let room = NAME_MAX - 1 - tail.len();
     let mut keep = name.len().min(room);
     // Cut at a character boundary when the name is UTF-8 (bytes otherwise).
@@ -48,9 +61,9 @@ pub(crate) fn staging_path(target: &Path, kind: &str) -> PathBuf {
     target.with_file_name(OsString::from_vec(staged))
 }
 
-/// The process id in `entry` if it is a staging name of `kind` for a target named
-/// `target` (the name as [`staging_path`] cuts it).
-fn staging_pid(entry: &OsStr, target: &OsStr, kind: &str) -> Option<u32> {
+/// The machine and process id in `entry` if it is a staging name of `kind` for a
+/// target named `target` (the name as [`staging_path`] cuts it).
+fn staging_pid(entry: &OsStr, target: &OsStr, kind: &str) -> Option<(String, u32)> {
     let entry = entry.as_bytes();
     let rest = entry.strip_prefix(b".")?;
     let marker = format!(".{kind}-");
@@ -63,9 +76,13 @@ fn staging_pid(entry: &OsStr, target: &OsStr, kind: &str) -> Option<u32> {
     if stem.len() < target.len() && entry.len() < NAME_MAX - 4 {
         return None;
     }
-    let (pid, n) = std::str::from_utf8(tail).ok()?.split_once('-')?;
+    let mut parts = std::str::from_utf8(tail).ok()?.split('-');
+    let (host, pid, n) = (parts.next()?, parts.next()?, parts.next()?);
+    if parts.next().is_some() || host.is_empty() || !host.chars().all(|c| c.is_ascii_alphanumeric()) {
+        return None;
+    }
     n.parse::<u64>().ok()?;
-    pid.parse().ok()
+    Some((host.to_string(), pid.parse().ok()?))
 }
 
 /// Whether process `pid` is running (or may be: one of another user's).
@@ -81,7 +98,7 @@ fn alive(pid: u32) -> bool {
 }
 
 /// Removes the staging entries beside `target` that processes now gone left behind,
-/// those of this user only; when `target` itself is missing, an `old` set of such a
+/// those of this user on this machine only; when `target` itself is missing, an `old` set of such a
 /// process (killed between moving it aside and putting its new outputs in place) is
 /// renamed back first. Best effort: what cannot be removed stays.
 pub(crate) fn clear_stale(target: &Path) {
@@ -94,8 +111,8 @@ pub(crate) fn clear_stale(target: &Path) {
         let entry_name = entry.file_name();
         let kind = ["partial", "old"].into_iter().find(|k| staging_pid(&entry_name, name, k).is_some());
         let (Some(kind), Ok(meta)) = (kind, entry.path().symlink_metadata()) else { continue };
-        let pid = staging_pid(&entry_name, name, kind).unwrap_or(0);
-        if meta.uid() == me && !alive(pid) {
+        let Some((made_on, pid)) = staging_pid(&entry_name, name, kind) else { continue };
+        if meta.uid() == me && made_on == host() && !alive(pid) {
             stale.push((kind, entry.path(), meta.is_dir()));
         }
     }
@@ -218,7 +235,10 @@ mod tests {
             let name = a.file_name().unwrap();
             assert!(name.len() <= NAME_MAX, "{} bytes", name.len());
             assert!(std::str::from_utf8(name.as_bytes()).is_ok(), "cut inside a character");
-            assert_eq!(staging_pid(name, OsStr::new(target), "partial"), Some(std::process::id()));
+            assert_eq!(
+                staging_pid(name, OsStr::new(target), "partial"),
+                Some((host().to_string(), std::process::id()))
+            );
             assert_eq!(staging_pid(name, OsStr::new(target), "old"), None);
         }
         // Another target's staging is not this one's, even when one name starts the other.
@@ -267,20 +287,26 @@ mod tests {
         let target = root.join("run");
         // Killed between moving its old set aside and renaming the new one in: the
         // target is missing, the old set under an `old` name, the new under `partial`.
-        let dead = 4_194_305; // above any Linux pid_max
-        set(&root.join(format!(".run.old-{dead}-3")), "old");
-        set(&root.join(format!(".run.partial-{dead}-2")), "new, unfinished");
-        // This process's own staging, and another target's, stay.
+        let (dead, here) = (4_194_305, host()); // above any Linux pid_max
+        set(&root.join(format!(".run.old-{here}-{dead}-3")), "old");
+        set(&root.join(format!(".run.partial-{here}-{dead}-2")), "new, unfinished");
+        // This process's own staging, another target's and another machine's stay.
         let mine = staging_path(&target, "partial");
         set(&mine, "mine");
-        set(&root.join(format!(".runs.partial-{dead}-0")), "another target's");
+        set(&root.join(format!(".runs.partial-{here}-{dead}-0")), "another target's");
+        set(&root.join(format!(".run.partial-{here}x-{dead}-0")), "another machine's");
         clear_stale(&target);
         assert_eq!(std::fs::read_to_string(target.join("facts.json")).unwrap(), "old");
         let mut names: Vec<String> =
             std::fs::read_dir(&root).unwrap().flatten().map(|e| e.file_name().to_string_lossy().into_owned()).collect();
         names.sort();
         let mine = mine.file_name().unwrap().to_string_lossy().into_owned();
-        let mut want = vec![format!(".runs.partial-{dead}-0"), mine, "run".to_string()];
+        let mut want = vec![
+            format!(".runs.partial-{here}-{dead}-0"),
+            format!(".run.partial-{here}x-{dead}-0"),
+            mine,
+            "run".to_string(),
+        ];
         want.sort();
         assert_eq!(names, want);
         let _ = std::fs::remove_dir_all(&root);
