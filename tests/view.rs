@@ -392,3 +392,20 @@ fn the_actions_viewer_shows_the_pose_the_wheel_loads_and_the_margin_step_by_step
     let size = std::fs::metadata(&page).unwrap().len();
     assert!(size < 2_000_000, "{size} bytes");
 }
+
+#[test]
+fn the_earth_plans_viewer_moves_the_shadows_and_the_rover_along_the_plan() {
+    if !chromium_here() {
+        return;
+    }
+    let dir = run("scenarios/devon-island.ron");
+    let page = dir.join("view.html");
+    let plan = csv(&dir.join("plan.csv"));
+    // Two waypoints twelve hours apart under the Arctic summer's low Sun.
+    let first = &plan[1];
+    let later =
+        plan.iter().find(|w| num(&w["t_s"]) >= num(&first["t_s"]) + 12.0 * 3600.0).expect("a waypoint half a day on");
+    let at = |w: &HashMap<String, String>| (w["utc"].clone(), (num(&w["x_m"]), num(&w["y_m"])));
+    let ((ta, pa), (tb, pb)) = (at(first), at(later));
+    check_two_instants(&page, (&ta, pa), (&tb, pb));
+}
