@@ -235,6 +235,9 @@ pub struct TempestJob {
     /// Named circular regions; the run reports whether plans and the route enter them.
     #[serde(default)]
     pub regions: Vec<RegionSpec>,
+    /// Ground the rover must keep out of, drawn on a raster; default none.
+    #[serde(default)]
+    pub no_go: Option<NoGoSpec>,
     /// When the route plot's shadows are drawn, ISO 8601 UTC; default `start_utc`.
     #[serde(default)]
     pub shadow_utc: Option<String>,
@@ -366,6 +369,19 @@ pub enum PlotTime {
     Utc,
     /// Local true solar time at the start's longitude, with the local sol.
     LocalSolar,
+}
+
+/// A no-go mask: a raster (GeoTIFF or ESRI ASCII) whose non-zero cells the rover never
+/// enters, on the map's grid or resampled onto it by nearest neighbour.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NoGoSpec {
+    /// The raster, relative to the scenario file.
+    pub file: String,
+    /// Keep this far from every masked cell too (cell centres within it), m
+    /// (0..=10 000; default 0).
+    #[serde(default)]
+    pub inflate_m: f64,
 }
 
 /// A named circle.

@@ -269,6 +269,9 @@ impl Validate for TempestJob {
             c.range("radius_m", r.radius_m, f64::MIN_POSITIVE, 1e7, "m, > 0");
         });
         check_unique(c, "regions", self.regions.iter().map(|r| r.name.as_str()));
+        if let Some(n) = &self.no_go {
+            c.nested("no_go", |c| c.range("inflate_m", n.inflate_m, 0.0, 1e4, "m"));
+        }
         c.nested("start", |c| check_position(c, self.start.x_m, self.start.y_m));
         if let Some(r) = &self.plan_region {
             c.nested("plan_region", |c| {

@@ -20,6 +20,7 @@ mod facts;
 mod files;
 mod front;
 mod layers;
+mod no_go;
 mod view;
 
 use facts::*;
@@ -210,6 +211,8 @@ struct Prepared {
     notes: Vec<String>,
     /// The map file's CRS when areo does not read its projection (a local frame).
     crs_not_read: Option<String>,
+    /// The no-go mask as applied, when the job has one.
+    no_go: Option<no_go::NoGo>,
 }
 
 /// What planning (or simulating) gave.
@@ -469,8 +472,24 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
         Some(u) => model.with_margins(u.margins()),
         None => model,
     };
+    let goal_fields: Vec<String> = (0..job.goals.len()).map(|i| format!("job.goals[{i}]")).collect();
+    let mut no_go = match &job.no_go {
+        Some(spec) => {
+            let places: Vec<(String, (f64, f64))> =
+                std::iter::once(("job.start".to_string(), (job.start.x_m, job.start.y_m)))
+                    .chain(goal_fields.iter().cloned().zip(job.goals.iter().map(|g| (g.x_m, g.y_m))))
+                    .map(|(field, (x, y))| (field, frame.to_map(x, y)))
+                    .collect();
+            Some(no_go::apply(spec, file, (&world, truth.as_ref()), frame, &places)?)
+        }
+        None => None,
+    };
     let (start, goals) = locate(job, file, &world, frame)?;
-    Ok(Prepared { world, truth, config, model, frame, start, goals, precalc_s, notes, crs_not_read })
+    if let Some(n) = &mut no_go {
+        let named: Vec<(String, u32)> = goal_fields.into_iter().zip(goals.iter().copied()).collect();
+        no_go::cut_off(n, file, (&world, truth.as_ref()), start.cell, &named)?;
+    }
+    Ok(Prepared { world, truth, config, model, frame, start, goals, precalc_s, notes, crs_not_read, no_go })
 }
 
 /// The action model with the job's Communicate sessions, its start battery and the
@@ -762,6 +781,7 @@ fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Fail
     let mut r = TempestReport {
         notes: computed.prepared.notes.clone(),
         map_crs_not_read: computed.prepared.crs_not_read.clone(),
+        no_go: computed.prepared.no_go.as_ref().map(|n| n.figures.clone()),
         horizon_bytes_per_angle: (ctx.job.horizon_sectors > 0).then_some(if world.horizon_is_narrow() {
             1.0
         } else {
@@ -821,6 +841,9 @@ fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Fail
             r.plan = Some(initial.clone());
             r.simulation = Some(sim.clone());
         }
+    }
+    if let (Some(l), Some(n)) = (r.layers.as_mut(), &computed.prepared.no_go) {
+        l.no_go = Some(crate::report::Raster { cols: world.cols(), rows: world.rows(), values: n.codes.clone() });
     }
     if let Some(c) = &computed.chance {
         r.tables.monte_carlo = chance::rows(ctx, c);

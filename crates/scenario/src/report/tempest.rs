@@ -31,6 +31,8 @@ pub struct TempestReport {
     pub stopped_by: Option<String>,
     /// The map file's CRS, when areo does not read its projection (a local frame).
     pub map_crs_not_read: Option<String>,
+    /// The no-go mask, when the job has one.
+    pub no_go: Option<NoGoFigures>,
     /// Bytes per horizon angle the horizon maps hold (1 or 2), with horizon maps.
     pub horizon_bytes_per_angle: Option<f64>,
     /// Slope, horizon maps and the Sun table, s.
@@ -701,6 +703,26 @@ pub struct MapLayers {
     pub direct_sun: Raster<u8>,
     /// The true terrain's direct sun through the run (`shadows/`).
     pub shadow_series: ShadowSeries,
+    /// What keeps each cell of the map out, with a no-go mask: 0 free, 1 masked, 2
+    /// within `inflate_m` of the mask, 3 cut off from the start (`no_go.tif`).
+    pub no_go: Option<Raster<u8>>,
+}
+
+/// The no-go mask as the run applied it.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct NoGoFigures {
+    /// The mask's file, as the scenario names it.
+    pub file: String,
+    /// The inflation, m.
+    pub inflate_m: f64,
+    /// Map cells the mask marks.
+    pub masked_cells: usize,
+    /// Map cells within `inflate_m` of a masked one (and not masked).
+    pub inflated_cells: usize,
+    /// Passable map cells the start cannot reach for the mask (and missing data).
+    pub island_cells: usize,
+    /// Masked and inflated cells over the map's.
+    pub kept_out_fraction: f64,
 }
 
 /// The most instants a shadow series holds.

@@ -9,6 +9,18 @@ use crate::report::tempest::{
 /// the simulated run.
 pub(crate) fn summary(r: &TempestReport) -> Vec<String> {
     let mut lines = r.notes.clone();
+    if let Some(n) = &r.no_go {
+        lines.push(format!(
+            "no-go mask {}: {} cells kept out ({:.1} % of the map: {} marked, {} within {} m of them), {} cut off from the start",
+            n.file,
+            n.masked_cells + n.inflated_cells,
+            100.0 * n.kept_out_fraction,
+            n.masked_cells,
+            n.inflated_cells,
+            n.inflate_m,
+            n.island_cells
+        ));
+    }
     if let Some(work) = &r.no_plan {
         no_plan(&mut lines, r, work);
         return lines;

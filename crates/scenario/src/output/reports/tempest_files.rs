@@ -63,6 +63,9 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
         put("direct_sun.tif", &|p| {
             write_with(p, |tmp| Ok(geotiff::write_cog_u8(&l.shadow_grid, &l.direct_sun.values, Some(NO_DATA), tmp)?))
         })?;
+        if let Some(no_go) = &l.no_go {
+            put("no_go.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_cog_u8(&l.grid, &no_go.values, None, tmp)?)))?;
+        }
     }
     if let Some(rows) = &t.monte_carlo {
         put("monte_carlo.csv", &|p| write_rows(p, rows.iter().map(MonteCarloCsv::from)))?;

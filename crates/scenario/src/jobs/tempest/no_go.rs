@@ -1,0 +1,227 @@
+//! The no-go mask: the cells a raster marks (non-zero) kept out of, found for each cell
+//! of the map by nearest neighbour (the cell of the mask under the map cell's centre),
+//! grown by a disc of `inflate_m`, and the ground those cells cut off from the start
+//! kept out too — a goal there is an error, never a plan into an island.
+//!
+//! A mask with a CRS must be on the map's, in its projected metres. One without (an
+//! ESRI ASCII grid) is in the scenario's metres — east and north of the map's
+//! south-west corner, as `start` and `goals` are — unless the map has no CRS either,
+//! when the two share the map file's numbers.
+
+use std::collections::VecDeque;
+
+use super::*;
+use crate::format::NoGoSpec;
+use crate::report::tempest::NoGoFigures;
+
+/// What keeps a cell out, as the `no_go.tif` layer writes it.
+pub(super) const FREE: u8 = 0;
+/// Marked by the mask.
+pub(super) const MASKED: u8 = 1;
+/// Within `inflate_m` of a masked cell.
+pub(super) const INFLATED: u8 = 2;
+/// Cut off from the start by the mask (and missing data).
+pub(super) const ISLAND: u8 = 3;
+
+/// The mask applied: what keeps each cell of the map out, and its figures.
+#[derive(Debug, Clone)]
+pub(super) struct NoGo {
+    /// Per map cell: [`FREE`], [`MASKED`], [`INFLATED`] or [`ISLAND`].
+    pub codes: Vec<u8>,
+    pub figures: NoGoFigures,
+}
+
+/// Reads the job's mask onto `world`'s grid and inflates it; blocks those cells in
+/// `world` (and `truth`). The start and goals (`places`: field and map metres) must lie
+/// outside it. Islands are found by [`cut_off`] once the start is known.
+pub(super) fn apply(
+    spec: &NoGoSpec,
+    file: &ScenarioFile,
+    worlds: (&World, Option<&World>),
+    frame: Frame,
+    places: &[(String, (f64, f64))],
+) -> Result<NoGo> {
+    let world = worlds.0;
+    let base = file.path.parent().unwrap_or(Path::new("."));
+    let path = base.join(&spec.file);
+    let field = "job.no_go.file";
+    let mask = areo_terrain::read(&path).map_err(|e| Error::from(e).referenced_by(&file.path, field))?;
+    let bad = |message: String| scenario_error(file, field.to_string(), message);
+    let dem = world.dem();
+    // A mask with a projection must be on the map's; one without (an ASCII grid) is
+    // taken to be in the map's metres.
+    let (m, d) = (mask.georef(), dem.georef());
+    if m.projection != areo_terrain::Projection::Local && (m.projection != d.projection || m.surface != d.surface) {
+        return Err(bad(format!(
+            "{}: the mask's CRS ({}) is not the map's ({}): reproject it onto the map (gdalwarp -t_srs)",
+            spec.file,
+            describe(m),
+            describe(d)
+        )));
+    }
+    let local = areo_terrain::Projection::Local;
+    let in_frame = m.projection == local && d.projection != local;
+    let to_mask = |p: (f64, f64)| if in_frame { frame.to_local(p) } else { p };
+    let me = mask.extent();
+    let ((dx0, dy0), (dx1, dy1)) =
+        (to_mask((dem.extent().x_min, dem.extent().y_min)), to_mask((dem.extent().x_max, dem.extent().y_max)));
+    if me.x_max <= dx0 || me.x_min >= dx1 || me.y_max <= dy0 || me.y_min >= dy1 {
+        return Err(bad(format!(
+            "{}: the mask (x {:.0}..{:.0} m, y {:.0}..{:.0} m) does not overlap the map (x {dx0:.0}..{dx1:.0} m, y {dy0:.0}..{dy1:.0} m{})",
+            spec.file,
+            me.x_min,
+            me.x_max,
+            me.y_min,
+            me.y_max,
+            if in_frame {
+                ", east and north of its south-west corner: a mask without a CRS is in the scenario's metres"
+            } else {
+                ""
+            }
+        )));
+    }
+    let mut codes = vec![FREE; world.cells()];
+    let mut unknown = 0usize;
+    for (cell, code) in codes.iter_mut().enumerate() {
+        let (x, y) = to_mask(world.center(cell as u32));
+        let col = ((x - mask.x0()) / mask.dx()).floor();
+        let row = ((mask.y_top() - y) / mask.dy()).floor();
+        if col < 0.0 || row < 0.0 || col >= mask.cols() as f64 || row >= mask.rows() as f64 {
+            continue;
+        }
+        match mask.z(col as usize, row as usize) {
+            None => unknown += 1,
+            Some(v) if v != 0.0 => *code = MASKED,
+            Some(_) => {}
+        }
+    }
+    if unknown > 0 {
+        return Err(bad(format!(
+            "{}: {unknown} cells of the map fall on cells of the mask with no value (NaN or its no-data): a mask gives every cell it covers 0 (free) or non-zero (keep out)",
+            spec.file
+        )));
+    }
+    let masked = codes.iter().filter(|&&c| c == MASKED).count();
+    inflate(world, &mut codes, spec.inflate_m);
+    let inflated = codes.iter().filter(|&&c| c == INFLATED).count();
+    for (what, (x, y)) in places {
+        if let Some(cell) = world.cell_at(*x, *y)
+            && codes[cell as usize] != FREE
+        {
+            let why =
+                if codes[cell as usize] == MASKED { "in the no-go mask" } else { "within inflate_m of the no-go mask" };
+            return Err(scenario_error(
+                file,
+                what.clone(),
+                format!(
+                    "({x:.1}, {y:.1}) m is {why} ({}, inflated by {} m): move it or the mask",
+                    spec.file, spec.inflate_m
+                ),
+            ));
+        }
+    }
+    block(worlds, &codes);
+    Ok(NoGo {
+        codes,
+        figures: NoGoFigures {
+            file: spec.file.clone(),
+            inflate_m: spec.inflate_m,
+            masked_cells: masked,
+            inflated_cells: inflated,
+            island_cells: 0,
+            kept_out_fraction: (masked + inflated) as f64 / world.cells() as f64,
+        },
+    })
+}
+
+/// Blocks every cell `codes` keeps out in the worlds.
+fn block((world, truth): (&World, Option<&World>), codes: &[u8]) {
+    let cells: Vec<u32> = (0..codes.len() as u32).filter(|&c| codes[c as usize] != FREE).collect();
+    world.set_blocked(&cells, true);
+    if let Some(t) = truth {
+        t.set_blocked(&cells, true);
+    }
+}
+
+/// Marks [`INFLATED`] every free cell whose centre lies within `radius_m` of a masked
+/// cell's centre.
+fn inflate(world: &World, codes: &mut [u8], radius_m: f64) {
+    let (dx, dy) = (world.dem().dx(), world.dem().dy());
+    let (rc, rr) = ((radius_m / dx).floor() as i64, (radius_m / dy).floor() as i64);
+    let disc: Vec<(i64, i64)> = (-rr..=rr)
+        .flat_map(|r| (-rc..=rc).map(move |c| (c, r)))
+        .filter(|&(c, r)| ((c as f64 * dx).powi(2) + (r as f64 * dy).powi(2)).sqrt() <= radius_m)
+        .collect();
+    let (cols, rows) = (world.cols() as i64, world.rows() as i64);
+    let masked: Vec<usize> = (0..codes.len()).filter(|&i| codes[i] == MASKED).collect();
+    for i in masked {
+        let (c0, r0) = ((i as i64) % cols, (i as i64) / cols);
+        for &(dc, dr) in &disc {
+            let (c, r) = (c0 + dc, r0 + dr);
+            if c >= 0 && r >= 0 && c < cols && r < rows {
+                let j = (r * cols + c) as usize;
+                if codes[j] == FREE {
+                    codes[j] = INFLATED;
+                }
+            }
+        }
+    }
+}
+
+/// Marks [`ISLAND`] (and blocks) every passable cell the start cannot reach by 8-connected
+/// steps over passable cells; a goal among them is an error naming it.
+pub(super) fn cut_off(
+    no_go: &mut NoGo,
+    file: &ScenarioFile,
+    worlds: (&World, Option<&World>),
+    start: u32,
+    goals: &[(String, u32)],
+) -> Result<()> {
+    let world = worlds.0;
+    let (cols, rows) = (world.cols() as i64, world.rows() as i64);
+    let mut reached = vec![false; world.cells()];
+    let mut queue = VecDeque::from([start]);
+    reached[start as usize] = true;
+    while let Some(cell) = queue.pop_front() {
+        let (c0, r0) = world.col_row(cell);
+        for (dc, dr) in [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+            let (c, r) = (c0 as i64 + dc, r0 as i64 + dr);
+            if c < 0 || r < 0 || c >= cols || r >= rows {
+                continue;
+            }
+            let next = world.cell(c as usize, r as usize);
+            if !reached[next as usize] && world.passable(next) {
+                reached[next as usize] = true;
+                queue.push_back(next);
+            }
+        }
+    }
+    let island: Vec<u32> = (0..world.cells() as u32).filter(|&c| !reached[c as usize] && world.passable(c)).collect();
+    for (field, goal) in goals {
+        if !reached[*goal as usize] {
+            return Err(scenario_error(
+                file,
+                field.clone(),
+                format!(
+                    "cut off from the start by the no-go mask ({}) and missing data: an island of {} cells the rover cannot reach",
+                    no_go.figures.file,
+                    island.len()
+                ),
+            ));
+        }
+    }
+    for &c in &island {
+        no_go.codes[c as usize] = ISLAND;
+    }
+    no_go.figures.island_cells = island.len();
+    worlds.0.set_blocked(&island, true);
+    if let Some(t) = worlds.1 {
+        t.set_blocked(&island, true);
+    }
+    Ok(())
+}
+
+/// A georeference in words, for an error.
+fn describe(g: &areo_terrain::Georef) -> String {
+    format!("{:?} on a sphere of {} m", g.projection, g.surface.equatorial_radius_m)
+}

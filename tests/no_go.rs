@@ -1,0 +1,209 @@
+//! The no-go mask end to end: a wall drawn on a raster forces the detour a plain
+//! breadth-first search on the same grid finds, inflation grows the mask by the disc it
+//! names, and masks that cannot be used — on the start, around a goal, off the map, on
+//! another CRS, with holes — are errors naming what is wrong.
+
+use std::collections::{HashMap, VecDeque};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = root().join("target").join("no-go-tests").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const COLS: usize = 30;
+const ROWS: usize = 20;
+const CELL: f64 = 50.0;
+
+/// A flat 30 × 20 map of 50 m cells, from `start` to `goal` (map metres), with the
+/// no-go block `no_go` (RON) if given.
+fn scenario(dir: &Path, start: (f64, f64), goal: (f64, f64), no_go: &str) -> PathBuf {
+    let path = dir.join("walled.ron");
+    std::fs::write(
+        &path,
+        format!(
+            r#"Scenario(version: 1, description: "a wall", job: Tempest(body: Mars,
+            terrain: Synth(cols: {COLS}, rows: {ROWS}, cell_m: {CELL}, seed: 1, noise: (amplitude_m: 0.0, wavelength_m: 400.0, octaves: 1), features: []),
+            site: (lat_deg: -4.6, lon_east_deg: 137.4), start_utc: "2012-08-06T22:00:00Z", horizon_h: 12,
+            start: (x_m: {}, y_m: {}), start_battery_above_floor_wh: 600,
+            goals: [(name: "east", x_m: {}, y_m: {})],
+            {no_go}))"#,
+            start.0, start.1, goal.0, goal.1
+        ),
+    )
+    .unwrap();
+    path
+}
+
+/// An ESRI ASCII mask on the map's grid: `marked(col, row)` (row 0 north) is kept out.
+fn mask(dir: &Path, name: &str, marked: impl Fn(usize, usize) -> bool) -> String {
+    let mut text =
+        format!("ncols {COLS}\nnrows {ROWS}\nxllcorner 0\nyllcorner 0\ncellsize {CELL}\nNODATA_value -9999\n");
+    for r in 0..ROWS {
+        let row: Vec<&str> = (0..COLS).map(|c| if marked(c, r) { "1" } else { "0" }).collect();
+        text += &row.join(" ");
+        text.push('\n');
+    }
+    std::fs::write(dir.join(name), text).unwrap();
+    name.to_string()
+}
+
+fn run(path: &Path, out: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_areo"))
+        .args(["-q", "run", path.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap()
+}
+
+fn csv(path: &Path) -> Vec<HashMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    lines.map(|l| header.iter().cloned().zip(l.split(',').map(String::from)).collect()).collect()
+}
+
+/// Fewest 8-connected steps from `a` to `b` (col, row) over cells `open` allows.
+fn fewest_steps(a: (usize, usize), b: (usize, usize), open: impl Fn(usize, usize) -> bool) -> Option<usize> {
+    let mut dist = vec![usize::MAX; COLS * ROWS];
+    dist[a.1 * COLS + a.0] = 0;
+    let mut queue = VecDeque::from([a]);
+    while let Some((c, r)) = queue.pop_front() {
+        if (c, r) == b {
+            return Some(dist[r * COLS + c]);
+        }
+        for dr in -1i64..=1 {
+            for dc in -1i64..=1 {
+                let (nc, nr) = (c as i64 + dc, r as i64 + dr);
+                if (dc, dr) == (0, 0) || nc < 0 || nr < 0 || nc >= COLS as i64 || nr >= ROWS as i64 {
+                    continue;
+                }
+                let (nc, nr) = (nc as usize, nr as usize);
+                if open(nc, nr) && dist[nr * COLS + nc] == usize::MAX {
+                    dist[nr * COLS + nc] = dist[r * COLS + c] + 1;
+                    queue.push_back((nc, nr));
+                }
+            }
+        }
+    }
+    None
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn a_wall_in_the_mask_forces_the_detour_a_breadth_first_search_finds() {
+    let dir = tmp("wall");
+    // A wall down column 15 from the north edge, open in the southern row only.
+    let wall = |c: usize, r: usize| c == 15 && r < 19;
+    let file = mask(&dir, "wall.asc", wall);
+    let (start, goal) = ((2, 2), (27, 2));
+    let at = |(c, r): (usize, usize)| ((c as f64 + 0.5) * CELL, (ROWS as f64 - r as f64 - 0.5) * CELL);
+    let path = scenario(&dir, at(start), at(goal), &format!("no_go: (file: \"{file}\")"));
+    let out = dir.join("out");
+    let o = run(&path, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let plan = csv(&out.join("walled/plan.csv"));
+    // Never on the wall, and as few drives as the shortest way round it.
+    for w in &plan {
+        let (c, r): (usize, usize) = (w["col"].parse().unwrap(), w["row"].parse().unwrap());
+        assert!(!wall(c, r), "the plan enters the wall at ({c}, {r})");
+    }
+    let drives = plan.iter().filter(|w| w["action"].starts_with("drive")).count();
+    let around = fewest_steps(start, goal, |c, r| !wall(c, r)).unwrap();
+    let straight = fewest_steps(start, goal, |_, _| true).unwrap();
+    assert!(around > straight, "the wall must cost steps: {around} vs {straight}");
+    assert_eq!(drives, around, "drives of the plan against the fewest steps round the wall");
+    // The facts and the layer say so.
+    let facts: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("walled/facts.json")).unwrap()).unwrap();
+    assert_eq!(facts["no_go.masked_cells"], 19);
+    assert_eq!(facts["no_go.inflated_cells"], 0);
+    assert_eq!(facts["no_go.island_cells"], 0);
+    assert!(out.join("walled/no_go.tif").exists());
+    assert!(String::from_utf8_lossy(&o.stdout).contains("no-go mask wall.asc: 19 cells kept out"));
+}
+
+#[test]
+fn inflation_grows_the_mask_by_its_disc_and_a_closed_ring_makes_an_island() {
+    let dir = tmp("inflate");
+    let file = mask(&dir, "dot.asc", |c, r| (c, r) == (20, 3));
+    // 120 m around a cell of 50 m: the cells whose centres lie within it, the lattice
+    // points with 2500 (dc² + dr²) ≤ 14 400, 21 of them with the dot.
+    let path = scenario(&dir, (125.0, 525.0), (1375.0, 525.0), &format!("no_go: (file: \"{file}\", inflate_m: 120)"));
+    let out = dir.join("out");
+    let o = run(&path, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let facts: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("walled/facts.json")).unwrap()).unwrap();
+    assert_eq!(facts["no_go.masked_cells"], 1);
+    assert_eq!(facts["no_go.inflated_cells"], 20);
+    // A ring round the north-east corner: the cells inside it are an island, reported.
+    let ring = |c: usize, r: usize| (c == 24 && r <= 4) || (r == 4 && c >= 24);
+    let file = mask(&dir, "ring.asc", ring);
+    let path = scenario(&dir, (125.0, 525.0), (1375.0, 525.0), &format!("no_go: (file: \"{file}\")"));
+    let o = run(&path, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let facts: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("walled/facts.json")).unwrap()).unwrap();
+    assert_eq!(facts["no_go.island_cells"], 5 * 4, "columns 25–29 of rows 0–3");
+}
+
+#[test]
+fn masks_that_cannot_be_used_are_errors_naming_what_is_wrong() {
+    let dir = tmp("bad");
+    let wall = mask(&dir, "wall.asc", |c, r| c == 15 && r < 17);
+    let out = dir.join("out");
+    // Each: the no_go block, the start, the goal (map metres), what the error says.
+    type Case = (String, (f64, f64), (f64, f64), &'static str);
+    let cases: Vec<Case> = vec![
+        // The start on the wall.
+        (format!("no_go: (file: \"{wall}\")"), (775.0, 525.0), (1375.0, 525.0), "field `job.start`"),
+        // The goal within the inflation.
+        (format!("no_go: (file: \"{wall}\", inflate_m: 100)"), (125.0, 525.0), (825.0, 525.0), "within inflate_m"),
+        // A goal inside a closed ring.
+        (
+            format!("no_go: (file: \"{}\")", mask(&dir, "ring.asc", |c, r| (c == 24 && r <= 4) || (r == 4 && c >= 24))),
+            (125.0, 525.0),
+            (1425.0, 925.0),
+            "cut off from the start by the no-go mask",
+        ),
+        // Inflation out of range.
+        (format!("no_go: (file: \"{wall}\", inflate_m: -5)"), (125.0, 525.0), (1375.0, 525.0), "inflate_m"),
+    ];
+    for (block, start, goal, want) in cases {
+        let o = run(&scenario(&dir, start, goal, &block), &out);
+        assert_eq!(o.status.code(), Some(2), "{block}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{block}: {}", stderr(&o));
+    }
+    // Off the map.
+    std::fs::write(
+        dir.join("far.asc"),
+        format!("ncols 2\nnrows 2\nxllcorner 100000\nyllcorner 0\ncellsize {CELL}\n1 1\n1 1\n"),
+    )
+    .unwrap();
+    // Holes (no-data) where it covers the map.
+    let holes = std::fs::read_to_string(dir.join("wall.asc")).unwrap().replacen(" 0 ", " -9999 ", 1);
+    std::fs::write(dir.join("holes.asc"), holes).unwrap();
+    // Another CRS: the Gale crop is equirectangular on Mars; the map is a local frame.
+    let gale = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");
+    std::fs::copy(gale, dir.join("gale.tif")).unwrap();
+    for (name, want) in [
+        ("far.asc", "does not overlap the map"),
+        ("holes.asc", "1 cells of the map fall on cells of the mask with no value"),
+        ("gale.tif", "the mask's CRS"),
+        ("missing.asc", "missing.asc"),
+    ] {
+        let o = run(&scenario(&dir, (125.0, 525.0), (1375.0, 525.0), &format!("no_go: (file: \"{name}\")")), &out);
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want) && stderr(&o).contains("job.no_go.file"), "{name}: {}", stderr(&o));
+    }
+}
