@@ -412,9 +412,7 @@ pub fn expand_within(
         literals.push(a.literals().map_err(|m| bad(format!("axes[{i}]"), m))?);
     }
     let combos = combinations(&sweep, &literals, &bad)?;
-    // Racing expansions into one directory take turns: the second finds the first's.
-    let _lock = crate::output::lock::lock_dir(dir)?;
-    let fingerprint = admit(sweep_path, dir, &base_text, combos.len(), (budget, force))?;
+    let fingerprint = admit(sweep_path, &base_text, combos.len(), budget)?;
     // Replacements are applied from the end of the text so earlier spans stay valid.
     let mut order: Vec<usize> = (0..spans.len()).filter(|&a| spans[a].is_some()).collect();
     order.sort_by_key(|&a| std::cmp::Reverse(spans[a].as_ref().map_or(0, |s| s.start)));
@@ -456,6 +454,10 @@ pub fn expand_within(
         tasks.push(SweepTask { index, id: id.clone(), values, scenario: format!("tasks/{id}.ron") });
         texts.push(text);
     }
+    // Every task is valid: claim the directory. Racing expansions into one directory
+    // take turns, so the second finds the first's expansion.
+    let _lock = crate::output::lock::lock_dir(dir)?;
+    claim(dir, &fingerprint, force)?;
     write_expansion(dir, sweep_path, &base_path, &sweep, &tasks, &texts, &fingerprint)?;
     Ok(tasks)
 }
@@ -542,16 +544,10 @@ fn agree(dir: &Path, info: &SweepInfo, all: &[SweepTask]) -> Result<()> {
     Ok(())
 }
 
-/// Admits an expansion of `tasks` tasks of `base_text` into `dir`: within the budget
-/// (the tasks' texts are held and parsed before anything is written) and into a
-/// directory that is this sweep's or new (see [`claim`]). Returns the fingerprint.
-fn admit(
-    sweep_path: &Path,
-    dir: &Path,
-    base_text: &str,
-    tasks: usize,
-    (budget, force): (crate::budget::Budget, bool),
-) -> Result<String> {
+/// Admits an expansion of `tasks` tasks of `base_text` within the budget (the tasks'
+/// texts are held and parsed before anything is written; the directory is claimed,
+/// see [`claim`], once they are). Returns the fingerprint.
+fn admit(sweep_path: &Path, base_text: &str, tasks: usize, budget: crate::budget::Budget) -> Result<String> {
     let per_task = base_text.len() as u64 + 512;
     budget.check(&crate::budget::Estimate {
         what: format!("expanding {tasks} tasks of a {}-byte scenario", base_text.len()),
@@ -559,9 +555,7 @@ fn admit(
         work_steps: tasks as u64 * per_task,
         work_unit: "scenario bytes parsed",
     })?;
-    let fingerprint = fingerprint(&sweep_text(sweep_path)?, base_text);
-    claim(dir, &fingerprint, force)?;
-    Ok(fingerprint)
+    Ok(fingerprint(&sweep_text(sweep_path)?, base_text))
 }
 
 /// The sweep file's text (for its fingerprint).
