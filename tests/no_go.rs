@@ -129,6 +129,19 @@ fn a_wall_in_the_mask_forces_the_detour_a_breadth_first_search_finds() {
     assert_eq!(facts["no_go.inflated_cells"], 0);
     assert_eq!(facts["no_go.island_cells"], 0);
     assert!(out.join("walled/no_go.tif").exists());
+    // The viewer tints the same 19 cells (its image is the whole 30 × 20 map here).
+    let html = std::fs::read_to_string(out.join("walled/view.html")).unwrap();
+    let start = html.find("type=\"application/json\">").unwrap() + "type=\"application/json\">".len();
+    let data: serde_json::Value =
+        serde_json::from_str(&html[start..start + html[start..].find("</script>").unwrap()].replace("<\\/", "</"))
+            .unwrap();
+    use base64::Engine;
+    let bits = base64::engine::general_purpose::STANDARD.decode(data["no_go"].as_str().unwrap()).unwrap();
+    let (w, h) = (data["width"].as_u64().unwrap() as usize, data["height"].as_u64().unwrap() as usize);
+    assert_eq!((w, h), (COLS, ROWS));
+    let marked: Vec<(usize, usize)> =
+        (0..w * h).filter(|&i| (bits[i / 8] >> (i % 8)) & 1 == 1).map(|i| (i % w, i / w)).collect();
+    assert_eq!(marked, (0..19).map(|r| (15, r)).collect::<Vec<_>>());
     assert!(String::from_utf8_lossy(&o.stdout).contains("no-go mask wall.asc: 19 cells kept out"));
 }
 

@@ -771,6 +771,7 @@ impl Computed {
             model: &p.model,
             precalc_s: p.precalc_s,
             havens: self.havens.as_ref(),
+            no_go: p.no_go.as_ref().map(|n| n.codes.as_slice()),
         }
     }
 }
@@ -920,6 +921,8 @@ struct Context<'a> {
     goals: &'a [u32],
     model: &'a ActionModel,
     precalc_s: f64,
+    /// With a no-go mask, what keeps each cell of the map out (`no_go::FREE` …).
+    no_go: Option<&'a [u8]>,
 }
 
 impl Context<'_> {

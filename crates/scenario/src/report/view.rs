@@ -45,6 +45,9 @@ pub struct ViewData {
     /// major from the north-west) at bit i % 8 of byte i / 8, set where the ground is
     /// in direct sun.
     pub frames: Vec<String>,
+    /// With a no-go mask, the ground it keeps out (marked, inflated or cut off), as the
+    /// same kind of bitset as a frame.
+    pub no_go: Option<String>,
     /// The routes: `plan`, then the `replan`s that changed the route (at most six), then
     /// `executed`.
     pub routes: Vec<ViewRoute>,

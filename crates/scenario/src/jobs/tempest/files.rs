@@ -262,13 +262,20 @@ pub(super) fn route_plots(ctx: &Context<'_>, initial: &MissionPlan, report: Opti
     let sun = world.sun(t_shadow.clamp(0.0, world.span_s()));
     let shadowed: Vec<bool> = (0..world.cells() as u32).map(|c| !world.lit(c, &sun)).collect();
     let slope = areo_terrain::slope::slope_aspect(dem);
-    let background = areo_terrain::hillshade::hillshade_rgb(
+    let mut background = areo_terrain::hillshade::hillshade_rgb(
         dem,
         &slope,
         Some(&shadowed),
         sun.azimuth_deg,
         sun.elevation_deg.max(5.0),
     );
+    // Ground the no-go mask keeps out, tinted red.
+    if let Some(codes) = ctx.no_go.filter(|c| c.len() == world.cells()) {
+        for (i, _) in codes.iter().enumerate().filter(|(_, c)| **c != no_go::FREE) {
+            let p = &mut background[3 * i..3 * i + 3];
+            p.copy_from_slice(&[p[0] / 2 + 128, p[1] / 2, p[2] / 2]);
+        }
+    }
     let to_xy = |cells: &mut dyn Iterator<Item = u32>| cells.map(|c| ctx.local(c)).collect::<Vec<_>>();
     let mut series = vec![Series {
         label: "initial plan".into(),

@@ -47,6 +47,15 @@ pub(super) fn view(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimRep
         frame_utc: times.iter().map(|&t| format_utc(truth.epoch() + Duration::from_seconds(t - epoch_unix))).collect(),
         frames: times.iter().map(|&t| direct_sun(truth, &cells, t - epoch_unix)).collect(),
         frame_unix_s: times,
+        no_go: ctx.no_go.filter(|c| c.len() == truth.cells()).map(|codes| {
+            let mut bits = vec![0u8; cells.len().div_ceil(8)];
+            for (i, &c) in cells.iter().enumerate() {
+                if codes[c as usize] != super::no_go::FREE {
+                    bits[i / 8] |= 1 << (i % 8);
+                }
+            }
+            base64::engine::general_purpose::STANDARD.encode(bits)
+        }),
         routes,
         start: place("start", ctx.start.cell),
         goals: ctx.goals.iter().enumerate().map(|(i, &g)| place(ctx.goal_name(i), g)).collect(),

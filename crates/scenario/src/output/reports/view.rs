@@ -40,6 +40,8 @@ struct Page<'a> {
     frame_unix_s: &'a [f64],
     frame_sun_elevation_deg: &'a [f64],
     frames: &'a [String],
+    /// The ground a no-go mask keeps out, base64 of a bitset.
+    no_go: Option<&'a str>,
     routes: &'a [ViewRoute],
     start: &'a ViewPlace,
     goals: &'a [ViewPlace],
@@ -67,6 +69,7 @@ pub(super) fn write(path: &Path, view: &ViewData, executed: bool) -> Result<usiz
         frame_unix_s: &view.frame_unix_s,
         frame_sun_elevation_deg: &view.frame_sun_elevation_deg,
         frames: &view.frames,
+        no_go: view.no_go.as_deref(),
         routes: &view.routes,
         start: &view.start,
         goals: &view.goals,
