@@ -42,6 +42,43 @@ pub(super) fn apply(
     places: &[(String, (f64, f64))],
 ) -> Result<NoGo> {
     let world = worlds.0;
+    let mut codes = marked(spec, file, world, frame)?;
+    let masked = codes.iter().filter(|&&c| c == MASKED).count();
+    inflate(world, &mut codes, spec.inflate_m);
+    let inflated = codes.iter().filter(|&&c| c == INFLATED).count();
+    for (what, (x, y)) in places {
+        if let Some(cell) = world.cell_at(*x, *y)
+            && codes[cell as usize] != FREE
+        {
+            let why =
+                if codes[cell as usize] == MASKED { "in the no-go mask" } else { "within inflate_m of the no-go mask" };
+            return Err(scenario_error(
+                file,
+                what.clone(),
+                format!(
+                    "({x:.1}, {y:.1}) m is {why} ({}, inflated by {} m): move it or the mask",
+                    spec.file, spec.inflate_m
+                ),
+            ));
+        }
+    }
+    block(worlds, &codes);
+    Ok(NoGo {
+        codes,
+        figures: NoGoFigures {
+            file: spec.file.clone(),
+            inflate_m: spec.inflate_m,
+            masked_cells: masked,
+            inflated_cells: inflated,
+            island_cells: 0,
+            kept_out_fraction: (masked + inflated) as f64 / world.cells() as f64,
+        },
+    })
+}
+
+/// The job's mask read onto `world`'s grid: [`MASKED`] where the mask cell under a map
+/// cell's centre is non-zero, else [`FREE`].
+fn marked(spec: &NoGoSpec, file: &ScenarioFile, world: &World, frame: Frame) -> Result<Vec<u8>> {
     let base = file.path.parent().unwrap_or(Path::new("."));
     let path = base.join(&spec.file);
     let field = "job.no_go.file";
@@ -101,37 +138,7 @@ pub(super) fn apply(
             spec.file
         )));
     }
-    let masked = codes.iter().filter(|&&c| c == MASKED).count();
-    inflate(world, &mut codes, spec.inflate_m);
-    let inflated = codes.iter().filter(|&&c| c == INFLATED).count();
-    for (what, (x, y)) in places {
-        if let Some(cell) = world.cell_at(*x, *y)
-            && codes[cell as usize] != FREE
-        {
-            let why =
-                if codes[cell as usize] == MASKED { "in the no-go mask" } else { "within inflate_m of the no-go mask" };
-            return Err(scenario_error(
-                file,
-                what.clone(),
-                format!(
-                    "({x:.1}, {y:.1}) m is {why} ({}, inflated by {} m): move it or the mask",
-                    spec.file, spec.inflate_m
-                ),
-            ));
-        }
-    }
-    block(worlds, &codes);
-    Ok(NoGo {
-        codes,
-        figures: NoGoFigures {
-            file: spec.file.clone(),
-            inflate_m: spec.inflate_m,
-            masked_cells: masked,
-            inflated_cells: inflated,
-            island_cells: 0,
-            kept_out_fraction: (masked + inflated) as f64 / world.cells() as f64,
-        },
-    })
+    Ok(codes)
 }
 
 /// Blocks every cell `codes` keeps out in the worlds.
