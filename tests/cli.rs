@@ -4,6 +4,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod common;
+
 fn areo(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_areo")).args(args).output().expect("run areo")
 }
@@ -267,17 +269,8 @@ fn sun_day_over_the_earth_and_the_moon() {
 fn sweep_runs_tasks_by_array_index_and_collects_them() {
     let dir = tmp("sweep");
     let _ = std::fs::remove_dir_all(dir.join("run"));
-    std::fs::write(
-        dir.join("sun.ron"),
-        r#"Scenario(version: 1, description: "t", job: SunTable(site: (lat_deg: -4.5895, lon_east_deg: 137.4417),
-            start_utc: "2012-08-06T00:00:00Z", duration_h: 2, step_min: 30, tau: 0.5))"#,
-    )
-    .unwrap();
-    std::fs::write(
-        dir.join("tau.sweep.ron"),
-        r#"Sweep(version: 1, base: "sun.ron", name: "tau-{tau}", axes: [(name: "tau", path: "job.tau", range: (0.25, 1.0, 0.25))])"#,
-    )
-    .unwrap();
+    common::sun_table(&dir, "sun", (2.0, 30.0, 0.5));
+    common::tau_sweep(&dir, "sun.ron", (0.25, 1.0, 0.25));
     let run_dir = dir.join("run");
     let (sweep, run) = (dir.join("tau.sweep.ron"), run_dir.to_str().unwrap().to_string());
     let out = areo(&["sweep", "expand", sweep.to_str().unwrap(), "-o", &run]);

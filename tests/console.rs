@@ -9,6 +9,8 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
+mod common;
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -25,17 +27,8 @@ fn tmp(name: &str) -> PathBuf {
 fn commands(dir: &Path) -> Vec<(&'static str, Vec<String>)> {
     let s = |v: &[&str]| v.iter().map(|a| a.to_string()).collect::<Vec<_>>();
     let p = |path: PathBuf| path.to_str().unwrap().to_string();
-    std::fs::write(
-        dir.join("sun.ron"),
-        r#"Scenario(version: 1, description: "t", job: SunTable(site: (lat_deg: -4.5895, lon_east_deg: 137.4417),
-            start_utc: "2012-08-06T00:00:00Z", duration_h: 2, step_min: 30, tau: 0.5))"#,
-    )
-    .unwrap();
-    std::fs::write(
-        dir.join("tau.sweep.ron"),
-        r#"Sweep(version: 1, base: "sun.ron", name: "tau-{tau}", axes: [(name: "tau", path: "job.tau", range: (0.25, 1.0, 0.25))])"#,
-    )
-    .unwrap();
+    common::sun_table(dir, "sun", (2.0, 30.0, 0.5));
+    common::tau_sweep(dir, "sun.ron", (0.25, 1.0, 0.25));
     let sweep = p(dir.join("sweep"));
     let expand = Command::new(env!("CARGO_BIN_EXE_areo"))
         .args(["-q", "sweep", "expand", &p(dir.join("tau.sweep.ron")), "-o", &sweep])

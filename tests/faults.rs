@@ -5,6 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
+mod common;
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -22,16 +24,7 @@ fn areo(args: &[&str]) -> Output {
 
 /// A Sun-table scenario named `name` in `dir` whose optical depth is `tau`.
 fn sun_scenario(dir: &Path, name: &str, tau: f64) -> PathBuf {
-    let path = dir.join(format!("{name}.ron"));
-    std::fs::write(
-        &path,
-        format!(
-            r#"Scenario(version: 1, description: "t", job: SunTable(site: (lat_deg: -4.5895, lon_east_deg: 137.4417),
-            start_utc: "2012-08-06T00:00:00Z", duration_h: 12, step_min: 10, tau: {tau}))"#
-        ),
-    )
-    .unwrap();
-    path
+    common::sun_table(dir, name, (12.0, 10.0, tau))
 }
 
 /// The tau a run's facts.json records, which tells one run's set from another's.
@@ -129,12 +122,7 @@ fn a_file_size_limit_is_an_error_naming_the_file_and_a_sweep_task_records_it() {
     let scenario = sun_scenario(&dir, "sun", 0.4);
     ok(&areo(&["-q", "run", scenario.to_str().unwrap(), "--out", out.to_str().unwrap()]));
     // A week of minutes is far more than 8 KB of sun.csv.
-    std::fs::write(
-        &scenario,
-        r#"Scenario(version: 1, description: "t", job: SunTable(site: (lat_deg: -4.5895, lon_east_deg: 137.4417),
-            start_utc: "2012-08-06T00:00:00Z", duration_h: 168, step_min: 1, tau: 0.9))"#,
-    )
-    .unwrap();
+    common::sun_table(&dir, "sun", (168.0, 1.0, 0.9));
     let limited = |args: &str| {
         Command::new("sh")
             .args(["-c", &format!("ulimit -f 8; exec \"$0\" {args}"), env!("CARGO_BIN_EXE_areo")])
@@ -149,11 +137,7 @@ fn a_file_size_limit_is_an_error_naming_the_file_and_a_sweep_task_records_it() {
     assert_eq!(tau_of(&out.join("sun")), 0.4, "the previous set stays");
     assert_eq!(leftovers(&out), Vec::<String>::new());
     // A sweep task under the same limit records why it failed.
-    std::fs::write(
-        dir.join("tau.sweep.ron"),
-        r#"Sweep(version: 1, base: "sun.ron", name: "tau-{tau}", axes: [(name: "tau", path: "job.tau", range: (0.25, 0.5, 0.25))])"#,
-    )
-    .unwrap();
+    common::tau_sweep(&dir, "sun.ron", (0.25, 0.5, 0.25));
     ok(&areo(&[
         "-q",
         "sweep",
@@ -208,11 +192,7 @@ fn racing_writers_of_one_target_all_succeed_and_leave_it_whole() {
     assert_eq!(tau_of(&out.join("sun")), 0.6);
     assert_eq!(leftovers(&out), Vec::<String>::new());
     // Ten collects of one sweep.
-    std::fs::write(
-        dir.join("tau.sweep.ron"),
-        r#"Sweep(version: 1, base: "sun.ron", name: "tau-{tau}", axes: [(name: "tau", path: "job.tau", range: (0.25, 1.0, 0.25))])"#,
-    )
-    .unwrap();
+    common::tau_sweep(&dir, "sun.ron", (0.25, 1.0, 0.25));
     let sweep = dir.join("sweep");
     ok(&areo(&["-q", "sweep", "expand", dir.join("tau.sweep.ron").to_str().unwrap(), "-o", sweep.to_str().unwrap()]));
     ok(&areo(&["-q", "sweep", "run", sweep.to_str().unwrap(), "--index", "1"]));

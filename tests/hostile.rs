@@ -5,6 +5,8 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
+mod common;
+
 fn areo(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_areo")).args(args).output().expect("run areo")
 }
@@ -749,17 +751,8 @@ fn the_last_rounds_hostile_files_are_refused_quickly_with_their_place() {
 #[test]
 fn a_damaged_task_result_is_failed_not_missing() {
     let dir = tmp("damaged");
-    std::fs::write(
-        dir.join("sun.ron"),
-        r#"Scenario(version: 1, description: "t", job: SunTable(site: (lat_deg: -4.5895, lon_east_deg: 137.4417),
-            start_utc: "2012-08-06T00:00:00Z", duration_h: 2, step_min: 30, tau: 0.5))"#,
-    )
-    .unwrap();
-    std::fs::write(
-        dir.join("tau.sweep.ron"),
-        r#"Sweep(version: 1, base: "sun.ron", name: "tau-{tau}", axes: [(name: "tau", path: "job.tau", range: (0.25, 0.5, 0.25))])"#,
-    )
-    .unwrap();
+    common::sun_table(&dir, "sun", (2.0, 30.0, 0.5));
+    common::tau_sweep(&dir, "sun.ron", (0.25, 0.5, 0.25));
     let sweep = dir.join("sweep");
     let s = sweep.to_str().unwrap();
     assert!(areo(&["-q", "sweep", "expand", dir.join("tau.sweep.ron").to_str().unwrap(), "-o", s]).status.success());

@@ -86,9 +86,9 @@ fn reported(report: Report, failure: Option<crate::outcome::Failure>, opts: RunO
 /// that directory's previous contents as a set: the job writes into a staging directory
 /// beside it, renamed into place only when the job has finished (an unreachable goal
 /// included), so no stale file of an earlier run survives beside the new ones and a
-/// failed run leaves the previous outputs as they were (see
-/// [`crate::output::staging`]: the swap is atomic where the kernel can exchange two
-/// names). Refuses an output directory that holds the scenario file itself, and a
+/// failed run leaves the previous outputs as they were (the swap is one atomic step
+/// where the kernel can exchange two names; `docs/robustness.md` says what survives
+/// which fault). Refuses an output directory that holds the scenario file itself, and a
 /// scenario whose file name is not UTF-8.
 pub fn run_into(file: &ScenarioFile, out_root: &Path, progress: &dyn Progress, budget: Budget) -> Result<Outcome> {
     let name = &file.name;
