@@ -19,6 +19,7 @@ use areo_rover::resources::{Load, ResourceModel};
 use serde::{Deserialize, Serialize};
 
 use crate::effect::{Drawn, Effect};
+use crate::ground::Factors;
 use crate::world::{GridSun, World};
 
 mod bounds;
@@ -119,8 +120,12 @@ pub struct Constraints {
 pub enum Binding {
     /// The destination is off the map, missing data or blocked.
     Blocked,
-    /// A slope above the maximum.
+    /// A slope above the maximum (the rover's or its terrain class's).
     Slope,
+    /// A drive whose roll is above the rover's `max_roll_deg`.
+    Roll,
+    /// A drive whose pitch is above the rover's uphill or downhill limit.
+    Pitch,
     /// The Sun is down.
     Darkness,
     /// In shadow (direct-sun constraint).
@@ -150,7 +155,9 @@ impl Binding {
     pub fn describe(self) -> &'static str {
         match self {
             Binding::Blocked => "no passable cells connect start and goal",
-            Binding::Slope => "slopes above the rover's maximum",
+            Binding::Slope => "slopes above the rover's maximum (or a terrain class's)",
+            Binding::Roll => "roll above the rover's max_roll_deg (drives across slopes)",
+            Binding::Pitch => "pitch above the rover's uphill or downhill limit",
             Binding::Darkness => "darkness (driving needs daylight)",
             Binding::Shadow => "shadow (the action needs direct sun)",
             Binding::SunInCamera => "the Sun in the navigation cameras",
@@ -269,6 +276,23 @@ pub struct ActionModel {
     margins: Perturbation,
 }
 
+/// A drive's moving part: its time, its load and how they divide between its halves.
+#[derive(Debug, Clone, Copy, Default)]
+struct DriveRun {
+    moving_s: f64,
+    load_w: f64,
+    from_time_share: f64,
+    from_energy_share: f64,
+}
+
+impl DriveRun {
+    /// The slower time and the hungrier load of two runs (shares from the slower).
+    fn worst(self, other: DriveRun) -> DriveRun {
+        let slower = if other.moving_s > self.moving_s { other } else { self };
+        DriveRun { load_w: self.load_w.max(other.load_w), ..slower }
+    }
+}
+
 /// A drive's time-independent part: where it ends, how long it takes, its slope and
 /// its load.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -279,8 +303,19 @@ pub struct DriveGeometry {
     pub duration_s: f64,
     /// The planning margin's delay before the drive moves, s (part of `duration_s`).
     pub delay_s: f64,
-    /// Slope along the drive, degrees (positive uphill).
+    /// Slope along the drive, degrees (positive uphill): the rover's pitch with its
+    /// wheels on both cells.
     pub slope_deg: f64,
+    /// The rover's roll on the drive, degrees (positive right side up): the larger
+    /// across the heading of the two cells' ground ([`World::attitude_deg`]); on an
+    /// envelope of terrains ([`World::envelope`]) the map's widened by how far the
+    /// members' ground normals depart from it.
+    pub roll_deg: f64,
+    /// The share of the moving time spent on the first cell's half (½ where both cells
+    /// are of one class).
+    pub from_time_share: f64,
+    /// The share of the moving energy (loads) spent on the first cell's half.
+    pub from_energy_share: f64,
     /// Locomotion plus the high electronics load, W.
     pub load_w: f64,
     /// The share of the moving time the array is credited for: 1, or on an envelope of
@@ -435,7 +470,8 @@ impl ActionModel {
     }
 
     /// The drive from `from` to its neighbour `k`, or why it is not possible
-    /// (independent of time).
+    /// (independent of time). Half of it runs over each cell, at that cell's terrain
+    /// class's speed and power ([`crate::Ground`]).
     pub fn drive_geometry(&self, world: &World, from: u32, k: u8) -> Result<DriveGeometry, Binding> {
         let (c, r) = world.col_row(from);
         let (dc, dr) = NEIGHBOURS[k as usize % 8];
@@ -451,58 +487,121 @@ impl ActionModel {
         let dem = world.dem();
         let (ex, ny) = (f64::from(dc) * dem.dx(), f64::from(dr) * dem.dy());
         let run = (ex * ex + ny * ny).sqrt();
-        if self.config.drive.max_slope
-            && (world.slope_deg(from) > self.max_slope_deg || world.slope_deg(to) > self.max_slope_deg)
-        {
+        let ground = (world.factors(from), world.factors(to));
+        // The slope limit where a drive touches: the rover's, and each cell's class's.
+        let limit = self.max_slope_deg.min(ground.0.max_slope_deg).min(ground.1.max_slope_deg);
+        if self.config.drive.max_slope && (world.slope_deg(from) > limit || world.slope_deg(to) > limit) {
             return Err(Binding::Slope);
         }
-        let (slope, moving_s, load_w, solar_share) = match (world.member_heights(from), world.member_heights(to)) {
+        let roll_deg = self.drive_roll(world, (from, to), k)?;
+        let (slope, run_over, solar_share) = match (world.member_heights(from), world.member_heights(to)) {
             (None, None) => {
-                let (slope, moving_s, load_w) = self.drive_over(run, h1 - h0)?;
-                (slope, moving_s, load_w, 1.0)
+                let (slope, over) = self.drive_over(run, h1 - h0, limit, ground)?;
+                (slope, over, 1.0)
             }
             // An envelope of terrains: the drive as slow, as steep and as hungry as on
             // its worst member, credited with sunlight for its fastest member's time.
             (a, b) => {
                 let n = world.terrain_members();
                 let height = |m: Option<&[f32]>, own: f64, i: usize| m.map_or(own, |m| f64::from(m[i]));
-                let (mut worst, mut fastest) = ((0.0f64, 0.0f64, 0.0f64), f64::INFINITY);
+                let (mut worst, mut fastest) = ((0.0f64, DriveRun::default()), f64::INFINITY);
                 for i in 0..n {
                     let rise = height(b, h1, i) - height(a, h0, i);
                     if rise.is_nan() {
                         return Err(Binding::Blocked);
                     }
-                    let (slope, moving, load) = self.drive_over(run, rise)?;
+                    let (slope, over) = self.drive_over(run, rise, limit, ground)?;
                     if slope.abs() > worst.0.abs() {
                         worst.0 = slope;
                     }
-                    worst.1 = worst.1.max(moving);
-                    worst.2 = worst.2.max(load);
-                    fastest = fastest.min(moving);
+                    worst.1 = worst.1.worst(over);
+                    fastest = fastest.min(over.moving_s);
                 }
-                (worst.0, worst.1, worst.2, if worst.1 > 0.0 { fastest / worst.1 } else { 1.0 })
+                let moving = worst.1.moving_s;
+                (worst.0, worst.1, if moving > 0.0 { fastest / moving } else { 1.0 })
             }
         };
         let delay_s = self.margins.delay_s;
-        let duration_s = self.quantise_time(moving_s * self.margins.duration_factor + delay_s);
-        Ok(DriveGeometry { to, duration_s, delay_s, slope_deg: slope, load_w, solar_share })
+        let duration_s = self.quantise_time(run_over.moving_s * self.margins.duration_factor + delay_s);
+        Ok(DriveGeometry {
+            to,
+            duration_s,
+            delay_s,
+            slope_deg: slope,
+            roll_deg,
+            load_w: run_over.load_w,
+            solar_share,
+            from_time_share: run_over.from_time_share,
+            from_energy_share: run_over.from_energy_share,
+        })
     }
 
-    /// A drive over `run` m of ground rising `rise` m: its slope (degrees), its moving
-    /// time at the nominal speed there (s) and its load with the planning margin (W);
-    /// `Slope` when the slope exceeds the rover's limit.
-    fn drive_over(&self, run: f64, rise: f64) -> Result<(f64, f64, f64), Binding> {
+    /// The drive's roll ([`DriveGeometry::roll_deg`]), or `Roll` over the rover's limit.
+    fn drive_roll(&self, world: &World, (from, to): (u32, u32), k: u8) -> Result<f64, Binding> {
+        let heading = self.headings[k as usize % 8];
+        let roll_at = |cell: u32| {
+            let roll = world.attitude_deg(cell, heading).1;
+            // On an envelope a member's ground tips the rover by at most the angle whose
+            // chord is the spread, away from the map's.
+            let widen =
+                world.attitude_spread(cell).map_or(0.0, |chord| 2.0 * (chord / 2.0).min(1.0).asin().to_degrees());
+            roll + widen.copysign(roll)
+        };
+        let (a, b) = (roll_at(from), roll_at(to));
+        let roll = if b.abs() > a.abs() { b } else { a };
+        match self.rover.locomotor.max_roll_deg {
+            Some(max) if roll.abs() > max => Err(Binding::Roll),
+            _ => Ok(roll),
+        }
+    }
+
+    /// A drive over `run` m of ground rising `rise` m, half over a cell of class
+    /// `ground.0` and half over one of `ground.1`: its slope (degrees) and its run (the
+    /// moving time at the nominal speeds there and the load with the planning margin);
+    /// `Slope` above `limit` (the rover's and the classes' slope limit), `Pitch` above
+    /// the rover's pitch limits.
+    fn drive_over(
+        &self,
+        run: f64,
+        rise: f64,
+        limit: f64,
+        ground: (Factors, Factors),
+    ) -> Result<(f64, DriveRun), Binding> {
         // run > 0: one-argument arctangent.
         let slope = (rise / run).atan().to_degrees();
-        if self.config.drive.max_slope && slope.abs() > self.max_slope_deg {
+        if self.config.drive.max_slope && slope.abs() > limit {
             return Err(Binding::Slope);
         }
         let loco = &self.rover.locomotor;
+        if loco.max_pitch_up_deg.is_some_and(|m| slope > m) || loco.max_pitch_down_deg.is_some_and(|m| -slope > m) {
+            return Err(Binding::Pitch);
+        }
         let speed = loco.speed_on_slope_m_s(slope);
         let length = (run * run + rise * rise).sqrt();
-        let load_w = (loco.power_on_w(speed, rise / length, run / length) + self.rover.electronics.power_w(Load::High))
-            * self.margins.draw_factor;
-        Ok((slope, length / speed, load_w))
+        let electronics = self.rover.electronics.power_w(Load::High);
+        let (sin, cos) = (rise / length, run / length);
+        let draw = self.margins.draw_factor;
+        if ground.0 == ground.1 {
+            let (v, p) = (speed * ground.0.speed, ground.0.power);
+            let load_w = (loco.power_on_w(v, sin, cos) * p + electronics) * draw;
+            let over = DriveRun { moving_s: length / v, load_w, from_time_share: 0.5, from_energy_share: 0.5 };
+            return Ok((slope, over));
+        }
+        // Each half at its own class's speed and power: the load is the energy over the
+        // time.
+        let half = |f: Factors| {
+            let v = speed * f.speed;
+            let t = 0.5 * length / v;
+            (t, (loco.power_on_w(v, sin, cos) * f.power + electronics) * draw * t)
+        };
+        let ((t0, e0), (t1, e1)) = (half(ground.0), half(ground.1));
+        let over = DriveRun {
+            moving_s: t0 + t1,
+            load_w: (e0 + e1) / (t0 + t1),
+            from_time_share: t0 / (t0 + t1),
+            from_energy_share: if e0 + e1 > 0.0 { e0 / (e0 + e1) } else { 0.5 },
+        };
+        Ok((slope, over))
     }
 
     /// The drive from `from` to neighbour `k` starting at `t0`.
@@ -754,7 +853,7 @@ impl ActionModel {
         sun: &GridSun,
         heading: Option<f64>,
     ) -> Result<(), Binding> {
-        if rules.max_slope && world.slope_deg(cell) > self.max_slope_deg {
+        if rules.max_slope && world.slope_deg(cell) > self.max_slope_deg.min(world.factors(cell).max_slope_deg) {
             return Err(Binding::Slope);
         }
         if rules.daylight && sun.elevation_deg <= 0.0 {
@@ -836,8 +935,9 @@ impl ActionModel {
         if wh >= 0.0 { wh / b.discharge_efficiency } else { wh * b.charge_efficiency }
     }
 
-    /// The fastest possible speed, m/s.
-    pub fn top_speed_m_s(&self) -> f64 {
-        self.rover.locomotor.speed_m_s
+    /// The fastest possible speed on `world`, m/s: the rover's on level ground on its
+    /// fastest terrain class.
+    pub fn top_speed_m_s(&self, world: &World) -> f64 {
+        self.rover.locomotor.speed_m_s * world.speed_factor_range().1
     }
 }

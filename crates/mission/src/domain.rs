@@ -435,11 +435,11 @@ impl<'a> TempestDomain<'a> {
                 a * wx + b * wy + a.min(b) * (wd - wx - wy).min(0.0)
             }
             Objective::Time | Objective::Margin { .. } => {
-                self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s()
+                self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s(self.world)
             }
             // Any drive draws at least the least load over its time at top speed.
             Objective::EnergyUsed => {
-                let wh = self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s()
+                let wh = self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s(self.world)
                     * self.model.least_load_w()
                     / 3600.0;
                 wh - 1e-9 * wh
@@ -486,7 +486,7 @@ impl<'a> TempestDomain<'a> {
     /// travel from it, s after the epoch.
     fn earliest(&self, cell: u32) -> f64 {
         let (cell0, t0) = self.reachable_from;
-        t0 + self.world.octile_m(cell, cell0) / self.model.top_speed_m_s()
+        t0 + self.world.octile_m(cell, cell0) / self.model.top_speed_m_s(self.world)
     }
 
     /// The drives into `cell` (see [`GeometryCache`]).
@@ -891,7 +891,8 @@ impl Domain for TempestDomain<'_> {
         // The latest start from which the rover could still be here at `label.t`,
         // driving straight at top speed: a label of a later window's start can never
         // be reached — nor can anything searched behind it (earlier, and farther).
-        let latest = label.t - self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s() + 1e-6;
+        let latest =
+            label.t - self.world.octile_m(state, self.start.cell) / self.model.top_speed_m_s(self.world) + 1e-6;
         (latest < self.start.t_min).then_some(latest)
     }
 
@@ -901,7 +902,7 @@ impl Domain for TempestDomain<'_> {
 
     fn release_drift(&self, previous: u32) -> f64 {
         // The latest-start bound moves by at most the fastest travel between the starts.
-        self.world.octile_m(previous, self.start.cell) / self.model.top_speed_m_s()
+        self.world.octile_m(previous, self.start.cell) / self.model.top_speed_m_s(self.world)
     }
 
     fn better(&self, a: &Label, b: &Label) -> bool {

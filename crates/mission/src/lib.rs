@@ -35,6 +35,7 @@ mod action_model;
 mod domain;
 mod effect;
 mod error;
+mod ground;
 mod landmark;
 mod plan;
 mod planner;
@@ -54,6 +55,7 @@ pub use crate::{
     domain::{Label, Objective, PathLength, Resolution, Start, TempestDomain},
     effect::Effect,
     error::{Error, Result},
+    ground::{Ground, TerrainClass, UNCLASSIFIED},
     plan::{MissionPlan, Waypoint},
     planner::{ExpansionMeter, FrontPlan, Mission, ParetoFront, PlannerConfig, non_dominated},
     simulate::{

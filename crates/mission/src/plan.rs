@@ -44,6 +44,14 @@ pub struct Waypoint {
     pub drawn_wh: f64,
     /// Slope, degrees.
     pub slope_deg: f64,
+    /// The drive's from here: its pitch (the slope along it, positive uphill) and its
+    /// roll (positive right side up), degrees, on the map ([`World::drive_attitude_deg`]);
+    /// `None` for any other action.
+    #[serde(default)]
+    pub drive_attitude_deg: Option<(f64, f64)>,
+    /// The terrain class here (an index into the map's [`crate::Ground`]), if any.
+    #[serde(default)]
+    pub class: Option<u8>,
     /// Sun elevation above the horizontal, degrees.
     pub sun_elevation_deg: f64,
     /// Sun elevation above the local ground plane, degrees (TEMPEST's LOS value).
@@ -85,6 +93,11 @@ impl Waypoint {
             battery_wh,
             drawn_wh: 0.0,
             slope_deg: world.slope_deg(cell),
+            drive_attitude_deg: match action {
+                Some(Action::Drive(k)) => world.drive_attitude_deg(cell, k),
+                _ => None,
+            },
+            class: world.ground().and_then(|g| g.class_index(cell)),
             sun_elevation_deg: sun.elevation_deg,
             sun_above_ground_deg: world.sun_above_ground_deg(cell, sun),
             lit: world.lit(cell, sun),

@@ -465,8 +465,10 @@ impl<'a> Mission<'a> {
     /// From the start window as given, not as widened: the widening depends on the
     /// settings, and the goal instants, spread over these windows, must not.
     fn windows(&self) -> Vec<(f64, f64)> {
-        let top = self.model.top_speed_m_s();
-        let slow = top / 3.0;
+        let top = self.model.top_speed_m_s(self.world);
+        // The slowest: a third of the rover's speed on its slowest terrain class.
+        let (slowest, fastest) = self.world.speed_factor_range();
+        let slow = top / fastest * slowest / 3.0;
         let mut out = Vec::new();
         let (mut best, mut worst) = (self.start.t_min, self.given_t_max);
         let max_wait_s = self.config.max_wait_s.unwrap_or_else(|| self.world.body().solar_day_s().round());

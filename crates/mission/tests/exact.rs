@@ -818,3 +818,44 @@ fn under_time_the_waits_that_jump_keep_the_optimum_of_a_dijkstra_waiting_tick_by
     assert!(jumps >= 100, "only {jumps} waits jumped: the rule is not exercised");
     assert!(waited >= 2, "only {waited} plans wait: the cases never need a wait");
 }
+
+/// With terrain classes slower and faster than the rover's own model, hungrier and
+/// thriftier (seeded per cell), the exact search still equals the Dijkstra: the bounds
+/// its heuristic rests on take the classes' extremes.
+#[test]
+fn terrain_classes_keep_the_exact_search_equal_to_the_dijkstra() {
+    let classes = vec![
+        areo_mission::TerrainClass { name: "sand".into(), speed_factor: 0.5, power_factor: 1.8, max_slope_deg: None },
+        areo_mission::TerrainClass {
+            name: "hardpan".into(),
+            speed_factor: 1.6,
+            power_factor: 0.6,
+            max_slope_deg: None,
+        },
+    ];
+    let (mut planned, mut differs) = (0, 0);
+    for seed in 0..16 {
+        let mut c = case(seed, 3.0);
+        let model = model(150.0, actions(900.0));
+        let plain = exact(&c, &model).plan.map(|p| p.0);
+        let mut r = Seeds(seed + 77);
+        let cells = (0..c.world.cells()).map(|_| [0u8, 1, areo_mission::UNCLASSIFIED][(r.next() * 3.0) as usize % 3]);
+        let ground = areo_mission::Ground::new(classes.clone(), cells.collect()).unwrap();
+        c.world.set_ground(std::sync::Arc::new(ground)).unwrap();
+        let out = exact(&c, &model);
+        assert!(!out.stopped);
+        let brute = brute_force(&c.world, &model, c.start, &c.goals, 0.0);
+        let cost = out.plan.as_ref().map(|p| p.0);
+        if agree(cost, brute, &format!("seed {seed} with classes")) {
+            planned += 1;
+        }
+        let fastest = exact_by(Objective::Time, &c.world, c.start, &c.goals, &model);
+        let brute = brute_force_by(Objective::Time, &c.world, &model, c.start, &c.goals, 0.0);
+        agree(fastest.plan.map(|p| p.0), brute, &format!("seed {seed} with classes, fastest"));
+        if cost.zip(plain).is_some_and(|(a, b)| (a - b).abs() > 1e-6) || cost.is_some() != plain.is_some() {
+            differs += 1;
+        }
+    }
+    assert!(planned >= 6, "only {planned} seeded cases plan");
+    assert!(differs >= 4, "the classes change only {differs} plans: the test tests little");
+}

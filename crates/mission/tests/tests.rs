@@ -7,6 +7,7 @@ mod common;
 mod exact;
 mod front;
 mod grid_north;
+mod ground;
 mod pareto;
 mod planning;
 mod sensing;

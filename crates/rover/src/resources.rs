@@ -60,6 +60,16 @@ pub struct Locomotor {
     /// with no body, Mars's 3.711).
     #[serde(default)]
     pub gravity_m_s2: Option<f64>,
+    /// Largest roll (side tilt) a drive may put the rover at, degrees (0..90); none:
+    /// no limit beyond the slope's.
+    #[serde(default)]
+    pub max_roll_deg: Option<f64>,
+    /// Largest nose-up pitch a drive may put the rover at, degrees (0..90).
+    #[serde(default)]
+    pub max_pitch_up_deg: Option<f64>,
+    /// Largest nose-down pitch a drive may put the rover at, degrees (0..90).
+    #[serde(default)]
+    pub max_pitch_down_deg: Option<f64>,
 }
 
 impl Locomotor {
@@ -306,6 +316,17 @@ impl ResourceModel {
         }
         if !(l.max_slope_deg > 0.0 && l.max_slope_deg < 60.0) {
             return bad("locomotor.max_slope_deg", l.max_slope_deg, "allowed 0..60 degrees");
+        }
+        for (f, v) in [
+            ("locomotor.max_roll_deg", l.max_roll_deg),
+            ("locomotor.max_pitch_up_deg", l.max_pitch_up_deg),
+            ("locomotor.max_pitch_down_deg", l.max_pitch_down_deg),
+        ] {
+            if let Some(v) = v
+                && !(v > 0.0 && v < 90.0)
+            {
+                return bad(f, v, "allowed 0..90 degrees");
+            }
         }
         let b = &self.battery;
         for (f, v) in [

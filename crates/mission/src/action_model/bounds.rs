@@ -83,14 +83,17 @@ impl ActionModel {
     /// terrain's relief and the Sun: east–west, north–south and diagonal. Each is the
     /// least, over the slopes a drive may have, of the loads over the drive's duration
     /// less the most the sources can give meanwhile (negative: a drive can gain). The
-    /// search's heuristic adds E_max per step; being independent of the terrain, the
-    /// bounds stay valid when sensing changes the map.
+    /// search's heuristic adds E_max per step; being independent of the terrain's
+    /// relief (its classes enter by their extreme factors), the bounds stay valid when
+    /// sensing changes the map.
     pub fn drive_energy_floors_wh(&self, world: &World) -> [f64; 3] {
         let source = self.drive_source_bound_w(world);
         let loco = &self.rover.locomotor;
         let electronics = self.rover.electronics.power_w(Load::High);
         let limit = if self.config.drive.max_slope { self.max_slope_deg.min(89.0) } else { 89.0 };
         let dem = world.dem();
+        let (slowest, fastest) = world.speed_factor_range();
+        let least_power = world.least_power_factor();
         let floor = |run: f64| {
             // The energy is smooth in the slope; a 0.05° grid and a 0.1 % margin keep the
             // sampled minimum below the true one.
@@ -98,12 +101,16 @@ impl ActionModel {
             let mut least = f64::INFINITY;
             for k in 0..=steps {
                 let slope = -limit + 2.0 * limit * k as f64 / steps as f64;
-                let speed = loco.speed_on_slope_m_s(slope);
-                let duration = run / slope.to_radians().cos() / speed;
-                // Durations are rounded up to the time quantum; a gain grows with them.
-                let net = loco.power_w(speed, slope) + electronics - source;
-                let longer = duration + self.config.time_quantum_s.max(0.0);
-                least = least.min(self.battery_wh(net, duration)).min(self.battery_wh(net, longer));
+                // The locomotion energy does not depend on the speed, the rest is linear
+                // in the duration: the least is at the slowest or the fastest class.
+                for factor in [slowest, fastest] {
+                    let speed = loco.speed_on_slope_m_s(slope) * factor;
+                    let duration = run / slope.to_radians().cos() / speed;
+                    // Durations are rounded up to the time quantum; a gain grows with them.
+                    let net = loco.power_w(speed, slope) * least_power + electronics - source;
+                    let longer = duration + self.config.time_quantum_s.max(0.0);
+                    least = least.min(self.battery_wh(net, duration)).min(self.battery_wh(net, longer));
+                }
             }
             let q = self.config.energy_quantum_wh.max(0.0);
             least - 1e-3 * least.abs() - q / 2.0
@@ -123,10 +130,10 @@ impl ActionModel {
     }
 
     /// An upper bound on a drive's duration, s: a diagonal up the steepest slope
-    /// allowed, at the slowest speed.
+    /// allowed, at the slowest speed on the slowest terrain class.
     pub(crate) fn longest_drive_s(&self, world: &World) -> f64 {
         let dem = world.dem();
-        let slowest = self.rover.locomotor.speed_m_s / 3.0;
+        let slowest = self.rover.locomotor.speed_m_s / 3.0 * world.speed_factor_range().0;
         let run = dem.dx().hypot(dem.dy());
         let longest = run / slowest / self.max_slope_deg.to_radians().cos().max(0.05) * self.margins.duration_factor
             + self.margins.delay_s;

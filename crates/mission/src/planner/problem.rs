@@ -40,9 +40,8 @@ pub(super) fn check_problem(
     // obstacles cut the goals off.
     let mut at = start.cell;
     for &g in goals {
-        if !connected(world, model, at, g, true) {
-            let binding = if connected(world, model, at, g, false) { Binding::Slope } else { Binding::Blocked };
-            return Err(Error::Unreachable { binding, message: binding.describe().into(), proven: true });
+        if !connected(world, model, at, g) {
+            return Err(ground_binds(world, model, at, g));
         }
         at = g;
     }
@@ -62,15 +61,43 @@ pub(super) fn check_problem(
     Ok(())
 }
 
-/// Whether `to` can be reached from `from` by drives, ignoring time and energy (with or
-/// without the slope limit).
-fn connected(world: &World, model: &ActionModel, from: u32, to: u32, with_slope: bool) -> bool {
-    let relaxed = (!with_slope).then(|| {
-        let mut c = model.config().clone();
-        c.drive.max_slope = false;
-        ActionModel::new(model.rover().clone(), c)
-    });
-    let model = relaxed.as_ref().unwrap_or(model);
+/// Why drives cannot join `from` to `to`: the one limit on the ground (slope, roll,
+/// pitch) whose relaxing alone joins them, the slope when only relaxing several does
+/// (the message says so), or blocked ground when nothing does.
+fn ground_binds(world: &World, model: &ActionModel, from: u32, to: u32) -> Error {
+    let relaxed = |slope: bool, roll: bool, pitch: bool| {
+        let (mut rover, mut config) = (model.rover().clone(), model.config().clone());
+        config.drive.max_slope &= !slope;
+        if roll {
+            rover.locomotor.max_roll_deg = None;
+        }
+        if pitch {
+            (rover.locomotor.max_pitch_up_deg, rover.locomotor.max_pitch_down_deg) = (None, None);
+        }
+        ActionModel::new(rover, config)
+    };
+    let unreachable =
+        |binding: Binding, message: &str| Error::Unreachable { binding, message: message.into(), proven: true };
+    if !connected(world, &relaxed(true, true, true), from, to) {
+        return unreachable(Binding::Blocked, Binding::Blocked.describe());
+    }
+    for (binding, slope, roll, pitch) in [
+        (Binding::Slope, true, false, false),
+        (Binding::Roll, false, true, false),
+        (Binding::Pitch, false, false, true),
+    ] {
+        if connected(world, &relaxed(slope, roll, pitch), from, to) {
+            return unreachable(binding, binding.describe());
+        }
+    }
+    unreachable(
+        Binding::Slope,
+        "the slope, roll and pitch limits together (none relaxed alone joins start and goal; all relaxed do)",
+    )
+}
+
+/// Whether `to` can be reached from `from` by drives, ignoring time and energy.
+fn connected(world: &World, model: &ActionModel, from: u32, to: u32) -> bool {
     // Greedy best-first toward the goal: when it is reachable this touches little more
     // than a path's worth of cells (a blind flood would visit the whole map first);
     // only a goal that is cut off costs the flood.

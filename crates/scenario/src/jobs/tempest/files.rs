@@ -355,7 +355,7 @@ pub(super) fn distance_plot(
         dseries.push(Series { label: "executed".into(), points: pts, rgb: (220, 30, 40), width: 2 });
     }
     let d0 = dist(ctx.start.cell);
-    let v = ctx.model.top_speed_m_s();
+    let v = ctx.model.top_speed_m_s(ctx.world);
     let t_zero = ctx.start.t_min + d0 / v;
     dseries.push(Series {
         label: "straight line at top speed".into(),
