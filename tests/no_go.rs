@@ -212,7 +212,7 @@ fn masks_that_cannot_be_used_are_errors_naming_what_is_wrong() {
     for (name, want) in [
         ("far.asc", "does not overlap the map"),
         ("holes.asc", "1 cells of the map fall on cells of the mask with no value"),
-        ("gale.tif", "the mask's CRS"),
+        ("gale.tif", "the raster's CRS"),
         ("missing.asc", "missing.asc"),
     ] {
         let o = run(&scenario(&dir, (125.0, 525.0), (1375.0, 525.0), &format!("no_go: (file: \"{name}\")")), &out);

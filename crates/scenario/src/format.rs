@@ -238,6 +238,10 @@ pub struct TempestJob {
     /// Ground the rover must keep out of, drawn on a raster; default none.
     #[serde(default)]
     pub no_go: Option<NoGoSpec>,
+    /// What the ground is, cell by cell, and what each class does to a drive; default
+    /// none (the rover's own model everywhere).
+    #[serde(default)]
+    pub terrain_classes: Option<TerrainClassesSpec>,
     /// When the route plot's shadows are drawn, ISO 8601 UTC; default `start_utc`.
     #[serde(default)]
     pub shadow_utc: Option<String>,
@@ -382,6 +386,42 @@ pub struct NoGoSpec {
     /// (0..=10 000; default 0).
     #[serde(default)]
     pub inflate_m: f64,
+}
+
+/// A terrain-class map: a raster of integer class ids (GeoTIFF or ESRI ASCII), on the
+/// map's grid or resampled onto it by nearest neighbour, and what each id is.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainClassesSpec {
+    /// The raster, relative to the scenario file.
+    pub file: String,
+    /// Every id the raster holds where it covers the map (at most 254).
+    pub classes: Vec<TerrainClassSpec>,
+}
+
+/// One terrain class.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainClassSpec {
+    /// Its value in the raster (an integer, 0..=254; `classes.tif` writes 255 where no
+    /// class is).
+    pub id: i64,
+    /// A name for reports (letters, digits, `_` and `-`).
+    pub name: String,
+    /// Drive speed over the rover's on the same slope (0.01..=10; default 1).
+    #[serde(default = "one")]
+    pub speed_factor: f64,
+    /// Locomotion power over the rover's at the same speed and slope — its rolling
+    /// resistance and sinkage, lumped (0.01..=10; default 1).
+    #[serde(default = "one")]
+    pub power_factor: f64,
+    /// Steepest slope a drive may touch on it, degrees (0..90; default: the rover's).
+    #[serde(default)]
+    pub max_slope_deg: Option<f64>,
+}
+
+fn one() -> f64 {
+    1.0
 }
 
 /// A named circle.

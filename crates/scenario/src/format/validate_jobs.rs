@@ -272,6 +272,9 @@ impl Validate for TempestJob {
         if let Some(n) = &self.no_go {
             c.nested("no_go", |c| c.range("inflate_m", n.inflate_m, 0.0, 1e4, "m"));
         }
+        if let Some(t) = &self.terrain_classes {
+            c.nested("terrain_classes", |c| validate_classes(c, t));
+        }
         c.nested("start", |c| check_position(c, self.start.x_m, self.start.y_m));
         if let Some(r) = &self.plan_region {
             c.nested("plan_region", |c| {
@@ -304,6 +307,34 @@ impl Validate for TempestJob {
 }
 
 /// The planner's fields that `tick_s` replaces, refused beside it.
+fn validate_classes(c: &mut Checks, t: &crate::format::TerrainClassesSpec) {
+    if t.classes.is_empty() {
+        c.fail("classes", "is empty: list every class id the raster holds".into());
+    }
+    if t.classes.len() > 254 {
+        c.fail("classes", format!("{} classes: allowed at most 254", t.classes.len()));
+    }
+    c.list("classes", &t.classes, |c, k| {
+        check_identifier(c, &k.name);
+        if !(0..=254).contains(&k.id) {
+            c.fail("id", format!("{}: allowed 0..=254 (255 is the class layer's no-data)", k.id));
+        }
+        c.range("speed_factor", k.speed_factor, 0.01, 10.0, "times the rover's speed");
+        c.range("power_factor", k.power_factor, 0.01, 10.0, "times the rover's locomotion power");
+        if let Some(s) = k.max_slope_deg
+            && !(s > 0.0 && s < 90.0)
+        {
+            c.fail("max_slope_deg", format!("{s}: allowed 0..90 degrees (exclusive)"));
+        }
+    });
+    check_unique(c, "classes", t.classes.iter().map(|k| k.name.as_str()));
+    let mut ids: Vec<i64> = t.classes.iter().map(|k| k.id).collect();
+    ids.sort_unstable();
+    if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
+        c.fail("classes", format!("id {} is listed twice: each id names one class", w[0]));
+    }
+}
+
 fn check_tick_fields(c: &mut Checks, planner: &crate::format::planner::PlannerSpec) {
     for (path, field) in planner.replaced_by_tick() {
         let message = format!(

@@ -16,11 +16,13 @@ use areo_terrain::Dem;
 use hifitime::Duration;
 
 mod chance;
+mod classes;
 mod facts;
 mod files;
 mod front;
 mod layers;
 mod no_go;
+mod overlay;
 mod view;
 
 use facts::*;
@@ -213,6 +215,8 @@ struct Prepared {
     crs_not_read: Option<String>,
     /// The no-go mask as applied, when the job has one.
     no_go: Option<no_go::NoGo>,
+    /// The terrain classes' figures (cells per class), when the job has them.
+    classes: Option<crate::report::tempest::ClassFigures>,
 }
 
 /// What planning (or simulating) gave.
@@ -460,8 +464,12 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
             areo_terrain::horizon::NARROW_ERROR_DEG,
         ));
     }
-    let truth = match truth_dem {
+    let mut truth = match truth_dem {
         Some(d) => Some(World::truth(d, &config, &job.body.model(), &world).map_err(located)?),
+        None => None,
+    };
+    let classes = match &job.terrain_classes {
+        Some(spec) => Some(classes::apply(spec, file, &mut world, truth.as_mut(), frame)?),
         None => None,
     };
     let precalc_s = clock.elapsed().as_secs_f64();
@@ -489,7 +497,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
         let named: Vec<(String, u32)> = goal_fields.into_iter().zip(goals.iter().copied()).collect();
         no_go::cut_off(n, file, (&world, truth.as_ref()), start.cell, &named)?;
     }
-    Ok(Prepared { world, truth, config, model, frame, start, goals, precalc_s, notes, crs_not_read, no_go })
+    Ok(Prepared { world, truth, config, model, frame, start, goals, precalc_s, notes, crs_not_read, no_go, classes })
 }
 
 /// The action model with the job's Communicate sessions, its start battery and the
@@ -846,6 +854,11 @@ fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Fail
     if let (Some(l), Some(n)) = (r.layers.as_mut(), &computed.prepared.no_go) {
         l.no_go = Some(crate::report::Raster { cols: world.cols(), rows: world.rows(), values: n.codes.clone() });
     }
+    r.terrain_classes = computed.prepared.classes.as_ref().map(|c| class_facts(ctx, computed, c.clone()));
+    if let (Some(l), Some(c)) = (r.layers.as_mut(), &r.terrain_classes) {
+        let values = classes::layer(world, c);
+        l.classes = values.map(|values| crate::report::Raster { cols: world.cols(), rows: world.rows(), values });
+    }
     if let Some(c) = &computed.chance {
         r.tables.monte_carlo = chance::rows(ctx, c);
         r.plots.extend(chance::plots(ctx, c));
@@ -856,6 +869,51 @@ fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Fail
         r.plots.extend(front::plots(ctx, f));
     }
     Ok((Report::Tempest(Box::new(r)), failure))
+}
+
+/// The terrain classes' figures with the drive time and energy the initial plan and
+/// the simulated run spend on each.
+fn class_facts(
+    ctx: &Context<'_>,
+    computed: &Computed,
+    mut figures: crate::report::tempest::ClassFigures,
+) -> crate::report::tempest::ClassFigures {
+    let plan = match &computed.run {
+        Run::Plan { plan, .. } => Some(plan),
+        Run::Simulated(sim) => sim.plans.first().map(|p| &p.plan),
+        _ => None,
+    };
+    let names: Vec<String> =
+        ctx.world.ground().map(|g| g.classes().iter().map(|c| c.name.clone()).collect()).unwrap_or_default();
+    if let Some(plan) = plan {
+        let drives = plan.waypoints.windows(2).filter_map(|w| match w[0].action {
+            Some(Action::Drive(k)) => Some((w[0].cell, k, w[1].t_s - w[0].t_s, w[0].drawn_wh)),
+            _ => None,
+        });
+        if let Some((per, unclassified)) = classes::drive_use(ctx.model, ctx.world, drives) {
+            for (name, (t, e)) in names.iter().zip(per) {
+                if let Some(u) = figures.classes.get_mut(name) {
+                    (u.plan_drive_time_s, u.plan_drive_energy_wh) = (t, e);
+                }
+            }
+            figures.unclassified_plan_drive_time_s = unclassified;
+        }
+    }
+    if let Run::Simulated(sim) = &computed.run {
+        let drives = sim.steps.iter().filter_map(|s| match s.action {
+            Action::Drive(k) => Some((s.cell, k, s.duration_s, s.load_wh)),
+            _ => None,
+        });
+        let nominal = ctx.model.nominal();
+        if let Some((per, _)) = classes::drive_use(&nominal, ctx.truth, drives) {
+            for (name, (t, e)) in names.iter().zip(per) {
+                if let Some(u) = figures.classes.get_mut(name) {
+                    (u.run_drive_time_s, u.run_drive_energy_wh) = (Some(t), Some(e));
+                }
+            }
+        }
+    }
+    figures
 }
 
 /// The figures of a run without a plan — unreachable, or stopped by a budget — and why

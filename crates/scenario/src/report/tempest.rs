@@ -33,6 +33,9 @@ pub struct TempestReport {
     pub map_crs_not_read: Option<String>,
     /// The no-go mask, when the job has one.
     pub no_go: Option<NoGoFigures>,
+    /// The terrain classes, when the job has them: each class's cells, and the time
+    /// and energy the plan and the run drive on it.
+    pub terrain_classes: Option<ClassFigures>,
     /// Bytes per horizon angle the horizon maps hold (1 or 2), with horizon maps.
     pub horizon_bytes_per_angle: Option<f64>,
     /// Slope, horizon maps and the Sun table, s.
@@ -504,6 +507,13 @@ pub struct PlanRow {
     pub battery_wh: f64,
     /// Slope, degrees.
     pub slope_deg: f64,
+    /// The drive from here: the slope along it (the rover's pitch, positive uphill),
+    /// degrees; none for other actions.
+    pub pitch_deg: Option<f64>,
+    /// The drive from here: the rover's roll (positive right side up), degrees.
+    pub roll_deg: Option<f64>,
+    /// The terrain class here, with terrain classes (empty where unclassified).
+    pub class: String,
     /// The Sun's elevation, degrees.
     pub sun_elevation_deg: f64,
     /// The Sun above the terrain's horizon here, degrees.
@@ -557,6 +567,12 @@ pub struct ExecutedRow {
     pub battery_above_floor_wh: f64,
     /// Distance driven, m.
     pub distance_m: f64,
+    /// A drive's pitch on the true terrain (positive uphill), degrees.
+    pub pitch_deg: Option<f64>,
+    /// A drive's roll on the true terrain (positive right side up), degrees.
+    pub roll_deg: Option<f64>,
+    /// The terrain class where it started, with terrain classes.
+    pub class: String,
     /// The Sun's elevation, degrees.
     pub sun_elevation_deg: f64,
     /// The action refused and why, if the world refused one.
@@ -706,6 +722,9 @@ pub struct MapLayers {
     /// What keeps each cell of the map out, with a no-go mask: 0 free, 1 masked, 2
     /// within `inflate_m` of the mask, 3 cut off from the start (`no_go.tif`).
     pub no_go: Option<Raster<u8>>,
+    /// Each cell's terrain class id, with terrain classes; 255 where unclassified
+    /// (`classes.tif`).
+    pub classes: Option<Raster<u8>>,
 }
 
 /// The no-go mask as the run applied it.
@@ -723,6 +742,42 @@ pub struct NoGoFigures {
     pub island_cells: usize,
     /// Masked and inflated cells over the map's.
     pub kept_out_fraction: f64,
+}
+
+/// The terrain classes as the run applied them.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ClassFigures {
+    /// The class map's file, as the scenario names it.
+    pub file: String,
+    /// Each class, by name.
+    pub classes: BTreeMap<String, ClassUse>,
+    /// Map cells no class covers (outside the class map): the rover's own model holds.
+    pub unclassified_cells: usize,
+    /// The initial plan's drive time over unclassified cells, s.
+    pub unclassified_plan_drive_time_s: f64,
+}
+
+/// One terrain class, and how much driving it takes.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ClassUse {
+    /// Its id in the class map.
+    pub id: u8,
+    /// Drive speed over the rover's.
+    pub speed_factor: f64,
+    /// Locomotion power over the rover's.
+    pub power_factor: f64,
+    /// Its own slope limit, degrees, if any.
+    pub max_slope_deg: Option<f64>,
+    /// Map cells of the class.
+    pub cells: usize,
+    /// The initial plan's drive time on it, s (each drive's halves on their own cells).
+    pub plan_drive_time_s: f64,
+    /// What the initial plan's drives draw on it, Wh.
+    pub plan_drive_energy_wh: f64,
+    /// The simulated run's drive time on it, s.
+    pub run_drive_time_s: Option<f64>,
+    /// What the run's drives drew on it, Wh.
+    pub run_drive_energy_wh: Option<f64>,
 }
 
 /// The most instants a shadow series holds.

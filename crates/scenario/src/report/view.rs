@@ -17,6 +17,16 @@ pub const VIEW_PIXELS: usize = 600;
 /// The most shadow frames a viewer holds.
 pub const VIEW_FRAMES: usize = 240;
 
+/// The terrain classes on the viewer's image.
+#[derive(Debug, Clone, Serialize)]
+pub struct ViewClasses {
+    /// The classes' names, in the order the pixels index them.
+    pub names: Vec<String>,
+    /// Base64 of a byte per pixel (row-major from the north-west): its class's index in
+    /// `names`, 255 where unclassified.
+    pub pixels: String,
+}
+
 /// The viewer's data.
 #[derive(Debug, Clone, Serialize)]
 pub struct ViewData {
@@ -48,6 +58,8 @@ pub struct ViewData {
     /// With a no-go mask, the ground it keeps out (marked, inflated or cut off), as the
     /// same kind of bitset as a frame.
     pub no_go: Option<String>,
+    /// With terrain classes, each pixel's class.
+    pub classes: Option<ViewClasses>,
     /// The routes: `plan`, then the `replan`s that changed the route (at most six), then
     /// `executed`.
     pub routes: Vec<ViewRoute>,

@@ -44,6 +44,11 @@ pub(super) fn action_name(a: Option<Action>) -> &'static str {
     a.map_or("arrive", Action::name)
 }
 
+/// The terrain class of `cell` by name (empty where unclassified or without classes).
+fn class_name(world: &World, cell: u32) -> String {
+    world.ground().and_then(|g| g.class_of(cell)).map(|c| c.name.clone()).unwrap_or_default()
+}
+
 fn plan_rows<'a>(ctx: &'a Context<'_>, plan: &'a MissionPlan) -> impl Iterator<Item = PlanRow> + 'a {
     plan.waypoints.iter().enumerate().map(move |(index, w)| {
         let (x_m, y_m) = ctx.local(w.cell);
@@ -69,6 +74,9 @@ fn plan_rows<'a>(ctx: &'a Context<'_>, plan: &'a MissionPlan) -> impl Iterator<I
             required_wh: w.required_wh,
             battery_wh: w.battery_wh,
             slope_deg: w.slope_deg,
+            pitch_deg: w.drive_attitude_deg.map(|a| a.0),
+            roll_deg: w.drive_attitude_deg.map(|a| a.1),
+            class: class_name(ctx.world, w.cell),
             sun_elevation_deg: w.sun_elevation_deg,
             sun_above_ground_deg: w.sun_above_ground_deg,
             lit: w.lit,
@@ -82,6 +90,10 @@ fn executed_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<It
         let (col, row) = ctx.world.col_row(st.cell);
         let (x_m, y_m) = ctx.local(st.cell);
         let p = ctx.place(st.cell, st.t_s);
+        let attitude = match st.action {
+            Action::Drive(k) => ctx.truth.drive_attitude_deg(st.cell, k),
+            _ => None,
+        };
         ExecutedRow {
             step: i + 1,
             utc: format_utc(ctx.world.epoch() + Duration::from_seconds(st.t_s)),
@@ -103,6 +115,9 @@ fn executed_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<It
             battery_wh: st.battery_above_floor_wh + floor_wh(ctx),
             battery_above_floor_wh: st.battery_above_floor_wh,
             distance_m: st.distance_m,
+            pitch_deg: attitude.map(|a| a.0),
+            roll_deg: attitude.map(|a| a.1),
+            class: class_name(ctx.truth, st.cell),
             sun_elevation_deg: st.sun_elevation_deg,
             refused: st.refused.map(|(a, b)| format!("{} ({})", a.name(), b.describe())).unwrap_or_default(),
         }

@@ -56,6 +56,7 @@ pub(super) fn layers(map: &World, truth: &World, shadow_s: f64, sensed: bool, ru
         direct_sun: Raster { cols: truth_dem.cols(), rows: truth_dem.rows(), values: shadow },
         shadow_series: series(truth, run_s),
         no_go: None,
+        classes: None,
     }
 }
 

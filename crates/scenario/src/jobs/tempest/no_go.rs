@@ -10,6 +10,7 @@
 
 use std::collections::VecDeque;
 
+use super::overlay;
 use super::*;
 use crate::format::NoGoSpec;
 use crate::report::tempest::NoGoFigures;
@@ -79,66 +80,23 @@ pub(super) fn apply(
 /// The job's mask read onto `world`'s grid: [`MASKED`] where the mask cell under a map
 /// cell's centre is non-zero, else [`FREE`].
 fn marked(spec: &NoGoSpec, file: &ScenarioFile, world: &World, frame: Frame) -> Result<Vec<u8>> {
-    let base = file.path.parent().unwrap_or(Path::new("."));
-    let path = base.join(&spec.file);
     let field = "job.no_go.file";
-    let mask = areo_terrain::read(&path).map_err(|e| Error::from(e).referenced_by(&file.path, field))?;
-    let bad = |message: String| scenario_error(file, field.to_string(), message);
-    let dem = world.dem();
-    // A mask with a projection must be on the map's; one without (an ASCII grid) is
-    // taken to be in the map's metres.
-    let (m, d) = (mask.georef(), dem.georef());
-    if m.projection != areo_terrain::Projection::Local && (m.projection != d.projection || m.surface != d.surface) {
-        return Err(bad(format!(
-            "{}: the mask's CRS ({}) is not the map's ({}): reproject it onto the map (gdalwarp -t_srs)",
-            spec.file,
-            describe(m),
-            describe(d)
-        )));
-    }
-    let local = areo_terrain::Projection::Local;
-    let in_frame = m.projection == local && d.projection != local;
-    let to_mask = |p: (f64, f64)| if in_frame { frame.to_local(p) } else { p };
-    let me = mask.extent();
-    let ((dx0, dy0), (dx1, dy1)) =
-        (to_mask((dem.extent().x_min, dem.extent().y_min)), to_mask((dem.extent().x_max, dem.extent().y_max)));
-    if me.x_max <= dx0 || me.x_min >= dx1 || me.y_max <= dy0 || me.y_min >= dy1 {
-        return Err(bad(format!(
-            "{}: the mask (x {:.0}..{:.0} m, y {:.0}..{:.0} m) does not overlap the map (x {dx0:.0}..{dx1:.0} m, y {dy0:.0}..{dy1:.0} m{})",
-            spec.file,
-            me.x_min,
-            me.x_max,
-            me.y_min,
-            me.y_max,
-            if in_frame {
-                ", east and north of its south-west corner: a mask without a CRS is in the scenario's metres"
-            } else {
-                ""
-            }
-        )));
-    }
-    let mut codes = vec![FREE; world.cells()];
-    let mut unknown = 0usize;
-    for (cell, code) in codes.iter_mut().enumerate() {
-        let (x, y) = to_mask(world.center(cell as u32));
-        let col = ((x - mask.x0()) / mask.dx()).floor();
-        let row = ((mask.y_top() - y) / mask.dy()).floor();
-        if col < 0.0 || row < 0.0 || col >= mask.cols() as f64 || row >= mask.rows() as f64 {
-            continue;
-        }
-        match mask.z(col as usize, row as usize) {
-            None => unknown += 1,
-            Some(v) if v != 0.0 => *code = MASKED,
-            Some(_) => {}
-        }
-    }
+    let samples = overlay::sample(&spec.file, field, file, world, frame)?;
+    let unknown = samples.iter().filter(|s| matches!(s, overlay::Sample::NoData)).count();
     if unknown > 0 {
-        return Err(bad(format!(
-            "{}: {unknown} cells of the map fall on cells of the mask with no value (NaN or its no-data): a mask gives every cell it covers 0 (free) or non-zero (keep out)",
-            spec.file
-        )));
+        return Err(scenario_error(
+            file,
+            field.to_string(),
+            format!(
+                "{}: {unknown} cells of the map fall on cells of the mask with no value (NaN or its no-data): a mask gives every cell it covers 0 (free) or non-zero (keep out)",
+                spec.file
+            ),
+        ));
     }
-    Ok(codes)
+    Ok(samples
+        .iter()
+        .map(|s| if matches!(s, overlay::Sample::Value(v) if *v != 0.0) { MASKED } else { FREE })
+        .collect())
 }
 
 /// Blocks every cell `codes` keeps out in the worlds.
@@ -226,9 +184,4 @@ pub(super) fn cut_off(
         t.set_blocked(&island, true);
     }
     Ok(())
-}
-
-/// A georeference in words, for an error.
-fn describe(g: &areo_terrain::Georef) -> String {
-    format!("{:?} on a sphere of {} m", g.projection, g.surface.equatorial_radius_m)
 }

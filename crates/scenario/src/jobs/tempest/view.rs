@@ -6,7 +6,8 @@ use base64::Engine;
 
 use super::*;
 use crate::report::Raster;
-use crate::report::view::{VIEW_FRAMES, VIEW_PIXELS, ViewData, ViewPlace, ViewRoute, ViewTrackPoint};
+use crate::report::view::{VIEW_FRAMES, VIEW_PIXELS, ViewClasses, ViewData, ViewPlace, ViewRoute, ViewTrackPoint};
+use areo_mission::UNCLASSIFIED;
 
 /// The viewer's data for the initial plan and, with a simulation, the run.
 pub(super) fn view(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimReport>) -> ViewData {
@@ -55,6 +56,11 @@ pub(super) fn view(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimRep
                 }
             }
             base64::engine::general_purpose::STANDARD.encode(bits)
+        }),
+        classes: truth.ground().filter(|g| g.cells() == truth.cells()).map(|g| ViewClasses {
+            names: g.classes().iter().map(|c| c.name.clone()).collect(),
+            pixels: base64::engine::general_purpose::STANDARD
+                .encode(cells.iter().map(|&c| g.class_index(c).unwrap_or(UNCLASSIFIED)).collect::<Vec<u8>>()),
         }),
         routes,
         start: place("start", ctx.start.cell),

@@ -2,7 +2,8 @@
 
 use crate::output::counted;
 use crate::report::tempest::{
-    BodyFigures, ChanceFigures, FrontFigures, MonteCarloFigures, NoPlanFigures, PlanFigures, RunFigures, TempestReport,
+    BodyFigures, ChanceFigures, ClassFigures, FrontFigures, MonteCarloFigures, NoPlanFigures, PlanFigures, RunFigures,
+    TempestReport,
 };
 
 /// The report in words: how the search ended, the plan, the uncertainty and the front,
@@ -20,6 +21,9 @@ pub(crate) fn summary(r: &TempestReport) -> Vec<String> {
             n.inflate_m,
             n.island_cells
         ));
+    }
+    if let Some(c) = &r.terrain_classes {
+        terrain_classes(&mut lines, c, r.initial_plan.is_some());
     }
     if let Some(work) = &r.no_plan {
         no_plan(&mut lines, r, work);
@@ -337,5 +341,37 @@ fn run_lines(lines: &mut Vec<String>, r: &TempestReport, f: &RunFigures) {
         && let Some(binding) = &r.binding
     {
         lines.push(format!("stopped: the next goal is unreachable ({binding})"));
+    }
+}
+
+/// The terrain classes: cells per class, and where the plan and the run drive.
+fn terrain_classes(lines: &mut Vec<String>, c: &ClassFigures, planned: bool) {
+    let cells: Vec<String> = c.classes.iter().map(|(name, u)| format!("{name} {}", u.cells)).collect();
+    lines.push(format!(
+        "terrain classes {}: {} cells{}",
+        c.file,
+        cells.join(", "),
+        if c.unclassified_cells > 0 { format!(", {} unclassified", c.unclassified_cells) } else { String::new() }
+    ));
+    if planned {
+        let mut used: Vec<String> = (c.classes.iter())
+            .filter(|(_, u)| u.plan_drive_time_s > 0.0)
+            .map(|(name, u)| format!("{name} {:.2} h, {:.1} Wh", u.plan_drive_time_s / 3600.0, u.plan_drive_energy_wh))
+            .collect();
+        if c.unclassified_plan_drive_time_s > 0.0 {
+            used.push(format!("unclassified {:.2} h", c.unclassified_plan_drive_time_s / 3600.0));
+        }
+        lines.push(format!(
+            "initial plan drives on: {}",
+            if used.is_empty() { "nothing".into() } else { used.join("; ") }
+        ));
+    }
+    let run: Vec<String> = (c.classes.iter())
+        .filter_map(|(name, u)| Some((name, u.run_drive_time_s?, u.run_drive_energy_wh?)))
+        .filter(|(_, t, _)| *t > 0.0)
+        .map(|(name, t, e)| format!("{name} {:.2} h, {e:.1} Wh", t / 3600.0))
+        .collect();
+    if !run.is_empty() {
+        lines.push(format!("the run drove on: {}", run.join("; ")));
     }
 }

@@ -66,6 +66,11 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
         if let Some(no_go) = &l.no_go {
             put("no_go.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_cog_u8(&l.grid, &no_go.values, None, tmp)?)))?;
         }
+        if let Some(classes) = &l.classes {
+            put("classes.tif", &|p| {
+                write_with(p, |tmp| Ok(geotiff::write_cog_u8(&l.grid, &classes.values, Some(255), tmp)?))
+            })?;
+        }
     }
     if let Some(rows) = &t.monte_carlo {
         put("monte_carlo.csv", &|p| write_rows(p, rows.iter().map(MonteCarloCsv::from)))?;
@@ -255,6 +260,9 @@ struct PlanCsv {
     required_wh: Fixed<3>,
     battery_wh: Fixed<3>,
     slope_deg: Fixed<3>,
+    pitch_deg: Option<Fixed<3>>,
+    roll_deg: Option<Fixed<3>>,
+    class: String,
     sun_elevation_deg: Fixed<3>,
     sun_above_ground_deg: Fixed<3>,
     lit: u8,
@@ -284,6 +292,9 @@ impl From<&PlanRow> for PlanCsv {
             required_wh: Fixed(w.required_wh),
             battery_wh: Fixed(w.battery_wh),
             slope_deg: Fixed(w.slope_deg),
+            pitch_deg: w.pitch_deg.map(Fixed),
+            roll_deg: w.roll_deg.map(Fixed),
+            class: w.class.clone(),
             sun_elevation_deg: Fixed(w.sun_elevation_deg),
             sun_above_ground_deg: Fixed(w.sun_above_ground_deg),
             lit: u8::from(w.lit),
@@ -315,6 +326,9 @@ struct ExecutedCsv {
     battery_wh: Fixed<3>,
     battery_above_floor_wh: Fixed<3>,
     distance_m: Fixed<3>,
+    pitch_deg: Option<Fixed<3>>,
+    roll_deg: Option<Fixed<3>>,
+    class: String,
     sun_elevation_deg: Fixed<3>,
     refused: String,
 }
@@ -342,6 +356,9 @@ impl From<&ExecutedRow> for ExecutedCsv {
             battery_wh: Fixed(s.battery_wh),
             battery_above_floor_wh: Fixed(s.battery_above_floor_wh),
             distance_m: Fixed(s.distance_m),
+            pitch_deg: s.pitch_deg.map(Fixed),
+            roll_deg: s.roll_deg.map(Fixed),
+            class: s.class.clone(),
             sun_elevation_deg: Fixed(s.sun_elevation_deg),
             refused: s.refused.clone(),
         }

@@ -42,6 +42,8 @@ struct Page<'a> {
     frames: &'a [String],
     /// The ground a no-go mask keeps out, base64 of a bitset.
     no_go: Option<&'a str>,
+    /// The terrain classes, a byte per pixel.
+    classes: Option<&'a crate::report::view::ViewClasses>,
     routes: &'a [ViewRoute],
     start: &'a ViewPlace,
     goals: &'a [ViewPlace],
@@ -70,6 +72,7 @@ pub(super) fn write(path: &Path, view: &ViewData, executed: bool) -> Result<usiz
         frame_sun_elevation_deg: &view.frame_sun_elevation_deg,
         frames: &view.frames,
         no_go: view.no_go.as_deref(),
+        classes: view.classes.as_ref(),
         routes: &view.routes,
         start: &view.start,
         goals: &view.goals,
