@@ -291,3 +291,44 @@ fn class_maps_that_cannot_be_used_are_refused_by_name() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("locomotor.max_roll_deg") && stderr(&o).contains("allowed 0..90"), "{}", stderr(&o));
 }
+
+/// The shipped gale-ground scenario without its no-go mask, with `rover` (a shipped
+/// rover file): the initial plan's drives, as (action, pitch, roll).
+fn gale_without_mask(dir: &Path, rover: &str) -> (Vec<(String, f64, f64)>, serde_json::Value) {
+    let text = std::fs::read_to_string(root().join("scenarios/gale-ground.ron")).unwrap();
+    let text: String = text.lines().filter(|l| !l.trim_start().starts_with("no_go:")).collect::<Vec<_>>().join("\n");
+    let scenarios = root().join("scenarios");
+    let text = text
+        .replace("\"data/", &format!("\"{}/data/", scenarios.display()))
+        .replace("\"rovers/mock-solar-rover-tilt-limits.ron\"", &format!("\"{}/rovers/{rover}\"", scenarios.display()));
+    let path = dir.join("ground.ron");
+    std::fs::write(&path, text).unwrap();
+    let out = dir.join(rover);
+    let o = run(&path, &out);
+    assert!(o.status.success(), "{rover}: {}", stderr(&o));
+    let plan = csv(&out.join("ground/plan.csv"));
+    let drives = plan
+        .iter()
+        .filter(|w| w["action"].starts_with("drive"))
+        .map(|w| (w["action"].clone(), w["pitch_deg"].parse().unwrap(), w["roll_deg"].parse().unwrap()))
+        .collect();
+    (drives, facts(&out))
+}
+
+#[test]
+fn on_the_gale_crop_the_roll_limit_turns_the_route_off_the_cross_slopes() {
+    // On MOLA's Gale crater, west and north-west from the eastern slopes: the rover
+    // without tilt limits crosses slopes at over 12° of roll; the one limited to 12°
+    // keeps every drive within it, and pays for it.
+    let dir = tmp("gale-roll");
+    let (free, free_facts) = gale_without_mask(&dir, "mock-solar-rover.ron");
+    let (limited, limited_facts) = gale_without_mask(&dir, "mock-solar-rover-tilt-limits.ron");
+    let worst = |d: &[(String, f64, f64)]| d.iter().map(|x| x.2.abs()).fold(0.0, f64::max);
+    assert!(worst(&free) > 12.0, "{free:?}");
+    assert!(worst(&limited) <= 12.0 && worst(&limited) > 9.0, "{limited:?}");
+    assert_ne!(free, limited);
+    // The limit costs battery: the limited plan's lowest predicted charge is lower.
+    let low = |f: &serde_json::Value| f["initial_plan_min_battery_wh"].as_f64().unwrap();
+    assert!(low(&limited_facts) < low(&free_facts) - 50.0, "{} vs {}", low(&limited_facts), low(&free_facts));
+    assert!(limited_facts["initial_plan_max_roll_deg"].as_f64().unwrap() <= 12.0);
+}

@@ -886,8 +886,8 @@ fn class_facts(
     let names: Vec<String> =
         ctx.world.ground().map(|g| g.classes().iter().map(|c| c.name.clone()).collect()).unwrap_or_default();
     if let Some(plan) = plan {
-        let drives = plan.waypoints.windows(2).filter_map(|w| match w[0].action {
-            Some(Action::Drive(k)) => Some((w[0].cell, k, w[1].t_s - w[0].t_s, w[0].drawn_wh)),
+        let drives = plan.waypoints.iter().filter_map(|w| match w.action {
+            Some(Action::Drive(k)) => Some((w.cell, k, None)),
             _ => None,
         });
         if let Some((per, unclassified)) = classes::drive_use(ctx.model, ctx.world, drives) {
@@ -901,7 +901,7 @@ fn class_facts(
     }
     if let Run::Simulated(sim) = &computed.run {
         let drives = sim.steps.iter().filter_map(|s| match s.action {
-            Action::Drive(k) => Some((s.cell, k, s.duration_s, s.load_wh)),
+            Action::Drive(k) => Some((s.cell, k, Some((s.duration_s, s.load_wh)))),
             _ => None,
         });
         let nominal = ctx.model.nominal();

@@ -148,6 +148,12 @@ pub struct PlanFigures {
     pub initial_plan_sunlit_drive_fraction: f64,
     /// Drives that start with the Sun below the horizon.
     pub initial_plan_night_drives: usize,
+    /// The largest roll of the initial plan's drives (either side), degrees.
+    pub initial_plan_max_roll_deg: Option<f64>,
+    /// The steepest nose-up pitch of its drives, degrees (0 if none climbs).
+    pub initial_plan_max_pitch_up_deg: Option<f64>,
+    /// The steepest nose-down pitch of its drives, degrees (positive; 0 if none descends).
+    pub initial_plan_max_pitch_down_deg: Option<f64>,
     /// Whether the route enters each named region.
     pub initial_plan_enters: BTreeMap<String, bool>,
     /// The exact search's tick, s.

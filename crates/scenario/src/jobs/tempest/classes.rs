@@ -117,18 +117,20 @@ pub(super) fn layer(world: &World, figures: &ClassFigures) -> Option<Vec<u8>> {
 
 /// The drive time (s) and the drives' load energy (Wh) on each class of `world`, in the
 /// order of its classes, and the time on unclassified cells: each drive `(cell, k,
-/// duration, drawn)` split between its two cells as its geometry divides its moving
-/// time and energy.
+/// measured)` split between its two cells as its geometry divides its moving time and
+/// energy — the duration and load energy `measured` in a run, else the model's (the
+/// drive alone, without a wait to the next tick).
 pub(super) fn drive_use(
     model: &ActionModel,
     world: &World,
-    drives: impl Iterator<Item = (u32, u8, f64, f64)>,
+    drives: impl Iterator<Item = (u32, u8, Option<(f64, f64)>)>,
 ) -> Option<(Vec<(f64, f64)>, f64)> {
     let ground = world.ground()?;
     let mut per = vec![(0.0, 0.0); ground.classes().len()];
     let mut unclassified = 0.0;
-    for (cell, k, duration_s, drawn_wh) in drives {
+    for (cell, k, measured) in drives {
         let Ok(g) = model.drive_geometry(world, cell, k) else { continue };
+        let (duration_s, drawn_wh) = measured.unwrap_or((g.duration_s, g.load_w * g.duration_s / 3600.0));
         for (c, time_share, energy_share) in
             [(cell, g.from_time_share, g.from_energy_share), (g.to, 1.0 - g.from_time_share, 1.0 - g.from_energy_share)]
         {

@@ -56,6 +56,13 @@ pub(super) fn plan_facts(ctx: &Context<'_>, plan: &MissionPlan, seconds: f64) ->
     if ctx.job.body.model() != areo_ephemeris::Body::Mars {
         f.body = Some(body_facts(ctx, plan));
     }
+    let attitudes: Vec<(f64, f64)> = plan.waypoints.iter().filter_map(|w| w.drive_attitude_deg).collect();
+    if !attitudes.is_empty() {
+        let most = |f: &dyn Fn(&(f64, f64)) -> f64| attitudes.iter().map(f).fold(0.0, f64::max);
+        f.initial_plan_max_roll_deg = Some(most(&|a| a.1.abs()));
+        f.initial_plan_max_pitch_up_deg = Some(most(&|a| a.0));
+        f.initial_plan_max_pitch_down_deg = Some(most(&|a| -a.0));
+    }
     resolution_facts(&mut f, ctx, plan);
     f
 }
