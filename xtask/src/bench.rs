@@ -40,6 +40,12 @@ const RATIOS: &[(&str, &str, &str, f64)] = &[
         0.02,
     ),
     (
+        "TEMPEST plan with a terrain class on every cell / without classes, 200 x 150 world (≤ 1.1)",
+        "tempest_ground/one_nominal_class",
+        "tempest_ground/no_classes",
+        1.1,
+    ),
+    (
         "ISE fresh / pathfinding A*, 512 map (≥ 3x faster)",
         "grid_fresh/ise/AR0011SR.map",
         "grid_fresh/pathfinding_astar/AR0011SR.map",

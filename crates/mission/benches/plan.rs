@@ -152,5 +152,44 @@ fn front(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, plan, uncertainty, front);
+/// The terrain-class lookups a plan makes: the initial plan on the same world with no
+/// classes, and with every cell of one class whose factors are the rover's own (the
+/// same plan, expansion for expansion, so the difference is the lookups), and with a
+/// class map of sand and bedrock (a different plan, for scale).
+fn ground(c: &mut Criterion) {
+    use areo_mission::{Ground, TerrainClass};
+    use std::sync::Arc;
+    let plain = world();
+    let t0 = morning(&plain);
+    let model = ActionModel::new(ResourceModel::hyperion(), ActionConfig::default());
+    let start = Start { cell: plain.cell(20, 50), t_min: t0, t_max: t0 + 600.0, energy_wh: 800.0 };
+    let goal = [plain.cell(60, 70)];
+    let class = |name: &str, speed: f64, power: f64| TerrainClass {
+        name: name.into(),
+        speed_factor: speed,
+        power_factor: power,
+        max_slope_deg: None,
+    };
+    let mut nominal = world();
+    let cells = nominal.cells();
+    nominal.set_ground(Arc::new(Ground::new(vec![class("nominal", 1.0, 1.0)], vec![0; cells]).unwrap())).unwrap();
+    let mut mixed = world();
+    let sand_bedrock = (0..cells as u32).map(|c| u8::from((mixed.col_row(c).0 / 10).is_multiple_of(2))).collect();
+    let classes = vec![class("sand", 0.6, 1.8), class("bedrock", 1.0, 0.9)];
+    mixed.set_ground(Arc::new(Ground::new(classes, sand_bedrock).unwrap())).unwrap();
+    let config = config();
+    let a = Mission::plan(&plain, &model, config.clone(), start, &goal).expect("a plan").1;
+    let b = Mission::plan(&nominal, &model, config.clone(), start, &goal).expect("a plan").1;
+    assert_eq!((a.expansions, a.cost), (b.expansions, b.cost), "one class of the rover's own factors changes nothing");
+    let mut g = c.benchmark_group("tempest_ground");
+    g.sample_size(10);
+    for (name, world) in [("no_classes", &plain), ("one_nominal_class", &nominal), ("sand_and_bedrock", &mixed)] {
+        g.bench_function(name, |b| {
+            b.iter(|| Mission::plan(world, &model, config.clone(), start, &goal).expect("a plan").1.waypoints.len())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, plan, uncertainty, front, ground);
 criterion_main!(benches);

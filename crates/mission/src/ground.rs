@@ -49,6 +49,11 @@ pub struct Ground {
     factors: Vec<Factors>,
     /// Per cell: an index into `classes`, or [`UNCLASSIFIED`].
     cells: Vec<u8>,
+    /// The slowest and fastest speed factors of the cells, and their least power
+    /// factor (the rover's own 1 counted where a cell is unclassified): the search's
+    /// bounds read them for every label.
+    speed_range: (f64, f64),
+    least_power: f64,
 }
 
 impl Ground {
@@ -83,7 +88,20 @@ impl Ground {
                 max_slope_deg: c.max_slope_deg.unwrap_or(f64::INFINITY),
             })
             .collect();
-        Ok(Ground { classes, factors, cells })
+        let mut ground = Ground { classes, factors, cells, speed_range: (1.0, 1.0), least_power: 1.0 };
+        let (counts, none) = ground.counts();
+        let present: Vec<Factors> = (ground.factors.iter().zip(&counts))
+            .filter(|(_, n)| **n > 0)
+            .map(|(f, _)| *f)
+            .chain((none > 0).then_some(Factors::NOMINAL))
+            .collect();
+        if !present.is_empty() {
+            let speeds = present.iter().map(|f| f.speed);
+            ground.speed_range =
+                (speeds.clone().fold(f64::INFINITY, f64::min), speeds.fold(f64::NEG_INFINITY, f64::max));
+            ground.least_power = present.iter().map(|f| f.power).fold(f64::INFINITY, f64::min);
+        }
+        Ok(ground)
     }
 
     /// The classes.
@@ -127,20 +145,12 @@ impl Ground {
     /// The slowest and fastest speed factors any cell has (the rover's own 1 counted
     /// where some cell is unclassified).
     pub(crate) fn speed_range(&self) -> (f64, f64) {
-        let (counts, none) = self.counts();
-        let present = self.factors.iter().zip(&counts).filter(|(_, n)| **n > 0).map(|(f, _)| f.speed);
-        let all: Vec<f64> = present.chain((none > 0).then_some(1.0)).collect();
-        let lo = all.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = all.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        if lo.is_finite() { (lo, hi) } else { (1.0, 1.0) }
+        self.speed_range
     }
 
     /// The least power factor any cell has (1 where some cell is unclassified).
     pub(crate) fn least_power(&self) -> f64 {
-        let (counts, none) = self.counts();
-        let present = self.factors.iter().zip(&counts).filter(|(_, n)| **n > 0).map(|(f, _)| f.power);
-        let least = present.chain((none > 0).then_some(1.0)).fold(f64::INFINITY, f64::min);
-        if least.is_finite() { least } else { 1.0 }
+        self.least_power
     }
 }
 

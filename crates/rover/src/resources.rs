@@ -73,6 +73,27 @@ pub struct Locomotor {
 }
 
 impl Locomotor {
+    /// Range checks of the roll and pitch limits: each, where given, in (0, 90) degrees.
+    fn check_tilt_limits(&self, origin: &str) -> Result<()> {
+        for (field, v) in [
+            ("locomotor.max_roll_deg", self.max_roll_deg),
+            ("locomotor.max_pitch_up_deg", self.max_pitch_up_deg),
+            ("locomotor.max_pitch_down_deg", self.max_pitch_down_deg),
+        ] {
+            if let Some(value) = v
+                && !(value > 0.0 && value < 90.0)
+            {
+                return Err(Error::Invalid {
+                    origin: origin.into(),
+                    field,
+                    value,
+                    why: "allowed 0..90 degrees".into(),
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// The gravity the locomotor works against, m/s².
     pub fn gravity(&self) -> f64 {
         self.gravity_m_s2.unwrap_or(MARS_GRAVITY)
@@ -317,17 +338,7 @@ impl ResourceModel {
         if !(l.max_slope_deg > 0.0 && l.max_slope_deg < 60.0) {
             return bad("locomotor.max_slope_deg", l.max_slope_deg, "allowed 0..60 degrees");
         }
-        for (f, v) in [
-            ("locomotor.max_roll_deg", l.max_roll_deg),
-            ("locomotor.max_pitch_up_deg", l.max_pitch_up_deg),
-            ("locomotor.max_pitch_down_deg", l.max_pitch_down_deg),
-        ] {
-            if let Some(v) = v
-                && !(v > 0.0 && v < 90.0)
-            {
-                return bad(f, v, "allowed 0..90 degrees");
-            }
-        }
+        l.check_tilt_limits(origin)?;
         let b = &self.battery;
         for (f, v) in [
             ("locomotor.drive_efficiency", l.drive_efficiency),

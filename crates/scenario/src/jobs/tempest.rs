@@ -468,10 +468,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
         Some(d) => Some(World::truth(d, &config, &job.body.model(), &world).map_err(located)?),
         None => None,
     };
-    let classes = match &job.terrain_classes {
-        Some(spec) => Some(classes::apply(spec, file, &mut world, truth.as_mut(), frame)?),
-        None => None,
-    };
+    let classes = classes::on(job, file, &mut world, truth.as_mut(), frame)?;
     let precalc_s = clock.elapsed().as_secs_f64();
     opts.progress.advance(1);
     let model = action_model(job, file, &world, rover)?;
@@ -480,23 +477,7 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
         Some(u) => model.with_margins(u.margins()),
         None => model,
     };
-    let goal_fields: Vec<String> = (0..job.goals.len()).map(|i| format!("job.goals[{i}]")).collect();
-    let mut no_go = match &job.no_go {
-        Some(spec) => {
-            let places: Vec<(String, (f64, f64))> =
-                std::iter::once(("job.start".to_string(), (job.start.x_m, job.start.y_m)))
-                    .chain(goal_fields.iter().cloned().zip(job.goals.iter().map(|g| (g.x_m, g.y_m))))
-                    .map(|(field, (x, y))| (field, frame.to_map(x, y)))
-                    .collect();
-            Some(no_go::apply(spec, file, (&world, truth.as_ref()), frame, &places)?)
-        }
-        None => None,
-    };
-    let (start, goals) = locate(job, file, &world, frame)?;
-    if let Some(n) = &mut no_go {
-        let named: Vec<(String, u32)> = goal_fields.into_iter().zip(goals.iter().copied()).collect();
-        no_go::cut_off(n, file, (&world, truth.as_ref()), start.cell, &named)?;
-    }
+    let (no_go, (start, goals)) = no_go::on(job, file, (&world, truth.as_ref()), frame)?;
     Ok(Prepared { world, truth, config, model, frame, start, goals, precalc_s, notes, crs_not_read, no_go, classes })
 }
 
@@ -851,14 +832,7 @@ fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Fail
             r.simulation = Some(sim.clone());
         }
     }
-    if let (Some(l), Some(n)) = (r.layers.as_mut(), &computed.prepared.no_go) {
-        l.no_go = Some(crate::report::Raster { cols: world.cols(), rows: world.rows(), values: n.codes.clone() });
-    }
-    r.terrain_classes = computed.prepared.classes.as_ref().map(|c| class_facts(ctx, computed, c.clone()));
-    if let (Some(l), Some(c)) = (r.layers.as_mut(), &r.terrain_classes) {
-        let values = classes::layer(world, c);
-        l.classes = values.map(|values| crate::report::Raster { cols: world.cols(), rows: world.rows(), values });
-    }
+    classes::ground_layers(&mut r, ctx, computed);
     if let Some(c) = &computed.chance {
         r.tables.monte_carlo = chance::rows(ctx, c);
         r.plots.extend(chance::plots(ctx, c));
@@ -869,51 +843,6 @@ fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Fail
         r.plots.extend(front::plots(ctx, f));
     }
     Ok((Report::Tempest(Box::new(r)), failure))
-}
-
-/// The terrain classes' figures with the drive time and energy the initial plan and
-/// the simulated run spend on each.
-fn class_facts(
-    ctx: &Context<'_>,
-    computed: &Computed,
-    mut figures: crate::report::tempest::ClassFigures,
-) -> crate::report::tempest::ClassFigures {
-    let plan = match &computed.run {
-        Run::Plan { plan, .. } => Some(plan),
-        Run::Simulated(sim) => sim.plans.first().map(|p| &p.plan),
-        _ => None,
-    };
-    let names: Vec<String> =
-        ctx.world.ground().map(|g| g.classes().iter().map(|c| c.name.clone()).collect()).unwrap_or_default();
-    if let Some(plan) = plan {
-        let drives = plan.waypoints.iter().filter_map(|w| match w.action {
-            Some(Action::Drive(k)) => Some((w.cell, k, None)),
-            _ => None,
-        });
-        if let Some((per, unclassified)) = classes::drive_use(ctx.model, ctx.world, drives) {
-            for (name, (t, e)) in names.iter().zip(per) {
-                if let Some(u) = figures.classes.get_mut(name) {
-                    (u.plan_drive_time_s, u.plan_drive_energy_wh) = (t, e);
-                }
-            }
-            figures.unclassified_plan_drive_time_s = unclassified;
-        }
-    }
-    if let Run::Simulated(sim) = &computed.run {
-        let drives = sim.steps.iter().filter_map(|s| match s.action {
-            Action::Drive(k) => Some((s.cell, k, Some((s.duration_s, s.load_wh)))),
-            _ => None,
-        });
-        let nominal = ctx.model.nominal();
-        if let Some((per, _)) = classes::drive_use(&nominal, ctx.truth, drives) {
-            for (name, (t, e)) in names.iter().zip(per) {
-                if let Some(u) = figures.classes.get_mut(name) {
-                    (u.run_drive_time_s, u.run_drive_energy_wh) = (Some(t), Some(e));
-                }
-            }
-        }
-    }
-    figures
 }
 
 /// The figures of a run without a plan — unreachable, or stopped by a budget — and why

@@ -748,6 +748,8 @@ pub struct NoGoFigures {
     pub island_cells: usize,
     /// Masked and inflated cells over the map's.
     pub kept_out_fraction: f64,
+    /// Reading, resampling, inflating it and finding the islands, s (wall clock).
+    pub prepare_s: f64,
 }
 
 /// The terrain classes as the run applied them.
@@ -761,6 +763,8 @@ pub struct ClassFigures {
     pub unclassified_cells: usize,
     /// The initial plan's drive time over unclassified cells, s.
     pub unclassified_plan_drive_time_s: f64,
+    /// Reading and resampling the class map, s (wall clock).
+    pub prepare_s: f64,
 }
 
 /// One terrain class, and how much driving it takes.

@@ -24,45 +24,8 @@ pub(super) fn apply(
 ) -> Result<ClassFigures> {
     let field = "job.terrain_classes.file";
     let samples = overlay::sample(&spec.file, field, file, world, frame)?;
-    let index: BTreeMap<i64, u8> = spec.classes.iter().enumerate().map(|(i, c)| (c.id, i as u8)).collect();
-    let allowed = || spec.classes.iter().map(|c| c.id.to_string()).collect::<Vec<_>>().join(", ");
     let bad = |message: String| scenario_error(file, field.to_string(), message);
-    let mut cells = Vec::with_capacity(samples.len());
-    let mut unknown: BTreeMap<String, usize> = BTreeMap::new();
-    let mut holes = 0usize;
-    for s in &samples {
-        cells.push(match *s {
-            Sample::Outside => UNCLASSIFIED,
-            Sample::NoData => {
-                holes += 1;
-                UNCLASSIFIED
-            }
-            Sample::Value(v) => match (v.fract() == 0.0 && v.abs() < 1e12).then(|| index.get(&(v as i64))).flatten() {
-                Some(&i) => i,
-                None => {
-                    *unknown.entry(format!("{v}")).or_default() += 1;
-                    UNCLASSIFIED
-                }
-            },
-        });
-    }
-    if holes > 0 {
-        return Err(bad(format!(
-            "{}: {holes} cells of the map fall on cells of the class map with no value (NaN or its no-data): give every cell it covers a class id ({})",
-            spec.file,
-            allowed()
-        )));
-    }
-    if !unknown.is_empty() {
-        let listed: Vec<String> = unknown.iter().take(8).map(|(v, n)| format!("{v} ({n} cells)")).collect();
-        return Err(bad(format!(
-            "{}: values that are no listed class id under the map: {}{}; the classes list ids {}",
-            spec.file,
-            listed.join(", "),
-            if unknown.len() > 8 { format!(" and {} more", unknown.len() - 8) } else { String::new() },
-            allowed()
-        )));
-    }
+    let cells = class_cells(spec, &samples).map_err(bad)?;
     let classes: Vec<TerrainClass> = spec
         .classes
         .iter()
@@ -108,6 +71,51 @@ pub(super) fn apply(
     Ok(ClassFigures { file: spec.file.clone(), classes, unclassified_cells, ..ClassFigures::default() })
 }
 
+/// Each map cell's class index (its position in the job's list; [`UNCLASSIFIED`] where
+/// the class map does not reach), or why the class map cannot be used: a hole where it
+/// covers the map, or values that are no listed id.
+fn class_cells(spec: &TerrainClassesSpec, samples: &[Sample]) -> std::result::Result<Vec<u8>, String> {
+    let index: BTreeMap<i64, u8> = spec.classes.iter().enumerate().map(|(i, c)| (c.id, i as u8)).collect();
+    let allowed = || spec.classes.iter().map(|c| c.id.to_string()).collect::<Vec<_>>().join(", ");
+    let mut cells = Vec::with_capacity(samples.len());
+    let mut unknown: BTreeMap<String, usize> = BTreeMap::new();
+    let mut holes = 0usize;
+    for s in samples {
+        cells.push(match *s {
+            Sample::Outside => UNCLASSIFIED,
+            Sample::NoData => {
+                holes += 1;
+                UNCLASSIFIED
+            }
+            Sample::Value(v) => match (v.fract() == 0.0 && v.abs() < 1e12).then(|| index.get(&(v as i64))).flatten() {
+                Some(&i) => i,
+                None => {
+                    *unknown.entry(format!("{v}")).or_default() += 1;
+                    UNCLASSIFIED
+                }
+            },
+        });
+    }
+    if holes > 0 {
+        return Err(format!(
+            "{}: {holes} cells of the map fall on cells of the class map with no value (NaN or its no-data): give every cell it covers a class id ({})",
+            spec.file,
+            allowed()
+        ));
+    }
+    if !unknown.is_empty() {
+        let listed: Vec<String> = unknown.iter().take(8).map(|(v, n)| format!("{v} ({n} cells)")).collect();
+        return Err(format!(
+            "{}: values that are no listed class id under the map: {}{}; the classes list ids {}",
+            spec.file,
+            listed.join(", "),
+            if unknown.len() > 8 { format!(" and {} more", unknown.len() - 8) } else { String::new() },
+            allowed()
+        ));
+    }
+    Ok(cells)
+}
+
 /// The class id of every cell of `world` (255 where unclassified), for `classes.tif`.
 pub(super) fn layer(world: &World, figures: &ClassFigures) -> Option<Vec<u8>> {
     let ground = world.ground()?;
@@ -144,4 +152,77 @@ pub(super) fn drive_use(
         }
     }
     Some((per, unclassified))
+}
+
+/// The job's terrain classes given to the worlds, if it has them, timed.
+pub(super) fn on(
+    job: &TempestJob,
+    file: &ScenarioFile,
+    world: &mut World,
+    truth: Option<&mut World>,
+    frame: Frame,
+) -> Result<Option<crate::report::tempest::ClassFigures>> {
+    let Some(spec) = &job.terrain_classes else { return Ok(None) };
+    let clock = Instant::now();
+    let mut figures = classes::apply(spec, file, world, truth, frame)?;
+    figures.prepare_s = clock.elapsed().as_secs_f64();
+    Ok(Some(figures))
+}
+
+/// The no-go mask's and the terrain classes' layers, and the classes' figures.
+pub(super) fn ground_layers(r: &mut TempestReport, ctx: &Context<'_>, computed: &Computed) {
+    let world = ctx.world;
+    if let (Some(l), Some(n)) = (r.layers.as_mut(), &computed.prepared.no_go) {
+        l.no_go = Some(crate::report::Raster { cols: world.cols(), rows: world.rows(), values: n.codes.clone() });
+    }
+    r.terrain_classes = computed.prepared.classes.as_ref().map(|c| facts(ctx, computed, c.clone()));
+    if let (Some(l), Some(c)) = (r.layers.as_mut(), &r.terrain_classes) {
+        let values = layer(world, c);
+        l.classes = values.map(|values| crate::report::Raster { cols: world.cols(), rows: world.rows(), values });
+    }
+}
+
+/// The terrain classes' figures with the drive time and energy the initial plan and
+/// the simulated run spend on each.
+fn facts(
+    ctx: &Context<'_>,
+    computed: &Computed,
+    mut figures: crate::report::tempest::ClassFigures,
+) -> crate::report::tempest::ClassFigures {
+    let plan = match &computed.run {
+        Run::Plan { plan, .. } => Some(plan),
+        Run::Simulated(sim) => sim.plans.first().map(|p| &p.plan),
+        _ => None,
+    };
+    let names: Vec<String> =
+        ctx.world.ground().map(|g| g.classes().iter().map(|c| c.name.clone()).collect()).unwrap_or_default();
+    if let Some(plan) = plan {
+        let drives = plan.waypoints.iter().filter_map(|w| match w.action {
+            Some(Action::Drive(k)) => Some((w.cell, k, None)),
+            _ => None,
+        });
+        if let Some((per, unclassified)) = drive_use(ctx.model, ctx.world, drives) {
+            for (name, (t, e)) in names.iter().zip(per) {
+                if let Some(u) = figures.classes.get_mut(name) {
+                    (u.plan_drive_time_s, u.plan_drive_energy_wh) = (t, e);
+                }
+            }
+            figures.unclassified_plan_drive_time_s = unclassified;
+        }
+    }
+    if let Run::Simulated(sim) = &computed.run {
+        let drives = sim.steps.iter().filter_map(|s| match s.action {
+            Action::Drive(k) => Some((s.cell, k, Some((s.duration_s, s.load_wh)))),
+            _ => None,
+        });
+        let nominal = ctx.model.nominal();
+        if let Some((per, _)) = drive_use(&nominal, ctx.truth, drives) {
+            for (name, (t, e)) in names.iter().zip(per) {
+                if let Some(u) = figures.classes.get_mut(name) {
+                    (u.run_drive_time_s, u.run_drive_energy_wh) = (Some(t), Some(e));
+                }
+            }
+        }
+    }
+    figures
 }

@@ -24,6 +24,9 @@ pub(super) const INFLATED: u8 = 2;
 /// Cut off from the start by the mask (and missing data).
 pub(super) const ISLAND: u8 = 3;
 
+/// The start and the goal cells.
+pub(super) type Placed = (Start, Vec<u32>);
+
 /// The mask applied: what keeps each cell of the map out, and its figures.
 #[derive(Debug, Clone)]
 pub(super) struct NoGo {
@@ -73,6 +76,7 @@ pub(super) fn apply(
             inflated_cells: inflated,
             island_cells: 0,
             kept_out_fraction: (masked + inflated) as f64 / world.cells() as f64,
+            prepare_s: 0.0,
         },
     })
 }
@@ -184,4 +188,34 @@ pub(super) fn cut_off(
         t.set_blocked(&island, true);
     }
     Ok(())
+}
+
+/// The job's no-go mask applied to the worlds (with the islands it cuts off from the
+/// start), timed, and the start and goal cells.
+pub(super) fn on(
+    job: &TempestJob,
+    file: &ScenarioFile,
+    worlds: (&World, Option<&World>),
+    frame: Frame,
+) -> Result<(Option<NoGo>, Placed)> {
+    let goal_fields: Vec<String> = (0..job.goals.len()).map(|i| format!("job.goals[{i}]")).collect();
+    let clock = Instant::now();
+    let mut no_go = match &job.no_go {
+        Some(spec) => {
+            let places: Vec<(String, (f64, f64))> =
+                std::iter::once(("job.start".to_string(), (job.start.x_m, job.start.y_m)))
+                    .chain(goal_fields.iter().cloned().zip(job.goals.iter().map(|g| (g.x_m, g.y_m))))
+                    .map(|(field, (x, y))| (field, frame.to_map(x, y)))
+                    .collect();
+            Some(apply(spec, file, worlds, frame, &places)?)
+        }
+        None => None,
+    };
+    let (start, goals) = locate(job, file, worlds.0, frame)?;
+    if let Some(n) = &mut no_go {
+        let named: Vec<(String, u32)> = goal_fields.into_iter().zip(goals.iter().copied()).collect();
+        cut_off(n, file, worlds, start.cell, &named)?;
+        n.figures.prepare_s = clock.elapsed().as_secs_f64();
+    }
+    Ok((no_go, (start, goals)))
 }
