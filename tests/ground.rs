@@ -332,3 +332,57 @@ fn on_the_gale_crop_the_roll_limit_turns_the_route_off_the_cross_slopes() {
     assert!(low(&limited_facts) < low(&free_facts) - 50.0, "{} vs {}", low(&limited_facts), low(&free_facts));
     assert!(limited_facts["initial_plan_max_roll_deg"].as_f64().unwrap() <= 12.0);
 }
+
+/// The GA job up a 22° hill whose flank is the class `classes` (RON), from its foot to
+/// a target on the flank: the facts.
+fn sandy_hill(dir: &Path, name: &str, classes: &str) -> serde_json::Value {
+    let path = dir.join(format!("{name}.ron"));
+    std::fs::write(
+        &path,
+        format!(
+            r#"Scenario(version: 1, description: "a sandy hill", job: Actions(
+            terrain: Synth(cols: 100, rows: 150, cell_m: 0.02, base_m: 0.0, seed: 1, features: [
+                Hill(x_m: 1.0, y_m: 2.6, radius_m: 1.0, slope_deg: 22),
+            ]),
+            task: (start: (1.0, 0.7, 0.0), target: (1.0, 2.0), target_radius_m: 0.15),
+            ga: (population: 12, generations: 4, initial_length: (15, 30), seed: 7),
+            runs: [(name: "small", inventory: [101, 105, 106, 107, 108])],
+            {classes}))"#
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = run(&path, &out);
+    assert!(o.status.success(), "{name}: {}", stderr(&o));
+    serde_json::from_str(&std::fs::read_to_string(out.join(name).join("facts.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn a_feature_of_a_slippery_class_stops_the_climb_its_friction_cannot_hold() {
+    // Holding on 22° needs μ ≥ tan 22° = 0.404. The motion's μ (0.65) climbs to the
+    // target; sand of μ 0.3 on the hill's flank slips; sand of μ 0.45 holds, using a
+    // larger share of what it has.
+    let dir = tmp("sandy-hill");
+    let plain = sandy_hill(&dir, "plain", "");
+    let slippery = sandy_hill(&dir, "slippery", "feature_classes: [(feature: 0, class: \"sand\", mu: 0.3)],");
+    let firm = sandy_hill(&dir, "firm", "feature_classes: [(feature: 0, class: \"sand\", mu: 0.45)],");
+    assert_eq!(plain["runs.small.complete"], true);
+    assert_eq!(slippery["runs.small.complete"], false);
+    assert!(slippery["runs.small.executed.stopped_at"].as_str().unwrap().contains("slip"), "{slippery}");
+    assert_eq!(firm["runs.small.complete"], true);
+    // Every cell centre within the hill's 1 m base radius on the 2 × 3 m map.
+    assert_eq!(slippery["feature_classes.sand.cells"], 5876);
+    let share = |f: &serde_json::Value| f["runs.small.peak_friction_ratio"].as_f64().unwrap();
+    assert!(share(&firm) > share(&plain) && share(&firm) <= 1.0 + 1e-9, "{} {}", share(&firm), share(&plain));
+    // A class on a feature the terrain does not have, or on a map file, is refused.
+    let path = dir.join("bad.ron");
+    let text = std::fs::read_to_string(dir.join("firm.ron")).unwrap().replace("feature: 0", "feature: 3");
+    std::fs::write(&path, text).unwrap();
+    let o = run(&path, &dir.join("out"));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("job.feature_classes[0].feature") && stderr(&o).contains("the terrain has 1 features"),
+        "{}",
+        stderr(&o)
+    );
+}

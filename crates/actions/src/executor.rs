@@ -382,7 +382,7 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
                 out.samples += 1;
                 out.taken.push(k);
             }
-            let energy = out.add(&step, self.config.mu);
+            let energy = out.add(&step);
             if trace {
                 let mut t = self.trace_step(module, &step.state, step.min_stability, energy, &motion);
                 t.friction_used = step.max_friction;
@@ -585,13 +585,13 @@ impl<'a, G: Ground + Sync> Executor<'a, G> {
 }
 
 impl Execution {
-    /// Adds an executed module's time, energy, peaks (friction as a share of `mu`) and
-    /// stability; returns its net energy, Wh.
-    fn add(&mut self, step: &areo_rover::motion::ModuleRun, mu: f64) -> f64 {
+    /// Adds an executed module's time, energy, peaks (friction as a share of the
+    /// friction available where it was used) and stability; returns its net energy, Wh.
+    fn add(&mut self, step: &areo_rover::motion::ModuleRun) -> f64 {
         let energy = step.energy.net_wh();
         self.time_s += step.duration_s;
         self.energy_wh += energy;
-        self.peak_friction_ratio = self.peak_friction_ratio.max(step.max_friction / mu);
+        self.peak_friction_ratio = self.peak_friction_ratio.max(step.max_friction_share);
         self.peak_saturation = self.peak_saturation.max(step.max_saturation);
         if let Some(s) = step.min_stability {
             self.stabilities.push(s);

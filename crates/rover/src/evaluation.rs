@@ -100,6 +100,9 @@ pub struct Evaluation {
     pub stability: f64,
     /// Largest friction coefficient any wheel uses (in-plane and lateral).
     pub friction_used: f64,
+    /// The friction coefficient the forces were held to: the least of the motion's μ
+    /// and the μ the ground sets under any wheel ([`Ground::friction`]).
+    pub friction_available: f64,
 }
 
 impl Evaluation {
@@ -258,10 +261,12 @@ impl Evaluator {
             return Err(Violation::TipOver);
         }
         let mut sides = [None; 2];
-        let mut friction_used = 0.0f64;
+        let (mut friction_used, mut friction_available) = (0.0f64, f64::INFINITY);
         for (k, side) in [&pose.left, &pose.right].into_iter().enumerate() {
-            let (f, worst_lateral) = self.side_forces(ground, pose, k, side, (loads[k], couple), cond, stability)?;
+            let (f, worst_lateral, mu) =
+                self.side_forces(ground, pose, k, side, (loads[k], couple), cond, stability)?;
             friction_used = friction_used.max(f.friction_used.hypot(worst_lateral));
+            friction_available = friction_available.min(mu);
             sides[k] = Some(f);
         }
         let (Some(left), Some(right)) = (sides[0], sides[1]) else {
@@ -276,6 +281,7 @@ impl Evaluator {
             force_angle: fa,
             stability,
             friction_used,
+            friction_available,
         })
     }
 
@@ -305,7 +311,8 @@ impl Evaluator {
 
     /// Side `k`'s force balance at `pose`, carrying `load` at its pivot and the body's
     /// pitching `couple`, within the friction cone the ground's lateral slope leaves:
-    /// the forces and that worst lateral slope.
+    /// the forces, that worst lateral slope and the side's μ — the least the ground
+    /// sets under its three wheels, the motion's where it sets none.
     #[allow(clippy::too_many_arguments)]
     fn side_forces(
         &self,
@@ -316,20 +323,23 @@ impl Evaluator {
         (load, couple): (f64, f64),
         cond: &Conditions,
         stability: f64,
-    ) -> Result<(SideForces, f64), Violation> {
+    ) -> Result<(SideForces, f64, f64), Violation> {
         let p = &self.params;
         let (fx, fy) = pose.forward();
         let (lx, ly) = (-fy, fx);
-        // Lateral ground slope at each contact, for the friction cone.
+        // Lateral ground slope at each contact, for the friction cone; the side's μ is
+        // its slipperiest wheel's (one μ per side is what the force model holds to).
         let mut lateral = [0.0; 3];
+        let mut mu = f64::INFINITY;
         for (i, l) in lateral.iter_mut().enumerate() {
             let c = pose.wheels[3 * k + i].contact;
             if let Some((_, slope)) = ground.height_slope(c[0], c[1], (lx, ly)) {
                 *l = slope.abs();
             }
+            mu = mu.min(ground.friction(c[0], c[1]).unwrap_or(cond.mu));
         }
         let worst_lateral = lateral.iter().copied().fold(0.0, f64::max);
-        if worst_lateral >= cond.mu {
+        if worst_lateral >= mu {
             return Err(Violation::Forces { side: k, failure: ForceFailure::Slip, stability });
         }
         // The force balance knows the bogie-in-front chain: a bogie-behind rover's
@@ -348,7 +358,7 @@ impl Evaluator {
             wheel_radius_m: p.wheel_radius_m,
         };
         let limits = Limits {
-            mu: (cond.mu * cond.mu - worst_lateral * worst_lateral).sqrt(),
+            mu: (mu * mu - worst_lateral * worst_lateral).sqrt(),
             torque_max_nm: p.wheel_torque_max_nm,
             n_min: 0.0,
             rolling_resistance: p.rolling_resistance,
@@ -357,6 +367,6 @@ impl Evaluator {
         let f =
             forces::solve(&contacts, &limits).map_err(|failure| Violation::Forces { side: k, failure, stability })?;
         let f = if mirror { f.mirrored() } else { f };
-        Ok((f, worst_lateral))
+        Ok((f, worst_lateral, mu))
     }
 }

@@ -271,6 +271,9 @@ pub struct ModuleRun {
     pub min_stability: Option<f64>,
     /// Largest friction used over its poses.
     pub max_friction: f64,
+    /// Largest friction used over the friction available there, over its poses (1 = a
+    /// wheel at its friction limit).
+    pub max_friction_share: f64,
     /// Largest motor torque over the wheel torque limit, over its poses (1 = saturated).
     pub max_saturation: f64,
     /// The sample grasped by this module, if any (the id the sample lookup gave).
@@ -283,6 +286,7 @@ impl ModuleRun {
     fn record(&mut self, eval: &Evaluation, torque_max_nm: f64) {
         self.min_stability = Some(self.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
         self.max_friction = self.max_friction.max(eval.friction_used);
+        self.max_friction_share = self.max_friction_share.max(eval.friction_used / eval.friction_available);
         self.max_saturation = self.max_saturation.max(eval.saturation(torque_max_nm));
     }
 
@@ -576,6 +580,7 @@ impl<'e> Motion<'e> {
             energy: Energy::default(),
             min_stability: None,
             max_friction: 0.0,
+            max_friction_share: 0.0,
             max_saturation: 0.0,
             grasped: None,
         };
@@ -833,9 +838,7 @@ impl<'e> Motion<'e> {
             let eval = self
                 .pose_at(ground, state.place(), &arm, &cond, state.pose.as_ref())
                 .map_err(|failure| Stopped { failure, progress: f, state: Box::new(state) })?;
-            step.min_stability = Some(step.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
-            step.max_friction = step.max_friction.max(eval.friction_used);
-            step.max_saturation = step.max_saturation.max(eval.saturation(p.wheel_torque_max_nm));
+            step.record(&eval, p.wheel_torque_max_nm);
             state = RoverState { arm, pose: Some(eval.pose), ..state };
         }
         let lift = |arm: &ArmState| -> f64 {
@@ -857,9 +860,7 @@ impl<'e> Motion<'e> {
             progress: 0.0,
             state: Box::new(before),
         })?;
-        step.min_stability = Some(step.min_stability.map_or(eval.stability, |m| m.min(eval.stability)));
-        step.max_friction = step.max_friction.max(eval.friction_used);
-        step.max_saturation = step.max_saturation.max(eval.saturation(self.evaluator.params().wheel_torque_max_nm));
+        step.record(&eval, self.evaluator.params().wheel_torque_max_nm);
         step.state.pose = Some(eval.pose);
         Ok(())
     }
@@ -915,6 +916,7 @@ impl<'e> Motion<'e> {
             energy,
             min_stability: None,
             max_friction: 0.0,
+            max_friction_share: 0.0,
             max_saturation: 0.0,
             grasped: None,
         })

@@ -117,6 +117,57 @@ fn holding_on_a_slope_needs_mu_tan_theta_and_pitches_by_theta() {
     }
 }
 
+/// A slope whose ground sets its own friction coefficient north of `y_from` (a terrain
+/// class on part of it), and leaves the motion's elsewhere.
+struct Classed {
+    plane: Plane,
+    y_from: f64,
+    mu: f64,
+}
+
+impl Ground for Classed {
+    fn height(&self, x: f64, y: f64) -> Option<f64> {
+        self.plane.height(x, y)
+    }
+    fn normal(&self, x: f64, y: f64) -> Option<[f64; 3]> {
+        self.plane.normal(x, y)
+    }
+    fn friction(&self, _x: f64, y: f64) -> Option<f64> {
+        (y >= self.y_from).then_some(self.mu)
+    }
+}
+
+#[test]
+fn the_ground_s_own_friction_holds_where_it_sets_one_and_a_side_takes_its_slipperiest_wheel() {
+    // Holding on 20° needs μ* = tan 20° = 0.364 (the test above). The motion's μ is
+    // ample (0.6); sand of μ* − 0.001 under every wheel slips, and under the front
+    // wheels only (the front axle is 0.40 m ahead) too: one slippery wheel sets its
+    // side's μ. Sand of μ* + 0.001 holds, and the evaluation says how much friction was
+    // available.
+    let p = lsr1();
+    let ev = Evaluator::new(&p);
+    let arm = ArmState::stowed(&p);
+    let mu_star = 20f64.to_radians().tan();
+    let at = Place { x: 0.0, y: 0.0, heading: 0.0 };
+    for (y_from, mu, holds) in
+        [(-10.0, mu_star - 1e-3, false), (0.3, mu_star - 1e-3, false), (-10.0, mu_star + 1e-3, true), (0.6, 0.05, true)]
+    {
+        let g = Classed { plane: slope(20.0), y_from, mu };
+        match ev.evaluate(&g, at, &arm, &hold(0.6), None) {
+            Ok(e) => {
+                assert!(holds, "sand from y = {y_from} at μ {mu} should slip");
+                let available = if y_from < 0.6 { mu } else { 0.6 };
+                assert!((e.friction_available - available).abs() < 1e-12, "{}", e.friction_available);
+                assert!(e.friction_used <= available + 1e-9);
+            }
+            Err(v) => {
+                assert!(!holds, "sand from y = {y_from} at μ {mu}: {v:?}");
+                assert!(matches!(v, Violation::Forces { failure: ForceFailure::Slip, .. }), "{v:?}");
+            }
+        }
+    }
+}
+
 /// The normalised margin on a slope of `deg` with the rover heading `heading_deg`
 /// (0: straight up, 90: across, the slope rising on its left).
 fn margin(deg: f64, heading_deg: f64) -> Result<f64, Violation> {

@@ -111,6 +111,12 @@ pub struct ActionsJob {
     /// Execution settings (μ, stability floor, gripper reach, body box).
     #[serde(default)]
     pub execution: ga::ExecSpec,
+    /// Terrain classes on the synthesised terrain's features: each names a feature (its
+    /// index in `terrain.features`), a class and the class's wheel–ground μ, which holds
+    /// wherever the feature shapes the ground; default none (`execution.mu`
+    /// everywhere).
+    #[serde(default)]
+    pub feature_classes: Vec<ga::FeatureClassSpec>,
     /// Fitness weights.
     #[serde(default)]
     pub weights: ga::WeightsSpec,

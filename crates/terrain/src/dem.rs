@@ -92,6 +92,10 @@ pub struct Dem {
     inv_dx: f64,
     inv_dy: f64,
     georef: Georef,
+    /// The wheel–ground friction coefficient the ground sets cell by cell (its terrain
+    /// classes), row-major like the heights; NaN where it sets none. Crops and
+    /// resamplings do not carry it.
+    friction: Option<std::sync::Arc<[f32]>>,
 }
 
 /// Something a rover can stand on: height and unit normal at (x, y), metres.
@@ -117,6 +121,12 @@ pub trait Ground {
             (None, None) => 0.0,
         };
         Some((h, slope))
+    }
+
+    /// The wheel–ground friction coefficient μ the ground itself sets at (x, y) — a
+    /// terrain class's — or `None` where the motion's own μ holds (the default).
+    fn friction(&self, _x: f64, _y: f64) -> Option<f64> {
+        None
     }
 
     /// Heights at `out.len()` evenly spaced points (x0 + k·step.0, y0 + k·step.1), m —
@@ -199,6 +209,7 @@ impl Dem {
             inv_dx: 1.0 / dx,
             inv_dy: 1.0 / dy,
             georef: Georef::default(),
+            friction: None,
         })
     }
 
@@ -266,6 +277,29 @@ impl Dem {
     pub fn with_georef(mut self, georef: Georef) -> Dem {
         self.georef = georef;
         self
+    }
+
+    /// Gives the ground its own wheel–ground friction coefficient μ cell by cell
+    /// (row-major, cols × rows; NaN where it has none, and the motion's μ holds there;
+    /// else 0.01..=5).
+    pub fn with_friction(mut self, mu: Vec<f32>) -> Result<Dem> {
+        if mu.len() != self.z.len() {
+            return Err(Error::BadGrid(format!("friction of {} cells for {} cells", mu.len(), self.z.len())));
+        }
+        if let Some(bad) = mu.iter().find(|m| !m.is_nan() && !(0.01..=5.0).contains(*m)) {
+            return Err(Error::BadGrid(format!("a friction coefficient of {bad}: allowed 0.01..=5")));
+        }
+        self.friction = mu.iter().any(|m| !m.is_nan()).then(|| mu.into());
+        Ok(self)
+    }
+
+    /// The friction coefficient the ground sets in the cell holding (x, y), if it sets
+    /// one there ([`Dem::with_friction`]).
+    pub fn friction_at(&self, x: f64, y: f64) -> Option<f64> {
+        let mu = self.friction.as_ref()?;
+        let (c, r) = self.cell_at(x, y)?;
+        let m = mu[self.index(c, r)];
+        (!m.is_nan()).then_some(f64::from(m))
     }
 
     /// Marks cells as missing where `valid` is false (length cols × rows).
@@ -450,6 +484,9 @@ impl Ground for Dem {
     #[inline]
     fn height(&self, x: f64, y: f64) -> Option<f64> {
         Dem::height(self, x, y)
+    }
+    fn friction(&self, x: f64, y: f64) -> Option<f64> {
+        self.friction_at(x, y)
     }
     fn normal(&self, x: f64, y: f64) -> Option<[f64; 3]> {
         let (gx, gy) = self.gradient(x, y)?;

@@ -96,6 +96,19 @@ impl RockSpec {
     }
 }
 
+/// A terrain class on one feature of a synthesised terrain.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeatureClassSpec {
+    /// The feature's index in the terrain's `features`.
+    pub feature: usize,
+    /// The class's name (letters, digits, `_` and `-`).
+    pub class: String,
+    /// Its wheel–ground friction coefficient (0.01..=5). Sinkage is not modelled: the
+    /// wheels are rigid on rigid ground.
+    pub mu: f64,
+}
+
 /// Execution settings.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]

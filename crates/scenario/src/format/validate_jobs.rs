@@ -85,6 +85,7 @@ impl Validate for ActionsJob {
         {
             c.nested("weights", |c| c.fail_at(&field_segments(&field), message));
         }
+        validate_feature_classes(c, self);
         c.nested("execution", |c| {
             c.range("mu", self.execution.mu, 0.01, 2.0, "friction coefficient");
             c.range("stability_floor", self.execution.stability_floor, 0.0, 0.99, "fraction of the flat-ground margin");
@@ -307,6 +308,35 @@ impl Validate for TempestJob {
 }
 
 /// The planner's fields that `tick_s` replaces, refused beside it.
+fn validate_feature_classes(c: &mut Checks, job: &ActionsJob) {
+    let features = match &job.terrain {
+        TerrainSource::Synth(spec) => spec.features.len(),
+        TerrainSource::File(_) if !job.feature_classes.is_empty() => {
+            c.fail("feature_classes", "classes go on a synthesised terrain's features: the terrain is a file".into());
+            return;
+        }
+        TerrainSource::File(_) => 0,
+    };
+    let mut mu_of: std::collections::HashMap<String, f64> = std::collections::HashMap::new();
+    c.list("feature_classes", &job.feature_classes, |c, k| {
+        if k.feature >= features {
+            c.fail("feature", format!("{}: the terrain has {features} features (0..{features})", k.feature));
+        }
+        if !(1..=64).contains(&k.class.len())
+            || !k.class.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
+        {
+            c.fail("class", format!("{:?}: allowed 1 to 64 ASCII letters, digits, `_` or `-`", k.class));
+        }
+        c.range("mu", k.mu, 0.01, 2.0, "friction coefficient");
+        if let Some(&m) = mu_of.get(k.class.as_str())
+            && m != k.mu
+        {
+            c.fail("mu", format!("{}: class {:?} has μ {m} on another feature: one μ per class", k.mu, k.class));
+        }
+        mu_of.insert(k.class.clone(), k.mu);
+    });
+}
+
 fn validate_classes(c: &mut Checks, t: &crate::format::TerrainClassesSpec) {
     if t.classes.is_empty() {
         c.fail("classes", "is empty: list every class id the raster holds".into());

@@ -58,11 +58,49 @@ pub struct Setup {
     pub ga: GaConfig,
     /// Modules forced in or out of the filtered inventory.
     pub overrides: Overrides,
+    /// The terrain classes of the features, by name: μ and the cells it holds.
+    pub feature_classes: BTreeMap<String, (f64, usize)>,
+}
+
+/// The synthesised terrain with the friction of its features' classes — each class's
+/// μ wherever its feature shapes the ground (a height of its own over 1 µm), the least
+/// where two overlap — and the cells each class holds (by name: its μ and count).
+fn with_feature_classes(
+    dem: Dem,
+    job: &ActionsJob,
+    spec: &crate::format::synth::SynthSpec,
+) -> Result<(Dem, BTreeMap<String, (f64, usize)>)> {
+    if job.feature_classes.is_empty() {
+        return Ok((dem, BTreeMap::new()));
+    }
+    let mut mu = vec![f32::NAN; dem.cols() * dem.rows()];
+    let mut owner: Vec<Option<usize>> = vec![None; mu.len()];
+    for (i, k) in job.feature_classes.iter().enumerate() {
+        let feature = spec.features[k.feature].to_feature();
+        for r in 0..dem.rows() {
+            for c in 0..dem.cols() {
+                let (x, y) = dem.cell_center(c, r);
+                let cell = r * dem.cols() + c;
+                if feature.height(x, y).abs() > 1e-6 && !(mu[cell] <= k.mu as f32) {
+                    (mu[cell], owner[cell]) = (k.mu as f32, Some(i));
+                }
+            }
+        }
+    }
+    let mut cells: BTreeMap<String, (f64, usize)> =
+        job.feature_classes.iter().map(|k| (k.class.clone(), (k.mu, 0))).collect();
+    for i in owner.into_iter().flatten() {
+        if let Some(e) = cells.get_mut(&job.feature_classes[i].class) {
+            e.1 += 1;
+        }
+    }
+    Ok((dem.with_friction(mu)?, cells))
 }
 
 /// Builds an actions job's terrain, task and rover (paths relative to `file`).
 pub fn setup(job: &ActionsJob, file: &ScenarioFile) -> Result<Setup> {
     let base = file.path.parent().unwrap_or(Path::new("."));
+    let mut feature_classes = BTreeMap::new();
     let (dem, synth_rocks): (Dem, Vec<Rock>) = match &job.terrain {
         TerrainSource::Synth(spec) => {
             let rocks = spec
@@ -73,7 +111,10 @@ pub fn setup(job: &ActionsJob, file: &ScenarioFile) -> Result<Setup> {
                     _ => None,
                 })
                 .collect();
-            (spec.build()?, rocks)
+            let (dem, cells) = with_feature_classes(spec.build()?, job, spec)
+                .map_err(|e| e.referenced_by(&file.path, "job.feature_classes"))?;
+            feature_classes = cells;
+            (dem, rocks)
         }
         TerrainSource::File(rel) => (
             crate::terrain::read_dem(&base.join(rel)).map_err(|e| e.referenced_by(&file.path, "job.terrain"))?,
@@ -95,6 +136,7 @@ pub fn setup(job: &ActionsJob, file: &ScenarioFile) -> Result<Setup> {
         weights: (&job.weights).into(),
         ga: (&job.ga).into(),
         overrides: (&job.overrides).into(),
+        feature_classes,
     })
 }
 
@@ -186,7 +228,7 @@ fn mu_values(range: Option<(f64, f64, f64)>) -> Vec<f64> {
 
 /// Evolves every run (and its other seeds), scans μ and profiles the climb.
 fn compute(job: &ActionsJob, file: &ScenarioFile, opts: RunOptions<'_>, setup: &Setup) -> Result<Computed> {
-    let Setup { dem, task, params, execution, weights, ga, overrides } = setup;
+    let Setup { dem, task, params, execution, weights, ga, overrides, .. } = setup;
     let evaluator = Evaluator::new(params);
     let scale = scale_of(setup);
     let room = Surroundings::new((dem.cols() as f64 * dem.dx(), dem.rows() as f64 * dem.dy()), params);
@@ -333,6 +375,9 @@ fn report(setup: &Setup, computed: &Computed) -> Report {
         plan_modules: m,
         inventory: filtered.codes(),
         removed: (filtered.removed.iter()).map(|r| RemovedModule { code: r.code, reason: r.reason.clone() }).collect(),
+        feature_classes: (setup.feature_classes.iter())
+            .map(|(name, &(mu, cells))| (name.clone(), crate::report::actions::FeatureClassFigures { mu, cells }))
+            .collect(),
         ..ActionsReport::default()
     };
     for run in &computed.runs {

@@ -27,6 +27,8 @@ pub struct ActionsReport {
     pub inventory: Vec<u16>,
     /// The modules they removed, and why.
     pub removed: Vec<RemovedModule>,
+    /// The terrain classes on the features, by name.
+    pub feature_classes: BTreeMap<String, FeatureClassFigures>,
     /// Each GA run, by name.
     pub runs: BTreeMap<String, GaRunFigures>,
     /// The runs' names in the scenario's order.
@@ -538,4 +540,14 @@ pub struct ReplayPointRow {
     pub failure: String,
     /// The force limit that bound it.
     pub binding: Option<WheelBinding>,
+}
+
+/// A terrain class on the features of an actions job's terrain.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct FeatureClassFigures {
+    /// Its wheel–ground friction coefficient.
+    pub mu: f64,
+    /// The map cells it holds (where its features shape the ground and no class of
+    /// lower μ does).
+    pub cells: usize,
 }

@@ -15,6 +15,9 @@ pub(crate) fn summary(r: &ActionsReport) -> Vec<String> {
         r.design_space_log10_full,
         r.design_space_log10_filtered
     )];
+    for (name, c) in &r.feature_classes {
+        lines.push(format!("terrain class {name}: μ {} on {} cells of its features", c.mu, c.cells));
+    }
     let runs = || r.run_order.iter().filter_map(|name| r.runs.get(name).map(|f| (name, f)));
     for (name, f) in runs() {
         if let Some(study) = &f.study {
