@@ -314,3 +314,39 @@ fn gdal_reads_a_large_layer_as_a_cog_with_its_overviews() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// GDAL reads the gale-ground run's `classes.tif` and `no_go.tif` as COGs on the map's
+/// grid, the classes equal to the GDAL-made class map cell for cell (a histogram each)
+/// and the mask's marked cells GDAL's burnt ones.
+#[test]
+fn gdal_reads_the_class_and_mask_layers_as_the_layers_gdal_made() {
+    if !gdal_here("gdalinfo") {
+        return;
+    }
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("areo-gis-ground-{}", std::process::id()));
+    let scenario = root.join("scenarios/gale-ground.ron");
+    let out = areo(&["-q", "run", scenario.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let histogram = |path: &std::path::Path| -> (serde_json::Value, Vec<u64>) {
+        let info: serde_json::Value =
+            serde_json::from_str(&tool("gdalinfo", &["-json", "-hist", path.to_str().unwrap()])).unwrap();
+        let buckets = info["bands"][0]["histogram"]["buckets"].as_array().unwrap().iter().map(|b| b.as_u64().unwrap());
+        let counts = buckets.take(5).collect();
+        (info, counts)
+    };
+    let (ours, counts) = histogram(&dir.join("gale-ground/classes.tif"));
+    let (_, theirs) = histogram(&root.join("scenarios/data/gale_roughness_classes.tif"));
+    assert_eq!(ours["metadata"]["IMAGE_STRUCTURE"]["LAYOUT"], "COG");
+    assert_eq!(ours["size"], serde_json::json!([64, 64]));
+    assert_eq!(ours["bands"][0]["noDataValue"].as_f64(), Some(255.0));
+    assert_eq!(counts, theirs, "class counts 0..5: ours {counts:?}, GDAL's {theirs:?}");
+    assert_eq!(counts[1..4], [1481, 1865, 750]);
+    // The mask layer: 1 where GDAL burnt the polygon, 2 within the 500 m inflation.
+    let (mask, counts) = histogram(&dir.join("gale-ground/no_go.tif"));
+    assert_eq!(mask["metadata"]["IMAGE_STRUCTURE"]["LAYOUT"], "COG");
+    let (_, burnt) = histogram(&root.join("scenarios/data/gale_hazard_mask.tif"));
+    assert_eq!(counts[1], burnt[1], "marked cells: ours {counts:?}, GDAL's {burnt:?}");
+    assert_eq!(counts[2], 19);
+    let _ = std::fs::remove_dir_all(&dir);
+}

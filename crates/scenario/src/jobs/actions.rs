@@ -40,6 +40,9 @@ fn ga_error(file: &ScenarioFile, e: areo_actions::Error) -> Error {
     }
 }
 
+/// Terrain classes by name: each one's μ and the map cells it holds.
+pub type ClassCells = BTreeMap<String, (f64, usize)>;
+
 /// What an actions job plans on: the terrain, the task (with the synthesised rocks
 /// added) and the rover.
 #[derive(Debug)]
@@ -59,7 +62,7 @@ pub struct Setup {
     /// Modules forced in or out of the filtered inventory.
     pub overrides: Overrides,
     /// The terrain classes of the features, by name: μ and the cells it holds.
-    pub feature_classes: BTreeMap<String, (f64, usize)>,
+    pub feature_classes: ClassCells,
 }
 
 /// The synthesised terrain with the friction of its features' classes — each class's
@@ -69,7 +72,7 @@ fn with_feature_classes(
     dem: Dem,
     job: &ActionsJob,
     spec: &crate::format::synth::SynthSpec,
-) -> Result<(Dem, BTreeMap<String, (f64, usize)>)> {
+) -> Result<(Dem, ClassCells)> {
     if job.feature_classes.is_empty() {
         return Ok((dem, BTreeMap::new()));
     }
@@ -87,8 +90,7 @@ fn with_feature_classes(
             }
         }
     }
-    let mut cells: BTreeMap<String, (f64, usize)> =
-        job.feature_classes.iter().map(|k| (k.class.clone(), (k.mu, 0))).collect();
+    let mut cells: ClassCells = job.feature_classes.iter().map(|k| (k.class.clone(), (k.mu, 0))).collect();
     for i in owner.into_iter().flatten() {
         if let Some(e) = cells.get_mut(&job.feature_classes[i].class) {
             e.1 += 1;
