@@ -5,18 +5,9 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = root().join("target").join("ground-tests").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+mod layers;
+use layers::{ascii_grid, csv, root, run, scratch, stderr};
 
 const COLS: usize = 30;
 const ROWS: usize = 20;
@@ -24,18 +15,9 @@ const ROWS: usize = 20;
 /// so that no drive waits for the next tick (at 0.5 × and 1.5 × speed too).
 const CELL: f64 = 54.0;
 
-/// An ESRI ASCII grid on the map's 30 × 20 cells of 50 m: `value(col, row)` (row 0
-/// north).
+/// An ESRI ASCII grid on the map's 30 × 20 cells: `value(col, row)` (row 0 north).
 fn grid(dir: &Path, name: &str, value: impl Fn(usize, usize) -> String) -> String {
-    let mut text =
-        format!("ncols {COLS}\nnrows {ROWS}\nxllcorner 0\nyllcorner 0\ncellsize {CELL}\nNODATA_value -9999\n");
-    for r in 0..ROWS {
-        let row: Vec<String> = (0..COLS).map(|c| value(c, r)).collect();
-        text += &row.join(" ");
-        text.push('\n');
-    }
-    std::fs::write(dir.join(name), text).unwrap();
-    name.to_string()
+    ascii_grid(dir, name, (COLS, ROWS, CELL), value)
 }
 
 /// The centre of cell (col, row), map metres.
@@ -82,26 +64,8 @@ fn rover(dir: &Path, locomotor: &str) -> String {
     "rover.ron".into()
 }
 
-fn run(path: &Path, out: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_areo"))
-        .args(["-q", "run", path.to_str().unwrap(), "--out", out.to_str().unwrap()])
-        .output()
-        .unwrap()
-}
-
-fn csv(path: &Path) -> Vec<HashMap<String, String>> {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-    lines.map(|l| header.iter().cloned().zip(l.split(',').map(String::from)).collect()).collect()
-}
-
 fn facts(out: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(out.join("ground/facts.json")).unwrap()).unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// The plan's drives: (col, row, duration s).
@@ -114,7 +78,7 @@ fn drives(plan: &[HashMap<String, String>]) -> Vec<(String, String, f64)> {
 
 #[test]
 fn a_class_at_half_speed_doubles_every_drive_and_is_counted_and_drawn() {
-    let dir = tmp("half-speed");
+    let dir = scratch("ground-tests", "half-speed");
     let rover = rover(&dir, "");
     let (start, goal) = ((2, 10), (27, 10));
     let plain = scenario(&dir, FLAT, &rover, start, goal, "");
@@ -170,7 +134,7 @@ fn a_class_at_half_speed_doubles_every_drive_and_is_counted_and_drawn() {
 fn a_half_classified_map_costs_each_drive_by_both_its_cells() {
     // The west half sand at 0.5, the east half bedrock at 1.5: a drive inside each
     // takes 2 and 2/3 times the plain one, and the drive across the border 4/3 times.
-    let dir = tmp("border");
+    let dir = scratch("ground-tests", "border");
     let rover = rover(&dir, "");
     let file = grid(&dir, "halves.asc", |c, _| if c < 15 { "1".into() } else { "2".into() });
     let classes = format!(
@@ -208,7 +172,7 @@ fn ramp(dir: &Path) -> String {
 
 #[test]
 fn a_drive_across_a_slope_steeper_than_max_roll_is_refused_while_straight_up_passes() {
-    let dir = tmp("roll");
+    let dir = scratch("ground-tests", "roll");
     let terrain = format!("File(\"{}\")", ramp(&dir));
     // North across the 15° slope: roll 15° straight, 10.5° on the diagonals.
     let tight = rover(&dir, "max_roll_deg: 10.0, ");
@@ -243,7 +207,7 @@ fn a_drive_across_a_slope_steeper_than_max_roll_is_refused_while_straight_up_pas
 
 #[test]
 fn class_maps_that_cannot_be_used_are_refused_by_name() {
-    let dir = tmp("hostile");
+    let dir = scratch("ground-tests", "hostile");
     let plain = rover(&dir, "");
     let good = grid(&dir, "good.asc", |c, _| if c < 15 { "1".into() } else { "2".into() });
     grid(&dir, "unknown.asc", |c, r| if (c, r) == (20, 5) { "9".into() } else { "1".into() });
@@ -320,7 +284,7 @@ fn on_the_gale_crop_the_roll_limit_turns_the_route_off_the_cross_slopes() {
     // On MOLA's Gale crater, west and north-west from the eastern slopes: the rover
     // without tilt limits crosses slopes at over 12° of roll; the one limited to 12°
     // keeps every drive within it, and pays for it.
-    let dir = tmp("gale-roll");
+    let dir = scratch("ground-tests", "gale-roll");
     let (free, free_facts) = gale_without_mask(&dir, "mock-solar-rover.ron");
     let (limited, limited_facts) = gale_without_mask(&dir, "mock-solar-rover-tilt-limits.ron");
     let worst = |d: &[(String, f64, f64)]| d.iter().map(|x| x.2.abs()).fold(0.0, f64::max);
@@ -362,7 +326,7 @@ fn a_feature_of_a_slippery_class_stops_the_climb_its_friction_cannot_hold() {
     // Holding on 22° needs μ ≥ tan 22° = 0.404. The motion's μ (0.65) climbs to the
     // target; sand of μ 0.3 on the hill's flank slips; sand of μ 0.45 holds, using a
     // larger share of what it has.
-    let dir = tmp("sandy-hill");
+    let dir = scratch("ground-tests", "sandy-hill");
     let plain = sandy_hill(&dir, "plain", "");
     let slippery = sandy_hill(&dir, "slippery", "feature_classes: [(feature: 0, class: \"sand\", mu: 0.3)],");
     let firm = sandy_hill(&dir, "firm", "feature_classes: [(feature: 0, class: \"sand\", mu: 0.45)],");

@@ -3,20 +3,11 @@
 //! names, and masks that cannot be used — on the start, around a goal, off the map, on
 //! another CRS, with holes — are errors naming what is wrong.
 
-use std::collections::{HashMap, VecDeque};
+use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = root().join("target").join("no-go-tests").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+mod layers;
+use layers::{ascii_grid, csv, root, run, scratch, stderr};
 
 const COLS: usize = 30;
 const ROWS: usize = 20;
@@ -44,29 +35,7 @@ fn scenario(dir: &Path, start: (f64, f64), goal: (f64, f64), no_go: &str) -> Pat
 
 /// An ESRI ASCII mask on the map's grid: `marked(col, row)` (row 0 north) is kept out.
 fn mask(dir: &Path, name: &str, marked: impl Fn(usize, usize) -> bool) -> String {
-    let mut text =
-        format!("ncols {COLS}\nnrows {ROWS}\nxllcorner 0\nyllcorner 0\ncellsize {CELL}\nNODATA_value -9999\n");
-    for r in 0..ROWS {
-        let row: Vec<&str> = (0..COLS).map(|c| if marked(c, r) { "1" } else { "0" }).collect();
-        text += &row.join(" ");
-        text.push('\n');
-    }
-    std::fs::write(dir.join(name), text).unwrap();
-    name.to_string()
-}
-
-fn run(path: &Path, out: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_areo"))
-        .args(["-q", "run", path.to_str().unwrap(), "--out", out.to_str().unwrap()])
-        .output()
-        .unwrap()
-}
-
-fn csv(path: &Path) -> Vec<HashMap<String, String>> {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-    lines.map(|l| header.iter().cloned().zip(l.split(',').map(String::from)).collect()).collect()
+    ascii_grid(dir, name, (COLS, ROWS, CELL), |c, r| if marked(c, r) { "1" } else { "0" }.to_string())
 }
 
 /// Fewest 8-connected steps from `a` to `b` (col, row) over cells `open` allows.
@@ -95,13 +64,9 @@ fn fewest_steps(a: (usize, usize), b: (usize, usize), open: impl Fn(usize, usize
     None
 }
 
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
 #[test]
 fn a_wall_in_the_mask_forces_the_detour_a_breadth_first_search_finds() {
-    let dir = tmp("wall");
+    let dir = scratch("no-go-tests", "wall");
     // A wall down column 15 from the north edge, open in the southern row only.
     let wall = |c: usize, r: usize| c == 15 && r < 19;
     let file = mask(&dir, "wall.asc", wall);
@@ -147,7 +112,7 @@ fn a_wall_in_the_mask_forces_the_detour_a_breadth_first_search_finds() {
 
 #[test]
 fn inflation_grows_the_mask_by_its_disc_and_a_closed_ring_makes_an_island() {
-    let dir = tmp("inflate");
+    let dir = scratch("no-go-tests", "inflate");
     let file = mask(&dir, "dot.asc", |c, r| (c, r) == (20, 3));
     // 120 m around a cell of 50 m: the cells whose centres lie within it, the lattice
     // points with 2500 (dc² + dr²) ≤ 14 400, 21 of them with the dot.
@@ -172,7 +137,7 @@ fn inflation_grows_the_mask_by_its_disc_and_a_closed_ring_makes_an_island() {
 
 #[test]
 fn masks_that_cannot_be_used_are_errors_naming_what_is_wrong() {
-    let dir = tmp("bad");
+    let dir = scratch("no-go-tests", "bad");
     let wall = mask(&dir, "wall.asc", |c, r| c == 15 && r < 17);
     let out = dir.join("out");
     // Each: the no_go block, the start, the goal (map metres), what the error says.
