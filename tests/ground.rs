@@ -155,6 +155,26 @@ fn a_half_classified_map_costs_each_drive_by_both_its_cells() {
         } * plain;
         assert!((d - want).abs() <= 0.06, "drive from column {c}: {d} s, want {want}");
     }
+    // Executed: each drive's class where it starts, its time split the same way.
+    let path =
+        scenario(&dir, FLAT, &rover, (2, 10), (27, 10), &format!("{classes}, simulate: (sense_radius_cells: 1)"));
+    let run_out = dir.join("run");
+    let o = run(&path, &run_out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let executed = csv(&run_out.join("ground/executed.csv"));
+    let mut on_sand = 0.0;
+    for s in executed.iter().filter(|s| s["action"].starts_with("drive")) {
+        let c: usize = s["col"].parse().unwrap();
+        assert_eq!(s["class"], if c < 15 { "sand" } else { "bedrock" }, "{s:?}");
+        let d: f64 = s["duration_s"].parse().unwrap();
+        on_sand += match c {
+            c if c < 14 => d,
+            14 => d * 0.5 * 2.0 / (0.5 * 2.0 + 0.5 / 1.5),
+            _ => 0.0,
+        };
+    }
+    let counted = facts(&run_out)["terrain_classes.classes.sand.run_drive_time_s"].as_f64().unwrap();
+    assert!((counted - on_sand).abs() < 1.0, "{counted} vs {on_sand}");
     let f = facts(&out);
     assert_eq!(f["terrain_classes.classes.sand.cells"], 300);
     assert_eq!(f["terrain_classes.classes.bedrock.cells"], 300);
