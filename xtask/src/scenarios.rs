@@ -142,6 +142,7 @@ mod tests {
         ditch_and_hill => "ditch-and-hill",
         friction_scan_20cm => "friction-scan-20cm",
         friction_scan => "friction-scan",
+        gale_ground => "gale-ground",
         gale_mola_traverse => "gale-mola-traverse",
         gale_sol_sun => "gale-sol-sun",
         lita_scale => "lita-scale",
