@@ -859,3 +859,48 @@ fn terrain_classes_keep_the_exact_search_equal_to_the_dijkstra() {
     assert!(planned >= 6, "only {planned} seeded cases plan");
     assert!(differs >= 4, "the classes change only {differs} plans: the test tests little");
 }
+
+/// On the Gale crop with the gale-ground scenario's class factors (rough 0.7 × speed and
+/// 1.3 × power on the steeper half of the cells, the rover's own model on the rest) and a
+/// hardpan faster and thriftier than the rover's model on the gentlest cells: the exact
+/// search still equals the Dijkstra, and the classes change what the plans cost.
+#[test]
+fn on_the_gale_crop_with_terrain_classes_the_exact_search_equals_a_dijkstra() {
+    let (mut world, t0) = gale_morning();
+    let model = model(400.0, ActionConfig { energy_quantum_wh: 5.0, ..actions(1800.0) });
+    let goals = [
+        ExactGoal { cell: world.cell(1, 1), open_s: t0, close_s: t0 + 11.0 * 3600.0 },
+        ExactGoal { cell: world.cell(5, 4), open_s: t0, close_s: t0 + 11.0 * 3600.0 },
+    ];
+    let start = Start { cell: world.cell(6, 0), t_min: t0, t_max: t0, energy_wh: 150.0 };
+    let plain = exact_by(Objective::Energy, &world, start, &goals, &model).plan.map(|p| p.0);
+    let mut slopes: Vec<f64> = (0..world.cells() as u32).map(|c| world.slope_deg(c)).collect();
+    slopes.sort_by(f64::total_cmp);
+    let (gentle, median) = (slopes[slopes.len() / 4], slopes[slopes.len() / 2]);
+    let class = |name: &str, speed: f64, power: f64| areo_mission::TerrainClass {
+        name: name.into(),
+        speed_factor: speed,
+        power_factor: power,
+        max_slope_deg: None,
+    };
+    let cells = (0..world.cells() as u32)
+        .map(|c| match world.slope_deg(c) {
+            s if s >= median => 0,
+            s if s <= gentle => 1,
+            _ => areo_mission::UNCLASSIFIED,
+        })
+        .collect();
+    let classes = vec![class("rough", 0.7, 1.3), class("hardpan", 1.4, 0.8)];
+    world.set_ground(std::sync::Arc::new(areo_mission::Ground::new(classes, cells).unwrap())).unwrap();
+    for objective in [Objective::Energy, Objective::Time] {
+        let out = exact_by(objective, &world, start, &goals, &model);
+        assert!(!out.stopped);
+        let brute = brute_force_by(objective, &world, &model, start, &goals, 0.0);
+        let cost = out.plan.as_ref().map(|p| p.0);
+        assert!(agree(cost, brute, &format!("{objective:?} with classes")), "a plan exists");
+        if objective == Objective::Energy {
+            let (a, b) = (cost.unwrap(), plain.expect("a plan without classes"));
+            assert!((a - b).abs() > 1e-3, "the classes change nothing: {a} vs {b}");
+        }
+    }
+}
