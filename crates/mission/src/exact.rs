@@ -48,10 +48,13 @@ use smallvec::SmallVec;
 mod bound;
 mod forward;
 mod front;
+mod learned;
 
 use bound::Bound;
 use forward::{Forward, Refills};
 pub use front::{ExactFront, FrontPoint};
+use learned::Guides;
+pub use learned::Learned;
 
 use crate::action_model::{Action, ActionModel};
 use crate::domain::{Objective, PathLength, Start};
@@ -92,7 +95,7 @@ pub struct ExactStep {
 }
 
 /// What an exact search found and what it cost.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct ExactOutcome {
     /// The optimal plan's cost and steps, or `None`: no plan of this form exists.
     pub plan: Option<(f64, Vec<ExactStep>)>,
@@ -256,29 +259,43 @@ impl ExactQuery<'_> {
     /// search holds (its labels, their index and queue, its memo) whether to go on (a caller's work and memory budget): `false` stops the
     /// search undecided.
     pub fn solve_with(&self, go_on: &mut dyn FnMut(u64) -> bool) -> ExactOutcome {
-        self.search(go_on)
+        self.search(go_on, &[], None).0
     }
 
-    fn search(&self, go_on: &mut dyn FnMut(u64) -> bool) -> ExactOutcome {
+    /// [`ExactQuery::solve_with`] guided by what earlier searches of the same problem
+    /// learned ([`Learned`]: the same plan, less work), and, with `upper`, only for
+    /// plans cheaper than `upper` by more than a part in 10⁹: `None` in the outcome's
+    /// plan then says that none is. Also what this search learned, when it found a plan
+    /// under an objective that is a sum.
+    pub fn solve_guided(
+        &self,
+        learned: &[Learned],
+        upper: Option<f64>,
+        go_on: &mut dyn FnMut(u64) -> bool,
+    ) -> (ExactOutcome, Option<Learned>) {
+        self.search(go_on, learned, upper)
+    }
+
+    fn search(
+        &self,
+        go_on: &mut dyn FnMut(u64) -> bool,
+        learned: &[Learned],
+        upper: Option<f64>,
+    ) -> (ExactOutcome, Option<Learned>) {
         let tick = self.model.wait_step_s().unwrap_or_else(|| self.model.stay_duration_s(Action::Hibernate));
         let e_max = self.model.gain_bounds(self.world).0;
         let mut bound = Bound::new(self, e_max, tick);
+        let mut guides = Guides::new(learned, self, tick, e_max);
+        // Labels whose estimate comes within a part in 10⁹ of `upper` cannot lead to a
+        // cheaper plan.
+        let cut = upper.map_or(f64::INFINITY, |u| u - 1e-9 * u.abs().max(1.0));
         let departures = Departures::new(self.world, self.model, tick);
         let mut moves = Moves::new();
         let mut refills = Refills::new(self, tick);
         let mut nodes: Vec<Node> = Vec::new();
         let mut at = Instants::new();
         let mut open = QuaternaryHeap::new();
-        let mut out = ExactOutcome {
-            plan: None,
-            expanded: 0,
-            kept: 0,
-            between_ticks: 0,
-            instants: 0,
-            jumps: 0,
-            stopped: false,
-            bytes: 0,
-        };
+        let mut out = ExactOutcome::default();
         let start = Node {
             cell: self.start.cell,
             goal: self.reached(0, self.start.cell, self.start.t_min, self.start.energy_wh),
@@ -290,7 +307,9 @@ impl ExactQuery<'_> {
             dead: false,
         };
         self.keep(start, &mut nodes, &mut at, &mut out, tick);
-        if let Some((first, second)) = self.key(&mut bound, &start) {
+        if let Some((first, second)) = self.key(&mut bound, &mut guides, &start)
+            && first.0 < cut
+        {
             open.push(Reverse((first, second, 0u32)));
         }
         while let Some(Reverse((_, _, i))) = open.pop() {
@@ -301,24 +320,31 @@ impl ExactQuery<'_> {
             if node.goal as usize == self.goals.len() {
                 out.plan = Some((node.cost, self.steps(&nodes, i)));
                 out.jumps = refills.jumps;
-                return out;
+                // The labels and the queue are done with before the lesson is drawn from
+                // the staircases (each shard freed as it is read).
+                drop((nodes, open, moves, refills));
+                let learned = (!matches!(self.objective, Objective::Margin { .. }))
+                    .then(|| Learned::new(self, tick, e_max, node.cost, at));
+                return (out, learned);
             }
             let held = (nodes.len() * size_of::<Node>()
                 + out.instants as usize * size_of::<(Instant, Staircase)>()
                 + open.len() * size_of::<(Ordered, Ordered, u32)>()
                 + moves.bytes()
                 + refills.bytes()
-                + bound.bytes()) as u64;
+                + bound.bytes()
+                + guides.bytes()) as u64;
             out.bytes = out.bytes.max(held);
             if out.kept >= self.max_labels || !go_on(held) {
                 out.stopped = true;
                 out.jumps = refills.jumps;
-                return out;
+                return (out, None);
             }
             out.expanded += 1;
             for (next, _) in self.successors(node, i, (tick, e_max), &departures, (&mut moves, Some(&mut refills))) {
                 if !refills.passed(&next)
-                    && let Some((first, second)) = self.key(&mut bound, &next)
+                    && let Some((first, second)) = self.key(&mut bound, &mut guides, &next)
+                    && first.0 < cut
                     && let Some(j) = self.keep(next, &mut nodes, &mut at, &mut out, tick)
                 {
                     open.push(Reverse((first, second, j)));
@@ -326,7 +352,7 @@ impl ExactQuery<'_> {
             }
         }
         out.jumps = refills.jumps;
-        out
+        (out, None)
     }
 
     /// A label's place in the queue, or `None` where the bound is infinite (no plan from
@@ -335,10 +361,13 @@ impl ExactQuery<'_> {
     /// no useful estimate: the cost, then the earliest arrival — A* on time among the
     /// labels of equal margin, so that the first label at the last goal has the least
     /// margin used and, of those, arrives first.
-    fn key(&self, bound: &mut Bound<'_>, node: &Node) -> Option<(Ordered, Ordered)> {
-        let rest = bound.at(node.cell, node.goal, node.t, node.e);
+    fn key(&self, bound: &mut Bound<'_>, guides: &mut Guides<'_>, node: &Node) -> Option<(Ordered, Ordered)> {
+        let mut rest = bound.at(node.cell, node.goal, node.t, node.e);
         if !rest.is_finite() {
             return None;
+        }
+        if guides.any() {
+            rest = guides.at(bound, node, rest);
         }
         Some(match self.objective {
             Objective::Margin { .. } => {

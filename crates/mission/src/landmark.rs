@@ -52,6 +52,16 @@ impl Landmark {
         l
     }
 
+    /// The map for the nearest of several anchors (a Dijkstra from all at once).
+    pub(crate) fn from_anchors(anchors: &[u32]) -> Landmark {
+        let mut l = Landmark { pages: Vec::new(), held: 0, heap: BinaryHeap::new(), radius: 0.0 };
+        for &a in anchors {
+            l.set(a, 0.0);
+            l.heap.push(Reverse((0f64.to_bits(), a)));
+        }
+        l
+    }
+
     fn value(&self, cell: u32) -> f64 {
         let i = cell as usize;
         self.pages.get(i / PAGE).and_then(|p| p.as_deref()).map_or(f64::INFINITY, |p| p[i % PAGE])

@@ -778,7 +778,7 @@ impl<'a> Mission<'a> {
     pub fn replan(&mut self, changed: &[u32]) -> Result<MissionPlan> {
         self.allowance.begin();
         if self.tick.is_some() {
-            return self.tick_plan(changed.is_empty());
+            return self.tick_plan(changed);
         }
         self.solve_from(None, changed, false);
         self.allowance.check()?;
@@ -794,7 +794,7 @@ impl<'a> Mission<'a> {
         self.start = start;
         self.given_t_max = start.t_max;
         if self.tick.is_some() {
-            return self.tick_plan(changed.is_empty());
+            return self.tick_plan(changed);
         }
         self.widen_start();
         let start = self.start;
@@ -878,6 +878,12 @@ impl<'a> Mission<'a> {
         self.allowance.spent()
     }
 
+    /// Whether the last call on a tick kept the rest of the plan before: nothing
+    /// changed, or a repair proved the rest optimal (always false off a tick).
+    pub fn kept_rest(&self) -> bool {
+        self.tick.as_ref().is_some_and(|t| t.reused)
+    }
+
     /// Search statistics of the last call, per segment.
     pub fn stats(&self) -> Vec<Stats> {
         self.segments.iter().map(|s| s.stats).collect()
@@ -896,7 +902,7 @@ impl<'a> Mission<'a> {
     /// Sun table).
     pub fn search_bytes(&self) -> u64 {
         if let Some(t) = &self.tick {
-            return t.bytes;
+            return t.bytes + t.learned_bytes();
         }
         let geometry = self.segments.first().map_or(0, |s| s.domain.geometry_bytes() as u64);
         geometry + self.segments.iter().map(|s| s.search.bytes() + s.domain.landmark_bytes() as u64).sum::<u64>()

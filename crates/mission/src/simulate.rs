@@ -148,6 +148,10 @@ pub struct PlanRecord {
     pub search_bytes: u64,
     /// Whether the route ahead differs from the previous plan's remaining route.
     pub route_changed: bool,
+    /// Whether the re-plan kept the rest of the plan before: nothing changed, or a
+    /// repair proved the rest optimal after sensing changed cells off it.
+    #[serde(default)]
+    pub kept_rest: bool,
     /// With [`SimConfig::compare_fresh`]: the same problem planned from scratch — its
     /// expansions and cost (`None` when not compared, or no fresh plan exists).
     pub fresh: Option<(u64, f64)>,
@@ -454,6 +458,7 @@ fn initial_plan<'a>(simulation: &Simulation<'a>) -> Result<(Mission<'a>, Mission
         changed_cells: sensed.len(),
         search_bytes: mission.search_bytes(),
         route_changed: true,
+        kept_rest: false,
         fresh: None,
         restart: None,
         plan: plan.clone(),
@@ -567,6 +572,7 @@ fn record_replan(
         changed_cells,
         search_bytes: mission.search_bytes(),
         route_changed,
+        kept_rest: restart.is_none() && mission.kept_rest(),
         fresh,
         restart,
         plan: p.clone(),

@@ -15,7 +15,7 @@ use areo_mission::{Action, ActionConfig, ActionModel, Effect, Objective, PathLen
 use crate::common::{mars_world, model};
 
 /// Rolling ground on 20 m cells, its relief and phase from `seed`.
-fn hills(cols: usize, rows: usize, seed: u64) -> areo_terrain::Dem {
+pub(crate) fn hills(cols: usize, rows: usize, seed: u64) -> areo_terrain::Dem {
     let a = 2.0 + (seed % 7) as f64;
     let p = (seed % 13) as f64;
     areo_terrain::Dem::from_fn(cols, rows, 20.0, 20.0, move |x, y| {
@@ -25,7 +25,7 @@ fn hills(cols: usize, rows: usize, seed: u64) -> areo_terrain::Dem {
 }
 
 /// Drives in daylight only and at any heading; waits in steps of `tick_s`.
-fn actions(tick_s: f64) -> ActionConfig {
+pub(crate) fn actions(tick_s: f64) -> ActionConfig {
     let mut a = ActionConfig { wait_step_s: Some(tick_s), ..Default::default() };
     a.drive.sun_in_camera = false;
     a
@@ -53,7 +53,7 @@ fn brute_force(world: &World, model: &ActionModel, start: Start, goals: &[ExactG
 /// [`brute_force`] under `objective`: L + B or Time summed over the steps, or Margin —
 /// the most the battery falls below its start inside any step (a path's worst, which
 /// only grows along it, so the Dijkstra holds).
-fn brute_force_by(
+pub(crate) fn brute_force_by(
     objective: Objective,
     world: &World,
     model: &ActionModel,
@@ -136,10 +136,10 @@ fn brute_force_by(
 }
 
 /// A small deterministic generator for the seeded cases.
-struct Seeds(u64);
+pub(crate) struct Seeds(pub(crate) u64);
 
 impl Seeds {
-    fn next(&mut self) -> f64 {
+    pub(crate) fn next(&mut self) -> f64 {
         self.0 ^= self.0 << 13;
         self.0 ^= self.0 >> 7;
         self.0 ^= self.0 << 17;
@@ -150,13 +150,13 @@ impl Seeds {
 /// A seeded case on a 6 × 4 world: start and one or two goals, a morning or
 /// afternoon start, a battery of 150 Wh with 2–40 Wh at the start, goal windows from
 /// the start to `window_h` later.
-struct Case {
-    world: World,
-    start: Start,
-    goals: Vec<ExactGoal>,
+pub(crate) struct Case {
+    pub(crate) world: World,
+    pub(crate) start: Start,
+    pub(crate) goals: Vec<ExactGoal>,
 }
 
-fn case(seed: u64, window_h: f64) -> Case {
+pub(crate) fn case(seed: u64, window_h: f64) -> Case {
     let mut r = Seeds(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
     let world = mars_world(hills(6, 4, seed), 30.0, None);
     let cell = |r: &mut Seeds| world.cell((r.next() * 6.0) as usize % 6, (r.next() * 4.0) as usize % 4);
@@ -286,7 +286,7 @@ fn halving_the_tick_never_loses_a_plan_over_200_seeded_worlds() {
 
 /// The 7 × 5 crop of the MOLA Gale map over 30 h, and the first minute the Sun stands
 /// 8° above its horizon, s.
-fn gale_morning() -> (World, f64) {
+pub(crate) fn gale_morning() -> (World, f64) {
     let (crop, config) = crate::common::gale_crop(30.0);
     let world = World::new(crop, &config, &areo_ephemeris::Mars24).unwrap();
     let mut t0 = 0.0;

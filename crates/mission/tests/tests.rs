@@ -10,6 +10,7 @@ mod grid_north;
 mod ground;
 mod pareto;
 mod planning;
+mod repair;
 mod sensing;
 mod simulation;
 mod terrain_error;

@@ -307,6 +307,138 @@ impl<'a> Bound<'a> {
     }
 }
 
+/// Lower bounds on what a plan that reaches one of a set of cells costs from a label,
+/// whatever the cells' data now are: for a cell x, the least drives from the label's
+/// cell to x, then at some instant t′ on from the label's, the bound from x at t′ with
+/// any battery and any goal reached since — with the cost the clock itself charges
+/// between the two instants (the deep night under L + B, the time under Time), which
+/// both parts of the plan pay separately and so add. A learned bound
+/// ([`super::learned`]) is clamped by these: it was true of a world without the cells'
+/// changes, and only plans that reach them can have become cheaper.
+///
+/// The most recent [`Through::OWN`] cells are bounded each on its own; older ones
+/// together (the least drives to any of them, the least of their bounds): looser, but
+/// what it holds does not grow with them.
+pub(super) struct Through {
+    own: Vec<Reach>,
+    older: Option<Reach>,
+}
+
+/// The cells a [`Reach`] bounds plans through, the least drives from any cell to the
+/// nearest of them, and on first use, per goal reached and tick index up to the last
+/// goal's close, the least over that tick and every later one of each clock's cost
+/// since the epoch plus the least bound from one of the cells with a full battery and
+/// that many goals reached or more: with the clock that adds to the drives (`.0`) and
+/// with the one that covers them (`.1`).
+struct Reach {
+    cells: Vec<u32>,
+    to: Backward,
+    suffix: Option<Vec<(Vec<f64>, Vec<f64>)>>,
+}
+
+impl Through {
+    /// Cells bounded each on its own.
+    const OWN: usize = 16;
+
+    /// Bounds for `cells`, the most recently changed last.
+    pub(super) fn new(cells: &[u32]) -> Through {
+        let split = cells.len().saturating_sub(Self::OWN);
+        let reach = |cells: &[u32]| Reach {
+            cells: cells.to_vec(),
+            to: Backward { row: OBJECTIVE, distances: Landmark::from_anchors(cells) },
+            suffix: None,
+        };
+        Through {
+            own: cells[split..].iter().map(|c| reach(std::slice::from_ref(c))).collect(),
+            older: (split > 0).then(|| reach(&cells[..split])),
+        }
+    }
+
+    pub(super) fn bytes(&self) -> usize {
+        self.own.iter().chain(&self.older).map(Reach::bytes).sum()
+    }
+}
+
+impl Reach {
+    fn bytes(&self) -> usize {
+        self.to.distances.bytes() + self.suffix.iter().flatten().map(|(a, b)| (a.len() + b.len()) * 8).sum::<usize>()
+    }
+}
+
+impl Bound<'_> {
+    /// The clocks' costs from the epoch to `t`: the one that adds to the drives' floors
+    /// and the one that covers the drives ([`Through`]).
+    fn clocks(&self, t: f64) -> (f64, f64) {
+        if self.time_objective {
+            return (0.0, t);
+        }
+        match &self.dark {
+            Some(d) => (d.at(t), d.any_at(t)),
+            None => (0.0, 0.0),
+        }
+    }
+
+    /// The least cost of any plan from a label at `cell` at `t`, `goal` goals reached,
+    /// that reaches one of `through`'s cells (infinite: none can).
+    pub(super) fn through(&mut self, through: &mut Through, cell: u32, goal: u16, t: f64) -> f64 {
+        let j = (t / self.tick + 1e-9).floor();
+        if j < 0.0 {
+            return 0.0;
+        }
+        let now = self.clocks(t);
+        let mut least = f64::INFINITY;
+        for reach in through.own.iter_mut().chain(through.older.as_mut()) {
+            least = least.min(self.reach(reach, cell, goal, j as usize, now));
+        }
+        least
+    }
+
+    fn reach(&mut self, reach: &mut Reach, cell: u32, goal: u16, j: usize, (now_add, now_cover): (f64, f64)) -> f64 {
+        let drives = distance(&mut reach.to, &mut self.weights, cell);
+        if !drives.is_finite() {
+            return f64::INFINITY;
+        }
+        if reach.suffix.is_none() {
+            reach.suffix = Some(self.suffix_minima(&reach.cells));
+        }
+        let per_goal = reach.suffix.as_ref().expect("just made");
+        let Some((add, cover)) = per_goal.get(goal as usize) else { return f64::INFINITY };
+        let Some(&a) = add.get(j) else { return f64::INFINITY };
+        (drives + a - now_add).max(cover[j] - now_cover).max(0.0)
+    }
+
+    /// [`Reach`]'s suffix minima for `cells`.
+    fn suffix_minima(&mut self, cells: &[u32]) -> Vec<(Vec<f64>, Vec<f64>)> {
+        let goals = self.per_goal.len();
+        let ticks = (self.close_s.min(self.weights.weigher.world.span_s()) / self.tick + 1e-9).floor() as usize + 1;
+        let full = self.weights.weigher.model.capacity_wh();
+        // A cell no drive enters is never reached (its bound would search the whole map
+        // to find no way on from it).
+        let mut open = Vec::with_capacity(cells.len());
+        for &c in cells {
+            if Weights::into(&mut self.weights, c)[OBJECTIVE].iter().any(|w| w.is_finite()) {
+                open.push(c);
+            }
+        }
+        let mut out = vec![(vec![f64::INFINITY; ticks], vec![f64::INFINITY; ticks]); goals];
+        for j in (0..ticks).rev() {
+            let t = j as f64 * self.tick;
+            let (add, cover) = self.clocks(t);
+            let mut rest = f64::INFINITY;
+            for g in (0..goals).rev() {
+                for &cell in &open {
+                    rest = rest.min(self.at(cell, g as u16, t, full));
+                }
+                let later = out[g].0.get(j + 1).copied().unwrap_or(f64::INFINITY);
+                out[g].0[j] = (add + rest).min(later);
+                let later = out[g].1.get(j + 1).copied().unwrap_or(f64::INFINITY);
+                out[g].1[j] = (cover + rest).min(later);
+            }
+        }
+        out
+    }
+}
+
 /// Sessions widened to whole tick intervals: from the first tick at or after each
 /// start to the first at or after its end (empty where no tick falls inside).
 fn on_ticks(sessions: &[(f64, f64)], tick: f64) -> Vec<(f64, f64)> {

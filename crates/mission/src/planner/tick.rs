@@ -5,18 +5,26 @@
 //! whose drives depart on ticks and whose waits end on them, and "unreachable" is a
 //! proof at that tick.
 //!
-//! Re-planning searches afresh, so a re-plan *is* what a fresh search returns — with
-//! one shortcut that changes nothing: when the world did not change and the rover
-//! stands where, when and with the battery the last plan said it would (on a tick,
-//! after the settle), the rest of that plan is kept. By Bellman's principle it is
-//! optimal from there: a cheaper way on would, after the part already driven, have
-//! been a cheaper plan from the start, which the exact search would have returned.
+//! A re-plan returns what a fresh search returns, with less work:
+//!
+//! - When the world did not change and the rover stands where, when and with the
+//!   battery the last plan said it would (on a tick, after the settle), the rest of
+//!   that plan is kept. By Bellman's principle it is optimal from there: a cheaper way
+//!   on would, after the part already driven, have been a cheaper plan from the start,
+//!   which the exact search would have returned.
+//! - When sensing changed cells the rest of the plan does not touch, the rest still
+//!   costs what it did, and only plans through the changed cells can have become
+//!   cheaper: a *repair* searches for a plan cheaper than the rest, guided by the cost
+//!   to go that earlier searches learned ([`crate::exact::Learned`]), which is exact
+//!   wherever nothing changed. It expands the labels whose bound the change lowered
+//!   below the rest's cost; none left proves the rest optimal.
+//! - Otherwise a search from the rover's state, guided the same way.
 
 use super::{Allowance, Mission, PlannerConfig};
 use crate::action_model::{Action, ActionModel};
 use crate::domain::{Label, SharedGeometry, Start};
 use crate::error::{Error, Result};
-use crate::exact::{ExactGoal, ExactOutcome, ExactQuery, ExactStep};
+use crate::exact::{ExactGoal, ExactOutcome, ExactQuery, ExactStep, Learned};
 use crate::plan::{MissionPlan, Waypoint};
 use crate::world::World;
 
@@ -24,7 +32,7 @@ use crate::world::World;
 const SAME_STATE: f64 = 1e-6;
 
 /// What a mission on a tick keeps between planning calls.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Default)]
 pub(super) struct TickState {
     /// The goal windows of the goals still ahead, s after the epoch, fixed when the
     /// mission was planned (a re-plan answers the same problem as a fresh search).
@@ -35,8 +43,39 @@ pub(super) struct TickState {
     pub expanded: u64,
     pub kept: u64,
     pub bytes: u64,
-    /// Whether the last call kept the rest of the plan before instead of searching.
+    /// Whether the last call kept the rest of the plan before (without a search, or
+    /// after a repair proved it optimal).
     pub reused: bool,
+    /// Cells sensing changed since the last plan was searched.
+    changed: Vec<u32>,
+    /// What the largest recent searches learned, oldest first.
+    learned: Vec<Learned>,
+}
+
+/// The most searches whose learned cost-to-go is kept.
+const LEARNED_LAYERS: usize = 2;
+
+/// The most cells changed since a search for what it learned to be kept.
+const MOST_CHANGED: usize = 256;
+
+impl TickState {
+    /// Bytes the learned cost-to-go holds.
+    pub(super) fn learned_bytes(&self) -> u64 {
+        self.learned.iter().map(Learned::bytes).sum()
+    }
+
+    /// Keeps what a search learned if it is not much smaller than the newest kept: a
+    /// repair's few labels would push out a search's many.
+    fn learn(&mut self, learned: Option<Learned>) {
+        let Some(l) = learned else { return };
+        if self.learned.last().is_some_and(|newest| l.labels() * 8 < newest.labels()) {
+            return;
+        }
+        self.learned.push(l);
+        if self.learned.len() > LEARNED_LAYERS {
+            self.learned.remove(0);
+        }
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -152,36 +191,80 @@ impl<'a> Mission<'a> {
         Ok(out)
     }
 
+    /// [`Mission::tick_solve`] guided by what earlier searches learned, for a plan
+    /// cheaper than `upper` if given; also what this search learned.
+    fn tick_solve_guided(&self, query: &ExactQuery<'_>, upper: Option<f64>) -> Result<(ExactOutcome, Option<Learned>)> {
+        let allowance = &self.allowance;
+        let meter = &self.config.meter;
+        let state = self.tick.as_ref().expect("a mission on a tick");
+        let learned_bytes = state.learned_bytes();
+        let out = query.solve_guided(&state.learned, upper, &mut |held| {
+            allowance.spend();
+            meter.add(1);
+            !allowance.exhausted() && !allowance.outgrown(held + learned_bytes)
+        });
+        allowance.check()?;
+        Ok(out)
+    }
+
     /// The plan from the mission's start as the world now stands: the rest of the last
     /// plan if `reuse` and the rover is where it said (see the module's documentation),
     /// else an exact search. No plan: the verdict, a proof at the tick.
-    pub(super) fn tick_plan(&mut self, reuse: bool) -> Result<MissionPlan> {
+    pub(super) fn tick_plan(&mut self, changed: &[u32]) -> Result<MissionPlan> {
         let start = self.start;
         let goals = self.goals.len();
         let state = self.tick.as_mut().expect("a mission on a tick");
+        for l in &mut state.learned {
+            l.sensed(changed);
+        }
+        // A lesson whose world has changed in many cells bounds little that the
+        // search's own bound does not, and costs a bound per change to use.
+        state.learned.retain(|l| l.changed() <= MOST_CHANGED);
+        state.changed.extend_from_slice(changed);
+        state.changed.sort_unstable();
+        state.changed.dedup();
         // A margin is a plan's worst moment, not a sum: the rest of the plan with the
         // least margin used need not be the best rest (its worst moment may lie
         // behind), so a plan by Margin is always searched afresh.
-        let reuse = reuse && !matches!(self.config.objective, crate::domain::Objective::Margin { .. });
-        let rest = if reuse { state.last.as_ref().and_then(|k| k.rest_from(start, goals)) } else { None };
-        if let Some((steps, cost)) = rest {
+        let sum = !matches!(self.config.objective, crate::domain::Objective::Margin { .. });
+        let rest = if sum { state.last.as_ref().and_then(|k| k.rest_from(start, goals)) } else { None };
+        let rest = rest.filter(|(steps, _)| !touches(self.world, steps, &state.changed));
+        if let Some((steps, cost)) = &rest
+            && state.changed.is_empty()
+        {
             state.reused = true;
             state.expanded = 0;
-            return Ok(self.tick_waypoints(&steps, cost, 0));
+            return Ok(self.tick_waypoints(steps, *cost, 0));
         }
         // Goals that slopes or obstacles cut off (sensing may have cut them off since the
         // plan): a proof without a search.
         super::problem::check_problem(self.world, self.model, &self.config, start, &self.goals)?;
-        self.tick_search()
+        let Some((steps, cost)) = rest else { return self.tick_search() };
+        // The rest avoids every changed cell, so it costs what it did: repair.
+        let (out, _) = self.tick_solve_guided(&self.tick_query(self.model, start), Some(cost))?;
+        let state = self.tick.as_mut().expect("a mission on a tick");
+        (state.expanded, state.kept, state.bytes) = (out.expanded, out.kept, out.bytes);
+        if let Some((better, steps)) = out.plan {
+            state.reused = false;
+            state.changed.clear();
+            state.last = Some(KeptPlan { steps: steps.clone(), start_wh: start.energy_wh, goals });
+            return Ok(self.tick_waypoints(&steps, better, out.expanded));
+        }
+        // The rest is now proven optimal on the world as it stands.
+        state.reused = true;
+        state.changed.clear();
+        Ok(self.tick_waypoints(&steps, cost, out.expanded))
     }
 
     /// One exact search from the mission's start (its problem checked already), kept as
     /// the last plan.
     fn tick_search(&mut self) -> Result<MissionPlan> {
         let (start, goals) = (self.start, self.goals.len());
-        let out = self.tick_solve(&self.tick_query(self.model, start))?;
+        let (out, learned) = self.tick_solve_guided(&self.tick_query(self.model, start), None)?;
         let state = self.tick.as_mut().expect("a mission on a tick");
         (state.reused, state.expanded, state.kept, state.bytes) = (false, out.expanded, out.kept, out.bytes);
+        state.changed.clear();
+        state.learn(learned);
         let Some((cost, steps)) = out.plan else {
             state.last = None;
             return Err(self.explain_unreachable());
@@ -274,6 +357,27 @@ impl<'a> Mission<'a> {
              at a tick is one at half of it); a finer tick may"
         )
     }
+}
+
+/// Whether any of `steps` starts or ends in one of the `changed` cells (sorted).
+fn touches(world: &World, steps: &[ExactStep], changed: &[u32]) -> bool {
+    let hit = |c: u32| changed.binary_search(&c).is_ok();
+    steps.iter().any(|s| {
+        hit(s.cell)
+            || match s.action {
+                Action::Drive(k) => {
+                    let (c, r) = world.col_row(s.cell);
+                    let (dc, dr) = crate::action_model::NEIGHBOURS[k as usize];
+                    let (nc, nr) = (c as i64 + i64::from(dc), r as i64 + i64::from(dr));
+                    nc < 0
+                        || nr < 0
+                        || nc >= world.cols() as i64
+                        || nr >= world.rows() as i64
+                        || hit(world.cell(nc as usize, nr as usize))
+                }
+                _ => false,
+            }
+    })
 }
 
 /// The least battery above the floor each step needs at its start for the plan to

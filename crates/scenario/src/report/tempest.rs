@@ -313,8 +313,16 @@ pub struct RunFigures {
     pub replan_expansions_max: Option<f64>,
     /// Re-plans that repaired the kept graphs for cells sensing changed.
     pub replans_after_sensing: usize,
-    /// On a tick: re-plans that kept the rest of the last plan.
+    /// On a tick: re-plans that kept the rest of the last plan without a search.
     pub replans_kept_rest: Option<usize>,
+    /// On a tick: re-plans after sensing changed the map whose repair proved the rest
+    /// of the plan optimal.
+    pub replans_repaired: Option<usize>,
+    /// On a tick: the expansions of the re-plans after sensing changed the map against
+    /// the initial plan's, median.
+    pub sensing_replan_expansions_median: Option<f64>,
+    /// 95th percentile.
+    pub sensing_replan_expansions_p95: Option<f64>,
     /// With `compare_fresh`: re-plans compared with fresh searches.
     pub fresh_compared: Option<usize>,
     /// Of those, how many expanded more than the fresh search.

@@ -226,6 +226,22 @@ pub(super) fn search_facts(f: &mut RunFigures, r: &SimReport) -> f64 {
     if r.plans.first().is_some_and(|p| p.plan.tick_s.is_some()) {
         let kept = replans.filter(|p| p.expansions == 0).count();
         f.replans_kept_rest = Some(kept);
+        // Re-plans after sensing changed the map: their work against the initial
+        // plan's, and how many a repair ended by proving the rest of the plan optimal.
+        let initial = r.plans[0].expansions.max(1) as f64;
+        let mut sensed: Vec<f64> = r
+            .plans
+            .iter()
+            .filter(|p| p.kind != PlanKind::Initial && p.changed_cells > 0)
+            .map(|p| p.expansions as f64 / initial)
+            .collect();
+        sensed.sort_by(f64::total_cmp);
+        if !sensed.is_empty() {
+            f.sensing_replan_expansions_median = Some(sensed[sensed.len() / 2]);
+            f.sensing_replan_expansions_p95 = Some(p95(&sensed));
+        }
+        f.replans_repaired =
+            Some(r.plans.iter().filter(|p| p.kind == PlanKind::Replan && p.changed_cells > 0 && p.kept_rest).count());
     }
     // With `compare_fresh`: re-plans against the same problem searched from scratch.
     let compared: Vec<(&areo_mission::PlanRecord, (u64, f64))> =

@@ -262,7 +262,18 @@ fn simulated(lines: &mut Vec<String>, r: &TempestReport, f: &RunFigures) {
     if let Some(kept) = f.replans_kept_rest {
         lines.push(format!(
             "re-plans on the tick: {kept} kept the rest of the last plan (the world unchanged, the rover where the \
-             plan said), the others searched exactly from where the rover stood"
+             plan said), {} after sensing kept it once a repair proved it optimal, the others searched exactly from \
+             where the rover stood",
+            f.replans_repaired.unwrap_or(0)
+        ));
+    }
+    if let (Some(median), Some(p95)) = (f.sensing_replan_expansions_median, f.sensing_replan_expansions_p95) {
+        lines.push(format!(
+            "re-plans after sensing changed the map ({}): expansions median {:.2} %, 95th percentile {:.1} % of the \
+             initial plan's",
+            f.replans_after_sensing,
+            100.0 * median,
+            100.0 * p95
         ));
     }
     if let (Some(compared), Some(above), Some(worst)) =
