@@ -148,6 +148,10 @@ pub enum Binding {
     /// rover and its actions have): no one of them relaxed alone makes a plan, all
     /// relaxed at once do. The error's message names the ones relaxed.
     Together,
+    /// No plan exists (proven), but the searches that relax one constraint at a time to
+    /// name the one that binds ran out of their share of the call's work or memory
+    /// before they could tell.
+    Undetermined,
 }
 
 impl Binding {
@@ -172,6 +176,10 @@ impl Binding {
             Binding::Together => {
                 "several constraints together (battery, darkness, shadow, the Sun in the cameras, sessions: \
                  none relaxed alone makes a plan, all relaxed at once do)"
+            }
+            Binding::Undetermined => {
+                "not determined (the searches that relax one constraint at a time ran out of their share of the \
+                 work or memory budget)"
             }
         }
     }

@@ -187,6 +187,58 @@ fn unreachable_on_a_tick_is_a_proof_naming_what_binds() {
     assert!(plan_with(450.0).is_ok());
 }
 
+/// A proof stays a proof when the searches that name the binding constraint run out of
+/// work: the verdict says the constraint was not determined (never a budget stop).
+/// Below the proof's own work the call is stopped undecided, as before.
+#[test]
+fn a_proof_whose_probes_run_out_of_work_stays_a_proof() {
+    let world = mars_world(ground(false), 40.0, Some(16));
+    let model = model(600.0, actions());
+    let t0 = sunset_after(&world, 0.0) - 600.0;
+    let goal = world.cell(14, 1);
+    let start = Start { cell: world.cell(1, 10), t_min: t0, t_max: t0, energy_wh: 100.0 };
+    let plan_with = |max_expansions: Option<u64>| {
+        let meter = areo_mission::ExpansionMeter::counting();
+        let config = PlannerConfig { max_expansions, meter: meter.clone(), ..planner(Objective::Energy) };
+        (Mission::plan(&world, &model, config, start, &[goal]).map(|(_, p)| p), meter)
+    };
+    // Unlimited: the proof, then the probes, which name the battery.
+    let (verdict, meter) = plan_with(None);
+    assert!(matches!(verdict, Err(Error::Unreachable { binding: Binding::Battery, .. })), "{verdict:?}");
+    let by_phase = meter.expansions_by_phase();
+    let proof = by_phase[0].1;
+    let probes: u64 = by_phase[1..].iter().map(|p| p.1).sum();
+    assert!(proof > 0 && probes > 0, "{by_phase:?}");
+    // The budget covers the proof and a little of the probes.
+    match plan_with(Some(proof + probes / 10)).0 {
+        Err(Error::Unreachable { binding, message, proven }) => {
+            assert_eq!(binding, Binding::Undetermined, "{message}");
+            assert!(proven, "{message}");
+            assert!(message.contains("not determined") && message.contains("proven at the tick"), "{message}");
+        }
+        other => panic!("expected a proof with the binding undetermined, got {other:?}"),
+    }
+    // Short of the proof: no verdict.
+    assert!(matches!(plan_with(Some(proof / 2)).0, Err(Error::WorkLimit { .. })));
+}
+
+/// The paper's L in steps is not searched on a tick (a wait split in two would cost more
+/// than the whole): refused, naming the field.
+#[test]
+fn steps_as_the_path_length_are_refused_on_a_tick() {
+    let world = mars_world(ground(false), 10.0, None);
+    let model = model(150.0, actions());
+    let start = Start { cell: world.cell(1, 10), t_min: 0.0, t_max: 0.0, energy_wh: 50.0 };
+    let config = PlannerConfig { path_length: areo_mission::PathLength::Steps, ..planner(Objective::Energy) };
+    match Mission::plan(&world, &model, config, start, &[world.cell(5, 5)]) {
+        Err(Error::Config { field, message }) => {
+            assert_eq!(field, "path_length");
+            assert!(message.contains("Steps") && message.contains("approximate: true"), "{message}");
+        }
+        other => panic!("expected a configuration error, got {other:?}"),
+    }
+}
+
 #[test]
 fn a_tick_needs_the_rover_to_wait_in_its_steps() {
     let world = mars_world(ground(false), 10.0, None);

@@ -100,6 +100,7 @@ fn the_knobs_a_tick_replaces_are_refused_naming_tick_s() {
         ("planner: (tick_s: Some(600), resolution: (time_s: 600)),", "planner.resolution"),
         ("planner: (tick_s: Some(600), actions: (wait_step_s: Some(600))),", "planner.actions.wait_step_s"),
         ("planner: (tick_s: Some(600), segment_starts: 3),", "planner.segment_starts"),
+        ("planner: (tick_s: Some(600), path_length: Steps),", "planner.path_length"),
     ] {
         let err = load(&small_with(&[(SMALL_PLANNER, planner)], "refused.ron")).expect_err(planner).to_string();
         assert!(err.contains(field) && err.contains("tick_s") && err.contains("refused.ron"), "{planner}: {err}");

@@ -55,6 +55,13 @@ pub(super) struct TickState {
 /// The most searches whose learned cost-to-go is kept.
 const LEARNED_LAYERS: usize = 2;
 
+/// The probes that name the binding constraint after a proof may expand this many times
+/// the labels the proof expanded, and at least [`PROBE_FLOOR`].
+const PROBE_SHARE: u64 = 4;
+
+/// The least share of the probes, expansions (a small proof's probes run to the end).
+const PROBE_FLOOR: u64 = 2_000_000;
+
 /// The most cells changed since a search for what it learned to be kept.
 const MOST_CHANGED: usize = 256;
 
@@ -128,7 +135,7 @@ impl<'a> Mission<'a> {
         goals: &[u32],
     ) -> Result<(Mission<'a>, MissionPlan)> {
         let tick_s = config.tick_s.expect("a mission on a tick");
-        check_tick(model, tick_s)?;
+        check_tick(model, &config, tick_s)?;
         let allowance = Allowance::new(config.max_expansions, config.max_search_bytes);
         let mut mission = Mission {
             world,
@@ -267,6 +274,9 @@ impl<'a> Mission<'a> {
         state.learn(learned);
         let Some((cost, steps)) = out.plan else {
             state.last = None;
+            // The search proved it: the probes that name the binding constraint get a
+            // bounded share of the work, so that the verdict comes about as fast.
+            self.allowance.share_for_probes(PROBE_SHARE.saturating_mul(out.expanded).max(PROBE_FLOOR));
             return Err(self.explain_unreachable());
         };
         state.last = Some(KeptPlan { steps: steps.clone(), start_wh: start.energy_wh, goals });
@@ -418,7 +428,21 @@ fn waypoint(
 }
 
 /// A mission's settings refused on a tick, naming the field.
-pub(super) fn check_tick(model: &ActionModel, tick_s: f64) -> Result<()> {
+pub(super) fn check_tick(model: &ActionModel, config: &PlannerConfig, tick_s: f64) -> Result<()> {
+    if config.path_length != crate::domain::PathLength::Distance {
+        // The exact search counts L as drive length (a wait's share its length over a
+        // Hibernate's); counting every step as one would make a wait split in two dearer
+        // than the whole, and the waits on a tick compose.
+        return Err(Error::Config {
+            field: "path_length",
+            message: format!(
+                "{:?} is not searched on a tick ({tick_s} s): the exact search counts L as the distance driven, a \
+                 wait its length over a Hibernate's, so that waits split anywhere cost the whole; use `Distance`, \
+                 or `Steps` with `approximate: true`",
+                config.path_length
+            ),
+        });
+    }
     if model.wait_step_s() != Some(tick_s) {
         return Err(Error::Config {
             field: "tick_s",

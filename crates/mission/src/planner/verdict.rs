@@ -47,7 +47,7 @@ impl Mission<'_> {
         let singles = self.single_relaxations(&base, dark, shade, camera, sessions);
         for (binding, actions, big_battery, sessions) in singles {
             let found = self.probe_plans(Some(binding), actions, big_battery, sessions);
-            if let Err(e) = self.allowance.check() {
+            if let Some(e) = self.probes_stopped() {
                 return e;
             }
             if found {
@@ -69,7 +69,7 @@ impl Mission<'_> {
         // constraints together.
         if capped {
             let open = self.probe_window_open(base, false, true);
-            if let Err(e) = self.allowance.check() {
+            if let Some(e) = self.probes_stopped() {
                 return e;
             }
             if open {
@@ -92,7 +92,7 @@ impl Mission<'_> {
     /// — a goal window that closes before the horizon (`GoalWindow`, if opening it plans),
     /// else the planning horizon (proven where the last window opens past it).
     fn time_binds(&self, all: ActionConfig, windows: &[(f64, f64)], capped: bool) -> Error {
-        if let Err(e) = self.allowance.check() {
+        if let Some(e) = self.probes_stopped() {
             return e;
         }
         let proven = windows.last().is_some_and(|w| w.0 >= self.world.span_s());
@@ -102,7 +102,7 @@ impl Mission<'_> {
         }
         if capped {
             let open = self.probe_window_open(all, true, false);
-            if let Err(e) = self.allowance.check() {
+            if let Some(e) = self.probes_stopped() {
                 return e;
             }
             if open {
@@ -113,6 +113,25 @@ impl Mission<'_> {
         // relaxed made a plan: only time is left — the horizon, the goal instants,
         // the waits.
         self.unreachable(Binding::Horizon, Binding::Horizon.describe())
+    }
+
+    /// The verdict when a probe was stopped: on a tick, where the search proved that no
+    /// plan exists, the proof with the binding constraint undetermined; otherwise the
+    /// budget's own error.
+    fn probes_stopped(&self) -> Option<Error> {
+        if self.tick.is_none() {
+            return self.allowance.check().err();
+        }
+        let why = match (self.allowance.probes_out(), self.allowance.check()) {
+            (Some(share), _) => format!("their share of the work, {share} expansions"),
+            (None, Err(e)) => format!("the call's budget ({e})"),
+            (None, Ok(())) => return None,
+        };
+        let message = format!(
+            "no plan exists; the binding constraint was not determined: the searches that relax one constraint \
+             at a time ran out of {why}"
+        );
+        Some(self.unreachable(Binding::Undetermined, &message))
     }
 
     /// The single relaxations to probe, in order: (binding, action constraints, unlimited

@@ -33,6 +33,13 @@ struct AllowanceState {
     beside: std::cell::Cell<u64>,
     /// The graphs' bytes when a search was stopped for memory.
     outgrown: std::cell::Cell<Option<u64>>,
+    /// While the probes that name a binding constraint run after a proof: the work
+    /// spent at which they stop ([`Allowance::share_for_probes`]).
+    probe_limit: std::cell::Cell<Option<u64>>,
+    /// The share's expansions.
+    probe_share: std::cell::Cell<u64>,
+    /// A probe was stopped at its share.
+    probes_out: std::cell::Cell<bool>,
 }
 
 impl Allowance {
@@ -56,6 +63,22 @@ impl Allowance {
         self.0.compared.set(0);
         self.0.stopped.set(false);
         self.0.outgrown.set(None);
+        self.0.probe_limit.set(None);
+        self.0.probes_out.set(false);
+    }
+
+    /// From now on in this call, the searches may spend `work` more expansions (within
+    /// the call's own limit): the probes that name the binding constraint after a proof
+    /// get a bounded share, so that a verdict comes about as fast as the proof.
+    pub(super) fn share_for_probes(&self, work: u64) {
+        self.0.probe_limit.set(Some(self.0.spent.get().saturating_add(work)));
+        self.0.probe_share.set(work);
+    }
+
+    /// The share [`Allowance::share_for_probes`] gave: the expansions it allows, if one
+    /// was given and a probe ran out of it.
+    pub(super) fn probes_out(&self) -> Option<u64> {
+        self.0.probes_out.get().then(|| self.0.probe_share.get())
     }
 
     /// The graphs besides the next search hold `bytes` (with what is held beside the
@@ -111,7 +134,11 @@ impl Allowance {
         if out {
             self.0.stopped.set(true);
         }
-        out
+        let share = self.0.probe_limit.get().is_some_and(|l| self.0.spent.get() >= l);
+        if share {
+            self.0.probes_out.set(true);
+        }
+        out || share
     }
 
     /// [`Error::MemoryLimit`] or [`Error::WorkLimit`] if a search of this call was

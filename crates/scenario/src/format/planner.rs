@@ -385,6 +385,9 @@ impl PlannerSpec {
             ("goal_times", self.goal_times != d.goal_times),
             ("segment_starts", self.segment_starts != d.segment_starts),
             ("unreachable_retries", self.unreachable_retries != d.unreachable_retries),
+            // The exact search counts L as the distance driven (waits split anywhere
+            // must cost the whole).
+            ("path_length", self.path_length != d.path_length),
         ];
         out.extend(planner.iter().filter(|f| f.1).map(|f| ("", f.0)));
         let actions = [
