@@ -324,7 +324,8 @@ impl ExactQuery<'_> {
                 // the staircases (each shard freed as it is read).
                 drop((nodes, open, moves, refills));
                 let learned = (!matches!(self.objective, Objective::Margin { .. }))
-                    .then(|| Learned::new(self, tick, e_max, node.cost, at));
+                    .then(|| Learned::new(self, tick, e_max, node.cost, at))
+                    .flatten();
                 return (out, learned);
             }
             let held = (nodes.len() * size_of::<Node>()

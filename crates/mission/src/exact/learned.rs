@@ -72,8 +72,19 @@ impl std::fmt::Debug for Learned {
 }
 
 impl Learned {
-    pub(super) fn new(query: &ExactQuery<'_>, tick: f64, e_max: f64, optimum: f64, at: Instants) -> Learned {
-        let mut entries = Vec::new();
+    /// The labels a lesson holds at most (24 bytes each): a larger search's lesson
+    /// would take more memory than it saves work (lunar-south-pole-10m's 17.5 million
+    /// labels, 420 MB, for a plan that is never re-planned), and none is drawn.
+    pub const MOST_LABELS: usize = 4_000_000;
+
+    /// What the search with these staircases and this optimum learned, unless it holds
+    /// more than [`Learned::MOST_LABELS`].
+    pub(super) fn new(query: &ExactQuery<'_>, tick: f64, e_max: f64, optimum: f64, at: Instants) -> Option<Learned> {
+        let held: usize = at.shards.iter().flat_map(|s| s.values()).map(|l| l.len()).sum();
+        if held > Self::MOST_LABELS {
+            return None;
+        }
+        let mut entries = Vec::with_capacity(held);
         for shard in at.shards {
             for ((cell, goal, t_us), list) in shard {
                 let Some(key) = on_tick(t_us as f64 * 1e-6, tick).and_then(|j| pack(cell, goal, j)) else { continue };
@@ -82,9 +93,8 @@ impl Learned {
         }
         // Stable: each key's labels keep their staircase's order.
         entries.sort_by_key(|entry| entry.0);
-        entries.shrink_to_fit();
         let labels = entries.len() as u64;
-        Learned { optimum, problem: Problem::of(query, tick, e_max), entries, labels, changed: Vec::new() }
+        Some(Learned { optimum, problem: Problem::of(query, tick, e_max), entries, labels, changed: Vec::new() })
     }
 
     /// The labels it learned from.
