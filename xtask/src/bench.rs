@@ -6,6 +6,7 @@ use std::path::Path;
 use std::process::Command;
 
 mod exact;
+mod replan;
 mod static_route;
 
 /// Throughput targets, elements per second: (criterion full id, minimum, what it means).
@@ -86,8 +87,10 @@ const RATIOS: &[(&str, &str, &str, f64)] = &[
 /// Runs `cargo bench` (optionally only benches matching `filter`) and prints the table;
 /// `movingai` as the filter runs only the full Moving AI check.
 pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
-    let in_process =
-        ["movingai", "horizon", "mission", "lita", "valley", "lunar", "bigmap", "budget", "fresh", "exact", "static"];
+    let in_process = [
+        "movingai", "horizon", "mission", "lita", "valley", "lunar", "bigmap", "budget", "fresh", "exact", "static",
+        "replan",
+    ];
     if cfg!(debug_assertions) && args.first().is_some_and(|a| in_process.contains(&a.as_str())) {
         // `cargo xtask` builds the dev profile (shared with the tests); timings are only
         // meaningful optimised, so these run again from a release build of xtask.
@@ -111,6 +114,7 @@ pub(crate) fn run(root: &Path, args: &[String]) -> Result<bool, String> {
         Some("fresh") => return fresh(root),
         Some("exact") => return exact::run(root),
         Some("static") => return static_route::run(root),
+        Some("replan") => return replan::run(root),
         Some("bigmap") => {
             let side =
                 args.get(1).map_or(Ok(30_000), |s| s.parse::<usize>()).map_err(|e| format!("bigmap SIDE: {e}"))?;
