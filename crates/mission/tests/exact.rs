@@ -200,6 +200,18 @@ fn exact_by(
     goals: &[ExactGoal],
     model: &ActionModel,
 ) -> areo_mission::exact::ExactOutcome {
+    query_by(objective, world, start, goals, model).solve()
+}
+
+/// The exact query from `start` to `goals` (no battery to hold at the last) under
+/// `objective`, settling to ticks, with room for five million labels.
+pub(crate) fn query_by<'a>(
+    objective: Objective,
+    world: &'a World,
+    start: Start,
+    goals: &[ExactGoal],
+    model: &'a ActionModel,
+) -> ExactQuery<'a> {
     ExactQuery {
         world,
         model,
@@ -210,7 +222,6 @@ fn exact_by(
         max_labels: 5_000_000,
         settle: true,
     }
-    .solve()
 }
 
 /// The exact search's plan costs what the Dijkstra with no dominance finds, and it

@@ -11,7 +11,7 @@ use areo_mission::{Action, ActionConfig, ActionModel, Objective, Start, World};
 use areo_terrain::Dem;
 
 use crate::common::{mars_world, model};
-use crate::exact::{Seeds, actions, brute_force_by, case, gale_morning, hills};
+use crate::exact::{Seeds, actions, brute_force_by, case, gale_morning, hills, query_by};
 
 fn query<'a>(
     world: &'a World,
@@ -20,16 +20,7 @@ fn query<'a>(
     goals: &[ExactGoal],
     objective: Objective,
 ) -> ExactQuery<'a> {
-    ExactQuery {
-        world,
-        model,
-        start,
-        goals: goals.to_vec(),
-        goal_energy_wh: 0.0,
-        objective,
-        max_labels: 5_000_000,
-        settle: true,
-    }
+    query_by(objective, world, start, goals, model)
 }
 
 /// A state along a plan: the rover's, the goals it has reached, the steps from it on
