@@ -8,6 +8,7 @@ mod exact;
 mod front;
 mod grid_north;
 mod ground;
+mod late_windows;
 mod pareto;
 mod planning;
 mod repair;
