@@ -50,7 +50,8 @@ fn brute_force(world: &World, model: &ActionModel, start: Start, goals: &[ExactG
     brute_force_by(Objective::Energy, world, model, start, goals, goal_wh)
 }
 
-/// [`brute_force`] under `objective`: L + B or Time summed over the steps, or Margin —
+/// [`brute_force`] under `objective`: L + B, Time or the loads' energy summed over the
+/// steps, or Margin —
 /// the most the battery falls below its start inside any step (a path's worst, which
 /// only grows along it, so the Dijkstra holds).
 pub(crate) fn brute_force_by(
@@ -67,6 +68,7 @@ pub(crate) fn brute_force_by(
     let then = |d: f64, action: Action, effect: &Effect, before: f64| match objective {
         Objective::Margin { .. } => d.max(e0 - effect.lowest(before, capacity)),
         Objective::Time => d + effect.duration_s,
+        Objective::EnergyUsed => d + effect.load_wh,
         _ => d + cost(world, model, e_max, action, effect),
     };
     let reached = |g: usize, cell: u32, t: f64, e: f64| -> usize {

@@ -2,10 +2,11 @@
 //! ([`crate::exact::brute_force_by`]) where the goals ask more of a plan: a battery to
 //! hold at the last goal, windows that open hours after the start (the rover must wait
 //! for them or arrive late), and a last window that lies wholly between two ticks (only
-//! a drive's own arrival, before its settle, can fall in it) — under L + B and Time.
+//! a drive's own arrival, before its settle, can fall in it) — under L + B and Time; and
+//! the planner's own entry point on a tick under EnergyUsed and Margin.
 
-use areo_mission::Objective;
 use areo_mission::exact::{ExactGoal, ExactQuery};
+use areo_mission::{Mission, Objective, PlannerConfig};
 
 use crate::common::model;
 use crate::exact::{actions, brute_force_by, case};
@@ -71,4 +72,50 @@ fn goal_batteries_and_late_or_narrow_windows_keep_the_exact_search_equal_to_a_di
         planned >= 8 && proven >= 2 && late >= 4 && narrow >= 2,
         "{planned} planned ({narrow} into a window between ticks), {proven} proven, {late} late"
     );
+}
+
+/// Through the planner's own entry point (`Mission::plan` on a tick, its goal windows
+/// made from the start, Margin's capped by its longest acceptable plan), under
+/// EnergyUsed and Margin: the plan's cost is the Dijkstra's over the mission's windows,
+/// and the planner proves "no plan" where the Dijkstra finds none.
+#[test]
+fn the_planner_on_a_tick_by_energy_used_and_margin_equals_a_dijkstra() {
+    let (mut planned, mut proven) = (0, 0);
+    for seed in 0..12u64 {
+        let c = case(400 + seed, 5.0);
+        let model = model(150.0, actions(TICK_S));
+        let cells: Vec<u32> = c.goals.iter().map(|g| g.cell).collect();
+        for objective in [Objective::EnergyUsed, Objective::Margin { max_duration_s: 4.0 * 3600.0 }] {
+            let config =
+                PlannerConfig { actions: actions(TICK_S), objective, tick_s: Some(TICK_S), ..Default::default() };
+            let case = format!("seed {seed}, {objective:?}");
+            let (cost, windows) = match Mission::plan(&c.world, &model, config, c.start, &cells) {
+                Ok((mission, plan)) => (Some(plan.cost), mission.goal_windows()),
+                Err(areo_mission::Error::Unreachable { proven: true, .. }) => (None, Vec::new()),
+                Err(e) => panic!("{case}: {e}"),
+            };
+            let Some(cost) = cost else {
+                // No plan: the Dijkstra finds none over windows as wide as any the
+                // planner could have made (to the horizon, or Margin's deadline).
+                let close = match objective {
+                    Objective::Margin { max_duration_s } => c.start.t_min + max_duration_s,
+                    _ => c.world.span_s(),
+                };
+                let goals: Vec<ExactGoal> =
+                    cells.iter().map(|&cell| ExactGoal { cell, open_s: 0.0, close_s: close }).collect();
+                assert_eq!(brute_force_by(objective, &c.world, &model, c.start, &goals, 0.0), None, "{case}");
+                proven += 1;
+                continue;
+            };
+            let goals: Vec<ExactGoal> = cells
+                .iter()
+                .zip(&windows)
+                .map(|(&cell, &(open_s, close_s))| ExactGoal { cell, open_s, close_s })
+                .collect();
+            let brute = brute_force_by(objective, &c.world, &model, c.start, &goals, 0.0).expect(&case);
+            assert!((cost - brute).abs() < 1e-6 * (1.0 + brute), "{case}: planner {cost} vs Dijkstra {brute}");
+            planned += 1;
+        }
+    }
+    assert!(planned >= 8, "{planned} planned, {proven} proven");
 }
