@@ -32,6 +32,15 @@ fn heading_of(k: u8) -> f64 {
     f64::from(dc).atan2(-f64::from(dr)).to_degrees().rem_euclid(360.0)
 }
 
+/// The neighbour of `cell` in direction `k` of [`NEIGHBOURS`], if it is on the map.
+pub(crate) fn neighbour(world: &World, cell: u32, k: u8) -> Option<u32> {
+    let (c, r) = world.col_row(cell);
+    let (dc, dr) = NEIGHBOURS[k as usize % 8];
+    let (nc, nr) = (c as i64 + i64::from(dc), r as i64 + i64::from(dr));
+    let on_map = nc >= 0 && nr >= 0 && nc < world.cols() as i64 && nr < world.rows() as i64;
+    on_map.then(|| world.cell(nc as usize, nr as usize))
+}
+
 /// How far before the epoch a backward drive may start and still count as starting at
 /// it: sums of drive durations round differently from the straight-line best case, s.
 const EPOCH_SLACK_S: f64 = 1e-6;
@@ -481,13 +490,8 @@ impl ActionModel {
     /// (independent of time). Half of it runs over each cell, at that cell's terrain
     /// class's speed and power ([`crate::Ground`]).
     pub fn drive_geometry(&self, world: &World, from: u32, k: u8) -> Result<DriveGeometry, Binding> {
-        let (c, r) = world.col_row(from);
+        let to = neighbour(world, from, k).ok_or(Binding::Blocked)?;
         let (dc, dr) = NEIGHBOURS[k as usize % 8];
-        let (nc, nr) = (c as i64 + i64::from(dc), r as i64 + i64::from(dr));
-        if nc < 0 || nr < 0 || nc >= world.cols() as i64 || nr >= world.rows() as i64 {
-            return Err(Binding::Blocked);
-        }
-        let to = world.cell(nc as usize, nr as usize);
         if !world.passable(to) || !world.passable(from) {
             return Err(Binding::Blocked);
         }

@@ -187,30 +187,27 @@ impl<'a> Mission<'a> {
     /// Runs `query` within the call's work and memory allowance (every expansion one
     /// unit of work, the memory what the search holds).
     pub(super) fn tick_solve(&self, query: &ExactQuery<'_>) -> Result<ExactOutcome> {
-        let allowance = &self.allowance;
-        let meter = &self.config.meter;
-        let out = query.solve_with(&mut |held| {
-            allowance.spend();
-            meter.add(1);
-            !allowance.exhausted() && !allowance.outgrown(held)
-        });
-        allowance.check()?;
+        let out = query.solve_with(&mut self.budget(0));
+        self.allowance.check()?;
         Ok(out)
+    }
+
+    /// Whether a search may go on, asked before each expansion with the bytes it holds
+    /// (`also` held beside it): one unit of work spent and metered each time.
+    fn budget(&self, also: u64) -> impl FnMut(u64) -> bool + '_ {
+        move |held| {
+            self.allowance.spend();
+            self.config.meter.add(1);
+            !self.allowance.exhausted() && !self.allowance.outgrown(held + also)
+        }
     }
 
     /// [`Mission::tick_solve`] guided by what earlier searches learned, for a plan
     /// cheaper than `upper` if given; also what this search learned.
     fn tick_solve_guided(&self, query: &ExactQuery<'_>, upper: Option<f64>) -> Result<(ExactOutcome, Option<Learned>)> {
-        let allowance = &self.allowance;
-        let meter = &self.config.meter;
         let state = self.tick.as_ref().expect("a mission on a tick");
-        let learned_bytes = state.learned_bytes();
-        let out = query.solve_guided(&state.learned, upper, &mut |held| {
-            allowance.spend();
-            meter.add(1);
-            !allowance.exhausted() && !allowance.outgrown(held + learned_bytes)
-        });
-        allowance.check()?;
+        let out = query.solve_guided(&state.learned, upper, &mut self.budget(state.learned_bytes()));
+        self.allowance.check()?;
         Ok(out)
     }
 
@@ -375,16 +372,7 @@ fn touches(world: &World, steps: &[ExactStep], changed: &[u32]) -> bool {
     steps.iter().any(|s| {
         hit(s.cell)
             || match s.action {
-                Action::Drive(k) => {
-                    let (c, r) = world.col_row(s.cell);
-                    let (dc, dr) = crate::action_model::NEIGHBOURS[k as usize];
-                    let (nc, nr) = (c as i64 + i64::from(dc), r as i64 + i64::from(dr));
-                    nc < 0
-                        || nr < 0
-                        || nc >= world.cols() as i64
-                        || nr >= world.rows() as i64
-                        || hit(world.cell(nc as usize, nr as usize))
-                }
+                Action::Drive(k) => crate::action_model::neighbour(world, s.cell, k).is_none_or(hit),
                 _ => false,
             }
     })
