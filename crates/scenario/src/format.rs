@@ -22,6 +22,7 @@ pub mod ga;
 pub mod locate;
 pub mod planner;
 pub mod rover_files;
+pub(crate) mod setting;
 pub mod synth;
 mod validate;
 mod validate_jobs;
@@ -569,7 +570,9 @@ pub fn load_set(path: &Path, sets: &[String]) -> Result<ScenarioFile, Error> {
 }
 
 /// [`load_with`]'s work; an error says whether the settings caused it (the file
-/// parsed as written).
+/// parsed as written). Each value must be one RON value ([`setting::one_value`]): it
+/// replaces its field's value and nothing else. A value of the wrong type is named
+/// with its setting.
 fn load_setting(path: &Path, sets: &[String]) -> Result<ScenarioFile, (Error, bool)> {
     let mut file = load(path).map_err(|e| (e, false))?;
     if sets.is_empty() {
@@ -577,19 +580,44 @@ fn load_setting(path: &Path, sets: &[String]) -> Result<ScenarioFile, (Error, bo
     }
     let mut text = file.text.clone();
     for set in sets {
-        let Some((field, value)) = set.split_once('=') else {
-            return Err((Error::usage(format!("--set {set}"), "write PATH=VALUE, e.g. job.tau=0.6"), false));
-        };
-        let (field, value) = (field.trim(), value.trim());
-        let span = crate::sweep::value_span(&text, &crate::sweep::segments(field)).ok_or_else(|| {
-            let message = "is not written in the file: write the field out (any value) to set it".to_string();
-            (Error::Scenario { path: path.to_path_buf(), field: field.to_string(), message }, true)
-        })?;
-        text.replace_range(span, value);
+        text = apply_setting(path, &text, set)?;
     }
-    file.scenario = parse(path, &text).map_err(|e| (e, true))?;
+    file.scenario = parse(path, &text).map_err(|e| {
+        // A value the field's type cannot take is a syntax error of the edited text:
+        // name the setting that alone makes the file unreadable.
+        if let Error::Syntax { message, .. } = &e
+            && let Some(set) = sets.iter().find(|set| {
+                apply_setting(path, &file.text, set)
+                    .is_ok_and(|one| matches!(parse(path, &one), Err(Error::Syntax { .. })))
+            })
+        {
+            let (field, value) = set.split_once('=').unwrap_or((set, ""));
+            let message = format!("{}: not a value `{}` can take ({message})", value.trim(), field.trim());
+            return (Error::usage(format!("--set {set}"), message), false);
+        }
+        (e, true)
+    })?;
     file.text = text;
     Ok(file)
+}
+
+/// `text` with the value of the field that `set` (`PATH=VALUE`) names replaced by its
+/// value.
+fn apply_setting(path: &Path, text: &str, set: &str) -> Result<String, (Error, bool)> {
+    let Some((field, value)) = set.split_once('=') else {
+        return Err((Error::usage(format!("--set {set}"), "write PATH=VALUE, e.g. job.tau=0.6"), false));
+    };
+    let (field, value) = (field.trim(), value.trim());
+    if let Err(why) = setting::one_value(value) {
+        return Err((Error::usage(format!("--set {set}"), format!("the value of `{field}` {why}")), false));
+    }
+    let span = crate::sweep::value_span(text, &crate::sweep::segments(field)).ok_or_else(|| {
+        let message = "is not written in the file: write the field out (any value) to set it".to_string();
+        (Error::Scenario { path: path.to_path_buf(), field: field.to_string(), message }, true)
+    })?;
+    let mut text = text.to_string();
+    text.replace_range(span, value);
+    Ok(text)
 }
 
 /// Refuses the first number in `text` (a file of `kind`, e.g. "a scenario") that is not

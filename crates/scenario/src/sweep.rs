@@ -101,10 +101,14 @@ impl Axis {
             return Err("give exactly one of values (a list), range: (from, to, step) or raw (RON text)".into());
         }
         if !self.raw.is_empty() {
-            return match self.raw.iter().find(|r| r.trim().is_empty() || r.contains(['\n', '\r'])) {
-                Some(r) => Err(format!("raw value {r:?}: one line of RON text, not empty")),
-                None => Ok(self.raw.clone()),
-            };
+            if let Some(r) = self.raw.iter().find(|r| r.trim().is_empty() || r.contains(['\n', '\r'])) {
+                return Err(format!("raw value {r:?}: one line of RON text, not empty"));
+            }
+            // Each replaces one field's value and nothing else.
+            for r in &self.raw {
+                crate::format::setting::one_value(r).map_err(|why| format!("raw value {r:?} {why}"))?;
+            }
+            return Ok(self.raw.clone());
         }
         let Some((from, to, step)) = self.range else {
             return self.values.iter().map(|v| ron::to_string(v).map_err(|e| e.to_string())).collect();
@@ -411,6 +415,7 @@ pub fn expand_within(
         spans.push(span);
         literals.push(a.literals().map_err(|m| bad(format!("axes[{i}]"), m))?);
     }
+    refuse_overlaps(&sweep, &spans, &bad)?;
     let combos = combinations(&sweep, &literals, &bad)?;
     let fingerprint = admit(sweep_path, &base_text, combos.len(), budget)?;
     // Replacements are applied from the end of the text so earlier spans stay valid.
@@ -460,6 +465,30 @@ pub fn expand_within(
     claim(dir, &fingerprint, force)?;
     write_expansion(dir, sweep_path, &base_path, &sweep, &tasks, &texts, &fingerprint)?;
     Ok(tasks)
+}
+
+/// Refuses two axes whose fields overlap (one inside the other, or the same field):
+/// each axis sets its own field and nothing else.
+fn refuse_overlaps(
+    sweep: &SweepFile,
+    spans: &[Option<std::ops::Range<usize>>],
+    bad: &dyn Fn(String, String) -> Error,
+) -> Result<()> {
+    for (a, sa) in spans.iter().enumerate() {
+        for (b, sb) in spans.iter().enumerate().skip(a + 1) {
+            if let (Some(sa), Some(sb)) = (sa, sb)
+                && sa.start < sb.end
+                && sb.start < sa.end
+            {
+                let path = |i: usize| sweep.axes[i].path.clone().unwrap_or_default();
+                return Err(bad(
+                    format!("axes[{b}].path"),
+                    format!("{:?} overlaps axes[{a}]'s {:?}: each axis sets a field of its own", path(b), path(a)),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The sweep directory's description.

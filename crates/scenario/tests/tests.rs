@@ -7,6 +7,7 @@ mod plan_region;
 mod report_files;
 mod resolution_states;
 mod robustness;
+mod settings;
 mod sweep;
 mod task1;
 mod waits;
