@@ -144,6 +144,22 @@ fn a_planner_block_without_the_approximate_fields_plans_on_the_default_tick() {
         assert_eq!(tick_of(&format!("planner: (approximate: true, {fields}),")).0, None, "{fields}");
     }
     assert_eq!(tick_of("planner: (approximate: true),").0, None);
+    // A setting with no effect in the mode chosen is refused, naming both fields.
+    for (planner, fields) in [
+        ("planner: (approximate: true, tick_s: 60),", ["planner.approximate", "planner.tick_s"]),
+        (
+            "planner: (objective: Time, path_length: Steps, approximate: true),",
+            ["planner.path_length", "planner.objective"],
+        ),
+        (
+            "planner: (objective: EnergyUsed, path_length: Steps, approximate: true),",
+            ["planner.path_length", "planner.objective"],
+        ),
+    ] {
+        let err = load(&small_with(&[(SMALL_PLANNER, planner)], "refused.ron")).expect_err(planner).to_string();
+        assert!(fields.iter().all(|f| err.contains(f)) && err.contains("refused.ron"), "{planner}: {err}");
+    }
+    assert_eq!(tick_of("planner: (objective: Energy, path_length: Steps, approximate: true),").0, None);
     // And it runs so: exact at 60 s, the goal reached.
     let o = run_file(&small_with(&[(SMALL_SIMULATE, ""), (SMALL_PLANNER, "planner: (),")], "default-tick.ron"));
     assert_eq!(o.failure, None, "{:?}", o.summary);

@@ -302,9 +302,23 @@ impl TryFrom<PlannerFields> for PlannerSpec {
                  `tick_s` in its place, or `approximate: true` beside it to plan with the classes"
             ));
         }
+        // A setting that would have no effect is refused, naming both fields.
+        if f.approximate && f.tick_s.is_some() {
+            return Err("fields `planner.approximate: true` and `planner.tick_s` both given: the approximate search \
+                        has no tick — write `tick_s` to plan exactly, or `approximate: true` (with its \
+                        `resolution`) to plan with the paper's classes"
+                .into());
+        }
+        let objective = f.objective.unwrap_or(d.objective);
+        if f.path_length.is_some_and(|p| p != PathLengthSpec::Distance) && objective != ObjectiveSpec::Energy {
+            return Err(format!(
+                "field `planner.path_length` counts the L of the `Energy` objective (L + B), but \
+                 `planner.objective` is {objective:?}, which has no L: remove `path_length` or plan by `Energy`"
+            ));
+        }
         Ok(PlannerSpec {
             actions,
-            objective: f.objective.unwrap_or(d.objective),
+            objective,
             resolution: f.resolution.unwrap_or(d.resolution),
             path_length: f.path_length.unwrap_or(d.path_length),
             goal_times: f.goal_times.unwrap_or(d.goal_times),
