@@ -695,7 +695,7 @@ pub(crate) fn read_ron<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T,
 }
 
 /// Refuses what areo-rover's shape limits refuse (nesting, list lengths), where it starts.
-fn refuse_hostile_shape(path: &Path, text: &str) -> Result<(), Error> {
+pub(crate) fn refuse_hostile_shape(path: &Path, text: &str) -> Result<(), Error> {
     match areo_rover::refused_shape(text) {
         None => Ok(()),
         Some((line, col, message)) => Err(Error::Syntax { path: path.to_path_buf(), line, col, message }),

@@ -421,3 +421,42 @@ fn plan_clones_need_a_height_error_and_a_count_in_range() {
     assert_eq!(field, "job.uncertainty.terrain_plan_clones");
     assert!(message.contains("0..=100"), "{message}");
 }
+
+/// Every RON reader refuses a deeply nested 100 KB file where it passes the nesting
+/// limit, at once: the scenario, the rover's two files, a sweep, an expectation file and
+/// a `--set` value.
+#[test]
+fn every_ron_reader_refuses_deep_nesting_where_it_starts() {
+    use areo_scenario::format::rover_files::{load_params, load_resources};
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("deep-readers");
+    std::fs::create_dir_all(&dir).unwrap();
+    let deep = |head: &str| format!("{head}(a: {}1{})", "[".repeat(50_000), "]".repeat(50_000));
+    let write = |name: &str, text: String| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let clock = std::time::Instant::now();
+    let errors: Vec<(&str, Result<(), Error>)> = vec![
+        ("scenario", areo_scenario::format::load(&write("s.ron", deep("Scenario"))).map(|_| ())),
+        ("rover", load_params(&write("r.ron", deep("RoverParams"))).map(|_| ())),
+        ("resources", load_resources(&write("m.ron", deep("ResourceModel"))).map(|_| ())),
+        ("sweep", areo_scenario::sweep::expand(&write("w.sweep.ron", deep("Sweep")), &dir.join("run")).map(|_| ())),
+        ("expected", areo_scenario::outcome::Expected::load(&write("e.expected.ron", deep(""))).map(|_| ())),
+    ];
+    for (reader, result) in errors {
+        match result {
+            Err(Error::Syntax { line: 1, col, message, .. }) => {
+                assert!(message.contains("nested deeper than 64") && col < 100, "{reader}: {col} {message}")
+            }
+            other => panic!("{reader}: {other:?}"),
+        }
+    }
+    // Each is one pass over the text (the rover reader took 81 s before its guard ran
+    // first); ten seconds for all five is a hang's bound, not a speed target.
+    assert!(clock.elapsed().as_secs_f64() < 10.0, "{:?}", clock.elapsed());
+    let small = root().join("tests/tempest/small.ron");
+    let set = format!("job.horizon_h={}1{}", "[".repeat(100), "]".repeat(100));
+    let err = areo_scenario::format::load_with(&small, &[set]).unwrap_err().to_string();
+    assert!(err.contains("nested deeper than 64"), "{err}");
+}

@@ -21,6 +21,8 @@ pub fn load_resources(path: &Path) -> Result<ResourceModel> {
 
 fn load<T>(path: &Path, parse: impl Fn(&str, &str) -> areo_rover::Result<T>) -> Result<T> {
     let text = crate::read_text(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    // The shape first: the number scan below walks every bracket's path.
+    super::refuse_hostile_shape(path, &text)?;
     super::refuse_non_finite(path, &text, "a rover file")?;
     parse(&text, &path.display().to_string()).map_err(|e| match e {
         areo_rover::Error::Invalid { field, value, why, .. } => {

@@ -11,6 +11,9 @@ pub(crate) fn one_value(value: &str) -> Result<(), String> {
     if value.trim().is_empty() {
         return Err("is empty: write one RON value (a number, a string in quotes, a list…)".into());
     }
+    if let Some((_, col, what)) = areo_rover::refused_shape(value) {
+        return Err(format!("has {what} (at column {col})"));
+    }
     if let Some(what) = outside_strings(value) {
         return Err(format!("holds {what} outside a string: a setting is one RON value, nothing else"));
     }
