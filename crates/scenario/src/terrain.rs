@@ -23,6 +23,22 @@ pub fn read_dem(path: &Path) -> Result<Dem> {
     Ok(areo_terrain::read(path)?)
 }
 
+/// The DEM a job's `field` names in scenario `file`, read relative to it, with the
+/// checks every job makes of its ground (one validation for every job): heights within
+/// ±1e7 m ([`Dem::new`]) and at least one cell that is not missing.
+pub(crate) fn read_job_dem(file: &crate::format::ScenarioFile, rel: &Path, field: &str) -> Result<Dem> {
+    let path = file.path.parent().unwrap_or(Path::new(".")).join(rel);
+    let dem = read_dem(&path).map_err(|e| e.referenced_by(&file.path, field))?;
+    if !dem.valid_mask().iter().any(|&v| v) {
+        let empty = areo_terrain::Error::BadGrid(format!(
+            "{}: every cell is missing (no-data): a job needs heights",
+            path.display()
+        ));
+        return Err(crate::Error::from(empty).referenced_by(&file.path, field));
+    }
+    Ok(dem)
+}
+
 /// The grid of a GeoTIFF from its header alone (a DTM too large to read whole).
 pub fn geotiff_grid(path: &Path) -> Result<Grid> {
     Ok(geotiff::Windows::open(path, 1)?.grid())

@@ -118,10 +118,7 @@ pub fn setup(job: &ActionsJob, file: &ScenarioFile) -> Result<Setup> {
             feature_classes = cells;
             (dem, rocks)
         }
-        TerrainSource::File(rel) => (
-            crate::terrain::read_dem(&base.join(rel)).map_err(|e| e.referenced_by(&file.path, "job.terrain"))?,
-            Vec::new(),
-        ),
+        TerrainSource::File(rel) => (crate::terrain::read_job_dem(file, Path::new(rel), "job.terrain")?, Vec::new()),
     };
     let params = match &job.rover {
         Some(rel) => crate::format::rover_files::load_params(&base.join(rel))

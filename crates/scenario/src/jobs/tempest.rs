@@ -173,10 +173,7 @@ impl areo_terrain::tiles::Source for Windowed<'_> {
 fn load_terrain(source: &TerrainSource, file: &ScenarioFile, field: &str) -> Result<Dem> {
     Ok(match source {
         TerrainSource::Synth(spec) => spec.build()?,
-        TerrainSource::File(rel) => {
-            let base = file.path.parent().unwrap_or(Path::new("."));
-            areo_terrain::read(&base.join(rel)).map_err(|e| Error::from(e).referenced_by(&file.path, field))?
-        }
+        TerrainSource::File(rel) => crate::terrain::read_job_dem(file, Path::new(rel), field)?,
     })
 }
 

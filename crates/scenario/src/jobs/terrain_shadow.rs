@@ -23,10 +23,7 @@ pub(crate) fn compute(
     opts.progress.start(3, "terrain");
     let dem = match &job.terrain {
         TerrainSource::Synth(spec) => spec.build()?,
-        TerrainSource::File(rel) => {
-            let base = file.path.parent().unwrap_or(Path::new("."));
-            crate::terrain::read_dem(&base.join(rel)).map_err(|e| e.referenced_by(&file.path, "job.terrain"))?
-        }
+        TerrainSource::File(rel) => crate::terrain::read_job_dem(file, Path::new(rel), "job.terrain")?,
     };
     opts.budget.check(&crate::budget::DemCommand::Shadow.estimate((dem.cols() * dem.rows()) as u64))?;
     opts.progress.advance(1);
