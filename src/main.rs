@@ -359,7 +359,8 @@ enum TerrainCommand {
         /// are stored as it (the halo is relief / tan of it).
         #[arg(long, value_name = "DEG", default_value_t = 5.0)]
         lowest_sun: f64,
-        /// Output path stem (files OUT_s000.tif …), or with --tile the output GeoTIFF.
+        /// Output directory (one GeoTIFF per sector: OUT/s000.tif …, replaced whole), or
+        /// with --tile the output GeoTIFF.
         #[arg(short, long)]
         out: PathBuf,
     },
@@ -685,9 +686,7 @@ fn terrain(cmd: &TerrainCommand, budget: Budget) -> Result<(), Error> {
         }
         TerrainCommand::Horizon { file, sectors, tile: None, lowest_sun: _, out } => {
             let sectors = &usize::from(*sectors);
-            for path in tt::horizon_paths(out, *sectors) {
-                tt::check_output(file, &path)?;
-            }
+            tt::check_horizon_dir(file, out)?;
             print::terrain::wrote(&tt::write_horizon(
                 &read(file, DemCommand::Horizon { sectors: *sectors })?,
                 *sectors,

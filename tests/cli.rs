@@ -504,7 +504,7 @@ fn tiled_horizon_on_the_real_crop_holds_the_whole_maps_horizons() {
     // plane per sector, every horizon at or above the lowest Sun the whole map's.
     let dem = root().join("crates/terrain/tests/data/gale_mola_crop_64.tif");
     let dir = tmp("tiled_horizon");
-    let (whole, tiled) = (dir.join("whole.tif"), dir.join("tiled.tif"));
+    let (whole, tiled) = (dir.join("whole"), dir.join("tiled.tif"));
     let d = dem.to_str().unwrap();
     let out = areo(&["terrain", "horizon", d, "--sectors", "16", "-o", whole.to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -517,7 +517,7 @@ fn tiled_horizon_on_the_real_crop_holds_the_whole_maps_horizons() {
     assert_eq!(dec.chunk_dimensions(), (32, 32));
     let (mut above, mut checked) = (0, 0);
     for s in 0..16 {
-        let plane = areo_scenario::terrain::read_dem(&dir.join(format!("whole_s{s:03}.tif"))).unwrap();
+        let plane = areo_scenario::terrain::read_dem(&whole.join(format!("s{s:03}.tif"))).unwrap();
         for t in 0..4u32 {
             let tiff::decoder::DecodingResult::U16(codes) = dec.read_chunk(s * 4 + t).unwrap() else { panic!() };
             let (c0, r0) = ((t % 2) as usize * 32, (t / 2) as usize * 32);

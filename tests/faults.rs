@@ -281,3 +281,65 @@ fn a_long_run_name_fits_its_staging_and_a_name_that_is_not_utf8_is_refused() {
     assert!(err.contains("not UTF-8"), "{err}");
     assert!(!out.join("caf\u{fffd}").exists());
 }
+
+/// `terrain horizon` puts its sector set in place as one directory: killed when the set
+/// is finished but not yet placed, or at any moment, the directory holds the previous
+/// set or the new one, whole — never sectors of two runs.
+#[test]
+fn a_horizon_map_killed_at_any_moment_leaves_one_whole_set() {
+    let dir = tmp("horizon-kill");
+    let (dem, out) = (root().join("crates/terrain/tests/data/gale_mola_crop_64.tif"), dir.join("h"));
+    let run = |sectors: &str| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_areo"));
+        c.args(["-q", "terrain", "horizon", dem.to_str().unwrap(), "--sectors", sectors, "-o", out.to_str().unwrap()]);
+        c
+    };
+    let set = || {
+        let mut names: Vec<String> =
+            std::fs::read_dir(&out).unwrap().flatten().map(|e| e.file_name().to_string_lossy().into_owned()).collect();
+        names.sort();
+        names
+    };
+    let whole = |n: usize| (0..n).map(|s| format!("s{s:03}.tif")).collect::<Vec<_>>();
+    ok(&run("16").output().unwrap());
+    assert_eq!(set(), whole(16));
+    let first = std::fs::read(out.join("s003.tif")).unwrap();
+    let flag = dir.join("paused");
+    let mut child = run("32").env("AREO_PAUSE_BEFORE_PLACING", &flag).spawn().unwrap();
+    let t0 = std::time::Instant::now();
+    while !flag.exists() {
+        assert!(t0.elapsed().as_secs() < 60, "the run never reached the moment");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert_eq!(set(), whole(16), "the previous set, whole");
+    assert_eq!(std::fs::read(out.join("s003.tif")).unwrap(), first);
+    assert_eq!(leftovers(&dir).len(), 1);
+    for (k, sectors) in ["32", "16", "32", "16", "32"].into_iter().enumerate() {
+        let mut child = run(sectors).stdout(Stdio::null()).spawn().unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(5 + 15 * k as u64));
+        let _ = child.kill();
+        child.wait().unwrap();
+        let now = set();
+        assert!(now == whole(16) || now == whole(32), "kill {k}: {now:?}");
+    }
+    ok(&run("32").output().unwrap());
+    assert_eq!(set(), whole(32));
+    assert_eq!(leftovers(&dir), Vec::<String>::new(), "the dead runs' staging is cleared");
+    // A GeoTIFF's name without --tile is refused, saying what the output is.
+    let o = Command::new(env!("CARGO_BIN_EXE_areo"))
+        .args([
+            "terrain",
+            "horizon",
+            dem.to_str().unwrap(),
+            "--sectors",
+            "16",
+            "-o",
+            dir.join("h.tif").to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("directory"), "{}", String::from_utf8_lossy(&o.stderr));
+}

@@ -151,7 +151,7 @@ def test_horizon_equals_the_binarys_maps(tmp_path):
     stem = tmp_path / "h"
     cli("terrain", "horizon", GALE, "--sectors", 16, "-o", stem)
     for s in range(16):
-        theirs = areo.read_dem(tmp_path / f"h_s{s:03d}.tif").heights
+        theirs = areo.read_dem(stem / f"s{s:03d}.tif").heights
         assert np.array_equal(h[s], theirs), s
     # The horizon decides the cast shadow: where the Sun stands a degree above it a
     # cell is not in cast shadow (self-shadow aside), a degree below it always is.

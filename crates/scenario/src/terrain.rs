@@ -475,52 +475,68 @@ impl areo_terrain::tiles::Source for Opened {
 /// Decoded GeoTIFF chunks kept by a tiled run: enough for a band of tiles of strips.
 const CHUNK_CACHE_BYTES: usize = 512 << 20;
 
-/// Writes a horizon map: one float32 GeoTIFF band per sector (`OUT_sNN.tif`,
-/// degrees), since GeoTIFF readers expect single-band DEM-like rasters here.
+/// Writes a horizon map: the directory `out` of one float32 GeoTIFF per sector
+/// (`s000.tif`, `s001.tif`, …, degrees), since GeoTIFF readers expect single-band
+/// DEM-like rasters here. The set is written into a staging directory beside `out`
+/// and put in its place in one step, as a run's outputs are
+/// ([`crate::output::staging::put_in_place`]): a process killed at any moment leaves
+/// the previous set or the new one, whole.
 pub fn write_horizon(
     dem: &Dem,
     sectors: usize,
     out: &Path,
     progress: &dyn crate::Progress,
 ) -> Result<Vec<std::path::PathBuf>> {
+    use crate::output::staging;
     progress.start(1, "horizon");
     let map = HorizonMap::compute(dem, sectors, Curvature::of(dem))?;
     progress.finish();
-    let files = horizon_paths(out, sectors);
-    // Every sector is written to its staging name first and the set renamed in only
-    // when all are written: a run killed while it computes or writes (nearly all of
-    // its time) leaves the previous set as it was, and its staging files are cleared
-    // by the next run into OUT.
-    let mut staged = Vec::with_capacity(files.len());
-    let written = files.iter().enumerate().try_for_each(|(s, path)| {
-        crate::output::staging::clear_stale(path);
-        let tmp = crate::output::staging::staging_path(path, "partial");
-        staged.push(tmp.clone());
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| Error::Io { path, source }
+    };
+    staging::clear_stale(out);
+    let staged = staging::staging_path(out, "partial");
+    std::fs::create_dir_all(&staged).map_err(io(&staged))?;
+    let written = horizon_paths(&staged, sectors).iter().enumerate().try_for_each(|(s, path)| {
         let az = s as f64 * 360.0 / sectors as f64;
         let band: Vec<f32> = (0..dem.cols() * dem.rows()).map(|i| map.horizon_deg(i, az) as f32).collect();
-        let d = dem.with_values(band)?;
-        geotiff::write(&d, &tmp).map_err(Error::from)
+        geotiff::write(&dem.with_values(band)?, path).map_err(Error::from)
     });
     let placed = written.and_then(|()| {
-        files.iter().zip(&staged).try_for_each(|(path, tmp)| {
-            std::fs::rename(tmp, path).map_err(|source| Error::Io { path: path.clone(), source })
-        })
+        staging::pause_for_tests(&staged);
+        staging::put_in_place(&staged, out).map_err(io(out))
     });
     if placed.is_err() {
-        // Best effort: staging files are of no use to anyone.
-        for tmp in &staged {
-            let _ = std::fs::remove_file(tmp);
-        }
+        // Best effort: a staging directory is of no use to anyone.
+        let _ = std::fs::remove_dir_all(&staged);
     }
-    placed.map(|()| files)
+    placed.map(|()| horizon_paths(out, sectors))
 }
 
-/// The files a horizon map of `sectors` sectors is written to for `-o OUT`:
-/// `OUT_s000.tif`, `OUT_s001.tif`, … beside OUT.
+/// The files of a horizon map of `sectors` sectors in the directory `out`:
+/// `out/s000.tif`, `out/s001.tif`, …
 pub fn horizon_paths(out: &Path, sectors: usize) -> Vec<std::path::PathBuf> {
-    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "horizon".into());
-    let dir = out.parent().unwrap_or(Path::new("."));
-    (0..sectors).map(|s| dir.join(format!("{stem}_s{s:03}.tif"))).collect()
+    (0..sectors).map(|s| out.join(format!("s{s:03}.tif"))).collect()
+}
+
+/// Refuses `out` as the directory of a horizon map computed from `input`: a name
+/// ending in a GeoTIFF's extension (the tiled map's single file) or the input itself.
+pub fn check_horizon_dir(input: &Path, out: &Path) -> Result<()> {
+    if areo_terrain::DemFormat::of(out).is_some() {
+        return Err(Error::usage(
+            format!("-o {}", out.display()),
+            "without --tile the horizon map is a directory of one GeoTIFF per sector (s000.tif, …): name a \
+             directory, e.g. -o horizon (with --tile, one GeoTIFF: -o horizon.tif)",
+        ));
+    }
+    if out.is_file() || areo_terrain::input::same_file(input, out) {
+        return Err(Error::usage(
+            format!("-o {}", out.display()),
+            "is a file: the horizon map is a directory (s000.tif, …), put in its place whole",
+        ));
+    }
+    Ok(())
 }
 
 /// Writes the viewshed from a point `height_m` above the ground at (x, y) (uint8
