@@ -233,6 +233,8 @@ fn class_maps_that_cannot_be_used_are_refused_by_name() {
     grid(&dir, "unknown.asc", |c, r| if (c, r) == (20, 5) { "9".into() } else { "1".into() });
     grid(&dir, "holes.asc", |c, r| if (c, r) == (3, 3) { "-9999".into() } else { "1".into() });
     grid(&dir, "fraction.asc", |c, _| if c == 0 { "1.5".into() } else { "1".into() });
+    // A fraction f32 would round away: refused as written, not read as class 2.
+    grid(&dir, "tiny.asc", |c, r| if (c, r) == (7, 4) { "2.000000001".into() } else { "1".into() });
     std::fs::write(
         dir.join("far.asc"),
         std::fs::read_to_string(dir.join("good.asc")).unwrap().replace("xllcorner 0", "xllcorner 90000"),
@@ -248,7 +250,8 @@ fn class_maps_that_cannot_be_used_are_refused_by_name() {
             "values that are no listed class id under the map: 9 (1 cells); the classes list ids 1, 2",
         ),
         ("holes.asc", two, "1 cells of the map fall on cells of the class map with no value"),
-        ("fraction.asc", two, "1.5 (20 cells)"),
+        ("fraction.asc", two, "1.5 under the map cell at"),
+        ("tiny.asc", two, "2.000000001 under the map cell at"),
         ("far.asc", two, "does not overlap the map"),
         ("gale.tif", two, "the raster's CRS"),
         ("missing.asc", two, "missing.asc"),

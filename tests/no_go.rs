@@ -185,3 +185,69 @@ fn masks_that_cannot_be_used_are_errors_naming_what_is_wrong() {
         assert!(stderr(&o).contains(want) && stderr(&o).contains("job.no_go.file"), "{name}: {}", stderr(&o));
     }
 }
+
+/// Mask codes of any magnitude are values (a UInt32 code of 4e9, a float of 1e8 keep
+/// out, as any non-zero does), an inflation of any radius the scenario allows costs one
+/// distance per cell (10 km on a map of 1 m cells: a disc of cells per masked cell was
+/// 3 × 10⁸ offsets, and the process aborted), and a start in the mask is placed in the
+/// scenario's own metres, with the map's beside them.
+#[test]
+fn masks_of_any_value_and_inflations_of_any_radius_are_read_or_refused_in_words() {
+    let dir = scratch("no-go-tests", "extreme");
+    let codes = ascii_grid(&dir, "codes.asc", (COLS, ROWS, CELL), |c, r| match (c, r) {
+        (15, 0..=9) => "4000000000".into(),
+        (15, 10..=18) => "1e8".into(),
+        _ => "0".into(),
+    });
+    let at = |(c, r): (usize, usize)| ((c as f64 + 0.5) * CELL, (ROWS as f64 - r as f64 - 0.5) * CELL);
+    let out = dir.join("out");
+    let o = run(&scenario(&dir, at((2, 2)), at((27, 2)), &format!("no_go: (file: \"{codes}\")")), &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let facts: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("walled/facts.json")).unwrap()).unwrap();
+    assert_eq!(facts["no_go.masked_cells"], 19);
+    let plan = csv(&out.join("walled/plan.csv"));
+    assert!(plan.iter().any(|w| w["col"] == "15" && w["row"] == "19"), "round the wall's open end");
+
+    // 10 km of inflation around one cell of a 300 × 300 map of 1 m cells: every cell is
+    // within it, the start too — refused in words, at once.
+    let one_m =
+        ascii_grid(&dir, "dot.asc", (300, 300, 1.0), |c, r| if (c, r) == (150, 150) { "1" } else { "0" }.into());
+    let path = dir.join("fine.ron");
+    std::fs::write(
+        &path,
+        format!(
+            r#"Scenario(version: 1, description: "fine", job: Tempest(body: Mars,
+            terrain: Synth(cols: 300, rows: 300, cell_m: 1.0, seed: 1, noise: (amplitude_m: 0.0, wavelength_m: 40.0, octaves: 1), features: []),
+            site: (lat_deg: -4.6, lon_east_deg: 137.4), start_utc: "2012-08-06T22:00:00Z", horizon_h: 2,
+            start: (x_m: 5.5, y_m: 5.5), start_battery_above_floor_wh: 600,
+            goals: [(name: "east", x_m: 290.5, y_m: 5.5)],
+            no_go: (file: "{one_m}", inflate_m: 10000)))"#
+        ),
+    )
+    .unwrap();
+    let o = run(&path, &out);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("(5.5, 5.5) m") && stderr(&o).contains("within inflate_m"), "{}", stderr(&o));
+
+    // On the Gale crop (a map whose metres start far from 0) a mask without a CRS is in
+    // the scenario's metres: the start on it is said in those, the map's beside them.
+    std::fs::copy(root().join("scenarios/data/gale_mola_crop_64.tif"), dir.join("gale.tif")).unwrap();
+    let all = ascii_grid(&dir, "all.asc", (64, 64, 470.0), |_, _| "1".into());
+    let path = dir.join("gale.ron");
+    std::fs::write(
+        &path,
+        format!(
+            r#"Scenario(version: 1, description: "gale", job: Tempest(terrain: File("gale.tif"),
+            site: (lat_deg: -5.2734, lon_east_deg: 137.6719), start_utc: "2012-08-06T22:15:00Z", horizon_h: 12,
+            start: (x_m: 18670, y_m: 24770), start_battery_above_floor_wh: 600,
+            goals: [(name: "north_west", x_m: 14000, y_m: 26000)],
+            no_go: (file: "{all}")))"#
+        ),
+    )
+    .unwrap();
+    let o = run(&path, &out);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("(18670.0, 24770.0) m (the map's (8127674.4, -302611.8) m) is in the no-go mask"), "{err}");
+}

@@ -199,8 +199,12 @@ pub fn tempest(job: &TempestJob, map: SearchMap) -> Estimate {
     let sectors = job.horizon_sectors as u64;
     let truth = !matches!(job.truth, Truth::Map);
     let (_, clones, executions) = chance_work(job);
+    // A no-go mask sampled onto the map (16 bytes a cell), its codes (1) and its
+    // inflation's distance transform (8), whatever `inflate_m`.
+    let no_go = if job.no_go.is_some() { cells.saturating_mul(NO_GO_BYTES_PER_CELL) } else { 0 };
     let memory_bytes = areo_mission::World::estimate_bytes(cells, job.horizon_sectors, truth)
-        .saturating_add(clones.saturating_mul(areo_mission::World::estimate_bytes(cells, job.horizon_sectors, false)));
+        .saturating_add(clones.saturating_mul(areo_mission::World::estimate_bytes(cells, job.horizon_sectors, false)))
+        .saturating_add(no_go);
     Estimate {
         what: format!(
             "the TEMPEST job on {cells} cells ({sectors} horizon sectors, {clones} terrain clones, {executions} \
@@ -211,6 +215,9 @@ pub fn tempest(job: &TempestJob, map: SearchMap) -> Estimate {
         work_unit: "cell-sector rays and execution steps",
     }
 }
+
+/// What a no-go mask holds per map cell while it is applied, bytes.
+const NO_GO_BYTES_PER_CELL: u64 = 25;
 
 /// The labels the searches of a TEMPEST job on `map` are expected to expand (see
 /// [`tempest`]): what a progress bar counts them against.

@@ -108,8 +108,30 @@ fn read_header(
     Ok(Header { ncols, nrows, dx, dy, xll, yll, centre, nodata })
 }
 
+/// Reads an ESRI ASCII grid of values that are not heights (a mask, a class map) as
+/// [`crate::Values`]: each number as written, of any magnitude; missing only where it
+/// is not finite or is the grid's `NODATA_value`.
+pub fn read_values(path: &Path) -> Result<crate::Values> {
+    let text = crate::input::read_text(path, crate::input::RASTER_LIMIT)
+        .map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    let (grid, values) = parse_grid(&text, path, true)?;
+    let prj = path.with_extension("prj");
+    let grid = match crate::input::read_text(&prj, 1 << 20) {
+        Ok(wkt) if wkt.trim_start().starts_with("GEOGCS[") => geographic(grid, &wkt, &prj)?,
+        _ => grid,
+    };
+    crate::Values::new(grid, values)
+}
+
 /// Parses ESRI ASCII grid text; `path` labels errors.
 pub fn parse(text: &str, path: &Path) -> Result<Dem> {
+    parse_grid(text, path, false).map(|(dem, _)| dem)
+}
+
+/// The grid of ESRI ASCII text and its values (NaN where missing). As heights
+/// (`values` false) the DEM holds them; as values it holds 0 where one is given, the
+/// values being beyond what heights may be.
+fn parse_grid(text: &str, path: &Path, values: bool) -> Result<(Dem, Vec<f64>)> {
     let bad = |line: usize, m: String| Error::format(path, format!("line {line}: {m}"));
     let mut lines = text.lines().enumerate().peekable();
     let Header { ncols, nrows, dx, dy, xll, yll, centre, nodata } = read_header(&mut lines, path)?;
@@ -155,11 +177,24 @@ pub fn parse(text: &str, path: &Path) -> Result<Dem> {
         return Err(bad(0, format!("{} values for {cols} x {rows} cells", z.len())));
     }
     let valid: Vec<bool> = z.iter().map(|v| v.is_finite() && nodata.is_none_or(|nd| *v != nd)).collect();
-    let z: Vec<f32> = z.iter().zip(&valid).map(|(v, ok)| if *ok { *v as f32 } else { f32::NAN }).collect();
+    let heights: Vec<f32> = (z.iter().zip(&valid))
+        .map(|(v, ok)| {
+            if !*ok {
+                f32::NAN
+            } else if values {
+                0.0
+            } else {
+                *v as f32
+            }
+        })
+        .collect();
+    let exact: Vec<f64> =
+        if values { z.iter().zip(&valid).map(|(v, ok)| if *ok { *v } else { f64::NAN }).collect() } else { Vec::new() };
     let (x0, y0) = if centre { (xll - dx / 2.0, yll - dy / 2.0) } else { (xll, yll) };
-    Dem::new(cols, rows, dx, dy, x0, y0 + rows as f64 * dy, z)
+    let dem = Dem::new(cols, rows, dx, dy, x0, y0 + rows as f64 * dy, heights)
         .and_then(|d| d.with_mask(valid))
-        .map_err(|e| Error::format(path, e.to_string()))
+        .map_err(|e| Error::format(path, e.to_string()))?;
+    Ok((dem, exact))
 }
 
 /// Writes an ESRI ASCII grid (`cellsize` when dx = dy, else GDAL's `dx`/`dy`);

@@ -73,6 +73,34 @@ pub fn read_from<R: Read + Seek>(reader: R, path: &Path) -> Result<Dem> {
     header.dem(0, 0, header.cols, header.rows, z, path)
 }
 
+/// Reads a GeoTIFF of values that are not heights (a mask, a class map) exactly, as
+/// [`crate::Values`]: every sample as the f64 it is, of any magnitude; missing only
+/// where it is NaN or the file's no-data.
+pub fn read_values(path: &Path) -> Result<crate::Values> {
+    let file = crate::input::open(path, crate::input::RASTER_LIMIT)
+        .map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    let tiff_err = |e: tiff::TiffError| Error::format(path, format!("not a readable TIFF: {e}"));
+    let mut dec = Decoder::new(BufReader::new(file)).map_err(tiff_err)?;
+    let header = Header::parse(&mut dec, path)?;
+    let values: Vec<f64> = match dec.read_image().map_err(tiff_err)? {
+        DecodingResult::I16(v) => v.into_iter().map(f64::from).collect(),
+        DecodingResult::U16(v) => v.into_iter().map(f64::from).collect(),
+        DecodingResult::I32(v) => v.into_iter().map(f64::from).collect(),
+        DecodingResult::U32(v) => v.into_iter().map(f64::from).collect(),
+        DecodingResult::I8(v) => v.into_iter().map(f64::from).collect(),
+        DecodingResult::U8(v) => v.into_iter().map(f64::from).collect(),
+        DecodingResult::F32(v) => v.into_iter().map(f64::from).collect(),
+        DecodingResult::F64(v) => v,
+        other => samples(other, path)?.into_iter().map(f64::from).collect(),
+    };
+    let nodata = header.nodata;
+    let missing = |v: f64| v.is_nan() || nodata.is_some_and(|nd| v == nd || (nd.is_nan() && v.is_nan()));
+    let values: Vec<f64> = values.into_iter().map(|v| if missing(v) { f64::NAN } else { v }).collect();
+    let skeleton: Vec<f32> = values.iter().map(|v| if v.is_nan() { f32::NAN } else { 0.0 }).collect();
+    let grid = header.dem(0, 0, header.cols, header.rows, skeleton, path)?;
+    crate::Values::new(grid, values)
+}
+
 /// What a GeoTIFF says of its grid: size, cells, georeference and nodata.
 #[derive(Debug, Clone)]
 struct Header {
@@ -689,6 +717,12 @@ pub fn write(dem: &Dem, path: &Path) -> Result<()> {
 /// a raster held as plain data, without its DEM.
 pub fn write_f32_on(grid: &Grid, values: &[f32], path: &Path) -> Result<()> {
     write_raster::<colortype::Gray32Float>(grid, values, Some("nan"), path)
+}
+
+/// Writes float64 values on `grid` (NaN where there is no value, GDAL_NODATA "nan"):
+/// values that f32 would round, such as a class map's ids or a mask's codes.
+pub fn write_f64_on(grid: &Grid, values: &[f64], path: &Path) -> Result<()> {
+    write_raster::<colortype::Gray64Float>(grid, values, Some("nan"), path)
 }
 
 /// Writes one byte per cell on `grid`, with an optional nodata value.

@@ -30,7 +30,8 @@
 //!   [`geotiff::Windows`] and written as tiled GeoTIFFs as tiles finish
 //!   ([`geotiff::write_u8_tiled`], [`geotiff::write_u16_planes_tiled`]; BigTIFF past
 //!   4 GB); planning regions cut from them ([`tiles::region`]).
-//! - [`read`]: any of those formats, told by the file's extension.
+//! - [`read`]: any of those formats, told by the file's extension; [`read_values`]: a
+//!   raster of values that are not heights (a mask, a class map), read exactly.
 //! - [`hillshade`]: a shaded-relief picture (RGB) with cast shadows.
 //! - [`horizon`]: horizon maps (K sectors, 2 bytes per cell per sector), the Sun's
 //!   elevation above each cell's ground plane, and line-of-sight map sequences.
@@ -74,6 +75,7 @@ pub mod size;
 pub mod slope;
 pub mod synth;
 pub mod tiles;
+pub mod values;
 
 pub use areo_body::Spheroid;
 
@@ -82,6 +84,7 @@ pub use crate::{
     error::{Error, Result},
     projection::Projection,
     size::Size,
+    values::{Values, read_values},
 };
 
 /// A DEM file format, told by the file's extension.

@@ -25,6 +25,18 @@ pub(super) fn apply(
     let field = "job.terrain_classes.file";
     let samples = overlay::sample(&spec.file, field, file, world, frame)?;
     let bad = |message: String| scenario_error(file, field.to_string(), message);
+    // A class id is a whole number: a value such as 2.000000001 is refused where it
+    // lies, not rounded to a class.
+    if let Some(cell) = samples.iter().position(|s| matches!(s, Sample::Value(v) if v.fract() != 0.0)) {
+        let Sample::Value(v) = samples[cell] else { unreachable!("found as a value") };
+        let (col, row) = world.col_row(cell as u32);
+        let (x, y) = frame.to_local(world.center(cell as u32));
+        return Err(bad(format!(
+            "{}: {v} under the map cell at ({x:.1}, {y:.1}) m (column {col}, row {row} of the map) is not a whole \
+             number: class ids are integers",
+            spec.file
+        )));
+    }
     let cells = class_cells(spec, &samples).map_err(bad)?;
     let classes: Vec<TerrainClass> = spec
         .classes

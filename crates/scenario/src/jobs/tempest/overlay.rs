@@ -24,7 +24,10 @@ pub(super) enum Sample {
 /// cell by cell; `field` names the scenario field in errors.
 pub(super) fn sample(name: &str, field: &str, file: &ScenarioFile, world: &World, frame: Frame) -> Result<Vec<Sample>> {
     let base = file.path.parent().unwrap_or(Path::new("."));
-    let raster = areo_terrain::read(&base.join(name)).map_err(|e| Error::from(e).referenced_by(&file.path, field))?;
+    // Read as values, not heights: a mask's 4e9 or a class id's fraction as written.
+    let values =
+        areo_terrain::read_values(&base.join(name)).map_err(|e| Error::from(e).referenced_by(&file.path, field))?;
+    let raster = &values.grid;
     let bad = |message: String| scenario_error(file, field.to_string(), message);
     let dem = world.dem();
     let (m, d) = (raster.georef(), dem.georef());
@@ -63,7 +66,7 @@ pub(super) fn sample(name: &str, field: &str, file: &ScenarioFile, world: &World
             if col < 0.0 || row < 0.0 || col >= raster.cols() as f64 || row >= raster.rows() as f64 {
                 return Sample::Outside;
             }
-            raster.z(col as usize, row as usize).map_or(Sample::NoData, |v| Sample::Value(f64::from(v)))
+            values.at(col as usize, row as usize).map_or(Sample::NoData, Sample::Value)
         })
         .collect())
 }
