@@ -13,8 +13,11 @@ use areo_scenario::Error;
 /// The exit status of a writer whose reader has gone: 128 + SIGPIPE.
 pub(crate) const CLOSED_PIPE: i32 = 141;
 
-/// Writes `text` to standard output and flushes it.
+/// Writes `text` to standard output and flushes it, with what a terminal must not
+/// receive raw (controls, bidirectional and invisible characters) shown as escapes
+/// ([`areo_scenario::output::escape::console`]).
 pub(crate) fn out(text: &str) -> Result<(), Error> {
+    let text = areo_scenario::output::escape::console(text);
     let mut stdout = std::io::stdout().lock();
     match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
         Ok(()) => Ok(()),
@@ -23,8 +26,10 @@ pub(crate) fn out(text: &str) -> Result<(), Error> {
     }
 }
 
-/// Writes `text` to standard error; a failure there is dropped.
+/// Writes `text` to standard error, escaped as [`out`] escapes it; a failure there is
+/// dropped.
 pub(crate) fn err(text: &str) {
+    let text = areo_scenario::output::escape::console(text);
     let mut stderr = std::io::stderr().lock();
     let _ = stderr.write_all(text.as_bytes()).and_then(|()| stderr.flush());
 }

@@ -530,6 +530,29 @@ fn terminal_output_is_escaped_and_times_out_of_range_refused() {
     assert!(o.status.success(), "{}", stderr(&o));
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(!text.contains('\u{1b}') && !text.contains('\u{0}') && text.contains("\\u{1b}[31mred"), "{text:?}");
+    // A goal named with bidirectional overrides, invisible characters and separators:
+    // the summary shows them escaped, `--json` as JSON escapes that read back as the name.
+    let name = "ea\u{202E}ts\u{2066}\u{200B}\u{2028}x";
+    let small = root().join("tests/tempest/small.ron");
+    let set = format!("job.goals[0].name={}", serde_json::to_string(name).unwrap());
+    let out = dir.join("out");
+    let args = ["-q", "run", small.to_str().unwrap(), "-o", out.to_str().unwrap(), "--set", &set];
+    let o = areo(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("reached ea\\u{202e}ts\\u{2066}\\u{200b}\\u{2028}x"), "{text}");
+    let raw = |t: &str| t.chars().any(|c| matches!(c, '\u{202E}' | '\u{2066}' | '\u{200B}' | '\u{2028}' | '\u{9B}'));
+    assert!(!raw(&text));
+    let o = areo(&[&args[..], &["--json"]].concat());
+    let json = String::from_utf8_lossy(&o.stdout);
+    assert!(!raw(&json), "{json}");
+    let facts: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!(facts["summary"].as_array().unwrap().iter().any(|l| l.as_str().unwrap().contains(name)), "{facts}");
+    // An error naming a refused name shows it escaped too.
+    let set = format!("job.goals[0].name={}", serde_json::to_string("\u{1b}]0;title\u{7}\u{9b}").unwrap());
+    let o = areo(&["-q", "run", small.to_str().unwrap(), "-o", dir.join("out").to_str().unwrap(), "--set", &set]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(!stderr(&o).contains(['\u{1b}', '\u{7}', '\u{9b}']), "{:?}", stderr(&o));
     let o = areo(&["sun", "--time", "2016-12-31T23:59:60Z"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let o = areo(&["sun", "--body", "moon", "--day", "2600-12-31", "--lat", "0", "--lon", "0"]);

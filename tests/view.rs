@@ -405,3 +405,40 @@ fn the_earth_plans_viewer_moves_the_shadows_and_the_rover_along_the_plan() {
     // Two waypoints twelve hours apart under the Arctic summer's low Sun.
     check_plan_viewer("scenarios/devon-island.ron", |dt| dt >= 12.0 * 3600.0);
 }
+
+/// A goal name and a description made of markup (`</script>`, `<!--<script>`, U+2028,
+/// a bidi override) leave the viewer's page one whole script: Chromium runs it without
+/// an error, no element is added, and the name reads back from the page's data as
+/// written.
+#[test]
+fn a_name_made_of_markup_leaves_the_viewer_whole() {
+    if !chromium_here() {
+        return;
+    }
+    let name = "</script><!--<script>document.title='pwned'</script>\u{2028}\u{202E}&'\"";
+    let out = root().join("target").join("view-tests").join("markup");
+    let _ = std::fs::remove_dir_all(&out);
+    let o = Command::new(env!("CARGO_BIN_EXE_areo"))
+        .args(["-q", "run", root().join("tests/tempest/small.ron").to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .args(["--set", &format!("job.goals[0].name={}", serde_json::to_string(name).unwrap())])
+        .args(["--set", &format!("description={}", serde_json::to_string(name).unwrap())])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let page = out.join("small/view.html");
+    let (dom, console) = dom(&page, "");
+    assert!(console.is_empty(), "{console}");
+    assert!(state(&dom).contains_key("utc"), "the script ran");
+    let source = std::fs::read_to_string(&page).unwrap();
+    assert_eq!(dom.matches("<script").count(), source.matches("<script").count(), "no element added");
+    assert!(!dom.contains("<title>pwned"), "no script of the name's ran");
+    fn holds(v: &serde_json::Value, s: &str) -> bool {
+        match v {
+            serde_json::Value::String(t) => t.contains(s),
+            serde_json::Value::Array(a) => a.iter().any(|x| holds(x, s)),
+            serde_json::Value::Object(o) => o.values().any(|x| holds(x, s)),
+            _ => false,
+        }
+    }
+    assert!(holds(&page_data(&page), name), "the name as written, in the page's data");
+}

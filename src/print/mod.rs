@@ -13,7 +13,10 @@ use areo_scenario::Error;
 
 /// `value` as pretty JSON for standard output.
 pub(crate) fn json(value: &impl serde::Serialize) -> Result<String, Error> {
+    // The terminal's characters escaped as JSON escapes: the same strings, nothing
+    // raw that a terminal would act on.
     serde_json::to_string_pretty(value)
+        .map(|json| areo_scenario::output::escape::json_console(&json).into_owned())
         .map_err(|e| Error::Io { path: "(standard output)".into(), source: std::io::Error::other(e) })
 }
 

@@ -3,6 +3,7 @@
 //! cores. `memory.rs` is its own binary: it reads the process's peak memory.
 
 mod fresh_replans;
+mod names;
 mod plan_region;
 mod report_files;
 mod resolution_states;

@@ -467,11 +467,16 @@ fn check_identifier(c: &mut Checks, name: &str) {
     }
 }
 
-/// A name shown in reports and plots (writers quote it): 1 to 100 characters, none a
-/// control character.
+/// A name shown in reports and plots (each writer escapes it for its format,
+/// `output::escape`): 1 to 100 characters, none a control character or a Unicode
+/// non-character (U+FFFE, U+FFFF, …: no text format may carry them; XML forbids two).
 fn check_label(c: &mut Checks, name: &str) {
-    if !(1..=100).contains(&name.chars().count()) || name.chars().any(char::is_control) {
-        c.fail("name", format!("{name:?}: allowed 1 to 100 characters, no control characters (tab, newline, …)"));
+    let bad = |ch: char| ch.is_control() || crate::output::escape::non_character(ch);
+    if !(1..=100).contains(&name.chars().count()) || name.chars().any(bad) {
+        c.fail(
+            "name",
+            format!("{name:?}: allowed 1 to 100 characters, no control characters (tab, newline, …) or non-characters"),
+        );
     }
 }
 

@@ -1,6 +1,7 @@
 //! CSV tables through the `csv` crate: every field is quoted as RFC 4180 needs, so a
 //! user's goal or sample name with a comma, quote or newline cannot shift a column.
 
+use std::borrow::Cow;
 use std::path::Path;
 
 use serde::Serialize;
@@ -45,6 +46,32 @@ pub(crate) fn rows_to_csv<R: Serialize + Default>(path: &Path, rows: impl IntoIt
     w.write_record(&names).map_err(fail)?;
     for row in rows {
         w.serialize(row).map_err(fail)?;
+    }
+    let bytes = w.into_inner().map_err(|e| Error::Io { path: path.to_path_buf(), source: e.into_error() })?;
+    let text = String::from_utf8(bytes)
+        .map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) })?;
+    defuse(path, text)
+}
+
+/// CSV text with every cell passed through [`super::escape::csv_cell`] (read back and
+/// written again only where a cell needs it).
+fn defuse(path: &Path, text: String) -> Result<String> {
+    let fail = |e: csv::Error| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) };
+    let records: Vec<csv::StringRecord> = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(text.as_bytes())
+        .records()
+        .collect::<std::result::Result<_, _>>()
+        .map_err(fail)?;
+    let needs = |r: &csv::StringRecord| r.iter().any(|f| matches!(super::escape::csv_cell(f), Cow::Owned(_)));
+    if !records.iter().any(needs) {
+        return Ok(text);
+    }
+    let mut w =
+        csv::WriterBuilder::new().has_headers(false).terminator(csv::Terminator::Any(b'\n')).from_writer(Vec::new());
+    for r in &records {
+        w.write_record(r.iter().map(super::escape::csv_cell).collect::<Vec<_>>().iter().map(|c| c.as_bytes()))
+            .map_err(fail)?;
     }
     let bytes = w.into_inner().map_err(|e| Error::Io { path: path.to_path_buf(), source: e.into_error() })?;
     String::from_utf8(bytes).map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) })
@@ -92,7 +119,7 @@ impl Table {
         let mut w = csv::WriterBuilder::new().terminator(csv::Terminator::Any(b'\n')).from_writer(Vec::new());
         w.write_record(&self.header).map_err(fail)?;
         for row in &self.rows {
-            w.write_record(row).map_err(fail)?;
+            w.write_record(row.iter().map(|c| super::escape::csv_cell(c).into_owned())).map_err(fail)?;
         }
         let bytes = w.into_inner().map_err(|e| Error::Io { path: path.to_path_buf(), source: e.into_error() })?;
         String::from_utf8(bytes).map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e) })

@@ -70,9 +70,9 @@ impl Kml {
     }
 }
 
-/// XML text escaping (names come from scenario files).
+/// XML text escaping (names come from scenario files): [`super::escape::xml`].
 fn escape(text: &str) -> String {
-    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    super::escape::xml(text)
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! place once complete, with errors that name the file.
 
 pub mod csv;
+pub mod escape;
 pub(crate) mod geojson;
 pub(crate) mod kml;
 pub(crate) mod layout;

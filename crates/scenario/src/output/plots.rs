@@ -469,7 +469,8 @@ fn both_with<T>(
         let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
         draw_svg(&root).map_err(|m| plot_error(&svg_path, m))?
     };
-    let svg = finish_svg(svg, drawn).map_err(|m| plot_error(&svg_path, m))?;
+    // plotters escapes the specials; a character XML forbids is replaced.
+    let svg = crate::output::escape::xml_chars(finish_svg(svg, drawn).map_err(|m| plot_error(&svg_path, m))?);
     crate::output::write_file(&svg_path, svg.as_bytes())?;
     let png_path = dir.join(format!("{name}.png"));
     let mut buf = vec![0u8; width as usize * height as usize * 3];

@@ -100,8 +100,8 @@ pub(super) fn write(path: &Path, view: &ViewData, executed: bool) -> Result<usiz
 pub(super) fn write_page<T: Serialize>(path: &Path, template: &str, data: &dyn Fn(usize) -> T) -> Result<usize> {
     let html = |bytes: usize| -> Result<String> {
         let json = crate::output::json_for(path, &data(bytes), false)?;
-        // Nothing in the data may close the script element that holds it.
-        Ok(template.replace("__DATA__", &json.replace("</", "<\\/")))
+        // Nothing in the data may close, comment out or open a script element.
+        Ok(template.replace("__DATA__", &crate::output::escape::script_json(&json)))
     };
     // Measured once without the size, which the sentence changes by a few bytes.
     let first = html(0)?.len();
