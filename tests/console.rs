@@ -75,7 +75,7 @@ fn commands(dir: &Path) -> Vec<(&'static str, Vec<String>)> {
                 &p(dir.join("sh.tif")),
             ]),
         ),
-        ("terrain horizon", s(&["terrain", "horizon", &dem, "--sectors", "16", "-o", &p(dir.join("hz.tif"))])),
+        ("terrain horizon", s(&["terrain", "horizon", &dem, "--sectors", "16", "-o", &p(dir.join("hz"))])),
         (
             "terrain viewshed",
             s(&["terrain", "viewshed", &dem, "--from", "8120000,-310000,2", "-o", &p(dir.join("vs.tif"))]),

@@ -558,7 +558,22 @@ pub fn load(path: &Path) -> Result<ScenarioFile, Error> {
 /// validated as the file would be, and errors name the setting.
 pub fn load_with(path: &Path, sets: &[String]) -> Result<ScenarioFile, Error> {
     load_setting(path, sets).map_err(|(e, from_sets)| {
-        if from_sets { Error::usage(format!("--set {}", sets.join(" --set ")), e.to_string()) } else { e }
+        if !from_sets {
+            return e;
+        }
+        // A value the field's type cannot take is a syntax error of the edited text:
+        // name the setting that alone makes the file unreadable.
+        if let Error::Syntax { message, .. } = &e
+            && let Ok(text) = crate::read_text(path)
+            && let Some(set) = sets.iter().find(|set| {
+                apply_setting(path, &text, set).is_ok_and(|one| matches!(parse(path, &one), Err(Error::Syntax { .. })))
+            })
+        {
+            let (field, value) = set.split_once('=').unwrap_or((set, ""));
+            let message = format!("{}: not a value `{}` can take ({message})", value.trim(), field.trim());
+            return Error::usage(format!("--set {set}"), message);
+        }
+        Error::usage(format!("--set {}", sets.join(" --set ")), e.to_string())
     })
 }
 
@@ -571,8 +586,7 @@ pub fn load_set(path: &Path, sets: &[String]) -> Result<ScenarioFile, Error> {
 
 /// [`load_with`]'s work; an error says whether the settings caused it (the file
 /// parsed as written). Each value must be one RON value ([`setting::one_value`]): it
-/// replaces its field's value and nothing else. A value of the wrong type is named
-/// with its setting.
+/// replaces its field's value and nothing else.
 fn load_setting(path: &Path, sets: &[String]) -> Result<ScenarioFile, (Error, bool)> {
     let mut file = load(path).map_err(|e| (e, false))?;
     if sets.is_empty() {
@@ -582,21 +596,7 @@ fn load_setting(path: &Path, sets: &[String]) -> Result<ScenarioFile, (Error, bo
     for set in sets {
         text = apply_setting(path, &text, set)?;
     }
-    file.scenario = parse(path, &text).map_err(|e| {
-        // A value the field's type cannot take is a syntax error of the edited text:
-        // name the setting that alone makes the file unreadable.
-        if let Error::Syntax { message, .. } = &e
-            && let Some(set) = sets.iter().find(|set| {
-                apply_setting(path, &file.text, set)
-                    .is_ok_and(|one| matches!(parse(path, &one), Err(Error::Syntax { .. })))
-            })
-        {
-            let (field, value) = set.split_once('=').unwrap_or((set, ""));
-            let message = format!("{}: not a value `{}` can take ({message})", value.trim(), field.trim());
-            return (Error::usage(format!("--set {set}"), message), false);
-        }
-        (e, true)
-    })?;
+    file.scenario = parse(path, &text).map_err(|e| (e, true))?;
     file.text = text;
     Ok(file)
 }

@@ -479,7 +479,7 @@ const CHUNK_CACHE_BYTES: usize = 512 << 20;
 /// (`s000.tif`, `s001.tif`, …, degrees), since GeoTIFF readers expect single-band
 /// DEM-like rasters here. The set is written into a staging directory beside `out`
 /// and put in its place in one step, as a run's outputs are
-/// ([`crate::output::staging::put_in_place`]): a process killed at any moment leaves
+/// (`output::staging::put_in_place`): a process killed at any moment leaves
 /// the previous set or the new one, whole.
 pub fn write_horizon(
     dem: &Dem,

@@ -61,7 +61,8 @@ fn ident_before(chars: &[char], i: usize) -> bool {
     i > 0 && {
         let c = chars[i - 1];
         // `br"…"`: a byte string's `b` starts the literal.
-        (c.is_alphanumeric() || c == '_') && !(c == 'b' && !ident_before(chars, i - 1))
+        let byte_prefix = c == 'b' && !ident_before(chars, i - 1);
+        (c.is_alphanumeric() || c == '_') && !byte_prefix
     }
 }
 

@@ -39,7 +39,7 @@ fn unsafe_on_console(c: char) -> bool {
 
 /// Unicode's non-characters: U+FDD0..=U+FDEF and the last two code points of every
 /// plane (U+FFFE, U+FFFF, U+1FFFE, …).
-pub(crate) fn non_character(c: char) -> bool {
+pub fn non_character(c: char) -> bool {
     matches!(c, '\u{FDD0}'..='\u{FDEF}') || (u32::from(c) & 0xFFFE) == 0xFFFE
 }
 
@@ -51,7 +51,7 @@ fn xml_allows(c: char) -> bool {
 /// JSON text made safe inside an HTML `<script>` element (see the module's notes).
 /// The characters replaced occur in JSON only inside strings, where the `\u` escape
 /// reads back as the same character.
-pub(crate) fn script_json(json: &str) -> String {
+pub fn script_json(json: &str) -> String {
     let mut out = String::with_capacity(json.len());
     for c in json.chars() {
         match c {
@@ -68,7 +68,7 @@ pub(crate) fn script_json(json: &str) -> String {
 
 /// Text for an XML element or attribute: forbidden characters as U+FFFD, the five
 /// specials escaped.
-pub(crate) fn xml(text: &str) -> String {
+pub fn xml(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -86,7 +86,7 @@ pub(crate) fn xml(text: &str) -> String {
 
 /// An XML document whose specials are already escaped (plotters' SVG) with the
 /// characters XML forbids as U+FFFD.
-pub(crate) fn xml_chars(document: String) -> String {
+pub fn xml_chars(document: String) -> String {
     if document.chars().all(xml_allows) {
         return document;
     }
@@ -95,7 +95,7 @@ pub(crate) fn xml_chars(document: String) -> String {
 
 /// A CSV cell as written: text that a spreadsheet would take for a formula gets a
 /// leading `'`; a number (`-0.5`, `+3`, `-inf`) is left as it is.
-pub(crate) fn csv_cell(cell: &str) -> Cow<'_, str> {
+pub fn csv_cell(cell: &str) -> Cow<'_, str> {
     let formula = cell.starts_with(['=', '+', '-', '@', '\t', '\r']);
     if formula && cell.trim().parse::<f64>().is_err() { Cow::Owned(format!("'{cell}")) } else { Cow::Borrowed(cell) }
 }
