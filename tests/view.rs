@@ -441,4 +441,19 @@ fn a_name_made_of_markup_leaves_the_viewer_whole() {
         }
     }
     assert!(holds(&page_data(&page), name), "the name as written, in the page's data");
+    // The actions viewer, with the description made of the same markup.
+    let o = Command::new(env!("CARGO_BIN_EXE_areo"))
+        .args(["-q", "run", root().join("tests/actions/small.ron").to_str().unwrap()])
+        .args(["--out", out.join("actions").to_str().unwrap()])
+        .args(["--set", &format!("description={}", serde_json::to_string(name).unwrap())])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let page = out.join("actions/small/view.html");
+    let (drawn, console) = self::dom(&page, "");
+    assert!(console.is_empty(), "{console}");
+    assert!(drawn.contains("id=\"state\""), "the script ran");
+    assert!(!drawn.contains("<title>pwned"));
+    let source = std::fs::read_to_string(&page).unwrap();
+    assert_eq!(drawn.matches("<script").count(), source.matches("<script").count(), "no element added");
 }
