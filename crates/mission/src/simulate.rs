@@ -24,6 +24,10 @@ use crate::plan::MissionPlan;
 use crate::planner::{Mission, PlannerConfig};
 use crate::world::World;
 
+mod fresh;
+
+pub use fresh::FreshCheck;
+
 /// Simulation parameters (scenario fields).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -153,8 +157,14 @@ pub struct PlanRecord {
     #[serde(default)]
     pub kept_rest: bool,
     /// With [`SimConfig::compare_fresh`]: the same problem planned from scratch — its
-    /// expansions and cost (`None` when not compared, or no fresh plan exists).
+    /// expansions and cost (`None` when not compared, or no fresh plan exists). On a
+    /// tick, by a new, independent planner instance from the rover's state (see
+    /// [`FreshCheck`]).
     pub fresh: Option<(u64, f64)>,
+    /// On a tick, with [`SimConfig::compare_fresh`]: how the re-plan compares with the
+    /// independent instance.
+    #[serde(default)]
+    pub fresh_check: Option<FreshCheck>,
     /// For a [`PlanKind::Restart`]: the re-plan that found nothing and why.
     pub restart: Option<Restart>,
     /// The plan.
@@ -421,6 +431,7 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
                 let compare = sim.compare_fresh && restart.is_none() && compared;
                 let route_changed = !same_route(&plan, &p, cell);
                 let at = (step, t, clock.elapsed().as_secs_f64());
+                let compare = compare.then_some(((believed, model, &config), here, remaining));
                 report.plans.push(record_replan(&mission, &p, restart, at, (changed.len(), route_changed), compare)?);
                 plan = p;
             }
@@ -460,6 +471,7 @@ fn initial_plan<'a>(simulation: &Simulation<'a>) -> Result<(Mission<'a>, Mission
         route_changed: true,
         kept_rest: false,
         fresh: None,
+        fresh_check: None,
         restart: None,
         plan: plan.clone(),
     });
@@ -560,9 +572,19 @@ fn record_replan(
     restart: Option<Restart>,
     (step, t, wall_s): (usize, f64, f64),
     (changed_cells, route_changed): (usize, bool),
-    compare: bool,
+    compare: Option<((&World, &ActionModel, &PlannerConfig), Start, &[u32])>,
 ) -> Result<PlanRecord> {
-    let fresh = if compare { mission.fresh()?.map(|f| (f.expansions, f.cost)) } else { None };
+    let (fresh, fresh_check) = match compare {
+        None => (None, None),
+        // On a tick: a new planner instance from the rover's state.
+        Some((problem, here, remaining)) if problem.2.tick_s.is_some() => {
+            match FreshCheck::of(mission, p, problem, here, remaining)? {
+                Some((fresh, check)) => (fresh, Some(check)),
+                None => (None, None),
+            }
+        }
+        Some(_) => (mission.fresh()?.map(|f| (f.expansions, f.cost)), None),
+    };
     Ok(PlanRecord {
         step,
         kind: if restart.is_some() { PlanKind::Restart } else { PlanKind::Replan },
@@ -574,6 +596,7 @@ fn record_replan(
         route_changed,
         kept_rest: restart.is_none() && mission.kept_rest(),
         fresh,
+        fresh_check,
         restart,
         plan: p.clone(),
     })

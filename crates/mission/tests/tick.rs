@@ -288,3 +288,32 @@ fn margin_on_a_tick_keeps_the_battery_highest_within_the_longest_acceptable_plan
         other => panic!("expected unreachable in {too_short} h, got {:?}", other.map(|(_, p)| p.cost)),
     }
 }
+
+/// `compare_fresh` on a tick asks a new planner instance: a re-plan equal to it is
+/// `Equal`; one that costs more, or less, where the other problem admits the cheaper
+/// plan is `Differs` (the check can fail); a cheaper re-plan that reaches the goal
+/// after the instance's window closes is explained by the windows.
+#[test]
+fn an_independent_planner_instance_tells_a_lost_optimum_from_a_window() {
+    use areo_mission::FreshCheck;
+    let world = mars_world(ground(true), 40.0, Some(16));
+    let model = model(600.0, actions());
+    let t0 = sunset_after(&world, 0.0) - 6.0 * 3600.0;
+    let goal = world.cell(14, 1);
+    let start = Start { cell: world.cell(1, 10), t_min: t0, t_max: t0, energy_wh: 400.0 };
+    let config = planner(Objective::Energy);
+    let (mission, plan) = Mission::plan(&world, &model, config.clone(), start, &[goal]).unwrap();
+    let check = |p: &areo_mission::MissionPlan| {
+        FreshCheck::of(&mission, p, (&world, &model, &config), start, &[goal]).unwrap().expect("compared").1
+    };
+    assert_eq!(check(&plan), FreshCheck::Equal);
+    let dearer = areo_mission::MissionPlan { cost: plan.cost + 1.0, ..plan.clone() };
+    assert_eq!(check(&dearer), FreshCheck::Differs, "the instance's plan meets the mission's windows");
+    let cheaper = areo_mission::MissionPlan { cost: plan.cost - 1.0, ..plan.clone() };
+    assert_eq!(check(&cheaper), FreshCheck::Differs, "the re-plan meets the instance's windows");
+    // The same cheaper plan, but reaching the goal after every window closes.
+    let mut late = cheaper.clone();
+    let at_goal = late.waypoints.iter_mut().find(|w| w.goal.is_some()).expect("the goal's waypoint");
+    at_goal.t_s = mission.goal_windows()[0].1 + 3600.0;
+    assert_eq!(check(&late), FreshCheck::Windows);
+}

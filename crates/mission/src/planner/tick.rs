@@ -136,6 +136,22 @@ impl<'a> Mission<'a> {
     ) -> Result<(Mission<'a>, MissionPlan)> {
         let tick_s = config.tick_s.expect("a mission on a tick");
         check_tick(model, &config, tick_s)?;
+        let mut mission = Mission::at_tick(world, model, config, start, goals);
+        // `Mission::plan` checked the problem.
+        let plan = mission.tick_search()?;
+        Ok((mission, plan))
+    }
+
+    /// A mission on a tick before its first search: its goal windows fixed from the
+    /// start (under Margin, none past the longest acceptable plan).
+    fn at_tick(
+        world: &'a World,
+        model: &'a ActionModel,
+        config: PlannerConfig,
+        start: Start,
+        goals: &[u32],
+    ) -> Mission<'a> {
+        let tick_s = config.tick_s.expect("a mission on a tick");
         let allowance = Allowance::new(config.max_expansions, config.max_search_bytes);
         let mut mission = Mission {
             world,
@@ -161,9 +177,19 @@ impl<'a> Mission<'a> {
             }
         }
         mission.tick.as_mut().expect("a mission on a tick").windows = windows;
-        // `Mission::plan` checked the problem.
-        let plan = mission.tick_search()?;
-        Ok((mission, plan))
+        mission
+    }
+
+    /// The goal windows a mission on a tick planned from `start` to `goals` would keep
+    /// (see [`Mission::goal_windows`]), without planning it.
+    pub fn tick_windows_from(
+        world: &'a World,
+        model: &'a ActionModel,
+        config: &PlannerConfig,
+        start: Start,
+        goals: &[u32],
+    ) -> Vec<(f64, f64)> {
+        Mission::at_tick(world, model, config.clone(), start, goals).goal_windows()
     }
 
     /// The query of the problem as it now stands: from the mission's start to the

@@ -327,8 +327,17 @@ pub struct RunFigures {
     pub fresh_compared: Option<usize>,
     /// Of those, how many expanded more than the fresh search.
     pub replans_above_fresh: Option<usize>,
-    /// The largest relative cost difference from the fresh search.
+    /// The largest relative cost difference from the fresh search, over the re-plans
+    /// whose difference the goal windows do not explain.
     pub replan_fresh_cost_difference: Option<f64>,
+    /// On a tick: compared re-plans whose cost differs from the independent planner
+    /// instance's where the other problem admits the cheaper plan (a search lost its
+    /// optimum; 0 expected).
+    pub fresh_differs: Option<usize>,
+    /// On a tick: compared re-plans whose difference the goal windows explain (the
+    /// instance's are made from the rover's state, the mission's were fixed at its
+    /// start).
+    pub fresh_windows_explained: Option<usize>,
     /// The worlds held, MB.
     pub world_mb: f64,
     /// Actions the rover refused.

@@ -249,8 +249,18 @@ pub(super) fn search_facts(f: &mut RunFigures, r: &SimReport) -> f64 {
     if !compared.is_empty() {
         f.fresh_compared = Some(compared.len());
         f.replans_above_fresh = Some(compared.iter().filter(|(p, (e, _))| p.expansions > *e).count());
-        let worst = compared.iter().map(|(p, (_, c))| (p.plan.cost - c).abs() / c.abs().max(1.0)).fold(0.0, f64::max);
+        let explained = |p: &areo_mission::PlanRecord| p.fresh_check == Some(areo_mission::FreshCheck::Windows);
+        let worst = (compared.iter().filter(|(p, _)| !explained(p)))
+            .map(|(p, (_, c))| (p.plan.cost - c).abs() / c.abs().max(1.0))
+            .fold(0.0, f64::max);
         f.replan_fresh_cost_difference = Some(worst);
+    }
+    // On a tick, against an independent planner instance.
+    let checks: Vec<areo_mission::FreshCheck> = r.plans.iter().filter_map(|p| p.fresh_check).collect();
+    if !checks.is_empty() {
+        f.fresh_compared = Some(checks.len());
+        f.fresh_differs = Some(checks.iter().filter(|&&c| c == areo_mission::FreshCheck::Differs).count());
+        f.fresh_windows_explained = Some(checks.iter().filter(|&&c| c == areo_mission::FreshCheck::Windows).count());
     }
     r.peak_search_bytes() as f64 / 1e6
 }

@@ -279,8 +279,16 @@ fn simulated(lines: &mut Vec<String>, r: &TempestReport, f: &RunFigures) {
     if let (Some(compared), Some(above), Some(worst)) =
         (f.fresh_compared, f.replans_above_fresh, f.replan_fresh_cost_difference)
     {
+        let independent = match (f.fresh_differs, f.fresh_windows_explained) {
+            (Some(differs), Some(windows)) => format!(
+                " (each by a new planner instance from the rover's state: {differs} differ where both problems admit \
+                 the cheaper plan, {windows} differ by the goal windows)"
+            ),
+            _ => String::new(),
+        };
         lines.push(format!(
-            "compared with fresh plans: {compared} re-plans, {above} expanded more than the fresh search; costs within {worst:.2e} (relative)"
+            "compared with fresh plans: {compared} re-plans{independent}, {above} expanded more than the fresh search; \
+             costs within {worst:.2e} (relative)"
         ));
     }
     run_lines(lines, r, f);
