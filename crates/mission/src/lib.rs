@@ -59,8 +59,8 @@ pub use crate::{
     plan::{MissionPlan, Waypoint},
     planner::{ExpansionMeter, FrontPlan, Mission, ParetoFront, PlannerConfig, non_dominated},
     simulate::{
-        ExecutedStep, FreshCheck, Noise, PlanKind, PlanRecord, Restart, SimConfig, SimProgress, SimReport, SimStatus,
-        Simulation, simulate,
+        ExecutedStep, FreshCheck, FreshPlan, Noise, PlanKind, PlanRecord, PlannedOn, Restart, SimConfig, SimProgress,
+        SimReport, SimStatus, Simulation, simulate,
     },
     world::{EarthSky, GridSun, World, WorldConfig, curvature_of},
 };

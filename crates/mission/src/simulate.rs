@@ -26,7 +26,7 @@ use crate::world::World;
 
 mod fresh;
 
-pub use fresh::FreshCheck;
+pub use fresh::{FreshCheck, FreshPlan, PlannedOn};
 
 /// Simulation parameters (scenario fields).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -572,7 +572,7 @@ fn record_replan(
     restart: Option<Restart>,
     (step, t, wall_s): (usize, f64, f64),
     (changed_cells, route_changed): (usize, bool),
-    compare: Option<((&World, &ActionModel, &PlannerConfig), Start, &[u32])>,
+    compare: Option<(fresh::PlannedOn<'_>, Start, &[u32])>,
 ) -> Result<PlanRecord> {
     let (fresh, fresh_check) = match compare {
         None => (None, None),

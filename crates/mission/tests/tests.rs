@@ -5,6 +5,7 @@ mod bodies;
 mod chaining;
 mod common;
 mod exact;
+mod fine_ticks;
 mod front;
 mod grid_north;
 mod ground;

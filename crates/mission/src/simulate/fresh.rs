@@ -34,6 +34,14 @@ pub enum FreshCheck {
     Differs,
 }
 
+/// The independent instance's plan — its expansions and cost, `None` where no plan
+/// exists — and how the re-plan compares with it.
+pub type FreshPlan = (Option<(u64, f64)>, FreshCheck);
+
+/// The problem a re-plan answered: the map it planned on, the rover's actions and the
+/// planner's settings.
+pub type PlannedOn<'p> = (&'p World, &'p ActionModel, &'p PlannerConfig);
+
 impl FreshCheck {
     /// Plans the problem `mission` re-planned — from `here` to the `remaining` goals on
     /// `believed` — with a new planner instance, and compares `replanned` (the
@@ -43,10 +51,10 @@ impl FreshCheck {
     pub fn of(
         mission: &Mission<'_>,
         replanned: &MissionPlan,
-        problem: (&World, &ActionModel, &PlannerConfig),
+        problem: PlannedOn<'_>,
         here: Start,
         remaining: &[u32],
-    ) -> Result<Option<(Option<(u64, f64)>, FreshCheck)>> {
+    ) -> Result<Option<FreshPlan>> {
         independent(mission, replanned, problem, here, remaining)
     }
 }
@@ -54,10 +62,10 @@ impl FreshCheck {
 fn independent(
     mission: &Mission<'_>,
     replanned: &MissionPlan,
-    (believed, model, config): (&World, &ActionModel, &PlannerConfig),
+    (believed, model, config): PlannedOn<'_>,
     here: Start,
     remaining: &[u32],
-) -> Result<Option<(Option<(u64, f64)>, FreshCheck)>> {
+) -> Result<Option<FreshPlan>> {
     let Some(tick) = config.tick_s else { return Ok(None) };
     // The mission's searches stay alive beside the fresh one.
     let held = mission.search_bytes();

@@ -1,0 +1,80 @@
+//! The exact search at the tick the shipped scenarios plan on: nested with 30 s under
+//! Time and Margin (the finer tick never dearer, never losing a plan), and on the crop
+//! of the MOLA Gale map at 60 s equal to the Dijkstra with no dominance, no bound and no
+//! jumps (`exact.rs`'s `brute_force_by`). (The Dijkstra, every battery level its own
+//! state, takes minutes on seeded worlds at 60 s: those cases stay at coarser ticks in
+//! `exact.rs`.)
+
+use areo_mission::exact::ExactGoal;
+use areo_mission::{ActionConfig, Objective, Start};
+
+use crate::common::model;
+use crate::exact::{Seeds, actions, brute_force_by, case, gale_morning, query_by};
+
+/// Whether two costs are one (to a part in 10⁶), both none, or panics naming `what`.
+fn same(exact: Option<f64>, brute: Option<f64>, what: &str) -> bool {
+    match (exact, brute) {
+        (Some(a), Some(b)) => {
+            assert!((a - b).abs() < 1e-6 * (1.0 + b), "{what}: exact {a} vs Dijkstra {b}");
+            true
+        }
+        (None, None) => false,
+        (a, b) => panic!("{what}: exact {a:?} vs Dijkstra {b:?}"),
+    }
+}
+
+/// The ticks nest at 60 s and 30 s under Time and Margin: every plan at 60 s is one at
+/// 30 s (a settle to 60 s is a settle to 30 s and a wait of 30 s; waits compose
+/// exactly without quanta, as on a tick), so the finer tick never loses a plan nor
+/// makes it dearer — and it is cheaper in some cases.
+#[test]
+fn at_sixty_and_thirty_seconds_under_time_and_margin_the_ticks_nest() {
+    let (mut found, mut finer_cheaper) = (0, 0);
+    for seed in 0..20u64 {
+        let c = case(3100 + seed, 1.5);
+        for objective in [Objective::Time, Objective::Margin { max_duration_s: 1.5 * 3600.0 }] {
+            let cost = |tick: f64| {
+                let model = model(150.0, actions(tick));
+                let out = query_by(objective, &c.world, c.start, &c.goals, &model).solve();
+                assert!(!out.stopped);
+                out.plan.map(|p| p.0)
+            };
+            match (cost(60.0), cost(30.0)) {
+                (Some(coarse), Some(fine)) => {
+                    assert!(fine <= coarse + 1e-6 * (1.0 + coarse), "seed {seed}, {objective:?}: {fine} > {coarse}");
+                    found += 1;
+                    finer_cheaper += usize::from(fine < coarse - 1e-6 * (1.0 + coarse));
+                }
+                (Some(coarse), None) => panic!("seed {seed}, {objective:?}: {coarse} at 60 s, lost at 30 s"),
+                _ => {}
+            }
+        }
+    }
+    assert!(found >= 16, "only {found} cases have a plan at both ticks");
+    assert!(finer_cheaper >= 2, "the finer tick is cheaper in only {finer_cheaper} cases: nesting is barely tested");
+}
+
+/// On the Gale crop at 60 s (the shipped Gale scenarios' tick), from a full battery to
+/// an all but empty one: the exact search and the Dijkstra agree under L + B and Time.
+#[test]
+fn on_the_gale_crop_at_sixty_seconds_the_exact_search_equals_the_dijkstra() {
+    let (world, t0) = gale_morning();
+    // 5 Wh energy quanta keep the Dijkstra's battery levels few.
+    let model = model(60.0, ActionConfig { energy_quantum_wh: 5.0, ..actions(60.0) });
+    let mut r = Seeds(7);
+    let mut found = 0;
+    for (start, goal) in [((6, 0), (4, 1)), ((5, 3), (3, 2))] {
+        let goals = [ExactGoal { cell: world.cell(goal.0, goal.1), open_s: t0, close_s: t0 + 1.2 * 3600.0 }];
+        for objective in [Objective::Energy, Objective::Time] {
+            for battery in [60.0, 15.0 + 10.0 * r.next(), 0.5] {
+                let start = Start { cell: world.cell(start.0, start.1), t_min: t0, t_max: t0, energy_wh: battery };
+                let out = query_by(objective, &world, start, &goals, &model).solve();
+                assert!(!out.stopped);
+                let brute = brute_force_by(objective, &world, &model, start, &goals, 0.0);
+                let what = format!("{start:?} to {goal:?}, {objective:?}, {battery:.1} Wh");
+                found += usize::from(same(out.plan.as_ref().map(|p| p.0), brute, &what));
+            }
+        }
+    }
+    assert!(found >= 4, "only {found} plans");
+}
