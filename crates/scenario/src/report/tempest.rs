@@ -635,6 +635,9 @@ pub struct ReplanRow {
     pub fresh_expansions: Option<u64>,
     /// And its cost.
     pub fresh_cost: Option<f64>,
+    /// On a tick, how the re-plan compares with the new planner instance: `equal`,
+    /// `windows` (a difference the goal windows explain) or `differs` (a lost optimum).
+    pub fresh_check: Option<String>,
     /// A restart: the binding constraint the failed re-plan named.
     pub restart_binding: Option<String>,
     /// The failed re-plan's work, expansions.

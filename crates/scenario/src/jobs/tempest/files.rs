@@ -146,6 +146,14 @@ fn replan_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item
         search_mb: p.search_bytes as f64 / 1e6,
         fresh_expansions: p.fresh.map(|f| f.0),
         fresh_cost: p.fresh.map(|f| f.1),
+        fresh_check: p.fresh_check.map(|c| {
+            match c {
+                areo_mission::FreshCheck::Equal => "equal",
+                areo_mission::FreshCheck::Windows => "windows",
+                areo_mission::FreshCheck::Differs => "differs",
+            }
+            .to_string()
+        }),
         restart_binding: p.restart.as_ref().map(|x| format!("{:?}", x.binding)),
         restart_replan_work: p.restart.as_ref().map(|x| x.replan_work),
         restart_fresh_found: p.restart.as_ref().and_then(|x| x.fresh_found),
