@@ -281,7 +281,8 @@ impl<'ast> syn::visit::Visit<'ast> for BodyLiterals<'_> {
 /// The project describes itself as it is: every line of its text files (sources,
 /// scenarios, docs, scripts; not `target/` or `.git/`) that names a work session or an
 /// issue by number ("session" or "issue", singular or plural, any case, then a
-/// number), as sorted `path:line`. History lives in git.
+/// number), or dates a measurement or a change ([`dates_the_work`]), as sorted
+/// `path:line`. History lives in git.
 pub(crate) fn history_references(root: &Path) -> Result<Vec<String>, String> {
     const TEXT: &[&str] = &["rs", "md", "ron", "py", "pyi", "toml", "sh", "yml", "yaml", "html", "js", "txt"];
     let mut found = Vec::new();
@@ -305,7 +306,10 @@ pub(crate) fn history_references(root: &Path) -> Result<Vec<String>, String> {
             let Ok(text) = std::fs::read_to_string(&path) else { continue };
             let lines: Vec<&str> = text.lines().collect();
             for (i, line) in lines.iter().enumerate() {
-                if names_history(line) || lines.get(i + 1).is_some_and(|next| names_history(&joined(line, next))) {
+                if names_history(line)
+                    || dates_the_work(line)
+                    || lines.get(i + 1).is_some_and(|next| names_history(&joined(line, next)))
+                {
                     found.push(format!("{}:{}", path.strip_prefix(root).unwrap_or(&path).display(), i + 1));
                 }
             }
@@ -324,6 +328,28 @@ fn joined(line: &str, next: &str) -> String {
     }
     let text = next.trim_start().trim_start_matches(['/', '#', '!', '*', '>']).trim_start();
     format!("{} {text}", line.trim_end())
+}
+
+/// Whether `line` holds a calendar date of the project's own years (2026–2099) that is
+/// not an instant (`YYYY-MM-DD` not followed by `T`) nor a quoted value: "measured on
+/// such a day", "until that day it read…". Instants a scenario plans at carry their
+/// time (`…T22:15:00Z`), a day given to a command is quoted, and dates of data (an
+/// ephemeris, a DEM's acquisition) lie before the project.
+fn dates_the_work(line: &str) -> bool {
+    let b = line.as_bytes();
+    (0..b.len().saturating_sub(9)).any(|i| {
+        let d = &b[i..i + 10];
+        let digits = |r: std::ops::Range<usize>| d[r].iter().all(u8::is_ascii_digit);
+        let year = std::str::from_utf8(&d[..4]).ok().and_then(|y| y.parse::<u32>().ok());
+        (i == 0 || !(b[i - 1].is_ascii_digit() || b[i - 1] == b'"'))
+            && digits(0..4)
+            && d[4] == b'-'
+            && digits(5..7)
+            && d[7] == b'-'
+            && digits(8..10)
+            && year.is_some_and(|y| (2026..2100).contains(&y))
+            && b.get(i + 10).is_none_or(|&c| c != b'T' && !c.is_ascii_digit())
+    })
 }
 
 /// Whether `line` has "session" or "issue" (plural too, any case) as a word followed by
@@ -600,6 +626,13 @@ mod tests {
         assert!(!names_history(&format!("a {} of 3 sols", "session")));
         assert!(!names_history(&format!("Communicate {}s: 2", "session")));
         assert!(!names_history(&format!("re{} 5", "issue")));
+        let day = ["2026", "11", "25"].join("-");
+        assert!(dates_the_work(&format!("// measured {day}: 1.83°")));
+        assert!(dates_the_work(&format!("(until {day} it read 35°)")));
+        assert!(!dates_the_work(&format!("start_utc: \"{day}T22:15:00Z\"")));
+        assert!(!dates_the_work("the LOLA product of 2025-01-10, 100 h"));
+        assert!(!dates_the_work("valid 1600–2600"));
+        assert!(!dates_the_work("areo sun --day \"2600-12-31\""));
         let dir = std::env::temp_dir().join(format!("areo-history-scan-{}", std::process::id()));
         std::fs::create_dir_all(dir.join("docs")).unwrap();
         std::fs::write(dir.join("docs/a.md"), format!("fine\nas of {} 9\n", "session")).unwrap();

@@ -105,7 +105,7 @@ fn valley_step77_keeps_its_plan_at_finer_classes_down_to_a_tight_battery() {
 /// valley-detour on its former classes (`sweeps/valley-detour-classes.base.ron`),
 /// planned only (no simulation), from its own start with a
 /// battery low enough that charging decides: two goals, so `segment_starts` matters
-/// too (measured 2026-11-27 at 40, 20, 10 and 5 Wh: every setting below plans; at
+/// too (measured at 40, 20, 10 and 5 Wh: every setting below plans; at
 /// 1 Wh none does at 72 goal instants and 100 instants do).
 #[test]
 fn valley_detour_keeps_its_two_goal_plan_at_finer_settings() {

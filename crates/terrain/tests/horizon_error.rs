@@ -59,7 +59,7 @@ fn sector_horizons_are_within_the_stated_error_of_each_cells_own_ray() {
         })
         .collect();
     for (name, max, p999, p99) in measured {
-        // The bounds the HorizonMap rustdoc states (measured 2026-11-25: Gale 1.83°,
+        // The bounds the HorizonMap rustdoc states (measured: Gale 1.83°,
         // 5.73°, 18.97°; synthesised 1.18°, 3.55°, 11.91°).
         assert!(p99 <= 2.0, "{name}: 99 % within {p99}°");
         assert!(p999 <= 6.0, "{name}: 99.9 % within {p999}°");
