@@ -299,21 +299,7 @@ fn the_actions_viewer_shows_the_pose_the_wheel_loads_and_the_margin_step_by_step
         }
     }
     assert!(worst < 0.01, "a wheel {worst} m off a wheel radius from its ground");
-    // The distance along the path, from plan.csv alone.
-    let start = {
-        let c: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(dir.join("commands.json")).unwrap()).unwrap();
-        (c["start"]["x_m"].as_f64().unwrap(), c["start"]["y_m"].as_f64().unwrap())
-    };
-    let mut along = Vec::new();
-    let mut at = start;
-    let mut total = 0.0;
-    for row in &rows {
-        let p = (num(&row["x_m"]), num(&row["y_m"]));
-        total += (p.0 - at.0).hypot(p.1 - at.1);
-        at = p;
-        along.push(total);
-    }
+    let along = along_the_path(&dir, &rows);
     // In the ditch (the lowest body) and on the hill (the steepest pitch).
     let lowest = (0..rows.len()).min_by(|&a, &b| num(&rows[a]["z_m"]).total_cmp(&num(&rows[b]["z_m"]))).unwrap();
     let steepest = (0..rows.len())
@@ -329,58 +315,8 @@ fn the_actions_viewer_shows_the_pose_the_wheel_loads_and_the_margin_step_by_step
         assert_eq!(s["error"], "", "{s:?}");
         assert_eq!(s["step"], (k + 1).to_string());
         assert_eq!(s["code"], rows[k]["code"]);
-        // The loads and the margin shown are plan.csv's.
-        let loads: Vec<f64> = s["loads"].split(',').map(num).collect();
-        for (j, col) in
-            ["load_lf_n", "load_lm_n", "load_lr_n", "load_rf_n", "load_rm_n", "load_rr_n"].iter().enumerate()
-        {
-            assert!(
-                (loads[j] - num(&rows[k][*col])).abs() < 6e-4,
-                "{fragment} {col}: {} vs {}",
-                loads[j],
-                rows[k][*col]
-            );
-        }
-        match rows[k]["stability"].as_str() {
-            "" => assert_eq!(s["margin"], ""),
-            m => assert!((num(&s["margin"]) - num(m)).abs() < 6e-5, "{fragment}: margin {} vs {m}", s["margin"]),
-        }
-        // The body in profile where plan.csv puts it: its distance along the path and
-        // its height, on the page's scale.
-        let px = num(&s["profile-px-per-m"]);
-        let want = (
-            num(&s["profile-origin-x"]) + (along[k] - num(&s["profile-d0"])) * px,
-            num(&s["profile-origin-y"]) - (num(&rows[k]["z_m"]) - num(&s["profile-z0"])) * px,
-        );
-        let (bx, by) = (num(&s["body-x"]), num(&s["body-y"]));
-        assert!(
-            (bx - want.0).abs() <= 1.5 && (by - want.1).abs() <= 1.5,
-            "{fragment}: body at ({bx}, {by}), want {want:?}"
-        );
-        // From above, the reference point where plan.csv puts it on the map.
-        let (w, h) = (data["width"].as_f64().unwrap(), data["height"].as_f64().unwrap());
-        let scale = (360.0 / w).min(560.0 / h);
-        let (x0, y0) = (data["map_origin_m"][0].as_f64().unwrap(), data["map_origin_m"][1].as_f64().unwrap());
-        let (sx, sy) = (data["map_size_m"][0].as_f64().unwrap(), data["map_size_m"][1].as_f64().unwrap());
-        let top = (
-            (num(&rows[k]["x_m"]) - x0) / sx * (w * scale).round(),
-            (1.0 - (num(&rows[k]["y_m"]) - y0) / sy) * (h * scale).round(),
-        );
-        let (tx, ty) = (num(&s["top-x"]), num(&s["top-y"]));
-        assert!(
-            (tx - top.0).abs() <= 1.0 && (ty - top.1).abs() <= 1.0,
-            "{fragment}: from above at ({tx}, {ty}), want {top:?}"
-        );
-        // Both markers are drawn: magenta at their centres.
-        let (sw, _, rgba) = screenshot(&page, &fragment, &format!("step_{}", k + 1));
-        for (x, y) in [
-            (num(&s["profile-left"]) + bx, num(&s["profile-top"]) + by),
-            (num(&s["top-left"]) + tx, num(&s["top-top"]) + ty),
-        ] {
-            let o = 4 * (y as usize * sw + x as usize);
-            let p = &rgba[o..o + 3];
-            assert!(p[0] > 200 && p[1] < 60 && p[2] > 200, "{fragment}: the marker's pixel at ({x}, {y}) is {p:?}");
-        }
+        loads_and_margin_are_the_plans(&s, &rows[k], &fragment);
+        let rgba = markers_where_the_plan_puts_them(&page, (&s, &data), (&rows[k], along[k]), (k, &fragment));
         shots.push(rgba);
     }
     // The rover moved between the two steps: the pictures differ.
@@ -404,6 +340,88 @@ fn the_actions_viewer_shows_the_pose_the_wheel_loads_and_the_margin_step_by_step
 fn the_earth_plans_viewer_moves_the_shadows_and_the_rover_along_the_plan() {
     // Two waypoints twelve hours apart under the Arctic summer's low Sun.
     check_plan_viewer("scenarios/devon-island.ron", |dt| dt >= 12.0 * 3600.0);
+}
+
+/// The actions viewer at plan.csv's `row` (step `k`, `along` m down the path; `s` the
+/// page's state, `data` its data) draws the body in profile at its distance and height
+/// and the reference point from above where the row puts them, both markers magenta in
+/// the screenshot, which it returns.
+fn markers_where_the_plan_puts_them(
+    page: &Path,
+    (s, data): (&HashMap<String, String>, &serde_json::Value),
+    (row, along): (&HashMap<String, String>, f64),
+    (k, fragment): (usize, &str),
+) -> Vec<u8> {
+    // The body in profile where plan.csv puts it: its distance along the path and
+    // its height, on the page's scale.
+    let px = num(&s["profile-px-per-m"]);
+    let want = (
+        num(&s["profile-origin-x"]) + (along - num(&s["profile-d0"])) * px,
+        num(&s["profile-origin-y"]) - (num(&row["z_m"]) - num(&s["profile-z0"])) * px,
+    );
+    let (bx, by) = (num(&s["body-x"]), num(&s["body-y"]));
+    assert!(
+        (bx - want.0).abs() <= 1.5 && (by - want.1).abs() <= 1.5,
+        "{fragment}: body at ({bx}, {by}), want {want:?}"
+    );
+    // From above, the reference point where plan.csv puts it on the map.
+    let top = from_above(data, row);
+    let (tx, ty) = (num(&s["top-x"]), num(&s["top-y"]));
+    assert!(
+        (tx - top.0).abs() <= 1.0 && (ty - top.1).abs() <= 1.0,
+        "{fragment}: from above at ({tx}, {ty}), want {top:?}"
+    );
+    // Both markers are drawn: magenta at their centres.
+    let (sw, _, rgba) = screenshot(page, fragment, &format!("step_{}", k + 1));
+    for (x, y) in [
+        (num(&s["profile-left"]) + bx, num(&s["profile-top"]) + by),
+        (num(&s["top-left"]) + tx, num(&s["top-top"]) + ty),
+    ] {
+        let o = 4 * (y as usize * sw + x as usize);
+        let p = &rgba[o..o + 3];
+        assert!(p[0] > 200 && p[1] < 60 && p[2] > 200, "{fragment}: the marker's pixel at ({x}, {y}) is {p:?}");
+    }
+    rgba
+}
+
+/// The distance along the actions plan's path at each of plan.csv's rows, from the
+/// start in `commands.json`, m.
+fn along_the_path(dir: &Path, rows: &[HashMap<String, String>]) -> Vec<f64> {
+    let c: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("commands.json")).unwrap()).unwrap();
+    let mut at = (c["start"]["x_m"].as_f64().unwrap(), c["start"]["y_m"].as_f64().unwrap());
+    let mut total = 0.0;
+    rows.iter()
+        .map(|row| {
+            let p = (num(&row["x_m"]), num(&row["y_m"]));
+            total += (p.0 - at.0).hypot(p.1 - at.1);
+            at = p;
+            total
+        })
+        .collect()
+}
+
+/// The wheel loads and the stability margin the actions viewer shows (`s`, its state)
+/// are plan.csv's `row`.
+fn loads_and_margin_are_the_plans(s: &HashMap<String, String>, row: &HashMap<String, String>, fragment: &str) {
+    let loads: Vec<f64> = s["loads"].split(',').map(num).collect();
+    for (j, col) in ["load_lf_n", "load_lm_n", "load_lr_n", "load_rf_n", "load_rm_n", "load_rr_n"].iter().enumerate() {
+        assert!((loads[j] - num(&row[*col])).abs() < 6e-4, "{fragment} {col}: {} vs {}", loads[j], row[*col]);
+    }
+    match row["stability"].as_str() {
+        "" => assert_eq!(s["margin"], ""),
+        m => assert!((num(&s["margin"]) - num(m)).abs() < 6e-5, "{fragment}: margin {} vs {m}", s["margin"]),
+    }
+}
+
+/// Where the actions viewer's top view puts plan.csv's `row`, page pixels from the
+/// view's corner.
+fn from_above(data: &serde_json::Value, row: &HashMap<String, String>) -> (f64, f64) {
+    let (w, h) = (data["width"].as_f64().unwrap(), data["height"].as_f64().unwrap());
+    let scale = (360.0 / w).min(560.0 / h);
+    let (x0, y0) = (data["map_origin_m"][0].as_f64().unwrap(), data["map_origin_m"][1].as_f64().unwrap());
+    let (sx, sy) = (data["map_size_m"][0].as_f64().unwrap(), data["map_size_m"][1].as_f64().unwrap());
+    ((num(&row["x_m"]) - x0) / sx * (w * scale).round(), (1.0 - (num(&row["y_m"]) - y0) / sy) * (h * scale).round())
 }
 
 /// A goal name and a description made of markup (`</script>`, `<!--<script>`, U+2028,

@@ -144,6 +144,16 @@ fn source_dirs(root: &Path, except: &[&str]) -> Vec<PathBuf> {
         .collect()
 }
 
+/// The directories of Rust code the size checks read: every crate's `src`, `tests` and
+/// `benches`, the binary's `src` and `tests`, xtask's and the Python module's sources.
+fn code_dirs(root: &Path) -> Vec<PathBuf> {
+    let crates = std::fs::read_dir(root.join("crates")).into_iter().flatten().filter_map(|e| Some(e.ok()?.path()));
+    crates
+        .flat_map(|p| ["src", "tests", "benches"].map(|d| p.join(d)))
+        .chain(["src", "tests", "xtask/src", "python/src"].iter().map(|d| root.join(d)))
+        .collect()
+}
+
 /// Every `.rs` file under `dirs` (those that exist), skipping directories named in
 /// `skip` and `tests.rs` unit-test files, with its text: the one walk the source checks
 /// below share.
@@ -371,16 +381,16 @@ fn names_history(line: &str) -> bool {
 }
 
 /// Functions longer than `max` lines (from `fn` to the closing brace) in the sources of
-/// every crate, the binary, xtask and the Python module, as `path:line name (n lines)`:
-/// code stays a set of small steps. The files are parsed (`syn`), so every form counts —
-/// free functions, methods, a trait's default bodies, functions inside functions,
-/// whatever their visibility (`pub(super)`, `pub(in …)`) or qualifiers (`const`,
-/// `async`, `unsafe`, `extern`). Tests are exempt: `#[test]` functions and
-/// `#[cfg(test)]` modules, and the `tests/` and `benches/` directories.
+/// every crate, the binary, xtask and the Python module and in their tests and benches,
+/// as `path:line name (n lines)`: code, test code too, stays a set of small steps. The
+/// files are parsed (`syn`), so every form counts — free functions, methods, a trait's
+/// default bodies, functions inside functions, `#[test]` functions and those of
+/// `#[cfg(test)]` modules, whatever their visibility (`pub(super)`, `pub(in …)`) or
+/// qualifiers (`const`, `async`, `unsafe`, `extern`).
 pub(crate) fn long_functions(root: &Path, max: usize) -> Result<Vec<String>, String> {
-    let dirs = source_dirs(root, &[]);
+    let dirs = code_dirs(root);
     let mut found = Vec::new();
-    for (path, text) in rust_sources(&dirs, &["tests", "benches"])? {
+    for (path, text) in rust_sources(&dirs, &[])? {
         let file = syn::parse_file(&text).map_err(|e| format!("{}: {e}", path.display()))?;
         let shown = path.strip_prefix(root).unwrap_or(&path).display().to_string();
         let mut scan = LongFunctions { max, path: &shown, found: Vec::new() };
@@ -478,7 +488,7 @@ impl<'ast> syn::visit::Visit<'ast> for ReportPaths<'_> {
 /// Source files of every crate, the binary, xtask and the Python module longer than
 /// `max` lines, as `path (n lines)`: a file holds one subject a reader can take in.
 pub(crate) fn long_files(root: &Path, max: usize) -> Result<Vec<String>, String> {
-    let dirs = source_dirs(root, &[]);
+    let dirs = code_dirs(root);
     let mut found: Vec<String> = rust_sources(&dirs, &[])?
         .into_iter()
         .filter(|(_, text)| text.lines().count() > max)
@@ -498,10 +508,7 @@ struct LongFunctions<'a> {
 }
 
 impl LongFunctions<'_> {
-    fn check(&mut self, attrs: &[syn::Attribute], sig: &syn::Signature, block: &syn::Block) {
-        if attrs.iter().any(|a| a.path().is_ident("test")) {
-            return;
-        }
+    fn check(&mut self, sig: &syn::Signature, block: &syn::Block) {
         let first = sig.fn_token.span.start().line;
         let last = block.brace_token.span.close().end().line;
         let lines = last + 1 - first;
@@ -517,25 +524,19 @@ fn cfg_test(attrs: &[syn::Attribute]) -> bool {
 }
 
 impl<'ast> syn::visit::Visit<'ast> for LongFunctions<'_> {
-    fn visit_item_mod(&mut self, m: &'ast syn::ItemMod) {
-        if !cfg_test(&m.attrs) {
-            syn::visit::visit_item_mod(self, m);
-        }
-    }
-
     fn visit_item_fn(&mut self, f: &'ast syn::ItemFn) {
-        self.check(&f.attrs, &f.sig, &f.block);
+        self.check(&f.sig, &f.block);
         syn::visit::visit_item_fn(self, f);
     }
 
     fn visit_impl_item_fn(&mut self, f: &'ast syn::ImplItemFn) {
-        self.check(&f.attrs, &f.sig, &f.block);
+        self.check(&f.sig, &f.block);
         syn::visit::visit_impl_item_fn(self, f);
     }
 
     fn visit_trait_item_fn(&mut self, f: &'ast syn::TraitItemFn) {
         if let Some(block) = &f.default {
-            self.check(&f.attrs, &f.sig, block);
+            self.check(&f.sig, block);
         }
         syn::visit::visit_trait_item_fn(self, f);
     }
@@ -687,7 +688,8 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
         let mut names: Vec<&str> = found.iter().map(|f| f.split(' ').nth(1).unwrap()).collect();
         names.sort_unstable();
-        assert_eq!(names, ["a", "b", "c", "d", "e", "f", "g", "h", "x"], "{found:#?}");
+        // Test code counts too: a `#[test]` function and one in a `#[cfg(test)]` module.
+        assert_eq!(names, ["a", "b", "c", "d", "e", "f", "g", "h", "t", "u", "x"], "{found:#?}");
         assert!(found.iter().all(|f| f.ends_with("(81 lines)")), "{found:#?}");
         assert!(found.iter().any(|f| f.starts_with("crates/x/src/lib.rs:1 a ")), "{found:#?}");
     }

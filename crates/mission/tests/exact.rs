@@ -62,9 +62,8 @@ pub(crate) fn brute_force_by(
     goals: &[ExactGoal],
     goal_wh: f64,
 ) -> Option<f64> {
-    let tick = model.wait_step_s().unwrap();
+    let (tick, e_max) = (model.wait_step_s().unwrap(), model.gain_bounds(world).0);
     let (e0, capacity) = (start.energy_wh, model.capacity_wh());
-    let e_max = model.gain_bounds(world).0;
     let then = |d: f64, action: Action, effect: &Effect, before: f64| match objective {
         Objective::Margin { .. } => d.max(e0 - effect.lowest(before, capacity)),
         Objective::Time => d + effect.duration_s,
@@ -91,8 +90,7 @@ pub(crate) fn brute_force_by(
             heap.push(Reverse((OrderedFloat(d), s, OrderedFloat(t))));
         }
     };
-    let g0 = reached(0, start.cell, start.t_min, start.energy_wh);
-    let key = |t: f64| (t * 1e6).round() as i64;
+    let (g0, key) = (reached(0, start.cell, start.t_min, start.energy_wh), |t: f64| (t * 1e6).round() as i64);
     push((g0, start.cell, key(start.t_min), start.energy_wh.to_bits()), start.t_min, 0.0, &mut dist, &mut heap);
     while let Some(Reverse((OrderedFloat(d), s, OrderedFloat(t)))) = heap.pop() {
         if dist.get(&s).is_some_and(|&best| best < d) {

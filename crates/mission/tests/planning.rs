@@ -209,8 +209,15 @@ fn constraints_that_bind_only_together_and_time_are_named_as_such() {
         Err(Error::Unreachable { binding, .. }) => assert_eq!(binding, Binding::Darkness),
         other => panic!("{other:?}"),
     }
-    // Daylight and a large battery, but a wall with one gap at the far end: the detour
-    // is 1.1 km, 1 h at 0.3 m/s, the straight line 200 m, and the world spans 45 min.
+}
+
+/// Daylight and a large battery, but a wall with one gap at the far end: the detour is
+/// 1.1 km, 1 h at 0.3 m/s, the straight line 200 m, and the world spans 45 min — the
+/// horizon binds, named as such; in a world of 2 h the detour is planned.
+#[test]
+fn a_detour_longer_than_the_world_names_the_horizon() {
+    let big = model(1e5, ActionConfig::default());
+    let quick = PlannerConfig { max_wait_s: Some(3600.0), ..PlannerConfig::default() };
     let walled =
         Dem::from_fn(30, 40, 10.0, 10.0, |x, y| if (140.0..160.0).contains(&x) && y < 370.0 { 500.0 } else { 0.0 })
             .unwrap();

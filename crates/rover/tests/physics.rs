@@ -487,6 +487,60 @@ fn contact_error_on_a_rough_dem_with_a_ditch_hill_and_rock() {
     assert!(mean < 0.001, "mean contact error {mean} m");
 }
 
+/// The modules of two samplings of one drive agree: as many, and each with the same
+/// energy (2 %), least stability (0.03), most friction (0.05) and end.
+fn same_modules(fine: &[areo_rover::motion::ModuleRun], coarse: &[areo_rover::motion::ModuleRun], case: &str) {
+    assert_eq!(fine.len(), coarse.len(), "{case}: modules run");
+    for (a, b) in fine.iter().zip(coarse) {
+        let (ea, eb) = (a.energy.net_wh(), b.energy.net_wh());
+        assert!((ea - eb).abs() <= 0.02 * ea.abs(), "{case}: energy {ea} vs {eb}");
+        let (sa, sb) = (a.min_stability.unwrap(), b.min_stability.unwrap());
+        assert!((sa - sb).abs() < 0.03, "{case}: min stability {sa} vs {sb}");
+        assert!((a.max_friction - b.max_friction).abs() < 0.05, "{case}: friction");
+        assert!((a.state.x - b.state.x).abs() < 1e-12);
+    }
+}
+
+/// A map that counts the heights asked of it.
+struct Counting<'a>(&'a areo_terrain::Dem, std::cell::Cell<usize>);
+
+impl Ground for Counting<'_> {
+    fn height(&self, x: f64, y: f64) -> Option<f64> {
+        self.1.set(self.1.get() + 1);
+        self.0.height(x, y)
+    }
+    fn normal(&self, x: f64, y: f64) -> Option<[f64; 3]> {
+        Ground::normal(self.0, x, y)
+    }
+}
+
+/// Up to `modules` forward drives on `dem` from (x, y, heading in degrees) at friction
+/// μ, sampling at `coarse` strides: the modules run, where they stopped, and the heights
+/// they asked for.
+fn forward_drives(
+    ev: &Evaluator,
+    dem: &areo_terrain::Dem,
+    (x0, y, heading, mu): (f64, f64, f64, f64),
+    coarse: usize,
+    modules: usize,
+) -> (Vec<areo_rover::motion::ModuleRun>, Option<areo_rover::motion::Stopped>, usize) {
+    let ground = Counting(dem, std::cell::Cell::new(0));
+    let mut motion = Motion::new(ev, mu);
+    motion.coarse_steps = coarse;
+    let mut state = RoverState::new(ev, x0, y, f64::to_radians(heading));
+    let mut steps = Vec::new();
+    for _ in 0..modules {
+        match motion.run(&ground, &state, Module::Forward, &[]) {
+            Ok(s) => {
+                state = s.state;
+                steps.push(s);
+            }
+            Err(e) => return (steps, Some(e), ground.1.get()),
+        }
+    }
+    (steps, None, ground.1.get())
+}
+
 #[test]
 fn adaptive_sampling_finds_what_sampling_every_centimetre_finds() {
     // Forward drives across a ditch and over a rock, at several frictions: striding up
@@ -497,17 +551,6 @@ fn adaptive_sampling_finds_what_sampling_every_centimetre_finds() {
     // travel at the ditch, the stride stays short and the cost must stay close to the
     // fixed sampling's.
     use areo_terrain::synth::{Feature, Noise, TerrainSpec};
-    use std::cell::Cell;
-    struct Counting<'a>(&'a areo_terrain::Dem, Cell<usize>);
-    impl Ground for Counting<'_> {
-        fn height(&self, x: f64, y: f64) -> Option<f64> {
-            self.1.set(self.1.get() + 1);
-            self.0.height(x, y)
-        }
-        fn normal(&self, x: f64, y: f64) -> Option<[f64; 3]> {
-            Ground::normal(self.0, x, y)
-        }
-    }
     let terrain = |noise_m: f64, wall_deg: f64| {
         TerrainSpec {
             cols: 300,
@@ -546,37 +589,12 @@ fn adaptive_sampling_finds_what_sampling_every_centimetre_finds() {
         for &(x0, y, heading, mu) in cases {
             let mut runs = Vec::new();
             for (k, coarse) in [1usize, 4].into_iter().enumerate() {
-                let ground = Counting(&dem, Cell::new(0));
-                let mut motion = Motion::new(&ev, mu);
-                motion.coarse_steps = coarse;
-                let mut state = RoverState::new(&ev, x0, y, f64::to_radians(heading));
-                let mut steps = Vec::new();
-                let mut stop = None;
-                for _ in 0..modules {
-                    match motion.run(&ground, &state, Module::Forward, &[]) {
-                        Ok(s) => {
-                            state = s.state;
-                            steps.push(s);
-                        }
-                        Err(e) => {
-                            stop = Some(e);
-                            break;
-                        }
-                    }
-                }
-                queries[k] += ground.1.get();
+                let (steps, stop, asked) = forward_drives(&ev, &dem, (x0, y, heading, mu), coarse, modules);
+                queries[k] += asked;
                 runs.push((steps, stop));
             }
             let ((fine, fine_stop), (coarse, coarse_stop)) = (&runs[0], &runs[1]);
-            assert_eq!(fine.len(), coarse.len(), "y {y} μ {mu}: modules run");
-            for (a, b) in fine.iter().zip(coarse) {
-                let (ea, eb) = (a.energy.net_wh(), b.energy.net_wh());
-                assert!((ea - eb).abs() <= 0.02 * ea.abs(), "y {y} μ {mu}: energy {ea} vs {eb}");
-                let (sa, sb) = (a.min_stability.unwrap(), b.min_stability.unwrap());
-                assert!((sa - sb).abs() < 0.03, "y {y} μ {mu}: min stability {sa} vs {sb}");
-                assert!((a.max_friction - b.max_friction).abs() < 0.05, "y {y} μ {mu}: friction");
-                assert!((a.state.x - b.state.x).abs() < 1e-12);
-            }
+            same_modules(fine, coarse, &format!("y {y} μ {mu}"));
             match (fine_stop, coarse_stop) {
                 (None, None) => {}
                 (Some(a), Some(b)) => {

@@ -356,20 +356,14 @@ fn tiled_uint16_tiff(cols: u32, rows: u32, value: impl Fn(u32, u32) -> u16, noda
     tiled_uint16_tiff_compressed(cols, rows, value, nodata, 1)
 }
 
-/// [`tiled_uint16_tiff`] with each tile compressed: 1 none, 5 LZW (MSB-first codes,
-/// as TIFF 6.0 specifies), 8 deflate (zlib stream, Adobe's code), 50000 Zstandard
-/// (GDAL's `COMPRESS=ZSTD`).
-fn tiled_uint16_tiff_compressed(
-    cols: u32,
-    rows: u32,
-    value: impl Fn(u32, u32) -> u16,
-    nodata: &str,
-    compression: u32,
-) -> Vec<u8> {
-    const TILE: u32 = 16;
+/// The side of [`tiled_uint16_tiff`]'s tiles.
+const TILE: u32 = 16;
+
+/// The tiles of a `cols` × `rows` image of `value`, row by row, each packed with
+/// `compression` (see [`tiled_uint16_tiff_compressed`]), and each tile's size in bytes.
+fn packed_tiles(cols: u32, rows: u32, value: impl Fn(u32, u32) -> u16, compression: u32) -> (Vec<u8>, Vec<usize>) {
     let (across, down) = (cols.div_ceil(TILE), rows.div_ceil(TILE));
-    let mut tiles = Vec::new();
-    let mut sizes = Vec::new();
+    let (mut tiles, mut sizes) = (Vec::new(), Vec::new());
     for ty in 0..down {
         for tx in 0..across {
             let mut raw = Vec::new();
@@ -395,7 +389,21 @@ fn tiled_uint16_tiff_compressed(
             tiles.extend_from_slice(&packed);
         }
     }
-    let n_tiles = (across * down) as usize;
+    (tiles, sizes)
+}
+
+/// [`tiled_uint16_tiff`] with each tile compressed: 1 none, 5 LZW (MSB-first codes,
+/// as TIFF 6.0 specifies), 8 deflate (zlib stream, Adobe's code), 50000 Zstandard
+/// (GDAL's `COMPRESS=ZSTD`).
+fn tiled_uint16_tiff_compressed(
+    cols: u32,
+    rows: u32,
+    value: impl Fn(u32, u32) -> u16,
+    nodata: &str,
+    compression: u32,
+) -> Vec<u8> {
+    let (tiles, sizes) = packed_tiles(cols, rows, value, compression);
+    let n_tiles = sizes.len();
     let scale: Vec<u8> = [2.0f64, 3.0, 0.0].iter().flat_map(|v| v.to_le_bytes()).collect();
     let tie: Vec<u8> = [0.0f64, 0.0, 0.0, 1000.0, 5000.0, 0.0].iter().flat_map(|v| v.to_le_bytes()).collect();
     let mut ascii = nodata.as_bytes().to_vec();
