@@ -44,6 +44,18 @@ fn leftovers(dir: &Path) -> Vec<String> {
         .collect()
 }
 
+/// Kills `child` once it has written `flag` (the test hook `AREO_PAUSE_BEFORE_PLACING`:
+/// its outputs finished, not yet in place), and waits for it.
+fn kill_when_paused(child: &mut std::process::Child, flag: &Path) {
+    let t0 = std::time::Instant::now();
+    while !flag.exists() {
+        assert!(t0.elapsed().as_secs() < 60, "the run never reached the moment");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+}
+
 fn ok(out: &Output) {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
@@ -64,13 +76,7 @@ fn a_run_killed_before_its_outputs_are_placed_keeps_the_previous_set_and_the_nex
         .stdout(Stdio::null())
         .spawn()
         .unwrap();
-    let t0 = std::time::Instant::now();
-    while !flag.exists() {
-        assert!(t0.elapsed().as_secs() < 60, "the run never reached the moment");
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-    child.kill().unwrap();
-    child.wait().unwrap();
+    kill_when_paused(&mut child, &flag);
     // The previous set is in place, whole; the killed run's staging is left over.
     assert_eq!(tau_of(&out.join("sun")), 0.4);
     assert!(out.join("sun/sun.csv").exists());
@@ -306,13 +312,7 @@ fn a_horizon_map_killed_at_any_moment_leaves_one_whole_set() {
     let first = std::fs::read(out.join("s003.tif")).unwrap();
     let flag = dir.join("paused");
     let mut child = run("32").env("AREO_PAUSE_BEFORE_PLACING", &flag).spawn().unwrap();
-    let t0 = std::time::Instant::now();
-    while !flag.exists() {
-        assert!(t0.elapsed().as_secs() < 60, "the run never reached the moment");
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-    child.kill().unwrap();
-    child.wait().unwrap();
+    kill_when_paused(&mut child, &flag);
     assert_eq!(set(), whole(16), "the previous set, whole");
     assert_eq!(std::fs::read(out.join("s003.tif")).unwrap(), first);
     assert_eq!(leftovers(&dir).len(), 1);

@@ -169,7 +169,7 @@ pub(crate) fn case(seed: u64, window_h: f64) -> Case {
 
 /// Asserts that the exact search and the Dijkstra agree on `case`: the same cost, or
 /// both no plan. Whether there was a plan.
-fn agree(exact: Option<f64>, brute: Option<f64>, case: &str) -> bool {
+pub(crate) fn agree(exact: Option<f64>, brute: Option<f64>, case: &str) -> bool {
     match (exact, brute) {
         (Some(cost), Some(b)) => {
             assert!((cost - b).abs() < 1e-6 * (1.0 + b), "{case}: exact {cost} vs Dijkstra {b}");

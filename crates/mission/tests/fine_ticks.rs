@@ -9,19 +9,7 @@ use areo_mission::exact::ExactGoal;
 use areo_mission::{ActionConfig, Objective, Start};
 
 use crate::common::model;
-use crate::exact::{Seeds, actions, brute_force_by, case, gale_morning, query_by};
-
-/// Whether two costs are one (to a part in 10⁶), both none, or panics naming `what`.
-fn same(exact: Option<f64>, brute: Option<f64>, what: &str) -> bool {
-    match (exact, brute) {
-        (Some(a), Some(b)) => {
-            assert!((a - b).abs() < 1e-6 * (1.0 + b), "{what}: exact {a} vs Dijkstra {b}");
-            true
-        }
-        (None, None) => false,
-        (a, b) => panic!("{what}: exact {a:?} vs Dijkstra {b:?}"),
-    }
-}
+use crate::exact::{Seeds, actions, agree, brute_force_by, case, gale_morning, query_by};
 
 /// The ticks nest at 60 s and 30 s under Time and Margin: every plan at 60 s is one at
 /// 30 s (a settle to 60 s is a settle to 30 s and a wait of 30 s; waits compose
@@ -72,7 +60,7 @@ fn on_the_gale_crop_at_sixty_seconds_the_exact_search_equals_the_dijkstra() {
                 assert!(!out.stopped);
                 let brute = brute_force_by(objective, &world, &model, start, &goals, 0.0);
                 let what = format!("{start:?} to {goal:?}, {objective:?}, {battery:.1} Wh");
-                found += usize::from(same(out.plan.as_ref().map(|p| p.0), brute, &what));
+                found += usize::from(agree(out.plan.as_ref().map(|p| p.0), brute, &what));
             }
         }
     }
