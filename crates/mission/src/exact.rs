@@ -31,7 +31,10 @@
 //!
 //! Under Time a wait where driving on first is never worse jumps several ticks
 //! (`forward`): the flood of labels waiting tick by tick behind a bound that cannot see
-//! the waits ahead shrinks, and the optimum is kept.
+//! the waits ahead shrinks, and the optimum is kept. Under L + B and EnergyUsed a wait
+//! stands for its ticks (`waiting`): a drive after a wait is made only where driving a
+//! tick earlier and waiting where it lands does not beat it, and a wait the search would
+//! take soon runs on at once, its labels kept where later arrivals meet them.
 //!
 //! `settle: false` drops the settle: drives chain at their own durations and only
 //! waits end on ticks. That search is exact too, but labels between ticks are compared
@@ -49,12 +52,14 @@ mod bound;
 mod forward;
 mod front;
 mod learned;
+mod waiting;
 
 use bound::Bound;
 use forward::{Forward, Refills};
 pub use front::{ExactFront, FrontPoint};
 use learned::Guides;
 pub use learned::Learned;
+use waiting::{Take, WAIT_BAND, WaitCounts, Waits};
 
 use crate::action_model::{Action, ActionModel};
 use crate::domain::{Objective, PathLength, Start};
@@ -99,7 +104,8 @@ pub struct ExactStep {
 pub struct ExactOutcome {
     /// The optimal plan's cost and steps, or `None`: no plan of this form exists.
     pub plan: Option<(f64, Vec<ExactStep>)>,
-    /// Labels taken off the queue and expanded.
+    /// Labels expanded: taken off the queue, or made inside a wait with their
+    /// departures (`waited`).
     pub expanded: u64,
     /// Labels kept (not dominated when made).
     pub kept: u64,
@@ -111,6 +117,12 @@ pub struct ExactOutcome {
     /// Waits that jumped several ticks at once under Time, where driving on first is
     /// never worse (see the module's documentation).
     pub jumps: u64,
+    /// Of the labels expanded, the ones made inside a wait that stands for its ticks
+    /// (kept, never queued: their departures are made with them; see `waiting`).
+    pub waited: u64,
+    /// Departures from inside such waits not made: driving first and waiting after
+    /// beats them.
+    pub covered: u64,
     /// Whether the search stopped at its label budget (or its caller's
     /// [`ExactQuery::solve_with`] check) before it could decide.
     pub stopped: bool,
@@ -118,6 +130,13 @@ pub struct ExactOutcome {
     /// bound's backward searches held,
     /// bytes.
     pub bytes: u64,
+}
+
+impl ExactOutcome {
+    fn counts(&mut self, jumps: u64, waits: WaitCounts) {
+        (self.jumps, self.waited, self.covered) = (jumps, waits.waited, waits.covered);
+        self.expanded += waits.waited;
+    }
 }
 
 /// An exact query: the rover at `start` (ready at `start.t_min` with
@@ -248,6 +267,54 @@ fn instant_key(t: f64) -> i64 {
     (t * 1e6).round() as i64
 }
 
+/// The search's labels, their staircases and queue, its outcome so far, and what
+/// places a label among them: the bound, what earlier searches learned, the cut.
+struct Frontier<'b> {
+    nodes: Vec<Node>,
+    at: Instants,
+    open: QuaternaryHeap<Reverse<(Ordered, Ordered, u32)>>,
+    out: ExactOutcome,
+    bound: Bound<'b>,
+    guides: Guides<'b>,
+    cut: f64,
+    /// Whether waits may run on at once (`waiting`).
+    run_on: bool,
+    tick: f64,
+}
+
+impl Frontier<'_> {
+    /// Takes `label` unless a jump passed it, its bound is infinite or at the cut, or
+    /// a label of its instant beats it: queued, or with [`Take::IfNext`] kept without
+    /// queueing where the search would take it soon (its index then).
+    fn take(&mut self, query: &ExactQuery<'_>, refills: &Refills, label: Node, take: Take) -> Option<u32> {
+        if refills.passed(&label) {
+            return None;
+        }
+        let (first, second) = query.key(&mut self.bound, &mut self.guides, &label)?;
+        if first.0 >= self.cut {
+            return None;
+        }
+        let next = take == Take::IfNext
+            && self.run_on
+            && self.open.peek().is_none_or(|Reverse((f, _, _))| first.0 <= f.0 + WAIT_BAND * f.0.abs().max(1.0));
+        let j = query.keep(label, &mut self.nodes, &mut self.at, &mut self.out, self.tick)?;
+        if next {
+            return Some(j);
+        }
+        self.open.push(Reverse((first, second, j)));
+        None
+    }
+
+    /// What the labels, their index, the queue, the bound and the lessons hold, bytes.
+    fn bytes(&self) -> usize {
+        self.nodes.len() * size_of::<Node>()
+            + self.out.instants as usize * size_of::<(Instant, Staircase)>()
+            + self.open.len() * size_of::<(Ordered, Ordered, u32)>()
+            + self.bound.bytes()
+            + self.guides.bytes()
+    }
+}
+
 impl ExactQuery<'_> {
     /// Runs the search. `None` in the outcome's plan with `stopped` false is a proof
     /// that no plan whose waits end on ticks reaches the goals.
@@ -284,18 +351,26 @@ impl ExactQuery<'_> {
     ) -> (ExactOutcome, Option<Learned>) {
         let tick = self.model.wait_step_s().unwrap_or_else(|| self.model.stay_duration_s(Action::Hibernate));
         let e_max = self.model.gain_bounds(self.world).0;
-        let mut bound = Bound::new(self, e_max, tick);
-        let mut guides = Guides::new(learned, self, tick, e_max);
-        // Labels whose estimate comes within a part in 10⁹ of `upper` cannot lead to a
-        // cheaper plan.
-        let cut = upper.map_or(f64::INFINITY, |u| u - 1e-9 * u.abs().max(1.0));
+        let guides = Guides::new(learned, self, tick, e_max);
+        let mut f = Frontier {
+            nodes: Vec::new(),
+            at: Instants::new(),
+            open: QuaternaryHeap::new(),
+            out: ExactOutcome::default(),
+            bound: Bound::new(self, e_max, tick),
+            // Labels whose estimate comes within a part in 10⁹ of `upper` cannot lead
+            // to a cheaper plan.
+            cut: upper.map_or(f64::INFINITY, |u| u - 1e-9 * u.abs().max(1.0)),
+            // A search guided by what earlier ones learned has estimates close to its
+            // optimum from the start: waits run on at once there would be made past it.
+            run_on: !guides.any() && upper.is_none(),
+            guides,
+            tick,
+        };
         let departures = Departures::new(self.world, self.model, tick);
-        let mut moves = Moves::new();
+        let (mut moves, mut waits) = (Moves::new(), Waits::new());
         let mut refills = Refills::new(self, tick);
-        let mut nodes: Vec<Node> = Vec::new();
-        let mut at = Instants::new();
-        let mut open = QuaternaryHeap::new();
-        let mut out = ExactOutcome::default();
+        let mut counts = WaitCounts::default();
         let start = Node {
             cell: self.start.cell,
             goal: self.reached(0, self.start.cell, self.start.t_min, self.start.energy_wh),
@@ -306,54 +381,76 @@ impl ExactQuery<'_> {
             action: None,
             dead: false,
         };
-        self.keep(start, &mut nodes, &mut at, &mut out, tick);
-        if let Some((first, second)) = self.key(&mut bound, &mut guides, &start)
-            && first.0 < cut
+        self.keep(start, &mut f.nodes, &mut f.at, &mut f.out, tick);
+        if let Some((first, second)) = self.key(&mut f.bound, &mut f.guides, &start)
+            && first.0 < f.cut
         {
-            open.push(Reverse((first, second, 0u32)));
+            f.open.push(Reverse((first, second, 0u32)));
         }
-        while let Some(Reverse((_, _, i))) = open.pop() {
-            let node = nodes[i as usize];
+        while let Some(Reverse((_, _, i))) = f.open.pop() {
+            let node = f.nodes[i as usize];
             if node.dead || refills.passed(&node) {
                 continue;
             }
             if node.goal as usize == self.goals.len() {
-                out.plan = Some((node.cost, self.steps(&nodes, i)));
-                out.jumps = refills.jumps;
+                f.out.plan = Some((node.cost, self.steps(&f.nodes, i)));
+                f.out.counts(refills.jumps, counts);
                 // The labels and the queue are done with before the lesson is drawn from
                 // the staircases (each shard freed as it is read).
-                drop((nodes, open, moves, refills));
+                let Frontier { out, at, nodes, open, .. } = f;
+                drop((nodes, open, moves, waits, refills));
                 let learned = (!matches!(self.objective, Objective::Margin { .. }))
                     .then(|| Learned::new(self, tick, e_max, node.cost, at))
                     .flatten();
                 return (out, learned);
             }
-            let held = (nodes.len() * size_of::<Node>()
-                + out.instants as usize * size_of::<(Instant, Staircase)>()
-                + open.len() * size_of::<(Ordered, Ordered, u32)>()
-                + moves.bytes()
-                + refills.bytes()
-                + bound.bytes()
-                + guides.bytes()) as u64;
-            out.bytes = out.bytes.max(held);
-            if out.kept >= self.max_labels || !go_on(held) {
-                out.stopped = true;
-                out.jumps = refills.jumps;
-                return (out, None);
+            let held = (f.bytes() + moves.bytes() + refills.bytes() + waits.bytes()) as u64;
+            f.out.bytes = f.out.bytes.max(held);
+            if f.out.kept >= self.max_labels || !go_on(held) {
+                f.out.stopped = true;
+                f.out.counts(refills.jumps, counts);
+                return (f.out, None);
             }
-            out.expanded += 1;
-            for (next, _) in self.successors(node, i, (tick, e_max), &departures, (&mut moves, Some(&mut refills))) {
-                if !refills.passed(&next)
-                    && let Some((first, second)) = self.key(&mut bound, &mut guides, &next)
-                    && first.0 < cut
-                    && let Some(j) = self.keep(next, &mut nodes, &mut at, &mut out, tick)
-                {
-                    open.push(Reverse((first, second, j)));
+            f.out.expanded += 1;
+            let caches = (&mut moves, &mut waits);
+            self.expand(&mut f, (node, i), (e_max, &departures), caches, (&mut refills, &mut counts));
+        }
+        f.out.counts(refills.jumps, counts);
+        (f.out, None)
+    }
+
+    /// Makes the labels one step from `node` (index `i`) and takes them into the
+    /// frontier: the drives (those after a plain tick of waiting only where driving a
+    /// tick earlier and waiting after does not beat them) and the wait, which stands for
+    /// its ticks where it may (`waiting`).
+    fn expand(
+        &self,
+        f: &mut Frontier<'_>,
+        (node, i): (Node, u32),
+        (e_max, departures): (f64, &Departures),
+        (moves, waits): (&mut Moves, &mut Waits),
+        (refills, counts): (&mut Refills, &mut WaitCounts),
+    ) {
+        let tick = f.tick;
+        let next = self.successors(node, i, (tick, e_max), departures, (moves, Some(refills)));
+        let mut later = match f.nodes.get(node.parent as usize) {
+            Some(parent) if node.action == Some(Action::Wait) && self.stands_for_waits(parent, &node, tick) => {
+                self.later_of(parent, node.parent, (tick, e_max), (moves, waits))
+            }
+            _ => [None; 8],
+        };
+        let mut keep = |label: Node, take: Take| f.take(self, refills, label, take);
+        for &(label, _) in &next {
+            match label.action {
+                Some(Action::Drive(k)) => self.take_drive(label, (node.goal, k), &mut later, counts, &mut keep),
+                _ if self.stands_for_waits(&node, &label, tick) => {
+                    self.wait_on(label, later, (tick, e_max), departures, (moves, waits), counts, &mut keep);
+                }
+                _ => {
+                    keep(label, Take::Queue);
                 }
             }
         }
-        out.jumps = refills.jumps;
-        (out, None)
     }
 
     /// A label's place in the queue, or `None` where the bound is infinite (no plan from
@@ -412,30 +509,6 @@ impl ExactQuery<'_> {
         departures: &Departures,
         (cache, refills): (&mut Moves, Option<&mut Refills>),
     ) -> Vec<(Node, f64)> {
-        let capacity = self.model.capacity_wh();
-        // The label after `effect` from `from`, if the battery holds inside it.
-        let after = |from: &Node, action: Action, to: u32, effect: &Effect| -> Option<(Node, f64)> {
-            let lowest = effect.lowest(from.e, capacity);
-            if lowest < -1e-9 {
-                return None;
-            }
-            let (t, e) = (from.t + effect.duration_s, effect.after(from.e, capacity));
-            let node = Node {
-                cell: to,
-                goal: self.reached(from.goal, to, t, e),
-                t,
-                e,
-                cost: match self.objective {
-                    // The battery drawn below the start at the plan's lowest so far.
-                    Objective::Margin { .. } => from.cost.max(self.start.energy_wh - lowest),
-                    _ => from.cost + self.step_cost(action, effect, e_max),
-                },
-                parent: i,
-                action: Some(action),
-                dead: false,
-            };
-            Some((node, lowest))
-        };
         let mut out = Vec::with_capacity(9);
         let last = self.goals.len();
         let at_goal = self.goals.get(node.goal as usize).is_some_and(|g| g.cell == node.cell);
@@ -452,37 +525,67 @@ impl ExactQuery<'_> {
                 forward.open = forward.open && self.model.drive_geometry(self.world, node.cell, k as u8).is_err();
                 continue;
             };
-            let Some((arrived, low)) = after(&node, Action::Drive(k as u8), m.to, &m.drive) else {
-                forward.open = false;
-                continue;
-            };
-            match m.settle {
-                _ if arrived.goal as usize == last => out.push((arrived, low)),
-                Settle::OnTick => {
-                    forward.lands(k as u8, arrived.cell, arrived.t, arrived.e);
-                    out.push((arrived, low));
+            match self.drive_from(&node, i, k as u8, m, e_max) {
+                Some(arrived) if arrived.0.goal as usize == last => out.push(arrived),
+                Some(landed) => {
+                    forward.lands(k as u8, landed.0.cell, landed.0.t, landed.0.e);
+                    out.push(landed);
                 }
-                Settle::Refused => forward.open = false,
-                // The settle: the drive and the wait to the next tick are one step of
-                // the plan (the drive's label is not kept: no plan departs from it).
-                Settle::Wait(wait) => {
-                    if let Some((mut settled, settle_low)) = after(&arrived, Action::Wait, m.to, &wait) {
-                        settled.action = Some(Action::Drive(k as u8));
-                        forward.lands(k as u8, settled.cell, settled.t, settled.e);
-                        out.push((settled, low.min(settle_low)));
-                    } else {
-                        forward.open = false;
-                    }
-                }
+                None => forward.open = false,
             }
         }
         if let Some(end) = self.wait_end(&node, at_goal, departures, &forward, (cache, refills))
             && let Ok(wait) = self.model.wait(self.world, node.cell, node.t, end - node.t)
-            && let Some(waited) = after(&node, Action::Wait, node.cell, &wait)
+            && let Some(waited) = self.step(&node, i, Action::Wait, node.cell, &wait, e_max)
         {
             out.push(waited);
         }
         out
+    }
+
+    /// The label after `action` (with `effect`) from `from` (index `i`) to `to`, if the
+    /// battery holds inside it, with the lowest battery above the floor inside the step,
+    /// Wh.
+    fn step(&self, from: &Node, i: u32, action: Action, to: u32, effect: &Effect, e_max: f64) -> Option<(Node, f64)> {
+        let lowest = effect.lowest(from.e, self.model.capacity_wh());
+        if lowest < -1e-9 {
+            return None;
+        }
+        let (t, e) = (from.t + effect.duration_s, effect.after(from.e, self.model.capacity_wh()));
+        let node = Node {
+            cell: to,
+            goal: self.reached(from.goal, to, t, e),
+            t,
+            e,
+            cost: match self.objective {
+                // The battery drawn below the start at the plan's lowest so far.
+                Objective::Margin { .. } => from.cost.max(self.start.energy_wh - lowest),
+                _ => from.cost + self.step_cost(action, effect, e_max),
+            },
+            parent: i,
+            action: Some(action),
+            dead: false,
+        };
+        Some((node, lowest))
+    }
+
+    /// The label after drive `k` (`mv`) from `from` (index `i`) with its settle to the
+    /// next tick (none where it reaches the last goal: the plan ends on arrival), and the
+    /// lowest battery inside; `None` where the battery runs out or no settle is possible.
+    fn drive_from(&self, from: &Node, i: u32, k: u8, mv: &Move, e_max: f64) -> Option<(Node, f64)> {
+        let (arrived, low) = self.step(from, i, Action::Drive(k), mv.to, &mv.drive, e_max)?;
+        match mv.settle {
+            _ if arrived.goal as usize == self.goals.len() => Some((arrived, low)),
+            Settle::OnTick => Some((arrived, low)),
+            Settle::Refused => None,
+            // The settle: the drive and the wait to the next tick are one step of the
+            // plan (the drive's label is not kept: no plan departs from it).
+            Settle::Wait(wait) => {
+                let (mut settled, settle_low) = self.step(&arrived, i, Action::Wait, mv.to, &wait, e_max)?;
+                settled.action = Some(Action::Drive(k));
+                Some((settled, low.min(settle_low)))
+            }
+        }
     }
 
     /// Where the wait from `node` ends, s after the epoch. A wait runs on to the first

@@ -307,6 +307,21 @@ pub(crate) fn gale_morning() -> (World, f64) {
     (world, t0)
 }
 
+/// The Gale crop over 40 h from the Sun table's start (a night and the next morning
+/// after the first afternoon), and its first sunset, s after the epoch.
+pub(crate) fn gale_evening() -> (World, f64) {
+    let (crop, config) = crate::common::gale_crop(40.0);
+    let world = World::new(crop, &config, &areo_ephemeris::Mars24).unwrap();
+    let mut t = 0.0;
+    while world.sun(t).elevation_deg <= 0.0 {
+        t += 60.0;
+    }
+    while world.sun(t).elevation_deg > 0.0 {
+        t += 60.0;
+    }
+    (world, t)
+}
+
 /// On a crop of the real MOLA Gale map (7 × 5 cells of 463 m, real slopes and cast
 /// shadows at a low morning Sun), two goals: the exact search equals the Dijkstra under
 /// L + B and under Margin, with little battery and with plenty, and where the day is too short for both goals
