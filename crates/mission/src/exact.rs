@@ -66,6 +66,28 @@ use crate::domain::{Objective, PathLength, Start};
 use crate::effect::Effect;
 use crate::world::World;
 
+/// The exact search's A* bound: a lower bound on what any plan from a label costs to
+/// its end — the cheapest drives through the remaining goals at their floors, and
+/// under L + B what the time until the earliest arrival costs above them (the deep
+/// night, a Sun short of its best while driving, the waits). The search's optimum
+/// rests on it never exceeding a plan's cost.
+pub struct ExactBound<'a>(Bound<'a>);
+
+impl std::fmt::Debug for ExactBound<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ExactBound").finish_non_exhaustive()
+    }
+}
+
+impl ExactBound<'_> {
+    /// The least cost from the rover at `cell` at `t_s` (s after the epoch) with
+    /// `battery_wh` above the floor and `goals_reached` goals reached to the end of any
+    /// plan (infinite: none can reach the goals).
+    pub fn at(&mut self, cell: u32, goals_reached: usize, t_s: f64, battery_wh: f64) -> f64 {
+        self.0.at(cell, goals_reached as u16, t_s, battery_wh)
+    }
+}
+
 /// A goal of an exact query: its cell and the window in which reaching it counts, s
 /// after the epoch.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -341,6 +363,13 @@ impl ExactQuery<'_> {
         go_on: &mut dyn FnMut(u64) -> bool,
     ) -> (ExactOutcome, Option<Learned>) {
         self.search(go_on, learned, upper)
+    }
+
+    /// The A* bound the search ranks labels by ([`ExactBound`]), for checking it
+    /// against plans.
+    pub fn bound(&self) -> ExactBound<'_> {
+        let tick = self.model.wait_step_s().unwrap_or_else(|| self.model.stay_duration_s(Action::Hibernate));
+        ExactBound(Bound::new(self, self.model.gain_bounds(self.world).0, tick))
     }
 
     fn search(

@@ -7,7 +7,7 @@
 use areo_rover::resources::Load;
 
 use super::{Action, ActionModel, DriveGeometry};
-use crate::world::World;
+use crate::world::{GridSun, World};
 
 impl ActionModel {
     /// An upper bound on the power any wait charges the battery with, W (the largest
@@ -63,20 +63,48 @@ impl ActionModel {
     /// any admissible tilt allow — far below a Sun-facing panel's for a steep array,
     /// which tightens the search's heuristic.
     pub(crate) fn drive_source_bound_w(&self, world: &World) -> f64 {
-        self.rover.nuclear_w
-            + self.rover.solar.map_or(0.0, |a| {
-                // Without the slope constraint the ground can tip the array any way.
-                let tilt = if self.config.drive.max_slope { self.max_slope_deg } else { 90.0 }.to_radians();
-                let mut best: f64 = 0.0;
-                for sun in world.sun_table().iter().filter(|s| s.elevation_deg > 0.0) {
-                    for n in &self.level_normals {
-                        let cos = (n[0] * sun.enu[0] + n[1] * sun.enu[1] + n[2] * sun.enu[2]).clamp(-1.0, 1.0);
-                        let incidence = (cos.acos() - tilt).max(0.0);
-                        best = best.max(sun.beam_w_m2 * incidence.cos());
-                    }
-                }
-                best * a.area_m2 * a.efficiency
-            })
+        let best = world.sun_table().iter().map(|sun| self.drive_solar_bound_w(sun, 0.0)).fold(0.0, f64::max);
+        self.rover.nuclear_w + best
+    }
+
+    /// An upper bound on the array's power while driving under `sun`, W: the best
+    /// incidence any heading and any admissible tilt of the ground allow, the tilt
+    /// widened by `widen_deg` (for a Sun anywhere within that angle of this one).
+    pub(crate) fn drive_solar_bound_w(&self, sun: &GridSun, widen_deg: f64) -> f64 {
+        let Some(a) = &self.rover.solar else { return 0.0 };
+        if sun.elevation_deg <= 0.0 {
+            return 0.0;
+        }
+        // Without the slope constraint the ground can tip the array any way.
+        let tilt = (self.ground_tilt_bound_deg() + widen_deg).to_radians();
+        let mut best: f64 = 0.0;
+        for n in &self.level_normals {
+            let cos = (n[0] * sun.enu[0] + n[1] * sun.enu[1] + n[2] * sun.enu[2]).clamp(-1.0, 1.0);
+            let incidence = (cos.acos() - tilt).max(0.0);
+            best = best.max(sun.beam_w_m2 * incidence.cos());
+        }
+        best * a.area_m2 * a.efficiency
+    }
+
+    /// The steepest ground the rover may stand on after a drive, degrees: the slope
+    /// limit under the slope rule, any ground without it.
+    pub(crate) fn ground_tilt_bound_deg(&self) -> f64 {
+        if self.config.drive.max_slope { self.max_slope_deg } else { 90.0 }
+    }
+
+    /// An upper bound on the array's power while the rover stands under `sun` on ground
+    /// tipped at most `ground_deg`, W: standing, the array is turned to the Sun's
+    /// azimuth at its own tilt ([`ActionModel::source_w`] with no heading), so it sees
+    /// the Sun at the difference of the two zenith angles, and the ground turns it at
+    /// most `ground_deg` toward the Sun.
+    pub(crate) fn stay_solar_bound_w(&self, sun: &GridSun, ground_deg: f64) -> f64 {
+        let Some(a) = &self.rover.solar else { return 0.0 };
+        if sun.elevation_deg <= 0.0 {
+            return 0.0;
+        }
+        let apart = (90.0 - sun.elevation_deg - a.tilt_deg).abs();
+        let incidence = (apart - ground_deg).clamp(0.0, 90.0);
+        sun.beam_w_m2.max(0.0) * incidence.to_radians().cos() * a.area_m2 * a.efficiency
     }
 
     /// Lower bounds on the battery energy of one drive, Wh, whatever the time, the
@@ -157,14 +185,30 @@ impl ActionModel {
         drive_source_w: f64,
     ) -> f64 {
         let half_quantum = self.config.energy_quantum_wh.max(0.0) / 2.0;
+        // Per second a drive costs (E_max·units − ½q)/d plus its net load's energy rate:
+        // least at the longest d.
+        let net_w =
+            self.rover.electronics.power_w(Load::High) - drive_source_w.min(self.rover.nuclear_w + drive_solar_w);
+        let per_hour = self.battery_wh(net_w, 3600.0);
+        let drive = (e_max * drive_units - half_quantum).max(0.0) / self.longest_drive_s(world)
+            + (per_hour - 1e-9 * per_hour.abs()) / 3600.0;
+        self.stay_rate_floor(e_max, charge_solar_w).min(drive).max(0.0)
+    }
+
+    /// A lower bound on the cost per second (Wh/s, the Energy objective) of a stay
+    /// overlapping an instant, with `charge_solar_w` the most the array can give within
+    /// a charge's duration of it: a charge (its load against the generator and the
+    /// array) or a hibernation (the generator alone); or a wait, charging or asleep,
+    /// whichever drains less. Never negative.
+    pub(crate) fn stay_rate_floor(&self, e_max: f64, charge_solar_w: f64) -> f64 {
+        let half_quantum = self.config.energy_quantum_wh.max(0.0) / 2.0;
         let stay = |action: Action, source_w: f64, load: Load| {
             let d = self.stay_duration_s(action);
             let e = self.battery_wh(self.rover.electronics.power_w(load) - source_w, d);
             // (A relative hair below, for rounding in the sums the plan makes.)
             (e_max + e - 1e-9 * e.abs() - half_quantum).max(0.0) / d
         };
-        let stays = if self.config.wait_step_s.is_some() {
-            // Waiting, the rover charges or sleeps, whichever drains less.
+        let rate = if self.config.wait_step_s.is_some() {
             let d = self.stay_duration_s(Action::Wait);
             let e = &self.rover.electronics;
             let charging = e.power_w(self.config.charge_load.load()) - self.rover.nuclear_w - charge_solar_w;
@@ -175,14 +219,31 @@ impl ActionModel {
             let charge = stay(Action::Charge, self.rover.nuclear_w + charge_solar_w, self.config.charge_load.load());
             charge.min(stay(Action::Hibernate, self.rover.nuclear_w, Load::Low))
         };
-        // Per second a drive costs (E_max·units − ½q)/d plus its net load's energy rate:
-        // least at the longest d.
-        let net_w =
-            self.rover.electronics.power_w(Load::High) - drive_source_w.min(self.rover.nuclear_w + drive_solar_w);
-        let per_hour = self.battery_wh(net_w, 3600.0);
-        let drive = (e_max * drive_units - half_quantum).max(0.0) / self.longest_drive_s(world)
-            + (per_hour - 1e-9 * per_hour.abs()) / 3600.0;
-        stays.min(drive).max(0.0)
+        rate.max(0.0)
+    }
+
+    /// A lower bound on what a drive overlapping an instant costs per second above its
+    /// floor ([`ActionModel::drive_energy_floor_wh`] with `drive_source_w`), Wh/s: the
+    /// floor credits the drive with `drive_source_w` throughout, the sources give at
+    /// most the generator and `drive_solar_w` (the most the array can give within the
+    /// longest drive's duration of the instant), and every watt short of the credit is
+    /// energy the battery does not get — at least at the smaller of the charge
+    /// efficiency and the discharge's inverse, the slopes of
+    /// [`ActionModel::battery_wh`]. Only where [`ActionModel::drive_floors_unclamped`]:
+    /// a floor clamped at zero would not pay the credit back.
+    pub(crate) fn drive_shortfall_rate(&self, drive_solar_w: f64, drive_source_w: f64) -> f64 {
+        let short_w = (drive_source_w - (self.rover.nuclear_w + drive_solar_w)).max(0.0);
+        let b = &self.rover.battery;
+        short_w * b.charge_efficiency.min(1.0 / b.discharge_efficiency) / 3600.0 * (1.0 - 1e-9)
+    }
+
+    /// Whether no drive's cost floor, its energy floor plus E_max per unit of L (its
+    /// planar length in cells), is clamped at zero.
+    pub(crate) fn drive_floors_unclamped(&self, world: &World, e_max: f64) -> bool {
+        let (dx, dy) = (world.dem().dx(), world.dem().dy());
+        let units = [dx, dy, dx.hypot(dy)].map(|run| run / dx.min(dy));
+        let floors = self.drive_energy_floors_wh(world);
+        floors.iter().zip(units).all(|(floor, units)| floor + e_max * units >= 0.0)
     }
 
     /// The most the array can give under a beam of `beam_w_m2` (facing it squarely), W.

@@ -171,6 +171,7 @@ pub(super) struct Bound<'a> {
     /// Whether the cost is the time taken (the bound is then the earliest arrival).
     time_objective: bool,
     dark: Option<DarkCost>,
+    shortfall: Option<Shortfall>,
 }
 
 /// The sum of `search`'s weights from `cell` to its goal (infinite: no way there).
@@ -237,6 +238,7 @@ impl<'a> Bound<'a> {
             tick,
             time_objective,
             dark: DarkCost::new(world, model, query.objective, e_max, units, source_w),
+            shortfall: Shortfall::new(query, e_max, source_w),
         }
     }
 
@@ -263,8 +265,12 @@ impl<'a> Bound<'a> {
         // Any plan from here spends at least until the arrival on its way: the deep
         // night in that span with stays, and all of it at the least cost per second.
         match &self.dark {
-            Some(d) => (drives + (d.at(arrival) - d.at(t)).max(0.0)).max((d.any_at(arrival) - d.any_at(t)).max(0.0)),
-            None => drives,
+            Some(d) => {
+                let short = self.shortfall.as_ref().map_or(0.0, |s| s.at(arrival) - s.at(t));
+                let span = (d.at(arrival) - d.at(t)).max(short).max(0.0);
+                (drives + span).max((d.any_at(arrival) - d.any_at(t)).max(0.0))
+            }
+            None => drives + self.shortfall.as_ref().map_or(0.0, |s| (s.at(arrival) - s.at(t)).max(0.0)),
         }
     }
 
@@ -304,6 +310,82 @@ impl<'a> Bound<'a> {
     /// The bytes the bound holds: its weighed drives and its searches.
     pub(super) fn bytes(&self) -> usize {
         self.weights.bytes() + self.searches.iter().map(|s| s.distances.bytes()).sum::<usize>()
+    }
+}
+
+/// Under L + B, the least any plan pays above its drives' floors, as a clock: from the
+/// epoch to each Sun-table instant, the integral of the least rate at which an action
+/// overlapping the instant costs more than the floors count. A drive's floor credits
+/// it with the most the sources can ever give while driving; the Sun short of that
+/// (low, or behind the array's best incidence) is energy the drive does not gain
+/// ([`ActionModel::drive_shortfall_rate`]). A stay counts in no floor, so all of its
+/// cost is above them ([`ActionModel::stay_rate_floor`]), with the array turned to the
+/// Sun on ground no steeper than the rover may stand on. Every instant of a plan lies
+/// in some action, drive or stay, so the plan from `t` to its end pays at least the
+/// clock's rise over that span above its drives' floors: a rover that drives through
+/// the morning pays for the Sun being low, one that waits for noon pays for the wait.
+/// Where the drives' floors may be clamped at zero (a drive gaining more than E_max
+/// per unit of L) the credit is not paid back, and drives count nothing.
+struct Shortfall {
+    step_s: f64,
+    cumulative: Vec<f64>,
+}
+
+impl Shortfall {
+    fn new(query: &ExactQuery<'_>, e_max: f64, source_w: f64) -> Option<Shortfall> {
+        let (world, model) = (query.world, query.model);
+        let table = world.sun_table();
+        if query.objective != Objective::Energy || table.len() < 3 {
+            return None;
+        }
+        let step_s = world.sun_step_s();
+        // Between samples the Sun moves along an arc at most `arc` from both ends: the
+        // ground's tilt widened by it bounds the incidence there. The start's cell may be
+        // steeper than the drives allow; a hair for the f32 slopes.
+        let arc = table
+            .windows(2)
+            .map(|w| {
+                (w[0].enu[0] * w[1].enu[0] + w[0].enu[1] * w[1].enu[1] + w[0].enu[2] * w[1].enu[2])
+                    .clamp(-1.0, 1.0)
+                    .acos()
+            })
+            .fold(0.0, f64::max)
+            .to_degrees();
+        let ground = model.ground_tilt_bound_deg().max(world.slope_deg(query.start.cell)) + arc + 0.01;
+        let stay_w: Vec<f64> = table.iter().map(|s| model.stay_solar_bound_w(s, ground)).collect();
+        let drive_w: Vec<f64> = table.iter().map(|s| model.drive_solar_bound_w(s, arc + 0.01)).collect();
+        let stay_s = model.stays().iter().map(|&a| model.stay_duration_s(a)).fold(0.0, f64::max);
+        let drive_s = model.longest_drive_s(world);
+        let reach = |d: f64| (d / step_s).ceil() as usize + 1;
+        // The most within `r` samples of the interval [k, k + 1]: the Sun is interpolated
+        // linearly between samples, and an action overlapping the interval lies there.
+        let within = |v: &[f64], k: usize, r: usize| {
+            v[k.saturating_sub(r)..=(k + 1 + r).min(v.len() - 1)].iter().copied().fold(0.0, f64::max)
+        };
+        let daylight = model.config().drive.daylight;
+        let unclamped = model.drive_floors_unclamped(world, e_max);
+        let mut cumulative = Vec::with_capacity(table.len());
+        cumulative.push(0.0);
+        for k in 0..table.len() - 1 {
+            let stay = model.stay_rate_floor(e_max, within(&stay_w, k, reach(stay_s)));
+            let r = reach(stay_s.max(drive_s));
+            // Under the daylight rule no drive overlaps the deep night.
+            let deep = daylight
+                && table[k.saturating_sub(r)..=(k + 1 + r).min(table.len() - 1)].iter().all(|s| s.elevation_deg <= 0.0);
+            let drive =
+                if unclamped { model.drive_shortfall_rate(within(&drive_w, k, reach(drive_s)), source_w) } else { 0.0 };
+            let rate = if deep { stay } else { stay.min(drive) };
+            cumulative.push(cumulative[k] + rate * step_s);
+        }
+        cumulative.last().is_some_and(|&c| c > 0.0).then_some(Shortfall { step_s, cumulative })
+    }
+
+    /// The clock at `t`, s after the epoch.
+    fn at(&self, t: f64) -> f64 {
+        let pos = (t / self.step_s).clamp(0.0, (self.cumulative.len() - 1) as f64);
+        let k = (pos as usize).min(self.cumulative.len() - 2);
+        let f = pos - k as f64;
+        self.cumulative[k] + (self.cumulative[k + 1] - self.cumulative[k]) * f
     }
 }
 
