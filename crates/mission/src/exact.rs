@@ -23,7 +23,8 @@
 //! at different ticks are compared where the earlier one's waits reach the later one's
 //! instant. The search is A* on an admissible bound (the cheapest drives to each
 //! remaining goal over a 2-D graph of the least each drive can cost at any time, and
-//! the night or slow hours before the earliest the rover can arrive), so the first
+//! under L + B what the time before the earliest the rover can arrive costs above those
+//! floors: a Sun short of the drives' credit, the stays), so the first
 //! label to reach the last goal is optimal over every plan of this form, and an empty
 //! queue proves that none exists. The bound's 2-D searches run backward from each goal
 //! only as far as the cells the search asks about, so a query on a map of millions of

@@ -1,6 +1,8 @@
 //! The exact search's A* bound: the cheapest drives to each remaining goal over a 2-D
-//! graph of the least each drive can cost at any time, and the night or slow hours
-//! before the earliest the rover can arrive.
+//! graph of the least each drive can cost at any time, and what the time before the
+//! earliest the rover can arrive costs above those floors (the deep night, the slow
+//! hours, and under L + B the shortfall clock: a Sun short of the drives' credit, the
+//! stays).
 //!
 //! Its 2-D parts are Dijkstras backward from each goal over the drives' floors, run
 //! lazily: each goes only as far as the cells the search asks about need (a cell's
@@ -129,9 +131,11 @@ struct Backward {
 }
 
 /// The A* bound from a label to the last goal: the cheapest drives through the
-/// remaining goals over each drive's floor (2-D, any time), plus the deep night (or any
-/// action's least cost per second) between the label's instant and the earliest it can
-/// arrive — the approximate planner's own time bounds (`domain::DarkCost`). Under the
+/// remaining goals over each drive's floor (2-D, any time), plus what the span between
+/// the label's instant and the earliest it can arrive costs above those floors — the
+/// deep night, or under L + B the shortfall clock ([`Shortfall`]) — or all of that span
+/// at any action's least cost per second, the approximate planner's time bound
+/// (`domain::DarkCost`). Under the
 /// Time objective, the earliest arrival less the label's instant.
 ///
 /// The earliest arrival: over the drives that exist (a detour round an obstacle takes
@@ -363,6 +367,14 @@ impl Shortfall {
             v[k.saturating_sub(r)..=(k + 1 + r).min(v.len() - 1)].iter().copied().fold(0.0, f64::max)
         };
         let daylight = model.config().drive.daylight;
+        // In the deep night a stay pays at least E_max per unit of L and its load in the
+        // dark: the dark-time bound's rate (`domain::DarkCost`), so that this clock
+        // rises at least as fast as that one everywhere.
+        let dark_rate = model
+            .stays()
+            .iter()
+            .map(|&a| (e_max * model.stay_units(a) + model.dark_stay_floor_wh(a)).max(0.0) / model.stay_duration_s(a))
+            .fold(f64::INFINITY, f64::min);
         let unclamped = model.drive_floors_unclamped(world, e_max);
         let mut cumulative = Vec::with_capacity(table.len());
         cumulative.push(0.0);
@@ -374,7 +386,7 @@ impl Shortfall {
                 && table[k.saturating_sub(r)..=(k + 1 + r).min(table.len() - 1)].iter().all(|s| s.elevation_deg <= 0.0);
             let drive =
                 if unclamped { model.drive_shortfall_rate(within(&drive_w, k, reach(drive_s)), source_w) } else { 0.0 };
-            let rate = if deep { stay } else { stay.min(drive) };
+            let rate = if deep { stay.max(dark_rate) } else { stay.min(drive) };
             cumulative.push(cumulative[k] + rate * step_s);
         }
         cumulative.last().is_some_and(|&c| c > 0.0).then_some(Shortfall { step_s, cumulative })
@@ -393,7 +405,7 @@ impl Shortfall {
 /// whatever the cells' data now are: for a cell x, the least drives from the label's
 /// cell to x, then at some instant t′ on from the label's, the bound from x at t′ with
 /// any battery and any goal reached since — with the cost the clock itself charges
-/// between the two instants (the deep night under L + B, the time under Time), which
+/// between the two instants (the shortfall clock under L + B, the time under Time), which
 /// both parts of the plan pay separately and so add. A learned bound
 /// ([`super::learned`]) is clamped by these: it was true of a world without the cells'
 /// changes, and only plans that reach them can have become cheaper.
@@ -455,7 +467,7 @@ impl Bound<'_> {
             return (0.0, t);
         }
         match &self.dark {
-            Some(d) => (d.at(t), d.any_at(t)),
+            Some(d) => (self.shortfall.as_ref().map_or_else(|| d.at(t), |s| s.at(t)), d.any_at(t)),
             None => (0.0, 0.0),
         }
     }
