@@ -294,10 +294,7 @@ impl DarkCost {
     }
 
     fn interpolate(&self, table: &[f64], t: f64) -> f64 {
-        let pos = (t / self.step_s).clamp(0.0, (table.len() - 1) as f64);
-        let k = (pos as usize).min(table.len() - 2);
-        let f = pos - k as f64;
-        table[k] + (table[k + 1] - table[k]) * f
+        sampled_at(table, self.step_s, t)
     }
 
     /// The dark-time bound from t = 0 to `t` (s after the epoch).
@@ -309,6 +306,15 @@ impl DarkCost {
     pub(crate) fn any_at(&self, t: f64) -> f64 {
         self.interpolate(&self.any, t)
     }
+}
+
+/// A table sampled every `step_s` (at least two samples) at `t` s after the epoch,
+/// linear between samples and clamped to its ends: the time bounds' clocks.
+pub(crate) fn sampled_at(table: &[f64], step_s: f64, t: f64) -> f64 {
+    let pos = (t / step_s).clamp(0.0, (table.len() - 1) as f64);
+    let k = (pos as usize).min(table.len() - 2);
+    let f = pos - k as f64;
+    table[k] + (table[k + 1] - table[k]) * f
 }
 
 /// Drive geometries by arrival cell, computed on first use: the search expands a cell

@@ -14,7 +14,7 @@
 
 use super::ExactQuery;
 use crate::action_model::{Action, ActionModel, NEIGHBOURS};
-use crate::domain::{DarkCost, Objective, PathLength};
+use crate::domain::{DarkCost, Objective, PathLength, sampled_at};
 use crate::landmark::{Edges, Landmark};
 use crate::world::World;
 
@@ -376,11 +376,12 @@ impl Shortfall {
             .map(|&a| (e_max * model.stay_units(a) + model.dark_stay_floor_wh(a)).max(0.0) / model.stay_duration_s(a))
             .fold(f64::INFINITY, f64::min);
         let unclamped = model.drive_floors_unclamped(world, e_max);
+        // Every action overlapping an interval lies within `r` samples of it.
+        let r = reach(stay_s.max(drive_s));
         let mut cumulative = Vec::with_capacity(table.len());
         cumulative.push(0.0);
         for k in 0..table.len() - 1 {
             let stay = model.stay_rate_floor(e_max, within(&stay_w, k, reach(stay_s)));
-            let r = reach(stay_s.max(drive_s));
             // Under the daylight rule no drive overlaps the deep night.
             let deep = daylight
                 && table[k.saturating_sub(r)..=(k + 1 + r).min(table.len() - 1)].iter().all(|s| s.elevation_deg <= 0.0);
@@ -394,10 +395,7 @@ impl Shortfall {
 
     /// The clock at `t`, s after the epoch.
     fn at(&self, t: f64) -> f64 {
-        let pos = (t / self.step_s).clamp(0.0, (self.cumulative.len() - 1) as f64);
-        let k = (pos as usize).min(self.cumulative.len() - 2);
-        let f = pos - k as f64;
-        self.cumulative[k] + (self.cumulative[k + 1] - self.cumulative[k]) * f
+        sampled_at(&self.cumulative, self.step_s, t)
     }
 }
 
