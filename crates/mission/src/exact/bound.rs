@@ -317,6 +317,28 @@ impl<'a> Bound<'a> {
     }
 }
 
+/// Upper bounds on the array's power at each Sun-table instant, W, for a rover standing
+/// and for one driving, that hold for any Sun on the arc to the neighbouring instants:
+/// between samples the Sun moves along an arc at most `arc` from both ends, so the
+/// ground's tilt widened by it bounds the incidence there (and the beam, linear between
+/// samples, is at most the larger end's). The start's cell may be steeper than the
+/// drives allow; a hair for the f32 slopes.
+fn solar_bounds(query: &ExactQuery<'_>) -> (Vec<f64>, Vec<f64>) {
+    let (world, model) = (query.world, query.model);
+    let table = world.sun_table();
+    let arc = table
+        .windows(2)
+        .map(|w| {
+            (w[0].enu[0] * w[1].enu[0] + w[0].enu[1] * w[1].enu[1] + w[0].enu[2] * w[1].enu[2]).clamp(-1.0, 1.0).acos()
+        })
+        .fold(0.0, f64::max)
+        .to_degrees();
+    let ground = model.ground_tilt_bound_deg().max(world.slope_deg(query.start.cell)) + arc + 0.01;
+    let stay_w = table.iter().map(|s| model.stay_solar_bound_w(s, ground)).collect();
+    let drive_w = table.iter().map(|s| model.drive_solar_bound_w(s, arc + 0.01)).collect();
+    (stay_w, drive_w)
+}
+
 /// Under L + B, the least any plan pays above its drives' floors, as a clock: from the
 /// epoch to each Sun-table instant, the integral of the least rate at which an action
 /// overlapping the instant costs more than the floors count. A drive's floor credits
@@ -343,21 +365,7 @@ impl Shortfall {
             return None;
         }
         let step_s = world.sun_step_s();
-        // Between samples the Sun moves along an arc at most `arc` from both ends: the
-        // ground's tilt widened by it bounds the incidence there. The start's cell may be
-        // steeper than the drives allow; a hair for the f32 slopes.
-        let arc = table
-            .windows(2)
-            .map(|w| {
-                (w[0].enu[0] * w[1].enu[0] + w[0].enu[1] * w[1].enu[1] + w[0].enu[2] * w[1].enu[2])
-                    .clamp(-1.0, 1.0)
-                    .acos()
-            })
-            .fold(0.0, f64::max)
-            .to_degrees();
-        let ground = model.ground_tilt_bound_deg().max(world.slope_deg(query.start.cell)) + arc + 0.01;
-        let stay_w: Vec<f64> = table.iter().map(|s| model.stay_solar_bound_w(s, ground)).collect();
-        let drive_w: Vec<f64> = table.iter().map(|s| model.drive_solar_bound_w(s, arc + 0.01)).collect();
+        let (stay_w, drive_w) = solar_bounds(query);
         let stay_s = model.stays().iter().map(|&a| model.stay_duration_s(a)).fold(0.0, f64::max);
         let drive_s = model.longest_drive_s(world);
         let reach = |d: f64| (d / step_s).ceil() as usize + 1;
@@ -597,15 +605,28 @@ impl FreeTime {
 
 /// The earliest instant the sources can have given the battery what the drives ahead
 /// draw: the rover ends at the last goal with its battery above what it must hold only
-/// if its charge now plus everything the sources give until then covers the drives'
-/// loads (each at its least, over the cheapest way), whatever the efficiencies, the
-/// waits' own loads and the battery's cap, which only make it later. The sources are
-/// bounded by the generator plus the array square to the beam at each instant — small
-/// in the last hour of the day, nothing at night — so a label near the goal in the
-/// evening without the battery to finish is seen to wait for the morning.
+/// if its charge now plus what the sources give until then covers the drives' loads
+/// (each at its least, over the cheapest way), whatever the waits' own loads and the
+/// battery's cap, which only make it later. The sources are bounded by the generator
+/// plus the array at its best incidence on ground the rover may stand on (nothing at
+/// night), so a label near the goal in the evening without the battery to finish is
+/// seen to wait for the morning.
+///
+/// The efficiencies tighten it: each action's net bus energy x reaches the battery as
+/// η_c·x when it charges and x / η_d when it draws, so with P the sum of the charging
+/// nets and N of the drawing ones, the battery ends at e + η_c·P − N / η_d, at least the
+/// hold. The sources less the loads over the span are P − N. If hold ≥ e, then
+/// η_c·(P − N) ≥ hold − e + N·(1/η_d − η_c), so P − N ≥ (hold − e) / η_c; otherwise
+/// N ≤ η_d·(e − hold + η_c·P), so P − N ≥ P·(1 − η_d·η_c) − η_d·(e − hold), at least
+/// η_d·(hold − e). Energy quanta round each action's change on its own, so with quanta
+/// the efficiencies are left out.
 struct Harvest {
     /// The battery to hold above the floor at the last goal, Wh.
     hold_wh: f64,
+    /// What a Wh short of the hold costs the sources less the loads, and what a Wh
+    /// above it saves them: 1/η_c and η_d (1 and 1 with energy quanta).
+    short_per_wh: f64,
+    spare_per_wh: f64,
     /// The Sun-table step, s, and at each table instant the most the sources can have
     /// given since the epoch, Wh.
     step_s: f64,
@@ -615,17 +636,24 @@ struct Harvest {
 impl Harvest {
     fn new(query: &ExactQuery<'_>) -> Harvest {
         let (world, model) = (query.world, query.model);
-        let table = world.sun_table();
         let step_s = world.sun_step_s();
-        let mut given = Vec::with_capacity(table.len());
+        let (stay_w, drive_w) = solar_bounds(query);
+        let best: Vec<f64> = stay_w.iter().zip(&drive_w).map(|(s, d)| s.max(*d)).collect();
+        let mut given = Vec::with_capacity(best.len());
         given.push(0.0);
-        for k in 1..table.len() {
-            // Linear between samples: the larger end bounds the interval.
-            let beam = table[k - 1].beam_w_m2.max(table[k].beam_w_m2);
-            let w = model.rover().nuclear_w + model.solar_peak_w(beam);
+        for k in 1..best.len() {
+            let w = model.rover().nuclear_w + best[k - 1].max(best[k]);
             given.push(given[k - 1] + w.max(0.0) * step_s / 3600.0);
         }
-        Harvest { hold_wh: query.goal_energy_wh.max(0.0), step_s, given }
+        let battery = &model.rover().battery;
+        let exact = model.config().energy_quantum_wh <= 0.0;
+        Harvest {
+            hold_wh: query.goal_energy_wh.max(0.0),
+            short_per_wh: if exact { 1.0 / battery.charge_efficiency } else { 1.0 },
+            spare_per_wh: if exact { battery.discharge_efficiency } else { 1.0 },
+            step_s,
+            given,
+        }
     }
 
     /// The most the sources can have given from the epoch to `t`, Wh.
@@ -639,7 +667,8 @@ impl Harvest {
     /// with at least `load_wh`, can have what the rest of the plan needs, s (infinite:
     /// not within the Sun table).
     fn ready(&self, load_wh: f64, t: f64, e: f64) -> f64 {
-        let lack = load_wh + self.hold_wh - e;
+        let short = self.hold_wh - e;
+        let lack = load_wh + short * if short > 0.0 { self.short_per_wh } else { self.spare_per_wh };
         if lack <= 0.0 {
             return t;
         }
