@@ -253,7 +253,7 @@ pub enum LoadLevel {
 }
 
 impl LoadLevel {
-    fn load(self) -> Load {
+    pub(crate) fn load(self) -> Load {
         match self {
             LoadLevel::Low => Load::Low,
             LoadLevel::Medium => Load::Medium,

@@ -500,6 +500,14 @@ impl World {
         [e, n, (1.0 - e * e - n * n).max(0.0).sqrt()]
     }
 
+    /// The most any passable cell's ground tips the rover from level, degrees (the
+    /// angle of its [`World::normal`] from the vertical): as the map is now.
+    pub fn steepest_tilt_deg(&self) -> f64 {
+        let cells = (0..self.normal.len() as u32).filter(|&c| self.passable(c));
+        let cos = cells.map(|c| self.normal(c)[2]).fold(1.0, f64::min);
+        cos.clamp(-1.0, 1.0).acos().to_degrees()
+    }
+
     /// Whether a cell can be entered: valid data and not blocked.
     pub fn passable(&self, cell: u32) -> bool {
         !self.blocked[cell as usize].load(Ordering::Relaxed) && self.slope_deg(cell).is_finite()

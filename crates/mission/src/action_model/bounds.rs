@@ -63,20 +63,23 @@ impl ActionModel {
     /// any admissible tilt allow — far below a Sun-facing panel's for a steep array,
     /// which tightens the search's heuristic.
     pub(crate) fn drive_source_bound_w(&self, world: &World) -> f64 {
-        let best = world.sun_table().iter().map(|sun| self.drive_solar_bound_w(sun, 0.0)).fold(0.0, f64::max);
+        let best = world
+            .sun_table()
+            .iter()
+            .map(|sun| self.drive_solar_bound_w(sun, self.ground_tilt_bound_deg()))
+            .fold(0.0, f64::max);
         self.rover.nuclear_w + best
     }
 
     /// An upper bound on the array's power while driving under `sun`, W: the best
-    /// incidence any heading and any admissible tilt of the ground allow, the tilt
-    /// widened by `widen_deg` (for a Sun anywhere within that angle of this one).
-    pub(crate) fn drive_solar_bound_w(&self, sun: &GridSun, widen_deg: f64) -> f64 {
+    /// incidence any heading and ground tipped at most `tilt_deg` allow (widened beyond
+    /// the ground's tilt, it holds for a Sun anywhere within the difference of this one).
+    pub(crate) fn drive_solar_bound_w(&self, sun: &GridSun, tilt_deg: f64) -> f64 {
         let Some(a) = &self.rover.solar else { return 0.0 };
         if sun.elevation_deg <= 0.0 {
             return 0.0;
         }
-        // Without the slope constraint the ground can tip the array any way.
-        let tilt = (self.ground_tilt_bound_deg() + widen_deg).to_radians();
+        let tilt = tilt_deg.to_radians();
         let mut best: f64 = 0.0;
         for n in &self.level_normals {
             let cos = (n[0] * sun.enu[0] + n[1] * sun.enu[1] + n[2] * sun.enu[2]).clamp(-1.0, 1.0);
@@ -84,6 +87,11 @@ impl ActionModel {
             best = best.max(sun.beam_w_m2 * incidence.cos());
         }
         best * a.area_m2 * a.efficiency
+    }
+
+    /// The factor the planning margins put on every load ([`super::Perturbation::draw_factor`]).
+    pub(crate) fn draw_factor(&self) -> f64 {
+        self.margins.draw_factor
     }
 
     /// The steepest ground the rover may stand on after a drive, degrees: the slope

@@ -13,6 +13,8 @@
 //! and the search, do not change.
 
 use super::ExactQuery;
+use areo_rover::resources::Load;
+
 use crate::action_model::{Action, ActionModel, NEIGHBOURS};
 use crate::domain::{DarkCost, Objective, PathLength, sampled_at};
 use crate::landmark::{Edges, Landmark};
@@ -41,14 +43,17 @@ struct Weigher<'a> {
     e_max: f64,
     tick: f64,
     source_w: f64,
+    /// What every drive draws each second at least, W, taken off the [`LOAD`] row
+    /// ([`Harvest`]).
+    base_w: f64,
 }
 
 impl Weigher<'_> {
     /// The drives into `cell` from the neighbour behind each direction, weighed: per
     /// row ([`OBJECTIVE`], [`DURATION`], [`TICKS`], [`LOAD`]) the objective's floor
     /// (the least its energy can be under any Sun), the duration, the duration in whole
-    /// ticks and the loads' least energy — f32 rounded down, so that sums of them stay
-    /// lower bounds; infinite where no drive exists.
+    /// ticks and the loads' least energy above the base every drive draws — f32 rounded
+    /// down, so that sums of them stay lower bounds; infinite where no drive exists.
     fn weigh(&self, cell: u32) -> Weighed {
         let mut w = [[f32::INFINITY; 8]; 4];
         let (dx, dy) = (self.world.dem().dx(), self.world.dem().dy());
@@ -67,7 +72,8 @@ impl Weigher<'_> {
             w[OBJECTIVE][k] = floor_f32(floor);
             w[DURATION][k] = floor_f32(g.duration_s);
             w[TICKS][k] = floor_f32((g.duration_s / self.tick - 1e-9).ceil() * self.tick);
-            w[LOAD][k] = floor_f32(load.max(0.0));
+            let above = load - self.base_w * g.duration_s / 3600.0 - 1e-9 * load.abs();
+            w[LOAD][k] = floor_f32(above.max(0.0));
         }
         w
     }
@@ -189,7 +195,9 @@ impl<'a> Bound<'a> {
         let (world, model) = (query.world, query.model);
         let time_objective = matches!(query.objective, Objective::Time | Objective::Margin { .. });
         let source_w = model.drive_source_bound_w(world);
-        let weigher = Weigher { world, model, objective: query.objective, e_max, tick, source_w };
+        let harvest = Harvest::new(query);
+        let weigher =
+            Weigher { world, model, objective: query.objective, e_max, tick, source_w, base_w: harvest.base_w };
         let mut weights = Weights::new(weigher);
         let mut searches = Vec::new();
         let mut add = |goal: u32, row: usize| {
@@ -236,7 +244,7 @@ impl<'a> Bound<'a> {
             slack_s: if query.settle { 2.0 * tick } else { 0.0 },
             day,
             close_s: query.goals.last().map_or(f64::INFINITY, |g| g.close_s),
-            harvest: Harvest::new(query),
+            harvest,
             free: FreeTime::new(model.sessions()),
             free_ticks: FreeTime::new(&if query.settle { on_ticks(model.sessions(), tick) } else { Vec::new() }),
             tick,
@@ -289,7 +297,7 @@ impl<'a> Bound<'a> {
         // A start between ticks may lie in the last interval of a session that ends
         // between ticks: one tick less.
         let stepped = self.free_ticks.after(t, ticks - self.tick);
-        let at = (t + least).max(self.free.after(t, plain)).max(stepped).max(self.harvest.ready(load, t, e));
+        let at = (t + least).max(self.free.after(t, plain)).max(stepped).max(self.harvest.ready(load, plain, t, e));
         if at > self.close_s + 1e-9 {
             return f64::INFINITY;
         }
@@ -318,6 +326,7 @@ impl<'a> Bound<'a> {
 }
 
 /// Upper bounds on the array's power at each Sun-table instant, W, for a rover standing
+/// (on ground no steeper than the map's steepest passable cell and the slope rule allow)
 /// and for one driving, that hold for any Sun on the arc to the neighbouring instants:
 /// between samples the Sun moves along an arc at most `arc` from both ends, so the
 /// ground's tilt widened by it bounds the incidence there (and the beam, linear between
@@ -333,9 +342,10 @@ fn solar_bounds(query: &ExactQuery<'_>) -> (Vec<f64>, Vec<f64>) {
         })
         .fold(0.0, f64::max)
         .to_degrees();
-    let ground = model.ground_tilt_bound_deg().max(world.slope_deg(query.start.cell)) + arc + 0.01;
+    let drives = model.ground_tilt_bound_deg().min(world.steepest_tilt_deg()) + arc + 0.01;
+    let ground = drives.max(world.slope_deg(query.start.cell) + arc + 0.01);
     let stay_w = table.iter().map(|s| model.stay_solar_bound_w(s, ground)).collect();
-    let drive_w = table.iter().map(|s| model.drive_solar_bound_w(s, arc + 0.01)).collect();
+    let drive_w = table.iter().map(|s| model.drive_solar_bound_w(s, drives)).collect();
     (stay_w, drive_w)
 }
 
@@ -603,14 +613,24 @@ impl FreeTime {
     }
 }
 
-/// The earliest instant the sources can have given the battery what the drives ahead
-/// draw: the rover ends at the last goal with its battery above what it must hold only
-/// if its charge now plus what the sources give until then covers the drives' loads
-/// (each at its least, over the cheapest way), whatever the waits' own loads and the
-/// battery's cap, which only make it later. The sources are bounded by the generator
-/// plus the array at its best incidence on ground the rover may stand on (nothing at
-/// night), so a label near the goal in the evening without the battery to finish is
-/// seen to wait for the morning.
+/// The earliest instant the battery can hold what the rest of the plan needs: the sources
+/// less the loads over the span from the label's instant to the arrival must cover the
+/// drives' loads ahead and what the battery must hold at the end, whatever the battery's
+/// cap, which only makes it later.
+///
+/// Every instant of a plan lies in a stay or a drive. A stay gains at most what the array
+/// at its best incidence on ground the rover may stand on and the generator give less
+/// the charge load, or loses the sleeping load (the wait charges only where that drains
+/// less); a drive draws each second at least the high electronics load (its base), and
+/// its loads above that base are the [`LOAD`] row, summed over the cheapest way. So the
+/// sources less the loads are at most the stays' rate over the whole span, less each
+/// drive's penalty — the base less the array while driving, above the stays' rate, at
+/// least `penalty_w` at any instant — over the drives' least duration, less the loads
+/// above the base. (Where driving could gain more than staying, the rate is the larger of
+/// the two and there is no penalty.) The array's bounds hold for any Sun on the arc to the
+/// neighbouring table instants ([`solar_bounds`]). A label near the goal in the evening
+/// without the battery to finish is seen to wait for the morning, and one with an empty
+/// battery under a low Sun to bank what its drives will draw.
 ///
 /// The efficiencies tighten it: each action's net bus energy x reaches the battery as
 /// η_c·x when it charges and x / η_d when it draws, so with P the sum of the charging
@@ -618,8 +638,8 @@ impl FreeTime {
 /// hold. The sources less the loads over the span are P − N. If hold ≥ e, then
 /// η_c·(P − N) ≥ hold − e + N·(1/η_d − η_c), so P − N ≥ (hold − e) / η_c; otherwise
 /// N ≤ η_d·(e − hold + η_c·P), so P − N ≥ P·(1 − η_d·η_c) − η_d·(e − hold), at least
-/// η_d·(hold − e). Energy quanta round each action's change on its own, so with quanta
-/// the efficiencies are left out.
+/// η_d·(hold − e). Energy quanta round each action's change on its own: with quanta the
+/// bound counts only the sources (no loads, no efficiencies).
 struct Harvest {
     /// The battery to hold above the floor at the last goal, Wh.
     hold_wh: f64,
@@ -627,62 +647,99 @@ struct Harvest {
     /// above it saves them: 1/η_c and η_d (1 and 1 with energy quanta).
     short_per_wh: f64,
     spare_per_wh: f64,
-    /// The Sun-table step, s, and at each table instant the most the sources can have
-    /// given since the epoch, Wh.
+    /// What every drive draws each second at least, W (0 with energy quanta).
+    base_w: f64,
+    /// What a second of driving costs at least above a second of staying, W.
+    penalty_w: f64,
+    /// The Sun-table step, s, and at each table instant the most the sources less the
+    /// loads can have given since the epoch, Wh, with its running maxima
+    /// ([`Harvest::first_reaching`]).
     step_s: f64,
     given: Vec<f64>,
+    maxima: Vec<Vec<f64>>,
 }
 
 impl Harvest {
     fn new(query: &ExactQuery<'_>) -> Harvest {
         let (world, model) = (query.world, query.model);
-        let step_s = world.sun_step_s();
-        let (stay_w, drive_w) = solar_bounds(query);
-        let best: Vec<f64> = stay_w.iter().zip(&drive_w).map(|(s, d)| s.max(*d)).collect();
-        let mut given = Vec::with_capacity(best.len());
-        given.push(0.0);
-        for k in 1..best.len() {
-            let w = model.rover().nuclear_w + best[k - 1].max(best[k]);
-            given.push(given[k - 1] + w.max(0.0) * step_s / 3600.0);
-        }
-        let battery = &model.rover().battery;
+        let rover = model.rover();
         let exact = model.config().energy_quantum_wh <= 0.0;
+        let draw = model.draw_factor();
+        let power = |load: Load| if exact { rover.electronics.power_w(load) * draw } else { 0.0 };
+        let (base_w, charge_w, sleep_w) =
+            (power(Load::High), power(model.config().charge_load.load()), power(Load::Low));
+        let (stay_w, drive_w) = solar_bounds(query);
+        let interval = |v: &[f64], k: usize| v[k].max(v[k + 1]);
+        let n = stay_w.len();
+        let stay: Vec<f64> = (0..n.saturating_sub(1))
+            .map(|k| (rover.nuclear_w + interval(&stay_w, k) - charge_w).max(rover.nuclear_w - sleep_w))
+            .collect();
+        let drive: Vec<f64> =
+            (0..n.saturating_sub(1)).map(|k| rover.nuclear_w + interval(&drive_w, k) - base_w).collect();
+        let least = stay.iter().zip(&drive).map(|(s, d)| s - d).fold(f64::INFINITY, f64::min);
+        let penalty_w = if exact && least >= 0.0 { least } else { 0.0 };
+        let step_s = world.sun_step_s();
+        let mut given = Vec::with_capacity(n);
+        given.push(0.0);
+        for (s, d) in stay.iter().zip(&drive) {
+            let w = if penalty_w > 0.0 { *s } else { s.max(*d) };
+            given.push(given[given.len() - 1] + w * step_s / 3600.0);
+        }
+        let mut maxima = vec![given.clone()];
+        while 1 << maxima.len() <= given.len() {
+            let (last, half) = (&maxima[maxima.len() - 1], 1 << (maxima.len() - 1));
+            maxima.push((0..given.len() + 1 - 2 * half).map(|i| last[i].max(last[i + half])).collect());
+        }
+        let battery = &rover.battery;
         Harvest {
             hold_wh: query.goal_energy_wh.max(0.0),
             short_per_wh: if exact { 1.0 / battery.charge_efficiency } else { 1.0 },
             spare_per_wh: if exact { battery.discharge_efficiency } else { 1.0 },
+            base_w,
+            penalty_w,
             step_s,
             given,
+            maxima,
         }
     }
 
-    /// The most the sources can have given from the epoch to `t`, Wh.
+    /// The most the sources less the loads can have given from the epoch to `t`, Wh.
     fn given_at(&self, t: f64) -> f64 {
-        let pos = (t / self.step_s).clamp(0.0, (self.given.len() - 1) as f64);
-        let k = (pos as usize).min(self.given.len() - 2);
-        self.given[k] + (self.given[k + 1] - self.given[k]) * (pos - k as f64)
+        sampled_at(&self.given, self.step_s, t)
     }
 
-    /// The earliest a rover at `t` with `e` above the floor, whose drives ahead load it
-    /// with at least `load_wh`, can have what the rest of the plan needs, s (infinite:
-    /// not within the Sun table).
-    fn ready(&self, load_wh: f64, t: f64, e: f64) -> f64 {
+    /// The first table instant at or after index `from` at which `given` reaches
+    /// `target`: the running maxima over blocks of 2^j instants skip each block that
+    /// stays below it.
+    fn first_reaching(&self, from: usize, target: f64) -> Option<usize> {
+        let mut i = from;
+        for j in (0..self.maxima.len()).rev() {
+            if i + (1 << j) <= self.given.len() && self.maxima[j][i] < target {
+                i += 1 << j;
+            }
+        }
+        (i < self.given.len()).then_some(i)
+    }
+
+    /// The earliest a rover at `t` with `e` above the floor, whose drives ahead last at
+    /// least `drive_s` and load it above their base with at least `load_wh`, can have
+    /// what the rest of the plan needs, s (infinite: not within the Sun table).
+    fn ready(&self, load_wh: f64, drive_s: f64, t: f64, e: f64) -> f64 {
         let short = self.hold_wh - e;
-        let lack = load_wh + short * if short > 0.0 { self.short_per_wh } else { self.spare_per_wh };
-        if lack <= 0.0 {
+        let need = load_wh
+            + self.penalty_w * drive_s / 3600.0
+            + short * if short > 0.0 { self.short_per_wh } else { self.spare_per_wh };
+        if need <= 0.0 {
             return t;
         }
-        let target = self.given_at(t) + lack;
-        let k = self.given.partition_point(|&g| g < target);
-        if k >= self.given.len() {
-            return f64::INFINITY;
-        }
-        if k == 0 {
-            return t;
-        }
-        let (a, b) = (self.given[k - 1], self.given[k]);
-        let f = if b > a { (target - a) / (b - a) } else { 1.0 };
-        (((k - 1) as f64 + f) * self.step_s).max(t)
+        let (now, target) = (self.given_at(t), self.given_at(t) + need);
+        let from = ((t / self.step_s).ceil().max(0.0) as usize).min(self.given.len());
+        let Some(k) = self.first_reaching(from, target) else { return f64::INFINITY };
+        // Linear between instants: the crossing lies after the last one below.
+        let (t0, g0) = if k == from { (t, now) } else { ((k - 1) as f64 * self.step_s, self.given[k - 1]) };
+        let (t1, g1) = (k as f64 * self.step_s, self.given[k]);
+        let f = if g1 > g0 { ((target - g0) / (g1 - g0)).clamp(0.0, 1.0) } else { 1.0 };
+        (t0 + (t1 - t0) * f).max(t)
     }
 }
 
