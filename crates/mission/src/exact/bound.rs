@@ -356,10 +356,11 @@ fn solar_bounds(query: &ExactQuery<'_>) -> (Vec<f64>, Vec<f64>) {
 /// (low, or behind the array's best incidence) is energy the drive does not gain
 /// ([`ActionModel::drive_shortfall_rate`]). A stay counts in no floor, so all of its
 /// cost is above them ([`ActionModel::stay_rate_floor`]), with the array turned to the
-/// Sun on ground no steeper than the rover may stand on. Every instant of a plan lies
-/// in some action, drive or stay, so the plan from `t` to its end pays at least the
-/// clock's rise over that span above its drives' floors: a rover that drives through
-/// the morning pays for the Sun being low, one that waits for noon pays for the wait.
+/// Sun on ground no steeper than the rover may stand on ([`solar_bounds`]). Every
+/// instant of a plan lies in some action, drive or stay, so the plan from `t` to its
+/// end pays at least the clock's rise over that span above its drives' floors: a rover
+/// that drives through the morning pays for the Sun being low, one that waits for noon
+/// pays for the wait.
 /// Where the drives' floors may be clamped at zero (a drive gaining more than E_max
 /// per unit of L) the credit is not paid back, and drives count nothing.
 struct Shortfall {
