@@ -32,7 +32,7 @@ struct Cli {
     #[arg(long, global = true, value_name = "GIB")]
     max_memory_gb: Option<f64>,
     /// Refuse a job whose estimated work exceeds this many elementary steps (module
-    /// executions, cell-sector rays; a search's label expansion counts 50), and stop
+    /// executions, cell-sector rays; a search's label expansion counts 100), and stop
     /// its searches there (default 2e10, 10–40 minutes of work).
     #[arg(long, global = true, value_name = "STEPS")]
     max_work: Option<f64>,
