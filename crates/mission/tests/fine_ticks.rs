@@ -167,9 +167,7 @@ fn with_a_battery_to_hold_on_the_gale_crop_at_sixty_seconds_the_exact_search_equ
 #[test]
 fn with_the_shipped_rover_at_sixty_seconds_the_bound_never_exceeds_the_rest_of_a_plan() {
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let rover =
-        areo_rover::resources::ResourceModel::load(&data.join("scenarios/rovers/mock-solar-rover.ron")).unwrap();
-    let model = areo_mission::ActionModel::new(rover, actions(60.0));
+    let model = shipped_rover_at_sixty_seconds();
     let gale = areo_terrain::read(&data.join("crates/terrain/tests/data/gale_mola_crop_64.tif")).unwrap();
     let rolling = areo_terrain::Dem::from_fn(80, 60, 50.0, 50.0, |x, y| {
         40.0 * (x / 700.0).sin() + 25.0 * (y / 450.0 + 0.3).cos()
@@ -240,14 +238,11 @@ fn with_the_shipped_rover_at_sixty_seconds_the_bound_never_exceeds_the_rest_of_a
 /// step lowers it by more than the step lasts (counting each second of driving twice
 /// above staying fails here). On the rolling ground, where the map's steepest cell is
 /// all but level, it sees at least 0.42 of each plan's duration from its start (0.32
-/// with the slope rule's ground and without the drives' cost above staying): what it
-/// misses is mostly the drives' headings, which face the Sun worse than the best one.
+/// with the slope rule's ground and without the drives' cost above staying); it does
+/// not see the drives' headings, which may face the Sun worse than the best one.
 #[test]
 fn under_time_with_a_battery_that_binds_the_bound_is_admissible_and_consistent() {
-    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let rover =
-        areo_rover::resources::ResourceModel::load(&data.join("scenarios/rovers/mock-solar-rover.ron")).unwrap();
-    let model = areo_mission::ActionModel::new(rover, actions(60.0));
+    let model = shipped_rover_at_sixty_seconds();
     let rolling =
         areo_terrain::Dem::from_fn(40, 30, 50.0, 50.0, |x, y| 2.0 * (x / 600.0).sin() + 1.5 * (y / 500.0).cos())
             .unwrap();
@@ -289,4 +284,12 @@ fn under_time_with_a_battery_that_binds_the_bound_is_admissible_and_consistent()
         assert!(found >= 6, "only {found} plans");
         assert!(ratio >= least, "the bound sees as little as {ratio} of a plan's duration");
     }
+}
+
+/// The shipped scenarios' rover (`scenarios/rovers/mock-solar-rover.ron`) on a 60 s tick.
+fn shipped_rover_at_sixty_seconds() -> areo_mission::ActionModel {
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let rover =
+        areo_rover::resources::ResourceModel::load(&data.join("scenarios/rovers/mock-solar-rover.ron")).unwrap();
+    areo_mission::ActionModel::new(rover, actions(60.0))
 }
