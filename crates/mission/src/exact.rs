@@ -32,10 +32,11 @@
 //!
 //! Under Time a wait where driving on first is never worse jumps several ticks
 //! (`forward`): the flood of labels waiting tick by tick behind a bound that cannot see
-//! the waits ahead shrinks, and the optimum is kept. Under L + B and EnergyUsed a wait
-//! stands for its ticks (`waiting`): a drive after a wait is made only where driving a
-//! tick earlier and waiting where it lands does not beat it, and a wait the search would
-//! take soon runs on at once, its labels kept where later arrivals meet them.
+//! the waits ahead shrinks, and the optimum is kept. Under L + B, EnergyUsed and Time a
+//! wait stands for its ticks (`waiting`): a drive after a wait is made only where
+//! driving a tick earlier and waiting where it lands does not beat it, and a wait the
+//! search would take soon runs on at once, its labels kept where later arrivals meet
+//! them (under Time only while its estimate ties the queue's least).
 //!
 //! `settle: false` drops the settle: drives chain at their own durations and only
 //! waits end on ticks. That search is exact too, but labels between ticks are compared
@@ -60,7 +61,7 @@ use forward::{Forward, Refills};
 pub use front::{ExactFront, FrontPoint};
 use learned::Guides;
 pub use learned::Learned;
-use waiting::{Take, WAIT_BAND, WaitCounts, Waits};
+use waiting::{Take, WaitCounts, Waits};
 
 use crate::action_model::{Action, ActionModel};
 use crate::domain::{Objective, PathLength, Start};
@@ -302,6 +303,8 @@ struct Frontier<'b> {
     cut: f64,
     /// Whether waits may run on at once (`waiting`).
     run_on: bool,
+    /// How far above the queue's least estimate a wait runs on, as a part of it.
+    band: f64,
     tick: f64,
 }
 
@@ -319,7 +322,7 @@ impl Frontier<'_> {
         }
         let next = take == Take::IfNext
             && self.run_on
-            && self.open.peek().is_none_or(|Reverse((f, _, _))| first.0 <= f.0 + WAIT_BAND * f.0.abs().max(1.0));
+            && self.open.peek().is_none_or(|Reverse((f, _, _))| first.0 <= f.0 + self.band * f.0.abs().max(1.0));
         let j = query.keep(label, &mut self.nodes, &mut self.at, &mut self.out, self.tick)?;
         if next {
             return Some(j);
@@ -394,6 +397,7 @@ impl ExactQuery<'_> {
             // A search guided by what earlier ones learned has estimates close to its
             // optimum from the start: waits run on at once there would be made past it.
             run_on: !guides.any() && upper.is_none(),
+            band: self.wait_band(),
             guides,
             tick,
         };

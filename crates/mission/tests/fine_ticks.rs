@@ -86,11 +86,11 @@ fn in_the_afternoon_on_the_gale_crop_at_sixty_seconds_the_exact_search_equals_th
     // the windows close at dusk).
     let model = model(400.0, ActionConfig { energy_quantum_wh: 5.0, ..actions(60.0) });
     let mut r = Seeds(11);
-    let (mut found, mut binding, mut waited, mut covered) = (0, 0, 0, 0);
+    let (mut found, mut binding, mut waited, mut covered, mut covered_under_time) = (0, 0, 0, 0, 0);
     for (start, goal) in [((6, 0), (4, 1)), ((1, 1), (3, 3))] {
         let t0 = sunset - 3600.0 * (2.0 + r.next());
         let goals = [ExactGoal { cell: world.cell(goal.0, goal.1), open_s: t0, close_s: sunset }];
-        for objective in [Objective::Energy, Objective::EnergyUsed] {
+        for objective in [Objective::Energy, Objective::EnergyUsed, Objective::Time] {
             let solve = |battery: f64| {
                 let start = Start { cell: world.cell(start.0, start.1), t_min: t0, t_max: t0, energy_wh: battery };
                 let out = query_by(objective, &world, start, &goals, &model).solve();
@@ -101,6 +101,7 @@ fn in_the_afternoon_on_the_gale_crop_at_sixty_seconds_the_exact_search_equals_th
             for battery in [400.0, 100.0 + 100.0 * r.next(), 60.0 * r.next()] {
                 let (start, out) = solve(battery);
                 (waited, covered) = (waited + out.waited, covered + out.covered);
+                covered_under_time += if objective == Objective::Time { out.covered } else { 0 };
                 let brute = brute_force_by(objective, &world, &model, start, &goals, 0.0);
                 let what = format!("{start:?} to {goal:?}, {objective:?}, {battery:.1} Wh");
                 let plan = out.plan.as_ref().map(|p| p.0);
@@ -112,6 +113,7 @@ fn in_the_afternoon_on_the_gale_crop_at_sixty_seconds_the_exact_search_equals_th
     assert!(found >= 4, "only {found} plans");
     assert!(binding >= 2, "the battery binds in only {binding} cases");
     assert!(waited > 0 && covered > 0, "the waits' rule never ran: {waited} waited, {covered} covered");
+    assert!(covered_under_time > 0, "no drive after a wait was beaten under Time");
 }
 
 /// A battery to hold at the goal, on the Gale crop at 60 s, morning and afternoon:
@@ -137,7 +139,7 @@ fn with_a_battery_to_hold_on_the_gale_crop_at_sixty_seconds_the_exact_search_equ
             let goals = [ExactGoal { cell: to, open_s: t0, close_s: t0 + 2.0 * 3600.0 }];
             let start = Start { cell: from, t_min: t0, t_max: t0, energy_wh: 20.0 + 150.0 * r.next() };
             let hold_wh = 100.0 + 250.0 * r.next();
-            for objective in [Objective::EnergyUsed, Objective::Energy] {
+            for objective in [Objective::EnergyUsed, Objective::Energy, Objective::Time] {
                 let query =
                     ExactQuery { goal_energy_wh: hold_wh, ..query_by(objective, &world, start, &goals, &model) };
                 let out = query.solve();

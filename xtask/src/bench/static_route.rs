@@ -129,6 +129,7 @@ pub(crate) fn run(root: &Path) -> Result<bool, String> {
         }
     }
     traverses(root)?;
+    four_sol_traverses(root)?;
     Ok(true)
 }
 
@@ -182,4 +183,58 @@ fn traverses(root: &Path) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// The four-sol traverse on crops of the Gale map around gale-mola-traverse's: from its
+/// start to a goal 14.8 km south-west, a 200 h horizon, four sols of waiting allowed,
+/// on its 60 s tick with no simulation; from 600 Wh (enough for the drive) and from
+/// 120 Wh (charged on the way, a battery–time trade-off at every cell), under L + B
+/// and Time; on the shipped 64² crop (columns and rows 400–463 of the map) and on the
+/// 128² and 256² crops with the same centre, the route unmoved on the ground.
+fn four_sol_traverses(root: &Path) -> Result<(), String> {
+    use areo_scenario::format::{GoalSpec, TerrainSource, Truth, planner::ObjectiveSpec};
+    let path = root.join("../shared/data/dem/gale_mola_463m.tif");
+    let map = areo_terrain::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let dir = std::env::temp_dir().join(format!("areo-bench-gale-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    println!("four-sol traverses on Gale crops (463 m cells), one goal 14.8 km away, 200 h, tick 60 s:");
+    for size in [64usize, 128, 256] {
+        let first = 432 - size / 2;
+        let crop = map.crop(first, first, size, size).map_err(|e| e.to_string())?;
+        let file = dir.join(format!("gale_mola_crop_{size}.tif"));
+        areo_terrain::geotiff::write(&crop, &file).map_err(|e| format!("{}: {e}", file.display()))?;
+        let cells = ((size - 64) / 2) as f64;
+        let (dx, dy) = (cells * crop.dx(), cells * crop.dy());
+        for (battery_wh, objective, name) in [
+            (600.0, ObjectiveSpec::Energy, "L + B"),
+            (600.0, ObjectiveSpec::Time, "Time"),
+            (120.0, ObjectiveSpec::Energy, "L + B"),
+            (120.0, ObjectiveSpec::Time, "Time"),
+        ] {
+            let (outcome, wall) = super::run_scenario_with(root, "gale-mola-traverse", false, |job| {
+                job.terrain = TerrainSource::File(file.display().to_string());
+                job.truth = Truth::Map;
+                job.simulate = None;
+                job.regions.clear();
+                job.horizon_h = 200.0;
+                job.start.x_m += dx;
+                job.start.y_m += dy;
+                job.start_battery_above_floor_wh = battery_wh;
+                job.goals = vec![GoalSpec { name: "far".into(), x_m: 8000.0 + dx, y_m: 14500.0 + dy }];
+                job.planner.max_wait_s = Some(4.0 * 88775.0);
+                job.planner.objective = objective;
+            })?;
+            let fact = |name: &str| super::number(&outcome, name);
+            let verdict = match &outcome.failure {
+                None => format!("{:.1} h plan", fact("initial_plan_duration_h")),
+                Some(failure) => format!("no plan ({failure})"),
+            };
+            println!(
+                "  {size}², {battery_wh:.0} Wh, {name}: {verdict}, {} expansions, search graphs {:.0} MB, {wall:.2} s",
+                fact("initial_plan_expansions"),
+                fact("peak_search_mb")
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))
 }

@@ -33,11 +33,12 @@
 //! dominance that waits tick by tick (`tests/exact.rs`, `tests/fine_ticks.rs`).
 //!
 //! Used under L + B and EnergyUsed, where a wait's cost depends on the cell it is spent
-//! at. Under Time the waits that jump ([`super::forward`]) do the work (checking each
-//! departure there cost sun-synchronous-traverse 12 % more time than it saved), and
-//! under Margin, whose queue orders by margin and then arrival, the checks saved no
-//! time on devon-island. Not used next to the next goal's cell (a wait there may open
-//! its window, and an arrival there counts by its instant), nor for a drive that lands
+//! at, and under Time, where a label below a full battery does not jump
+//! ([`super::forward`]): there a wait runs on only while its estimate ties the queue's
+//! least (`WAIT_BAND_TIME`), which the waits that charge what the plan needs do. Under
+//! Margin, whose queue orders by margin and then arrival, the checks saved no time on
+//! devon-island. Not used next to the next goal's cell (a wait there may open its
+//! window, and an arrival there counts by its instant), nor for a drive that lands
 //! there.
 
 use rustc_hash::FxHashMap;
@@ -57,6 +58,16 @@ pub(super) const WAIT_TICKS: u32 = 16;
 /// search takes soon. The most made in vain are the wait labels whose estimates lie in
 /// this band above the optimum's cost.
 pub(super) const WAIT_BAND: f64 = 1e-3;
+
+/// [`WAIT_BAND`] under Time: a wait runs on only while its estimate ties the queue's
+/// least. Under Time the estimate is an instant; a wait that charges nothing (a full
+/// battery, a shadow) raises it by its tick, so a band of a part in a thousand of the
+/// clock — minutes, several ticks, at mission scale — would run waits on that the
+/// search would never take (on the whole MOLA Gale map at 300 h, seven times the
+/// labels: `cargo xtask bench static`). A wait that charges a battery the rest of the
+/// plan needs lowers the earliest arrival the bound sees by as much as it lasts, so
+/// its estimate ties: those are the waits worth running on.
+const WAIT_BAND_TIME: f64 = 1e-12;
 
 /// Batteries compared to a nanowatt-hour, as the staircase compares them.
 const SLACK_WH: f64 = 1e-9;
@@ -117,13 +128,19 @@ impl ExactQuery<'_> {
     /// next goal's cell and the wait is a plain tick at the same cell.
     pub(super) fn stands_for_waits(&self, node: &Node, waited: &Node, tick: f64) -> bool {
         let phase = node.t / tick;
-        matches!(self.objective, Objective::Energy | Objective::EnergyUsed)
+        matches!(self.objective, Objective::Energy | Objective::EnergyUsed | Objective::Time)
             && self.settle
             && waited.cell == node.cell
             && waited.goal == node.goal
             && (phase - phase.round()).abs() < 1e-9
             && (waited.t - node.t - tick).abs() < 1e-9 * tick
             && self.goals.get(node.goal as usize).is_none_or(|g| g.cell != node.cell)
+    }
+
+    /// How far above the queue's least estimate, as a part of it, a wait label is made
+    /// at once rather than queued.
+    pub(super) fn wait_band(&self) -> f64 {
+        if self.objective == Objective::Time { WAIT_BAND_TIME } else { WAIT_BAND }
     }
 
     /// The plans P2 for the drives of `waited`, a one-tick wait from `parent` (index
