@@ -189,8 +189,9 @@ fn traverses(root: &Path) -> Result<(), String> {
 /// start to a goal 14.8 km south-west, a 200 h horizon, four sols of waiting allowed,
 /// on its 60 s tick with no simulation; from 600 Wh (enough for the drive) and from
 /// 120 Wh (charged on the way, a battery–time trade-off at every cell), under L + B
-/// and Time; on the shipped 64² crop (columns and rows 400–463 of the map) and on the
-/// 128² and 256² crops with the same centre, the route unmoved on the ground.
+/// and Time, and from 120 Wh over a horizon too short (a proof); on the shipped 64²
+/// crop (columns and rows 400–463 of the map) and on the 128² and 256² crops with the
+/// same centre, the route unmoved on the ground.
 fn four_sol_traverses(root: &Path) -> Result<(), String> {
     use areo_scenario::format::{GoalSpec, TerrainSource, Truth, planner::ObjectiveSpec};
     let path = root.join("../shared/data/dem/gale_mola_463m.tif");
@@ -205,18 +206,22 @@ fn four_sol_traverses(root: &Path) -> Result<(), String> {
         areo_terrain::geotiff::write(&crop, &file).map_err(|e| format!("{}: {e}", file.display()))?;
         let cells = ((size - 64) / 2) as f64;
         let (dx, dy) = (cells * crop.dx(), cells * crop.dy());
-        for (battery_wh, objective, name) in [
-            (600.0, ObjectiveSpec::Energy, "L + B"),
-            (600.0, ObjectiveSpec::Time, "Time"),
-            (120.0, ObjectiveSpec::Energy, "L + B"),
-            (120.0, ObjectiveSpec::Time, "Time"),
+        // The last two: a 52 h horizon, shorter than the 54.3 h the route needs from
+        // 120 Wh, so "unreachable" must be proven.
+        for (battery_wh, objective, name, horizon_h) in [
+            (600.0, ObjectiveSpec::Energy, "L + B", 200.0),
+            (600.0, ObjectiveSpec::Time, "Time", 200.0),
+            (120.0, ObjectiveSpec::Energy, "L + B", 200.0),
+            (120.0, ObjectiveSpec::Time, "Time", 200.0),
+            (120.0, ObjectiveSpec::Energy, "L + B", 52.0),
+            (120.0, ObjectiveSpec::Time, "Time", 52.0),
         ] {
             let (outcome, wall) = super::run_scenario_with(root, "gale-mola-traverse", false, |job| {
                 job.terrain = TerrainSource::File(file.display().to_string());
                 job.truth = Truth::Map;
                 job.simulate = None;
                 job.regions.clear();
-                job.horizon_h = 200.0;
+                job.horizon_h = horizon_h;
                 job.start.x_m += dx;
                 job.start.y_m += dy;
                 job.start_battery_above_floor_wh = battery_wh;
@@ -226,14 +231,22 @@ fn four_sol_traverses(root: &Path) -> Result<(), String> {
             })?;
             let fact = |name: &str| super::number(&outcome, name);
             let verdict = match &outcome.failure {
-                None => format!("{:.1} h plan", fact("initial_plan_duration_h")),
-                Some(failure) => format!("no plan ({failure})"),
+                None => format!(
+                    "{:.1} h plan, {} expansions",
+                    fact("initial_plan_duration_h"),
+                    fact("initial_plan_expansions")
+                ),
+                Some(failure) => format!(
+                    "no plan ({}), {} expansions at the settings, {} with the probes naming what binds",
+                    if failure.to_string().contains("proven") { "proven" } else { "not proven" },
+                    fact("no_plan_planning_expansions"),
+                    fact("no_plan_expansions")
+                ),
             };
-            println!(
-                "  {size}², {battery_wh:.0} Wh, {name}: {verdict}, {} expansions, search graphs {:.0} MB, {wall:.2} s",
-                fact("initial_plan_expansions"),
-                fact("peak_search_mb")
-            );
+            // (A run without a plan reports no search graphs.)
+            let graphs = fact("peak_search_mb");
+            let graphs = if graphs.is_finite() { format!(", search graphs {graphs:.0} MB") } else { String::new() };
+            println!("  {size}², {battery_wh:.0} Wh, {name}, {horizon_h:.0} h: {verdict}{graphs}, {wall:.2} s");
         }
     }
     std::fs::remove_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))
