@@ -849,7 +849,9 @@ fn the_route_in_time_carries_the_executed_times_in_geojson_and_czml() {
     let timed = read("route_time.geojson");
     let route = &timed["features"][0];
     let names = route["properties"]["coord_properties"].as_array().unwrap();
-    assert_eq!(names[3], "unix_s");
+    assert_eq!(names[..4], ["longitude", "latitude", "elevation", "unix_s"], "MMGIS reads the first three by name");
+    // RFC 7946: a box has two numbers per dimension, or is left out.
+    assert!(timed.get("bbox").is_none_or(|b| b.as_array().is_some_and(|b| b.len() >= 4)), "{:?}", timed.get("bbox"));
     let vertices = route["geometry"]["coordinates"].as_array().unwrap();
     let utc = route["properties"]["utc"].as_array().unwrap();
     assert_eq!((vertices.len(), utc.len()), (executed.len() + 1, executed.len() + 1));

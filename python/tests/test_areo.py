@@ -236,6 +236,37 @@ def test_a_scenario_run_gives_the_binarys_facts_and_tables(tmp_path):
     assert np.allclose(required, table["required_wh"])
 
 
+def test_the_routes_pass_a_strict_geojson_validator_and_mmgis_rules(tmp_path):
+    # geojson-pydantic validates RFC 7946's structure (no empty box, positions of two or
+    # three numbers); it is installed in the test environment (.ci/run).
+    from geojson_pydantic import Feature, FeatureCollection
+
+    cli("run", RIDGE, "-o", tmp_path)
+    out = tmp_path / "uncertain-ridge"
+    with open(out / "route.geojson") as f:
+        route = json.load(f)
+    FeatureCollection.model_validate(route)
+    with open(out / "route_time.geojson") as f:
+        timed = json.load(f)
+    # MMGIS's enhanced GeoJSON: the route's vertices carry more values than a position,
+    # named by coord_properties, whose first three MMGIS reads by name.
+    line, *actions = timed["features"]
+    names = line["properties"]["coord_properties"]
+    assert names[:3] == ["longitude", "latitude", "elevation"]
+    vertices = line["geometry"]["coordinates"]
+    assert line["geometry"]["type"] == "LineString" and len(vertices) >= 2
+    assert all(len(v) == len(names) for v in vertices)
+    assert all(-180 <= v[0] <= 180 and -90 <= v[1] <= 90 for v in vertices)
+    # The rest of the file is plain GeoJSON: a box, if any, of two numbers per dimension,
+    # and one feature per action with the instants a time slider filters on.
+    assert "bbox" not in timed or len(timed["bbox"]) in (4, 6)
+    rest = FeatureCollection.model_validate({**timed, "features": actions})
+    assert len(rest.features) == len(vertices) - 1
+    for a in actions:
+        Feature.model_validate(a)
+        assert a["properties"]["start_utc"] <= a["properties"]["end_utc"]
+
+
 def test_set_changes_a_field_and_refuses_a_bad_one():
     sc = areo.Scenario.load(RIDGE)
     assert sc.set("job.uncertainty.terrain_plan_clones", 0) is sc

@@ -61,6 +61,11 @@ pub(crate) fn collection(features: Vec<Feature>, body: &Spheroid) -> FeatureColl
             .insert("crs".into(), serde_json::json!({ "type": "name", "properties": { "name": b.geographic_crs() } }));
     }
     let mut fc = FeatureCollection::new(features);
+    // The crate's box of no features is `[]`, which RFC 7946 (section 5) does not allow:
+    // a box has two numbers per dimension, or is left out.
+    if fc.bbox.as_ref().is_some_and(Vec::is_empty) {
+        fc.bbox = None;
+    }
     fc.foreign_members = Some(members);
     fc
 }
@@ -106,5 +111,9 @@ mod tests {
         assert_eq!(earth["crs"]["properties"]["name"], "urn:ogc:def:crs:OGC:1.3:CRS84");
         let odd = Spheroid { equatorial_radius_m: 2e6, polar_radius_m: 2e6 };
         assert!(serde_json::to_value(collection(Vec::new(), &odd)).unwrap().get("crs").is_none());
+        // No features, no box (RFC 7946 allows none, not an empty one); with features,
+        // none either unless each feature has one.
+        assert!(moon.get("bbox").is_none(), "{moon}");
+        assert!(v.get("bbox").is_none(), "{v}");
     }
 }

@@ -10,9 +10,11 @@ use serde_json::{Value, json};
 use crate::output::geojson::{collection, lon180};
 use crate::report::tempest::{RoutePlaces, RouteVertex, TempestReport};
 
-/// The names of a vertex's values in `route_time.geojson`, in their order.
+/// The names of a vertex's values in `route_time.geojson`, in their order: MMGIS's
+/// enhanced GeoJSON reads the first three by these names (the elevation in metres on
+/// the body's reference sphere).
 pub(super) const COORD_PROPERTIES: [&str; 7] =
-    ["longitude", "latitude", "elevation_m", "unix_s", "t_h", "battery_wh", "sun_elevation_deg"];
+    ["longitude", "latitude", "elevation", "unix_s", "t_h", "battery_wh", "sun_elevation_deg"];
 
 /// `route_time.geojson`: the route in time on the report's body.
 pub(super) fn route_time_geojson(r: &TempestReport, route: &RoutePlaces) -> Value {
