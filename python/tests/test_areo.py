@@ -236,7 +236,7 @@ def test_a_scenario_run_gives_the_binarys_facts_and_tables(tmp_path):
     assert np.allclose(required, table["required_wh"])
 
 
-def test_the_routes_pass_a_strict_geojson_validator_and_mmgis_rules(tmp_path):
+def test_the_routes_pass_a_strict_geojson_validator_and_mmgis_rules_and_come_with_a_layer(tmp_path):
     # geojson-pydantic validates RFC 7946's structure (no empty box, positions of two or
     # three numbers); it is installed in the test environment (.ci/run).
     from geojson_pydantic import Feature, FeatureCollection
@@ -265,6 +265,18 @@ def test_the_routes_pass_a_strict_geojson_validator_and_mmgis_rules(tmp_path):
     for a in actions:
         Feature.model_validate(a)
         assert a["properties"]["start_utc"] <= a["properties"]["end_utc"]
+    # The MMGIS layer beside it names what the file holds: the time properties every
+    # feature has, and vertex values to colour the route by.
+    with open(out / "route_time.mmgis.json") as f:
+        layer = json.load(f)
+    assert layer["type"] == "vector" and (out / layer["url"]).exists()
+    time = layer["time"]
+    assert time["enabled"] is True and time["type"] == "local"
+    assert all(time["startProp"] in x["properties"] and time["endProp"] in x["properties"] for x in timed["features"])
+    gradient = layer["variables"]["pathAttachments"]["gradient"]
+    assert gradient["colorWithProp"] == "battery_wh"
+    assert {gradient["colorWithProp"], *gradient["dropdownColorWithProp"]} <= set(names)
+    assert len(gradient["colorRamp"]) >= 2
 
 
 def test_set_changes_a_field_and_refuses_a_bad_one():

@@ -50,6 +50,9 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
         put("route.kml", &|p| route_kml(r, route).write(p))?;
         let timed = super::tempest_time::route_time_geojson(r, route);
         put("route_time.geojson", &|p| write_file(p, json_for(p, &timed, true)?.as_bytes()))?;
+        let name = dir.file_name().map_or_else(|| "areo".into(), |n| n.to_string_lossy());
+        let layer = super::tempest_time::route_time_mmgis_layer(&name);
+        put("route_time.mmgis.json", &|p| write_file(p, json_for(p, &layer, true)?.as_bytes()))?;
         let czml = super::tempest_time::route_czml(r, route);
         put("route.czml", &|p| write_file(p, json_for(p, &czml, true)?.as_bytes()))?;
     }

@@ -67,6 +67,35 @@ fn action_feature(k: usize, a: &RouteVertex, b: &RouteVertex, executed: bool) ->
     })
 }
 
+/// `route_time.mmgis.json`: an MMGIS vector layer for `route_time.geojson` (a layer
+/// object of a mission's configuration, its URL the file's name beside it), named
+/// `name`: filtered by time on each feature's `start_utc`–`end_utc` (the whole route's
+/// vertices over the route's span, each action over its own), the route drawn as a
+/// gradient of the battery at each vertex (`coord_properties`' `battery_wh`, red when
+/// low, green when high), with the Sun's elevation and the hours since the start
+/// offered beside it.
+pub(super) fn route_time_mmgis_layer(name: &str) -> Value {
+    json!({
+        "name": format!("{name}: route in time"),
+        "type": "vector",
+        "url": "route_time.geojson",
+        "visibility": true,
+        "initialOpacity": 1,
+        "time": { "enabled": true, "type": "local", "startProp": "start_utc", "endProp": "end_utc" },
+        "style": { "color": "#ffffff", "weight": 2, "fillColor": "#2f7ed8", "fillOpacity": 0.8, "radius": 4 },
+        "variables": {
+            "pathAttachments": {
+                "gradient": {
+                    "colorWithProp": "battery_wh",
+                    "dropdownColorWithProp": ["sun_elevation_deg", "t_h"],
+                    "colorRamp": ["#d7191c", "#fdae61", "#ffffbf", "#a6d96a", "#1a9641"],
+                    "weight": 4,
+                },
+            },
+        },
+    })
+}
+
 /// `route.czml`: a document packet with the clock over the route's span and the body's
 /// ellipsoid named, the rover's path with a position per vertex (seconds after the
 /// first, degrees, metres on the body's reference sphere), and the goals.
