@@ -832,6 +832,55 @@ fn csv_rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
     lines.map(|l| header.iter().cloned().zip(split(l)).collect()).collect()
 }
 
+/// route.czml of a simulated gale-mola-traverse against its route in time: the clock
+/// over the run, the rover's time-tagged positions and properties at the route's
+/// vertices, the goals on the ground, the body named.
+fn czml_follows_the_route(
+    read: &dyn Fn(&str) -> serde_json::Value,
+    (utc, vertices, unix): (&[serde_json::Value], &[serde_json::Value], &[f64]),
+    executed: &[std::collections::HashMap<String, String>],
+) {
+    // CZML: the clock over the run, the rover's time-tagged positions at the route's
+    // vertices, the body named.
+    let czml = read("route.czml");
+    let doc = &czml[0];
+    assert_eq!(doc["id"], "document");
+    assert_eq!(doc["clock"]["currentTime"], utc[0]);
+    assert_eq!(doc["properties"]["body"]["name"], "Mars");
+    let rover = czml.as_array().unwrap().iter().find(|p| p["id"] == "rover").unwrap();
+    assert_eq!(rover["position"]["epoch"], utc[0]);
+    let samples = rover["position"]["cartographicDegrees"].as_array().unwrap();
+    assert_eq!(samples.len(), 4 * vertices.len());
+    let geojson = read("route.geojson");
+    let line = geojson["features"].as_array().unwrap().iter().find(|f| f["properties"]["name"] == "executed route");
+    let line = line.unwrap()["geometry"]["coordinates"].as_array().unwrap();
+    assert_eq!(line.len(), vertices.len());
+    for (k, (sample, lonlat)) in samples.chunks(4).zip(line).enumerate() {
+        let x = |v: &serde_json::Value| v.as_f64().unwrap();
+        assert!((x(&sample[0]) - (unix[k] - unix[0])).abs() < 1e-6, "sample {k}'s time");
+        assert!((x(&sample[1]) - x(&lonlat[0])).abs() < 1e-9 && (x(&sample[2]) - x(&lonlat[1])).abs() < 1e-9, "{k}");
+    }
+    let goals: Vec<&serde_json::Value> =
+        czml.as_array().unwrap().iter().filter(|p| p["id"].as_str().is_some_and(|s| s.starts_with("goal "))).collect();
+    assert_eq!(goals.len(), 2);
+    // The goals stand on the ground, not at the sphere's height: the route ends at the
+    // last goal, at its vertex's elevation.
+    let height = |p: &serde_json::Value| p["position"]["cartographicDegrees"][2].as_f64().unwrap();
+    let end = vertices.last().unwrap()[2].as_f64().unwrap();
+    assert!((height(goals[1]) - end).abs() < 1e-6 && end.abs() > 100.0, "{} against {end}", height(goals[1]));
+    // The rover carries its battery, Sun and activity through time: the battery sampled
+    // at the vertices' instants, one activity per vertex.
+    let battery = rover["properties"]["battery_wh"]["number"].as_array().unwrap();
+    assert_eq!(battery.len(), 2 * vertices.len());
+    for (k, (pair, vertex)) in battery.chunks(2).zip(vertices).enumerate() {
+        assert!((pair[0].as_f64().unwrap() - (unix[k] - unix[0])).abs() < 1e-6, "battery sample {k}'s time");
+        assert_eq!(pair[1], vertex[5], "battery sample {k}");
+    }
+    let activity = rover["properties"]["activity"].as_array().unwrap();
+    assert_eq!(activity.len(), vertices.len());
+    assert_eq!(activity[1]["string"], executed[0]["action"].as_str());
+}
+
 #[test]
 fn the_route_in_time_carries_the_executed_times_in_geojson_and_czml() {
     let out_dir = tmp("route-time");
@@ -873,29 +922,7 @@ fn the_route_in_time_carries_the_executed_times_in_geojson_and_czml() {
         assert_eq!(a["properties"]["end_utc"], row["end_utc"].as_str());
         assert_eq!(a["properties"]["activity"], row["action"].as_str());
     }
-    // CZML: the clock over the run, the rover's time-tagged positions at the route's
-    // vertices, the body named.
-    let czml = read("route.czml");
-    let doc = &czml[0];
-    assert_eq!(doc["id"], "document");
-    assert_eq!(doc["clock"]["currentTime"], utc[0]);
-    assert_eq!(doc["properties"]["body"]["name"], "Mars");
-    let rover = czml.as_array().unwrap().iter().find(|p| p["id"] == "rover").unwrap();
-    assert_eq!(rover["position"]["epoch"], utc[0]);
-    let samples = rover["position"]["cartographicDegrees"].as_array().unwrap();
-    assert_eq!(samples.len(), 4 * vertices.len());
-    let geojson = read("route.geojson");
-    let line = geojson["features"].as_array().unwrap().iter().find(|f| f["properties"]["name"] == "executed route");
-    let line = line.unwrap()["geometry"]["coordinates"].as_array().unwrap();
-    assert_eq!(line.len(), vertices.len());
-    for (k, (sample, lonlat)) in samples.chunks(4).zip(line).enumerate() {
-        let x = |v: &serde_json::Value| v.as_f64().unwrap();
-        assert!((x(&sample[0]) - (unix[k] - unix[0])).abs() < 1e-6, "sample {k}'s time");
-        assert!((x(&sample[1]) - x(&lonlat[0])).abs() < 1e-9 && (x(&sample[2]) - x(&lonlat[1])).abs() < 1e-9, "{k}");
-    }
-    let goals =
-        czml.as_array().unwrap().iter().filter(|p| p["id"].as_str().is_some_and(|s| s.starts_with("goal "))).count();
-    assert_eq!(goals, 2);
+    czml_follows_the_route(&read, (utc, vertices, &unix), &executed);
     // The layers say which map they are: after the run, the map as sensed.
     assert_eq!(read("facts.json")["layers.map"], "as sensed");
     // The plan's first drive with its settle to the tick, as predicted, is what the rover

@@ -720,6 +720,8 @@ pub struct RoutePoint {
     pub lat_deg: f64,
     /// East longitude, degrees.
     pub lon_deg: f64,
+    /// The map's elevation there, m (the DEM's datum).
+    pub elevation_m: Option<f64>,
     /// The start's instant, or when the plan reaches the goal, ISO 8601 UTC.
     pub utc: Option<String>,
 }

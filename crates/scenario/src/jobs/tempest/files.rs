@@ -165,7 +165,7 @@ fn replan_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item
 pub(super) fn route_places(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimReport>) -> RoutePlaces {
     let place = |name: &str, cell: u32, utc: Option<String>| {
         let (lat_deg, lon_deg) = ctx.world.lat_lon(cell);
-        RoutePoint { name: name.to_string(), lat_deg, lon_deg, utc }
+        RoutePoint { name: name.to_string(), lat_deg, lon_deg, elevation_m: ctx.world.elevation(cell), utc }
     };
     let start_utc = format_utc(ctx.world.epoch() + Duration::from_seconds(ctx.start.t_min));
     let goals = (ctx.goals.iter().enumerate())

@@ -133,16 +133,44 @@ pub(super) fn route_czml(r: &TempestReport, route: &RoutePlaces) -> Value {
                 "width": 3, "leadTime": 0, "trailTime": 1e12, "resolution": 60,
             },
             "point": { "pixelSize": 10, "color": { "rgba": [255, 255, 255, 255] } },
+            "description": "The rover. Properties through time: battery_wh (the battery, Wh), \
+                sun_elevation_deg (the Sun above the horizontal, degrees), activity (what brought it to \
+                each vertex, or for a plan what it does next).",
+            "properties": rover_properties(v),
         }),
     ];
     for g in &route.goals {
         packets.push(json!({
             "id": format!("goal {}", g.name),
             "name": g.name,
-            "position": { "cartographicDegrees": [lon180(g.lon_deg), g.lat_deg, 0.0] },
+            "position": { "cartographicDegrees": [lon180(g.lon_deg), g.lat_deg, g.elevation_m.unwrap_or(0.0)] },
             "point": { "pixelSize": 12, "color": { "rgba": [250, 220, 40, 255] } },
             "label": { "text": g.name, "pixelOffset": { "cartesian2": [0, -18] } },
         }));
     }
     Value::Array(packets)
+}
+
+/// The rover's time-tagged values at the route's vertices, as CZML custom properties:
+/// numbers sampled at seconds after the first vertex (Cesium interpolates between
+/// them), the activity as one interval per vertex up to the next.
+fn rover_properties(v: &[RouteVertex]) -> Value {
+    let Some(first) = v.first() else { return json!({}) };
+    let sampled = |value: fn(&RouteVertex) -> f64| {
+        let samples: Vec<f64> = v.iter().flat_map(|p| [p.unix_s - first.unix_s, value(p)]).collect();
+        json!({ "epoch": first.utc, "number": samples })
+    };
+    let activity: Vec<Value> = v
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let end = v.get(k + 1).unwrap_or(p);
+            json!({ "interval": format!("{}/{}", p.utc, end.utc), "string": p.activity })
+        })
+        .collect();
+    json!({
+        "battery_wh": sampled(|p| p.battery_wh),
+        "sun_elevation_deg": sampled(|p| p.sun_elevation_deg),
+        "activity": activity,
+    })
 }
