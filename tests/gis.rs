@@ -301,6 +301,10 @@ fn gdal_reads_a_large_layer_as_a_cog_with_its_overviews() {
     let differ = series.iter().zip(&single).filter(|(a, b)| a != b).count();
     assert!(differ == 0, "{differ} of {} values differ", series.len());
     assert!(series.contains(&0) && series.contains(&1), "shadow and sun both at 21:40");
+    // direct_sun.tif names its instant as the series' files do.
+    let single_info: serde_json::Value =
+        serde_json::from_str(&tool("gdalinfo", &["-json", dir.join("big/direct_sun.tif").to_str().unwrap()])).unwrap();
+    assert_eq!(single_info["metadata"][""]["TIFFTAG_DATETIME"], "2012:08:06 21:40:00");
     for e in [&entries[0], entries.last().unwrap()] {
         let file = folder.join(e["file"].as_str().unwrap());
         let info: serde_json::Value =

@@ -745,6 +745,9 @@ pub struct MapLayers {
     /// Direct sun on the true terrain: 1 lit, 0 in a cast shadow, facing away or at
     /// night, 255 no data.
     pub direct_sun: Raster<u8>,
+    /// The instant of `direct_sun`, ISO 8601 UTC: the job's `shadow_utc`, within the
+    /// Sun table's span.
+    pub direct_sun_utc: String,
     /// The true terrain's direct sun through the run (`shadows/`).
     pub shadow_series: ShadowSeries,
     /// What keeps each cell of the map out, with a no-go mask: 0 free, 1 masked, 2

@@ -35,7 +35,8 @@ pub(super) fn layers(map: &World, truth: &World, shadow_s: f64, sensed: bool, ru
         .zip(valid)
         .map(|(c, ok)| if *ok { map.slope_deg(c) as f32 } else { f32::NAN })
         .collect();
-    let sun = truth.sun(shadow_s.clamp(0.0, truth.span_s()));
+    let shadow_s = shadow_s.clamp(0.0, truth.span_s());
+    let sun = truth.sun(shadow_s);
     let shadow = (0..truth.cells() as u32)
         .zip(truth.dem().valid_mask())
         // Direct sun on the ground, as `areo terrain shadow` writes it: neither in a cast
@@ -54,6 +55,7 @@ pub(super) fn layers(map: &World, truth: &World, shadow_s: f64, sensed: bool, ru
         slope_deg: Raster { cols, rows, values: slope },
         shadow_grid: Grid::of(truth_dem),
         direct_sun: Raster { cols: truth_dem.cols(), rows: truth_dem.rows(), values: shadow },
+        direct_sun_utc: format_utc(truth.epoch() + Duration::from_seconds(shadow_s)),
         shadow_series: series(truth, run_s),
         no_go: None,
         classes: None,

@@ -64,7 +64,8 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
         put("dem.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_cog_f32(&l.grid, &l.elevation_m.values, tmp)?)))?;
         put("slope.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_cog_f32(&l.grid, &l.slope_deg.values, tmp)?)))?;
         put("direct_sun.tif", &|p| {
-            write_with(p, |tmp| Ok(geotiff::write_cog_u8(&l.shadow_grid, &l.direct_sun.values, Some(NO_DATA), tmp)?))
+            let (grid, values, utc) = (&l.shadow_grid, &l.direct_sun.values, &l.direct_sun_utc);
+            write_with(p, |tmp| Ok(geotiff::write_cog_u8_at(grid, values, Some(NO_DATA), utc, tmp)?))
         })?;
         if let Some(no_go) = &l.no_go {
             put("no_go.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_cog_u8(&l.grid, &no_go.values, None, tmp)?)))?;
