@@ -71,11 +71,11 @@ fn on_the_gale_crop_at_sixty_seconds_the_exact_search_equals_the_dijkstra() {
 /// On the Gale crop at 60 s in the afternoon, from a battery that binds: starts two to
 /// three hours before sunset, goals two or three cells away whose windows close at
 /// dusk, so that a plan drives at once, or charges first where the Sun still reaches,
-/// or has no time left to. Under L + B and EnergyUsed the exact search — its waits
+/// or has no time left to. Under L + B, EnergyUsed and Time the exact search — its waits
 /// standing for their ticks, a drive after a wait made only where driving first and
 /// waiting after does not beat it — equals the Dijkstra with no dominance that waits
 /// tick by tick; the battery binds (a full one plans cheaper, or plans where the low
-/// one cannot), and the waits' rule is at work. (Through a whole night the Dijkstra's
+/// one cannot), and the waits' rule is at work, under Time too. (Through a whole night the Dijkstra's
 /// battery levels at 60 s outgrow memory, and energy quanta, which round each wait on
 /// its own, would part one wait through the night from the same night tick by tick:
 /// `exact.rs` crosses nights at 30 minutes.)
@@ -119,10 +119,11 @@ fn in_the_afternoon_on_the_gale_crop_at_sixty_seconds_the_exact_search_equals_th
 /// A battery to hold at the goal, on the Gale crop at 60 s, morning and afternoon:
 /// 25 seeded start and goal cells each, 20–170 Wh at the start, 100–350 Wh to hold on
 /// arrival, two hours to get there. Every plan the exact search finds costs what the
-/// Dijkstra finds, under EnergyUsed and L + B. Here a drive after a wait is sometimes worth making though
+/// Dijkstra finds, under EnergyUsed, L + B and Time. Here a drive after a wait is sometimes worth making though
 /// driving first and waiting after costs no more: the wait charges where the drive's
 /// landing cannot, and the goal needs the charge — a search that weighed those drives
-/// by their cost alone misses the optimum in one of these cases (tried).
+/// by their cost alone misses the optimum in one of these cases, under Time as under
+/// EnergyUsed (tried).
 #[test]
 fn with_a_battery_to_hold_on_the_gale_crop_at_sixty_seconds_the_exact_search_equals_the_dijkstra() {
     let evening = {
