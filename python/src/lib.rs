@@ -1,10 +1,13 @@
-//! `areo` for Python: the library crates' answers as Python values and NumPy arrays,
-//! with no logic of their own beyond the conversion.
+//! `areo._areo`, the extension inside the Python package `areo`: the library crates'
+//! answers as Python values and NumPy arrays, with no logic of their own beyond the
+//! conversion. (`areo.open` and the plot helpers, which read a finished run's files
+//! into pandas and xarray, are Python: `pysrc/areo`.)
 //!
 //! - `sun`, `sun_series`: where the Sun stands over a site on Mars, the Moon or the
 //!   Earth (areo-ephemeris), at one instant or an array of them;
 //! - `read_dem` → `PyDem` (heights as a NumPy array, cell size, geotransform, CRS),
-//!   `shadow` and `horizon` (areo-terrain) as arrays;
+//!   `read_layer` (any raster's values with its georeference), `shadow` and `horizon`
+//!   (areo-terrain) as arrays;
 //! - `PyScenario`: a scenario loaded, its fields set as a sweep sets them, run, and
 //!   its facts and tables read back (`PyRunResult`); an unreachable goal raises
 //!   `areo.Unreachable`;
@@ -254,6 +257,27 @@ impl PyDem {
 fn read_dem(py: Python<'_>, path: PathBuf) -> PyResult<PyDem> {
     let read = py.detach(|| areo_scenario::terrain::read_dem(&path));
     PyDem::new(py, read.map_err(|e| to_py(py, &e))?, path)
+}
+
+/// A raster areo wrote or reads (GeoTIFF of any sample type, ESRI ASCII grid) as its
+/// values: a dict of `values` (a (rows, cols) float64 array, row 0 the northernmost,
+/// NaN where the file has no data), `geotransform` (GDAL order: map metres of cell
+/// corners) and `crs` (OGC WKT2) — what `areo.open` turns into an xarray DataArray.
+#[pyfunction]
+fn read_layer<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>> {
+    let read = py.detach(|| areo_terrain::read_values(&path).map_err(Error::Terrain));
+    let layer = read.map_err(|e| to_py(py, &e))?;
+    let g = &layer.grid;
+    let (cols, rows) = (g.cols(), g.rows());
+    let values: Vec<f64> = (0..rows)
+        .flat_map(|r| (0..cols).map(move |c| (c, r)))
+        .map(|(c, r)| layer.at(c, r).unwrap_or(f64::NAN))
+        .collect();
+    let out = PyDict::new(py);
+    out.set_item("values", PyArray1::from_vec(py, values).reshape([rows, cols])?)?;
+    out.set_item("geotransform", (g.x0(), g.dx(), 0.0, g.y_top(), 0.0, -g.dy()))?;
+    out.set_item("crs", g.georef().wkt())?;
+    Ok(out)
 }
 
 fn curvature(dem: &Dem, curved: bool) -> Curvature {
@@ -700,9 +724,9 @@ fn rover_check<'py>(
     py.import("json")?.call_method1("loads", (json,))
 }
 
-/// The `areo` module.
+/// The extension module `areo._areo`, which the package `areo` re-exports.
 #[pymodule]
-fn areo(m: &Bound<'_, PyModule>) -> PyResult<()> {
+fn _areo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("AreoError", py.get_type::<AreoError>())?;
@@ -715,6 +739,7 @@ fn areo(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sun, m)?)?;
     m.add_function(wrap_pyfunction!(sun_series, m)?)?;
     m.add_function(wrap_pyfunction!(read_dem, m)?)?;
+    m.add_function(wrap_pyfunction!(read_layer, m)?)?;
     m.add_function(wrap_pyfunction!(shadow, m)?)?;
     m.add_function(wrap_pyfunction!(horizon, m)?)?;
     m.add_function(wrap_pyfunction!(rover_check, m)?)?;

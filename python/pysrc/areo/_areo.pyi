@@ -1,5 +1,6 @@
-"""Type stubs for the `areo` extension module (PyO3). Units are in the names: _deg
-degrees, _m metres, _s seconds, _h hours, _wh watt-hours, _au astronomical units."""
+"""Type stubs for `areo._areo`, the extension module (PyO3) the package `areo`
+re-exports. Units are in the names: _deg degrees, _m metres, _s seconds, _h hours, _wh
+watt-hours, _au astronomical units."""
 
 from os import PathLike
 from typing import Any, Literal, Optional, Union
@@ -77,6 +78,9 @@ class Dem:
         `elevation_deg`. Raises `AreoError` for a map with no place on a known body."""
 
 def read_dem(path: StrPath) -> Dem: ...
+def read_layer(path: StrPath) -> dict[str, Any]:
+    """Any raster's values: `values` ((rows, cols) float64, NaN no data), `geotransform`
+    (GDAL order, map metres of cell corners), `crs` (OGC WKT2)."""
 def shadow(dem: Dem, azimuth_deg: float, elevation_deg: float, curved: bool = True) -> npt.NDArray[np.uint8]:
     """(rows, cols): 1 lit, 0 in shadow, 255 no data; `curved`: on the body's sphere.
     `azimuth_deg` is clockwise from the grid's north (`Dem.sun_over(...)["grid_azimuth_deg"]`)."""
