@@ -150,6 +150,7 @@ fn layers_lie_under_the_route(
     let shadow: serde_json::Value =
         serde_json::from_str(&tool("gdalinfo", &["-json", dir.join("direct_sun.tif").to_str().unwrap()])).unwrap();
     assert_eq!(shadow["bands"][0]["noDataValue"], 255.0, "{name}");
+    bands_say_what_they_hold(name, dir, &shadow);
 
     let mut transform = Command::new("gdaltransform")
         .args(["-t_srs", geographic, dir.join("dem.tif").to_str().unwrap()])
@@ -167,6 +168,25 @@ fn layers_lie_under_the_route(
         (lon_lat[0] - lon).abs() < 1e-9 && (lon_lat[1] - lat).abs() < 1e-9,
         "{name}: GDAL {out}, route ({lon}, {lat})"
     );
+}
+
+/// Each layer's band names what it holds and its unit, as GDAL reads them; the direct
+/// sun's codes have a colour table (1 drawn yellow, 0 dark).
+fn bands_say_what_they_hold(name: &str, dir: &Path, shadow: &serde_json::Value) {
+    for (layer, unit, words) in [("dem.tif", "m", "elevation"), ("slope.tif", "degree", "slope")] {
+        let info: serde_json::Value =
+            serde_json::from_str(&tool("gdalinfo", &["-json", dir.join(layer).to_str().unwrap()])).unwrap();
+        let band = &info["bands"][0];
+        assert_eq!(band["unit"], unit, "{name} {layer}: {band}");
+        assert!(band["description"].as_str().unwrap_or_default().contains(words), "{name} {layer}: {band}");
+    }
+    let band = &shadow["bands"][0];
+    assert!(band["description"].as_str().unwrap_or_default().contains("direct sun"), "{name}: {band}");
+    assert_eq!(band["colorInterpretation"], "Palette", "{name}: {band}");
+    let entries = band["colorTable"]["entries"].as_array().unwrap();
+    assert_eq!(entries.len(), 256, "{name}");
+    assert_eq!(entries[1], serde_json::json!([250, 214, 92, 255]), "{name}");
+    assert_eq!(entries[0], serde_json::json!([40, 44, 72, 255]), "{name}");
 }
 
 /// A terrain preview PNG lies where its GeoTIFF does: GDAL reads its world file (.pgw)
@@ -352,5 +372,80 @@ fn gdal_reads_the_class_and_mask_layers_as_the_layers_gdal_made() {
     let (_, burnt) = histogram(&root.join("scenarios/data/gale_hazard_mask.tif"));
     assert_eq!(counts[1], burnt[1], "marked cells: ours {counts:?}, GDAL's {burnt:?}");
     assert_eq!(counts[2], 19);
+    codes_have_names_and_colours(&ours, &mask);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The class map names the scenario's classes by id and colours them (the palette's
+/// first three colours, in the order of the ids); the mask names and colours its codes.
+fn codes_have_names_and_colours(classes: &serde_json::Value, mask: &serde_json::Value) {
+    let band = &classes["bands"][0];
+    assert_eq!(band["categories"], serde_json::json!(["", "smooth", "rough", "blocky"]), "{band}");
+    assert_eq!(band["colorInterpretation"], "Palette");
+    let entries = band["colorTable"]["entries"].as_array().unwrap();
+    assert_eq!(
+        entries[1..4],
+        [
+            serde_json::json!([0, 114, 178, 255]),
+            serde_json::json!([230, 159, 0, 255]),
+            serde_json::json!([0, 158, 115, 255])
+        ]
+    );
+    assert!(band["description"].as_str().unwrap_or_default().contains("terrain class"), "{band}");
+    let band = &mask["bands"][0];
+    let names =
+        serde_json::json!(["free", "marked by the mask", "within the mask's inflation", "cut off from the start"]);
+    assert_eq!(band["categories"], names, "{band}");
+    assert_eq!(band["colorTable"]["entries"][1], serde_json::json!([213, 94, 0, 255]));
+}
+
+/// A class map with a colour table that GDAL wrote — as a BigTIFF, big-endian — plans
+/// as the same map without one: areo reads a palette image's samples as its codes.
+#[test]
+fn a_class_map_gdal_wrote_with_a_colour_table_reads_as_its_codes() {
+    if !gdal_here("gdal_translate") {
+        return;
+    }
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("areo-gis-palette-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let source = root.join("scenarios/data/gale_roughness_classes.tif");
+    let vrt = dir.join("coloured.vrt");
+    // A colour table on the classes, then a BigTIFF in big-endian order from it.
+    tool("gdal_translate", &["-q", "-of", "VRT", source.to_str().unwrap(), vrt.to_str().unwrap()]);
+    let table = "<ColorInterp>Palette</ColorInterp><ColorTable><Entry c1=\"0\" c2=\"0\" c3=\"0\" c4=\"255\"/>\
+                 <Entry c1=\"0\" c2=\"114\" c3=\"178\" c4=\"255\"/><Entry c1=\"230\" c2=\"159\" c3=\"0\" c4=\"255\"/>\
+                 <Entry c1=\"0\" c2=\"158\" c3=\"115\" c4=\"255\"/></ColorTable>";
+    let text = std::fs::read_to_string(&vrt).unwrap();
+    let text = text.replacen("<ColorInterp>Gray</ColorInterp>", table, 1);
+    assert!(text.contains("<ColorTable>"), "{text}");
+    std::fs::write(&vrt, text).unwrap();
+    let coloured = dir.join("coloured.tif");
+    tool(
+        "gdal_translate",
+        &["-q", "-co", "BIGTIFF=YES", "-co", "ENDIANNESS=BIG", vrt.to_str().unwrap(), coloured.to_str().unwrap()],
+    );
+    let info: serde_json::Value =
+        serde_json::from_str(&tool("gdalinfo", &["-json", coloured.to_str().unwrap()])).unwrap();
+    assert_eq!(info["bands"][0]["colorInterpretation"], "Palette", "{info}");
+    let scenario = std::fs::read_to_string(root.join("scenarios/gale-ground.ron")).unwrap();
+    let mut facts = Vec::new();
+    for (name, map) in [("plain", source), ("coloured", coloured)] {
+        let text = scenario
+            .replace("\"data/gale_roughness_classes.tif\"", &format!("{:?}", map.to_str().unwrap()))
+            .replace("\"data/", &format!("\"{}/scenarios/data/", root.display()))
+            .replace("\"rovers/", &format!("\"{}/scenarios/rovers/", root.display()));
+        let path = dir.join(format!("{name}.ron"));
+        std::fs::write(&path, text).unwrap();
+        let out = areo(&["-q", "run", path.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        let read = std::fs::read_to_string(dir.join(name).join("facts.json")).unwrap();
+        facts.push(serde_json::from_str::<serde_json::Value>(&read).unwrap());
+    }
+    for class in ["smooth", "rough", "blocky"] {
+        let key = format!("terrain_classes.classes.{class}.cells");
+        assert_eq!(facts[0][&key], facts[1][&key], "{key}");
+        assert!(facts[0][&key].as_u64().unwrap() > 700, "{key}: {}", facts[0][&key]);
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -270,6 +270,8 @@ def test_the_routes_pass_a_strict_geojson_validator_and_mmgis_rules_and_come_wit
     with open(out / "route_time.mmgis.json") as f:
         layer = json.load(f)
     assert layer["type"] == "vector" and (out / layer["url"]).exists()
+    # Named after the run (not the directory the files were staged in).
+    assert layer["name"] == "uncertain-ridge: route in time"
     time = layer["time"]
     assert time["enabled"] is True and time["type"] == "local"
     assert all(time["startProp"] in x["properties"] and time["endProp"] in x["properties"] for x in timed["features"])

@@ -6,13 +6,16 @@ import csv
 import json
 import math
 
+from pathlib import Path
+
 import numpy as np
 import pytest
+from pystac.validation.stac_validator import JsonSchemaSTACValidator
 
 import areo
 from areo.plot import hillshade
 from areo.run import cell_centres
-from test_areo import RIDGE, cli
+from test_areo import RIDGE, ROOT, cli
 
 
 @pytest.fixture(scope="module")
@@ -102,6 +105,20 @@ def test_the_shadow_series_is_one_time_indexed_dataarray(ridge):
     assert np.array_equal(series.isel(time=k).values, run.layer("direct_sun").values.astype(np.float32), equal_nan=True)
 
 
+def test_a_class_maps_codes_carry_their_names(tmp_path):
+    cli("run", ROOT / "scenarios/gale-ground.ron", "-o", tmp_path)
+    run = areo.open(tmp_path)
+    classes = run.layer("classes")
+    assert classes.attrs["categories"] == {1: "smooth", 2: "rough", 3: "blocky"}
+    assert list(classes.attrs["flag_values"]) == [1, 2, 3] and classes.attrs["flag_meanings"] == "smooth rough blocky"
+    # The codes are the cells' classes: as many of each as the run's facts count.
+    for code, name in classes.attrs["categories"].items():
+        assert int((classes.values == code).sum()) == run.facts[f"terrain_classes.classes.{name}.cells"]
+    mask = run.layer("no_go")
+    assert mask.attrs["categories"][1] == "marked by the mask" and mask.attrs["flag_meanings"].startswith("free marked_by")
+    assert int((mask.values == 2).sum()) == 19
+
+
 def test_opening_what_is_not_a_run_says_what_is_expected(tmp_path):
     with pytest.raises(areo.AreoError, match="not a directory"):
         areo.open(tmp_path / "missing")
@@ -136,3 +153,51 @@ def test_the_plot_helpers_draw_the_plans_route_and_battery(ridge):
     ax = run.plot_battery()
     line = next(li for li in ax.get_lines() if li.get_label() == "battery")
     assert np.array_equal(line.get_ydata(), run.plan["battery_wh"].to_numpy())
+
+
+class CoreSchemasOnly(JsonSchemaSTACValidator):
+    """STAC 1.1's core schemas, which pystac ships: the extensions' schemas (ssys,
+    projection) are on the web, and the tests run offline; their fields are checked
+    by hand below."""
+
+    def validate_extension(self, *args, **kwargs):
+        return None
+
+
+def test_the_shadow_series_is_a_stac_collection_pystac_reads(ridge):
+    import pystac
+    from pystac.validation import validate_dict
+
+    run = areo.open(ridge)
+    folder = run.path / "shadows"
+    with open(folder / "index.json") as f:
+        index = json.load(f)
+    with open(folder / "collection.json") as f:
+        collection_dict = json.load(f)
+    validate_dict(collection_dict, validator=CoreSchemasOnly())
+    collection = pystac.Collection.from_file(str(folder / "collection.json"))
+    items = sorted(collection.get_items(), key=lambda i: i.datetime)
+    assert len(items) == len(index)
+    with open(run.path / "route.geojson") as f:
+        route = json.load(f)
+    body = route["body"]["name"]
+    lons, lats = zip(*[c[:2] for c in route["features"][0]["geometry"]["coordinates"]])
+    shape = list(run.shadows.shape[1:])
+    validator = CoreSchemasOnly()
+    for k in (0, len(items) // 2, len(items) - 1):
+        with open(folder / f"{items[k].id}.json") as f:
+            validate_dict(json.load(f), validator=validator)
+    for item, entry in zip(items, index):
+        # Each item is one file of the series at its instant, on the run's body.
+        assert item.datetime.timestamp() == entry["unix_s"]
+        asset = item.assets["data"]
+        assert Path(asset.get_absolute_href()).resolve() == (folder / entry["file"]).resolve()
+        assert asset.media_type == "image/tiff; application=geotiff; profile=cloud-optimized"
+        assert item.properties["ssys:targets"] == [body]
+        assert item.properties["proj:shape"] == shape
+        # The route lies inside the item's footprint.
+        west, south, east, north = item.bbox
+        assert west <= min(lons) and max(lons) <= east and south <= min(lats) and max(lats) <= north
+    extent = collection.extent.temporal.intervals[0]
+    assert (extent[0].timestamp(), extent[1].timestamp()) == (index[0]["unix_s"], index[-1]["unix_s"])
+    assert collection.extent.spatial.bboxes[0] == items[0].bbox

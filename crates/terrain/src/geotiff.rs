@@ -19,9 +19,10 @@ use areo_body::Spheroid;
 
 /// GeoKey ids used here (GeoTIFF 1.1, OGC 19-008r4).
 mod cog;
+mod palette;
 mod tiled;
 
-pub use cog::{COG_TILE, write_cog_f32, write_cog_u8, write_cog_u8_at};
+pub use cog::{Band, COG_TILE, write_cog_f32, write_cog_u8, write_cog_u8_at};
 pub use tiled::{BIGTIFF_FROM_BYTES, TileSink, write_f32_tiled, write_u8_tiled, write_u16_planes_tiled};
 
 mod key {
@@ -77,10 +78,11 @@ pub fn read_from<R: Read + Seek>(reader: R, path: &Path) -> Result<Dem> {
 /// [`crate::Values`]: every sample as the f64 it is, of any magnitude; missing only
 /// where it is NaN or the file's no-data.
 pub fn read_values(path: &Path) -> Result<crate::Values> {
-    let file = crate::input::open(path, crate::input::RASTER_LIMIT)
+    let mut bytes = crate::input::read(path, crate::input::RASTER_LIMIT)
         .map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    palette::as_codes(&mut bytes);
     let tiff_err = |e: tiff::TiffError| Error::format(path, format!("not a readable TIFF: {e}"));
-    let mut dec = Decoder::new(BufReader::new(file)).map_err(tiff_err)?;
+    let mut dec = Decoder::new(std::io::Cursor::new(bytes)).map_err(tiff_err)?;
     let header = Header::parse(&mut dec, path)?;
     let values: Vec<f64> = match dec.read_image().map_err(tiff_err)? {
         DecodingResult::I16(v) => v.into_iter().map(f64::from).collect(),

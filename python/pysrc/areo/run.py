@@ -66,6 +66,7 @@ class Run:
             self.facts: dict[str, Any] = json.load(f)
             """The run's facts by name, as `facts.json` holds them."""
         self._tables: dict[str, Any] = {}
+        self._shadows: Any = None
 
     def __repr__(self) -> str:
         return f"Run({self.name!r}: {len(self.facts)} facts, tables {self.table_names}, maps {self.layer_names})"
@@ -114,10 +115,13 @@ class Run:
     def shadows(self):
         """The direct sun through the run (`shadows/`) as one DataArray of dims
         (time, y, x): float32 (1 lit, 0 in shadow, NaN no data), `time` in
-        datetime64[ns] UTC from `shadows/index.json`. None if the run wrote no series."""
+        datetime64[ns] UTC from `shadows/index.json` (read once). None if the run wrote no
+        series."""
         index = self.path / "shadows" / "index.json"
         if not index.is_file():
             return None
+        if self._shadows is not None:
+            return self._shadows
         xr, pd = _needs("xarray"), _needs("pandas")
         with builtins.open(index, encoding="utf-8") as f:
             entries = json.load(f)
@@ -125,6 +129,7 @@ class Run:
         times = pd.to_datetime([e["unix_s"] for e in entries], unit="s")
         series = xr.concat([f.astype(np.float32) for f in frames], dim=pd.Index(times, name="time"))
         series.attrs = frames[0].attrs | {"source": str(index)}
+        self._shadows = series
         return series
 
     def plot_route(self, ax=None, layer: str = "dem"):
@@ -154,13 +159,27 @@ def _data_array(path: Path, name: str):
     )
     x = xr.DataArray(x0 + dx * (np.arange(cols) + 0.5), dims="x", attrs={"units": "m", "axis": "X"})
     y = xr.DataArray(y_top + minus_dy * (np.arange(rows) + 0.5), dims="y", attrs={"units": "m", "axis": "Y"})
-    return xr.DataArray(
-        values,
-        dims=("y", "x"),
-        coords={"y": y, "x": x, "spatial_ref": spatial_ref},
-        name=name,
-        attrs={"units": units, "long_name": description, "grid_mapping": "spatial_ref", "source": str(path)},
-    )
+    attrs = {"units": units, "long_name": description, "grid_mapping": "spatial_ref", "source": str(path)}
+    attrs.update(_categories(path))
+    return xr.DataArray(values, dims=("y", "x"), coords={"y": y, "x": x, "spatial_ref": spatial_ref}, name=name, attrs=attrs)
+
+
+def _categories(path: Path) -> dict[str, Any]:
+    """A map of codes' names from GDAL's sidecar (`NAME.tif.aux.xml`), as CF's
+    `flag_values` and `flag_meanings` (names with spaces joined by underscores) and as
+    `categories` ({code: name}); nothing without a sidecar."""
+    import xml.etree.ElementTree as ElementTree
+
+    sidecar = path.with_name(path.name + ".aux.xml")
+    if not sidecar.is_file():
+        return {}
+    names = [c.text or "" for c in ElementTree.parse(sidecar).getroot().iter("Category")]
+    named = {code: name for code, name in enumerate(names) if name}
+    return {
+        "categories": named,
+        "flag_values": np.array(list(named), dtype=np.uint8),
+        "flag_meanings": " ".join(name.replace(" ", "_") for name in named.values()),
+    }
 
 
 def cell_centres(layer, cols, rows) -> tuple[np.ndarray, np.ndarray]:

@@ -924,7 +924,8 @@ impl Context<'_> {
     }
     /// Where and when `cell` is at `t_s`, as a mission counts it.
     fn place(&self, cell: u32, t_s: f64) -> Place {
-        let (lat_deg, lon_deg) = self.world.lat_lon(cell);
+        let (lat_deg, lon) = self.world.lat_lon(cell);
+        let lon_deg = crate::report::lon180(lon);
         Place {
             lat_deg,
             lon_deg,

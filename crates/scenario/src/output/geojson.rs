@@ -12,11 +12,7 @@ use geojson::{Feature, FeatureCollection, Geometry, JsonObject, JsonValue};
 
 use crate::error::{Error, Result};
 
-/// Longitude in −180..180 (GeoJSON's range).
-pub(crate) fn lon180(lon: f64) -> f64 {
-    let l = lon.rem_euclid(360.0);
-    if l > 180.0 { l - 360.0 } else { l }
-}
+pub(crate) use crate::report::lon180;
 
 /// A feature with `geometry` and the properties of a JSON object (`serde_json::json!`);
 /// anything else gives no properties.
@@ -71,7 +67,7 @@ pub(crate) fn collection(features: Vec<Feature>, body: &Spheroid) -> FeatureColl
 }
 
 /// The body's name where its radii are a known reference body's.
-fn body_name(body: &Spheroid) -> &'static str {
+pub(crate) fn body_name(body: &Spheroid) -> &'static str {
     body.body().map_or("unknown", areo_ephemeris::Body::iau_name)
 }
 

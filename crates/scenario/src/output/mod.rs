@@ -1,6 +1,7 @@
 //! Writers: every output file goes through here, to a temporary name renamed into
 //! place once complete, with errors that name the file.
 
+pub(crate) mod bands;
 pub mod csv;
 pub mod escape;
 pub(crate) mod geojson;

@@ -15,6 +15,7 @@ mod actions;
 mod actions_files;
 mod actions_view;
 mod shadows;
+mod stac;
 mod tempest;
 mod tempest_files;
 mod tempest_time;
@@ -85,9 +86,13 @@ fn sun_table_summary(r: &SunTableReport) -> Vec<String> {
 /// `direct_sun.png` with a world file.
 fn terrain_shadow_files(dir: &Path, r: &TerrainShadowReport) -> Result<Vec<PathBuf>> {
     let dem_path = dir.join("dem.tif");
-    super::write_with(&dem_path, |tmp| Ok(geotiff::write_cog_f32(&r.grid, &r.elevation_m.values, tmp)?))?;
+    let elevation = &super::bands::ELEVATION;
+    super::write_with(&dem_path, |tmp| Ok(geotiff::write_cog_f32(&r.grid, &r.elevation_m.values, elevation, tmp)?))?;
     let shadow_path = dir.join("direct_sun.tif");
-    super::write_with(&shadow_path, |tmp| Ok(geotiff::write_cog_u8(&r.grid, &r.direct_sun.values, Some(255), tmp)?))?;
+    let sun = &super::bands::DIRECT_SUN;
+    super::write_with(&shadow_path, |tmp| {
+        Ok(geotiff::write_cog_u8(&r.grid, &r.direct_sun.values, Some(255), sun, tmp)?)
+    })?;
     let rgb: Vec<u8> = r.preview_rgb.values.iter().flatten().copied().collect();
     let mut files = vec![dem_path, shadow_path.clone()];
     files.extend(super::png::write_grid_png(&shadow_path.with_extension("png"), &r.grid, &rgb)?);

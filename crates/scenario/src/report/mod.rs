@@ -28,6 +28,14 @@ pub use terrain_shadow::{ShadowSun, TerrainShadowReport};
 
 use crate::outcome::Fact;
 
+/// East longitude in −180..180, degrees: the one convention of every longitude a run
+/// writes (GeoJSON's range; a longitude of 0..360 from a projection or the ephemeris is
+/// turned into it).
+pub fn lon180(lon: f64) -> f64 {
+    let l = lon.rem_euclid(360.0);
+    if l > 180.0 { l - 360.0 } else { l }
+}
+
 /// A job's report.
 #[derive(Debug, Clone, Serialize)]
 #[serde(tag = "job")]

@@ -673,6 +673,8 @@ pub struct WaitRow {
 /// executed route.
 #[derive(Debug, Clone, Serialize)]
 pub struct RoutePlaces {
+    /// The run's name (its scenario file's), which names the route's layers.
+    pub run: String,
     /// The body's reference surface (the GeoJSON's CRS, the KML's body).
     pub surface: Spheroid,
     /// The start.
@@ -847,6 +849,12 @@ pub struct ShadowSeries {
     pub frames: Vec<String>,
     /// Where the true terrain has data, as the same kind of bitset.
     pub valid: String,
+    /// The series' map in east longitude (−180..180) and latitude, degrees, on its
+    /// body: a closed ring of points along its edges, anticlockwise; round a pole, the
+    /// cap out to its farthest point; empty for a map in a local frame.
+    pub footprint: Vec<[f64; 2]>,
+    /// Its box: west, south, east, north, degrees (the whole body for a local frame).
+    pub bbox: [f64; 4],
 }
 
 /// One Monte Carlo execution of a plan.

@@ -56,24 +56,71 @@ impl Sample for u8 {
     }
 }
 
+/// What a COG's one band holds, for the tools that open it: a description and a unit,
+/// in the GDAL_METADATA tag where GDAL keeps them in a GeoTIFF (`gdalinfo` shows them
+/// as the band's description and unit type, QGIS in its layer properties), and for a
+/// byte map of codes a colour for each, as a TIFF colour map (GDAL's colour table,
+/// which QGIS draws as a paletted layer).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Band<'a> {
+    /// What the values are.
+    pub description: &'a str,
+    /// Their unit (`m`, `degree`; empty for codes and flags).
+    pub unit: &'a str,
+    /// For a byte map: each code's colour, (code, [red, green, blue]); codes not listed
+    /// are black. Empty: a grey-scale band.
+    pub colours: &'a [(u8, [u8; 3])],
+}
+
 /// Writes float32 `values` (row-major from the north-west corner, NaN no data) on
 /// `grid` as a Cloud-Optimized GeoTIFF.
-pub fn write_cog_f32(grid: &Grid, values: &[f32], path: &Path) -> Result<()> {
-    write_cog(grid, values, (Some("nan".to_string()), None), f32::NAN, path)
+pub fn write_cog_f32(grid: &Grid, values: &[f32], band: &Band<'_>, path: &Path) -> Result<()> {
+    write_cog(grid, values, (Some("nan".to_string()), None, band), f32::NAN, path)
 }
 
 /// Writes one-byte `values` on `grid` as a Cloud-Optimized GeoTIFF, `nodata` named as
 /// GDAL's no-data value.
-pub fn write_cog_u8(grid: &Grid, values: &[u8], nodata: Option<u8>, path: &Path) -> Result<()> {
-    write_cog(grid, values, (nodata.map(|v| v.to_string()), None), nodata.unwrap_or(0), path)
+pub fn write_cog_u8(grid: &Grid, values: &[u8], nodata: Option<u8>, band: &Band<'_>, path: &Path) -> Result<()> {
+    write_cog(grid, values, (nodata.map(|v| v.to_string()), None, band), nodata.unwrap_or(0), path)
 }
 
 /// [`write_cog_u8`] for a map of one instant, `utc` (ISO 8601, `YYYY-MM-DDTHH:MM:SS…`),
 /// written as the TIFF DateTime (`YYYY:MM:DD HH:MM:SS`, which GDAL reports as
 /// `TIFFTAG_DATETIME`).
-pub fn write_cog_u8_at(grid: &Grid, values: &[u8], nodata: Option<u8>, utc: &str, path: &Path) -> Result<()> {
+pub fn write_cog_u8_at(
+    grid: &Grid,
+    values: &[u8],
+    nodata: Option<u8>,
+    (utc, band): (&str, &Band<'_>),
+    path: &Path,
+) -> Result<()> {
     let stamp: String = utc.chars().take(19).collect::<String>().replacen('-', ":", 2).replace('T', " ");
-    write_cog(grid, values, (nodata.map(|v| v.to_string()), Some(stamp)), nodata.unwrap_or(0), path)
+    write_cog(grid, values, (nodata.map(|v| v.to_string()), Some(stamp), band), nodata.unwrap_or(0), path)
+}
+
+/// The GDAL_METADATA tag's XML for `band`'s description and unit (`None`: neither).
+fn gdal_metadata(band: &Band<'_>) -> Option<String> {
+    // The text is XML content: the three characters that could end or open markup
+    // there are written as entities.
+    let text = |s: &str| s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;");
+    let mut items = String::new();
+    for (role, name, value) in [("description", "DESCRIPTION", band.description), ("unittype", "UNITTYPE", band.unit)] {
+        if !value.is_empty() {
+            items.push_str(&format!("<Item name=\"{name}\" sample=\"0\" role=\"{role}\">{}</Item>", text(value)));
+        }
+    }
+    (!items.is_empty()).then(|| format!("<GDALMetadata>{items}</GDALMetadata>"))
+}
+
+/// A TIFF colour map for 8-bit samples: 256 reds, then greens, then blues, 16 bits each.
+fn colour_map(colours: &[(u8, [u8; 3])]) -> Vec<u16> {
+    let mut map = vec![0u16; 3 * 256];
+    for &(code, rgb) in colours {
+        for (channel, &v) in rgb.iter().enumerate() {
+            map[channel * 256 + usize::from(code)] = u16::from(v) * 257;
+        }
+    }
+    map
 }
 
 /// A tile's bytes as a zlib stream. (Writing to a `Vec` cannot fail.)
@@ -210,20 +257,25 @@ fn fields<T: Sample>(
     (grid, tile): (&Grid, usize),
     (k, level): (usize, &Level<T>),
     (offsets, sizes): (&[u32], &[u32]),
-    (nodata, datetime): (Option<&str>, Option<&str>),
+    (nodata, datetime, band): (Option<&str>, Option<&str>, &Band<'_>),
 ) -> Vec<Field> {
+    // A palette only where there are colours and samples of a byte.
+    let palette = !band.colours.is_empty() && T::BITS == 8;
     let mut f = vec![
         Field::longs(254, &[u32::from(k > 0)]),
         Field::longs(256, &[level.cols as u32]),
         Field::longs(257, &[level.rows as u32]),
         Field::shorts(258, &[T::BITS]),
         Field::shorts(259, &[8]),
-        Field::shorts(262, &[1]),
+        Field::shorts(262, &[if palette { 3 } else { 1 }]),
         Field::shorts(277, &[1]),
         Field::shorts(284, &[1]),
     ];
     if let Some(stamp) = datetime {
         f.push(Field::ascii(306, stamp));
+    }
+    if palette {
+        f.push(Field::shorts(320, &colour_map(band.colours)));
     }
     f.extend([
         Field::longs(322, &[tile as u32]),
@@ -239,6 +291,9 @@ fn fields<T: Sample>(
         f.push(Field::shorts(34735, &geo.keys));
         f.push(Field::doubles(34736, &geo.doubles));
         f.push(Field::ascii(34737, &geo.ascii));
+        if let Some(xml) = gdal_metadata(band) {
+            f.push(Field::ascii(42112, &xml));
+        }
     }
     if let Some(nd) = nodata {
         f.push(Field::ascii(42113, nd));
@@ -249,7 +304,7 @@ fn fields<T: Sample>(
 fn write_cog<T: Sample>(
     grid: &Grid,
     values: &[T],
-    (nodata, datetime): (Option<String>, Option<String>),
+    (nodata, datetime, band): (Option<String>, Option<String>, &Band<'_>),
     pad: T,
     path: &Path,
 ) -> Result<()> {
@@ -264,7 +319,7 @@ fn write_cog<T: Sample>(
     }
     let tiles: Vec<Vec<Vec<u8>>> =
         levels.iter().map(|l| l.tiles(pad, tile).iter().map(|t| deflate(t)).collect()).collect();
-    let tags = (nodata.as_deref(), datetime.as_deref());
+    let tags = (nodata.as_deref(), datetime.as_deref(), band);
     // The IFDs' sizes do not depend on the offsets they hold: measure them with zeros,
     // then place the data after them, the smallest overview's tiles first.
     let ghost = ghost();
@@ -336,7 +391,7 @@ mod tests {
             .map(|i| if i % 97 == 0 { f32::NAN } else { (i % cols) as f32 * 0.5 - (i / cols) as f32 })
             .collect();
         let path = std::env::temp_dir().join(format!("areo-cog-{}.tif", std::process::id()));
-        write_cog_f32(&grid(cols, rows), &values, &path).unwrap();
+        write_cog_f32(&grid(cols, rows), &values, &Band::default(), &path).unwrap();
         let bytes = std::fs::read(&path).unwrap();
         // The structural metadata right after the header, the first IFD after it.
         assert_eq!(&bytes[8..38], b"GDAL_STRUCTURAL_METADATA_SIZE=");

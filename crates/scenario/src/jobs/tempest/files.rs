@@ -64,7 +64,7 @@ fn plan_rows<'a>(ctx: &'a Context<'_>, plan: &'a MissionPlan) -> impl Iterator<I
             x_m,
             y_m,
             lat_deg: w.lat_deg,
-            lon_deg: w.lon_deg,
+            lon_deg: crate::report::lon180(w.lon_deg),
             elevation_m: ctx.world.elevation(w.cell).unwrap_or(f64::NAN),
             action: action_name(w.action).to_string(),
             end_utc: next.utc.clone(),
@@ -105,7 +105,7 @@ fn executed_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<It
             x_m,
             y_m,
             lat_deg: p.lat_deg,
-            lon_deg: p.lon_deg,
+            lon_deg: crate::report::lon180(p.lon_deg),
             elevation_m: p.elevation_m,
             action: st.action.name().to_string(),
             duration_s: st.duration_s,
@@ -164,7 +164,8 @@ fn replan_rows<'a>(ctx: &'a Context<'_>, r: &'a SimReport) -> impl Iterator<Item
 /// body.
 pub(super) fn route_places(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimReport>) -> RoutePlaces {
     let place = |name: &str, cell: u32, utc: Option<String>| {
-        let (lat_deg, lon_deg) = ctx.world.lat_lon(cell);
+        let (lat_deg, lon) = ctx.world.lat_lon(cell);
+        let lon_deg = crate::report::lon180(lon);
         RoutePoint { name: name.to_string(), lat_deg, lon_deg, elevation_m: ctx.world.elevation(cell), utc }
     };
     let start_utc = format_utc(ctx.world.epoch() + Duration::from_seconds(ctx.start.t_min));
@@ -175,12 +176,13 @@ pub(super) fn route_places(ctx: &Context<'_>, initial: &MissionPlan, sim: Option
         })
         .collect();
     RoutePlaces {
+        run: ctx.name.to_string(),
         surface: ctx.world.dem().georef().surface,
         start: place("start", ctx.start.cell, Some(start_utc)),
         goals,
         executed: sim.map(|r| {
             let cells = std::iter::once(r.start.cell).chain(r.steps.iter().map(|s| s.to));
-            cells.map(|c| ctx.world.lat_lon(c)).collect()
+            cells.map(|c| ctx.world.lat_lon(c)).map(|(lat, lon)| (lat, crate::report::lon180(lon))).collect()
         }),
         timeline: match sim {
             Some(r) => executed_timeline(ctx, r),
@@ -196,7 +198,7 @@ fn vertex(ctx: &Context<'_>, cell: u32, t_s: f64, battery_wh: f64, activity: &st
     let at = ctx.world.epoch() + Duration::from_seconds(t_s);
     RouteVertex {
         lat_deg: p.lat_deg,
-        lon_deg: p.lon_deg,
+        lon_deg: crate::report::lon180(p.lon_deg),
         elevation_m: p.elevation_m,
         utc: format_utc(at),
         unix_s: at.to_unix_seconds(),

@@ -2,7 +2,8 @@
 //! GeoTIFFs a map server's time dimension can serve, with `shadows/index.json` listing
 //! each file's UTC: the report's [`ShadowSeries`](crate::report::tempest::ShadowSeries)
 //! — instants of the Sun table, at most 240, on the whole map at most 1024 pixels a
-//! side — 1 direct sun, 0 not, 255 no data; each file's instant also its TIFF DateTime.
+//! side — 1 direct sun, 0 not, 255 no data; each file's instant also its TIFF DateTime;
+//! and the same series as a STAC catalogue (`stac`).
 
 use std::path::{Path, PathBuf};
 
@@ -10,7 +11,7 @@ use base64::Engine;
 use serde::Serialize;
 
 use crate::error::{Error, Result};
-use crate::output::{json_for, write_file, write_with};
+use crate::output::{bands, json_for, write_file, write_with};
 use crate::report::tempest::MapLayers;
 use areo_terrain::geotiff;
 
@@ -60,12 +61,16 @@ pub(super) fn write(dir: &Path, layers: &MapLayers) -> Result<Vec<PathBuf>> {
         let name = format!("direct_sun_{i:03}.tif");
         let path = folder.join(&name);
         let utc = series.utc.get(i).cloned().unwrap_or_default();
-        write_with(&path, |tmp| Ok(geotiff::write_cog_u8_at(&grid, &values, Some(NO_DATA), &utc, tmp)?))?;
+        write_with(&path, |tmp| {
+            Ok(geotiff::write_cog_u8_at(&grid, &values, Some(NO_DATA), (&utc, &bands::DIRECT_SUN), tmp)?)
+        })?;
         files.push(path);
         index.push(Entry { utc, unix_s, file: name });
     }
     let path = folder.join("index.json");
     write_file(&path, json_for(&path, &index, true)?.as_bytes())?;
     files.push(path);
+    let frames: Vec<(String, String)> = index.into_iter().map(|e| (e.utc, e.file)).collect();
+    files.extend(super::stac::write(&folder, &grid, series, &frames)?);
     Ok(files)
 }

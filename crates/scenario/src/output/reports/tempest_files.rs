@@ -14,13 +14,13 @@ use serde_json::json;
 use crate::error::Result;
 use crate::output::csv::{Fixed, write_rows};
 use crate::output::geojson::{collection, feature, line, point};
-use crate::output::{json_for, write_file, write_with};
+use crate::output::{bands, json_for, write_file, write_with};
 use areo_terrain::geotiff;
 
 /// The direct-sun layer's value where the map has no data.
 const NO_DATA: u8 = 255;
 use crate::report::tempest::{
-    ExecutedRow, FrontRow, MonteCarloRow, PlanRow, ReplanRow, RoutePlaces, TempestReport, WaitRow,
+    ExecutedRow, FrontRow, MapLayers, MonteCarloRow, PlanRow, ReplanRow, RoutePlaces, TempestReport, WaitRow,
 };
 
 /// Writes the files into `dir`; returns them (none without a plan).
@@ -50,31 +50,17 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
         put("route.kml", &|p| route_kml(r, route).write(p))?;
         let timed = super::tempest_time::route_time_geojson(r, route);
         put("route_time.geojson", &|p| write_file(p, json_for(p, &timed, true)?.as_bytes()))?;
-        let name = dir.file_name().map_or_else(|| "areo".into(), |n| n.to_string_lossy());
-        let layer = super::tempest_time::route_time_mmgis_layer(&name);
+        let layer = super::tempest_time::route_time_mmgis_layer(&route.run);
         put("route_time.mmgis.json", &|p| write_file(p, json_for(p, &layer, true)?.as_bytes()))?;
         let czml = super::tempest_time::route_czml(r, route);
         put("route.czml", &|p| write_file(p, json_for(p, &czml, true)?.as_bytes()))?;
+        put("route.cesium.html", &|p| write_file(p, super::tempest_time::route_cesium_page(p, &czml)?.as_bytes()))?;
     }
     if let Some(rows) = &t.waits {
         put("waits.csv", &|p| write_rows(p, rows.iter().map(WaitCsv::from)))?;
     }
     if let Some(l) = &r.layers {
-        // Cloud-Optimized GeoTIFFs: tiled, with overviews, for map servers as for GIS.
-        put("dem.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_cog_f32(&l.grid, &l.elevation_m.values, tmp)?)))?;
-        put("slope.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_cog_f32(&l.grid, &l.slope_deg.values, tmp)?)))?;
-        put("direct_sun.tif", &|p| {
-            let (grid, values, utc) = (&l.shadow_grid, &l.direct_sun.values, &l.direct_sun_utc);
-            write_with(p, |tmp| Ok(geotiff::write_cog_u8_at(grid, values, Some(NO_DATA), utc, tmp)?))
-        })?;
-        if let Some(no_go) = &l.no_go {
-            put("no_go.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_cog_u8(&l.grid, &no_go.values, None, tmp)?)))?;
-        }
-        if let Some(classes) = &l.classes {
-            put("classes.tif", &|p| {
-                write_with(p, |tmp| Ok(geotiff::write_cog_u8(&l.grid, &classes.values, Some(255), tmp)?))
-            })?;
-        }
+        write_layers(r, l, &mut put)?;
     }
     if let Some(rows) = &t.monte_carlo {
         put("monte_carlo.csv", &|p| write_rows(p, rows.iter().map(MonteCarloCsv::from)))?;
@@ -95,6 +81,48 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
         files.extend(super::shadows::write(dir, layers)?);
     }
     Ok(files)
+}
+
+/// Writes one file by its name with the function given (and lists it).
+type Put<'a> = dyn FnMut(&str, &dyn Fn(&Path) -> Result<()>) -> Result<()> + 'a;
+
+/// The map layers as Cloud-Optimized GeoTIFFs, each band saying what it holds
+/// (`output::bands`), with the names of the codes of the class and mask layers beside
+/// them.
+fn write_layers(r: &TempestReport, l: &MapLayers, put: &mut Put<'_>) -> Result<()> {
+    // Cloud-Optimized GeoTIFFs: tiled, with overviews, for map servers as for GIS.
+    let (elevation, slope) = (&bands::ELEVATION, &bands::SLOPE);
+    put("dem.tif", &|p| {
+        write_with(p, |tmp| Ok(geotiff::write_cog_f32(&l.grid, &l.elevation_m.values, elevation, tmp)?))
+    })?;
+    put("slope.tif", &|p| write_with(p, |tmp| Ok(geotiff::write_cog_f32(&l.grid, &l.slope_deg.values, slope, tmp)?)))?;
+    put("direct_sun.tif", &|p| {
+        let (grid, values, at) =
+            (&l.shadow_grid, &l.direct_sun.values, (l.direct_sun_utc.as_str(), &bands::DIRECT_SUN));
+        write_with(p, |tmp| Ok(geotiff::write_cog_u8_at(grid, values, Some(NO_DATA), at, tmp)?))
+    })?;
+    if let Some(no_go) = &l.no_go {
+        put("no_go.tif", &|p| {
+            write_with(p, |tmp| Ok(geotiff::write_cog_u8(&l.grid, &no_go.values, None, &bands::NO_GO, tmp)?))
+        })?;
+        let names: Vec<(u8, &str)> = (0u8..).zip(bands::NO_GO_NAMES).collect();
+        put("no_go.tif.aux.xml", &|p| write_file(p, bands::category_sidecar(&names).as_bytes()))?;
+    }
+    if let Some(classes) = &l.classes {
+        let named: Vec<(u8, &str)> = r
+            .terrain_classes
+            .as_ref()
+            .map(|t| t.classes.iter().map(|(name, c)| (c.id, name.as_str())).collect())
+            .unwrap_or_default();
+        let ids: Vec<u8> = named.iter().map(|&(id, _)| id).collect();
+        let colours = bands::class_colours(&ids);
+        let band = geotiff::Band { description: bands::CLASSES, unit: "", colours: &colours };
+        put("classes.tif", &|p| {
+            write_with(p, |tmp| Ok(geotiff::write_cog_u8(&l.grid, &classes.values, Some(255), &band, tmp)?))
+        })?;
+        put("classes.tif.aux.xml", &|p| write_file(p, bands::category_sidecar(&named).as_bytes()))?;
+    }
+    Ok(())
 }
 
 /// A row of monte_carlo.csv.

@@ -3,7 +3,8 @@
 //! whose vertices carry their instant, battery and Sun (`coord_properties`), and one
 //! feature per action with `start_utc` and `end_utc` for a time slider — and
 //! `route.czml`, the traverse as a Cesium animation (a clock, the rover's time-tagged
-//! path, the goals).
+//! path, the goals), with `route.cesium.html`, a page that loads it in CesiumJS on the
+//! body it names.
 
 use serde_json::{Value, json};
 
@@ -173,4 +174,13 @@ fn rover_properties(v: &[RouteVertex]) -> Value {
         "sun_elevation_deg": sampled(|p| p.sun_elevation_deg),
         "activity": activity,
     })
+}
+
+/// The page that shows `czml` in CesiumJS on its body (the default ellipsoid set from
+/// the document packet's radii before the data source is loaded), the CZML inside it,
+/// Cesium taken from where the user keeps it (two lines at the top of the page).
+pub(super) fn route_cesium_page(path: &std::path::Path, czml: &Value) -> crate::error::Result<String> {
+    let json = crate::output::json_for(path, czml, false)?;
+    // Nothing in the data may close, comment out or open a script element.
+    Ok(include_str!("route_cesium.html").replace("__CZML__", &crate::output::escape::script_json(&json)))
 }
