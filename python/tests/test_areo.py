@@ -236,13 +236,13 @@ def test_a_scenario_run_gives_the_binarys_facts_and_tables(tmp_path):
     assert np.allclose(required, table["required_wh"])
 
 
-def test_the_routes_pass_a_strict_geojson_validator_and_mmgis_rules_and_come_with_a_layer(tmp_path):
-    # geojson-pydantic validates RFC 7946's structure (no empty box, positions of two or
-    # three numbers); it is installed in the test environment (.ci/run).
+def routes_are_strict_geojson_and_mmgis(out, name):
+    """The checks of a run's routes in `out` (run `name`): geojson-pydantic validates
+    RFC 7946's structure (no empty box, positions of two or three numbers; installed in
+    the test environment by .ci/run), MMGIS's rules for the enhanced route in time, and
+    the MMGIS layer beside it."""
     from geojson_pydantic import Feature, FeatureCollection
 
-    cli("run", RIDGE, "-o", tmp_path)
-    out = tmp_path / "uncertain-ridge"
     with open(out / "route.geojson") as f:
         route = json.load(f)
     FeatureCollection.model_validate(route)
@@ -271,7 +271,7 @@ def test_the_routes_pass_a_strict_geojson_validator_and_mmgis_rules_and_come_wit
         layer = json.load(f)
     assert layer["type"] == "vector" and (out / layer["url"]).exists()
     # Named after the run (not the directory the files were staged in).
-    assert layer["name"] == "uncertain-ridge: route in time"
+    assert layer["name"] == f"{name}: route in time"
     time = layer["time"]
     assert time["enabled"] is True and time["type"] == "local"
     assert all(time["startProp"] in x["properties"] and time["endProp"] in x["properties"] for x in timed["features"])
@@ -279,6 +279,46 @@ def test_the_routes_pass_a_strict_geojson_validator_and_mmgis_rules_and_come_wit
     assert gradient["colorWithProp"] == "battery_wh"
     assert {gradient["colorWithProp"], *gradient["dropdownColorWithProp"]} <= set(names)
     assert len(gradient["colorRamp"]) >= 2
+    return route
+
+
+def test_the_routes_pass_a_strict_geojson_validator_and_mmgis_rules_and_come_with_a_layer(tmp_path):
+    cli("run", RIDGE, "-o", tmp_path)
+    route = routes_are_strict_geojson_and_mmgis(tmp_path / "uncertain-ridge", "uncertain-ridge")
+    assert route["body"]["name"] == "Mars"
+
+
+# A plan of about 1.5 km across a small synthesised map (as tests/gis.rs runs one).
+SMALL = """Scenario(version: 1, description: "routes", job: Tempest(
+    body: {body},
+    terrain: Synth(cols: 60, rows: 40, cell_m: 30.0, seed: 4,
+        noise: (amplitude_m: 3.0, wavelength_m: 400.0, octaves: 2),
+        features: [Hill(x_m: 900, y_m: 600, radius_m: 150, slope_deg: 25)]),
+    site: (lat_deg: {lat}, lon_east_deg: {lon}),
+    start_utc: "{utc}",
+    horizon_h: 12,
+    horizon_sectors: 0,
+    start: (x_m: 105, y_m: 405),
+    start_battery_above_floor_wh: 600,
+    goals: [(name: "east", x_m: 1665, y_m: 825)],
+    planner: (approximate: true, actions: (drive: (max_slope: true, daylight: false)), resolution: (time_s: 600)),
+))"""
+
+
+@pytest.mark.parametrize("body,lat,lon,utc", [
+    ("Moon", -20.0, 10.0, "2025-01-10T00:00:00Z"),
+    ("Earth", 75.43, -89.87, "2025-06-21T12:00:00Z"),
+])
+def test_the_moon_and_earth_routes_pass_the_same_checks_on_their_bodies(tmp_path, body, lat, lon, utc):
+    name = body.lower()
+    scenario = tmp_path / f"{name}.ron"
+    scenario.write_text(SMALL.format(body=body, lat=lat, lon=lon, utc=utc))
+    cli("run", scenario, "-o", tmp_path)
+    route = routes_are_strict_geojson_and_mmgis(tmp_path / name, name)
+    assert route["body"]["name"] == body
+    # Longitudes east, -180..180, near the site's (the Earth's west of Greenwich).
+    points = route["features"][0]["geometry"]["coordinates"]
+    assert all(abs(p[0] - lon) < 0.5 and abs(p[1] - lat) < 0.5 for p in points), points[:3]
 
 
 def test_set_changes_a_field_and_refuses_a_bad_one():
