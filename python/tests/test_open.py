@@ -15,7 +15,7 @@ from pystac.validation.stac_validator import JsonSchemaSTACValidator
 import areo
 from areo.plot import hillshade
 from areo.run import cell_centres
-from test_areo import RIDGE, ROOT, cli
+from test_areo import RIDGE, ROOT, SMALL, cli
 
 
 @pytest.fixture(scope="module")
@@ -164,11 +164,13 @@ class CoreSchemasOnly(JsonSchemaSTACValidator):
         return None
 
 
-def test_the_shadow_series_is_a_stac_collection_pystac_reads(ridge):
+def stac_holds_the_route(run):
+    """The shadow series' STAC collection of `run`, read by pystac: STAC 1.1's core
+    schemas accept it, every item is one file at its instant on the run's body, and the
+    route lies inside each item's footprint."""
     import pystac
     from pystac.validation import validate_dict
 
-    run = areo.open(ridge)
     folder = run.path / "shadows"
     with open(folder / "index.json") as f:
         index = json.load(f)
@@ -201,3 +203,24 @@ def test_the_shadow_series_is_a_stac_collection_pystac_reads(ridge):
     extent = collection.extent.temporal.intervals[0]
     assert (extent[0].timestamp(), extent[1].timestamp()) == (index[0]["unix_s"], index[-1]["unix_s"])
     assert collection.extent.spatial.bboxes[0] == items[0].bbox
+    return body
+
+
+def test_the_shadow_series_is_a_stac_collection_pystac_reads(ridge):
+    assert stac_holds_the_route(areo.open(ridge)) == "Mars"
+
+
+@pytest.mark.parametrize("body,lat,lon,utc", [
+    ("Moon", -89.2, 45.0, "2024-03-01T00:00:00Z"),
+    ("Earth", 75.43, -89.87, "2025-06-21T12:00:00Z"),
+])
+def test_the_stac_series_of_a_moon_and_an_earth_run_is_on_its_body(tmp_path, body, lat, lon, utc):
+    scenario = tmp_path / f"{body.lower()}.ron"
+    scenario.write_text(SMALL.format(body=body, lat=lat, lon=lon, utc=utc))
+    cli("run", scenario, "-o", tmp_path)
+    run = areo.open(tmp_path / body.lower())
+    assert stac_holds_the_route(run) == body
+    # The footprint is the small map's at the site (the Earth's west of Greenwich).
+    with open(run.path / "shadows" / "collection.json") as f:
+        west, south, east, north = json.load(f)["extent"]["spatial"]["bbox"][0]
+    assert lat - 0.5 < south < north < lat + 0.5 and west < lon < east, (west, south, east, north)
