@@ -219,6 +219,12 @@ fn valley_detours_viewer_shows_the_night_the_waiting_rover_and_its_battery() {
     // In the afternoon waiting at the wall, and in the night that follows.
     let (a, b) = ("2012-08-07T04:30:00.000Z", "2012-08-07T14:00:00.000Z");
     check_two_instants(&page, (a, executed_at(&rows, a)), (b, executed_at(&rows, b)));
+    // Waiting at the wall in the afternoon sun it charges; waiting through the night it
+    // sleeps (the activity as the planner means it, told by the ground's direct sun).
+    for (t, doing) in [(a, "charge"), (b, "sleep")] {
+        let (page_dom, _) = dom(&page, &format!("t={t}"));
+        assert_eq!(state(&page_dom)["doing"], doing, "{t}");
+    }
     // A bad link shows the start and says why.
     let (bad, console) = dom(&page, "t=yesterday");
     assert!(console.is_empty(), "{console}");
@@ -252,6 +258,68 @@ fn check_plan_viewer(scenario: &str, apart: impl Fn(f64) -> bool) {
     let at = |w: &HashMap<String, String>| (w["utc"].clone(), (num(&w["x_m"]), num(&w["y_m"])));
     let ((ta, pa), (tb, pb)) = (at(first), at(later));
     check_two_instants(&page, (&ta, pa), (&tb, pb));
+    pointing_reads_the_cell_and_a_click_seeks(&dir, &page, &plan);
+}
+
+/// Pointing at the map over a waypoint reads out the cell under the pointer (its block's
+/// north-west cell) with dem.tif's elevation there; a click half-way across the chart
+/// moves the rover to the middle of the run, where the plan puts it; the scale bar is
+/// the map's scale and the north arrow is up on an equirectangular map, turned on a
+/// polar one.
+fn pointing_reads_the_cell_and_a_click_seeks(dir: &Path, page: &Path, plan: &[HashMap<String, String>]) {
+    let data = page_data(page);
+    let (dom0, _) = dom(page, "");
+    let scale = num(&state(&dom0)["scale"]);
+    let w = &plan[plan.len() / 2];
+    let (px, py) = pixel(&data, (num(&w["x_m"]), num(&w["y_m"])));
+    let (pointed, console) = dom(page, &format!("point={},{}", px * scale, py * scale));
+    assert!(console.is_empty(), "{console}");
+    let s = state(&pointed);
+    let k = data["cells_per_pixel"].as_f64().unwrap();
+    let (col, row) = (num(&s["hover-col"]), num(&s["hover-row"]));
+    assert!(
+        (0.0..k).contains(&(num(&w["col"]) - col)) && (0.0..k).contains(&(num(&w["row"]) - row)),
+        "{s:?} for {w:?}"
+    );
+    let dem = areo_dem(&dir.join("dem.tif"));
+    let want = dem.1[row as usize * dem.0 + col as usize];
+    assert!((num(&s["hover-elevation"]) - f64::from(want)).abs() < 1e-3, "{s:?}: dem.tif {want}");
+    assert!(pointed.contains("elevation ") && pointed.contains("slope "), "the readout says it");
+    // A click half-way across the chart's plot (560 px wide, 46 and 40 px margins).
+    let (clicked, _) = dom(page, &format!("click={},{}", 46.0 + 0.5 * (560.0 - 86.0), 100));
+    let s = state(&clicked);
+    let (t0, t1) = (unix_s(&plan[0]["utc"]), unix_s(&plan[plan.len() - 1]["utc"]));
+    let t = num(&s["t"]);
+    assert!((t - 0.5 * (t0 + t1)).abs() < 1.0, "clicked to {t}, the middle is {}", 0.5 * (t0 + t1));
+    let i = plan.iter().rposition(|r| unix_s(&r["utc"]) <= t).unwrap();
+    let (a, b) = (&plan[i], &plan[(i + 1).min(plan.len() - 1)]);
+    let f = if unix_s(&b["utc"]) > unix_s(&a["utc"]) {
+        (t - unix_s(&a["utc"])) / (unix_s(&b["utc"]) - unix_s(&a["utc"]))
+    } else {
+        0.0
+    };
+    let (ax, ay) = pixel(&data, (num(&a["x_m"]), num(&a["y_m"])));
+    let (bx, by) = pixel(&data, (num(&b["x_m"]), num(&b["y_m"])));
+    let (x, y) = (num(&s["rover-x"]), num(&s["rover-y"]));
+    assert!((x - (ax + f * (bx - ax))).hypot(y - (ay + f * (by - ay))) < 0.05, "rover at ({x}, {y}) at {t}");
+    // The scale bar is as long as the map says; north is up unless the map is polar.
+    let per_px = data["cell_m"][0].as_f64().unwrap() * k / scale;
+    assert!((num(&s["scale-bar-m"]) / num(&s["scale-bar-px"]) - per_px).abs() < 1e-9 * per_px, "{s:?}");
+    // devon-island's map is equirectangular (75° N): north is up. (lunar-south-pole's is
+    // polar stereographic, centred on the site's meridian, where north is up too within
+    // a tenth of a degree at the image's middle.)
+    let north = num(&s["north-deg"]);
+    assert!(if data["body"] == "Earth" { north == 0.0 } else { north.abs() < 0.5 }, "{s:?}");
+}
+
+/// dem.tif's columns and its elevations, row-major.
+fn areo_dem(path: &Path) -> (usize, Vec<f32>) {
+    let mut dec = tiff::decoder::Decoder::new(std::fs::File::open(path).unwrap()).unwrap();
+    let (cols, _) = dec.dimensions().unwrap();
+    match dec.read_image().unwrap() {
+        tiff::decoder::DecodingResult::F32(v) => (cols as usize, v),
+        _ => panic!("dem.tif is float32"),
+    }
 }
 
 /// The least distance from `p` to the polyline through `points`.

@@ -45,6 +45,18 @@ pub struct ViewData {
     pub cell_m: (f64, f64),
     /// The true terrain shaded from the north-west, grey, a byte per pixel.
     pub hillshade: Raster<u8>,
+    /// Each pixel's elevation on the true terrain, m: base64 of little-endian float32
+    /// (NaN where the map has no data), row-major from the north-west.
+    pub elevation_m: String,
+    /// Each pixel's slope on the true terrain, degrees, in the same form.
+    pub slope_deg: String,
+    /// Where true north points in the image: the clockwise angle from up, degrees, at
+    /// the image's middle (not zero on a polar map).
+    pub north_deg: f64,
+    /// The battery's floor and capacity, Wh (absolute, as the track's).
+    pub battery_floor_wh: f64,
+    /// The battery's capacity, Wh.
+    pub battery_capacity_wh: f64,
     /// The instants of the direct-sun frames, s since 1970-01-01T00:00:00 UTC.
     pub frame_unix_s: Vec<f64>,
     /// The same instants, ISO 8601 UTC.

@@ -44,6 +44,14 @@ pub(super) fn view(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimRep
         cells_per_pixel: k,
         cell_m: (truth.dem().dx(), truth.dem().dy()),
         hillshade: hillshade(truth, &cells, (w, h)),
+        elevation_m: floats(cells.iter().map(|&c| truth.elevation(c).map_or(f32::NAN, |z| z as f32))),
+        slope_deg: floats(cells.iter().map(|&c| truth.slope_deg(c) as f32)),
+        north_deg: {
+            let middle = cells.get((h / 2) * w + w / 2).copied().unwrap_or(ctx.start.cell);
+            truth.dem().georef().projection.true_north_on_grid_deg(truth.lat_lon(middle).1)
+        },
+        battery_floor_wh: floor_wh(ctx),
+        battery_capacity_wh: ctx.model.rover().battery.capacity_wh,
         frame_sun_elevation_deg: times.iter().map(|&t| sun_at(t)).collect(),
         frame_utc: times.iter().map(|&t| format_utc(truth.epoch() + Duration::from_seconds(t - epoch_unix))).collect(),
         frames: times.iter().map(|&t| direct_sun(truth, &cells, t - epoch_unix)).collect(),
@@ -105,6 +113,11 @@ fn frame_times(t0: f64, t1: f64) -> Vec<f64> {
     let step = ((t1 - t0) / (VIEW_FRAMES - 1) as f64).max(600.0);
     let n = (((t1 - t0) / step).floor() as usize + 1).min(VIEW_FRAMES);
     (0..n).map(|i| t0 + i as f64 * step).collect()
+}
+
+/// Values as base64 of little-endian float32.
+fn floats(values: impl Iterator<Item = f32>) -> String {
+    base64::engine::general_purpose::STANDARD.encode(values.flat_map(f32::to_le_bytes).collect::<Vec<u8>>())
 }
 
 /// The terrain shaded from the north-west at 45°, grey, at `cells`.

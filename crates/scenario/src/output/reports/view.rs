@@ -37,6 +37,14 @@ struct Page<'a> {
     height: usize,
     /// The hillshade's bytes, base64.
     hillshade: String,
+    /// Each pixel's elevation and slope, base64 of float32.
+    elevation_m: &'a str,
+    slope_deg: &'a str,
+    /// True north's clockwise angle from up, degrees.
+    north_deg: f64,
+    /// The battery's floor and capacity, Wh.
+    battery_floor_wh: f64,
+    battery_capacity_wh: f64,
     frame_unix_s: &'a [f64],
     frame_sun_elevation_deg: &'a [f64],
     frames: &'a [String],
@@ -68,6 +76,11 @@ pub(super) fn write(path: &Path, view: &ViewData, executed: bool) -> Result<usiz
         width: view.hillshade.cols,
         height: view.hillshade.rows,
         hillshade: base64::engine::general_purpose::STANDARD.encode(&view.hillshade.values),
+        elevation_m: &view.elevation_m,
+        slope_deg: &view.slope_deg,
+        north_deg: view.north_deg,
+        battery_floor_wh: view.battery_floor_wh,
+        battery_capacity_wh: view.battery_capacity_wh,
         frame_unix_s: &view.frame_unix_s,
         frame_sun_elevation_deg: &view.frame_sun_elevation_deg,
         frames: &view.frames,
