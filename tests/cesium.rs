@@ -30,24 +30,14 @@ fn cesium_here() -> Option<PathBuf> {
     }
 }
 
-/// A plan of about 1.5 km across a small synthesised map at `site` on `body`.
+/// A plan of about 1.5 km across a small synthesised map at `site` on `body`
+/// (`tests/tempest/small-route.ron.in`).
 fn scenario(body: &str, (lat, lon): (f64, f64), utc: &str) -> String {
-    format!(
-        r#"Scenario(version: 1, description: "cesium", job: Tempest(
-            body: {body},
-            terrain: Synth(cols: 60, rows: 40, cell_m: 30.0, seed: 4,
-                noise: (amplitude_m: 3.0, wavelength_m: 400.0, octaves: 2),
-                features: [Hill(x_m: 900, y_m: 600, radius_m: 150, slope_deg: 25)]),
-            site: (lat_deg: {lat}, lon_east_deg: {lon}),
-            start_utc: "{utc}",
-            horizon_h: 12,
-            horizon_sectors: 0,
-            start: (x_m: 105, y_m: 405),
-            start_battery_above_floor_wh: 600,
-            goals: [(name: "east", x_m: 1665, y_m: 825)],
-            planner: (approximate: true, actions: (drive: (max_slope: true, daylight: false)), resolution: (time_s: 600)),
-        ))"#
-    )
+    include_str!("tempest/small-route.ron.in")
+        .replace("@BODY@", body)
+        .replace("@LAT@", &format!("{lat:?}"))
+        .replace("@LON@", &format!("{lon:?}"))
+        .replace("@UTC@", utc)
 }
 
 /// A waypoint of plan.csv: its instant (s since 1970) and place.

@@ -288,21 +288,17 @@ def test_the_routes_pass_a_strict_geojson_validator_and_mmgis_rules_and_come_wit
     assert route["body"]["name"] == "Mars"
 
 
-# A plan of about 1.5 km across a small synthesised map (as tests/gis.rs runs one).
-SMALL = """Scenario(version: 1, description: "routes", job: Tempest(
-    body: {body},
-    terrain: Synth(cols: 60, rows: 40, cell_m: 30.0, seed: 4,
-        noise: (amplitude_m: 3.0, wavelength_m: 400.0, octaves: 2),
-        features: [Hill(x_m: 900, y_m: 600, radius_m: 150, slope_deg: 25)]),
-    site: (lat_deg: {lat}, lon_east_deg: {lon}),
-    start_utc: "{utc}",
-    horizon_h: 12,
-    horizon_sectors: 0,
-    start: (x_m: 105, y_m: 405),
-    start_battery_above_floor_wh: 600,
-    goals: [(name: "east", x_m: 1665, y_m: 825)],
-    planner: (approximate: true, actions: (drive: (max_slope: true, daylight: false)), resolution: (time_s: 600)),
-))"""
+# A plan of about 1.5 km across a small synthesised map at any site on any body (as
+# tests/gis.rs and tests/cesium.rs run it).
+SMALL_ROUTE = (ROOT / "tests/tempest/small-route.ron.in").read_text()
+
+
+def small_route(body, lat, lon, utc):
+    """The small route's scenario text on `body` at (`lat`, `lon`), starting at `utc`."""
+    text = SMALL_ROUTE
+    for token, value in (("@BODY@", body), ("@LAT@", repr(float(lat))), ("@LON@", repr(float(lon))), ("@UTC@", utc)):
+        text = text.replace(token, value)
+    return text
 
 
 @pytest.mark.parametrize("body,lat,lon,utc", [
@@ -312,7 +308,7 @@ SMALL = """Scenario(version: 1, description: "routes", job: Tempest(
 def test_the_moon_and_earth_routes_pass_the_same_checks_on_their_bodies(tmp_path, body, lat, lon, utc):
     name = body.lower()
     scenario = tmp_path / f"{name}.ron"
-    scenario.write_text(SMALL.format(body=body, lat=lat, lon=lon, utc=utc))
+    scenario.write_text(small_route(body, lat, lon, utc))
     cli("run", scenario, "-o", tmp_path)
     route = routes_are_strict_geojson_and_mmgis(tmp_path / name, name)
     assert route["body"]["name"] == body

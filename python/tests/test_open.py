@@ -15,7 +15,7 @@ from pystac.validation.stac_validator import JsonSchemaSTACValidator
 import areo
 from areo.plot import hillshade
 from areo.run import cell_centres
-from test_areo import RIDGE, ROOT, SMALL, cli
+from test_areo import RIDGE, ROOT, cli, small_route
 
 
 @pytest.fixture(scope="module")
@@ -216,7 +216,7 @@ def test_the_shadow_series_is_a_stac_collection_pystac_reads(ridge):
 ])
 def test_the_stac_series_of_a_moon_and_an_earth_run_is_on_its_body(tmp_path, body, lat, lon, utc):
     scenario = tmp_path / f"{body.lower()}.ron"
-    scenario.write_text(SMALL.format(body=body, lat=lat, lon=lon, utc=utc))
+    scenario.write_text(small_route(body, lat, lon, utc))
     cli("run", scenario, "-o", tmp_path)
     run = areo.open(tmp_path / body.lower())
     assert stac_holds_the_route(run) == body
