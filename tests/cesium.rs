@@ -8,8 +8,12 @@
 //! installs both and sets `AREO_REQUIRE_CHROMIUM` and `AREO_REQUIRE_CESIUM`, under which
 //! a missing one fails the test. Elsewhere the test says it did not run.
 
+mod small_route;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+use small_route::scenario;
 
 /// Cesium's `Build/Cesium` folder, if Chromium and it are here.
 // Saying that the test did not run is the point of its one message.
@@ -28,16 +32,6 @@ fn cesium_here() -> Option<PathBuf> {
             None
         }
     }
-}
-
-/// A plan of about 1.5 km across a small synthesised map at `site` on `body`
-/// (`tests/tempest/small-route.ron.in`).
-fn scenario(body: &str, (lat, lon): (f64, f64), utc: &str) -> String {
-    include_str!("tempest/small-route.ron.in")
-        .replace("@BODY@", body)
-        .replace("@LAT@", &format!("{lat:?}"))
-        .replace("@LON@", &format!("{lon:?}"))
-        .replace("@UTC@", utc)
 }
 
 /// A waypoint of plan.csv: its instant (s since 1970) and place.

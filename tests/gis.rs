@@ -9,8 +9,12 @@
 //! Without GDAL the test fails where `AREO_REQUIRE_GDAL` is set (CI) and says it did not
 //! run otherwise.
 
+mod small_route;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+use small_route::scenario;
 
 use areo_scenario::Body;
 
@@ -22,16 +26,6 @@ fn tool(name: &str, args: &[&str]) -> String {
     let out = Command::new(name).args(args).output().unwrap_or_else(|e| panic!("{name}: {e}"));
     assert!(out.status.success(), "{name} {args:?}: {}", String::from_utf8_lossy(&out.stderr));
     String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-/// A plan of about 1.5 km across a small synthesised map at `site` on `body`
-/// (`tests/tempest/small-route.ron.in`).
-fn scenario(body: &str, (lat, lon): (f64, f64), utc: &str) -> String {
-    include_str!("tempest/small-route.ron.in")
-        .replace("@BODY@", body)
-        .replace("@LAT@", &format!("{lat:?}"))
-        .replace("@LON@", &format!("{lon:?}"))
-        .replace("@UTC@", utc)
 }
 
 fn number(facts: &serde_json::Value, name: &str) -> f64 {

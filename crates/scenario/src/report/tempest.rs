@@ -850,7 +850,7 @@ pub struct ShadowSeries {
     /// Where the true terrain has data, as the same kind of bitset.
     pub valid: String,
     /// The series' map in east longitude (−180..180) and latitude, degrees, on its
-    /// body: a closed ring of points along its edges, anticlockwise; round a pole, the
+    /// body: a closed ring of points along its edges from its south-west corner; round a pole, the
     /// cap out to its farthest point; empty for a map in a local frame.
     pub footprint: Vec<[f64; 2]>,
     /// Its box: west, south, east, north, degrees (the whole body for a local frame).

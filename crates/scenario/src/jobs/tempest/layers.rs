@@ -117,7 +117,8 @@ const EDGE_POINTS: usize = 16;
 
 /// The outline of the map's part from (`x0`, `y0`) to (`x1`, `y1`) (map metres, west,
 /// south, east, north) in longitude (−180..180) and latitude on its body — a closed ring
-/// of points along its edges, anticlockwise as RFC 7946 asks — and its box (west, south,
+/// of points along its edges, from the south-west corner east along the south edge (on
+/// an equirectangular map anticlockwise, as RFC 7946 asks) — and its box (west, south,
 /// east, north). A map round its projection's pole is the cap out to its farthest point
 /// from the pole; a map of no known projection has no outline and is the whole body.
 fn footprint(georef: &Georef, (x0, y0): (f64, f64), (x1, y1): (f64, f64)) -> (Vec<[f64; 2]>, [f64; 4]) {
