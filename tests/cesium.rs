@@ -101,11 +101,10 @@ fn cesium_puts_the_rover_where_the_plan_does_on_mars_the_moon_and_the_earth() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target").join("cesium-tests");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let wgs84_b = 6_378_137.0 * (1.0 - 1.0 / 298.257_223_563);
     let runs = [
         ("mars", "Mars", (-4.6, 137.4), "2012-08-06T20:40:00Z", (3_396_000.0, 3_396_000.0)),
         ("moon", "Moon", (-89.2, 45.0), "2024-03-01T00:00:00Z", (1_737_400.0, 1_737_400.0)),
-        ("earth", "Earth", (75.4, -89.8), "2001-07-20T16:00:00Z", (6_378_137.0, wgs84_b)),
+        ("earth", "Earth", (75.4, -89.8), "2001-07-20T16:00:00Z", (6_378_137.0, 6_378_137.0)),
     ];
     assert_eq!(unix_s("2012-08-06T20:40:00.000Z"), 1_344_285_600.0, "the calendar");
     assert_eq!(unix_s("2024-03-01T00:00:00.500Z"), 1_709_251_200.5, "the calendar");

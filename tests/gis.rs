@@ -57,20 +57,27 @@ fn gdal_reads_each_route_on_its_own_body_at_its_own_length() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target").join("gis-test");
     let _ = std::fs::remove_dir_all(&root);
     std::fs::create_dir_all(&root).unwrap();
+    // Every file of a run names one geographic CRS: the sphere the map is projected on
+    // (the synthesised Mars map sits on the MOLA sphere, 3 396 000 m, not the IAU's
+    // 3 396 190 m; the Earth's on WGS 84's equatorial radius).
     let cases = [
-        ("Mars", Body::Mars, (-4.5895, 137.4417), "2012-08-06T16:00:00Z", "Mars (2015) - Sphere / Ocentric"),
-        ("Moon", Body::Moon, (-20.0, 10.0), "2025-01-10T00:00:00Z", "Moon (2015) - Sphere / Ocentric"),
-        ("Earth", Body::Earth, (75.43, -89.87), "2025-06-21T12:00:00Z", "WGS 84"),
+        (
+            "Mars",
+            Body::Mars,
+            (-4.5895, 137.4417),
+            "2012-08-06T16:00:00Z",
+            ("Mars - Sphere, R = 3396000 m / Ocentric", 3_396_000.0),
+        ),
+        ("Moon", Body::Moon, (-20.0, 10.0), "2025-01-10T00:00:00Z", ("Moon (2015) - Sphere / Ocentric", 1_737_400.0)),
+        (
+            "Earth",
+            Body::Earth,
+            (75.43, -89.87),
+            "2025-06-21T12:00:00Z",
+            ("Earth - Sphere, R = 6378137 m / Ocentric", 6_378_137.0),
+        ),
     ];
-    // The GeoTIFF layers' geographic CRS: the sphere areo projected the map on (the
-    // synthesised Mars map sits on the MOLA sphere) and where GDAL takes their
-    // coordinates to (GeoJSON's CRS on Mars and the Moon; lon, lat on WGS 84 on the Earth).
-    let rasters = [
-        ("Mars - Sphere, R = 3396000 m / Ocentric", "IAU_2015:49900"),
-        ("Moon (2015) - Sphere / Ocentric", "IAU_2015:30100"),
-        ("Earth - Sphere, R = 6378137 m / Ocentric", "+proj=longlat +datum=WGS84 +no_defs"),
-    ];
-    for ((name, body, site, utc, crs), raster) in cases.into_iter().zip(rasters) {
+    for (name, body, site, utc, (crs, radius)) in cases {
         let path = root.join(format!("{}.ron", name.to_lowercase()));
         std::fs::write(&path, scenario(name, site, utc)).unwrap();
         let out = areo(&["run", path.to_str().unwrap(), "--out", root.to_str().unwrap()]);
@@ -83,7 +90,7 @@ fn gdal_reads_each_route_on_its_own_body_at_its_own_length() {
         // OGR's length of the initial plan in an equidistant projection on the body's
         // sphere, centred at the site.
         let metric = dir.join("route-metric.geojson");
-        let radius = body.ellipsoid().equatorial_radius_m;
+        assert!((radius - body.ellipsoid().equatorial_radius_m).abs() < 200.0, "{name}");
         let projection = format!("+proj=eqc +lat_ts={} +lon_0={} +R={radius} +units=m +no_defs", site.0, site.1);
         tool("ogr2ogr", &["-t_srs", &projection, metric.to_str().unwrap(), route.to_str().unwrap()]);
         let sql = "SELECT ST_Length(geometry) AS len FROM route WHERE name = 'initial plan'";
@@ -93,7 +100,10 @@ fn gdal_reads_each_route_on_its_own_body_at_its_own_length() {
             .find_map(|l| l.trim().strip_prefix("len (Real) = "))
             .and_then(|v| v.trim().parse().ok())
             .unwrap_or_else(|| panic!("{name}: no length in {lengths}"));
-        layers_lie_under_the_route(name, &dir, &route, raster);
+        let geojson: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&route).unwrap()).unwrap();
+        let named = geojson["crs"]["properties"]["name"].as_str().unwrap_or_default().to_string();
+        layers_lie_under_the_route(name, &dir, &route, (crs, &named));
+        every_file_names_one_crs(name, &dir, (crs, radius), site.1);
         // The KML (always WGS 84 to GDAL, as KML is; Google Earth reads the hint) holds
         // the plan's line, the start and the goal.
         let kml = tool("ogrinfo", &["-so", "-al", dir.join("route.kml").to_str().unwrap()]);
@@ -152,6 +162,62 @@ fn layers_lie_under_the_route(
         (lon_lat[0] - lon).abs() < 1e-9 && (lon_lat[1] - lat).abs() < 1e-9,
         "{name}: GDAL {out}, route ({lon}, {lat})"
     );
+}
+
+/// Every file of a run names the same geographic CRS, sphere and longitude convention,
+/// as each file's reader takes it: GDAL for the GeoTIFFs, both GeoJSONs and plan.csv
+/// (through its `.prj`), the XML for the KML's data, the JSON for the CZML and the STAC
+/// items; every longitude in −180..180 and near the site's (`lon`: a 0..360 file on the
+/// Earth's west would read 270).
+fn every_file_names_one_crs(name: &str, dir: &Path, (crs, radius): (&str, f64), lon: f64) {
+    let p = |f: &str| dir.join(f).to_str().unwrap().to_string();
+    let near =
+        |what: &str, l: f64| assert!((-180.0..=180.0).contains(&l) && (l - lon).abs() < 5.0, "{name} {what}: {l}");
+    for layer in ["dem.tif", "slope.tif", "direct_sun.tif", "route.geojson", "route_time.geojson"] {
+        let proj = tool("gdalsrsinfo", &["-o", "proj4", &p(layer)]);
+        assert!(proj.contains(&format!("+R={radius} ")), "{name} {layer}: {proj}");
+        // A map's central meridian is a longitude too.
+        if let Some(lon_0) = proj.split_whitespace().find_map(|w| w.strip_prefix("+lon_0=")) {
+            near(layer, lon_0.parse().unwrap());
+        }
+    }
+    let csv = ["-so", "-oo", "X_POSSIBLE_NAMES=lon_deg", "-oo", "Y_POSSIBLE_NAMES=lat_deg", &p("plan.csv"), "plan"];
+    let info = tool("ogrinfo", &csv);
+    assert!(info.contains(&format!("GEOGCRS[\"{crs}\"")) && info.contains(&format!(",{radius},0,")), "{name}: {info}");
+    let near =
+        |what: &str, l: f64| assert!((-180.0..=180.0).contains(&l) && (l - lon).abs() < 5.0, "{name} {what}: {l}");
+    let extent = info.lines().find_map(|l| l.strip_prefix("Extent: (")).unwrap_or_else(|| panic!("{name}: {info}"));
+    near("plan.csv", extent.split(',').next().unwrap().trim().parse().unwrap());
+
+    let kml_text = std::fs::read_to_string(p("route.kml")).unwrap();
+    let kml = roxmltree::Document::parse(&kml_text).unwrap();
+    let data = |key: &str| {
+        let d = kml.descendants().find(|n| n.has_tag_name("Data") && n.attribute("name") == Some(key));
+        d.and_then(|d| d.descendants().find(|n| n.has_tag_name("value"))).and_then(|v| v.text()).unwrap_or_default()
+    };
+    assert_eq!((data("crs_name"), data("radius_m").parse::<f64>().ok()), (crs, Some(radius)), "{name}: route.kml");
+    for c in kml.descendants().filter(|n| n.has_tag_name("coordinates")) {
+        for pair in c.text().unwrap_or_default().split_whitespace() {
+            near("route.kml", pair.split(',').next().unwrap().parse().unwrap());
+        }
+    }
+    let json =
+        |f: &str| -> serde_json::Value { serde_json::from_str(&std::fs::read_to_string(p(f)).unwrap()).unwrap() };
+    let czml = json("route.czml");
+    let body = &czml[0]["properties"]["body"];
+    assert_eq!(body["crs_name"], crs, "{name}: route.czml");
+    assert_eq!((body["equatorial_radius_m"].as_f64(), body["polar_radius_m"].as_f64()), (Some(radius), Some(radius)));
+    assert_eq!(czml[0]["properties"]["crs"], json("route.geojson")["crs"], "{name}: CZML and GeoJSON");
+    let rover = czml.as_array().unwrap().iter().find(|p| p["id"] == "rover").unwrap();
+    for k in rover["position"]["cartographicDegrees"].as_array().unwrap().chunks(4) {
+        near("route.czml", k[1].as_f64().unwrap());
+    }
+    let item = json("shadows/direct_sun_000.json");
+    let wkt = item["properties"]["proj:wkt2"].as_str().unwrap_or_default();
+    assert!(wkt.contains(&format!("BASEGEOGCRS[\"{crs}\"")), "{name}: STAC item {wkt}");
+    for corner in item["geometry"]["coordinates"][0].as_array().unwrap() {
+        near("the STAC footprint", corner[0].as_f64().unwrap());
+    }
 }
 
 /// Each layer's band names what it holds and its unit, as GDAL reads them; the direct
@@ -230,7 +296,7 @@ fn gdal_reads_each_maps_wkt_as_its_projection_on_its_body() {
         ),
         (
             Georef {
-                projection: Projection::Equirectangular { lat_ts_deg: 75.4, lon0_deg: -89.8 },
+                projection: Projection::Equirectangular { lat_ts_deg: 75.4, lon0_deg: 270.2 },
                 surface: Spheroid::EARTH_WGS84,
             },
             vec!["+proj=eqc", "+lat_ts=75.4", "+lon_0=-89.8", "+R=6378137"],

@@ -101,7 +101,8 @@ def test_read_dem_gives_heights_cell_size_and_crs():
     assert (dx, dy) == (float(cell[1]), float(cell[4]))
     lo, hi = fields["elevation"].split()[0], fields["elevation"].split()[2]
     assert (float(np.nanmin(z)), float(np.nanmax(z))) == (float(lo), float(hi))
-    assert "R=3396000 m" in dem.crs  # the MOLA sphere the file declares
+    # The MOLA sphere the file declares, named as every file of a run names it.
+    assert 'ELLIPSOID["Mars - Sphere, R = 3396000 m",3396000,0,' in dem.crs
 
 
 def test_shadow_equals_the_binarys_map_bit_for_bit(tmp_path):

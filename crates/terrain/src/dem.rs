@@ -1,5 +1,6 @@
 //! The digital elevation model and the `Ground` trait.
 
+use crate::crs::GeographicCrs;
 use crate::error::{Error, Result};
 use crate::projection::Projection;
 use areo_body::Spheroid;
@@ -14,42 +15,41 @@ pub struct Georef {
 }
 
 impl Georef {
+    /// The geographic CRS the map's latitudes and longitudes are on: the sphere of the
+    /// surface's equatorial radius that areo projects on.
+    pub fn geographic(&self) -> GeographicCrs {
+        GeographicCrs::of(&self.surface)
+    }
+
     /// The map's coordinate reference system as OGC WKT2 (ISO 19162:2019), for GIS
     /// tools and Python users: the projection on a sphere of the body's equatorial
-    /// radius (as areo projects), its geographic base planetocentric with east
-    /// longitude; a local engineering frame in metres for a map with none. The body is
-    /// named from the radius (Mars, the Moon, the Earth).
+    /// radius (as areo projects), its geographic base the [`GeographicCrs`] of every
+    /// file of a run (planetocentric, east longitude); a local engineering frame in
+    /// metres for a map with none.
     pub fn wkt(&self) -> String {
         let deg = r#"ANGLEUNIT["degree",0.0174532925199433]"#;
         let m = r#"LENGTHUNIT["metre",1]"#;
         let axes =
             format!(r#"CS[Cartesian,2],AXIS["easting (E)",east,ORDER[1],{m}],AXIS["northing (N)",north,ORDER[2],{m}]"#);
-        let r = self.surface.equatorial_radius_m;
-        let body = match self.surface.body() {
-            Some(areo_body::Body::Mars) => "Mars",
-            Some(areo_body::Body::Moon) => "Moon",
-            Some(areo_body::Body::Earth) => "Earth",
-            None => "Body",
-        };
-        let sphere = format!("{body} sphere R={r} m");
-        let base = format!(
-            r#"BASEGEOGCRS["{sphere}",DATUM["{sphere}",ELLIPSOID["{sphere}",{r},0,{m}]],PRIMEM["Reference meridian",0,{deg}]]"#
-        );
+        let crs = self.geographic();
+        let base = format!(r#"BASEGEOGCRS["{}",{}]"#, crs.name, crs.datum_wkt2());
         let param =
             |name: &str, v: f64, unit: &str, id: u32| format!(r#"PARAMETER["{name}",{v},{unit},ID["EPSG",{id}]]"#);
         let origin = [param("False easting", 0.0, m, 8806), param("False northing", 0.0, m, 8807)].join(",");
-        match self.projection {
+        match self.projection.written() {
             Projection::Local => {
                 format!(r#"ENGCRS["local metric frame",EDATUM["local"],{axes}]"#)
             }
             Projection::Equirectangular { lat_ts_deg, lon0_deg } => format!(
-                r#"PROJCRS["{body} equirectangular",{base},CONVERSION["Equirectangular",METHOD["Equidistant Cylindrical",ID["EPSG",1028]],{},{},{origin}],{axes}]"#,
+                r#"PROJCRS["{} / Equirectangular",{base},CONVERSION["Equirectangular",METHOD["Equidistant Cylindrical",ID["EPSG",1028]],{},{},{origin}],{axes}]"#,
+                crs.name,
                 param("Latitude of 1st standard parallel", lat_ts_deg, deg, 8823),
                 param("Longitude of natural origin", lon0_deg, deg, 8802),
             ),
             Projection::PolarStereographic { north, lon0_deg } => format!(
-                r#"PROJCRS["{body} polar stereographic {}",{base},CONVERSION["Polar stereographic",METHOD["Polar Stereographic (variant A)",ID["EPSG",9810]],{},{},{},{origin}],{axes}]"#,
-                if north { "north" } else { "south" },
+                r#"PROJCRS["{} / {} Polar Stereographic",{base},CONVERSION["Polar stereographic",METHOD["Polar Stereographic (variant A)",ID["EPSG",9810]],{},{},{},{origin}],{axes}]"#,
+                crs.name,
+                if north { "North" } else { "South" },
                 param("Latitude of natural origin", if north { 90.0 } else { -90.0 }, deg, 8801),
                 param("Longitude of natural origin", lon0_deg, deg, 8802),
                 param("Scale factor at natural origin", 1.0, r#"SCALEUNIT["unity",1]"#, 8805),
@@ -656,21 +656,28 @@ pub mod analytic {
 mod tests {
     use super::*;
 
-    /// The CRS names the body its reference surface is (one rule: [`Spheroid::body`]),
-    /// and no body for a radius that is none of them.
+    /// The CRS names the body its reference surface is (one rule: [`Spheroid::body`])
+    /// and the sphere it is projected on, no body for a radius that is none of them, and
+    /// its central meridian in −180..180.
     #[test]
     fn the_crs_names_the_body_of_its_reference_surface() {
-        let projection = Projection::Equirectangular { lat_ts_deg: 0.0, lon0_deg: 0.0 };
+        let projection = Projection::Equirectangular { lat_ts_deg: 0.0, lon0_deg: 270.5 };
         let cases = [
-            (Spheroid::MARS_IAU2015, "Mars"),
-            (Spheroid::MARS_MOLA_SPHERE, "Mars"),
-            (Spheroid::MOON, "Moon"),
-            (Spheroid::EARTH_WGS84, "Earth"),
-            (Spheroid { equatorial_radius_m: 2_634_100.0, polar_radius_m: 2_634_100.0 }, "Body"),
+            (Spheroid::MARS_IAU2015, "Mars (2015) - Sphere", 3_396_190.0),
+            (Spheroid::MARS_MOLA_SPHERE, "Mars - Sphere, R = 3396000 m", 3_396_000.0),
+            (Spheroid::MOON, "Moon (2015) - Sphere", 1_737_400.0),
+            (Spheroid::EARTH_WGS84, "Earth - Sphere, R = 6378137 m", 6_378_137.0),
+            (
+                Spheroid { equatorial_radius_m: 2_634_100.0, polar_radius_m: 2_634_100.0 },
+                "Sphere, R = 2634100 m",
+                2_634_100.0,
+            ),
         ];
-        for (surface, body) in cases {
+        for (surface, sphere, r) in cases {
             let wkt = Georef { projection, surface }.wkt();
-            assert!(wkt.starts_with(&format!("PROJCRS[\"{body} equirectangular\"")), "{body}: {wkt}");
+            assert!(wkt.starts_with(&format!("PROJCRS[\"{sphere} / Ocentric / Equirectangular\"")), "{sphere}: {wkt}");
+            assert!(wkt.contains(&format!("ELLIPSOID[\"{sphere}\",{r},0,")), "{sphere}: {wkt}");
+            assert!(wkt.contains("\"Longitude of natural origin\",-89.5,"), "{sphere}: {wkt}");
         }
     }
 

@@ -602,37 +602,13 @@ impl GeoTags {
     }
 }
 
-/// The names GDAL and PROJ give the parts of a projected CRS on `surface`, in the style
-/// of the IAU 2015 CRS database (`Mars (2015) - Sphere / Ocentric`): areo's projections
-/// are spherical on the equatorial radius, so the ellipsoid named is that sphere.
-struct CrsNames {
-    geographic: String,
-    datum: String,
-    ellipsoid: String,
-}
-
-impl CrsNames {
-    fn of(surface: &Spheroid) -> CrsNames {
-        let a = surface.equatorial_radius_m;
-        let ellipsoid = match surface.body() {
-            // The IAU 2015 spheres of Mars and the Moon are their equatorial radii.
-            Some(b @ (areo_body::Body::Mars | areo_body::Body::Moon)) if (a - b.equatorial_radius_m()).abs() < 0.5 => {
-                format!("{} (2015) - Sphere", b.iau_name())
-            }
-            Some(b) => format!("{} - Sphere, R = {a} m", b.iau_name()),
-            None => format!("Sphere, R = {a} m"),
-        };
-        CrsNames { geographic: format!("{ellipsoid} / Ocentric"), datum: ellipsoid.clone(), ellipsoid }
-    }
-}
-
 /// The GeoTIFF keys describing `georef`: a user-defined projected CRS in metres whose
-/// citations name the body (GDAL reads them into the CRS's WKT names), on the sphere of
+/// citations name the map's [`crate::GeographicCrs`] (GDAL reads them into the WKT names): the sphere of
 /// the equatorial radius that areo's projections use. A local frame keeps the body's
 /// radii and cites itself as local.
 fn geokeys_for(georef: &Georef) -> GeoTags {
     let surface = georef.surface;
-    let names = CrsNames::of(&surface);
+    let crs = georef.geographic();
     let mut ascii = String::new();
     let mut cite = |text: &str| -> [u16; 2] {
         let at = ascii.len() as u16;
@@ -641,20 +617,17 @@ fn geokeys_for(georef: &Georef) -> GeoTags {
         [(text.len() + 1) as u16, at]
     };
     let a = surface.equatorial_radius_m;
-    let (projected, minor) = match georef.projection {
+    let projection = georef.projection.written();
+    let (projected, minor) = match projection {
         Projection::Local => {
             let body = surface.body().map_or("an unnamed body", areo_body::Body::iau_name);
             (format!("areo local frame on {body}, metres"), surface.polar_radius_m)
         }
         Projection::Equirectangular { lat_ts_deg, lon0_deg } => {
-            (format!("{} / Equirectangular, lat_ts = {lat_ts_deg}, clon = {lon0_deg}", names.geographic), a)
+            (format!("{} / Equirectangular, lat_ts = {lat_ts_deg}, clon = {lon0_deg}", crs.name), a)
         }
         Projection::PolarStereographic { north, lon0_deg } => (
-            format!(
-                "{} / {} Polar Stereographic, clon = {lon0_deg}",
-                names.geographic,
-                if north { "North" } else { "South" }
-            ),
+            format!("{} / {} Polar Stereographic, clon = {lon0_deg}", crs.name, if north { "North" } else { "South" }),
             a,
         ),
     };
@@ -669,10 +642,10 @@ fn geokeys_for(georef: &Georef) -> GeoTags {
         [key::PROJECTED_CS, 0, 1, key::USER_DEFINED],
         [key::PROJ_LINEAR_UNITS, 0, 1, key::METRE],
     ];
-    if georef.projection != Projection::Local {
+    if projection != Projection::Local {
         let gcs = cite(&format!(
             "GCS Name = {}|Datum = {}|Ellipsoid = {}|Primem = Reference Meridian|",
-            names.geographic, names.datum, names.ellipsoid
+            crs.name, crs.sphere, crs.sphere
         ));
         keys.extend([
             [key::GEOGRAPHIC_TYPE, 0, 1, key::USER_DEFINED],
@@ -683,7 +656,7 @@ fn geokeys_for(georef: &Georef) -> GeoTags {
             [key::PROJECTION, 0, 1, key::USER_DEFINED],
         ]);
     }
-    match georef.projection {
+    match projection {
         Projection::Local => {}
         Projection::Equirectangular { lat_ts_deg, lon0_deg } => {
             keys.push([key::COORD_TRANS, 0, 1, key::CT_EQUIRECTANGULAR]);

@@ -5,7 +5,7 @@
 //! - [`Dem`]: elevations (f32) with a nodata mask, cell sizes dx and dy, and a
 //!   [`Georef`] (a [`Projection`] on a reference [`Spheroid`]); bilinear
 //!   [`Dem::height`] and [`Dem::gradient`] that return `None` off the map or on missing
-//!   data. The [`Ground`] trait (height and normal) is implemented by `Dem` and by the
+//!   data; [`GeographicCrs`], the one sphere and name a map's latitudes are on. The [`Ground`] trait (height and normal) is implemented by `Dem` and by the
 //!   [`analytic`] test terrains.
 //! - Readers and writers: [`geotiff`] (int16/uint16/float32, strips or tiles,
 //!   georeference tags, GDAL_NODATA), [`ascii`] (ESRI ASCII grid) and [`pds3`] (PDS3
@@ -52,6 +52,7 @@
 //! Architecture invariant: areo-terrain depends on no other areo crate but areo-body (the
 //! reference spheroids), so a DEM loader or a shadow map can be reused alone.
 
+mod crs;
 mod dem;
 mod error;
 mod projection;
@@ -80,6 +81,7 @@ pub mod values;
 pub use areo_body::Spheroid;
 
 pub use crate::{
+    crs::{GeographicCrs, lon180},
     dem::{Dem, Extent, Georef, Ground, POLAR_PROJECTION_LAT_DEG, analytic, unit_normal},
     error::{Error, Result},
     projection::Projection,

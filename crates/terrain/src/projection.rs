@@ -125,6 +125,20 @@ pub(crate) fn equirectangular_at_true_scale(
 }
 
 impl Projection {
+    /// The same projection with its central meridian in −180..180, as every longitude
+    /// a run writes is.
+    pub(crate) fn written(self) -> Projection {
+        match self {
+            Projection::Equirectangular { lat_ts_deg, lon0_deg } => {
+                Projection::Equirectangular { lat_ts_deg, lon0_deg: crate::lon180(lon0_deg) }
+            }
+            Projection::PolarStereographic { north, lon0_deg } => {
+                Projection::PolarStereographic { north, lon0_deg: crate::lon180(lon0_deg) }
+            }
+            Projection::Local => Projection::Local,
+        }
+    }
+
     /// Where true north points on the grid at east longitude `lon_east_deg`: the
     /// clockwise angle from the grid's north (its +y axis, up in the image) to the
     /// meridian's north, degrees in (−180, 180]. A direction of true azimuth A has grid

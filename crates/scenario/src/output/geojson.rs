@@ -1,16 +1,17 @@
 //! GeoJSON through the `geojson` crate. Coordinates are [longitude east in −180..180,
-//! latitude] in degrees on the map's body. GeoJSON (RFC 7946) assumes WGS 84, so every
-//! collection names its body's CRS in the 2008 GeoJSON `crs` member —
-//! `{"type": "name", "properties": {"name": "IAU_2015:49900"}}` on Mars — which GDAL
-//! and QGIS read (GDAL 3.6 reports "Mars (2015) - Sphere / Ocentric"; JSON-FG's
-//! `coordRefSys` is not read by the GeoJSON driver); a `body` member adds its radii.
+//! latitude] in degrees on the run's [`Geography`]. GeoJSON (RFC 7946) assumes WGS 84,
+//! so every collection names the run's CRS in the 2008 GeoJSON `crs` member — its IAU
+//! code (`{"type": "name", "properties": {"name": "IAU_2015:49900"}}` on Mars's IAU
+//! sphere) or else its WKT2 — which GDAL and QGIS read (GDAL 3.6 reports "Mars (2015) -
+//! Sphere / Ocentric", or the WKT's sphere; JSON-FG's `coordRefSys` is not read by the
+//! GeoJSON driver); a `body` member adds the sphere's radius.
 
 use std::path::Path;
 
-use areo_terrain::Spheroid;
 use geojson::{Feature, FeatureCollection, Geometry, JsonObject, JsonValue};
 
 use crate::error::{Error, Result};
+use crate::report::Geography;
 
 pub(crate) use crate::report::lon180;
 
@@ -37,25 +38,16 @@ pub(crate) fn line(points: impl IntoIterator<Item = (f64, f64)>) -> Geometry {
     Geometry::new_line_string(points.into_iter().map(|(lat, lon)| [lon180(lon), lat]).collect::<Vec<_>>())
 }
 
-/// The features as a collection on `body`: its geographic CRS by name
-/// ([`areo_ephemeris::Body::geographic_crs`]; left out for radii of no known body) and
-/// the body's radii and axes as foreign members.
-pub(crate) fn collection(features: Vec<Feature>, body: &Spheroid) -> FeatureCollection {
+/// The features as a collection on the run's geography: its CRS by code or WKT2
+/// ([`Geography::crs_code_or_wkt2`]) and a `body` member with the sphere's radii (equal:
+/// a Cesium or three.js user builds the ellipsoid from them).
+pub(crate) fn collection(features: Vec<Feature>, geography: &Geography) -> FeatureCollection {
     let mut members = JsonObject::new();
+    members.insert("body".into(), body_member(geography));
     members.insert(
-        "body".into(),
-        serde_json::json!({
-            "name": body_name(body),
-            "equatorial_radius_m": body.equatorial_radius_m,
-            "polar_radius_m": body.polar_radius_m,
-            "latitude": if body.body() == Some(areo_ephemeris::Body::Earth) { "geodetic" } else { "planetocentric" },
-            "longitude": "east, -180..180",
-        }),
+        "crs".into(),
+        serde_json::json!({ "type": "name", "properties": { "name": geography.crs_code_or_wkt2() } }),
     );
-    if let Some(b) = body.body() {
-        members
-            .insert("crs".into(), serde_json::json!({ "type": "name", "properties": { "name": b.geographic_crs() } }));
-    }
     let mut fc = FeatureCollection::new(features);
     // The crate's box of no features is `[]`, which RFC 7946 (section 5) does not allow:
     // a box has two numbers per dimension, or is left out.
@@ -66,9 +58,16 @@ pub(crate) fn collection(features: Vec<Feature>, body: &Spheroid) -> FeatureColl
     fc
 }
 
-/// The body's name where its radii are a known reference body's.
-pub(crate) fn body_name(body: &Spheroid) -> &'static str {
-    body.body().map_or("unknown", areo_ephemeris::Body::iau_name)
+/// The body, its sphere and the conventions of the coordinates, as a JSON object.
+pub(crate) fn body_member(g: &Geography) -> JsonValue {
+    serde_json::json!({
+        "name": g.body,
+        "crs_name": g.crs_name,
+        "equatorial_radius_m": g.radius_m,
+        "polar_radius_m": g.radius_m,
+        "latitude": "planetocentric",
+        "longitude": "east, -180..180",
+    })
 }
 
 /// Writes the collection as pretty JSON (atomically, see [`super::write_file`]).
@@ -81,6 +80,7 @@ pub(crate) fn write(path: &Path, fc: &FeatureCollection) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use areo_terrain::Spheroid;
 
     #[test]
     fn a_route_round_trips_with_its_body_and_names_intact() {
@@ -88,7 +88,8 @@ mod tests {
             feature(line([(-4.6, 137.4), (-4.5, 137.5)]), serde_json::json!({"name": "plan, \"initial\""})),
             feature(point((-4.5, 200.0)), serde_json::json!({"kind": "goal"})),
         ];
-        let fc = collection(features, &Spheroid::MARS_MOLA_SPHERE);
+        let mola = Geography::of(&Spheroid::MARS_MOLA_SPHERE);
+        let fc = collection(features, &mola);
         let text = serde_json::to_string(&fc).unwrap();
         let back: geojson::GeoJson = text.parse().unwrap();
         let geojson::GeoJson::FeatureCollection(back) = back else { panic!("not a collection") };
@@ -100,13 +101,23 @@ mod tests {
         assert_eq!(v["body"]["name"], "Mars");
         assert_eq!(v["body"]["equatorial_radius_m"], 3_396_000.0);
         assert_eq!(v["body"]["latitude"], "planetocentric");
-        assert_eq!(v["crs"], serde_json::json!({"type": "name", "properties": {"name": "IAU_2015:49900"}}));
-        let moon: serde_json::Value = serde_json::to_value(collection(Vec::new(), &Spheroid::MOON)).unwrap();
+        // The MOLA sphere is not the IAU's (3 396 190 m): named by its WKT2, as the
+        // GeoTIFFs name it.
+        assert_eq!(v["crs"]["properties"]["name"], mola.crs_wkt2.as_str());
+        assert_eq!(v["body"]["polar_radius_m"], 3_396_000.0);
+        let iau = serde_json::to_value(collection(Vec::new(), &Geography::of(&Spheroid::MARS_IAU2015))).unwrap();
+        assert_eq!(iau["crs"], serde_json::json!({"type": "name", "properties": {"name": "IAU_2015:49900"}}));
+        assert_eq!(iau["body"]["polar_radius_m"], 3_396_190.0, "the sphere areo projects on, not the ellipsoid");
+        let moon = serde_json::to_value(collection(Vec::new(), &Geography::of(&Spheroid::MOON))).unwrap();
         assert_eq!(moon["crs"]["properties"]["name"], "IAU_2015:30100");
-        let earth: serde_json::Value = serde_json::to_value(collection(Vec::new(), &Spheroid::EARTH_WGS84)).unwrap();
-        assert_eq!(earth["crs"]["properties"]["name"], "urn:ogc:def:crs:OGC:1.3:CRS84");
-        let odd = Spheroid { equatorial_radius_m: 2e6, polar_radius_m: 2e6 };
-        assert!(serde_json::to_value(collection(Vec::new(), &odd)).unwrap().get("crs").is_none());
+        let earth = serde_json::to_value(collection(Vec::new(), &Geography::of(&Spheroid::EARTH_WGS84))).unwrap();
+        assert!(
+            earth["crs"]["properties"]["name"]
+                .as_str()
+                .unwrap()
+                .starts_with(r#"GEOGCRS["Earth - Sphere, R = 6378137 m"#)
+        );
+        assert_eq!(earth["body"]["polar_radius_m"], 6_378_137.0);
         // No features, no box (RFC 7946 allows none, not an empty one); with features,
         // none either unless each feature has one.
         assert!(moon.get("bbox").is_none(), "{moon}");

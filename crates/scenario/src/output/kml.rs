@@ -1,28 +1,28 @@
 //! KML 2.2 of a route for Google Earth and xGDS-style tools: lines and named points in
 //! longitude, latitude (degrees, −180..180). Google Earth's Mars and Moon modes take a
 //! file as theirs by the root's `hint="target=mars"` / `"target=moon"`; Earth files
-//! carry no hint.
+//! carry no hint. KML has no CRS but WGS 84's, so the document's `ExtendedData` names the
+//! run's body, CRS (name and WKT2) and longitude convention, as the other files do.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
-use areo_ephemeris::Body;
-
 use super::geojson::lon180;
 use crate::error::Result;
+use crate::report::Geography;
 
 /// A KML document being built: placemarks in order.
 pub(crate) struct Kml {
     name: String,
-    body: Option<Body>,
+    geography: Geography,
     placemarks: String,
 }
 
 impl Kml {
-    /// An empty document called `name` on `body` (`None`: radii of no known body, no
+    /// An empty document called `name` on `geography` (a body of unknown radii gets no
     /// hint).
-    pub(crate) fn new(name: &str, body: Option<Body>) -> Kml {
-        Kml { name: name.to_string(), body, placemarks: String::new() }
+    pub(crate) fn new(name: &str, geography: &Geography) -> Kml {
+        Kml { name: name.to_string(), geography: geography.clone(), placemarks: String::new() }
     }
 
     /// A line through (latitude, east longitude) points, degrees, drawn in `abgr`
@@ -51,14 +51,26 @@ impl Kml {
 
     /// The document's text.
     pub(crate) fn text(&self) -> String {
-        let hint = match self.body {
-            Some(Body::Mars) => " hint=\"target=mars\"",
-            Some(Body::Moon) => " hint=\"target=moon\"",
-            Some(Body::Earth) | None => "",
+        let g = &self.geography;
+        let hint = match g.body.as_str() {
+            "Mars" => " hint=\"target=mars\"",
+            "Moon" => " hint=\"target=moon\"",
+            _ => "",
         };
+        let data: String = [
+            ("body", g.body.as_str()),
+            ("crs_name", g.crs_name.as_str()),
+            ("crs", g.crs_code_or_wkt2()),
+            ("radius_m", &g.radius_m.to_string()),
+            ("latitude", "planetocentric"),
+            ("longitude", "east, -180..180"),
+        ]
+        .iter()
+        .map(|(k, v)| format!("<Data name=\"{k}\"><value>{}</value></Data>", escape(v)))
+        .collect();
         format!(
             "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<kml xmlns=\"http://www.opengis.net/kml/2.2\"{hint}>\n\
-             <Document><name>{}</name>\n{}</Document>\n</kml>\n",
+             <Document><name>{}</name>\n<ExtendedData>{data}</ExtendedData>\n{}</Document>\n</kml>\n",
             escape(&self.name),
             self.placemarks
         )
@@ -78,10 +90,12 @@ fn escape(text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use areo_terrain::Spheroid;
 
     #[test]
     fn a_mars_route_is_hinted_as_mars_and_parses_as_kml() {
-        let mut kml = Kml::new("valley <detour>", Some(Body::Mars));
+        let mars = Geography::of(&Spheroid::MARS_MOLA_SPHERE);
+        let mut kml = Kml::new("valley <detour>", &mars);
         kml.line("executed route", "ff2820dc", [(-4.5, 137.4), (-4.6, 222.0)]);
         kml.point("goal \"A\" & B", "t = 3 h", (-4.6, 137.5));
         let text = kml.text();
@@ -94,7 +108,14 @@ mod tests {
         let line = doc.descendants().find(|n| n.has_tag_name("coordinates")).unwrap().text().unwrap();
         // Longitude first, wrapped into −180..180.
         assert_eq!(line, "137.4,-4.5 -138,-4.6");
-        assert!(!Kml::new("e", Some(Body::Earth)).text().contains("hint"));
-        assert!(Kml::new("m", Some(Body::Moon)).text().contains("hint=\"target=moon\""));
+        let data = |name: &str| {
+            let d = doc.descendants().find(|n| n.has_tag_name("Data") && n.attribute("name") == Some(name)).unwrap();
+            d.children().find(|n| n.has_tag_name("value")).and_then(|v| v.text()).unwrap().to_string()
+        };
+        assert_eq!(data("crs_name"), "Mars - Sphere, R = 3396000 m / Ocentric");
+        assert_eq!(data("crs"), mars.crs_wkt2, "the WKT2 read back through XML escaping");
+        assert_eq!(data("radius_m"), "3396000");
+        assert!(!Kml::new("e", &Geography::of(&Spheroid::EARTH_WGS84)).text().contains("hint"));
+        assert!(Kml::new("m", &Geography::of(&Spheroid::MOON)).text().contains("hint=\"target=moon\""));
     }
 }

@@ -29,11 +29,45 @@ pub use terrain_shadow::{ShadowSun, TerrainShadowReport};
 use crate::outcome::Fact;
 
 /// East longitude in −180..180, degrees: the one convention of every longitude a run
-/// writes (GeoJSON's range; a longitude of 0..360 from a projection or the ephemeris is
-/// turned into it).
-pub fn lon180(lon: f64) -> f64 {
-    let l = lon.rem_euclid(360.0);
-    if l > 180.0 { l - 360.0 } else { l }
+/// writes (a longitude of 0..360 from a projection or the ephemeris is turned into it).
+pub use areo_terrain::lon180;
+
+/// The body and geographic CRS that every file of a run names — the GeoTIFFs' keys,
+/// GeoJSON's and CZML's `crs`, the KML's data, a table's `.prj`, STAC: latitudes
+/// planetocentric and longitudes east in −180..180 ([`lon180`]) on the sphere the map
+/// is projected on (`areo_terrain::GeographicCrs`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Geography {
+    /// The body: `Mars`, `Moon`, `Earth`, or `unknown` for radii of no known body.
+    pub body: String,
+    /// The sphere's radius, m.
+    pub radius_m: f64,
+    /// The geographic CRS's name (`Mars (2015) - Sphere / Ocentric`).
+    pub crs_name: String,
+    /// Its IAU 2015 code where the sphere is the IAU's (`IAU_2015:49900`).
+    pub crs_code: Option<String>,
+    /// The CRS as OGC WKT2.
+    pub crs_wkt2: String,
+}
+
+impl Geography {
+    /// The geography of a map projected on `surface`.
+    pub fn of(surface: &areo_terrain::Spheroid) -> Geography {
+        let crs = areo_terrain::GeographicCrs::of(surface);
+        Geography {
+            body: crs.body_name().to_string(),
+            radius_m: crs.radius_m,
+            crs_name: crs.name.clone(),
+            crs_code: crs.iau_code.clone(),
+            crs_wkt2: crs.wkt2(),
+        }
+    }
+
+    /// What names the CRS where a format holds one string: the IAU code where there is
+    /// one, else the WKT2 (GDAL reads either).
+    pub fn crs_code_or_wkt2(&self) -> &str {
+        self.crs_code.as_deref().unwrap_or(&self.crs_wkt2)
+    }
 }
 
 /// A job's report.

@@ -10,7 +10,6 @@
 use std::collections::BTreeMap;
 
 use areo_mission::{MissionPlan, SimReport};
-use areo_terrain::Spheroid;
 use areo_terrain::geotiff::Grid;
 use serde::Serialize;
 
@@ -669,14 +668,14 @@ pub struct WaitRow {
     pub longest_earth_loss_h: f64,
 }
 
-/// Where the route runs, for the maps: the body's surface, the start, the goals and the
+/// Where the route runs, for the maps: the body and its CRS, the start, the goals and the
 /// executed route.
 #[derive(Debug, Clone, Serialize)]
 pub struct RoutePlaces {
     /// The run's name (its scenario file's), which names the route's layers.
     pub run: String,
-    /// The body's reference surface (the GeoJSON's CRS, the KML's body).
-    pub surface: Spheroid,
+    /// The body and the geographic CRS of every place.
+    pub geography: super::Geography,
     /// The start.
     pub start: RoutePoint,
     /// The goals, in order.

@@ -177,7 +177,7 @@ pub(super) fn route_places(ctx: &Context<'_>, initial: &MissionPlan, sim: Option
         .collect();
     RoutePlaces {
         run: ctx.name.to_string(),
-        surface: ctx.world.dem().georef().surface,
+        geography: crate::report::Geography::of(&ctx.world.dem().georef().surface),
         start: place("start", ctx.start.cell, Some(start_utc)),
         goals,
         executed: sim.map(|r| {

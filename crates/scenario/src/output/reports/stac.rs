@@ -12,7 +12,6 @@ use std::path::{Path, PathBuf};
 use serde_json::{Value, json};
 
 use crate::error::Result;
-use crate::output::geojson::body_name;
 use crate::output::{json_for, write_file};
 use crate::report::tempest::ShadowSeries;
 use areo_terrain::geotiff::Grid;
@@ -41,7 +40,8 @@ pub(super) fn write(
     } else {
         json!({ "type": "Polygon", "coordinates": [series.footprint] })
     };
-    let body = body_name(&grid.georef.surface);
+    let geographic = grid.georef.geographic();
+    let body = geographic.body_name();
     let links = |rel: &str| json!({ "rel": rel, "href": "./collection.json", "type": "application/json" });
     let mut files = Vec::new();
     let mut item_links = vec![links("root")];
@@ -82,7 +82,7 @@ pub(super) fn write(
         "stac_extensions": [EXTENSIONS[0]],
         "id": COLLECTION,
         "title": "direct sun through the run",
-        "description": format!("The true terrain's direct sun on {body} at the Sun table's instants through the run, one Cloud-Optimized GeoTIFF each (1 lit, 0 in shadow or night, 255 no data)."),
+        "description": format!("The true terrain's direct sun on {body} at the Sun table's instants through the run, one Cloud-Optimized GeoTIFF each (1 lit, 0 in shadow or night, 255 no data). Longitudes east in -180..180 and planetocentric latitudes on {}.", geographic.name),
         "license": "other",
         "ssys:targets": [body],
         "extent": { "spatial": { "bbox": [bbox] }, "temporal": { "interval": [span] } },

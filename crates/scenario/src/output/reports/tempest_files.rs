@@ -1,6 +1,7 @@
 //! A TEMPEST report's files written from the report alone: the plan and the run
 //! (`plan.json`, `simulation.json`), the tables (`plan.csv`, `executed.csv`,
-//! `replans.csv`, `waits.csv`, each column at the decimals its CSV row type gives), the
+//! `replans.csv`, `waits.csv`, each column at the decimals its CSV row type gives; the
+//! two with latitudes with a `.prj` naming their CRS), the
 //! routes (`route.geojson`, `route.kml`), the map layers as Cloud-Optimized GeoTIFFs
 //! (`dem.tif`, `slope.tif`, `direct_sun.tif`), the Monte Carlo's and the Pareto front's tables (`monte_carlo.csv`,
 //! `pareto_front.csv`, `pareto_front.json`) and the plots.
@@ -36,11 +37,23 @@ pub(crate) fn write(dir: &Path, r: &TempestReport) -> Result<Vec<PathBuf>> {
     let t = &r.tables;
     put("plan.json", &|p| write_file(p, json_for(p, plan, true)?.as_bytes()))?;
     put("plan.csv", &|p| write_rows(p, t.plan.iter().map(PlanCsv::from)))?;
+    // A table's lat_deg/lon_deg are on the run's CRS: its WKT2 in a `.prj` of the same
+    // stem, where GDAL's CSV driver (GeoCSV) reads a layer's CRS.
+    let prj = |p: &Path| match &r.route {
+        Some(route) => write_file(p, format!("{}\n", route.geography.crs_wkt2).as_bytes()),
+        None => Ok(()),
+    };
+    if r.route.is_some() {
+        put("plan.prj", &prj)?;
+    }
     if let Some(sim) = &r.simulation {
         put("simulation.json", &|p| write_file(p, json_for(p, sim, false)?.as_bytes()))?;
     }
     if let Some(rows) = &t.executed {
         put("executed.csv", &|p| write_rows(p, rows.iter().map(ExecutedCsv::from)))?;
+        if r.route.is_some() {
+            put("executed.prj", &prj)?;
+        }
     }
     if let Some(rows) = &t.replans {
         put("replans.csv", &|p| write_rows(p, rows.iter().map(ReplanCsv::from)))?;
@@ -191,7 +204,7 @@ impl<'a> From<&'a FrontRow> for FrontCsv<'a> {
 
 /// The routes, start and goals as KML for Google Earth (with the body's hint).
 fn route_kml(r: &TempestReport, route: &RoutePlaces) -> crate::output::kml::Kml {
-    let mut kml = crate::output::kml::Kml::new("areo TEMPEST route", route.surface.body());
+    let mut kml = crate::output::kml::Kml::new("areo TEMPEST route", &route.geography);
     kml.line("initial plan", "ffdc5a1e", r.tables.plan.iter().map(|w| (w.lat_deg, w.lon_deg)));
     if let Some(cells) = &route.executed {
         kml.line("executed route", "ff281edc", cells.iter().copied());
@@ -238,7 +251,7 @@ fn route_geojson(r: &TempestReport, route: &RoutePlaces) -> FeatureCollection {
     for (i, g) in route.goals.iter().enumerate() {
         features.push(feature(point((g.lat_deg, g.lon_deg)), json!({"kind": "goal", "name": g.name, "order": i})));
     }
-    collection(features, &route.surface)
+    collection(features, &route.geography)
 }
 
 /// Where in time a point of the route is, as a mission counts it.

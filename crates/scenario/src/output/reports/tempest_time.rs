@@ -40,7 +40,7 @@ pub(super) fn route_time_geojson(r: &TempestReport, route: &RoutePlaces) -> Valu
         "geometry": { "type": "LineString", "coordinates": coordinates },
     })];
     features.extend(v.windows(2).enumerate().map(|(k, w)| action_feature(k, &w[0], &w[1], executed)));
-    let mut fc = serde_json::to_value(collection(Vec::new(), &route.surface)).unwrap_or_else(|_| json!({}));
+    let mut fc = serde_json::to_value(collection(Vec::new(), &route.geography)).unwrap_or_else(|_| json!({}));
     fc["features"] = Value::Array(features);
     fc
 }
@@ -104,7 +104,7 @@ pub(super) fn route_czml(r: &TempestReport, route: &RoutePlaces) -> Value {
     let v = &route.timeline;
     let (Some(first), Some(last)) = (v.first(), v.last()) else { return json!([]) };
     let interval = format!("{}/{}", first.utc, last.utc);
-    let body = serde_json::to_value(collection(Vec::new(), &route.surface)).unwrap_or_else(|_| json!({}));
+    let body = serde_json::to_value(collection(Vec::new(), &route.geography)).unwrap_or_else(|_| json!({}));
     let mut positions = Vec::with_capacity(4 * v.len());
     for p in v {
         positions.extend([p.unix_s - first.unix_s, lon180(p.lon_deg), p.lat_deg, p.elevation_m]);
