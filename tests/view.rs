@@ -2,8 +2,9 @@
 //! run's page at instants given in the link and the tests read what it drew — its
 //! screenshots and the state the page keeps in `#state` — against the run's own files:
 //! the rover where executed.csv (or the plan) puts it, the shadows changed where the
-//! frames say the direct sun changed, and a link whose time is not the run's showing
-//! the start with the reason.
+//! frames say the direct sun changed, a link whose time is not the run's showing the
+//! start with the reason, the readout's place, zoom and pan, the local-time axis, the
+//! activities' names and the relief under the tints.
 //!
 //! Without Chromium the tests fail where `AREO_REQUIRE_CHROMIUM` is set (CI, whose
 //! `.ci/run` installs it) and say they did not run otherwise.
@@ -201,6 +202,22 @@ fn unix_s(t: &str) -> f64 {
     days as f64 * 86_400.0 + h[0] * 3600.0 + h[1] * 60.0 + h[2]
 }
 
+/// `unix` s as ISO 8601 UTC to the second (the days' civil date: the inverse of
+/// [`unix_s`]'s).
+fn iso(unix: f64) -> String {
+    let (days, secs) = ((unix / 86_400.0).floor() as i64, unix.rem_euclid(86_400.0).round() as i64);
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!("{y:04}-{m:02}-{d:02}T{:02}:{:02}:{:02}Z", secs / 3600, secs % 3600 / 60, secs % 60)
+}
+
 /// The executed row whose action spans `t` (ISO 8601): its start, as map metres.
 fn executed_at(rows: &[HashMap<String, String>], t: &str) -> (f64, f64) {
     let row = rows.iter().find(|r| r["utc"].as_str() <= t && t < r["end_utc"].as_str()).expect("an action then");
@@ -240,15 +257,56 @@ fn valley_detours_viewer_shows_the_night_the_waiting_rover_and_its_battery() {
 #[test]
 fn the_lunar_plans_viewer_moves_the_shadows_and_the_rover_along_the_plan() {
     // Two waypoints a day apart: the rover is at each at its instant.
-    check_plan_viewer("scenarios/lunar-south-pole.ron", |dt| dt > 86_400.0);
+    let Some(page) = check_plan_viewer("scenarios/lunar-south-pole.ron", |dt| dt > 86_400.0) else { return };
+    a_stay_in_a_session_communicates(&page);
+    relief_reads_under_every_tint(&page);
+}
+
+/// A waypoint inside a scheduled Communicate session, where the plan stands still, is
+/// named `communicate`; the Earth lane has a value per frame.
+fn a_stay_in_a_session_communicates(page: &Path) {
+    let data = page_data(page);
+    let plan = csv(&page.with_file_name("plan.csv"));
+    let sessions: Vec<(f64, f64)> = serde_json::from_value(data["sessions"].clone()).unwrap();
+    let (t0, t1) = (unix_s(&plan[0]["utc"]), unix_s(&plan[plan.len() - 1]["utc"]));
+    let &(a, b) = sessions.iter().find(|&&(a, b)| t0 < a && b < t1).expect("a session within the plan");
+    let (during, after) = (0.5 * (a + b), b + 0.5 * (b - a));
+    assert_eq!(unix_s(&iso(during.round())), during.round(), "the calendar");
+    let row = |t: f64| plan.iter().rev().find(|w| unix_s(&w["utc"]) <= t).unwrap();
+    assert!(!row(during)["action"].starts_with("drive"), "the plan stands still in a session: {:?}", row(during));
+    assert_eq!(state(&dom(page, &format!("t={}", iso(during))).0)["doing"], "communicate", "{:?}", row(during));
+    if row(after)["action"] == "wait" && !sessions.iter().any(|&(a, b)| a <= after && after < b) {
+        assert_ne!(state(&dom(page, &format!("t={}", iso(after))).0)["doing"], "communicate", "{:?}", row(after));
+    }
+    let lane = data["frame_earth_in_view"].as_array().expect("an Earth lane off the Earth");
+    assert_eq!(lane.len(), data["frame_unix_s"].as_array().unwrap().len());
+}
+
+/// Under every tint the drawn map keeps the hillshade's relief: in each group of
+/// pixels under the same tints, luminance grows in proportion to the hillshade (the
+/// page's measure over the pixels it drew: 0.70 with the classes mixed a third in).
+fn relief_reads_under_every_tint(page: &Path) {
+    let s = state(&dom(page, "relief").0);
+    let least = num(&s["relief-least"]);
+    assert!(least > 0.95 && least < 1.05, "{s:?}");
+}
+
+#[test]
+fn the_relief_reads_under_the_terrain_classes() {
+    if !chromium_here() {
+        return;
+    }
+    let page = run("scenarios/gale-ground.ron").join("view.html");
+    assert!(page_data(&page)["classes"].is_object(), "gale-ground's map has classes");
+    relief_reads_under_every_tint(&page);
 }
 
 /// Checks the viewer of `scenario` (a plan without a simulation) at its second waypoint
 /// and the first after it whose time since it, s, `apart` accepts: the rover at each
 /// waypoint at its instant, the shadows moving between.
-fn check_plan_viewer(scenario: &str, apart: impl Fn(f64) -> bool) {
+fn check_plan_viewer(scenario: &str, apart: impl Fn(f64) -> bool) -> Option<PathBuf> {
     if !chromium_here() {
-        return;
+        return None;
     }
     let dir = run(scenario);
     let page = dir.join("view.html");
@@ -259,6 +317,75 @@ fn check_plan_viewer(scenario: &str, apart: impl Fn(f64) -> bool) {
     let ((ta, pa), (tb, pb)) = (at(first), at(later));
     check_two_instants(&page, (&ta, pa), (&tb, pb));
     pointing_reads_the_cell_and_a_click_seeks(&dir, &page, &plan);
+    the_place_under_the_pointer_stays_through_zoom_and_follows_a_drag(&page, &plan);
+    local_time_ticks_are_the_plans_local_times(&page, &plan);
+    Some(page)
+}
+
+/// The readout's latitude and longitude are plan.csv's at a waypoint's cell; four notches
+/// of the wheel zoom 1.25⁴ about the pointer (the same cell under it, the scale bar's
+/// metres per pixel divided by as much); a drag moves the view by as many image pixels
+/// as the pointer moved over the zoom, the cell under the pointer with it.
+fn the_place_under_the_pointer_stays_through_zoom_and_follows_a_drag(page: &Path, plan: &[HashMap<String, String>]) {
+    let data = page_data(page);
+    let k = data["cells_per_pixel"].as_f64().unwrap();
+    let scale = num(&state(&dom(page, "").0)["scale"]);
+    let w = &plan[plan.len() / 2];
+    let (px, py) = pixel(&data, (num(&w["x_m"]), num(&w["y_m"])));
+    let (cx, cy) = (px * scale, py * scale);
+    let flat = state(&dom(page, &format!("point={cx},{cy}")).0);
+    if (num(&flat["hover-col"]), num(&flat["hover-row"])) == (num(&w["col"]), num(&w["row"])) {
+        assert!((num(&flat["hover-lat"]) - num(&w["lat_deg"])).abs() < 1e-6, "{flat:?} for {w:?}");
+        assert!((num(&flat["hover-lon"]) - num(&w["lon_deg"])).abs() < 1e-6, "{flat:?} for {w:?}");
+    } else {
+        // Another cell of the waypoint's block: within the block's size of it.
+        let (dlat, dlon) = (num(&flat["hover-lat"]) - num(&w["lat_deg"]), num(&flat["hover-lon"]) - num(&w["lon_deg"]));
+        let radius = data["geo"]["radius_m"].as_f64().unwrap();
+        let metres = radius * dlat.to_radians().hypot(dlon.to_radians() * num(&w["lat_deg"]).to_radians().cos());
+        assert!(metres < 2.0 * k * data["cell_m"][0].as_f64().unwrap(), "{flat:?} for {w:?}");
+    }
+    let zoomed = state(&dom(page, &format!("wheel={cx},{cy},4&point={cx},{cy}")).0);
+    assert_eq!((&zoomed["hover-col"], &zoomed["hover-row"]), (&flat["hover-col"], &flat["hover-row"]), "{zoomed:?}");
+    let zoom = 1.25_f64.powi(4);
+    assert!((num(&zoomed["zoom"]) - zoom).abs() < 1e-12, "{zoomed:?}");
+    let per_px = |s: &HashMap<String, String>| num(&s["scale-bar-m"]) / num(&s["scale-bar-px"]);
+    assert!((per_px(&flat) / per_px(&zoomed) - zoom).abs() < 1e-9, "{flat:?} {zoomed:?}");
+    // Drag 120 canvas pixels towards the side with room, then point where it started.
+    let room = num(&zoomed["pan-x"]) > 120.0 / (scale * zoom);
+    let to = if room { cx + 120.0 } else { cx - 120.0 };
+    let dragged = state(&dom(page, &format!("wheel={cx},{cy},4&drag={cx},{cy},{to},{cy}&point={cx},{cy}")).0);
+    let moved = num(&zoomed["pan-x"]) - num(&dragged["pan-x"]);
+    assert!((moved - (to - cx) / (scale * zoom)).abs() < 1e-9, "{zoomed:?} {dragged:?}");
+    let col = data["origin_cells"][0].as_f64().unwrap() + (num(&dragged["pan-x"]) + cx / (scale * zoom)).floor() * k;
+    assert_eq!(num(&dragged["hover-col"]), col, "{dragged:?}");
+    assert!((num(&dragged["hover-col"]) - num(&flat["hover-col"])).abs() >= (120.0 / (scale * zoom)).floor() * k - k);
+}
+
+/// Every tick of the chart's local-time axis is where plan.csv's local solar time,
+/// carried to the start's longitude (an hour for every 15° east), is the tick's hour.
+fn local_time_ticks_are_the_plans_local_times(page: &Path, plan: &[HashMap<String, String>]) {
+    let s = state(&dom(page, "").0);
+    let ticks: Vec<serde_json::Value> = serde_json::from_str(&s["local-ticks"]).unwrap();
+    assert!(!ticks.is_empty(), "{s:?}");
+    let lon0 = num(&plan[0]["lon_deg"]);
+    let at_start = |r: &HashMap<String, String>| {
+        let shift = ((lon0 - num(&r["lon_deg"]) + 180.0).rem_euclid(360.0) - 180.0) / 15.0;
+        num(&r["ltst_h"]) + shift
+    };
+    for tick in &ticks {
+        let t = tick["t"].as_f64().unwrap();
+        let Some(i) = plan.windows(2).position(|p| unix_s(&p[0]["utc"]) <= t && t <= unix_s(&p[1]["utc"])) else {
+            continue;
+        };
+        let (a, b) = (&plan[i], &plan[i + 1]);
+        let f = (t - unix_s(&a["utc"])) / (unix_s(&b["utc"]) - unix_s(&a["utc"])).max(1e-9);
+        let (la, lb) = (at_start(a), at_start(b));
+        let lb = la + (lb - la + 12.0).rem_euclid(24.0) - 12.0;
+        let local = la + f * (lb - la);
+        let hour = tick["hour"].as_f64().unwrap();
+        let off = (local - hour + 12.0).rem_euclid(24.0) - 12.0;
+        assert!(off.abs() < 0.02, "tick {tick}: the plan's local time there is {local} h");
+    }
 }
 
 /// Pointing at the map over a waypoint reads out the cell under the pointer (its block's

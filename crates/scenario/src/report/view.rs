@@ -82,6 +82,36 @@ pub struct ViewData {
     /// The rover in time: the start, then where and when each action ended (a plan's
     /// waypoints without a simulation); the rover moves linearly between.
     pub track: Vec<ViewTrackPoint>,
+    /// Where the map lies on the body, for the readout's latitude and longitude.
+    pub geo: ViewGeo,
+    /// The local true solar time at the start's longitude at each frame's instant, h.
+    pub frame_ltst_h: Vec<f64>,
+    /// The local day (sol on Mars) at the start's longitude at each frame's instant.
+    pub frame_sol: Vec<i64>,
+    /// Off the Earth, whether the Earth is in view (above the terrain's horizon) from
+    /// where the rover is at each frame's instant.
+    pub frame_earth_in_view: Option<Vec<bool>>,
+    /// The scheduled Communicate sessions, (start, end) s since 1970-01-01T00:00:00 UTC.
+    pub sessions: Vec<(f64, f64)>,
+}
+
+/// How map cells relate to latitude and longitude: the map's projection on its sphere.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ViewGeo {
+    /// `equirectangular`, `polar_north`, `polar_south`, or `local` (no geography).
+    pub projection: String,
+    /// The sphere's radius, m.
+    pub radius_m: f64,
+    /// The standard parallel (equirectangular), degrees.
+    pub lat_ts_deg: f64,
+    /// The central meridian, degrees east.
+    pub lon0_deg: f64,
+    /// The map's west edge and north edge in projected metres (cell (0, 0)'s corner).
+    pub x0_m: f64,
+    /// See `x0_m`.
+    pub y_top_m: f64,
+    /// The CRS's name.
+    pub crs_name: String,
 }
 
 /// A route through the image.

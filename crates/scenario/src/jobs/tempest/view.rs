@@ -6,8 +6,11 @@ use base64::Engine;
 
 use super::*;
 use crate::report::Raster;
-use crate::report::view::{VIEW_FRAMES, VIEW_PIXELS, ViewClasses, ViewData, ViewPlace, ViewRoute, ViewTrackPoint};
+use crate::report::view::{
+    VIEW_FRAMES, VIEW_PIXELS, ViewClasses, ViewData, ViewGeo, ViewPlace, ViewRoute, ViewTrackPoint,
+};
 use areo_mission::UNCLASSIFIED;
+use areo_terrain::Projection;
 
 /// The viewer's data for the initial plan and, with a simulation, the run.
 pub(super) fn view(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimReport>) -> ViewData {
@@ -36,6 +39,10 @@ pub(super) fn view(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimRep
     let epoch_unix = truth.epoch().to_unix_seconds();
     let times = frame_times(t0, t1);
     let sun_at = |t: f64| ctx.world.sun((t - epoch_unix).clamp(0.0, ctx.world.span_s())).elevation_deg;
+    let lon = truth.lat_lon(ctx.start.cell).1;
+    let rover = rover_cells(initial, sim, ctx.start.cell);
+    let earth = (truth.body() != areo_ephemeris::Body::Earth)
+        .then(|| times.iter().map(|&t| truth.earth_visible(cell_at(&rover, t - epoch_unix), t - epoch_unix)).collect());
     ViewData {
         name: ctx.name.to_string(),
         body: format!("{:?}", truth.body()),
@@ -55,7 +62,6 @@ pub(super) fn view(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimRep
         frame_sun_elevation_deg: times.iter().map(|&t| sun_at(t)).collect(),
         frame_utc: times.iter().map(|&t| format_utc(truth.epoch() + Duration::from_seconds(t - epoch_unix))).collect(),
         frames: times.iter().map(|&t| direct_sun(truth, &cells, t - epoch_unix)).collect(),
-        frame_unix_s: times,
         no_go: ctx.no_go.filter(|c| c.len() == truth.cells()).map(|codes| {
             let mut bits = vec![0u8; cells.len().div_ceil(8)];
             for (i, &c) in cells.iter().enumerate() {
@@ -74,7 +80,51 @@ pub(super) fn view(ctx: &Context<'_>, initial: &MissionPlan, sim: Option<&SimRep
         start: place("start", ctx.start.cell),
         goals: ctx.goals.iter().enumerate().map(|(i, &g)| place(ctx.goal_name(i), g)).collect(),
         track,
+        geo: geo(truth),
+        frame_ltst_h: times.iter().map(|&t| truth.local_solar_time_h(t - epoch_unix, lon)).collect(),
+        frame_sol: times.iter().map(|&t| truth.local_sol(t - epoch_unix, lon)).collect(),
+        frame_earth_in_view: earth,
+        sessions: ctx.model.sessions().iter().map(|&(a, b)| (a + epoch_unix, b + epoch_unix)).collect(),
+        frame_unix_s: times,
     }
+}
+
+/// The map's projection on its sphere, for the viewer's latitude and longitude.
+fn geo(truth: &World) -> ViewGeo {
+    let g = truth.dem().georef();
+    let (projection, lat_ts_deg, lon0_deg) = match g.projection {
+        Projection::Equirectangular { lat_ts_deg, lon0_deg } => ("equirectangular", lat_ts_deg, lon0_deg),
+        Projection::PolarStereographic { north: true, lon0_deg } => ("polar_north", 90.0, lon0_deg),
+        Projection::PolarStereographic { north: false, lon0_deg } => ("polar_south", -90.0, lon0_deg),
+        Projection::Local => ("local", 0.0, 0.0),
+    };
+    ViewGeo {
+        projection: projection.to_string(),
+        radius_m: g.surface.equatorial_radius_m,
+        lat_ts_deg,
+        lon0_deg,
+        x0_m: truth.dem().x0(),
+        y_top_m: truth.dem().y_top(),
+        crs_name: g.geographic().name,
+    }
+}
+
+/// Where the rover is from when, s after the epoch: the plan's waypoints, or with a
+/// simulation where each action ended.
+fn rover_cells(initial: &MissionPlan, sim: Option<&SimReport>, start: u32) -> Vec<(f64, u32)> {
+    match sim {
+        Some(r) => std::iter::once((r.start.t_min, r.start.cell))
+            .chain(r.steps.iter().map(|s| (s.t_s + s.duration_s, s.to)))
+            .collect(),
+        None if initial.waypoints.is_empty() => vec![(0.0, start)],
+        None => initial.waypoints.iter().map(|w| (w.t_s, w.cell)).collect(),
+    }
+}
+
+/// The cell the rover is at `t_s` after the epoch (the last it reached by then).
+fn cell_at(rover: &[(f64, u32)], t_s: f64) -> u32 {
+    let k = rover.partition_point(|&(t, _)| t <= t_s);
+    rover[k.saturating_sub(1)].1
 }
 
 /// The run's first and last instants on `view`'s track, s after the epoch.

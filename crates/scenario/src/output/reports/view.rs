@@ -6,8 +6,11 @@
 //! a cursor. The instant is in the link (`view.html#t=2012-08-07T03:00:00Z`); a link
 //! whose time is not a time of the run shows the start and says why. The page keeps
 //! its state in `#state`'s data attributes (`data-utc`, `data-rover-x`,
-//! `data-rover-y` in the image's pixels, `data-frame`, `data-error`) for a test or a
-//! script to read.
+//! `data-rover-y` in the image's pixels, `data-frame`, `data-error`, `data-doing`, the
+//! view's `data-zoom`/`data-pan-x`/`data-pan-y`, the readout's `data-hover-*`,
+//! `data-local-ticks`) for a test or a script to read; the link's `wheel=X,Y,N`,
+//! `drag=X,Y,X2,Y2`, `point=X,Y` and `click=X,Y` send those pointer events at canvas
+//! pixels, and `relief` measures the relief the drawn map keeps.
 
 use std::path::Path;
 
@@ -60,6 +63,13 @@ struct Page<'a> {
     /// rover there) or a plan (what it does next).
     executed: bool,
     about: String,
+    geo: &'a crate::report::view::ViewGeo,
+    frame_ltst_h: &'a [f64],
+    frame_sol: &'a [i64],
+    frame_earth_in_view: Option<&'a [bool]>,
+    sessions: &'a [(f64, f64)],
+    /// What a local day is called (`sol` on Mars, `day` elsewhere).
+    day_name: &'a str,
 }
 
 /// Writes `view.html` (`executed`: a simulated run) at `path`;
@@ -92,6 +102,12 @@ pub(super) fn write(path: &Path, view: &ViewData, executed: bool) -> Result<usiz
         track: &view.track,
         executed,
         about,
+        geo: &view.geo,
+        frame_ltst_h: &view.frame_ltst_h,
+        frame_sol: &view.frame_sol,
+        frame_earth_in_view: view.frame_earth_in_view.as_deref(),
+        sessions: &view.sessions,
+        day_name: if view.body == "Mars" { "sol" } else { "day" },
     };
     let about = |bytes: usize| {
         format!(
