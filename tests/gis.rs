@@ -136,8 +136,9 @@ fn layers_lie_under_the_route(
         let gt: Vec<f64> = serde_json::from_value(info["geoTransform"].clone()).unwrap();
         assert_eq!((gt[1], gt[2], gt[4], gt[5]), (30.0, 0.0, 0.0, -30.0), "{name} {layer}");
         assert_eq!(info["size"], serde_json::json!([60, 40]), "{name} {layer}");
-        // A Cloud-Optimized GeoTIFF, as GDAL reads it.
+        // A Cloud-Optimized GeoTIFF, as GDAL reads it and as GDAL's validator finds it.
         assert_eq!(info["metadata"]["IMAGE_STRUCTURE"]["LAYOUT"], "COG", "{name} {layer}: {}", info["metadata"]);
+        cog_validator_accepts(&path);
         // A map smaller than a tile is one tile of its size, rounded up to 16 pixels.
         assert_eq!(info["bands"][0]["block"], serde_json::json!([64, 64]), "{name} {layer}");
     }
@@ -218,6 +219,19 @@ fn every_file_names_one_crs(name: &str, dir: &Path, (crs, radius): (&str, f64), 
     for corner in item["geometry"]["coordinates"][0].as_array().unwrap() {
         near("the STAC footprint", corner[0].as_f64().unwrap());
     }
+}
+
+/// GDAL's COG validator (`validate_cloud_optimized_geotiff.py` from Debian's
+/// python3-gdal, which `.ci/gdal-up` installs) accepts `path`, its full check included
+/// (every tile's data where the index says).
+fn cog_validator_accepts(path: &Path) {
+    let out = Command::new("/usr/bin/python3")
+        .args(["-m", "osgeo_utils.samples.validate_cloud_optimized_geotiff", "--full-check=yes"])
+        .arg(path)
+        .output()
+        .unwrap_or_else(|e| panic!("GDAL's COG validator: {e}"));
+    let said = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success() && said.contains("is a valid cloud optimized GeoTIFF"), "{}: {said}", path.display());
 }
 
 /// Each layer's band names what it holds and its unit, as GDAL reads them; the direct
@@ -335,6 +349,9 @@ fn gdal_reads_a_large_layer_as_a_cog_with_its_overviews() {
     let info: serde_json::Value =
         serde_json::from_str(&tool("gdalinfo", &["-json", dir.join("big/dem.tif").to_str().unwrap()])).unwrap();
     assert_eq!(info["metadata"]["IMAGE_STRUCTURE"]["LAYOUT"], "COG");
+    // Tiles and overviews in the order the validator wants.
+    cog_validator_accepts(&dir.join("big/dem.tif"));
+    cog_validator_accepts(&dir.join("big/slope.tif"));
     assert_eq!(info["size"], serde_json::json!([600, 450]));
     let overviews: Vec<serde_json::Value> =
         info["bands"][0]["overviews"].as_array().unwrap().iter().map(|o| o["size"].clone()).collect();
@@ -380,6 +397,7 @@ fn gdal_reads_a_large_layer_as_a_cog_with_its_overviews() {
         let info: serde_json::Value =
             serde_json::from_str(&tool("gdalinfo", &["-json", file.to_str().unwrap()])).unwrap();
         assert_eq!(info["metadata"]["IMAGE_STRUCTURE"]["LAYOUT"], "COG", "{}", file.display());
+        cog_validator_accepts(&file);
         // The file's own time is the index's, to the second.
         let utc = e["utc"].as_str().unwrap();
         let stamp = info["metadata"][""]["TIFFTAG_DATETIME"].as_str().unwrap_or_default().to_string();
@@ -412,6 +430,8 @@ fn gdal_reads_the_class_and_mask_layers_as_the_layers_gdal_made() {
     let (ours, counts) = histogram(&dir.join("gale-ground/classes.tif"));
     let (_, theirs) = histogram(&root.join("scenarios/data/gale_roughness_classes.tif"));
     assert_eq!(ours["metadata"]["IMAGE_STRUCTURE"]["LAYOUT"], "COG");
+    cog_validator_accepts(&dir.join("gale-ground/classes.tif"));
+    cog_validator_accepts(&dir.join("gale-ground/no_go.tif"));
     assert_eq!(ours["size"], serde_json::json!([64, 64]));
     assert_eq!(ours["bands"][0]["noDataValue"].as_f64(), Some(255.0));
     assert_eq!(counts, theirs, "class counts 0..5: ours {counts:?}, GDAL's {theirs:?}");
