@@ -119,6 +119,9 @@ pub struct World {
     horizon: Option<Arc<HorizonMap>>,
     /// Whether `horizon` is another world's (so not counted in [`World::bytes`]).
     shares_horizon: bool,
+    /// Whether `horizon` was traced on `dem` itself (a region's horizons are the whole
+    /// map's): a true world then traces only the lines near the cells it changes.
+    horizon_of_dem: bool,
     /// Cells whose horizon was sensed: their profile is in `sensed_horizon`.
     horizon_sensed: Vec<AtomicBool>,
     sensed_horizon: Mutex<HashMap<u32, Box<[f32]>>>,
@@ -193,7 +196,9 @@ impl World {
                 message: format!("{:?}: the region's horizon map has {sectors:?}", config.horizon_sectors),
             });
         }
-        World::from_parts(region.dem, region.slope, region.horizon, config, sun_model)
+        let mut world = World::from_parts(region.dem, region.slope, region.horizon, config, sun_model)?;
+        world.horizon_of_dem = false;
+        Ok(world)
     }
 
     fn check(config: &WorldConfig) -> Result<()> {
@@ -246,6 +251,7 @@ impl World {
             blocked: (0..cells).map(|_| AtomicBool::new(false)).collect(),
             horizon,
             shares_horizon: false,
+            horizon_of_dem: true,
             sun,
             earth,
             sun_step_s: config.sun_step_s,
@@ -278,6 +284,7 @@ impl World {
             blocked: flags(&self.blocked),
             horizon: self.horizon.clone(),
             shares_horizon: true,
+            horizon_of_dem: self.horizon_of_dem,
             horizon_sensed: flags(&self.horizon_sensed),
             sensed_horizon: Mutex::new(sensed),
             sun: self.sun.clone(),
@@ -825,7 +832,9 @@ impl World {
     /// The true world a rover drives on, on the map's grid, for simulation: like
     /// [`World::new`], except that with the same horizon sectors as `map` it shares the
     /// map's horizon map and keeps only where the true horizon differs
-    /// ([`HorizonMap::changes`]) — as if those cells' horizons had been sensed. Holding
+    /// ([`HorizonMap::changes_from`], tracing only the lines near the cells the truth
+    /// changes; [`HorizonMap::changes`] for a region, whose horizons are a larger map's)
+    /// — as if those cells' horizons had been sensed. Holding
     /// one full map instead of two halves the horizons' memory (0.38 GB at the LITA
     /// map's size and 32 sectors).
     pub fn truth(dem: Dem, config: &WorldConfig, sun_model: &impl SunModel, map: &World) -> Result<World> {
@@ -833,7 +842,14 @@ impl World {
             (Some(h), Some(k)) if h.sectors() == k && map.cols() == dem.cols() && map.rows() == dem.rows() => h.clone(),
             _ => return World::new(dem, config, sun_model),
         };
-        let changes = shared.changes(&dem, curvature_of(sun_model.body()))?;
+        // Only the lines near the cells the truth changes can differ, where the map's
+        // horizons were traced on the map's own DEM.
+        let curvature = curvature_of(sun_model.body());
+        let changes = if map.horizon_of_dem {
+            shared.changes_from(&map.dem, &dem, curvature)?
+        } else {
+            shared.changes(&dem, curvature)?
+        };
         let mut world = World::new(dem, &WorldConfig { horizon_sectors: None, ..config.clone() }, sun_model)?;
         world.horizon = Some(shared);
         world.shares_horizon = true;

@@ -272,30 +272,14 @@ impl HorizonMap {
             for (chunk, &s) in buffer[..cells * per_job * n].chunks(cells.max(1)).zip(&sector_of) {
                 // At the map's own precision: a narrowed map's truth differs where the
                 // one-byte codes do.
-                match &self.angles {
-                    Codes::Wide(a) => {
-                        for (i, (&new, &old)) in chunk.iter().zip(&a[s * cells..(s + 1) * cells]).enumerate() {
-                            if new != old {
-                                changed.push((i as u32, s as u16, decode(new)));
-                            }
-                        }
-                    }
-                    Codes::Narrow(a) => {
-                        for (i, (&new, &old)) in chunk.iter().zip(&a[s * cells..(s + 1) * cells]).enumerate() {
-                            if narrow(new) != old {
-                                changed.push((i as u32, s as u16, decode_narrow(narrow(new))));
-                            }
-                        }
+                for (i, &code) in chunk.iter().enumerate() {
+                    if let Some(deg) = self.differs(s, i, code) {
+                        changed.push((i as u32, s as u16, deg));
                     }
                 }
             }
         }
-        let mut profiles: std::collections::HashMap<u32, Box<[f32]>> = std::collections::HashMap::new();
-        for (i, s, v) in changed {
-            let profile = profiles.entry(i).or_insert_with(|| self.cell_profile(i as usize).into_boxed_slice());
-            profile[s as usize] = v as f32;
-        }
-        Ok(HorizonChanges { sectors, profiles })
+        Ok(self.profiles_of(changed))
     }
 
     /// Number of sectors.
@@ -421,12 +405,12 @@ fn trace_sectors(
             let az = s as f64 * 360.0 / sectors as f64;
             match opposite {
                 Some(opposite) => {
-                    trace_lines(dem, zn, az, curvature, origin, Some(&mut *toward), Some(&mut *away));
+                    trace_lines(dem, zn, az, curvature, origin, Some(&mut *toward), Some(&mut *away), None);
                     write(toward, scratch, out);
                     write(away, scratch, opposite);
                 }
                 None => {
-                    trace_lines(dem, zn, az, curvature, origin, Some(&mut *toward), None);
+                    trace_lines(dem, zn, az, curvature, origin, Some(&mut *toward), None, None);
                     write(toward, scratch, out);
                 }
             }
@@ -447,7 +431,7 @@ fn trace_sectors(
 /// cast at low Sun, against 0.1–0.2 % at a quarter cell).
 pub fn horizon_toward(dem: &Dem, azimuth_deg: f64, curvature: Curvature) -> Vec<f64> {
     let mut acc = Accumulator::default();
-    trace_lines(dem, &Elevations::of(dem), azimuth_deg, curvature, (0, 0), Some(&mut acc), None);
+    trace_lines(dem, &Elevations::of(dem), azimuth_deg, curvature, (0, 0), Some(&mut acc), None, None);
     let mut out = vec![0.0; dem.cols() * dem.rows()];
     acc.for_each_cell(dem.cols(), dem.rows(), |i, [sum, weight]| out[i] = finish(dem.valid_mask()[i], sum, weight));
     out
@@ -459,11 +443,16 @@ fn encode_all(cells: &[[f32; 2]], zn: &[f32], out: &mut [u16]) {
     let n = out.len();
     let (cells, zn) = (&cells[..n], &zn[..n]);
     for i in 0..n {
-        let [sum, weight] = cells[i];
-        let deg = f64::from(crate::slope::fast_atan(sum / weight)).to_degrees();
-        let deg = if weight > 0.0 { deg } else { -90.0 };
-        out[i] = encode(if zn[i].is_nan() { f64::NAN } else { deg });
+        out[i] = encode_one(cells[i], zn[i]);
     }
+}
+
+/// One cell's code from its accumulated [sum, weight] and its elevation (NaN: missing).
+#[inline(always)]
+fn encode_one([sum, weight]: [f32; 2], z: f32) -> u16 {
+    let deg = f64::from(crate::slope::fast_atan(sum / weight)).to_degrees();
+    let deg = if weight > 0.0 { deg } else { -90.0 };
+    encode(if z.is_nan() { f64::NAN } else { deg })
 }
 
 /// The horizon angle of one cell from its blended tangent.
@@ -567,6 +556,7 @@ struct Line {
 /// sector's horizon is the same whether it is computed alone or with its opposite.
 /// `zn` is [`Elevations::of`] the DEM; `origin`, the (column, row) of the DEM's first
 /// cell in the map whose line family to follow.
+#[allow(clippy::too_many_arguments)] // the family, its two directions and a part of it
 fn trace_lines<'a>(
     dem: &Dem,
     zn: &Elevations,
@@ -575,6 +565,7 @@ fn trace_lines<'a>(
     origin: (usize, usize),
     mut toward: Option<&'a mut Accumulator>,
     mut away: Option<&'a mut Accumulator>,
+    mut part: Option<&mut changed::Part<'_>>,
 ) {
     let (cols, rows) = (dem.cols(), dem.rows());
     // n: cells along the dominant axis; t_len: cells across; shift: transverse index
@@ -608,8 +599,12 @@ fn trace_lines<'a>(
     let (q_lo, q_hi) = if phase == 0.0 { (0, 0) } else { (1, 0) };
     let mut hull = Hull::with_capacity(n);
     let mut line = Line::default();
+    let windows = part.as_deref().map(|p| p.windows(along_cols, (cols, rows), shift));
     for q in (first * LINES_PER_CELL - q_lo)..=(last * LINES_PER_CELL + q_hi) {
         let t0 = q as f64 * SPACING + phase;
+        if windows.as_ref().is_some_and(|w| !w.traces(t0)) {
+            continue;
+        }
         // Only the steps where this line is on the map: −1 ≤ t0 − shift·j ≤ t_len.
         let (j_lo, j_hi) = if shift == 0.0 {
             if t0 < -1.0 || t0 > t_len as f64 { (1, 0) } else { (0, n - 1) }
@@ -631,6 +626,11 @@ fn trace_lines<'a>(
         }
         if let Some(acc) = away.as_deref_mut() {
             line.walk(&mut hull, acc, true, inv_r);
+        }
+        if let (Some(p), Some(w)) = (part.as_deref_mut(), &windows)
+            && w.touches(t0)
+        {
+            p.reach(&line.cell);
         }
     }
 }
@@ -880,6 +880,8 @@ pub fn los_sequence(
     }
     out
 }
+
+mod changed;
 
 #[cfg(test)]
 mod tests;

@@ -191,3 +191,62 @@ fn a_raised_map_is_the_upper_envelope_of_its_profiles() {
         assert!((0..200).filter(|&c| c != i).all(|c| raised.cell_profile(c) == map.cell_profile(c)));
     }
 }
+
+/// The terrain `dem` changed in `edit`'s cells: (cell, new height or `None` for missing).
+fn edited(dem: &Dem, edit: &[(usize, Option<f32>)]) -> Dem {
+    let mut z = dem.elevations().to_vec();
+    let mut valid = dem.valid_mask().to_vec();
+    for &(i, h) in edit {
+        match h {
+            Some(h) => (z[i], valid[i]) = (h, true),
+            None => valid[i] = false,
+        }
+    }
+    Dem::new(dem.cols(), dem.rows(), dem.dx(), dem.dy(), dem.x0(), dem.y_top(), z).unwrap().with_mask(valid).unwrap()
+}
+
+/// Tracing only the lines near the changed cells finds the changes the whole trace
+/// finds, cell for cell and bit for bit: a hill added, scattered cells raised and sunk
+/// (one on the map's edge, one in a corner), cells gone missing, nothing changed; square
+/// and oblong cells (a shift that is no simple fraction); sectors paired and not; flat
+/// and on the Moon's sphere; two-byte and one-byte maps.
+#[test]
+fn changes_traced_near_the_changed_cells_equal_the_whole_trace() {
+    use rand::{RngExt, SeedableRng};
+    let square = terrain();
+    let oblong = Dem::new(90, 70, 20.0, 27.3, 0.0, 70.0 * 27.3, square.elevations().to_vec()).unwrap();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    for before in [square, oblong] {
+        let (cols, cells) = (before.cols(), before.cols() * before.rows());
+        let mut places: Vec<usize> = (0..6).map(|_| rng.random_range(0..cells)).collect();
+        places.extend([45 * cols, cells - 1]);
+        let scattered: Vec<(usize, Option<f32>)> =
+            places.iter().map(|&i| (i, Some(before.elevations()[i] + rng.random_range(-80.0f32..120.0)))).collect();
+        let afters = [
+            (terrain_with(vec![Feature::Hill { x_m: 400.0, y_m: 1000.0, radius_m: 90.0, slope_deg: 30.0 }]), true),
+            (edited(&before, &scattered), true),
+            (edited(&before, &[(30 * cols + 40, None), (30 * cols + 41, None), (31 * cols + 40, None)]), true),
+            (before.clone(), false),
+        ];
+        for (after, differs) in &afters {
+            if after.dy() != before.dy() {
+                continue; // the hill is built on square cells
+            }
+            for (sectors, curvature) in
+                [(32, Curvature::Flat), (17, Curvature::Flat), (16, Curvature::Sphere { radius_m: 1_737_400.0 })]
+            {
+                let wide = HorizonMap::compute(&before, sectors, curvature).unwrap();
+                for map in [wide.narrowed(), wide] {
+                    let whole = map.changes(after, curvature).unwrap();
+                    let near = map.changes_from(&before, after, curvature).unwrap();
+                    assert_eq!(whole.is_empty(), !differs, "{sectors} sectors");
+                    assert_eq!(near.len(), whole.len(), "{sectors} sectors, {} cells changed", whole.len());
+                    for i in 0..cells {
+                        let bits = |p: Option<&[f32]>| p.map(|p| p.iter().map(|v| v.to_bits()).collect::<Vec<_>>());
+                        assert_eq!(bits(near.profile(i)), bits(whole.profile(i)), "cell {i}, {sectors} sectors");
+                    }
+                }
+            }
+        }
+    }
+}
