@@ -79,19 +79,6 @@ impl Body {
         }
     }
 
-    /// The geographic CRS that GIS tools (PROJ ≥ 8.2, GDAL) know for coordinates as
-    /// areo writes them — planetocentric latitude and east longitude on the body's
-    /// sphere: `IAU_2015:49900` (Mars), `IAU_2015:30100` (the Moon), the IAU 2015 codes
-    /// NAIF id × 100; on the Earth WGS 84 longitude, latitude
-    /// (`urn:ogc:def:crs:OGC:1.3:CRS84`, GeoJSON's own).
-    pub fn geographic_crs(self) -> &'static str {
-        match self {
-            Body::Mars => "IAU_2015:49900",
-            Body::Moon => "IAU_2015:30100",
-            Body::Earth => "urn:ogc:def:crs:OGC:1.3:CRS84",
-        }
-    }
-
     /// The body's ellipsoid: IAU 2015 for Mars (Archinal et al. 2018), the IAU mean
     /// sphere for the Moon, WGS84 for the Earth.
     pub fn ellipsoid(self) -> Spheroid {
@@ -200,9 +187,5 @@ mod tests {
         assert_eq!(Body::from_name("Moon"), Some(Body::Moon));
         assert_eq!(Body::from_name("pluto"), None);
         assert_eq!(Body::ALL.map(Body::naif_id), [499, 301, 399]);
-        // The IAU 2015 geographic (sphere, ocentric) codes are the NAIF id × 100.
-        for b in [Body::Mars, Body::Moon] {
-            assert_eq!(b.geographic_crs(), format!("IAU_2015:{}", b.naif_id() * 100));
-        }
     }
 }
