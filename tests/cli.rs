@@ -868,6 +868,13 @@ fn czml_follows_the_route(
     let height = |p: &serde_json::Value| p["position"]["cartographicDegrees"][2].as_f64().unwrap();
     let end = vertices.last().unwrap()[2].as_f64().unwrap();
     assert!((height(goals[1]) - end).abs() < 1e-6 && end.abs() > 100.0, "{} against {end}", height(goals[1]));
+    // Each goal says its place in the order and when the plan reaches it, the first first.
+    let reached: Vec<&str> = goals.iter().map(|g| g["properties"]["reached_utc"].as_str().unwrap()).collect();
+    assert!(reached[0] < reached[1] && reached[0].as_bytes()[..4] == utc[0].as_str().unwrap().as_bytes()[..4]);
+    for (k, g) in goals.iter().enumerate() {
+        assert_eq!(g["properties"]["order"], k + 1);
+        assert!(g["description"].as_str().unwrap().contains(reached[k]), "{g}");
+    }
     // The rover carries its battery, Sun and activity through time: the battery sampled
     // at the vertices' instants, one activity per vertex.
     let battery = rover["properties"]["battery_wh"]["number"].as_array().unwrap();

@@ -140,13 +140,20 @@ pub(super) fn route_czml(r: &TempestReport, route: &RoutePlaces) -> Value {
             "properties": rover_properties(v),
         }),
     ];
-    for g in &route.goals {
+    for (i, g) in route.goals.iter().enumerate() {
+        let reached = match &g.utc {
+            Some(t) => format!("reached by the plan at {t}"),
+            None => "not reached by the plan".to_string(),
+        };
         packets.push(json!({
             "id": format!("goal {}", g.name),
             "name": g.name,
+            "description": format!("Goal {} of {}, {reached}; elevation {:.1} m on the map.", i + 1, route.goals.len(),
+                g.elevation_m.unwrap_or(f64::NAN)),
             "position": { "cartographicDegrees": [lon180(g.lon_deg), g.lat_deg, g.elevation_m.unwrap_or(0.0)] },
             "point": { "pixelSize": 12, "color": { "rgba": [250, 220, 40, 255] } },
             "label": { "text": g.name, "pixelOffset": { "cartesian2": [0, -18] } },
+            "properties": { "order": i + 1, "reached_utc": g.utc },
         }));
     }
     Value::Array(packets)
