@@ -65,8 +65,8 @@ pub(crate) fn body_member(g: &Geography) -> JsonValue {
         "crs_name": g.crs_name,
         "equatorial_radius_m": g.radius_m,
         "polar_radius_m": g.radius_m,
-        "latitude": "planetocentric",
-        "longitude": "east, -180..180",
+        "latitude": Geography::LATITUDE,
+        "longitude": Geography::LONGITUDE,
     })
 }
 

@@ -62,8 +62,8 @@ impl Kml {
             ("crs_name", g.crs_name.as_str()),
             ("crs", g.crs_code_or_wkt2()),
             ("radius_m", &g.radius_m.to_string()),
-            ("latitude", "planetocentric"),
-            ("longitude", "east, -180..180"),
+            ("latitude", Geography::LATITUDE),
+            ("longitude", Geography::LONGITUDE),
         ]
         .iter()
         .map(|(k, v)| format!("<Data name=\"{k}\"><value>{}</value></Data>", escape(v)))

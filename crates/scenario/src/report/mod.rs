@@ -51,6 +51,11 @@ pub struct Geography {
 }
 
 impl Geography {
+    /// What a run's latitudes are, as the files say it.
+    pub const LATITUDE: &'static str = "planetocentric";
+    /// What a run's longitudes are, as the files say it.
+    pub const LONGITUDE: &'static str = "east, -180..180";
+
     /// The geography of a map projected on `surface`.
     pub fn of(surface: &areo_terrain::Spheroid) -> Geography {
         let crs = areo_terrain::GeographicCrs::of(surface);
