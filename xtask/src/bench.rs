@@ -285,7 +285,7 @@ fn horizon(root: &Path) -> Result<bool, String> {
 /// ≤ 20 s on 2 cores, initial plan ≤ 2 s, median re-plan ≤ 1 % of the initial plan.
 fn mission() -> Result<bool, String> {
     use areo_ephemeris::Mars24;
-    use areo_mission::{ActionConfig, ActionModel, Mission, PlannerConfig, Start, World};
+    use areo_mission::{ActionConfig, ActionModel, Classes, Mission, PlannerConfig, SearchMode, Start, World};
     use std::time::Instant;
     let (dem, config) = lita_size_world()?;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -307,15 +307,18 @@ fn mission() -> Result<bool, String> {
     // Coarser classes than the defaults and a half-day wait allowance, as a field
     // planner would run at this scale.
     let planner = PlannerConfig {
-        resolution: areo_mission::Resolution { time_s: 300.0, energy_wh: None },
-        goal_times: 8,
         max_wait_s: Some(6.0 * 3600.0),
+        search: SearchMode::Approximate(Classes {
+            resolution: areo_mission::Resolution { time_s: 300.0, energy_wh: None },
+            goal_times: 8,
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     };
     println!(
         "planner: {} s time classes, one energy class (E collapsed), {} goal instants, {} h wait allowance",
-        planner.resolution.time_s,
-        planner.goal_times,
+        planner.search.classes().map_or(0.0, |c| c.resolution.time_s),
+        planner.search.classes().map_or(0, |c| c.goal_times),
         planner.max_wait_s.unwrap_or(0.0) / 3600.0
     );
     let t = Instant::now();
@@ -624,10 +627,18 @@ fn fresh(root: &Path) -> Result<bool, String> {
     let (s, wall_s) = run_file_with(&sun_sync, true, |job| {
         job.planner = areo_scenario::format::planner::PlannerSpec {
             actions: job.planner.actions.clone(),
-            resolution: areo_scenario::format::planner::ResolutionSpec { time_s: 1200.0, energy_wh: Some(25.0) },
-            goal_times: 48,
-            segment_starts: 12,
             goal_energy_wh: job.planner.goal_energy_wh,
+            search: areo_scenario::format::planner::SearchSpec::Approximate(
+                areo_scenario::format::planner::ClassesSpec {
+                    resolution: areo_scenario::format::planner::ResolutionSpec {
+                        time_s: 1200.0,
+                        energy_wh: Some(25.0),
+                    },
+                    goal_times: 48,
+                    segment_starts: 12,
+                    ..areo_scenario::format::planner::ClassesSpec::default()
+                },
+            ),
             ..areo_scenario::format::planner::PlannerSpec::default()
         };
         job.truth =
@@ -687,9 +698,9 @@ fn against_fresh(root: &Path, name: &str) -> Result<areo_scenario::Outcome, Stri
 /// battery and `max_wait_s` kept).
 fn plan_on_tick(job: &mut areo_scenario::format::TempestJob, tick_s: f64) {
     job.planner = areo_scenario::format::planner::PlannerSpec {
-        tick_s: Some(tick_s),
         goal_energy_wh: job.planner.goal_energy_wh,
         max_wait_s: job.planner.max_wait_s,
+        search: areo_scenario::format::planner::SearchSpec::Exact { tick_s },
         ..areo_scenario::format::planner::PlannerSpec::default()
     };
 }
@@ -736,10 +747,13 @@ fn valley_area_on_a_tick(root: &Path) -> Result<(f64, f64), String> {
 fn lita_classes(job: &mut areo_scenario::format::TempestJob) {
     use areo_scenario::format::planner::{PlannerSpec, ResolutionSpec};
     job.planner = PlannerSpec {
-        resolution: ResolutionSpec { time_s: 300.0, energy_wh: Some(25.0) },
-        goal_times: 8,
         goal_energy_wh: job.planner.goal_energy_wh,
         max_wait_s: job.planner.max_wait_s,
+        search: areo_scenario::format::planner::SearchSpec::Approximate(areo_scenario::format::planner::ClassesSpec {
+            resolution: ResolutionSpec { time_s: 300.0, energy_wh: Some(25.0) },
+            goal_times: 8,
+            ..areo_scenario::format::planner::ClassesSpec::default()
+        }),
         ..PlannerSpec::default()
     };
     job.start_window_min = 10.0;

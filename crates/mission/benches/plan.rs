@@ -4,7 +4,9 @@
 //! mission` runs the LITA-sized case: 2527 × 2356 cells.)
 
 use areo_ephemeris::{Mars24, Site, flux::Atmosphere, parse_utc};
-use areo_mission::{ActionConfig, ActionModel, Mission, PlannerConfig, Resolution, Start, World, WorldConfig};
+use areo_mission::{
+    ActionConfig, ActionModel, Classes, Mission, PlannerConfig, Resolution, SearchMode, Start, World, WorldConfig,
+};
 use areo_rover::resources::ResourceModel;
 use areo_terrain::synth::{Noise, TerrainSpec};
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -53,9 +55,12 @@ fn morning(world: &World) -> f64 {
 /// The planner settings the benches use.
 fn config() -> PlannerConfig {
     PlannerConfig {
-        resolution: Resolution { time_s: 300.0, energy_wh: None },
-        goal_times: 8,
         max_wait_s: Some(6.0 * 3600.0),
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 300.0, energy_wh: None },
+            goal_times: 8,
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     }
 }
@@ -141,7 +146,11 @@ fn front(c: &mut Criterion) {
     let model = ActionModel::new(ResourceModel::hyperion(), ActionConfig::default());
     let start = Start { cell: world.cell(5, 8), t_min: t0, t_max: t0 + 600.0, energy_wh: 300.0 };
     let goal = [world.cell(9, 10)];
-    let config = PlannerConfig { goal_times: 4, max_wait_s: Some(3600.0), ..config() };
+    let config = PlannerConfig {
+        max_wait_s: Some(3600.0),
+        search: SearchMode::Approximate(Classes { goal_times: 4, ..*config().search.classes().expect("approximate") }),
+        ..config()
+    };
     let mut g = c.benchmark_group("tempest_front");
     g.sample_size(10);
     g.bench_function("plan", |b| {

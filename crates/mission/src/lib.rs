@@ -57,7 +57,7 @@ pub use crate::{
     error::{Error, Result},
     ground::{Ground, TerrainClass, UNCLASSIFIED},
     plan::{MissionPlan, Waypoint},
-    planner::{ExpansionMeter, FrontPlan, Mission, ParetoFront, PlannerConfig, non_dominated},
+    planner::{Classes, ExpansionMeter, FrontPlan, Mission, ParetoFront, PlannerConfig, SearchMode, non_dominated},
     simulate::{
         ExecutedStep, FreshCheck, FreshPlan, Noise, PlanKind, PlanRecord, PlannedOn, Restart, SimConfig, SimProgress,
         SimReport, SimStatus, Simulation, simulate,

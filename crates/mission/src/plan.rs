@@ -139,7 +139,7 @@ pub struct MissionPlan {
     /// fallback, even where the settings' classes were one quantum already.
     #[serde(default)]
     pub exact_at_quanta: bool,
-    /// The tick the plan is exact at, s ([`crate::PlannerConfig::tick_s`]): optimal
+    /// The tick the plan is exact at, s ([`crate::SearchMode::Exact`]): optimal
     /// over every plan whose drives depart and waits end on ticks. `None`: searched
     /// over time classes (see the fields above).
     #[serde(default)]

@@ -38,30 +38,53 @@ use crate::error::{Error, Result};
 use crate::plan::{MissionPlan, Waypoint};
 use crate::world::World;
 
-/// Planner parameters (scenario fields).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// Which search a mission plans with, and the settings only that search reads.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum SearchMode {
+    /// Exactly at one time step ([`crate::exact`]): drives depart on ticks, waits end on
+    /// them, the energy exact, goals reached at any instant of their windows — every
+    /// planning call one exact search, so the plan is optimal over every such plan,
+    /// "unreachable" is a proof at the tick and a re-plan is what a fresh search
+    /// returns. The rover must wait in steps of the tick
+    /// ([`ActionConfig::wait_step_s`]).
+    Exact {
+        /// The tick, s (1..=86400).
+        tick_s: f64,
+    },
+    /// The paper's search over time and energy classes and goal instants (its plan may
+    /// cost more than the optimum, and its "unreachable" is no proof).
+    Approximate(Classes),
+}
+
+impl SearchMode {
+    /// The tick of the exact search, s (`None`: the approximate search).
+    pub fn tick_s(&self) -> Option<f64> {
+        match self {
+            SearchMode::Exact { tick_s } => Some(*tick_s),
+            SearchMode::Approximate(_) => None,
+        }
+    }
+
+    /// The approximate search's settings (`None`: the exact search).
+    pub fn classes(&self) -> Option<&Classes> {
+        match self {
+            SearchMode::Exact { .. } => None,
+            SearchMode::Approximate(classes) => Some(classes),
+        }
+    }
+}
+
+/// The approximate search's settings: its classes, goal instants, start intervals and
+/// retries.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
-pub struct PlannerConfig {
-    /// Actions and their constraints.
-    pub actions: ActionConfig,
-    /// What to minimise.
-    pub objective: Objective,
+pub struct Classes {
     /// Label class widths for resolution pruning (see [`Resolution`]).
     pub resolution: Resolution,
-    /// How the objective's L counts length (see [`PathLength`]).
-    pub path_length: PathLength,
     /// Goal instants spread over the final goal window.
     pub goal_times: usize,
     /// Start intervals per intermediate goal (multi-goal chaining).
     pub segment_starts: usize,
-    /// Worst-case path length as a multiple of the straight-line distance.
-    pub detour_factor: f64,
-    /// Longest total wait (charging, hibernating) the worst case allows, s; default
-    /// (`None`) one solar day of the world's body (a sol on Mars, a synodic month on
-    /// the Moon, a day on the Earth).
-    pub max_wait_s: Option<f64>,
-    /// Least battery energy on arrival at the last goal, Wh above the floor.
-    pub goal_energy_wh: f64,
     /// How many times to search again with the time classes halved (after the
     /// energy-exact search) when the settings find no plan (0..=6; default 0).
     /// Narrower classes merge fewer instants, so they find plans wider ones miss. With
@@ -73,15 +96,39 @@ pub struct PlannerConfig {
     /// guarantee is the last resort's, the retries make a plan cheaper to find. A plan
     /// found so is at the narrower classes ([`MissionPlan::time_classes_s`]).
     pub unreachable_retries: u32,
-    /// One time step, s (1..=86400): `Some` plans exactly at it — every planning call
-    /// one exact search ([`crate::exact`]: drives depart on ticks, waits end on them,
-    /// energy exact, goals reached at any instant of their windows), so the plan is
-    /// optimal over every such plan, "unreachable" is a proof at the tick and a re-plan
-    /// is what a fresh search returns. The rover must wait in steps of the tick
-    /// ([`ActionConfig::wait_step_s`]); `resolution`, `goal_times`, `segment_starts`
-    /// and `unreachable_retries` are not used. `None`: the approximate search over time
-    /// classes and goal instants.
-    pub tick_s: Option<f64>,
+}
+
+impl Default for Classes {
+    fn default() -> Classes {
+        Classes {
+            resolution: Resolution { time_s: 60.0, energy_wh: None },
+            goal_times: 24,
+            segment_starts: 8,
+            unreachable_retries: 0,
+        }
+    }
+}
+
+/// Planner parameters (scenario fields).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PlannerConfig {
+    /// Actions and their constraints.
+    pub actions: ActionConfig,
+    /// What to minimise.
+    pub objective: Objective,
+    /// How the objective's L counts length (see [`PathLength`]).
+    pub path_length: PathLength,
+    /// Worst-case path length as a multiple of the straight-line distance.
+    pub detour_factor: f64,
+    /// Longest total wait (charging, hibernating) the worst case allows, s; default
+    /// (`None`) one solar day of the world's body (a sol on Mars, a synodic month on
+    /// the Moon, a day on the Earth).
+    pub max_wait_s: Option<f64>,
+    /// Least battery energy on arrival at the last goal, Wh above the floor.
+    pub goal_energy_wh: f64,
+    /// Which search plans, with what only it reads ([`SearchMode`]).
+    pub search: SearchMode,
     /// Counts the searches' expansions as they happen, for a progress display (not a
     /// scenario field; no effect on the plan).
     #[serde(skip)]
@@ -110,15 +157,11 @@ impl Default for PlannerConfig {
         PlannerConfig {
             actions: ActionConfig::default(),
             objective: Objective::Energy,
-            resolution: Resolution { time_s: 60.0, energy_wh: None },
             path_length: PathLength::Distance,
-            goal_times: 24,
-            segment_starts: 8,
             detour_factor: 1.5,
             max_wait_s: None,
             goal_energy_wh: 0.0,
-            unreachable_retries: 0,
-            tick_s: None,
+            search: SearchMode::Approximate(Classes::default()),
             meter: ExpansionMeter::default(),
             max_expansions: None,
             max_search_bytes: None,
@@ -131,10 +174,10 @@ impl PlannerConfig {
     fn validate_actions(&self) -> Result<()> {
         let bad = |field: &'static str, message: String| Err(Error::Config { field, message });
         let a = &self.actions;
-        if let Some(tick) = self.tick_s
-            && !(1.0..=86_400.0).contains(&tick)
+        if let SearchMode::Exact { tick_s } = self.search
+            && !(1.0..=86_400.0).contains(&tick_s)
         {
-            return bad("tick_s", format!("{tick}: allowed 1..=86400 s"));
+            return bad("tick_s", format!("{tick_s}: allowed 1..=86400 s"));
         }
         // Physical ranges: a step of a second to days, classes that a search can hold.
         if !((1.0..=1e6).contains(&a.charge_s) && (1.0..=1e6).contains(&a.hibernate_s)) {
@@ -172,13 +215,38 @@ impl PlannerConfig {
     pub fn validate(&self) -> Result<()> {
         let bad = |field: &'static str, message: String| Err(Error::Config { field, message });
         self.validate_actions()?;
-        let a = &self.actions;
+        if let SearchMode::Approximate(classes) = &self.search {
+            classes.validate(self.actions.wait_step_s)?;
+        }
+        if !(0.0..=1e7).contains(&self.goal_energy_wh) {
+            return bad("goal_energy_wh", format!("{}: allowed 0..=1e7 Wh", self.goal_energy_wh));
+        }
+        if !(1.0..=100.0).contains(&self.detour_factor) {
+            return bad("detour_factor", format!("{}: allowed 1..=100", self.detour_factor));
+        }
+        if let Some(w) = self.max_wait_s
+            && !(0.0..=1e7).contains(&w)
+        {
+            return bad("max_wait_s", format!("{w}: allowed 0..=1e7 s"));
+        }
+        if let Objective::Margin { max_duration_s } = self.objective
+            && !(max_duration_s > 0.0 && max_duration_s <= 1e8)
+        {
+            return bad("objective.max_duration_s", format!("{max_duration_s}: allowed 0 (exclusive)..=1e8 s"));
+        }
+        Ok(())
+    }
+}
+
+impl Classes {
+    /// Checks ranges beside the rover's wait step (s), naming the first bad field.
+    fn validate(&self, wait_step_s: Option<f64>) -> Result<()> {
+        let bad = |field: &'static str, message: String| Err(Error::Config { field, message });
         if !(1.0..=1e6).contains(&self.resolution.time_s) {
             return bad("resolution.time_s", format!("{}: allowed 1..=1e6 s", self.resolution.time_s));
         }
-        if let Some(w) = a.wait_step_s
+        if let Some(w) = wait_step_s
             && w < self.resolution.time_s
-            && self.tick_s.is_none()
         {
             // Labels of one time class are compared as one instant: a wait step inside a
             // class looks like no wait at all and costs more, so the search drops it and
@@ -191,22 +259,11 @@ impl PlannerConfig {
                 ),
             );
         }
-        if !(0.0..=1e7).contains(&self.goal_energy_wh) {
-            return bad("goal_energy_wh", format!("{}: allowed 0..=1e7 Wh", self.goal_energy_wh));
-        }
         if !(1..=10_000).contains(&self.goal_times) {
             return bad("goal_times", format!("{}: allowed 1..=10000", self.goal_times));
         }
         if !(1..=10_000).contains(&self.segment_starts) {
             return bad("segment_starts", format!("{}: allowed 1..=10000", self.segment_starts));
-        }
-        if !(1.0..=100.0).contains(&self.detour_factor) {
-            return bad("detour_factor", format!("{}: allowed 1..=100", self.detour_factor));
-        }
-        if let Some(w) = self.max_wait_s
-            && !(0.0..=1e7).contains(&w)
-        {
-            return bad("max_wait_s", format!("{w}: allowed 0..=1e7 s"));
         }
         if self.unreachable_retries > 6 {
             return bad("unreachable_retries", format!("{}: allowed 0..=6", self.unreachable_retries));
@@ -219,11 +276,6 @@ impl PlannerConfig {
                     self.unreachable_retries, self.resolution.time_s
                 ),
             );
-        }
-        if let Objective::Margin { max_duration_s } = self.objective
-            && !(max_duration_s > 0.0 && max_duration_s <= 1e8)
-        {
-            return bad("objective.max_duration_s", format!("{max_duration_s}: allowed 0 (exclusive)..=1e8 s"));
         }
         Ok(())
     }
@@ -284,7 +336,10 @@ pub struct Mission<'a> {
     widened_for_s: f64,
     /// The expansions the current planning call may still make.
     allowance: Allowance,
-    /// On a tick ([`PlannerConfig::tick_s`]): the kept windows and last plan.
+    /// The approximate search's classes as this search uses them (finer than the
+    /// configured ones after a try found no plan; unused on a tick).
+    classes: Classes,
+    /// On a tick ([`SearchMode::Exact`]): the tick, the kept windows and last plan.
     tick: Option<tick::TickState>,
 }
 
@@ -312,21 +367,22 @@ impl<'a> Mission<'a> {
         goals: &[u32],
     ) -> Result<(Mission<'a>, MissionPlan)> {
         check_problem(world, model, &config, start, goals)?;
-        if config.tick_s.is_some() {
-            return Mission::plan_at_tick(world, model, config, start, goals);
-        }
+        let classes = match config.search {
+            SearchMode::Exact { tick_s } => return Mission::plan_at_tick(world, model, config, tick_s, start, goals),
+            SearchMode::Approximate(classes) => classes,
+        };
         // Each try searches the same problem — the same goal windows, and a start window
         // never narrower than the last try's — at finer classes than the last, so that
         // what a coarser setting finds a finer one finds too (see `finer_classes`).
         let geometry = SharedGeometry::default();
         let allowance = Allowance::new(config.max_expansions, config.max_search_bytes);
-        let (mut config, mut start, mut last_resort) = (config, start, false);
-        let (given_t_max, widened_for_s) = (start.t_max, config.resolution.time_s);
+        let (mut classes, mut start, mut last_resort) = (classes, start, false);
+        let (given_t_max, widened_for_s) = (start.t_max, classes.resolution.time_s);
         loop {
             let mut mission = Mission {
                 world,
                 model,
-                config: config.clone(),
+                config: PlannerConfig { search: SearchMode::Approximate(classes), ..config.clone() },
                 start,
                 goals: goals.to_vec(),
                 segments: Vec::new(),
@@ -335,6 +391,7 @@ impl<'a> Mission<'a> {
                 given_t_max,
                 widened_for_s,
                 allowance: allowance.clone(),
+                classes,
                 tick: None,
             };
             mission.widen_start();
@@ -350,10 +407,10 @@ impl<'a> Mission<'a> {
                     if resort {
                         // As wide as a coarser setting's could be (see `widen_start`):
                         // one Hibernate, or two of these time classes.
-                        let width = model.stay_duration_s(model.fallback_stay()).max(2.0 * config.resolution.time_s);
+                        let width = model.stay_duration_s(model.fallback_stay()).max(2.0 * classes.resolution.time_s);
                         start.t_max = start.t_max.max(start.t_min + width);
                     }
-                    (config, last_resort) = (finer, resort);
+                    (classes, last_resort) = (finer, resort);
                 }
                 None => return Err(mission.explain_unreachable()),
             }
@@ -374,8 +431,8 @@ impl<'a> Mission<'a> {
     /// quantised, or on a quantum under the 1 s a class can be). A plan found this way
     /// reports the classes it was searched with ([`MissionPlan::energy_classes_wh`],
     /// [`MissionPlan::time_classes_s`]).
-    fn finer_classes(&self) -> Option<(PlannerConfig, bool)> {
-        let mut finer = self.config.clone();
+    fn finer_classes(&self) -> Option<(Classes, bool)> {
+        let mut finer = self.classes;
         if finer.resolution.energy_wh.is_some() {
             finer.resolution.energy_wh = None;
             return Some((finer, false));
@@ -388,9 +445,9 @@ impl<'a> Mission<'a> {
         // continuous times (or quanta under a class's 1 s) all there is, since no search
         // is exact; for quantised actions a cheaper try before the exact one, and never
         // at classes as narrow as a quantum (which is the last resort's).
-        let narrowest = self.widened_for_s / 2f64.powi(self.config.unreachable_retries as i32);
-        let half = self.config.resolution.time_s / 2.0;
-        if self.config.resolution.time_s > narrowest * (1.0 + 1e-9) && (q < 1.0 || half > q * (1.0 + 1e-9)) {
+        let narrowest = self.widened_for_s / 2f64.powi(self.classes.unreachable_retries as i32);
+        let half = self.classes.resolution.time_s / 2.0;
+        if self.classes.resolution.time_s > narrowest * (1.0 + 1e-9) && (q < 1.0 || half > q * (1.0 + 1e-9)) {
             finer.resolution.time_s = half;
             return Some((finer, false));
         }
@@ -411,7 +468,7 @@ impl<'a> Mission<'a> {
         let q = self.model.config().time_quantum_s;
         let (lo, hi) = *self.windows().last().expect("at least one goal");
         let even = |n: usize| (0..n).map(move |j| if n == 1 { hi } else { lo + (hi - lo) * j as f64 / (n - 1) as f64 });
-        let m = self.config.goal_times;
+        let m = self.classes.goal_times;
         let counts = if self.last_resort { 1..=m } else { m..=m };
         let mut times: Vec<f64> = counts.flat_map(even).collect();
         for t in &mut times {
@@ -449,7 +506,7 @@ impl<'a> Mission<'a> {
     /// gives (see `Mission::plan`).
     fn widen_start(&mut self) {
         let (lo, hi) = *self.windows().last().expect("at least one goal");
-        let m = self.config.goal_times.max(2) - 1;
+        let m = self.classes.goal_times.max(2) - 1;
         // Resolution pruning keeps one label per time class, so starts can shift by up
         // to one class width: the window is at least that wide too.
         let width = ((hi - lo) / m as f64)
@@ -549,7 +606,7 @@ impl<'a> Mission<'a> {
                 let m = if self.last_resort {
                     ((hi - lo) / q).ceil().clamp(1.0, 10_000.0) as usize
                 } else {
-                    self.config.segment_starts
+                    self.classes.segment_starts
                 };
                 // Half-open intervals (the last one closed), so no instant is in two.
                 let iv: Vec<(f64, f64)> = (0..m)
@@ -588,7 +645,7 @@ impl<'a> Mission<'a> {
             self.model,
             start,
             self.config.objective,
-            self.config.resolution,
+            self.classes.resolution,
             self.config.path_length,
         )
         .sharing_geometry(&self.geometry)
@@ -766,8 +823,8 @@ impl<'a> Mission<'a> {
             objective: self.config.objective,
             expansions,
             segments: self.segments.len(),
-            energy_classes_wh: self.config.resolution.energy_wh,
-            time_classes_s: self.config.resolution.time_s,
+            energy_classes_wh: self.classes.resolution.energy_wh,
+            time_classes_s: self.classes.resolution.time_s,
             exact_at_quanta: self.last_resort,
             tick_s: None,
         })
@@ -835,6 +892,7 @@ impl<'a> Mission<'a> {
             given_t_max: self.given_t_max,
             widened_for_s: self.widened_for_s,
             allowance: self.allowance.clone(),
+            classes: self.classes,
             tick: None,
         };
         // The mission beside the fresh search; the drive geometries both share are then

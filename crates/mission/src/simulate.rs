@@ -398,7 +398,7 @@ pub fn simulate(simulation: &Simulation<'_>, on_step: &mut dyn FnMut(SimProgress
         let (to, duration_s) = (executed.to, executed.duration_s);
         // On a tick a drive that goes on settles to the next tick first.
         let goes_on = plan.waypoints.get(1).is_some_and(|w| w.action.is_some());
-        let tick = config.tick_s.filter(|_| matches!(executed.action, Action::Drive(_)) && goes_on);
+        let tick = config.search.tick_s().filter(|_| matches!(executed.action, Action::Drive(_)) && goes_on);
         battery = executed.battery_above_floor_wh;
         report.steps.push(executed);
         cell = to;
@@ -540,7 +540,8 @@ fn idle_until(
 /// from `t`, s (`None`: not a wait on a tick).
 fn planned_wait_s(config: &PlannerConfig, plan: &MissionPlan, action: Action, t: f64) -> Option<f64> {
     config
-        .tick_s
+        .search
+        .tick_s()
         .filter(|_| action == Action::Wait)
         .and_then(|_| plan.waypoints.get(1))
         .map(|w| w.t_s - t)
@@ -577,7 +578,7 @@ fn record_replan(
     let (fresh, fresh_check) = match compare {
         None => (None, None),
         // On a tick: a new planner instance from the rover's state.
-        Some((problem, here, remaining)) if problem.2.tick_s.is_some() => {
+        Some((problem, here, remaining)) if problem.2.search.tick_s().is_some() => {
             match FreshCheck::of(mission, p, problem, here, remaining)? {
                 Some((fresh, check)) => (fresh, Some(check)),
                 None => (None, None),

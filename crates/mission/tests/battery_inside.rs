@@ -4,7 +4,8 @@
 
 use areo_mission::uncertainty::{MonteCarlo, RunFailure, Uncertainty, open_loop};
 use areo_mission::{
-    Action, ActionConfig, ActionModel, Error, Mission, Perturbation, PlannerConfig, Resolution, Start, World,
+    Action, ActionConfig, ActionModel, Classes, Error, Mission, Perturbation, PlannerConfig, Resolution, SearchMode,
+    Start, World,
 };
 
 use crate::common::{fixed_sun_world, flat, mars_world, model};
@@ -17,8 +18,10 @@ fn planner(actions: ActionConfig, goal_energy_wh: f64) -> PlannerConfig {
     PlannerConfig {
         actions,
         goal_energy_wh,
-
-        resolution: Resolution { time_s: 60.0, energy_wh: None },
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 60.0, energy_wh: None },
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     }
 }

@@ -7,7 +7,8 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use areo_mission::{
-    Action, ActionConfig, ActionModel, Mission, Objective, PathLength, PlannerConfig, Resolution, Start, World,
+    Action, ActionConfig, ActionModel, Classes, Mission, Objective, PathLength, PlannerConfig, Resolution, SearchMode,
+    Start, World,
 };
 
 use crate::common::*;
@@ -75,10 +76,13 @@ fn brute_force(world: &World, model: &ActionModel, mission: &Mission<'_>, goals:
 
 fn config(segment_starts: usize) -> PlannerConfig {
     PlannerConfig {
-        resolution: Resolution { time_s: 60.0, energy_wh: None },
-        goal_times: 12,
-        segment_starts,
         max_wait_s: Some(1800.0),
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 60.0, energy_wh: None },
+            goal_times: 12,
+            segment_starts,
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     }
 }
@@ -117,7 +121,11 @@ fn replanning_after_blocked_cells_equals_planning_from_scratch() {
     let model = model(1e6, quantised());
     let start = Start { cell: world.cell(2, 3), t_min: 0.0, t_max: 600.0, energy_wh: 9e5 };
     let goals = [world.cell(25, 15)];
-    let cfg = PlannerConfig { max_wait_s: Some(3600.0), goal_times: 8, ..config(4) };
+    let cfg = PlannerConfig {
+        max_wait_s: Some(3600.0),
+        search: SearchMode::Approximate(Classes { goal_times: 8, ..*config(4).search.classes().expect("approximate") }),
+        ..config(4)
+    };
     let (mut mission, plan) = Mission::plan(&world, &model, cfg.clone(), start, &goals).unwrap();
     // Sensing finds two obstacles on the planned route.
     let on_route: Vec<u32> = plan.waypoints.iter().map(|w| w.cell).skip(5).step_by(4).take(2).collect();
@@ -140,7 +148,11 @@ fn multi_goal_replanning_and_plan_extension_equal_fresh_plans() {
     let model = model(1e6, quantised());
     let start = Start { cell: world.cell(1, 1), t_min: 0.0, t_max: 600.0, energy_wh: 9e5 };
     let goals = [world.cell(12, 14), world.cell(22, 3)];
-    let cfg = PlannerConfig { max_wait_s: Some(3600.0), goal_times: 6, ..config(4) };
+    let cfg = PlannerConfig {
+        max_wait_s: Some(3600.0),
+        search: SearchMode::Approximate(Classes { goal_times: 6, ..*config(4).search.classes().expect("approximate") }),
+        ..config(4)
+    };
     let (mut mission, plan) = Mission::plan(&world, &model, cfg.clone(), start, &goals).unwrap();
     assert_eq!(plan.segments, 2);
     // An obstacle on the second segment.
@@ -284,11 +296,14 @@ fn chain_and_sense_against_brute_force(
     batteries: &[f64],
 ) -> (usize, usize) {
     let cfg = |starts| PlannerConfig {
-        resolution: Resolution { time_s: 60.0, energy_wh: None },
-        goal_times: 10,
-        segment_starts: starts,
         max_wait_s: Some(900.0),
         goal_energy_wh: 20.0,
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 60.0, energy_wh: None },
+            goal_times: 10,
+            segment_starts: starts,
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     };
     let floor = model.rover().battery.capacity_wh * model.rover().battery.min_soc;
@@ -428,11 +443,14 @@ fn chained_costs_equal_the_brute_force_over_goal_pairs_goal_energies_and_batteri
         let goals = [map.cell(g1.0, g1.1), map.cell(g2.0, g2.1)];
         for goal_wh in [0.0, 40.0] {
             let cfg = |starts| PlannerConfig {
-                resolution: Resolution { time_s: 60.0, energy_wh: None },
-                goal_times: 10,
-                segment_starts: starts,
                 max_wait_s: Some(900.0),
                 goal_energy_wh: goal_wh,
+                search: SearchMode::Approximate(Classes {
+                    resolution: Resolution { time_s: 60.0, energy_wh: None },
+                    goal_times: 10,
+                    segment_starts: starts,
+                    ..Classes::default()
+                }),
                 ..PlannerConfig::default()
             };
             for start_wh in [5.0, 40.0] {

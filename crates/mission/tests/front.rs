@@ -10,7 +10,7 @@
 
 use rustc_hash::FxHashSet;
 
-use areo_mission::{ActionModel, Mission, Objective, Start, World, non_dominated};
+use areo_mission::{ActionModel, Classes, Mission, Objective, SearchMode, Start, World, non_dominated};
 
 use crate::common::*;
 use crate::pareto::{config, morning, quantised, world};
@@ -93,7 +93,13 @@ fn the_pareto_front_equals_the_non_dominated_plans_of_an_exhaustive_enumeration(
         for start_wh in [8.0, 30.0] {
             let start = Start { cell: world.cell(from.0, from.1), t_min: t0, t_max: t0, energy_wh: start_wh };
             let goal = world.cell(to.0, to.1);
-            let cfg = areo_mission::PlannerConfig { goal_times: 6, ..config(Objective::Energy) };
+            let cfg = areo_mission::PlannerConfig {
+                search: SearchMode::Approximate(Classes {
+                    goal_times: 6,
+                    ..*config(Objective::Energy).search.classes().expect("approximate")
+                }),
+                ..config(Objective::Energy)
+            };
             let (mission, _) = Mission::plan(&world, &model, cfg, start, &[goal]).unwrap();
             let front = mission.pareto_front(1e-6).unwrap();
             let all = triples(&every_plan(&world, &model, &mission, goal));
@@ -135,7 +141,13 @@ fn the_front_stops_at_the_expansion_limit_rather_than_end_short() {
     let (from, to) = ROUTES[0];
     let start = Start { cell: world.cell(from.0, from.1), t_min: t0, t_max: t0, energy_wh: 30.0 };
     let goal = world.cell(to.0, to.1);
-    let cfg = areo_mission::PlannerConfig { goal_times: 6, ..config(Objective::Energy) };
+    let cfg = areo_mission::PlannerConfig {
+        search: SearchMode::Approximate(Classes {
+            goal_times: 6,
+            ..*config(Objective::Energy).search.classes().expect("approximate")
+        }),
+        ..config(Objective::Energy)
+    };
     let (mission, _) = Mission::plan(&world, &model, cfg.clone(), start, &[goal]).unwrap();
     let whole = mission.pareto_front(1e-6).unwrap();
     assert!(whole.expansions > 10 && whole.plans.len() >= 2, "{} expansions", whole.expansions);
@@ -175,7 +187,13 @@ fn the_time_and_energy_used_objectives_equal_the_exhaustive_optima() {
         let start = Start { cell: world.cell(from.0, from.1), t_min: t0, t_max: t0, energy_wh: 30.0 };
         let goal = world.cell(to.0, to.1);
         let plan_with = |objective| {
-            let cfg = areo_mission::PlannerConfig { goal_times: 6, ..config(objective) };
+            let cfg = areo_mission::PlannerConfig {
+                search: SearchMode::Approximate(Classes {
+                    goal_times: 6,
+                    ..*config(objective).search.classes().expect("approximate")
+                }),
+                ..config(objective)
+            };
             Mission::plan(&world, &model, cfg, start, &[goal]).unwrap()
         };
         let (fast_mission, fast) = plan_with(Objective::Time);

@@ -6,7 +6,7 @@
 //! the planner's own entry point on a tick under EnergyUsed and Margin.
 
 use areo_mission::exact::{ExactGoal, ExactQuery};
-use areo_mission::{Mission, Objective, PlannerConfig};
+use areo_mission::{Mission, Objective, PlannerConfig, SearchMode};
 
 use crate::common::model;
 use crate::exact::{actions, brute_force_by, case};
@@ -91,8 +91,12 @@ fn the_planner_on_a_tick_by_energy_used_and_margin_equals_a_dijkstra() {
         let model = model(150.0, actions(TICK_S));
         let cells: Vec<u32> = c.goals.iter().map(|g| g.cell).collect();
         for objective in [Objective::EnergyUsed, Objective::Margin { max_duration_s: 4.0 * 3600.0 }] {
-            let config =
-                PlannerConfig { actions: actions(TICK_S), objective, tick_s: Some(TICK_S), ..Default::default() };
+            let config = PlannerConfig {
+                actions: actions(TICK_S),
+                objective,
+                search: SearchMode::Exact { tick_s: TICK_S },
+                ..Default::default()
+            };
             let case = format!("seed {seed}, {objective:?}");
             let (cost, windows) = match Mission::plan(&c.world, &model, config, c.start, &cells) {
                 Ok((mission, plan)) => (Some(plan.cost), mission.goal_windows()),

@@ -21,7 +21,8 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use areo_mission::{
-    ActionConfig, ActionModel, Mission, Objective, PathLength, PlannerConfig, Resolution, Start, World,
+    ActionConfig, ActionModel, Classes, Mission, Objective, PathLength, PlannerConfig, Resolution, SearchMode, Start,
+    World,
 };
 
 use crate::common::*;
@@ -42,10 +43,13 @@ pub(crate) fn config(objective: Objective) -> PlannerConfig {
     PlannerConfig {
         actions: quantised(),
         objective,
-        resolution: Resolution { time_s: 60.0, energy_wh: None },
         path_length: PathLength::Distance,
-        goal_times: 40,
         max_wait_s: Some(2400.0),
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 60.0, energy_wh: None },
+            goal_times: 40,
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     }
 }
@@ -193,7 +197,10 @@ fn pareto_labels_equal_an_exhaustive_search_where_the_battery_binds() {
             // The coarsest energy classes allowed (half the usable battery): where they
             // lose the plan the planner must fall back to exact energy and say so.
             let classes = PlannerConfig {
-                resolution: Resolution { time_s: 60.0, energy_wh: Some(model.capacity_wh() / 2.0) },
+                search: SearchMode::Approximate(Classes {
+                    resolution: Resolution { time_s: 60.0, energy_wh: Some(model.capacity_wh() / 2.0) },
+                    ..*config(Objective::Energy).search.classes().expect("approximate")
+                }),
                 ..config(Objective::Energy)
             };
             let coarse = Mission::plan(&world, &model, classes, start, &[goal]);
@@ -300,18 +307,45 @@ struct Sweep {
 /// and 13 goal instants (4, 5, 6).
 fn finer_settings(coarse: &PlannerConfig) -> Vec<PlannerConfig> {
     let finest = PlannerConfig {
-        resolution: Resolution { time_s: 60.0, energy_wh: None },
-        goal_times: 8,
-        segment_starts: 4,
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 60.0, energy_wh: None },
+            goal_times: 8,
+            segment_starts: 4,
+            ..*coarse.clone().search.classes().expect("approximate")
+        }),
         ..coarse.clone()
     };
     let mut finer = vec![
-        PlannerConfig { resolution: Resolution { time_s: 60.0, energy_wh: Some(20.0) }, ..coarse.clone() },
-        PlannerConfig { resolution: Resolution { time_s: 120.0, energy_wh: None }, ..coarse.clone() },
-        PlannerConfig { segment_starts: 4, ..coarse.clone() },
+        PlannerConfig {
+            search: SearchMode::Approximate(Classes {
+                resolution: Resolution { time_s: 60.0, energy_wh: Some(20.0) },
+                ..*coarse.clone().search.classes().expect("approximate")
+            }),
+            ..coarse.clone()
+        },
+        PlannerConfig {
+            search: SearchMode::Approximate(Classes {
+                resolution: Resolution { time_s: 120.0, energy_wh: None },
+                ..*coarse.clone().search.classes().expect("approximate")
+            }),
+            ..coarse.clone()
+        },
+        PlannerConfig {
+            search: SearchMode::Approximate(Classes {
+                segment_starts: 4,
+                ..*coarse.clone().search.classes().expect("approximate")
+            }),
+            ..coarse.clone()
+        },
         finest,
     ];
-    finer.extend([5, 8, 13].map(|goal_times| PlannerConfig { goal_times, ..coarse.clone() }));
+    finer.extend([5, 8, 13].map(|goal_times| PlannerConfig {
+        search: SearchMode::Approximate(Classes {
+            goal_times,
+            ..*coarse.clone().search.classes().expect("approximate")
+        }),
+        ..coarse.clone()
+    }));
     finer
 }
 
@@ -320,10 +354,13 @@ fn finer_settings(coarse: &PlannerConfig) -> Vec<PlannerConfig> {
 fn coarse_settings(actions: ActionConfig) -> PlannerConfig {
     PlannerConfig {
         actions,
-        resolution: Resolution { time_s: 120.0, energy_wh: Some(20.0) },
-        goal_times: 4,
-        segment_starts: 2,
         max_wait_s: Some(0.0),
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 120.0, energy_wh: Some(20.0) },
+            goal_times: 4,
+            segment_starts: 2,
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     }
 }
@@ -363,7 +400,7 @@ fn resolution_sweep(actions: ActionConfig) -> Sweep {
                 sweep.unreachable += 1;
                 if proven {
                     // A proof: no setting with the same goal instants finds a plan.
-                    for config in finer.iter().filter(|c| c.goal_times == coarse.goal_times) {
+                    for config in finer.iter().filter(|c| classes(c).goal_times == classes(&coarse).goal_times) {
                         assert!(
                             Mission::plan(&world, &model, config.clone(), start, &goals).is_err(),
                             "case {case}: proven unreachable ({message}), yet {config:?} finds a plan"
@@ -375,7 +412,7 @@ fn resolution_sweep(actions: ActionConfig) -> Sweep {
             }
             Err(e) => panic!("case {case}: {e}"),
         };
-        assert!(coarse_plan.time_classes_s <= coarse.resolution.time_s);
+        assert!(coarse_plan.time_classes_s <= classes(&coarse).resolution.time_s);
         sweep.found += 1;
         for (i, config) in finer.iter().enumerate() {
             match Mission::plan(&world, &model, config.clone(), start, &goals) {
@@ -387,7 +424,7 @@ fn resolution_sweep(actions: ActionConfig) -> Sweep {
                         plan.min_battery_wh()
                             >= model.rover().battery.capacity_wh * model.rover().battery.min_soc - 1e-6
                     );
-                    if plan.time_classes_s < config.resolution.time_s {
+                    if plan.time_classes_s < classes(config).resolution.time_s {
                         sweep.fell_back += 1;
                     }
                 }
@@ -467,7 +504,13 @@ fn unreachable_retries_search_again_at_halved_classes() {
     actions.energy_quantum_wh = 0.0;
     let model = model(400.0, actions.clone());
     let coarse = coarse_settings(actions);
-    let retrying = PlannerConfig { unreachable_retries: 2, ..coarse.clone() };
+    let retrying = PlannerConfig {
+        search: SearchMode::Approximate(Classes {
+            unreachable_retries: 2,
+            ..*coarse.clone().search.classes().expect("approximate")
+        }),
+        ..coarse.clone()
+    };
     let floor = model.rover().battery.capacity_wh * model.rover().battery.min_soc;
     let (mut kept, mut rescued_at, mut still) = (0, [0usize; 2], 0);
     for (case, start, goals) in sweep_cases(&world, t0) {
@@ -521,7 +564,10 @@ fn unreachable_retries_with_quantised_actions_come_before_the_exact_search() {
     let t0 = morning(&world);
     let model = model(400.0, quantised());
     let coarse = PlannerConfig {
-        resolution: Resolution { time_s: 480.0, energy_wh: Some(20.0) },
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 480.0, energy_wh: Some(20.0) },
+            ..*coarse_settings(quantised()).search.classes().expect("approximate")
+        }),
         ..coarse_settings(quantised())
     };
     let (mut planned, mut proofs, mut by_retry, mut at_quanta) = (0, 0, 0, 0);
@@ -530,7 +576,14 @@ fn unreachable_retries_with_quantised_actions_come_before_the_exact_search() {
     for (case, start, goals) in sweep_cases(&world, t0) {
         let plan = |retries: u32| {
             let meter = ExpansionMeter::counting();
-            let config = PlannerConfig { unreachable_retries: retries, meter: meter.clone(), ..coarse.clone() };
+            let config = PlannerConfig {
+                meter: meter.clone(),
+                search: SearchMode::Approximate(Classes {
+                    unreachable_retries: retries,
+                    ..*coarse.clone().search.classes().expect("approximate")
+                }),
+                ..coarse.clone()
+            };
             let result = Mission::plan(&world, &model, config, start, &goals).map(|(_, plan)| plan);
             (result, meter.work())
         };
@@ -576,8 +629,11 @@ fn unreachable_retries_with_quantised_actions_come_before_the_exact_search() {
 fn unreachable_retries_out_of_range_name_the_field() {
     for (retries, time_s) in [(7, 1200.0), (1, 1.5)] {
         let config = PlannerConfig {
-            unreachable_retries: retries,
-            resolution: Resolution { time_s, energy_wh: None },
+            search: SearchMode::Approximate(Classes {
+                unreachable_retries: retries,
+                resolution: Resolution { time_s, energy_wh: None },
+                ..Classes::default()
+            }),
             ..PlannerConfig::default()
         };
         match config.validate() {
@@ -701,8 +757,11 @@ fn night_against_an_exhaustive_search(wait_step_s: Option<f64>) -> (usize, usize
         let goal = world.cell(to.0, to.1);
         let config = PlannerConfig {
             actions: actions.clone(),
-            goal_times: 40,
             max_wait_s: Some(20.0 * 3600.0),
+            search: SearchMode::Approximate(Classes {
+                goal_times: 40,
+                ..*config(Objective::Energy).search.classes().expect("approximate")
+            }),
             ..config(Objective::Energy)
         };
         let planned_here = Mission::plan(&world, &model, config.clone(), start, &[goal]);
@@ -756,8 +815,13 @@ fn a_last_resort_plan_at_the_settings_own_classes_says_so() {
     let world = world();
     let t0 = morning(&world);
     let model = model(400.0, quantised());
-    let settings =
-        PlannerConfig { resolution: Resolution { time_s: 60.0, energy_wh: None }, ..coarse_settings(quantised()) };
+    let settings = PlannerConfig {
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 60.0, energy_wh: None },
+            ..*coarse_settings(quantised()).search.classes().expect("approximate")
+        }),
+        ..coarse_settings(quantised())
+    };
     let floor = model.rover().battery.capacity_wh * model.rover().battery.min_soc;
     let (mut direct, mut by_last_resort) = (0, 0);
     for (case, start, goals) in sweep_cases(&world, t0) {
@@ -772,4 +836,9 @@ fn a_last_resort_plan_at_the_settings_own_classes_says_so() {
     }
     // Measured: 107 found by the settings, 28 by the last resort.
     assert!((95..=120).contains(&direct) && (20..=36).contains(&by_last_resort), "{direct} + {by_last_resort}");
+}
+
+/// The approximate search's settings of `config`.
+fn classes(config: &PlannerConfig) -> Classes {
+    *config.search.classes().expect("the approximate search")
 }

@@ -1,7 +1,9 @@
 //! Single-goal planning: the octile path on easy ground, charging and hibernating when
 //! the battery or the night binds, and clear "unreachable" answers.
 
-use areo_mission::{Action, ActionConfig, Binding, Error, ExpansionMeter, Mission, PlannerConfig, Start, World};
+use areo_mission::{
+    Action, ActionConfig, Binding, Classes, Error, ExpansionMeter, Mission, PlannerConfig, SearchMode, Start, World,
+};
 use areo_terrain::Dem;
 
 use crate::common::*;
@@ -71,8 +73,11 @@ fn a_small_battery_before_night_makes_the_plan_wait() {
     let start = Start { cell: world.cell(3, 2), t_min: t0, t_max: t0 + 600.0, energy_wh: 450.0 };
     let config = PlannerConfig {
         max_wait_s: Some(20.0 * 3600.0),
-        goal_times: 24,
-        resolution: areo_mission::Resolution { time_s: 300.0, energy_wh: None },
+        search: SearchMode::Approximate(Classes {
+            goal_times: 24,
+            resolution: areo_mission::Resolution { time_s: 300.0, energy_wh: None },
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     };
     let (_m, plan) = Mission::plan(&world, &model, config, start, &[world.cell(93, 2)]).unwrap();
@@ -265,7 +270,10 @@ fn bad_inputs_are_errors_naming_the_field() {
     assert!(matches!(Mission::plan(&world, &model, PlannerConfig::default(), start, &[]), Err(Error::Config { .. })));
     // Energy classes wider than half the usable battery (900 Wh here) would collapse E.
     let collapsing = PlannerConfig {
-        resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: Some(451.0) },
+        search: SearchMode::Approximate(Classes {
+            resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: Some(451.0) },
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     };
     match Mission::plan(&world, &model, collapsing, start, &[world.cell(5, 5)]) {
@@ -275,7 +283,10 @@ fn bad_inputs_are_errors_naming_the_field() {
         other => panic!("{other:?}"),
     }
     let widest = PlannerConfig {
-        resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: Some(450.0) },
+        search: SearchMode::Approximate(Classes {
+            resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: Some(450.0) },
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     };
     assert!(Mission::plan(&world, &model, widest, start, &[world.cell(5, 5)]).is_ok());
@@ -302,8 +313,11 @@ fn the_duration_objective_keeps_under_its_maximum_and_prefers_less_energy() {
     let goal = [world.cell(26, 9)];
     let base = PlannerConfig {
         max_wait_s: Some(3600.0),
-        goal_times: 12,
-        resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: None },
+        search: SearchMode::Approximate(Classes {
+            goal_times: 12,
+            resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: None },
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     };
     let (_m, energy_plan) = Mission::plan(&world, &model, base.clone(), start, &goal).unwrap();
@@ -329,7 +343,10 @@ fn waypoints_carry_place_time_light_and_energy() {
     let (_m, plan) = Mission::plan(
         &world,
         &model,
-        PlannerConfig { goal_times: 8, ..PlannerConfig::default() },
+        PlannerConfig {
+            search: SearchMode::Approximate(Classes { goal_times: 8, ..Classes::default() }),
+            ..PlannerConfig::default()
+        },
         start,
         &[world.cell(15, 8)],
     )
@@ -560,10 +577,13 @@ fn the_cached_bound_guides_a_detour_so_a_wider_world_adds_little_work() {
     let model = model(2000.0, quantised_actions(1200.0));
     let config = PlannerConfig {
         actions: quantised_actions(1200.0),
-        resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: None },
-        goal_times: 8,
-        segment_starts: 4,
         max_wait_s: Some(3600.0),
+        search: SearchMode::Approximate(Classes {
+            resolution: areo_mission::Resolution { time_s: 60.0, energy_wh: None },
+            goal_times: 8,
+            segment_starts: 4,
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     };
     let mut answers = Vec::new();

@@ -9,7 +9,9 @@
 //! (within 1 % where sensing made drives dearer: the kept 2-D bound is then a little
 //! looser than the fresh search's).
 
-use areo_mission::{ActionConfig, Mission, MissionPlan, PathLength, PlannerConfig, Resolution, Start, World};
+use areo_mission::{
+    ActionConfig, Classes, Mission, MissionPlan, PathLength, PlannerConfig, Resolution, SearchMode, Start, World,
+};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -30,11 +32,14 @@ fn quantised() -> ActionConfig {
 fn planner_config() -> PlannerConfig {
     PlannerConfig {
         actions: quantised(),
-        resolution: Resolution { time_s: 60.0, energy_wh: None },
         path_length: PathLength::Distance,
-        goal_times: 8,
-        segment_starts: 4,
         max_wait_s: Some(3600.0),
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 60.0, energy_wh: None },
+            goal_times: 8,
+            segment_starts: 4,
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     }
 }
@@ -265,10 +270,13 @@ fn walk_with_coarse_classes(energy_wh: Option<f64>) -> usize {
     let model = model(2000.0, actions);
     let config = PlannerConfig {
         actions: model.config().clone(),
-        resolution: Resolution { time_s: 1200.0, energy_wh },
-        goal_times: 8,
-        segment_starts: 4,
         max_wait_s: Some(3600.0),
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 1200.0, energy_wh },
+            goal_times: 8,
+            segment_starts: 4,
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     };
     let start = Start { cell: map.cell(14, 21), t_min: 0.0, t_max: 600.0, energy_wh: 1500.0 };

@@ -1,12 +1,12 @@
-//! The planner on a tick (`PlannerConfig::tick_s`): its plan is the exact search's over
+//! The planner on a tick (`SearchMode::Exact`): its plan is the exact search's over
 //! the mission's goal windows and replays on the model; a simulated run's re-plans —
 //! those that keep the rest of the last plan and those that search again — cost what
 //! fresh searches cost; "unreachable" is a proof that names the constraint that binds.
 
 use areo_mission::exact::{ExactGoal, ExactQuery};
 use areo_mission::{
-    Action, ActionConfig, Binding, Error, Mission, Objective, Perturbation, PlanKind, PlannerConfig, SimConfig,
-    SimStatus, Simulation, Start, World, simulate,
+    Action, ActionConfig, Binding, Error, Mission, Objective, Perturbation, PlanKind, PlannerConfig, SearchMode,
+    SimConfig, SimStatus, Simulation, Start, World, simulate,
 };
 use areo_terrain::Dem;
 
@@ -33,7 +33,7 @@ fn actions() -> ActionConfig {
 }
 
 fn planner(objective: Objective) -> PlannerConfig {
-    PlannerConfig { actions: actions(), objective, tick_s: Some(TICK_S), ..Default::default() }
+    PlannerConfig { actions: actions(), objective, search: SearchMode::Exact { tick_s: TICK_S }, ..Default::default() }
 }
 
 /// The first instant after `from` the Sun sets, s (searched on the Sun table's steps).
@@ -251,7 +251,7 @@ fn a_tick_needs_the_rover_to_wait_in_its_steps() {
         }
         other => panic!("expected a configuration error, got {other:?}"),
     }
-    let bad = PlannerConfig { tick_s: Some(0.5), ..planner(Objective::Energy) };
+    let bad = PlannerConfig { search: SearchMode::Exact { tick_s: 0.5 }, ..planner(Objective::Energy) };
     assert!(matches!(bad.validate(), Err(Error::Config { field: "tick_s", .. })));
     assert!(planner(Objective::Time).validate().is_ok());
 }

@@ -4,7 +4,9 @@
 //! executions where the battery runs out inside a wait.
 
 use areo_mission::uncertainty::{MonteCarlo, RunFailure, Uncertainty, open_loop};
-use areo_mission::{Action, ActionConfig, Effect, Error, Mission, PlannerConfig, Resolution, Start, World};
+use areo_mission::{
+    Action, ActionConfig, Classes, Effect, Error, Mission, PlannerConfig, Resolution, SearchMode, Start, World,
+};
 use areo_rover::resources::Load;
 
 use crate::common::{fixed_sun_world, flat, mars_world, model};
@@ -159,8 +161,11 @@ fn charge_in_place(
     let config = PlannerConfig {
         actions,
         goal_energy_wh: goal_wh,
-        resolution: Resolution { time_s: 60.0, energy_wh: None },
         max_wait_s: Some(10.0 * 3600.0),
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 60.0, energy_wh: None },
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     };
     let start = Start { cell, t_min: t0, t_max: t0, energy_wh: battery };
@@ -241,7 +246,10 @@ fn a_wait_step_out_of_range_names_the_field() {
     // at: refused, naming both fields.
     let config = PlannerConfig {
         actions: waits(300.0),
-        resolution: Resolution { time_s: 1200.0, energy_wh: None },
+        search: SearchMode::Approximate(Classes {
+            resolution: Resolution { time_s: 1200.0, energy_wh: None },
+            ..Classes::default()
+        }),
         ..PlannerConfig::default()
     };
     match config.validate() {

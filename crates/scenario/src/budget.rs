@@ -14,6 +14,7 @@
 //! that plan in a hundred expansions.
 
 use crate::error::{Error, Result};
+use crate::format::planner::SearchSpec;
 use crate::format::{ActionsJob, Job, Scenario, TempestJob, TerrainSource, Truth};
 
 /// The default work limit, steps.
@@ -267,7 +268,10 @@ impl TempestWork {
 
 /// The time step a TEMPEST job's labels are kept at, s: its tick, or its time classes.
 fn step_s(job: &TempestJob) -> f64 {
-    job.planner.tick_s.unwrap_or(job.planner.resolution.time_s)
+    match &job.planner.search {
+        SearchSpec::Exact { tick_s } => *tick_s,
+        SearchSpec::Approximate(classes) => classes.resolution.time_s,
+    }
 }
 
 /// A TEMPEST job's searches (the plan, the deterministic plan beside a
@@ -279,7 +283,9 @@ fn chance_work(job: &TempestJob) -> (u64, u64, u64) {
     // practice).
     let front = job.pareto_front.as_ref().map_or(0, |f| {
         let steps = (job.start_battery_above_floor_wh / f.step_wh()).floor().min(1e9) as u64 + 1;
-        1u64.saturating_add((job.planner.goal_times as u64).saturating_mul(steps))
+        // On a tick the front is one search (its goal instants are every tick).
+        let goal_times = job.planner.search.classes().copied().unwrap_or_default().goal_times;
+        1u64.saturating_add((goal_times as u64).saturating_mul(steps))
     });
     let (searches, clones, executions) = uncertainty_work(job);
     (searches.saturating_add(front), clones, executions)
@@ -442,14 +448,14 @@ mod tests {
         let ellipse = std::f64::consts::PI * a * (a * a - half * half).sqrt() / 1e4;
         let budget = Budget { memory_bytes: 1 << 40, work_steps: DEFAULT_WORK_STEPS };
         let mut fine = lita.clone();
-        fine.planner.tick_s = Some(60.0);
+        fine.planner.search = SearchSpec::Exact { tick_s: 60.0 };
         let expected = expected_expansions(&fine, map) as f64;
         assert!((expected - ellipse * 4320.0).abs() <= 1.0, "{expected}");
         let e = tempest(&fine, map);
         assert_eq!(e.work_steps, 2527 * 2356 * 32, "the rays alone");
         assert!(budget.check(&e).is_ok(), "{e:?}");
         let mut sun_sync = shipped("sun-synchronous-traverse");
-        sun_sync.planner.tick_s = Some(1.0);
+        sun_sync.planner.search = SearchSpec::Exact { tick_s: 1.0 };
         let map = SearchMap { cells: 160 * 120, cell_m2: 2500.0 };
         assert!(expected_expansions(&sun_sync, map) as f64 * EXPANSION_STEPS as f64 > 1e12);
         assert!(budget.check(&tempest(&sun_sync, map)).is_ok());

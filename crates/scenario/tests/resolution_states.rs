@@ -269,12 +269,15 @@ fn valley_detour_at_quanta_completes_at_its_settings_and_five_finer_ones() {
 
 /// `path` with `sets`, planned on a tick of `tick_s` with no other resolution knob.
 fn plan_on_tick(path: &Path, sets: &[&str], tick_s: f64) -> Outcome {
-    use areo_scenario::format::{Job, planner::PlannerSpec};
+    use areo_scenario::format::{
+        Job,
+        planner::{PlannerSpec, SearchSpec},
+    };
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     let mut file = load_set(path, &sets).unwrap_or_else(|e| panic!("{sets:?}: {e}"));
     let Job::Tempest(job) = &mut file.scenario.job else { panic!("{path:?} is not a TEMPEST job") };
     job.planner = PlannerSpec {
-        tick_s: Some(tick_s),
+        search: SearchSpec::Exact { tick_s },
         objective: job.planner.objective,
         goal_energy_wh: job.planner.goal_energy_wh,
         max_wait_s: job.planner.max_wait_s,

@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use areo_scenario::Error;
+use areo_scenario::format::planner::SearchSpec;
 use areo_scenario::format::{locate, parse};
 
 /// What replaces a number.
@@ -328,10 +329,15 @@ fn every_shipped_scenario_round_trips_through_the_format_types() {
         }
         if let Job::Tempest(job) = &scenario.job {
             let planner = areo_mission::PlannerConfig::from(&job.planner);
-            assert_eq!(
-                (planner.resolution.time_s, planner.goal_times),
-                (job.planner.resolution.time_s, job.planner.goal_times)
-            );
+            match (planner.search, job.planner.search) {
+                (areo_mission::SearchMode::Exact { tick_s }, SearchSpec::Exact { tick_s: spec }) => {
+                    assert_eq!(tick_s, spec);
+                }
+                (areo_mission::SearchMode::Approximate(lib), SearchSpec::Approximate(spec)) => {
+                    assert_eq!((lib.resolution.time_s, lib.goal_times), (spec.resolution.time_s, spec.goal_times));
+                }
+                (lib, spec) => panic!("{lib:?} against {spec:?}"),
+            }
             assert_eq!(planner.actions.charge_s, job.planner.actions.charge_s);
         }
     }

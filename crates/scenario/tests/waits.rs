@@ -122,7 +122,7 @@ fn a_planner_block_without_the_approximate_fields_plans_on_the_default_tick() {
     let tick_of = |planner: &str| {
         let file = load(&small_with(&[(SMALL_PLANNER, planner)], "default-tick.ron")).unwrap_or_else(|e| panic!("{e}"));
         let Job::Tempest(job) = &file.scenario.job else { panic!("a TEMPEST job") };
-        (job.planner.tick_s, job.planner.max_wait_s)
+        (job.planner.search.tick_s(), job.planner.max_wait_s)
     };
     assert_eq!(tick_of("planner: (),"), (Some(DEFAULT_TICK_S), None));
     assert_eq!(tick_of(""), (Some(DEFAULT_TICK_S), None), "no planner block");

@@ -20,7 +20,9 @@ use std::time::Instant;
 use areo_scenario::format::planner::ObjectiveSpec;
 
 use areo_mission::exact::{ExactGoal, ExactOutcome, ExactQuery};
-use areo_mission::{ActionConfig, ActionModel, Mission, Objective, PlannerConfig, Resolution, Start, World};
+use areo_mission::{
+    ActionConfig, ActionModel, Classes, Mission, Objective, PlannerConfig, Resolution, SearchMode, Start, World,
+};
 
 /// Labels the chained search may keep before it is stopped.
 const CHAIN_BUDGET: u64 = 3_000_000;
@@ -88,10 +90,10 @@ fn valley(root: &Path, tick_s: f64, objective: ObjectiveSpec, expansions: u64, w
             if let Some(tick) = tick {
                 let defaults = areo_scenario::format::planner::PlannerSpec::default();
                 job.planner = areo_scenario::format::planner::PlannerSpec {
-                    tick_s: Some(tick),
                     objective,
                     goal_energy_wh: job.planner.goal_energy_wh,
                     max_wait_s: job.planner.max_wait_s,
+                    search: areo_scenario::format::planner::SearchSpec::Exact { tick_s: tick },
                     ..defaults
                 };
             }
@@ -168,9 +170,12 @@ pub(crate) fn run(root: &Path) -> Result<bool, String> {
         let (chained, chained_s) = exact(&world, &model, start, goal, false);
         let config = PlannerConfig {
             actions,
-            resolution: Resolution { time_s: tick, energy_wh: None },
             max_wait_s: Some(goal.close_s - t0),
-            goal_times: 72,
+            search: SearchMode::Approximate(Classes {
+                resolution: Resolution { time_s: tick, energy_wh: None },
+                goal_times: 72,
+                ..Classes::default()
+            }),
             ..PlannerConfig::default()
         };
         let t = Instant::now();

@@ -65,10 +65,15 @@ fn valley_against_approximate(root: &Path) -> Result<[(f64, f64); 2], String> {
                 job.planner = PlannerSpec {
                     actions: job.planner.actions.clone(),
                     objective: ObjectiveSpec::Energy,
-                    resolution: ResolutionSpec { time_s: 1200.0, energy_wh: Some(25.0) },
-                    goal_times: 72,
                     goal_energy_wh: job.planner.goal_energy_wh,
                     max_wait_s: job.planner.max_wait_s,
+                    search: areo_scenario::format::planner::SearchSpec::Approximate(
+                        areo_scenario::format::planner::ClassesSpec {
+                            resolution: ResolutionSpec { time_s: 1200.0, energy_wh: Some(25.0) },
+                            goal_times: 72,
+                            ..areo_scenario::format::planner::ClassesSpec::default()
+                        },
+                    ),
                     ..PlannerSpec::default()
                 };
             }

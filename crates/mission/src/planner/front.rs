@@ -112,7 +112,7 @@ impl Mission<'_> {
     /// whole chain would have to keep apart.
     pub fn pareto_front(&self, margin_step_wh: f64) -> Result<ParetoFront> {
         self.check_front(margin_step_wh)?;
-        if self.config.tick_s.is_some() {
+        if self.tick.is_some() {
             return self.tick_front();
         }
         let goal = self.goals[0];
@@ -126,7 +126,7 @@ impl Mission<'_> {
                 self.model,
                 self.start,
                 Objective::EnergyUsed,
-                self.config.resolution,
+                self.classes.resolution,
                 self.config.path_length,
             )
             .sharing_geometry(&self.geometry)

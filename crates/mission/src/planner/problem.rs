@@ -45,7 +45,9 @@ pub(super) fn check_problem(
         }
         at = g;
     }
-    if let Some(w) = config.resolution.energy_wh {
+    if let crate::planner::SearchMode::Approximate(classes) = &config.search
+        && let Some(w) = classes.resolution.energy_wh
+    {
         let usable = model.capacity_wh();
         if !(1e-3..=usable / 2.0).contains(&w) {
             return Err(Error::Config {

@@ -1,4 +1,4 @@
-//! The planner on a tick ([`PlannerConfig::tick_s`](super::PlannerConfig::tick_s)):
+//! The planner on a tick ([`SearchMode::Exact`](super::SearchMode::Exact)):
 //! every planning call is one exact search ([`crate::exact`]) from where the rover is
 //! to the goals still ahead, within the goal windows fixed when the mission was planned.
 //! No classes, no goal instants, no start intervals: the plan is optimal over every plan
@@ -20,7 +20,7 @@
 //!   below the rest's cost; none left proves the rest optimal.
 //! - Otherwise a search from the rover's state, guided the same way.
 
-use super::{Allowance, Mission, PlannerConfig};
+use super::{Allowance, Classes, Mission, PlannerConfig};
 use crate::action_model::{Action, ActionModel};
 use crate::domain::{Label, SharedGeometry, Start};
 use crate::error::{Error, Result};
@@ -32,8 +32,10 @@ use crate::world::World;
 const SAME_STATE: f64 = 1e-6;
 
 /// What a mission on a tick keeps between planning calls.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(super) struct TickState {
+    /// The tick, s.
+    pub tick_s: f64,
     /// The goal windows of the goals still ahead, s after the epoch, fixed when the
     /// mission was planned (a re-plan answers the same problem as a fresh search).
     pub windows: Vec<(f64, f64)>,
@@ -131,12 +133,12 @@ impl<'a> Mission<'a> {
         world: &'a World,
         model: &'a ActionModel,
         config: PlannerConfig,
+        tick_s: f64,
         start: Start,
         goals: &[u32],
     ) -> Result<(Mission<'a>, MissionPlan)> {
-        let tick_s = config.tick_s.expect("a mission on a tick");
         check_tick(model, &config, tick_s)?;
-        let mut mission = Mission::at_tick(world, model, config, start, goals);
+        let mut mission = Mission::at_tick(world, model, config, tick_s, start, goals);
         // `Mission::plan` checked the problem.
         let plan = mission.tick_search()?;
         Ok((mission, plan))
@@ -148,10 +150,10 @@ impl<'a> Mission<'a> {
         world: &'a World,
         model: &'a ActionModel,
         config: PlannerConfig,
+        tick_s: f64,
         start: Start,
         goals: &[u32],
     ) -> Mission<'a> {
-        let tick_s = config.tick_s.expect("a mission on a tick");
         let allowance = Allowance::new(config.max_expansions, config.max_search_bytes);
         let mut mission = Mission {
             world,
@@ -165,7 +167,18 @@ impl<'a> Mission<'a> {
             given_t_max: start.t_max,
             widened_for_s: tick_s,
             allowance,
-            tick: Some(TickState::default()),
+            classes: Classes::default(),
+            tick: Some(TickState {
+                tick_s,
+                windows: Vec::new(),
+                last: None,
+                expanded: 0,
+                kept: 0,
+                bytes: 0,
+                reused: false,
+                changed: Vec::new(),
+                learned: Vec::new(),
+            }),
         };
         let mut windows = mission.windows();
         if let crate::domain::Objective::Margin { max_duration_s } = mission.config.objective {
@@ -186,10 +199,11 @@ impl<'a> Mission<'a> {
         world: &'a World,
         model: &'a ActionModel,
         config: &PlannerConfig,
+        tick_s: f64,
         start: Start,
         goals: &[u32],
     ) -> Vec<(f64, f64)> {
-        Mission::at_tick(world, model, config.clone(), start, goals).goal_windows()
+        Mission::at_tick(world, model, config.clone(), tick_s, start, goals).goal_windows()
     }
 
     /// The query of the problem as it now stands: from the mission's start to the
@@ -319,7 +333,7 @@ impl<'a> Mission<'a> {
     /// the plan's first waypoint), then the last goal.
     pub(super) fn tick_waypoints(&self, steps: &[ExactStep], cost: f64, expansions: u64) -> MissionPlan {
         let (world, model) = (self.world, self.model);
-        let tick = self.config.tick_s.expect("a mission on a tick");
+        let tick = self.tick.as_ref().map_or(0.0, |state| state.tick_s);
         let floor = {
             let b = &model.rover().battery;
             b.capacity_wh * b.min_soc
@@ -382,7 +396,7 @@ impl<'a> Mission<'a> {
 
     /// "Unreachable" on a tick: what the search proved.
     pub(super) fn tick_proof(&self) -> String {
-        let tick = self.config.tick_s.unwrap_or_default();
+        let tick = self.tick.as_ref().map_or(0.0, |state| state.tick_s);
         let close = self.tick.as_ref().and_then(|s| s.windows.last()).map_or(0.0, |w| w.1);
         format!(
             "proven at the tick of {tick} s: no plan whose drives depart and waits end on ticks reaches the goals in \

@@ -257,6 +257,7 @@ impl Mission<'_> {
             given_t_max: self.given_t_max,
             widened_for_s: self.widened_for_s,
             allowance: self.allowance.clone(),
+            classes: self.classes,
             tick: None,
         };
         if rebuild || self.segments.is_empty() {
@@ -295,7 +296,7 @@ impl Mission<'_> {
             };
             // What may still find one: more goal instants are not a superset of fewer
             // (even sets are not nested), so "finer" alone would mislead.
-            let halved = (self.widened_for_s / self.config.resolution.time_s).log2().round() as u32;
+            let halved = (self.widened_for_s / self.classes.resolution.time_s).log2().round() as u32;
             let retried = match halved {
                 0 => String::new(),
                 n => format!(" (the configured {} s halved {n} time(s): `unreachable_retries`)", self.widened_for_s),
@@ -304,7 +305,7 @@ impl Mission<'_> {
                 " (not a proof: searched at time classes of {} s{retried}, which merge instants, and {why}; other \
                  settings may find a plan: finer `time_s`, another `goal_times` (sets of goal instants are not \
                  nested), or quantised actions (`time_quantum_s` ≥ 1), whose last resort is exact)",
-                self.config.resolution.time_s
+                self.classes.resolution.time_s
             ));
         }
         Error::Unreachable { binding, message, proven }

@@ -17,7 +17,7 @@ use crate::action_model::ActionModel;
 use crate::domain::Start;
 use crate::error::{Error, Result};
 use crate::plan::MissionPlan;
-use crate::planner::{Mission, PlannerConfig};
+use crate::planner::{Mission, PlannerConfig, SearchMode};
 use crate::world::World;
 
 /// How a re-plan compares with an independent planner instance from the rover's state.
@@ -66,14 +66,14 @@ fn independent(
     here: Start,
     remaining: &[u32],
 ) -> Result<Option<FreshPlan>> {
-    let Some(tick) = config.tick_s else { return Ok(None) };
+    let SearchMode::Exact { tick_s } = config.search else { return Ok(None) };
     // The mission's searches stay alive beside the fresh one.
     let held = mission.search_bytes();
     let config =
         PlannerConfig { max_search_bytes: config.max_search_bytes.map(|m| m.saturating_sub(held)), ..config.clone() };
     let kept = mission.goal_windows();
     let kept = &kept[kept.len().saturating_sub(remaining.len())..];
-    let fresh_windows = Mission::tick_windows_from(believed, model, &config, here, remaining);
+    let fresh_windows = Mission::tick_windows_from(believed, model, &config, tick_s, here, remaining);
     let fresh = match Mission::plan(believed, model, config, here, remaining) {
         Ok((_, plan)) => Some(plan),
         Err(Error::Unreachable { proven: true, .. }) => None,
@@ -83,7 +83,7 @@ fn independent(
     let meets = |plan: &MissionPlan, windows: &[(f64, f64)]| {
         let arrivals: Vec<f64> = plan.waypoints.iter().filter(|w| w.goal.is_some()).map(|w| w.t_s).collect();
         arrivals.len() == windows.len()
-            && arrivals.iter().zip(windows).all(|(&t, &(open, close))| t >= open - tick && t <= close + tick)
+            && arrivals.iter().zip(windows).all(|(&t, &(open, close))| t >= open - tick_s && t <= close + tick_s)
     };
     let equal = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1.0);
     let check = match &fresh {

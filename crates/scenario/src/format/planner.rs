@@ -198,7 +198,7 @@ pub enum PathLengthSpec {
 }
 
 /// The tick a planner block plans on when it sets neither `tick_s` nor any field of the
-/// approximate search ([`PlannerSpec::tick_s`]), s.
+/// approximate search ([`SearchSpec::Exact`]), s.
 pub const DEFAULT_TICK_S: f64 = 60.0;
 
 /// The TEMPEST planner's settings. Read from a file, a block that sets neither
@@ -212,34 +212,103 @@ pub struct PlannerSpec {
     pub actions: ActionSpec,
     /// What to minimise.
     pub objective: ObjectiveSpec,
-    /// Label class widths for resolution pruning.
-    pub resolution: ResolutionSpec,
     /// How the objective's L counts length.
     pub path_length: PathLengthSpec,
-    /// Goal instants spread over the final goal window.
-    pub goal_times: usize,
-    /// Start intervals per intermediate goal (multi-goal chaining).
-    pub segment_starts: usize,
     /// Worst-case path length as a multiple of the straight-line distance.
     pub detour_factor: f64,
     /// Longest total wait the worst case allows, s (default one solar day).
     pub max_wait_s: Option<f64>,
     /// Least battery energy on arrival at the last goal, Wh above the floor.
     pub goal_energy_wh: f64,
+    /// Which search plans. In a file: `tick_s` (or nothing: [`DEFAULT_TICK_S`]) for
+    /// the exact search, `approximate: true` beside the approximate search's fields for
+    /// the paper's classes; those fields without it are refused, naming `tick_s`, and
+    /// beside `tick_s` refused as unused.
+    pub search: SearchSpec,
+}
+
+/// Which search plans, with the settings only it reads.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum SearchSpec {
+    /// Exactly at one time step, s (1..=86400): drives depart on ticks, the rover waits
+    /// in whole ticks (charging where lit, asleep where not), the battery exact, each
+    /// goal reached at any instant of its window. The plan is optimal over every such
+    /// plan and "unreachable" a proof. `actions.wait_step_s`, the actions' quanta and
+    /// `path_length: Steps` are refused beside it.
+    Exact {
+        /// The tick, s.
+        tick_s: f64,
+    },
+    /// The paper's time and energy classes and goal instants.
+    Approximate(ClassesSpec),
+}
+
+/// The approximate search's settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClassesSpec {
+    /// Label class widths for resolution pruning.
+    pub resolution: ResolutionSpec,
+    /// Goal instants spread over the final goal window.
+    pub goal_times: usize,
+    /// Start intervals per intermediate goal (multi-goal chaining).
+    pub segment_starts: usize,
     /// Searches again with the time classes halved up to this many times when the
     /// settings find no plan (0..=6): with continuous action times before
     /// "unreachable", with quantised ones before the last resort exact at the quanta
     /// (see docs/tempest.md).
     pub unreachable_retries: u32,
-    /// One time step, s (1..=86400): the planner plans exactly at it — drives depart
-    /// on ticks, the rover waits in whole ticks (charging where lit, asleep where not),
-    /// the battery exact, each goal reached at any instant of its window. The plan is
-    /// optimal over every such plan and "unreachable" a proof. With it, `resolution`,
-    /// `goal_times`, `segment_starts`, `unreachable_retries`, `actions.wait_step_s` and
-    /// the actions' quanta are refused. `None`: the approximate search. In a file:
-    /// [`DEFAULT_TICK_S`] unless the block sets one of those fields, which a file
-    /// may do only beside `approximate: true` (else they are refused, naming `tick_s`).
-    pub tick_s: Option<f64>,
+}
+
+impl Default for ClassesSpec {
+    fn default() -> ClassesSpec {
+        ClassesSpec::of(&m::Classes::default())
+    }
+}
+
+impl ClassesSpec {
+    fn of(c: &m::Classes) -> ClassesSpec {
+        ClassesSpec {
+            resolution: ResolutionSpec { time_s: c.resolution.time_s, energy_wh: c.resolution.energy_wh },
+            goal_times: c.goal_times,
+            segment_starts: c.segment_starts,
+            unreachable_retries: c.unreachable_retries,
+        }
+    }
+
+    fn to_lib(self) -> m::Classes {
+        m::Classes {
+            resolution: m::Resolution { time_s: self.resolution.time_s, energy_wh: self.resolution.energy_wh },
+            goal_times: self.goal_times,
+            segment_starts: self.segment_starts,
+            unreachable_retries: self.unreachable_retries,
+        }
+    }
+}
+
+impl SearchSpec {
+    /// The tick of the exact search, s (`None`: the approximate search).
+    pub fn tick_s(&self) -> Option<f64> {
+        match self {
+            SearchSpec::Exact { tick_s } => Some(*tick_s),
+            SearchSpec::Approximate(_) => None,
+        }
+    }
+
+    /// The approximate search's settings (`None`: the exact search).
+    pub fn classes(&self) -> Option<&ClassesSpec> {
+        match self {
+            SearchSpec::Exact { .. } => None,
+            SearchSpec::Approximate(classes) => Some(classes),
+        }
+    }
+
+    fn to_lib(self) -> m::SearchMode {
+        match self {
+            SearchSpec::Exact { tick_s } => m::SearchMode::Exact { tick_s },
+            SearchSpec::Approximate(classes) => m::SearchMode::Approximate(classes.to_lib()),
+        }
+    }
 }
 
 /// A planner block as written: which fields it sets, so that a block setting none of
@@ -280,15 +349,22 @@ impl TryFrom<PlannerFields> for PlannerSpec {
 
     fn try_from(f: PlannerFields) -> Result<PlannerSpec, String> {
         let d = PlannerSpec::default();
+        let dc = ClassesSpec::default();
         let actions = f.actions.unwrap_or(d.actions.clone());
+        // Each approximate field: whether the block writes it, and whether to other than
+        // its default.
         let written = [
-            ("resolution", f.resolution.is_some()),
-            ("goal_times", f.goal_times.is_some()),
-            ("segment_starts", f.segment_starts.is_some()),
-            ("unreachable_retries", f.unreachable_retries.is_some()),
-            ("actions.wait_step_s", actions.wait_step_s != d.actions.wait_step_s),
-            ("actions.time_quantum_s", actions.time_quantum_s != d.actions.time_quantum_s),
-            ("actions.energy_quantum_wh", actions.energy_quantum_wh != d.actions.energy_quantum_wh),
+            ("resolution", f.resolution.is_some(), f.resolution.is_some_and(|r| r != dc.resolution)),
+            ("goal_times", f.goal_times.is_some(), f.goal_times.is_some_and(|g| g != dc.goal_times)),
+            ("segment_starts", f.segment_starts.is_some(), f.segment_starts.is_some_and(|g| g != dc.segment_starts)),
+            (
+                "unreachable_retries",
+                f.unreachable_retries.is_some(),
+                f.unreachable_retries.is_some_and(|r| r != dc.unreachable_retries),
+            ),
+            ("actions.wait_step_s", actions.wait_step_s != d.actions.wait_step_s, false),
+            ("actions.time_quantum_s", actions.time_quantum_s != d.actions.time_quantum_s, false),
+            ("actions.energy_quantum_wh", actions.energy_quantum_wh != d.actions.energy_quantum_wh, false),
         ];
         let approximate = written.iter().find(|w| w.1).map(|w| w.0);
         if let Some(field) = approximate
@@ -310,42 +386,68 @@ impl TryFrom<PlannerFields> for PlannerSpec {
                 .into());
         }
         let objective = f.objective.unwrap_or(d.objective);
-        if f.path_length.is_some_and(|p| p != PathLengthSpec::Distance) && objective != ObjectiveSpec::Energy {
+        let path_length = f.path_length.unwrap_or(d.path_length);
+        if path_length != PathLengthSpec::Distance && objective != ObjectiveSpec::Energy {
             return Err(format!(
                 "field `planner.path_length` counts the L of the `Energy` objective (L + B), but \
                  `planner.objective` is {objective:?}, which has no L: remove `path_length` or plan by `Energy`"
             ));
         }
+        let search = if f.approximate {
+            SearchSpec::Approximate(ClassesSpec {
+                resolution: f.resolution.unwrap_or(dc.resolution),
+                goal_times: f.goal_times.unwrap_or(dc.goal_times),
+                segment_starts: f.segment_starts.unwrap_or(dc.segment_starts),
+                unreachable_retries: f.unreachable_retries.unwrap_or(dc.unreachable_retries),
+            })
+        } else {
+            let tick_s = f.tick_s.unwrap_or(DEFAULT_TICK_S);
+            // The exact search counts L as the distance driven (waits split anywhere must
+            // cost the whole); the rover waits in steps of the tick, unquantised.
+            let unused = (written.iter())
+                .find(|w| if w.0.starts_with("actions.") { w.1 } else { w.2 })
+                .map(|w| w.0)
+                .or((path_length != PathLengthSpec::Distance).then_some("path_length"));
+            if let Some(field) = unused {
+                return Err(format!(
+                    "field `planner.{field}` is not used with `tick_s` (one time step, the plan exact at it: \
+                     {tick_s} s) — remove `{}`",
+                    field.trim_start_matches("actions.")
+                ));
+            }
+            SearchSpec::Exact { tick_s }
+        };
         Ok(PlannerSpec {
             actions,
             objective,
-            resolution: f.resolution.unwrap_or(d.resolution),
-            path_length: f.path_length.unwrap_or(d.path_length),
-            goal_times: f.goal_times.unwrap_or(d.goal_times),
-            segment_starts: f.segment_starts.unwrap_or(d.segment_starts),
+            path_length,
             detour_factor: f.detour_factor.unwrap_or(d.detour_factor),
             max_wait_s: f.max_wait_s.unwrap_or(d.max_wait_s),
             goal_energy_wh: f.goal_energy_wh.unwrap_or(d.goal_energy_wh),
-            unreachable_retries: f.unreachable_retries.unwrap_or(d.unreachable_retries),
-            tick_s: f.tick_s.or((approximate.is_none() && !f.approximate).then_some(DEFAULT_TICK_S)),
+            search,
         })
     }
 }
 
-/// A planner block as written back out: every field, and `approximate: true` where the
-/// spec plans with the approximate search, so that it reads back the same.
+/// A planner block as written back out: every field of its search, and `approximate:
+/// true` where the spec plans with the approximate search, so that it reads back the same.
 #[derive(Serialize)]
 struct PlannerWritten {
     actions: ActionSpec,
     objective: ObjectiveSpec,
-    resolution: ResolutionSpec,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    resolution: Option<ResolutionSpec>,
     path_length: PathLengthSpec,
-    goal_times: usize,
-    segment_starts: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    goal_times: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    segment_starts: Option<usize>,
     detour_factor: f64,
     max_wait_s: Option<f64>,
     goal_energy_wh: f64,
-    unreachable_retries: u32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    unreachable_retries: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     tick_s: Option<f64>,
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     approximate: bool,
@@ -353,19 +455,20 @@ struct PlannerWritten {
 
 impl From<PlannerSpec> for PlannerWritten {
     fn from(p: PlannerSpec) -> PlannerWritten {
+        let classes = p.search.classes().copied();
         PlannerWritten {
-            approximate: p.tick_s.is_none(),
+            approximate: classes.is_some(),
             actions: p.actions,
             objective: p.objective,
-            resolution: p.resolution,
+            resolution: classes.map(|c| c.resolution),
             path_length: p.path_length,
-            goal_times: p.goal_times,
-            segment_starts: p.segment_starts,
+            goal_times: classes.map(|c| c.goal_times),
+            segment_starts: classes.map(|c| c.segment_starts),
             detour_factor: p.detour_factor,
             max_wait_s: p.max_wait_s,
             goal_energy_wh: p.goal_energy_wh,
-            unreachable_retries: p.unreachable_retries,
-            tick_s: p.tick_s,
+            unreachable_retries: classes.map(|c| c.unreachable_retries),
+            tick_s: p.search.tick_s(),
         }
     }
 }
@@ -374,43 +477,16 @@ impl PlannerSpec {
     /// The library's defaults, exact on [`DEFAULT_TICK_S`]: what a file's planner block
     /// that sets nothing, or no block, means.
     pub fn on_the_default_tick() -> PlannerSpec {
-        PlannerSpec { tick_s: Some(DEFAULT_TICK_S), ..PlannerSpec::default() }
+        PlannerSpec { search: SearchSpec::Exact { tick_s: DEFAULT_TICK_S }, ..PlannerSpec::default() }
     }
 
     /// The rover's actions as the library takes them: on a tick, waits in steps of it.
     pub fn action_config(&self) -> m::ActionConfig {
         let mut actions: m::ActionConfig = (&self.actions).into();
-        if let Some(tick) = self.tick_s {
-            actions.wait_step_s = Some(tick);
+        if let SearchSpec::Exact { tick_s } = self.search {
+            actions.wait_step_s = Some(tick_s);
         }
         actions
-    }
-
-    /// The fields given beside `tick_s` that it replaces: (path, field), each set to
-    /// other than its default.
-    pub fn replaced_by_tick(&self) -> Vec<(&'static str, &'static str)> {
-        if self.tick_s.is_none() {
-            return Vec::new();
-        }
-        let d = PlannerSpec::default();
-        let mut out = Vec::new();
-        let planner = [
-            ("resolution", self.resolution != d.resolution),
-            ("goal_times", self.goal_times != d.goal_times),
-            ("segment_starts", self.segment_starts != d.segment_starts),
-            ("unreachable_retries", self.unreachable_retries != d.unreachable_retries),
-            // The exact search counts L as the distance driven (waits split anywhere
-            // must cost the whole).
-            ("path_length", self.path_length != d.path_length),
-        ];
-        out.extend(planner.iter().filter(|f| f.1).map(|f| ("", f.0)));
-        let actions = [
-            ("wait_step_s", self.actions.wait_step_s != d.actions.wait_step_s),
-            ("time_quantum_s", self.actions.time_quantum_s != d.actions.time_quantum_s),
-            ("energy_quantum_wh", self.actions.energy_quantum_wh != d.actions.energy_quantum_wh),
-        ];
-        out.extend(actions.iter().filter(|f| f.1).map(|f| ("actions", f.0)));
-        out
     }
 }
 
@@ -420,18 +496,17 @@ impl Default for PlannerSpec {
         PlannerSpec {
             actions: ActionSpec::of(&d.actions),
             objective: d.objective.into(),
-            resolution: ResolutionSpec { time_s: d.resolution.time_s, energy_wh: d.resolution.energy_wh },
             path_length: match d.path_length {
                 m::PathLength::Distance => PathLengthSpec::Distance,
                 m::PathLength::Steps => PathLengthSpec::Steps,
             },
-            goal_times: d.goal_times,
-            segment_starts: d.segment_starts,
             detour_factor: d.detour_factor,
             max_wait_s: d.max_wait_s,
             goal_energy_wh: d.goal_energy_wh,
-            unreachable_retries: d.unreachable_retries,
-            tick_s: d.tick_s,
+            search: match d.search {
+                m::SearchMode::Exact { tick_s } => SearchSpec::Exact { tick_s },
+                m::SearchMode::Approximate(classes) => SearchSpec::Approximate(ClassesSpec::of(&classes)),
+            },
         }
     }
 }
@@ -441,18 +516,14 @@ impl From<&PlannerSpec> for m::PlannerConfig {
         m::PlannerConfig {
             actions: p.action_config(),
             objective: p.objective.into(),
-            resolution: m::Resolution { time_s: p.resolution.time_s, energy_wh: p.resolution.energy_wh },
             path_length: match p.path_length {
                 PathLengthSpec::Distance => m::PathLength::Distance,
                 PathLengthSpec::Steps => m::PathLength::Steps,
             },
-            goal_times: p.goal_times,
-            segment_starts: p.segment_starts,
             detour_factor: p.detour_factor,
             max_wait_s: p.max_wait_s,
             goal_energy_wh: p.goal_energy_wh,
-            unreachable_retries: p.unreachable_retries,
-            tick_s: p.tick_s,
+            search: p.search.to_lib(),
             meter: m::ExpansionMeter::default(),
             // Set by the run from its work and memory budgets, not by the file.
             max_expansions: None,

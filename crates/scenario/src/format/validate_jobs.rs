@@ -211,7 +211,7 @@ fn validate_uncertainty(c: &mut Checks, job: &TempestJob) {
             );
         }
         if let Some(step) = f.margin_step_wh {
-            match job.planner.tick_s {
+            match job.planner.search.tick_s() {
                 Some(tick) => c.fail(
                     "pareto_front.margin_step_wh",
                     format!(
@@ -290,7 +290,6 @@ impl Validate for TempestJob {
                 c.fail("plan_region", "a region is planned on the map as true (truth: Map, the default)".into());
             }
         }
-        check_tick_fields(c, &self.planner);
         if let Err(areo_mission::Error::Config { field, message }) =
             areo_mission::PlannerConfig::from(&self.planner).validate()
         {
@@ -307,7 +306,6 @@ impl Validate for TempestJob {
     }
 }
 
-/// The planner's fields that `tick_s` replaces, refused beside it.
 fn validate_feature_classes(c: &mut Checks, job: &ActionsJob) {
     let features = match &job.terrain {
         TerrainSource::Synth(spec) => spec.features.len(),
@@ -362,19 +360,6 @@ fn validate_classes(c: &mut Checks, t: &crate::format::TerrainClassesSpec) {
     ids.sort_unstable();
     if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
         c.fail("classes", format!("id {} is listed twice: each id names one class", w[0]));
-    }
-}
-
-fn check_tick_fields(c: &mut Checks, planner: &crate::format::planner::PlannerSpec) {
-    for (path, field) in planner.replaced_by_tick() {
-        let message = format!(
-            "not used with `tick_s` (one time step, the plan exact at it: {} s) — remove `{field}`",
-            planner.tick_s.unwrap_or_default()
-        );
-        c.nested("planner", |c| match path {
-            "" => c.fail(field, message),
-            _ => c.nested(path, |c| c.fail(field, message)),
-        });
     }
 }
 

@@ -453,7 +453,8 @@ fn prepare(job: &TempestJob, file: &ScenarioFile, opts: RunOptions<'_>) -> Resul
     // One byte per horizon angle where the search's time classes make its error small
     // (before the truth is built: it shares the map's horizons) — the narrowest classes
     // it may search, its retries at halved classes included.
-    let p = &job.planner;
+    // (On a tick: the approximate search's default classes, 60 s.)
+    let p = job.planner.search.classes().copied().unwrap_or_default();
     let narrowest_s = p.resolution.time_s / 2f64.powi(p.unreachable_retries as i32);
     if let Some(shift_s) = world.narrow_horizon_within(narrowest_s) {
         notes.push(format!(

@@ -74,7 +74,7 @@ pub(super) fn resolution_facts(f: &mut PlanFigures, ctx: &Context<'_>, plan: &Mi
         f.initial_plan_tick_s = Some(tick);
         return;
     }
-    let resolution = ctx.job.planner.resolution;
+    let resolution = ctx.job.planner.search.classes().copied().unwrap_or_default().resolution;
     let fallback = resolution.energy_wh.is_some() && plan.energy_classes_wh.is_none();
     f.initial_plan_exact_energy_fallback = Some(fallback);
     // The last resort for quantised actions: a search exact at the quanta (reported
@@ -179,7 +179,7 @@ pub(super) fn sim_facts(report: &mut TempestReport, ctx: &Context<'_>, r: &SimRe
     f.replans = replans.len();
     f.route_changes = route_changes;
     restart_facts(&mut f, r);
-    let asked = ctx.job.planner.resolution.energy_wh;
+    let asked = ctx.job.planner.search.classes().and_then(|c| c.resolution.energy_wh);
     f.exact_energy_fallbacks = r.plans.iter().filter(|p| asked.is_some() && p.plan.energy_classes_wh.is_none()).count();
     report.peak_search_mb = Some(search_facts(&mut f, r));
     f.world_mb = worlds_mb(ctx);
