@@ -222,7 +222,7 @@ enum Settle {
 /// the battery binds): a memo keyed by the cell and the instant's exact bits, so that
 /// a hit returns exactly what a fresh evaluation would. It grows with the instants
 /// the search touches and starts afresh past [`Moves::CAPACITY`] entries: a small
-/// search allocates little, a large one holds at most ~7 MB (a hit is a label of
+/// search allocates little, a large one holds at most ~3.3 MB (a hit is a label of
 /// the same instant, made shortly before: eight times the entries saved no time on
 /// valley-detour's initial plan on a 60 s tick, 1.19 s against 1.08–1.21 s).
 struct Moves {
@@ -230,7 +230,11 @@ struct Moves {
 }
 
 impl Moves {
-    const CAPACITY: usize = 1 << 12;
+    /// The entries of a table of 4096 places, the most it holds before it doubles (it
+    /// keeps an eighth of its places free): one entry more would double the memory of
+    /// this memo and the waits' and refills' beside it, 4096 places of which are never
+    /// filled before the memo starts afresh.
+    const CAPACITY: usize = 4096 / 8 * 7;
 
     fn new() -> Moves {
         Moves { memo: FxHashMap::default() }
@@ -556,7 +560,9 @@ impl ExactQuery<'_> {
         for (k, m) in moves.iter().enumerate() {
             let Some(m) = m else {
                 // Refused now: waiting may let it depart, unless it is refused at any time.
-                forward.open = forward.open && self.model.drive_geometry(self.world, node.cell, k as u8).is_err();
+                if self.model.drive_geometry(self.world, node.cell, k as u8).is_ok() {
+                    forward.refused_for_now(k as u8);
+                }
                 continue;
             };
             match self.drive_from(&node, i, k as u8, m, e_max) {
@@ -641,9 +647,9 @@ impl ExactQuery<'_> {
         if let Some(next) = end
             && (next - node.t - tick).abs() < 1e-9 * tick
             && let Some(refills) = refills
-            && self.jumps(node, forward, cache, refills)
+            && let Some(ticks) = self.jumps(node, forward, cache, refills)
         {
-            return Some(node.t + f64::from(forward::FORWARD_TICKS) * tick);
+            return Some(node.t + f64::from(ticks) * tick);
         }
         end
     }

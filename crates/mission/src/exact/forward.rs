@@ -6,11 +6,14 @@
 //! instant the plan that drives now and waits `w` there reaches, at the same cost.
 //! Where the rover landing now refills there within a few ticks and then stays full,
 //! and at each earlier tick holds at least what a full battery would hold after the
-//! later drive, driving first is never worse. Where that holds for every drive not
-//! refused at any time, the wait from the cell jumps [`FORWARD_TICKS`] ticks: the
-//! shorter waits are beaten, the longer ones pass through the jump. A label that
-//! reaches the cell strictly inside a jump from a battery that stays full there is
-//! beaten the same way (its drives are the waiting plan's), and is dropped.
+//! later drive, driving first is never worse. Where that holds for every drive allowed
+//! now, the wait from the cell jumps [`FORWARD_TICKS`] ticks, or to the first tick at
+//! which a drive refused now (the Sun in a camera, a shadow, a session) may depart,
+//! if that comes sooner: the shorter waits are beaten, the longer ones pass through the
+//! jump, and no departure the waits between would make is lost — the drives refused
+//! now are refused at every tick the jump passes over. A label that reaches the cell
+//! strictly inside a jump from a battery that stays full there is beaten the same way
+//! (its drives are the waiting plan's), and is dropped.
 //!
 //! Repeated along a plan this moves its waits later, to a cell where it does not hold
 //! or to the last goal, where a plan ends on arrival: the optimum is kept. It is not
@@ -50,11 +53,18 @@ pub(super) struct Forward {
     /// one does not (its window, the battery it must hold).
     goal: Option<u32>,
     lands: SmallVec<[Landing; 8]>,
+    /// The directions whose drives are refused now but not at every time, as bits.
+    refused_for_now: u8,
 }
 
 impl Forward {
     pub(super) fn new(open: bool, goal: Option<u32>) -> Forward {
-        Forward { open, goal, lands: SmallVec::new() }
+        Forward { open, goal, lands: SmallVec::new(), refused_for_now: 0 }
+    }
+
+    /// Drive `k` is refused now, but not at every time: waiting may let it depart.
+    pub(super) fn refused_for_now(&mut self, k: u8) {
+        self.refused_for_now |= 1 << k;
     }
 
     /// Drive `k` lands at `cell` at the tick `t` with `e` Wh.
@@ -157,20 +167,26 @@ impl Refills {
 }
 
 impl ExactQuery<'_> {
-    /// Whether the wait from `node` may jump [`FORWARD_TICKS`] ticks, given its drives
-    /// gathered in `forward` (see the module's documentation); records the jump where
-    /// the battery stays full at the cell.
-    pub(super) fn jumps(&self, node: &Node, forward: &Forward, moves: &mut Moves, refills: &mut Refills) -> bool {
+    /// How many ticks the wait from `node` may jump, given its drives gathered in
+    /// `forward` (see the module's documentation): `None` where it may not; records the
+    /// jump where the battery stays full at the cell.
+    pub(super) fn jumps(
+        &self,
+        node: &Node,
+        forward: &Forward,
+        moves: &mut Moves,
+        refills: &mut Refills,
+    ) -> Option<u32> {
         let (capacity, tick) = (self.model.capacity_wh(), refills.tick);
         // No landing that no wait could refill in time: most labels with a battery
         // far from full stop here, before any wait is integrated.
         if !forward.open || forward.lands.iter().any(|l| l.e + refills.most_refill_wh < capacity - SLACK_WH) {
-            return false;
+            return None;
         }
         let mut refill: SmallVec<[(Landing, Refill, usize); 8]> = SmallVec::new();
         for &l in &forward.lands {
             let r = refills.refill(self, l.cell, l.t);
-            let Some(m) = r.ticks_to_full(l.e, capacity) else { return false };
+            let m = r.ticks_to_full(l.e, capacity)?;
             refill.push((l, r, m));
         }
         // Before a landing is full, it must hold what the later drive from a full
@@ -190,15 +206,38 @@ impl ExactQuery<'_> {
                     Settle::Refused => continue,
                 };
                 if r.after(m, l.e, capacity).is_none_or(|e| e < most - SLACK_WH) {
-                    return false;
+                    return None;
                 }
             }
         }
-        let to = node.t + f64::from(FORWARD_TICKS) * tick;
+        // Last, as the dearest check: the drives refused now at the ticks ahead.
+        let ticks = self.until_allowed(node, forward.refused_for_now, tick);
+        if ticks < 2 {
+            return None;
+        }
+        let to = node.t + f64::from(ticks) * tick;
         if refills.refill(self, node.cell, node.t).ticks_to_full(node.e, capacity).is_some() {
             refills.jumped.insert((node.cell, node.goal), (node.t, to));
         }
         refills.jumps += 1;
-        true
+        Some(ticks)
+    }
+
+    /// The ticks from `node` to the first at which one of the drives `refused` (bits by
+    /// direction) may depart from its cell, at most [`FORWARD_TICKS`]. Each is asked on
+    /// its own, without its settle (a drive departs where [`ActionModel::drive`] allows
+    /// it, whatever follows).
+    ///
+    /// [`ActionModel::drive`]: crate::ActionModel::drive
+    fn until_allowed(&self, node: &Node, refused: u8, tick: f64) -> u32 {
+        if refused == 0 {
+            return FORWARD_TICKS;
+        }
+        (1..FORWARD_TICKS)
+            .find(|&m| {
+                let t = node.t + f64::from(m) * tick;
+                (0..8u8).any(|k| refused & (1 << k) != 0 && self.model.drive(self.world, node.cell, k, t).is_ok())
+            })
+            .unwrap_or(FORWARD_TICKS)
     }
 }
