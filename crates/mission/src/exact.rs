@@ -88,6 +88,15 @@ impl ExactBound<'_> {
     pub fn at(&mut self, cell: u32, goals_reached: usize, t_s: f64, battery_wh: f64) -> f64 {
         self.0.at(cell, goals_reached as u16, t_s, battery_wh)
     }
+
+    /// The least cost of any plan from the rover at `cell` at `t_s` with `battery_wh`
+    /// above the floor and `goals_reached` goals reached that drives into one of
+    /// `cells` on its way (infinite: none can): the bound a re-plan's learned values
+    /// are clamped by where sensing changed those cells.
+    pub fn through(&mut self, cells: &[u32], cell: u32, goals_reached: usize, t_s: f64, battery_wh: f64) -> f64 {
+        let mut through = bound::Through::new(cells);
+        self.0.through(&mut through, cell, goals_reached as u16, t_s, battery_wh)
+    }
 }
 
 /// A goal of an exact query: its cell and the window in which reaching it counts, s

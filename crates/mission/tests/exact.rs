@@ -100,13 +100,15 @@ pub(crate) fn brute_force_by(
         if g == goals.len() {
             return Some(d);
         }
+        // Past its next goal's window a state reaches no goal: a feasibility cut, no bound.
+        if t > goals[g].close_s + 1e-9 {
+            continue;
+        }
         let e = f64::from_bits(b);
         let mut moves: Vec<(usize, u32, f64, f64, f64)> = Vec::new();
         for k in 0..8u8 {
-            let Ok((to, drive)) = model.drive(world, cell, k, t) else { continue };
-            if drive.lowest(e, capacity) < -1e-9 {
-                continue;
-            }
+            let feasible = |(_, drive): &(u32, Effect)| drive.lowest(e, capacity) >= -1e-9;
+            let Some((to, drive)) = model.drive(world, cell, k, t).ok().filter(feasible) else { continue };
             let (t1, e1) = (t + drive.duration_s, drive.after(e, capacity));
             let c1 = then(d, Action::Drive(k), &drive, e);
             let g1 = reached(g, to, t1, e1);
@@ -115,10 +117,8 @@ pub(crate) fn brute_force_by(
                 moves.push((g1, to, t1, e1, c1));
                 continue;
             }
-            let Ok(settle) = model.wait(world, to, t1, next_tick(t1) - t1) else { continue };
-            if settle.lowest(e1, capacity) < -1e-9 {
-                continue;
-            }
+            let wait = model.wait(world, to, t1, next_tick(t1) - t1).ok();
+            let Some(settle) = wait.filter(|settle| settle.lowest(e1, capacity) >= -1e-9) else { continue };
             let (t2, e2) = (t1 + settle.duration_s, settle.after(e1, capacity));
             moves.push((reached(g1, to, t2, e2), to, t2, e2, then(c1, Action::Wait, &settle, e1)));
         }

@@ -271,6 +271,14 @@ impl<'a> Bound<'a> {
             return f64::INFINITY;
         }
         let drives = self.remaining(OBJECTIVE, g, cell);
+        self.until(drives, t, arrival)
+    }
+
+    /// The least cost of a plan from a label at `t` whose drives' floors sum to at least
+    /// `drives` and which reaches the last goal no earlier than `arrival`: under Time the
+    /// longer of the drives and the span; otherwise the drives plus what the clocks
+    /// charge over the span.
+    fn until(&self, drives: f64, t: f64, arrival: f64) -> f64 {
         if self.time_objective {
             return drives.max(arrival - t);
         }
@@ -427,9 +435,11 @@ impl Shortfall {
 /// ([`super::learned`]) is clamped by these: it was true of a world without the cells'
 /// changes, and only plans that reach them can have become cheaper.
 ///
-/// The most recent [`Through::OWN`] cells are bounded each on its own; older ones
-/// together (the least drives to any of them, the least of their bounds): looser, but
-/// what it holds does not grow with them.
+/// The most recent [`Through::OWN`] cells are bounded each on its own, and also by the
+/// label's own battery ([`Bound::via`]: a label that must charge before it can finish
+/// is seen to, wherever it passes); older ones together (the least drives to any of
+/// them, the least of their bounds, any battery): looser, but what it holds does not
+/// grow with them.
 pub(super) struct Through {
     own: Vec<Reach>,
     older: Option<Reach>,
@@ -489,9 +499,9 @@ impl Bound<'_> {
         }
     }
 
-    /// The least cost of any plan from a label at `cell` at `t`, `goal` goals reached,
-    /// that reaches one of `through`'s cells (infinite: none can).
-    pub(super) fn through(&mut self, through: &mut Through, cell: u32, goal: u16, t: f64) -> f64 {
+    /// The least cost of any plan from a label at `cell` at `t` with `e` above the floor,
+    /// `goal` goals reached, that reaches one of `through`'s cells (infinite: none can).
+    pub(super) fn through(&mut self, through: &mut Through, cell: u32, goal: u16, t: f64, e: f64) -> f64 {
         let j = (t / self.tick + 1e-9).floor();
         if j < 0.0 {
             return 0.0;
@@ -499,23 +509,47 @@ impl Bound<'_> {
         let now = self.clocks(t);
         let mut least = f64::INFINITY;
         for reach in through.own.iter_mut().chain(through.older.as_mut()) {
-            least = least.min(self.reach(reach, cell, goal, j as usize, now));
+            least = least.min(self.reach(reach, cell, goal, (j as usize, t), now, e));
         }
         least
     }
 
-    fn reach(&mut self, reach: &mut Reach, cell: u32, goal: u16, j: usize, (now_add, now_cover): (f64, f64)) -> f64 {
+    fn reach(&mut self, reach: &mut Reach, cell: u32, goal: u16, (j, t): (usize, f64), now: (f64, f64), e: f64) -> f64 {
+        let (now_add, now_cover) = now;
         let drives = distance(&mut reach.to, &mut self.weights, cell);
         if !drives.is_finite() {
             return f64::INFINITY;
         }
+        let with_battery = match reach.cells[..] {
+            [x] => self.via(drives, x, goal, t, e),
+            _ => 0.0,
+        };
         if reach.suffix.is_none() {
             reach.suffix = Some(self.suffix_minima(&reach.cells));
         }
         let per_goal = reach.suffix.as_ref().expect("just made");
         let Some((add, cover)) = per_goal.get(goal as usize) else { return f64::INFINITY };
         let Some(&a) = add.get(j) else { return f64::INFINITY };
-        (drives + a - now_add).max(cover[j] - now_cover).max(0.0)
+        (drives + a - now_add).max(cover[j] - now_cover).max(with_battery).max(0.0)
+    }
+
+    /// The least cost of any plan from a label at `t` with `e` above the floor, `goal`
+    /// goals reached, that drives to `x` at a cost of at least `to_x` on its way: the
+    /// label's own battery bounds the whole plan's harvest ([`Harvest`]), and the drives
+    /// from `x` on, with every goal not reached before `x`, bound its drives and arrival.
+    /// Every term of [`Bound::arrival`] holds of a plan that is at `x` at any instant from
+    /// `t` on, so the span from `t` to that arrival is charged once, the floors of the
+    /// drives to `x` and from it added.
+    fn via(&mut self, to_x: f64, x: u32, goal: u16, t: f64, e: f64) -> f64 {
+        let mut least = f64::INFINITY;
+        for g in goal as usize..self.per_goal.len() {
+            let arrival = self.arrival(x, g, t, e);
+            if arrival.is_finite() {
+                let drives = to_x + self.remaining(OBJECTIVE, g, x);
+                least = least.min(self.until(drives, t, arrival));
+            }
+        }
+        least
     }
 
     /// [`Reach`]'s suffix minima for `cells`.

@@ -206,7 +206,7 @@ impl<'l> Guides<'l> {
             let clamp = if layer.learned.changed.is_empty() {
                 f64::INFINITY
             } else {
-                bound.through(&mut layer.through, node.cell, node.goal, node.t)
+                bound.through(&mut layer.through, node.cell, node.goal, node.t, node.e)
             };
             best = best.max(h.min(clamp));
         }
