@@ -2,10 +2,10 @@
 
 use std::fmt::Write as _;
 
-use areo_scenario::rover_check::{Report, ResourceReport};
+use areo_scenario::rover_check::{ResourceReport, RoverCheckReport};
 
 /// The report as aligned text.
-pub(crate) fn text(report: &Report) -> String {
+pub(crate) fn text(report: &RoverCheckReport) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -56,7 +56,7 @@ pub(crate) fn text(report: &Report) -> String {
 }
 
 /// The climb over a step, if the report has one, as aligned text.
-fn climb_text(s: &mut String, report: &Report) {
+fn climb_text(s: &mut String, report: &RoverCheckReport) {
     let Some(c) = &report.climb else { return };
     let _ = writeln!(
         s,

@@ -166,7 +166,7 @@ fn front(c: &mut Criterion) {
 /// same plan, expansion for expansion, so the difference is the lookups), and with a
 /// class map of sand and bedrock (a different plan, for scale).
 fn ground(c: &mut Criterion) {
-    use areo_mission::{Ground, TerrainClass};
+    use areo_mission::{ClassMap, TerrainClass};
     use std::sync::Arc;
     let plain = world();
     let t0 = morning(&plain);
@@ -181,11 +181,11 @@ fn ground(c: &mut Criterion) {
     };
     let mut nominal = world();
     let cells = nominal.cells();
-    nominal.set_ground(Arc::new(Ground::new(vec![class("nominal", 1.0, 1.0)], vec![0; cells]).unwrap())).unwrap();
+    nominal.set_ground(Arc::new(ClassMap::new(vec![class("nominal", 1.0, 1.0)], vec![0; cells]).unwrap())).unwrap();
     let mut mixed = world();
     let sand_bedrock = (0..cells as u32).map(|c| u8::from((mixed.col_row(c).0 / 10).is_multiple_of(2))).collect();
     let classes = vec![class("sand", 0.6, 1.8), class("bedrock", 1.0, 0.9)];
-    mixed.set_ground(Arc::new(Ground::new(classes, sand_bedrock).unwrap())).unwrap();
+    mixed.set_ground(Arc::new(ClassMap::new(classes, sand_bedrock).unwrap())).unwrap();
     let config = config();
     let a = Mission::plan(&plain, &model, config.clone(), start, &goal).expect("a plan").1;
     let b = Mission::plan(&nominal, &model, config.clone(), start, &goal).expect("a plan").1;

@@ -488,7 +488,7 @@ impl ActionModel {
 
     /// The drive from `from` to its neighbour `k`, or why it is not possible
     /// (independent of time). Half of it runs over each cell, at that cell's terrain
-    /// class's speed and power ([`crate::Ground`]).
+    /// class's speed and power ([`crate::ClassMap`]).
     pub fn drive_geometry(&self, world: &World, from: u32, k: u8) -> Result<DriveGeometry, Binding> {
         let to = neighbour(world, from, k).ok_or(Binding::Blocked)?;
         let (dc, dr) = NEIGHBOURS[k as usize % 8];

@@ -44,7 +44,7 @@ impl Factors {
 
 /// The class of every cell of a map, and the classes.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Ground {
+pub struct ClassMap {
     classes: Vec<TerrainClass>,
     factors: Vec<Factors>,
     /// Per cell: an index into `classes`, or [`UNCLASSIFIED`].
@@ -56,11 +56,11 @@ pub struct Ground {
     least_power: f64,
 }
 
-impl Ground {
+impl ClassMap {
     /// The ground of a map whose cell `i` has class `classes[cells[i]]` (or none:
     /// [`UNCLASSIFIED`]). At most 255 classes; factors in 0.01..=10; slope limits in
     /// (0, 90) degrees.
-    pub fn new(classes: Vec<TerrainClass>, cells: Vec<u8>) -> Result<Ground> {
+    pub fn new(classes: Vec<TerrainClass>, cells: Vec<u8>) -> Result<ClassMap> {
         let bad = |message: String| Err(Error::Config { field: "terrain_classes", message });
         if classes.len() >= usize::from(UNCLASSIFIED) {
             return bad(format!("{} classes: allowed at most {}", classes.len(), UNCLASSIFIED - 1));
@@ -88,7 +88,7 @@ impl Ground {
                 max_slope_deg: c.max_slope_deg.unwrap_or(f64::INFINITY),
             })
             .collect();
-        let mut ground = Ground { classes, factors, cells, speed_range: (1.0, 1.0), least_power: 1.0 };
+        let mut ground = ClassMap { classes, factors, cells, speed_range: (1.0, 1.0), least_power: 1.0 };
         let (counts, none) = ground.counts();
         let present: Vec<Factors> = (ground.factors.iter().zip(&counts))
             .filter(|(_, n)| **n > 0)
@@ -124,7 +124,7 @@ impl Ground {
         self.class_index(cell).map(|i| &self.classes[usize::from(i)])
     }
 
-    /// How many cells each class holds (in the order of [`Ground::classes`]), and how
+    /// How many cells each class holds (in the order of [`ClassMap::classes`]), and how
     /// many are unclassified.
     pub fn counts(&self) -> (Vec<usize>, usize) {
         let mut counts = vec![0usize; self.classes.len()];
@@ -165,11 +165,11 @@ mod tests {
     #[test]
     fn ranges_count_only_the_classes_present_and_the_rovers_own_where_unclassified() {
         let classes = vec![class("sand", 0.5, 2.0), class("bedrock", 1.5, 0.8), class("unused", 0.1, 0.1)];
-        let g = Ground::new(classes.clone(), vec![0, 1, 0, 1]).unwrap();
+        let g = ClassMap::new(classes.clone(), vec![0, 1, 0, 1]).unwrap();
         assert_eq!(g.speed_range(), (0.5, 1.5));
         assert_eq!(g.least_power(), 0.8);
         assert_eq!(g.counts(), (vec![2, 2, 0], 0));
-        let g = Ground::new(classes, vec![0, UNCLASSIFIED]).unwrap();
+        let g = ClassMap::new(classes, vec![0, UNCLASSIFIED]).unwrap();
         assert_eq!(g.speed_range(), (0.5, 1.0));
         assert_eq!(g.least_power(), 1.0);
         assert_eq!(g.class_of(1), None);
@@ -178,11 +178,11 @@ mod tests {
 
     #[test]
     fn out_of_range_factors_slopes_and_indices_are_refused() {
-        assert!(Ground::new(vec![class("x", 0.0, 1.0)], vec![0]).is_err());
-        assert!(Ground::new(vec![class("x", 1.0, 11.0)], vec![0]).is_err());
-        assert!(Ground::new(vec![class("x", f64::NAN, 1.0)], vec![0]).is_err());
+        assert!(ClassMap::new(vec![class("x", 0.0, 1.0)], vec![0]).is_err());
+        assert!(ClassMap::new(vec![class("x", 1.0, 11.0)], vec![0]).is_err());
+        assert!(ClassMap::new(vec![class("x", f64::NAN, 1.0)], vec![0]).is_err());
         let steep = TerrainClass { max_slope_deg: Some(90.0), ..class("x", 1.0, 1.0) };
-        assert!(Ground::new(vec![steep], vec![0]).is_err());
-        assert!(Ground::new(vec![class("x", 1.0, 1.0)], vec![1]).is_err());
+        assert!(ClassMap::new(vec![steep], vec![0]).is_err());
+        assert!(ClassMap::new(vec![class("x", 1.0, 1.0)], vec![1]).is_err());
     }
 }

@@ -55,7 +55,7 @@ pub use crate::{
     domain::{Label, Objective, PathLength, Resolution, Start, TempestDomain},
     effect::Effect,
     error::{Error, Result},
-    ground::{Ground, TerrainClass, UNCLASSIFIED},
+    ground::{ClassMap, TerrainClass, UNCLASSIFIED},
     plan::{MissionPlan, Waypoint},
     planner::{Classes, ExpansionMeter, FrontPlan, Mission, ParetoFront, PlannerConfig, SearchMode, non_dominated},
     simulate::{

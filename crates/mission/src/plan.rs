@@ -49,7 +49,7 @@ pub struct Waypoint {
     /// `None` for any other action.
     #[serde(default)]
     pub drive_attitude_deg: Option<(f64, f64)>,
-    /// The terrain class here (an index into the map's [`crate::Ground`]), if any.
+    /// The terrain class here (an index into the map's [`crate::ClassMap`]), if any.
     #[serde(default)]
     pub class: Option<u8>,
     /// Sun elevation above the horizontal, degrees.

@@ -355,7 +355,7 @@ impl RunFailure {
 
 /// One execution of a plan on sampled factors.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Execution {
+pub struct SampledRun {
     /// The run's index (its random stream).
     pub run: usize,
     /// Why it failed, at which step of the plan; `None`: every goal reached.
@@ -370,7 +370,7 @@ pub struct Execution {
     pub battery_wh: Vec<(f64, f64)>,
 }
 
-impl Execution {
+impl SampledRun {
     /// Whether every goal was reached with the battery never below its floor.
     pub fn succeeded(&self) -> bool {
         self.failure.is_none()
@@ -388,7 +388,7 @@ pub fn open_loop(
     start: Start,
     uncertainty: &Uncertainty,
     mc: &MonteCarlo,
-) -> Result<Vec<Execution>> {
+) -> Result<Vec<SampledRun>> {
     open_loop_on(plan, model, std::slice::from_ref(world), start, uncertainty, mc)
 }
 
@@ -434,7 +434,7 @@ pub fn open_loop_on(
     start: Start,
     uncertainty: &Uncertainty,
     mc: &MonteCarlo,
-) -> Result<Vec<Execution>> {
+) -> Result<Vec<SampledRun>> {
     if worlds.is_empty() {
         return Err(Error::Config { field: "uncertainty.terrain_clones", message: "no world to execute on".into() });
     }
@@ -461,7 +461,7 @@ pub fn open_loop_on(
 /// Runs in parallel; the result is in run order and the same whatever the thread
 /// count, and leaves `simulation.believed` as it was. The simulation's own noise is
 /// replaced by the draws.
-pub fn closed_loop(simulation: &Simulation<'_>, uncertainty: &Uncertainty, mc: &MonteCarlo) -> Result<Vec<Execution>> {
+pub fn closed_loop(simulation: &Simulation<'_>, uncertainty: &Uncertainty, mc: &MonteCarlo) -> Result<Vec<SampledRun>> {
     closed_loop_on(simulation, &[], uncertainty, mc)
 }
 
@@ -474,7 +474,7 @@ pub fn closed_loop_on(
     truths: &[World],
     uncertainty: &Uncertainty,
     mc: &MonteCarlo,
-) -> Result<Vec<Execution>> {
+) -> Result<Vec<SampledRun>> {
     uncertainty.validate()?;
     mc.validate()?;
     (0..mc.runs)
@@ -498,8 +498,8 @@ pub fn closed_loop_on(
         .collect()
 }
 
-/// A simulated run as an [`Execution`].
-fn execution_of(run: usize, r: &SimReport) -> Execution {
+/// A simulated run as an [`SampledRun`].
+fn execution_of(run: usize, r: &SimReport) -> SampledRun {
     let n = r.steps.len();
     let failure = match &r.status {
         SimStatus::Completed => None,
@@ -510,7 +510,7 @@ fn execution_of(run: usize, r: &SimReport) -> Execution {
     };
     let battery_wh: Vec<(f64, f64)> =
         r.steps.iter().map(|s| (s.t_s + s.duration_s, s.battery_above_floor_wh)).collect();
-    Execution {
+    SampledRun {
         run,
         failure,
         arrivals_s: r.goals_reached.iter().map(|g| g.1).collect(),
@@ -527,11 +527,11 @@ fn execute_once(
     start: Start,
     run: usize,
     mut factors: impl FnMut(usize) -> Perturbation,
-) -> Execution {
+) -> SampledRun {
     let capacity = model.capacity_wh();
     let (mut cell, mut t, mut battery) = (start.cell, start.t_min, start.energy_wh);
     let mut out =
-        Execution { run, failure: None, arrivals_s: Vec::new(), lowest_battery_wh: battery, battery_wh: Vec::new() };
+        SampledRun { run, failure: None, arrivals_s: Vec::new(), lowest_battery_wh: battery, battery_wh: Vec::new() };
     for (step, w) in plan.waypoints.iter().enumerate() {
         // A goal's first waypoint is the arrival (the plan may charge there after).
         if w.goal == Some(out.arrivals_s.len()) {
@@ -600,7 +600,7 @@ pub struct Summary {
 }
 
 /// Summarises executions of a plan to `goals` goals.
-pub fn summarise(executions: &[Execution], goals: usize) -> Summary {
+pub fn summarise(executions: &[SampledRun], goals: usize) -> Summary {
     let n = executions.len().max(1);
     let succeeded = executions.iter().filter(|e| e.succeeded()).count();
     let battery_ok = executions.iter().filter(|e| e.lowest_battery_wh >= 0.0).count();

@@ -22,7 +22,7 @@ use areo_terrain::tiles::Region;
 use hifitime::{Duration, Epoch};
 
 use crate::error::{Error, Result};
-use crate::ground::Ground;
+use crate::ground::ClassMap;
 
 mod attitude;
 
@@ -138,7 +138,7 @@ pub struct World {
     /// not the members' (empty without members).
     members_off: Vec<AtomicBool>,
     /// The terrain classes, if the map has them (sensing does not change them).
-    ground: Option<Arc<Ground>>,
+    ground: Option<Arc<ClassMap>>,
 }
 
 /// What an envelope world keeps of the terrains it stands for (the map and its error

@@ -866,7 +866,7 @@ fn terrain_classes_keep_the_exact_search_equal_to_the_dijkstra() {
         let plain = exact(&c, &model).plan.map(|p| p.0);
         let mut r = Seeds(seed + 77);
         let cells = (0..c.world.cells()).map(|_| [0u8, 1, areo_mission::UNCLASSIFIED][(r.next() * 3.0) as usize % 3]);
-        let ground = areo_mission::Ground::new(classes.clone(), cells.collect()).unwrap();
+        let ground = areo_mission::ClassMap::new(classes.clone(), cells.collect()).unwrap();
         c.world.set_ground(std::sync::Arc::new(ground)).unwrap();
         let out = exact(&c, &model);
         assert!(!out.stopped);
@@ -917,7 +917,7 @@ fn on_the_gale_crop_with_terrain_classes_the_exact_search_equals_a_dijkstra() {
         })
         .collect();
     let classes = vec![class("rough", 0.7, 1.3), class("hardpan", 1.4, 0.8)];
-    world.set_ground(std::sync::Arc::new(areo_mission::Ground::new(classes, cells).unwrap())).unwrap();
+    world.set_ground(std::sync::Arc::new(areo_mission::ClassMap::new(classes, cells).unwrap())).unwrap();
     for objective in [Objective::Energy, Objective::Time] {
         let out = exact_by(objective, &world, start, &goals, &model);
         assert!(!out.stopped);

@@ -5,8 +5,8 @@
 use std::sync::Arc;
 
 use areo_mission::{
-    Action, ActionConfig, ActionModel, Binding, Error, Ground, Mission, Objective, PlannerConfig, Start, TerrainClass,
-    UNCLASSIFIED, World,
+    Action, ActionConfig, ActionModel, Binding, ClassMap, Error, Mission, Objective, PlannerConfig, Start,
+    TerrainClass, UNCLASSIFIED, World,
 };
 use areo_terrain::Dem;
 
@@ -23,7 +23,7 @@ fn with_classes(mut world: World, classes: Vec<TerrainClass>, f: impl Fn(usize, 
         let (c, r) = world.col_row(i);
         f(c, r)
     });
-    world.set_ground(Arc::new(Ground::new(classes, cells.collect()).unwrap())).unwrap();
+    world.set_ground(Arc::new(ClassMap::new(classes, cells.collect()).unwrap())).unwrap();
     world
 }
 

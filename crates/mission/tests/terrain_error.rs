@@ -2,7 +2,7 @@
 //! (`World::envelope`) against the map, executed on the clones it was made for and on
 //! fresh ones.
 
-use areo_mission::uncertainty::{Execution, MonteCarlo, Uncertainty, dem_clone, open_loop_on, summarise};
+use areo_mission::uncertainty::{MonteCarlo, SampledRun, Uncertainty, dem_clone, open_loop_on, summarise};
 use areo_mission::{ActionConfig, ActionModel, Mission, MissionPlan, PlannerConfig, Start, World};
 use areo_terrain::Dem;
 
@@ -42,7 +42,7 @@ fn problem(world: &World) -> (Start, [u32; 2]) {
 
 /// A plan executed open-loop on each of `worlds` in turn, exactly as modelled (no
 /// spread in the model's factors).
-fn executed_on(plan: &MissionPlan, model: &ActionModel, worlds: &[World], start: Start) -> Vec<Execution> {
+fn executed_on(plan: &MissionPlan, model: &ActionModel, worlds: &[World], start: Start) -> Vec<SampledRun> {
     let none = Uncertainty { confidence: 0.95, ..Uncertainty::default() };
     open_loop_on(plan, model, worlds, start, &none, &MonteCarlo { runs: worlds.len(), seed: 1 }).unwrap()
 }

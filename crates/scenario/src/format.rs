@@ -38,7 +38,7 @@ pub use self::validate::{Checks, Validate};
 /// The body a scenario is set on, as the file names it (`Mars`, `Moon`, `Earth`): the
 /// format's own name, so renaming areo-body's enum cannot change what files say.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-pub enum Body {
+pub enum BodySpec {
     /// Mars (default).
     #[default]
     Mars,
@@ -48,19 +48,19 @@ pub enum Body {
     Earth,
 }
 
-impl Body {
+impl BodySpec {
     /// The libraries' body of this name.
     pub fn model(self) -> areo_ephemeris::Body {
         self.into()
     }
 }
 
-impl From<Body> for areo_ephemeris::Body {
-    fn from(b: Body) -> areo_ephemeris::Body {
+impl From<BodySpec> for areo_ephemeris::Body {
+    fn from(b: BodySpec) -> areo_ephemeris::Body {
         match b {
-            Body::Mars => areo_ephemeris::Body::Mars,
-            Body::Moon => areo_ephemeris::Body::Moon,
-            Body::Earth => areo_ephemeris::Body::Earth,
+            BodySpec::Mars => areo_ephemeris::Body::Mars,
+            BodySpec::Moon => areo_ephemeris::Body::Moon,
+            BodySpec::Earth => areo_ephemeris::Body::Earth,
         }
     }
 }
@@ -196,7 +196,7 @@ pub struct TempestJob {
     /// The body: `Mars` (default), `Moon` or `Earth` — its Sun (and Earth) ephemeris,
     /// radius and curvature, gravity, atmosphere and day length.
     #[serde(default)]
-    pub body: Body,
+    pub body: BodySpec,
     /// Where on the body the map lies; synthesised maps are placed with their centre
     /// here (polar stereographic at or beyond 80° of latitude).
     pub site: SiteSpec,
@@ -470,7 +470,7 @@ pub struct TerrainShadowJob {
     pub terrain: TerrainSource,
     /// The body: `Mars` (default), `Moon` or `Earth`.
     #[serde(default)]
-    pub body: Body,
+    pub body: BodySpec,
     /// Where on the body the map lies (for the Sun's direction; a synthesised map is
     /// placed with its centre here).
     pub site: SiteSpec,
@@ -709,7 +709,7 @@ pub(crate) fn ron_options() -> ron::Options {
 
 #[cfg(test)]
 mod body_tests {
-    use super::Body;
+    use super::BodySpec;
 
     #[test]
     fn each_body_the_file_names_is_the_librarys_body_of_that_name() {
@@ -718,11 +718,11 @@ mod body_tests {
             ("Moon", areo_ephemeris::Body::Moon),
             ("Earth", areo_ephemeris::Body::Earth),
         ] {
-            let body: Body = ron::from_str(text).unwrap();
+            let body: BodySpec = ron::from_str(text).unwrap();
             assert_eq!(body.model(), model);
             assert_eq!(ron::to_string(&body).unwrap(), text, "written back as read");
         }
-        assert_eq!(Body::default().model(), areo_ephemeris::Body::default());
-        assert!(ron::from_str::<Body>("Venus").is_err());
+        assert_eq!(BodySpec::default().model(), areo_ephemeris::Body::default());
+        assert!(ron::from_str::<BodySpec>("Venus").is_err());
     }
 }

@@ -99,7 +99,7 @@ pub struct PoseReport {
 
 /// What `areo rover check` reports.
 #[derive(Debug, Clone, Serialize)]
-pub struct Report {
+pub struct RoverCheckReport {
     /// The rover's name.
     pub rover: String,
     /// The terrain.
@@ -128,7 +128,7 @@ pub struct Report {
 const WHEELS: [&str; 6] = ["left front", "left middle", "left rear", "right front", "right middle", "right rear"];
 
 /// Loads `params_path` and evaluates it on `terrain` with friction `mu`.
-pub fn check(params_path: &Path, terrain: TestTerrain, mu: f64, moving: bool) -> Result<Report> {
+pub fn check(params_path: &Path, terrain: TestTerrain, mu: f64, moving: bool) -> Result<RoverCheckReport> {
     let params = crate::format::rover_files::load_params(params_path)?;
     if !(mu > 0.0 && mu.is_finite()) {
         return Err(Error::usage(format!("--mu {mu}"), "must be positive and finite"));
@@ -152,7 +152,7 @@ pub fn check(params_path: &Path, terrain: TestTerrain, mu: f64, moving: bool) ->
             at(&ev, &Wall { x_step, low_m: 0.0, high_m: h }, 90.0, &arm, mu, direction)
         }
     };
-    let mut report = Report {
+    let mut report = RoverCheckReport {
         rover: params.name.clone(),
         terrain: terrain.to_string(),
         mu,
@@ -399,7 +399,7 @@ pub fn check_resources(path: &Path, terrain: TestTerrain, body: areo_ephemeris::
 #[serde(untagged)]
 pub enum Checked {
     /// An LSR-1-style parameter file on a test terrain.
-    Physics(Report),
+    Physics(RoverCheckReport),
     /// A TEMPEST resource model.
     Resources(ResourceReport),
 }

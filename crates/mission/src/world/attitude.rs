@@ -5,11 +5,11 @@ use std::sync::Arc;
 
 use super::World;
 use crate::error::{Error, Result};
-use crate::ground::{Factors, Ground};
+use crate::ground::{ClassMap, Factors};
 
 impl World {
     /// Gives the map its terrain classes (one per cell of the map).
-    pub fn set_ground(&mut self, ground: Arc<Ground>) -> Result<()> {
+    pub fn set_ground(&mut self, ground: Arc<ClassMap>) -> Result<()> {
         if ground.cells() != self.cells() {
             return Err(Error::Config {
                 field: "terrain_classes",
@@ -21,7 +21,7 @@ impl World {
     }
 
     /// The terrain classes, if the map has them.
-    pub fn ground(&self) -> Option<&Ground> {
+    pub fn ground(&self) -> Option<&ClassMap> {
         self.ground.as_deref()
     }
 

@@ -20,17 +20,17 @@ use crate::jobs::RunOptions;
 use crate::report::Raster;
 use crate::report::Report;
 use crate::report::actions::{
-    ActionsReport, BestPlan, Binding, ClimbFigures, ClimbPoseRow, CommandList, ExecutedBest, GaRunFigures, PlanRecord,
-    RemovedModule, ReplayFigures, ReplayPointRow, ScanFigures, ScanPointRow, ScanSeedFigures, SeedRow, SeedScanRow,
-    SeedThreshold, SensitivityFigures, StartPose, StudyFigures, WheelBinding,
+    ActionsReport, BestPlan, ClimbFigures, ClimbPoseRow, CommandList, ExecutedBest, ForceBinding, GaPlanRecord,
+    GaRunFigures, RemovedModule, ReplayFigures, ReplayPointRow, ScanFigures, ScanPointRow, ScanSeedFigures, SeedRow,
+    SeedScanRow, SeedThreshold, SensitivityFigures, StartPose, StudyFigures, WheelBinding,
 };
 use crate::report::actions_view::{ACTIONS_VIEW_PIXELS, ActionsView, ActionsViewStep, SECTION_HALF_M, SECTION_STEP_M};
 use crate::report::plots::{HistogramPlot, Marker, Plot, ProfilePlot, ProfileRover, RoutePlot, Series, TimePlot};
 use std::collections::BTreeMap;
 
-mod outputs;
+mod best_plan;
 
-use outputs::*;
+use best_plan::*;
 
 /// A GA setting refused by areo-actions, placed at its field in the scenario.
 fn ga_error(file: &ScenarioFile, e: areo_actions::Error) -> Error {
@@ -380,14 +380,14 @@ fn report(setup: &Setup, computed: &Computed) -> Report {
         ..ActionsReport::default()
     };
     for run in &computed.runs {
-        let mut f = run_facts(&run.report, run.seconds, task);
+        let mut f = run_figures(&run.report, run.seconds, task);
         f.modules = run.inventory.modules.len();
         f.design_space_log10 = design_space_log10(run.inventory.modules.len(), m);
         f.study = run.study.as_ref().map(|study| StudyFigures {
             seed_rows: seed_rows(&run.name, study),
-            ..study_facts(study, run.generations)
+            ..study_figures(study, run.generations)
         });
-        best_facts(&mut f, run);
+        best_figures(&mut f, run);
         r.runs.insert(run.name.clone(), f);
         r.run_order.push(run.name.clone());
         r.best_plans.insert(run.name.clone(), best_plan(setup, run));
@@ -398,18 +398,18 @@ fn report(setup: &Setup, computed: &Computed) -> Report {
         r.plots = study_plots(&studies, setup.ga.generations);
     }
     r.plots.extend(computed.climb.as_ref().map(climb_plot));
-    r.scan = computed.scan.as_ref().map(|(values, result)| scan_facts(values, result));
+    r.scan = computed.scan.as_ref().map(|(values, result)| scan_figures(values, result));
     if !computed.scan_seeds.is_empty() {
-        r.scan_seeds = Some(scan_seed_facts(&computed.scan_seeds));
+        r.scan_seeds = Some(scan_seed_figures(&computed.scan_seeds));
     }
-    r.replay = computed.replay.as_ref().map(|replay| replay_facts(&computed.runs[0], replay));
-    r.climb = computed.climb.as_ref().map(climb_facts);
-    (r.sensitivity, r.sensitivity_order) = sensitivity_facts(&computed.sensitivity);
+    r.replay = computed.replay.as_ref().map(|replay| replay_figures(&computed.runs[0], replay));
+    r.climb = computed.climb.as_ref().map(climb_figures);
+    (r.sensitivity, r.sensitivity_order) = sensitivity_figures(&computed.sensitivity);
     Report::Actions(Box::new(r))
 }
 
 /// The friction scan's thresholds and what binds just below each.
-fn scan_facts(values: &[f64], result: &FrictionScan) -> ScanFigures {
+fn scan_figures(values: &[f64], result: &FrictionScan) -> ScanFigures {
     let (crossed, completed) = (result.min_mu_crossing, result.min_mu_completing);
     let mut f = ScanFigures {
         scan_mu_first: values[0],
@@ -436,7 +436,7 @@ fn scan_facts(values: &[f64], result: &FrictionScan) -> ScanFigures {
         // merely runs out of modules names no wheel.)
         let below = threshold.and_then(|t| result.points.iter().rev().find(|p| p.mu < t - 1e-9 && p.binding.is_some()));
         if let Some(b) = below.and_then(|p| p.binding.as_ref()) {
-            let binding = Binding {
+            let binding = ForceBinding {
                 wheel: b.wheel.clone(),
                 climbing: b.climbing,
                 y_m: b.contact_m[1],
@@ -469,7 +469,7 @@ fn wheel_binding(b: &areo_actions::WheelLimit) -> WheelBinding {
 
 /// The friction scan's thresholds over seeds: median, least and greatest, and how many
 /// seeds never got there.
-fn scan_seed_facts(seeds: &[(u64, FrictionScan)]) -> ScanSeedFigures {
+fn scan_seed_figures(seeds: &[(u64, FrictionScan)]) -> ScanSeedFigures {
     let n = seeds.len();
     let rows = seeds.iter().map(|(seed, s)| SeedScanRow {
         seed: *seed,
@@ -497,7 +497,7 @@ fn scan_seed_facts(seeds: &[(u64, FrictionScan)]) -> ScanSeedFigures {
 
 /// The replayed plan: from which μ up it crosses and completes, and what stops it at
 /// the highest μ where it fails.
-fn replay_facts(run: &RunResult, replay: &FrictionReplay) -> ReplayFigures {
+fn replay_figures(run: &RunResult, replay: &FrictionReplay) -> ReplayFigures {
     let mut r = ReplayFigures {
         replay_run: run.name.clone(),
         replay_found_at_mu: run.exec.mu,
@@ -541,7 +541,7 @@ fn replay_facts(run: &RunResult, replay: &FrictionReplay) -> ReplayFigures {
 }
 
 /// A run's best plan as executed: where it ended and what bound it.
-fn best_facts(f: &mut GaRunFigures, run: &RunResult) {
+fn best_figures(f: &mut GaRunFigures, run: &RunResult) {
     let (report, best) = (&run.report, &run.best);
     f.executed = ExecutedBest {
         complete: best.complete,
@@ -587,7 +587,7 @@ type SensitivityMap = BTreeMap<String, BTreeMap<String, SensitivityFigures>>;
 
 /// Each assumed value's climb: what stopped it, where, and the margins at its end; and
 /// the (field, value) keys in the scenario's order.
-fn sensitivity_facts(rows: &[areo_actions::SensitivityRow]) -> (SensitivityMap, Vec<(String, String)>) {
+fn sensitivity_figures(rows: &[areo_actions::SensitivityRow]) -> (SensitivityMap, Vec<(String, String)>) {
     let (mut out, mut order) = (SensitivityMap::new(), Vec::new());
     for row in rows {
         let mut f =
@@ -620,7 +620,7 @@ fn sensitivity_facts(rows: &[areo_actions::SensitivityRow]) -> (SensitivityMap, 
 }
 
 /// The climb's facts: what ended it and where, and the margins along it.
-fn climb_facts(profile: &ClimbProfile) -> ClimbFigures {
+fn climb_figures(profile: &ClimbProfile) -> ClimbFigures {
     let stop = profile.stop.unwrap_or("none").to_string();
     let Some(last) = profile.poses.last() else {
         return ClimbFigures { climb_stop: stop, climb_poses: climb_rows(profile), ..ClimbFigures::default() };
@@ -752,7 +752,7 @@ impl SeedStudy {
     }
 }
 
-fn study_facts(study: &SeedStudy, generations: usize) -> StudyFigures {
+fn study_figures(study: &SeedStudy, generations: usize) -> StudyFigures {
     let n = study.seeds.len();
     let last = generations.saturating_sub(1);
     let la = &study.lookahead;
@@ -891,7 +891,7 @@ fn sides(task: &Task, taken: &[usize]) -> (usize, usize) {
 }
 
 /// A GA run's best plan as the GA scored it (its run took `seconds`).
-fn run_facts(r: &GaReport, seconds: f64, task: &Task) -> GaRunFigures {
+fn run_figures(r: &GaReport, seconds: f64, task: &Task) -> GaRunFigures {
     let e = &r.best.execution;
     let small = r.lookahead.iter().filter(|d| (1..=4).contains(*d)).count();
     let sides = (!task.samples.is_empty()).then(|| sides(task, &e.taken));

@@ -17,16 +17,16 @@ use hifitime::Duration;
 
 mod chance;
 mod classes;
-mod facts;
-mod files;
+mod figures;
 mod front;
 mod layers;
 mod no_go;
 mod overlay;
+mod tables;
 mod view;
 
-use facts::*;
-use files::*;
+use figures::*;
+use tables::*;
 
 use crate::error::{Error, Result};
 use crate::format::{ScenarioFile, TempestJob, TerrainSource, Truth};
@@ -788,13 +788,13 @@ fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Fail
             (r.cells, r.map_cols_rows) = (Some(world.cells()), Some((world.cols(), world.rows())));
             // The segments' graphs as the plan leaves them (the most they held).
             r.peak_search_mb = Some(*search_bytes as f64 / 1e6);
-            let mut figures = plan_facts(ctx, plan, *seconds);
+            let mut figures = plan_figures(ctx, plan, *seconds);
             // Labels those graphs hold (on a tick, every label the search kept: most
             // are never expanded).
             figures.initial_plan_labels = Some(*labels);
             r.initial_plan = Some(figures);
-            r.chance = computed.chance.as_ref().map(|c| chance::facts(ctx, plan, c));
-            r.front = computed.front.as_ref().map(|f| front::facts(ctx, plan, f));
+            r.chance = computed.chance.as_ref().map(|c| chance::figures(ctx, plan, c));
+            r.front = computed.front.as_ref().map(|f| front::figures(ctx, plan, f));
             r.status = "planned".into();
             r.tables = tables(ctx, plan, None);
             r.route = Some(route_places(ctx, plan, None));
@@ -807,10 +807,10 @@ fn report(ctx: &Context<'_>, computed: &Computed) -> Result<(Report, Option<Fail
         Run::Simulated(sim) => {
             (r.cells, r.map_cols_rows) = (Some(world.cells()), Some((world.cols(), world.rows())));
             let initial = &sim.plans[0].plan;
-            r.initial_plan = Some(plan_facts(ctx, initial, sim.plans[0].wall_s));
-            r.chance = computed.chance.as_ref().map(|c| chance::facts(ctx, initial, c));
-            r.front = computed.front.as_ref().map(|f| front::facts(ctx, initial, f));
-            sim_facts(&mut r, ctx, sim);
+            r.initial_plan = Some(plan_figures(ctx, initial, sim.plans[0].wall_s));
+            r.chance = computed.chance.as_ref().map(|c| chance::figures(ctx, initial, c));
+            r.front = computed.front.as_ref().map(|f| front::figures(ctx, initial, f));
+            sim_figures(&mut r, ctx, sim);
             if let SimStatus::Unreachable { binding, message, proven } = &sim.status {
                 r.unreachable_proven = Some(*proven);
                 r.binding = Some(message.clone());

@@ -62,7 +62,7 @@ pub struct ActionsReport {
 #[derive(Debug, Clone, Serialize)]
 pub struct BestPlan {
     /// The plan, its execution and trace, and the GA's history (`plan.json`).
-    pub plan: PlanRecord,
+    pub plan: GaPlanRecord,
     /// The plan as commands the rover runs (`commands.json`).
     pub commands: CommandList,
     /// `top_view`, `side_profile`, `stability`, `friction`, `fitness`, `lookahead`.
@@ -74,7 +74,7 @@ pub struct BestPlan {
 /// The best plan and how the GA found it. (Fields in alphabetical order, as
 /// `plan.json` has always listed them.)
 #[derive(Debug, Clone, Serialize)]
-pub struct PlanRecord {
+pub struct GaPlanRecord {
     /// The modules' Table 1 codes.
     pub codes: Vec<u16>,
     /// The plan executed as the GA scored it.
@@ -301,7 +301,7 @@ pub struct ScanFigures {
     /// Whether crossing needs less friction than completing.
     pub scan_ditch_needs_less_friction_than_hill: Option<bool>,
     /// What binds just below each threshold (`crossing`, `completing`).
-    pub scan_binding_below: BTreeMap<String, Binding>,
+    pub scan_binding_below: BTreeMap<String, ForceBinding>,
     /// The scan's first μ.
     pub scan_mu_first: f64,
     /// Its last μ.
@@ -312,7 +312,7 @@ pub struct ScanFigures {
 
 /// A force limit that bound a plan.
 #[derive(Debug, Clone, Default, Serialize)]
-pub struct Binding {
+pub struct ForceBinding {
     /// The wheel.
     pub wheel: String,
     /// Whether it was climbing.

@@ -4,7 +4,7 @@
 //! cumulative distribution, the battery's spread against time, the lowest battery's
 //! histogram).
 
-use areo_mission::uncertainty::{Execution, MonteCarlo, Summary, Uncertainty, percentile, summarise};
+use areo_mission::uncertainty::{MonteCarlo, SampledRun, Summary, Uncertainty, percentile, summarise};
 use areo_mission::uncertainty::{closed_loop_on, dem_clone, open_loop_on, planning_clones};
 use areo_mission::{Mission, MissionPlan, PlannerConfig, Simulation, Start, World, WorldConfig};
 
@@ -16,7 +16,7 @@ use crate::report::tempest::{ChanceFigures, MonteCarloFigures, MonteCarloRow};
 
 /// One plan's open-loop executions.
 pub(super) struct Executed {
-    pub executions: Vec<Execution>,
+    pub executions: Vec<SampledRun>,
     pub summary: Summary,
 }
 
@@ -79,7 +79,7 @@ pub(super) fn evaluate(
     };
     let Some(spec) = &job.monte_carlo else { return Ok(Some(chance)) };
     let mc = MonteCarlo::from(spec);
-    let executed = |executions: Vec<Execution>| {
+    let executed = |executions: Vec<SampledRun>| {
         let summary = summarise(&executions, goals.len());
         Executed { executions, summary }
     };
@@ -137,7 +137,7 @@ fn terrain_clones(
 }
 
 /// The report's figures of the plan under uncertainty.
-pub(super) fn facts(ctx: &Context<'_>, plan: &MissionPlan, chance: &Chance) -> ChanceFigures {
+pub(super) fn figures(ctx: &Context<'_>, plan: &MissionPlan, chance: &Chance) -> ChanceFigures {
     let u = &chance.uncertainty;
     let m = u.margins();
     let mut f = ChanceFigures {
@@ -157,13 +157,13 @@ pub(super) fn facts(ctx: &Context<'_>, plan: &MissionPlan, chance: &Chance) -> C
         f.chance_terrain_sigma_m = Some(u.terrain_sigma_m);
         f.chance_terrain_correlation_m = Some(u.terrain_correlation_m);
     }
-    deterministic_facts(&mut f, ctx, plan, chance);
-    monte_carlo_facts(&mut f, ctx, chance);
+    deterministic_figures(&mut f, ctx, plan, chance);
+    monte_carlo_figures(&mut f, ctx, chance);
     f
 }
 
 /// The deterministic plan beside the chance-constrained one: what the margins cost.
-fn deterministic_facts(f: &mut ChanceFigures, ctx: &Context<'_>, plan: &MissionPlan, chance: &Chance) {
+fn deterministic_figures(f: &mut ChanceFigures, ctx: &Context<'_>, plan: &MissionPlan, chance: &Chance) {
     match &chance.deterministic {
         Some(Ok(d)) => {
             let (extra_h, extra_wh) =
@@ -180,8 +180,8 @@ fn deterministic_facts(f: &mut ChanceFigures, ctx: &Context<'_>, plan: &MissionP
 }
 
 /// The Monte Carlo executions of both plans, open and closed loop.
-fn monte_carlo_facts(f: &mut ChanceFigures, ctx: &Context<'_>, chance: &Chance) {
-    let figures = |runs: &Option<Executed>| runs.as_ref().map(|r| summary_facts(ctx, &r.summary));
+fn monte_carlo_figures(f: &mut ChanceFigures, ctx: &Context<'_>, chance: &Chance) {
+    let figures = |runs: &Option<Executed>| runs.as_ref().map(|r| summary_figures(ctx, &r.summary));
     f.mc = figures(&chance.chance_runs);
     f.mc_deterministic = figures(&chance.deterministic_runs);
     f.mc_closed = figures(&chance.chance_closed);
@@ -193,7 +193,7 @@ fn energy_used_wh(plan: &MissionPlan) -> f64 {
     plan.waypoints.windows(2).map(|w| (w[0].battery_wh - w[1].battery_wh).max(0.0)).sum()
 }
 
-fn summary_facts(ctx: &Context<'_>, s: &Summary) -> MonteCarloFigures {
+fn summary_figures(ctx: &Context<'_>, s: &Summary) -> MonteCarloFigures {
     let arrival = |pick: fn((f64, f64, f64)) -> f64| s.last_arrival_s.map(|a| ctx.hours(pick(a)));
     MonteCarloFigures {
         runs: s.runs,

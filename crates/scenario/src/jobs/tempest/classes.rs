@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use areo_mission::{Ground, TerrainClass, UNCLASSIFIED};
+use areo_mission::{ClassMap, TerrainClass, UNCLASSIFIED};
 
 use super::overlay::{self, Sample};
 use super::*;
@@ -48,7 +48,7 @@ pub(super) fn apply(
             max_slope_deg: c.max_slope_deg,
         })
         .collect();
-    let ground = Arc::new(Ground::new(classes, cells).map_err(|e| bad(e.to_string()))?);
+    let ground = Arc::new(ClassMap::new(classes, cells).map_err(|e| bad(e.to_string()))?);
     world.set_ground(ground.clone()).map_err(|e| bad(e.to_string()))?;
     if let Some(t) = truth {
         if (t.cols(), t.rows()) != (world.cols(), world.rows()) {
@@ -187,7 +187,7 @@ pub(super) fn ground_layers(r: &mut TempestReport, ctx: &Context<'_>, computed: 
     if let (Some(l), Some(n)) = (r.layers.as_mut(), &computed.prepared.no_go) {
         l.no_go = Some(crate::report::Raster { cols: world.cols(), rows: world.rows(), values: n.codes.clone() });
     }
-    r.terrain_classes = computed.prepared.classes.as_ref().map(|c| facts(ctx, computed, c.clone()));
+    r.terrain_classes = computed.prepared.classes.as_ref().map(|c| figures(ctx, computed, c.clone()));
     if let (Some(l), Some(c)) = (r.layers.as_mut(), &r.terrain_classes) {
         let values = layer(world, c);
         l.classes = values.map(|values| crate::report::Raster { cols: world.cols(), rows: world.rows(), values });
@@ -196,7 +196,7 @@ pub(super) fn ground_layers(r: &mut TempestReport, ctx: &Context<'_>, computed: 
 
 /// The terrain classes' figures with the drive time and energy the initial plan and
 /// the simulated run spend on each.
-fn facts(
+fn figures(
     ctx: &Context<'_>,
     computed: &Computed,
     mut figures: crate::report::tempest::ClassFigures,

@@ -35,7 +35,7 @@ pub(super) fn evaluate(
 
 /// The `front_…` figures; `plan` (the job's own plan, by its objective) is placed
 /// against the front.
-pub(super) fn facts(ctx: &Context<'_>, plan: &MissionPlan, front: &ParetoFront) -> FrontFigures {
+pub(super) fn figures(ctx: &Context<'_>, plan: &MissionPlan, front: &ParetoFront) -> FrontFigures {
     let plans = &front.plans;
     let mut f = FrontFigures {
         front_plans: plans.len(),

@@ -15,7 +15,7 @@ pub(super) fn best_plan(setup: &Setup, run: &RunResult) -> BestPlan {
     plots.extend(ga_plots(report));
     let view = view(setup, run, &commands, &profile);
     BestPlan {
-        plan: PlanRecord {
+        plan: GaPlanRecord {
             codes: report.best.plan.iter().map(|m| m.code()).collect(),
             execution: report.best.execution.clone(),
             first_solved: report.first_solved,

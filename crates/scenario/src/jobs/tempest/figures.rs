@@ -8,7 +8,7 @@ use crate::report::tempest::{
 };
 
 /// Communicate sessions the plan covers, and drives that would overlap one (none may).
-pub(super) fn session_facts(ctx: &Context<'_>, plan: &MissionPlan) -> Option<SessionFigures> {
+pub(super) fn session_figures(ctx: &Context<'_>, plan: &MissionPlan) -> Option<SessionFigures> {
     let sessions = ctx.model.sessions();
     if sessions.is_empty() {
         return None;
@@ -28,7 +28,7 @@ pub(super) fn session_facts(ctx: &Context<'_>, plan: &MissionPlan) -> Option<Ses
 }
 
 /// The initial plan's figures (its search took `seconds`).
-pub(super) fn plan_facts(ctx: &Context<'_>, plan: &MissionPlan, seconds: f64) -> PlanFigures {
+pub(super) fn plan_figures(ctx: &Context<'_>, plan: &MissionPlan, seconds: f64) -> PlanFigures {
     let m = metrics::PlanMetrics::of_plan(plan);
     let mut f = PlanFigures {
         initial_plan_s: seconds,
@@ -50,11 +50,11 @@ pub(super) fn plan_facts(ctx: &Context<'_>, plan: &MissionPlan, seconds: f64) ->
         initial_plan_enters: (ctx.job.regions.iter())
             .map(|r| (r.name.clone(), ctx.enters(plan.waypoints.iter().map(|w| w.cell), r)))
             .collect(),
-        sessions: session_facts(ctx, plan),
+        sessions: session_figures(ctx, plan),
         ..PlanFigures::default()
     };
     if ctx.job.body.model() != areo_ephemeris::Body::Mars {
-        f.body = Some(body_facts(ctx, plan));
+        f.body = Some(body_figures(ctx, plan));
     }
     let attitudes: Vec<(f64, f64)> = plan.waypoints.iter().filter_map(|w| w.drive_attitude_deg).collect();
     if !attitudes.is_empty() {
@@ -63,13 +63,13 @@ pub(super) fn plan_facts(ctx: &Context<'_>, plan: &MissionPlan, seconds: f64) ->
         f.initial_plan_max_pitch_up_deg = Some(most(&|a| a.0));
         f.initial_plan_max_pitch_down_deg = Some(most(&|a| -a.0));
     }
-    resolution_facts(&mut f, ctx, plan);
+    resolution_figures(&mut f, ctx, plan);
     f
 }
 
 /// What the search that found the plan approximated, said as what it is: its classes,
 /// and which fallback (energy exact, halved classes, exact at the quanta) found it.
-pub(super) fn resolution_facts(f: &mut PlanFigures, ctx: &Context<'_>, plan: &MissionPlan) {
+pub(super) fn resolution_figures(f: &mut PlanFigures, ctx: &Context<'_>, plan: &MissionPlan) {
     if let Some(tick) = plan.tick_s {
         f.initial_plan_tick_s = Some(tick);
         return;
@@ -97,7 +97,7 @@ pub(super) fn resolution_facts(f: &mut PlanFigures, ctx: &Context<'_>, plan: &Mi
 /// Facts of a plan off Mars: driving in shadow, Earth contact, the Sun's azimuth span, the
 /// circuit, and the waits at safe havens — each measured on the plan by sampling, not
 /// taken from the planner's constraints.
-pub(super) fn body_facts(ctx: &Context<'_>, plan: &MissionPlan) -> BodyFigures {
+pub(super) fn body_figures(ctx: &Context<'_>, plan: &MissionPlan) -> BodyFigures {
     use contact::{contact_along, shadowed_drive_h, waits};
     let sun = metrics::sun_along(ctx.world, plan, CONTACT_STEP_S);
     let mut f = BodyFigures {
@@ -139,7 +139,7 @@ pub(super) fn body_facts(ctx: &Context<'_>, plan: &MissionPlan) -> BodyFigures {
 }
 
 /// The simulated run's figures into `report`.
-pub(super) fn sim_facts(report: &mut TempestReport, ctx: &Context<'_>, r: &SimReport) {
+pub(super) fn sim_figures(report: &mut TempestReport, ctx: &Context<'_>, r: &SimReport) {
     let status = match &r.status {
         SimStatus::Completed => "completed",
         SimStatus::Unreachable { .. } => "unreachable",
@@ -178,10 +178,10 @@ pub(super) fn sim_facts(report: &mut TempestReport, ctx: &Context<'_>, r: &SimRe
     (f.drive_h, f.charge_h, f.hibernate_h, f.wait_h) = (m.drive_h, m.charge_h, m.hibernate_h, m.wait_h);
     f.replans = replans.len();
     f.route_changes = route_changes;
-    restart_facts(&mut f, r);
+    restart_figures(&mut f, r);
     let asked = ctx.job.planner.search.classes().and_then(|c| c.resolution.energy_wh);
     f.exact_energy_fallbacks = r.plans.iter().filter(|p| asked.is_some() && p.plan.energy_classes_wh.is_none()).count();
-    report.peak_search_mb = Some(search_facts(&mut f, r));
+    report.peak_search_mb = Some(search_figures(&mut f, r));
     f.world_mb = worlds_mb(ctx);
     f.refused_actions = r.steps.iter().filter(|s| s.refused.is_some()).count();
     f.night_drives = m.night_drives;
@@ -207,7 +207,7 @@ pub(super) fn p95(values: &[f64]) -> f64 {
 /// The simulated run's search figures: re-plan expansions against the initial plan's
 /// (restarts included), and with `compare_fresh` the re-plans against fresh searches
 /// of the same problems. Returns the search graphs' peak, MB.
-pub(super) fn search_facts(f: &mut RunFigures, r: &SimReport) -> f64 {
+pub(super) fn search_figures(f: &mut RunFigures, r: &SimReport) -> f64 {
     // Deterministic search costs: each re-plan's expansions against the initial plan's
     // — restarts included, as the fresh plans they are (counted apart as well) — and
     // the search's memory.
@@ -269,7 +269,7 @@ pub(super) fn search_facts(f: &mut RunFigures, r: &SimReport) -> f64 {
 /// afresh: how many, the work the failed re-plans did and the fresh plans' expansions,
 /// and with `compare_fresh` how many a fresh search of the same problem contradicted
 /// (it found a plan where the kept graphs found none).
-pub(super) fn restart_facts(f: &mut RunFigures, r: &SimReport) {
+pub(super) fn restart_figures(f: &mut RunFigures, r: &SimReport) {
     let restarts: Vec<(&areo_mission::PlanRecord, &areo_mission::Restart)> =
         r.plans.iter().filter_map(|p| p.restart.as_ref().map(|x| (p, x))).collect();
     f.restarts = restarts.len();
