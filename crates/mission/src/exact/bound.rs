@@ -520,17 +520,18 @@ impl Bound<'_> {
         if !drives.is_finite() {
             return f64::INFINITY;
         }
-        let with_battery = match reach.cells[..] {
-            [x] => self.via(drives, x, goal, t, e),
-            _ => 0.0,
-        };
         if reach.suffix.is_none() {
             reach.suffix = Some(self.suffix_minima(&reach.cells));
         }
         let per_goal = reach.suffix.as_ref().expect("just made");
         let Some((add, cover)) = per_goal.get(goal as usize) else { return f64::INFINITY };
         let Some(&a) = add.get(j) else { return f64::INFINITY };
-        (drives + a - now_add).max(cover[j] - now_cover).max(with_battery).max(0.0)
+        let any_battery = (drives + a - now_add).max(cover[j] - now_cover);
+        let with_battery = match reach.cells[..] {
+            [x] => self.via(drives, x, goal, t, e),
+            _ => 0.0,
+        };
+        any_battery.max(with_battery).max(0.0)
     }
 
     /// The least cost of any plan from a label at `t` with `e` above the floor, `goal`
